@@ -1,0 +1,65 @@
+// Closed forms in r: sums of Laurent polynomials times a basis function
+//   1, S(r)^j (S = sqrt(1 - r^2), j odd), L(r) = log((1 + S)/r) = arcsech r,
+//   log r,
+// each term carrying an exact constant factor pi^e log(p). Polynomial kernels
+// use only the basis 1; missing Wendland functions (Franz §4.3.3) need S and
+// L; 2D potentials need log r. Closed under d/dr.
+#pragma once
+
+#include "exact.hpp"
+#include "laurent.hpp"
+
+#include <map>
+#include <string>
+
+namespace mollify::gen {
+
+enum class Basis { one, sqrt_power, arcsech, log };
+
+struct TermKey {
+    Basis basis = Basis::one;
+    int s_power = 0;  // for Basis::sqrt_power: the odd power j of S
+    Atom factor;      // pi^e log(p)
+    auto operator<=>(const TermKey&) const = default;
+};
+
+class ClosedForm {
+public:
+    ClosedForm() = default;
+    ClosedForm(const Laurent& p);  // NOLINT: polynomials are closed forms
+    ClosedForm(const Laurent& p, const TermKey& key);
+    static ClosedForm constant(const Exact& c);
+
+    bool is_zero() const { return terms_.empty(); }
+    const std::map<TermKey, Laurent>& terms() const { return terms_; }
+    bool is_elementary() const;  // only basis 1 and log r: exact at rational r
+    bool has_only_basis_one() const;
+    // The Laurent polynomial when the form is q * pi^e * p(r) (basis 1, one factor).
+    bool single_polynomial(Laurent* p, Atom* factor) const;
+
+    ClosedForm& operator+=(const ClosedForm& o);
+    ClosedForm& operator-=(const ClosedForm& o);
+    friend ClosedForm operator+(ClosedForm a, const ClosedForm& b) { return a += b; }
+    friend ClosedForm operator-(ClosedForm a, const ClosedForm& b) { return a -= b; }
+    friend ClosedForm operator*(const ClosedForm& a, const Exact& c);
+    friend ClosedForm operator*(const ClosedForm& a, const Laurent& p);
+    friend ClosedForm operator*(const ClosedForm& a, const Q& q) { return a * Exact(q); }
+    friend bool operator==(const ClosedForm& a, const ClosedForm& b) { return a.terms_ == b.terms_; }
+
+    ClosedForm derivative() const;
+    // Antiderivative of basis-1 and log-r terms (others: Error).
+    ClosedForm antiderivative() const;
+    ClosedForm scaled_argument(const Q& s) const;  // f(s r), basis 1 only
+    // Exact value at rational r > 0 (or r = 0 when finite); elementary only.
+    Exact at(const Q& r) const;
+    // Value at r in MPFR, and the sum of |terms| (error bound scale).
+    std::pair<Real, Real> evaluate(const Real& r, unsigned bits) const;
+    // Exact closed form at rational r for people, any basis.
+    std::string to_string_at(const Q& r) const;
+
+private:
+    void canonicalise();
+    std::map<TermKey, Laurent> terms_;
+};
+
+}  // namespace mollify::gen

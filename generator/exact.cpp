@@ -1,0 +1,131 @@
+#include "exact.hpp"
+
+#include "error.hpp"
+
+namespace mollify::gen {
+
+namespace {
+
+void add_term(std::map<Atom, Q>& terms, const Atom& a, const Q& q) {
+    if (q == 0) return;
+    auto [it, inserted] = terms.emplace(a, q);
+    if (!inserted) {
+        it->second += q;
+        if (it->second == 0) terms.erase(it);
+    }
+}
+
+// Trial division: breakpoints and radii are small rationals in practice.
+std::map<long long, int> factor(Z n) {
+    std::map<long long, int> f;
+    for (long long p = 2; p <= 1000000 && Z(p) * p <= n; ++p)
+        while (n % p == 0) {
+            ++f[p];
+            n /= p;
+        }
+    if (n > 1) {
+        if (n > Z(std::numeric_limits<long long>::max()))
+            fail("logarithm of " + n.str() + ": number too large to factor");
+        ++f[n.convert_to<long long>()];
+    }
+    return f;
+}
+
+}  // namespace
+
+Exact::Exact(const Q& q) { add_term(terms_, Atom{}, q); }
+
+Exact Exact::pi_power(const Q& q, int e) {
+    Exact x;
+    add_term(x.terms_, Atom{e, 1}, q);
+    return x;
+}
+
+Exact Exact::log_of(const Q& positive) {
+    if (positive <= 0) fail("logarithm of non-positive " + short_string(positive));
+    Exact x;
+    for (auto [p, k] : factor(numerator(positive))) add_term(x.terms_, Atom{0, p}, Q(k));
+    for (auto [p, k] : factor(denominator(positive))) add_term(x.terms_, Atom{0, p}, Q(-k));
+    return x;
+}
+
+bool Exact::is_rational() const {
+    return terms_.empty() || (terms_.size() == 1 && terms_.begin()->first == Atom{});
+}
+
+Q Exact::rational() const {
+    if (!is_rational()) fail("internal: " + to_string() + " is not rational");
+    return terms_.empty() ? Q(0) : terms_.begin()->second;
+}
+
+Exact& Exact::operator+=(const Exact& o) {
+    for (const auto& [a, q] : o.terms_) add_term(terms_, a, q);
+    return *this;
+}
+
+Exact& Exact::operator-=(const Exact& o) {
+    for (const auto& [a, q] : o.terms_) add_term(terms_, a, -q);
+    return *this;
+}
+
+Exact operator*(const Exact& a, const Exact& b) {
+    Exact x;
+    for (const auto& [aa, qa] : a.terms_)
+        for (const auto& [ab, qb] : b.terms_) {
+            if (aa.log_of != 1 && ab.log_of != 1) fail("internal: product of two logarithms");
+            add_term(x.terms_, Atom{aa.pi_power + ab.pi_power, aa.log_of != 1 ? aa.log_of : ab.log_of}, qa * qb);
+        }
+    return x;
+}
+
+Exact operator*(Exact a, const Q& s) {
+    if (s == 0) return Exact{};
+    for (auto& [atom, q] : a.terms_) q *= s;
+    return a;
+}
+
+Exact Exact::inverse() const {
+    if (terms_.size() != 1 || terms_.begin()->first.log_of != 1)
+        fail("internal: cannot invert " + to_string());
+    const auto& [a, q] = *terms_.begin();
+    return pi_power(Q(1) / q, -a.pi_power);
+}
+
+Real pi_at(unsigned bits) {
+    Real p;
+    p.precision(bits);
+    mpfr_const_pi(p.backend().data(), MPFR_RNDN);
+    return p;
+}
+
+std::pair<Real, Real> Exact::evaluate(unsigned bits) const {
+    const unsigned digits10 = bits * 30103 / 100000 + 2;
+    Real sum(0, digits10), magnitude(0, digits10);
+    const Real pi = pi_at(bits);
+    for (const auto& [a, q] : terms_) {
+        Real t(0, digits10);
+        mpfr_set_q(t.backend().data(), q.backend().data(), MPFR_RNDN);
+        if (a.pi_power != 0) t *= boost::multiprecision::pow(pi, a.pi_power);
+        if (a.log_of != 1) {
+            Real l(a.log_of, digits10);
+            t *= boost::multiprecision::log(l);
+        }
+        sum += t;
+        magnitude += boost::multiprecision::abs(t);
+    }
+    return {sum, magnitude};
+}
+
+std::string Exact::to_string() const {
+    if (terms_.empty()) return "0";
+    std::string s;
+    for (const auto& [a, q] : terms_) {
+        if (!s.empty()) s += " + ";
+        s += short_string(q);
+        if (a.pi_power != 0) s += " * pi^" + std::to_string(a.pi_power);
+        if (a.log_of != 1) s += " * log(" + std::to_string(a.log_of) + ")";
+    }
+    return s;
+}
+
+}  // namespace mollify::gen

@@ -1,0 +1,133 @@
+#include "kernel.hpp"
+
+#include "anderson.hpp"
+#include "classic.hpp"
+#include "error.hpp"
+#include "vandermonde.hpp"
+#include "wendland.hpp"
+
+#include <algorithm>
+
+namespace mollify::gen {
+
+namespace {
+
+Exact unit_mass_normalisation(const Radial& shape, int dim) {
+    return (sphere_measure(dim) * radial_integral(shape, dim - 1)).inverse();
+}
+
+void finish(Kernel& k) { k.W = k.shape * k.normalisation; }
+
+Kernel mollifier(const Spec& s, int dim) {
+    Kernel k;
+    const ExponentMethod e = exponent_method(s.M, s.order, dim);
+    Laurent shape;
+    for (std::size_t j = 0; j < e.alpha.size(); ++j) shape += one_minus_r2_power(s.M + static_cast<int>(j)) * e.alpha[j];
+    k.shape = Radial::single(shape);
+    k.normalisation = e.normalisation;
+    k.claims.smoothness = s.M - 1;
+    k.claims.order = s.order;
+    k.source = s.order == 2 ? "Anderson 2014, eq. (3)" : "Anderson 2014, eqs. (11)-(12), exponent method";
+    return k;
+}
+
+Kernel wendland(const Spec& s, int dim) {
+    Kernel k;
+    k.shape = Radial::single(wendland_shape(dim, s.k, s.l));
+    k.normalisation = unit_mass_normalisation(k.shape, dim);
+    k.claims.smoothness = wendland_edge_power(dim, s.k, s.l) - 1;  // Franz Cor. 4.37
+    k.source = "Franz 2019, Lemma 4.36 / Cor. 4.39 (psi_{d,k,l}, d = D)";
+    return k;
+}
+
+Kernel missing_wendland(const Spec& s, int dim) {
+    Kernel k;
+    k.shape = Radial::single(missing_wendland_shape(dim, s.k, s.l));
+    k.normalisation = unit_mass_normalisation(k.shape, dim);
+    // psi ~ (1-r)^(mu+l+k+1/2) at the edge, mu = floor((d+1)/2) + k + 1.
+    k.claims.smoothness = (dim + 1) / 2 + 2 * s.k + s.l + 1;
+    k.claims.no_potential = "potentials of missing Wendland functions (sqrt/arcsech closed forms) are not implemented";
+    k.source = "Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)";
+    return k;
+}
+
+Kernel classic(const Spec& s, int dim) {
+    Kernel k;
+    k.shape = classic_shape(s.family);
+    switch (s.family) {
+        case Family::poly6: k.claims.smoothness = 2; k.source = "Mueller et al. 2003 (seed 002 eq. (6))"; break;
+        case Family::spiky: k.claims.smoothness = 2; k.source = "Desbrun & Cani 1996, Mueller et al. 2003 (seed 002 eq. (7))"; break;
+        case Family::viscosity:
+            if (dim == 1) fail("kernel viscosity is not integrable in dimension 1 (its 1/(2r) term); use D = 2 or 3");
+            k.claims.smoothness = 2;
+            k.source = "Mueller et al. 2003 (seed 002 ch. 1)";
+            break;
+        case Family::cubic_spline: k.claims.smoothness = 2; k.source = "Monaghan & Lattanzio 1985 (M4), support radius 1"; break;
+        case Family::box:
+            k.claims.smoothness = -1;
+            k.source = "Belley 2007, eq. (12)";
+            break;
+        case Family::box_d1:
+        case Family::box_d2:
+            if (dim != 1)
+                fail("kernel " + s.family_name() + " is one-dimensional (Belley 2007); dimension " + std::to_string(dim) +
+                     " is not available");
+            k.claims.smoothness = -1;
+            k.source = s.family == Family::box_d1 ? "Belley 2007, eq. (16)" : "Belley 2007, eq. (20)";
+            k.claims.no_potential = s.family_name() + " is a derivative estimator (zero mass); it has no Poisson potential";
+            break;
+        default: fail("internal: not a classic kernel");
+    }
+    if (s.family == Family::box_d1) {
+        k.normalised_by = Normalisation::first_derivative;  // 2 int_0^1 r W = -1
+        k.normalisation = Exact(Q(-1, 2)) * radial_integral(k.shape, 1).inverse();
+        k.claims.order = 0;
+    } else if (s.family == Family::box_d2) {
+        k.normalised_by = Normalisation::second_derivative;  // 2 int_0^1 r^2 W = 2
+        k.normalisation = radial_integral(k.shape, 2).inverse();
+        k.claims.order = 0;
+    } else {
+        k.normalisation = unit_mass_normalisation(k.shape, dim);
+    }
+    return k;
+}
+
+Kernel combo(const Spec& s, int dim) {
+    const Kernel base = make_kernel(*s.base, dim);
+    const std::vector<Q> w = vandermonde_weights(s.radii);
+    Kernel k;
+    k.shape.breaks = {Q(0), Q(1)};
+    k.shape.pieces = {ClosedForm()};
+    for (std::size_t j = 0; j < w.size(); ++j) k.shape = k.shape + base.shape.scaled(s.radii[j], dim) * Exact(w[j]);
+    k.normalisation = base.normalisation;
+    k.claims.smoothness = base.claims.smoothness;
+    const int m = static_cast<int>(s.radii.size());
+    k.claims.order = base.claims.order == 2 ? 2 * m : std::max(2 * m, base.claims.order);
+    k.claims.no_potential = base.claims.no_potential;
+    k.source = "Franz 2019, (4.17) and Prop. 4.24, base " + spec_string(*s.base);
+    return k;
+}
+
+}  // namespace
+
+Kernel make_kernel(const Spec& spec, int dim) {
+    if (dim < 1 || dim > 3) fail("dimension " + std::to_string(dim) + " is outside 1..3");
+    Kernel k;
+    switch (spec.family) {
+        case Family::mollifier: k = mollifier(spec, dim); break;
+        case Family::wendland: k = wendland(spec, dim); break;
+        case Family::wendland_missing: k = missing_wendland(spec, dim); break;
+        case Family::combo: k = combo(spec, dim); break;
+        default: k = classic(spec, dim); break;
+    }
+    k.spec = spec;
+    k.dim = dim;
+    finish(k);
+    return k;
+}
+
+Exact radial_moment(const Kernel& k, int p) {
+    return sphere_measure(k.dim) * radial_integral(k.W, k.dim - 1 + p);
+}
+
+}  // namespace mollify::gen

@@ -1,0 +1,42 @@
+// A kernel of the catalogue in dimension D, exactly: its shape as the family
+// defines it, the normalisation constant (rational x pi^e), the normalised
+// W = normalisation * shape, and the claims its certificates must prove.
+#pragma once
+
+#include "radial.hpp"
+#include "spec.hpp"
+
+#include <string>
+
+namespace mollify::gen {
+
+enum class Normalisation {
+    unit_mass,          // int W = 1
+    first_derivative,   // 1D, odd: int x W(x) dx = -1, so f * W ~ f' (Belley (17))
+    second_derivative,  // 1D, even, zero mass: int x^2 W(x) dx = 2 (Belley)
+};
+
+struct Claims {
+    int smoothness = 0;  // C^s across every breakpoint and at the support edge; -1: discontinuous
+    int order = 2;       // radial moments r^2 .. r^(order-2) vanish
+    std::string no_potential;  // why there is no Poisson potential; empty if there is one
+};
+
+struct Kernel {
+    Spec spec;
+    int dim = 3;
+    Radial shape;
+    Exact normalisation;
+    Radial W;
+    Normalisation normalised_by = Normalisation::unit_mass;
+    Claims claims;
+    std::string source;  // where the definition comes from
+};
+
+// Throws Error for a dimension outside 1..3 or a kernel not defined in it.
+Kernel make_kernel(const Spec& spec, int dim);
+
+// int_{R^D} |x|^p W dx (radial moment), exactly; p = 0 is the mass.
+Exact radial_moment(const Kernel& k, int p);
+
+}  // namespace mollify::gen

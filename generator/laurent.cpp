@@ -1,0 +1,198 @@
+#include "laurent.hpp"
+
+#include "error.hpp"
+
+#include <algorithm>
+
+namespace mollify::gen {
+
+Laurent::Laurent(const Q& constant) {
+    if (constant != 0) c_.push_back(constant);
+}
+
+Laurent Laurent::monomial(const Q& c, int power) {
+    Laurent p;
+    if (c != 0) {
+        p.low_ = power;
+        p.c_.push_back(c);
+    }
+    return p;
+}
+
+Laurent Laurent::binomial_power(const Q& a, const Q& b, int n) {
+    Laurent p;
+    p.c_.resize(static_cast<std::size_t>(n) + 1);
+    for (int k = 0; k <= n; ++k)
+        p.c_[static_cast<std::size_t>(k)] = Q(binomial(static_cast<unsigned>(n), static_cast<unsigned>(k))) *
+                                            pow(a, n - k) * pow(b, k);
+    p.trim();
+    return p;
+}
+
+Q Laurent::coefficient(int power) const {
+    if (is_zero() || power < low_ || power > high()) return 0;
+    return c_[static_cast<std::size_t>(power - low_)];
+}
+
+bool Laurent::is_even() const {
+    for (int n = low_; n <= high(); ++n)
+        if ((n % 2 != 0) && coefficient(n) != 0) return false;
+    return true;
+}
+
+void Laurent::trim() {
+    std::size_t first = 0;
+    while (first < c_.size() && c_[first] == 0) ++first;
+    if (first == c_.size()) {
+        c_.clear();
+        low_ = 0;
+        return;
+    }
+    std::size_t last = c_.size();
+    while (c_[last - 1] == 0) --last;
+    c_ = std::vector<Q>(c_.begin() + static_cast<long>(first), c_.begin() + static_cast<long>(last));
+    low_ += static_cast<int>(first);
+}
+
+Laurent& Laurent::operator+=(const Laurent& o) {
+    if (o.is_zero()) return *this;
+    if (is_zero()) return *this = o;
+    const int lo = std::min(low_, o.low_), hi = std::max(high(), o.high());
+    std::vector<Q> sum(static_cast<std::size_t>(hi - lo + 1));
+    for (int n = lo; n <= hi; ++n) sum[static_cast<std::size_t>(n - lo)] = coefficient(n) + o.coefficient(n);
+    low_ = lo;
+    c_ = std::move(sum);
+    trim();
+    return *this;
+}
+
+Laurent& Laurent::operator-=(const Laurent& o) { return *this += o * Q(-1); }
+
+Laurent& Laurent::operator*=(const Q& s) {
+    if (s == 0) {
+        c_.clear();
+        low_ = 0;
+        return *this;
+    }
+    for (auto& c : c_) c *= s;
+    return *this;
+}
+
+Laurent operator*(const Laurent& a, const Laurent& b) {
+    Laurent p;
+    if (a.is_zero() || b.is_zero()) return p;
+    p.low_ = a.low_ + b.low_;
+    p.c_.assign(a.c_.size() + b.c_.size() - 1, Q(0));
+    for (std::size_t i = 0; i < a.c_.size(); ++i)
+        for (std::size_t j = 0; j < b.c_.size(); ++j) p.c_[i + j] += a.c_[i] * b.c_[j];
+    p.trim();
+    return p;
+}
+
+Laurent Laurent::shifted(int k) const {
+    Laurent p = *this;
+    if (!p.is_zero()) p.low_ += k;
+    return p;
+}
+
+Laurent Laurent::derivative() const {
+    Laurent p;
+    for (int n = low_; n <= high() && !is_zero(); ++n) p += monomial(coefficient(n) * n, n - 1);
+    return p;
+}
+
+Laurent Laurent::antiderivative(Q* log_coefficient) const {
+    Laurent p;
+    if (log_coefficient) *log_coefficient = 0;
+    for (int n = low_; n <= high() && !is_zero(); ++n) {
+        const Q c = coefficient(n);
+        if (c == 0) continue;
+        if (n == -1) {
+            if (!log_coefficient) fail("internal: antiderivative of r^-1 needs a log term");
+            *log_coefficient = c;
+        } else {
+            p += monomial(c / Q(n + 1), n + 1);
+        }
+    }
+    return p;
+}
+
+Laurent Laurent::scaled_argument(const Q& s) const {
+    Laurent p = *this;
+    for (int n = low_; n <= high() && !is_zero(); ++n) p.c_[static_cast<std::size_t>(n - low_)] *= pow(s, n);
+    p.trim();
+    return p;
+}
+
+Q Laurent::operator()(const Q& r) const {
+    if (is_zero()) return 0;
+    if (r == 0) {
+        if (low_ < 0) fail("internal: Laurent polynomial with negative powers evaluated at r = 0");
+        return coefficient(0);
+    }
+    Q acc = 0;  // Horner from the top, then the r^low factor
+    for (std::size_t i = c_.size(); i-- > 0;) acc = acc * r + c_[i];
+    return acc * pow(r, low_);
+}
+
+std::optional<Laurent> Laurent::divided_by_linear_power(const Q& a, int n) const {
+    Laurent rest = *this;
+    for (int i = 0; i < n; ++i) {
+        if (rest.is_zero()) return rest;
+        // Synthetic division of r^low * q(r) by (a - r) = -(r - a).
+        if (rest.low_ < 0 && a == 0) return std::nullopt;
+        const int lo = rest.low_;
+        std::vector<Q> q = rest.c_;  // polynomial part in r, times r^lo
+        std::vector<Q> quotient(q.size() > 1 ? q.size() - 1 : 0);
+        Q carry = 0;
+        for (std::size_t k = q.size(); k-- > 0;) {
+            const Q v = q[k] + carry * a;
+            if (k == 0) {
+                if (v != 0) return std::nullopt;
+            } else {
+                quotient[k - 1] = v;
+                carry = v;
+            }
+        }
+        Laurent next;
+        next.low_ = lo;
+        next.c_ = std::move(quotient);
+        next *= Q(-1);  // divided by (r - a); flip for (a - r)
+        next.trim();
+        rest = next;
+    }
+    return rest;
+}
+
+int Laurent::multiplicity_of_root(const Q& a) const {
+    if (is_zero()) return -1;
+    int n = 0;
+    Laurent rest = *this;
+    while (true) {
+        auto q = rest.divided_by_linear_power(a, 1);
+        if (!q || q->is_zero()) return n;
+        rest = *q;
+        ++n;
+    }
+}
+
+std::vector<Q> Laurent::taylor_at(const Q& a) const {
+    if (!is_polynomial()) fail("internal: Taylor form of a Laurent polynomial");
+    // p(r) = p(a - t): substitute r = a - t.
+    Laurent t_poly;
+    for (int n = 0; n <= high() && !is_zero(); ++n)
+        t_poly += binomial_power(a, Q(-1), n) * coefficient(n);
+    std::vector<Q> out;
+    for (int k = 0; k <= t_poly.high() && !t_poly.is_zero(); ++k) out.push_back(t_poly.coefficient(k));
+    return out;
+}
+
+Laurent Laurent::even_part_in_square() const {
+    if (!is_even()) fail("internal: even_part_in_square of an odd polynomial");
+    Laurent q;
+    for (int n = low_; n <= high() && !is_zero(); ++n)
+        if (n % 2 == 0) q += monomial(coefficient(n), n / 2);
+    return q;
+}
+
+}  // namespace mollify::gen

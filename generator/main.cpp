@@ -1,0 +1,172 @@
+// mollify-gen: the exact generator's command line (README, "Command line").
+// Bad arguments: a message naming the bad value, exit status 2, nothing written.
+#include "catalogue.hpp"
+#include "certificate.hpp"
+#include "emit.hpp"
+#include "errata.hpp"
+#include "error.hpp"
+#include "rounding.hpp"
+#include "vandermonde.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+using namespace mollify::gen;
+
+namespace {
+
+constexpr int bad_input = 2;
+
+std::vector<Spec> parse_specs(const std::vector<std::string>& texts) {
+    std::vector<Spec> specs;
+    for (const auto& t : texts) specs.push_back(parse_spec(t));
+    return specs;
+}
+
+int run_emit(const std::string& out, const std::vector<std::string>& only) {
+    std::string command = "mollify-gen emit";
+    std::vector<Spec> specs = only.empty() ? default_specs() : parse_specs(only);
+    for (const Spec& s : specs) command += only.empty() ? "" : " --only " + spec_string(s);
+    const EmitResult r = render_catalogue(expand_dimensions(specs), command);
+    if (!r.failed_certificates.empty()) {
+        for (const auto& f : r.failed_certificates) std::cerr << "certificate failed: " << f << "\n";
+        std::cerr << r.failed_certificates.size() << " certificates failed; nothing written\n";
+        return 1;
+    }
+    write_files(out, r);
+    std::cout << "wrote " << r.files.size() << " files to " << out << ": " << r.kernels << " kernels, "
+              << r.certificates << " certificates, all exact\n";
+    return 0;
+}
+
+int run_value(const std::string& spec_text, int dim, const std::string& r_text, const std::string& name, int digits,
+              bool exact) {
+    const Q r = parse_rational(r_text, "--r");
+    if (r < 0) fail("--r " + r_text + " must be >= 0 (a radial distance)");
+    if (digits < 1 || digits > 100000) fail("--digits " + std::to_string(digits) + " is outside 1..100000");
+    const Kernel k = make_kernel(parse_spec(spec_text), dim);
+    const Quantities q = derive_quantities(k);
+    const Radial& f = quantity(k, q, name);
+    const ClosedForm& form = f.form_at(r);
+    for (const auto& [key, p] : form.terms())
+        if (r == 0 && (p.low() < 0 || key.basis != Basis::one))
+            fail(name + " of " + spec_string(k.spec) + " in D = " + std::to_string(dim) + " is singular at r = 0");
+    if (form.is_elementary()) {
+        const Exact v = form.at(r);
+        std::cout << decimal(v, digits) << "\n";
+        if (exact) std::cout << v.to_string() << "\n";
+    } else {
+        const Evaluator ev = [&](unsigned bits) {
+            Real rr(0, bits * 30103 / 100000 + 2);
+            mpfr_set_q(rr.backend().data(), r.backend().data(), MPFR_RNDN);
+            return form.evaluate(rr, bits);
+        };
+        std::cout << decimal(ev, digits) << "\n";
+        if (exact) std::cout << form.to_string_at(r) << "\n";
+    }
+    return 0;
+}
+
+int run_weights(const std::vector<std::string>& radii_text) {
+    std::vector<Q> radii;
+    for (const auto& t : radii_text) radii.push_back(parse_rational(t, "--radii"));
+    for (const Q& w : vandermonde_weights(radii)) std::cout << pq(w) << "\n";
+    return 0;
+}
+
+int run_errata(const std::string& dir) {
+    const ErrataReport report = check_errata(dir);
+    for (const auto& d : report.discrepancies) std::cout << format_line(d) << "\n";
+    std::cout << "checked " << report.checked << " entries, " << report.discrepancies.size() << " discrepancies\n";
+    return 0;
+}
+
+int run_certify(const std::vector<std::string>& specs, const std::vector<int>& dims) {
+    int failed = 0;
+    for (const Spec& s : parse_specs(specs))
+        for (int dim : dims) {
+            const Kernel k = make_kernel(s, dim);
+            for (const Certificate& c : certify(k, derive_quantities(k))) {
+                std::cout << (c.passed ? "ok    " : "FAIL  ") << spec_string(s) << " D=" << dim << "  " << c.what
+                          << "  [" << c.detail << "]\n";
+                failed += !c.passed;
+            }
+        }
+    return failed ? 1 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"mollify-gen: exact smoothing kernels, potentials and weights, and the tables the runtime uses"};
+    app.set_version_flag("--version", std::string("mollify-gen ") + MOLLIFY_GENERATOR_VERSION);
+    app.require_subcommand(1);
+
+    auto* emit = app.add_subcommand("emit", "write the constexpr tables and catalogue.json");
+    std::string out = "generated";
+    std::vector<std::string> only;
+    emit->add_option("--out", out, "output folder")->capture_default_str();
+    emit->add_option("--only", only, "emit only these kernel specs (all dimensions)");
+
+    auto* value = app.add_subcommand("value", "one exact value, correctly rounded to --digits significant digits");
+    std::string spec_text, r_text, name = "value";
+    int dim = 3, digits = 40;
+    bool exact = false;
+    value->add_option("spec", spec_text, "kernel spec, e.g. wendland:k=2,l=1")->required();
+    value->add_option("--dim", dim, "dimension 1..3")->required();
+    value->add_option("--r", r_text, "radius r/h: p/q or a decimal")->required();
+    value->add_option("--quantity", name,
+                      "value|dr|d2r|laplacian|grad_over_r|hess_radial|potential|dpotential|dpotential_over_r|"
+                      "potential_hess_radial")
+        ->capture_default_str();
+    value->add_option("--digits", digits, "significant digits")->capture_default_str();
+    value->add_flag("--exact", exact, "also print the exact closed form");
+
+    auto* weights = app.add_subcommand("weights", "exact weights of the combination with these radii (Franz Prop. 4.24)");
+    std::vector<std::string> radii;
+    weights->add_option("--radii", radii, "distinct positive radii, e.g. 1/3,2/3,1")->required()->delimiter(',');
+
+    auto* errata = app.add_subcommand("errata", "compare the transcribed seed tables with the exact values");
+    std::string transcriptions = MOLLIFY_TRANSCRIPTIONS_DIR;
+    errata->add_option("--transcriptions", transcriptions, "folder of transcribed tables")->capture_default_str();
+
+    auto* certify_cmd = app.add_subcommand("certify", "print the exact certificates of kernels");
+    std::vector<std::string> certify_specs;
+    std::vector<int> certify_dims = {1, 2, 3};
+    certify_cmd->add_option("specs", certify_specs, "kernel specs")->required();
+    certify_cmd->add_option("--dim", certify_dims, "dimensions")->delimiter(',');
+
+    if (argc > 1 && argv[1][0] != '-') {
+        const std::string command = argv[1];
+        bool known = false;
+        for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == command;
+        if (!known) {
+            std::cerr << "mollify-gen: unknown command '" << command << "' (emit, value, weights, errata, certify)\n";
+            return bad_input;
+        }
+    }
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "mollify-gen: " << e.what() << "\n";
+        return bad_input;
+    }
+    try {
+        if (*emit) return run_emit(out, only);
+        if (*value) return run_value(spec_text, dim, r_text, name, digits, exact);
+        if (*weights) return run_weights(radii);
+        if (*errata) return run_errata(transcriptions);
+        if (*certify_cmd) return run_certify(certify_specs, certify_dims);
+    } catch (const Error& e) {
+        std::cerr << "mollify-gen: " << e.what() << "\n";
+        return bad_input;
+    }
+    return 0;
+}

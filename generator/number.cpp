@@ -1,0 +1,114 @@
+#include "number.hpp"
+
+#include "error.hpp"
+
+#include <boost/spirit/home/x3.hpp>
+
+namespace mollify::gen {
+
+namespace {
+
+namespace x3 = boost::spirit::x3;
+
+struct NumberParts {
+    bool negative = false;
+    std::string integer, fraction, denominator;
+    bool has_exponent = false;
+    bool exponent_negative = false;
+    std::string exponent;
+};
+
+// number := sign? digits ( '/' digits | ('.' digits?)? (e sign? digits)? )
+//         | sign? '.' digits (e sign? digits)?
+bool split_number(std::string_view text, NumberParts& parts) {
+    auto first = text.begin();
+    const auto last = text.end();
+    auto set_neg = [&](auto&) { parts.negative = true; };
+    auto int_digits = [&](auto& ctx) { parts.integer.push_back(x3::_attr(ctx)); };
+    auto frac_digits = [&](auto& ctx) { parts.fraction.push_back(x3::_attr(ctx)); };
+    auto den_digits = [&](auto& ctx) { parts.denominator.push_back(x3::_attr(ctx)); };
+    auto exp_start = [&](auto&) { parts.has_exponent = true; };
+    auto exp_neg = [&](auto&) { parts.exponent_negative = true; };
+    auto exp_digits = [&](auto& ctx) { parts.exponent.push_back(x3::_attr(ctx)); };
+
+    const auto sign = -(x3::lit('+') | x3::lit('-')[set_neg]);
+    const auto exponent = (x3::lit('e') | 'E')[exp_start] >> -(x3::lit('+') | x3::lit('-')[exp_neg]) >>
+                          +x3::digit[exp_digits];
+    const auto fraction_form = x3::lit('/') >> +x3::digit[den_digits];
+    const auto decimal_form = -(x3::lit('.') >> *x3::digit[frac_digits]) >> -exponent;
+    const auto leading_dot = x3::lit('.') >> +x3::digit[frac_digits] >> -exponent;
+    const auto grammar = sign >> ((+x3::digit[int_digits] >> (fraction_form | decimal_form)) | leading_dot);
+    return x3::parse(first, last, grammar) && first == last;
+}
+
+}  // namespace
+
+Q parse_rational(std::string_view text, std::string_view what) {
+    NumberParts parts;
+    if (text.empty() || !split_number(text, parts))
+        fail(std::string(what) + ": '" + std::string(text) +
+             "' is not a number (expected an integer, p/q, or a decimal such as 0.25 or 1e-3)");
+    Z integer(parts.integer.empty() ? "0" : parts.integer);
+    Q value;
+    if (!parts.denominator.empty()) {
+        Z den(parts.denominator);
+        if (den == 0) fail(std::string(what) + ": '" + std::string(text) + "' has a zero denominator");
+        value = Q(integer, den);
+    } else {
+        Z scale = 1;
+        Z digits = integer;
+        for (char c : parts.fraction) {
+            digits = digits * 10 + (c - '0');
+            scale *= 10;
+        }
+        value = Q(digits, scale);
+        if (parts.has_exponent) {
+            if (parts.exponent.size() > 6)
+                fail(std::string(what) + ": exponent of '" + std::string(text) + "' is out of range");
+            int e = std::stoi(parts.exponent);
+            value *= pow(Q(10), parts.exponent_negative ? -e : e);
+        }
+    }
+    return parts.negative ? Q(-value) : value;
+}
+
+std::string pq(const Q& q) { return numerator(q).str() + "/" + denominator(q).str(); }
+
+std::string short_string(const Q& q) {
+    return is_integer(q) ? numerator(q).str() : pq(q);
+}
+
+Q pow(const Q& base, int exponent) {
+    if (exponent < 0) {
+        if (base == 0) fail("division by zero in a power");
+        return pow(Q(1) / base, -exponent);
+    }
+    Q result = 1, b = base;
+    for (unsigned e = static_cast<unsigned>(exponent); e != 0; e >>= 1) {
+        if (e & 1u) result *= b;
+        b *= b;
+    }
+    return result;
+}
+
+Z factorial(unsigned n) {
+    Z f = 1;
+    for (unsigned i = 2; i <= n; ++i) f *= i;
+    return f;
+}
+
+Z binomial(unsigned n, unsigned k) {
+    if (k > n) return 0;
+    Z b = 1;
+    for (unsigned i = 1; i <= k; ++i) b = b * (n - k + i) / i;
+    return b;
+}
+
+Q binomial(const Q& a, int k) {
+    if (k < 0) return 0;
+    Q b = 1;
+    for (int i = 0; i < k; ++i) b *= (a - i) / Q(i + 1);
+    return b;
+}
+
+}  // namespace mollify::gen

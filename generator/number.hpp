@@ -1,0 +1,34 @@
+// Exact scalars: rationals (GMP through Boost.Multiprecision), parsing of
+// user-supplied numbers ("p/q", decimals, exponents) and their canonical
+// "p/q" spelling used in every emitted file.
+#pragma once
+
+#include <boost/multiprecision/gmp.hpp>
+
+#include <string>
+#include <string_view>
+
+namespace mollify::gen {
+
+using Q = boost::multiprecision::mpq_rational;
+using Z = boost::multiprecision::mpz_int;
+
+// Parses "3", "-3/4", "0.125", "1e-3", "2.5E+2". Throws Error naming `what`.
+Q parse_rational(std::string_view text, std::string_view what);
+
+// Always "p/q" (q = 1 included), the catalogue's canonical form.
+std::string pq(const Q& q);
+
+// "p/q", or "p" when q = 1: for messages and closed forms meant for people.
+std::string short_string(const Q& q);
+
+Q pow(const Q& base, int exponent);
+Z factorial(unsigned n);
+Z binomial(unsigned n, unsigned k);
+// Generalised binomial (a choose k) for rational a, k >= 0 (Franz Thm. 4.38).
+Q binomial(const Q& a, int k);
+
+inline Q numerator_q(const Q& q) { return Q(numerator(q)); }
+inline bool is_integer(const Q& q) { return denominator(q) == 1; }
+
+}  // namespace mollify::gen

@@ -1,0 +1,110 @@
+#include "rounding.hpp"
+
+#include "error.hpp"
+
+#include <cstdio>
+
+namespace mollify::gen {
+
+namespace {
+
+constexpr unsigned start_bits = 256;
+constexpr unsigned max_bits = 1u << 16;
+
+Q to_rational(const Real& x) {
+    Q q;
+    mpfr_get_q(q.backend().data(), x.backend().data());
+    return q;
+}
+
+// [v - e, v + e] with e a generous bound on the evaluation error.
+std::pair<Q, Q> enclosure(const Evaluator& f, unsigned bits) {
+    const auto [v, magnitude] = f(bits);
+    const Q err = to_rational(magnitude) * pow(Q(2), -static_cast<int>(bits) + 24) + pow(Q(2), -static_cast<int>(bits) * 4);
+    const Q center = to_rational(v);
+    return {center - err, center + err};
+}
+
+Evaluator of(const Exact& x) {
+    return [x](unsigned bits) { return x.evaluate(bits); };
+}
+
+int decimal_exponent(const Q& a) {  // floor(log10 a), a > 0
+    int e = static_cast<int>(numerator(a).str().size()) - static_cast<int>(denominator(a).str().size());
+    while (a < pow(Q(10), e)) --e;
+    while (a >= pow(Q(10), e + 1)) ++e;
+    return e;
+}
+
+Z round_half_even(const Q& x) {  // x >= 0
+    Z floor_part = numerator(x) / denominator(x);
+    const Q frac = x - Q(floor_part);
+    if (frac > Q(1, 2) || (frac == Q(1, 2) && floor_part % 2 != 0)) floor_part += 1;
+    return floor_part;
+}
+
+}  // namespace
+
+double round_to_double(const Q& q) {
+    mpfr_t x;
+    mpfr_init2(x, 53);
+    mpfr_set_q(x, q.backend().data(), MPFR_RNDN);
+    const double d = mpfr_get_d(x, MPFR_RNDN);  // exact: x already has 53 bits
+    mpfr_clear(x);
+    return d;
+}
+
+double round_to_double(const Evaluator& f) {
+    for (unsigned bits = start_bits; bits <= max_bits; bits *= 2) {
+        const auto [lo, hi] = enclosure(f, bits);
+        const double a = round_to_double(lo), b = round_to_double(hi);
+        if (a == b) return a;
+    }
+    fail("internal: could not round a value correctly (is it exactly zero or a rounding boundary?)");
+}
+
+double round_to_double(const Exact& x) {
+    if (x.is_rational()) return round_to_double(x.rational());
+    return round_to_double(of(x));
+}
+
+std::string hex_literal(double x) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%a", x);
+    return buf;
+}
+
+std::string decimal(const Q& q, int digits) {
+    if (digits < 1) fail("digits = " + std::to_string(digits) + " must be at least 1");
+    if (q == 0) return "0." + std::string(static_cast<std::size_t>(std::max(digits - 1, 0)), '0') + "e+00";
+    const Q a = q < 0 ? Q(-q) : q;
+    int e = decimal_exponent(a);
+    Z n = round_half_even(a * pow(Q(10), digits - 1 - e));
+    if (n == pow(Q(10), digits)) {  // rounded up to the next power of ten
+        n /= 10;
+        ++e;
+    }
+    const std::string d = n.str();
+    std::string out = q < 0 ? "-" : "";
+    out += d.substr(0, 1);
+    if (digits > 1) out += "." + d.substr(1);
+    char exp[16];
+    std::snprintf(exp, sizeof exp, "e%+03d", e);
+    return out + exp;
+}
+
+std::string decimal(const Evaluator& f, int digits) {
+    for (unsigned bits = start_bits + static_cast<unsigned>(digits) * 4; bits <= max_bits; bits *= 2) {
+        const auto [lo, hi] = enclosure(f, bits);
+        const std::string a = decimal(lo, digits), b = decimal(hi, digits);
+        if (a == b) return a;
+    }
+    fail("internal: could not round a value correctly to " + std::to_string(digits) + " digits");
+}
+
+std::string decimal(const Exact& x, int digits) {
+    if (x.is_rational()) return decimal(x.rational(), digits);
+    return decimal(of(x), digits);
+}
+
+}  // namespace mollify::gen

@@ -1,0 +1,31 @@
+// Correct rounding of exact values: to double (for emitted hex-float
+// literals) and to N significant decimal digits (for `mollify-gen value`).
+// Rationals are rounded exactly (MPFR's mpfr_set_q); values with pi or
+// logarithms by Ziv's strategy: evaluate with a rigorous error bound and
+// raise the precision until both ends of the interval round alike.
+#pragma once
+
+#include "closed_form.hpp"
+
+#include <functional>
+#include <string>
+
+namespace mollify::gen {
+
+// Value and sum of |terms| at a working precision in bits.
+using Evaluator = std::function<std::pair<Real, Real>(unsigned bits)>;
+
+double round_to_double(const Q& q);
+double round_to_double(const Exact& x);
+double round_to_double(const Evaluator& f);
+
+// C99 hexadecimal floating literal ("0x1.8p-2"), exact for every double.
+std::string hex_literal(double x);
+
+// N significant digits, scientific notation ("6.77e-01"), correctly rounded
+// (round half to even).
+std::string decimal(const Q& q, int digits);
+std::string decimal(const Exact& x, int digits);
+std::string decimal(const Evaluator& f, int digits);
+
+}  // namespace mollify::gen

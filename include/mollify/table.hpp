@@ -1,0 +1,115 @@
+// The format of the tables `mollify-gen emit` writes into generated/: the
+// contract between the exact generator and the double-precision runtime.
+// Every number in a table is a correctly rounded double of an exact value
+// (written beside it, in the generated file, as a comment).
+//
+// A quantity (W, W', ..., the potential) is a list of pieces over r >= 0,
+// the last one reaching to infinity (zero, or the Green's function for
+// potentials). A piece is a sum of terms; a term is
+//     (edge - v)^edge_power * r^low * sum_k c[k] v^k * basis(r),
+// with v = r (Var::r) or v = r^2 (Var::r2; then the factor is edge^2 - r^2),
+// `edge` the piece's upper breakpoint. The factored form keeps the
+// evaluation accurate near the support edge: expanded powers of r lose
+// accuracy there (SWIFT's Wendland C6 loses up to 1e-2 at r = 0.98).
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+namespace mollify::table {
+
+enum class Basis : unsigned char {
+    one,         // 1
+    sqrt_power,  // S(r)^s_power, S = sqrt(1 - r^2)
+    arcsech,     // log((1 + S(r)) / r)
+    log,         // log r
+};
+
+enum class Var : unsigned char { r, r2 };
+
+struct Term {
+    Basis basis;
+    int s_power;
+    Var var;
+    int edge_power;
+    int low;  // power of r in front of the polynomial
+    const double* c;
+    int n;
+};
+
+struct Piece {
+    double lo, hi;  // [lo, hi), the last inner piece [lo, support]; the exterior (support, inf)
+    const Term* terms;
+    int nterms;
+};
+
+struct Quantity {
+    const Piece* pieces;
+    int npieces;
+};
+
+// Order of Kernel::quantities.
+enum class QuantityId : int {
+    value,
+    dr,
+    d2r,
+    laplacian,
+    grad_over_r,
+    hess_radial,
+    potential,
+    dpotential,
+    dpotential_over_r,
+    potential_hess_radial,
+};
+inline constexpr int quantity_count = 10;
+
+struct Kernel {
+    const char* spec;  // canonical kernel spec, e.g. "wendland:k=2,l=1"
+    int dim;
+    double support;  // 1: the runtime scales by h
+    int smoothness;  // C^s at the breakpoints and the edge; -1 discontinuous
+    int order;       // radial moments r^2 .. r^(order-2) vanish
+    int parity;      // 1D extension to x < 0: +1 even, -1 odd
+    double normalisation;
+    const char* normalisation_exact;
+    bool has_potential;
+    Quantity quantities[quantity_count];
+};
+
+inline constexpr double infinity = std::numeric_limits<double>::infinity();
+
+// Reference evaluation of one quantity at r >= 0, straight from the table
+// (the optimised runtime lives in <mollify/kernel.hpp>).
+inline double evaluate(const Quantity& q, double r) {
+    for (int p = 0; p < q.npieces; ++p) {
+        const Piece& piece = q.pieces[p];
+        // Pieces are [lo, hi); the support is closed, so the last piece
+        // before the exterior also takes r = hi.
+        const bool exterior = p + 1 == q.npieces, last_inner = p + 2 == q.npieces;
+        if (!exterior && !(r < piece.hi || (last_inner && r == piece.hi))) continue;
+        double sum = 0;
+        for (int t = 0; t < piece.nterms; ++t) {
+            const Term& term = piece.terms[t];
+            const double v = term.var == Var::r ? r : r * r;
+            double poly = 0;
+            for (int k = term.n; k-- > 0;) poly = poly * v + term.c[k];
+            double x = poly;
+            if (term.low != 0) x *= std::pow(r, term.low);
+            if (term.edge_power != 0) {
+                const double edge = term.var == Var::r ? piece.hi - r : (piece.hi - r) * (piece.hi + r);
+                x *= std::pow(edge, term.edge_power);
+            }
+            switch (term.basis) {
+                case Basis::one: break;
+                case Basis::sqrt_power: x *= std::pow(std::sqrt((1 - r) * (1 + r)), term.s_power); break;
+                case Basis::arcsech: x *= std::log((1 + std::sqrt((1 - r) * (1 + r))) / r); break;
+                case Basis::log: x *= std::log(r); break;
+            }
+            sum += x;
+        }
+        return sum;
+    }
+    return 0;
+}
+
+}  // namespace mollify::table

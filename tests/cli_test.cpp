@@ -1,0 +1,175 @@
+// mollify-gen as a user runs it: output formats, exit status 2 with a message
+// naming the bad value (and nothing written), and the checked-in generated/
+// reproduced byte for byte (CPython-style freshness check).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+    int status;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::ostringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+fs::path scratch(const std::string& name) {
+    const fs::path p = fs::temp_directory_path() / ("mollify-cli-test-" + std::to_string(::getpid()) + "-" + name);
+    fs::remove_all(p);
+    return p;
+}
+
+Outcome run(const std::string& args) {
+    const fs::path out = scratch("stdout"), err = scratch("stderr");
+    const std::string cmd = std::string(MOLLIFY_GEN) + " " + args + " >" + out.string() + " 2>" + err.string();
+    const int raw = std::system(cmd.c_str());
+    Outcome r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+}
+
+std::vector<std::string> lines(const std::string& s) {
+    std::vector<std::string> v;
+    std::istringstream in(s);
+    for (std::string l; std::getline(in, l);) v.push_back(l);
+    return v;
+}
+
+std::vector<fs::path> tree(const fs::path& root) {
+    std::vector<fs::path> files;
+    for (const auto& e : fs::recursive_directory_iterator(root))
+        if (e.is_regular_file()) files.push_back(fs::relative(e.path(), root));
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+}  // namespace
+
+TEST(Cli, ValueWithExactForm) {
+    const Outcome r = run("value mollifier:M=4 --dim 3 --r 0 --exact");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto l = lines(r.out);
+    ASSERT_EQ(l.size(), 2u);
+    EXPECT_EQ(l[1], "3465/512 * pi^-1");  // sigma_{4(3)}/(4 pi): 1/sigma = int_0^1 r^2 (1-r^2)^4 dr = 128/3465
+    EXPECT_EQ(l[0].size(), std::string("2.154241757548453925530262745233211013680e+00").size());  // 40 digits
+    EXPECT_NEAR(std::stod(l[0]), 3465.0 / 512.0 / M_PI, 1e-15);
+}
+
+TEST(Cli, DecimalAndRationalRadiiAgree) {
+    const Outcome a = run("value wendland:k=2,l=1 --dim 2 --r 0.25 --digits 30");
+    const Outcome b = run("value wendland:k=2,l=1 --dim 2 --r 1/4 --digits 30");
+    ASSERT_EQ(a.status, 0) << a.err;
+    EXPECT_EQ(a.out, b.out);
+    EXPECT_EQ(lines(a.out)[0].size(), std::string("1.23456789012345678901234567890e+00").size());
+}
+
+TEST(Cli, PotentialOutsideTheSupportIsTheGreensFunction) {
+    const Outcome r = run("value mollifier:M=4 --dim 2 --r 2 --quantity potential --exact");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(lines(r.out)[1], "1/2 * pi^-1 * log(2)");
+    const Outcome r3 = run("value wendland:k=2 --dim 3 --r 4 --quantity potential --exact");
+    EXPECT_EQ(lines(r3.out)[1], "-1/16 * pi^-1");  // -1/(4 pi r) at r = 4
+}
+
+TEST(Cli, MissingWendlandValueHasAClosedForm) {
+    const Outcome r = run("value wendland-missing:k=1,l=1 --dim 2 --r 1/2 --digits 25 --exact");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto l = lines(r.out);
+    ASSERT_EQ(l.size(), 2u);
+    EXPECT_NE(l[1].find("sqrt(3/4)"), std::string::npos) << l[1];
+    EXPECT_NE(l[1].find("log((1 + sqrt(3/4)) / 1/2)"), std::string::npos) << l[1];
+}
+
+TEST(Cli, Weights) {
+    const Outcome r = run("weights --radii 1/3,2/3,1");
+    ASSERT_EQ(r.status, 0) << r.err;
+    // Franz Prop. 4.24: w_1 = (4/9)/(4/9-1/9) * 1/(1-1/9) = 3/2, w_2 = -3/5, w_3 = 1/10.
+    EXPECT_EQ(r.out, "3/2\n-3/5\n1/10\n");
+}
+
+TEST(Cli, Errata) {
+    const Outcome r = run("errata");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto l = lines(r.out);
+    ASSERT_FALSE(l.empty());
+    EXPECT_TRUE(std::regex_match(l.back(), std::regex("checked [0-9]+ entries, [0-9]+ discrepancies"))) << l.back();
+    for (std::size_t i = 0; i + 1 < l.size(); ++i)
+        EXPECT_TRUE(std::regex_search(l[i], std::regex("^[^|]+ \\| [^|]+ \\| [^|]+ \\| printed: .* \\| exact: .*")))
+            << l[i];
+}
+
+TEST(Cli, BadArgumentsExitWithStatus2NamingTheValue) {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"value gaussian --dim 3 --r 0", "gaussian"},
+        {"value wendland:k=2 --dim 4 --r 0", "dimension 4"},
+        {"value wendland:k=2 --dim 3 --r -1", "-1"},
+        {"value wendland:k=2 --dim 3 --r abc", "abc"},
+        {"value wendland:k=2 --dim 3 --r 0 --quantity hessian", "hessian"},
+        {"value wendland:k=2 --dim 3 --r 0 --digits 0", "--digits 0"},
+        {"value spiky --dim 3 --r 0 --quantity grad_over_r", "singular at r = 0"},
+        {"value box-d1 --dim 1 --r 0 --quantity potential", "no Poisson potential"},
+        {"value viscosity --dim 1 --r 1/2", "dimension 1"},
+        {"weights --radii 1/2,1/2", "1/2"},
+        {"weights --radii 0,1", "radius 0"},
+        {"value wendland:k=2 --r 0", "--dim"},
+        {"frobnicate", "frobnicate"},
+    };
+    for (const auto& [args, named] : cases) {
+        const Outcome r = run(args);
+        EXPECT_EQ(r.status, 2) << args;
+        EXPECT_NE(r.err.find(named), std::string::npos) << args << " -> " << r.err;
+        EXPECT_TRUE(r.out.empty()) << args;
+    }
+}
+
+TEST(Cli, BadEmitWritesNothing) {
+    const fs::path out = scratch("bad-emit");
+    const Outcome r = run("emit --out " + out.string() + " --only wendland:k=2 --only wendland:k=99");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("k=99"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(Cli, EmitOnlyNamesItsCommandInTheBanner) {
+    const fs::path out = scratch("only");
+    const Outcome r = run("emit --out " + out.string() + " --only wendland:l=1,k=2");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string h = slurp(out / "mollify/tables/wendland.hpp");
+    EXPECT_NE(h.find("with: mollify-gen emit --only wendland:k=2,l=1\n"), std::string::npos);
+    EXPECT_NE(h.find("wendland_k_2_l_1_D3"), std::string::npos);
+    EXPECT_EQ(h.find(out.string()), std::string::npos);  // no paths in generated files
+    fs::remove_all(out);
+}
+
+// CPython-style: regenerate, then fail on any difference from the checked-in tables.
+TEST(Cli, GeneratedTablesAreFreshAndDeterministic) {
+    const fs::path a = scratch("fresh-a"), b = scratch("fresh-b");
+    ASSERT_EQ(run("emit --out " + a.string()).status, 0);
+    ASSERT_EQ(run("emit --out " + b.string()).status, 0);
+    const fs::path checked_in = MOLLIFY_GENERATED_DIR;
+    const auto files = tree(a);
+    EXPECT_EQ(files, tree(checked_in)) << "generated/ holds files mollify-gen emit does not write, or misses some";
+    EXPECT_EQ(files, tree(b));
+    for (const auto& f : files) {
+        EXPECT_TRUE(slurp(a / f) == slurp(b / f)) << f << " differs between two runs";
+        EXPECT_TRUE(slurp(a / f) == slurp(checked_in / f))
+            << "generated/" << f.string() << " is stale: run `mollify-gen emit --out generated` and commit";
+    }
+    fs::remove_all(a);
+    fs::remove_all(b);
+}

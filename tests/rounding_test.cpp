@@ -1,0 +1,49 @@
+// Correct rounding: to double (hex-float literals of the tables) and to
+// N decimal digits (mollify-gen value). References are independent: exact
+// binary expansions, and pi's digits (OEIS A000796).
+#include "error.hpp"
+#include "rounding.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+using namespace mollify::gen;
+
+TEST(Rounding, RationalsToDouble) {
+    EXPECT_EQ(round_to_double(Q(1, 3)), 1.0 / 3.0);  // IEEE division is correctly rounded
+    EXPECT_EQ(round_to_double(Q(-22, 7)), -22.0 / 7.0);
+    // Ties go to even: 1 + 2^-53 lies halfway between 1 and 1 + 2^-52.
+    const Q two53 = pow(Q(2), 53);
+    EXPECT_EQ(round_to_double(Q(1) + Q(1) / two53), 1.0);
+    EXPECT_EQ(round_to_double(Q(1) + Q(3) / two53), 1.0 + 4.0 / std::ldexp(1.0, 53));
+    // Just above the tie rounds up.
+    EXPECT_EQ(round_to_double(Q(1) + Q(1) / two53 + Q(1) / pow(Q(2), 200)), std::nextafter(1.0, 2.0));
+}
+
+TEST(Rounding, TranscendentalToDouble) {
+    EXPECT_EQ(round_to_double(Exact::pi_power(Q(1), 1)), M_PI);
+    EXPECT_EQ(round_to_double(Exact::pi_power(Q(1), -1)), M_1_PI);
+    EXPECT_EQ(round_to_double(Exact::log_of(Q(2))), M_LN2);
+    EXPECT_EQ(round_to_double(Exact::pi_power(Q(21, 2), -1)), 0x1.abcef9018d72bp+1);  // 21/(2 pi): mpmath at 400 bits, rounded by Python fractions
+}
+
+TEST(Rounding, HexLiteralsRoundTrip) {
+    for (double x : {0.0, 1.0, -0.1, 1e-300, 6.02214076e23, M_PI, std::nextafter(1.0, 0.0)})
+        EXPECT_EQ(std::strtod(hex_literal(x).c_str(), nullptr), x) << hex_literal(x);
+}
+
+TEST(Rounding, DecimalDigits) {
+    EXPECT_EQ(decimal(Q(1, 3), 5), "3.3333e-01");
+    EXPECT_EQ(decimal(Q(2, 3), 5), "6.6667e-01");
+    EXPECT_EQ(decimal(Q(-1, 8), 2), "-1.2e-01");   // 0.125: half to even
+    EXPECT_EQ(decimal(Q(3, 8), 2), "3.8e-01");     // 0.375: half to even
+    EXPECT_EQ(decimal(Q(999999, 1000000), 3), "1.00e+00");
+    EXPECT_EQ(decimal(Q(999999, 1000), 3), "1.00e+03");
+    EXPECT_EQ(decimal(Q(0), 3), "0.00e+00");
+    EXPECT_EQ(decimal(Q(12345), 1), "1e+04");
+    EXPECT_EQ(decimal(Exact::pi_power(Q(1), 1), 40), "3.141592653589793238462643383279502884197e+00");
+    EXPECT_EQ(decimal(Exact::pi_power(Q(1), -1), 20), "3.1830988618379067154e-01");
+    EXPECT_THROW(decimal(Q(1), 0), Error);
+}

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs whatever mollify needs that this Debian machine lacks (apt only).
+# Used by the README's commands and by .ci/run.
+set -euo pipefail
+
+packages=(
+  g++ cmake make            # toolchain
+  libgmp-dev libmpfr-dev    # exact arithmetic (GMP rationals, MPFR)
+  libboost-dev              # Boost.Multiprecision (mpq_rational, mpfr_float), Boost.Spirit X3
+  libeigen3-dev             # double-precision linear algebra (tools/vandermonde-fp)
+  libcli11-dev              # command-line parsing
+  nlohmann-json3-dev        # catalogue.json and the transcribed seed tables
+  libgtest-dev              # tests
+  libbenchmark-dev          # benchmarks
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
