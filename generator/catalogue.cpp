@@ -12,6 +12,9 @@ std::vector<Spec> default_specs() {
             texts.push_back("mollifier:M=" + std::to_string(M) + (order == 2 ? "" : ",order=" + std::to_string(order)));
     for (int k = 0; k <= 4; ++k)
         for (int l = 0; l <= 4; ++l) texts.push_back("wendland:k=" + std::to_string(k) + ",l=" + std::to_string(l));
+    for (int k = 1; k <= 2; ++k)
+        for (int l = 0; l <= 2; ++l)
+            texts.push_back("wendland-missing:k=" + std::to_string(k) + ",l=" + std::to_string(l));
     for (int m : {2, 3}) {
         for (int k = 1; k <= 3; ++k)
             for (int l = 0; l <= 2; ++l)

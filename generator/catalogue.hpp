@@ -12,7 +12,8 @@ struct CatalogueEntry {
     int dim;
 };
 
-// Anderson M = 1..9, orders 2/4/6; Wendland k = 0..4, l = 0..4; combinations
+// Anderson M = 1..9, orders 2/4/6; Wendland k = 0..4, l = 0..4; missing
+// Wendland k = 1..2, l = 0..2; combinations
 // m = 2, 3 of Wendland k = 1..3, l = 0..2 and of mollifier M = 4, 9; the
 // classic kernels; each in every dimension 1..3 where it is defined.
 std::vector<Spec> default_specs();

@@ -21,6 +21,7 @@ std::optional<Exact> left_limit(const Radial& f, std::size_t i) {
 std::optional<Exact> right_limit(const Radial& f, std::size_t i) {
     const ClosedForm& form = i + 1 < f.breaks.size() ? f.pieces[i] : f.outside;
     if (form.is_elementary()) return form.at(f.breaks[i]);
+    if (f.breaks[i] == 1) return value_at_one(form);
     return std::nullopt;
 }
 

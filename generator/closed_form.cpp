@@ -142,33 +142,90 @@ ClosedForm ClosedForm::derivative() const {
             case Basis::log:  // (log r)' = 1/r
                 add_to(d.terms_, TermKey{Basis::one, 0, k.factor}, p * Laurent::monomial(Q(1), -1));
                 break;
+            case Basis::arcsin:  // A' = 1/S
+                add_to(d.terms_, TermKey{Basis::sqrt_power, -1, k.factor}, p);
+                break;
         }
     }
     d.canonicalise();
     return d;
 }
 
+namespace {
+
+const TermKey key_one{Basis::one, 0, Atom{}};
+const TermKey key_S{Basis::sqrt_power, 1, Atom{}};
+const TermKey key_L{Basis::arcsech, 0, Atom{}};
+const TermKey key_A{Basis::arcsin, 0, Atom{}};
+const TermKey key_log{Basis::log, 0, Atom{}};
+
+ClosedForm mono(const Q& c, int n, const TermKey& k) { return ClosedForm(Laurent::monomial(c, n), k); }
+
+ClosedForm integrate_monomial(Basis b, int s_power, int n);
+
+// K_n = int r^n / S: r^(n-1) S = (n-1) K_(n-2) - n K_n (differentiate r^(n-1) S).
+ClosedForm inverse_sqrt_integral(int n) {
+    switch (n) {
+        case 0: return mono(Q(1), 0, key_A);
+        case 1: return mono(Q(-1), 0, key_S);
+        case -1: return mono(Q(-1), 0, key_L);  // (-L)' = 1/(r S)
+        case -2: return mono(Q(-1), -1, key_S);  // (-S/r)' = 1/(r^2 S)
+    }
+    if (n > 1) return (inverse_sqrt_integral(n - 2) * Q(n - 1) - mono(Q(1), n - 1, key_S)) * ratio(1, n);
+    const int m = n + 2;  // n <= -3: K_n = (r^(m-1) S + m K_m) / (m - 1)
+    return (mono(Q(1), m - 1, key_S) + inverse_sqrt_integral(m) * Q(m)) * ratio(1, m - 1);
+}
+
+// I_n = int r^n S: r^(n-1) S^3 = (n-1) I_(n-2) - (n+2) I_n.
+ClosedForm sqrt_integral(int n) {
+    const Laurent one_minus_r2 = Laurent(Q(1)) - Laurent::monomial(Q(1), 2);
+    auto r_S3 = [&](int p) { return ClosedForm(Laurent::monomial(Q(1), p) * one_minus_r2, key_S); };
+    switch (n) {
+        case 0: return (mono(Q(1), 1, key_S) + mono(Q(1), 0, key_A)) * ratio(1, 2);
+        case 1: return r_S3(0) * ratio(-1, 3);
+        case -1: return mono(Q(1), 0, key_S) - mono(Q(1), 0, key_L);  // (S - L)' = S/r
+        case -2: return mono(Q(-1), -1, key_S) - mono(Q(1), 0, key_A);
+    }
+    if (n > 1) return (sqrt_integral(n - 2) * Q(n - 1) - r_S3(n - 1)) * ratio(1, n + 2);
+    const int m = n + 2;  // n <= -3: I_n = (r^(m-1) S^3 + (m+2) I_m) / (m - 1)
+    return (r_S3(m - 1) + sqrt_integral(m) * Q(m + 2)) * ratio(1, m - 1);
+}
+
+// int r^n basis(r) dr.
+ClosedForm integrate_monomial(Basis b, int s_power, int n) {
+    switch (b) {
+        case Basis::one:
+            return n == -1 ? mono(Q(1), 0, key_log) : mono(ratio(1, n + 1), n + 1, key_one);
+        case Basis::log:  // r^(n+1) log r/(n+1) - r^(n+1)/(n+1)^2
+            if (n == -1) fail("the antiderivative of log(r)/r is outside mollify's closed forms");
+            return mono(ratio(1, n + 1), n + 1, key_log) - mono(Q(1, (n + 1) * (n + 1)), n + 1, key_one);
+        case Basis::sqrt_power:
+            if (s_power == 1) return sqrt_integral(n);
+            if (s_power == -1) return inverse_sqrt_integral(n);
+            fail("internal: antiderivative of S^" + std::to_string(s_power));
+        case Basis::arcsech:  // by parts: r^(n+1) L/(n+1) + K_n/(n+1)
+            if (n == -1) fail("the antiderivative of arcsech(r)/r is outside mollify's closed forms");
+            return mono(ratio(1, n + 1), n + 1, key_L) + inverse_sqrt_integral(n) * ratio(1, n + 1);
+        case Basis::arcsin:  // by parts: r^(n+1) A/(n+1) - K_(n+1)/(n+1)
+            if (n == -1) fail("the antiderivative of arcsin(r)/r is outside mollify's closed forms");
+            return mono(ratio(1, n + 1), n + 1, key_A) - inverse_sqrt_integral(n + 1) * ratio(1, n + 1);
+    }
+    fail("internal: unknown basis");
+}
+
+}  // namespace
+
 ClosedForm ClosedForm::antiderivative() const {
     ClosedForm f;
-    for (const auto& [k, p] : terms_) {
-        if (k.basis == Basis::one) {
-            Q log_c;
-            add_to(f.terms_, k, p.antiderivative(&log_c));
-            if (log_c != 0) add_to(f.terms_, TermKey{Basis::log, 0, k.factor}, Laurent(log_c));
-        } else if (k.basis == Basis::log) {
-            // int r^n log r = r^(n+1) log r/(n+1) - r^(n+1)/(n+1)^2
-            for (int n = p.low(); n <= p.high(); ++n) {
-                const Q c = p.coefficient(n);
-                if (c == 0) continue;
-                if (n == -1) fail("internal: antiderivative of log(r)/r is outside the closed forms");
-                add_to(f.terms_, k, Laurent::monomial(c / Q(n + 1), n + 1));
-                add_to(f.terms_, TermKey{Basis::one, 0, k.factor},
-                       Laurent::monomial(-c / (Q(n + 1) * Q(n + 1)), n + 1));
-            }
-        } else {
-            fail("antiderivative of a non-polynomial closed form (sqrt(1-r^2) or arcsech terms) is not implemented");
+    for (const auto& [k, p] : terms_)
+        for (int n = p.low(); n <= p.high(); ++n) {
+            const Q c = p.coefficient(n);
+            if (c == 0) continue;
+            const ClosedForm F = integrate_monomial(k.basis, k.s_power, n) * c;
+            f += F * Exact::pi_power(Q(1), k.factor.pi_power) *
+                 (k.factor.log_of == 1 ? Exact(Q(1)) : Exact::log_of(Q(k.factor.log_of)));
         }
-    }
+    f.canonicalise();
     return f;
 }
 
@@ -218,6 +275,7 @@ std::pair<Real, Real> ClosedForm::evaluate(const Real& r, unsigned bits) const {
                 case Basis::sqrt_power: t *= boost::multiprecision::pow(s, k.s_power); break;
                 case Basis::arcsech: t *= boost::multiprecision::log((Real(1, digits10) + s) / rr); break;
                 case Basis::log: t *= boost::multiprecision::log(rr); break;
+                case Basis::arcsin: t *= boost::multiprecision::asin(rr); break;
             }
             sum += t;
             magnitude += boost::multiprecision::abs(t);
@@ -230,6 +288,7 @@ std::string ClosedForm::to_string_at(const Q& r) const {
     if (is_elementary()) return at(r).to_string();
     std::string s;
     const std::string one_minus = short_string(Q(1) - r * r);
+    const std::string rr = is_integer(r) ? short_string(r) : "(" + short_string(r) + ")";
     for (const auto& [k, p] : terms_) {
         const Q v = p(r);
         if (v == 0) continue;
@@ -239,14 +298,95 @@ std::string ClosedForm::to_string_at(const Q& r) const {
         if (k.factor.log_of != 1) s += " * log(" + std::to_string(k.factor.log_of) + ")";
         switch (k.basis) {
             case Basis::one: break;
-            case Basis::sqrt_power: s += " * sqrt(" + one_minus + ")^" + std::to_string(k.s_power); break;
-            case Basis::arcsech:
-                s += " * log((1 + sqrt(" + one_minus + ")) / " + short_string(r) + ")";
+            case Basis::sqrt_power:
+                s += " * sqrt(" + one_minus + ")" + (k.s_power == 1 ? "" : "^" + std::to_string(k.s_power));
                 break;
-            case Basis::log: s += " * log(" + short_string(r) + ")"; break;
+            case Basis::arcsech: s += " * log((1 + sqrt(" + one_minus + ")) / " + rr + ")"; break;
+            case Basis::log: s += " * log(" + rr + ")"; break;
+            case Basis::arcsin: s += " * arcsin(" + short_string(r) + ")"; break;
         }
     }
     return s.empty() ? "0" : s;
+}
+
+namespace {
+
+// Series of the basis functions at r = 0 up to r^order: (power, coefficient,
+// times log r?). arcsech r = log 2 - log r - sum_k (2k)!/(4^k k!^2 2k) r^(2k).
+struct SeriesTerm {
+    int power;
+    Exact c;
+    bool log_r;
+};
+
+Q central(int k) {  // (2k)! / (4^k k!^2)
+    return Q(factorial(static_cast<unsigned>(2 * k)), factorial(static_cast<unsigned>(k)) *
+                                                          factorial(static_cast<unsigned>(k))) / pow(Q(4), k);
+}
+
+std::vector<SeriesTerm> basis_series(const TermKey& k, int order) {
+    std::vector<SeriesTerm> s;
+    switch (k.basis) {
+        case Basis::one: s.push_back({0, Exact(Q(1)), false}); break;
+        case Basis::log: s.push_back({0, Exact(Q(1)), true}); break;
+        case Basis::sqrt_power:
+            for (int j = 0; 2 * j <= order; ++j)
+                s.push_back({2 * j, Exact(binomial(ratio(k.s_power, 2), j) * pow(Q(-1), j)), false});
+            break;
+        case Basis::arcsech:
+            s.push_back({0, Exact::log_of(Q(2)), false});
+            s.push_back({0, Exact(Q(-1)), true});
+            for (int j = 1; 2 * j <= order; ++j) s.push_back({2 * j, Exact(-central(j) / Q(2 * j)), false});
+            break;
+        case Basis::arcsin:
+            for (int j = 0; 2 * j + 1 <= order; ++j) s.push_back({2 * j + 1, Exact(central(j) / Q(2 * j + 1)), false});
+            break;
+    }
+    return s;
+}
+
+}  // namespace
+
+Exact limit_at_zero(const ClosedForm& f) {
+    std::map<int, Exact> plain, logs;  // coefficients of r^n and r^n log r, n <= 0
+    for (const auto& [k, p] : f.terms()) {
+        const Exact factor = Exact::pi_power(Q(1), k.factor.pi_power) *
+                             (k.factor.log_of == 1 ? Exact(Q(1)) : Exact::log_of(Q(k.factor.log_of)));
+        for (int n = p.low(); n <= std::min(p.high(), 0); ++n) {
+            const Q c = p.coefficient(n);
+            if (c == 0) continue;
+            for (const SeriesTerm& t : basis_series(k, -n))
+                if (n + t.power <= 0) (t.log_r ? logs : plain)[n + t.power] += factor * t.c * c;
+        }
+    }
+    for (const auto& [n, c] : plain)
+        if (n < 0 && !c.is_zero()) fail("closed form is singular at r = 0 (r^" + std::to_string(n) + " term)");
+    for (const auto& [n, c] : logs)
+        if (!c.is_zero()) fail("closed form is singular at r = 0 (log r term)");
+    auto it = plain.find(0);
+    return it == plain.end() ? Exact() : it->second;
+}
+
+Exact value_at(const ClosedForm& f, const Q& r) {
+    if (r == 0) return limit_at_zero(f);
+    if (f.is_elementary()) return f.at(r);
+    if (r == 1) {
+        Exact v;
+        for (const auto& [k, p] : f.terms()) {
+            const Exact factor = Exact::pi_power(Q(1), k.factor.pi_power) *
+                                 (k.factor.log_of == 1 ? Exact(Q(1)) : Exact::log_of(Q(k.factor.log_of)));
+            switch (k.basis) {
+                case Basis::one: v += factor * p(Q(1)); break;
+                case Basis::sqrt_power:
+                    if (k.s_power < 0) fail("closed form is singular at r = 1 (S^" + std::to_string(k.s_power) + ")");
+                    break;  // S(1) = 0
+                case Basis::arcsech: case Basis::log: break;  // both vanish at 1
+                case Basis::arcsin: v += factor * Exact::pi_power(Q(1, 2), 1) * p(Q(1)); break;
+            }
+        }
+        return v;
+    }
+    fail("value of a sqrt/arcsech/arcsin closed form at r = " + short_string(r) + " is irrational");
 }
 
 }  // namespace mollify::gen

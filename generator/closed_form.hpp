@@ -1,9 +1,10 @@
 // Closed forms in r: sums of Laurent polynomials times a basis function
 //   1, S(r)^j (S = sqrt(1 - r^2), j odd), L(r) = log((1 + S)/r) = arcsech r,
-//   log r,
+//   log r, A(r) = arcsin r,
 // each term carrying an exact constant factor pi^e log(p). Polynomial kernels
 // use only the basis 1; missing Wendland functions (Franz §4.3.3) need S and
-// L; 2D potentials need log r. Closed under d/dr.
+// L, their potentials also arcsin; 2D potentials need log r. Closed under
+// d/dr, and under antiderivatives as far as mollify needs them.
 #pragma once
 
 #include "exact.hpp"
@@ -14,7 +15,7 @@
 
 namespace mollify::gen {
 
-enum class Basis { one, sqrt_power, arcsech, log };
+enum class Basis { one, sqrt_power, arcsech, log, arcsin };
 
 struct TermKey {
     Basis basis = Basis::one;
@@ -47,7 +48,8 @@ public:
     friend bool operator==(const ClosedForm& a, const ClosedForm& b) { return a.terms_ == b.terms_; }
 
     ClosedForm derivative() const;
-    // Antiderivative of basis-1 and log-r terms (others: Error).
+    // An antiderivative; Error for the two integrands outside the closed forms
+    // (arcsech(r)/r and arcsin(r)/r) and for log(r)/r.
     ClosedForm antiderivative() const;
     ClosedForm scaled_argument(const Q& s) const;  // f(s r), basis 1 only
     // Exact value at rational r > 0 (or r = 0 when finite); elementary only.
@@ -57,9 +59,16 @@ public:
     // Exact closed form at rational r for people, any basis.
     std::string to_string_at(const Q& r) const;
 
-private:
     void canonicalise();
+
+private:
     std::map<TermKey, Laurent> terms_;
 };
+
+// Value at rational r including the endpoints r = 0 and r = 1 of the
+// sqrt/arcsech/arcsin forms, where it is a limit (series at 0; S = L = 0,
+// arcsin 1 = pi/2 at 1). Error where the form is singular or irrational.
+Exact value_at(const ClosedForm& f, const Q& r);
+Exact limit_at_zero(const ClosedForm& f);
 
 }  // namespace mollify::gen

@@ -42,6 +42,7 @@ const char* basis_name(Basis b) {
         case Basis::sqrt_power: return "sqrt_power";
         case Basis::arcsech: return "arcsech";
         case Basis::log: return "log";
+        case Basis::arcsin: return "arcsin";
     }
     return "?";
 }

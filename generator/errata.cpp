@@ -552,7 +552,14 @@ void Checker::anderson_formula(const Entry& e) {
         const auto pb = p.is_zero() ? std::optional<Q>(Q(0)) : ratio(p, prefactor);
         const auto xb = x.is_zero() ? std::optional<Q>(Q(0)) : ratio(x, prefactor);
         if (pb && xb) r.push_back("bracket coefficient printed " + short_string(*pb) + ", exact " + short_string(*xb));
-        if (!p.is_zero() && !x.is_zero()) r.push_back(factor_remark(ratio(p, x)));
+        if (!p.is_zero() && !x.is_zero()) {
+            const auto f = ratio(p, x);
+            r.push_back(factor_remark(f));
+            // A stray sigma in a printed denominator, e.g. (2 sigma k).
+            const Q sigma = table1_sigma(D, M);
+            if (f && *f == 1 / sigma) r.push_back("consistent with a spurious factor 1/sigma_{M(" + std::to_string(D) +
+                                                  ")} = 1/" + short_string(sigma) + " in the printed coefficient");
+        }
         return join(r, "; ");
     };
     auto single_piece = [&](const Radial& f, const char* what) -> const ClosedForm& {
@@ -655,6 +662,7 @@ void Checker::wendland_shape_entry(const Entry& e) {
     const int edge = exact.multiplicity_of_root(Q(1));
     const json& pr = e.printed();
     const int printed_edge = e.integer(pr, "edge_power", "printed");
+    if (printed_edge < 0 || printed_edge > 200) e.bad("printed.edge_power must be in 0..200");
     Laurent printed_poly;
     for (const auto& [n, c] : e.coefficient_map(pr, "poly", "printed")) printed_poly += Laurent::monomial(c, n);
     e.compare(printed_edge == edge, "edge power", "(1-r)^" + std::to_string(printed_edge), "(1-r)^" + std::to_string(edge));
@@ -724,6 +732,7 @@ void Checker::wendland_combo(const Entry& e) {
         ct.scale = e.rational(t, "scale", "printed.terms[]");
         ct.edge_power = e.integer(t, "edge_power", "printed.terms[]");
         if (ct.scale <= 0) e.bad("printed.terms[].scale must be positive");
+        if (ct.edge_power < 0 || ct.edge_power > 200) e.bad("printed.terms[].edge_power must be in 0..200");
         for (const auto& [n, c] : e.coefficient_map(t, "poly", "printed.terms[]")) ct.poly += Laurent::monomial(c, n);
         terms.push_back(ct);
     }

@@ -46,7 +46,6 @@ Kernel missing_wendland(const Spec& s, int dim) {
     k.normalisation = unit_mass_normalisation(k.shape, dim);
     // psi ~ (1-r)^(mu+l+k+1/2) at the edge, mu = floor((d+1)/2) + k + 1.
     k.claims.smoothness = (dim + 1) / 2 + 2 * s.k + s.l + 1;
-    k.claims.no_potential = "potentials of missing Wendland functions (sqrt/arcsech closed forms) are not implemented";
     k.source = "Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)";
     return k;
 }

@@ -49,11 +49,14 @@ int run_value(const std::string& spec_text, int dim, const std::string& r_text, 
     const Quantities q = derive_quantities(k);
     const Radial& f = quantity(k, q, name);
     const ClosedForm& form = f.form_at(r);
-    for (const auto& [key, p] : form.terms())
-        if (r == 0 && (p.low() < 0 || key.basis != Basis::one))
-            fail(name + " of " + spec_string(k.spec) + " in D = " + std::to_string(dim) + " is singular at r = 0");
-    if (form.is_elementary()) {
-        const Exact v = form.at(r);
+    const std::string where = name + " of " + spec_string(k.spec) + " in D = " + std::to_string(dim);
+    if (form.is_elementary() || r == 0 || r == 1) {  // exact: rational r, or a limit at 0 and 1
+        Exact v;
+        try {
+            v = value_at(form, r);
+        } catch (const Error&) {
+            fail(where + " is singular at r = " + short_string(r));
+        }
         std::cout << decimal(v, digits) << "\n";
         if (exact) std::cout << v.to_string() << "\n";
     } else {

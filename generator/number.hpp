@@ -23,6 +23,9 @@ std::string pq(const Q& q);
 std::string short_string(const Q& q);
 
 Q pow(const Q& base, int exponent);
+// a/b for machine integers of any sign (mpq_rational's two-argument
+// constructor misreads a negative denominator).
+inline Q ratio(long long a, long long b) { return Q(a) / Q(b); }
 Z factorial(unsigned n);
 Z binomial(unsigned n, unsigned k);
 // Generalised binomial (a choose k) for rational a, k >= 0 (Franz Thm. 4.38).

@@ -14,7 +14,6 @@ ClosedForm green_function(int dim) {
 }
 
 Radial potential(const Radial& W, int dim) {
-    if (!W.is_elementary()) fail("internal: potential of a non-polynomial kernel");
     const std::size_t n = W.pieces.size();
     // Gauss: omega_D r^(D-1) phi'(r) = mass inside r, so phi' = m(r) / r^(D-1)
     // with m(r) = int_0^r s^(D-1) W(s) ds.
@@ -23,20 +22,23 @@ Radial potential(const Radial& W, int dim) {
     for (std::size_t i = 0; i < n; ++i) {
         const ClosedForm F = (W.pieces[i] * Laurent::monomial(Q(1), dim - 1)).antiderivative();
         const Q& a = W.breaks[i];
-        for (const auto& [k, p] : F.terms())
-            if (a == 0 && (k.basis != Basis::one || p.low() < 0))
-                fail("kernel is not integrable at r = 0 in dimension " + std::to_string(dim));
-        flux[i] = F - ClosedForm::constant(F.at(a)) + ClosedForm::constant(m_at_break);
-        m_at_break = flux[i].at(W.breaks[i + 1]);
+        Exact F_at_a;
+        try {
+            F_at_a = value_at(F, a);
+        } catch (const Error&) {
+            fail("kernel is not integrable at r = 0 in dimension " + std::to_string(dim));
+        }
+        flux[i] = F - ClosedForm::constant(F_at_a) + ClosedForm::constant(m_at_break);
+        m_at_break = value_at(flux[i], W.breaks[i + 1]);
     }
     Radial phi = W;
     phi.outside = green_function(dim);
-    Exact value = phi.outside.at(W.support());
+    Exact value = value_at(phi.outside, W.support());
     for (std::size_t i = n; i-- > 0;) {
         const ClosedForm dphi = flux[i] * Laurent::monomial(Q(1), 1 - dim);
         const ClosedForm P = dphi.antiderivative();
-        phi.pieces[i] = P - ClosedForm::constant(P.at(W.breaks[i + 1])) + ClosedForm::constant(value);
-        if (i > 0) value = phi.pieces[i].at(W.breaks[i]);
+        phi.pieces[i] = P - ClosedForm::constant(value_at(P, W.breaks[i + 1])) + ClosedForm::constant(value);
+        if (i > 0) value = value_at(phi.pieces[i], W.breaks[i]);
     }
     phi.parity = 1;
     return phi;

@@ -112,52 +112,9 @@ std::pair<Real, Real> Radial::evaluate(const Real& r, unsigned bits) const {
     return pieces[std::min(i, pieces.size() - 1)].evaluate(r, bits);
 }
 
-namespace {
-
-// int_0^1 r^n S(r) dr and int_0^1 r^n / S(r) dr (Wallis recursions).
-Exact wallis_sqrt(int n) {
-    if (n == 0) return Exact::pi_power(Q(1, 4), 1);
-    if (n == 1) return Exact(Q(1, 3));
-    return wallis_sqrt(n - 2) * Q(n - 1, n + 2);
-}
-Exact wallis_inverse_sqrt(int n) {
-    if (n == 0) return Exact::pi_power(Q(1, 2), 1);
-    if (n == 1) return Exact(Q(1));
-    return wallis_inverse_sqrt(n - 2) * Q(n - 1, n);
-}
-
-}  // namespace
-
 Exact integral(const ClosedForm& f, const Q& a, const Q& b) {
-    if (f.is_elementary()) {
-        const ClosedForm F = f.antiderivative();
-        return F.at(b) - F.at(a);
-    }
-    if (a != 0 || b != 1) fail("internal: integral of a sqrt/arcsech closed form off [0, 1]");
-    Exact total;
-    for (const auto& [k, p] : f.terms()) {
-        const Exact factor = Exact::pi_power(Q(1), k.factor.pi_power) *
-                             (k.factor.log_of == 1 ? Exact(Q(1)) : Exact::log_of(Q(k.factor.log_of)));
-        for (int n = p.low(); n <= p.high(); ++n) {
-            const Q c = p.coefficient(n);
-            if (c == 0) continue;
-            if (n < 0) fail("internal: singular integrand at r = 0");
-            Exact term;
-            switch (k.basis) {
-                case Basis::one: term = Exact(Q(1, n + 1)); break;
-                case Basis::sqrt_power:
-                    if (k.s_power != 1) fail("internal: integral of S^j, j != 1");
-                    term = wallis_sqrt(n);
-                    break;
-                case Basis::arcsech:  // int r^n L = [r^(n+1) L/(n+1)] + 1/(n+1) int r^n / S
-                    term = wallis_inverse_sqrt(n) * Q(1, n + 1);
-                    break;
-                case Basis::log: term = Exact(Q(-1, (n + 1) * (n + 1))); break;
-            }
-            total += factor * term * c;
-        }
-    }
-    return total;
+    const ClosedForm F = f.antiderivative();
+    return value_at(F, b) - value_at(F, a);
 }
 
 Exact radial_integral(const Radial& f, int power) {
@@ -169,14 +126,9 @@ Exact radial_integral(const Radial& f, int power) {
 }
 
 std::optional<Exact> value_at_one(const ClosedForm& f) {
-    Exact v;
-    for (const auto& [k, p] : f.terms()) {
+    for (const auto& [k, p] : f.terms())
         if (k.basis == Basis::sqrt_power && k.s_power < 0) return std::nullopt;
-        if (k.basis != Basis::one) continue;  // S, arcsech and log r vanish at 1
-        v += Exact::pi_power(Q(1), k.factor.pi_power) *
-             (k.factor.log_of == 1 ? Exact(Q(1)) : Exact::log_of(Q(k.factor.log_of))) * p(Q(1));
-    }
-    return v;
+    return value_at(f, Q(1));
 }
 
 Exact sphere_measure(int dim) {

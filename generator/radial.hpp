@@ -41,8 +41,9 @@ struct Radial {
     std::pair<Real, Real> evaluate(const Real& r, unsigned bits) const;
 };
 
-// int_a^b f(r) dr for one closed form on [a, b] (a, b rational, 0 <= a < b);
-// the sqrt/arcsech basis is supported on [0, 1] (Wallis-type integrals).
+// int_a^b f(r) dr for one closed form on [a, b] (a, b rational, 0 <= a < b),
+// from its antiderivative (limits at 0 and 1 for the sqrt/arcsech/arcsin
+// forms, which are only exact at those two points).
 Exact integral(const ClosedForm& f, const Q& a, const Q& b);
 // int_0^support r^power f(r) dr over all pieces.
 Exact radial_integral(const Radial& f, int power);

@@ -92,7 +92,7 @@ TEST(Cli, MissingWendlandValueHasAClosedForm) {
     const auto l = lines(r.out);
     ASSERT_EQ(l.size(), 2u);
     EXPECT_NE(l[1].find("sqrt(3/4)"), std::string::npos) << l[1];
-    EXPECT_NE(l[1].find("log((1 + sqrt(3/4)) / 1/2)"), std::string::npos) << l[1];
+    EXPECT_NE(l[1].find("log((1 + sqrt(3/4)) / (1/2))"), std::string::npos) << l[1];
 }
 
 TEST(Cli, Weights) {

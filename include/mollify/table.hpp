@@ -23,6 +23,7 @@ enum class Basis : unsigned char {
     sqrt_power,  // S(r)^s_power, S = sqrt(1 - r^2)
     arcsech,     // log((1 + S(r)) / r)
     log,         // log r
+    arcsin,      // arcsin r
 };
 
 enum class Var : unsigned char { r, r2 };
@@ -104,6 +105,7 @@ inline double evaluate(const Quantity& q, double r) {
                 case Basis::sqrt_power: x *= std::pow(std::sqrt((1 - r) * (1 + r)), term.s_power); break;
                 case Basis::arcsech: x *= std::log((1 + std::sqrt((1 - r) * (1 + r))) / r); break;
                 case Basis::log: x *= std::log(r); break;
+                case Basis::arcsin: x *= std::asin(r); break;
             }
             sum += x;
         }

@@ -18201,4 +18201,4513 @@ inline constexpr table::Kernel wendland_k_4_l_4_D3 = {
         {detail_wendland_k_4_l_4_D3::potential_hess_radial, 3},
     }};
 
+// wendland-missing:k=1 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_1_D1 {
+inline constexpr double value_0_0[] = {
+    0x1.7c4632ac0bf43p+0,  // 14/3 * pi^-1
+    -0x1.4cbd6c568a75bp+3,  // -98/3 * pi^-1
+    -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.0b615ba0f867bp+5,  // 105 * pi^-1
+    0x1.6481cf814b34fp+2,  // 35/2 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 2},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.6481cf814b34fp+4,  // -70 * pi^-1
+    -0x1.21a978990d1bp+7,  // -455 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.0b615ba0f867bp+7,  // 420 * pi^-1
+    0x1.0b615ba0f867bp+5,  // 105 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.6481cf814b34fp+4,  // -70 * pi^-1
+    -0x1.10f362defd948p+9,  // -1715 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.91120971749b9p+8,  // 1260 * pi^-1
+    0x1.4e39b2893681ap+7,  // 525 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.6481cf814b34fp+4,  // -70 * pi^-1
+    -0x1.10f362defd948p+9,  // -1715 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.91120971749b9p+8,  // 1260 * pi^-1
+    0x1.4e39b2893681ap+7,  // 525 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.6481cf814b34fp+4,  // -70 * pi^-1
+    -0x1.21a978990d1bp+7,  // -455 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.0b615ba0f867bp+7,  // 420 * pi^-1
+    0x1.0b615ba0f867bp+5,  // 105 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    -0x1.91120971749b9p+8,  // -1260 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.0b615ba0f867bp+8,  // 840 * pi^-1
+    0x1.0b615ba0f867bp+7,  // 420 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 1},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
+    0x1.e8ec8a4aeacc4p-2,  // 3/2 * pi^-1
+    -0x1.757bcd321e06bp-1,  // -55/24 * pi^-1
+    -0x1.7fab656902eafp-1,  // -113/48 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
+    0x1.976fc893c3aa3p-4,  // 5/16 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.2ac970f4e4d22p+0,  // 11/3 * pi^-1
+    -0x1.976fc893c3aa3p+1,  // -10 * pi^-1
+    -0x1.49583999937efp+2,  // -97/6 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    0x1.abcef9018d72bp+2,  // 21 * pi^-1
+    0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.2ac970f4e4d22p+0,  // 11/3 * pi^-1
+    -0x1.976fc893c3aa3p+1,  // -10 * pi^-1
+    -0x1.49583999937efp+2,  // -97/6 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.abcef9018d72bp+2,  // 21 * pi^-1
+    0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.cdc2f46333164p+2,  // -68/3 * pi^-1
+    -0x1.8ef2c9bb5a415p+4,  // -235/3 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.abcef9018d72bp+4,  // 84 * pi^-1
+    0x1.3193d66ed2bfap+2,  // 15 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1p-1,  // -1/2
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_1_D1
+inline constexpr table::Kernel wendland_missing_k_1_D1 = {
+    "wendland-missing:k=1", 1, 0x1p+0, 4, 2, 1,
+    0x1.6481cf814b34fp+6, "280 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_1_D1::value, 2},
+        {detail_wendland_missing_k_1_D1::dr, 2},
+        {detail_wendland_missing_k_1_D1::d2r, 2},
+        {detail_wendland_missing_k_1_D1::laplacian, 2},
+        {detail_wendland_missing_k_1_D1::grad_over_r, 2},
+        {detail_wendland_missing_k_1_D1::hess_radial, 2},
+        {detail_wendland_missing_k_1_D1::potential, 2},
+        {detail_wendland_missing_k_1_D1::dpotential, 2},
+        {detail_wendland_missing_k_1_D1::dpotential_over_r, 2},
+        {detail_wendland_missing_k_1_D1::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=1 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_1_D2 {
+inline constexpr double value_0_0[] = {
+    0x1.1d34a60108f72p+1,  // 7 * pi^-1
+    -0x1.f31c2281cfb08p+3,  // -49 * pi^-1
+    -0x1.68f6a2194f58dp+5,  // -567/4 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.91120971749b9p+5,  // 315/2 * pi^-1
+    0x1.0b615ba0f867bp+3,  // 105/4 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 2},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
+    -0x1.b27e34e593a88p+7,  // -1365/2 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.91120971749b9p+7,  // 630 * pi^-1
+    0x1.91120971749b9p+5,  // 315/2 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
+    -0x1.996d144e7c5edp+9,  // -5145/2 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.2ccd87151774bp+9,  // 1890 * pi^-1
+    0x1.f5568bcdd1c27p+7,  // 1575/2 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.0b615ba0f867bp+6,  // -210 * pi^-1
+    -0x1.030650c3f0a47p+10,  // -3255 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.91120971749b9p+9,  // 2520 * pi^-1
+    0x1.2ccd87151774bp+8,  // 945 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
+    -0x1.b27e34e593a88p+7,  // -1365/2 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.91120971749b9p+7,  // 630 * pi^-1
+    0x1.91120971749b9p+5,  // 315/2 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    -0x1.2ccd87151774bp+9,  // -1890 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.91120971749b9p+8,  // 1260 * pi^-1
+    0x1.91120971749b9p+7,  // 630 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 1},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.40b5fa689bd84p-2,  // -551/560 * pi^-1
+    0x1.c2ccafa957933p-2,  // 1549/1120 * pi^-1
+    -0x1.b27738d4f8fcfp-1,  // -11943/4480 * pi^-1
+    -0x1.ebecd96d60866p-1,  // -5409/1792 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    0x0p+0,  // 0
+    0x0p+0,  // 0
+    0x1.6481cf814b34fp+0,  // 35/8 * pi^-1
+    0x1.0b615ba0f867bp-3,  // 105/256 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.08d575933f2eap+0,  // 13/4 * pi^-1
+    -0x1.d7193feada3cdp+1,  // -185/16 * pi^-1
+    -0x1.a6143362acb25p+2,  // -663/32 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.0b615ba0f867bp+3,  // 105/4 * pi^-1
+    0x1.0b615ba0f867bp+0,  // 105/32 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_2, 2},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.08d575933f2eap+0,  // 13/4 * pi^-1
+    -0x1.d7193feada3cdp+1,  // -185/16 * pi^-1
+    -0x1.a6143362acb25p+2,  // -663/32 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.0b615ba0f867bp+3,  // 105/4 * pi^-1
+    0x1.0b615ba0f867bp+0,  // 105/32 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_2, 2},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.078f828c62922p+3,  // -207/8 * pi^-1
+    -0x1.fee32a8148587p+4,  // -1605/16 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    0x1.0b615ba0f867bp+5,  // 105 * pi^-1
+    0x1.91120971749b9p+2,  // 315/16 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_2, 2},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_1_D2
+inline constexpr table::Kernel wendland_missing_k_1_D2 = {
+    "wendland-missing:k=1", 2, 0x1p+0, 4, 2, 1,
+    0x1.0b615ba0f867bp+7, "420 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_1_D2::value, 2},
+        {detail_wendland_missing_k_1_D2::dr, 2},
+        {detail_wendland_missing_k_1_D2::d2r, 2},
+        {detail_wendland_missing_k_1_D2::laplacian, 2},
+        {detail_wendland_missing_k_1_D2::grad_over_r, 2},
+        {detail_wendland_missing_k_1_D2::hess_radial, 2},
+        {detail_wendland_missing_k_1_D2::potential, 2},
+        {detail_wendland_missing_k_1_D2::dpotential, 2},
+        {detail_wendland_missing_k_1_D2::dpotential_over_r, 2},
+        {detail_wendland_missing_k_1_D2::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=1 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_1_D3 {
+inline constexpr double value_0_0[] = {
+    0x1.37423899a1558p+2,  // 48 * pi^-2
+    -0x1.8512c6c009aaep+5,  // -480 * pi^-2
+    -0x1.2c50e49c3aa98p+8,  // -2964 * pi^-2
+    -0x1.37423899a1558p+5,  // -384 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    0x1.fea8a4dc0cb04p+7,  // 2520 * pi^-2
+    0x1.fea8a4dc0cb04p+6,  // 1260 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 2},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
+    -0x1.6134a53a55938p+10,  // -13944 * pi^-2
+    -0x1.1059f1866d2adp+8,  // -2688 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    0x1.fea8a4dc0cb04p+9,  // 10080 * pi^-2
+    0x1.7efe7ba509843p+9,  // 7560 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
+    -0x1.425a74de1b35bp+12,  // -50904 * pi^-2
+    -0x1.9886ea49a3c03p+10,  // -16128 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.7efe7ba509843p+11,  // 30240 * pi^-2
+    0x1.debe1a8e4be54p+11,  // 37800 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.32652fb73ad02p+8,  // -3024 * pi^-2
+    -0x1.f2f4c77b45ff7p+12,  // -78792 * pi^-2
+    -0x1.1059f1866d2adp+11,  // -21504 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.3f29670987ee3p+12,  // 50400 * pi^-2
+    0x1.4f1eac306853bp+12,  // 52920 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
+    -0x1.6134a53a55938p+10,  // -13944 * pi^-2
+    -0x1.1059f1866d2adp+8,  // -2688 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.fea8a4dc0cb04p+9,  // 10080 * pi^-2
+    0x1.7efe7ba509843p+9,  // 7560 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    -0x1.d41a971f0ba19p+11,  // -36960 * pi^-2
+    -0x1.54706de808758p+10,  // -13440 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.fea8a4dc0cb04p+10,  // 20160 * pi^-2
+    0x1.7efe7ba509843p+11,  // 30240 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.c1988aa5057b8p-3,  // -13/6 * pi^-2
+    0x1.6b22975de6e3cp-1,  // 7 * pi^-2
+    -0x1.1c74b24dd2bafp+1,  // -329/15 * pi^-2
+    -0x1.6f3df433d7101p+2,  // -1699/30 * pi^-2
+    -0x1.baadd357a6ep-2,  // -64/15 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    0x1.8512c6c009aaep+2,  // 60 * pi^-2
+    0x1.c5eb3d35609cbp+0,  // 35/2 * pi^-2
+};
+inline constexpr double potential_0_2[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.965d9101762fap+0,  // 47/3 * pi^-2
+    -0x1.2dbf7c8f3f3fbp+3,  // -1396/15 * pi^-2
+    -0x1.369c376a6076fp+5,  // -1916/5 * pi^-2
+    -0x1.f2038dc29bbcp+1,  // -192/5 * pi^-2
+};
+inline constexpr double dpotential_0_1[] = {
+    0x1.23ce151007402p+5,  // 360 * pi^-2
+    0x1.c5eb3d35609cbp+3,  // 140 * pi^-2
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.965d9101762fap+0,  // 47/3 * pi^-2
+    -0x1.2dbf7c8f3f3fbp+3,  // -1396/15 * pi^-2
+    -0x1.369c376a6076fp+5,  // -1916/5 * pi^-2
+    -0x1.f2038dc29bbcp+1,  // -192/5 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.23ce151007402p+5,  // 360 * pi^-2
+    0x1.c5eb3d35609cbp+3,  // 140 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.37423899a1558p-3,  // 3/2 * pi^-2
+    0x1.9f02f6222c72p-4,  // 1 * pi^-2
+    -0x1.458652a934763p+4,  // -1004/5 * pi^-2
+    -0x1.6fac9fa8acf9cp+7,  // -9072/5 * pi^-2
+    -0x1.b3c31c0a48448p+4,  // -1344/5 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.23ce151007402p+7,  // 1440 * pi^-2
+    0x1.54706de808758p+6,  // 840 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.37423899a1558p-3,  // -3/2 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_1_D3
+inline constexpr table::Kernel wendland_missing_k_1_D3 = {
+    "wendland-missing:k=1", 3, 0x1p+0, 5, 2, 1,
+    0x1.fea8a4dc0cb04p+8, "5040 * pi^-2", true,
+    {
+        {detail_wendland_missing_k_1_D3::value, 2},
+        {detail_wendland_missing_k_1_D3::dr, 2},
+        {detail_wendland_missing_k_1_D3::d2r, 2},
+        {detail_wendland_missing_k_1_D3::laplacian, 2},
+        {detail_wendland_missing_k_1_D3::grad_over_r, 2},
+        {detail_wendland_missing_k_1_D3::hess_radial, 2},
+        {detail_wendland_missing_k_1_D3::potential, 2},
+        {detail_wendland_missing_k_1_D3::dpotential, 2},
+        {detail_wendland_missing_k_1_D3::dpotential_over_r, 2},
+        {detail_wendland_missing_k_1_D3::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=1,l=1 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_1_l_1_D1 {
+inline constexpr double value_0_0[] = {
+    0x1.b2995e7b7b604p+0,  // 16/3 * pi^-1
+    -0x1.0f9fdb0d2d1c2p+4,  // -160/3 * pi^-1
+    -0x1.a351fa292409dp+6,  // -988/3 * pi^-1
+    -0x1.b2995e7b7b604p+3,  // -128/3 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.6481cf814b34fp+6,  // 280 * pi^-1
+    0x1.6481cf814b34fp+5,  // 140 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 2},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.1d34a60108f72p+5,  // -112 * pi^-1
+    -0x1.ed2b09b71f80bp+8,  // -4648/3 * pi^-1
+    -0x1.7c4632ac0bf43p+6,  // -896/3 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.6481cf814b34fp+8,  // 1120 * pi^-1
+    0x1.0b615ba0f867bp+8,  // 840 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.1d34a60108f72p+5,  // -112 * pi^-1
+    -0x1.c21715f9a226p+10,  // -5656 * pi^-1
+    -0x1.1d34a60108f72p+9,  // -1792 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.0b615ba0f867bp+10,  // 3360 * pi^-1
+    0x1.4e39b2893681ap+10,  // 4200 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.1d34a60108f72p+5,  // -112 * pi^-1
+    -0x1.c21715f9a226p+10,  // -5656 * pi^-1
+    -0x1.1d34a60108f72p+9,  // -1792 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.0b615ba0f867bp+10,  // 3360 * pi^-1
+    0x1.4e39b2893681ap+10,  // 4200 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.1d34a60108f72p+5,  // -112 * pi^-1
+    -0x1.ed2b09b71f80bp+8,  // -4648/3 * pi^-1
+    -0x1.7c4632ac0bf43p+6,  // -896/3 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.6481cf814b34fp+8,  // 1120 * pi^-1
+    0x1.0b615ba0f867bp+8,  // 840 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    -0x1.46cc538bda45ep+10,  // -12320/3 * pi^-1
+    -0x1.db57bf570ef14p+8,  // -4480/3 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.6481cf814b34fp+9,  // 2240 * pi^-1
+    0x1.0b615ba0f867bp+10,  // 3360 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    0x1.824f706dc3003p-4,  // 8/27 * pi^-1
+    0x1.27c4d214094c2p-1,  // 49/27 * pi^-1
+    -0x1.3ce52a3a09f63p+0,  // -35/9 * pi^-1
+    -0x1.58cfe7d9f88dbp+1,  // -457/54 * pi^-1
+    -0x1.824f706dc3003p-3,  // -16/27 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.7c4632ac0bf43p+1,  // 28/3 * pi^-1
+    0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
+    -0x1.5387d1d078633p+2,  // -50/3 * pi^-1
+    -0x1.23ff0b7af6e4ap+4,  // -172/3 * pi^-1
+    -0x1.b2995e7b7b604p+0,  // -16/3 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    0x1.1d34a60108f72p+4,  // 56 * pi^-1
+    0x1.976fc893c3aa3p+2,  // 20 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
+    -0x1.5387d1d078633p+2,  // -50/3 * pi^-1
+    -0x1.23ff0b7af6e4ap+4,  // -172/3 * pi^-1
+    -0x1.b2995e7b7b604p+0,  // -16/3 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.1d34a60108f72p+4,  // 56 * pi^-1
+    0x1.976fc893c3aa3p+2,  // 20 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.757bcd321e06bp+3,  // -110/3 * pi^-1
+    -0x1.5a52374a6650bp+6,  // -272 * pi^-1
+    -0x1.7c4632ac0bf43p+3,  // -112/3 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.1d34a60108f72p+6,  // 224 * pi^-1
+    0x1.3193d66ed2bfap+5,  // 120 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1p-1,  // -1/2
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_1_l_1_D1
+inline constexpr table::Kernel wendland_missing_k_1_l_1_D1 = {
+    "wendland-missing:k=1,l=1", 1, 0x1p+0, 5, 2, 1,
+    0x1.6481cf814b34fp+7, "560 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_1_l_1_D1::value, 2},
+        {detail_wendland_missing_k_1_l_1_D1::dr, 2},
+        {detail_wendland_missing_k_1_l_1_D1::d2r, 2},
+        {detail_wendland_missing_k_1_l_1_D1::laplacian, 2},
+        {detail_wendland_missing_k_1_l_1_D1::grad_over_r, 2},
+        {detail_wendland_missing_k_1_l_1_D1::hess_radial, 2},
+        {detail_wendland_missing_k_1_l_1_D1::potential, 2},
+        {detail_wendland_missing_k_1_l_1_D1::dpotential, 2},
+        {detail_wendland_missing_k_1_l_1_D1::dpotential_over_r, 2},
+        {detail_wendland_missing_k_1_l_1_D1::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=1,l=1 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_1_l_1_D2 {
+inline constexpr double value_0_0[] = {
+    0x1.6eb167b830193p+1,  // 9 * pi^-1
+    -0x1.ca5dc1a63c1f8p+4,  // -90 * pi^-1
+    -0x1.61cd2b12b6685p+7,  // -2223/4 * pi^-1
+    -0x1.6eb167b830193p+4,  // -72 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.2ccd87151774bp+7,  // 945/2 * pi^-1
+    0x1.2ccd87151774bp+6,  // 945/4 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 2},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.e148d821bf211p+5,  // -189 * pi^-1
+    -0x1.a01c503282949p+9,  // -5229/2 * pi^-1
+    -0x1.40db3ac12a161p+7,  // -504 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.2ccd87151774bp+9,  // 1890 * pi^-1
+    0x1.c3344a9fa32fp+8,  // 2835/2 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.e148d821bf211p+5,  // -189 * pi^-1
+    -0x1.7bc37a8aa0d01p+11,  // -19089/2 * pi^-1
+    -0x1.e148d821bf211p+9,  // -3024 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.c3344a9fa32fp+10,  // 5670 * pi^-1
+    0x1.1a00aea3c5fd6p+11,  // 14175/2 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.e148d821bf211p+6,  // -378 * pi^-1
+    -0x1.e3ca8e9741754p+11,  // -12159 * pi^-1
+    -0x1.18bfd36904d35p+10,  // -3528 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.2ccd87151774bp+11,  // 7560 * pi^-1
+    0x1.526737f7ba634p+11,  // 8505 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.e148d821bf211p+5,  // -189 * pi^-1
+    -0x1.a01c503282949p+9,  // -5229/2 * pi^-1
+    -0x1.40db3ac12a161p+7,  // -504 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.2ccd87151774bp+9,  // 1890 * pi^-1
+    0x1.c3344a9fa32fp+8,  // 2835/2 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    -0x1.13bc667e002afp+11,  // -6930 * pi^-1
+    -0x1.91120971749b9p+9,  // -2520 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.2ccd87151774bp+10,  // 3780 * pi^-1
+    0x1.c3344a9fa32fp+10,  // 5670 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.52d1b3adc0fc4p-2,  // -5239/5040 * pi^-1
+    0x1.2e5c2b3a89a2ap-1,  // 18701/10080 * pi^-1
+    -0x1.9c7681dbf4eabp+0,  // -68029/13440 * pi^-1
+    -0x1.f052cc1aebdep+1,  // -196465/16128 * pi^-1
+    -0x1.21bb945252402p-2,  // -8/9 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    0x0p+0,  // 0
+    0x0p+0,  // 0
+    0x1.0b615ba0f867bp+2,  // 105/8 * pi^-1
+    0x1.2ccd87151774bp+0,  // 945/256 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.5a52374a6650bp+0,  // 17/4 * pi^-1
+    -0x1.b744843f4ef38p+2,  // -345/16 * pi^-1
+    -0x1.a40288778633fp+4,  // -2639/32 * pi^-1
+    -0x1.45f306dc9c883p+1,  // -8 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.91120971749b9p+4,  // 315/4 * pi^-1
+    0x1.2ccd87151774bp+3,  // 945/32 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_2, 2},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.5a52374a6650bp+0,  // 17/4 * pi^-1
+    -0x1.b744843f4ef38p+2,  // -345/16 * pi^-1
+    -0x1.a40288778633fp+4,  // -2639/32 * pi^-1
+    -0x1.45f306dc9c883p+1,  // -8 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.91120971749b9p+4,  // 315/4 * pi^-1
+    0x1.2ccd87151774bp+3,  // 945/32 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_2, 2},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.dd76ff0d294b7p+3,  // -375/8 * pi^-1
+    -0x1.f19911e9a9b6ap+6,  // -6253/16 * pi^-1
+    -0x1.1d34a60108f72p+4,  // -56 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    0x1.91120971749b9p+6,  // 315 * pi^-1
+    0x1.c3344a9fa32fp+5,  // 2835/16 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_2, 2},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_1_l_1_D2
+inline constexpr table::Kernel wendland_missing_k_1_l_1_D2 = {
+    "wendland-missing:k=1,l=1", 2, 0x1p+0, 5, 2, 1,
+    0x1.2ccd87151774bp+8, "945 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_1_l_1_D2::value, 2},
+        {detail_wendland_missing_k_1_l_1_D2::dr, 2},
+        {detail_wendland_missing_k_1_l_1_D2::d2r, 2},
+        {detail_wendland_missing_k_1_l_1_D2::laplacian, 2},
+        {detail_wendland_missing_k_1_l_1_D2::grad_over_r, 2},
+        {detail_wendland_missing_k_1_l_1_D2::hess_radial, 2},
+        {detail_wendland_missing_k_1_l_1_D2::potential, 2},
+        {detail_wendland_missing_k_1_l_1_D2::dpotential, 2},
+        {detail_wendland_missing_k_1_l_1_D2::dpotential_over_r, 2},
+        {detail_wendland_missing_k_1_l_1_D2::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=1,l=1 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_1_l_1_D3 {
+inline constexpr double value_0_0[] = {
+    0x1.abfb0dd33dd59p+2,  // 66 * pi^-2
+    -0x1.691bd3aa3c2c3p+6,  // -891 * pi^-2
+    -0x1.ea4155963a94ep+9,  // -38709/4 * pi^-2
+    -0x1.80188fa854be6p+8,  // -30327/8 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    0x1.5f13f15748b93p+9,  // 6930 * pi^-2
+    0x1.5f13f15748b93p+9,  // 6930 * pi^-2
+    0x1.5f13f15748b93p+5,  // 3465/8 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 3},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.767bac18d61aep+7,  // -1848 * pi^-2
+    -0x1.1bc9b86ad2406p+12,  // -44814 * pi^-2
+    -0x1.4a992deded03bp+11,  // -26103 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    0x1.5f13f15748b93p+11,  // 27720 * pi^-2
+    0x1.074ef501768aep+12,  // 41580 * pi^-2
+    0x1.5f13f15748b93p+8,  // 3465 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.767bac18d61aep+7,  // -1848 * pi^-2
+    -0x1.fb99a245aa366p+13,  // -160314 * pi^-2
+    -0x1.e4ed255a293fcp+13,  // -153153 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.074ef501768aep+13,  // 83160 * pi^-2
+    0x1.4922b241d42dap+14,  // 207900 * pi^-2
+    0x1.3331732c5fa2p+11,  // 24255 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.18dcc112a0942p+9,  // -5544 * pi^-2
+    -0x1.8bb1ad583e3b6p+14,  // -249942 * pi^-2
+    -0x1.451cde288fe0dp+14,  // -205359 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.b6d8edad1ae77p+13,  // 138600 * pi^-2
+    0x1.ccca2cc28f731p+14,  // 291060 * pi^-2
+    0x1.8af66f8231d05p+11,  // 31185 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.767bac18d61aep+7,  // -1848 * pi^-2
+    -0x1.1bc9b86ad2406p+12,  // -44814 * pi^-2
+    -0x1.4a992deded03bp+11,  // -26103 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.5f13f15748b93p+11,  // 27720 * pi^-2
+    0x1.074ef501768aep+12,  // 41580 * pi^-2
+    0x1.5f13f15748b93p+8,  // 3465 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    -0x1.6db4c61041164p+13,  // -115500 * pi^-2
+    -0x1.9246d9deadfeep+13,  // -127050 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.5f13f15748b93p+12,  // 55440 * pi^-2
+    0x1.074ef501768aep+14,  // 166320 * pi^-2
+    0x1.074ef501768aep+11,  // 20790 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.f8ee450ffa578p-3,  // -73/30 * pi^-2
+    0x1.ffd8fc5d58f3p-1,  // 148/15 * pi^-2
+    -0x1.0d53415493c6cp+2,  // -623/15 * pi^-2
+    -0x1.31bbb92c53424p+4,  // -22631/120 * pi^-2
+    -0x1.16cf12a7a87ep+2,  // -10319/240 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    0x1.0b7ce8a406a57p+4,  // 165 * pi^-2
+    0x1.3811ba14b26bbp+3,  // 385/4 * pi^-2
+    0x1.9886ea49a3c03p-2,  // 63/16 * pi^-2
+};
+inline constexpr double potential_0_2[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.18ff56a7236d3p+1,  // 65/3 * pi^-2
+    -0x1.1a2fae286fafep+4,  // -2611/15 * pi^-2
+    -0x1.ffdab70b2c4aap+6,  // -25259/20 * pi^-2
+    -0x1.3677e7280a464p+5,  // -15321/40 * pi^-2
+};
+inline constexpr double dpotential_0_1[] = {
+    0x1.913b5cf609f83p+6,  // 990 * pi^-2
+    0x1.3811ba14b26bbp+6,  // 770 * pi^-2
+    0x1.fea8a4dc0cb04p+1,  // 315/8 * pi^-2
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.18ff56a7236d3p+1,  // 65/3 * pi^-2
+    -0x1.1a2fae286fafep+4,  // -2611/15 * pi^-2
+    -0x1.ffdab70b2c4aap+6,  // -25259/20 * pi^-2
+    -0x1.3677e7280a464p+5,  // -15321/40 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.913b5cf609f83p+6,  // 990 * pi^-2
+    0x1.3811ba14b26bbp+6,  // 770 * pi^-2
+    0x1.fea8a4dc0cb04p+1,  // 315/8 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.37423899a1558p-3,  // 3/2 * pi^-2
+    0x1.9f02f6222c72p-4,  // 1 * pi^-2
+    -0x1.2af02217d0d08p+5,  // -1844/5 * pi^-2
+    -0x1.2a4f50f209f8ep+9,  // -29442/5 * pi^-2
+    -0x1.0bab98f950e41p+8,  // -13209/5 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.913b5cf609f83p+8,  // 3960 * pi^-2
+    0x1.d41a971f0ba19p+8,  // 4620 * pi^-2
+    0x1.fea8a4dc0cb04p+4,  // 315 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.37423899a1558p-3,  // -3/2 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_1_l_1_D3
+inline constexpr table::Kernel wendland_missing_k_1_l_1_D3 = {
+    "wendland-missing:k=1,l=1", 3, 0x1p+0, 6, 2, 1,
+    0x1.18dcc112a0942p+10, "11088 * pi^-2", true,
+    {
+        {detail_wendland_missing_k_1_l_1_D3::value, 2},
+        {detail_wendland_missing_k_1_l_1_D3::dr, 2},
+        {detail_wendland_missing_k_1_l_1_D3::d2r, 2},
+        {detail_wendland_missing_k_1_l_1_D3::laplacian, 2},
+        {detail_wendland_missing_k_1_l_1_D3::grad_over_r, 2},
+        {detail_wendland_missing_k_1_l_1_D3::hess_radial, 2},
+        {detail_wendland_missing_k_1_l_1_D3::potential, 2},
+        {detail_wendland_missing_k_1_l_1_D3::dpotential, 2},
+        {detail_wendland_missing_k_1_l_1_D3::dpotential_over_r, 2},
+        {detail_wendland_missing_k_1_l_1_D3::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=1,l=2 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_1_l_2_D1 {
+inline constexpr double value_0_0[] = {
+    0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
+    -0x1.9c8794af361c5p+4,  // -81 * pi^-1
+    -0x1.18087ab528bb4p+8,  // -3519/4 * pi^-1
+    -0x1.b6ca491cbc38dp+6,  // -2757/8 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.91120971749b9p+7,  // 630 * pi^-1
+    0x1.91120971749b9p+7,  // 630 * pi^-1
+    0x1.91120971749b9p+3,  // 315/8 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 3},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.abcef9018d72bp+5,  // -168 * pi^-1
+    -0x1.4432d8b32d30fp+10,  // -4074 * pi^-1
+    -0x1.79acb7d35edf4p+9,  // -2373 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.91120971749b9p+9,  // 2520 * pi^-1
+    0x1.2ccd87151774bp+10,  // 3780 * pi^-1
+    0x1.91120971749b9p+6,  // 315 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.abcef9018d72bp+5,  // -168 * pi^-1
+    -0x1.21f0c5c28d5d4p+12,  // -14574 * pi^-1
+    -0x1.14fd41b8c155p+12,  // -13923 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.2ccd87151774bp+11,  // 7560 * pi^-1
+    0x1.7800e8da5d51dp+12,  // 18900 * pi^-1
+    0x1.5eefc84346082p+9,  // 2205 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.abcef9018d72bp+5,  // -168 * pi^-1
+    -0x1.21f0c5c28d5d4p+12,  // -14574 * pi^-1
+    -0x1.14fd41b8c155p+12,  // -13923 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.2ccd87151774bp+11,  // 7560 * pi^-1
+    0x1.7800e8da5d51dp+12,  // 18900 * pi^-1
+    0x1.5eefc84346082p+9,  // 2205 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.abcef9018d72bp+5,  // -168 * pi^-1
+    -0x1.4432d8b32d30fp+10,  // -4074 * pi^-1
+    -0x1.79acb7d35edf4p+9,  // -2373 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.91120971749b9p+9,  // 2520 * pi^-1
+    0x1.2ccd87151774bp+10,  // 3780 * pi^-1
+    0x1.91120971749b9p+6,  // 315 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    -0x1.a1c81f2b8422p+11,  // -10500 * pi^-1
+    -0x1.cb8f557caaf24p+11,  // -11550 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.91120971749b9p+10,  // 5040 * pi^-1
+    0x1.2ccd87151774bp+12,  // 15120 * pi^-1
+    0x1.2ccd87151774bp+9,  // 1890 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    0x1.5bade52f95e69p-4,  // 4/15 * pi^-1
+    0x1.5bade52f95e69p-1,  // 32/15 * pi^-1
+    -0x1.ee5b41dfa923ep+0,  // -91/15 * pi^-1
+    -0x1.d7193feada3cdp+2,  // -185/8 * pi^-1
+    -0x1.8ef2c9bb5a415p+0,  // -235/48 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.abcef9018d72bp+2,  // 21 * pi^-1
+    0x1.ca5dc1a63c1f8p+1,  // 45/4 * pi^-1
+    0x1.1d34a60108f72p-3,  // 7/16 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.976fc893c3aa3p+0,  // 5 * pi^-1
+    -0x1.057042d64837ep+3,  // -77/3 * pi^-1
+    -0x1.8aea9d7af4fc5p+5,  // -1861/12 * pi^-1
+    -0x1.bc5c505ac165ap+3,  // -349/8 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    0x1.40db3ac12a161p+5,  // 126 * pi^-1
+    0x1.ca5dc1a63c1f8p+4,  // 90 * pi^-1
+    0x1.6481cf814b34fp+0,  // 35/8 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.976fc893c3aa3p+0,  // 5 * pi^-1
+    -0x1.057042d64837ep+3,  // -77/3 * pi^-1
+    -0x1.8aea9d7af4fc5p+5,  // -1861/12 * pi^-1
+    -0x1.bc5c505ac165ap+3,  // -349/8 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.40db3ac12a161p+5,  // 126 * pi^-1
+    0x1.ca5dc1a63c1f8p+4,  // 90 * pi^-1
+    0x1.6481cf814b34fp+0,  // 35/8 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.19cf734412006p+4,  // -166/3 * pi^-1
+    -0x1.cd564e0b94376p+7,  // -2174/3 * pi^-1
+    -0x1.7f3ebf11640c2p+6,  // -301 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.40db3ac12a161p+7,  // 504 * pi^-1
+    0x1.57c6513cad17ap+7,  // 540 * pi^-1
+    0x1.6481cf814b34fp+3,  // 35 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1p-1,  // -1/2
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_1_l_2_D1
+inline constexpr table::Kernel wendland_missing_k_1_l_2_D1 = {
+    "wendland-missing:k=1,l=2", 1, 0x1p+0, 6, 2, 1,
+    0x1.40db3ac12a161p+8, "1008 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_1_l_2_D1::value, 2},
+        {detail_wendland_missing_k_1_l_2_D1::dr, 2},
+        {detail_wendland_missing_k_1_l_2_D1::d2r, 2},
+        {detail_wendland_missing_k_1_l_2_D1::laplacian, 2},
+        {detail_wendland_missing_k_1_l_2_D1::grad_over_r, 2},
+        {detail_wendland_missing_k_1_l_2_D1::hess_radial, 2},
+        {detail_wendland_missing_k_1_l_2_D1::potential, 2},
+        {detail_wendland_missing_k_1_l_2_D1::dpotential, 2},
+        {detail_wendland_missing_k_1_l_2_D1::dpotential_over_r, 2},
+        {detail_wendland_missing_k_1_l_2_D1::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=1,l=2 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_1_l_2_D2 {
+inline constexpr double value_0_0[] = {
+    0x1.ca5dc1a63c1f8p+1,  // 45/4 * pi^-1
+    -0x1.82bf1b6442ba9p+5,  // -1215/8 * pi^-1
+    -0x1.0687f309d62f9p+9,  // -52785/32 * pi^-1
+    -0x1.9b5da48af0754p+7,  // -41355/64 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.7800e8da5d51dp+8,  // 4725/4 * pi^-1
+    0x1.7800e8da5d51dp+8,  // 4725/4 * pi^-1
+    0x1.7800e8da5d51dp+4,  // 4725/64 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 3},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.91120971749b9p+6,  // -315 * pi^-1
+    -0x1.2fefab27fa5dep+11,  // -30555/4 * pi^-1
+    -0x1.6211ec5628f15p+10,  // -35595/8 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.7800e8da5d51dp+10,  // 4725 * pi^-1
+    0x1.1a00aea3c5fd6p+11,  // 14175/2 * pi^-1
+    0x1.7800e8da5d51dp+7,  // 4725/8 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.91120971749b9p+6,  // -315 * pi^-1
+    -0x1.0fd1b96664877p+13,  // -109305/4 * pi^-1
+    -0x1.03ad6d9d353fbp+13,  // -208845/8 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.1a00aea3c5fd6p+12,  // 14175 * pi^-1
+    0x1.6080da4cb77cbp+13,  // 70875/2 * pi^-1
+    0x1.4900cbbf11a7ap+10,  // 33075/8 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.91120971749b9p+7,  // -630 * pi^-1
+    -0x1.5bcda430631eep+13,  // -34965 * pi^-1
+    -0x1.2fefab27fa5dep+13,  // -30555 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.7800e8da5d51dp+12,  // 18900 * pi^-1
+    0x1.a70105f5a8fc1p+13,  // 42525 * pi^-1
+    0x1.7800e8da5d51dp+10,  // 4725 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.91120971749b9p+6,  // -315 * pi^-1
+    -0x1.2fefab27fa5dep+11,  // -30555/4 * pi^-1
+    -0x1.6211ec5628f15p+10,  // -35595/8 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.7800e8da5d51dp+10,  // 4725 * pi^-1
+    0x1.1a00aea3c5fd6p+11,  // 14175/2 * pi^-1
+    0x1.7800e8da5d51dp+7,  // 4725/8 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    -0x1.87ab9d38cbdfep+12,  // -39375/2 * pi^-1
+    -0x1.aed66024e0431p+12,  // -86625/4 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.7800e8da5d51dp+11,  // 9450 * pi^-1
+    0x1.1a00aea3c5fd6p+13,  // 28350 * pi^-1
+    0x1.1a00aea3c5fd6p+10,  // 14175/4 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.631dda6bfc031p-2,  // -5491/5040 * pi^-1
+    0x1.85f57b7906e74p-1,  // 24119/10080 * pi^-1
+    -0x1.63f6e4e1b8c3ep+1,  // -117421/13440 * pi^-1
+    -0x1.781a4b24ee3f1p+3,  // -595507/16128 * pi^-1
+    -0x1.4c15ebe4cade2p+1,  // -18779/2304 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    0x0p+0,  // 0
+    0x0p+0,  // 0
+    0x1.4e39b2893681ap+3,  // 525/16 * pi^-1
+    0x1.7800e8da5d51dp+2,  // 4725/256 * pi^-1
+    0x1.e148d821bf211p-3,  // 189/256 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 6},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.b5fe91387257p+0,  // 43/8 * pi^-1
+    -0x1.765519e15bc46p+3,  // -147/4 * pi^-1
+    -0x1.3b06fe25c0197p+6,  // -15835/64 * pi^-1
+    -0x1.71d617b120bbap+4,  // -9295/128 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.f5568bcdd1c27p+5,  // 1575/8 * pi^-1
+    0x1.7800e8da5d51dp+5,  // 4725/32 * pi^-1
+    0x1.2ccd87151774bp+1,  // 945/128 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_2, 3},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.b5fe91387257p+0,  // 43/8 * pi^-1
+    -0x1.765519e15bc46p+3,  // -147/4 * pi^-1
+    -0x1.3b06fe25c0197p+6,  // -15835/64 * pi^-1
+    -0x1.71d617b120bbap+4,  // -9295/128 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.f5568bcdd1c27p+5,  // 1575/8 * pi^-1
+    0x1.7800e8da5d51dp+5,  // 4725/32 * pi^-1
+    0x1.2ccd87151774bp+1,  // 945/128 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_2, 3},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.8f291ce729b0cp+4,  // -627/8 * pi^-1
+    -0x1.6f8c6700cc526p+8,  // -18475/16 * pi^-1
+    -0x1.3ee81e9ea8466p+7,  // -8015/16 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    0x1.f5568bcdd1c27p+7,  // 1575/2 * pi^-1
+    0x1.1a00aea3c5fd6p+8,  // 14175/16 * pi^-1
+    0x1.2ccd87151774bp+4,  // 945/16 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_2, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_1_l_2_D2
+inline constexpr table::Kernel wendland_missing_k_1_l_2_D2 = {
+    "wendland-missing:k=1,l=2", 2, 0x1p+0, 6, 2, 1,
+    0x1.2ccd87151774bp+9, "1890 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_1_l_2_D2::value, 2},
+        {detail_wendland_missing_k_1_l_2_D2::dr, 2},
+        {detail_wendland_missing_k_1_l_2_D2::d2r, 2},
+        {detail_wendland_missing_k_1_l_2_D2::laplacian, 2},
+        {detail_wendland_missing_k_1_l_2_D2::grad_over_r, 2},
+        {detail_wendland_missing_k_1_l_2_D2::hess_radial, 2},
+        {detail_wendland_missing_k_1_l_2_D2::potential, 2},
+        {detail_wendland_missing_k_1_l_2_D2::dpotential, 2},
+        {detail_wendland_missing_k_1_l_2_D2::dpotential_over_r, 2},
+        {detail_wendland_missing_k_1_l_2_D2::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=1,l=2 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_1_l_2_D3 {
+inline constexpr double value_0_0[] = {
+    0x1.1d5209377e8e6p+3,  // 88 * pi^-2
+    -0x1.3811ba14b26bbp+7,  // -1540 * pi^-2
+    -0x1.4c9ac1981db45p+11,  // -131307/5 * pi^-2
+    -0x1.064a9a25da4ddp+11,  // -207097/10 * pi^-2
+    -0x1.c88341f26417p+6,  // -5632/5 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    0x1.a54b219bf0de3p+10,  // 16632 * pi^-2
+    0x1.5f13f15748b93p+11,  // 27720 * pi^-2
+    0x1.074ef501768aep+9,  // 10395/2 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 3},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.40fc4a5e6e603p+8,  // -3168 * pi^-2
+    -0x1.7cab336596e61p+13,  // -601128/5 * pi^-2
+    -0x1.be1ea4f60b67ap+13,  // -704484/5 * pi^-2
+    -0x1.00c9d518584cfp+10,  // -50688/5 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    0x1.a54b219bf0de3p+12,  // 66528 * pi^-2
+    0x1.074ef501768aep+14,  // 166320 * pi^-2
+    0x1.074ef501768aep+12,  // 41580 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.40fc4a5e6e603p+8,  // -3168 * pi^-2
+    -0x1.4fa7d22af26b9p+15,  // -2120184/5 * pi^-2
+    -0x1.422533bcd2864p+16,  // -4069692/5 * pi^-2
+    -0x1.00c9d518584cfp+13,  // -405504/5 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.3bf85934f4a6ap+14,  // 199584 * pi^-2
+    0x1.4922b241d42dap+16,  // 831600 * pi^-2
+    0x1.ccca2cc28f731p+14,  // 291060 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.e17a6f8da5904p+9,  // -9504 * pi^-2
+    -0x1.06feb5eedeef5p+16,  // -664488 * pi^-2
+    -0x1.b1acdcfa55603p+16,  // -1095732 * pi^-2
+    -0x1.40fc4a5e6e603p+13,  // -101376 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.074ef501768aep+15,  // 332640 * pi^-2
+    0x1.ccca2cc28f731p+16,  // 1164240 * pi^-2
+    0x1.2838d3a1a55c4p+15,  // 374220 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.40fc4a5e6e603p+8,  // -3168 * pi^-2
+    -0x1.7cab336596e61p+13,  // -601128/5 * pi^-2
+    -0x1.be1ea4f60b67ap+13,  // -704484/5 * pi^-2
+    -0x1.00c9d518584cfp+10,  // -50688/5 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.a54b219bf0de3p+12,  // 66528 * pi^-2
+    0x1.074ef501768aep+14,  // 166320 * pi^-2
+    0x1.074ef501768aep+12,  // 41580 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    -0x1.e0fa0aa319641p+14,  // -1519056/5 * pi^-2
+    -0x1.0a615f1e11195p+16,  // -3365208/5 * pi^-2
+    -0x1.c16134ea9a86ap+12,  // -354816/5 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.a54b219bf0de3p+13,  // 133056 * pi^-2
+    0x1.074ef501768aep+16,  // 665280 * pi^-2
+    0x1.8af66f8231d05p+14,  // 249480 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.1821ffbd7799cp-2,  // -27/10 * pi^-2
+    0x1.5b927aefd205ep+0,  // 67/5 * pi^-2
+    -0x1.d8135e6078f4ep+2,  // -364/5 * pi^-2
+    -0x1.a517413d2c98ap+5,  // -1039/2 * pi^-2
+    -0x1.82d4ad51f3fe7p+4,  // -14317/60 * pi^-2
+    -0x1.baadd357a6ep-1,  // -128/15 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    0x1.40fc4a5e6e603p+5,  // 396 * pi^-2
+    0x1.3811ba14b26bbp+5,  // 385 * pi^-2
+    0x1.32652fb73ad02p+2,  // 189/4 * pi^-2
+};
+inline constexpr double potential_0_2[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.781aaf0ef8475p+1,  // 29 * pi^-2
+    -0x1.ea3b7f8b914d1p+4,  // -1512/5 * pi^-2
+    -0x1.5db32ed2dee03p+8,  // -17257/5 * pi^-2
+    -0x1.ab56c751d04eap+7,  // -12653/6 * pi^-2
+    -0x1.3057814c42bap+3,  // -1408/15 * pi^-2
+};
+inline constexpr double dpotential_0_1[] = {
+    0x1.e17a6f8da5904p+7,  // 2376 * pi^-2
+    0x1.3811ba14b26bbp+8,  // 3080 * pi^-2
+    0x1.7efe7ba509843p+5,  // 945/2 * pi^-2
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.781aaf0ef8475p+1,  // 29 * pi^-2
+    -0x1.ea3b7f8b914d1p+4,  // -1512/5 * pi^-2
+    -0x1.5db32ed2dee03p+8,  // -17257/5 * pi^-2
+    -0x1.ab56c751d04eap+7,  // -12653/6 * pi^-2
+    -0x1.3057814c42bap+3,  // -1408/15 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.e17a6f8da5904p+7,  // 2376 * pi^-2
+    0x1.3811ba14b26bbp+8,  // 3080 * pi^-2
+    0x1.7efe7ba509843p+5,  // 945/2 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.37423899a1558p-3,  // 3/2 * pi^-2
+    0x1.9f02f6222c72p-4,  // 1 * pi^-2
+    -0x1.0076d480b7ddap+6,  // -3164/5 * pi^-2
+    -0x1.92ef201214407p+10,  // -79536/5 * pi^-2
+    -0x1.6c54a98d067e2p+10,  // -71916/5 * pi^-2
+    -0x1.56627175cb114p+6,  // -4224/5 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.e17a6f8da5904p+9,  // 9504 * pi^-2
+    0x1.d41a971f0ba19p+10,  // 18480 * pi^-2
+    0x1.7efe7ba509843p+8,  // 3780 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.37423899a1558p-3,  // -3/2 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_1_l_2_D3
+inline constexpr table::Kernel wendland_missing_k_1_l_2_D3 = {
+    "wendland-missing:k=1,l=2", 3, 0x1p+0, 7, 2, 1,
+    0x1.18dcc112a0942p+11, "22176 * pi^-2", true,
+    {
+        {detail_wendland_missing_k_1_l_2_D3::value, 2},
+        {detail_wendland_missing_k_1_l_2_D3::dr, 2},
+        {detail_wendland_missing_k_1_l_2_D3::d2r, 2},
+        {detail_wendland_missing_k_1_l_2_D3::laplacian, 2},
+        {detail_wendland_missing_k_1_l_2_D3::grad_over_r, 2},
+        {detail_wendland_missing_k_1_l_2_D3::hess_radial, 2},
+        {detail_wendland_missing_k_1_l_2_D3::potential, 2},
+        {detail_wendland_missing_k_1_l_2_D3::dpotential, 2},
+        {detail_wendland_missing_k_1_l_2_D3::dpotential_over_r, 2},
+        {detail_wendland_missing_k_1_l_2_D3::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=2 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_2_D1 {
+inline constexpr double value_0_0[] = {
+    0x1.b2995e7b7b604p+0,  // 16/3 * pi^-1
+    -0x1.cdc2f46333164p+3,  // -136/3 * pi^-1
+    0x1.24d8582a34a25p+6,  // 230 * pi^-1
+    0x1.1801b04faecd5p+8,  // 2639/3 * pi^-1
+    0x1.b2995e7b7b604p+4,  // 256/3 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.0b615ba0f867bp+8,  // -840 * pi^-1
+    -0x1.91120971749b9p+6,  // -315 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 2},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
+    0x1.3193d66ed2bfap+8,  // 960 * pi^-1
+    0x1.d7bc396e488b1p+10,  // 5928 * pi^-1
+    0x1.e8ec8a4aeacc4p+7,  // 768 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.91120971749b9p+10,  // -5040 * pi^-1
+    -0x1.91120971749b9p+9,  // -2520 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 2},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
+    0x1.d9a525f89375ep+9,  // 2976 * pi^-1
+    0x1.505fbca4cac9cp+13,  // 33816 * pi^-1
+    0x1.e8ec8a4aeacc4p+10,  // 6144 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.f5568bcdd1c27p+12,  // -25200 * pi^-1
+    -0x1.5eefc84346082p+12,  // -17640 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 2},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
+    0x1.d9a525f89375ep+9,  // 2976 * pi^-1
+    0x1.505fbca4cac9cp+13,  // 33816 * pi^-1
+    0x1.e8ec8a4aeacc4p+10,  // 6144 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.f5568bcdd1c27p+12,  // -25200 * pi^-1
+    -0x1.5eefc84346082p+12,  // -17640 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 2},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
+    0x1.3193d66ed2bfap+8,  // 960 * pi^-1
+    0x1.d7bc396e488b1p+10,  // 5928 * pi^-1
+    0x1.e8ec8a4aeacc4p+7,  // 768 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.91120971749b9p+10,  // -5040 * pi^-1
+    -0x1.91120971749b9p+9,  // -2520 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 2},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    0x1.40db3ac12a161p+9,  // 2016 * pi^-1
+    0x1.1568357701b86p+13,  // 27888 * pi^-1
+    0x1.abcef9018d72bp+10,  // 5376 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.91120971749b9p+12,  // -20160 * pi^-1
+    -0x1.2ccd87151774bp+12,  // -15120 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 2},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    0x1.7b49571ca3873p-4,  // 16/55 * pi^-1
+    0x1.2754707ef7549p-1,  // 299/165 * pi^-1
+    -0x1.06bc23028147p+0,  // -532/165 * pi^-1
+    0x1.1b7a25c612386p+1,  // 1148/165 * pi^-1
+    0x1.068cb9d79db28p+2,  // 4253/330 * pi^-1
+    0x1.f9b71ed0da099p-3,  // 128/165 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.3193d66ed2bfap+2,  // -15 * pi^-1
+    -0x1.1d34a60108f72p+0,  // -7/2 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
+    -0x1.1d34a60108f72p+2,  // -14 * pi^-1
+    0x1.bed27b8a27a55p+3,  // 658/15 * pi^-1
+    0x1.206e630159fb3p+5,  // 1699/15 * pi^-1
+    0x1.5bade52f95e69p+1,  // 128/15 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.3193d66ed2bfap+5,  // -120 * pi^-1
+    -0x1.6481cf814b34fp+3,  // -35 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
+    -0x1.1d34a60108f72p+2,  // -14 * pi^-1
+    0x1.bed27b8a27a55p+3,  // 658/15 * pi^-1
+    0x1.206e630159fb3p+5,  // 1699/15 * pi^-1
+    0x1.5bade52f95e69p+1,  // 128/15 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.3193d66ed2bfap+5,  // -120 * pi^-1
+    -0x1.6481cf814b34fp+3,  // -35 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.3f28a162ae9abp+3,  // -94/3 * pi^-1
+    0x1.d9fc1171df5b5p+5,  // 2792/15 * pi^-1
+    0x1.e7e7c7df071bdp+7,  // 3832/5 * pi^-1
+    0x1.8723a1d588a36p+4,  // 384/5 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.ca5dc1a63c1f8p+7,  // -720 * pi^-1
+    -0x1.6481cf814b34fp+6,  // -280 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1p-1,  // -1/2
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_2_D1
+inline constexpr table::Kernel wendland_missing_k_2_D1 = {
+    "wendland-missing:k=2", 1, 0x1p+0, 6, 2, 1,
+    0x1.91120971749b9p+11, "10080 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_2_D1::value, 2},
+        {detail_wendland_missing_k_2_D1::dr, 2},
+        {detail_wendland_missing_k_2_D1::d2r, 2},
+        {detail_wendland_missing_k_2_D1::laplacian, 2},
+        {detail_wendland_missing_k_2_D1::grad_over_r, 2},
+        {detail_wendland_missing_k_2_D1::hess_radial, 2},
+        {detail_wendland_missing_k_2_D1::potential, 2},
+        {detail_wendland_missing_k_2_D1::dpotential, 2},
+        {detail_wendland_missing_k_2_D1::dpotential_over_r, 2},
+        {detail_wendland_missing_k_2_D1::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=2 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_2_D2 {
+inline constexpr double value_0_0[] = {
+    0x1.757bcd321e06bp+1,  // 55/6 * pi^-1
+    -0x1.8cd38a053fe72p+4,  // -935/12 * pi^-1
+    0x1.f753d7888a77p+6,  // 6325/16 * pi^-1
+    0x1.e142e708f470ep+8,  // 145145/96 * pi^-1
+    0x1.757bcd321e06bp+5,  // 440/3 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.cb8f557caaf24p+8,  // -5775/4 * pi^-1
+    -0x1.58ab801d8035bp+7,  // -17325/32 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 2},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.a42b46d861c78p+5,  // -165 * pi^-1
+    0x1.069b0c473d1cbp+9,  // 1650 * pi^-1
+    0x1.9565c15ac6578p+11,  // 40755/4 * pi^-1
+    0x1.a42b46d861c78p+8,  // 1320 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.58ab801d8035bp+11,  // -17325/2 * pi^-1
+    -0x1.58ab801d8035bp+10,  // -17325/4 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 2},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.a42b46d861c78p+5,  // -165 * pi^-1
+    0x1.9709eca19eb95p+10,  // 5115 * pi^-1
+    0x1.2112461d9e456p+14,  // 232485/4 * pi^-1
+    0x1.a42b46d861c78p+11,  // 10560 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.aed66024e0431p+13,  // -86625/2 * pi^-1
+    -0x1.2d961019d02efp+13,  // -121275/4 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 2},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.a42b46d861c78p+6,  // -330 * pi^-1
+    0x1.0d2bb9629ea3dp+11,  // 6765 * pi^-1
+    0x1.53befe48f7105p+14,  // 68310 * pi^-1
+    0x1.d8b0afb36e007p+11,  // 11880 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.0280a01620284p+14,  // -51975 * pi^-1
+    -0x1.58ab801d8035bp+13,  // -34650 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 2},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.a42b46d861c78p+5,  // -165 * pi^-1
+    0x1.069b0c473d1cbp+9,  // 1650 * pi^-1
+    0x1.9565c15ac6578p+11,  // 40755/4 * pi^-1
+    0x1.a42b46d861c78p+8,  // 1320 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.58ab801d8035bp+11,  // -17325/2 * pi^-1
+    -0x1.58ab801d8035bp+10,  // -17325/4 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 2},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    0x1.13bc667e002afp+10,  // 3465 * pi^-1
+    0x1.dccb1be48af4fp+13,  // 95865/2 * pi^-1
+    0x1.6fa5ddfd558e9p+11,  // 9240 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.58ab801d8035bp+13,  // -34650 * pi^-1
+    -0x1.0280a01620284p+13,  // -51975/2 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 2},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.56c521eb62b06p-2,  // -58301/55440 * pi^-1
+    0x1.3429b5250f232p-1,  // 209659/110880 * pi^-1
+    -0x1.5e052989e33ebp+0,  // -211677/49280 * pi^-1
+    0x1.9ab4962fad79fp+1,  // 1788313/177408 * pi^-1
+    0x1.9007c33bb0397p+2,  // 248833/12672 * pi^-1
+    0x1.8b1710132a578p-2,  // 40/33 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    0x0p+0,  // 0
+    0x0p+0,  // 0
+    0x0p+0,  // 0
+    -0x1.cb8f557caaf24p+2,  // -5775/256 * pi^-1
+    -0x1.b92d70c999de5p+0,  // -693/128 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 6},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
+    -0x1.794da646b3dc5p+2,  // -889/48 * pi^-1
+    0x1.4315a40d2c27fp+4,  // 1015/16 * pi^-1
+    0x1.b7557e3cffc65p+5,  // 33125/192 * pi^-1
+    0x1.0f9fdb0d2d1c2p+2,  // 40/3 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    -0x1.cb8f557caaf24p+5,  // -5775/32 * pi^-1
+    -0x1.13bc667e002afp+4,  // -3465/64 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_2, 2},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
+    -0x1.794da646b3dc5p+2,  // -889/48 * pi^-1
+    0x1.4315a40d2c27fp+4,  // 1015/16 * pi^-1
+    0x1.b7557e3cffc65p+5,  // 33125/192 * pi^-1
+    0x1.0f9fdb0d2d1c2p+2,  // 40/3 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    -0x1.cb8f557caaf24p+5,  // -5775/32 * pi^-1
+    -0x1.13bc667e002afp+4,  // -3465/64 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_2, 2},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.a0596dc3cbf1fp+3,  // -327/8 * pi^-1
+    0x1.55c90581f463p+6,  // 4295/16 * pi^-1
+    0x1.736d8779b47f5p+8,  // 9335/8 * pi^-1
+    0x1.3193d66ed2bfap+5,  // 120 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.58ab801d8035bp+8,  // -17325/16 * pi^-1
+    -0x1.13bc667e002afp+7,  // -3465/8 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_2, 2},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_2_D2
+inline constexpr table::Kernel wendland_missing_k_2_D2 = {
+    "wendland-missing:k=2", 2, 0x1p+0, 6, 2, 1,
+    0x1.58ab801d8035bp+12, "17325 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_2_D2::value, 2},
+        {detail_wendland_missing_k_2_D2::dr, 2},
+        {detail_wendland_missing_k_2_D2::d2r, 2},
+        {detail_wendland_missing_k_2_D2::laplacian, 2},
+        {detail_wendland_missing_k_2_D2::grad_over_r, 2},
+        {detail_wendland_missing_k_2_D2::hess_radial, 2},
+        {detail_wendland_missing_k_2_D2::potential, 2},
+        {detail_wendland_missing_k_2_D2::dpotential, 2},
+        {detail_wendland_missing_k_2_D2::dpotential_over_r, 2},
+        {detail_wendland_missing_k_2_D2::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=2 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_2_D3 {
+inline constexpr double value_0_0[] = {
+    0x1.a7e798aa385e8p+2,  // 2288/35 * pi^-2
+    -0x1.1ccf9a925ddf8p+6,  // -24596/35 * pi^-2
+    0x1.e6d3f9537cbc8p+8,  // 24024/5 * pi^-2
+    0x1.99b34a00a432fp+11,  // 452881/14 * pi^-2
+    0x1.e0fb0f8063a57p+9,  // 265837/28 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    -0x1.46003b87e819bp+11,  // -25740 * pi^-2
+    -0x1.e900594bdc268p+10,  // -19305 * pi^-2
+    -0x1.87337aa316853p+6,  // -3861/4 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
+    0x1.f6f90b63f8622p+10,  // 138996/7 * pi^-2
+    0x1.556d802d31f0dp+14,  // 1509651/7 * pi^-2
+    0x1.0b7ed1c2f1ep+13,  // 1182753/14 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.e900594bdc268p+13,  // -154440 * pi^-2
+    -0x1.e900594bdc268p+13,  // -154440 * pi^-2
+    -0x1.e900594bdc268p+9,  // -19305/2 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
+    0x1.828b3f45b7c6ap+12,  // 427284/7 * pi^-2
+    0x1.e0a20ea015e82p+16,  // 8500635/7 * pi^-2
+    0x1.07acd1105a27cp+16,  // 9326889/14 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.31a037cf69981p+16,  // -772200 * pi^-2
+    -0x1.abe04e2260a1bp+16,  // -1081080 * pi^-2
+    -0x1.1310323aabd5ap+13,  // -173745/2 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.bf1643038773ap+8,  // -30888/7 * pi^-2
+    0x1.3f03e27bd9fbep+13,  // 705276/7 * pi^-2
+    0x1.45ac675b57704p+17,  // 11519937/7 * pi^-2
+    0x1.4a8c8581169fcp+16,  // 11692395/14 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.abe04e2260a1bp+16,  // -1081080 * pi^-2
+    -0x1.1310323aabd5ap+17,  // -1389960 * pi^-2
+    -0x1.50303d64275a7p+13,  // -212355/2 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
+    0x1.f6f90b63f8622p+10,  // 138996/7 * pi^-2
+    0x1.556d802d31f0dp+14,  // 1509651/7 * pi^-2
+    0x1.0b7ed1c2f1ep+13,  // 1182753/14 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.e900594bdc268p+13,  // -154440 * pi^-2
+    -0x1.e900594bdc268p+13,  // -154440 * pi^-2
+    -0x1.e900594bdc268p+9,  // -19305/2 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    0x1.04ccfc6cb9ae2p+12,  // 41184 * pi^-2
+    0x1.8b46ae94c96bfp+16,  // 998712 * pi^-2
+    0x1.cc79edaff7d77p+15,  // 581724 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.e900594bdc268p+15,  // -617760 * pi^-2
+    -0x1.6ec042f8e51cep+16,  // -926640 * pi^-2
+    -0x1.e900594bdc268p+12,  // -77220 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.006af8fd57cdcp-2,  // -173/70 * pi^-2
+    0x1.f96cbfdea5abcp-1,  // 341/35 * pi^-2
+    -0x1.a13c1ec42f6d2p+1,  // -1126/35 * pi^-2
+    0x1.5cc6c64793a34p+3,  // 753/7 * pi^-2
+    0x1.366b8d29db8bp+5,  // 321691/840 * pi^-2
+    0x1.d9b35e4c3877fp+2,  // 24545/336 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.21c7515c5c889p+5,  // -715/2 * pi^-2
+    -0x1.1c8287bc6d782p+4,  // -351/2 * pi^-2
+    -0x1.40fc4a5e6e603p-1,  // -99/16 * pi^-2
+};
+inline constexpr double potential_0_2[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.1647b336751ddp+1,  // 751/35 * pi^-2
+    -0x1.ba6e95f05135ep+3,  // -4776/35 * pi^-2
+    0x1.0f78a6c64bfccp+6,  // 23444/35 * pi^-2
+    0x1.523725a751cf9p+8,  // 700991/210 * pi^-2
+    0x1.4329583fa9f5cp+6,  // 66979/84 * pi^-2
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.21c7515c5c889p+8,  // -2860 * pi^-2
+    -0x1.63a329ab88d63p+7,  // -1755 * pi^-2
+    -0x1.e17a6f8da5904p+2,  // -297/4 * pi^-2
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.1647b336751ddp+1,  // 751/35 * pi^-2
+    -0x1.ba6e95f05135ep+3,  // -4776/35 * pi^-2
+    0x1.0f78a6c64bfccp+6,  // 23444/35 * pi^-2
+    0x1.523725a751cf9p+8,  // 700991/210 * pi^-2
+    0x1.4329583fa9f5cp+6,  // 66979/84 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.21c7515c5c889p+8,  // -2860 * pi^-2
+    -0x1.63a329ab88d63p+7,  // -1755 * pi^-2
+    -0x1.e17a6f8da5904p+2,  // -297/4 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.37423899a1558p-3,  // 3/2 * pi^-2
+    0x1.9f02f6222c72p-4,  // 1 * pi^-2
+    -0x1.db988960fdad2p+4,  // -10268/35 * pi^-2
+    0x1.1b397c3ec3befp+8,  // 97836/35 * pi^-2
+    0x1.1ade9be1e5852p+11,  // 781707/35 * pi^-2
+    0x1.67cb8e6883e95p+9,  // 99429/14 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.b2aafa0a8accep+10,  // -17160 * pi^-2
+    -0x1.63a329ab88d63p+10,  // -14040 * pi^-2
+    -0x1.2cec85b8877a2p+6,  // -1485/2 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.37423899a1558p-3,  // -3/2 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_2_D3
+inline constexpr table::Kernel wendland_missing_k_2_D3 = {
+    "wendland-missing:k=2", 3, 0x1p+0, 7, 2, 1,
+    0x1.87337aa316853p+14, "247104 * pi^-2", true,
+    {
+        {detail_wendland_missing_k_2_D3::value, 2},
+        {detail_wendland_missing_k_2_D3::dr, 2},
+        {detail_wendland_missing_k_2_D3::d2r, 2},
+        {detail_wendland_missing_k_2_D3::laplacian, 2},
+        {detail_wendland_missing_k_2_D3::grad_over_r, 2},
+        {detail_wendland_missing_k_2_D3::hess_radial, 2},
+        {detail_wendland_missing_k_2_D3::potential, 2},
+        {detail_wendland_missing_k_2_D3::dpotential, 2},
+        {detail_wendland_missing_k_2_D3::dpotential_over_r, 2},
+        {detail_wendland_missing_k_2_D3::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=2,l=1 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_2_l_1_D1 {
+inline constexpr double value_0_0[] = {
+    0x1.de0f1b216e1d1p+0,  // 88/15 * pi^-1
+    -0x1.4132263a75fb8p+4,  // -946/15 * pi^-1
+    0x1.1282ac94323abp+7,  // 2156/5 * pi^-1
+    0x1.ce0a418cb3588p+9,  // 34837/12 * pi^-1
+    0x1.0f3699e84b344p+8,  // 20449/24 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.6fa5ddfd558e9p+9,  // -2310 * pi^-1
+    -0x1.13bc667e002afp+9,  // -3465/2 * pi^-1
+    -0x1.b92d70c999de5p+4,  // -693/8 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.50229f13816c7p+5,  // -132 * pi^-1
+    0x1.1b9d363875338p+9,  // 1782 * pi^-1
+    0x1.810ba8b918017p+12,  // 38709/2 * pi^-1
+    0x1.2dab1243c1671p+11,  // 30327/4 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.13bc667e002afp+12,  // -13860 * pi^-1
+    -0x1.13bc667e002afp+12,  // -13860 * pi^-1
+    -0x1.13bc667e002afp+8,  // -3465/4 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.50229f13816c7p+5,  // -132 * pi^-1
+    0x1.b3ece64d4bd8ap+10,  // 5478 * pi^-1
+    0x1.0f046a125211dp+15,  // 217965/2 * pi^-1
+    0x1.295c20a9c9666p+14,  // 239151/4 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.58ab801d8035bp+14,  // -69300 * pi^-1
+    -0x1.e289b35c804b2p+14,  // -97020 * pi^-1
+    -0x1.3633f34dc0305p+11,  // -31185/4 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.50229f13816c7p+5,  // -132 * pi^-1
+    0x1.b3ece64d4bd8ap+10,  // 5478 * pi^-1
+    0x1.0f046a125211dp+15,  // 217965/2 * pi^-1
+    0x1.295c20a9c9666p+14,  // 239151/4 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.58ab801d8035bp+14,  // -69300 * pi^-1
+    -0x1.e289b35c804b2p+14,  // -97020 * pi^-1
+    -0x1.3633f34dc0305p+11,  // -31185/4 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.50229f13816c7p+5,  // -132 * pi^-1
+    0x1.1b9d363875338p+9,  // 1782 * pi^-1
+    0x1.810ba8b918017p+12,  // 38709/2 * pi^-1
+    0x1.2dab1243c1671p+11,  // 30327/4 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.13bc667e002afp+12,  // -13860 * pi^-1
+    -0x1.13bc667e002afp+12,  // -13860 * pi^-1
+    -0x1.13bc667e002afp+8,  // -3465/4 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    0x1.261e4b31113eep+10,  // 3696 * pi^-1
+    0x1.bdc5e9f65e235p+14,  // 89628 * pi^-1
+    0x1.03a6be6151398p+14,  // 52206 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.13bc667e002afp+14,  // -55440 * pi^-1
+    -0x1.9d9a99bd00407p+14,  // -83160 * pi^-1
+    -0x1.13bc667e002afp+11,  // -6930 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    0x1.5bade52f95e69p-4,  // 4/15 * pi^-1
+    0x1.50d0760619376p-1,  // 31/15 * pi^-1
+    -0x1.76d77b174d9c9p+0,  // -23/5 * pi^-1
+    0x1.0ef2041a95513p+2,  // 133/10 * pi^-1
+    0x1.b87f99d702136p+3,  // 10379/240 * pi^-1
+    0x1.40f0f59f7d0f7p+1,  // 3781/480 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.a42b46d861c78p+3,  // -165/4 * pi^-1
+    -0x1.882864416c53dp+2,  // -77/4 * pi^-1
+    -0x1.abcef9018d72bp-3,  // -21/32 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.8c92596a46fbp+0,  // 73/15 * pi^-1
+    -0x1.920110ff0552ap+2,  // -296/15 * pi^-1
+    0x1.a70e185f66e61p+4,  // 1246/15 * pi^-1
+    0x1.e03ea6fe46b25p+6,  // 22631/60 * pi^-1
+    0x1.b5f3b3c948da5p+4,  // 10319/120 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.a42b46d861c78p+6,  // -330 * pi^-1
+    -0x1.ea327d51c768cp+5,  // -385/2 * pi^-1
+    -0x1.40db3ac12a161p+1,  // -63/8 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.8c92596a46fbp+0,  // 73/15 * pi^-1
+    -0x1.920110ff0552ap+2,  // -296/15 * pi^-1
+    0x1.a70e185f66e61p+4,  // 1246/15 * pi^-1
+    0x1.e03ea6fe46b25p+6,  // 22631/60 * pi^-1
+    0x1.b5f3b3c948da5p+4,  // 10319/120 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.a42b46d861c78p+6,  // -330 * pi^-1
+    -0x1.ea327d51c768cp+5,  // -385/2 * pi^-1
+    -0x1.40db3ac12a161p+1,  // -63/8 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.b963c3f5694dcp+3,  // -130/3 * pi^-1
+    0x1.bb41d3108abbdp+6,  // 5222/15 * pi^-1
+    0x1.92026cacea823p+9,  // 25259/10 * pi^-1
+    0x1.e7aebd576d4d4p+7,  // 15321/20 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.3b2075224955ap+9,  // -1980 * pi^-1
+    -0x1.ea327d51c768cp+8,  // -1540 * pi^-1
+    -0x1.91120971749b9p+4,  // -315/4 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1p-1,  // -1/2
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_2_l_1_D1
+inline constexpr table::Kernel wendland_missing_k_2_l_1_D1 = {
+    "wendland-missing:k=2,l=1", 1, 0x1p+0, 7, 2, 1,
+    0x1.b92d70c999de5p+12, "22176 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_2_l_1_D1::value, 2},
+        {detail_wendland_missing_k_2_l_1_D1::dr, 2},
+        {detail_wendland_missing_k_2_l_1_D1::d2r, 2},
+        {detail_wendland_missing_k_2_l_1_D1::laplacian, 2},
+        {detail_wendland_missing_k_2_l_1_D1::grad_over_r, 2},
+        {detail_wendland_missing_k_2_l_1_D1::hess_radial, 2},
+        {detail_wendland_missing_k_2_l_1_D1::potential, 2},
+        {detail_wendland_missing_k_2_l_1_D1::dpotential, 2},
+        {detail_wendland_missing_k_2_l_1_D1::dpotential_over_r, 2},
+        {detail_wendland_missing_k_2_l_1_D1::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=2,l=1 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_2_l_1_D2 {
+inline constexpr double value_0_0[] = {
+    0x1.c02e296f573b4p+1,  // 11 * pi^-1
+    -0x1.2d1f03d6ce9bdp+5,  // -473/4 * pi^-1
+    0x1.015a81caef17p+8,  // 1617/2 * pi^-1
+    0x1.b1299d73e822fp+10,  // 174185/32 * pi^-1
+    0x1.fc8660938d02p+8,  // 102245/64 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.58ab801d8035bp+10,  // -17325/4 * pi^-1
+    -0x1.0280a01620284p+10,  // -51975/16 * pi^-1
+    -0x1.9d9a99bd00407p+5,  // -10395/64 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.3b2075224955ap+6,  // -495/2 * pi^-1
+    0x1.09e362d4ede04p+10,  // 13365/4 * pi^-1
+    0x1.68faee2d86816p+13,  // 580635/16 * pi^-1
+    0x1.1ad0611f8550ap+12,  // 454905/32 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.0280a01620284p+13,  // -51975/2 * pi^-1
+    -0x1.0280a01620284p+13,  // -51975/2 * pi^-1
+    -0x1.0280a01620284p+9,  // -51975/32 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.3b2075224955ap+6,  // -495/2 * pi^-1
+    0x1.98ae17e8771b1p+11,  // 41085/4 * pi^-1
+    0x1.fc2846e259e17p+15,  // 3269475/16 * pi^-1
+    0x1.16c65e9f2cdp+15,  // 3587265/32 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.4320c81ba8325p+15,  // -259875/2 * pi^-1
+    -0x1.c4611826b8467p+15,  // -363825/2 * pi^-1
+    -0x1.22d0b418e42d5p+12,  // -467775/32 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.3b2075224955ap+7,  // -495 * pi^-1
+    0x1.0ecfe4a97705ap+12,  // 27225/2 * pi^-1
+    0x1.2b338136ddc0ep+16,  // 1925055/8 * pi^-1
+    0x1.3a206ac31d7a1p+15,  // 2021085/16 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.83c0f021303c6p+15,  // -155925 * pi^-1
+    -0x1.0280a01620284p+16,  // -207900 * pi^-1
+    -0x1.4320c81ba8325p+12,  // -259875/16 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.3b2075224955ap+6,  // -495/2 * pi^-1
+    0x1.09e362d4ede04p+10,  // 13365/4 * pi^-1
+    0x1.68faee2d86816p+13,  // 580635/16 * pi^-1
+    0x1.1ad0611f8550ap+12,  // 454905/32 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.0280a01620284p+13,  // -51975/2 * pi^-1
+    -0x1.0280a01620284p+13,  // -51975/2 * pi^-1
+    -0x1.0280a01620284p+9,  // -51975/32 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    0x1.13bc667e002afp+11,  // 6930 * pi^-1
+    0x1.a1e98b56f8411p+15,  // 336105/2 * pi^-1
+    0x1.e6d8a4f6784bdp+14,  // 391545/4 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.0280a01620284p+15,  // -103950 * pi^-1
+    -0x1.83c0f021303c6p+15,  // -155925 * pi^-1
+    -0x1.0280a01620284p+12,  // -51975/4 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.6459ecdf3e8b6p-2,  // -60611/55440 * pi^-1
+    0x1.7b76dea55160ep-1,  // 258169/110880 * pi^-1
+    -0x1.0f5a1476d138fp+1,  // -984611/147840 * pi^-1
+    0x1.ab6d49af4fb81p+2,  // 3722245/177408 * pi^-1
+    0x1.6dbf21290c144p+4,  // 3640117/50688 * pi^-1
+    0x1.1156ee2e8a68bp+2,  // 151135/11264 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    0x0p+0,  // 0
+    0x0p+0,  // 0
+    0x0p+0,  // 0
+    -0x1.58ab801d8035bp+4,  // -17325/256 * pi^-1
+    -0x1.4ae214973366cp+3,  // -2079/64 * pi^-1
+    -0x1.6fa5ddfd558e9p-2,  // -1155/1024 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.abcef9018d72bp+0,  // 21/4 * pi^-1
+    -0x1.21067f159ecccp+3,  // -227/8 * pi^-1
+    0x1.4d1c7de33578bp+5,  // 2093/16 * pi^-1
+    0x1.8e9bc8873008ep+7,  // 80145/128 * pi^-1
+    0x1.74f83bc403a4dp+5,  // 37495/256 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    -0x1.58ab801d8035bp+7,  // -17325/32 * pi^-1
+    -0x1.9d9a99bd00407p+6,  // -10395/32 * pi^-1
+    -0x1.13bc667e002afp+2,  // -3465/256 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_2, 3},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.abcef9018d72bp+0,  // 21/4 * pi^-1
+    -0x1.21067f159ecccp+3,  // -227/8 * pi^-1
+    0x1.4d1c7de33578bp+5,  // 2093/16 * pi^-1
+    0x1.8e9bc8873008ep+7,  // 80145/128 * pi^-1
+    0x1.74f83bc403a4dp+5,  // 37495/256 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    -0x1.58ab801d8035bp+7,  // -17325/32 * pi^-1
+    -0x1.9d9a99bd00407p+6,  // -10395/32 * pi^-1
+    -0x1.13bc667e002afp+2,  // -3465/256 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_2, 3},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.39378897fe6aep+4,  // -123/2 * pi^-1
+    0x1.5c26c4a44371bp+7,  // 4375/8 * pi^-1
+    0x1.4d82ab521c20cp+10,  // 268225/64 * pi^-1
+    0x1.9f4851a28c18cp+8,  // 166995/128 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.0280a01620284p+10,  // -51975/16 * pi^-1
+    -0x1.9d9a99bd00407p+9,  // -10395/4 * pi^-1
+    -0x1.58ab801d8035bp+5,  // -17325/128 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_2, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_2_l_1_D2
+inline constexpr table::Kernel wendland_missing_k_2_l_1_D2 = {
+    "wendland-missing:k=2,l=1", 2, 0x1p+0, 7, 2, 1,
+    0x1.9d9a99bd00407p+13, "41580 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_2_l_1_D2::value, 2},
+        {detail_wendland_missing_k_2_l_1_D2::dr, 2},
+        {detail_wendland_missing_k_2_l_1_D2::d2r, 2},
+        {detail_wendland_missing_k_2_l_1_D2::laplacian, 2},
+        {detail_wendland_missing_k_2_l_1_D2::grad_over_r, 2},
+        {detail_wendland_missing_k_2_l_1_D2::hess_radial, 2},
+        {detail_wendland_missing_k_2_l_1_D2::potential, 2},
+        {detail_wendland_missing_k_2_l_1_D2::dpotential, 2},
+        {detail_wendland_missing_k_2_l_1_D2::dpotential_over_r, 2},
+        {detail_wendland_missing_k_2_l_1_D2::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=2,l=1 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_2_l_1_D3 {
+inline constexpr double value_0_0[] = {
+    0x1.0dc1ecc969b08p+3,  // 416/5 * pi^-2
+    -0x1.bec9302d970c5p+6,  // -5512/5 * pi^-2
+    0x1.ee3446ccfea05p+9,  // 48776/5 * pi^-2
+    0x1.46e5f2ab8b9dbp+13,  // 516217/5 * pi^-2
+    0x1.82801b8ccc07cp+12,  // 610337/10 * pi^-2
+    0x1.0dc1ecc969b08p+8,  // 13312/5 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    -0x1.c866b9be44f0cp+12,  // -72072 * pi^-2
+    -0x1.1d403416eb167p+13,  // -90090 * pi^-2
+    -0x1.564d0b4eb3b49p+10,  // -27027/2 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.cfa54efa2da75p+7,  // -2288 * pi^-2
+    0x1.fb1cce61a1efp+11,  // 40040 * pi^-2
+    0x1.0e3dbd4b98228p+16,  // 3413982/5 * pi^-2
+    0x1.aa393a7d82be7p+15,  // 2692261/5 * pi^-2
+    0x1.72eaa594f152bp+11,  // 146432/5 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.564d0b4eb3b49p+15,  // -432432 * pi^-2
+    -0x1.1d403416eb167p+16,  // -720720 * pi^-2
+    -0x1.abe04e2260a1bp+13,  // -135135 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.cfa54efa2da75p+7,  // -2288 * pi^-2
+    0x1.839430052229ep+13,  // 122408 * pi^-2
+    0x1.78da891570a38p+18,  // 3808662 * pi^-2
+    0x1.9fc00d57999cp+18,  // 4201769 * pi^-2
+    0x1.cfa54efa2da75p+14,  // 292864 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.abe04e2260a1bp+17,  // -2162160 * pi^-2
+    -0x1.f3305b281b675p+18,  // -5045040 * pi^-2
+    -0x1.e15c57e6acb5ep+16,  // -1216215 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.5bbbfb3ba23d8p+9,  // -6864 * pi^-2
+    0x1.40914b9af990bp+14,  // 202488 * pi^-2
+    0x1.fff967bb3cb4cp+18,  // 25871274/5 * pi^-2
+    0x1.05272dfb7d25dp+19,  // 26393367/5 * pi^-2
+    0x1.162ffc2fb4fep+15,  // 1757184/5 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.2b8369e4dd3ep+18,  // -3027024 * pi^-2
+    -0x1.40e83a99c8794p+19,  // -6486480 * pi^-2
+    -0x1.262a35b7a26f2p+17,  // -1486485 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.cfa54efa2da75p+7,  // -2288 * pi^-2
+    0x1.fb1cce61a1efp+11,  // 40040 * pi^-2
+    0x1.0e3dbd4b98228p+16,  // 3413982/5 * pi^-2
+    0x1.aa393a7d82be7p+15,  // 2692261/5 * pi^-2
+    0x1.72eaa594f152bp+11,  // 146432/5 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.564d0b4eb3b49p+15,  // -432432 * pi^-2
+    -0x1.1d403416eb167p+16,  // -720720 * pi^-2
+    -0x1.abe04e2260a1bp+13,  // -135135 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    0x1.04ccfc6cb9ae2p+13,  // 82368 * pi^-2
+    0x1.354b19c28a9aep+18,  // 15629328/5 * pi^-2
+    0x1.6a78e607e9443p+18,  // 18316584/5 * pi^-2
+    0x1.a147fa478f7dp+14,  // 1317888/5 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.564d0b4eb3b49p+17,  // -1729728 * pi^-2
+    -0x1.abe04e2260a1bp+18,  // -4324320 * pi^-2
+    -0x1.abe04e2260a1bp+16,  // -1081080 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.1821ffbd7799cp-2,  // -27/10 * pi^-2
+    0x1.46d25507b6336p+0,  // 63/5 * pi^-2
+    -0x1.4c025e81bd28p+2,  // -256/5 * pi^-2
+    0x1.6639b2f8204e8p+4,  // 7734/35 * pi^-2
+    0x1.f51f3d57c4918p+6,  // 519317/420 * pi^-2
+    0x1.814f1c1065497p+5,  // 399299/840 * pi^-2
+    0x1.7b706c01fccp+0,  // 512/35 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.95b0a51ae7f27p+6,  // -1001 * pi^-2
+    -0x1.4bed9e5bd50c3p+6,  // -819 * pi^-2
+    -0x1.18dcc112a0942p+3,  // -693/8 * pi^-2
+};
+inline constexpr double potential_0_2[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.635a8926dc74dp+1,  // 137/5 * pi^-2
+    -0x1.5cde7d4e53c3p+4,  // -1076/5 * pi^-2
+    0x1.14efd5549350cp+7,  // 47832/35 * pi^-2
+    0x1.0f5a5414ffa97p+10,  // 1124821/105 * pi^-2
+    0x1.0540a87cfc1e9p+9,  // 1082953/210 * pi^-2
+    0x1.344b57c19d5cp+4,  // 6656/35 * pi^-2
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.95b0a51ae7f27p+9,  // -8008 * pi^-2
+    -0x1.9ee905f2ca4f3p+9,  // -8190 * pi^-2
+    -0x1.a54b219bf0de3p+6,  // -2079/2 * pi^-2
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.635a8926dc74dp+1,  // 137/5 * pi^-2
+    -0x1.5cde7d4e53c3p+4,  // -1076/5 * pi^-2
+    0x1.14efd5549350cp+7,  // 47832/35 * pi^-2
+    0x1.0f5a5414ffa97p+10,  // 1124821/105 * pi^-2
+    0x1.0540a87cfc1e9p+9,  // 1082953/210 * pi^-2
+    0x1.344b57c19d5cp+4,  // 6656/35 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.95b0a51ae7f27p+9,  // -8008 * pi^-2
+    -0x1.9ee905f2ca4f3p+9,  // -8190 * pi^-2
+    -0x1.a54b219bf0de3p+6,  // -2079/2 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.37423899a1558p-3,  // 3/2 * pi^-2
+    0x1.9f02f6222c72p-4,  // 1 * pi^-2
+    -0x1.7244a465b0741p+5,  // -2284/5 * pi^-2
+    0x1.1e8066cd9023cp+9,  // 197936/35 * pi^-2
+    0x1.c2482647577c4p+12,  // 2488698/35 * pi^-2
+    0x1.2087dc5ded7c4p+12,  // 1594703/35 * pi^-2
+    0x1.a7e798aa385e8p+7,  // 73216/35 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.30447bd42df5dp+12,  // -48048 * pi^-2
+    -0x1.9ee905f2ca4f3p+12,  // -65520 * pi^-2
+    -0x1.074ef501768aep+10,  // -10395 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.37423899a1558p-3,  // -3/2 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_2_l_1_D3
+inline constexpr table::Kernel wendland_missing_k_2_l_1_D3 = {
+    "wendland-missing:k=2,l=1", 3, 0x1p+0, 8, 2, 1,
+    0x1.c866b9be44f0cp+15, "576576 * pi^-2", true,
+    {
+        {detail_wendland_missing_k_2_l_1_D3::value, 2},
+        {detail_wendland_missing_k_2_l_1_D3::dr, 2},
+        {detail_wendland_missing_k_2_l_1_D3::d2r, 2},
+        {detail_wendland_missing_k_2_l_1_D3::laplacian, 2},
+        {detail_wendland_missing_k_2_l_1_D3::grad_over_r, 2},
+        {detail_wendland_missing_k_2_l_1_D3::hess_radial, 2},
+        {detail_wendland_missing_k_2_l_1_D3::potential, 2},
+        {detail_wendland_missing_k_2_l_1_D3::dpotential, 2},
+        {detail_wendland_missing_k_2_l_1_D3::dpotential_over_r, 2},
+        {detail_wendland_missing_k_2_l_1_D3::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=2,l=2 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_2_l_2_D1 {
+inline constexpr double value_0_0[] = {
+    0x1.04c26be3b06cfp+1,  // 32/5 * pi^-1
+    -0x1.afe202b11c347p+4,  // -424/5 * pi^-1
+    0x1.ddb82fa822379p+7,  // 3752/5 * pi^-1
+    0x1.3bfe82b22939ep+11,  // 39709/5 * pi^-1
+    0x1.759bb7a8a7e4fp+10,  // 46949/10 * pi^-1
+    0x1.04c26be3b06cfp+6,  // 1024/5 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.b92d70c999de5p+10,  // -5544 * pi^-1
+    -0x1.13bc667e002afp+11,  // -6930 * pi^-1
+    -0x1.4ae214973366cp+8,  // -2079/2 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.c02e296f573b4p+5,  // -176 * pi^-1
+    0x1.ea327d51c768cp+9,  // 3080 * pi^-1
+    0x1.053a1b20356e7p+14,  // 262614/5 * pi^-1
+    0x1.9c01a2d0caa73p+13,  // 207097/5 * pi^-1
+    0x1.668b54591295dp+9,  // 11264/5 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.4ae214973366cp+13,  // -33264 * pi^-1
+    -0x1.13bc667e002afp+14,  // -55440 * pi^-1
+    -0x1.9d9a99bd00407p+11,  // -10395 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.c02e296f573b4p+5,  // -176 * pi^-1
+    0x1.76a696a312eb8p+11,  // 9416 * pi^-1
+    0x1.6c488545b392fp+16,  // 292974 * pi^-1
+    0x1.91e1e4ab94ca6p+16,  // 323213 * pi^-1
+    0x1.c02e296f573b4p+12,  // 22528 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.9d9a99bd00407p+15,  // -166320 * pi^-1
+    -0x1.e289b35c804b2p+16,  // -388080 * pi^-1
+    -0x1.d14decf4a0487p+14,  // -93555 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.c02e296f573b4p+5,  // -176 * pi^-1
+    0x1.76a696a312eb8p+11,  // 9416 * pi^-1
+    0x1.6c488545b392fp+16,  // 292974 * pi^-1
+    0x1.91e1e4ab94ca6p+16,  // 323213 * pi^-1
+    0x1.c02e296f573b4p+12,  // 22528 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.9d9a99bd00407p+15,  // -166320 * pi^-1
+    -0x1.e289b35c804b2p+16,  // -388080 * pi^-1
+    -0x1.d14decf4a0487p+14,  // -93555 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.c02e296f573b4p+5,  // -176 * pi^-1
+    0x1.ea327d51c768cp+9,  // 3080 * pi^-1
+    0x1.053a1b20356e7p+14,  // 262614/5 * pi^-1
+    0x1.9c01a2d0caa73p+13,  // 207097/5 * pi^-1
+    0x1.668b54591295dp+9,  // 11264/5 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.4ae214973366cp+13,  // -33264 * pi^-1
+    -0x1.13bc667e002afp+14,  // -55440 * pi^-1
+    -0x1.9d9a99bd00407p+11,  // -10395 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    0x1.f833ee9d4222ap+10,  // 6336 * pi^-1
+    0x1.2af9fe7da6375p+16,  // 1202256/5 * pi^-1
+    0x1.5e61b0517b757p+16,  // 1408968/5 * pi^-1
+    0x1.935cbee434e88p+12,  // 101376/5 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.4ae214973366cp+15,  // -133056 * pi^-1
+    -0x1.9d9a99bd00407p+16,  // -332640 * pi^-1
+    -0x1.9d9a99bd00407p+14,  // -83160 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    0x1.40ef49b5c5726p-4,  // 16/65 * pi^-1
+    0x1.7a9a48f46eecfp-1,  // 151/65 * pi^-1
+    -0x1.00ff9e068f1c9p+1,  // -82/13 * pi^-1
+    0x1.de44985861bdfp+2,  // 1526/65 * pi^-1
+    0x1.312d09c936867p+5,  // 31159/260 * pi^-1
+    0x1.bffdaff58a716p+3,  // 68611/1560 * pi^-1
+    0x1.abe9b79d07433p-2,  // 256/195 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.f833ee9d4222ap+4,  // -99 * pi^-1
+    -0x1.882864416c53dp+4,  // -77 * pi^-1
+    -0x1.40db3ac12a161p+1,  // -63/8 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.b808161039b7dp+0,  // 27/5 * pi^-1
+    -0x1.10fb88f25cb21p+3,  // -134/5 * pi^-1
+    0x1.72c47167bedaep+5,  // 728/5 * pi^-1
+    0x1.4ab9563657d33p+8,  // 1039 * pi^-1
+    0x1.2fd0f0e999094p+7,  // 14317/30 * pi^-1
+    0x1.5bade52f95e69p+2,  // 256/15 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.f833ee9d4222ap+7,  // -792 * pi^-1
+    -0x1.ea327d51c768cp+7,  // -770 * pi^-1
+    -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.b808161039b7dp+0,  // 27/5 * pi^-1
+    -0x1.10fb88f25cb21p+3,  // -134/5 * pi^-1
+    0x1.72c47167bedaep+5,  // 728/5 * pi^-1
+    0x1.4ab9563657d33p+8,  // 1039 * pi^-1
+    0x1.2fd0f0e999094p+7,  // 14317/30 * pi^-1
+    0x1.5bade52f95e69p+2,  // 256/15 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.f833ee9d4222ap+7,  // -792 * pi^-1
+    -0x1.ea327d51c768cp+7,  // -770 * pi^-1
+    -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.27643e37eddb6p+4,  // -58 * pi^-1
+    0x1.8107134e3280ep+7,  // 3024/5 * pi^-1
+    0x1.12a757eb5e3f8p+11,  // 34514/5 * pi^-1
+    0x1.4fa1998b74c3dp+10,  // 12653/3 * pi^-1
+    0x1.de0f1b216e1d1p+5,  // 2816/15 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.7a26f2f5f19ap+10,  // -4752 * pi^-1
+    -0x1.ea327d51c768cp+10,  // -6160 * pi^-1
+    -0x1.2ccd87151774bp+8,  // -945 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1p-1,  // -1/2
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_2_l_2_D1
+inline constexpr table::Kernel wendland_missing_k_2_l_2_D1 = {
+    "wendland-missing:k=2,l=2", 1, 0x1p+0, 8, 2, 1,
+    0x1.b92d70c999de5p+13, "44352 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_2_l_2_D1::value, 2},
+        {detail_wendland_missing_k_2_l_2_D1::dr, 2},
+        {detail_wendland_missing_k_2_l_2_D1::d2r, 2},
+        {detail_wendland_missing_k_2_l_2_D1::laplacian, 2},
+        {detail_wendland_missing_k_2_l_2_D1::grad_over_r, 2},
+        {detail_wendland_missing_k_2_l_2_D1::hess_radial, 2},
+        {detail_wendland_missing_k_2_l_2_D1::potential, 2},
+        {detail_wendland_missing_k_2_l_2_D1::dpotential, 2},
+        {detail_wendland_missing_k_2_l_2_D1::dpotential_over_r, 2},
+        {detail_wendland_missing_k_2_l_2_D1::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=2,l=2 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_2_l_2_D2 {
+inline constexpr double value_0_0[] = {
+    0x1.08d575933f2eap+2,  // 13 * pi^-1
+    -0x1.b6a18abbe0a54p+5,  // -689/4 * pi^-1
+    0x1.e52f1066c2c07p+8,  // 6097/4 * pi^-1
+    0x1.40ee7cbcf1dedp+12,  // 516217/32 * pi^-1
+    0x1.7b7226874a848p+11,  // 610337/64 * pi^-1
+    0x1.08d575933f2eap+7,  // 416 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.c012268cc045cp+11,  // -45045/4 * pi^-1
+    -0x1.180b5817f82bap+12,  // -225225/16 * pi^-1
+    -0x1.500d9ce990345p+9,  // -135135/64 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
+    0x1.f1db47470e867p+10,  // 25025/4 * pi^-1
+    0x1.094f038cb6442p+15,  // 1706991/16 * pi^-1
+    0x1.a271a95c0dd1dp+14,  // 2692261/32 * pi^-1
+    0x1.6c2581aa76e02p+10,  // 4576 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.500d9ce990345p+14,  // -135135/2 * pi^-1
+    -0x1.180b5817f82bap+15,  // -225225/2 * pi^-1
+    -0x1.a4110423f4417p+12,  // -675675/32 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
+    0x1.7c8130fd9f373p+12,  // 76505/4 * pi^-1
+    0x1.71f9a75aca614p+17,  // 9521655/16 * pi^-1
+    0x1.98296c3e431d8p+17,  // 21008845/32 * pi^-1
+    0x1.c72ee21514982p+13,  // 45760 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.a4110423f4417p+16,  // -675675/2 * pi^-1
+    -0x1.ea13da29f24c5p+17,  // -1576575/2 * pi^-1
+    -0x1.d89324a872c99p+15,  // -6081075/32 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.c72ee21514982p+7,  // -715 * pi^-1
+    0x1.f8f802cf62d8dp+12,  // 50765/2 * pi^-1
+    0x1.b44d683df7f24p+17,  // 5614323/8 * pi^-1
+    0x1.cc77a169c4d7cp+17,  // 11850553/16 * pi^-1
+    0x1.f4b3924a63743p+13,  // 50336 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.f8146b5e584e8p+16,  // -405405 * pi^-1
+    -0x1.180b5817f82bap+18,  // -900900 * pi^-1
+    -0x1.068aa29678a8ep+16,  // -3378375/16 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
+    0x1.f1db47470e867p+10,  // 25025/4 * pi^-1
+    0x1.094f038cb6442p+15,  // 1706991/16 * pi^-1
+    0x1.a271a95c0dd1dp+14,  // 2692261/32 * pi^-1
+    0x1.6c2581aa76e02p+10,  // 4576 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.500d9ce990345p+14,  // -135135/2 * pi^-1
+    -0x1.180b5817f82bap+15,  // -225225/2 * pi^-1
+    -0x1.a4110423f4417p+12,  // -675675/32 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    0x1.000a5f2bdb959p+12,  // 12870 * pi^-1
+    0x1.2fa5e6779cd03p+17,  // 976833/2 * pi^-1
+    0x1.63db3712c1635p+17,  // 2289573/4 * pi^-1
+    0x1.99aa31dfc5bc2p+13,  // 41184 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.500d9ce990345p+16,  // -270270 * pi^-1
+    -0x1.a4110423f4417p+17,  // -675675 * pi^-1
+    -0x1.a4110423f4417p+15,  // -675675/4 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.70e345c05841dp-2,  // -815663/720720 * pi^-1
+    0x1.c9d14a2432155p-1,  // 4049197/1441440 * pi^-1
+    -0x1.91cf595d44cbbp+1,  // -18953783/1921920 * pi^-1
+    0x1.98140fd19782p+3,  // 92397457/2306304 * pi^-1
+    0x1.124c196881a69p+6,  // 141957997/658944 * pi^-1
+    0x1.9d1b16f07314ep+4,  // 11877559/146432 * pi^-1
+    0x1.912b1c2336cfp-1,  // 32/13 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    0x0p+0,  // 0
+    0x0p+0,  // 0
+    0x0p+0,  // 0
+    -0x1.c012268cc045cp+5,  // -45045/256 * pi^-1
+    -0x1.6674eba3cd04ap+5,  // -9009/64 * pi^-1
+    -0x1.2ab6c45dd583ep+2,  // -15015/1024 * pi^-1
+};
+inline constexpr double potential_0_2[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.fd4bbab8b494cp+0,  // 25/4 * pi^-1
+    -0x1.a7fd1fecf79d2p+3,  // -333/8 * pi^-1
+    0x1.3bd7cdd6256dbp+6,  // 3969/16 * pi^-1
+    0x1.292603d125c66p+9,  // 238981/128 * pi^-1
+    0x1.18205a41e963bp+8,  // 225291/256 * pi^-1
+    0x1.45f306dc9c883p+3,  // 32 * pi^-1
+};
+inline constexpr double dpotential_0_2[] = {
+    -0x1.c012268cc045cp+8,  // -45045/32 * pi^-1
+    -0x1.c012268cc045cp+8,  // -45045/32 * pi^-1
+    -0x1.c012268cc045cp+5,  // -45045/256 * pi^-1
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_2, 3},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.fd4bbab8b494cp+0,  // 25/4 * pi^-1
+    -0x1.a7fd1fecf79d2p+3,  // -333/8 * pi^-1
+    0x1.3bd7cdd6256dbp+6,  // 3969/16 * pi^-1
+    0x1.292603d125c66p+9,  // 238981/128 * pi^-1
+    0x1.18205a41e963bp+8,  // 225291/256 * pi^-1
+    0x1.45f306dc9c883p+3,  // 32 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    -0x1.c012268cc045cp+8,  // -45045/32 * pi^-1
+    -0x1.c012268cc045cp+8,  // -45045/32 * pi^-1
+    -0x1.c012268cc045cp+5,  // -45045/256 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_2, 3},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.c545f58ac9ad6p+4,  // -89 * pi^-1
+    0x1.4743297bb0099p+8,  // 8225/8 * pi^-1
+    0x1.ed49f79150da6p+11,  // 793453/64 * pi^-1
+    0x1.356a0ff6d02bap+11,  // 995383/128 * pi^-1
+    0x1.c02e296f573b4p+6,  // 352 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.500d9ce990345p+11,  // -135135/16 * pi^-1
+    -0x1.c012268cc045cp+11,  // -45045/4 * pi^-1
+    -0x1.180b5817f82bap+9,  // -225225/128 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_2, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_2_l_2_D2
+inline constexpr table::Kernel wendland_missing_k_2_l_2_D2 = {
+    "wendland-missing:k=2,l=2", 2, 0x1p+0, 8, 2, 1,
+    0x1.c012268cc045cp+14, "90090 * pi^-1", true,
+    {
+        {detail_wendland_missing_k_2_l_2_D2::value, 2},
+        {detail_wendland_missing_k_2_l_2_D2::dr, 2},
+        {detail_wendland_missing_k_2_l_2_D2::d2r, 2},
+        {detail_wendland_missing_k_2_l_2_D2::laplacian, 2},
+        {detail_wendland_missing_k_2_l_2_D2::grad_over_r, 2},
+        {detail_wendland_missing_k_2_l_2_D2::hess_radial, 2},
+        {detail_wendland_missing_k_2_l_2_D2::potential, 2},
+        {detail_wendland_missing_k_2_l_2_D2::dpotential, 2},
+        {detail_wendland_missing_k_2_l_2_D2::dpotential_over_r, 2},
+        {detail_wendland_missing_k_2_l_2_D2::potential_hess_radial, 2},
+    }};
+
+// wendland-missing:k=2,l=2 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
+namespace detail_wendland_missing_k_2_l_2_D3 {
+inline constexpr double value_0_0[] = {
+    0x1.513267fbc41cap+3,  // 104 * pi^-2
+    -0x1.513267fbc41cap+7,  // -1664 * pi^-2
+    0x1.d4417f661ed5cp+10,  // 18486 * pi^-2
+    0x1.c3b2d3c7040e9p+14,  // 570635/2 * pi^-2
+    0x1.bfbe93f5dcc45p+14,  // 2262559/8 * pi^-2
+    0x1.d6239576c8c82p+11,  // 593931/16 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    -0x1.1d403416eb167p+14,  // -180180 * pi^-2
+    -0x1.0b6c30d57c651p+15,  // -675675/2 * pi^-2
+    -0x1.40e83a99c8794p+13,  // -405405/4 * pi^-2
+    -0x1.1d403416eb167p+8,  // -45045/16 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 4},
+};
+inline constexpr table::Piece value[] = {
+    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double dr_0_0[] = {
+    -0x1.5bbbfb3ba23d8p+8,  // -3432 * pi^-2
+    0x1.de227971ff149p+12,  // 75504 * pi^-2
+    0x1.7314aa29b332p+17,  // 1875159 * pi^-2
+    0x1.ea71d106cb82ep+17,  // 2478333 * pi^-2
+    0x1.40fdf6597c336p+15,  // 1622049/4 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.abe04e2260a1bp+16,  // -1081080 * pi^-2
+    -0x1.0b6c30d57c651p+18,  // -2702700 * pi^-2
+    -0x1.912249403a979p+16,  // -2027025/2 * pi^-2
+    -0x1.abe04e2260a1bp+11,  // -135135/4 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 4},
+};
+inline constexpr table::Piece dr[] = {
+    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double d2r_0_0[] = {
+    -0x1.5bbbfb3ba23d8p+8,  // -3432 * pi^-2
+    0x1.6c08cb026dd86p+14,  // 229944 * pi^-2
+    0x1.00e2888277c47p+20,  // 10384803 * pi^-2
+    0x1.da91abfe828abp+20,  // 19184880 * pi^-2
+    0x1.8de5b353967fp+18,  // 16085355/4 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.0b6c30d57c651p+19,  // -5405400 * pi^-2
+    -0x1.d3fd557599b0dp+20,  // -18918900 * pi^-2
+    -0x1.c346926841ea8p+19,  // -18243225/2 * pi^-2
+    -0x1.262a35b7a26f2p+15,  // -1486485/4 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 4},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.04ccfc6cb9ae2p+10,  // -10296 * pi^-2
+    0x1.2d8d03ddb6b15p+15,  // 380952 * pi^-2
+    0x1.5da7b30ce490fp+20,  // 14135121 * pi^-2
+    0x1.2a9710201ab5bp+21,  // 24141546 * pi^-2
+    0x1.de2530e9f58bdp+18,  // 19329453/4 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.7664445e148d8p+19,  // -7567560 * pi^-2
+    -0x1.2cd9b6f02bf1bp+21,  // -24324300 * pi^-2
+    -0x1.13c7925c28483p+20,  // -22297275/2 * pi^-2
+    -0x1.5ba63f7bee836p+15,  // -1756755/4 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 4},
+};
+inline constexpr table::Piece laplacian[] = {
+    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double grad_over_r_0_0[] = {
+    -0x1.5bbbfb3ba23d8p+8,  // -3432 * pi^-2
+    0x1.de227971ff149p+12,  // 75504 * pi^-2
+    0x1.7314aa29b332p+17,  // 1875159 * pi^-2
+    0x1.ea71d106cb82ep+17,  // 2478333 * pi^-2
+    0x1.40fdf6597c336p+15,  // 1622049/4 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.abe04e2260a1bp+16,  // -1081080 * pi^-2
+    -0x1.0b6c30d57c651p+18,  // -2702700 * pi^-2
+    -0x1.912249403a979p+16,  // -2027025/2 * pi^-2
+    -0x1.abe04e2260a1bp+11,  // -135135/4 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 4},
+};
+inline constexpr table::Piece grad_over_r[] = {
+    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double hess_radial_0_0[] = {
+    0x1.e900594bdc268p+13,  // 154440 * pi^-2
+    0x1.a4ffe67a82bc5p+19,  // 8509644 * pi^-2
+    0x1.9d4371dda91a5p+20,  // 16706547 * pi^-2
+    0x1.65c5f48866f89p+18,  // 7231653/2 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.abe04e2260a1bp+18,  // -4324320 * pi^-2
+    -0x1.912249403a979p+20,  // -16216200 * pi^-2
+    -0x1.912249403a979p+19,  // -8108100 * pi^-2
+    -0x1.0b6c30d57c651p+15,  // -675675/2 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 4},
+};
+inline constexpr table::Piece hess_radial[] = {
+    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double potential_0_0[] = {
+    -0x1.2fd9067d9765cp-2,  // -41/14 * pi^-2
+    0x1.9dc6c31d801f6p+0,  // 335/21 * pi^-2
+    -0x1.fac89196fcd37p+2,  // -8206/105 * pi^-2
+    0x1.56627175cb114p+5,  // 2112/5 * pi^-2
+    0x1.5d6b441ebb952p+8,  // 2896847/840 * pi^-2
+    0x1.c2c323d2af368p+7,  // 373703/168 * pi^-2
+    0x1.4dfda58e22d02p+4,  // 46149/224 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.fb1cce61a1efp+7,  // -5005/2 * pi^-2
+    -0x1.372ec47617bb6p+8,  // -12285/4 * pi^-2
+    -0x1.074ef501768aep+6,  // -10395/16 * pi^-2
+    -0x1.5bbbfb3ba23d8p+0,  // -429/32 * pi^-2
+};
+inline constexpr double potential_0_2[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 4},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
+};
+inline constexpr double potential_1_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+};
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.bd45d814aa5a5p+1,  // 103/3 * pi^-2
+    -0x1.085a8d94f7c7p+5,  // -4892/15 * pi^-2
+    0x1.07562ec585149p+8,  // 90966/35 * pi^-2
+    0x1.78951274a420cp+11,  // 6244087/210 * pi^-2
+    0x1.301c34c481928p+11,  // 4033945/168 * pi^-2
+    0x1.0e025a8840a6ep+8,  // 298467/112 * pi^-2
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.fb1cce61a1efp+10,  // -20020 * pi^-2
+    -0x1.84fa75939daa4p+11,  // -61425/2 * pi^-2
+    -0x1.8af66f8231d05p+9,  // -31185/4 * pi^-2
+    -0x1.30447bd42df5dp+4,  // -3003/16 * pi^-2
+};
+inline constexpr double dpotential_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 4},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+};
+inline constexpr double dpotential_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.bd45d814aa5a5p+1,  // 103/3 * pi^-2
+    -0x1.085a8d94f7c7p+5,  // -4892/15 * pi^-2
+    0x1.07562ec585149p+8,  // 90966/35 * pi^-2
+    0x1.78951274a420cp+11,  // 6244087/210 * pi^-2
+    0x1.301c34c481928p+11,  // 4033945/168 * pi^-2
+    0x1.0e025a8840a6ep+8,  // 298467/112 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.fb1cce61a1efp+10,  // -20020 * pi^-2
+    -0x1.84fa75939daa4p+11,  // -61425/2 * pi^-2
+    -0x1.8af66f8231d05p+9,  // -31185/4 * pi^-2
+    -0x1.30447bd42df5dp+4,  // -3003/16 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 4},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+};
+inline constexpr table::Piece dpotential_over_r[] = {
+    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+};
+inline constexpr double potential_hess_radial_0_0[] = {
+    0x1.37423899a1558p-3,  // 3/2 * pi^-2
+    0x1.9f02f6222c72p-4,  // 1 * pi^-2
+    -0x1.15dcfb98148ebp+6,  // -3428/5 * pi^-2
+    0x1.0ec0dc51fb065p+10,  // 374112/35 * pi^-2
+    0x1.367aecdb46824p+14,  // 6864069/35 * pi^-2
+    0x1.4db4002c2c2d6p+14,  // 1475496/7 * pi^-2
+    0x1.70e2b383b0899p+11,  // 815529/28 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.7c559ac939734p+13,  // -120120 * pi^-2
+    -0x1.84fa75939daa4p+14,  // -245700 * pi^-2
+    -0x1.edb40b62be446p+12,  // -155925/2 * pi^-2
+    -0x1.c866b9be44f0cp+7,  // -9009/4 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_2[] = {
+    -0x1.37423899a1558p-3,  // -3/2 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 4},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+};
+inline constexpr table::Piece potential_hess_radial[] = {
+    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+};
+}  // namespace detail_wendland_missing_k_2_l_2_D3
+inline constexpr table::Kernel wendland_missing_k_2_l_2_D3 = {
+    "wendland-missing:k=2,l=2", 3, 0x1p+0, 9, 2, 1,
+    0x1.e900594bdc268p+16, "1235520 * pi^-2", true,
+    {
+        {detail_wendland_missing_k_2_l_2_D3::value, 2},
+        {detail_wendland_missing_k_2_l_2_D3::dr, 2},
+        {detail_wendland_missing_k_2_l_2_D3::d2r, 2},
+        {detail_wendland_missing_k_2_l_2_D3::laplacian, 2},
+        {detail_wendland_missing_k_2_l_2_D3::grad_over_r, 2},
+        {detail_wendland_missing_k_2_l_2_D3::hess_radial, 2},
+        {detail_wendland_missing_k_2_l_2_D3::potential, 2},
+        {detail_wendland_missing_k_2_l_2_D3::dpotential, 2},
+        {detail_wendland_missing_k_2_l_2_D3::dpotential_over_r, 2},
+        {detail_wendland_missing_k_2_l_2_D3::potential_hess_radial, 2},
+    }};
+
 }  // namespace mollify::tables
