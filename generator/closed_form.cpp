@@ -92,37 +92,42 @@ ClosedForm operator*(const ClosedForm& a, const Laurent& m) {
     return x;
 }
 
-// S^j with j >= 3 becomes (1 - r^2) S^(j-2); S^j with j < 0 absorbs a factor
-// (1 - r^2) of its coefficient when there is one. A form whose derivative of
-// order n is finite at r = 1 thus ends with no negative powers of S.
+// Unique form of the S terms, so that equality of closed forms is equality
+// of functions: per constant factor, all powers S^j are gathered on the
+// lowest one (S^j = (1 - r^2)^((j-i)/2) S^i), then factors (1 - r^2) of the
+// coefficient are absorbed while the power is below 1. A form whose value is
+// finite at r = 1 thus ends with no negative powers of S (powers are odd).
 void ClosedForm::canonicalise() {
-    bool changed = true;
-    while (changed) {
-        changed = false;
-        for (auto it = terms_.begin(); it != terms_.end(); ++it) {
-            const auto [k, p] = *it;
-            if (k.basis != Basis::sqrt_power) continue;
-            if (k.s_power == 0) {
-                terms_.erase(it);
-                add_to(terms_, TermKey{Basis::one, 0, k.factor}, p);
-                changed = true;
-                break;
-            }
-            if (k.s_power >= 3) {
-                terms_.erase(it);
-                add_to(terms_, TermKey{Basis::sqrt_power, k.s_power - 2, k.factor}, p * one_minus_r2);
-                changed = true;
-                break;
-            }
-            if (k.s_power < 0) {
-                if (auto q = divide_by_one_minus_r2(p)) {
-                    terms_.erase(it);
-                    add_to(terms_, TermKey{Basis::sqrt_power, k.s_power + 2, k.factor}, *q);
-                    changed = true;
-                    break;
-                }
-            }
+    std::map<Atom, std::map<int, Laurent>> by_factor;
+    for (auto it = terms_.begin(); it != terms_.end();) {
+        if (it->first.basis == Basis::sqrt_power) {
+            by_factor[it->first.factor][it->first.s_power] += it->second;
+            it = terms_.erase(it);
+        } else {
+            ++it;
         }
+    }
+    for (auto& [factor, powers] : by_factor) {
+        int j = powers.begin()->first;
+        Laurent c;
+        for (const auto& [i, p] : powers) {
+            Laurent q = p;
+            for (int step = j; step < i; step += 2) q = q * one_minus_r2;
+            c += q;
+        }
+        if (c.is_zero()) continue;
+        while (j < 1) {
+            auto q = divide_by_one_minus_r2(c);
+            if (!q) break;
+            c = *q;
+            j += 2;
+        }
+        while (j > 1) {  // only when every power was above 1
+            c = c * one_minus_r2;
+            j -= 2;
+        }
+        if (j == 0) fail("internal: even power of S in a closed form");
+        add_to(terms_, TermKey{Basis::sqrt_power, j, factor}, c);
     }
 }
 
