@@ -1,8 +1,10 @@
 #include "emit.hpp"
 
+#include "anderson.hpp"
 #include "certificate.hpp"
 #include "error.hpp"
 #include "rounding.hpp"
+#include "vandermonde.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -275,10 +277,17 @@ KernelText render_kernel(const CatalogueEntry& e, std::vector<std::string>& fail
                 {"parity", k.W.parity},
                 {"radial_moments", moments}};
     if (!k.claims.no_potential.empty()) out.meta["no_potential"] = k.claims.no_potential;
-    if (k.spec.family == Family::combo) {
+    if (k.spec.family == Family::combo) {  // Franz Prop. 4.24
         json radii = json::array(), weights = json::array();
         for (const Q& a : k.spec.radii) radii.push_back(pq(a));
+        for (const Q& w : vandermonde_weights(k.spec.radii)) weights.push_back(pq(w));
         out.meta["radii"] = radii;
+        out.meta["weights"] = weights;
+    }
+    if (k.spec.family == Family::mollifier) {  // Anderson (12): normalisation * sum alpha_j (1-r^2)^(M+j)
+        json alpha = json::array();
+        for (const Q& a : exponent_method(k.spec.M, k.spec.order, k.dim).alpha) alpha.push_back(pq(a));
+        out.meta["alpha"] = alpha;
     }
     out.meta["certificates"] = certs;
     out.meta["quantities"] = qjson;

@@ -44,10 +44,12 @@ Exact green_slope_at_one(int D) {
     }
 }
 
-// Left and right limits of f at breakpoint i (right: the next piece, or the exterior).
-Exact left_at(const Radial& f, std::size_t i) { return f.pieces[i - 1].at(f.breaks[i]); }
+// Left and right limits of f at breakpoint i (right: the next piece, or the
+// exterior); value_at takes the limit at r = 1 for the sqrt/arcsech/arcsin
+// forms of the missing Wendland functions.
+Exact left_at(const Radial& f, std::size_t i) { return value_at(f.pieces[i - 1], f.breaks[i]); }
 Exact right_at(const Radial& f, std::size_t i) {
-    return (i + 1 < f.breaks.size() ? f.pieces[i] : f.outside).at(f.breaks[i]);
+    return value_at(i + 1 < f.breaks.size() ? f.pieces[i] : f.outside, f.breaks[i]);
 }
 
 // Empty when phi and phi' are continuous at every breakpoint (r = 1 included).
@@ -172,12 +174,11 @@ TEST(Potential, CatalogueLaplacianAndContinuity) {
         EXPECT_TRUE(radial_laplacian(phi, e.dim) == k.W) << what;
         EXPECT_TRUE(phi.outside == green_function(e.dim)) << what;
         EXPECT_EQ(discontinuities(phi), "") << what;
-        EXPECT_EQ(phi.pieces.back().at(Q(1)), green_at_one(e.dim)) << what;
-        EXPECT_EQ(phi.pieces.back().derivative().at(Q(1)), green_slope_at_one(e.dim)) << what;
+        EXPECT_EQ(value_at(phi.pieces.back(), Q(1)), green_at_one(e.dim)) << what;
+        EXPECT_EQ(value_at(phi.pieces.back().derivative(), Q(1)), green_slope_at_one(e.dim)) << what;
         ++checked;
     }
-    // Everything but Belley's derivative kernels (box-d1, box-d2, 1D only) and
-    // nothing missing-Wendland (not in the default catalogue).
+    // Everything but Belley's derivative kernels (box-d1, box-d2, 1D only).
     EXPECT_EQ(checked, static_cast<int>(expand_dimensions(default_specs()).size()) - 2);
 }
 
@@ -221,6 +222,12 @@ TEST(Potential, MissingWendland) {
 // N = 1/(pi G_1) in 1D and 1/(pi^2 G_3) in 3D (G_p = int s^p g):
 //   1D: phi(0) = 1/2 - N (pi/2 G_1 - G_2) = G_2/(pi G_1),
 //   3D: phi(0) = -1/(4 pi) - N (G_2 - pi/4 G_3) = -G_2/(pi^2 G_3).
+// In 2D, int_t^1 ds/s = -log t and the inner integral becomes
+// int_0^s t (-log t)/sqrt(s^2 - t^2) dt = s (-log s) + s (1 - log 2), using
+// int_0^1 u (-log u)/sqrt(1-u^2) du = 1 - log 2; with int_0^1 s^n (-log s) ds = 1/(n+1)^2
+// and N = 1/(2 pi G_2):
+//   2D: phi(0) = 0 - N (H + (1 - log 2) G_2) = -H/(2 pi G_2) - (1 - log 2)/(2 pi),
+// H = sum_i g_i/(i+3)^2 (g = sum_i g_i s^i).
 using Poly = std::vector<Q>;
 
 Q integral01(const Poly& p, int power) {
@@ -253,15 +260,22 @@ Poly wendland_inner(int n, int k) {
 }
 
 TEST(Potential, MissingWendlandValueAtZero) {
-    for (int D : {1, 3})
+    for (int D = 1; D <= 3; ++D)
         for (int k = 0; k <= 2; ++k)
             for (int l = 0; l <= 2; ++l) {
                 const std::string spec = "wendland-missing:k=" + std::to_string(k) + ",l=" + std::to_string(l);
                 const Kernel K = kernel(spec, D);
                 if (!K.claims.no_potential.empty()) GTEST_SKIP() << "missing Wendland potentials are not implemented";
                 const Poly g = wendland_inner((D + 1) / 2 + k + 1 + l, k);
-                const Exact want = D == 1 ? Exact::pi_power(integral01(g, 2) / integral01(g, 1), -1)
-                                          : Exact::pi_power(-integral01(g, 2) / integral01(g, 3), -2);
+                Exact want;
+                if (D == 1) want = Exact::pi_power(integral01(g, 2) / integral01(g, 1), -1);
+                if (D == 3) want = Exact::pi_power(-integral01(g, 2) / integral01(g, 3), -2);
+                if (D == 2) {
+                    Q H = 0;
+                    for (std::size_t i = 0; i < g.size(); ++i) H += g[i] / Q((i + 3) * (i + 3));
+                    want = Exact::pi_power(-H / (2 * integral01(g, 2)) - Q(1, 2), -1) +
+                           Exact::log_of(Q(2)) * Exact::pi_power(Q(1, 2), -1);
+                }
                 const Radial phi = potential(K.W, D);
                 EXPECT_EQ(value_at(phi.pieces[0], Q(0)), want)
                     << spec << " in D = " << D << ": " << value_at(phi.pieces[0], Q(0)).to_string() << " vs "

@@ -285,9 +285,9 @@ TEST(Wendland, SmoothnessAtTheEdge) {
 // whose only singularities are the branch points u = +-i r. Gauss-Legendre on
 // panels [0, r], [r, 2r], [2r, 4r], ... keeps them well away: in the
 // coordinates of a panel they sit at -1 + 2i (first panel) or beyond -3 (the
-// others), i.e. Bernstein ellipses rho >= 4.6, so n = 64 nodes err by about
-// rho^(-2n) < 10^-80. The rule is also compared with 48 nodes to check
-// convergence.
+// others), i.e. Bernstein ellipses rho >= 4.6, so for moderate degrees of g
+// n = 96 nodes err by about rho^(-2n), far below 10^-80. The rule is also
+// compared with 64 nodes to check convergence.
 using boost::multiprecision::mpfr_float;
 constexpr unsigned digits = 80;  // ~266 bits
 constexpr unsigned bits = 256;
@@ -327,13 +327,40 @@ Rule gauss_legendre(int n) {
     return rule;
 }
 
-mpfr_float eval(const Poly& g, const mpfr_float& s) {
-    mpfr_float v(0, digits);
-    for (std::size_t i = g.size(); i-- > 0;) v = v * s + real(g[i]);
-    return v;
+// g(s) = (1-s)^m h(s) with h(1) != 0, split exactly here so that g is evaluated
+// without the cancellation of its expanded coefficients near s = 1 (g ~ 10^-50
+// there for the largest k, l while its coefficients are large).
+struct Factored {
+    int m = 0;
+    Poly h;
+};
+
+Factored factor_edge(Poly g) {
+    Factored f;
+    while (g.size() > 1) {
+        Poly q(g.size() - 1, Q(0));  // g / (s - 1) by synthetic division
+        Q carry = 0;
+        for (std::size_t i = g.size(); i-- > 1;) {
+            carry = g[i] + carry;
+            q[i - 1] = carry;
+        }
+        if (g[0] + carry != 0) break;
+        for (Q& c : q) c = -c;  // g / (1 - s)
+        g = q;
+        ++f.m;
+    }
+    f.h = g;
+    return f;
 }
 
-mpfr_float missing_by_quadrature(const Poly& g, const Q& r, const Rule& rule) {
+mpfr_float eval(const Factored& g, const mpfr_float& s) {
+    mpfr_float v(0, digits);
+    for (std::size_t i = g.h.size(); i-- > 0;) v = v * s + real(g.h[i]);
+    return v * boost::multiprecision::pow(1 - s, g.m);
+}
+
+mpfr_float missing_by_quadrature(const Poly& inner, const Q& r, const Rule& rule) {
+    const Factored g = factor_edge(inner);
     const mpfr_float rr = real(r), r2 = rr * rr;
     const mpfr_float L = boost::multiprecision::sqrt(1 - r2);
     std::vector<mpfr_float> edges{mpfr_float(0, digits)};
@@ -350,33 +377,53 @@ mpfr_float missing_by_quadrature(const Poly& g, const Q& r, const Rule& rule) {
     return total;
 }
 
+// Compares the closed form with the quadrature at r = 1/4, 1/2, 3/4, 9/10.
+void expect_matches_quadrature(int d, int k, int l, const Rule& fine, const Rule& coarse, const char* tol,
+                               unsigned closed_form_bits) {
+    const mpfr_float tolerance(tol, digits);
+    const ClosedForm psi = missing_wendland_shape(d, k, l);
+    const Poly g = own_missing_inner(d, k, l);
+    for (const Q& r : {Q(1, 4), Q(1, 2), Q(3, 4), Q(9, 10)}) {
+        const std::string what = "d = " + std::to_string(d) + ", k = " + std::to_string(k) +
+                                 ", l = " + std::to_string(l) + ", r = " + short_string(r);
+        const mpfr_float want = missing_by_quadrature(g, r, fine);
+        const mpfr_float check = missing_by_quadrature(g, r, coarse);
+        ASSERT_LT(boost::multiprecision::abs(want - check), tolerance * boost::multiprecision::abs(want))
+            << "quadrature not converged, " << what;
+        const auto [got, magnitude] = psi.evaluate(real(r), closed_form_bits);
+        EXPECT_LT(boost::multiprecision::abs(got - want), tolerance * boost::multiprecision::abs(want))
+            << what << ": " << got.str(40) << " vs " << want.str(40) << " (magnitude " << magnitude.str(5) << ")";
+    }
+}
+
+// Sets MPFR's default precision for the test's temporaries, restoring it after.
+struct DefaultPrecision {
+    unsigned saved = mpfr_float::default_precision();
+    explicit DefaultPrecision(unsigned d) { mpfr_float::default_precision(d); }
+    ~DefaultPrecision() { mpfr_float::default_precision(saved); }
+};
+
 TEST(WendlandMissing, ClosedFormMatchesQuadrature) {
-    mpfr_float::default_precision(digits);
-    const Rule fine = gauss_legendre(64), coarse = gauss_legendre(48);
-    const mpfr_float tolerance("1e-50", digits);
+    const DefaultPrecision precision(digits);
+    const Rule fine = gauss_legendre(96), coarse = gauss_legendre(64);
+    // Small parameters, closed form at 256 bits: observed agreement 5 10^-67 or
+    // better (the two rules agree to 10^-75), so 10^-55 leaves ample room.
     for (int d = 1; d <= 3; ++d)
         for (int k = 0; k <= 3; ++k)
-            for (int l = 0; l <= 2; ++l) {
-                const ClosedForm psi = missing_wendland_shape(d, k, l);
-                const Poly g = own_missing_inner(d, k, l);
-                for (const Q& r : {Q(1, 4), Q(1, 2), Q(3, 4), Q(9, 10)}) {
-                    const mpfr_float want = missing_by_quadrature(g, r, fine);
-                    const mpfr_float check = missing_by_quadrature(g, r, coarse);
-                    ASSERT_LT(boost::multiprecision::abs(want - check), tolerance * boost::multiprecision::abs(want))
-                        << "quadrature not converged";
-                    const auto [got, magnitude] = psi.evaluate(real(r), bits);
-                    // The closed form loses at most log2(magnitude/|value|) of its 256 bits to
-                    // cancellation between the S and arcsech terms (observed agreement: 10^-66 or
-                    // better; the two rules agree to 10^-64), so 10^-50 leaves ample room.
-                    EXPECT_LT(boost::multiprecision::abs(got - want), tolerance * boost::multiprecision::abs(want))
-                        << "d = " << d << ", k = " << k << ", l = " << l << ", r = " << short_string(r) << ": "
-                        << got.str(40) << " vs " << want.str(40) << " (magnitude " << magnitude.str(5) << ")";
-                }
-            }
+            for (int l = 0; l <= 2; ++l) expect_matches_quadrature(d, k, l, fine, coarse, "1e-55", bits);
+    // The largest parameters. Near r = 1 psi is tiny (~10^-58 at r = 9/10 for
+    // k = l = 12) while the closed form's S and arcsech terms are not: it loses
+    // log10(magnitude/|value|) (up to 48) digits to cancellation, so it is
+    // evaluated at 640 bits (~190 digits) here. Observed agreement 2 10^-76
+    // (the 80-digit quadrature's own level); 10^-60 leaves room.
+    for (int d = 1; d <= 3; ++d) {
+        expect_matches_quadrature(d, 6, 12, fine, coarse, "1e-60", 640);
+        expect_matches_quadrature(d, max_wendland_k, max_wendland_l, fine, coarse, "1e-60", 640);
+    }
     // The comparison can fail: a closed form for the wrong l differs.
     const mpfr_float want = missing_by_quadrature(own_missing_inner(3, 1, 1), Q(1, 2), fine);
     const mpfr_float wrong = missing_wendland_shape(3, 1, 0).evaluate(real(Q(1, 2)), bits).first;
-    EXPECT_GT(boost::multiprecision::abs(wrong - want), tolerance * boost::multiprecision::abs(want));
+    EXPECT_GT(boost::multiprecision::abs(wrong - want), mpfr_float("1e-50", digits) * boost::multiprecision::abs(want));
 }
 
 // Exact unit mass, derived independently of the Wallis integrals used by the
@@ -387,8 +434,8 @@ TEST(WendlandMissing, ClosedFormMatchesQuadrature) {
 // normalisation is 1/(omega_D c_D int s^D g) = 1/(pi G), 1/(2 pi G), 1/(pi^2 G).
 TEST(WendlandMissing, NormalisationByFubini) {
     for (int D = 1; D <= 3; ++D)
-        for (int k = 0; k <= 3; ++k)
-            for (int l = 0; l <= 3; ++l) {
+        for (int k : {0, 1, 2, 3, max_wendland_k})
+            for (int l : {0, 1, 2, max_wendland_l}) {
                 const Q G = integral01(own_missing_inner(D, k, l), D);
                 const Exact want = D == 1 ? Exact::pi_power(Q(1) / G, -1)
                                  : D == 2 ? Exact::pi_power(Q(1) / (2 * G), -1)
