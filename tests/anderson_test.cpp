@@ -15,6 +15,7 @@
 #include "kernel.hpp"
 #include "linear_solve.hpp"
 #include "spec.hpp"
+#include "reference_poly.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,24 +25,13 @@
 namespace mollify::gen {
 namespace {
 
-using Poly = std::vector<Q>;  // c[i] multiplies r^i
-
-Kernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
+using namespace reference;
 
 std::string mollifier(int M, int order = 2) {
     return "mollifier:M=" + std::to_string(M) + (order == 2 ? "" : ",order=" + std::to_string(order));
 }
 
-// omega_D = omega_rational(D) * pi^omega_pi(D).
-Q omega_rational(int D) { return D == 3 ? Q(4) : Q(2); }
-int omega_pi(int D) { return D == 1 ? 0 : 1; }
 Exact omega(int D) { return Exact::pi_power(omega_rational(D), omega_pi(D)); }
-
-Z fact(int n) {
-    Z f = 1;
-    for (int i = 2; i <= n; ++i) f *= i;
-    return f;
-}
 
 Z pow2(int n) {
     Z p = 1;
@@ -55,14 +45,6 @@ Laurent to_laurent(const Poly& p) {
     return l;
 }
 
-Poly mul(const Poly& a, const Poly& b) {
-    if (a.empty() || b.empty()) return {};
-    Poly c(a.size() + b.size() - 1, Q(0));
-    for (std::size_t i = 0; i < a.size(); ++i)
-        for (std::size_t j = 0; j < b.size(); ++j) c[i + j] += a[i] * b[j];
-    return c;
-}
-
 Poly add(Poly a, const Poly& b, const Q& s = Q(1)) {
     if (a.size() < b.size()) a.resize(b.size(), Q(0));
     for (std::size_t i = 0; i < b.size(); ++i) a[i] += s * b[i];
@@ -73,25 +55,6 @@ Poly t_power(int n) {  // (1 - r^2)^n
     Poly p{Q(1)};
     for (int i = 0; i < n; ++i) p = mul(p, Poly{Q(1), Q(0), Q(-1)});
     return p;
-}
-
-Q at(const Poly& p, const Q& r) {
-    Q v = 0;
-    for (std::size_t i = p.size(); i-- > 0;) v = v * r + p[i];
-    return v;
-}
-
-Poly deriv(const Poly& p) {
-    Poly d;
-    for (std::size_t i = 1; i < p.size(); ++i) d.push_back(p[i] * static_cast<int>(i));
-    return d;
-}
-
-// int_0^1 r^power p(r) dr.
-Q integral01(const Poly& p, int power) {
-    Q s = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) s += p[i] / (static_cast<int>(i) + power + 1);
-    return s;
 }
 
 // p / (r - root) by synthetic division; false when the remainder is not 0.

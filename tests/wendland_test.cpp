@@ -12,6 +12,7 @@
 #include "kernel.hpp"
 #include "spec.hpp"
 #include "wendland.hpp"
+#include "reference_poly.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,18 +22,7 @@
 namespace mollify::gen {
 namespace {
 
-using Poly = std::vector<Q>;  // c[i] multiplies r^i
-
-Kernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
-
-Q omega_rational(int D) { return D == 3 ? Q(4) : Q(2); }
-int omega_pi(int D) { return D == 1 ? 0 : 1; }
-
-Z fact(int n) {
-    Z f = 1;
-    for (int i = 2; i <= n; ++i) f *= i;
-    return f;
-}
+using namespace reference;
 
 Z choose(int n, int k) {
     if (k < 0 || k > n) return 0;
@@ -47,36 +37,10 @@ Q general_binomial(const Q& a, int k) {
     return b;
 }
 
-Poly mul(const Poly& a, const Poly& b) {
-    if (a.empty() || b.empty()) return {};
-    Poly c(a.size() + b.size() - 1, Q(0));
-    for (std::size_t i = 0; i < a.size(); ++i)
-        for (std::size_t j = 0; j < b.size(); ++j) c[i + j] += a[i] * b[j];
-    return c;
-}
-
 Poly one_minus_r_power(int n) {
     Poly p{Q(1)};
     for (int i = 0; i < n; ++i) p = mul(p, Poly{Q(1), Q(-1)});
     return p;
-}
-
-Q at(const Poly& p, const Q& r) {
-    Q v = 0;
-    for (std::size_t i = p.size(); i-- > 0;) v = v * r + p[i];
-    return v;
-}
-
-Poly deriv(const Poly& p) {
-    Poly d;
-    for (std::size_t i = 1; i < p.size(); ++i) d.push_back(p[i] * static_cast<int>(i));
-    return d;
-}
-
-Q integral01(const Poly& p, int power) {
-    Q s = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) s += p[i] / (static_cast<int>(i) + power + 1);
-    return s;
 }
 
 // I f(r) = int_r^1 s f(s) ds = F(1) - F(r) with F' = s f(s).

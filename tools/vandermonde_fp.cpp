@@ -31,6 +31,11 @@
 // Digits are capped at 17; a negative value means the error exceeds the scale.
 // "n/a" means the double solver returned non-finite numbers.
 
+#include "linear_solve.hpp"
+#include "number.hpp"
+#include "spec.hpp"
+#include "vandermonde.hpp"
+
 #include <CLI/CLI.hpp>
 #include <Eigen/Dense>
 #include <Eigen/SVD>
@@ -68,45 +73,12 @@ void require(bool ok, const std::string& what) {
 
 Rational abs_q(const Rational& x) { return x < 0 ? Rational(-x) : x; }
 
-Rational pow_q(const Rational& x, int n) {
-    Rational r = 1;
-    for (int i = 0; i < n; ++i) r *= x;
-    return r;
-}
-
-Rational factorial_q(int n) {
-    Rational r = 1;
-    for (int i = 2; i <= n; ++i) r *= i;
-    return r;
-}
-
-// ---------------------------------------------------------------------------
-// Exact linear algebra over Q.
-
-// Gaussian elimination with (nonzero) row pivoting; throws if A is singular.
-RVector solve_exact(RMatrix A, RVector b) {
-    const std::size_t n = b.size();
-    for (std::size_t col = 0; col < n; ++col) {
-        std::size_t piv = col;
-        while (piv < n && A[piv][col] == 0) ++piv;
-        require(piv < n, "exact matrix is nonsingular");
-        std::swap(A[piv], A[col]);
-        std::swap(b[piv], b[col]);
-        for (std::size_t row = col + 1; row < n; ++row) {
-            if (A[row][col] == 0) continue;
-            const Rational f = A[row][col] / A[col][col];
-            for (std::size_t k = col; k < n; ++k) A[row][k] -= f * A[col][k];
-            b[row] -= f * b[col];
-        }
-    }
-    RVector x(n);
-    for (std::size_t i = n; i-- > 0;) {
-        Rational s = b[i];
-        for (std::size_t k = i + 1; k < n; ++k) s -= A[i][k] * x[k];
-        x[i] = s / A[i][i];
-    }
-    return x;
-}
+// The exact side is mollify's own exact core (generator/): linear_solve.hpp,
+// vandermonde.hpp; this tool only adds the double-precision side.
+using mollify::gen::equidistant_weights;
+using mollify::gen::moment_matrix;
+using mollify::gen::solve;
+using mollify::gen::vandermonde_weights;
 
 RVector residual_exact(const RMatrix& A, const RVector& x, const RVector& b) {
     RVector r(b.size());
@@ -153,12 +125,7 @@ struct RadiusFamily {
 
 std::vector<RadiusFamily> radius_families() {
     return {
-        {"equidistant j/m",
-         [](int m) {
-             RVector a;
-             for (int j = 1; j <= m; ++j) a.emplace_back(j, m);
-             return a;
-         }},
+        {"equidistant j/m", [](int m) { return mollify::gen::equidistant_radii(m); }},
         {"clustered 1-(m-j)/10^2",
          [](int m) {
              RVector a;
@@ -184,25 +151,6 @@ std::vector<RadiusFamily> radius_families() {
     };
 }
 
-// w_j = prod_{k != j} a_k^2 / (a_k^2 - a_j^2)
-RVector franz_closed_form(const RVector& a) {
-    RVector w(a.size(), Rational(1));
-    for (std::size_t j = 0; j < a.size(); ++j)
-        for (std::size_t k = 0; k < a.size(); ++k)
-            if (k != j) w[j] *= a[k] * a[k] / (a[k] * a[k] - a[j] * a[j]);
-    return w;
-}
-
-// equidistant a_j = j/m: w_j = (-1)^(j-1) 2 (m!)^2 / ((m+j)! (m-j)!)
-RVector franz_equidistant(int m) {
-    RVector w;
-    for (int j = 1; j <= m; ++j) {
-        Rational v = 2 * pow_q(factorial_q(m), 2) / (factorial_q(m + j) * factorial_q(m - j));
-        w.push_back(j % 2 == 1 ? v : Rational(-v));
-    }
-    return w;
-}
-
 Case franz_case(const RadiusFamily& fam, int m) {
     const RVector a = fam.radii(m);
     require(static_cast<int>(a.size()) == m, "family yields m radii");
@@ -212,10 +160,8 @@ Case franz_case(const RadiusFamily& fam, int m) {
     }
 
     Case c{"Franz 4.24", fam.name, m, RMatrix(m, RVector(m)), RVector(m), Eigen::MatrixXd(m, m), {}};
-    for (int k = 0; k < m; ++k) {
-        c.exact_b[k] = (k == 0) ? 1 : 0;
-        for (int j = 0; j < m; ++j) c.exact_A[k][j] = pow_q(a[j] * a[j], k);
-    }
+    c.exact_A = moment_matrix(a);
+    for (int k = 0; k < m; ++k) c.exact_b[k] = (k == 0) ? 1 : 0;
     // double matrix from the radii rounded to double; powers taken in double
     for (int j = 0; j < m; ++j) {
         const double aj = a[j].convert_to<double>();
@@ -224,10 +170,10 @@ Case franz_case(const RadiusFamily& fam, int m) {
         for (int k = 0; k < m; ++k, p *= a2) c.double_A(k, j) = p;
     }
 
-    c.exact_solution = solve_exact(c.exact_A, c.exact_b);
-    require(c.exact_solution == franz_closed_form(a), "Gauss == closed form (Franz 4.24), " + fam.name);
+    c.exact_solution = solve(c.exact_A, c.exact_b);
+    require(c.exact_solution == vandermonde_weights(a), "Gauss == closed form (Franz 4.24), " + fam.name);
     if (fam.name.starts_with("equidistant"))
-        require(c.exact_solution == franz_equidistant(m), "Gauss == factorial formula, m=" + std::to_string(m));
+        require(c.exact_solution == equidistant_weights(m), "Gauss == factorial formula, m=" + std::to_string(m));
     return c;
 }
 
@@ -239,11 +185,11 @@ Case anderson_case(int M) {
     for (int i = 0; i < M; ++i) {
         c.exact_b[i] = (i == 0) ? -1 : 0;
         for (int k = 1; k <= M; ++k) {
-            c.exact_A[i][k - 1] = pow_q(Rational(k), i);
+            c.exact_A[i][k - 1] = mollify::gen::pow(Rational(k), i);
             c.double_A(i, k - 1) = c.exact_A[i][k - 1].convert_to<double>();  // exact: k^i < 2^53
         }
     }
-    c.exact_solution = solve_exact(c.exact_A, c.exact_b);
+    c.exact_solution = solve(c.exact_A, c.exact_b);
     return c;
 }
 
