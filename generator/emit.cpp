@@ -324,6 +324,7 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
                     errors[i] = spec_string(entries[i].spec) + " D=" + std::to_string(entries[i].dim) + ": " + ex.what();
                 }
             }
+            mpfr_free_cache();  // MPFR keeps per-thread constant caches (pi)
         });
     for (auto& t : pool) t.join();
     for (const auto& e : errors)
