@@ -288,6 +288,10 @@ KernelText render_kernel(const CatalogueEntry& e, std::vector<std::string>& fail
         json alpha = json::array();
         for (const Q& a : exponent_method(k.spec.M, k.spec.order, k.dim).alpha) alpha.push_back(pq(a));
         out.meta["alpha"] = alpha;
+        // Anderson §4: phi = normalisation * v(r) + G(1) inside, with v(1) = 0; c_0 = v(0).
+        const Exact c0 = (value_at(q.potential->pieces.front(), Q(0)) - value_at(q.potential->outside, Q(1))) *
+                         k.normalisation.inverse();
+        out.meta["potential_c0"] = exact_json(c0);
     }
     out.meta["certificates"] = certs;
     out.meta["quantities"] = qjson;
