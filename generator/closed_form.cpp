@@ -227,8 +227,7 @@ ClosedForm ClosedForm::antiderivative() const {
             const Q c = p.coefficient(n);
             if (c == 0) continue;
             const ClosedForm F = integrate_monomial(k.basis, k.s_power, n) * c;
-            f += F * Exact::pi_power(Q(1), k.factor.pi_power) *
-                 (k.factor.log_of == 1 ? Exact(Q(1)) : Exact::log_of(Q(k.factor.log_of)));
+            f += F * Exact::of(k.factor);
         }
     f.canonicalise();
     return f;
@@ -246,8 +245,7 @@ ClosedForm ClosedForm::scaled_argument(const Q& s) const {
 Exact ClosedForm::at(const Q& r) const {
     Exact v;
     for (const auto& [k, p] : terms_) {
-        const Exact factor = Exact::pi_power(Q(1), k.factor.pi_power) *
-                             (k.factor.log_of == 1 ? Exact(Q(1)) : Exact::log_of(Q(k.factor.log_of)));
+        const Exact factor = Exact::of(k.factor);
         switch (k.basis) {
             case Basis::one: v += factor * p(r); break;
             case Basis::log:
@@ -355,8 +353,7 @@ std::vector<SeriesTerm> basis_series(const TermKey& k, int order) {
 Exact limit_at_zero(const ClosedForm& f) {
     std::map<int, Exact> plain, logs;  // coefficients of r^n and r^n log r, n <= 0
     for (const auto& [k, p] : f.terms()) {
-        const Exact factor = Exact::pi_power(Q(1), k.factor.pi_power) *
-                             (k.factor.log_of == 1 ? Exact(Q(1)) : Exact::log_of(Q(k.factor.log_of)));
+        const Exact factor = Exact::of(k.factor);
         for (int n = p.low(); n <= std::min(p.high(), 0); ++n) {
             const Q c = p.coefficient(n);
             if (c == 0) continue;
@@ -378,8 +375,7 @@ Exact value_at(const ClosedForm& f, const Q& r) {
     if (r == 1) {
         Exact v;
         for (const auto& [k, p] : f.terms()) {
-            const Exact factor = Exact::pi_power(Q(1), k.factor.pi_power) *
-                                 (k.factor.log_of == 1 ? Exact(Q(1)) : Exact::log_of(Q(k.factor.log_of)));
+            const Exact factor = Exact::of(k.factor);
             switch (k.basis) {
                 case Basis::one: v += factor * p(Q(1)); break;
                 case Basis::sqrt_power:

@@ -49,6 +49,11 @@ Exact Exact::log_of(const Q& positive) {
     return x;
 }
 
+Exact Exact::of(const Atom& a) {
+    const Exact p = pi_power(Q(1), a.pi_power);
+    return a.log_of == 1 ? p : p * log_of(Q(a.log_of));
+}
+
 bool Exact::is_rational() const {
     return terms_.empty() || (terms_.size() == 1 && terms_.begin()->first == Atom{});
 }

@@ -28,6 +28,7 @@ public:
     Exact(const Q& q);  // NOLINT: rationals are exact constants
     static Exact pi_power(const Q& q, int e);
     static Exact log_of(const Q& positive);  // factored into logs of primes
+    static Exact of(const Atom& a);          // pi^e log(p)
 
     bool is_zero() const { return terms_.empty(); }
     bool is_rational() const;
