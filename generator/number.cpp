@@ -41,6 +41,12 @@ bool split_number(std::string_view text, NumberParts& parts) {
     return x3::parse(first, last, grammar) && first == last;
 }
 
+// Z(text) would read a leading 0 as octal ("010" is 8): strip it first.
+Z decimal_integer(const std::string& digits) {
+    const std::size_t first = digits.find_first_not_of('0');
+    return first == std::string::npos ? Z(0) : Z(digits.substr(first));
+}
+
 }  // namespace
 
 Q parse_rational(std::string_view text, std::string_view what) {
@@ -48,10 +54,10 @@ Q parse_rational(std::string_view text, std::string_view what) {
     if (text.empty() || !split_number(text, parts))
         fail(std::string(what) + ": '" + std::string(text) +
              "' is not a number (expected an integer, p/q, or a decimal such as 0.25 or 1e-3)");
-    Z integer(parts.integer.empty() ? "0" : parts.integer);
+    const Z integer = decimal_integer(parts.integer);
     Q value;
     if (!parts.denominator.empty()) {
-        Z den(parts.denominator);
+        const Z den = decimal_integer(parts.denominator);
         if (den == 0) fail(std::string(what) + ": '" + std::string(text) + "' has a zero denominator");
         value = Q(integer, den);
     } else {

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 using namespace mollify::gen;
 
 namespace {
@@ -97,6 +99,39 @@ TEST(Numbers, RationalAndDecimalInputs) {
     EXPECT_EQ(parse_rational("1e-3", "x"), Q(1, 1000));
     EXPECT_EQ(parse_rational("2.5E+2", "x"), Q(250));
     EXPECT_EQ(parse_rational("7", "x"), Q(7));
+    // Leading zeros are decimal, never octal.
+    EXPECT_EQ(parse_rational("010", "x"), Q(10));
+    EXPECT_EQ(parse_rational("08/010", "x"), Q(4, 5));
+    EXPECT_EQ(parse_rational("-007.50", "x"), Q(-15, 2));
     for (const char* bad : {"", "1/", "/2", "1.2.3", "e5", "1e", "--1", "0x10", "1 /2", "nan", "inf"})
         EXPECT_THROW(parse_rational(bad, "x"), Error) << bad;
+}
+
+// Random junk built from the grammar's own characters: every input either
+// parses to a spec whose canonical spelling parses back to itself, or is
+// rejected with mollify's Error — never another exception or a crash.
+TEST(Spec, RandomInputsParseOrFailCleanly) {
+    const std::string alphabet = "mollifierwendlandcombospikypolyboxdM=kl,;:/.-0123456789e+ ";
+    const std::vector<std::string> seeds = {"mollifier:M=", "wendland:k=", "combo:m=", "combo:radii=", ",base=",
+                                            ",order=", ",l=", "wendland-missing:k="};
+    std::mt19937 rng(20261121);  // fixed seed: reproducible
+    int parsed = 0;
+    for (int i = 0; i < 20000; ++i) {
+        std::string text;
+        const int pieces = 1 + static_cast<int>(rng() % 5);
+        for (int p = 0; p < pieces; ++p) {
+            if (rng() % 2) text += seeds[rng() % seeds.size()];
+            const int n = static_cast<int>(rng() % 4);
+            for (int c = 0; c < n; ++c) text += alphabet[rng() % alphabet.size()];
+        }
+        try {
+            const Spec s = parse_spec(text);
+            EXPECT_EQ(spec_string(parse_spec(spec_string(s))), spec_string(s)) << text;
+            ++parsed;
+        } catch (const Error&) {
+        } catch (const std::exception& e) {
+            ADD_FAILURE() << "'" << text << "' threw a non-mollify exception: " << e.what();
+        }
+    }
+    EXPECT_GT(parsed, 10);  // the generator does reach valid specs
 }
