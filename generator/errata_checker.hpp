@@ -177,7 +177,7 @@ private:
     void wendland_combo_weights(const Entry& e);
     void wendland_missing(const Entry& e);
 
-    // Belley: the classic one-dimensional kernels (errata_belley.cpp).
+    // Belley: classic and discontinuous kernels (errata_belley.cpp).
     void classic_kernel(const Entry& e);
     void belley_moment(const Entry& e);
     void belley_kernel_value(const Entry& e);
