@@ -274,8 +274,8 @@ KernelText render_kernel(const CatalogueEntry& e, std::vector<std::string>& fail
     if (!k.claims.no_potential.empty()) out.meta["no_potential"] = k.claims.no_potential;
     if (k.spec.family == Family::combo) {  // Franz Prop. 4.24
         json radii = json::array(), weights = json::array();
-        for (const Q& a : k.spec.radii) radii.push_back(pq(a));
-        for (const Q& w : vandermonde_weights(k.spec.radii)) weights.push_back(pq(w));
+        for (const Q& a : gen::radii(k.spec)) radii.push_back(pq(a));
+        for (const Q& w : vandermonde_weights(gen::radii(k.spec))) weights.push_back(pq(w));
         out.meta["radii"] = radii;
         out.meta["weights"] = weights;
     }

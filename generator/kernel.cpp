@@ -69,11 +69,11 @@ Kernel classic(const Spec& s, int dim) {
         case Family::box_d1:
         case Family::box_d2:
             if (dim != 1)
-                fail("kernel " + s.family_name() + " is one-dimensional (Belley 2007); dimension " + std::to_string(dim) +
+                fail("kernel " + family_name(s.family) + " is one-dimensional (Belley 2007); dimension " + std::to_string(dim) +
                      " is not available");
             k.claims.smoothness = -1;
             k.source = s.family == Family::box_d1 ? "Belley 2007, eq. (16)" : "Belley 2007, eq. (20)";
-            k.claims.no_potential = s.family_name() + " is a derivative estimator (zero mass); it has no Poisson potential";
+            k.claims.no_potential = family_name(s.family) + " is a derivative estimator (zero mass); it has no Poisson potential";
             break;
         default: fail("internal: not a classic kernel");
     }
@@ -93,11 +93,12 @@ Kernel classic(const Spec& s, int dim) {
 
 Kernel combo(const Spec& s, int dim) {
     const Kernel base = make_kernel(*s.base, dim);
-    const std::vector<Q> w = vandermonde_weights(s.radii);
+    const std::vector<Q> a = radii(s);
+    const std::vector<Q> w = vandermonde_weights(a);
     Kernel k;
     k.shape.breaks = {Q(0), Q(1)};
     k.shape.pieces = {ClosedForm()};
-    for (std::size_t j = 0; j < w.size(); ++j) k.shape = k.shape + base.shape.scaled(s.radii[j], dim) * Exact(w[j]);
+    for (std::size_t j = 0; j < w.size(); ++j) k.shape = k.shape + base.shape.scaled(a[j], dim) * Exact(w[j]);
     k.normalisation = base.normalisation;
     k.claims.smoothness = base.claims.smoothness;
     const int m = static_cast<int>(s.radii.size());

@@ -2,44 +2,11 @@
 
 #include "error.hpp"
 
-#include <boost/spirit/home/x3.hpp>
+#include <mollify/spec.hpp>  // the number syntax, shared with kernel specs
 
 namespace mollify::gen {
 
 namespace {
-
-namespace x3 = boost::spirit::x3;
-
-struct NumberParts {
-    bool negative = false;
-    std::string integer, fraction, denominator;
-    bool has_exponent = false;
-    bool exponent_negative = false;
-    std::string exponent;
-};
-
-// number := sign? digits ( '/' digits | ('.' digits?)? (e sign? digits)? )
-//         | sign? '.' digits (e sign? digits)?
-bool split_number(std::string_view text, NumberParts& parts) {
-    auto first = text.begin();
-    const auto last = text.end();
-    auto set_neg = [&](auto&) { parts.negative = true; };
-    auto int_digits = [&](auto& ctx) { parts.integer.push_back(x3::_attr(ctx)); };
-    auto frac_digits = [&](auto& ctx) { parts.fraction.push_back(x3::_attr(ctx)); };
-    auto den_digits = [&](auto& ctx) { parts.denominator.push_back(x3::_attr(ctx)); };
-    auto exp_start = [&](auto&) { parts.has_exponent = true; };
-    auto exp_neg = [&](auto&) { parts.exponent_negative = true; };
-    auto exp_digits = [&](auto& ctx) { parts.exponent.push_back(x3::_attr(ctx)); };
-
-    const auto sign = -(x3::lit('+') | x3::lit('-')[set_neg]);
-    const auto exponent = (x3::lit('e') | 'E')[exp_start] >> -(x3::lit('+') | x3::lit('-')[exp_neg]) >>
-                          +x3::digit[exp_digits];
-    const auto fraction_form = x3::lit('/') >> +x3::digit[den_digits];
-    const auto decimal_form = -(x3::lit('.') >> *x3::digit[frac_digits]) >> -exponent;
-    const auto leading_dot = x3::lit('.') >> +x3::digit[frac_digits] >> -exponent;
-    const auto grammar = sign >> ((+x3::digit[int_digits] >> (fraction_form | decimal_form)) | leading_dot);
-    return x3::parse(first, last, grammar) && first == last;
-}
 
 // Z(text) would read a leading 0 as octal ("010" is 8): strip it first.
 Z decimal_integer(const std::string& digits) {
@@ -50,10 +17,11 @@ Z decimal_integer(const std::string& digits) {
 }  // namespace
 
 Q parse_rational(std::string_view text, std::string_view what) {
-    NumberParts parts;
-    if (text.empty() || !split_number(text, parts))
+    const auto syntax = mollify::split_number(text);
+    if (!syntax)
         fail(std::string(what) + ": '" + std::string(text) +
              "' is not a number (expected an integer, p/q, or a decimal such as 0.25 or 1e-3)");
+    const mollify::NumberSyntax& parts = *syntax;
     const Z integer = decimal_integer(parts.integer);
     Q value;
     if (!parts.denominator.empty()) {
