@@ -91,18 +91,6 @@ void Checker::anderson_second_moment(const Entry& e) {
 
 namespace {
 
-// A printed term weight * B(scale r).
-struct RadiiTerm {
-    Q weight, scale;
-};
-
-std::vector<RadiiTerm> read_radii_terms(const Entry& e) {
-    std::vector<RadiiTerm> terms;
-    for (const json& t : e.printed_array("terms"))
-        terms.push_back({e.rational(t, "weight", "printed.terms[]"), e.rational(t, "argument_scale", "printed.terms[]")});
-    return terms;
-}
-
 std::string b_of(const Q& weight, const Q& scale) {
     return short_string(weight) + " * B(" + short_string(scale) + " r)";
 }
@@ -112,7 +100,7 @@ std::string power_base(const Q& x) { return is_integer(x) ? short_string(x) : "(
 
 // The printed term t against the member w B_a(r) = w a^-N B(r/a) of radius a:
 // its weight, then its argument.
-void compare_radius_member(const Entry& e, const std::string& part, const RadiiTerm& t, const Q& a, const Q& w) {
+void compare_radius_member(const Entry& e, const std::string& part, const ScaledTerm& t, const Q& a, const Q& w) {
     e.compare(t.weight == w, part + ", weight", short_string(t.weight), short_string(w),
               factor_remark(w != 0 ? std::optional<Q>(t.weight / w) : std::nullopt));
     const Q inv = Q(1) / a;
@@ -133,7 +121,7 @@ void Checker::anderson_radii_combination(const Entry& e) {
     if (order < 4 || order % 2 != 0 || order / 2 > max_combo_m) e.bad("params.order must be even and at least 4");
     const std::vector<Q> radii = equidistant_radii(order / 2);  // a_j = j/K, eq. (8)
     const std::vector<Q> w = vandermonde_weights(radii);
-    const std::vector<RadiiTerm> printed = read_radii_terms(e);
+    const std::vector<ScaledTerm> printed = read_scaled_terms(e, "argument_scale");  // weight * B(scale r)
     // The member of radius a is B_a(r) = a^-N B(r/a): argument scale 1/a. A
     // printed scale s is matched with the radius 1/s, else with the radius s
     // (the argument read as the radius).

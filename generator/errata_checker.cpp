@@ -236,4 +236,11 @@ void Checker::scalar(const Entry& e, const Q& exact, const std::string& remark_i
     e.compare(printed == exact, "", short_string(printed), short_string(exact), remark);
 }
 
+std::vector<ScaledTerm> read_scaled_terms(const Entry& e, const std::string& scale_key) {
+    std::vector<ScaledTerm> terms;
+    for (const json& t : e.printed_array("terms"))
+        terms.push_back({e.rational(t, "weight", "printed.terms[]"), e.rational(t, scale_key, "printed.terms[]")});
+    return terms;
+}
+
 }  // namespace mollify::gen::errata

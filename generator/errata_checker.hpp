@@ -91,6 +91,13 @@ struct Entry {
     const json& printed_array(const std::string& key) const;
 };
 
+// A printed term "weight * f(scale r)" of a combination (Anderson (9)-(10),
+// Franz Tables 4.2/4.4), whose scale field is named `scale_key`.
+struct ScaledTerm {
+    Q weight, scale;
+};
+std::vector<ScaledTerm> read_scaled_terms(const Entry& e, const std::string& scale_key);
+
 // ---------------------------------------------------------------------------
 // Comparisons shared by the documents
 

@@ -340,18 +340,6 @@ void Checker::wendland_combo(const Entry& e) {
 
 namespace {
 
-// A printed term weight * psi(scale r).
-struct WeightTerm {
-    Q weight, scale;
-};
-
-std::vector<WeightTerm> read_weight_terms(const Entry& e) {
-    std::vector<WeightTerm> terms;
-    for (const json& t : e.printed_array("terms"))
-        terms.push_back({e.rational(t, "weight", "printed.terms[]"), e.rational(t, "scale", "printed.terms[]")});
-    return terms;
-}
-
 // Leftovers pair up in order of decreasing scale (as the tables list them).
 void pair_leftovers(Pairing& pairing) {
     std::vector<std::size_t> lone_exact;
@@ -367,7 +355,7 @@ void pair_leftovers(Pairing& pairing) {
 
 // The printed term t against the member lambda psi(scale r) of radius a,
 // lambda already times the common factor c.
-void compare_weight_member(const Entry& e, const std::string& part, const WeightTerm& t, const Q& expected,
+void compare_weight_member(const Entry& e, const std::string& part, const ScaledTerm& t, const Q& expected,
                            const Q& scale, const Q& a, const Q& c, int K) {
     std::vector<std::string> remark;
     if (t.weight != expected && c != 1) remark.push_back("exact value times the common factor " + short_string(c));
@@ -396,7 +384,7 @@ void Checker::wendland_combo_weights(const Entry& e) {
         lambda.push_back(member_weight(w[j], radii[j], d));
         scale.push_back(Q(1) / radii[j]);
     }
-    const std::vector<WeightTerm> printed = read_weight_terms(e);
+    const std::vector<ScaledTerm> printed = read_scaled_terms(e, "scale");  // weight * psi(scale r)
     Pairing pairing(printed.size(), radii.size());
     pairing.pair([&](std::size_t i, std::size_t j) { return printed[i].scale == scale[j]; });
     // The common factor comes from the terms paired by their scale only.
