@@ -1,7 +1,9 @@
 #include "anderson.hpp"
 
+#include "error.hpp"
 #include "linear_solve.hpp"
 #include "radial.hpp"
+#include "spec.hpp"
 
 namespace mollify::gen {
 
@@ -24,6 +26,10 @@ Q radial_moment_of_power(int power, int n) {
 }  // namespace
 
 ExponentMethod exponent_method(int M, int order, int dim) {
+    if (M < 1 || M > max_mollifier_M) fail("mollifier exponent M = " + std::to_string(M) + " is outside 1.." + std::to_string(max_mollifier_M));
+    if (order < 2 || order > max_mollifier_order || order % 2 != 0)
+        fail("mollifier order " + std::to_string(order) + " is not an even number in 2.." + std::to_string(max_mollifier_order));
+    if (dim < 1 || dim > 3) fail("dimension " + std::to_string(dim) + " is outside 1..3");
     const int K = order / 2;
     // Rows: mass (k = 0) and moments r^(2k), k = 1..K-1; unknowns beta'_j
     // with B = beta'_j/omega_D (1-r^2)^(M+j).

@@ -49,14 +49,27 @@ void Checker::anderson_c0(const Entry& e) {
     scalar(e, rational_or_fail(c0, "c0"));
 }
 
+namespace {
+
+// Tables 3-8 are fourth and sixth order; anything else is a bad transcription.
+ExponentMethod tabulated_exponent_method(const Entry& e) {
+    const int M = e.param("M"), order = e.param("order"), D = e.param("D");
+    if (M < 1 || M > max_mollifier_M || (order != 4 && order != 6) || D < 1 || D > 3)
+        e.bad("params (D = " + std::to_string(D) + ", M = " + std::to_string(M) + ", order = " + std::to_string(order) +
+              ") are outside Tables 3-8 (D 1..3, order 4 or 6)");
+    return exponent_method(M, order, D);
+}
+
+}  // namespace
+
 void Checker::anderson_gamma(const Entry& e) {
-    const ExponentMethod m = exponent_method(e.param("M"), e.param("order"), e.param("D"));
+    const ExponentMethod m = tabulated_exponent_method(e);
     const Exact gamma = m.normalisation * omega_anderson(e.param("D"));
     scalar(e, rational_or_fail(gamma, "gamma"));
 }
 
 void Checker::anderson_alpha(const Entry& e) {
-    const ExponentMethod m = exponent_method(e.param("M"), e.param("order"), e.param("D"));
+    const ExponentMethod m = tabulated_exponent_method(e);
     const int j = e.param("j");
     if (j < 1 || j >= static_cast<int>(m.alpha.size()))
         e.bad("params.j = " + std::to_string(j) + " is outside 1.." + std::to_string(m.alpha.size() - 1));

@@ -11,11 +11,7 @@ namespace mollify::gen::errata {
 // ---------------------------------------------------------------------------
 // Exact helpers
 
-Exact exact_from(const Q& q, const Atom& a) {
-    Exact f = Exact::pi_power(Q(1), a.pi_power);
-    if (a.log_of != 1) f = f * Exact::log_of(Q(a.log_of));
-    return f * q;
-}
+Exact exact_from(const Q& q, const Atom& a) { return Exact::of(a) * q; }
 
 void add_coefficient(Coefficients& c, int n, const Exact& v) {
     if (v.is_zero()) return;

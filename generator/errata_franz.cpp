@@ -340,7 +340,7 @@ void Checker::wendland_combo(const Entry& e) {
 
 namespace {
 
-// Leftovers pair up in order of decreasing scale (as the tables list them).
+// Leftovers pair up with the free members of largest radius (smallest scale) first.
 void pair_leftovers(Pairing& pairing) {
     std::vector<std::size_t> lone_exact;
     for (std::size_t j = pairing.used.size(); j-- > 0;)

@@ -296,6 +296,19 @@ TEST_F(ScratchDir, MissingFieldNamesFileAndEntry) {
     EXPECT_TRUE(contains(m, "params.M")) << m;
 }
 
+// Out-of-table parameters are a clear error, not a crash (order 0 used to
+// build an empty system) nor a minutes-long computation (order 250).
+TEST_F(ScratchDir, OutOfTableOrderIsAnError) {
+    for (const char* order : {"0", "3", "250"}) {
+        write("order.json", file_with(std::string(R"({"where": "Table 3", "entry": "gamma of order )") + order +
+                                      R"(", "quantity": "anderson.gamma", "params": {"D": 1, "M": 2, "order": )" +
+                                      order + R"(}, "printed": "1"})"));
+        const std::string m = error_message();
+        EXPECT_TRUE(contains(m, "order.json")) << m;
+        EXPECT_TRUE(contains(m, std::string("order = ") + order)) << m;
+    }
+}
+
 TEST_F(ScratchDir, BadNumberNamesFileAndEntry) {
     write("badnumber.json", file_with(R"({"where": "Table 1", "entry": "sigma typo", "quantity": "anderson.sigma",
                                           "params": {"D": 2, "M": 1}, "printed": "4//3"})"));
