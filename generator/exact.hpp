@@ -33,7 +33,6 @@ public:
     bool is_zero() const { return terms_.empty(); }
     bool is_rational() const;
     Q rational() const;  // requires is_rational()
-    bool is_monomial() const { return terms_.size() == 1; }
     const std::map<Atom, Q>& terms() const { return terms_; }
 
     Exact& operator+=(const Exact& o);

@@ -31,7 +31,6 @@ Z binomial(unsigned n, unsigned k);
 // Generalised binomial (a choose k) for rational a, k >= 0 (Franz Thm. 4.38).
 Q binomial(const Q& a, int k);
 
-inline Q numerator_q(const Q& q) { return Q(numerator(q)); }
 inline bool is_integer(const Q& q) { return denominator(q) == 1; }
 
 }  // namespace mollify::gen
