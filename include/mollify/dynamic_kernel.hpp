@@ -1,0 +1,156 @@
+// The run-time form of a kernel, chosen by a spec string (a scene file, a
+// command line): a pointer to the emitted table and to the batch functions
+// of its StaticKernel, instantiated for every emitted table. A batch costs
+// one indirect call more than the compile-time form; nothing else differs.
+//
+//   const mollify::Kernel w = mollify::kernel("wendland:k=2", 3);
+//   w.evaluate(mollify::QuantityId::value, r, h, out);   // spans
+//   w.pairs({dx, dy, dz}, h, values, {gx, gy, gz});
+#pragma once
+
+#include <mollify/spec.hpp>
+#include <mollify/static_kernel.hpp>
+#include <mollify/tables/catalogue.hpp>
+
+#include <array>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+
+namespace mollify {
+
+namespace detail {
+
+using BatchFunction = void (*)(const double* r, double* out, std::size_t n, const Smoothing& s);
+using PairsFunction = void (*)(const std::span<const double>* x, const Smoothing& s, double* w,
+                               const std::span<double>* grad, std::size_t n);
+
+struct KernelOps {
+    const table::Kernel* table;
+    std::array<BatchFunction, table::quantity_count> batch;
+    PairsFunction pairs;
+};
+
+template <const table::Kernel& K, int Q>
+void batch(const double* r, double* out, std::size_t n, const Smoothing& s) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = StaticKernel<K>::template radial<static_cast<QuantityId>(Q)>(r[i], s);
+}
+
+template <const table::Kernel& K>
+void pairs(const std::span<const double>* x, const Smoothing& s, double* w, const std::span<double>* grad,
+           std::size_t n) {
+    constexpr int D = K.dim;
+    Points<D> in;
+    PointsOut<D> out;
+    for (int c = 0; c < D; ++c) {
+        in[c] = x[c];
+        out[c] = grad[c];
+    }
+    StaticKernel<K>::pairs_unchecked(in, s, w, out, n);
+}
+
+template <const table::Kernel& K, std::size_t... Q>
+constexpr KernelOps ops_of(std::index_sequence<Q...>) {
+    return {&K, {&batch<K, static_cast<int>(Q)>...}, &pairs<K>};
+}
+
+template <std::size_t... I>
+constexpr auto registry_of(std::index_sequence<I...>) {
+    return std::array<KernelOps, sizeof...(I)>{
+        ops_of<*tables::all_kernels[I]>(std::make_index_sequence<table::quantity_count>{})...};
+}
+
+// Instantiated only where a kernel is looked up by name (a variable
+// template), so code using only StaticKernel does not compile all tables.
+template <class = void>
+inline constexpr auto registry = registry_of(std::make_index_sequence<std::size(tables::all_kernels)>{});
+
+}  // namespace detail
+
+class Kernel {
+public:
+    explicit Kernel(const detail::KernelOps& ops) : ops_(&ops) {}
+
+    const table::Kernel& table() const { return *ops_->table; }
+    std::string_view spec() const { return ops_->table->spec; }
+    int dim() const { return ops_->table->dim; }
+    bool has_potential() const { return ops_->table->has_potential; }
+    Smoothing smoothing(double h) const { return Smoothing(h, dim()); }
+
+    // f_h at n radii (checked: finite r >= 0; h checked by Smoothing).
+    void evaluate(QuantityId q, std::span<const double> r, const Smoothing& s, std::span<double> out) const {
+        require(q, s);
+        detail::check_sizes(r.size(), out.size(), "evaluate");
+        detail::check_radii(r);
+        ops_->batch[static_cast<int>(q)](r.data(), out.data(), r.size(), s);
+    }
+    void evaluate(QuantityId q, std::span<const double> r, double h, std::span<double> out) const {
+        evaluate(q, r, smoothing(h), out);
+    }
+
+    double operator()(QuantityId q, double r, double h) const {
+        double out = 0;
+        evaluate(q, std::span<const double>(&r, 1), h, std::span<double>(&out, 1));
+        return out;
+    }
+    double value(double r, double h) const { return (*this)(QuantityId::value, r, h); }
+    double potential(double r, double h) const { return (*this)(QuantityId::potential, r, h); }
+
+    // W_h and grad W_h at n displacements; x and grad hold dim() spans.
+    void pairs(std::span<const std::span<const double>> x, const Smoothing& s, std::span<double> w,
+               std::span<const std::span<double>> grad) const {
+        require(QuantityId::value, s);
+        const auto d = static_cast<std::size_t>(dim());
+        detail::check_sizes(d, x.size(), "pairs: components of x");
+        detail::check_sizes(d, grad.size(), "pairs: components of grad");
+        const std::size_t n = x[0].size();
+        detail::check_sizes(n, w.size(), "pairs (values)");
+        for (std::size_t c = 0; c < d; ++c) {
+            detail::check_sizes(n, x[c].size(), "pairs: point components");
+            detail::check_sizes(n, grad[c].size(), "pairs (gradient)");
+            detail::check_coordinates(x[c], static_cast<int>(c));
+        }
+        ops_->pairs(x.data(), s, w.data(), grad.data(), n);
+    }
+
+private:
+    void require(QuantityId q, const Smoothing& s) const {
+        if (s.dim() != dim())
+            fail("a smoothing length made for D = " + std::to_string(s.dim()) + " used with " + std::string(spec()) +
+                 " in D = " + std::to_string(dim()));
+        if (static_cast<int>(q) < 0 || static_cast<int>(q) >= table::quantity_count)
+            fail("quantity " + std::to_string(static_cast<int>(q)) + " does not exist");
+        if (static_cast<int>(q) >= static_cast<int>(QuantityId::potential) && !has_potential())
+            fail("kernel " + std::string(spec()) + " has no potential in D = " + std::to_string(dim()));
+    }
+
+    const detail::KernelOps* ops_;
+};
+
+// The kernel of a spec (any spelling of the grammar, include/mollify/spec.hpp)
+// in dimension dim, from the emitted tables on the include path.
+template <class = void>
+Kernel kernel(std::string_view spec, int dim) {
+    if (dim < 1 || dim > 3) fail("dimension " + std::to_string(dim) + " is not 1, 2 or 3");
+    const std::string key = spec_string(parse_spec(spec));
+    bool other_dim = false;
+    for (const detail::KernelOps& ops : detail::registry<>) {
+        if (key != ops.table->spec) continue;
+        if (ops.table->dim == dim) return Kernel(ops);
+        other_dim = true;
+    }
+    if (other_dim)
+        fail("kernel " + key + " is not defined in D = " + std::to_string(dim) + " (its tables exist for other dimensions)");
+    fail("kernel " + key + " is not in the emitted tables; emit it with: mollify-gen emit --only '" + key + "'");
+}
+
+// The quantity named as in the tables ("value", "dr", ..., "potential").
+inline QuantityId quantity(std::string_view name) {
+    for (int q = 0; q < table::quantity_count; ++q)
+        if (name == quantity_names[q]) return static_cast<QuantityId>(q);
+    fail("unknown quantity '" + std::string(name) + "'");
+}
+
+}  // namespace mollify

@@ -1,0 +1,335 @@
+// The compile-time form of a kernel: the emitted table is a template
+// argument, so evaluation is straight-line code with every coefficient a
+// constant (fully inlinable; batch loops vectorise).
+//
+//   using W = mollify::StaticKernel<mollify::tables::wendland_k_2_D3>;
+//   const mollify::Smoothing s(h, W::dim);      // checks h once
+//   double w = W::radial<mollify::QuantityId::value>(r, s);
+//   auto [w, grad] = W::pair({dx, dy, dz}, s);  // W_h and grad W_h at x_i - x_j
+//
+// Conventions: W_h(x) = h^-D W(|x|/h) with support |x| <= h; every radial
+// quantity f_h(r) = h^p f(r/h) (p from detail::scale_power); the potential
+// phi_h solves Delta phi_h = W_h and equals the Green's function outside
+// the support (2D: phi(r/h) + log(h)/(2 pi) inside). Outside the support W
+// and its derivatives are exactly 0.
+#pragma once
+
+#include <mollify/detail/evaluate.hpp>
+#include <mollify/smoothing.hpp>
+
+#include <array>
+#include <cstddef>
+#include <span>
+#include <string>
+
+#if defined(__GNUC__)
+#define MOLLIFY_INLINE [[gnu::always_inline]] inline
+#else
+#define MOLLIFY_INLINE inline
+#endif
+
+namespace mollify {
+
+template <int D>
+using Vector = std::array<double, D>;
+
+template <int D>
+using Matrix = std::array<std::array<double, D>, D>;
+
+// W_h and grad W_h at one displacement, as an SPH pair loop needs them.
+template <int D>
+struct Pair {
+    double value;
+    Vector<D> gradient;
+};
+
+// D spans of equal length: the components of n points (structure of arrays).
+template <int D>
+using Points = std::array<std::span<const double>, D>;
+template <int D>
+using PointsOut = std::array<std::span<double>, D>;
+
+namespace detail {
+
+// e = (h - r)/h to within about half an ulp: where the target fuses
+// multiply-add, one correction step with the exact residual (h - r) - e h
+// replaces the division; otherwise the division is correctly rounded.
+MOLLIFY_INLINE double edge_distance(double h_minus_r, const Smoothing& s) {
+#if defined(__FMA__) || defined(__FP_FAST_FMA)
+    const double e = h_minus_r * s.inverse();
+    return mul_add(std::fma(-e, s.h(), h_minus_r), s.inverse(), e);
+#else
+    return h_minus_r / s.h();
+#endif
+}
+
+inline void check_sizes(std::size_t in, std::size_t out, const char* what) {
+    if (in != out)
+        fail(std::string(what) + ": " + std::to_string(in) + " inputs but room for " + std::to_string(out) + " outputs");
+}
+
+template <int D>
+inline std::size_t check_points(const Points<D>& x) {
+    for (int c = 1; c < D; ++c) check_sizes(x[0].size(), x[c].size(), "point components");
+    return x[0].size();
+}
+
+// One pass, vectorisable: are all radii finite and >= 0? Only when not is
+// the bad one looked for, to name it.
+inline void check_radii(std::span<const double> r) {
+    bool good = true;
+    for (const double x : r) good &= (x >= 0) & (x <= std::numeric_limits<double>::max());
+    if (!good)
+        for (const double x : r) check_radius(x);
+}
+
+inline void check_coordinates(std::span<const double> x, int component) {
+    bool good = true;
+    for (const double v : x) good &= std::abs(v) <= std::numeric_limits<double>::max();
+    if (!good)
+        for (const double v : x) check_coordinate(v, component);
+}
+
+}  // namespace detail
+
+template <const table::Kernel& K>
+class StaticKernel {
+    static_assert(K.support == 1.0, "tables are emitted with support 1; h scales them");
+    static_assert(K.dim >= 1 && K.dim <= 3);
+
+public:
+    static constexpr int dim = K.dim;
+    static constexpr const table::Kernel& table = K;
+    static constexpr bool has_potential = K.has_potential;
+    static constexpr bool odd = K.parity < 0;  // Belley's first-derivative kernel in 1D
+
+    static Smoothing smoothing(double h) { return Smoothing(h, dim); }
+
+    // f_h(r) for a radius r >= 0, unchecked (the hot path): r finite >= 0 and s made for this dimension.
+    template <QuantityId Q>
+    MOLLIFY_INLINE static double radial(double r, const Smoothing& s) {
+        constexpr int q = static_cast<int>(Q);
+        if constexpr (K.quantities[q].npieces == 0) {
+            fail(std::string("kernel ") + K.spec + " has no " + quantity_names[q] + " in D = " + std::to_string(dim));
+        } else {
+            return emitted<Q>(r, s);
+        }
+    }
+
+private:
+    template <QuantityId Q>
+    MOLLIFY_INLINE static double emitted(double r, const Smoothing& s) {
+        constexpr int q = static_cast<int>(Q);
+        const detail::Scaled a{r * s.inverse(), detail::edge_distance(s.h() - r, s)};
+        double in = detail::inside<K, q>(a) * s.scale(Q);
+        if constexpr (Q == QuantityId::potential && dim == 2) in = detail::mul_add(detail::log_coefficient<K, q>, s.log_h(), in);
+        if constexpr (detail::zero_outside<K, q>) {
+            return r <= s.h() ? in : 0.0;
+        } else {
+            return r <= s.h() ? in : detail::outside<K, q>(r);
+        }
+    }
+
+public:
+    // Checked scalar forms.
+    template <QuantityId Q>
+    static double radial(double r, double h) {
+        require_potential<Q>();
+        detail::check_radius(r);
+        return radial<Q>(r, smoothing(h));
+    }
+    static double value(double r, double h) { return radial<QuantityId::value>(r, h); }
+    static double dr(double r, double h) { return radial<QuantityId::dr>(r, h); }
+    static double laplacian(double r, double h) { return radial<QuantityId::laplacian>(r, h); }
+    static double potential(double r, double h) { return radial<QuantityId::potential>(r, h); }
+
+    // Vector forms at a displacement x (unchecked with a Smoothing, checked with h).
+    MOLLIFY_INLINE static double value(const Vector<dim>& x, const Smoothing& s) {
+        const double w = radial<QuantityId::value>(norm(x), s);
+        if constexpr (odd) return x[0] < 0 ? -w : w;
+        return w;
+    }
+
+    // grad W_h = (W_h'/r) x, from the emitted W'/r: finite at r = 0, where
+    // W'(r)/r -> W''(0), never 0 * inf.
+    MOLLIFY_INLINE static Vector<dim> gradient(const Vector<dim>& x, const Smoothing& s) {
+        return gradient_at(x, norm(x), s);
+    }
+
+    MOLLIFY_INLINE static Pair<dim> pair(const Vector<dim>& x, const Smoothing& s) {
+        const double r = norm(x);
+        double w = radial<QuantityId::value>(r, s);
+        if constexpr (odd) w = x[0] < 0 ? -w : w;
+        return {w, gradient_at(x, r, s)};
+    }
+
+    // Hessian = (W'/r) I + ((W'' - W'/r)/r^2) x x^T, both parts emitted exactly.
+    static Matrix<dim> hessian(const Vector<dim>& x, const Smoothing& s) {
+        return hessian_of<QuantityId::grad_over_r, QuantityId::hess_radial, QuantityId::d2r>(x, s);
+    }
+
+    MOLLIFY_INLINE static double laplacian(const Vector<dim>& x, const Smoothing& s) {
+        const double l = radial<QuantityId::laplacian>(norm(x), s);
+        if constexpr (odd) return x[0] < 0 ? -l : l;
+        return l;
+    }
+
+    MOLLIFY_INLINE static double potential(const Vector<dim>& x, const Smoothing& s) {
+        require_potential<QuantityId::potential>();
+        return radial<QuantityId::potential>(norm(x), s);
+    }
+
+    // grad phi_h = (phi_h'/r) x; the field of a unit charge is its negative.
+    MOLLIFY_INLINE static Vector<dim> potential_gradient(const Vector<dim>& x, const Smoothing& s) {
+        require_potential<QuantityId::dpotential_over_r>();
+        return times(radial<QuantityId::dpotential_over_r>(norm(x), s), x);
+    }
+
+    static Matrix<dim> potential_hessian(const Vector<dim>& x, const Smoothing& s) {
+        require_potential<QuantityId::dpotential_over_r>();
+        return hessian_of<QuantityId::dpotential_over_r, QuantityId::potential_hess_radial, QuantityId::potential_hess_radial>(x, s);
+    }
+
+    // Checked vector forms.
+    static double value(const Vector<dim>& x, double h) { return value(checked(x), smoothing(h)); }
+    static Vector<dim> gradient(const Vector<dim>& x, double h) { return gradient(checked(x), smoothing(h)); }
+    static Pair<dim> pair(const Vector<dim>& x, double h) { return pair(checked(x), smoothing(h)); }
+    static Matrix<dim> hessian(const Vector<dim>& x, double h) { return hessian(checked(x), smoothing(h)); }
+    static double potential(const Vector<dim>& x, double h) { return potential(checked(x), smoothing(h)); }
+    static Vector<dim> potential_gradient(const Vector<dim>& x, double h) {
+        return potential_gradient(checked(x), smoothing(h));
+    }
+
+    // Batch forms over contiguous arrays; the inputs are checked in one
+    // vectorisable pass, then the loop body is the unrolled kernel.
+    template <QuantityId Q>
+    static void evaluate(std::span<const double> r, const Smoothing& s, std::span<double> out) {
+        require_potential<Q>();
+        require_dim(s);
+        detail::check_sizes(r.size(), out.size(), "evaluate");
+        detail::check_radii(r);
+        const std::size_t n = r.size();
+        const double* in = r.data();
+        double* o = out.data();
+        for (std::size_t i = 0; i < n; ++i) o[i] = radial<Q>(in[i], s);
+    }
+
+    // W_h and grad W_h at n displacements x_i - x_j (structure of arrays).
+    static void pairs(const Points<dim>& x, const Smoothing& s, std::span<double> w, const PointsOut<dim>& grad) {
+        require_dim(s);
+        const std::size_t n = detail::check_points<dim>(x);
+        detail::check_sizes(n, w.size(), "pairs (values)");
+        for (int c = 0; c < dim; ++c) {
+            detail::check_sizes(n, grad[c].size(), "pairs (gradient)");
+            detail::check_coordinates(x[c], c);
+        }
+        pairs_unchecked(x, s, w.data(), grad, n);
+    }
+
+    static void require_dim(const Smoothing& s) {
+        if (s.dim() != dim)
+            fail("a smoothing length made for D = " + std::to_string(s.dim()) + " used with " + K.spec + " in D = " +
+                 std::to_string(dim));
+    }
+
+private:
+    template <QuantityId Q>
+    static void require_potential() {
+        constexpr bool needs = static_cast<int>(Q) >= static_cast<int>(QuantityId::potential);
+        if constexpr (needs && !has_potential) fail(std::string("kernel ") + K.spec + " has no potential in D = " + std::to_string(dim));
+    }
+
+    MOLLIFY_INLINE static double norm(const Vector<dim>& x) {
+        if constexpr (dim == 1) {
+            return std::abs(x[0]);
+        } else {
+            double s = x[0] * x[0];
+            for (int c = 1; c < dim; ++c) s = detail::mul_add(x[c], x[c], s);
+            return std::sqrt(s);
+        }
+    }
+
+    // The 1D odd kernel W(x) = sign(x) f(|x|) has W'(x) = f'(|x|): its
+    // gradient is (f'/r)|x|.
+    MOLLIFY_INLINE static Vector<dim> oriented(const Vector<dim>& x) {
+        if constexpr (odd) return {std::abs(x[0])};
+        return x;
+    }
+
+    // A kernel with a cusp at 0 (W'(0) != 0) has W'/r ~ W'(0)/r: its gradient
+    // is W'(r) x/r, and 0 at x = 0, the symmetric value an SPH self-term needs
+    // (inf * 0 there was SPlisHSPlasH's NaN).
+    MOLLIFY_INLINE static Vector<dim> gradient_at(const Vector<dim>& x, double r, const Smoothing& s) {
+        constexpr int g = static_cast<int>(QuantityId::grad_over_r);
+        if constexpr (detail::singular_at_origin<K, g>) {
+            if (!(r > 0)) return Vector<dim>{};
+            Vector<dim> unit = oriented(x);
+            for (double& c : unit) c /= r;
+            return times(radial<QuantityId::dr>(r, s), unit);
+        } else {
+            return times(radial<QuantityId::grad_over_r>(r, s), oriented(x));
+        }
+    }
+
+    MOLLIFY_INLINE static Vector<dim> times(double a, const Vector<dim>& x) {
+        Vector<dim> y;
+        for (int c = 0; c < dim; ++c) y[c] = a * x[c];
+        return y;
+    }
+
+    template <QuantityId OverR, QuantityId Radial, QuantityId Second>
+    static Matrix<dim> hessian_of(const Vector<dim>& x, const Smoothing& s) {
+        Matrix<dim> m{};
+        if constexpr (dim == 1 && Second != Radial) {
+            const double d2 = radial<Second>(std::abs(x[0]), s);  // f'' itself: no r^2 (f''-f'/r)/r^2 + f'/r detour
+            m[0][0] = odd && x[0] < 0 ? -d2 : d2;
+            return m;
+        }
+        const double r = norm(x);
+        const double over_r = radial<OverR>(r, s), rad = radial<Radial>(r, s);
+        for (int i = 0; i < dim; ++i)
+            for (int j = 0; j < dim; ++j) m[i][j] = rad * x[i] * x[j] + (i == j ? over_r : 0.0);
+        return m;
+    }
+
+    static const Vector<dim>& checked(const Vector<dim>& x) {
+        for (int c = 0; c < dim; ++c) detail::check_coordinate(x[c], c);
+        return x;
+    }
+
+public:
+    // The pair loop without checks, for solvers that checked their state.
+    static void pairs_unchecked(const Points<dim>& x, const Smoothing& s, double* w, const PointsOut<dim>& grad,
+                                std::size_t n) {
+        const double* x0 = x[0].data();
+        double* g0 = grad[0].data();
+        if constexpr (dim == 1) {
+            for (std::size_t i = 0; i < n; ++i) {
+                const Pair<1> p = pair({x0[i]}, s);
+                w[i] = p.value;
+                g0[i] = p.gradient[0];
+            }
+        } else if constexpr (dim == 2) {
+            const double* x1 = x[1].data();
+            double* g1 = grad[1].data();
+            for (std::size_t i = 0; i < n; ++i) {
+                const Pair<2> p = pair({x0[i], x1[i]}, s);
+                w[i] = p.value;
+                g0[i] = p.gradient[0];
+                g1[i] = p.gradient[1];
+            }
+        } else {
+            const double *x1 = x[1].data(), *x2 = x[2].data();
+            double *g1 = grad[1].data(), *g2 = grad[2].data();
+            for (std::size_t i = 0; i < n; ++i) {
+                const Pair<3> p = pair({x0[i], x1[i], x2[i]}, s);
+                w[i] = p.value;
+                g0[i] = p.gradient[0];
+                g1[i] = p.gradient[1];
+                g2[i] = p.gradient[2];
+            }
+        }
+    }
+};
+
+}  // namespace mollify

@@ -1,0 +1,206 @@
+// The runtime's contract apart from accuracy (tests/accuracy_test.cpp):
+// both forms agree bit for bit, the support is exact, gradients are finite
+// at r = 0, the vector forms are the radial ones times x, and bad input is
+// an Error naming the value, never a NaN. No GMP here: this is what users link.
+#include <mollify/kernel.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using mollify::Error;
+using mollify::QuantityId;
+namespace tables = mollify::tables;
+
+constexpr double not_a_number = std::numeric_limits<double>::quiet_NaN();
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+// Runs f and expects an Error whose message contains `needle`.
+template <class F>
+void expect_error(F f, const std::string& needle) {
+    try {
+        f();
+        ADD_FAILURE() << "no error; expected one naming '" << needle << "'";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+}
+
+std::vector<double> radii(std::size_t n, unsigned seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1.25);
+    std::vector<double> r(n);
+    for (double& x : r) x = u(rng);
+    r[0] = 0;
+    r[1] = 1;
+    r[2] = std::nextafter(1.0, 2.0);
+    r[3] = std::nextafter(1.0, 0.0);
+    return r;
+}
+
+// Mueller's viscosity kernel has h/(2r) in W itself: infinite at 0 by design.
+bool value_is_singular_at_origin(const mollify::table::Kernel& k) {
+    const auto& first = k.quantities[0].pieces[0];
+    for (int t = 0; t < first.nterms; ++t)
+        if (first.terms[t].low < 0) return true;
+    return false;
+}
+
+}  // namespace
+
+TEST(Runtime, CompileTimeAndRunTimeFormsAgreeBitForBit) {
+    using W = mollify::StaticKernel<tables::wendland_k_2_l_1_D3>;
+    const mollify::Kernel k = mollify::kernel("wendland:l=1,k=2", 3);
+    EXPECT_EQ(&k.table(), &tables::wendland_k_2_l_1_D3);
+    const auto r = radii(1000, 1);
+    std::vector<double> a(r.size()), b(r.size());
+    for (const double h : {1.0, 0.37, 3e-7, 2.5e6}) {
+        std::vector<double> rh(r);
+        for (double& x : rh) x *= h;
+        W::evaluate<QuantityId::value>(rh, W::smoothing(h), a);
+        k.evaluate(QuantityId::value, rh, h, b);
+        for (std::size_t i = 0; i < r.size(); ++i) ASSERT_EQ(a[i], b[i]) << "r = " << rh[i] << ", h = " << h;
+        for (std::size_t i = 0; i < r.size(); ++i) ASSERT_EQ(a[i], W::value(rh[i], h)) << rh[i];
+    }
+}
+
+TEST(Runtime, EveryEmittedKernelIsReachableByItsSpec) {
+    for (const mollify::table::Kernel* t : tables::all_kernels) {
+        const mollify::Kernel k = mollify::kernel(t->spec, t->dim);
+        EXPECT_EQ(&k.table(), t) << t->spec;
+    }
+}
+
+// W and every derivative are exactly 0 outside the closed support r <= h;
+// the potential is the Green's function there, continuous with the inside.
+TEST(Runtime, SupportIsExact) {
+    for (const mollify::table::Kernel* t : tables::all_kernels) {
+        const mollify::Kernel k = mollify::kernel(t->spec, t->dim);
+        for (const double h : {1.0, 0.1, 7e-8, 3e7}) {
+            const double beyond[] = {std::nextafter(h, inf), 1.5 * h, 1e3 * h, 1e300};
+            for (int q = 0; q < 6; ++q)
+                for (const double r : beyond) ASSERT_EQ(k(static_cast<QuantityId>(q), r, h), 0.0) << t->spec << " D" << t->dim << " q" << q << " r " << r;
+            if (t->smoothness >= 0 && t->dim == 3 && t->has_potential) {
+                // -1/(4 pi r) on both sides of the edge, to a few ulps.
+                const double in = k.potential(h, h), out = k.potential(std::nextafter(h, inf), h);
+                EXPECT_NEAR(in, out, 8 * std::abs(in) * 0x1p-52) << t->spec << " h " << h;
+            }
+        }
+    }
+}
+
+// grad W = (W'/r) x from the emitted W'/r: finite at r = 0 (no 0 * inf,
+// SPlisHSPlasH's bug); kernels with a cusp at 0 (spiky, viscosity, Wendland
+// k = 0) use W'(r) x/r, and 0 at x = 0. Checked through the pair batch, the
+// SPH path, for every kernel at tiny displacements and at 0.
+TEST(Runtime, GradientIsFiniteAtTheOrigin) {
+    for (const mollify::table::Kernel* t : tables::all_kernels) {
+        if (value_is_singular_at_origin(*t)) continue;
+        const mollify::Kernel k = mollify::kernel(t->spec, t->dim);
+        for (const double x0 : {0.0, 1e-320, 1e-300, 1e-160, 1e-20}) {
+            std::vector<double> x(1, x0), zero(1, 0.0), w(1), g0(1), g1(1), g2(1);
+            const std::span<const double> in[] = {x, zero, zero};
+            const std::span<double> out[] = {g0, g1, g2};
+            k.pairs(std::span(in, static_cast<std::size_t>(t->dim)), k.smoothing(1.0), w,
+                    std::span(out, static_cast<std::size_t>(t->dim)));
+            EXPECT_TRUE(std::isfinite(w[0]) && std::isfinite(g0[0]) && std::isfinite(g1[0]) && std::isfinite(g2[0]))
+                << t->spec << " D" << t->dim << " x " << x0 << ": W " << w[0] << " grad " << g0[0];
+            if (x0 == 0) {
+                EXPECT_EQ(g0[0], 0.0) << t->spec << " D" << t->dim;
+            }
+        }
+    }
+}
+
+// The vector forms are the radial quantities times x: grad = (W'/r) x,
+// Hessian = (W'/r) I + hess_radial x x^T, Laplacian = trace of the Hessian.
+TEST(Runtime, VectorFormsAreTheRadialOnes) {
+    using W = mollify::StaticKernel<tables::mollifier_M_4_order_4_D3>;
+    const double h = 0.75;
+    const mollify::Vector<3> x{0.1, -0.2, 0.3};
+    const double r = std::sqrt(0.01 + 0.04 + 0.09);
+    const auto s = W::smoothing(h);
+    const auto p = W::pair(x, s);
+    EXPECT_DOUBLE_EQ(p.value, W::value(r, h));
+    const double g = W::radial<QuantityId::grad_over_r>(r, s);
+    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(p.gradient[c], g * x[c]);
+    const auto hess = W::hessian(x, s);
+    EXPECT_NEAR(hess[0][0] + hess[1][1] + hess[2][2], W::radial<QuantityId::laplacian>(r, s), 1e-12 * std::abs(hess[0][0]));
+    EXPECT_DOUBLE_EQ(hess[0][1], hess[1][0]);
+    const auto e = W::potential_gradient(x, s);
+    EXPECT_DOUBLE_EQ(e[2], W::radial<QuantityId::dpotential_over_r>(r, s) * x[2]);
+}
+
+// Belley's first-derivative kernel is odd in 1D: W(-x) = -W(x), W'(x) even.
+TEST(Runtime, OddKernelIn1D) {
+    using W = mollify::StaticKernel<tables::box_d1_D1>;
+    static_assert(W::odd);
+    const auto s = W::smoothing(1.0);
+    EXPECT_EQ(W::value(mollify::Vector<1>{-0.3}, s), -W::value(mollify::Vector<1>{0.3}, s));
+    EXPECT_EQ(W::gradient({-0.3}, s)[0], W::gradient({0.3}, s)[0]);
+}
+
+// The 2D potential includes log(h)/(2 pi): phi_h(r) = phi(r/h) + log(h)/(2 pi),
+// the Green's function log(r)/(2 pi) outside at every h.
+TEST(Runtime, TwoDimensionalPotentialCarriesLogH) {
+    using W = mollify::StaticKernel<tables::wendland_k_1_D2>;
+    for (const double h : {1e-8, 0.5, 1.0, 3.0, 1e8}) {
+        const double edge = W::potential(h, h), green = std::log(h) / (2 * std::acos(-1.0));
+        EXPECT_NEAR(edge, green, 4e-16 * std::max(1.0, std::abs(green))) << h;
+        EXPECT_NEAR(W::potential(0.5 * h, h) - W::potential(0.5, 1.0), green, 1e-15 * std::max(1.0, std::abs(green))) << h;
+    }
+}
+
+TEST(Runtime, BatchPairsMatchTheScalarPair) {
+    const mollify::Kernel k = mollify::kernel("wendland:k=2", 3);
+    using W = mollify::StaticKernel<tables::wendland_k_2_D3>;
+    const std::size_t n = 257;
+    std::vector<double> x(n), y(n), z(n), w(n), gx(n), gy(n), gz(n);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-0.8, 0.8);
+    for (std::size_t i = 0; i < n; ++i) x[i] = u(rng), y[i] = u(rng), z[i] = u(rng);
+    const auto s = k.smoothing(0.9);
+    const std::span<const double> in[] = {x, y, z};
+    const std::span<double> out[] = {gx, gy, gz};
+    k.pairs(in, s, w, out);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto p = W::pair({x[i], y[i], z[i]}, s);
+        ASSERT_EQ(w[i], p.value);
+        ASSERT_EQ(gx[i], p.gradient[0]);
+        ASSERT_EQ(gz[i], p.gradient[2]);
+    }
+}
+
+TEST(Runtime, BadInputNamesTheValue) {
+    using W = mollify::StaticKernel<tables::wendland_k_2_D3>;
+    expect_error([] { W::value(0.5, 0.0); }, "h = 0");
+    expect_error([] { W::value(0.5, -2.0); }, "h = -2");
+    expect_error([] { W::value(0.5, not_a_number); }, "h = nan");
+    expect_error([] { W::value(0.5, inf); }, "h = inf");
+    expect_error([] { W::value(0.5, 1e-300); }, "out of range");
+    expect_error([] { W::value(not_a_number, 1.0); }, "r = nan");
+    expect_error([] { W::value(-0.25, 1.0); }, "r = -0.25");
+    expect_error([] { W::value(inf, 1.0); }, "r = inf");
+    expect_error([] { W::gradient({0.1, not_a_number, 0.0}, 1.0); }, "x[1] = nan");
+    expect_error([] { mollify::kernel("wendland:k=2", 4); }, "dimension 4");
+    expect_error([] { mollify::kernel("wendland:k=2", 0); }, "dimension 0");
+    expect_error([] { mollify::kernel("nonsense", 3); }, "nonsense");
+    expect_error([] { mollify::kernel("wendland:k=9", 3); }, "mollify-gen emit --only 'wendland:k=9'");
+    expect_error([] { mollify::kernel("viscosity", 1); }, "not defined in D = 1");
+    expect_error([] { mollify::quantity("gradient"); }, "'gradient'");
+    const mollify::Kernel k = mollify::kernel("poly6", 2);
+    std::vector<double> r{0.1, 0.2, not_a_number, 0.3}, out(4);
+    expect_error([&] { k.evaluate(QuantityId::value, r, 1.0, out); }, "r = nan");
+    std::vector<double> short_out(3);
+    expect_error([&] { k.evaluate(QuantityId::value, std::span<const double>(r.data(), 2), 1.0, short_out); }, "2 inputs");
+    expect_error([&] { k.evaluate(QuantityId::value, std::span<const double>(r.data(), 2), mollify::Smoothing(1.0, 3), std::span<double>(out.data(), 2)); },
+                 "made for D = 3");
+    const mollify::Kernel box = mollify::kernel("box-d2", 1);
+    if (!box.has_potential()) expect_error([&] { box.potential(0.5, 1.0); }, "no potential");
+}
