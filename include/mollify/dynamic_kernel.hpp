@@ -20,8 +20,8 @@
 #include <utility>
 
 namespace mollify {
-
 namespace detail {
+inline namespace MOLLIFY_ISA {
 
 using BatchFunction = void (*)(const double* r, double* out, std::size_t n, const Smoothing& s);
 using PairsFunction = void (*)(const std::span<const double>* x, const Smoothing& s, double* w,
@@ -35,7 +35,7 @@ struct KernelOps {
 
 template <const table::Kernel& K, int Q>
 void batch(const double* r, double* out, std::size_t n, const Smoothing& s) {
-    for (std::size_t i = 0; i < n; ++i) out[i] = StaticKernel<K>::template radial<static_cast<QuantityId>(Q)>(r[i], s);
+    StaticKernel<K>::template evaluate_unchecked<static_cast<QuantityId>(Q)>(r, out, n, s);
 }
 
 template <const table::Kernel& K>
@@ -67,7 +67,10 @@ constexpr auto registry_of(std::index_sequence<I...>) {
 template <class = void>
 inline constexpr auto registry = registry_of(std::make_index_sequence<std::size(tables::all_kernels)>{});
 
+}  // namespace MOLLIFY_ISA
 }  // namespace detail
+
+inline namespace MOLLIFY_ISA {
 
 class Kernel {
 public:
@@ -153,4 +156,5 @@ inline QuantityId quantity(std::string_view name) {
     fail("unknown quantity '" + std::string(name) + "'");
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify

@@ -7,11 +7,27 @@
 
 #include <mollify/table.hpp>
 
+#include <bit>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 
+// Code compiled for different instruction sets (a benchmark built with
+// -march=native linked with a generic library) must not be merged by the
+// linker as one inline function: the ISA names an inline namespace.
+#if defined(__AVX512F__)
+#define MOLLIFY_ISA isa_avx512
+#elif defined(__AVX2__) && defined(__FMA__)
+#define MOLLIFY_ISA isa_avx2_fma
+#elif defined(__FMA__) || defined(__FP_FAST_FMA)
+#define MOLLIFY_ISA isa_fma
+#else
+#define MOLLIFY_ISA isa_generic
+#endif
+
 namespace mollify::detail {
+inline namespace MOLLIFY_ISA {
 
 // a*b + c with one rounding where the target has a fused multiply-add;
 // without one, std::fma would be a slow library call.
@@ -21,6 +37,14 @@ inline double mul_add(double a, double b, double c) {
 #else
     return a * b + c;
 #endif
+}
+
+// c ? a : b on the bits, with both sides already computed: GCC will not
+// if-convert a ternary whose arms it sank into branches (floating point may
+// trap under the default -ftrapping-math), and a branch stops vectorisation.
+inline double select(bool c, double a, double b) {
+    const std::uint64_t mask = 0 - static_cast<std::uint64_t>(c);
+    return std::bit_cast<double>((std::bit_cast<std::uint64_t>(a) & mask) | (std::bit_cast<std::uint64_t>(b) & ~mask));
 }
 
 // x^N by binary powering, unrolled: ceil(log2 N) + popcount(N) - 1 products.
@@ -170,7 +194,7 @@ inline double inside(const Scaled& a) {
     } else if constexpr (polynomial_inside<K, Q>) {
         const double here = piece<K, Q, P>(a);
         const double below = inside<K, Q, P - 1>(a);
-        return a.q < piece_table<K, Q, P>.lo ? below : here;
+        return select(a.q < piece_table<K, Q, P>.lo, below, here);
     } else {
         if (a.q < piece_table<K, Q, P>.lo) return inside<K, Q, P - 1>(a);
         return piece<K, Q, P>(a);
@@ -219,4 +243,5 @@ inline constexpr double log_coefficient = [] {
     return 0.0;
 }();
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::detail
