@@ -1,6 +1,7 @@
 #include "closed_form.hpp"
 
 #include "error.hpp"
+#include "series.hpp"
 
 namespace mollify::gen {
 
@@ -310,63 +311,6 @@ std::string ClosedForm::to_string_at(const Q& r) const {
         }
     }
     return s.empty() ? "0" : s;
-}
-
-namespace {
-
-// Series of the basis functions at r = 0 up to r^order: (power, coefficient,
-// times log r?). arcsech r = log 2 - log r - sum_k (2k)!/(4^k k!^2 2k) r^(2k).
-struct SeriesTerm {
-    int power;
-    Exact c;
-    bool log_r;
-};
-
-Q central(int k) {  // (2k)! / (4^k k!^2)
-    return Q(factorial(static_cast<unsigned>(2 * k)), factorial(static_cast<unsigned>(k)) *
-                                                          factorial(static_cast<unsigned>(k))) / pow(Q(4), k);
-}
-
-std::vector<SeriesTerm> basis_series(const TermKey& k, int order) {
-    std::vector<SeriesTerm> s;
-    switch (k.basis) {
-        case Basis::one: s.push_back({0, Exact(Q(1)), false}); break;
-        case Basis::log: s.push_back({0, Exact(Q(1)), true}); break;
-        case Basis::sqrt_power:
-            for (int j = 0; 2 * j <= order; ++j)
-                s.push_back({2 * j, Exact(binomial(ratio(k.s_power, 2), j) * pow(Q(-1), j)), false});
-            break;
-        case Basis::arcsech:
-            s.push_back({0, Exact::log_of(Q(2)), false});
-            s.push_back({0, Exact(Q(-1)), true});
-            for (int j = 1; 2 * j <= order; ++j) s.push_back({2 * j, Exact(-central(j) / Q(2 * j)), false});
-            break;
-        case Basis::arcsin:
-            for (int j = 0; 2 * j + 1 <= order; ++j) s.push_back({2 * j + 1, Exact(central(j) / Q(2 * j + 1)), false});
-            break;
-    }
-    return s;
-}
-
-}  // namespace
-
-Exact limit_at_zero(const ClosedForm& f) {
-    std::map<int, Exact> plain, logs;  // coefficients of r^n and r^n log r, n <= 0
-    for (const auto& [k, p] : f.terms()) {
-        const Exact factor = Exact::of(k.factor);
-        for (int n = p.low(); n <= std::min(p.high(), 0); ++n) {
-            const Q c = p.coefficient(n);
-            if (c == 0) continue;
-            for (const SeriesTerm& t : basis_series(k, -n))
-                if (n + t.power <= 0) (t.log_r ? logs : plain)[n + t.power] += factor * t.c * c;
-        }
-    }
-    for (const auto& [n, c] : plain)
-        if (n < 0 && !c.is_zero()) fail("closed form is singular at r = 0 (r^" + std::to_string(n) + " term)");
-    for (const auto& [n, c] : logs)
-        if (!c.is_zero()) fail("closed form is singular at r = 0 (log r term)");
-    auto it = plain.find(0);
-    return it == plain.end() ? Exact() : it->second;
 }
 
 Exact value_at(const ClosedForm& f, const Q& r) {

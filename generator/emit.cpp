@@ -4,10 +4,12 @@
 #include "certificate.hpp"
 #include "error.hpp"
 #include "rounding.hpp"
+#include "series.hpp"
 #include "vandermonde.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -102,11 +104,12 @@ struct KernelText {
 
 std::string q_comment(const Q& q) { return short_string(q); }
 
-// A piece as emitted: exact bounds and its terms.
+// A piece as emitted: exact bounds, its terms, and a note for the comment.
 struct EmittedPiece {
     Q lo;
     std::optional<Q> hi;  // nullopt: the exterior, to infinity
     std::vector<EmittedTerm> terms;
+    std::string note;
 };
 
 std::vector<EmittedTerm> concat(std::vector<EmittedTerm> a, const std::vector<EmittedTerm>& b) {
@@ -114,33 +117,124 @@ std::vector<EmittedTerm> concat(std::vector<EmittedTerm> a, const std::vector<Em
     return a;
 }
 
+// The terms of a closed form in one basis (`basis`) or in all others.
+ClosedForm basis_part(const ClosedForm& f, Basis basis, bool keep) {
+    ClosedForm out;
+    for (const auto& [k, p] : f.terms())
+        if ((k.basis == basis) == keep) out += ClosedForm(p, k);
+    return out;
+}
+
+// A polynomial piece as its Taylor polynomial at the edge, one term per
+// power: sum_k a_k (edge - v)^k with v = r^2 (times r) when the piece is even
+// (odd), v = r otherwise. Near the edge the terms decrease like (edge - v)^k,
+// so the sum keeps its relative accuracy where the piece vanishes there
+// (2D potentials: phi(1) = log(1)/(2 pi) = 0); nullopt for Laurent terms.
+std::optional<std::vector<EmittedTerm>> edge_taylor_terms(const ClosedForm& f, const Q& edge) {
+    bool even = true, odd = true;
+    for (const auto& [k, p] : f.terms()) {
+        if (!p.is_polynomial()) return std::nullopt;
+        even = even && p.is_even();
+        odd = odd && p.shifted(-1).is_even();
+    }
+    const bool square = even || odd, shift = odd && !even;
+    std::map<int, Exact> taylor;  // coefficient of (edge - v)^k
+    for (const auto& [k, p] : f.terms()) {
+        const Laurent v_poly = square ? p.shifted(shift ? -1 : 0).even_part_in_square() : p;
+        const std::vector<Q> t = v_poly.taylor_at(square ? edge * edge : edge);
+        for (std::size_t j = 0; j < t.size(); ++j) taylor[static_cast<int>(j)] += Exact::of(k.factor) * t[j];
+    }
+    std::vector<EmittedTerm> out;
+    for (const auto& [j, c] : taylor)
+        if (!c.is_zero()) out.push_back({Basis::one, 0, square, j, shift ? 1 : 0, {c}});
+    return out;
+}
+
+// Sum of |terms| over |sum| of emitted terms (bases 1 and log r) at r: the
+// factor by which their double evaluation loses accuracy (a heuristic).
+double emitted_condition(const std::vector<EmittedTerm>& terms, const Q& r_exact, const Q& edge) {
+    const double r = static_cast<double>(r_exact), e = static_cast<double>(edge);
+    double sum = 0, magnitude = 0;
+    for (const EmittedTerm& t : terms) {
+        const double v = t.square ? r * r : r, factor = std::pow(std::abs((t.square ? e * e : e) - v), t.edge_power) *
+                                                        std::pow(r, t.low) * (t.basis == Basis::log ? std::log(r) : 1);
+        for (std::size_t k = 0; k < t.c.size(); ++k) {
+            const double x = round_to_double(t.c[k]) * std::pow(v, static_cast<double>(k)) * factor;
+            sum += x;
+            magnitude += std::abs(x);
+        }
+    }
+    return sum == 0 ? 1e300 : magnitude / std::abs(sum);
+}
+
+// Where the Taylor form at the edge takes over from the plain form on
+// [0, edge]: the smallest of edge/8, ..., edge/2 at which it is conditioned
+// no worse than the plain form (the Taylor terms grow away from the edge,
+// the plain monomials cancel towards it).
+Q taylor_split(const std::vector<EmittedTerm>& plain, const std::vector<EmittedTerm>& taylor, const Q& edge) {
+    for (int j = 1; j < 4; ++j) {
+        const Q at = edge * ratio(j, 8);
+        if (emitted_condition(taylor, at, edge) <= std::max(1.5, emitted_condition(plain, at, edge))) return at;
+    }
+    return edge / 2;
+}
+
+// The first piece of a quantity whose closed form cancels near r = 0 (the
+// sqrt/arcsech/arcsin forms of missing Wendland functions): its exact series
+// there on [0, r0) (series.hpp), the closed form from r0 on.
+std::optional<EmittedPiece> zero_series_piece(const ClosedForm& form, const Q& hi) {
+    if (form.is_elementary()) return std::nullopt;
+    const auto z = zero_series(form);
+    if (!z) fail("internal: no convergent series at r = 0 for a sqrt/arcsech/arcsin closed form");
+    const Q r0 = Q(1) / pow(Q(2), z->m);
+    if (r0 >= hi) fail("internal: series piece beyond its closed form's piece");
+    const std::string note = "series at 0 up to r^" + std::to_string(z->order) + ", truncation < " +
+                             decimal(z->relative_bound, 2) + " relative (series.hpp)";
+    return EmittedPiece{Q(0), r0, stable_terms(z->series, std::nullopt), note};
+}
+
 // The pieces of one quantity in their stable forms. Potential-like
 // quantities (which do not vanish at the edge) are written on the piece next
 // to the edge as exterior form + remainder, the remainder vanishing there to
 // high order and so factored at the edge; where that piece starts at r = 0,
 // whose exterior form is singular, it is split at half its length and its
-// inner half keeps the plain form. 2D potentials keep the plain form (their
-// remainder has a log r term, not a polynomial).
+// inner half keeps the plain form. 2D potentials, whose remainder has a
+// log r term, keep their log r terms and write the polynomial part as its
+// Taylor polynomial at the edge (edge_taylor_terms) instead. Closed forms
+// that cancel near r = 0 start with their series piece (zero_series_piece).
 std::vector<EmittedPiece> emitted_pieces(const Radial& f, bool potential_like) {
     std::vector<EmittedPiece> out;
     const std::size_t n = f.pieces.size();
     for (std::size_t i = 0; i < n; ++i) {
-        const Q lo = f.breaks[i], hi = f.breaks[i + 1];
+        Q lo = f.breaks[i];
+        const Q hi = f.breaks[i + 1];
         const ClosedForm& form = f.pieces[i];
+        if (i == 0)
+            if (auto s = zero_series_piece(form, hi)) {
+                lo = *s->hi;
+                out.push_back(std::move(*s));
+            }
         const ClosedForm remainder = form - f.outside;
-        const bool split = potential_like && i + 1 == n && remainder.has_only_basis_one() && !f.outside.is_zero();
-        if (!split) {
-            out.push_back({lo, hi, stable_terms(form, hi)});
+        const bool last_potential = potential_like && i + 1 == n && !f.outside.is_zero();
+        const bool green = last_potential && remainder.has_only_basis_one();
+        const auto taylor = last_potential && !green && form.is_elementary()
+                                ? edge_taylor_terms(basis_part(form, Basis::one, true), hi)
+                                : std::nullopt;
+        if (!green && !taylor) {
+            out.push_back({lo, hi, stable_terms(form, hi), ""});
             continue;
         }
+        std::vector<EmittedTerm> outer =
+            green ? concat(stable_terms(f.outside, std::nullopt), stable_terms(remainder, hi))
+                  : concat(stable_terms(basis_part(form, Basis::one, false), std::nullopt), *taylor);
         Q mid = lo;
         if (lo == 0) {
-            mid = hi / 2;
-            out.push_back({lo, mid, stable_terms(form, mid)});
+            mid = green ? hi / 2 : taylor_split(stable_terms(form, hi), outer, hi);
+            out.push_back({lo, mid, stable_terms(form, mid), ""});
         }
-        out.push_back({mid, hi, concat(stable_terms(f.outside, std::nullopt), stable_terms(remainder, hi))});
+        out.push_back({mid, hi, std::move(outer), green ? "" : "Taylor polynomial at the edge"});
     }
-    out.push_back({f.support(), std::nullopt, stable_terms(f.outside, std::nullopt)});
+    out.push_back({f.support(), std::nullopt, stable_terms(f.outside, std::nullopt), ""});
     return out;
 }
 
@@ -154,7 +248,7 @@ public:
         std::vector<std::string> pieces;
         const std::vector<EmittedPiece> emitted = emitted_pieces(*f, potential_like);
         for (std::size_t i = 0; i < emitted.size(); ++i) {
-            const auto& [lo, hi, terms] = emitted[i];
+            const auto& [lo, hi, terms, note] = emitted[i];
             const std::string terms_name = name + "_" + std::to_string(i);
             std::vector<std::string> term_exprs;
             for (std::size_t t = 0; t < terms.size(); ++t) {
@@ -179,7 +273,7 @@ public:
             const std::string hi_text = hi ? hex_literal(round_to_double(*hi)) : "table::infinity";
             pieces.push_back("{" + hex_literal(round_to_double(lo)) + ", " + hi_text + ", " + terms_ref + ", " +
                              std::to_string(term_exprs.size()) + "},  // [" + q_comment(lo) + ", " +
-                             (hi ? q_comment(*hi) : std::string("inf")) + ")");
+                             (hi ? q_comment(*hi) : std::string("inf")) + ")" + (note.empty() ? "" : ", " + note));
         }
         body_ += "inline constexpr table::Piece " + name + "[] = {\n";
         for (const auto& p : pieces) body_ += "    " + p + "\n";

@@ -63,10 +63,10 @@ TEST(Tables, EveryKernelMatchesItsExactValues) {
             double scale = 0;
             for (const Q& r : sample_radii) {
                 if (r == 0 && singular_at_zero(f)) continue;
-                // The sqrt/arcsech/arcsin closed forms of missing Wendland functions
-                // cancel singular terms near r = 0 (e.g. S/r - 1/r); the table's
-                // plain form is only checked away from 0 here, the runtime's
-                // accuracy there is measured separately (issue 3).
+                // Near r = 0 the tables of missing Wendland functions hold the exact
+                // series instead of their closed forms (which cancel there); the
+                // closed form is only compared at these samples away from 0, the
+                // series in SeriesPiecesAreAccurateToAFewUlp.
                 if (!f.form_at(r).is_elementary() && r < Q(1, 8)) continue;
                 const auto exact = exact_double(f, r);
                 if (!exact) continue;
@@ -83,6 +83,77 @@ TEST(Tables, EveryKernelMatchesItsExactValues) {
         }
     }
     EXPECT_GT(checked, 2000);
+}
+
+namespace {
+
+// The exact value at a double r, correctly rounded.
+double exact_at(const Radial& f, double r) {
+    return round_to_double([&](unsigned bits) {
+        Real rr(0, bits * 30103 / 100000 + 2);
+        mpfr_set_d(rr.backend().data(), r, MPFR_RNDN);
+        return f.evaluate(rr, bits);
+    });
+}
+
+// Error of the table at r in ulps of the exact value (of `scale` where the
+// exact value is below 1e-10 of it).
+double ulps(const table::Quantity& q, const Radial& f, double r, double scale) {
+    const double exact = exact_at(f, r);
+    const double ref = std::abs(exact) >= 1e-10 * scale ? std::abs(exact) : scale;
+    return std::abs(table::evaluate(q, r) - exact) / (std::ldexp(1.0, std::ilogb(ref) - 52));
+}
+
+double max_abs(const Radial& f) {
+    double m = 0;
+    for (int j = 1; j <= 64; ++j) m = std::max(m, std::abs(exact_at(f, j / 64.0)));
+    return m;
+}
+
+}  // namespace
+
+// The first piece of every missing Wendland quantity is its exact series at
+// r = 0 (generator/series.hpp): relative accuracy down to r = 1e-300, where
+// the closed forms lose everything (r^-k terms overflow, S/r - 1/r cancels).
+TEST(Tables, SeriesPiecesAreAccurateToAFewUlp) {
+    int checked = 0;
+    for (const table::Kernel* t : mollify::tables::all_kernels) {
+        if (std::string(t->spec).rfind("wendland-missing:", 0) != 0) continue;
+        const Kernel k = make_kernel(parse_spec(t->spec), t->dim);
+        const Quantities q = derive_quantities(k);
+        for (int i = 0; i < table::quantity_count; ++i) {
+            const Radial& f = quantity(k, q, quantity_names()[static_cast<std::size_t>(i)]);
+            const table::Quantity& tq = t->quantities[i];
+            ASSERT_GT(tq.npieces, 2);
+            const double r0 = tq.pieces[0].hi, scale = max_abs(f);
+            for (double r = r0 * (1 - 0x1p-20); r > 1e-300; r *= 0.0123) {
+                EXPECT_LE(ulps(tq, f, r, scale), 4) << t->spec << " D=" << t->dim << " quantity " << i << " r=" << r;
+                ++checked;
+            }
+        }
+    }
+    EXPECT_GT(checked, 10000);
+}
+
+// 2D potentials near the support edge, where phi ~ (r - 1)/(2 pi) -> 0: the
+// last piece is log r terms + the Taylor polynomial at the edge, so the
+// relative accuracy holds down to 1 - r = 1e-15 (the plain polynomial lost
+// up to 1e5 ulp).
+TEST(Tables, TwoDimensionalPotentialsKeepRelativeAccuracyAtTheEdge) {
+    int checked = 0;
+    for (const table::Kernel* t : mollify::tables::all_kernels) {
+        if (t->dim != 2 || !t->has_potential || std::string(t->spec).rfind("wendland-missing:", 0) == 0) continue;
+        const Kernel k = make_kernel(parse_spec(t->spec), t->dim);
+        const Quantities q = derive_quantities(k);
+        const int i = static_cast<int>(table::QuantityId::potential);
+        const Radial& f = quantity(k, q, "potential");
+        const double scale = max_abs(f);
+        for (double d = 0.1; d > 1e-15; d *= 0.31) {
+            EXPECT_LE(ulps(t->quantities[i], f, 1 - d, scale), 4) << t->spec << " 1 - r = " << d;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 1000);
 }
 
 TEST(Tables, CatalogueHoldsTheDefaultKernels) {

@@ -254,20 +254,32 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.e8ec8a4aeacc4p-4,  // -3/8 * pi^-1
-    0x1.45f306dc9c883p-5,  // 1/8 * pi^-1
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 3},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 2},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
@@ -364,7 +376,7 @@ inline constexpr table::Kernel mollifier_M_1_D2 = {
         {detail_mollifier_M_1_D2::laplacian, 2},
         {detail_mollifier_M_1_D2::grad_over_r, 2},
         {detail_mollifier_M_1_D2::hess_radial, 2},
-        {detail_mollifier_M_1_D2::potential, 2},
+        {detail_mollifier_M_1_D2::potential, 3},
         {detail_mollifier_M_1_D2::dpotential, 3},
         {detail_mollifier_M_1_D2::dpotential_over_r, 3},
         {detail_mollifier_M_1_D2::potential_hess_radial, 3},
@@ -849,21 +861,37 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.cdc2f46333164p-3,  // -17/24 * pi^-1
-    0x1.020b101951412p-2,  // 19/24 * pi^-1
-    -0x1.b2995e7b7b604p-4,  // -1/3 * pi^-1
+    0x1.e8ec8a4aeacc4p-2,  // 3/2 * pi^-1
+    -0x1.6eb167b830193p-2,  // -9/8 * pi^-1
+    0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 4},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-4,  // -1/3 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 3},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
@@ -966,7 +994,7 @@ inline constexpr table::Kernel mollifier_M_1_order_4_D2 = {
         {detail_mollifier_M_1_order_4_D2::laplacian, 2},
         {detail_mollifier_M_1_order_4_D2::grad_over_r, 2},
         {detail_mollifier_M_1_order_4_D2::hess_radial, 2},
-        {detail_mollifier_M_1_order_4_D2::potential, 2},
+        {detail_mollifier_M_1_order_4_D2::potential, 3},
         {detail_mollifier_M_1_order_4_D2::dpotential, 3},
         {detail_mollifier_M_1_order_4_D2::dpotential_over_r, 3},
         {detail_mollifier_M_1_order_4_D2::potential_hess_radial, 3},
@@ -1498,22 +1526,42 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.23ff0b7af6e4ap-2,  // -43/48 * pi^-1
-    0x1.56ed048d6f59fp-1,  // 101/48 * pi^-1
-    -0x1.8675cae2f0d87p-1,  // -115/48 * pi^-1
-    0x1.3193d66ed2bfap-2,  // 15/16 * pi^-1
+    0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
+    -0x1.6eb167b830193p+0,  // -9/2 * pi^-1
+    0x1.0f9fdb0d2d1c2p+0,  // 10/3 * pi^-1
+    -0x1.3193d66ed2bfap-2,  // -15/16 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.0f9fdb0d2d1c2p-3,  // 5/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.3193d66ed2bfap-2,  // -15/16 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
+    {0x1p-1, 0x1p+0, potential_1, 4},  // [1/2, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
@@ -1622,7 +1670,7 @@ inline constexpr table::Kernel mollifier_M_1_order_6_D2 = {
         {detail_mollifier_M_1_order_6_D2::laplacian, 2},
         {detail_mollifier_M_1_order_6_D2::grad_over_r, 2},
         {detail_mollifier_M_1_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_1_order_6_D2::potential, 2},
+        {detail_mollifier_M_1_order_6_D2::potential, 3},
         {detail_mollifier_M_1_order_6_D2::dpotential, 3},
         {detail_mollifier_M_1_order_6_D2::dpotential_over_r, 3},
         {detail_mollifier_M_1_order_6_D2::potential_hess_radial, 3},
@@ -2138,21 +2186,37 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.2ac970f4e4d22p-3,  // -11/24 * pi^-1
-    0x1.7c4632ac0bf43p-4,  // 7/24 * pi^-1
-    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+    0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
+    -0x1.e8ec8a4aeacc4p-4,  // -3/8 * pi^-1
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 4},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 3},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p-2,  // 3/2 * pi^-1
@@ -2252,7 +2316,7 @@ inline constexpr table::Kernel mollifier_M_2_D2 = {
         {detail_mollifier_M_2_D2::laplacian, 2},
         {detail_mollifier_M_2_D2::grad_over_r, 2},
         {detail_mollifier_M_2_D2::hess_radial, 2},
-        {detail_mollifier_M_2_D2::potential, 2},
+        {detail_mollifier_M_2_D2::potential, 3},
         {detail_mollifier_M_2_D2::dpotential, 3},
         {detail_mollifier_M_2_D2::dpotential_over_r, 3},
         {detail_mollifier_M_2_D2::potential_hess_radial, 3},
@@ -2767,22 +2831,42 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.f681553ec6a74p-3,  // -37/48 * pi^-1
-    0x1.90a56319d5bcbp-2,  // 59/48 * pi^-1
-    -0x1.4cbd6c568a75bp-2,  // -49/48 * pi^-1
-    0x1.976fc893c3aa3p-4,  // 5/16 * pi^-1
+    0x1.45f306dc9c883p-1,  // 2 * pi^-1
+    -0x1.6eb167b830193p-1,  // -9/4 * pi^-1
+    0x1.b2995e7b7b604p-2,  // 4/3 * pi^-1
+    -0x1.976fc893c3aa3p-4,  // -5/16 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.976fc893c3aa3p-4,  // -5/16 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 4},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p+0,  // 4 * pi^-1
@@ -2888,7 +2972,7 @@ inline constexpr table::Kernel mollifier_M_2_order_4_D2 = {
         {detail_mollifier_M_2_order_4_D2::laplacian, 2},
         {detail_mollifier_M_2_order_4_D2::grad_over_r, 2},
         {detail_mollifier_M_2_order_4_D2::hess_radial, 2},
-        {detail_mollifier_M_2_order_4_D2::potential, 2},
+        {detail_mollifier_M_2_order_4_D2::potential, 3},
         {detail_mollifier_M_2_order_4_D2::dpotential, 3},
         {detail_mollifier_M_2_order_4_D2::dpotential_over_r, 3},
         {detail_mollifier_M_2_order_4_D2::potential_hess_radial, 3},
@@ -3445,23 +3529,47 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.344b323931eb7p-2,  // -227/240 * pi^-1
-    0x1.c90213c10c899p-1,  // 673/240 * pi^-1
-    -0x1.7ea6a2fd1f3a8p+0,  // -1127/240 * pi^-1
-    0x1.286900a3d18bdp+0,  // 291/80 * pi^-1
-    -0x1.563f2d9ad78fp-2,  // -21/20 * pi^-1
+    0x1.3193d66ed2bfap+0,  // 15/4 * pi^-1
+    -0x1.3193d66ed2bfap+1,  // -15/2 * pi^-1
+    0x1.5387d1d078633p+1,  // 25/3 * pi^-1
+    -0x1.7df8cc0a876f9p+0,  // -75/16 * pi^-1
+    0x1.563f2d9ad78fp-2,  // 21/20 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.6eb167b830193p-3,  // 9/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.563f2d9ad78fp-2,  // -21/20 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 5},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
@@ -3573,7 +3681,7 @@ inline constexpr table::Kernel mollifier_M_2_order_6_D2 = {
         {detail_mollifier_M_2_order_6_D2::laplacian, 2},
         {detail_mollifier_M_2_order_6_D2::grad_over_r, 2},
         {detail_mollifier_M_2_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_2_order_6_D2::potential, 2},
+        {detail_mollifier_M_2_order_6_D2::potential, 3},
         {detail_mollifier_M_2_order_6_D2::dpotential, 3},
         {detail_mollifier_M_2_order_6_D2::dpotential_over_r, 3},
         {detail_mollifier_M_2_order_6_D2::potential_hess_radial, 3},
@@ -4108,22 +4216,42 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.5387d1d078633p-3,  // -25/48 * pi^-1
-    0x1.385e3be8c0ad3p-3,  // 23/48 * pi^-1
-    -0x1.611c9cc4543e3p-4,  // -13/48 * pi^-1
-    0x1.45f306dc9c883p-6,  // 1/16 * pi^-1
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
+    0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 4},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-1,  // 2 * pi^-1
@@ -4226,7 +4354,7 @@ inline constexpr table::Kernel mollifier_M_3_D2 = {
         {detail_mollifier_M_3_D2::laplacian, 2},
         {detail_mollifier_M_3_D2::grad_over_r, 2},
         {detail_mollifier_M_3_D2::hess_radial, 2},
-        {detail_mollifier_M_3_D2::potential, 2},
+        {detail_mollifier_M_3_D2::potential, 3},
         {detail_mollifier_M_3_D2::dpotential, 3},
         {detail_mollifier_M_3_D2::dpotential_over_r, 3},
         {detail_mollifier_M_3_D2::potential_hess_radial, 3},
@@ -4757,23 +4885,47 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.0b8cd15d9e5a7p-2,  // -197/240 * pi^-1
-    0x1.11a95fe4f47dp-1,  // 403/240 * pi^-1
-    -0x1.517e4cf8b1025p-1,  // -497/240 * pi^-1
-    0x1.9b82d243526bfp-2,  // 101/80 * pi^-1
-    -0x1.8723a1d588a36p-4,  // -3/10 * pi^-1
+    0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
+    -0x1.3193d66ed2bfap+0,  // -15/4 * pi^-1
+    0x1.0f9fdb0d2d1c2p+0,  // 10/3 * pi^-1
+    -0x1.fd4bbab8b494cp-2,  // -25/16 * pi^-1
+    0x1.8723a1d588a36p-4,  // 3/10 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.8723a1d588a36p-4,  // -3/10 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 5},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
@@ -4882,7 +5034,7 @@ inline constexpr table::Kernel mollifier_M_3_order_4_D2 = {
         {detail_mollifier_M_3_order_4_D2::laplacian, 2},
         {detail_mollifier_M_3_order_4_D2::grad_over_r, 2},
         {detail_mollifier_M_3_order_4_D2::hess_radial, 2},
-        {detail_mollifier_M_3_order_4_D2::potential, 2},
+        {detail_mollifier_M_3_order_4_D2::potential, 3},
         {detail_mollifier_M_3_order_4_D2::dpotential, 3},
         {detail_mollifier_M_3_order_4_D2::dpotential_over_r, 3},
         {detail_mollifier_M_3_order_4_D2::potential_hess_radial, 3},
@@ -5455,24 +5607,52 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.41dffd2d0dc67p-2,  // -79/80 * pi^-1
-    0x1.1e39686ceca79p+0,  // 281/80 * pi^-1
-    -0x1.3b410d6fc5cbbp+1,  // -619/80 * pi^-1
-    0x1.6bce96312afaap+1,  // 2143/240 * pi^-1
-    -0x1.a24d37bd40597p+0,  // -77/15 * pi^-1
-    0x1.7c4632ac0bf43p-2,  // 7/6 * pi^-1
+    0x1.6eb167b830193p+0,  // 9/2 * pi^-1
+    -0x1.ca5dc1a63c1f8p+1,  // -45/4 * pi^-1
+    0x1.5387d1d078633p+2,  // 50/3 * pi^-1
+    -0x1.1e7a9907e593bp+2,  // -225/16 * pi^-1
+    0x1.00af623421ab4p+1,  // 63/10 * pi^-1
+    -0x1.7c4632ac0bf43p-2,  // -7/6 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.c8543cce74beap-3,  // 7/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.7c4632ac0bf43p-2,  // -7/6 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 6},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.6eb167b830193p+1,  // 9 * pi^-1
@@ -5587,7 +5767,7 @@ inline constexpr table::Kernel mollifier_M_3_order_6_D2 = {
         {detail_mollifier_M_3_order_6_D2::laplacian, 2},
         {detail_mollifier_M_3_order_6_D2::grad_over_r, 2},
         {detail_mollifier_M_3_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_3_order_6_D2::potential, 2},
+        {detail_mollifier_M_3_order_6_D2::potential, 3},
         {detail_mollifier_M_3_order_6_D2::dpotential, 3},
         {detail_mollifier_M_3_order_6_D2::dpotential_over_r, 3},
         {detail_mollifier_M_3_order_6_D2::potential_hess_radial, 3},
@@ -6138,23 +6318,47 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.74201f4cee70dp-3,  // -137/240 * pi^-1
-    0x1.babf71da98e3ap-3,  // 163/240 * pi^-1
-    -0x1.74201f4cee70dp-3,  // -137/240 * pi^-1
-    0x1.563f2d9ad78fp-4,  // 21/80 * pi^-1
-    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+    0x1.976fc893c3aa3p-2,  // 5/4 * pi^-1
+    -0x1.976fc893c3aa3p-2,  // -5/4 * pi^-1
+    0x1.0f9fdb0d2d1c2p-2,  // 5/6 * pi^-1
+    -0x1.976fc893c3aa3p-4,  // -5/16 * pi^-1
+    0x1.04c26be3b06cfp-6,  // 1/20 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 5},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
@@ -6260,7 +6464,7 @@ inline constexpr table::Kernel mollifier_M_4_D2 = {
         {detail_mollifier_M_4_D2::laplacian, 2},
         {detail_mollifier_M_4_D2::grad_over_r, 2},
         {detail_mollifier_M_4_D2::hess_radial, 2},
-        {detail_mollifier_M_4_D2::potential, 2},
+        {detail_mollifier_M_4_D2::potential, 3},
         {detail_mollifier_M_4_D2::dpotential, 3},
         {detail_mollifier_M_4_D2::dpotential_over_r, 3},
         {detail_mollifier_M_4_D2::potential_hess_radial, 3},
@@ -6807,24 +7011,52 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.19219c517a357p-2,  // -69/80 * pi^-1
-    0x1.5c5bbc222db18p-1,  // 171/80 * pi^-1
-    -0x1.1c2fe3952546cp+0,  // -279/80 * pi^-1
-    0x1.030fd28534f19p+0,  // 763/240 * pi^-1
-    -0x1.eba3e61549f81p-2,  // -181/120 * pi^-1
-    0x1.7c4632ac0bf43p-4,  // 7/24 * pi^-1
+    0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
+    -0x1.ca5dc1a63c1f8p+0,  // -45/8 * pi^-1
+    0x1.0f9fdb0d2d1c2p+1,  // 20/3 * pi^-1
+    -0x1.7df8cc0a876f9p+0,  // -75/16 * pi^-1
+    0x1.255ab960267a9p-1,  // 9/5 * pi^-1
+    -0x1.7c4632ac0bf43p-4,  // -7/24 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.7c4632ac0bf43p-4,  // -7/24 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 6},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
@@ -6936,7 +7168,7 @@ inline constexpr table::Kernel mollifier_M_4_order_4_D2 = {
         {detail_mollifier_M_4_order_4_D2::laplacian, 2},
         {detail_mollifier_M_4_order_4_D2::grad_over_r, 2},
         {detail_mollifier_M_4_order_4_D2::hess_radial, 2},
-        {detail_mollifier_M_4_order_4_D2::potential, 2},
+        {detail_mollifier_M_4_order_4_D2::potential, 3},
         {detail_mollifier_M_4_order_4_D2::dpotential, 3},
         {detail_mollifier_M_4_order_4_D2::dpotential_over_r, 3},
         {detail_mollifier_M_4_order_4_D2::potential_hess_radial, 3},
@@ -7525,25 +7757,57 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.4d8418d981148p-2,  // -573/560 * pi^-1
-    0x1.586df2cb2d2dap+0,  // 2367/560 * pi^-1
-    -0x1.d57f7c1cbd954p+1,  // -6453/560 * pi^-1
-    0x1.676df11e73e2fp+2,  // 29641/1680 * pi^-1
-    -0x1.350573f3f9205p+2,  // -6371/420 * pi^-1
-    0x1.185aefce8396ap+1,  // 289/42 * pi^-1
-    -0x1.a313e44036f83p-2,  // -9/7 * pi^-1
+    0x1.abcef9018d72bp+0,  // 21/4 * pi^-1
+    -0x1.40db3ac12a161p+2,  // -63/4 * pi^-1
+    0x1.2916d7966956cp+3,  // 175/6 * pi^-1
+    -0x1.4e39b2893681ap+3,  // -525/16 * pi^-1
+    0x1.c132ebdb3aebap+2,  // 441/20 * pi^-1
+    -0x1.4cbd6c568a75bp+1,  // -49/6 * pi^-1
+    0x1.a313e44036f83p-2,  // 9/7 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.0f9fdb0d2d1c2p-2,  // 5/6 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.a313e44036f83p-2,  // -9/7 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 7},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.abcef9018d72bp+1,  // 21/2 * pi^-1
@@ -7661,7 +7925,7 @@ inline constexpr table::Kernel mollifier_M_4_order_6_D2 = {
         {detail_mollifier_M_4_order_6_D2::laplacian, 2},
         {detail_mollifier_M_4_order_6_D2::grad_over_r, 2},
         {detail_mollifier_M_4_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_4_order_6_D2::potential, 2},
+        {detail_mollifier_M_4_order_6_D2::potential, 3},
         {detail_mollifier_M_4_order_6_D2::dpotential, 3},
         {detail_mollifier_M_4_order_6_D2::dpotential_over_r, 3},
         {detail_mollifier_M_4_order_6_D2::potential_hess_radial, 3},
@@ -8228,24 +8492,52 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.8f49b534a626dp-3,  // -49/80 * pi^-1
-    0x1.2147afb097b8ep-2,  // 71/80 * pi^-1
-    -0x1.41dffd2d0dc67p-2,  // -79/80 * pi^-1
-    0x1.babf71da98e3ap-3,  // 163/240 * pi^-1
-    -0x1.50d0760619376p-4,  // -31/120 * pi^-1
-    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+    0x1.e8ec8a4aeacc4p-2,  // 3/2 * pi^-1
+    -0x1.3193d66ed2bfap-1,  // -15/8 * pi^-1
+    0x1.0f9fdb0d2d1c2p-1,  // 5/3 * pi^-1
+    -0x1.3193d66ed2bfap-2,  // -15/16 * pi^-1
+    0x1.8723a1d588a36p-4,  // 3/10 * pi^-1
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 6},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
@@ -8354,7 +8646,7 @@ inline constexpr table::Kernel mollifier_M_5_D2 = {
         {detail_mollifier_M_5_D2::laplacian, 2},
         {detail_mollifier_M_5_D2::grad_over_r, 2},
         {detail_mollifier_M_5_D2::hess_radial, 2},
-        {detail_mollifier_M_5_D2::potential, 2},
+        {detail_mollifier_M_5_D2::potential, 3},
         {detail_mollifier_M_5_D2::dpotential, 3},
         {detail_mollifier_M_5_D2::dpotential_over_r, 3},
         {detail_mollifier_M_5_D2::potential_hess_radial, 3},
@@ -8917,25 +9209,57 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.24c5b7fded837p-2,  // -503/560 * pi^-1
-    0x1.a80670031b2c9p-1,  // 1457/560 * pi^-1
-    -0x1.adb33d80c695dp+0,  // -2953/560 * pi^-1
-    0x1.047e2096aba66p+1,  // 10741/1680 * pi^-1
-    -0x1.72484595e4b7ap+0,  // -3817/840 * pi^-1
-    0x1.1e2cfda4bd3dap-1,  // 295/168 * pi^-1
-    -0x1.7483758e69c03p-4,  // -2/7 * pi^-1
+    0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
+    -0x1.40db3ac12a161p+1,  // -63/8 * pi^-1
+    0x1.db57bf570ef14p+1,  // 35/3 * pi^-1
+    -0x1.bda243619e023p+1,  // -175/16 * pi^-1
+    0x1.00af623421ab4p+1,  // 63/10 * pi^-1
+    -0x1.4cbd6c568a75bp-1,  // -49/24 * pi^-1
+    0x1.7483758e69c03p-4,  // 2/7 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-4,  // -2/7 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 7},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.1d34a60108f72p+1,  // 7 * pi^-1
@@ -9050,7 +9374,7 @@ inline constexpr table::Kernel mollifier_M_5_order_4_D2 = {
         {detail_mollifier_M_5_order_4_D2::laplacian, 2},
         {detail_mollifier_M_5_order_4_D2::grad_over_r, 2},
         {detail_mollifier_M_5_order_4_D2::hess_radial, 2},
-        {detail_mollifier_M_5_order_4_D2::potential, 2},
+        {detail_mollifier_M_5_order_4_D2::potential, 3},
         {detail_mollifier_M_5_order_4_D2::dpotential, 3},
         {detail_mollifier_M_5_order_4_D2::dpotential_over_r, 3},
         {detail_mollifier_M_5_order_4_D2::potential_hess_radial, 3},
@@ -9655,26 +9979,62 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.57b3b11065f8cp-2,  // -1181/1120 * pi^-1
-    0x1.92ff9e06d14e1p+0,  // 5539/1120 * pi^-1
-    -0x1.470f117fd91f3p+2,  // -17981/1120 * pi^-1
-    0x1.37d036972261ap+3,  // 102857/3360 * pi^-1
-    -0x1.64a32e7b4aa1ap+3,  // -117643/3360 * pi^-1
-    0x1.e496c2a75d313p+2,  // 15985/672 * pi^-1
-    -0x1.69c82c0b6f744p+1,  // -1989/224 * pi^-1
-    0x1.ca5dc1a63c1f8p-2,  // 45/32 * pi^-1
+    0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
+    -0x1.abcef9018d72bp+2,  // -21 * pi^-1
+    0x1.db57bf570ef14p+3,  // 140/3 * pi^-1
+    -0x1.4e39b2893681ap+4,  // -525/8 * pi^-1
+    0x1.2b7747e77c9d2p+4,  // 294/5 * pi^-1
+    -0x1.4cbd6c568a75bp+3,  // -98/3 * pi^-1
+    0x1.a313e44036f83p+1,  // 72/7 * pi^-1
+    -0x1.ca5dc1a63c1f8p-2,  // -45/32 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.3a4eeb30293a3p-2,  // 27/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.ca5dc1a63c1f8p-2,  // -45/32 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 8},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p+1,  // 12 * pi^-1
@@ -9795,7 +10155,7 @@ inline constexpr table::Kernel mollifier_M_5_order_6_D2 = {
         {detail_mollifier_M_5_order_6_D2::laplacian, 2},
         {detail_mollifier_M_5_order_6_D2::grad_over_r, 2},
         {detail_mollifier_M_5_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_5_order_6_D2::potential, 2},
+        {detail_mollifier_M_5_order_6_D2::potential, 3},
         {detail_mollifier_M_5_order_6_D2::dpotential, 3},
         {detail_mollifier_M_5_order_6_D2::dpotential_over_r, 3},
         {detail_mollifier_M_5_order_6_D2::potential_hess_radial, 3},
@@ -10378,25 +10738,57 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.a691ec8d8cc2dp-3,  // -363/560 * pi^-1
-    0x1.672055bb4b8cep-2,  // 617/560 * pi^-1
-    -0x1.f07d9c47cf589p-2,  // -853/560 * pi^-1
-    0x1.c631e2664e89fp-2,  // 2341/1680 * pi^-1
-    -0x1.02d1bc9c47dffp-2,  // -667/840 * pi^-1
-    0x1.4db5c3fa3ebc3p-4,  // 43/168 * pi^-1
-    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+    0x1.1d34a60108f72p-1,  // 7/4 * pi^-1
+    -0x1.abcef9018d72bp-1,  // -21/8 * pi^-1
+    0x1.db57bf570ef14p-1,  // 35/12 * pi^-1
+    -0x1.6481cf814b34fp-1,  // -35/16 * pi^-1
+    0x1.563f2d9ad78fp-2,  // 21/20 * pi^-1
+    -0x1.7c4632ac0bf43p-4,  // -7/24 * pi^-1
+    0x1.7483758e69c03p-7,  // 1/28 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 7},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
@@ -10508,7 +10900,7 @@ inline constexpr table::Kernel mollifier_M_6_D2 = {
         {detail_mollifier_M_6_D2::laplacian, 2},
         {detail_mollifier_M_6_D2::grad_over_r, 2},
         {detail_mollifier_M_6_D2::hess_radial, 2},
-        {detail_mollifier_M_6_D2::potential, 2},
+        {detail_mollifier_M_6_D2::potential, 3},
         {detail_mollifier_M_6_D2::dpotential, 3},
         {detail_mollifier_M_6_D2::dpotential_over_r, 3},
         {detail_mollifier_M_6_D2::potential_hess_radial, 3},
@@ -11087,26 +11479,62 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.2ef55034d267bp-2,  // -1041/1120 * pi^-1
-    0x1.f46b659ecfdc8p-1,  // 3439/1120 * pi^-1
-    -0x1.2eb41f99d97bap+1,  // -8321/1120 * pi^-1
-    0x1.c9d845be3e6cdp+1,  // 37757/3360 * pi^-1
-    -0x1.b16c4104fd979p+1,  // -35743/3360 * pi^-1
-    0x1.f6243461630cdp+0,  // 4141/672 * pi^-1
-    -0x1.46ad489763bd1p-1,  // -449/224 * pi^-1
-    0x1.6eb167b830193p-4,  // 9/32 * pi^-1
+    0x1.45f306dc9c883p+0,  // 4 * pi^-1
+    -0x1.abcef9018d72bp+1,  // -21/2 * pi^-1
+    0x1.7c4632ac0bf43p+2,  // 56/3 * pi^-1
+    -0x1.bda243619e023p+2,  // -175/8 * pi^-1
+    0x1.563f2d9ad78fp+2,  // 84/5 * pi^-1
+    -0x1.4cbd6c568a75bp+1,  // -49/6 * pi^-1
+    0x1.7483758e69c03p-1,  // 16/7 * pi^-1
+    -0x1.6eb167b830193p-4,  // -9/32 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.6eb167b830193p-4,  // -9/32 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 8},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p+1,  // 8 * pi^-1
@@ -11224,7 +11652,7 @@ inline constexpr table::Kernel mollifier_M_6_order_4_D2 = {
         {detail_mollifier_M_6_order_4_D2::laplacian, 2},
         {detail_mollifier_M_6_order_4_D2::grad_over_r, 2},
         {detail_mollifier_M_6_order_4_D2::hess_radial, 2},
-        {detail_mollifier_M_6_order_4_D2::potential, 2},
+        {detail_mollifier_M_6_order_4_D2::potential, 3},
         {detail_mollifier_M_6_order_4_D2::dpotential, 3},
         {detail_mollifier_M_6_order_4_D2::dpotential_over_r, 3},
         {detail_mollifier_M_6_order_4_D2::potential_hess_radial, 3},
@@ -11845,27 +12273,67 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.60c18db2f88acp-2,  // -10909/10080 * pi^-1
-    0x1.cdd9b8278a032p+0,  // 57131/10080 * pi^-1
-    -0x1.b293ad8a65a5p+2,  // -215029/10080 * pi^-1
-    0x1.efb9c83d63976p+3,  // 490571/10080 * pi^-1
-    -0x1.61be2a0b7d1dap+4,  // -700129/10080 * pi^-1
-    0x1.400e37bd5b43dp+4,  // 126691/2016 * pi^-1
-    -0x1.661bd588e8d95p+3,  // -70877/2016 * pi^-1
-    0x1.c56a2cfd53f7ap+1,  // 3205/288 * pi^-1
-    -0x1.f1fa66ed7d5e4p-2,  // -55/36 * pi^-1
+    0x1.13050dca2412ep+1,  // 27/4 * pi^-1
+    -0x1.13050dca2412ep+3,  // -27 * pi^-1
+    0x1.6481cf814b34fp+4,  // 70 * pi^-1
+    -0x1.2ccd87151774bp+5,  // -945/8 * pi^-1
+    0x1.50e630e46c30cp+5,  // 1323/10 * pi^-1
+    -0x1.f31c2281cfb08p+4,  // -98 * pi^-1
+    0x1.d77660c83dd74p+3,  // 324/7 * pi^-1
+    -0x1.01d4bced81d1bp+2,  // -405/32 * pi^-1
+    0x1.f1fa66ed7d5e4p-2,  // 55/36 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.6481cf814b34fp-2,  // 35/32 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.f1fa66ed7d5e4p-2,  // -55/36 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 9},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.13050dca2412ep+2,  // 27/2 * pi^-1
@@ -11989,7 +12457,7 @@ inline constexpr table::Kernel mollifier_M_6_order_6_D2 = {
         {detail_mollifier_M_6_order_6_D2::laplacian, 2},
         {detail_mollifier_M_6_order_6_D2::grad_over_r, 2},
         {detail_mollifier_M_6_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_6_order_6_D2::potential, 2},
+        {detail_mollifier_M_6_order_6_D2::potential, 3},
         {detail_mollifier_M_6_order_6_D2::dpotential, 3},
         {detail_mollifier_M_6_order_6_D2::dpotential_over_r, 3},
         {detail_mollifier_M_6_order_6_D2::potential_hess_radial, 3},
@@ -12588,26 +13056,62 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.baf11cfb568b5p-3,  // -761/1120 * pi^-1
-    0x1.ae6d7f3b8dcabp-2,  // 1479/1120 * pi^-1
-    -0x1.63328c644b08fp-1,  // -2441/1120 * pi^-1
-    0x1.9559d8f3ccdf7p-1,  // 8357/3360 * pi^-1
-    -0x1.33a9c60ec98a7p-1,  // -6343/3360 * pi^-1
-    0x1.2954ed7f56686p-2,  // 613/672 * pi^-1
-    -0x1.4bc514b2d62f3p-4,  // -57/224 * pi^-1
-    0x1.45f306dc9c883p-7,  // 1/32 * pi^-1
+    0x1.45f306dc9c883p-1,  // 2 * pi^-1
+    -0x1.1d34a60108f72p+0,  // -7/2 * pi^-1
+    0x1.7c4632ac0bf43p+0,  // 14/3 * pi^-1
+    -0x1.6481cf814b34fp+0,  // -35/8 * pi^-1
+    0x1.c8543cce74beap-1,  // 14/5 * pi^-1
+    -0x1.7c4632ac0bf43p-2,  // -7/6 * pi^-1
+    0x1.7483758e69c03p-4,  // 2/7 * pi^-1
+    -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 8},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p+0,  // 4 * pi^-1
@@ -12722,7 +13226,7 @@ inline constexpr table::Kernel mollifier_M_7_D2 = {
         {detail_mollifier_M_7_D2::laplacian, 2},
         {detail_mollifier_M_7_D2::grad_over_r, 2},
         {detail_mollifier_M_7_D2::hess_radial, 2},
-        {detail_mollifier_M_7_D2::potential, 2},
+        {detail_mollifier_M_7_D2::potential, 3},
         {detail_mollifier_M_7_D2::dpotential, 3},
         {detail_mollifier_M_7_D2::dpotential_over_r, 3},
         {detail_mollifier_M_7_D2::potential_hess_radial, 3},
@@ -13317,27 +13821,67 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.38032cd764f9bp-2,  // -9649/10080 * pi^-1
-    0x1.20b09c8256dacp+0,  // 35711/10080 * pi^-1
-    -0x1.95b1cd531cb86p+1,  // -100369/10080 * pi^-1
-    0x1.6f90655883921p+2,  // 181871/10080 * pi^-1
-    -0x1.b293ad8a65a5p+2,  // -215029/10080 * pi^-1
-    0x1.4f7a7911ff5cbp+2,  // 33199/2016 * pi^-1
-    -0x1.474352dfa0a7ap+1,  // -16193/2016 * pi^-1
-    0x1.6f42458259425p-1,  // 649/288 * pi^-1
-    -0x1.6a2a7966e6d03p-4,  // -5/18 * pi^-1
+    0x1.6eb167b830193p+0,  // 9/2 * pi^-1
+    -0x1.13050dca2412ep+2,  // -27/2 * pi^-1
+    0x1.1d34a60108f72p+3,  // 28 * pi^-1
+    -0x1.91120971749b9p+3,  // -315/8 * pi^-1
+    0x1.8107134e3280ep+3,  // 189/5 * pi^-1
+    -0x1.f31c2281cfb08p+2,  // -49/2 * pi^-1
+    0x1.a313e44036f83p+1,  // 72/7 * pi^-1
+    -0x1.9c8794af361c5p-1,  // -81/32 * pi^-1
+    0x1.6a2a7966e6d03p-4,  // 5/18 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.6a2a7966e6d03p-4,  // -5/18 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 9},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.6eb167b830193p+1,  // 9 * pi^-1
@@ -13458,7 +14002,7 @@ inline constexpr table::Kernel mollifier_M_7_order_4_D2 = {
         {detail_mollifier_M_7_order_4_D2::laplacian, 2},
         {detail_mollifier_M_7_order_4_D2::grad_over_r, 2},
         {detail_mollifier_M_7_order_4_D2::hess_radial, 2},
-        {detail_mollifier_M_7_order_4_D2::potential, 2},
+        {detail_mollifier_M_7_order_4_D2::potential, 3},
         {detail_mollifier_M_7_order_4_D2::dpotential, 3},
         {detail_mollifier_M_7_order_4_D2::dpotential_over_r, 3},
         {detail_mollifier_M_7_order_4_D2::potential_hess_radial, 3},
@@ -14095,28 +14639,72 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.68e7a112160e2p-2,  // -11161/10080 * pi^-1
-    0x1.0476e24c8ffdep+1,  // 64439/10080 * pi^-1
-    -0x1.16a898a989182p+3,  // -275761/10080 * pi^-1
-    0x1.71f76e63f008bp+4,  // 732239/10080 * pi^-1
-    -0x1.3c5ad49bd9be1p+5,  // -1252261/10080 * pi^-1
-    0x1.65718d2cfea36p+5,  // 1414907/10080 * pi^-1
-    -0x1.0a719df544f94p+5,  // -1054693/10080 * pi^-1
-    0x1.f9c4201bba3ddp+3,  // 71501/1440 * pi^-1
-    -0x1.159f706c149cep+2,  // -2453/180 * pi^-1
-    0x1.0ce87f42cdf05p-1,  // 33/20 * pi^-1
+    0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
+    -0x1.57c6513cad17ap+3,  // -135/4 * pi^-1
+    0x1.fd4bbab8b494cp+4,  // 100 * pi^-1
+    -0x1.f5568bcdd1c27p+5,  // -1575/8 * pi^-1
+    0x1.50e630e46c30cp+6,  // 1323/5 * pi^-1
+    -0x1.37f1959121ce5p+6,  // -245 * pi^-1
+    0x1.88e2a5fc3388bp+5,  // 1080/7 * pi^-1
+    -0x1.4249ec28e2462p+4,  // -2025/32 * pi^-1
+    0x1.373c80546e5afp+2,  // 275/18 * pi^-1
+    -0x1.0ce87f42cdf05p-1,  // -33/20 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    0x1.8e61ebf131183p-2,  // 11/9 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.0ce87f42cdf05p-1,  // -33/20 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 10},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.3193d66ed2bfap+2,  // 15 * pi^-1
@@ -14243,7 +14831,7 @@ inline constexpr table::Kernel mollifier_M_7_order_6_D2 = {
         {detail_mollifier_M_7_order_6_D2::laplacian, 2},
         {detail_mollifier_M_7_order_6_D2::grad_over_r, 2},
         {detail_mollifier_M_7_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_7_order_6_D2::potential, 2},
+        {detail_mollifier_M_7_order_6_D2::potential, 3},
         {detail_mollifier_M_7_order_6_D2::dpotential, 3},
         {detail_mollifier_M_7_order_6_D2::dpotential_over_r, 3},
         {detail_mollifier_M_7_order_6_D2::potential_hess_radial, 3},
@@ -14858,27 +15446,67 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.cd0cd6407baf5p-3,  // -7129/10080 * pi^-1
-    0x1.f6dc6450225abp-2,  // 15551/10080 * pi^-1
-    -0x1.e1f49d484f05p-1,  // -29809/10080 * pi^-1
-    0x1.496efd5dea6bcp+0,  // 40751/10080 * pi^-1
-    -0x1.3847782469c05p+0,  // -38629/10080 * pi^-1
-    0x1.922e9887b32c5p-1,  // 4975/2016 * pi^-1
-    -0x1.507566f4bd83fp-2,  // -2081/2016 * pi^-1
-    0x1.4a79f52de5d13p-4,  // 73/288 * pi^-1
-    -0x1.21bb945252402p-7,  // -1/36 * pi^-1
+    0x1.6eb167b830193p-1,  // 9/4 * pi^-1
+    -0x1.6eb167b830193p+0,  // -9/2 * pi^-1
+    0x1.1d34a60108f72p+1,  // 7 * pi^-1
+    -0x1.40db3ac12a161p+1,  // -63/8 * pi^-1
+    0x1.00af623421ab4p+1,  // 63/10 * pi^-1
+    -0x1.1d34a60108f72p+0,  // -7/2 * pi^-1
+    0x1.a313e44036f83p-2,  // 9/7 * pi^-1
+    -0x1.6eb167b830193p-4,  // -9/32 * pi^-1
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-7,  // -1/36 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 9},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.6eb167b830193p+0,  // 9/2 * pi^-1
@@ -14996,7 +15624,7 @@ inline constexpr table::Kernel mollifier_M_8_D2 = {
         {detail_mollifier_M_8_D2::laplacian, 2},
         {detail_mollifier_M_8_D2::grad_over_r, 2},
         {detail_mollifier_M_8_D2::hess_radial, 2},
-        {detail_mollifier_M_8_D2::potential, 2},
+        {detail_mollifier_M_8_D2::potential, 3},
         {detail_mollifier_M_8_D2::dpotential, 3},
         {detail_mollifier_M_8_D2::dpotential_over_r, 3},
         {detail_mollifier_M_8_D2::potential_hess_radial, 3},
@@ -15607,28 +16235,72 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.40294036827d2p-2,  // -9901/10080 * pi^-1
-    0x1.47657886230afp+0,  // 40499/10080 * pi^-1
-    -0x1.05ecf31b2454ep+2,  // -129601/10080 * pi^-1
-    0x1.14794f06317fcp+3,  // 273599/10080 * pi^-1
-    -0x1.87fa160c3b838p+3,  // -387901/10080 * pi^-1
-    0x1.7a141090297e3p+3,  // 374147/10080 * pi^-1
-    -0x1.eb9e3524343cdp+2,  // -243253/10080 * pi^-1
-    0x1.9db08e8da4171p+1,  // 14621/1440 * pi^-1
-    -0x1.97e3ad357e318p-1,  // -901/360 * pi^-1
-    0x1.668b54591295dp-4,  // 11/40 * pi^-1
+    0x1.976fc893c3aa3p+0,  // 5 * pi^-1
+    -0x1.57c6513cad17ap+2,  // -135/8 * pi^-1
+    0x1.976fc893c3aa3p+3,  // 40 * pi^-1
+    -0x1.4e39b2893681ap+4,  // -525/8 * pi^-1
+    0x1.8107134e3280ep+4,  // 378/5 * pi^-1
+    -0x1.37f1959121ce5p+4,  // -245/4 * pi^-1
+    0x1.5d3b3e3583243p+3,  // 240/7 * pi^-1
+    -0x1.01d4bced81d1bp+2,  // -405/32 * pi^-1
+    0x1.c4b517c0a0844p-1,  // 25/9 * pi^-1
+    -0x1.668b54591295dp-4,  // -11/40 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-7,  // -1/36 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.668b54591295dp-4,  // -11/40 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 10},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.976fc893c3aa3p+1,  // 10 * pi^-1
@@ -15752,7 +16424,7 @@ inline constexpr table::Kernel mollifier_M_8_order_4_D2 = {
         {detail_mollifier_M_8_order_4_D2::laplacian, 2},
         {detail_mollifier_M_8_order_4_D2::grad_over_r, 2},
         {detail_mollifier_M_8_order_4_D2::hess_radial, 2},
-        {detail_mollifier_M_8_order_4_D2::potential, 2},
+        {detail_mollifier_M_8_order_4_D2::potential, 3},
         {detail_mollifier_M_8_order_4_D2::dpotential, 3},
         {detail_mollifier_M_8_order_4_D2::dpotential_over_r, 3},
         {detail_mollifier_M_8_order_4_D2::potential_hess_radial, 3},
@@ -16405,29 +17077,77 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.70500fc5a53fcp-2,  // -125291/110880 * pi^-1
-    0x1.22189d1accc47p+1,  // 789469/110880 * pi^-1
-    -0x1.5ba51f91ae967p+3,  // -3784331/110880 * pi^-1
-    0x1.073ac87a9080bp+5,  // 11461669/110880 * pi^-1
-    -0x1.064b2e2d936acp+6,  // -22841831/110880 * pi^-1
-    0x1.635ad61fdd995p+6,  // 30946057/110880 * pi^-1
-    -0x1.4aebd9529ff96p+6,  // -28818263/110880 * pi^-1
-    0x1.a29795d04dc52p+5,  // 2603791/15840 * pi^-1
-    -0x1.588a8b9ff776ep+4,  // -33487/495 * pi^-1
-    0x1.4da2935081187p+2,  // 3603/220 * pi^-1
-    -0x1.20e8dd5ad08ffp-1,  // -39/22 * pi^-1
+    0x1.50229f13816c7p+1,  // 33/4 * pi^-1
+    -0x1.a42b46d861c78p+3,  // -165/4 * pi^-1
+    0x1.5e24105efc264p+5,  // 275/2 * pi^-1
+    -0x1.89e8926adbab1p+6,  // -2475/8 * pi^-1
+    0x1.34d30226b882p+7,  // 4851/10 * pi^-1
+    -0x1.572357b93ec96p+7,  // -539 * pi^-1
+    0x1.0e1bd21d636ep+7,  // 2970/7 * pi^-1
+    -0x1.276e6dd024c05p+6,  // -7425/32 * pi^-1
+    0x1.abf3307417bdp+4,  // 3025/36 * pi^-1
+    -0x1.71bfaefbdb2a7p+2,  // -363/20 * pi^-1
+    0x1.20e8dd5ad08ffp-1,  // 39/22 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-7,  // -1/36 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.b808161039b7dp-2,  // 27/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.20e8dd5ad08ffp-1,  // -39/22 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 11, 0, potential_1_10, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 11},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.50229f13816c7p+2,  // 33/2 * pi^-1
@@ -16557,7 +17277,7 @@ inline constexpr table::Kernel mollifier_M_8_order_6_D2 = {
         {detail_mollifier_M_8_order_6_D2::laplacian, 2},
         {detail_mollifier_M_8_order_6_D2::grad_over_r, 2},
         {detail_mollifier_M_8_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_8_order_6_D2::potential, 2},
+        {detail_mollifier_M_8_order_6_D2::potential, 3},
         {detail_mollifier_M_8_order_6_D2::dpotential, 3},
         {detail_mollifier_M_8_order_6_D2::dpotential_over_r, 3},
         {detail_mollifier_M_8_order_6_D2::potential_hess_radial, 3},
@@ -17188,28 +17908,72 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.dd58fcfeb6b62p-3,  // -7381/10080 * pi^-1
-    0x1.2019895415fcbp-1,  // 17819/10080 * pi^-1
-    -0x1.3a50fcfc31212p+0,  // -38881/10080 * pi^-1
-    0x1.f48e942b56334p+0,  // 61919/10080 * pi^-1
-    -0x1.1c7b6d2c45b5cp+1,  // -70381/10080 * pi^-1
-    0x1.c9c6ae77fb416p+0,  // 56627/10080 * pi^-1
-    -0x1.fe79e1153650fp-1,  // -31573/10080 * pi^-1
-    0x1.77f936ab9feedp-2,  // 1661/1440 * pi^-1
-    -0x1.49922bea70c29p-4,  // -91/360 * pi^-1
-    0x1.04c26be3b06cfp-7,  // 1/40 * pi^-1
+    0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
+    -0x1.ca5dc1a63c1f8p+0,  // -45/8 * pi^-1
+    0x1.976fc893c3aa3p+1,  // 10 * pi^-1
+    -0x1.0b615ba0f867bp+2,  // -105/8 * pi^-1
+    0x1.00af623421ab4p+2,  // 63/5 * pi^-1
+    -0x1.6481cf814b34fp+1,  // -35/4 * pi^-1
+    0x1.5d3b3e3583243p+0,  // 30/7 * pi^-1
+    -0x1.ca5dc1a63c1f8p-2,  // -45/32 * pi^-1
+    0x1.6a2a7966e6d03p-4,  // 5/18 * pi^-1
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-7,  // -1/36 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 10},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
@@ -17330,7 +18094,7 @@ inline constexpr table::Kernel mollifier_M_9_D2 = {
         {detail_mollifier_M_9_D2::laplacian, 2},
         {detail_mollifier_M_9_D2::grad_over_r, 2},
         {detail_mollifier_M_9_D2::hess_radial, 2},
-        {detail_mollifier_M_9_D2::potential, 2},
+        {detail_mollifier_M_9_D2::potential, 3},
         {detail_mollifier_M_9_D2::dpotential, 3},
         {detail_mollifier_M_9_D2::dpotential_over_r, 3},
         {detail_mollifier_M_9_D2::potential_hess_radial, 3},
@@ -17957,29 +18721,77 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.4791aeea11aecp-2,  // -111431/110880 * pi^-1
-    0x1.6e49bdb4d2cf9p+0,  // 498409/110880 * pi^-1
-    -0x1.4898d76b2d13ap+2,  // -1788491/110880 * pi^-1
-    0x1.8bed481596803p+3,  // 4309909/110880 * pi^-1
-    -0x1.473f7483aef95p+4,  // -7124591/110880 * pi^-1
-    0x1.7aa2d98bad9d9p+4,  // 8243377/110880 * pi^-1
-    -0x1.33a3d5e6cff52p+4,  // -6697703/110880 * pi^-1
-    0x1.591b3f4588b94p+3,  // 536671/15840 * pi^-1
-    -0x1.fe55c1b7951cdp+1,  // -49601/3960 * pi^-1
-    0x1.c08cfbc51e642p-1,  // 1211/440 * pi^-1
-    -0x1.6394c1aad94ecp-4,  // -3/11 * pi^-1
+    0x1.c02e296f573b4p+0,  // 11/2 * pi^-1
+    -0x1.a42b46d861c78p+2,  // -165/8 * pi^-1
+    0x1.181cd9e59685p+4,  // 55 * pi^-1
+    -0x1.069b0c473d1cbp+5,  // -825/8 * pi^-1
+    0x1.60f12707ae4b7p+5,  // 693/5 * pi^-1
+    -0x1.572357b93ec96p+5,  // -539/4 * pi^-1
+    0x1.e03175899451cp+4,  // 660/7 * pi^-1
+    -0x1.d8b0afb36e007p+3,  // -1485/32 * pi^-1
+    0x1.373c80546e5afp+2,  // 275/18 * pi^-1
+    -0x1.ecff93fa798dfp-1,  // -121/40 * pi^-1
+    0x1.6394c1aad94ecp-4,  // 3/11 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-7,  // -1/36 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.6394c1aad94ecp-4,  // -3/11 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 11, 0, potential_1_10, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 11},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.c02e296f573b4p+1,  // 11 * pi^-1
@@ -18106,7 +18918,7 @@ inline constexpr table::Kernel mollifier_M_9_order_4_D2 = {
         {detail_mollifier_M_9_order_4_D2::laplacian, 2},
         {detail_mollifier_M_9_order_4_D2::grad_over_r, 2},
         {detail_mollifier_M_9_order_4_D2::hess_radial, 2},
-        {detail_mollifier_M_9_order_4_D2::potential, 2},
+        {detail_mollifier_M_9_order_4_D2::potential, 3},
         {detail_mollifier_M_9_order_4_D2::dpotential, 3},
         {detail_mollifier_M_9_order_4_D2::dpotential_over_r, 3},
         {detail_mollifier_M_9_order_4_D2::potential_hess_radial, 3},
@@ -18775,30 +19587,82 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.771a753f932d4p-2,  // -127601/110880 * pi^-1
-    0x1.3fce19103db38p+1,  // 870319/110880 * pi^-1
-    -0x1.a840685932b5cp+3,  // -4618241/110880 * pi^-1
-    0x1.68caa66858dafp+5,  // 15709759/110880 * pi^-1
-    -0x1.9a77886c1d132p+6,  // -35745491/110880 * pi^-1
-    0x1.442df65576e7ap+7,  // 56462317/110880 * pi^-1
-    -0x1.6a18b91d06ab1p+7,  // -63066323/110880 * pi^-1
-    0x1.1e2a0bf64e5cep+7,  // 7120171/15840 * pi^-1
-    -0x1.39f73183d1872p+6,  // -1952977/7920 * pi^-1
-    0x1.c7effbc118d77p+4,  // 236341/2640 * pi^-1
-    -0x1.8abe2ae2bfa12p+2,  // -10231/528 * pi^-1
-    0x1.34f9092bc9b67p-1,  // 91/48 * pi^-1
+    0x1.6eb167b830193p+1,  // 9 * pi^-1
+    -0x1.f833ee9d4222ap+3,  // -99/2 * pi^-1
+    0x1.d2dac07ea5886p+5,  // 550/3 * pi^-1
+    -0x1.276e6dd024c05p+7,  // -7425/16 * pi^-1
+    0x1.08b4dd45c2b89p+8,  // 4158/5 * pi^-1
+    -0x1.572357b93ec96p+8,  // -1078 * pi^-1
+    0x1.44216289aa84p+8,  // 7128/7 * pi^-1
+    -0x1.bb25a4b837207p+7,  // -22275/32 * pi^-1
+    0x1.abf3307417bdp+6,  // 3025/9 * pi^-1
+    -0x1.154fc33ce45fep+5,  // -1089/10 * pi^-1
+    0x1.b15d4c0838d7fp+2,  // 234/11 * pi^-1
+    -0x1.34f9092bc9b67p-1,  // -91/48 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 13},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-7,  // -1/36 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    0x1.e1841b975b9aap-2,  // 65/44 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.34f9092bc9b67p-1,  // -91/48 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r2, 12, 0, potential_1_11, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 12},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.6eb167b830193p+2,  // 18 * pi^-1
@@ -18931,7 +19795,7 @@ inline constexpr table::Kernel mollifier_M_9_order_6_D2 = {
         {detail_mollifier_M_9_order_6_D2::laplacian, 2},
         {detail_mollifier_M_9_order_6_D2::grad_over_r, 2},
         {detail_mollifier_M_9_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_9_order_6_D2::potential, 2},
+        {detail_mollifier_M_9_order_6_D2::potential, 3},
         {detail_mollifier_M_9_order_6_D2::dpotential, 3},
         {detail_mollifier_M_9_order_6_D2::dpotential_over_r, 3},
         {detail_mollifier_M_9_order_6_D2::potential_hess_radial, 3},

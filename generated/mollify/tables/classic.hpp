@@ -286,22 +286,42 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.5387d1d078633p-3,  // -25/48 * pi^-1
-    0x1.385e3be8c0ad3p-3,  // 23/48 * pi^-1
-    -0x1.611c9cc4543e3p-4,  // -13/48 * pi^-1
-    0x1.45f306dc9c883p-6,  // 1/16 * pi^-1
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
+    0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 4},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-1,  // 2 * pi^-1
@@ -404,7 +424,7 @@ inline constexpr table::Kernel poly6_D2 = {
         {detail_poly6_D2::laplacian, 2},
         {detail_poly6_D2::grad_over_r, 2},
         {detail_poly6_D2::hess_radial, 2},
-        {detail_poly6_D2::potential, 2},
+        {detail_poly6_D2::potential, 3},
         {detail_poly6_D2::dpotential, 3},
         {detail_poly6_D2::dpotential_over_r, 3},
         {detail_poly6_D2::potential_hess_radial, 3},
@@ -897,23 +917,47 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.a24d37bd40597p-3,  // -77/120 * pi^-1
-    -0x1.a24d37bd40597p-3,  // -77/120 * pi^-1
-    0x1.2edc7aa47393ep-1,  // 223/120 * pi^-1
-    -0x1.e0c676ebcd48ep-2,  // -59/40 * pi^-1
-    0x1.04c26be3b06cfp-3,  // 2/5 * pi^-1
+    0x0p+0,  // 0
+    0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
+    -0x1.0f9fdb0d2d1c2p+0,  // -10/3 * pi^-1
+    0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
+    -0x1.04c26be3b06cfp-3,  // -2/5 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.04c26be3b06cfp-3,  // 2/5 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p+0, potential_1, 5},  // [1/4, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
@@ -1019,7 +1063,7 @@ inline constexpr table::Kernel spiky_D2 = {
         {detail_spiky_D2::laplacian, 2},
         {detail_spiky_D2::grad_over_r, 2},
         {detail_spiky_D2::hess_radial, 2},
-        {detail_spiky_D2::potential, 2},
+        {detail_spiky_D2::potential, 3},
         {detail_spiky_D2::dpotential, 3},
         {detail_spiky_D2::dpotential_over_r, 3},
         {detail_spiky_D2::potential_hess_radial, 3},
@@ -1310,23 +1354,47 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.3dccf37d7f04cp-2,  // -39/40 * pi^-1
-    0x1.c2e58539b667p-3,  // 83/120 * pi^-1
-    -0x1.7168c3828f45p-5,  // -17/120 * pi^-1
-    -0x1.7168c3828f45p-5,  // -17/120 * pi^-1
-    0x1.5bade52f95e69p-6,  // 1/15 * pi^-1
+    0x1.0f9fdb0d2d1c2p-1,  // 5/3 * pi^-1
+    -0x1.0f9fdb0d2d1c2p-2,  // -5/6 * pi^-1
+    0x0p+0,  // 0
+    0x1.0f9fdb0d2d1c2p-4,  // 5/24 * pi^-1
+    -0x1.5bade52f95e69p-6,  // -1/15 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.5bade52f95e69p-6,  // 1/15 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 5},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.0f9fdb0d2d1c2p-1,  // 5/3 * pi^-1
@@ -1436,7 +1504,7 @@ inline constexpr table::Kernel viscosity_D2 = {
         {detail_viscosity_D2::laplacian, 2},
         {detail_viscosity_D2::grad_over_r, 2},
         {detail_viscosity_D2::hess_radial, 2},
-        {detail_viscosity_D2::potential, 2},
+        {detail_viscosity_D2::potential, 3},
         {detail_viscosity_D2::dpotential, 3},
         {detail_viscosity_D2::dpotential_over_r, 3},
         {detail_viscosity_D2::potential_hess_radial, 3},
@@ -2036,18 +2104,30 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
-    -0x1.de0f1b216e1d1p-3,  // -11/15 * pi^-1
-    -0x1.de0f1b216e1d1p-3,  // -11/15 * pi^-1
-    0x1.5a208c29a8a9p-1,  // 223/105 * pi^-1
-    -0x1.12ba8d1907975p-1,  // -59/35 * pi^-1
-    0x1.2a02c471ee336p-3,  // 16/35 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    -0x1.7483758e69c03p-3,  // -4/7 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.7483758e69c03p-4,  // -2/7 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.f0af47688d004p-5,  // -4/21 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.7483758e69c03p-5,  // -1/7 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.2a02c471ee336p-3,  // 16/35 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 5},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2057,7 +2137,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 6},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -2611,19 +2691,27 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 2},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 1},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2711,7 +2799,7 @@ inline constexpr table::Kernel box_D2 = {
         {detail_box_D2::laplacian, 2},
         {detail_box_D2::grad_over_r, 2},
         {detail_box_D2::hess_radial, 2},
-        {detail_box_D2::potential, 2},
+        {detail_box_D2::potential, 3},
         {detail_box_D2::dpotential, 3},
         {detail_box_D2::dpotential_over_r, 3},
         {detail_box_D2::potential_hess_radial, 3},

@@ -412,20 +412,38 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.11b1a7151418fp-4,  // 529/2520 * pi^-1
-    0x1.11b1a7151418fp-4,  // 529/2520 * pi^-1
-    -0x1.e6dabe4303cf7p-4,  // -941/2520 * pi^-1
-    -0x1.e6dabe4303cf7p-4,  // -941/2520 * pi^-1
-    0x1.61a10fc64dfd6p-2,  // 1367/1260 * pi^-1
-    -0x1.fd9e8299f0ac4p-3,  // -197/252 * pi^-1
-    0x1.f0af47688d004p-5,  // 4/21 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-5,  // 1/6 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-6,  // 1/18 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-7,  // 1/30 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.d6d0d105c5a84p-4,  // -13/36 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.f0af47688d004p-5,  // 4/21 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 7},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_7, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -435,7 +453,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 8},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -1261,21 +1279,42 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.2cdb3cfccbcefp-4,  // 1163/5040 * pi^-1
-    0x1.2cdb3cfccbcefp-4,  // 1163/5040 * pi^-1
-    -0x1.649aa511aa08cp-3,  // -919/1680 * pi^-1
-    -0x1.649aa511aa08cp-3,  // -919/1680 * pi^-1
-    0x1.82311612a46f1p-1,  // 1327/560 * pi^-1
-    -0x1.a90f56070eaafp-1,  // -2629/1008 * pi^-1
-    0x1.a175fcda0a82bp-2,  // 1291/1008 * pi^-1
-    -0x1.3ce52a3a09f63p-4,  // -35/144 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-5,  // 1/6 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-6,  // 1/18 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-7,  // 1/30 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.12361a170dd82p-3,  // -53/126 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    0x1.3ce52a3a09f63p-4,  // 35/144 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 8},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_8, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1285,7 +1324,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 9},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -2142,22 +2181,46 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45003403a7fefp-4,  // 3769/15120 * pi^-1
-    0x1.45003403a7fefp-4,  // 3769/15120 * pi^-1
-    -0x1.e965f3b76510ep-3,  // -11351/15120 * pi^-1
-    -0x1.e965f3b76510ep-3,  // -11351/15120 * pi^-1
-    0x1.6ea23a8aa0d0ap+0,  // 68029/15120 * pi^-1
-    -0x1.11031f8924565p+1,  // -20263/3024 * pi^-1
-    0x1.94a93f9bd535dp+0,  // 15017/3024 * pi^-1
-    -0x1.3437e17392d4fp-1,  // -817/432 * pi^-1
-    0x1.824f706dc3003p-4,  // 8/27 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-5,  // 1/6 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-6,  // 1/18 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-7,  // 1/30 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.f0af47688d004p-8,  // 1/42 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.385e3be8c0ad3p-3,  // -23/48 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.824f706dc3003p-4,  // 8/27 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 9},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_9, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2167,7 +2230,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 10},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -3066,23 +3129,50 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.2f4555b0aea09p-4,  // 3517/15120 * pi^-1
-    0x1.2f4555b0aea09p-4,  // 3517/15120 * pi^-1
-    -0x1.5149df72937cp-3,  // -7823/15120 * pi^-1
-    -0x1.5149df72937cp-3,  // -7823/15120 * pi^-1
-    0x1.91c45c48c8305p-2,  // 18637/15120 * pi^-1
-    0x1.91c45c48c8305p-2,  // 18637/15120 * pi^-1
-    -0x1.76e6a844dce53p+0,  // -69563/15120 * pi^-1
-    0x1.722042d7f69b3p+0,  // 9811/2160 * pi^-1
-    -0x1.4944e8d3f4686p-1,  // -1091/540 * pi^-1
-    0x1.c8543cce74beap-4,  // 7/20 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-5,  // 1/6 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-6,  // 1/18 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-7,  // 1/30 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.f0af47688d004p-8,  // 1/42 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.3f28a162ae9abp-2,  // -47/48 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.7033b7289ddc3p-2,  // 61/54 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.c8543cce74beap-4,  // -7/20 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 10},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_10, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -3092,7 +3182,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 11},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -4032,24 +4122,54 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.43067ce4d724fp-4,  // 41207/166320 * pi^-1
-    0x1.43067ce4d724fp-4,  // 41207/166320 * pi^-1
-    -0x1.b40fa3775e11dp-3,  // -111253/166320 * pi^-1
-    -0x1.b40fa3775e11dp-3,  // -111253/166320 * pi^-1
-    0x1.532a40917fb6cp-1,  // 346127/166320 * pi^-1
-    0x1.532a40917fb6cp-1,  // 346127/166320 * pi^-1
-    -0x1.b615f58830821p+1,  // -1788313/166320 * pi^-1
-    0x1.2529c6dfb9274p+2,  // 341921/23760 * pi^-1
-    -0x1.8a116ce41c832p+1,  // -57451/5940 * pi^-1
-    0x1.12379b659f3a5p+0,  // 2221/660 * pi^-1
-    -0x1.3c1273428846p-3,  // -16/33 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-5,  // 1/6 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-6,  // 1/18 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-7,  // 1/30 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.f0af47688d004p-8,  // 1/42 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    0x1.b2995e7b7b604p-8,  // 1/48 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.8858ae2f7a0c3p-2,  // -65/54 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    0x1.e37dd2b62c74ap-2,  // 89/60 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.3c1273428846p-3,  // -16/33 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 11},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_11, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -4059,7 +4179,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 12},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -5029,25 +5149,58 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 13},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.55223629fc48fp-4,  // 43517/166320 * pi^-1
-    0x1.55223629fc48fp-4,  // 43517/166320 * pi^-1
-    -0x1.1142c6ce93839p-2,  // -27887/33264 * pi^-1
-    -0x1.1142c6ce93839p-2,  // -27887/33264 * pi^-1
-    0x1.0bd1ed5fdc8b9p+0,  // 109327/33264 * pi^-1
-    0x1.0bd1ed5fdc8b9p+0,  // 109327/33264 * pi^-1
-    -0x1.c7ec0a54994cep+2,  // -744449/33264 * pi^-1
-    0x1.82afb000aea38p+3,  // 901997/23760 * pi^-1
-    -0x1.5c9c0bf9fc79bp+3,  // -406589/11880 * pi^-1
-    0x1.6d225d39df4d2p+2,  // 23659/1320 * pi^-1
-    -0x1.a5d205ec245ddp+0,  // -6833/1320 * pi^-1
-    0x1.a24d37bd40597p-3,  // 77/120 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-5,  // 1/6 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-6,  // 1/18 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-7,  // 1/30 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.f0af47688d004p-8,  // 1/42 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    0x1.b2995e7b7b604p-8,  // 1/48 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.824f706dc3003p-8,  // 1/54 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.d8a0638cafc57p-2,  // -29/20 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    0x1.32b04d70283a5p-1,  // 207/110 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.a24d37bd40597p-3,  // -77/120 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 12},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_12, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5057,7 +5210,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 13},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -6073,26 +6226,62 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 14},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.46ce62df95c19p-4,  // 77423/308880 * pi^-1
-    0x1.46ce62df95c19p-4,  // 77423/308880 * pi^-1
-    -0x1.b9ee6d97a0f79p-3,  // -1465759/2162160 * pi^-1
-    -0x1.b9ee6d97a0f79p-3,  // -1465759/2162160 * pi^-1
-    0x1.31af41ef31e6dp-1,  // 579353/308880 * pi^-1
-    0x1.31af41ef31e6dp-1,  // 579353/308880 * pi^-1
-    -0x1.920c30cf3492ep+0,  // -10667809/2162160 * pi^-1
-    -0x1.920c30cf3492ep+0,  // -10667809/2162160 * pi^-1
-    0x1.bdb5364be52b7p+2,  // 23652553/1081080 * pi^-1
-    -0x1.0e61ad8ac41a8p+3,  // -3188543/120120 * pi^-1
-    0x1.4d30428395181p+2,  // 392921/24024 * pi^-1
-    -0x1.ac380a6459b7fp+0,  // -11477/2184 * pi^-1
-    0x1.ca7a694cd0ec9p-3,  // 64/91 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-5,  // 1/6 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-6,  // 1/18 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-7,  // 1/30 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.f0af47688d004p-8,  // 1/42 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    0x1.b2995e7b7b604p-8,  // 1/48 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.824f706dc3003p-8,  // 1/54 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.b93218d4aba6p-1,  // -379/140 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    0x1.94ca7c7835188p+0,  // 765/154 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.037f938edfaaep+0,  // -535/168 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    0x1.ca7a694cd0ec9p-3,  // 64/91 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 13},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_13, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6102,7 +6291,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 14},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -7161,27 +7350,66 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 15},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.5653dd1ada299p-4,  // 567701/2162160 * pi^-1
-    0x1.5653dd1ada299p-4,  // 567701/2162160 * pi^-1
-    -0x1.0b87a57d9db3dp-2,  // -1774639/2162160 * pi^-1
-    -0x1.0b87a57d9db3dp-2,  // -1774639/2162160 * pi^-1
-    0x1.c0de9651ef598p-1,  // 5955083/2162160 * pi^-1
-    0x1.c0de9651ef598p-1,  // 5955083/2162160 * pi^-1
-    -0x1.754fb1f977ff2p+1,  // -19810657/2162160 * pi^-1
-    -0x1.754fb1f977ff2p+1,  // -19810657/2162160 * pi^-1
-    0x1.0ff6db35f9043p+4,  // 57729739/1081080 * pi^-1
-    -0x1.a290bdc16d25cp+4,  // -9872077/120120 * pi^-1
-    0x1.5a246c248c7dcp+4,  // 8163941/120120 * pi^-1
-    -0x1.4ef31e4f21e8p+3,  // -359089/10920 * pi^-1
-    0x1.678d39344dcb5p+1,  // 16061/1820 * pi^-1
-    -0x1.4cef1777481d6p-2,  // -143/140 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-5,  // 1/6 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-6,  // 1/18 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-7,  // 1/30 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.f0af47688d004p-8,  // 1/42 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    0x1.b2995e7b7b604p-8,  // 1/48 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.824f706dc3003p-8,  // 1/54 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    0x1.5bade52f95e69p-8,  // 1/60 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.194137c367431p+0,  // -1139/330 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    0x1.0f48ef93e136bp+1,  // 799/120 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    -0x1.6aee99db0ec8ep+0,  // -579/130 * pi^-1
+};
+inline constexpr double potential_1_14[] = {
+    0x1.4cef1777481d6p-2,  // 143/140 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 14},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_13, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_14, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -7191,7 +7419,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 15},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -8280,28 +8508,70 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 16},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.64d071522b133p-4,  // 118345/432432 * pi^-1
-    0x1.64d071522b133p-4,  // 118345/432432 * pi^-1
-    -0x1.3e3bac3f38e57p-2,  // -422195/432432 * pi^-1
-    -0x1.3e3bac3f38e57p-2,  // -422195/432432 * pi^-1
-    0x1.3db1454d108cap+0,  // 1685911/432432 * pi^-1
-    0x1.3db1454d108cap+0,  // 1685911/432432 * pi^-1
-    -0x1.452f224db1b97p+2,  // -6902669/432432 * pi^-1
-    -0x1.452f224db1b97p+2,  // -6902669/432432 * pi^-1
-    0x1.2cbd4546193afp+5,  // 25535123/216216 * pi^-1
-    -0x1.19361cf7933ccp+6,  // -15918031/72072 * pi^-1
-    0x1.2451c274e7fddp+6,  // 82734007/360360 * pi^-1
-    -0x1.7a64b244e7399p+5,  // -4867963/32760 * pi^-1
-    0x1.314eaafcb6effp+4,  // 981931/16380 * pi^-1
-    -0x1.1b26fd9131c85p+2,  // -17513/1260 * pi^-1
-    0x1.cf9286ea1d337p-2,  // 64/45 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-5,  // 1/6 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-6,  // 1/18 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-7,  // 1/30 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.f0af47688d004p-8,  // 1/42 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    0x1.b2995e7b7b604p-8,  // 1/48 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.824f706dc3003p-8,  // 1/54 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    0x1.5bade52f95e69p-8,  // 1/60 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    0x1.3c1273428846p-8,  // 1/66 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.5ffae13001ebfp+0,  // -311/72 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    0x1.61a255cdb5507p+1,  // 677/78 * pi^-1
+};
+inline constexpr double potential_1_14[] = {
+    -0x1.e9e4e1ee9f12cp+0,  // -505/84 * pi^-1
+};
+inline constexpr double potential_1_15[] = {
+    0x1.cf9286ea1d337p-2,  // 64/45 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 15},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_13, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_14, 1},
+    {table::Basis::one, 0, table::Var::r, 15, 0, potential_1_15, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -8311,7 +8581,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 16},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -9260,18 +9530,30 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.f02ad46693411p-5,  // 137/720 * pi^-1
-    -0x1.272a4be71097cp-4,  // -163/720 * pi^-1
-    0x1.f02ad46693411p-5,  // 137/720 * pi^-1
-    -0x1.c8543cce74beap-6,  // -7/80 * pi^-1
-    0x1.5bade52f95e69p-8,  // 1/60 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-8,  // 1/48 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-8,  // 1/60 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 5},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_5, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -9281,7 +9563,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 6},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -10206,23 +10488,50 @@ inline constexpr table::Term potential_0[] = {
     {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.3e3b535479cecp-4,  // 7381/30240 * pi^-1
-    -0x1.80220c701d50ep-3,  // -17819/30240 * pi^-1
-    0x1.a316a6a596d6ep-2,  // 38881/30240 * pi^-1
-    -0x1.4db462c78eccep-1,  // -61919/30240 * pi^-1
-    0x1.7b4f3c3b079dp-1,  // 70381/30240 * pi^-1
-    -0x1.312f1efaa780fp-1,  // -56627/30240 * pi^-1
-    0x1.545140b8cee0ap-2,  // 31573/30240 * pi^-1
-    -0x1.f54c48e4d53e7p-4,  // -1661/4320 * pi^-1
-    0x1.b76d8fe341037p-6,  // 91/1080 * pi^-1
-    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
 };
+inline constexpr double potential_1_1[] = {
+    0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    0x1.b2995e7b7b604p-7,  // 1/24 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.21bb945252402p-7,  // 1/36 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.b2995e7b7b604p-8,  // 1/48 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.5bade52f95e69p-8,  // 1/60 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.21bb945252402p-8,  // 1/72 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.f0af47688d004p-9,  // 1/84 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    0x1.b2995e7b7b604p-9,  // 1/96 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.824f706dc3003p-9,  // 1/108 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    0x1.5bade52f95e69p-9,  // 1/120 * pi^-1
+};
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 10},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_10, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -10232,7 +10541,7 @@ inline constexpr table::Term potential_2[] = {
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_1, 11},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -11307,20 +11616,38 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.486ec87fb1b78p-6,  // -529/8400 * pi^-1
-    -0x1.486ec87fb1b78p-6,  // -529/8400 * pi^-1
-    0x1.241cd88e9be2ep-5,  // 941/8400 * pi^-1
-    0x1.241cd88e9be2ep-5,  // 941/8400 * pi^-1
-    -0x1.a85adfbac3fcep-4,  // -1367/4200 * pi^-1
-    0x1.31c5818f90676p-4,  // 197/840 * pi^-1
-    -0x1.2a02c471ee336p-6,  // -2/35 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-8,  // -1/60 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-9,  // -1/100 * pi^-1
+};
+inline constexpr double potential_2_6[] = {
+    0x1.1a7d4a36a9cb5p-5,  // 13/120 * pi^-1
+};
+inline constexpr double potential_2_7[] = {
+    -0x1.2a02c471ee336p-6,  // -2/35 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_0, 7},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_2_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_2_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_2_7, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -11331,7 +11658,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 8},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -12520,21 +12847,42 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.690715fc27c52p-6,  // -1163/16800 * pi^-1
-    -0x1.690715fc27c52p-6,  // -1163/16800 * pi^-1
-    0x1.abecc6153270fp-5,  // 919/5600 * pi^-1
-    0x1.abecc6153270fp-5,  // 919/5600 * pi^-1
-    -0x1.cf6e1a7cc5521p-3,  // -3981/5600 * pi^-1
-    0x1.fe12673bab339p-3,  // 2629/3360 * pi^-1
-    -0x1.f4f3fc38d969ap-4,  // -1291/3360 * pi^-1
-    0x1.7c4632ac0bf43p-6,  // 7/96 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-8,  // -1/60 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-9,  // -1/100 * pi^-1
+};
+inline constexpr double potential_2_6[] = {
+    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
+};
+inline constexpr double potential_2_7[] = {
+    0x1.490db8e877036p-5,  // 53/420 * pi^-1
+};
+inline constexpr double potential_2_8[] = {
+    -0x1.7c4632ac0bf43p-6,  // -7/96 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_0, 8},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_2_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_2_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_2_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_2_8, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -12545,7 +12893,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 9},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -13794,22 +14142,46 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.86003e6ac9986p-6,  // -3769/50400 * pi^-1
-    -0x1.86003e6ac9986p-6,  // -3769/50400 * pi^-1
-    0x1.25a3923ad63d5p-4,  // 11351/50400 * pi^-1
-    0x1.25a3923ad63d5p-4,  // 11351/50400 * pi^-1
-    -0x1.b7f5dfd98dc72p-2,  // -68029/50400 * pi^-1
-    0x1.479d590af8679p-1,  // 20263/10080 * pi^-1
-    -0x1.e597e5ee330d6p-2,  // -15017/10080 * pi^-1
-    0x1.71dca82449cc5p-3,  // 817/1440 * pi^-1
-    -0x1.cf9286ea1d337p-6,  // -4/45 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-8,  // -1/60 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-9,  // -1/100 * pi^-1
+};
+inline constexpr double potential_2_6[] = {
+    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
+};
+inline constexpr double potential_2_7[] = {
+    -0x1.2a02c471ee336p-9,  // -1/140 * pi^-1
+};
+inline constexpr double potential_2_8[] = {
+    0x1.76d77b174d9c9p-5,  // 23/160 * pi^-1
+};
+inline constexpr double potential_2_9[] = {
+    -0x1.cf9286ea1d337p-6,  // -4/45 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_0, 9},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_2_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_2_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_2_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_2_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_2_9, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -13820,7 +14192,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 10},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -15139,23 +15511,50 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.6beccd3a6b271p-6,  // -3517/50400 * pi^-1
-    -0x1.6beccd3a6b271p-6,  // -3517/50400 * pi^-1
-    0x1.94bf0c2317619p-5,  // 7823/50400 * pi^-1
-    0x1.94bf0c2317619p-5,  // 7823/50400 * pi^-1
-    -0x1.e21ed524236d3p-4,  // -18637/50400 * pi^-1
-    -0x1.e21ed524236d3p-4,  // -18637/50400 * pi^-1
-    0x1.c1e196b90913p-2,  // 69563/50400 * pi^-1
-    -0x1.bc26b69cc1871p-2,  // -9811/7200 * pi^-1
-    0x1.8b1f7dcb254a1p-3,  // 1091/1800 * pi^-1
-    -0x1.11cc247bdfa59p-5,  // -21/200 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-8,  // -1/60 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-9,  // -1/100 * pi^-1
+};
+inline constexpr double potential_2_6[] = {
+    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
+};
+inline constexpr double potential_2_7[] = {
+    -0x1.2a02c471ee336p-9,  // -1/140 * pi^-1
+};
+inline constexpr double potential_2_8[] = {
+    0x1.7efd8e766b2p-4,  // 47/160 * pi^-1
+};
+inline constexpr double potential_2_9[] = {
+    -0x1.b9d7a89723d5p-4,  // -61/180 * pi^-1
+};
+inline constexpr double potential_2_10[] = {
+    0x1.11cc247bdfa59p-5,  // 21/200 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_0, 10},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_2_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_2_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_2_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_2_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_2_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_2_10, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -15166,7 +15565,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 11},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -16555,24 +16954,54 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.83a162ac355f8p-6,  // -41207/554400 * pi^-1
-    -0x1.83a162ac355f8p-6,  // -41207/554400 * pi^-1
-    0x1.05a2fbae053dep-4,  // 111253/554400 * pi^-1
-    0x1.05a2fbae053dep-4,  // 111253/554400 * pi^-1
-    -0x1.96ff80ae9941cp-3,  // -346127/554400 * pi^-1
-    -0x1.96ff80ae9941cp-3,  // -346127/554400 * pi^-1
-    0x1.06d9f9b81d1aep+0,  // 1788313/554400 * pi^-1
-    -0x1.5fcbbb72de2f1p+0,  // -341921/79200 * pi^-1
-    0x1.d8e1b5de889d5p-1,  // 57451/19800 * pi^-1
-    -0x1.490f8746bf12cp-2,  // -2221/2200 * pi^-1
-    0x1.7b49571ca3873p-5,  // 8/55 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-8,  // -1/60 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-9,  // -1/100 * pi^-1
+};
+inline constexpr double potential_2_6[] = {
+    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
+};
+inline constexpr double potential_2_7[] = {
+    -0x1.2a02c471ee336p-9,  // -1/140 * pi^-1
+};
+inline constexpr double potential_2_8[] = {
+    -0x1.04c26be3b06cfp-9,  // -1/160 * pi^-1
+};
+inline constexpr double potential_2_9[] = {
+    0x1.d6d0d105c5a84p-4,  // 13/36 * pi^-1
+};
+inline constexpr double potential_2_10[] = {
+    -0x1.22184b3a1aac6p-3,  // -89/200 * pi^-1
+};
+inline constexpr double potential_2_11[] = {
+    0x1.7b49571ca3873p-5,  // 8/55 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_0, 11},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_2_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_2_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_2_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_2_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_2_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_2_10, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_2_11, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -16583,7 +17012,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 12},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -18032,25 +18461,58 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.995c40ff2ebdfp-6,  // -43517/554400 * pi^-1
-    -0x1.995c40ff2ebdfp-6,  // -43517/554400 * pi^-1
-    0x1.47e9bb5e4a9dep-4,  // 27887/110880 * pi^-1
-    0x1.47e9bb5e4a9dep-4,  // 27887/110880 * pi^-1
-    -0x1.4162500ca2411p-2,  // -109327/110880 * pi^-1
-    -0x1.4162500ca2411p-2,  // -109327/110880 * pi^-1
-    0x1.118d9fcc5bfafp+1,  // 744449/110880 * pi^-1
-    -0x1.d006066737f76p+1,  // -901997/79200 * pi^-1
-    0x1.a254db2bfbc54p+1,  // 406589/39600 * pi^-1
-    -0x1.b6293cabd8c3p+0,  // -23659/4400 * pi^-1
-    0x1.fa2f3a4e920a2p-2,  // 6833/4400 * pi^-1
-    -0x1.f5f642e31a04ep-5,  // -77/400 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-8,  // -1/60 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-9,  // -1/100 * pi^-1
+};
+inline constexpr double potential_2_6[] = {
+    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
+};
+inline constexpr double potential_2_7[] = {
+    -0x1.2a02c471ee336p-9,  // -1/140 * pi^-1
+};
+inline constexpr double potential_2_8[] = {
+    -0x1.04c26be3b06cfp-9,  // -1/160 * pi^-1
+};
+inline constexpr double potential_2_9[] = {
+    -0x1.cf9286ea1d337p-10,  // -1/180 * pi^-1
+};
+inline constexpr double potential_2_10[] = {
+    0x1.1b936eee03101p-3,  // 87/200 * pi^-1
+};
+inline constexpr double potential_2_11[] = {
+    -0x1.7006c35363793p-3,  // -621/1100 * pi^-1
+};
+inline constexpr double potential_2_12[] = {
+    0x1.f5f642e31a04ep-5,  // 77/400 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_0, 12},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_2_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_2_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_2_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_2_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_2_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_2_10, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_2_11, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_2_12, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -18061,7 +18523,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 13},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -19586,26 +20048,62 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.882add0c4d4eap-6,  // -77423/1029600 * pi^-1
-    -0x1.882add0c4d4eap-6,  // -77423/1029600 * pi^-1
-    0x1.0928a827c6fafp-4,  // 1465759/7207200 * pi^-1
-    0x1.0928a827c6fafp-4,  // 1465759/7207200 * pi^-1
-    -0x1.6ed24f1f08ae9p-3,  // -579353/1029600 * pi^-1
-    -0x1.6ed24f1f08ae9p-3,  // -579353/1029600 * pi^-1
-    0x1.e275075f0be37p-2,  // 10667809/7207200 * pi^-1
-    0x1.e275075f0be37p-2,  // 10667809/7207200 * pi^-1
-    -0x1.0b6cba2d89808p+1,  // -23652553/3603600 * pi^-1
-    0x1.447536a684ecap+1,  // 3188543/400400 * pi^-1
-    -0x1.8fd383044c834p+0,  // -392921/80080 * pi^-1
-    0x1.00ee6ca29c3b3p-1,  // 11477/7280 * pi^-1
-    -0x1.13163f2e16f45p-4,  // -96/455 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-8,  // -1/60 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-9,  // -1/100 * pi^-1
+};
+inline constexpr double potential_2_6[] = {
+    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
+};
+inline constexpr double potential_2_7[] = {
+    -0x1.2a02c471ee336p-9,  // -1/140 * pi^-1
+};
+inline constexpr double potential_2_8[] = {
+    -0x1.04c26be3b06cfp-9,  // -1/160 * pi^-1
+};
+inline constexpr double potential_2_9[] = {
+    -0x1.cf9286ea1d337p-10,  // -1/180 * pi^-1
+};
+inline constexpr double potential_2_10[] = {
+    0x1.08b7a87f9a307p-2,  // 1137/1400 * pi^-1
+};
+inline constexpr double potential_2_11[] = {
+    -0x1.e5bfc8903fb7p-2,  // -459/308 * pi^-1
+};
+inline constexpr double potential_2_12[] = {
+    0x1.3765e4450c66bp-2,  // 107/112 * pi^-1
+};
+inline constexpr double potential_2_13[] = {
+    -0x1.13163f2e16f45p-4,  // -96/455 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_0, 13},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_2_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_2_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_2_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_2_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_2_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_2_10, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_2_11, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_2_12, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_2_13, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -19616,7 +20114,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 14},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -21214,27 +21712,66 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.9acb09536c31ep-6,  // -567701/7207200 * pi^-1
-    -0x1.9acb09536c31ep-6,  // -567701/7207200 * pi^-1
-    0x1.41092cfd23a49p-4,  // 1774639/7207200 * pi^-1
-    0x1.41092cfd23a49p-4,  // 1774639/7207200 * pi^-1
-    -0x1.0d525a312935bp-2,  // -5955083/7207200 * pi^-1
-    -0x1.0d525a312935bp-2,  // -5955083/7207200 * pi^-1
-    0x1.bff93bf829989p-1,  // 19810657/7207200 * pi^-1
-    0x1.bff93bf829989p-1,  // 19810657/7207200 * pi^-1
-    -0x1.465b6d73f79ebp+2,  // -57729739/3603600 * pi^-1
-    0x1.f6474a1b4fc6ep+2,  // 9872077/400400 * pi^-1
-    -0x1.9f5ee82bdbca1p+2,  // -8163941/400400 * pi^-1
-    0x1.91f08ac55be33p+1,  // 359089/36400 * pi^-1
-    -0x1.af7644a52a273p-1,  // -48183/18200 * pi^-1
-    0x1.8f854f5bf0234p-4,  // 429/1400 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-8,  // -1/60 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-9,  // -1/100 * pi^-1
+};
+inline constexpr double potential_2_6[] = {
+    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
+};
+inline constexpr double potential_2_7[] = {
+    -0x1.2a02c471ee336p-9,  // -1/140 * pi^-1
+};
+inline constexpr double potential_2_8[] = {
+    -0x1.04c26be3b06cfp-9,  // -1/160 * pi^-1
+};
+inline constexpr double potential_2_9[] = {
+    -0x1.cf9286ea1d337p-10,  // -1/180 * pi^-1
+};
+inline constexpr double potential_2_10[] = {
+    -0x1.a1371305e714bp-10,  // -1/200 * pi^-1
+};
+inline constexpr double potential_2_11[] = {
+    0x1.5181761daf1d5p-2,  // 1139/1100 * pi^-1
+};
+inline constexpr double potential_2_12[] = {
+    -0x1.458ab917db0e6p-1,  // -799/400 * pi^-1
+};
+inline constexpr double potential_2_13[] = {
+    0x1.b384b8a078243p-2,  // 1737/1300 * pi^-1
+};
+inline constexpr double potential_2_14[] = {
+    -0x1.8f854f5bf0234p-4,  // -429/1400 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_0, 14},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_2_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_2_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_2_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_2_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_2_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_2_10, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_2_11, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_2_12, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_2_13, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_2_14, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -21245,7 +21782,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 15},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -22903,28 +23440,70 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.ac2d54c9007d6p-6,  // -23669/288288 * pi^-1
-    -0x1.ac2d54c9007d6p-6,  // -23669/288288 * pi^-1
-    0x1.7de13518aaacep-4,  // 84439/288288 * pi^-1
-    0x1.7de13518aaacep-4,  // 84439/288288 * pi^-1
-    -0x1.7d3b1ff613dbfp-2,  // -1685911/1441440 * pi^-1
-    -0x1.7d3b1ff613dbfp-2,  // -1685911/1441440 * pi^-1
-    0x1.86388f906ede8p+0,  // 6902669/1441440 * pi^-1
-    0x1.86388f906ede8p+0,  // 6902669/1441440 * pi^-1
-    -0x1.68e31fedb7e05p+3,  // -25535123/720720 * pi^-1
-    0x1.517422c2b0af5p+4,  // 15918031/240240 * pi^-1
-    -0x1.5ec882f2affd7p+4,  // -82734007/1201200 * pi^-1
-    0x1.c6126f85e2451p+3,  // 4867963/109200 * pi^-1
-    -0x1.6e5e66c8db866p+2,  // -981931/54600 * pi^-1
-    0x1.53c8637b088ap+0,  // 17513/4200 * pi^-1
-    -0x1.1624b75944b87p-3,  // -32/75 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-8,  // -1/60 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-9,  // -1/100 * pi^-1
+};
+inline constexpr double potential_2_6[] = {
+    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
+};
+inline constexpr double potential_2_7[] = {
+    -0x1.2a02c471ee336p-9,  // -1/140 * pi^-1
+};
+inline constexpr double potential_2_8[] = {
+    -0x1.04c26be3b06cfp-9,  // -1/160 * pi^-1
+};
+inline constexpr double potential_2_9[] = {
+    -0x1.cf9286ea1d337p-10,  // -1/180 * pi^-1
+};
+inline constexpr double potential_2_10[] = {
+    -0x1.a1371305e714bp-10,  // -1/200 * pi^-1
+};
+inline constexpr double potential_2_11[] = {
+    -0x1.7b49571ca3873p-10,  // -1/220 * pi^-1
+};
+inline constexpr double potential_2_12[] = {
+    0x1.a660416ccf1b2p-2,  // 311/240 * pi^-1
+};
+inline constexpr double potential_2_13[] = {
+    -0x1.a85c66f6d993cp-1,  // -677/260 * pi^-1
+};
+inline constexpr double potential_2_14[] = {
+    0x1.25efbac25f71ap-1,  // 101/56 * pi^-1
+};
+inline constexpr double potential_2_15[] = {
+    -0x1.1624b75944b87p-3,  // -32/75 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_0, 15},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_2_5, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_2_6, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_2_7, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_2_8, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_2_9, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_2_10, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_2_11, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_2_12, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_2_13, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_2_14, 1},
+    {table::Basis::one, 0, table::Var::r, 15, 0, potential_2_15, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -22935,7 +23514,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 16},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -24351,18 +24930,30 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.29b34c3d8b8d7p-6,  // -137/2400 * pi^-1
-    0x1.6232c17bad82ep-6,  // 163/2400 * pi^-1
-    -0x1.29b34c3d8b8d7p-6,  // -137/2400 * pi^-1
-    0x1.11cc247bdfa59p-7,  // 21/800 * pi^-1
-    -0x1.a1371305e714bp-10,  // -1/200 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-9,  // -1/160 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-10,  // -1/200 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_2_0, 5},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_2_5, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -24373,7 +24964,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 6},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
@@ -25771,23 +26362,50 @@ inline constexpr table::Term potential_1[] = {
     {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
-    -0x1.7de0ca655ef82p-6,  // -7381/100800 * pi^-1
-    0x1.ccf5a88689944p-5,  // 17819/100800 * pi^-1
-    -0x1.f6e7fb2d1b684p-4,  // -38881/100800 * pi^-1
-    0x1.90721022ab5c3p-3,  // 61919/100800 * pi^-1
-    -0x1.c72be1e06f894p-3,  // -70381/100800 * pi^-1
-    0x1.6e388b932f678p-3,  // 56627/100800 * pi^-1
-    -0x1.986180ddc50d9p-4,  // -31573/100800 * pi^-1
-    0x1.2cc75eefb3258p-5,  // 1661/14400 * pi^-1
-    -0x1.07a82321f3ceep-7,  // -91/3600 * pi^-1
-    0x1.a1371305e714bp-11,  // 1/400 * pi^-1
-};
-inline constexpr double potential_2_1[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
+};
+inline constexpr double potential_2_2[] = {
+    -0x1.04c26be3b06cfp-8,  // -1/80 * pi^-1
+};
+inline constexpr double potential_2_3[] = {
+    -0x1.5bade52f95e69p-9,  // -1/120 * pi^-1
+};
+inline constexpr double potential_2_4[] = {
+    -0x1.04c26be3b06cfp-9,  // -1/160 * pi^-1
+};
+inline constexpr double potential_2_5[] = {
+    -0x1.a1371305e714bp-10,  // -1/200 * pi^-1
+};
+inline constexpr double potential_2_6[] = {
+    -0x1.5bade52f95e69p-10,  // -1/240 * pi^-1
+};
+inline constexpr double potential_2_7[] = {
+    -0x1.2a02c471ee336p-10,  // -1/280 * pi^-1
+};
+inline constexpr double potential_2_8[] = {
+    -0x1.04c26be3b06cfp-10,  // -1/320 * pi^-1
+};
+inline constexpr double potential_2_9[] = {
+    -0x1.cf9286ea1d337p-11,  // -1/360 * pi^-1
+};
+inline constexpr double potential_2_10[] = {
+    -0x1.a1371305e714bp-11,  // -1/400 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_2_0, 10},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_1, 1},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_2_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_2_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_2_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_2_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_2_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_2_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_2_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_2_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_2_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_2_10, 1},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -25798,7 +26416,7 @@ inline constexpr table::Term potential_3[] = {
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.5555555555555p-2, potential_0, 1},  // [0, 1/3)
     {0x1.5555555555555p-2, 0x1.5555555555555p-1, potential_1, 2},  // [1/3, 2/3)
-    {0x1.5555555555555p-1, 0x1p+0, potential_2, 2},  // [2/3, 1)
+    {0x1.5555555555555p-1, 0x1p+0, potential_2, 11},  // [2/3, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {

@@ -251,22 +251,42 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.611c9cc4543e3p-3,  // -13/24 * pi^-1
-    -0x1.611c9cc4543e3p-3,  // -13/24 * pi^-1
-    0x1.385e3be8c0ad3p-2,  // 23/24 * pi^-1
-    -0x1.e8ec8a4aeacc4p-4,  // -3/8 * pi^-1
+    0x0p+0,  // 0
+    0x1.e8ec8a4aeacc4p-2,  // 3/2 * pi^-1
+    -0x1.b2995e7b7b604p-2,  // -4/3 * pi^-1
+    0x1.e8ec8a4aeacc4p-4,  // 3/8 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    0x1.e8ec8a4aeacc4p-4,  // 3/8 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 4},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
@@ -369,7 +389,7 @@ inline constexpr table::Kernel wendland_k_0_D2 = {
         {detail_wendland_k_0_D2::laplacian, 2},
         {detail_wendland_k_0_D2::grad_over_r, 2},
         {detail_wendland_k_0_D2::hess_radial, 2},
-        {detail_wendland_k_0_D2::potential, 2},
+        {detail_wendland_k_0_D2::potential, 3},
         {detail_wendland_k_0_D2::dpotential, 3},
         {detail_wendland_k_0_D2::dpotential_over_r, 3},
         {detail_wendland_k_0_D2::potential_hess_radial, 3},
@@ -842,23 +862,47 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.a24d37bd40597p-3,  // -77/120 * pi^-1
-    -0x1.a24d37bd40597p-3,  // -77/120 * pi^-1
-    0x1.2edc7aa47393ep-1,  // 223/120 * pi^-1
-    -0x1.e0c676ebcd48ep-2,  // -59/40 * pi^-1
-    0x1.04c26be3b06cfp-3,  // 2/5 * pi^-1
+    0x0p+0,  // 0
+    0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
+    -0x1.0f9fdb0d2d1c2p+0,  // -10/3 * pi^-1
+    0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
+    -0x1.04c26be3b06cfp-3,  // -2/5 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    0x1.04c26be3b06cfp-3,  // 2/5 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p+0, potential_1, 5},  // [1/4, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
@@ -964,7 +1008,7 @@ inline constexpr table::Kernel wendland_k_0_l_1_D2 = {
         {detail_wendland_k_0_l_1_D2::laplacian, 2},
         {detail_wendland_k_0_l_1_D2::grad_over_r, 2},
         {detail_wendland_k_0_l_1_D2::hess_radial, 2},
-        {detail_wendland_k_0_l_1_D2::potential, 2},
+        {detail_wendland_k_0_l_1_D2::potential, 3},
         {detail_wendland_k_0_l_1_D2::dpotential, 3},
         {detail_wendland_k_0_l_1_D2::dpotential_over_r, 3},
         {detail_wendland_k_0_l_1_D2::potential_hess_radial, 3},
@@ -1446,24 +1490,52 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.d8a0638cafc57p-3,  // -29/40 * pi^-1
-    -0x1.d8a0638cafc57p-3,  // -29/40 * pi^-1
-    0x1.ecff93fa798dfp-1,  // 121/40 * pi^-1
-    -0x1.28bfec1d1d715p+0,  // -437/120 * pi^-1
-    0x1.433bab123d5c6p-1,  // 119/60 * pi^-1
-    -0x1.0f9fdb0d2d1c2p-3,  // -5/12 * pi^-1
+    0x0p+0,  // 0
+    0x1.3193d66ed2bfap+0,  // 15/4 * pi^-1
+    -0x1.0f9fdb0d2d1c2p+1,  // -20/3 * pi^-1
+    0x1.ca5dc1a63c1f8p+0,  // 45/8 * pi^-1
+    -0x1.8723a1d588a36p-1,  // -12/5 * pi^-1
+    0x1.0f9fdb0d2d1c2p-3,  // 5/12 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.0f9fdb0d2d1c2p-3,  // 5/12 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p+0, potential_1, 6},  // [1/4, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
@@ -1572,7 +1644,7 @@ inline constexpr table::Kernel wendland_k_0_l_2_D2 = {
         {detail_wendland_k_0_l_2_D2::laplacian, 2},
         {detail_wendland_k_0_l_2_D2::grad_over_r, 2},
         {detail_wendland_k_0_l_2_D2::hess_radial, 2},
-        {detail_wendland_k_0_l_2_D2::potential, 2},
+        {detail_wendland_k_0_l_2_D2::potential, 3},
         {detail_wendland_k_0_l_2_D2::dpotential, 3},
         {detail_wendland_k_0_l_2_D2::dpotential_over_r, 3},
         {detail_wendland_k_0_l_2_D2::potential_hess_radial, 3},
@@ -2064,25 +2136,57 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.0398691f3e7ecp-2,  // -223/280 * pi^-1
-    -0x1.0398691f3e7ecp-2,  // -223/280 * pi^-1
-    0x1.6ae8deb9bdd31p+0,  // 1247/280 * pi^-1
-    -0x1.25e34ffa3007cp+1,  // -6059/840 * pi^-1
-    0x1.e1bece8f818f6p+0,  // 2483/420 * pi^-1
-    -0x1.957f194c5b1d3p-1,  // -209/84 * pi^-1
-    0x1.1762982acf502p-3,  // 3/7 * pi^-1
+    0x0p+0,  // 0
+    0x1.abcef9018d72bp+0,  // 21/4 * pi^-1
+    -0x1.db57bf570ef14p+1,  // -35/3 * pi^-1
+    0x1.0b615ba0f867bp+2,  // 105/8 * pi^-1
+    -0x1.563f2d9ad78fp+1,  // -42/5 * pi^-1
+    0x1.db57bf570ef14p-1,  // 35/12 * pi^-1
+    -0x1.1762982acf502p-3,  // -3/7 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.1762982acf502p-3,  // 3/7 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 7},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.abcef9018d72bp+1,  // 21/2 * pi^-1
@@ -2194,7 +2298,7 @@ inline constexpr table::Kernel wendland_k_0_l_3_D2 = {
         {detail_wendland_k_0_l_3_D2::laplacian, 2},
         {detail_wendland_k_0_l_3_D2::grad_over_r, 2},
         {detail_wendland_k_0_l_3_D2::hess_radial, 2},
-        {detail_wendland_k_0_l_3_D2::potential, 2},
+        {detail_wendland_k_0_l_3_D2::potential, 3},
         {detail_wendland_k_0_l_3_D2::dpotential, 3},
         {detail_wendland_k_0_l_3_D2::dpotential_over_r, 3},
         {detail_wendland_k_0_l_3_D2::potential_hess_radial, 3},
@@ -2694,26 +2798,62 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.17f7998d08474p-2,  // -481/560 * pi^-1
-    -0x1.17f7998d08474p-2,  // -481/560 * pi^-1
-    0x1.f46b659ecfdc8p+0,  // 3439/560 * pi^-1
-    -0x1.fe56b288affa2p+1,  // -21043/1680 * pi^-1
-    0x1.17975dfd98d25p+2,  // 23057/1680 * pi^-1
-    -0x1.6179bda1b7d8ap+1,  // -2915/336 * pi^-1
-    0x1.e77806d55c628p-1,  // 335/112 * pi^-1
-    -0x1.1d34a60108f72p-3,  // -7/16 * pi^-1
+    0x0p+0,  // 0
+    0x1.1d34a60108f72p+1,  // 7 * pi^-1
+    -0x1.7c4632ac0bf43p+2,  // -56/3 * pi^-1
+    0x1.0b615ba0f867bp+3,  // 105/4 * pi^-1
+    -0x1.c8543cce74beap+2,  // -112/5 * pi^-1
+    0x1.db57bf570ef14p+1,  // 35/3 * pi^-1
+    -0x1.1762982acf502p+0,  // -24/7 * pi^-1
+    0x1.1d34a60108f72p-3,  // 7/16 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.1d34a60108f72p-3,  // 7/16 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p+0, potential_1, 8},  // [1/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.1d34a60108f72p+2,  // 14 * pi^-1
@@ -2828,7 +2968,7 @@ inline constexpr table::Kernel wendland_k_0_l_4_D2 = {
         {detail_wendland_k_0_l_4_D2::laplacian, 2},
         {detail_wendland_k_0_l_4_D2::grad_over_r, 2},
         {detail_wendland_k_0_l_4_D2::hess_radial, 2},
-        {detail_wendland_k_0_l_4_D2::potential, 2},
+        {detail_wendland_k_0_l_4_D2::potential, 3},
         {detail_wendland_k_0_l_4_D2::dpotential, 3},
         {detail_wendland_k_0_l_4_D2::dpotential_over_r, 3},
         {detail_wendland_k_0_l_4_D2::potential_hess_radial, 3},
@@ -3334,25 +3474,57 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.9a8a7a9f9e257p-3,  // -529/840 * pi^-1
-    -0x1.9a8a7a9f9e257p-3,  // -529/840 * pi^-1
-    0x1.6d240eb242db9p-2,  // 941/840 * pi^-1
-    0x1.6d240eb242db9p-2,  // 941/840 * pi^-1
-    -0x1.0938cbd4ba7e1p+0,  // -1367/420 * pi^-1
-    0x1.7e36e1f374813p-1,  // 197/84 * pi^-1
-    -0x1.7483758e69c03p-3,  // -4/7 * pi^-1
+    0x0p+0,  // 0
+    0x1.1d34a60108f72p-1,  // 7/4 * pi^-1
+    0x0p+0,  // 0
+    -0x1.6481cf814b34fp+0,  // -35/8 * pi^-1
+    0x1.c8543cce74beap+0,  // 28/5 * pi^-1
+    -0x1.db57bf570ef14p-1,  // -35/12 * pi^-1
+    0x1.7483758e69c03p-3,  // 4/7 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    0x1.611c9cc4543e3p-2,  // 13/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-3,  // -4/7 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 7},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
@@ -3466,7 +3638,7 @@ inline constexpr table::Kernel wendland_k_1_D2 = {
         {detail_wendland_k_1_D2::laplacian, 2},
         {detail_wendland_k_1_D2::grad_over_r, 2},
         {detail_wendland_k_1_D2::hess_radial, 2},
-        {detail_wendland_k_1_D2::potential, 2},
+        {detail_wendland_k_1_D2::potential, 3},
         {detail_wendland_k_1_D2::dpotential, 3},
         {detail_wendland_k_1_D2::dpotential_over_r, 3},
         {detail_wendland_k_1_D2::potential_hess_radial, 3},
@@ -3976,26 +4148,62 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.c348db7b31b67p-3,  // -1163/1680 * pi^-1
-    -0x1.c348db7b31b67p-3,  // -1163/1680 * pi^-1
-    0x1.0b73fbcd3f869p-1,  // 919/560 * pi^-1
-    0x1.0b73fbcd3f869p-1,  // 919/560 * pi^-1
-    -0x1.21a4d08dfb535p+1,  // -3981/560 * pi^-1
-    0x1.3ecb80854b004p+1,  // 2629/336 * pi^-1
-    -0x1.39187da387e21p+0,  // -1291/336 * pi^-1
-    0x1.db57bf570ef14p-3,  // 35/48 * pi^-1
+    0x0p+0,  // 0
+    0x1.7c4632ac0bf43p-1,  // 7/3 * pi^-1
+    0x0p+0,  // 0
+    -0x1.6481cf814b34fp+1,  // -35/4 * pi^-1
+    0x1.30382889a329cp+2,  // 224/15 * pi^-1
+    -0x1.db57bf570ef14p+1,  // -35/3 * pi^-1
+    0x1.7483758e69c03p+0,  // 32/7 * pi^-1
+    -0x1.db57bf570ef14p-3,  // -35/48 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    0x1.9b51272294c43p-2,  // 53/42 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.db57bf570ef14p-3,  // -35/48 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 8},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.7c4632ac0bf43p+0,  // 14/3 * pi^-1
@@ -4112,7 +4320,7 @@ inline constexpr table::Kernel wendland_k_1_l_1_D2 = {
         {detail_wendland_k_1_l_1_D2::laplacian, 2},
         {detail_wendland_k_1_l_1_D2::grad_over_r, 2},
         {detail_wendland_k_1_l_1_D2::hess_radial, 2},
-        {detail_wendland_k_1_l_1_D2::potential, 2},
+        {detail_wendland_k_1_l_1_D2::potential, 3},
         {detail_wendland_k_1_l_1_D2::dpotential, 3},
         {detail_wendland_k_1_l_1_D2::dpotential_over_r, 3},
         {detail_wendland_k_1_l_1_D2::potential_hess_radial, 3},
@@ -4630,27 +4838,67 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.e7804e057bfe7p-3,  // -3769/5040 * pi^-1
-    -0x1.e7804e057bfe7p-3,  // -3769/5040 * pi^-1
-    0x1.6f0c76c98bccap-1,  // 11351/5040 * pi^-1
-    0x1.6f0c76c98bccap-1,  // 11351/5040 * pi^-1
-    -0x1.12f9abe7f89c7p+2,  // -68029/5040 * pi^-1
-    0x1.9984af4db6818p+2,  // 20263/1008 * pi^-1
-    -0x1.2f7eefb4dfe86p+2,  // -15017/1008 * pi^-1
-    0x1.ce53d22d5c3f6p+0,  // 817/144 * pi^-1
-    -0x1.21bb945252402p-2,  // -8/9 * pi^-1
+    0x0p+0,  // 0
+    0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
+    0x0p+0,  // 0
+    -0x1.40db3ac12a161p+2,  // -63/4 * pi^-1
+    0x1.563f2d9ad78fp+3,  // 168/5 * pi^-1
+    -0x1.6481cf814b34fp+3,  // -35 * pi^-1
+    0x1.a313e44036f83p+2,  // 144/7 * pi^-1
+    -0x1.0b615ba0f867bp+1,  // -105/16 * pi^-1
+    0x1.21bb945252402p-2,  // 8/9 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.d48d59dd2103cp-2,  // 23/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-2,  // -8/9 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p+0, potential_1, 9},  // [1/4, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
@@ -4770,7 +5018,7 @@ inline constexpr table::Kernel wendland_k_1_l_2_D2 = {
         {detail_wendland_k_1_l_2_D2::laplacian, 2},
         {detail_wendland_k_1_l_2_D2::grad_over_r, 2},
         {detail_wendland_k_1_l_2_D2::hess_radial, 2},
-        {detail_wendland_k_1_l_2_D2::potential, 2},
+        {detail_wendland_k_1_l_2_D2::potential, 3},
         {detail_wendland_k_1_l_2_D2::dpotential, 3},
         {detail_wendland_k_1_l_2_D2::dpotential_over_r, 3},
         {detail_wendland_k_1_l_2_D2::potential_hess_radial, 3},
@@ -5296,28 +5544,72 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.040c4dc0f9061p-2,  // -4021/5040 * pi^-1
-    -0x1.040c4dc0f9061p-2,  // -4021/5040 * pi^-1
-    0x1.e12185fd28fc5p-1,  // 14879/5040 * pi^-1
-    0x1.e12185fd28fc5p-1,  // 14879/5040 * pi^-1
-    -0x1.da9e86824bafep+2,  // -117421/5040 * pi^-1
-    0x1.bf2f17f48946p+3,  // 221267/5040 * pi^-1
-    -0x1.bc156eceb2be5p+3,  // -219733/5040 * pi^-1
-    0x1.fcc21b38a7141p+2,  // 17981/720 * pi^-1
-    -0x1.3f6293b38bde5p+1,  // -1411/180 * pi^-1
-    0x1.563f2d9ad78fp-2,  // 21/20 * pi^-1
+    0x0p+0,  // 0
+    0x1.3193d66ed2bfap+0,  // 15/4 * pi^-1
+    0x0p+0,  // 0
+    -0x1.0b615ba0f867bp+3,  // -105/4 * pi^-1
+    0x1.563f2d9ad78fp+4,  // 336/5 * pi^-1
+    -0x1.bda243619e023p+4,  // -175/2 * pi^-1
+    0x1.5d3b3e3583243p+4,  // 480/7 * pi^-1
+    -0x1.4e39b2893681ap+3,  // -525/16 * pi^-1
+    0x1.6a2a7966e6d03p+1,  // 80/9 * pi^-1
+    -0x1.563f2d9ad78fp-2,  // -21/20 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    0x1.0691fe6a9a8a2p-1,  // 29/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.563f2d9ad78fp-2,  // -21/20 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p+0, potential_1, 10},  // [1/4, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
@@ -5440,7 +5732,7 @@ inline constexpr table::Kernel wendland_k_1_l_3_D2 = {
         {detail_wendland_k_1_l_3_D2::laplacian, 2},
         {detail_wendland_k_1_l_3_D2::grad_over_r, 2},
         {detail_wendland_k_1_l_3_D2::hess_radial, 2},
-        {detail_wendland_k_1_l_3_D2::potential, 2},
+        {detail_wendland_k_1_l_3_D2::potential, 3},
         {detail_wendland_k_1_l_3_D2::dpotential, 3},
         {detail_wendland_k_1_l_3_D2::dpotential_over_r, 3},
         {detail_wendland_k_1_l_3_D2::potential_hess_radial, 3},
@@ -5974,29 +6266,77 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.12dd2b2817695p-2,  // -46751/55440 * pi^-1
-    -0x1.12dd2b2817695p-2,  // -46751/55440 * pi^-1
-    0x1.30c48268182c6p+0,  // 207349/55440 * pi^-1
-    0x1.30c48268182c6p+0,  // 207349/55440 * pi^-1
-    -0x1.7e12b68b5ec2p+3,  // -2079551/55440 * pi^-1
-    0x1.b46a785631252p+4,  // 4750657/55440 * pi^-1
-    -0x1.0ffd4126aed63p+5,  // -5921543/55440 * pi^-1
-    0x1.a06868c5caf71p+4,  // 647551/7920 * pi^-1
-    -0x1.88ad67c0dc97dp+3,  // -76331/1980 * pi^-1
-    0x1.a533fcb28319ap+1,  // 6823/660 * pi^-1
-    -0x1.8b1710132a578p-2,  // -40/33 * pi^-1
+    0x0p+0,  // 0
+    0x1.757bcd321e06bp+0,  // 55/12 * pi^-1
+    0x0p+0,  // 0
+    -0x1.a42b46d861c78p+3,  // -165/4 * pi^-1
+    0x1.39b9e9cdf0431p+5,  // 616/5 * pi^-1
+    -0x1.ea327d51c768cp+5,  // -385/2 * pi^-1
+    0x1.e03175899451cp+5,  // 1320/7 * pi^-1
+    -0x1.325f8e531ca18p+5,  // -1925/16 * pi^-1
+    0x1.f1fa66ed7d5e4p+3,  // 440/9 * pi^-1
+    -0x1.d696deb4e8649p+1,  // -231/20 * pi^-1
+    0x1.8b1710132a578p-2,  // 40/33 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.22a35d95c74ecp-1,  // 107/60 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.8b1710132a578p-2,  // -40/33 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p+0, potential_1, 11},  // [1/4, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.757bcd321e06bp+1,  // 55/6 * pi^-1
@@ -6122,7 +6462,7 @@ inline constexpr table::Kernel wendland_k_1_l_4_D2 = {
         {detail_wendland_k_1_l_4_D2::laplacian, 2},
         {detail_wendland_k_1_l_4_D2::grad_over_r, 2},
         {detail_wendland_k_1_l_4_D2::hess_radial, 2},
-        {detail_wendland_k_1_l_4_D2::potential, 2},
+        {detail_wendland_k_1_l_4_D2::potential, 3},
         {detail_wendland_k_1_l_4_D2::dpotential, 3},
         {detail_wendland_k_1_l_4_D2::dpotential_over_r, 3},
         {detail_wendland_k_1_l_4_D2::potential_hess_radial, 3},
@@ -6670,28 +7010,72 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.c6e8008905f0dp-3,  // -3517/5040 * pi^-1
-    -0x1.c6e8008905f0dp-3,  // -3517/5040 * pi^-1
-    0x1.f9eecf2bdd39fp-2,  // 7823/5040 * pi^-1
-    0x1.f9eecf2bdd39fp-2,  // 7823/5040 * pi^-1
-    -0x1.2d53453696244p+0,  // -18637/5040 * pi^-1
-    -0x1.2d53453696244p+0,  // -18637/5040 * pi^-1
-    0x1.192cfe33a5abep+2,  // 69563/5040 * pi^-1
-    -0x1.15983221f8f47p+2,  // -9811/720 * pi^-1
-    0x1.ede75d3dee9c9p+0,  // 1091/180 * pi^-1
-    -0x1.563f2d9ad78fp-2,  // -21/20 * pi^-1
+    0x0p+0,  // 0
+    0x1.6eb167b830193p-1,  // 9/4 * pi^-1
+    0x0p+0,  // 0
+    -0x1.abcef9018d72bp+0,  // -21/4 * pi^-1
+    0x0p+0,  // 0
+    0x1.6481cf814b34fp+2,  // 35/2 * pi^-1
+    -0x1.1762982acf502p+3,  // -192/7 * pi^-1
+    0x1.91120971749b9p+2,  // 315/16 * pi^-1
+    -0x1.21bb945252402p+1,  // -64/9 * pi^-1
+    0x1.563f2d9ad78fp-2,  // 21/20 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    0x1.debcf21405e8p-1,  // 47/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.1426c95e76652p+0,  // -61/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.563f2d9ad78fp-2,  // 21/20 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 10},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.6eb167b830193p+0,  // 9/2 * pi^-1
@@ -6817,7 +7201,7 @@ inline constexpr table::Kernel wendland_k_2_D2 = {
         {detail_wendland_k_2_D2::laplacian, 2},
         {detail_wendland_k_2_D2::grad_over_r, 2},
         {detail_wendland_k_2_D2::hess_radial, 2},
-        {detail_wendland_k_2_D2::potential, 2},
+        {detail_wendland_k_2_D2::potential, 3},
         {detail_wendland_k_2_D2::dpotential, 3},
         {detail_wendland_k_2_D2::dpotential_over_r, 3},
         {detail_wendland_k_2_D2::potential_hess_radial, 3},
@@ -7374,29 +7758,77 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.e489bb5742b76p-3,  // -41207/55440 * pi^-1
-    -0x1.e489bb5742b76p-3,  // -41207/55440 * pi^-1
-    0x1.470bba99868d6p-1,  // 111253/55440 * pi^-1
-    0x1.470bba99868d6p-1,  // 111253/55440 * pi^-1
-    -0x1.fcbf60da3f922p+0,  // -346127/55440 * pi^-1
-    -0x1.fcbf60da3f922p+0,  // -346127/55440 * pi^-1
-    0x1.4890782624619p+3,  // 1788313/55440 * pi^-1
-    -0x1.b7beaa4f95badp+3,  // -341921/7920 * pi^-1
-    0x1.278d11ab15625p+3,  // 57451/1980 * pi^-1
-    -0x1.9b5369186ed77p+1,  // -2221/220 * pi^-1
-    0x1.da1bace3cc68fp-2,  // 16/11 * pi^-1
+    0x0p+0,  // 0
+    0x1.c02e296f573b4p-1,  // 11/4 * pi^-1
+    0x0p+0,  // 0
+    -0x1.50229f13816c7p+1,  // -33/4 * pi^-1
+    0x0p+0,  // 0
+    0x1.882864416c53dp+3,  // 77/2 * pi^-1
+    -0x1.8027913add0e3p+4,  // -528/7 * pi^-1
+    0x1.6fa5ddfd558e9p+4,  // 1155/16 * pi^-1
+    -0x1.8e61ebf131183p+3,  // -352/9 * pi^-1
+    0x1.d696deb4e8649p+1,  // 231/20 * pi^-1
+    -0x1.da1bace3cc68fp-2,  // -16/11 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    0x1.264282a39b892p+0,  // 65/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.6a9e5e08a1578p+0,  // -89/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    0x1.da1bace3cc68fp-2,  // 16/11 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 11},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.c02e296f573b4p+0,  // 11/2 * pi^-1
@@ -7525,7 +7957,7 @@ inline constexpr table::Kernel wendland_k_2_l_1_D2 = {
         {detail_wendland_k_2_l_1_D2::laplacian, 2},
         {detail_wendland_k_2_l_1_D2::grad_over_r, 2},
         {detail_wendland_k_2_l_1_D2::hess_radial, 2},
-        {detail_wendland_k_2_l_1_D2::potential, 2},
+        {detail_wendland_k_2_l_1_D2::potential, 3},
         {detail_wendland_k_2_l_1_D2::dpotential, 3},
         {detail_wendland_k_2_l_1_D2::dpotential_over_r, 3},
         {detail_wendland_k_2_l_1_D2::potential_hess_radial, 3},
@@ -8090,30 +8522,82 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.ffb3513efa6d6p-3,  // -43517/55440 * pi^-1
-    -0x1.ffb3513efa6d6p-3,  // -43517/55440 * pi^-1
-    0x1.99e42a35dd455p-1,  // 27887/11088 * pi^-1
-    0x1.99e42a35dd455p-1,  // 27887/11088 * pi^-1
-    -0x1.91bae40fcad15p+1,  // -109327/11088 * pi^-1
-    -0x1.91bae40fcad15p+1,  // -109327/11088 * pi^-1
-    0x1.55f107bf72f9bp+4,  // 744449/11088 * pi^-1
-    -0x1.2203c40082faap+5,  // -901997/7920 * pi^-1
-    0x1.057508fb7d5b4p+5,  // 406589/3960 * pi^-1
-    -0x1.11d9c5eb6779ep+4,  // -23659/440 * pi^-1
-    0x1.3c5d84711b465p+2,  // 6833/440 * pi^-1
-    -0x1.39b9e9cdf0431p-1,  // -77/40 * pi^-1
+    0x0p+0,  // 0
+    0x1.0ce87f42cdf05p+0,  // 33/10 * pi^-1
+    0x0p+0,  // 0
+    -0x1.f833ee9d4222ap+1,  // -99/8 * pi^-1
+    0x0p+0,  // 0
+    0x1.882864416c53dp+4,  // 77 * pi^-1
+    -0x1.ccfc47e03c777p+5,  // -6336/35 * pi^-1
+    0x1.13bc667e002afp+6,  // 3465/16 * pi^-1
+    -0x1.8e61ebf131183p+5,  // -1408/9 * pi^-1
+    0x1.60f12707ae4b7p+4,  // 693/10 * pi^-1
+    -0x1.6394c1aad94ecp+2,  // -192/11 * pi^-1
+    0x1.39b9e9cdf0431p-1,  // 77/40 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 13},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.62784aa983d41p+0,  // 87/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.cc0874283c577p+0,  // -621/110 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    0x1.39b9e9cdf0431p-1,  // 77/40 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 12},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.0ce87f42cdf05p+1,  // 33/5 * pi^-1
@@ -8245,7 +8729,7 @@ inline constexpr table::Kernel wendland_k_2_l_2_D2 = {
         {detail_wendland_k_2_l_2_D2::laplacian, 2},
         {detail_wendland_k_2_l_2_D2::grad_over_r, 2},
         {detail_wendland_k_2_l_2_D2::hess_radial, 2},
-        {detail_wendland_k_2_l_2_D2::potential, 2},
+        {detail_wendland_k_2_l_2_D2::potential, 3},
         {detail_wendland_k_2_l_2_D2::dpotential, 3},
         {detail_wendland_k_2_l_2_D2::dpotential_over_r, 3},
         {detail_wendland_k_2_l_2_D2::potential_hess_radial, 3},
@@ -8818,31 +9302,87 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.0c63018096ed3p-2,  // -593441/720720 * pi^-1
-    -0x1.0c63018096ed3p-2,  // -593441/720720 * pi^-1
-    0x1.f568663ab292fp-1,  // 2217367/720720 * pi^-1
-    0x1.f568663ab292fp-1,  // 2217367/720720 * pi^-1
-    -0x1.2d7874e3208dcp+2,  // -10665503/720720 * pi^-1
-    -0x1.2d7874e3208dcp+2,  // -10665503/720720 * pi^-1
-    0x1.4676730e12ce6p+5,  // 92397457/720720 * pi^-1
-    -0x1.502b69abe2c4ep+6,  // -27184217/102960 * pi^-1
-    0x1.7cbe6d9bb7446p+6,  // 15394349/51480 * pi^-1
-    -0x1.0aa0b1cc3882fp+6,  // -1197819/5720 * pi^-1
-    0x1.cee78c9b113b2p+4,  // 519897/5720 * pi^-1
-    -0x1.cba8b86a3f932p+2,  // -11733/520 * pi^-1
-    0x1.912b1c2336cfp-1,  // 32/13 * pi^-1
+    0x0p+0,  // 0
+    0x1.3dccf37d7f04cp+0,  // 39/10 * pi^-1
+    0x0p+0,  // 0
+    -0x1.6c2581aa76e02p+2,  // -143/8 * pi^-1
+    0x0p+0,  // 0
+    0x1.6c2581aa76e02p+5,  // 143 * pi^-1
+    -0x1.f366a332ec2c1p+6,  // -13728/35 * pi^-1
+    0x1.6674eba3cd04ap+7,  // 9009/16 * pi^-1
+    -0x1.43af8fb3f7e3bp+7,  // -4576/9 * pi^-1
+    0x1.7e5a94f2fcd1cp+6,  // 3003/10 * pi^-1
+    -0x1.20e8dd5ad08ffp+5,  // -1248/11 * pi^-1
+    0x1.fdce1beea66dp+2,  // 1001/40 * pi^-1
+    -0x1.912b1c2336cfp-1,  // -32/13 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 13},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 14},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    0x1.a407b7f837183p+0,  // 567/110 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.1c2fe3952546cp+1,  // -279/40 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    0x1.912b1c2336cfp-1,  // 32/13 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 13},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.3dccf37d7f04cp+1,  // 39/5 * pi^-1
@@ -8977,7 +9517,7 @@ inline constexpr table::Kernel wendland_k_2_l_3_D2 = {
         {detail_wendland_k_2_l_3_D2::laplacian, 2},
         {detail_wendland_k_2_l_3_D2::grad_over_r, 2},
         {detail_wendland_k_2_l_3_D2::hess_radial, 2},
-        {detail_wendland_k_2_l_3_D2::potential, 2},
+        {detail_wendland_k_2_l_3_D2::potential, 3},
         {detail_wendland_k_2_l_3_D2::dpotential, 3},
         {detail_wendland_k_2_l_3_D2::dpotential_over_r, 3},
         {detail_wendland_k_2_l_3_D2::potential_hess_radial, 3},
@@ -9558,32 +10098,92 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.18071d2d0a3b3p-2,  // -619181/720720 * pi^-1
-    -0x1.18071d2d0a3b3p-2,  // -619181/720720 * pi^-1
-    0x1.2cc2aa1c7c4c2p+0,  // 532019/144144 * pi^-1
-    0x1.2cc2aa1c7c4c2p+0,  // 532019/144144 * pi^-1
-    -0x1.b29d71678759fp+2,  // -15375923/720720 * pi^-1
-    -0x1.b29d71678759fp+2,  // -15375923/720720 * pi^-1
-    0x1.2376fa5eaf8e8p+6,  // 164984257/720720 * pi^-1
-    -0x1.61ab26039464dp+7,  // -80077939/144144 * pi^-1
-    0x1.e2baffcff4a6p+7,  // 54650125/72072 * pi^-1
-    -0x1.a796f8f4c1711p+7,  // -26641543/40040 * pi^-1
-    0x1.eb0f1768f1fbep+6,  // 15442499/40040 * pi^-1
-    -0x1.6e2084d5e952cp+5,  // -523351/3640 * pi^-1
-    0x1.3fcf4e6ba1326p+3,  // 57143/1820 * pi^-1
-    -0x1.f366a332ec2c1p-1,  // -429/140 * pi^-1
+    0x0p+0,  // 0
+    0x1.72c47167bedaep+0,  // 91/20 * pi^-1
+    0x0p+0,  // 0
+    -0x1.fdce1beea66dp+2,  // -1001/40 * pi^-1
+    0x0p+0,  // 0
+    0x1.3ea0d17528042p+6,  // 1001/4 * pi^-1
+    -0x1.f366a332ec2c1p+7,  // -27456/35 * pi^-1
+    0x1.a23312e9c4856p+8,  // 21021/16 * pi^-1
+    -0x1.c528fc625b0b8p+8,  // -64064/45 * pi^-1
+    0x1.4e8f42549d378p+8,  // 21021/20 * pi^-1
+    -0x1.510face9f352ap+7,  // -5824/11 * pi^-1
+    0x1.be145870d19f6p+5,  // 7007/40 * pi^-1
+    -0x1.5f05b89ecff52p+3,  // -448/13 * pi^-1
+    0x1.f366a332ec2c1p-1,  // 429/140 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 14},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 15},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.da1bace3cc68fp-7,  // -1/22 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    0x1.eaf60f22b22d2p+0,  // 241/40 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.57d058b6fac5dp+1,  // -1097/130 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    0x1.f366a332ec2c1p-1,  // 429/140 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_13, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p+0, potential_1, 14},  // [1/4, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.72c47167bedaep+1,  // 91/10 * pi^-1
@@ -9721,7 +10321,7 @@ inline constexpr table::Kernel wendland_k_2_l_4_D2 = {
         {detail_wendland_k_2_l_4_D2::laplacian, 2},
         {detail_wendland_k_2_l_4_D2::grad_over_r, 2},
         {detail_wendland_k_2_l_4_D2::hess_radial, 2},
-        {detail_wendland_k_2_l_4_D2::potential, 2},
+        {detail_wendland_k_2_l_4_D2::potential, 3},
         {detail_wendland_k_2_l_4_D2::dpotential, 3},
         {detail_wendland_k_2_l_4_D2::dpotential_over_r, 3},
         {detail_wendland_k_2_l_4_D2::potential_hess_radial, 3},
@@ -10318,31 +10918,87 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.ea35944f60a25p-3,  // -77423/102960 * pi^-1
-    -0x1.ea35944f60a25p-3,  // -77423/102960 * pi^-1
-    0x1.4b72d231b8b9ap-1,  // 1465759/720720 * pi^-1
-    0x1.4b72d231b8b9ap-1,  // 1465759/720720 * pi^-1
-    -0x1.ca86e2e6cada4p+0,  // -579353/102960 * pi^-1
-    -0x1.ca86e2e6cada4p+0,  // -579353/102960 * pi^-1
-    0x1.2d89249b676e2p+2,  // 10667809/720720 * pi^-1
-    0x1.2d89249b676e2p+2,  // 10667809/720720 * pi^-1
-    -0x1.4e47e8b8ebe0ap+4,  // -23652553/360360 * pi^-1
-    0x1.959284502627cp+4,  // 3188543/40040 * pi^-1
-    -0x1.f3c863c55fa41p+3,  // -392921/8008 * pi^-1
-    0x1.412a07cb4349fp+2,  // 11477/728 * pi^-1
-    -0x1.57dbcef99cb16p-1,  // -192/91 * pi^-1
+    0x0p+0,  // 0
+    0x1.c600374590e24p-1,  // 39/14 * pi^-1
+    0x0p+0,  // 0
+    -0x1.382025ffd39b9p+1,  // -429/56 * pi^-1
+    0x0p+0,  // 0
+    0x1.a02add551a24bp+2,  // 143/7 * pi^-1
+    0x0p+0,  // 0
+    -0x1.99aa31dfc5bc2p+4,  // -1287/16 * pi^-1
+    0x1.71ed368489043p+5,  // 9152/63 * pi^-1
+    -0x1.47bb5b196afcfp+5,  // -1287/10 * pi^-1
+    0x1.4a2eb3d580a48p+4,  // 4992/77 * pi^-1
+    -0x1.6c2581aa76e02p+2,  // -143/8 * pi^-1
+    0x1.57dbcef99cb16p-1,  // 192/91 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 13},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 14},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    0x1.4ae5929f80bc8p+1,  // 1137/140 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.2f97dd5a27d26p+2,  // -2295/154 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    0x1.853f5d564f805p+1,  // 535/56 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.57dbcef99cb16p-1,  // -192/91 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 13},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.c600374590e24p+0,  // 39/7 * pi^-1
@@ -10480,7 +11136,7 @@ inline constexpr table::Kernel wendland_k_3_D2 = {
         {detail_wendland_k_3_D2::laplacian, 2},
         {detail_wendland_k_3_D2::grad_over_r, 2},
         {detail_wendland_k_3_D2::hess_radial, 2},
-        {detail_wendland_k_3_D2::potential, 2},
+        {detail_wendland_k_3_D2::potential, 3},
         {detail_wendland_k_3_D2::dpotential, 3},
         {detail_wendland_k_3_D2::dpotential_over_r, 3},
         {detail_wendland_k_3_D2::potential_hess_radial, 3},
@@ -11087,32 +11743,92 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.00bee5d4239f3p-2,  // -567701/720720 * pi^-1
-    -0x1.00bee5d4239f3p-2,  // -567701/720720 * pi^-1
-    0x1.914b783c6c8dbp-1,  // 1774639/720720 * pi^-1
-    0x1.914b783c6c8dbp-1,  // 1774639/720720 * pi^-1
-    -0x1.50a6f0bd73832p+1,  // -5955083/720720 * pi^-1
-    -0x1.50a6f0bd73832p+1,  // -5955083/720720 * pi^-1
-    0x1.17fbc57b19ff5p+3,  // 19810657/720720 * pi^-1
-    0x1.17fbc57b19ff5p+3,  // 19810657/720720 * pi^-1
-    -0x1.97f248d0f5865p+5,  // -57729739/360360 * pi^-1
-    0x1.39ec8e5111dc5p+6,  // 9872077/40040 * pi^-1
-    -0x1.039b511b695e5p+6,  // -8163941/40040 * pi^-1
-    0x1.f66cad76b2dcp+4,  // 359089/3640 * pi^-1
-    -0x1.0da9eae73a588p+3,  // -48183/1820 * pi^-1
-    0x1.f366a332ec2c1p-1,  // 429/140 * pi^-1
+    0x0p+0,  // 0
+    0x1.08d575933f2eap+0,  // 13/4 * pi^-1
+    0x0p+0,  // 0
+    -0x1.b4f9cecc8ea69p+1,  // -429/40 * pi^-1
+    0x0p+0,  // 0
+    0x1.6c2581aa76e02p+3,  // 143/4 * pi^-1
+    0x0p+0,  // 0
+    -0x1.ddf13a2fbc063p+5,  // -3003/16 * pi^-1
+    0x1.02f2d95cc64fcp+7,  // 18304/45 * pi^-1
+    -0x1.1ec3efb63d9d5p+7,  // -9009/20 * pi^-1
+    0x1.81367c7916155p+6,  // 3328/11 * pi^-1
+    -0x1.3ea0d17528042p+5,  // -1001/8 * pi^-1
+    0x1.2ce0551a691b4p+3,  // 384/13 * pi^-1
+    -0x1.f366a332ec2c1p-1,  // -429/140 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 14},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 15},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    0x1.a5e1d3a51ae4ap+1,  // 1139/110 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.96ed675dd1d2p+2,  // -799/40 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    0x1.1032f3644b16ap+2,  // 1737/130 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    -0x1.f366a332ec2c1p-1,  // -429/140 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_13, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 14},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.08d575933f2eap+1,  // 13/2 * pi^-1
@@ -11253,7 +11969,7 @@ inline constexpr table::Kernel wendland_k_3_l_1_D2 = {
         {detail_wendland_k_3_l_1_D2::laplacian, 2},
         {detail_wendland_k_3_l_1_D2::grad_over_r, 2},
         {detail_wendland_k_3_l_1_D2::hess_radial, 2},
-        {detail_wendland_k_3_l_1_D2::potential, 2},
+        {detail_wendland_k_3_l_1_D2::potential, 3},
         {detail_wendland_k_3_l_1_D2::dpotential, 3},
         {detail_wendland_k_3_l_1_D2::dpotential_over_r, 3},
         {detail_wendland_k_3_l_1_D2::potential_hess_radial, 3},
@@ -11868,33 +12584,97 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.0b9c54fda04e6p-2,  // -118345/144144 * pi^-1
-    -0x1.0b9c54fda04e6p-2,  // -118345/144144 * pi^-1
-    0x1.dd59825ed5582p-1,  // 422195/144144 * pi^-1
-    0x1.dd59825ed5582p-1,  // 422195/144144 * pi^-1
-    -0x1.dc89e7f398d2ep+1,  // -1685911/144144 * pi^-1
-    -0x1.dc89e7f398d2ep+1,  // -1685911/144144 * pi^-1
-    0x1.e7c6b3748a962p+3,  // 6902669/144144 * pi^-1
-    0x1.e7c6b3748a962p+3,  // 6902669/144144 * pi^-1
-    -0x1.c31be7e925d86p+6,  // -25535123/72072 * pi^-1
-    0x1.a5d12b735cdb2p+7,  // 15918031/24024 * pi^-1
-    -0x1.b67aa3af5bfccp+7,  // -82734007/120120 * pi^-1
-    0x1.1bcb85b3ad6b2p+7,  // 4867963/10920 * pi^-1
-    -0x1.c9f6007b1267fp+5,  // -981931/5460 * pi^-1
-    0x1.a8ba7c59caac8p+3,  // 17513/420 * pi^-1
-    -0x1.5bade52f95e69p+0,  // -64/15 * pi^-1
+    0x0p+0,  // 0
+    0x1.3193d66ed2bfap+0,  // 15/4 * pi^-1
+    0x0p+0,  // 0
+    -0x1.29f02445a7147p+2,  // -117/8 * pi^-1
+    0x0p+0,  // 0
+    0x1.2f7496b8b8657p+4,  // 715/12 * pi^-1
+    0x0p+0,  // 0
+    -0x1.000a5f2bdb959p+7,  // -6435/16 * pi^-1
+    0x1.43af8fb3f7e3bp+8,  // 9152/9 * pi^-1
+    -0x1.ae25e7915c6bfp+8,  // -27027/20 * pi^-1
+    0x1.692314b184b3fp+8,  // 12480/11 * pi^-1
+    -0x1.8e4905d272052p+7,  // -5005/8 * pi^-1
+    0x1.1a124fc8c2898p+6,  // 2880/13 * pi^-1
+    -0x1.d43038ffbd695p+3,  // -1287/28 * pi^-1
+    0x1.5bade52f95e69p+0,  // 64/15 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 15},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 16},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.da1bace3cc68fp-7,  // -1/22 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    0x1.07fc28e40170fp+2,  // 311/24 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.0939c05a47fc5p+3,  // -677/26 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    0x1.6f6ba972f74e1p+2,  // 505/28 * pi^-1
+};
+inline constexpr double potential_1_14[] = {
+    -0x1.5bade52f95e69p+0,  // -64/15 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_13, 1},
+    {table::Basis::one, 0, table::Var::r, 15, 0, potential_1_14, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 15},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
@@ -12038,7 +12818,7 @@ inline constexpr table::Kernel wendland_k_3_l_2_D2 = {
         {detail_wendland_k_3_l_2_D2::laplacian, 2},
         {detail_wendland_k_3_l_2_D2::grad_over_r, 2},
         {detail_wendland_k_3_l_2_D2::hess_radial, 2},
-        {detail_wendland_k_3_l_2_D2::potential, 2},
+        {detail_wendland_k_3_l_2_D2::potential, 3},
         {detail_wendland_k_3_l_2_D2::dpotential, 3},
         {detail_wendland_k_3_l_2_D2::dpotential_over_r, 3},
         {detail_wendland_k_3_l_2_D2::potential_hess_radial, 3},
@@ -12661,34 +13441,102 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.15cbed348532ap-2,  // -245699/288288 * pi^-1
-    -0x1.15cbed348532ap-2,  // -245699/288288 * pi^-1
-    0x1.17c842e861d78p+0,  // 141403/41184 * pi^-1
-    0x1.17c842e861d78p+0,  // 141403/41184 * pi^-1
-    -0x1.474e1fa2c6501p+2,  // -661685/41184 * pi^-1
-    -0x1.474e1fa2c6501p+2,  // -661685/41184 * pi^-1
-    0x1.93b3cfa542418p+4,  // 3264523/41184 * pi^-1
-    0x1.93b3cfa542418p+4,  // 3264523/41184 * pi^-1
-    -0x1.cd9e44630ee3p+7,  // -29862857/41184 * pi^-1
-    0x1.fd0b4ad78a96ep+8,  // 153677611/96096 * pi^-1
-    -0x1.3f023a00b5ef2p+9,  // -963069673/480480 * pi^-1
-    0x1.02cf80b4eb30cp+9,  // 71030437/43680 * pi^-1
-    -0x1.16f30a3b0da8bp+8,  // -38278763/43680 * pi^-1
-    0x1.84958097d6e55p+6,  // 1025449/3360 * pi^-1
-    -0x1.3e6ae19f9a1p+4,  // -210071/3360 * pi^-1
-    0x1.d43038ffbd695p+0,  // 1287/224 * pi^-1
+    0x0p+0,  // 0
+    0x1.5d3b3e3583243p+0,  // 30/7 * pi^-1
+    0x0p+0,  // 0
+    -0x1.8d40305cdec5fp+2,  // -39/2 * pi^-1
+    0x0p+0,  // 0
+    0x1.e587578df3d58p+4,  // 286/3 * pi^-1
+    0x0p+0,  // 0
+    -0x1.000a5f2bdb959p+8,  // -6435/8 * pi^-1
+    0x1.71ed368489043p+9,  // 146432/63 * pi^-1
+    -0x1.1ec3efb63d9d5p+10,  // -18018/5 * pi^-1
+    0x1.20e8dd5ad08ffp+10,  // 39936/11 * pi^-1
+    -0x1.8e4905d272052p+9,  // -5005/2 * pi^-1
+    0x1.78186a6103621p+8,  // 15360/13 * pi^-1
+    -0x1.d43038ffbd695p+6,  // -2574/7 * pi^-1
+    0x1.5bade52f95e69p+4,  // 1024/15 * pi^-1
+    -0x1.d43038ffbd695p+0,  // -1287/224 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 16},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 17},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.da1bace3cc68fp-7,  // -1/22 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    0x1.452a714e8aeccp+2,  // 415/26 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    -0x1.51f443667370ap+3,  // -929/28 * pi^-1
+};
+inline constexpr double potential_1_14[] = {
+    0x1.e2094f409e0aep+2,  // 4969/210 * pi^-1
+};
+inline constexpr double potential_1_15[] = {
+    -0x1.d43038ffbd695p+0,  // -1287/224 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_13, 1},
+    {table::Basis::one, 0, table::Var::r, 15, 0, potential_1_14, 1},
+    {table::Basis::one, 0, table::Var::r, 16, 0, potential_1_15, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 16},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.5d3b3e3583243p+1,  // 60/7 * pi^-1
@@ -12835,7 +13683,7 @@ inline constexpr table::Kernel wendland_k_3_l_3_D2 = {
         {detail_wendland_k_3_l_3_D2::laplacian, 2},
         {detail_wendland_k_3_l_3_D2::grad_over_r, 2},
         {detail_wendland_k_3_l_3_D2::hess_radial, 2},
-        {detail_wendland_k_3_l_3_D2::potential, 2},
+        {detail_wendland_k_3_l_3_D2::potential, 3},
         {detail_wendland_k_3_l_3_D2::dpotential, 3},
         {detail_wendland_k_3_l_3_D2::dpotential_over_r, 3},
         {detail_wendland_k_3_l_3_D2::potential_hess_radial, 3},
@@ -13466,35 +14314,107 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.1f62221ce4279p-2,  // -4321027/4900896 * pi^-1
-    -0x1.1f62221ce4279p-2,  // -4321027/4900896 * pi^-1
-    0x1.43f3246017525p+0,  // 19483325/4900896 * pi^-1
-    0x1.43f3246017525p+0,  // 19483325/4900896 * pi^-1
-    -0x1.b67e89d793a47p+2,  // -105489523/4900896 * pi^-1
-    -0x1.b67e89d793a47p+2,  // -105489523/4900896 * pi^-1
-    0x1.405e9555a70d8p+5,  // 616575821/4900896 * pi^-1
-    0x1.405e9555a70d8p+5,  // 616575821/4900896 * pi^-1
-    -0x1.bb95fd8bb1p+8,  // -6829723039/4900896 * pi^-1
-    0x1.1a268a89e5547p+10,  // 5792219339/1633632 * pi^-1
-    -0x1.9e47970c1e05p+10,  // -42523372361/8168160 * pi^-1
-    0x1.944c317530e84p+10,  // 3772616069/742560 * pi^-1
-    -0x1.10c98ba3c4208p+10,  // -2545455691/742560 * pi^-1
-    0x1.fb41958d3ddecp+8,  // 91025993/57120 * pi^-1
-    -0x1.38057664c7978p+7,  // -27995767/57120 * pi^-1
-    0x1.cb1a68ee3d6c2p+4,  // 343271/3808 * pi^-1
-    -0x1.32c69d0bde9e4p+1,  // -128/17 * pi^-1
+    0x0p+0,  // 0
+    0x1.8bcbace7505c3p+0,  // 34/7 * pi^-1
+    0x0p+0,  // 0
+    -0x1.03bda977ccbc8p+3,  // -51/2 * pi^-1
+    0x0p+0,  // 0
+    0x1.772e669099821p+5,  // 442/3 * pi^-1
+    0x0p+0,  // 0
+    -0x1.e3a1d03665e1bp+8,  // -12155/8 * pi^-1
+    0x1.890c09ecd1947p+10,  // 311168/63 * pi^-1
+    -0x1.5c3710cb01acbp+11,  // -43758/5 * pi^-1
+    0x1.9949e440a776ap+11,  // 113152/11 * pi^-1
+    -0x1.528ade8c7a846p+11,  // -17017/2 * pi^-1
+    0x1.8f99f10713983p+10,  // 65280/13 * pi^-1
+    -0x1.4ba2285fd0d54p+9,  // -14586/7 * pi^-1
+    0x1.7168c3828f45p+7,  // 8704/15 * pi^-1
+    -0x1.f1733c8fb93fep+4,  // -21879/224 * pi^-1
+    0x1.32c69d0bde9e4p+1,  // 128/17 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 17},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 18},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.da1bace3cc68fp-7,  // -1/22 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.912b1c2336cfp-7,  // -1/26 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    0x1.8b116b2c89275p+2,  // 543/28 * pi^-1
+};
+inline constexpr double potential_1_14[] = {
+    -0x1.a68581c55d58ep+3,  // -8711/210 * pi^-1
+};
+inline constexpr double potential_1_15[] = {
+    0x1.34e5a252ffa0ep+3,  // 6793/224 * pi^-1
+};
+inline constexpr double potential_1_16[] = {
+    -0x1.32c69d0bde9e4p+1,  // -128/17 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_13, 1},
+    {table::Basis::one, 0, table::Var::r, 15, 0, potential_1_14, 1},
+    {table::Basis::one, 0, table::Var::r, 16, 0, potential_1_15, 1},
+    {table::Basis::one, 0, table::Var::r, 17, 0, potential_1_16, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 17},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.8bcbace7505c3p+1,  // 68/7 * pi^-1
@@ -13644,7 +14564,7 @@ inline constexpr table::Kernel wendland_k_3_l_4_D2 = {
         {detail_wendland_k_3_l_4_D2::laplacian, 2},
         {detail_wendland_k_3_l_4_D2::grad_over_r, 2},
         {detail_wendland_k_3_l_4_D2::hess_radial, 2},
-        {detail_wendland_k_3_l_4_D2::potential, 2},
+        {detail_wendland_k_3_l_4_D2::potential, 3},
         {detail_wendland_k_3_l_4_D2::dpotential, 3},
         {detail_wendland_k_3_l_4_D2::dpotential_over_r, 3},
         {detail_wendland_k_3_l_4_D2::potential_hess_radial, 3},
@@ -14291,34 +15211,102 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.03b033ef600eap-2,  // -76561/96096 * pi^-1
-    -0x1.03b033ef600eap-2,  // -76561/96096 * pi^-1
-    0x1.9d679c22aa30fp-1,  // 81253/32032 * pi^-1
-    0x1.9d679c22aa30fp-1,  // 81253/32032 * pi^-1
-    -0x1.5209dcecbec18p+1,  // -797281/96096 * pi^-1
-    -0x1.5209dcecbec18p+1,  // -797281/96096 * pi^-1
-    0x1.de5a30f190669p+2,  // 6769309/288288 * pi^-1
-    0x1.de5a30f190669p+2,  // 6769309/288288 * pi^-1
-    -0x1.4f9855d8b07e8p+4,  // -18996431/288288 * pi^-1
-    -0x1.4f9855d8b07e8p+4,  // -18996431/288288 * pi^-1
-    0x1.a9e806787a4d6p+6,  // 482170421/1441440 * pi^-1
-    -0x1.2ca9f80fe04b1p+7,  // -61887809/131040 * pi^-1
-    0x1.ccc41f66c4ccfp+6,  // 47421391/131040 * pi^-1
-    -0x1.9fb21efd2d181p+5,  // -1645493/10080 * pi^-1
-    0x1.a20dd6b4ce577p+3,  // 59101/1440 * pi^-1
-    -0x1.6c2581aa76e02p+0,  // -143/32 * pi^-1
+    0x0p+0,  // 0
+    0x1.0f9fdb0d2d1c2p+0,  // 10/3 * pi^-1
+    0x0p+0,  // 0
+    -0x1.b963c3f5694dcp+1,  // -65/6 * pi^-1
+    0x0p+0,  // 0
+    0x1.43af8fb3f7e3bp+3,  // 286/9 * pi^-1
+    0x0p+0,  // 0
+    -0x1.c72ee21514982p+4,  // -715/8 * pi^-1
+    0x0p+0,  // 0
+    0x1.fdce1beea66dp+6,  // 2002/5 * pi^-1
+    -0x1.00cefda60eb8ep+8,  // -26624/33 * pi^-1
+    0x1.098603e1a158cp+8,  // 5005/6 * pi^-1
+    -0x1.4e4e9772adac8p+7,  // -20480/39 * pi^-1
+    0x1.041aca553056fp+6,  // 1430/7 * pi^-1
+    -0x1.cf9286ea1d337p+3,  // -2048/45 * pi^-1
+    0x1.6c2581aa76e02p+0,  // 143/32 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 16},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 17},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.da1bace3cc68fp-7,  // -1/22 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    0x1.d5f7845687ea9p+2,  // 1661/72 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.2afb96586939p+4,  // -4579/78 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    0x1.26b981f761eafp+4,  // 4861/84 * pi^-1
+};
+inline constexpr double potential_1_14[] = {
+    -0x1.08b87c6ad08cdp+3,  // -2339/90 * pi^-1
+};
+inline constexpr double potential_1_15[] = {
+    0x1.6c2581aa76e02p+0,  // 143/32 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_13, 1},
+    {table::Basis::one, 0, table::Var::r, 15, 0, potential_1_14, 1},
+    {table::Basis::one, 0, table::Var::r, 16, 0, potential_1_15, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 16},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.0f9fdb0d2d1c2p+1,  // 20/3 * pi^-1
@@ -14468,7 +15456,7 @@ inline constexpr table::Kernel wendland_k_4_D2 = {
         {detail_wendland_k_4_D2::laplacian, 2},
         {detail_wendland_k_4_D2::grad_over_r, 2},
         {detail_wendland_k_4_D2::hess_radial, 2},
-        {detail_wendland_k_4_D2::potential, 2},
+        {detail_wendland_k_4_D2::potential, 3},
         {detail_wendland_k_4_D2::dpotential, 3},
         {detail_wendland_k_4_D2::dpotential_over_r, 3},
         {detail_wendland_k_4_D2::potential_hess_radial, 3},
@@ -15125,35 +16113,107 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.0d4668d7bf039p-2,  // -1349585/1633632 * pi^-1
-    -0x1.0d4668d7bf039p-2,  // -1349585/1633632 * pi^-1
-    0x1.e10b66c30f469p-1,  // 14465741/4900896 * pi^-1
-    0x1.e10b66c30f469p-1,  // 14465741/4900896 * pi^-1
-    -0x1.c8f0d7cb3c0a3p+1,  // -54963619/4900896 * pi^-1
-    -0x1.c8f0d7cb3c0a3p+1,  // -54963619/4900896 * pi^-1
-    0x1.8201a82353003p+3,  // 185724829/4900896 * pi^-1
-    0x1.8201a82353003p+3,  // 185724829/4900896 * pi^-1
-    -0x1.4d64c0d2307a5p+5,  // -641641711/4900896 * pi^-1
-    -0x1.4d64c0d2307a5p+5,  // -641641711/4900896 * pi^-1
-    0x1.0bd9afb69efcp+8,  // 20619947797/24504480 * pi^-1
-    -0x1.cbc61ef535651p+8,  // -357523417/247520 * pi^-1
-    0x1.bb0187d6bbfbep+8,  // 1033453669/742560 * pi^-1
-    -0x1.0b6579fcf512ap+8,  // -47983687/57120 * pi^-1
-    0x1.94573d443da23p+6,  // 2591359/8160 * pi^-1
-    -0x1.60d1c8520591ep+4,  // -339175/4896 * pi^-1
-    0x1.10b08b98c5e2p+1,  // 1024/153 * pi^-1
+    0x0p+0,  // 0
+    0x1.33d74d9777642p+0,  // 34/9 * pi^-1
+    0x0p+0,  // 0
+    -0x1.2099d8bdffedep+2,  // -85/6 * pi^-1
+    0x0p+0,  // 0
+    0x1.f43dde162202cp+3,  // 442/9 * pi^-1
+    0x0p+0,  // 0
+    -0x1.ade52adb053a6p+5,  // -12155/72 * pi^-1
+    0x0p+0,  // 0
+    0x1.358647d0e50b5p+8,  // 4862/5 * pi^-1
+    -0x1.6bcfe755ea309p+9,  // -226304/99 * pi^-1
+    0x1.c363d365f8b08p+9,  // 17017/6 * pi^-1
+    -0x1.633380e9d8874p+9,  // -87040/39 * pi^-1
+    0x1.707b494e047b3p+8,  // 24310/21 * pi^-1
+    -0x1.ec8baf58bf06ap+6,  // -17408/45 * pi^-1
+    0x1.82e7d9c51e4e2p+4,  // 2431/32 * pi^-1
+    -0x1.10b08b98c5e2p+1,  // -1024/153 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 17},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 18},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.da1bace3cc68fp-7,  // -1/22 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    0x1.337302d06e967p+3,  // 7063/234 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    -0x1.96f8c93ffd487p+4,  // -20137/252 * pi^-1
+};
+inline constexpr double potential_1_14[] = {
+    0x1.9f6a66363b3aep+4,  // 2447/30 * pi^-1
+};
+inline constexpr double potential_1_15[] = {
+    -0x1.811e9dbf0c645p+3,  // -10889/288 * pi^-1
+};
+inline constexpr double potential_1_16[] = {
+    0x1.10b08b98c5e2p+1,  // 1024/153 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_13, 1},
+    {table::Basis::one, 0, table::Var::r, 15, 0, potential_1_14, 1},
+    {table::Basis::one, 0, table::Var::r, 16, 0, potential_1_15, 1},
+    {table::Basis::one, 0, table::Var::r, 17, 0, potential_1_16, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 17},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.33d74d9777642p+1,  // 68/9 * pi^-1
@@ -15306,7 +16366,7 @@ inline constexpr table::Kernel wendland_k_4_l_1_D2 = {
         {detail_wendland_k_4_l_1_D2::laplacian, 2},
         {detail_wendland_k_4_l_1_D2::grad_over_r, 2},
         {detail_wendland_k_4_l_1_D2::hess_radial, 2},
-        {detail_wendland_k_4_l_1_D2::potential, 2},
+        {detail_wendland_k_4_l_1_D2::potential, 3},
         {detail_wendland_k_4_l_1_D2::dpotential, 3},
         {detail_wendland_k_4_l_1_D2::dpotential_over_r, 3},
         {detail_wendland_k_4_l_1_D2::potential_hess_radial, 3},
@@ -15971,36 +17031,112 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.1654457a51959p-2,  // -4184891/4900896 * pi^-1
-    -0x1.1654457a51959p-2,  // -4184891/4900896 * pi^-1
-    0x1.14bd25ebd1eb5p+0,  // 16643917/4900896 * pi^-1
-    0x1.14bd25ebd1eb5p+0,  // 16643917/4900896 * pi^-1
-    -0x1.2ddfa89de6dbap+2,  // -10374629/700128 * pi^-1
-    -0x1.2ddfa89de6dbap+2,  // -10374629/700128 * pi^-1
-    0x1.2bb67c691fcb3p+4,  // 41201467/700128 * pi^-1
-    0x1.2bb67c691fcb3p+4,  // 41201467/700128 * pi^-1
-    -0x1.37fa3aaad65b5p+6,  // -171549929/700128 * pi^-1
-    -0x1.37fa3aaad65b5p+6,  // -171549929/700128 * pi^-1
-    0x1.3537c975a6e15p+9,  // 6801300611/3500640 * pi^-1
-    -0x1.392644b3a2cdcp+10,  // -8766260513/2227680 * pi^-1
-    0x1.6bef7865523afp+10,  // 10187954767/2227680 * pi^-1
-    -0x1.136d3c72cd1eep+10,  // -593096501/171360 * pi^-1
-    0x1.163aec09efd75p+9,  // 299566699/171360 * pi^-1
-    -0x1.6cb75de27db6ap+7,  // -19634257/34272 * pi^-1
-    0x1.1a35dc6d1185p+5,  // 474769/4284 * pi^-1
-    -0x1.890c09ecd1947p+1,  // -2431/252 * pi^-1
+    0x0p+0,  // 0
+    0x1.5a52374a6650bp+0,  // 17/4 * pi^-1
+    0x0p+0,  // 0
+    -0x1.730ef218db567p+2,  // -255/14 * pi^-1
+    0x0p+0,  // 0
+    0x1.772e669099821p+4,  // 221/3 * pi^-1
+    0x0p+0,  // 0
+    -0x1.82e7d9c51e4e2p+6,  // -2431/8 * pi^-1
+    0x0p+0,  // 0
+    0x1.5c3710cb01acbp+9,  // 21879/10 * pi^-1
+    -0x1.d3c2296e763e7p+10,  // -452608/77 * pi^-1
+    0x1.528ade8c7a846p+11,  // 17017/2 * pi^-1
+    -0x1.3fae5a6c0facfp+11,  // -104448/13 * pi^-1
+    0x1.9e8ab277c50a9p+10,  // 36465/7 * pi^-1
+    -0x1.7168c3828f45p+9,  // -34816/15 * pi^-1
+    0x1.b344d4fdc217ep+7,  // 21879/32 * pi^-1
+    -0x1.32c69d0bde9e4p+5,  // -2048/17 * pi^-1
+    0x1.890c09ecd1947p+1,  // 2431/252 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 18},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 19},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.da1bace3cc68fp-7,  // -1/22 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.912b1c2336cfp-7,  // -1/26 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    0x1.8b6e8c09ecc1cp+3,  // 1087/28 * pi^-1
+};
+inline constexpr double potential_1_14[] = {
+    -0x1.0e8b93270e275p+5,  // -7437/70 * pi^-1
+};
+inline constexpr double potential_1_15[] = {
+    0x1.1c660515d3f88p+5,  // 25017/224 * pi^-1
+};
+inline constexpr double potential_1_16[] = {
+    -0x1.0ecddc3d1a517p+4,  // -12655/238 * pi^-1
+};
+inline constexpr double potential_1_17[] = {
+    0x1.890c09ecd1947p+1,  // 2431/252 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_13, 1},
+    {table::Basis::one, 0, table::Var::r, 15, 0, potential_1_14, 1},
+    {table::Basis::one, 0, table::Var::r, 16, 0, potential_1_15, 1},
+    {table::Basis::one, 0, table::Var::r, 17, 0, potential_1_16, 1},
+    {table::Basis::one, 0, table::Var::r, 18, 0, potential_1_17, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 18},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.5a52374a6650bp+1,  // 17/2 * pi^-1
@@ -16156,7 +17292,7 @@ inline constexpr table::Kernel wendland_k_4_l_2_D2 = {
         {detail_wendland_k_4_l_2_D2::laplacian, 2},
         {detail_wendland_k_4_l_2_D2::grad_over_r, 2},
         {detail_wendland_k_4_l_2_D2::hess_radial, 2},
-        {detail_wendland_k_4_l_2_D2::potential, 2},
+        {detail_wendland_k_4_l_2_D2::potential, 3},
         {detail_wendland_k_4_l_2_D2::dpotential, 3},
         {detail_wendland_k_4_l_2_D2::dpotential_over_r, 3},
         {detail_wendland_k_4_l_2_D2::potential_hess_radial, 3},
@@ -16829,37 +17965,117 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.1ee823f9632d6p-2,  // -81963377/93117024 * pi^-1
-    -0x1.1ee823f9632d6p-2,  // -81963377/93117024 * pi^-1
-    0x1.3b568f27a1166p+0,  // 360342487/93117024 * pi^-1
-    0x1.3b568f27a1166p+0,  // 360342487/93117024 * pi^-1
-    -0x1.872c3988c727ep+2,  // -1788000281/93117024 * pi^-1
-    -0x1.872c3988c727ep+2,  // -1788000281/93117024 * pi^-1
-    0x1.c28c73d39ae07p+4,  // 8237599303/93117024 * pi^-1
-    0x1.c28c73d39ae07p+4,  // 8237599303/93117024 * pi^-1
-    -0x1.15d3c4de555bdp+7,  // -40637198669/93117024 * pi^-1
-    -0x1.15d3c4de555bdp+7,  // -40637198669/93117024 * pi^-1
-    0x1.4cd4fcac4551fp+10,  // 1947305117423/465585120 * pi^-1
-    -0x1.850c12dd09c12p+11,  // -413855297747/42325920 * pi^-1
-    0x1.08ed492b8f1c3p+12,  // 563640661693/42325920 * pi^-1
-    -0x1.e27836a9be15ep+11,  // -39479609999/3255840 * pi^-1
-    0x1.3128e939d1e4ap+11,  // 24970673041/3255840 * pi^-1
-    -0x1.0b06fde2707aap+10,  // -2185036003/651168 * pi^-1
-    0x1.363e00447a0bdp+8,  // 79332985/81396 * pi^-1
-    -0x1.b06ed1ccf2812p+5,  // -813079/4788 * pi^-1
-    0x1.127bcfe232f96p+2,  // 256/19 * pi^-1
+    0x0p+0,  // 0
+    0x1.83109825f9e1bp+0,  // 19/4 * pi^-1
+    0x0p+0,  // 0
+    -0x1.d601dd52af6d8p+2,  // -323/14 * pi^-1
+    0x0p+0,  // 0
+    0x1.122bc11ae6553p+5,  // 323/3 * pi^-1
+    0x0p+0,  // 0
+    -0x1.4e255358c8b7dp+7,  // -4199/8 * pi^-1
+    0x0p+0,  // 0
+    0x1.6f8f75480ffd7p+10,  // 46189/10 * pi^-1
+    -0x1.15bb489996351p+12,  // -1074944/77 * pi^-1
+    0x1.cb73529a13fccp+12,  // 46189/2 * pi^-1
+    -0x1.fa2964806e272p+12,  // -330752/13 * pi^-1
+    0x1.89d08ff1c7fd4p+12,  // 138567/7 * pi^-1
+    -0x1.b6ac682b0a21fp+11,  // -165376/15 * pi^-1
+    0x1.58967df38efd9p+10,  // 138567/32 * pi^-1
+    -0x1.6c4bda7e185bfp+8,  // -19456/17 * pi^-1
+    0x1.d2be4bc938e05p+5,  // 46189/252 * pi^-1
+    -0x1.127bcfe232f96p+2,  // -256/19 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 19},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 20},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.da1bace3cc68fp-7,  // -1/22 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.912b1c2336cfp-7,  // -1/26 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_14[] = {
+    0x1.f500670108d39p+3,  // 3443/70 * pi^-1
+};
+inline constexpr double potential_1_15[] = {
+    -0x1.6095c52e715bep+5,  // -31015/224 * pi^-1
+};
+inline constexpr double potential_1_16[] = {
+    0x1.7c13fb4dc4ad7p+5,  // 35523/238 * pi^-1
+};
+inline constexpr double potential_1_17[] = {
+    -0x1.724f83e000602p+4,  // -18323/252 * pi^-1
+};
+inline constexpr double potential_1_18[] = {
+    0x1.127bcfe232f96p+2,  // 256/19 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_13, 1},
+    {table::Basis::one, 0, table::Var::r, 15, 0, potential_1_14, 1},
+    {table::Basis::one, 0, table::Var::r, 16, 0, potential_1_15, 1},
+    {table::Basis::one, 0, table::Var::r, 17, 0, potential_1_16, 1},
+    {table::Basis::one, 0, table::Var::r, 18, 0, potential_1_17, 1},
+    {table::Basis::one, 0, table::Var::r, 19, 0, potential_1_18, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 19},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.83109825f9e1bp+1,  // 19/2 * pi^-1
@@ -17018,7 +18234,7 @@ inline constexpr table::Kernel wendland_k_4_l_3_D2 = {
         {detail_wendland_k_4_l_3_D2::laplacian, 2},
         {detail_wendland_k_4_l_3_D2::grad_over_r, 2},
         {detail_wendland_k_4_l_3_D2::hess_radial, 2},
-        {detail_wendland_k_4_l_3_D2::potential, 2},
+        {detail_wendland_k_4_l_3_D2::potential, 3},
         {detail_wendland_k_4_l_3_D2::dpotential, 3},
         {detail_wendland_k_4_l_3_D2::dpotential_over_r, 3},
         {detail_wendland_k_4_l_3_D2::potential_hess_radial, 3},
@@ -17699,38 +18915,122 @@ inline constexpr table::Piece hess_radial[] = {
 };
 inline constexpr double potential_0_0[] = {
     -0x1.270e375880b0cp-2,  // -421456513/465585120 * pi^-1
-    -0x1.270e375880b0cp-2,  // -421456513/465585120 * pi^-1
-    0x1.644ee25411ebp+0,  // 678599429/155195040 * pi^-1
-    0x1.644ee25411ebp+0,  // 678599429/155195040 * pi^-1
-    -0x1.f26e9c1256ce2p+2,  // -542444953/22170720 * pi^-1
-    -0x1.f26e9c1256ce2p+2,  // -542444953/22170720 * pi^-1
-    0x1.495e64ed4756dp+5,  // 20073360529/155195040 * pi^-1
-    0x1.495e64ed4756dp+5,  // 20073360529/155195040 * pi^-1
-    -0x1.da91470352076p+7,  // -115689967171/155195040 * pi^-1
-    -0x1.da91470352076p+7,  // -115689967171/155195040 * pi^-1
-    0x1.51e660d7dadcfp+11,  // 1317970773341/155195040 * pi^-1
-    -0x1.c03b3805d223ep+12,  // -953626838107/42325920 * pi^-1
-    0x1.5e328b3dafea1p+13,  // 1490113060493/42325920 * pi^-1
-    -0x1.74e404553697p+13,  // -122051872639/3255840 * pi^-1
-    0x1.1b77963dc1646p+13,  // 92782404161/3255840 * pi^-1
-    -0x1.3669a3da917b2p+12,  // -50801008063/3255840 * pi^-1
-    0x1.e149e65785079p+10,  // 4922872253/813960 * pi^-1
-    -0x1.f77cc1ea8e46dp+8,  // -75734291/47880 * pi^-1
-    0x1.3fc47343e3462p+6,  // 12024809/47880 * pi^-1
-    -0x1.7565096dc719dp+2,  // -46189/2520 * pi^-1
+    0x0p+0,  // 0
+    0x1.ae12702a32173p+0,  // 95/18 * pi^-1
+    0x0p+0,  // 0
+    -0x1.25c12a53ada47p+3,  // -1615/56 * pi^-1
+    0x0p+0,  // 0
+    0x1.87ac386f92309p+5,  // 3230/21 * pi^-1
+    0x0p+0,  // 0
+    -0x1.1674701f51ee9p+8,  // -20995/24 * pi^-1
+    0x0p+0,  // 0
+    0x1.6f8f75480ffd7p+11,  // 46189/5 * pi^-1
+    -0x1.34973438dfc93p+13,  // -21498880/693 * pi^-1
+    0x1.1f2813a04c7ep+14,  // 230945/4 * pi^-1
+    -0x1.698b47c973408p+14,  // -6615040/91 * pi^-1
+    0x1.482dcd497bfdbp+14,  // 461890/7 * pi^-1
+    -0x1.b6ac682b0a21fp+13,  // -661504/15 * pi^-1
+    0x1.aebc1d7072bdp+12,  // 692835/32 * pi^-1
+    -0x1.2f948b69144cap+11,  // -389120/51 * pi^-1
+    0x1.23b6ef5dc38c3p+9,  // 230945/126 * pi^-1
+    -0x1.571ac3dabfb7cp+6,  // -5120/19 * pi^-1
+    0x1.7565096dc719dp+2,  // 46189/2520 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_0_0, 20},
+    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 21},
 };
 inline constexpr double potential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
+inline constexpr double potential_1_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr double potential_1_2[] = {
+    -0x1.b2995e7b7b604p-5,  // -1/6 * pi^-1
+};
+inline constexpr double potential_1_3[] = {
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
+};
+inline constexpr double potential_1_4[] = {
+    -0x1.04c26be3b06cfp-5,  // -1/10 * pi^-1
+};
+inline constexpr double potential_1_5[] = {
+    -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
+};
+inline constexpr double potential_1_6[] = {
+    -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
+};
+inline constexpr double potential_1_7[] = {
+    -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
+};
+inline constexpr double potential_1_8[] = {
+    -0x1.21bb945252402p-6,  // -1/18 * pi^-1
+};
+inline constexpr double potential_1_9[] = {
+    -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
+};
+inline constexpr double potential_1_10[] = {
+    -0x1.da1bace3cc68fp-7,  // -1/22 * pi^-1
+};
+inline constexpr double potential_1_11[] = {
+    -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
+};
+inline constexpr double potential_1_12[] = {
+    -0x1.912b1c2336cfp-7,  // -1/26 * pi^-1
+};
+inline constexpr double potential_1_13[] = {
+    -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
+};
+inline constexpr double potential_1_14[] = {
+    -0x1.5bade52f95e69p-7,  // -1/30 * pi^-1
+};
+inline constexpr double potential_1_15[] = {
+    0x1.392dd52b99601p+4,  // 41323/672 * pi^-1
+};
+inline constexpr double potential_1_16[] = {
+    -0x1.c3a688961eefep+5,  // -18091/102 * pi^-1
+};
+inline constexpr double potential_1_17[] = {
+    0x1.f1958352fc21ap+5,  // 49241/252 * pi^-1
+};
+inline constexpr double potential_1_18[] = {
+    -0x1.ee8e1fb9e4a22p+4,  // -232471/2394 * pi^-1
+};
+inline constexpr double potential_1_19[] = {
+    0x1.7565096dc719dp+2,  // 46189/2520 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r, 13, 0, potential_1_12, 1},
+    {table::Basis::one, 0, table::Var::r, 14, 0, potential_1_13, 1},
+    {table::Basis::one, 0, table::Var::r, 15, 0, potential_1_14, 1},
+    {table::Basis::one, 0, table::Var::r, 16, 0, potential_1_15, 1},
+    {table::Basis::one, 0, table::Var::r, 17, 0, potential_1_16, 1},
+    {table::Basis::one, 0, table::Var::r, 18, 0, potential_1_17, 1},
+    {table::Basis::one, 0, table::Var::r, 19, 0, potential_1_18, 1},
+    {table::Basis::one, 0, table::Var::r, 20, 0, potential_1_19, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
+    {0x1.8p-2, 0x1p+0, potential_1, 20},  // [3/8, 1), Taylor polynomial at the edge
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.ae12702a32173p+1,  // 95/9 * pi^-1
@@ -17892,7 +19192,7 @@ inline constexpr table::Kernel wendland_k_4_l_4_D2 = {
         {detail_wendland_k_4_l_4_D2::laplacian, 2},
         {detail_wendland_k_4_l_4_D2::grad_over_r, 2},
         {detail_wendland_k_4_l_4_D2::hess_radial, 2},
-        {detail_wendland_k_4_l_4_D2::potential, 2},
+        {detail_wendland_k_4_l_4_D2::potential, 3},
         {detail_wendland_k_4_l_4_D2::dpotential, 3},
         {detail_wendland_k_4_l_4_D2::dpotential_over_r, 3},
         {detail_wendland_k_4_l_4_D2::potential_hess_radial, 3},
@@ -18205,1776 +19505,3489 @@ inline constexpr table::Kernel wendland_k_4_l_4_D3 = {
 namespace detail_wendland_missing_k_1_D1 {
 inline constexpr double value_0_0[] = {
     0x1.7c4632ac0bf43p+0,  // 14/3 * pi^-1
+    -0x1.6481cf814b34fp+3,  // -35 * pi^-1
+    -0x1.e6713f61722dp+0,  // -315/4 * pi^-1 + 105 * pi^-1 * log(2)
+    0x1.7814ef7a09c31p+3,  // 595/24 * pi^-1 + 35/2 * pi^-1 * log(2)
+    -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
+    -0x1.1d34a60108f72p-6,  // -7/128 * pi^-1
+    -0x1.db57bf570ef14p-9,  // -35/3072 * pi^-1
+    -0x1.1d34a60108f72p-10,  // -7/2048 * pi^-1
+    -0x1.abcef9018d72bp-12,  // -21/16384 * pi^-1
+    -0x1.757bcd321e06bp-13,  // -55/98304 * pi^-1
+    -0x1.6c2581aa76e02p-14,  // -143/524288 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
+    -0x1.6481cf814b34fp+2,  // -35/2 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, value_0_1, 2},
+};
+inline constexpr double value_1_0[] = {
+    0x1.7c4632ac0bf43p+0,  // 14/3 * pi^-1
     -0x1.4cbd6c568a75bp+3,  // -98/3 * pi^-1
     -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     0x1.0b615ba0f867bp+5,  // 105 * pi^-1
     0x1.6481cf814b34fp+2,  // 35/2 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 2},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_1_1, 2},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.0e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.6481cf814b34fp+4,  // -70 * pi^-1
-    -0x1.21a978990d1bp+7,  // -455 * pi^-1
+    -0x1.482f838d26ad5p+5,  // -420 * pi^-1 + 420 * pi^-1 * log(2)
+    0x1.03c796a3729fp+6,  // 525/4 * pi^-1 + 105 * pi^-1 * log(2)
+    -0x1.6481cf814b34fp+0,  // -35/8 * pi^-1
+    -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
+    -0x1.6481cf814b34fp-5,  // -35/256 * pi^-1
+    -0x1.f31c2281cfb08p-7,  // -49/1024 * pi^-1
+    -0x1.abcef9018d72bp-8,  // -21/1024 * pi^-1
+    -0x1.a42b46d861c78p-9,  // -165/16384 * pi^-1
+    -0x1.c72ee21514982p-10,  // -715/131072 * pi^-1
 };
 inline constexpr double dr_0_1[] = {
+    -0x1.0b615ba0f867bp+7,  // -420 * pi^-1
+    -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 10},
+    {table::Basis::log, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.6481cf814b34fp+4,  // -70 * pi^-1
+    -0x1.21a978990d1bp+7,  // -455 * pi^-1
+};
+inline constexpr double dr_1_1[] = {
     0x1.0b615ba0f867bp+7,  // 420 * pi^-1
     0x1.0b615ba0f867bp+5,  // 105 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_1_1, 2},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^19, truncation < 1.8e-19 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dr_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.6481cf814b34fp+4,  // -70 * pi^-1
-    -0x1.10f362defd948p+9,  // -1715 * pi^-1
+    -0x1.00c27f256ab4ep+8,  // -1680 * pi^-1 + 1260 * pi^-1 * log(2)
+    0x1.234d50d83039dp+8,  // 2205/4 * pi^-1 + 525 * pi^-1 * log(2)
+    -0x1.37f1959121ce5p+3,  // -245/8 * pi^-1
+    -0x1.91120971749b9p+0,  // -315/64 * pi^-1
+    -0x1.ea327d51c768cp-2,  // -385/256 * pi^-1
+    -0x1.9586dc0978bf7p-3,  // -637/1024 * pi^-1
+    -0x1.91120971749b9p-4,  // -315/1024 * pi^-1
 };
 inline constexpr double d2r_0_1[] = {
+    -0x1.91120971749b9p+8,  // -1260 * pi^-1
+    -0x1.4e39b2893681ap+7,  // -525 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+};
+inline constexpr double d2r_1_0[] = {
+    -0x1.6481cf814b34fp+4,  // -70 * pi^-1
+    -0x1.10f362defd948p+9,  // -1715 * pi^-1
+};
+inline constexpr double d2r_1_1[] = {
     0x1.91120971749b9p+8,  // 1260 * pi^-1
     0x1.4e39b2893681ap+7,  // 525 * pi^-1
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_1_1, 2},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 5.9e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.6481cf814b34fp+4,  // -70 * pi^-1
-    -0x1.10f362defd948p+9,  // -1715 * pi^-1
+    -0x1.00c27f256ab4ep+8,  // -1680 * pi^-1 + 1260 * pi^-1 * log(2)
+    0x1.234d50d83039dp+8,  // 2205/4 * pi^-1 + 525 * pi^-1 * log(2)
+    -0x1.37f1959121ce5p+3,  // -245/8 * pi^-1
+    -0x1.91120971749b9p+0,  // -315/64 * pi^-1
+    -0x1.ea327d51c768cp-2,  // -385/256 * pi^-1
+    -0x1.9586dc0978bf7p-3,  // -637/1024 * pi^-1
+    -0x1.91120971749b9p-4,  // -315/1024 * pi^-1
 };
 inline constexpr double laplacian_0_1[] = {
+    -0x1.91120971749b9p+8,  // -1260 * pi^-1
+    -0x1.4e39b2893681ap+7,  // -525 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.6481cf814b34fp+4,  // -70 * pi^-1
+    -0x1.10f362defd948p+9,  // -1715 * pi^-1
+};
+inline constexpr double laplacian_1_1[] = {
     0x1.91120971749b9p+8,  // 1260 * pi^-1
     0x1.4e39b2893681ap+7,  // 525 * pi^-1
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_1_1, 2},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 5.9e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.6481cf814b34fp+4,  // -70 * pi^-1
-    -0x1.21a978990d1bp+7,  // -455 * pi^-1
+    -0x1.482f838d26ad5p+5,  // -420 * pi^-1 + 420 * pi^-1 * log(2)
+    0x1.03c796a3729fp+6,  // 525/4 * pi^-1 + 105 * pi^-1 * log(2)
+    -0x1.6481cf814b34fp+0,  // -35/8 * pi^-1
+    -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
+    -0x1.6481cf814b34fp-5,  // -35/256 * pi^-1
+    -0x1.f31c2281cfb08p-7,  // -49/1024 * pi^-1
+    -0x1.abcef9018d72bp-8,  // -21/1024 * pi^-1
+    -0x1.a42b46d861c78p-9,  // -165/16384 * pi^-1
+    -0x1.c72ee21514982p-10,  // -715/131072 * pi^-1
 };
 inline constexpr double grad_over_r_0_1[] = {
+    -0x1.0b615ba0f867bp+7,  // -420 * pi^-1
+    -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 10},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+};
+inline constexpr double grad_over_r_1_0[] = {
+    -0x1.6481cf814b34fp+4,  // -70 * pi^-1
+    -0x1.21a978990d1bp+7,  // -455 * pi^-1
+};
+inline constexpr double grad_over_r_1_1[] = {
     0x1.0b615ba0f867bp+7,  // 420 * pi^-1
     0x1.0b615ba0f867bp+5,  // 105 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_1_1, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^18, truncation < 1.8e-19 relative (series.hpp)
+    {0x1p-3, 0x1p+0, grad_over_r_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
-    -0x1.91120971749b9p+8,  // -1260 * pi^-1
+    -0x1.af791d678bbe6p+7,  // -1260 * pi^-1 + 840 * pi^-1 * log(2)
+    0x1.c4b6d65ea7241p+7,  // 420 * pi^-1 + 420 * pi^-1 * log(2)
+    -0x1.0b615ba0f867bp+3,  // -105/4 * pi^-1
+    -0x1.6481cf814b34fp+0,  // -35/8 * pi^-1
+    -0x1.bda243619e023p-2,  // -175/128 * pi^-1
 };
 inline constexpr double hess_radial_0_1[] = {
+    -0x1.0b615ba0f867bp+8,  // -840 * pi^-1
+    -0x1.0b615ba0f867bp+7,  // -420 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+};
+inline constexpr double hess_radial_1_0[] = {
+    -0x1.91120971749b9p+8,  // -1260 * pi^-1
+};
+inline constexpr double hess_radial_1_1[] = {
     0x1.0b615ba0f867bp+8,  // 840 * pi^-1
     0x1.0b615ba0f867bp+7,  // 420 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 1},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 1},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_1_1, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-6, hess_radial_0, 2},  // [0, 1/64), series at 0 up to r^8, truncation < 2.1e-20 relative (series.hpp)
+    {0x1p-6, 0x1p+0, hess_radial_1, 2},  // [1/64, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
+    0x1.7c4632ac0bf43p-1,  // 7/3 * pi^-1
+    -0x1.db57bf570ef14p-1,  // -35/12 * pi^-1
+    0x1.6171516bfdedp-2,  // -161/120 * pi^-1 + 7/2 * pi^-1 * log(2)
+    0x1.e4600a43d55c9p-3,  // 1415/2688 * pi^-1 + 5/16 * pi^-1 * log(2)
+    -0x1.fb0843900ff04p-10,  // -7/1152 * pi^-1
+    -0x1.149024da373d4p-13,  // -7/16896 * pi^-1
+    -0x1.4e4e9772adac8p-16,  // -5/79872 * pi^-1
+    -0x1.30382889a329cp-18,  // -7/491520 * pi^-1
+    -0x1.65e7b73883b8ap-20,  // -7/1671168 * pi^-1
+    -0x1.f7385274081e9p-22,  // -11/7471104 * pi^-1
+    -0x1.938e6a04f2903p-23,  // -13/22020096 * pi^-1
+    -0x1.663ab54cbd591p-24,  // -455/1736441856 * pi^-1
+    -0x1.58c82df15284ap-25,  // -119/943718400 * pi^-1
+    -0x1.627bcdb62c63dp-26,  // -323/4982833152 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.1d34a60108f72p+0,  // -7/2 * pi^-1
+    -0x1.976fc893c3aa3p-4,  // -5/16 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, potential_0_1, 2},
+};
+inline constexpr double potential_1_0[] = {
     0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
     0x1.e8ec8a4aeacc4p-2,  // 3/2 * pi^-1
     -0x1.757bcd321e06bp-1,  // -55/24 * pi^-1
     -0x1.7fab656902eafp-1,  // -113/48 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
     0x1.976fc893c3aa3p-4,  // 5/16 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^28, truncation < 3.8e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    0x1.2ac970f4e4d22p+0,  // 11/3 * pi^-1
-    -0x1.976fc893c3aa3p+1,  // -10 * pi^-1
-    -0x1.49583999937efp+2,  // -97/6 * pi^-1
+    0x1.7c4632ac0bf43p+0,  // 14/3 * pi^-1
+    -0x1.db57bf570ef14p+1,  // -35/3 * pi^-1
+    0x1.e9eaa841e7d8cp-1,  // -231/20 * pi^-1 + 21 * pi^-1 * log(2)
+    0x1.cae90dba9921fp+0,  // 655/168 * pi^-1 + 5/2 * pi^-1 * log(2)
+    -0x1.3ce52a3a09f63p-6,  // -35/576 * pi^-1
+    -0x1.9ed8374752dbep-10,  // -7/1408 * pi^-1
+    -0x1.2484c48457f6fp-12,  // -35/39936 * pi^-1
+    -0x1.30382889a329cp-14,  // -7/30720 * pi^-1
+    -0x1.92a4ae1f942fcp-16,  // -21/278528 * pi^-1
+    -0x1.3a83338885132p-17,  // -55/1867776 * pi^-1
+    -0x1.1571e8e366c32p-18,  // -143/11010048 * pi^-1
+    -0x1.0cac07f98e02dp-19,  // -455/72351744 * pi^-1
+    -0x1.1822a554130bdp-20,  // -1547/471859200 * pi^-1
+    -0x1.362c53ff66d75p-21,  // -2261/1245708288 * pi^-1
+    -0x1.68fa359e3345ap-22,  // -11305/10703863808 * pi^-1
 };
 inline constexpr double dpotential_0_1[] = {
-    0x1.abcef9018d72bp+2,  // 21 * pi^-1
-    0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.abcef9018d72bp+2,  // -21 * pi^-1
+    -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1p-1,  // 1/2
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     0x1.2ac970f4e4d22p+0,  // 11/3 * pi^-1
     -0x1.976fc893c3aa3p+1,  // -10 * pi^-1
     -0x1.49583999937efp+2,  // -97/6 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     0x1.abcef9018d72bp+2,  // 21 * pi^-1
     0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^29, truncation < 7.8e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.7c4632ac0bf43p+0,  // 14/3 * pi^-1
+    -0x1.db57bf570ef14p+1,  // -35/3 * pi^-1
+    0x1.e9eaa841e7d8cp-1,  // -231/20 * pi^-1 + 21 * pi^-1 * log(2)
+    0x1.cae90dba9921fp+0,  // 655/168 * pi^-1 + 5/2 * pi^-1 * log(2)
+    -0x1.3ce52a3a09f63p-6,  // -35/576 * pi^-1
+    -0x1.9ed8374752dbep-10,  // -7/1408 * pi^-1
+    -0x1.2484c48457f6fp-12,  // -35/39936 * pi^-1
+    -0x1.30382889a329cp-14,  // -7/30720 * pi^-1
+    -0x1.92a4ae1f942fcp-16,  // -21/278528 * pi^-1
+    -0x1.3a83338885132p-17,  // -55/1867776 * pi^-1
+    -0x1.1571e8e366c32p-18,  // -143/11010048 * pi^-1
+    -0x1.0cac07f98e02dp-19,  // -455/72351744 * pi^-1
+    -0x1.1822a554130bdp-20,  // -1547/471859200 * pi^-1
+    -0x1.362c53ff66d75p-21,  // -2261/1245708288 * pi^-1
+    -0x1.68fa359e3345ap-22,  // -11305/10703863808 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.abcef9018d72bp+2,  // -21 * pi^-1
+    -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.2ac970f4e4d22p+0,  // 11/3 * pi^-1
+    -0x1.976fc893c3aa3p+1,  // -10 * pi^-1
+    -0x1.49583999937efp+2,  // -97/6 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    0x1.abcef9018d72bp+2,  // 21 * pi^-1
+    0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^28, truncation < 7.8e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.db57bf570ef14p+2,  // -70/3 * pi^-1
+    -0x1.6db349c1330cbp+1,  // -336/5 * pi^-1 + 84 * pi^-1 * log(2)
+    0x1.3eb7cdc2b69edp+3,  // 585/28 * pi^-1 + 15 * pi^-1 * log(2)
+    -0x1.3ce52a3a09f63p-3,  // -35/72 * pi^-1
+    -0x1.0347228c93c96p-6,  // -35/704 * pi^-1
+    -0x1.b6c726c683f26p-9,  // -35/3328 * pi^-1
+    -0x1.0a3123786ec49p-10,  // -49/15360 * pi^-1
+    -0x1.92a4ae1f942fcp-12,  // -21/17408 * pi^-1
+    -0x1.61d399f995b58p-13,  // -165/311296 * pi^-1
+    -0x1.5ace631c4073fp-14,  // -715/2752512 * pi^-1
+    -0x1.716c8af72343dp-15,  // -5005/36175872 * pi^-1
+    -0x1.a433f7fe1c91bp-16,  // -1547/19660800 * pi^-1
+    -0x1.f808087f071dfp-17,  // -29393/622854144 * pi^-1
+    -0x1.3bdaeeea6cdcfp-17,  // -79135/2675965952 * pi^-1
+    -0x1.9abf02549b73ep-18,  // -260015/13522436096 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.abcef9018d72bp+4,  // -84 * pi^-1
+    -0x1.3193d66ed2bfap+2,  // -15 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     -0x1.cdc2f46333164p+2,  // -68/3 * pi^-1
     -0x1.8ef2c9bb5a415p+4,  // -235/3 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.abcef9018d72bp+4,  // 84 * pi^-1
     0x1.3193d66ed2bfap+2,  // 15 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_hess_radial_0, 2},  // [0, 1/4), series at 0 up to r^28, truncation < 6.6e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_hess_radial_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_D1
 inline constexpr table::Kernel wendland_missing_k_1_D1 = {
     "wendland-missing:k=1", 1, 0x1p+0, 4, 2, 1,
     0x1.6481cf814b34fp+6, "280 * pi^-1", true,
     {
-        {detail_wendland_missing_k_1_D1::value, 2},
-        {detail_wendland_missing_k_1_D1::dr, 2},
-        {detail_wendland_missing_k_1_D1::d2r, 2},
-        {detail_wendland_missing_k_1_D1::laplacian, 2},
-        {detail_wendland_missing_k_1_D1::grad_over_r, 2},
-        {detail_wendland_missing_k_1_D1::hess_radial, 2},
-        {detail_wendland_missing_k_1_D1::potential, 2},
-        {detail_wendland_missing_k_1_D1::dpotential, 2},
-        {detail_wendland_missing_k_1_D1::dpotential_over_r, 2},
-        {detail_wendland_missing_k_1_D1::potential_hess_radial, 2},
+        {detail_wendland_missing_k_1_D1::value, 3},
+        {detail_wendland_missing_k_1_D1::dr, 3},
+        {detail_wendland_missing_k_1_D1::d2r, 3},
+        {detail_wendland_missing_k_1_D1::laplacian, 3},
+        {detail_wendland_missing_k_1_D1::grad_over_r, 3},
+        {detail_wendland_missing_k_1_D1::hess_radial, 3},
+        {detail_wendland_missing_k_1_D1::potential, 3},
+        {detail_wendland_missing_k_1_D1::dpotential, 3},
+        {detail_wendland_missing_k_1_D1::dpotential_over_r, 3},
+        {detail_wendland_missing_k_1_D1::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=1 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_1_D2 {
 inline constexpr double value_0_0[] = {
     0x1.1d34a60108f72p+1,  // 7 * pi^-1
+    -0x1.0b615ba0f867bp+4,  // -105/2 * pi^-1
+    -0x1.6cd4ef8915a1cp+1,  // -945/8 * pi^-1 + 315/2 * pi^-1 * log(2)
+    0x1.1a0fb39b87525p+4,  // 595/16 * pi^-1 + 105/4 * pi^-1 * log(2)
+    -0x1.0b615ba0f867bp-2,  // -105/128 * pi^-1
+    -0x1.abcef9018d72bp-6,  // -21/256 * pi^-1
+    -0x1.6481cf814b34fp-8,  // -35/2048 * pi^-1
+    -0x1.abcef9018d72bp-10,  // -21/4096 * pi^-1
+    -0x1.40db3ac12a161p-11,  // -63/32768 * pi^-1
+    -0x1.181cd9e59685p-12,  // -55/65536 * pi^-1
+    -0x1.111c213fd9281p-13,  // -429/1048576 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.91120971749b9p+5,  // -315/2 * pi^-1
+    -0x1.0b615ba0f867bp+3,  // -105/4 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, value_0_1, 2},
+};
+inline constexpr double value_1_0[] = {
+    0x1.1d34a60108f72p+1,  // 7 * pi^-1
     -0x1.f31c2281cfb08p+3,  // -49 * pi^-1
     -0x1.68f6a2194f58dp+5,  // -567/4 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     0x1.91120971749b9p+5,  // 315/2 * pi^-1
     0x1.0b615ba0f867bp+3,  // 105/4 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 2},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_1_1, 2},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.0e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
-    -0x1.b27e34e593a88p+7,  // -1365/2 * pi^-1
+    -0x1.ec474553ba04p+5,  // -630 * pi^-1 + 630 * pi^-1 * log(2)
+    0x1.85ab61f52bee8p+6,  // 1575/8 * pi^-1 + 315/2 * pi^-1 * log(2)
+    -0x1.0b615ba0f867bp+1,  // -105/16 * pi^-1
+    -0x1.0b615ba0f867bp-2,  // -105/128 * pi^-1
+    -0x1.0b615ba0f867bp-4,  // -105/512 * pi^-1
+    -0x1.765519e15bc46p-6,  // -147/2048 * pi^-1
+    -0x1.40db3ac12a161p-7,  // -63/2048 * pi^-1
+    -0x1.3b2075224955ap-8,  // -495/32768 * pi^-1
+    -0x1.5563298fcf722p-9,  // -2145/262144 * pi^-1
 };
 inline constexpr double dr_0_1[] = {
+    -0x1.91120971749b9p+7,  // -630 * pi^-1
+    -0x1.91120971749b9p+5,  // -315/2 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 10},
+    {table::Basis::log, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
+    -0x1.b27e34e593a88p+7,  // -1365/2 * pi^-1
+};
+inline constexpr double dr_1_1[] = {
     0x1.91120971749b9p+7,  // 630 * pi^-1
     0x1.91120971749b9p+5,  // 315/2 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_1_1, 2},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^19, truncation < 1.8e-19 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dr_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
-    -0x1.996d144e7c5edp+9,  // -5145/2 * pi^-1
+    -0x1.8123beb8200f4p+8,  // -2520 * pi^-1 + 1890 * pi^-1 * log(2)
+    0x1.b4f3f9444856bp+8,  // 6615/8 * pi^-1 + 1575/2 * pi^-1 * log(2)
+    -0x1.d3ea6059b2b58p+3,  // -735/16 * pi^-1
+    -0x1.2ccd87151774bp+1,  // -945/128 * pi^-1
+    -0x1.6fa5ddfd558e9p-1,  // -1155/512 * pi^-1
+    -0x1.302525071a8f9p-2,  // -1911/2048 * pi^-1
+    -0x1.2ccd87151774bp-3,  // -945/2048 * pi^-1
 };
 inline constexpr double d2r_0_1[] = {
+    -0x1.2ccd87151774bp+9,  // -1890 * pi^-1
+    -0x1.f5568bcdd1c27p+7,  // -1575/2 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+};
+inline constexpr double d2r_1_0[] = {
+    -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
+    -0x1.996d144e7c5edp+9,  // -5145/2 * pi^-1
+};
+inline constexpr double d2r_1_1[] = {
     0x1.2ccd87151774bp+9,  // 1890 * pi^-1
     0x1.f5568bcdd1c27p+7,  // 1575/2 * pi^-1
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_1_1, 2},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 5.9e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.0b615ba0f867bp+6,  // -210 * pi^-1
-    -0x1.030650c3f0a47p+10,  // -3255 * pi^-1
+    -0x1.beaca762974fcp+8,  // -3150 * pi^-1 + 2520 * pi^-1 * log(2)
+    0x1.0b2f68e0c9a92p+9,  // 4095/4 * pi^-1 + 945 * pi^-1 * log(2)
+    -0x1.0b615ba0f867bp+4,  // -105/2 * pi^-1
+    -0x1.4e39b2893681ap+1,  // -525/64 * pi^-1
+    -0x1.91120971749b9p-1,  // -315/128 * pi^-1
+    -0x1.478a76a5304bdp-2,  // -1029/1024 * pi^-1
+    -0x1.40db3ac12a161p-3,  // -63/128 * pi^-1
 };
 inline constexpr double laplacian_0_1[] = {
+    -0x1.91120971749b9p+9,  // -2520 * pi^-1
+    -0x1.2ccd87151774bp+8,  // -945 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.0b615ba0f867bp+6,  // -210 * pi^-1
+    -0x1.030650c3f0a47p+10,  // -3255 * pi^-1
+};
+inline constexpr double laplacian_1_1[] = {
     0x1.91120971749b9p+9,  // 2520 * pi^-1
     0x1.2ccd87151774bp+8,  // 945 * pi^-1
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_1_1, 2},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 3.4e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
-    -0x1.b27e34e593a88p+7,  // -1365/2 * pi^-1
+    -0x1.ec474553ba04p+5,  // -630 * pi^-1 + 630 * pi^-1 * log(2)
+    0x1.85ab61f52bee8p+6,  // 1575/8 * pi^-1 + 315/2 * pi^-1 * log(2)
+    -0x1.0b615ba0f867bp+1,  // -105/16 * pi^-1
+    -0x1.0b615ba0f867bp-2,  // -105/128 * pi^-1
+    -0x1.0b615ba0f867bp-4,  // -105/512 * pi^-1
+    -0x1.765519e15bc46p-6,  // -147/2048 * pi^-1
+    -0x1.40db3ac12a161p-7,  // -63/2048 * pi^-1
+    -0x1.3b2075224955ap-8,  // -495/32768 * pi^-1
+    -0x1.5563298fcf722p-9,  // -2145/262144 * pi^-1
 };
 inline constexpr double grad_over_r_0_1[] = {
+    -0x1.91120971749b9p+7,  // -630 * pi^-1
+    -0x1.91120971749b9p+5,  // -315/2 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 10},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+};
+inline constexpr double grad_over_r_1_0[] = {
+    -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
+    -0x1.b27e34e593a88p+7,  // -1365/2 * pi^-1
+};
+inline constexpr double grad_over_r_1_1[] = {
     0x1.91120971749b9p+7,  // 630 * pi^-1
     0x1.91120971749b9p+5,  // 315/2 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_1_1, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^18, truncation < 1.8e-19 relative (series.hpp)
+    {0x1p-3, 0x1p+0, grad_over_r_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
-    -0x1.2ccd87151774bp+9,  // -1890 * pi^-1
+    -0x1.439ad60da8cecp+8,  // -1890 * pi^-1 + 1260 * pi^-1 * log(2)
+    0x1.538920c6fd5b1p+8,  // 630 * pi^-1 + 630 * pi^-1 * log(2)
+    -0x1.91120971749b9p+3,  // -315/8 * pi^-1
+    -0x1.0b615ba0f867bp+1,  // -105/16 * pi^-1
+    -0x1.4e39b2893681ap-1,  // -525/256 * pi^-1
 };
 inline constexpr double hess_radial_0_1[] = {
+    -0x1.91120971749b9p+8,  // -1260 * pi^-1
+    -0x1.91120971749b9p+7,  // -630 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+};
+inline constexpr double hess_radial_1_0[] = {
+    -0x1.2ccd87151774bp+9,  // -1890 * pi^-1
+};
+inline constexpr double hess_radial_1_1[] = {
     0x1.91120971749b9p+8,  // 1260 * pi^-1
     0x1.91120971749b9p+7,  // 630 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 1},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 1},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_1_1, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-6, hess_radial_0, 2},  // [0, 1/64), series at 0 up to r^8, truncation < 2.1e-20 relative (series.hpp)
+    {0x1p-6, 0x1p+0, hess_radial_1, 2},  // [1/64, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.9f7da85542fbbp-3,  // -551/560 * pi^-1 + 1/2 * pi^-1 * log(2)
+    0x1.1d34a60108f72p-1,  // 7/4 * pi^-1
+    -0x1.0b615ba0f867bp+0,  // -105/32 * pi^-1
+    0x1.8a44df717be9cp-2,  // -175/96 * pi^-1 + 35/8 * pi^-1 * log(2)
+    0x1.3b7bdf0fa65f4p-2,  // 175/256 * pi^-1 + 105/256 * pi^-1 * log(2)
+    -0x1.563f2d9ad78fp-9,  // -21/2560 * pi^-1
+    -0x1.7c4632ac0bf43p-13,  // -7/12288 * pi^-1
+    -0x1.d1a452f204304p-16,  // -5/57344 * pi^-1
+    -0x1.abcef9018d72bp-18,  // -21/1048576 * pi^-1
+    -0x1.fb0843900ff04p-20,  // -7/1179648 * pi^-1
+    -0x1.668b54591295dp-21,  // -11/5242880 * pi^-1
+    -0x1.20e8dd5ad08ffp-22,  // -39/46137344 * pi^-1
+    -0x1.017a324f2818p-23,  // -455/1207959552 * pi^-1
+    -0x1.f1481ae0fbf09p-25,  // -119/654311424 * pi^-1
+    -0x1.005e1ba176f5ep-25,  // -969/10334765056 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.6481cf814b34fp+0,  // -35/8 * pi^-1
+    -0x1.0b615ba0f867bp-3,  // -105/256 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, potential_0_1, 2},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.40b5fa689bd84p-2,  // -551/560 * pi^-1
     0x1.c2ccafa957933p-2,  // 1549/1120 * pi^-1
     -0x1.b27738d4f8fcfp-1,  // -11943/4480 * pi^-1
     -0x1.ebecd96d60866p-1,  // -5409/1792 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     0x0p+0,  // 0
     0x0p+0,  // 0
     0x1.6481cf814b34fp+0,  // 35/8 * pi^-1
     0x1.0b615ba0f867bp-3,  // 105/256 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 5},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_1_1, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_2, 1},
 };
-inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_0_0[] = {
+inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr double dpotential_0_1[] = {
-    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
-    0x1.08d575933f2eap+0,  // 13/4 * pi^-1
-    -0x1.d7193feada3cdp+1,  // -185/16 * pi^-1
-    -0x1.a6143362acb25p+2,  // -663/32 * pi^-1
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
-inline constexpr double dpotential_0_2[] = {
-    0x1.0b615ba0f867bp+3,  // 105/4 * pi^-1
-    0x1.0b615ba0f867bp+0,  // 105/32 * pi^-1
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^28, truncation < 1.5e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
+    -0x1.0b615ba0f867bp+2,  // -105/8 * pi^-1
+    0x1.d5caff51dd536p-1,  // -245/16 * pi^-1 + 105/4 * pi^-1 * log(2)
+    0x1.2ac5c95596d8dp+1,  // 1295/256 * pi^-1 + 105/32 * pi^-1 * log(2)
+    -0x1.abcef9018d72bp-6,  // -21/256 * pi^-1
+    -0x1.1d34a60108f72p-9,  // -7/1024 * pi^-1
+    -0x1.976fc893c3aa3p-12,  // -5/4096 * pi^-1
+    -0x1.abcef9018d72bp-14,  // -21/65536 * pi^-1
+    -0x1.1d34a60108f72p-15,  // -7/65536 * pi^-1
+    -0x1.c02e296f573b4p-17,  // -11/262144 * pi^-1
+    -0x1.8d40305cdec5fp-18,  // -39/2097152 * pi^-1
+    -0x1.82374b76bc24p-19,  // -455/50331648 * pi^-1
+    -0x1.940a95d6ccb37p-20,  // -119/25165824 * pi^-1
+    -0x1.c0a4b05a902e5p-21,  // -969/369098752 * pi^-1
+    -0x1.05b566df7ec5bp-21,  // -2261/1476395008 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.0b615ba0f867bp+3,  // -105/4 * pi^-1
+    -0x1.0b615ba0f867bp+0,  // -105/32 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_2, 2},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
     0x1.08d575933f2eap+0,  // 13/4 * pi^-1
     -0x1.d7193feada3cdp+1,  // -185/16 * pi^-1
     -0x1.a6143362acb25p+2,  // -663/32 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.0b615ba0f867bp+3,  // 105/4 * pi^-1
     0x1.0b615ba0f867bp+0,  // 105/32 * pi^-1
 };
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_1, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_1_2, 2},
+};
+inline constexpr double dpotential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^29, truncation < 1.4e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
+    -0x1.0b615ba0f867bp+2,  // -105/8 * pi^-1
+    0x1.d5caff51dd536p-1,  // -245/16 * pi^-1 + 105/4 * pi^-1 * log(2)
+    0x1.2ac5c95596d8dp+1,  // 1295/256 * pi^-1 + 105/32 * pi^-1 * log(2)
+    -0x1.abcef9018d72bp-6,  // -21/256 * pi^-1
+    -0x1.1d34a60108f72p-9,  // -7/1024 * pi^-1
+    -0x1.976fc893c3aa3p-12,  // -5/4096 * pi^-1
+    -0x1.abcef9018d72bp-14,  // -21/65536 * pi^-1
+    -0x1.1d34a60108f72p-15,  // -7/65536 * pi^-1
+    -0x1.c02e296f573b4p-17,  // -11/262144 * pi^-1
+    -0x1.8d40305cdec5fp-18,  // -39/2097152 * pi^-1
+    -0x1.82374b76bc24p-19,  // -455/50331648 * pi^-1
+    -0x1.940a95d6ccb37p-20,  // -119/25165824 * pi^-1
+    -0x1.c0a4b05a902e5p-21,  // -969/369098752 * pi^-1
+    -0x1.05b566df7ec5bp-21,  // -2261/1476395008 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.0b615ba0f867bp+3,  // -105/4 * pi^-1
+    -0x1.0b615ba0f867bp+0,  // -105/32 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_2, 2},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.08d575933f2eap+0,  // 13/4 * pi^-1
+    -0x1.d7193feada3cdp+1,  // -185/16 * pi^-1
+    -0x1.a6143362acb25p+2,  // -663/32 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.0b615ba0f867bp+3,  // 105/4 * pi^-1
+    0x1.0b615ba0f867bp+0,  // 105/32 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_1, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_1_2, 2},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^28, truncation < 1.4e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    -0x1.0b615ba0f867bp+3,  // -105/4 * pi^-1
+    -0x1.2bdd37990225bp+2,  // -175/2 * pi^-1 + 105 * pi^-1 * log(2)
+    0x1.9ebc828c43383p+3,  // 3465/128 * pi^-1 + 315/16 * pi^-1 * log(2)
+    -0x1.abcef9018d72bp-3,  // -21/32 * pi^-1
+    -0x1.6481cf814b34fp-6,  // -35/512 * pi^-1
+    -0x1.3193d66ed2bfap-8,  // -15/1024 * pi^-1
+    -0x1.765519e15bc46p-10,  // -147/32768 * pi^-1
+    -0x1.1d34a60108f72p-11,  // -7/4096 * pi^-1
+    -0x1.f833ee9d4222ap-13,  // -99/131072 * pi^-1
+    -0x1.f0903c7416777p-14,  // -195/524288 * pi^-1
+    -0x1.098603e1a158cp-14,  // -5005/25165824 * pi^-1
+    -0x1.2f07f06119869p-15,  // -119/1048576 * pi^-1
+    -0x1.6c85cf499525ap-16,  // -12597/184549376 * pi^-1
+    -0x1.c9fd74071dd9fp-17,  // -15827/369098752 * pi^-1
+    -0x1.2a6ec7b178f23p-17,  // -780045/27917287424 * pi^-1
+    -0x1.91410c7ec0bcp-18,  // -32775/1744830464 * pi^-1
+    -0x1.151db96df04eap-18,  // -111435/8589934592 * pi^-1
+    -0x1.87ddbf79fa0e8p-19,  // -630315/68719476736 * pi^-1
+    -0x1.1adaba35d9334p-19,  // -123751845/18691697672192 * pi^-1
+    -0x1.9fe49253e1787p-20,  // -5686175/1168231104512 * pi^-1
+    -0x1.36cce168ca41cp-20,  // -75987975/20890720927744 * pi^-1
+    -0x1.d769a37d3bae7p-21,  // -115256295/41781441855488 * pi^-1
+    -0x1.6a4be35c78919p-21,  // -149184555/70368744177664 * pi^-1
+    -0x1.19d1648ff968fp-21,  // -159562611/96757023244288 * pi^-1
+    -0x1.bb493447b56b8p-22,  // -92362203675/71213169107795968 * pi^-1
+    -0x1.602a832236873p-22,  // -26682414395/25895697857380352 * pi^-1
+    -0x1.1a618db4a5851p-22,  // -74417546961/90071992547409920 * pi^-1
+    -0x1.c8bc923502f7ap-23,  // -97797772443/146366987889541120 * pi^-1
+    -0x1.744e89cdebd0dp-23,  // -2295919134019/4215369251218784256 * pi^-1
+    -0x1.31b84b7299ea8p-23,  // -96681800495/216172782113783808 * pi^-1
 };
 inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.0b615ba0f867bp+5,  // -105 * pi^-1
+    -0x1.91120971749b9p+2,  // -315/16 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 30},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     -0x1.078f828c62922p+3,  // -207/8 * pi^-1
     -0x1.fee32a8148587p+4,  // -1605/16 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     0x1.0b615ba0f867bp+5,  // 105 * pi^-1
     0x1.91120971749b9p+2,  // 315/16 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_2, 2},
-};
-inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
-};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_1, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_1_2, 2},
+};
+inline constexpr double potential_hess_radial_2_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-1, potential_hess_radial_0, 2},  // [0, 1/2), series at 0 up to r^58, truncation < 5.5e-19 relative (series.hpp)
+    {0x1p-1, 0x1p+0, potential_hess_radial_1, 3},  // [1/2, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_D2
 inline constexpr table::Kernel wendland_missing_k_1_D2 = {
     "wendland-missing:k=1", 2, 0x1p+0, 4, 2, 1,
     0x1.0b615ba0f867bp+7, "420 * pi^-1", true,
     {
-        {detail_wendland_missing_k_1_D2::value, 2},
-        {detail_wendland_missing_k_1_D2::dr, 2},
-        {detail_wendland_missing_k_1_D2::d2r, 2},
-        {detail_wendland_missing_k_1_D2::laplacian, 2},
-        {detail_wendland_missing_k_1_D2::grad_over_r, 2},
-        {detail_wendland_missing_k_1_D2::hess_radial, 2},
-        {detail_wendland_missing_k_1_D2::potential, 2},
-        {detail_wendland_missing_k_1_D2::dpotential, 2},
-        {detail_wendland_missing_k_1_D2::dpotential_over_r, 2},
-        {detail_wendland_missing_k_1_D2::potential_hess_radial, 2},
+        {detail_wendland_missing_k_1_D2::value, 3},
+        {detail_wendland_missing_k_1_D2::dr, 3},
+        {detail_wendland_missing_k_1_D2::d2r, 3},
+        {detail_wendland_missing_k_1_D2::laplacian, 3},
+        {detail_wendland_missing_k_1_D2::grad_over_r, 3},
+        {detail_wendland_missing_k_1_D2::hess_radial, 3},
+        {detail_wendland_missing_k_1_D2::potential, 3},
+        {detail_wendland_missing_k_1_D2::dpotential, 3},
+        {detail_wendland_missing_k_1_D2::dpotential_over_r, 3},
+        {detail_wendland_missing_k_1_D2::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=1 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_1_D3 {
 inline constexpr double value_0_0[] = {
     0x1.37423899a1558p+2,  // 48 * pi^-2
+    -0x1.9886ea49a3c03p+5,  // -504 * pi^-2
+    -0x1.8e81036801de2p+6,  // -2730 * pi^-2 + 2520 * pi^-2 * log(2)
+    0x1.1b5e3acb090cbp+7,  // 525 * pi^-2 + 1260 * pi^-2 * log(2)
+    0x1.fea8a4dc0cb04p+1,  // 315/8 * pi^-2
+    0x1.1059f1866d2adp-3,  // 21/16 * pi^-2
+    0x1.1059f1866d2adp-6,  // 21/128 * pi^-2
+    0x1.d2e354e672004p-9,  // 9/256 * pi^-2
+    0x1.1059f1866d2adp-10,  // 21/2048 * pi^-2
+    0x1.8512c6c009aaep-12,  // 15/4096 * pi^-2
+    0x1.40fc4a5e6e603p-13,  // 99/65536 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    -0x1.fea8a4dc0cb04p+7,  // -2520 * pi^-2
+    -0x1.fea8a4dc0cb04p+6,  // -1260 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, value_0_1, 2},
+};
+inline constexpr double value_1_0[] = {
+    0x1.37423899a1558p+2,  // 48 * pi^-2
     -0x1.8512c6c009aaep+5,  // -480 * pi^-2
     -0x1.2c50e49c3aa98p+8,  // -2964 * pi^-2
     -0x1.37423899a1558p+5,  // -384 * pi^-2
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     0x1.fea8a4dc0cb04p+7,  // 2520 * pi^-2
     0x1.fea8a4dc0cb04p+6,  // 1260 * pi^-2
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 2},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_1_1, 2},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
+    -0x1.46eaaaeb041b2p+9,  // -13440 * pi^-2 + 10080 * pi^-2 * log(2)
+    0x1.693843950bfcfp+9,  // 1890 * pi^-2 + 7560 * pi^-2 * log(2)
+    0x1.fea8a4dc0cb04p+4,  // 315 * pi^-2
+    0x1.54706de808758p+0,  // 105/8 * pi^-2
+    0x1.9886ea49a3c03p-3,  // 63/32 * pi^-2
+    0x1.9886ea49a3c03p-5,  // 63/128 * pi^-2
+    0x1.1059f1866d2adp-6,  // 21/128 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.fea8a4dc0cb04p+9,  // -10080 * pi^-2
+    -0x1.7efe7ba509843p+9,  // -7560 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
     -0x1.6134a53a55938p+10,  // -13944 * pi^-2
     -0x1.1059f1866d2adp+8,  // -2688 * pi^-2
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     0x1.fea8a4dc0cb04p+9,  // 10080 * pi^-2
     0x1.7efe7ba509843p+9,  // 7560 * pi^-2
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_1_1, 2},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, dr_0, 2},  // [0, 1/16), series at 0 up to r^15, truncation < 3.7e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, dr_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
+    -0x1.74da296746406p+11,  // -50400 * pi^-2 + 30240 * pi^-2 * log(2)
+    0x1.63c6b5910c9b3p+11,  // 1890 * pi^-2 + 37800 * pi^-2 * log(2)
+    0x1.bed390408b1a4p+7,  // 2205 * pi^-2
+    0x1.7efe7ba509843p+3,  // 945/8 * pi^-2
+    0x1.18dcc112a0942p+1,  // 693/32 * pi^-2
+    0x1.4bed9e5bd50c3p-1,  // 819/128 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.7efe7ba509843p+11,  // -30240 * pi^-2
+    -0x1.debe1a8e4be54p+11,  // -37800 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+};
+inline constexpr double d2r_1_0[] = {
+    -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
     -0x1.425a74de1b35bp+12,  // -50904 * pi^-2
     -0x1.9886ea49a3c03p+10,  // -16128 * pi^-2
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     0x1.7efe7ba509843p+11,  // 30240 * pi^-2
     0x1.debe1a8e4be54p+11,  // 37800 * pi^-2
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_1_1, 2},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, d2r_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 2.9e-21 relative (series.hpp)
+    {0x1p-5, 0x1p+0, d2r_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.32652fb73ad02p+8,  // -3024 * pi^-2
+    -0x1.0c27bf6e6427p+12,  // -77280 * pi^-2 + 50400 * pi^-2 * log(2)
+    0x1.0c316badc94cdp+12,  // 5670 * pi^-2 + 52920 * pi^-2 * log(2)
+    0x1.1f3edcbbc7232p+8,  // 2835 * pi^-2
+    0x1.d41a971f0ba19p+3,  // 1155/8 * pi^-2
+    0x1.4bed9e5bd50c3p+1,  // 819/32 * pi^-2
+    0x1.7efe7ba509843p-1,  // 945/128 * pi^-2
+    0x1.215f909ed3fd8p-2,  // 357/128 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.3f29670987ee3p+12,  // -50400 * pi^-2
+    -0x1.4f1eac306853bp+12,  // -52920 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.32652fb73ad02p+8,  // -3024 * pi^-2
     -0x1.f2f4c77b45ff7p+12,  // -78792 * pi^-2
     -0x1.1059f1866d2adp+11,  // -21504 * pi^-2
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     0x1.3f29670987ee3p+12,  // 50400 * pi^-2
     0x1.4f1eac306853bp+12,  // 52920 * pi^-2
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_1_1, 2},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 8.2e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
+    -0x1.46eaaaeb041b2p+9,  // -13440 * pi^-2 + 10080 * pi^-2 * log(2)
+    0x1.693843950bfcfp+9,  // 1890 * pi^-2 + 7560 * pi^-2 * log(2)
+    0x1.fea8a4dc0cb04p+4,  // 315 * pi^-2
+    0x1.54706de808758p+0,  // 105/8 * pi^-2
+    0x1.9886ea49a3c03p-3,  // 63/32 * pi^-2
+    0x1.9886ea49a3c03p-5,  // 63/128 * pi^-2
+    0x1.1059f1866d2adp-6,  // 21/128 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.fea8a4dc0cb04p+9,  // -10080 * pi^-2
+    -0x1.7efe7ba509843p+9,  // -7560 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+};
+inline constexpr double grad_over_r_1_0[] = {
+    -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
     -0x1.6134a53a55938p+10,  // -13944 * pi^-2
     -0x1.1059f1866d2adp+8,  // -2688 * pi^-2
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     0x1.fea8a4dc0cb04p+9,  // 10080 * pi^-2
     0x1.7efe7ba509843p+9,  // 7560 * pi^-2
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_1_1, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, grad_over_r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 3.7e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, grad_over_r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    -0x1.231f7eac8539ap+11,  // -36960 * pi^-2 + 20160 * pi^-2 * log(2)
+    0x1.0978a4abc99bfp+11,  // 30240 * pi^-2 * log(2)
+    0x1.7efe7ba509843p+7,  // 1890 * pi^-2
+    0x1.54706de808758p+3,  // 105 * pi^-2
+    0x1.fea8a4dc0cb04p+0,  // 315/16 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.fea8a4dc0cb04p+10,  // -20160 * pi^-2
+    -0x1.7efe7ba509843p+11,  // -30240 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+};
+inline constexpr double hess_radial_1_0[] = {
     -0x1.d41a971f0ba19p+11,  // -36960 * pi^-2
     -0x1.54706de808758p+10,  // -13440 * pi^-2
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     0x1.fea8a4dc0cb04p+10,  // 20160 * pi^-2
     0x1.7efe7ba509843p+11,  // 30240 * pi^-2
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_1_1, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-7, hess_radial_0, 2},  // [0, 1/128), series at 0 up to r^8, truncation < 3.5e-23 relative (series.hpp)
+    {0x1p-7, 0x1p+0, hess_radial_1, 2},  // [1/128, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.14aca416c84cp-2,  // -8/3 * pi^-2
+    0x1.9f02f6222c72p-1,  // 8 * pi^-2
+    -0x1.46d25507b6336p+1,  // -126/5 * pi^-2
+    -0x1.f62317e779fb9p-2,  // -325/7 * pi^-2 + 60 * pi^-2 * log(2)
+    0x1.31786b7c8e1dcp+1,  // 1645/144 * pi^-2 + 35/2 * pi^-2 * log(2)
+    0x1.291c4d4cd42ebp-5,  // 63/176 * pi^-2
+    0x1.beef7f387ea22p-11,  // 7/832 * pi^-2
+    0x1.4c025e81bd28p-14,  // 1/1280 * pi^-2
+    0x1.b76c8c242f0f4p-17,  // 9/69632 * pi^-2
+    0x1.97bb0cc3421f2p-19,  // 7/233472 * pi^-2
+    0x1.da4c87027bfp-21,  // 1/114688 * pi^-2
+    0x1.44caaa5d86f5p-22,  // 9/3014656 * pi^-2
+    0x1.f78c2066e76b9p-24,  // 91/78643200 * pi^-2
+    0x1.ae61e2ce1b20ep-25,  // 7/14155776 * pi^-2
+    0x1.8e194f9d2b6fcp-26,  // 153/668991488 * pi^-2
+    0x1.891ad41ede467p-27,  // 323/2860515328 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.8512c6c009aaep+2,  // -60 * pi^-2
+    -0x1.c5eb3d35609cbp+0,  // -35/2 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, potential_0_1, 2},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.c1988aa5057b8p-3,  // -13/6 * pi^-2
     0x1.6b22975de6e3cp-1,  // 7 * pi^-2
     -0x1.1c74b24dd2bafp+1,  // -329/15 * pi^-2
     -0x1.6f3df433d7101p+2,  // -1699/30 * pi^-2
     -0x1.baadd357a6ep-2,  // -64/15 * pi^-2
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.8512c6c009aaep+2,  // 60 * pi^-2
     0x1.c5eb3d35609cbp+0,  // 35/2 * pi^-2
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-    0x1.965d9101762fap+0,  // 47/3 * pi^-2
-    -0x1.2dbf7c8f3f3fbp+3,  // -1396/15 * pi^-2
-    -0x1.369c376a6076fp+5,  // -1916/5 * pi^-2
-    -0x1.f2038dc29bbcp+1,  // -192/5 * pi^-2
+    0x1.9f02f6222c72p+0,  // 16 * pi^-2
+    -0x1.46d25507b6336p+3,  // -504/5 * pi^-2
+    -0x1.20aff7db6bb4ap+3,  // -2370/7 * pi^-2 + 360 * pi^-2 * log(2)
+    0x1.1519b7a93813fp+4,  // 665/9 * pi^-2 + 140 * pi^-2 * log(2)
+    0x1.736360a0093a6p-2,  // 315/88 * pi^-2
+    0x1.4f339f6a5ef9ap-7,  // 21/208 * pi^-2
+    0x1.228212b18583p-10,  // 7/640 * pi^-2
+    0x1.b76c8c242f0f4p-13,  // 9/4352 * pi^-2
+    0x1.cab26e5baa631p-15,  // 21/38912 * pi^-2
+    0x1.286fd4618d76p-16,  // 5/28672 * pi^-2
+    0x1.be96aa409990fp-18,  // 99/1507328 * pi^-2
+    0x1.79a9184d2d90bp-19,  // 91/3276800 * pi^-2
+    0x1.5daf8847760abp-20,  // 91/7077888 * pi^-2
+    0x1.5c5625a98601cp-21,  // 1071/167247872 * pi^-2
+    0x1.708926dcf062p-22,  // 4845/1430257664 * pi^-2
+    0x1.9a1d386034335p-23,  // 2261/1199570944 * pi^-2
 };
 inline constexpr double dpotential_0_1[] = {
-    0x1.23ce151007402p+5,  // 360 * pi^-2
-    0x1.c5eb3d35609cbp+3,  // 140 * pi^-2
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+    -0x1.23ce151007402p+5,  // -360 * pi^-2
+    -0x1.c5eb3d35609cbp+3,  // -140 * pi^-2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
     0x1.965d9101762fap+0,  // 47/3 * pi^-2
     -0x1.2dbf7c8f3f3fbp+3,  // -1396/15 * pi^-2
     -0x1.369c376a6076fp+5,  // -1916/5 * pi^-2
     -0x1.f2038dc29bbcp+1,  // -192/5 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     0x1.23ce151007402p+5,  // 360 * pi^-2
     0x1.c5eb3d35609cbp+3,  // 140 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 4.5e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.9f02f6222c72p+0,  // 16 * pi^-2
+    -0x1.46d25507b6336p+3,  // -504/5 * pi^-2
+    -0x1.20aff7db6bb4ap+3,  // -2370/7 * pi^-2 + 360 * pi^-2 * log(2)
+    0x1.1519b7a93813fp+4,  // 665/9 * pi^-2 + 140 * pi^-2 * log(2)
+    0x1.736360a0093a6p-2,  // 315/88 * pi^-2
+    0x1.4f339f6a5ef9ap-7,  // 21/208 * pi^-2
+    0x1.228212b18583p-10,  // 7/640 * pi^-2
+    0x1.b76c8c242f0f4p-13,  // 9/4352 * pi^-2
+    0x1.cab26e5baa631p-15,  // 21/38912 * pi^-2
+    0x1.286fd4618d76p-16,  // 5/28672 * pi^-2
+    0x1.be96aa409990fp-18,  // 99/1507328 * pi^-2
+    0x1.79a9184d2d90bp-19,  // 91/3276800 * pi^-2
+    0x1.5daf8847760abp-20,  // 91/7077888 * pi^-2
+    0x1.5c5625a98601cp-21,  // 1071/167247872 * pi^-2
+    0x1.708926dcf062p-22,  // 4845/1430257664 * pi^-2
+    0x1.9a1d386034335p-23,  // 2261/1199570944 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.23ce151007402p+5,  // -360 * pi^-2
+    -0x1.c5eb3d35609cbp+3,  // -140 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.965d9101762fap+0,  // 47/3 * pi^-2
+    -0x1.2dbf7c8f3f3fbp+3,  // -1396/15 * pi^-2
+    -0x1.369c376a6076fp+5,  // -1916/5 * pi^-2
+    -0x1.f2038dc29bbcp+1,  // -192/5 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    0x1.23ce151007402p+5,  // 360 * pi^-2
+    0x1.c5eb3d35609cbp+3,  // 140 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 4.5e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.46d25507b6336p+4,  // -1008/5 * pi^-2
+    -0x1.223f0675b97a6p+6,  // -12000/7 * pi^-2 + 1440 * pi^-2 * log(2)
+    0x1.66e92bd7280a6p+6,  // 910/3 * pi^-2 + 840 * pi^-2 * log(2)
+    0x1.736360a0093a6p+1,  // 315/11 * pi^-2
+    0x1.a3008744f6b8p-4,  // 105/104 * pi^-2
+    0x1.b3c31c0a48448p-7,  // 21/160 * pi^-2
+    0x1.807efa9fa92d6p-9,  // 63/2176 * pi^-2
+    0x1.cab26e5baa631p-11,  // 21/2432 * pi^-2
+    0x1.4d7dceedbf24cp-12,  // 45/14336 * pi^-2
+    0x1.171e2a685ffa9p-13,  // 495/376832 * pi^-2
+    0x1.03a440b50f538p-14,  // 1001/1638400 * pi^-2
+    0x1.0643a6359888p-15,  // 91/294912 * pi^-2
+    0x1.1b05fe99bce17p-16,  // 13923/83623936 * pi^-2
+    0x1.427802015255cp-17,  // 33915/357564416 * pi^-2
+    0x1.807b64da30f02p-18,  // 33915/599785472 * pi^-2
+    0x1.dc719e9ec8a8dp-19,  // 66861/1908408320 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.23ce151007402p+7,  // -1440 * pi^-2
+    -0x1.54706de808758p+6,  // -840 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.37423899a1558p-3,  // 3/2 * pi^-2
     0x1.9f02f6222c72p-4,  // 1 * pi^-2
     -0x1.458652a934763p+4,  // -1004/5 * pi^-2
     -0x1.6fac9fa8acf9cp+7,  // -9072/5 * pi^-2
     -0x1.b3c31c0a48448p+4,  // -1344/5 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.23ce151007402p+7,  // 1440 * pi^-2
     0x1.54706de808758p+6,  // 840 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.37423899a1558p-3,  // -3/2 * pi^-2
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_hess_radial_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 5.5e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_hess_radial_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_D3
 inline constexpr table::Kernel wendland_missing_k_1_D3 = {
     "wendland-missing:k=1", 3, 0x1p+0, 5, 2, 1,
     0x1.fea8a4dc0cb04p+8, "5040 * pi^-2", true,
     {
-        {detail_wendland_missing_k_1_D3::value, 2},
-        {detail_wendland_missing_k_1_D3::dr, 2},
-        {detail_wendland_missing_k_1_D3::d2r, 2},
-        {detail_wendland_missing_k_1_D3::laplacian, 2},
-        {detail_wendland_missing_k_1_D3::grad_over_r, 2},
-        {detail_wendland_missing_k_1_D3::hess_radial, 2},
-        {detail_wendland_missing_k_1_D3::potential, 2},
-        {detail_wendland_missing_k_1_D3::dpotential, 2},
-        {detail_wendland_missing_k_1_D3::dpotential_over_r, 2},
-        {detail_wendland_missing_k_1_D3::potential_hess_radial, 2},
+        {detail_wendland_missing_k_1_D3::value, 3},
+        {detail_wendland_missing_k_1_D3::dr, 3},
+        {detail_wendland_missing_k_1_D3::d2r, 3},
+        {detail_wendland_missing_k_1_D3::laplacian, 3},
+        {detail_wendland_missing_k_1_D3::grad_over_r, 3},
+        {detail_wendland_missing_k_1_D3::hess_radial, 3},
+        {detail_wendland_missing_k_1_D3::potential, 3},
+        {detail_wendland_missing_k_1_D3::dpotential, 3},
+        {detail_wendland_missing_k_1_D3::dpotential_over_r, 3},
+        {detail_wendland_missing_k_1_D3::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=1,l=1 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_1_l_1_D1 {
 inline constexpr double value_0_0[] = {
     0x1.b2995e7b7b604p+0,  // 16/3 * pi^-1
+    -0x1.1d34a60108f72p+4,  // -56 * pi^-1
+    -0x1.16354f9e50fc6p+5,  // -910/3 * pi^-1 + 280 * pi^-1 * log(2)
+    0x1.8ba80f72c8513p+5,  // 175/3 * pi^-1 + 140 * pi^-1 * log(2)
+    0x1.6481cf814b34fp+0,  // 35/8 * pi^-1
+    0x1.7c4632ac0bf43p-5,  // 7/48 * pi^-1
+    0x1.7c4632ac0bf43p-8,  // 7/384 * pi^-1
+    0x1.45f306dc9c883p-10,  // 1/256 * pi^-1
+    0x1.7c4632ac0bf43p-12,  // 7/6144 * pi^-1
+    0x1.0f9fdb0d2d1c2p-13,  // 5/12288 * pi^-1
+    0x1.c02e296f573b4p-15,  // 11/65536 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.6481cf814b34fp+6,  // -280 * pi^-1
+    -0x1.6481cf814b34fp+5,  // -140 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, value_0_1, 2},
+};
+inline constexpr double value_1_0[] = {
+    0x1.b2995e7b7b604p+0,  // 16/3 * pi^-1
     -0x1.0f9fdb0d2d1c2p+4,  // -160/3 * pi^-1
     -0x1.a351fa292409dp+6,  // -988/3 * pi^-1
     -0x1.b2995e7b7b604p+3,  // -128/3 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     0x1.6481cf814b34fp+6,  // 280 * pi^-1
     0x1.6481cf814b34fp+5,  // 140 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 2},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_1_1, 2},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.1d34a60108f72p+5,  // -112 * pi^-1
+    -0x1.c876375ef696dp+7,  // -4480/3 * pi^-1 + 1120 * pi^-1 * log(2)
+    0x1.f85ba34bd9ac9p+7,  // 210 * pi^-1 + 840 * pi^-1 * log(2)
+    0x1.6481cf814b34fp+3,  // 35 * pi^-1
+    0x1.db57bf570ef14p-2,  // 35/24 * pi^-1
+    0x1.1d34a60108f72p-4,  // 7/32 * pi^-1
+    0x1.1d34a60108f72p-6,  // 7/128 * pi^-1
+    0x1.7c4632ac0bf43p-8,  // 7/384 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.6481cf814b34fp+8,  // -1120 * pi^-1
+    -0x1.0b615ba0f867bp+8,  // -840 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.1d34a60108f72p+5,  // -112 * pi^-1
     -0x1.ed2b09b71f80bp+8,  // -4648/3 * pi^-1
     -0x1.7c4632ac0bf43p+6,  // -896/3 * pi^-1
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     0x1.6481cf814b34fp+8,  // 1120 * pi^-1
     0x1.0b615ba0f867bp+8,  // 840 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_1_1, 2},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, dr_0, 2},  // [0, 1/16), series at 0 up to r^15, truncation < 3.7e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, dr_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.1d34a60108f72p+5,  // -112 * pi^-1
+    -0x1.044cc8a3ef45dp+10,  // -5600 * pi^-1 + 3360 * pi^-1 * log(2)
+    0x1.f0c1de4e53e3ep+9,  // 210 * pi^-1 + 4200 * pi^-1 * log(2)
+    0x1.37f1959121ce5p+6,  // 245 * pi^-1
+    0x1.0b615ba0f867bp+2,  // 105/8 * pi^-1
+    0x1.882864416c53dp-1,  // 77/32 * pi^-1
+    0x1.cf758dc1ae91ap-3,  // 91/128 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.0b615ba0f867bp+10,  // -3360 * pi^-1
+    -0x1.4e39b2893681ap+10,  // -4200 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+};
+inline constexpr double d2r_1_0[] = {
+    -0x1.1d34a60108f72p+5,  // -112 * pi^-1
     -0x1.c21715f9a226p+10,  // -5656 * pi^-1
     -0x1.1d34a60108f72p+9,  // -1792 * pi^-1
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     0x1.0b615ba0f867bp+10,  // 3360 * pi^-1
     0x1.4e39b2893681ap+10,  // 4200 * pi^-1
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_1_1, 2},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, d2r_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 2.9e-21 relative (series.hpp)
+    {0x1p-5, 0x1p+0, d2r_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.1d34a60108f72p+5,  // -112 * pi^-1
+    -0x1.044cc8a3ef45dp+10,  // -5600 * pi^-1 + 3360 * pi^-1 * log(2)
+    0x1.f0c1de4e53e3ep+9,  // 210 * pi^-1 + 4200 * pi^-1 * log(2)
+    0x1.37f1959121ce5p+6,  // 245 * pi^-1
+    0x1.0b615ba0f867bp+2,  // 105/8 * pi^-1
+    0x1.882864416c53dp-1,  // 77/32 * pi^-1
+    0x1.cf758dc1ae91ap-3,  // 91/128 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.0b615ba0f867bp+10,  // -3360 * pi^-1
+    -0x1.4e39b2893681ap+10,  // -4200 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.1d34a60108f72p+5,  // -112 * pi^-1
     -0x1.c21715f9a226p+10,  // -5656 * pi^-1
     -0x1.1d34a60108f72p+9,  // -1792 * pi^-1
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     0x1.0b615ba0f867bp+10,  // 3360 * pi^-1
     0x1.4e39b2893681ap+10,  // 4200 * pi^-1
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_1_1, 2},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, laplacian_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 2.9e-21 relative (series.hpp)
+    {0x1p-5, 0x1p+0, laplacian_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.1d34a60108f72p+5,  // -112 * pi^-1
+    -0x1.c876375ef696dp+7,  // -4480/3 * pi^-1 + 1120 * pi^-1 * log(2)
+    0x1.f85ba34bd9ac9p+7,  // 210 * pi^-1 + 840 * pi^-1 * log(2)
+    0x1.6481cf814b34fp+3,  // 35 * pi^-1
+    0x1.db57bf570ef14p-2,  // 35/24 * pi^-1
+    0x1.1d34a60108f72p-4,  // 7/32 * pi^-1
+    0x1.1d34a60108f72p-6,  // 7/128 * pi^-1
+    0x1.7c4632ac0bf43p-8,  // 7/384 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.6481cf814b34fp+8,  // -1120 * pi^-1
+    -0x1.0b615ba0f867bp+8,  // -840 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+};
+inline constexpr double grad_over_r_1_0[] = {
+    -0x1.1d34a60108f72p+5,  // -112 * pi^-1
     -0x1.ed2b09b71f80bp+8,  // -4648/3 * pi^-1
     -0x1.7c4632ac0bf43p+6,  // -896/3 * pi^-1
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     0x1.6481cf814b34fp+8,  // 1120 * pi^-1
     0x1.0b615ba0f867bp+8,  // 840 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_1_1, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, grad_over_r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 3.7e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, grad_over_r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    -0x1.967c037020e5ep+9,  // -12320/3 * pi^-1 + 2240 * pi^-1 * log(2)
+    0x1.72aaf57b5d78cp+9,  // 3360 * pi^-1 * log(2)
+    0x1.0b615ba0f867bp+6,  // 210 * pi^-1
+    0x1.db57bf570ef14p+1,  // 35/3 * pi^-1
+    0x1.6481cf814b34fp-1,  // 35/16 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.6481cf814b34fp+9,  // -2240 * pi^-1
+    -0x1.0b615ba0f867bp+10,  // -3360 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+};
+inline constexpr double hess_radial_1_0[] = {
     -0x1.46cc538bda45ep+10,  // -12320/3 * pi^-1
     -0x1.db57bf570ef14p+8,  // -4480/3 * pi^-1
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     0x1.6481cf814b34fp+9,  // 2240 * pi^-1
     0x1.0b615ba0f867bp+10,  // 3360 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_1_1, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-7, hess_radial_0, 2},  // [0, 1/128), series at 0 up to r^8, truncation < 3.5e-23 relative (series.hpp)
+    {0x1p-7, 0x1p+0, hess_radial_1, 2},  // [1/128, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    0x1.824f706dc3003p-4,  // 8/27 * pi^-1
+    0x1.b2995e7b7b604p-1,  // 8/3 * pi^-1
+    -0x1.7c4632ac0bf43p+0,  // -14/3 * pi^-1
+    -0x1.1e340d55eaf74p-4,  // -301/45 * pi^-1 + 28/3 * pi^-1 * log(2)
+    0x1.18a825f9f3878p+0,  // 575/336 * pi^-1 + 5/2 * pi^-1 * log(2)
+    0x1.fb0843900ff04p-7,  // 7/144 * pi^-1
+    0x1.70c03122f451ap-12,  // 7/6336 * pi^-1
+    0x1.0b7212c2248ap-15,  // 1/9984 * pi^-1
+    0x1.5bade52f95e69p-18,  // 1/61440 * pi^-1
+    0x1.3e234d879187bp-20,  // 7/1880064 * pi^-1
+    0x1.6dfa6a82eea1ep-22,  // 1/933888 * pi^-1
+    0x1.f0af47688d004p-24,  // 1/2752512 * pi^-1
+    0x1.7e1c7d1ea7d67p-25,  // 91/651165696 * pi^-1
+    0x1.44802b3d7ad73p-26,  // 7/117964800 * pi^-1
+    0x1.2a8333f7b9977p-27,  // 17/622854144 * pi^-1
+    0x1.255da16aa052ap-28,  // 323/24083693568 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.7c4632ac0bf43p+1,  // -28/3 * pi^-1
+    -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, potential_0_1, 2},
+};
+inline constexpr double potential_1_0[] = {
     0x1.824f706dc3003p-4,  // 8/27 * pi^-1
     0x1.27c4d214094c2p-1,  // 49/27 * pi^-1
     -0x1.3ce52a3a09f63p+0,  // -35/9 * pi^-1
     -0x1.58cfe7d9f88dbp+1,  // -457/54 * pi^-1
     -0x1.824f706dc3003p-3,  // -16/27 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.7c4632ac0bf43p+1,  // 28/3 * pi^-1
     0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 8.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
-    -0x1.5387d1d078633p+2,  // -50/3 * pi^-1
-    -0x1.23ff0b7af6e4ap+4,  // -172/3 * pi^-1
-    -0x1.b2995e7b7b604p+0,  // -16/3 * pi^-1
+    0x1.b2995e7b7b604p+0,  // 16/3 * pi^-1
+    -0x1.7c4632ac0bf43p+2,  // -56/3 * pi^-1
+    -0x1.b1eff52c28029p+1,  // -742/15 * pi^-1 + 56 * pi^-1 * log(2)
+    0x1.fe6252e16e99bp+2,  // 235/21 * pi^-1 + 20 * pi^-1 * log(2)
+    0x1.3ce52a3a09f63p-3,  // 35/72 * pi^-1
+    0x1.149024da373d4p-8,  // 7/528 * pi^-1
+    0x1.d407a0d3bff17p-12,  // 7/4992 * pi^-1
+    0x1.5bade52f95e69p-14,  // 1/3840 * pi^-1
+    0x1.65e7b73883b8ap-16,  // 7/104448 * pi^-1
+    0x1.c9790523aa4a5p-18,  // 5/233472 * pi^-1
+    0x1.55788117e0f03p-19,  // 11/1376256 * pi^-1
+    0x1.1e955dd6fde0dp-20,  // 91/27131904 * pi^-1
+    0x1.07a82321f3ceep-21,  // 91/58982400 * pi^-1
+    0x1.0532cd78c2648p-22,  // 119/155713536 * pi^-1
+    0x1.1307c753f64d7p-23,  // 1615/4013948928 * pi^-1
 };
 inline constexpr double dpotential_0_1[] = {
-    0x1.1d34a60108f72p+4,  // 56 * pi^-1
-    0x1.976fc893c3aa3p+2,  // 20 * pi^-1
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.1d34a60108f72p+4,  // -56 * pi^-1
+    -0x1.976fc893c3aa3p+2,  // -20 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1p-1,  // 1/2
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
     -0x1.5387d1d078633p+2,  // -50/3 * pi^-1
     -0x1.23ff0b7af6e4ap+4,  // -172/3 * pi^-1
     -0x1.b2995e7b7b604p+0,  // -16/3 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     0x1.1d34a60108f72p+4,  // 56 * pi^-1
     0x1.976fc893c3aa3p+2,  // 20 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^29, truncation < 2.4e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.b2995e7b7b604p+0,  // 16/3 * pi^-1
+    -0x1.7c4632ac0bf43p+2,  // -56/3 * pi^-1
+    -0x1.b1eff52c28029p+1,  // -742/15 * pi^-1 + 56 * pi^-1 * log(2)
+    0x1.fe6252e16e99bp+2,  // 235/21 * pi^-1 + 20 * pi^-1 * log(2)
+    0x1.3ce52a3a09f63p-3,  // 35/72 * pi^-1
+    0x1.149024da373d4p-8,  // 7/528 * pi^-1
+    0x1.d407a0d3bff17p-12,  // 7/4992 * pi^-1
+    0x1.5bade52f95e69p-14,  // 1/3840 * pi^-1
+    0x1.65e7b73883b8ap-16,  // 7/104448 * pi^-1
+    0x1.c9790523aa4a5p-18,  // 5/233472 * pi^-1
+    0x1.55788117e0f03p-19,  // 11/1376256 * pi^-1
+    0x1.1e955dd6fde0dp-20,  // 91/27131904 * pi^-1
+    0x1.07a82321f3ceep-21,  // 91/58982400 * pi^-1
+    0x1.0532cd78c2648p-22,  // 119/155713536 * pi^-1
+    0x1.1307c753f64d7p-23,  // 1615/4013948928 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.1d34a60108f72p+4,  // -56 * pi^-1
+    -0x1.976fc893c3aa3p+2,  // -20 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
+    -0x1.5387d1d078633p+2,  // -50/3 * pi^-1
+    -0x1.23ff0b7af6e4ap+4,  // -172/3 * pi^-1
+    -0x1.b2995e7b7b604p+0,  // -16/3 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    0x1.1d34a60108f72p+4,  // 56 * pi^-1
+    0x1.976fc893c3aa3p+2,  // 20 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^28, truncation < 2.4e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.7c4632ac0bf43p+3,  // -112/3 * pi^-1
+    -0x1.f62ca0971cf87p+4,  // -3808/15 * pi^-1 + 224 * pi^-1 * log(2)
+    0x1.4bdbc5169a7ep+5,  // 330/7 * pi^-1 + 120 * pi^-1 * log(2)
+    0x1.3ce52a3a09f63p+0,  // 35/9 * pi^-1
+    0x1.59b42e10c50c9p-5,  // 35/264 * pi^-1
+    0x1.5f05b89ecff52p-8,  // 7/416 * pi^-1
+    0x1.30382889a329cp-10,  // 7/1920 * pi^-1
+    0x1.65e7b73883b8ap-12,  // 7/6528 * pi^-1
+    0x1.015412e40fc9dp-13,  // 15/38912 * pi^-1
+    0x1.aad6a15dd92c3p-15,  // 55/344064 * pi^-1
+    0x1.8a0d61079d153p-16,  // 1001/13565952 * pi^-1
+    0x1.8b7c34b2edb64p-17,  // 91/2457600 * pi^-1
+    0x1.a8728de43be35p-18,  // 1547/77856768 * pi^-1
+    0x1.e14d9cd2ef078p-19,  // 11305/1003487232 * pi^-1
+    0x1.1dbc872fba0ddp-19,  // 11305/1690304512 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.1d34a60108f72p+6,  // -224 * pi^-1
+    -0x1.3193d66ed2bfap+5,  // -120 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     -0x1.757bcd321e06bp+3,  // -110/3 * pi^-1
     -0x1.5a52374a6650bp+6,  // -272 * pi^-1
     -0x1.7c4632ac0bf43p+3,  // -112/3 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.1d34a60108f72p+6,  // 224 * pi^-1
     0x1.3193d66ed2bfap+5,  // 120 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_hess_radial_0, 2},  // [0, 1/4), series at 0 up to r^28, truncation < 3.4e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_hess_radial_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_l_1_D1
 inline constexpr table::Kernel wendland_missing_k_1_l_1_D1 = {
     "wendland-missing:k=1,l=1", 1, 0x1p+0, 5, 2, 1,
     0x1.6481cf814b34fp+7, "560 * pi^-1", true,
     {
-        {detail_wendland_missing_k_1_l_1_D1::value, 2},
-        {detail_wendland_missing_k_1_l_1_D1::dr, 2},
-        {detail_wendland_missing_k_1_l_1_D1::d2r, 2},
-        {detail_wendland_missing_k_1_l_1_D1::laplacian, 2},
-        {detail_wendland_missing_k_1_l_1_D1::grad_over_r, 2},
-        {detail_wendland_missing_k_1_l_1_D1::hess_radial, 2},
-        {detail_wendland_missing_k_1_l_1_D1::potential, 2},
-        {detail_wendland_missing_k_1_l_1_D1::dpotential, 2},
-        {detail_wendland_missing_k_1_l_1_D1::dpotential_over_r, 2},
-        {detail_wendland_missing_k_1_l_1_D1::potential_hess_radial, 2},
+        {detail_wendland_missing_k_1_l_1_D1::value, 3},
+        {detail_wendland_missing_k_1_l_1_D1::dr, 3},
+        {detail_wendland_missing_k_1_l_1_D1::d2r, 3},
+        {detail_wendland_missing_k_1_l_1_D1::laplacian, 3},
+        {detail_wendland_missing_k_1_l_1_D1::grad_over_r, 3},
+        {detail_wendland_missing_k_1_l_1_D1::hess_radial, 3},
+        {detail_wendland_missing_k_1_l_1_D1::potential, 3},
+        {detail_wendland_missing_k_1_l_1_D1::dpotential, 3},
+        {detail_wendland_missing_k_1_l_1_D1::dpotential_over_r, 3},
+        {detail_wendland_missing_k_1_l_1_D1::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=1,l=1 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_1_l_1_D2 {
 inline constexpr double value_0_0[] = {
     0x1.6eb167b830193p+1,  // 9 * pi^-1
+    -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
+    -0x1.d579f65b28a9ep+5,  // -4095/8 * pi^-1 + 945/2 * pi^-1 * log(2)
+    0x1.4dd5cd08d9048p+6,  // 1575/16 * pi^-1 + 945/4 * pi^-1 * log(2)
+    0x1.2ccd87151774bp+1,  // 945/128 * pi^-1
+    0x1.40db3ac12a161p-4,  // 63/256 * pi^-1
+    0x1.40db3ac12a161p-7,  // 63/2048 * pi^-1
+    0x1.13050dca2412ep-9,  // 27/4096 * pi^-1
+    0x1.40db3ac12a161p-11,  // 63/32768 * pi^-1
+    0x1.ca5dc1a63c1f8p-13,  // 45/65536 * pi^-1
+    0x1.7a26f2f5f19ap-14,  // 297/1048576 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.2ccd87151774bp+7,  // -945/2 * pi^-1
+    -0x1.2ccd87151774bp+6,  // -945/4 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, value_0_1, 2},
+};
+inline constexpr double value_1_0[] = {
+    0x1.6eb167b830193p+1,  // 9 * pi^-1
     -0x1.ca5dc1a63c1f8p+4,  // -90 * pi^-1
     -0x1.61cd2b12b6685p+7,  // -2223/4 * pi^-1
     -0x1.6eb167b830193p+4,  // -72 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     0x1.2ccd87151774bp+7,  // 945/2 * pi^-1
     0x1.2ccd87151774bp+6,  // 945/4 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 2},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_1_1, 2},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.e148d821bf211p+5,  // -189 * pi^-1
+    -0x1.8123beb8200f4p+8,  // -2520 * pi^-1 + 1890 * pi^-1 * log(2)
+    0x1.a98d51c7ffa9ap+8,  // 2835/8 * pi^-1 + 2835/2 * pi^-1 * log(2)
+    0x1.2ccd87151774bp+4,  // 945/16 * pi^-1
+    0x1.91120971749b9p-1,  // 315/128 * pi^-1
+    0x1.e148d821bf211p-4,  // 189/512 * pi^-1
+    0x1.e148d821bf211p-6,  // 189/2048 * pi^-1
+    0x1.40db3ac12a161p-7,  // 63/2048 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.2ccd87151774bp+9,  // -1890 * pi^-1
+    -0x1.c3344a9fa32fp+8,  // -2835/2 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.e148d821bf211p+5,  // -189 * pi^-1
     -0x1.a01c503282949p+9,  // -5229/2 * pi^-1
     -0x1.40db3ac12a161p+7,  // -504 * pi^-1
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     0x1.2ccd87151774bp+9,  // 1890 * pi^-1
     0x1.c3344a9fa32fp+8,  // 2835/2 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 2},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_1_1, 2},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, dr_0, 2},  // [0, 1/16), series at 0 up to r^15, truncation < 3.7e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, dr_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.e148d821bf211p+5,  // -189 * pi^-1
+    -0x1.b7419294a3c5dp+10,  // -9450 * pi^-1 + 5670 * pi^-1 * log(2)
+    0x1.a323939216c84p+10,  // 2835/8 * pi^-1 + 14175/2 * pi^-1 * log(2)
+    0x1.0733d63274861p+7,  // 6615/16 * pi^-1
+    0x1.c3344a9fa32fp+2,  // 2835/128 * pi^-1
+    0x1.4ae214973366cp+0,  // 2079/512 * pi^-1
+    0x1.870b2f9b6b4aep-2,  // 2457/2048 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.c3344a9fa32fp+10,  // -5670 * pi^-1
+    -0x1.1a00aea3c5fd6p+11,  // -14175/2 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+};
+inline constexpr double d2r_1_0[] = {
+    -0x1.e148d821bf211p+5,  // -189 * pi^-1
     -0x1.7bc37a8aa0d01p+11,  // -19089/2 * pi^-1
     -0x1.e148d821bf211p+9,  // -3024 * pi^-1
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     0x1.c3344a9fa32fp+10,  // 5670 * pi^-1
     0x1.1a00aea3c5fd6p+11,  // 14175/2 * pi^-1
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 2},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_1_1, 2},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, d2r_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 2.9e-21 relative (series.hpp)
+    {0x1p-5, 0x1p+0, d2r_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.e148d821bf211p+6,  // -378 * pi^-1
+    -0x1.0bc5412155e4dp+11,  // -11970 * pi^-1 + 7560 * pi^-1 * log(2)
+    0x1.06c374020b595p+11,  // 2835/4 * pi^-1 + 8505 * pi^-1 * log(2)
+    0x1.2ccd87151774bp+7,  // 945/2 * pi^-1
+    0x1.f5568bcdd1c27p+2,  // 1575/64 * pi^-1
+    0x1.68f6a2194f58dp+0,  // 567/128 * pi^-1
+    0x1.a51fbd1d873cfp-2,  // 1323/1024 * pi^-1
+    0x1.40db3ac12a161p-3,  // 63/128 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.2ccd87151774bp+11,  // -7560 * pi^-1
+    -0x1.526737f7ba634p+11,  // -8505 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.e148d821bf211p+6,  // -378 * pi^-1
     -0x1.e3ca8e9741754p+11,  // -12159 * pi^-1
     -0x1.18bfd36904d35p+10,  // -3528 * pi^-1
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     0x1.2ccd87151774bp+11,  // 7560 * pi^-1
     0x1.526737f7ba634p+11,  // 8505 * pi^-1
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 2},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_1_1, 2},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 1.1e-19 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.e148d821bf211p+5,  // -189 * pi^-1
+    -0x1.8123beb8200f4p+8,  // -2520 * pi^-1 + 1890 * pi^-1 * log(2)
+    0x1.a98d51c7ffa9ap+8,  // 2835/8 * pi^-1 + 2835/2 * pi^-1 * log(2)
+    0x1.2ccd87151774bp+4,  // 945/16 * pi^-1
+    0x1.91120971749b9p-1,  // 315/128 * pi^-1
+    0x1.e148d821bf211p-4,  // 189/512 * pi^-1
+    0x1.e148d821bf211p-6,  // 189/2048 * pi^-1
+    0x1.40db3ac12a161p-7,  // 63/2048 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.2ccd87151774bp+9,  // -1890 * pi^-1
+    -0x1.c3344a9fa32fp+8,  // -2835/2 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+};
+inline constexpr double grad_over_r_1_0[] = {
+    -0x1.e148d821bf211p+5,  // -189 * pi^-1
     -0x1.a01c503282949p+9,  // -5229/2 * pi^-1
     -0x1.40db3ac12a161p+7,  // -504 * pi^-1
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     0x1.2ccd87151774bp+9,  // 1890 * pi^-1
     0x1.c3344a9fa32fp+8,  // 2835/2 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 2},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_1_1, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, grad_over_r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 3.7e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, grad_over_r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    -0x1.56f8a2e69bc1fp+10,  // -6930 * pi^-1 + 3780 * pi^-1 * log(2)
+    0x1.38c03f2016ddep+10,  // 5670 * pi^-1 * log(2)
+    0x1.c3344a9fa32fp+6,  // 2835/8 * pi^-1
+    0x1.91120971749b9p+2,  // 315/16 * pi^-1
+    0x1.2ccd87151774bp+0,  // 945/256 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.2ccd87151774bp+10,  // -3780 * pi^-1
+    -0x1.c3344a9fa32fp+10,  // -5670 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+};
+inline constexpr double hess_radial_1_0[] = {
     -0x1.13bc667e002afp+11,  // -6930 * pi^-1
     -0x1.91120971749b9p+9,  // -2520 * pi^-1
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     0x1.2ccd87151774bp+10,  // 3780 * pi^-1
     0x1.c3344a9fa32fp+10,  // 5670 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 2},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_1_1, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-7, hess_radial_0, 2},  // [0, 1/128), series at 0 up to r^8, truncation < 3.5e-23 relative (series.hpp)
+    {0x1p-7, 0x1p+0, hess_radial_1, 2},  // [1/128, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.c3b51adf8d43bp-3,  // -5239/5040 * pi^-1 + 1/2 * pi^-1 * log(2)
+    0x1.6eb167b830193p-1,  // 9/4 * pi^-1
+    -0x1.e148d821bf211p+0,  // -189/32 * pi^-1
+    -0x1.e6713f61722dp-3,  // -315/32 * pi^-1 + 105/8 * pi^-1 * log(2)
+    0x1.99092ece1ee1bp+0,  // 315/128 * pi^-1 + 945/256 * pi^-1 * log(2)
+    0x1.8107134e3280ep-6,  // 189/2560 * pi^-1
+    0x1.1d34a60108f72p-11,  // 7/4096 * pi^-1
+    0x1.a313e44036f83p-15,  // 9/57344 * pi^-1
+    0x1.13050dca2412ep-17,  // 27/1048576 * pi^-1
+    0x1.fb0843900ff04p-20,  // 7/1179648 * pi^-1
+    0x1.255ab960267a9p-21,  // 9/5242880 * pi^-1
+    0x1.900759e034789p-23,  // 27/46137344 * pi^-1
+    0x1.34f9092bc9b67p-24,  // 91/402653184 * pi^-1
+    0x1.07444a771bf7dp-25,  // 21/218103808 * pi^-1
+    0x1.e5bfc8903fb7p-27,  // 459/10334765056 * pi^-1
+    0x1.de8d88e922539p-28,  // 323/14763950080 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.0b615ba0f867bp+2,  // -105/8 * pi^-1
+    -0x1.2ccd87151774bp+0,  // -945/256 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, potential_0_1, 2},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.52d1b3adc0fc4p-2,  // -5239/5040 * pi^-1
     0x1.2e5c2b3a89a2ap-1,  // 18701/10080 * pi^-1
     -0x1.9c7681dbf4eabp+0,  // -68029/13440 * pi^-1
     -0x1.f052cc1aebdep+1,  // -196465/16128 * pi^-1
     -0x1.21bb945252402p-2,  // -8/9 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     0x0p+0,  // 0
     0x0p+0,  // 0
     0x1.0b615ba0f867bp+2,  // 105/8 * pi^-1
     0x1.2ccd87151774bp+0,  // 945/256 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 5},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_1_1, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_2, 1},
 };
-inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_0_0[] = {
+inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr double dpotential_0_1[] = {
-    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
-    0x1.5a52374a6650bp+0,  // 17/4 * pi^-1
-    -0x1.b744843f4ef38p+2,  // -345/16 * pi^-1
-    -0x1.a40288778633fp+4,  // -2639/32 * pi^-1
-    -0x1.45f306dc9c883p+1,  // -8 * pi^-1
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
-inline constexpr double dpotential_0_2[] = {
-    0x1.91120971749b9p+4,  // 315/4 * pi^-1
-    0x1.2ccd87151774bp+3,  // 945/32 * pi^-1
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.5e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.6eb167b830193p+0,  // 9/2 * pi^-1
+    -0x1.e148d821bf211p+2,  // -189/8 * pi^-1
+    -0x1.669697833dd02p+2,  // -1155/16 * pi^-1 + 315/4 * pi^-1 * log(2)
+    0x1.736f7deb7bf32p+3,  // 4095/256 * pi^-1 + 945/32 * pi^-1 * log(2)
+    0x1.e148d821bf211p-3,  // 189/256 * pi^-1
+    0x1.abcef9018d72bp-8,  // 21/1024 * pi^-1
+    0x1.6eb167b830193p-11,  // 9/4096 * pi^-1
+    0x1.13050dca2412ep-13,  // 27/65536 * pi^-1
+    0x1.1d34a60108f72p-15,  // 7/65536 * pi^-1
+    0x1.6eb167b830193p-17,  // 9/262144 * pi^-1
+    0x1.13050dca2412ep-18,  // 27/2097152 * pi^-1
+    0x1.cf758dc1ae91ap-20,  // 91/16777216 * pi^-1
+    0x1.abcef9018d72bp-21,  // 21/8388608 * pi^-1
+    0x1.a907cf7e37c02p-22,  // 459/369098752 * pi^-1
+    0x1.c0a4b05a902e5p-23,  // 969/1476395008 * pi^-1
+    0x1.f240beee6c6e8p-24,  // 20349/55834574848 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.91120971749b9p+4,  // -315/4 * pi^-1
+    -0x1.2ccd87151774bp+3,  // -945/32 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_2, 2},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dpotential_0_1, 2},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
     0x1.5a52374a6650bp+0,  // 17/4 * pi^-1
     -0x1.b744843f4ef38p+2,  // -345/16 * pi^-1
     -0x1.a40288778633fp+4,  // -2639/32 * pi^-1
     -0x1.45f306dc9c883p+1,  // -8 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.91120971749b9p+4,  // 315/4 * pi^-1
     0x1.2ccd87151774bp+3,  // 945/32 * pi^-1
 };
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_1_2, 2},
+};
+inline constexpr double dpotential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 2.8e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.6eb167b830193p+0,  // 9/2 * pi^-1
+    -0x1.e148d821bf211p+2,  // -189/8 * pi^-1
+    -0x1.669697833dd02p+2,  // -1155/16 * pi^-1 + 315/4 * pi^-1 * log(2)
+    0x1.736f7deb7bf32p+3,  // 4095/256 * pi^-1 + 945/32 * pi^-1 * log(2)
+    0x1.e148d821bf211p-3,  // 189/256 * pi^-1
+    0x1.abcef9018d72bp-8,  // 21/1024 * pi^-1
+    0x1.6eb167b830193p-11,  // 9/4096 * pi^-1
+    0x1.13050dca2412ep-13,  // 27/65536 * pi^-1
+    0x1.1d34a60108f72p-15,  // 7/65536 * pi^-1
+    0x1.6eb167b830193p-17,  // 9/262144 * pi^-1
+    0x1.13050dca2412ep-18,  // 27/2097152 * pi^-1
+    0x1.cf758dc1ae91ap-20,  // 91/16777216 * pi^-1
+    0x1.abcef9018d72bp-21,  // 21/8388608 * pi^-1
+    0x1.a907cf7e37c02p-22,  // 459/369098752 * pi^-1
+    0x1.c0a4b05a902e5p-23,  // 969/1476395008 * pi^-1
+    0x1.f240beee6c6e8p-24,  // 20349/55834574848 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.91120971749b9p+4,  // -315/4 * pi^-1
+    -0x1.2ccd87151774bp+3,  // -945/32 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_2, 2},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 2},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.5a52374a6650bp+0,  // 17/4 * pi^-1
+    -0x1.b744843f4ef38p+2,  // -345/16 * pi^-1
+    -0x1.a40288778633fp+4,  // -2639/32 * pi^-1
+    -0x1.45f306dc9c883p+1,  // -8 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.91120971749b9p+4,  // 315/4 * pi^-1
+    0x1.2ccd87151774bp+3,  // 945/32 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_1_2, 2},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.8e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    -0x1.e148d821bf211p+3,  // -189/4 * pi^-1
+    -0x1.7bd4507a5935dp+5,  // -735/2 * pi^-1 + 315 * pi^-1 * log(2)
+    0x1.e1f3db1bf40f8p+5,  // 8505/128 * pi^-1 + 2835/16 * pi^-1 * log(2)
+    0x1.e148d821bf211p+0,  // 189/32 * pi^-1
+    0x1.0b615ba0f867bp-4,  // 105/512 * pi^-1
+    0x1.13050dca2412ep-7,  // 27/1024 * pi^-1
+    0x1.e148d821bf211p-10,  // 189/32768 * pi^-1
+    0x1.1d34a60108f72p-11,  // 7/4096 * pi^-1
+    0x1.9c8794af361c5p-13,  // 81/131072 * pi^-1
+    0x1.57c6513cad17ap-14,  // 135/524288 * pi^-1
+    0x1.3ea0d17528042p-15,  // 1001/8388608 * pi^-1
+    0x1.40db3ac12a161p-16,  // 63/1048576 * pi^-1
+    0x1.595658968d4c1p-17,  // 5967/184549376 * pi^-1
+    0x1.88901a4f3e289p-18,  // 6783/369098752 * pi^-1
+    0x1.d31cb2ff85a7ap-19,  // 305235/27917287424 * pi^-1
 };
 inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.91120971749b9p+6,  // -315 * pi^-1
+    -0x1.c3344a9fa32fp+5,  // -2835/16 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 15},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 2},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     -0x1.dd76ff0d294b7p+3,  // -375/8 * pi^-1
     -0x1.f19911e9a9b6ap+6,  // -6253/16 * pi^-1
     -0x1.1d34a60108f72p+4,  // -56 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     0x1.91120971749b9p+6,  // 315 * pi^-1
     0x1.c3344a9fa32fp+5,  // 2835/16 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_2, 2},
-};
-inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
-};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_1_2, 2},
+};
+inline constexpr double potential_hess_radial_2_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_hess_radial_0, 2},  // [0, 1/4), series at 0 up to r^28, truncation < 5.7e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_hess_radial_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_l_1_D2
 inline constexpr table::Kernel wendland_missing_k_1_l_1_D2 = {
     "wendland-missing:k=1,l=1", 2, 0x1p+0, 5, 2, 1,
     0x1.2ccd87151774bp+8, "945 * pi^-1", true,
     {
-        {detail_wendland_missing_k_1_l_1_D2::value, 2},
-        {detail_wendland_missing_k_1_l_1_D2::dr, 2},
-        {detail_wendland_missing_k_1_l_1_D2::d2r, 2},
-        {detail_wendland_missing_k_1_l_1_D2::laplacian, 2},
-        {detail_wendland_missing_k_1_l_1_D2::grad_over_r, 2},
-        {detail_wendland_missing_k_1_l_1_D2::hess_radial, 2},
-        {detail_wendland_missing_k_1_l_1_D2::potential, 2},
-        {detail_wendland_missing_k_1_l_1_D2::dpotential, 2},
-        {detail_wendland_missing_k_1_l_1_D2::dpotential_over_r, 2},
-        {detail_wendland_missing_k_1_l_1_D2::potential_hess_radial, 2},
+        {detail_wendland_missing_k_1_l_1_D2::value, 3},
+        {detail_wendland_missing_k_1_l_1_D2::dr, 3},
+        {detail_wendland_missing_k_1_l_1_D2::d2r, 3},
+        {detail_wendland_missing_k_1_l_1_D2::laplacian, 3},
+        {detail_wendland_missing_k_1_l_1_D2::grad_over_r, 3},
+        {detail_wendland_missing_k_1_l_1_D2::hess_radial, 3},
+        {detail_wendland_missing_k_1_l_1_D2::potential, 3},
+        {detail_wendland_missing_k_1_l_1_D2::dpotential, 3},
+        {detail_wendland_missing_k_1_l_1_D2::dpotential_over_r, 3},
+        {detail_wendland_missing_k_1_l_1_D2::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=1,l=1 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_1_l_1_D3 {
 inline constexpr double value_0_0[] = {
     0x1.abfb0dd33dd59p+2,  // 66 * pi^-2
+    -0x1.767bac18d61aep+6,  // -924 * pi^-2
+    -0x1.c182ab0325a54p+8,  // -9240 * pi^-2 + 6930 * pi^-2 * log(2)
+    0x1.ac2f30571029ap+8,  // -1155/2 * pi^-2 + 6930 * pi^-2 * log(2)
+    0x1.b42e7e579838p+6,  // 49665/64 * pi^-2 + 3465/8 * pi^-2 * log(2)
+    -0x1.767bac18d61aep-1,  // -231/32 * pi^-2
+    -0x1.767bac18d61aep-5,  // -231/512 * pi^-2
+    -0x1.abfb0dd33dd59p-8,  // -33/512 * pi^-2
+    -0x1.767bac18d61aep-10,  // -231/16384 * pi^-2
+    -0x1.abfb0dd33dd59p-12,  // -33/8192 * pi^-2
+    -0x1.263c99813a82dp-13,  // -363/262144 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    -0x1.5f13f15748b93p+9,  // -6930 * pi^-2
+    -0x1.5f13f15748b93p+9,  // -6930 * pi^-2
+    -0x1.5f13f15748b93p+5,  // -3465/8 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, value_0_1, 3},
+};
+inline constexpr double value_1_0[] = {
+    0x1.abfb0dd33dd59p+2,  // 66 * pi^-2
     -0x1.691bd3aa3c2c3p+6,  // -891 * pi^-2
     -0x1.ea4155963a94ep+9,  // -38709/4 * pi^-2
     -0x1.80188fa854be6p+8,  // -30327/8 * pi^-2
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     0x1.5f13f15748b93p+9,  // 6930 * pi^-2
     0x1.5f13f15748b93p+9,  // 6930 * pi^-2
     0x1.5f13f15748b93p+5,  // 3465/8 * pi^-2
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 3},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_1_1, 3},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.767bac18d61aep+7,  // -1848 * pi^-2
+    -0x1.388651d76500fp+11,  // -43890 * pi^-2 + 27720 * pi^-2 * log(2)
+    0x1.d2bccfd6f3e1ep+10,  // -10395 * pi^-2 + 41580 * pi^-2 * log(2)
+    0x1.9e3d3f4223ac7p+9,  // 5775 * pi^-2 + 3465 * pi^-2 * log(2)
+    -0x1.d41a971f0ba19p+2,  // -1155/16 * pi^-2
+    -0x1.18dcc112a0942p-1,  // -693/128 * pi^-2
+    -0x1.767bac18d61aep-4,  // -231/256 * pi^-2
+    -0x1.767bac18d61aep-6,  // -231/1024 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.5f13f15748b93p+11,  // -27720 * pi^-2
+    -0x1.074ef501768aep+12,  // -41580 * pi^-2
+    -0x1.5f13f15748b93p+8,  // -3465 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.767bac18d61aep+7,  // -1848 * pi^-2
     -0x1.1bc9b86ad2406p+12,  // -44814 * pi^-2
     -0x1.4a992deded03bp+11,  // -26103 * pi^-2
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     0x1.5f13f15748b93p+11,  // 27720 * pi^-2
     0x1.074ef501768aep+12,  // 41580 * pi^-2
     0x1.5f13f15748b93p+8,  // 3465 * pi^-2
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_1_1, 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, dr_0, 2},  // [0, 1/16), series at 0 up to r^15, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, dr_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.767bac18d61aep+7,  // -1848 * pi^-2
+    -0x1.4229b9b75defp+13,  // -159390 * pi^-2 + 83160 * pi^-2 * log(2)
+    0x1.401d0ecb3a4f8p+12,  // -93555 * pi^-2 + 207900 * pi^-2 * log(2)
+    0x1.548458446aab5p+12,  // 36960 * pi^-2 + 24255 * pi^-2 * log(2)
+    -0x1.074ef501768aep+6,  // -10395/16 * pi^-2
+    -0x1.822f89799ccbbp+2,  // -7623/128 * pi^-2
+    -0x1.30447bd42df5dp+0,  // -3003/256 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.074ef501768aep+13,  // -83160 * pi^-2
+    -0x1.4922b241d42dap+14,  // -207900 * pi^-2
+    -0x1.3331732c5fa2p+11,  // -24255 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+};
+inline constexpr double d2r_1_0[] = {
+    -0x1.767bac18d61aep+7,  // -1848 * pi^-2
     -0x1.fb99a245aa366p+13,  // -160314 * pi^-2
     -0x1.e4ed255a293fcp+13,  // -153153 * pi^-2
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     0x1.074ef501768aep+13,  // 83160 * pi^-2
     0x1.4922b241d42dap+14,  // 207900 * pi^-2
     0x1.3331732c5fa2p+11,  // 24255 * pi^-2
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_1_1, 3},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, d2r_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 8.7e-21 relative (series.hpp)
+    {0x1p-5, 0x1p+0, d2r_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.18dcc112a0942p+9,  // -5544 * pi^-2
+    -0x1.de6ce2a3106f7p+13,  // -247170 * pi^-2 + 138600 * pi^-2 * log(2)
+    0x1.14bdbb5b5a204p+13,  // -114345 * pi^-2 + 291060 * pi^-2 * log(2)
+    0x1.bc13a814f3967p+12,  // 48510 * pi^-2 + 31185 * pi^-2 * log(2)
+    -0x1.41d247e557ff1p+6,  // -12705/16 * pi^-2
+    -0x1.c866b9be44f0cp+2,  // -9009/128 * pi^-2
+    -0x1.5f13f15748b93p+0,  // -3465/256 * pi^-2
+    -0x1.8de366da637c8p-2,  // -3927/1024 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.b6d8edad1ae77p+13,  // -138600 * pi^-2
+    -0x1.ccca2cc28f731p+14,  // -291060 * pi^-2
+    -0x1.8af66f8231d05p+11,  // -31185 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.18dcc112a0942p+9,  // -5544 * pi^-2
     -0x1.8bb1ad583e3b6p+14,  // -249942 * pi^-2
     -0x1.451cde288fe0dp+14,  // -205359 * pi^-2
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     0x1.b6d8edad1ae77p+13,  // 138600 * pi^-2
     0x1.ccca2cc28f731p+14,  // 291060 * pi^-2
     0x1.8af66f8231d05p+11,  // 31185 * pi^-2
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_1_1, 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.6e-19 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.767bac18d61aep+7,  // -1848 * pi^-2
+    -0x1.388651d76500fp+11,  // -43890 * pi^-2 + 27720 * pi^-2 * log(2)
+    0x1.d2bccfd6f3e1ep+10,  // -10395 * pi^-2 + 41580 * pi^-2 * log(2)
+    0x1.9e3d3f4223ac7p+9,  // 5775 * pi^-2 + 3465 * pi^-2 * log(2)
+    -0x1.d41a971f0ba19p+2,  // -1155/16 * pi^-2
+    -0x1.18dcc112a0942p-1,  // -693/128 * pi^-2
+    -0x1.767bac18d61aep-4,  // -231/256 * pi^-2
+    -0x1.767bac18d61aep-6,  // -231/1024 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.5f13f15748b93p+11,  // -27720 * pi^-2
+    -0x1.074ef501768aep+12,  // -41580 * pi^-2
+    -0x1.5f13f15748b93p+8,  // -3465 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+};
+inline constexpr double grad_over_r_1_0[] = {
+    -0x1.767bac18d61aep+7,  // -1848 * pi^-2
     -0x1.1bc9b86ad2406p+12,  // -44814 * pi^-2
     -0x1.4a992deded03bp+11,  // -26103 * pi^-2
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     0x1.5f13f15748b93p+11,  // 27720 * pi^-2
     0x1.074ef501768aep+12,  // 41580 * pi^-2
     0x1.5f13f15748b93p+8,  // 3465 * pi^-2
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_1_1, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, grad_over_r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, grad_over_r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    -0x1.e8104a83095d8p+12,  // -115500 * pi^-2 + 55440 * pi^-2 * log(2)
+    0x1.96dbb5aafaae1p+11,  // -83160 * pi^-2 + 166320 * pi^-2 * log(2)
+    0x1.20bcb05c2635cp+12,  // 31185 * pi^-2 + 20790 * pi^-2 * log(2)
+    -0x1.d41a971f0ba19p+5,  // -1155/2 * pi^-2
+    -0x1.5f13f15748b93p+2,  // -3465/64 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.5f13f15748b93p+12,  // -55440 * pi^-2
+    -0x1.074ef501768aep+14,  // -166320 * pi^-2
+    -0x1.074ef501768aep+11,  // -20790 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+};
+inline constexpr double hess_radial_1_0[] = {
     -0x1.6db4c61041164p+13,  // -115500 * pi^-2
     -0x1.9246d9deadfeep+13,  // -127050 * pi^-2
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     0x1.5f13f15748b93p+12,  // 55440 * pi^-2
     0x1.074ef501768aep+14,  // 166320 * pi^-2
     0x1.074ef501768aep+11,  // 20790 * pi^-2
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_1_1, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-6, hess_radial_0, 2},  // [0, 1/64), series at 0 up to r^8, truncation < 9.2e-20 relative (series.hpp)
+    {0x1p-6, 0x1p+0, hess_radial_1, 2},  // [1/64, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.3057814c42bap-2,  // -44/15 * pi^-2
+    0x1.1d5209377e8e6p+0,  // 11 * pi^-2
+    -0x1.2b96234711af1p+2,  // -231/5 * pi^-2
+    -0x1.61caf0bfcf9cbp+2,  // -2365/14 * pi^-2 + 165 * pi^-2 * log(2)
+    0x1.07fcb6c0ea331p+3,  // 4235/288 * pi^-2 + 385/4 * pi^-2 * log(2)
+    0x1.1146b9ed2b6fp+0,  // 54957/7040 * pi^-2 + 63/16 * pi^-2 * log(2)
+    -0x1.3344a776d70f7p-8,  // -77/1664 * pi^-2
+    -0x1.c88341f26417p-13,  // -11/5120 * pi^-2
+    -0x1.92ce2b212b235p-16,  // -33/139264 * pi^-2
+    -0x1.185098c63d757p-18,  // -77/1867776 * pi^-2
+    -0x1.04dd4a415dc4p-20,  // -11/1146880 * pi^-2
+    -0x1.29b9c6d5bbb5fp-22,  // -33/12058624 * pi^-2
+    -0x1.8ba4f4e3238b6p-24,  // -143/157286400 * pi^-2
+    -0x1.27e34bedb2a6ap-25,  // -77/226492416 * pi^-2
+    -0x1.e690b6a3a6ddfp-27,  // -17/121634816 * pi^-2
+    -0x1.b06a4fbb8e1a4p-28,  // -323/5200936960 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.0b7ce8a406a57p+4,  // -165 * pi^-2
+    -0x1.3811ba14b26bbp+3,  // -385/4 * pi^-2
+    -0x1.9886ea49a3c03p-2,  // -63/16 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, potential_0_1, 3},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.f8ee450ffa578p-3,  // -73/30 * pi^-2
     0x1.ffd8fc5d58f3p-1,  // 148/15 * pi^-2
     -0x1.0d53415493c6cp+2,  // -623/15 * pi^-2
     -0x1.31bbb92c53424p+4,  // -22631/120 * pi^-2
     -0x1.16cf12a7a87ep+2,  // -10319/240 * pi^-2
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.0b7ce8a406a57p+4,  // 165 * pi^-2
     0x1.3811ba14b26bbp+3,  // 385/4 * pi^-2
     0x1.9886ea49a3c03p-2,  // 63/16 * pi^-2
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 9.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-    0x1.18ff56a7236d3p+1,  // 65/3 * pi^-2
-    -0x1.1a2fae286fafep+4,  // -2611/15 * pi^-2
-    -0x1.ffdab70b2c4aap+6,  // -25259/20 * pi^-2
-    -0x1.3677e7280a464p+5,  // -15321/40 * pi^-2
+    0x1.1d5209377e8e6p+1,  // 22 * pi^-2
+    -0x1.2b96234711af1p+4,  // -924/5 * pi^-2
+    -0x1.8f16a8e1df084p+5,  // -8250/7 * pi^-2 + 990 * pi^-2 * log(2)
+    0x1.c1f4fefca7cb3p+5,  // 385/18 * pi^-2 + 770 * pi^-2 * log(2)
+    0x1.48d43116292ccp+3,  // 52185/704 * pi^-2 + 315/8 * pi^-2 * log(2)
+    -0x1.cce6fb3242973p-5,  // -231/416 * pi^-2
+    -0x1.8f72d9b417942p-9,  // -77/2560 * pi^-2
+    -0x1.92ce2b212b235p-12,  // -33/8704 * pi^-2
+    -0x1.3b5aabdf05241p-14,  // -231/311296 * pi^-2
+    -0x1.46149cd1b535p-16,  // -11/57344 * pi^-2
+    -0x1.995f7165e21a3p-18,  // -363/6029312 * pi^-2
+    -0x1.28bbb7aa5aa89p-19,  // -143/6553600 * pi^-2
+    -0x1.e0d15b62424ecp-21,  // -1001/113246208 * pi^-2
+    -0x1.a9be9fcf32023p-22,  // -119/30408704 * pi^-2
+    -0x1.9563aabfd538ap-23,  // -969/520093696 * pi^-2
+    -0x1.9a1d386034335p-24,  // -2261/2399141888 * pi^-2
 };
 inline constexpr double dpotential_0_1[] = {
-    0x1.913b5cf609f83p+6,  // 990 * pi^-2
-    0x1.3811ba14b26bbp+6,  // 770 * pi^-2
-    0x1.fea8a4dc0cb04p+1,  // 315/8 * pi^-2
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+    -0x1.913b5cf609f83p+6,  // -990 * pi^-2
+    -0x1.3811ba14b26bbp+6,  // -770 * pi^-2
+    -0x1.fea8a4dc0cb04p+1,  // -315/8 * pi^-2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dpotential_0_1, 3},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
     0x1.18ff56a7236d3p+1,  // 65/3 * pi^-2
     -0x1.1a2fae286fafep+4,  // -2611/15 * pi^-2
     -0x1.ffdab70b2c4aap+6,  // -25259/20 * pi^-2
     -0x1.3677e7280a464p+5,  // -15321/40 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     0x1.913b5cf609f83p+6,  // 990 * pi^-2
     0x1.3811ba14b26bbp+6,  // 770 * pi^-2
     0x1.fea8a4dc0cb04p+1,  // 315/8 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 4.3e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.1d5209377e8e6p+1,  // 22 * pi^-2
+    -0x1.2b96234711af1p+4,  // -924/5 * pi^-2
+    -0x1.8f16a8e1df084p+5,  // -8250/7 * pi^-2 + 990 * pi^-2 * log(2)
+    0x1.c1f4fefca7cb3p+5,  // 385/18 * pi^-2 + 770 * pi^-2 * log(2)
+    0x1.48d43116292ccp+3,  // 52185/704 * pi^-2 + 315/8 * pi^-2 * log(2)
+    -0x1.cce6fb3242973p-5,  // -231/416 * pi^-2
+    -0x1.8f72d9b417942p-9,  // -77/2560 * pi^-2
+    -0x1.92ce2b212b235p-12,  // -33/8704 * pi^-2
+    -0x1.3b5aabdf05241p-14,  // -231/311296 * pi^-2
+    -0x1.46149cd1b535p-16,  // -11/57344 * pi^-2
+    -0x1.995f7165e21a3p-18,  // -363/6029312 * pi^-2
+    -0x1.28bbb7aa5aa89p-19,  // -143/6553600 * pi^-2
+    -0x1.e0d15b62424ecp-21,  // -1001/113246208 * pi^-2
+    -0x1.a9be9fcf32023p-22,  // -119/30408704 * pi^-2
+    -0x1.9563aabfd538ap-23,  // -969/520093696 * pi^-2
+    -0x1.9a1d386034335p-24,  // -2261/2399141888 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.913b5cf609f83p+6,  // -990 * pi^-2
+    -0x1.3811ba14b26bbp+6,  // -770 * pi^-2
+    -0x1.fea8a4dc0cb04p+1,  // -315/8 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 3},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.18ff56a7236d3p+1,  // 65/3 * pi^-2
+    -0x1.1a2fae286fafep+4,  // -2611/15 * pi^-2
+    -0x1.ffdab70b2c4aap+6,  // -25259/20 * pi^-2
+    -0x1.3677e7280a464p+5,  // -15321/40 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    0x1.913b5cf609f83p+6,  // 990 * pi^-2
+    0x1.3811ba14b26bbp+6,  // 770 * pi^-2
+    0x1.fea8a4dc0cb04p+1,  // 315/8 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 4.3e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.2b96234711af1p+5,  // -1848/5 * pi^-2
+    -0x1.2bda2bae72023p+8,  // -39930/7 * pi^-2 + 3960 * pi^-2 * log(2)
+    0x1.037350b8513d7p+8,  // -1925/3 * pi^-2 + 4620 * pi^-2 * log(2)
+    0x1.38deebef48c74p+6,  // 6090/11 * pi^-2 + 315 * pi^-2 * log(2)
+    -0x1.20105cff699e8p-1,  // -1155/208 * pi^-2
+    -0x1.2b96234711af1p-5,  // -231/640 * pi^-2
+    -0x1.607465bd05befp-8,  // -231/4352 * pi^-2
+    -0x1.3b5aabdf05241p-10,  // -231/19456 * pi^-2
+    -0x1.6ed7306bebdbap-12,  // -99/28672 * pi^-2
+    -0x1.ffb74dbf5aa0bp-14,  // -1815/1507328 * pi^-2
+    -0x1.98021c8a3ca7cp-15,  // -1573/3276800 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.913b5cf609f83p+8,  // -3960 * pi^-2
+    -0x1.d41a971f0ba19p+8,  // -4620 * pi^-2
+    -0x1.fea8a4dc0cb04p+4,  // -315 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.37423899a1558p-3,  // 3/2 * pi^-2
     0x1.9f02f6222c72p-4,  // 1 * pi^-2
     -0x1.2af02217d0d08p+5,  // -1844/5 * pi^-2
     -0x1.2a4f50f209f8ep+9,  // -29442/5 * pi^-2
     -0x1.0bab98f950e41p+8,  // -13209/5 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.913b5cf609f83p+8,  // 3960 * pi^-2
     0x1.d41a971f0ba19p+8,  // 4620 * pi^-2
     0x1.fea8a4dc0cb04p+4,  // 315 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.37423899a1558p-3,  // -3/2 * pi^-2
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 1.2e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, potential_hess_radial_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_l_1_D3
 inline constexpr table::Kernel wendland_missing_k_1_l_1_D3 = {
     "wendland-missing:k=1,l=1", 3, 0x1p+0, 6, 2, 1,
     0x1.18dcc112a0942p+10, "11088 * pi^-2", true,
     {
-        {detail_wendland_missing_k_1_l_1_D3::value, 2},
-        {detail_wendland_missing_k_1_l_1_D3::dr, 2},
-        {detail_wendland_missing_k_1_l_1_D3::d2r, 2},
-        {detail_wendland_missing_k_1_l_1_D3::laplacian, 2},
-        {detail_wendland_missing_k_1_l_1_D3::grad_over_r, 2},
-        {detail_wendland_missing_k_1_l_1_D3::hess_radial, 2},
-        {detail_wendland_missing_k_1_l_1_D3::potential, 2},
-        {detail_wendland_missing_k_1_l_1_D3::dpotential, 2},
-        {detail_wendland_missing_k_1_l_1_D3::dpotential_over_r, 2},
-        {detail_wendland_missing_k_1_l_1_D3::potential_hess_radial, 2},
+        {detail_wendland_missing_k_1_l_1_D3::value, 3},
+        {detail_wendland_missing_k_1_l_1_D3::dr, 3},
+        {detail_wendland_missing_k_1_l_1_D3::d2r, 3},
+        {detail_wendland_missing_k_1_l_1_D3::laplacian, 3},
+        {detail_wendland_missing_k_1_l_1_D3::grad_over_r, 3},
+        {detail_wendland_missing_k_1_l_1_D3::hess_radial, 3},
+        {detail_wendland_missing_k_1_l_1_D3::potential, 3},
+        {detail_wendland_missing_k_1_l_1_D3::dpotential, 3},
+        {detail_wendland_missing_k_1_l_1_D3::dpotential_over_r, 3},
+        {detail_wendland_missing_k_1_l_1_D3::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=1,l=2 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_1_l_2_D1 {
 inline constexpr double value_0_0[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
+    -0x1.abcef9018d72bp+4,  // -84 * pi^-1
+    -0x1.00c27f256ab4ep+7,  // -840 * pi^-1 + 630 * pi^-1 * log(2)
+    0x1.e9281950ce1b3p+6,  // -105/2 * pi^-1 + 630 * pi^-1 * log(2)
+    0x1.f24aef2e90d8ap+4,  // 4515/64 * pi^-1 + 315/8 * pi^-1 * log(2)
+    -0x1.abcef9018d72bp-3,  // -21/32 * pi^-1
+    -0x1.abcef9018d72bp-7,  // -21/512 * pi^-1
+    -0x1.e8ec8a4aeacc4p-10,  // -3/512 * pi^-1
+    -0x1.abcef9018d72bp-12,  // -21/16384 * pi^-1
+    -0x1.e8ec8a4aeacc4p-14,  // -3/8192 * pi^-1
+    -0x1.50229f13816c7p-15,  // -33/262144 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.91120971749b9p+7,  // -630 * pi^-1
+    -0x1.91120971749b9p+7,  // -630 * pi^-1
+    -0x1.91120971749b9p+3,  // -315/8 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, value_0_1, 3},
+};
+inline constexpr double value_1_0[] = {
+    0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
     -0x1.9c8794af361c5p+4,  // -81 * pi^-1
     -0x1.18087ab528bb4p+8,  // -3519/4 * pi^-1
     -0x1.b6ca491cbc38dp+6,  // -2757/8 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     0x1.91120971749b9p+7,  // 630 * pi^-1
     0x1.91120971749b9p+7,  // 630 * pi^-1
     0x1.91120971749b9p+3,  // 315/8 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 3},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_1_1, 3},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.abcef9018d72bp+5,  // -168 * pi^-1
+    -0x1.65070181c7dbcp+9,  // -3990 * pi^-1 + 2520 * pi^-1 * log(2)
+    0x1.0a9990a03d6d8p+9,  // -945 * pi^-1 + 3780 * pi^-1 * log(2)
+    0x1.d939ce97798eep+7,  // 525 * pi^-1 + 315 * pi^-1 * log(2)
+    -0x1.0b615ba0f867bp+1,  // -105/16 * pi^-1
+    -0x1.40db3ac12a161p-3,  // -63/128 * pi^-1
+    -0x1.abcef9018d72bp-6,  // -21/256 * pi^-1
+    -0x1.abcef9018d72bp-8,  // -21/1024 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.91120971749b9p+9,  // -2520 * pi^-1
+    -0x1.2ccd87151774bp+10,  // -3780 * pi^-1
+    -0x1.91120971749b9p+6,  // -315 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.abcef9018d72bp+5,  // -168 * pi^-1
     -0x1.4432d8b32d30fp+10,  // -4074 * pi^-1
     -0x1.79acb7d35edf4p+9,  // -2373 * pi^-1
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     0x1.91120971749b9p+9,  // 2520 * pi^-1
     0x1.2ccd87151774bp+10,  // 3780 * pi^-1
     0x1.91120971749b9p+6,  // 315 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_1_1, 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, dr_0, 2},  // [0, 1/16), series at 0 up to r^15, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, dr_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.abcef9018d72bp+5,  // -168 * pi^-1
+    -0x1.7009c37db30bbp+11,  // -14490 * pi^-1 + 7560 * pi^-1 * log(2)
+    0x1.6db2627b821d1p+10,  // -8505 * pi^-1 + 18900 * pi^-1 * log(2)
+    0x1.8501742d73135p+10,  // 3360 * pi^-1 + 2205 * pi^-1 * log(2)
+    -0x1.2ccd87151774bp+4,  // -945/16 * pi^-1
+    -0x1.b92d70c999de5p+0,  // -693/128 * pi^-1
+    -0x1.5b982a5142ed3p-2,  // -273/256 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.2ccd87151774bp+11,  // -7560 * pi^-1
+    -0x1.7800e8da5d51dp+12,  // -18900 * pi^-1
+    -0x1.5eefc84346082p+9,  // -2205 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+};
+inline constexpr double d2r_1_0[] = {
+    -0x1.abcef9018d72bp+5,  // -168 * pi^-1
     -0x1.21f0c5c28d5d4p+12,  // -14574 * pi^-1
     -0x1.14fd41b8c155p+12,  // -13923 * pi^-1
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     0x1.2ccd87151774bp+11,  // 7560 * pi^-1
     0x1.7800e8da5d51dp+12,  // 18900 * pi^-1
     0x1.5eefc84346082p+9,  // 2205 * pi^-1
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_1_1, 3},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, d2r_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 8.7e-21 relative (series.hpp)
+    {0x1p-5, 0x1p+0, d2r_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.abcef9018d72bp+5,  // -168 * pi^-1
+    -0x1.7009c37db30bbp+11,  // -14490 * pi^-1 + 7560 * pi^-1 * log(2)
+    0x1.6db2627b821d1p+10,  // -8505 * pi^-1 + 18900 * pi^-1 * log(2)
+    0x1.8501742d73135p+10,  // 3360 * pi^-1 + 2205 * pi^-1 * log(2)
+    -0x1.2ccd87151774bp+4,  // -945/16 * pi^-1
+    -0x1.b92d70c999de5p+0,  // -693/128 * pi^-1
+    -0x1.5b982a5142ed3p-2,  // -273/256 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.2ccd87151774bp+11,  // -7560 * pi^-1
+    -0x1.7800e8da5d51dp+12,  // -18900 * pi^-1
+    -0x1.5eefc84346082p+9,  // -2205 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.abcef9018d72bp+5,  // -168 * pi^-1
     -0x1.21f0c5c28d5d4p+12,  // -14574 * pi^-1
     -0x1.14fd41b8c155p+12,  // -13923 * pi^-1
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     0x1.2ccd87151774bp+11,  // 7560 * pi^-1
     0x1.7800e8da5d51dp+12,  // 18900 * pi^-1
     0x1.5eefc84346082p+9,  // 2205 * pi^-1
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_1_1, 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, laplacian_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 8.7e-21 relative (series.hpp)
+    {0x1p-5, 0x1p+0, laplacian_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.abcef9018d72bp+5,  // -168 * pi^-1
+    -0x1.65070181c7dbcp+9,  // -3990 * pi^-1 + 2520 * pi^-1 * log(2)
+    0x1.0a9990a03d6d8p+9,  // -945 * pi^-1 + 3780 * pi^-1 * log(2)
+    0x1.d939ce97798eep+7,  // 525 * pi^-1 + 315 * pi^-1 * log(2)
+    -0x1.0b615ba0f867bp+1,  // -105/16 * pi^-1
+    -0x1.40db3ac12a161p-3,  // -63/128 * pi^-1
+    -0x1.abcef9018d72bp-6,  // -21/256 * pi^-1
+    -0x1.abcef9018d72bp-8,  // -21/1024 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.91120971749b9p+9,  // -2520 * pi^-1
+    -0x1.2ccd87151774bp+10,  // -3780 * pi^-1
+    -0x1.91120971749b9p+6,  // -315 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+};
+inline constexpr double grad_over_r_1_0[] = {
+    -0x1.abcef9018d72bp+5,  // -168 * pi^-1
     -0x1.4432d8b32d30fp+10,  // -4074 * pi^-1
     -0x1.79acb7d35edf4p+9,  // -2373 * pi^-1
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     0x1.91120971749b9p+9,  // 2520 * pi^-1
     0x1.2ccd87151774bp+10,  // 3780 * pi^-1
     0x1.91120971749b9p+6,  // 315 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_1_1, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, grad_over_r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, grad_over_r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    -0x1.16c8031d4114cp+11,  // -10500 * pi^-1 + 5040 * pi^-1 * log(2)
+    0x1.d0cb3456c6ccbp+9,  // -7560 * pi^-1 + 15120 * pi^-1 * log(2)
+    0x1.49da3a5a83e17p+10,  // 2835 * pi^-1 + 1890 * pi^-1 * log(2)
+    -0x1.0b615ba0f867bp+4,  // -105/2 * pi^-1
+    -0x1.91120971749b9p+0,  // -315/64 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.91120971749b9p+10,  // -5040 * pi^-1
+    -0x1.2ccd87151774bp+12,  // -15120 * pi^-1
+    -0x1.2ccd87151774bp+9,  // -1890 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+};
+inline constexpr double hess_radial_1_0[] = {
     -0x1.a1c81f2b8422p+11,  // -10500 * pi^-1
     -0x1.cb8f557caaf24p+11,  // -11550 * pi^-1
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     0x1.91120971749b9p+10,  // 5040 * pi^-1
     0x1.2ccd87151774bp+12,  // 15120 * pi^-1
     0x1.2ccd87151774bp+9,  // 1890 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_1_1, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-6, hess_radial_0, 2},  // [0, 1/64), series at 0 up to r^8, truncation < 9.2e-20 relative (series.hpp)
+    {0x1p-6, 0x1p+0, hess_radial_1, 2},  // [1/64, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    0x1.5bade52f95e69p-4,  // 4/15 * pi^-1
+    0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
+    -0x1.1d34a60108f72p+1,  // -7 * pi^-1
+    -0x1.d40e4ae1a27d8p+0,  // -203/10 * pi^-1 + 21 * pi^-1 * log(2)
+    0x1.924b749f45e12p+1,  // 465/224 * pi^-1 + 45/4 * pi^-1 * log(2)
+    0x1.80724f84c73cbp-2,  // 5047/5760 * pi^-1 + 7/16 * pi^-1 * log(2)
+    -0x1.9ed8374752dbep-10,  // -7/1408 * pi^-1
+    -0x1.2ce0551a691b4p-14,  // -3/13312 * pi^-1
+    -0x1.04c26be3b06cfp-17,  // -1/40960 * pi^-1
+    -0x1.65e7b73883b8ap-20,  // -7/1671168 * pi^-1
+    -0x1.49615fdc3d2b5p-22,  // -3/3112960 * pi^-1
+    -0x1.7483758e69c03p-24,  // -1/3670016 * pi^-1
+    -0x1.eb4933276a13cp-26,  // -13/144703488 * pi^-1
+    -0x1.6d1030a52a322p-27,  // -7/209715200 * pi^-1
+    -0x1.2a8333f7b9977p-28,  // -17/1245708288 * pi^-1
+    -0x1.080777acc37d9p-29,  // -323/53519319040 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.abcef9018d72bp+2,  // -21 * pi^-1
+    -0x1.ca5dc1a63c1f8p+1,  // -45/4 * pi^-1
+    -0x1.1d34a60108f72p-3,  // -7/16 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, potential_0_1, 3},
+};
+inline constexpr double potential_1_0[] = {
     0x1.5bade52f95e69p-4,  // 4/15 * pi^-1
     0x1.5bade52f95e69p-1,  // 32/15 * pi^-1
     -0x1.ee5b41dfa923ep+0,  // -91/15 * pi^-1
     -0x1.d7193feada3cdp+2,  // -185/8 * pi^-1
     -0x1.8ef2c9bb5a415p+0,  // -235/48 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.abcef9018d72bp+2,  // 21 * pi^-1
     0x1.ca5dc1a63c1f8p+1,  // 45/4 * pi^-1
     0x1.1d34a60108f72p-3,  // 7/16 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 5.8e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    0x1.976fc893c3aa3p+0,  // 5 * pi^-1
-    -0x1.057042d64837ep+3,  // -77/3 * pi^-1
-    -0x1.8aea9d7af4fc5p+5,  // -1861/12 * pi^-1
-    -0x1.bc5c505ac165ap+3,  // -349/8 * pi^-1
+    0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
+    -0x1.1d34a60108f72p+3,  // -28 * pi^-1
+    -0x1.1a791a55004bcp+4,  // -714/5 * pi^-1 + 126 * pi^-1 * log(2)
+    0x1.58ffbc6a7e5d3p+4,  // 75/14 * pi^-1 + 90 * pi^-1 * log(2)
+    0x1.cebb9905e87c6p+1,  // 4795/576 * pi^-1 + 35/8 * pi^-1 * log(2)
+    -0x1.372229757e24ep-6,  // -21/352 * pi^-1
+    -0x1.07444a771bf7dp-10,  // -21/6656 * pi^-1
+    -0x1.04c26be3b06cfp-13,  // -1/2560 * pi^-1
+    -0x1.92a4ae1f942fcp-16,  // -21/278528 * pi^-1
+    -0x1.9bb9b7d34c762p-18,  // -3/155648 * pi^-1
+    -0x1.001a60d1e8b42p-19,  // -11/1835008 * pi^-1
+    -0x1.7076e65d8f8edp-21,  // -13/6029312 * pi^-1
+    -0x1.289d27863248bp-22,  // -91/104857600 * pi^-1
+    -0x1.0532cd78c2648p-23,  // -119/311427072 * pi^-1
+    -0x1.ef0e0063ee8b6p-25,  // -969/5351931904 * pi^-1
+    -0x1.f2bd6e49feee4p-26,  // -6783/74373398528 * pi^-1
 };
 inline constexpr double dpotential_0_1[] = {
-    0x1.40db3ac12a161p+5,  // 126 * pi^-1
-    0x1.ca5dc1a63c1f8p+4,  // 90 * pi^-1
-    0x1.6481cf814b34fp+0,  // 35/8 * pi^-1
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    -0x1.40db3ac12a161p+5,  // -126 * pi^-1
+    -0x1.ca5dc1a63c1f8p+4,  // -90 * pi^-1
+    -0x1.6481cf814b34fp+0,  // -35/8 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dpotential_0_1, 3},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1p-1,  // 1/2
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
     -0x1.057042d64837ep+3,  // -77/3 * pi^-1
     -0x1.8aea9d7af4fc5p+5,  // -1861/12 * pi^-1
     -0x1.bc5c505ac165ap+3,  // -349/8 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     0x1.40db3ac12a161p+5,  // 126 * pi^-1
     0x1.ca5dc1a63c1f8p+4,  // 90 * pi^-1
     0x1.6481cf814b34fp+0,  // 35/8 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 4.4e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
+    -0x1.1d34a60108f72p+3,  // -28 * pi^-1
+    -0x1.1a791a55004bcp+4,  // -714/5 * pi^-1 + 126 * pi^-1 * log(2)
+    0x1.58ffbc6a7e5d3p+4,  // 75/14 * pi^-1 + 90 * pi^-1 * log(2)
+    0x1.cebb9905e87c6p+1,  // 4795/576 * pi^-1 + 35/8 * pi^-1 * log(2)
+    -0x1.372229757e24ep-6,  // -21/352 * pi^-1
+    -0x1.07444a771bf7dp-10,  // -21/6656 * pi^-1
+    -0x1.04c26be3b06cfp-13,  // -1/2560 * pi^-1
+    -0x1.92a4ae1f942fcp-16,  // -21/278528 * pi^-1
+    -0x1.9bb9b7d34c762p-18,  // -3/155648 * pi^-1
+    -0x1.001a60d1e8b42p-19,  // -11/1835008 * pi^-1
+    -0x1.7076e65d8f8edp-21,  // -13/6029312 * pi^-1
+    -0x1.289d27863248bp-22,  // -91/104857600 * pi^-1
+    -0x1.0532cd78c2648p-23,  // -119/311427072 * pi^-1
+    -0x1.ef0e0063ee8b6p-25,  // -969/5351931904 * pi^-1
+    -0x1.f2bd6e49feee4p-26,  // -6783/74373398528 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.40db3ac12a161p+5,  // -126 * pi^-1
+    -0x1.ca5dc1a63c1f8p+4,  // -90 * pi^-1
+    -0x1.6481cf814b34fp+0,  // -35/8 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 3},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.976fc893c3aa3p+0,  // 5 * pi^-1
+    -0x1.057042d64837ep+3,  // -77/3 * pi^-1
+    -0x1.8aea9d7af4fc5p+5,  // -1861/12 * pi^-1
+    -0x1.bc5c505ac165ap+3,  // -349/8 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    0x1.40db3ac12a161p+5,  // 126 * pi^-1
+    0x1.ca5dc1a63c1f8p+4,  // 90 * pi^-1
+    0x1.6481cf814b34fp+0,  // 35/8 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 4.4e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.1d34a60108f72p+4,  // -56 * pi^-1
+    -0x1.bae6b7b59556cp+6,  // -3486/5 * pi^-1 + 504 * pi^-1 * log(2)
+    0x1.92e82a362e83ep+6,  // -405/7 * pi^-1 + 540 * pi^-1 * log(2)
+    0x1.b8737c0dd3c91p+4,  // 560/9 * pi^-1 + 35 * pi^-1 * log(2)
+    -0x1.84eab3d2ddae2p-3,  // -105/176 * pi^-1
+    -0x1.8ae66fb2a9f3cp-7,  // -63/1664 * pi^-1
+    -0x1.c8543cce74beap-10,  // -7/1280 * pi^-1
+    -0x1.92a4ae1f942fcp-12,  // -21/17408 * pi^-1
+    -0x1.cf30eecdb604ep-14,  // -27/77824 * pi^-1
+    -0x1.4020f90662e13p-15,  // -55/458752 * pi^-1
+    -0x1.faa37cc0a5646p-17,  // -143/3014656 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.40db3ac12a161p+7,  // -504 * pi^-1
+    -0x1.57c6513cad17ap+7,  // -540 * pi^-1
+    -0x1.6481cf814b34fp+3,  // -35 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     -0x1.19cf734412006p+4,  // -166/3 * pi^-1
     -0x1.cd564e0b94376p+7,  // -2174/3 * pi^-1
     -0x1.7f3ebf11640c2p+6,  // -301 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.40db3ac12a161p+7,  // 504 * pi^-1
     0x1.57c6513cad17ap+7,  // 540 * pi^-1
     0x1.6481cf814b34fp+3,  // 35 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 8.5e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, potential_hess_radial_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_l_2_D1
 inline constexpr table::Kernel wendland_missing_k_1_l_2_D1 = {
     "wendland-missing:k=1,l=2", 1, 0x1p+0, 6, 2, 1,
     0x1.40db3ac12a161p+8, "1008 * pi^-1", true,
     {
-        {detail_wendland_missing_k_1_l_2_D1::value, 2},
-        {detail_wendland_missing_k_1_l_2_D1::dr, 2},
-        {detail_wendland_missing_k_1_l_2_D1::d2r, 2},
-        {detail_wendland_missing_k_1_l_2_D1::laplacian, 2},
-        {detail_wendland_missing_k_1_l_2_D1::grad_over_r, 2},
-        {detail_wendland_missing_k_1_l_2_D1::hess_radial, 2},
-        {detail_wendland_missing_k_1_l_2_D1::potential, 2},
-        {detail_wendland_missing_k_1_l_2_D1::dpotential, 2},
-        {detail_wendland_missing_k_1_l_2_D1::dpotential_over_r, 2},
-        {detail_wendland_missing_k_1_l_2_D1::potential_hess_radial, 2},
+        {detail_wendland_missing_k_1_l_2_D1::value, 3},
+        {detail_wendland_missing_k_1_l_2_D1::dr, 3},
+        {detail_wendland_missing_k_1_l_2_D1::d2r, 3},
+        {detail_wendland_missing_k_1_l_2_D1::laplacian, 3},
+        {detail_wendland_missing_k_1_l_2_D1::grad_over_r, 3},
+        {detail_wendland_missing_k_1_l_2_D1::hess_radial, 3},
+        {detail_wendland_missing_k_1_l_2_D1::potential, 3},
+        {detail_wendland_missing_k_1_l_2_D1::dpotential, 3},
+        {detail_wendland_missing_k_1_l_2_D1::dpotential_over_r, 3},
+        {detail_wendland_missing_k_1_l_2_D1::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=1,l=2 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_1_l_2_D2 {
 inline constexpr double value_0_0[] = {
     0x1.ca5dc1a63c1f8p+1,  // 45/4 * pi^-1
+    -0x1.91120971749b9p+5,  // -315/2 * pi^-1
+    -0x1.e16cae6628131p+7,  // -1575 * pi^-1 + 4725/4 * pi^-1 * log(2)
+    0x1.ca9597bbc1398p+7,  // -1575/16 * pi^-1 + 4725/4 * pi^-1 * log(2)
+    0x1.d326403ba7cb1p+5,  // 67725/512 * pi^-1 + 4725/64 * pi^-1 * log(2)
+    -0x1.91120971749b9p-2,  // -315/256 * pi^-1
+    -0x1.91120971749b9p-6,  // -315/4096 * pi^-1
+    -0x1.ca5dc1a63c1f8p-9,  // -45/4096 * pi^-1
+    -0x1.91120971749b9p-11,  // -315/131072 * pi^-1
+    -0x1.ca5dc1a63c1f8p-13,  // -45/65536 * pi^-1
+    -0x1.3b2075224955ap-14,  // -495/2097152 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    -0x1.7800e8da5d51dp+8,  // -4725/4 * pi^-1
+    -0x1.7800e8da5d51dp+8,  // -4725/4 * pi^-1
+    -0x1.7800e8da5d51dp+4,  // -4725/64 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, value_0_1, 3},
+};
+inline constexpr double value_1_0[] = {
+    0x1.ca5dc1a63c1f8p+1,  // 45/4 * pi^-1
     -0x1.82bf1b6442ba9p+5,  // -1215/8 * pi^-1
     -0x1.0687f309d62f9p+9,  // -52785/32 * pi^-1
     -0x1.9b5da48af0754p+7,  // -41355/64 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     0x1.7800e8da5d51dp+8,  // 4725/4 * pi^-1
     0x1.7800e8da5d51dp+8,  // 4725/4 * pi^-1
     0x1.7800e8da5d51dp+4,  // 4725/64 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 3},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_1_1, 3},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.91120971749b9p+6,  // -315 * pi^-1
+    -0x1.4eb69169ab5ep+10,  // -29925/4 * pi^-1 + 4725 * pi^-1 * log(2)
+    0x1.f3dfef2c732d5p+9,  // -14175/8 * pi^-1 + 14175/2 * pi^-1 * log(2)
+    0x1.bba631ae01f5fp+8,  // 7875/8 * pi^-1 + 4725/8 * pi^-1 * log(2)
+    -0x1.f5568bcdd1c27p+1,  // -1575/128 * pi^-1
+    -0x1.2ccd87151774bp-2,  // -945/1024 * pi^-1
+    -0x1.91120971749b9p-5,  // -315/2048 * pi^-1
+    -0x1.91120971749b9p-7,  // -315/8192 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.7800e8da5d51dp+10,  // -4725 * pi^-1
+    -0x1.1a00aea3c5fd6p+11,  // -14175/2 * pi^-1
+    -0x1.7800e8da5d51dp+7,  // -4725/8 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.91120971749b9p+6,  // -315 * pi^-1
     -0x1.2fefab27fa5dep+11,  // -30555/4 * pi^-1
     -0x1.6211ec5628f15p+10,  // -35595/8 * pi^-1
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     0x1.7800e8da5d51dp+10,  // 4725 * pi^-1
     0x1.1a00aea3c5fd6p+11,  // 14175/2 * pi^-1
     0x1.7800e8da5d51dp+7,  // 4725/8 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_1_1, 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, dr_0, 2},  // [0, 1/16), series at 0 up to r^15, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, dr_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.91120971749b9p+6,  // -315 * pi^-1
+    -0x1.59092745d7dafp+12,  // -108675/4 * pi^-1 + 14175 * pi^-1 * log(2)
+    0x1.56d73c53c9fb4p+11,  // -127575/8 * pi^-1 + 70875/2 * pi^-1 * log(2)
+    0x1.6cb15cea9be22p+11,  // 6300 * pi^-1 + 33075/8 * pi^-1 * log(2)
+    -0x1.1a00aea3c5fd6p+5,  // -14175/128 * pi^-1
+    -0x1.9d9a99bd00407p+1,  // -10395/1024 * pi^-1
+    -0x1.45dea7ac2ebe6p-1,  // -4095/2048 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.1a00aea3c5fd6p+12,  // -14175 * pi^-1
+    -0x1.6080da4cb77cbp+13,  // -70875/2 * pi^-1
+    -0x1.4900cbbf11a7ap+10,  // -33075/8 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+};
+inline constexpr double d2r_1_0[] = {
+    -0x1.91120971749b9p+6,  // -315 * pi^-1
     -0x1.0fd1b96664877p+13,  // -109305/4 * pi^-1
     -0x1.03ad6d9d353fbp+13,  // -208845/8 * pi^-1
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     0x1.1a00aea3c5fd6p+12,  // 14175 * pi^-1
     0x1.6080da4cb77cbp+13,  // 70875/2 * pi^-1
     0x1.4900cbbf11a7ap+10,  // 33075/8 * pi^-1
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_1_1, 3},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, d2r_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 8.7e-21 relative (series.hpp)
+    {0x1p-5, 0x1p+0, d2r_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.91120971749b9p+7,  // -630 * pi^-1
+    -0x1.acb6cba042b27p+12,  // -34650 * pi^-1 + 18900 * pi^-1 * log(2)
+    0x1.d3cf381ee6c69p+11,  // -70875/4 * pi^-1 + 42525 * pi^-1 * log(2)
+    0x1.a42623205c20ep+11,  // 58275/8 * pi^-1 + 4725 * pi^-1 * log(2)
+    -0x1.39561760a3198p+5,  // -7875/64 * pi^-1
+    -0x1.c3344a9fa32fp+1,  // -2835/256 * pi^-1
+    -0x1.5eefc84346082p-1,  // -2205/1024 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.7800e8da5d51dp+12,  // -18900 * pi^-1
+    -0x1.a70105f5a8fc1p+13,  // -42525 * pi^-1
+    -0x1.7800e8da5d51dp+10,  // -4725 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.91120971749b9p+7,  // -630 * pi^-1
     -0x1.5bcda430631eep+13,  // -34965 * pi^-1
     -0x1.2fefab27fa5dep+13,  // -30555 * pi^-1
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     0x1.7800e8da5d51dp+12,  // 18900 * pi^-1
     0x1.a70105f5a8fc1p+13,  // 42525 * pi^-1
     0x1.7800e8da5d51dp+10,  // 4725 * pi^-1
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_1_1, 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, laplacian_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 4.9e-21 relative (series.hpp)
+    {0x1p-5, 0x1p+0, laplacian_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.91120971749b9p+6,  // -315 * pi^-1
+    -0x1.4eb69169ab5ep+10,  // -29925/4 * pi^-1 + 4725 * pi^-1 * log(2)
+    0x1.f3dfef2c732d5p+9,  // -14175/8 * pi^-1 + 14175/2 * pi^-1 * log(2)
+    0x1.bba631ae01f5fp+8,  // 7875/8 * pi^-1 + 4725/8 * pi^-1 * log(2)
+    -0x1.f5568bcdd1c27p+1,  // -1575/128 * pi^-1
+    -0x1.2ccd87151774bp-2,  // -945/1024 * pi^-1
+    -0x1.91120971749b9p-5,  // -315/2048 * pi^-1
+    -0x1.91120971749b9p-7,  // -315/8192 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.7800e8da5d51dp+10,  // -4725 * pi^-1
+    -0x1.1a00aea3c5fd6p+11,  // -14175/2 * pi^-1
+    -0x1.7800e8da5d51dp+7,  // -4725/8 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+};
+inline constexpr double grad_over_r_1_0[] = {
+    -0x1.91120971749b9p+6,  // -315 * pi^-1
     -0x1.2fefab27fa5dep+11,  // -30555/4 * pi^-1
     -0x1.6211ec5628f15p+10,  // -35595/8 * pi^-1
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     0x1.7800e8da5d51dp+10,  // 4725 * pi^-1
     0x1.1a00aea3c5fd6p+11,  // 14175/2 * pi^-1
     0x1.7800e8da5d51dp+7,  // 4725/8 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_1_1, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, grad_over_r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, grad_over_r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    -0x1.055b82eb6d037p+12,  // -39375/2 * pi^-1 + 9450 * pi^-1 * log(2)
+    0x1.b3be81115a5fep+10,  // -14175 * pi^-1 + 28350 * pi^-1 * log(2)
+    0x1.353c96b4dba36p+11,  // 42525/8 * pi^-1 + 14175/4 * pi^-1 * log(2)
+    -0x1.f5568bcdd1c27p+4,  // -1575/16 * pi^-1
+    -0x1.7800e8da5d51dp+1,  // -4725/512 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.7800e8da5d51dp+11,  // -9450 * pi^-1
+    -0x1.1a00aea3c5fd6p+13,  // -28350 * pi^-1
+    -0x1.1a00aea3c5fd6p+10,  // -14175/4 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+};
+inline constexpr double hess_radial_1_0[] = {
     -0x1.87ab9d38cbdfep+12,  // -39375/2 * pi^-1
     -0x1.aed66024e0431p+12,  // -86625/4 * pi^-1
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     0x1.7800e8da5d51dp+11,  // 9450 * pi^-1
     0x1.1a00aea3c5fd6p+13,  // 28350 * pi^-1
     0x1.1a00aea3c5fd6p+10,  // 14175/4 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 2},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 2},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_1_1, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-6, hess_radial_0, 2},  // [0, 1/64), series at 0 up to r^8, truncation < 9.2e-20 relative (series.hpp)
+    {0x1p-6, 0x1p+0, hess_radial_1, 2},  // [1/64, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.e44d685c03515p-3,  // -5491/5040 * pi^-1 + 1/2 * pi^-1 * log(2)
+    0x1.ca5dc1a63c1f8p-1,  // 45/16 * pi^-1
+    -0x1.91120971749b9p+1,  // -315/32 * pi^-1
+    -0x1.9a3b64707058ap+1,  // -525/16 * pi^-1 + 525/16 * pi^-1 * log(2)
+    0x1.434b061477f13p+2,  // 1575/512 * pi^-1 + 4725/256 * pi^-1 * log(2)
+    0x1.430a33ea6d43ap-1,  // 15057/10240 * pi^-1 + 189/256 * pi^-1 * log(2)
+    -0x1.6481cf814b34fp-9,  // -35/4096 * pi^-1
+    -0x1.05ec6ea8225b2p-13,  // -45/114688 * pi^-1
+    -0x1.ca5dc1a63c1f8p-17,  // -45/1048576 * pi^-1
+    -0x1.3ce52a3a09f63p-19,  // -35/4718592 * pi^-1
+    -0x1.255ab960267a9p-21,  // -9/5242880 * pi^-1
+    -0x1.4d5b75902bb9dp-23,  // -45/92274688 * pi^-1
+    -0x1.b963c3f5694dcp-25,  // -65/402653184 * pi^-1
+    -0x1.49155d14e2f5dp-26,  // -105/1744830464 * pi^-1
+    -0x1.0ddc52face105p-27,  // -255/10334765056 * pi^-1
+    -0x1.de8d88e922539p-29,  // -323/29527900160 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.4e39b2893681ap+3,  // -525/16 * pi^-1
+    -0x1.7800e8da5d51dp+2,  // -4725/256 * pi^-1
+    -0x1.e148d821bf211p-3,  // -189/256 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, potential_0_1, 3},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.631dda6bfc031p-2,  // -5491/5040 * pi^-1
     0x1.85f57b7906e74p-1,  // 24119/10080 * pi^-1
     -0x1.63f6e4e1b8c3ep+1,  // -117421/13440 * pi^-1
     -0x1.781a4b24ee3f1p+3,  // -595507/16128 * pi^-1
     -0x1.4c15ebe4cade2p+1,  // -18779/2304 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     0x0p+0,  // 0
     0x0p+0,  // 0
@@ -19982,248 +22995,475 @@ inline constexpr double potential_0_1[] = {
     0x1.7800e8da5d51dp+2,  // 4725/256 * pi^-1
     0x1.e148d821bf211p-3,  // 189/256 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 6},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_1_1, 6},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_2, 1},
 };
-inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_0_0[] = {
+inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr double dpotential_0_1[] = {
-    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
-    0x1.b5fe91387257p+0,  // 43/8 * pi^-1
-    -0x1.765519e15bc46p+3,  // -147/4 * pi^-1
-    -0x1.3b06fe25c0197p+6,  // -15835/64 * pi^-1
-    -0x1.71d617b120bbap+4,  // -9295/128 * pi^-1
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
-inline constexpr double dpotential_0_2[] = {
-    0x1.f5568bcdd1c27p+5,  // 1575/8 * pi^-1
-    0x1.7800e8da5d51dp+5,  // 4725/32 * pi^-1
-    0x1.2ccd87151774bp+1,  // 945/128 * pi^-1
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 7.6e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.ca5dc1a63c1f8p+0,  // 45/8 * pi^-1
+    -0x1.91120971749b9p+3,  // -315/8 * pi^-1
+    -0x1.dac96498ef835p+4,  // -3675/16 * pi^-1 + 1575/8 * pi^-1 * log(2)
+    0x1.144ae8f92c46fp+5,  // 1575/256 * pi^-1 + 4725/32 * pi^-1 * log(2)
+    0x1.84c27a23fa9b8p+2,  // 14301/1024 * pi^-1 + 945/128 * pi^-1 * log(2)
+    -0x1.0b615ba0f867bp-5,  // -105/1024 * pi^-1
+    -0x1.ca5dc1a63c1f8p-10,  // -45/8192 * pi^-1
+    -0x1.ca5dc1a63c1f8p-13,  // -45/65536 * pi^-1
+    -0x1.6481cf814b34fp-15,  // -35/262144 * pi^-1
+    -0x1.6eb167b830193p-17,  // -9/262144 * pi^-1
+    -0x1.ca5dc1a63c1f8p-19,  // -45/4194304 * pi^-1
+    -0x1.4b0ad2f80efa5p-20,  // -65/16777216 * pi^-1
+    -0x1.0b615ba0f867bp-21,  // -105/67108864 * pi^-1
+    -0x1.d8419136e89c9p-23,  // -255/369098752 * pi^-1
+    -0x1.c0a4b05a902e5p-24,  // -969/2952790016 * pi^-1
+    -0x1.c4f50aaa34076p-25,  // -101745/614180323328 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    -0x1.f5568bcdd1c27p+5,  // -1575/8 * pi^-1
+    -0x1.7800e8da5d51dp+5,  // -4725/32 * pi^-1
+    -0x1.2ccd87151774bp+1,  // -945/128 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_2, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dpotential_0_1, 3},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
     0x1.b5fe91387257p+0,  // 43/8 * pi^-1
     -0x1.765519e15bc46p+3,  // -147/4 * pi^-1
     -0x1.3b06fe25c0197p+6,  // -15835/64 * pi^-1
     -0x1.71d617b120bbap+4,  // -9295/128 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.f5568bcdd1c27p+5,  // 1575/8 * pi^-1
     0x1.7800e8da5d51dp+5,  // 4725/32 * pi^-1
     0x1.2ccd87151774bp+1,  // 945/128 * pi^-1
 };
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_1_2, 3},
+};
+inline constexpr double dpotential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 1.4e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.ca5dc1a63c1f8p+0,  // 45/8 * pi^-1
+    -0x1.91120971749b9p+3,  // -315/8 * pi^-1
+    -0x1.dac96498ef835p+4,  // -3675/16 * pi^-1 + 1575/8 * pi^-1 * log(2)
+    0x1.144ae8f92c46fp+5,  // 1575/256 * pi^-1 + 4725/32 * pi^-1 * log(2)
+    0x1.84c27a23fa9b8p+2,  // 14301/1024 * pi^-1 + 945/128 * pi^-1 * log(2)
+    -0x1.0b615ba0f867bp-5,  // -105/1024 * pi^-1
+    -0x1.ca5dc1a63c1f8p-10,  // -45/8192 * pi^-1
+    -0x1.ca5dc1a63c1f8p-13,  // -45/65536 * pi^-1
+    -0x1.6481cf814b34fp-15,  // -35/262144 * pi^-1
+    -0x1.6eb167b830193p-17,  // -9/262144 * pi^-1
+    -0x1.ca5dc1a63c1f8p-19,  // -45/4194304 * pi^-1
+    -0x1.4b0ad2f80efa5p-20,  // -65/16777216 * pi^-1
+    -0x1.0b615ba0f867bp-21,  // -105/67108864 * pi^-1
+    -0x1.d8419136e89c9p-23,  // -255/369098752 * pi^-1
+    -0x1.c0a4b05a902e5p-24,  // -969/2952790016 * pi^-1
+    -0x1.c4f50aaa34076p-25,  // -101745/614180323328 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.f5568bcdd1c27p+5,  // -1575/8 * pi^-1
+    -0x1.7800e8da5d51dp+5,  // -4725/32 * pi^-1
+    -0x1.2ccd87151774bp+1,  // -945/128 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_2, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 3},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.b5fe91387257p+0,  // 43/8 * pi^-1
+    -0x1.765519e15bc46p+3,  // -147/4 * pi^-1
+    -0x1.3b06fe25c0197p+6,  // -15835/64 * pi^-1
+    -0x1.71d617b120bbap+4,  // -9295/128 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.f5568bcdd1c27p+5,  // 1575/8 * pi^-1
+    0x1.7800e8da5d51dp+5,  // 4725/32 * pi^-1
+    0x1.2ccd87151774bp+1,  // 945/128 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_1_2, 3},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 1.4e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    -0x1.91120971749b9p+4,  // -315/4 * pi^-1
+    -0x1.6aba553fec324p+7,  // -8925/8 * pi^-1 + 1575/2 * pi^-1 * log(2)
+    0x1.4070233f2b16p+7,  // -14175/128 * pi^-1 + 14175/16 * pi^-1 * log(2)
+    0x1.71f5a1b2a9243p+5,  // 3339/32 * pi^-1 + 945/16 * pi^-1 * log(2)
+    -0x1.4e39b2893681ap-2,  // -525/512 * pi^-1
+    -0x1.57c6513cad17ap-6,  // -135/2048 * pi^-1
+    -0x1.91120971749b9p-9,  // -315/32768 * pi^-1
+    -0x1.6481cf814b34fp-11,  // -35/16384 * pi^-1
+    -0x1.9c8794af361c5p-13,  // -81/131072 * pi^-1
+    -0x1.1e7a9907e593bp-14,  // -225/1048576 * pi^-1
+    -0x1.c72ee21514982p-16,  // -715/8388608 * pi^-1
 };
 inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.f5568bcdd1c27p+7,  // -1575/2 * pi^-1
+    -0x1.1a00aea3c5fd6p+8,  // -14175/16 * pi^-1
+    -0x1.2ccd87151774bp+4,  // -945/16 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     -0x1.8f291ce729b0cp+4,  // -627/8 * pi^-1
     -0x1.6f8c6700cc526p+8,  // -18475/16 * pi^-1
     -0x1.3ee81e9ea8466p+7,  // -8015/16 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     0x1.f5568bcdd1c27p+7,  // 1575/2 * pi^-1
     0x1.1a00aea3c5fd6p+8,  // 14175/16 * pi^-1
     0x1.2ccd87151774bp+4,  // 945/16 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_2, 3},
-};
-inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
-};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_1, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_1_2, 3},
+};
+inline constexpr double potential_hess_radial_2_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 1.1e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, potential_hess_radial_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_l_2_D2
 inline constexpr table::Kernel wendland_missing_k_1_l_2_D2 = {
     "wendland-missing:k=1,l=2", 2, 0x1p+0, 6, 2, 1,
     0x1.2ccd87151774bp+9, "1890 * pi^-1", true,
     {
-        {detail_wendland_missing_k_1_l_2_D2::value, 2},
-        {detail_wendland_missing_k_1_l_2_D2::dr, 2},
-        {detail_wendland_missing_k_1_l_2_D2::d2r, 2},
-        {detail_wendland_missing_k_1_l_2_D2::laplacian, 2},
-        {detail_wendland_missing_k_1_l_2_D2::grad_over_r, 2},
-        {detail_wendland_missing_k_1_l_2_D2::hess_radial, 2},
-        {detail_wendland_missing_k_1_l_2_D2::potential, 2},
-        {detail_wendland_missing_k_1_l_2_D2::dpotential, 2},
-        {detail_wendland_missing_k_1_l_2_D2::dpotential_over_r, 2},
-        {detail_wendland_missing_k_1_l_2_D2::potential_hess_radial, 2},
+        {detail_wendland_missing_k_1_l_2_D2::value, 3},
+        {detail_wendland_missing_k_1_l_2_D2::dr, 3},
+        {detail_wendland_missing_k_1_l_2_D2::d2r, 3},
+        {detail_wendland_missing_k_1_l_2_D2::laplacian, 3},
+        {detail_wendland_missing_k_1_l_2_D2::grad_over_r, 3},
+        {detail_wendland_missing_k_1_l_2_D2::hess_radial, 3},
+        {detail_wendland_missing_k_1_l_2_D2::potential, 3},
+        {detail_wendland_missing_k_1_l_2_D2::dpotential, 3},
+        {detail_wendland_missing_k_1_l_2_D2::dpotential_over_r, 3},
+        {detail_wendland_missing_k_1_l_2_D2::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=1,l=2 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_1_l_2_D3 {
 inline constexpr double value_0_0[] = {
     0x1.1d5209377e8e6p+3,  // 88 * pi^-2
+    -0x1.40fc4a5e6e603p+7,  // -1584 * pi^-2
+    -0x1.61f706ede05c7p+10,  // -127512/5 * pi^-2 + 16632 * pi^-2 * log(2)
+    0x1.8443c98f14b1cp+9,  // -11550 * pi^-2 + 27720 * pi^-2 * log(2)
+    0x1.86f6c881edc92p+9,  // 65835/16 * pi^-2 + 10395/2 * pi^-2 * log(2)
+    0x1.18dcc112a0942p+3,  // 693/8 * pi^-2
+    0x1.767bac18d61aep-3,  // 231/128 * pi^-2
+    0x1.00c9d518584cfp-6,  // 99/640 * pi^-2
+    0x1.40fc4a5e6e603p-9,  // 99/4096 * pi^-2
+    0x1.1d5209377e8e6p-11,  // 11/2048 * pi^-2
+    0x1.40fc4a5e6e603p-13,  // 99/65536 * pi^-2
+    0x1.abfb0dd33dd59p-15,  // 33/65536 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    -0x1.a54b219bf0de3p+10,  // -16632 * pi^-2
+    -0x1.5f13f15748b93p+11,  // -27720 * pi^-2
+    -0x1.074ef501768aep+9,  // -10395/2 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, value_0_1, 3},
+};
+inline constexpr double value_1_0[] = {
+    0x1.1d5209377e8e6p+3,  // 88 * pi^-2
     -0x1.3811ba14b26bbp+7,  // -1540 * pi^-2
     -0x1.4c9ac1981db45p+11,  // -131307/5 * pi^-2
     -0x1.064a9a25da4ddp+11,  // -207097/10 * pi^-2
     -0x1.c88341f26417p+6,  // -5632/5 * pi^-2
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     0x1.a54b219bf0de3p+10,  // 16632 * pi^-2
     0x1.5f13f15748b93p+11,  // 27720 * pi^-2
     0x1.074ef501768aep+9,  // 10395/2 * pi^-2
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_0_1, 3},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, value_1_1, 3},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.2e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
+    -0x1.40fc4a5e6e603p+8,  // -3168 * pi^-2
+    -0x1.cb49cf54dc93fp+12,  // -593208/5 * pi^-2 + 66528 * pi^-2 * log(2)
+    0x1.cea379feaca2ep+10,  // -97020 * pi^-2 + 166320 * pi^-2 * log(2)
+    0x1.660ce9e1bef7cp+12,  // 27720 * pi^-2 + 41580 * pi^-2 * log(2)
+    0x1.5f13f15748b93p+6,  // 3465/4 * pi^-2
+    0x1.18dcc112a0942p+1,  // 693/32 * pi^-2
+    0x1.c16134ea9a86ap-3,  // 693/320 * pi^-2
+    0x1.40fc4a5e6e603p-5,  // 99/256 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    -0x1.a54b219bf0de3p+12,  // -66528 * pi^-2
+    -0x1.074ef501768aep+14,  // -166320 * pi^-2
+    -0x1.074ef501768aep+12,  // -41580 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+};
+inline constexpr double dr_1_0[] = {
     -0x1.40fc4a5e6e603p+8,  // -3168 * pi^-2
     -0x1.7cab336596e61p+13,  // -601128/5 * pi^-2
     -0x1.be1ea4f60b67ap+13,  // -704484/5 * pi^-2
     -0x1.00c9d518584cfp+10,  // -50688/5 * pi^-2
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     0x1.a54b219bf0de3p+12,  // 66528 * pi^-2
     0x1.074ef501768aep+14,  // 166320 * pi^-2
     0x1.074ef501768aep+12,  // 41580 * pi^-2
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_0_1, 3},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 3, dr_1_1, 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, dr_0, 2},  // [0, 1/16), series at 0 up to r^15, truncation < 2.6e-19 relative (series.hpp)
+    {0x1p-4, 0x1p+0, dr_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
+    -0x1.40fc4a5e6e603p+8,  // -3168 * pi^-2
+    -0x1.c1ca23e6a1a68p+14,  // -2112264/5 * pi^-2 + 199584 * pi^-2 * log(2)
+    -0x1.daef7b87825fep+12,  // -651420 * pi^-2 + 831600 * pi^-2 * log(2)
+    0x1.18616e0558477p+15,  // 152460 * pi^-2 + 291060 * pi^-2 * log(2)
+    0x1.8af66f8231d05p+9,  // 31185/4 * pi^-2
+    0x1.822f89799ccbbp+4,  // 7623/32 * pi^-2
+    0x1.6d1efafe9d8d6p+1,  // 9009/320 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    -0x1.3bf85934f4a6ap+14,  // -199584 * pi^-2
+    -0x1.4922b241d42dap+16,  // -831600 * pi^-2
+    -0x1.ccca2cc28f731p+14,  // -291060 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+};
+inline constexpr double d2r_1_0[] = {
     -0x1.40fc4a5e6e603p+8,  // -3168 * pi^-2
     -0x1.4fa7d22af26b9p+15,  // -2120184/5 * pi^-2
     -0x1.422533bcd2864p+16,  // -4069692/5 * pi^-2
     -0x1.00c9d518584cfp+13,  // -405504/5 * pi^-2
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     0x1.3bf85934f4a6ap+14,  // 199584 * pi^-2
     0x1.4922b241d42dap+16,  // 831600 * pi^-2
     0x1.ccca2cc28f731p+14,  // 291060 * pi^-2
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_0_1, 3},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, d2r_1_1, 3},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, d2r_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 2.6e-20 relative (series.hpp)
+    {0x1p-5, 0x1p+0, d2r_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
+    -0x1.e17a6f8da5904p+9,  // -9504 * pi^-2
+    -0x1.53b785c887f84p+15,  // -659736 * pi^-2 + 332640 * pi^-2 * log(2)
+    -0x1.e73b7d10581cfp+11,  // -845460 * pi^-2 + 1164240 * pi^-2 * log(2)
+    0x1.71e4a87dc8056p+15,  // 207900 * pi^-2 + 374220 * pi^-2 * log(2)
+    0x1.e2bb6bd803feap+9,  // 38115/4 * pi^-2
+    0x1.c866b9be44f0cp+4,  // 9009/32 * pi^-2
+    0x1.a54b219bf0de3p+1,  // 2079/64 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    -0x1.074ef501768aep+15,  // -332640 * pi^-2
+    -0x1.ccca2cc28f731p+16,  // -1164240 * pi^-2
+    -0x1.2838d3a1a55c4p+15,  // -374220 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+};
+inline constexpr double laplacian_1_0[] = {
     -0x1.e17a6f8da5904p+9,  // -9504 * pi^-2
     -0x1.06feb5eedeef5p+16,  // -664488 * pi^-2
     -0x1.b1acdcfa55603p+16,  // -1095732 * pi^-2
     -0x1.40fc4a5e6e603p+13,  // -101376 * pi^-2
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     0x1.074ef501768aep+15,  // 332640 * pi^-2
     0x1.ccca2cc28f731p+16,  // 1164240 * pi^-2
     0x1.2838d3a1a55c4p+15,  // 374220 * pi^-2
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_0_1, 3},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, laplacian_1_1, 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-5, laplacian_0, 2},  // [0, 1/32), series at 0 up to r^12, truncation < 1.0e-20 relative (series.hpp)
+    {0x1p-5, 0x1p+0, laplacian_1, 2},  // [1/32, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
+    -0x1.40fc4a5e6e603p+8,  // -3168 * pi^-2
+    -0x1.cb49cf54dc93fp+12,  // -593208/5 * pi^-2 + 66528 * pi^-2 * log(2)
+    0x1.cea379feaca2ep+10,  // -97020 * pi^-2 + 166320 * pi^-2 * log(2)
+    0x1.660ce9e1bef7cp+12,  // 27720 * pi^-2 + 41580 * pi^-2 * log(2)
+    0x1.5f13f15748b93p+6,  // 3465/4 * pi^-2
+    0x1.18dcc112a0942p+1,  // 693/32 * pi^-2
+    0x1.c16134ea9a86ap-3,  // 693/320 * pi^-2
+    0x1.40fc4a5e6e603p-5,  // 99/256 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    -0x1.a54b219bf0de3p+12,  // -66528 * pi^-2
+    -0x1.074ef501768aep+14,  // -166320 * pi^-2
+    -0x1.074ef501768aep+12,  // -41580 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+};
+inline constexpr double grad_over_r_1_0[] = {
     -0x1.40fc4a5e6e603p+8,  // -3168 * pi^-2
     -0x1.7cab336596e61p+13,  // -601128/5 * pi^-2
     -0x1.be1ea4f60b67ap+13,  // -704484/5 * pi^-2
     -0x1.00c9d518584cfp+10,  // -50688/5 * pi^-2
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     0x1.a54b219bf0de3p+12,  // 66528 * pi^-2
     0x1.074ef501768aep+14,  // 166320 * pi^-2
     0x1.074ef501768aep+12,  // 41580 * pi^-2
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_0_1, 3},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, grad_over_r_1_1, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, grad_over_r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.6e-19 relative (series.hpp)
+    {0x1p-4, 0x1p+0, grad_over_r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    -0x1.4ef7b0116a819p+14,  // -1519056/5 * pi^-2 + 133056 * pi^-2 * log(2)
+    -0x1.274c2d0396c45p+13,  // -554400 * pi^-2 + 665280 * pi^-2 * log(2)
+    0x1.d73fa19240d0fp+14,  // 124740 * pi^-2 + 249480 * pi^-2 * log(2)
+    0x1.5f13f15748b93p+9,  // 6930 * pi^-2
+    0x1.5f13f15748b93p+4,  // 3465/16 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    -0x1.a54b219bf0de3p+13,  // -133056 * pi^-2
+    -0x1.074ef501768aep+16,  // -665280 * pi^-2
+    -0x1.8af66f8231d05p+14,  // -249480 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 5},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+};
+inline constexpr double hess_radial_1_0[] = {
     -0x1.e0fa0aa319641p+14,  // -1519056/5 * pi^-2
     -0x1.0a615f1e11195p+16,  // -3365208/5 * pi^-2
     -0x1.c16134ea9a86ap+12,  // -354816/5 * pi^-2
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     0x1.a54b219bf0de3p+13,  // 133056 * pi^-2
     0x1.074ef501768aep+16,  // 665280 * pi^-2
     0x1.8af66f8231d05p+14,  // 249480 * pi^-2
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_0_1, 3},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, hess_radial_1_1, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-7, hess_radial_0, 2},  // [0, 1/128), series at 0 up to r^8, truncation < 1.5e-22 relative (series.hpp)
+    {0x1p-7, 0x1p+0, hess_radial_1, 2},  // [1/128, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.4c025e81bd28p-2,  // -16/5 * pi^-2
+    0x1.7c6d619f53688p+0,  // 44/3 * pi^-2
+    -0x1.00c9d518584cfp+3,  // -396/5 * pi^-2
+    -0x1.54ab7aff42515p+4,  // -16962/35 * pi^-2 + 396 * pi^-2 * log(2)
+    0x1.3fed9c1eb2c9p+4,  // -5005/72 * pi^-2 + 385 * pi^-2 * log(2)
+    0x1.00b77f0823be7p+3,  // 81711/1760 * pi^-2 + 189/4 * pi^-2 * log(2)
+    0x1.cce6fb3242973p-5,  // 231/416 * pi^-2
+    0x1.c88341f26417p-11,  // 11/1280 * pi^-2
+    0x1.e35dcd5b0090dp-15,  // 99/174080 * pi^-2
+    0x1.e08a2a78695b9p-18,  // 11/155648 * pi^-2
+    0x1.5bd1b85727bp-20,  // 11/860160 * pi^-2
+    0x1.44caaa5d86f5p-22,  // 9/3014656 * pi^-2
+    0x1.6d35ce5b83459p-24,  // 11/13107200 * pi^-2
+    0x1.d96bacaf843dcp-26,  // 77/283115520 * pi^-2
+    0x1.577535a0b2061p-27,  // 3/30408704 * pi^-2
+    0x1.111ab91823dabp-28,  // 51/1300234240 * pi^-2
+    0x1.d4b3ae24cdf18p-30,  // 323/19193135104 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    -0x1.40fc4a5e6e603p+5,  // -396 * pi^-2
+    -0x1.3811ba14b26bbp+5,  // -385 * pi^-2
+    -0x1.32652fb73ad02p+2,  // -189/4 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, potential_0_1, 3},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.1821ffbd7799cp-2,  // -27/10 * pi^-2
     0x1.5b927aefd205ep+0,  // 67/5 * pi^-2
     -0x1.d8135e6078f4ep+2,  // -364/5 * pi^-2
@@ -20231,61 +23471,53 @@ inline constexpr double potential_0_0[] = {
     -0x1.82d4ad51f3fe7p+4,  // -14317/60 * pi^-2
     -0x1.baadd357a6ep-1,  // -128/15 * pi^-2
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.40fc4a5e6e603p+5,  // 396 * pi^-2
     0x1.3811ba14b26bbp+5,  // 385 * pi^-2
     0x1.32652fb73ad02p+2,  // 189/4 * pi^-2
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, potential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 1.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-    0x1.781aaf0ef8475p+1,  // 29 * pi^-2
-    -0x1.ea3b7f8b914d1p+4,  // -1512/5 * pi^-2
-    -0x1.5db32ed2dee03p+8,  // -17257/5 * pi^-2
-    -0x1.ab56c751d04eap+7,  // -12653/6 * pi^-2
-    -0x1.3057814c42bap+3,  // -1408/15 * pi^-2
+    0x1.7c6d619f53688p+1,  // 88/3 * pi^-2
+    -0x1.00c9d518584cfp+5,  // -1584/5 * pi^-2
+    -0x1.4fbfaed70d55p+7,  // -115632/35 * pi^-2 + 2376 * pi^-2 * log(2)
+    0x1.e3d25b330c5c1p+6,  // -8470/9 * pi^-2 + 3080 * pi^-2 * log(2)
+    0x1.2dbf0bceb901p+6,  // 73395/176 * pi^-2 + 945/2 * pi^-2 * log(2)
+    0x1.59ad3c65b1f16p-1,  // 693/104 * pi^-2
+    0x1.8f72d9b417942p-7,  // 77/640 * pi^-2
+    0x1.e35dcd5b0090dp-11,  // 99/10880 * pi^-2
+    0x1.0e4db7e3bb438p-13,  // 99/77824 * pi^-2
+    0x1.b2c6266cf19cp-16,  // 11/43008 * pi^-2
+    0x1.be96aa409990fp-18,  // 99/1507328 * pi^-2
 };
 inline constexpr double dpotential_0_1[] = {
-    0x1.e17a6f8da5904p+7,  // 2376 * pi^-2
-    0x1.3811ba14b26bbp+8,  // 3080 * pi^-2
-    0x1.7efe7ba509843p+5,  // 945/2 * pi^-2
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+    -0x1.e17a6f8da5904p+7,  // -2376 * pi^-2
+    -0x1.3811ba14b26bbp+8,  // -3080 * pi^-2
+    -0x1.7efe7ba509843p+5,  // -945/2 * pi^-2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dpotential_0_1, 3},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
     0x1.781aaf0ef8475p+1,  // 29 * pi^-2
     -0x1.ea3b7f8b914d1p+4,  // -1512/5 * pi^-2
@@ -20293,30 +23525,107 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.ab56c751d04eap+7,  // -12653/6 * pi^-2
     -0x1.3057814c42bap+3,  // -1408/15 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     0x1.e17a6f8da5904p+7,  // 2376 * pi^-2
     0x1.3811ba14b26bbp+8,  // 3080 * pi^-2
     0x1.7efe7ba509843p+5,  // 945/2 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dpotential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-3, dpotential_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 8.4e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dpotential_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.7c6d619f53688p+1,  // 88/3 * pi^-2
+    -0x1.00c9d518584cfp+5,  // -1584/5 * pi^-2
+    -0x1.4fbfaed70d55p+7,  // -115632/35 * pi^-2 + 2376 * pi^-2 * log(2)
+    0x1.e3d25b330c5c1p+6,  // -8470/9 * pi^-2 + 3080 * pi^-2 * log(2)
+    0x1.2dbf0bceb901p+6,  // 73395/176 * pi^-2 + 945/2 * pi^-2 * log(2)
+    0x1.59ad3c65b1f16p-1,  // 693/104 * pi^-2
+    0x1.8f72d9b417942p-7,  // 77/640 * pi^-2
+    0x1.e35dcd5b0090dp-11,  // 99/10880 * pi^-2
+    0x1.0e4db7e3bb438p-13,  // 99/77824 * pi^-2
+    0x1.b2c6266cf19cp-16,  // 11/43008 * pi^-2
+    0x1.be96aa409990fp-18,  // 99/1507328 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    -0x1.e17a6f8da5904p+7,  // -2376 * pi^-2
+    -0x1.3811ba14b26bbp+8,  // -3080 * pi^-2
+    -0x1.7efe7ba509843p+5,  // -945/2 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, dpotential_over_r_0_1, 3},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.781aaf0ef8475p+1,  // 29 * pi^-2
+    -0x1.ea3b7f8b914d1p+4,  // -1512/5 * pi^-2
+    -0x1.5db32ed2dee03p+8,  // -17257/5 * pi^-2
+    -0x1.ab56c751d04eap+7,  // -12653/6 * pi^-2
+    -0x1.3057814c42bap+3,  // -1408/15 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    0x1.e17a6f8da5904p+7,  // 2376 * pi^-2
+    0x1.3811ba14b26bbp+8,  // 3080 * pi^-2
+    0x1.7efe7ba509843p+5,  // 945/2 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, dpotential_over_r_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, dpotential_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 8.4e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dpotential_over_r_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.00c9d518584cfp+6,  // -3168/5 * pi^-2
+    -0x1.c81e4aba76b91p+9,  // -545688/35 * pi^-2 + 9504 * pi^-2 * log(2)
+    0x1.9da9ceb7e01e7p+8,  // -26180/3 * pi^-2 + 18480 * pi^-2 * log(2)
+    0x1.15cf24146868cp+9,  // 31500/11 * pi^-2 + 3780 * pi^-2 * log(2)
+    0x1.b0188b7f1e6dcp+2,  // 3465/52 * pi^-2
+    0x1.2b96234711af1p-3,  // 231/160 * pi^-2
+    0x1.a6f213afa07ebp-7,  // 693/5440 * pi^-2
+    0x1.0e4db7e3bb438p-9,  // 99/4864 * pi^-2
+    0x1.e91eeb3a8fcf8p-12,  // 33/7168 * pi^-2
+    0x1.171e2a685ffa9p-13,  // 495/376832 * pi^-2
+    0x1.789f7cce5f5fcp-15,  // 363/819200 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    -0x1.e17a6f8da5904p+9,  // -9504 * pi^-2
+    -0x1.d41a971f0ba19p+10,  // -18480 * pi^-2
+    -0x1.7efe7ba509843p+8,  // -3780 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.37423899a1558p-3,  // 3/2 * pi^-2
     0x1.9f02f6222c72p-4,  // 1 * pi^-2
     -0x1.0076d480b7ddap+6,  // -3164/5 * pi^-2
@@ -20324,157 +23633,309 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.6c54a98d067e2p+10,  // -71916/5 * pi^-2
     -0x1.56627175cb114p+6,  // -4224/5 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.e17a6f8da5904p+9,  // 9504 * pi^-2
     0x1.d41a971f0ba19p+10,  // 18480 * pi^-2
     0x1.7efe7ba509843p+8,  // 3780 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.37423899a1558p-3,  // -3/2 * pi^-2
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, potential_hess_radial_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 5.1e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, potential_hess_radial_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_l_2_D3
 inline constexpr table::Kernel wendland_missing_k_1_l_2_D3 = {
     "wendland-missing:k=1,l=2", 3, 0x1p+0, 7, 2, 1,
     0x1.18dcc112a0942p+11, "22176 * pi^-2", true,
     {
-        {detail_wendland_missing_k_1_l_2_D3::value, 2},
-        {detail_wendland_missing_k_1_l_2_D3::dr, 2},
-        {detail_wendland_missing_k_1_l_2_D3::d2r, 2},
-        {detail_wendland_missing_k_1_l_2_D3::laplacian, 2},
-        {detail_wendland_missing_k_1_l_2_D3::grad_over_r, 2},
-        {detail_wendland_missing_k_1_l_2_D3::hess_radial, 2},
-        {detail_wendland_missing_k_1_l_2_D3::potential, 2},
-        {detail_wendland_missing_k_1_l_2_D3::dpotential, 2},
-        {detail_wendland_missing_k_1_l_2_D3::dpotential_over_r, 2},
-        {detail_wendland_missing_k_1_l_2_D3::potential_hess_radial, 2},
+        {detail_wendland_missing_k_1_l_2_D3::value, 3},
+        {detail_wendland_missing_k_1_l_2_D3::dr, 3},
+        {detail_wendland_missing_k_1_l_2_D3::d2r, 3},
+        {detail_wendland_missing_k_1_l_2_D3::laplacian, 3},
+        {detail_wendland_missing_k_1_l_2_D3::grad_over_r, 3},
+        {detail_wendland_missing_k_1_l_2_D3::hess_radial, 3},
+        {detail_wendland_missing_k_1_l_2_D3::potential, 3},
+        {detail_wendland_missing_k_1_l_2_D3::dpotential, 3},
+        {detail_wendland_missing_k_1_l_2_D3::dpotential_over_r, 3},
+        {detail_wendland_missing_k_1_l_2_D3::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=2 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_2_D1 {
 inline constexpr double value_0_0[] = {
     0x1.b2995e7b7b604p+0,  // 16/3 * pi^-1
+    -0x1.e8ec8a4aeacc4p+3,  // -48 * pi^-1
+    0x1.40db3ac12a161p+6,  // 252 * pi^-1
+    0x1.de1e1f59a7c03p+5,  // 770 * pi^-1 + -840 * pi^-1 * log(2)
+    -0x1.ef3f528f4feedp+6,  // -1365/8 * pi^-1 + -315 * pi^-1 * log(2)
+    -0x1.40db3ac12a161p+1,  // -63/8 * pi^-1
+    -0x1.1d34a60108f72p-4,  // -7/32 * pi^-1
+    -0x1.e8ec8a4aeacc4p-8,  // -3/128 * pi^-1
+    -0x1.6eb167b830193p-10,  // -9/2048 * pi^-1
+    -0x1.7c4632ac0bf43p-12,  // -7/6144 * pi^-1
+    -0x1.e8ec8a4aeacc4p-14,  // -3/8192 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.0b615ba0f867bp+8,  // 840 * pi^-1
+    0x1.91120971749b9p+6,  // 315 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, value_0_1, 2},
+};
+inline constexpr double value_1_0[] = {
+    0x1.b2995e7b7b604p+0,  // 16/3 * pi^-1
     -0x1.cdc2f46333164p+3,  // -136/3 * pi^-1
     0x1.24d8582a34a25p+6,  // 230 * pi^-1
     0x1.1801b04faecd5p+8,  // 2639/3 * pi^-1
     0x1.b2995e7b7b604p+4,  // 256/3 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     -0x1.0b615ba0f867bp+8,  // -840 * pi^-1
     -0x1.91120971749b9p+6,  // -315 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 2},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_1_1, 2},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.4e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
+    0x1.40db3ac12a161p+8,  // 1008 * pi^-1
+    0x1.38fbf9921b1bfp+9,  // 5460 * pi^-1 + -5040 * pi^-1 * log(2)
+    -0x1.bd1d1161215b6p+9,  // -1050 * pi^-1 + -2520 * pi^-1 * log(2)
+    -0x1.91120971749b9p+4,  // -315/4 * pi^-1
+    -0x1.abcef9018d72bp-1,  // -21/8 * pi^-1
+    -0x1.abcef9018d72bp-4,  // -21/64 * pi^-1
+    -0x1.6eb167b830193p-6,  // -9/128 * pi^-1
+    -0x1.abcef9018d72bp-8,  // -21/1024 * pi^-1
+    -0x1.3193d66ed2bfap-9,  // -15/2048 * pi^-1
+    -0x1.f833ee9d4222ap-11,  // -99/32768 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.91120971749b9p+10,  // 5040 * pi^-1
+    0x1.91120971749b9p+9,  // 2520 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dr_0_1, 2},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
     0x1.3193d66ed2bfap+8,  // 960 * pi^-1
     0x1.d7bc396e488b1p+10,  // 5928 * pi^-1
     0x1.e8ec8a4aeacc4p+7,  // 768 * pi^-1
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     -0x1.91120971749b9p+10,  // -5040 * pi^-1
     -0x1.91120971749b9p+9,  // -2520 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 2},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_1_1, 2},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 3.0e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dr_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
-    0x1.d9a525f89375ep+9,  // 2976 * pi^-1
-    0x1.505fbca4cac9cp+13,  // 33816 * pi^-1
-    0x1.e8ec8a4aeacc4p+10,  // 6144 * pi^-1
+    0x1.e148d821bf211p+9,  // 3024 * pi^-1
+    0x1.27e1fe57ae185p+12,  // 32340 * pi^-1 + -25200 * pi^-1 * log(2)
+    -0x1.53572e06ce9c8p+12,  // -4830 * pi^-1 + -17640 * pi^-1 * log(2)
+    -0x1.c3344a9fa32fp+7,  // -2835/4 * pi^-1
+    -0x1.261e4b31113eep+3,  // -231/8 * pi^-1
+    -0x1.5b982a5142ed3p+0,  // -273/64 * pi^-1
+    -0x1.57c6513cad17ap-2,  // -135/128 * pi^-1
+    -0x1.c68be891a649ep-4,  // -357/1024 * pi^-1
 };
 inline constexpr double d2r_0_1[] = {
-    -0x1.f5568bcdd1c27p+12,  // -25200 * pi^-1
-    -0x1.5eefc84346082p+12,  // -17640 * pi^-1
+    0x1.f5568bcdd1c27p+12,  // 25200 * pi^-1
+    0x1.5eefc84346082p+12,  // 17640 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, d2r_0_1, 2},
 };
-inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
-};
-inline constexpr double laplacian_0_0[] = {
+inline constexpr double d2r_1_0[] = {
     -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
     0x1.d9a525f89375ep+9,  // 2976 * pi^-1
     0x1.505fbca4cac9cp+13,  // 33816 * pi^-1
     0x1.e8ec8a4aeacc4p+10,  // 6144 * pi^-1
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     -0x1.f5568bcdd1c27p+12,  // -25200 * pi^-1
     -0x1.5eefc84346082p+12,  // -17640 * pi^-1
 };
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_1_1, 2},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 3.6e-21 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
+    0x1.e148d821bf211p+9,  // 3024 * pi^-1
+    0x1.27e1fe57ae185p+12,  // 32340 * pi^-1 + -25200 * pi^-1 * log(2)
+    -0x1.53572e06ce9c8p+12,  // -4830 * pi^-1 + -17640 * pi^-1 * log(2)
+    -0x1.c3344a9fa32fp+7,  // -2835/4 * pi^-1
+    -0x1.261e4b31113eep+3,  // -231/8 * pi^-1
+    -0x1.5b982a5142ed3p+0,  // -273/64 * pi^-1
+    -0x1.57c6513cad17ap-2,  // -135/128 * pi^-1
+    -0x1.c68be891a649ep-4,  // -357/1024 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.f5568bcdd1c27p+12,  // 25200 * pi^-1
+    0x1.5eefc84346082p+12,  // 17640 * pi^-1
+};
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, laplacian_0_1, 2},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
+    0x1.d9a525f89375ep+9,  // 2976 * pi^-1
+    0x1.505fbca4cac9cp+13,  // 33816 * pi^-1
+    0x1.e8ec8a4aeacc4p+10,  // 6144 * pi^-1
+};
+inline constexpr double laplacian_1_1[] = {
+    -0x1.f5568bcdd1c27p+12,  // -25200 * pi^-1
+    -0x1.5eefc84346082p+12,  // -17640 * pi^-1
+};
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_1_1, 2},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 3.6e-21 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
+    -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
+    0x1.40db3ac12a161p+8,  // 1008 * pi^-1
+    0x1.38fbf9921b1bfp+9,  // 5460 * pi^-1 + -5040 * pi^-1 * log(2)
+    -0x1.bd1d1161215b6p+9,  // -1050 * pi^-1 + -2520 * pi^-1 * log(2)
+    -0x1.91120971749b9p+4,  // -315/4 * pi^-1
+    -0x1.abcef9018d72bp-1,  // -21/8 * pi^-1
+    -0x1.abcef9018d72bp-4,  // -21/64 * pi^-1
+    -0x1.6eb167b830193p-6,  // -9/128 * pi^-1
+    -0x1.abcef9018d72bp-8,  // -21/1024 * pi^-1
+    -0x1.3193d66ed2bfap-9,  // -15/2048 * pi^-1
+    -0x1.f833ee9d4222ap-11,  // -99/32768 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.91120971749b9p+10,  // 5040 * pi^-1
+    0x1.91120971749b9p+9,  // 2520 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 2},
+};
+inline constexpr double grad_over_r_1_0[] = {
     -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
     0x1.3193d66ed2bfap+8,  // 960 * pi^-1
     0x1.d7bc396e488b1p+10,  // 5928 * pi^-1
     0x1.e8ec8a4aeacc4p+7,  // 768 * pi^-1
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     -0x1.91120971749b9p+10,  // -5040 * pi^-1
     -0x1.91120971749b9p+9,  // -2520 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 2},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_1_1, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, grad_over_r_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.40db3ac12a161p+9,  // 2016 * pi^-1
+    0x1.00c27f256ab4ep+12,  // 26880 * pi^-1 + -20160 * pi^-1 * log(2)
+    -0x1.1bb38bdaaa711p+12,  // -3780 * pi^-1 + -15120 * pi^-1 * log(2)
+    -0x1.91120971749b9p+7,  // -630 * pi^-1
+    -0x1.0b615ba0f867bp+3,  // -105/4 * pi^-1
+    -0x1.40db3ac12a161p+0,  // -63/16 * pi^-1
+    -0x1.40db3ac12a161p-2,  // -63/64 * pi^-1
+    -0x1.abcef9018d72bp-4,  // -21/64 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.91120971749b9p+12,  // 20160 * pi^-1
+    0x1.2ccd87151774bp+12,  // 15120 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, hess_radial_0_1, 2},
+};
+inline constexpr double hess_radial_1_0[] = {
+    0x1.40db3ac12a161p+9,  // 2016 * pi^-1
     0x1.1568357701b86p+13,  // 27888 * pi^-1
     0x1.abcef9018d72bp+10,  // 5376 * pi^-1
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     -0x1.91120971749b9p+12,  // -20160 * pi^-1
     -0x1.2ccd87151774bp+12,  // -15120 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 2},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_1_1, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 3.7e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, hess_radial_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    0x1.7b49571ca3873p-4,  // 16/55 * pi^-1
+    0x1.b2995e7b7b604p-1,  // 8/3 * pi^-1
+    -0x1.45f306dc9c883p+0,  // -4 * pi^-1
+    0x1.563f2d9ad78fp+1,  // 42/5 * pi^-1
+    -0x1.b18e0c653420cp-3,  // 545/56 * pi^-1 + -15 * pi^-1 * log(2)
+    -0x1.9c62cf8843446p+0,  // -1897/720 * pi^-1 + -7/2 * pi^-1 * log(2)
+    -0x1.372229757e24ep-6,  // -21/352 * pi^-1
+    -0x1.912b1c2336cfp-12,  // -1/832 * pi^-1
+    -0x1.04c26be3b06cfp-15,  // -1/10240 * pi^-1
+    -0x1.32c69d0bde9e4p-18,  // -1/69632 * pi^-1
+    -0x1.002f4a8eda3e2p-20,  // -7/2334720 * pi^-1
+    -0x1.0eeb3e3907177p-22,  // -1/1261568 * pi^-1
+    -0x1.541efc0798351p-24,  // -3/12058624 * pi^-1
+    -0x1.e6c040dc3842dp-26,  // -7/78643200 * pi^-1
+    -0x1.824f706dc3003p-27,  // -1/28311552 * pi^-1
+    -0x1.4d82b21d989e9p-28,  // -51/3344957440 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.3193d66ed2bfap+2,  // 15 * pi^-1
+    0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 8, potential_0_1, 2},
+};
+inline constexpr double potential_1_0[] = {
     0x1.7b49571ca3873p-4,  // 16/55 * pi^-1
     0x1.2754707ef7549p-1,  // 299/165 * pi^-1
     -0x1.06bc23028147p+0,  // -532/165 * pi^-1
@@ -20482,243 +23943,476 @@ inline constexpr double potential_0_0[] = {
     0x1.068cb9d79db28p+2,  // 4253/330 * pi^-1
     0x1.f9b71ed0da099p-3,  // 128/165 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     -0x1.3193d66ed2bfap+2,  // -15 * pi^-1
     -0x1.1d34a60108f72p+0,  // -7/2 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 1.6e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
-    -0x1.1d34a60108f72p+2,  // -14 * pi^-1
-    0x1.bed27b8a27a55p+3,  // 658/15 * pi^-1
-    0x1.206e630159fb3p+5,  // 1699/15 * pi^-1
-    0x1.5bade52f95e69p+1,  // 128/15 * pi^-1
+    0x1.b2995e7b7b604p+0,  // 16/3 * pi^-1
+    -0x1.45f306dc9c883p+2,  // -16 * pi^-1
+    0x1.00af623421ab4p+4,  // 252/5 * pi^-1
+    0x1.8a60a6ab0b6efp+1,  // 650/7 * pi^-1 + -120 * pi^-1 * log(2)
+    -0x1.dfd4eeaa32f6ap+3,  // -1645/72 * pi^-1 + -35 * pi^-1 * log(2)
+    -0x1.d2b33e303d375p-3,  // -63/88 * pi^-1
+    -0x1.5f05b89ecff52p-8,  // -7/416 * pi^-1
+    -0x1.04c26be3b06cfp-11,  // -1/640 * pi^-1
+    -0x1.591f70ad5a721p-14,  // -9/34816 * pi^-1
+    -0x1.403b1d3290cdap-16,  // -7/116736 * pi^-1
+    -0x1.7483758e69c03p-18,  // -1/57344 * pi^-1
+    -0x1.fe2e7a0b644f9p-20,  // -9/1507328 * pi^-1
+    -0x1.8b7c34b2edb64p-21,  // -91/39321600 * pi^-1
+    -0x1.520582600aa03p-22,  // -7/7077888 * pi^-1
+    -0x1.38aa86fbbf14bp-23,  // -153/334495744 * pi^-1
+    -0x1.34be68d8793e3p-24,  // -323/1430257664 * pi^-1
 };
 inline constexpr double dpotential_0_1[] = {
-    -0x1.3193d66ed2bfap+5,  // -120 * pi^-1
-    -0x1.6481cf814b34fp+3,  // -35 * pi^-1
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    0x1.3193d66ed2bfap+5,  // 120 * pi^-1
+    0x1.6481cf814b34fp+3,  // 35 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 7, dpotential_0_1, 2},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1p-1,  // 1/2
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
     -0x1.1d34a60108f72p+2,  // -14 * pi^-1
     0x1.bed27b8a27a55p+3,  // 658/15 * pi^-1
     0x1.206e630159fb3p+5,  // 1699/15 * pi^-1
     0x1.5bade52f95e69p+1,  // 128/15 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.3193d66ed2bfap+5,  // -120 * pi^-1
     -0x1.6481cf814b34fp+3,  // -35 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 2.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.b2995e7b7b604p+0,  // 16/3 * pi^-1
+    -0x1.45f306dc9c883p+2,  // -16 * pi^-1
+    0x1.00af623421ab4p+4,  // 252/5 * pi^-1
+    0x1.8a60a6ab0b6efp+1,  // 650/7 * pi^-1 + -120 * pi^-1 * log(2)
+    -0x1.dfd4eeaa32f6ap+3,  // -1645/72 * pi^-1 + -35 * pi^-1 * log(2)
+    -0x1.d2b33e303d375p-3,  // -63/88 * pi^-1
+    -0x1.5f05b89ecff52p-8,  // -7/416 * pi^-1
+    -0x1.04c26be3b06cfp-11,  // -1/640 * pi^-1
+    -0x1.591f70ad5a721p-14,  // -9/34816 * pi^-1
+    -0x1.403b1d3290cdap-16,  // -7/116736 * pi^-1
+    -0x1.7483758e69c03p-18,  // -1/57344 * pi^-1
+    -0x1.fe2e7a0b644f9p-20,  // -9/1507328 * pi^-1
+    -0x1.8b7c34b2edb64p-21,  // -91/39321600 * pi^-1
+    -0x1.520582600aa03p-22,  // -7/7077888 * pi^-1
+    -0x1.38aa86fbbf14bp-23,  // -153/334495744 * pi^-1
+    -0x1.34be68d8793e3p-24,  // -323/1430257664 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.3193d66ed2bfap+5,  // 120 * pi^-1
+    0x1.6481cf814b34fp+3,  // 35 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 2},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
+    -0x1.1d34a60108f72p+2,  // -14 * pi^-1
+    0x1.bed27b8a27a55p+3,  // 658/15 * pi^-1
+    0x1.206e630159fb3p+5,  // 1699/15 * pi^-1
+    0x1.5bade52f95e69p+1,  // 128/15 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.3193d66ed2bfap+5,  // -120 * pi^-1
+    -0x1.6481cf814b34fp+3,  // -35 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.45f306dc9c883p+3,  // -32 * pi^-1
+    0x1.00af623421ab4p+6,  // 1008/5 * pi^-1
+    0x1.c57814eef7094p+5,  // 4740/7 * pi^-1 + -720 * pi^-1 * log(2)
+    -0x1.b344b4ba099p+6,  // -1330/9 * pi^-1 + -280 * pi^-1 * log(2)
+    -0x1.23b006de26429p+1,  // -315/44 * pi^-1
+    -0x1.07444a771bf7dp-4,  // -21/104 * pi^-1
+    -0x1.c8543cce74beap-8,  // -7/320 * pi^-1
+    -0x1.591f70ad5a721p-10,  // -9/2176 * pi^-1
+    -0x1.684280d8e2e75p-12,  // -21/19456 * pi^-1
+    -0x1.d1a452f204304p-14,  // -5/14336 * pi^-1
+    -0x1.5ebff3e7d4f6bp-15,  // -99/753664 * pi^-1
+    -0x1.289d27863248bp-16,  // -91/1638400 * pi^-1
+    -0x1.12a479ee08a22p-17,  // -91/3538944 * pi^-1
+    -0x1.1195361c47321p-18,  // -1071/83623936 * pi^-1
+    -0x1.2172824af1aa4p-19,  // -4845/715128832 * pi^-1
+    -0x1.421a573a74a49p-20,  // -2261/599785472 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.ca5dc1a63c1f8p+7,  // 720 * pi^-1
+    0x1.6481cf814b34fp+6,  // 280 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 2},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     -0x1.3f28a162ae9abp+3,  // -94/3 * pi^-1
     0x1.d9fc1171df5b5p+5,  // 2792/15 * pi^-1
     0x1.e7e7c7df071bdp+7,  // 3832/5 * pi^-1
     0x1.8723a1d588a36p+4,  // 384/5 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.ca5dc1a63c1f8p+7,  // -720 * pi^-1
     -0x1.6481cf814b34fp+6,  // -280 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 2},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_1_1, 2},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_hess_radial_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 4.5e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_hess_radial_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_D1
 inline constexpr table::Kernel wendland_missing_k_2_D1 = {
     "wendland-missing:k=2", 1, 0x1p+0, 6, 2, 1,
     0x1.91120971749b9p+11, "10080 * pi^-1", true,
     {
-        {detail_wendland_missing_k_2_D1::value, 2},
-        {detail_wendland_missing_k_2_D1::dr, 2},
-        {detail_wendland_missing_k_2_D1::d2r, 2},
-        {detail_wendland_missing_k_2_D1::laplacian, 2},
-        {detail_wendland_missing_k_2_D1::grad_over_r, 2},
-        {detail_wendland_missing_k_2_D1::hess_radial, 2},
-        {detail_wendland_missing_k_2_D1::potential, 2},
-        {detail_wendland_missing_k_2_D1::dpotential, 2},
-        {detail_wendland_missing_k_2_D1::dpotential_over_r, 2},
-        {detail_wendland_missing_k_2_D1::potential_hess_radial, 2},
+        {detail_wendland_missing_k_2_D1::value, 3},
+        {detail_wendland_missing_k_2_D1::dr, 3},
+        {detail_wendland_missing_k_2_D1::d2r, 3},
+        {detail_wendland_missing_k_2_D1::laplacian, 3},
+        {detail_wendland_missing_k_2_D1::grad_over_r, 3},
+        {detail_wendland_missing_k_2_D1::hess_radial, 3},
+        {detail_wendland_missing_k_2_D1::potential, 3},
+        {detail_wendland_missing_k_2_D1::dpotential, 3},
+        {detail_wendland_missing_k_2_D1::dpotential_over_r, 3},
+        {detail_wendland_missing_k_2_D1::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=2 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_2_D2 {
 inline constexpr double value_0_0[] = {
     0x1.757bcd321e06bp+1,  // 55/6 * pi^-1
+    -0x1.a42b46d861c78p+4,  // -165/2 * pi^-1
+    0x1.13bc667e002afp+7,  // 3465/8 * pi^-1
+    0x1.9ae1e2f10c293p+6,  // 21175/16 * pi^-1 + -5775/4 * pi^-1 * log(2)
+    -0x1.a99a6af328b14p+7,  // -75075/256 * pi^-1 + -17325/32 * pi^-1 * log(2)
+    -0x1.13bc667e002afp+2,  // -3465/256 * pi^-1
+    -0x1.ea327d51c768cp-4,  // -385/1024 * pi^-1
+    -0x1.a42b46d861c78p-7,  // -165/4096 * pi^-1
+    -0x1.3b2075224955ap-9,  // -495/65536 * pi^-1
+    -0x1.46cc538bda45ep-11,  // -385/196608 * pi^-1
+    -0x1.a42b46d861c78p-13,  // -165/262144 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.cb8f557caaf24p+8,  // 5775/4 * pi^-1
+    0x1.58ab801d8035bp+7,  // 17325/32 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, value_0_1, 2},
+};
+inline constexpr double value_1_0[] = {
+    0x1.757bcd321e06bp+1,  // 55/6 * pi^-1
     -0x1.8cd38a053fe72p+4,  // -935/12 * pi^-1
     0x1.f753d7888a77p+6,  // 6325/16 * pi^-1
     0x1.e142e708f470ep+8,  // 145145/96 * pi^-1
     0x1.757bcd321e06bp+5,  // 440/3 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     -0x1.cb8f557caaf24p+8,  // -5775/4 * pi^-1
     -0x1.58ab801d8035bp+7,  // -17325/32 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 2},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_1_1, 2},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.4e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
+    -0x1.a42b46d861c78p+5,  // -165 * pi^-1
+    0x1.13bc667e002afp+9,  // 3465/2 * pi^-1
+    0x1.0cf88a798f4cp+10,  // 75075/8 * pi^-1 + -17325/2 * pi^-1 * log(2)
+    -0x1.7e84faef78aa8p+10,  // -28875/16 * pi^-1 + -17325/4 * pi^-1 * log(2)
+    -0x1.58ab801d8035bp+5,  // -17325/128 * pi^-1
+    -0x1.6fa5ddfd558e9p+0,  // -1155/256 * pi^-1
+    -0x1.6fa5ddfd558e9p-3,  // -1155/2048 * pi^-1
+    -0x1.3b2075224955ap-5,  // -495/4096 * pi^-1
+    -0x1.6fa5ddfd558e9p-7,  // -1155/32768 * pi^-1
+    -0x1.069b0c473d1cbp-8,  // -825/65536 * pi^-1
+    -0x1.b14ca10f24d5cp-10,  // -5445/1048576 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.58ab801d8035bp+11,  // 17325/2 * pi^-1
+    0x1.58ab801d8035bp+10,  // 17325/4 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dr_0_1, 2},
+};
+inline constexpr double dr_1_0[] = {
     -0x1.a42b46d861c78p+5,  // -165 * pi^-1
     0x1.069b0c473d1cbp+9,  // 1650 * pi^-1
     0x1.9565c15ac6578p+11,  // 40755/4 * pi^-1
     0x1.a42b46d861c78p+8,  // 1320 * pi^-1
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     -0x1.58ab801d8035bp+11,  // -17325/2 * pi^-1
     -0x1.58ab801d8035bp+10,  // -17325/4 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 2},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_1_1, 2},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 3.0e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dr_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
+    -0x1.a42b46d861c78p+5,  // -165 * pi^-1
+    0x1.9d9a99bd00407p+10,  // 10395/2 * pi^-1
+    0x1.fc8c6d26b339dp+12,  // 444675/8 * pi^-1 + -86625/2 * pi^-1 * log(2)
+    -0x1.239eeb8dd98e8p+13,  // -132825/16 * pi^-1 + -121275/4 * pi^-1 * log(2)
+    -0x1.83c0f021303c6p+8,  // -155925/128 * pi^-1
+    -0x1.f984113c55a41p+3,  // -12705/256 * pi^-1
+    -0x1.2ab6c45dd583ep+1,  // -15015/2048 * pi^-1
+    -0x1.276e6dd024c05p-1,  // -7425/4096 * pi^-1
+    -0x1.86a03bdd2ae78p-3,  // -19635/32768 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.aed66024e0431p+13,  // 86625/2 * pi^-1
+    0x1.2d961019d02efp+13,  // 121275/4 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, d2r_0_1, 2},
+};
+inline constexpr double d2r_1_0[] = {
     -0x1.a42b46d861c78p+5,  // -165 * pi^-1
     0x1.9709eca19eb95p+10,  // 5115 * pi^-1
     0x1.2112461d9e456p+14,  // 232485/4 * pi^-1
     0x1.a42b46d861c78p+11,  // 10560 * pi^-1
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     -0x1.aed66024e0431p+13,  // -86625/2 * pi^-1
     -0x1.2d961019d02efp+13,  // -121275/4 * pi^-1
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 2},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_1_1, 2},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 3.6e-21 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
+    -0x1.a42b46d861c78p+6,  // -330 * pi^-1
+    0x1.13bc667e002afp+11,  // 6930 * pi^-1
+    0x1.1fe547e28b867p+13,  // 259875/4 * pi^-1 + -51975 * pi^-1 * log(2)
+    -0x1.536f8aebc8a3dp+13,  // -40425/4 * pi^-1 + -34650 * pi^-1 * log(2)
+    -0x1.aed66024e0431p+8,  // -86625/64 * pi^-1
+    -0x1.13bc667e002afp+4,  // -3465/64 * pi^-1
+    -0x1.41b1223daadccp+1,  // -8085/1024 * pi^-1
+    -0x1.3b2075224955ap-1,  // -495/256 * pi^-1
+    -0x1.9d9a99bd00407p-3,  // -10395/16384 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.0280a01620284p+14,  // 51975 * pi^-1
+    0x1.58ab801d8035bp+13,  // 34650 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, laplacian_0_1, 2},
+};
+inline constexpr double laplacian_1_0[] = {
     -0x1.a42b46d861c78p+6,  // -330 * pi^-1
     0x1.0d2bb9629ea3dp+11,  // 6765 * pi^-1
     0x1.53befe48f7105p+14,  // 68310 * pi^-1
     0x1.d8b0afb36e007p+11,  // 11880 * pi^-1
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     -0x1.0280a01620284p+14,  // -51975 * pi^-1
     -0x1.58ab801d8035bp+13,  // -34650 * pi^-1
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 2},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_1_1, 2},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 2.0e-21 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
+    -0x1.a42b46d861c78p+5,  // -165 * pi^-1
+    0x1.13bc667e002afp+9,  // 3465/2 * pi^-1
+    0x1.0cf88a798f4cp+10,  // 75075/8 * pi^-1 + -17325/2 * pi^-1 * log(2)
+    -0x1.7e84faef78aa8p+10,  // -28875/16 * pi^-1 + -17325/4 * pi^-1 * log(2)
+    -0x1.58ab801d8035bp+5,  // -17325/128 * pi^-1
+    -0x1.6fa5ddfd558e9p+0,  // -1155/256 * pi^-1
+    -0x1.6fa5ddfd558e9p-3,  // -1155/2048 * pi^-1
+    -0x1.3b2075224955ap-5,  // -495/4096 * pi^-1
+    -0x1.6fa5ddfd558e9p-7,  // -1155/32768 * pi^-1
+    -0x1.069b0c473d1cbp-8,  // -825/65536 * pi^-1
+    -0x1.b14ca10f24d5cp-10,  // -5445/1048576 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.58ab801d8035bp+11,  // 17325/2 * pi^-1
+    0x1.58ab801d8035bp+10,  // 17325/4 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 2},
+};
+inline constexpr double grad_over_r_1_0[] = {
     -0x1.a42b46d861c78p+5,  // -165 * pi^-1
     0x1.069b0c473d1cbp+9,  // 1650 * pi^-1
     0x1.9565c15ac6578p+11,  // 40755/4 * pi^-1
     0x1.a42b46d861c78p+8,  // 1320 * pi^-1
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     -0x1.58ab801d8035bp+11,  // -17325/2 * pi^-1
     -0x1.58ab801d8035bp+10,  // -17325/4 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 2},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_1_1, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, grad_over_r_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.13bc667e002afp+10,  // 3465 * pi^-1
+    0x1.b94e4a884f66dp+12,  // 46200 * pi^-1 + -34650 * pi^-1 * log(2)
+    -0x1.e79c985fd4f26p+12,  // -51975/8 * pi^-1 + -51975/2 * pi^-1 * log(2)
+    -0x1.58ab801d8035bp+8,  // -17325/16 * pi^-1
+    -0x1.cb8f557caaf24p+3,  // -5775/128 * pi^-1
+    -0x1.13bc667e002afp+1,  // -3465/512 * pi^-1
+    -0x1.13bc667e002afp-1,  // -3465/2048 * pi^-1
+    -0x1.6fa5ddfd558e9p-3,  // -1155/2048 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.58ab801d8035bp+13,  // 34650 * pi^-1
+    0x1.0280a01620284p+13,  // 51975/2 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, hess_radial_0_1, 2},
+};
+inline constexpr double hess_radial_1_0[] = {
+    0x1.13bc667e002afp+10,  // 3465 * pi^-1
     0x1.dccb1be48af4fp+13,  // 95865/2 * pi^-1
     0x1.6fa5ddfd558e9p+11,  // 9240 * pi^-1
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     -0x1.58ab801d8035bp+13,  // -34650 * pi^-1
     -0x1.0280a01620284p+13,  // -51975/2 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 2},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_1_1, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 3.7e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, hess_radial_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.cb9bf75ad0abdp-3,  // -58301/55440 * pi^-1 + 1/2 * pi^-1 * log(2)
+    0x1.757bcd321e06bp-1,  // 55/24 * pi^-1
+    -0x1.a42b46d861c78p+0,  // -165/32 * pi^-1
+    0x1.ea327d51c768cp+1,  // 385/32 * pi^-1
+    -0x1.856b945cf648ap-3,  // 1925/128 * pi^-1 + -5775/256 * pi^-1 * log(2)
+    -0x1.3c80f8afc8266p+1,  // -20559/5120 * pi^-1 + -693/128 * pi^-1 * log(2)
+    -0x1.ea327d51c768cp-6,  // -385/4096 * pi^-1
+    -0x1.4020f90662e13p-11,  // -55/28672 * pi^-1
+    -0x1.a42b46d861c78p-15,  // -165/1048576 * pi^-1
+    -0x1.f1fa66ed7d5e4p-18,  // -55/2359296 * pi^-1
+    -0x1.a24d37bd40597p-20,  // -77/15728640 * pi^-1
+    -0x1.bc79f2158fa27p-22,  // -15/11534336 * pi^-1
+    -0x1.181cd9e59685p-23,  // -55/134217728 * pi^-1
+    -0x1.92368e35f8f38p-25,  // -385/2617245696 * pi^-1
+    -0x1.4020f90662e13p-26,  // -55/939524096 * pi^-1
+    -0x1.150e92a1eb73cp-27,  // -17/671088640 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.cb8f557caaf24p+2,  // 5775/256 * pi^-1
+    0x1.b92d70c999de5p+0,  // 693/128 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 8, potential_0_1, 2},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.56c521eb62b06p-2,  // -58301/55440 * pi^-1
     0x1.3429b5250f232p-1,  // 209659/110880 * pi^-1
     -0x1.5e052989e33ebp+0,  // -211677/49280 * pi^-1
@@ -20726,7 +24420,7 @@ inline constexpr double potential_0_0[] = {
     0x1.9007c33bb0397p+2,  // 248833/12672 * pi^-1
     0x1.8b1710132a578p-2,  // 40/33 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     0x0p+0,  // 0
     0x0p+0,  // 0
@@ -20734,58 +24428,55 @@ inline constexpr double potential_0_1[] = {
     -0x1.cb8f557caaf24p+2,  // -5775/256 * pi^-1
     -0x1.b92d70c999de5p+0,  // -693/128 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 6},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_1_1, 6},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_2, 1},
 };
-inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_0_0[] = {
+inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr double dpotential_0_1[] = {
-    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
-    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
-    -0x1.794da646b3dc5p+2,  // -889/48 * pi^-1
-    0x1.4315a40d2c27fp+4,  // 1015/16 * pi^-1
-    0x1.b7557e3cffc65p+5,  // 33125/192 * pi^-1
-    0x1.0f9fdb0d2d1c2p+2,  // 40/3 * pi^-1
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
-inline constexpr double dpotential_0_2[] = {
-    -0x1.cb8f557caaf24p+5,  // -5775/32 * pi^-1
-    -0x1.13bc667e002afp+4,  // -3465/64 * pi^-1
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 4.8e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.757bcd321e06bp+0,  // 55/12 * pi^-1
+    -0x1.a42b46d861c78p+2,  // -165/8 * pi^-1
+    0x1.6fa5ddfd558e9p+4,  // 1155/16 * pi^-1
+    0x1.6a3470656d601p+2,  // 36575/256 * pi^-1 + -5775/32 * pi^-1 * log(2)
+    -0x1.700e5fcf20921p+4,  // -17787/512 * pi^-1 + -3465/64 * pi^-1 * log(2)
+    -0x1.6fa5ddfd558e9p-2,  // -1155/1024 * pi^-1
+    -0x1.181cd9e59685p-7,  // -55/2048 * pi^-1
+    -0x1.a42b46d861c78p-11,  // -165/65536 * pi^-1
+    -0x1.181cd9e59685p-13,  // -55/131072 * pi^-1
+    -0x1.057042d64837ep-15,  // -77/786432 * pi^-1
+    -0x1.3193d66ed2bfap-17,  // -15/524288 * pi^-1
+    -0x1.a42b46d861c78p-19,  // -165/16777216 * pi^-1
+    -0x1.46cc538bda45ep-20,  // -385/100663296 * pi^-1
+    -0x1.181cd9e59685p-21,  // -55/33554432 * pi^-1
+    -0x1.03bda977ccbc8p-22,  // -51/67108864 * pi^-1
+    -0x1.0109050937efep-23,  // -1615/4294967296 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    0x1.cb8f557caaf24p+5,  // 5775/32 * pi^-1
+    0x1.13bc667e002afp+4,  // 3465/64 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_2, 2},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 7, dpotential_0_1, 2},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
     0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
     -0x1.794da646b3dc5p+2,  // -889/48 * pi^-1
@@ -20793,29 +24484,113 @@ inline constexpr double dpotential_over_r_0_1[] = {
     0x1.b7557e3cffc65p+5,  // 33125/192 * pi^-1
     0x1.0f9fdb0d2d1c2p+2,  // 40/3 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     -0x1.cb8f557caaf24p+5,  // -5775/32 * pi^-1
     -0x1.13bc667e002afp+4,  // -3465/64 * pi^-1
 };
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_1_2, 2},
+};
+inline constexpr double dpotential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 6.0e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.757bcd321e06bp+0,  // 55/12 * pi^-1
+    -0x1.a42b46d861c78p+2,  // -165/8 * pi^-1
+    0x1.6fa5ddfd558e9p+4,  // 1155/16 * pi^-1
+    0x1.6a3470656d601p+2,  // 36575/256 * pi^-1 + -5775/32 * pi^-1 * log(2)
+    -0x1.700e5fcf20921p+4,  // -17787/512 * pi^-1 + -3465/64 * pi^-1 * log(2)
+    -0x1.6fa5ddfd558e9p-2,  // -1155/1024 * pi^-1
+    -0x1.181cd9e59685p-7,  // -55/2048 * pi^-1
+    -0x1.a42b46d861c78p-11,  // -165/65536 * pi^-1
+    -0x1.181cd9e59685p-13,  // -55/131072 * pi^-1
+    -0x1.057042d64837ep-15,  // -77/786432 * pi^-1
+    -0x1.3193d66ed2bfap-17,  // -15/524288 * pi^-1
+    -0x1.a42b46d861c78p-19,  // -165/16777216 * pi^-1
+    -0x1.46cc538bda45ep-20,  // -385/100663296 * pi^-1
+    -0x1.181cd9e59685p-21,  // -55/33554432 * pi^-1
+    -0x1.03bda977ccbc8p-22,  // -51/67108864 * pi^-1
+    -0x1.0109050937efep-23,  // -1615/4294967296 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.cb8f557caaf24p+5,  // 5775/32 * pi^-1
+    0x1.13bc667e002afp+4,  // 3465/64 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_2, 2},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 2},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.611c9cc4543e3p+0,  // 13/3 * pi^-1
+    -0x1.794da646b3dc5p+2,  // -889/48 * pi^-1
+    0x1.4315a40d2c27fp+4,  // 1015/16 * pi^-1
+    0x1.b7557e3cffc65p+5,  // 33125/192 * pi^-1
+    0x1.0f9fdb0d2d1c2p+2,  // 40/3 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    -0x1.cb8f557caaf24p+5,  // -5775/32 * pi^-1
+    -0x1.13bc667e002afp+4,  // -3465/64 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_1_2, 2},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 6.0e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    -0x1.a42b46d861c78p+3,  // -165/4 * pi^-1
+    0x1.6fa5ddfd558e9p+6,  // 1155/4 * pi^-1
+    0x1.6d9b54e45e7d2p+6,  // 132825/128 * pi^-1 + -17325/16 * pi^-1 * log(2)
+    -0x1.4d96d2ff608cbp+7,  // -7161/32 * pi^-1 + -3465/8 * pi^-1 * log(2)
+    -0x1.cb8f557caaf24p+1,  // -5775/512 * pi^-1
+    -0x1.a42b46d861c78p-4,  // -165/512 * pi^-1
+    -0x1.6fa5ddfd558e9p-7,  // -1155/32768 * pi^-1
+    -0x1.181cd9e59685p-9,  // -55/8192 * pi^-1
+    -0x1.261e4b31113eep-11,  // -231/131072 * pi^-1
+    -0x1.7df8cc0a876f9p-13,  // -75/131072 * pi^-1
+    -0x1.20ddc0b4c3393p-14,  // -1815/8388608 * pi^-1
+    -0x1.ea327d51c768cp-16,  // -385/4194304 * pi^-1
+    -0x1.c72ee21514982p-17,  // -715/16777216 * pi^-1
+    -0x1.c68be891a649ep-18,  // -357/16777216 * pi^-1
+    -0x1.e1f0e97148e1cp-19,  // -24225/2147483648 * pi^-1
+    -0x1.0caa70fe0d4abp-19,  // -21945/3489660928 * pi^-1
 };
 inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.58ab801d8035bp+8,  // 17325/16 * pi^-1
+    0x1.13bc667e002afp+7,  // 3465/8 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 2},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     -0x1.a0596dc3cbf1fp+3,  // -327/8 * pi^-1
@@ -20823,159 +24598,319 @@ inline constexpr double potential_hess_radial_0_1[] = {
     0x1.736d8779b47f5p+8,  // 9335/8 * pi^-1
     0x1.3193d66ed2bfap+5,  // 120 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.58ab801d8035bp+8,  // -17325/16 * pi^-1
     -0x1.13bc667e002afp+7,  // -3465/8 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_2, 2},
-};
-inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
-};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_1_2, 2},
+};
+inline constexpr double potential_hess_radial_2_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_hess_radial_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 6.2e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_hess_radial_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_D2
 inline constexpr table::Kernel wendland_missing_k_2_D2 = {
     "wendland-missing:k=2", 2, 0x1p+0, 6, 2, 1,
     0x1.58ab801d8035bp+12, "17325 * pi^-1", true,
     {
-        {detail_wendland_missing_k_2_D2::value, 2},
-        {detail_wendland_missing_k_2_D2::dr, 2},
-        {detail_wendland_missing_k_2_D2::d2r, 2},
-        {detail_wendland_missing_k_2_D2::laplacian, 2},
-        {detail_wendland_missing_k_2_D2::grad_over_r, 2},
-        {detail_wendland_missing_k_2_D2::hess_radial, 2},
-        {detail_wendland_missing_k_2_D2::potential, 2},
-        {detail_wendland_missing_k_2_D2::dpotential, 2},
-        {detail_wendland_missing_k_2_D2::dpotential_over_r, 2},
-        {detail_wendland_missing_k_2_D2::potential_hess_radial, 2},
+        {detail_wendland_missing_k_2_D2::value, 3},
+        {detail_wendland_missing_k_2_D2::dr, 3},
+        {detail_wendland_missing_k_2_D2::d2r, 3},
+        {detail_wendland_missing_k_2_D2::laplacian, 3},
+        {detail_wendland_missing_k_2_D2::grad_over_r, 3},
+        {detail_wendland_missing_k_2_D2::hess_radial, 3},
+        {detail_wendland_missing_k_2_D2::potential, 3},
+        {detail_wendland_missing_k_2_D2::dpotential, 3},
+        {detail_wendland_missing_k_2_D2::dpotential_over_r, 3},
+        {detail_wendland_missing_k_2_D2::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=2 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_2_D3 {
 inline constexpr double value_0_0[] = {
     0x1.a7e798aa385e8p+2,  // 2288/35 * pi^-2
+    -0x1.2a0ed757afa27p+6,  // -5148/7 * pi^-2
+    0x1.04ccfc6cb9ae2p+9,  // 5148 * pi^-2
+    0x1.34bc4e0049664p+10,  // 30030 * pi^-2 + -25740 * pi^-2 * log(2)
+    -0x1.675331661da1dp+10,  // -6435/8 * pi^-2 + -19305 * pi^-2 * log(2)
+    -0x1.f9974b994d7bfp+7,  // -292149/160 * pi^-2 + -3861/4 * pi^-2 * log(2)
+    0x1.5bbbfb3ba23d8p+0,  // 429/32 * pi^-2
+    0x1.2a0ed757afa27p-4,  // 1287/1792 * pi^-2
+    0x1.2a0ed757afa27p-7,  // 1287/14336 * pi^-2
+    0x1.cfa54efa2da75p-10,  // 143/8192 * pi^-2
+    0x1.dce48bbf7f6a5p-12,  // 1287/286720 * pi^-2
+    0x1.2a0ed757afa27p-13,  // 1287/917504 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    0x1.46003b87e819bp+11,  // 25740 * pi^-2
+    0x1.e900594bdc268p+10,  // 19305 * pi^-2
+    0x1.87337aa316853p+6,  // 3861/4 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr double value_1_0[] = {
+    0x1.a7e798aa385e8p+2,  // 2288/35 * pi^-2
     -0x1.1ccf9a925ddf8p+6,  // -24596/35 * pi^-2
     0x1.e6d3f9537cbc8p+8,  // 24024/5 * pi^-2
     0x1.99b34a00a432fp+11,  // 452881/14 * pi^-2
     0x1.e0fb0f8063a57p+9,  // 265837/28 * pi^-2
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     -0x1.46003b87e819bp+11,  // -25740 * pi^-2
     -0x1.e900594bdc268p+10,  // -19305 * pi^-2
     -0x1.87337aa316853p+6,  // -3861/4 * pi^-2
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_1_1, 3},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.3e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
+    -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
+    0x1.04ccfc6cb9ae2p+11,  // 20592 * pi^-2
+    0x1.390d496231132p+13,  // 205920 * pi^-2 + -154440 * pi^-2 * log(2)
+    -0x1.2a33263ca21dp+13,  // 12870 * pi^-2 + -154440 * pi^-2 * log(2)
+    -0x1.2fc4f36ab7b95p+11,  // -276705/16 * pi^-2 + -19305/2 * pi^-2 * log(2)
+    0x1.04ccfc6cb9ae2p+4,  // 1287/8 * pi^-2
+    0x1.04ccfc6cb9ae2p+0,  // 1287/128 * pi^-2
+    0x1.2a0ed757afa27p-3,  // 1287/896 * pi^-2
+    0x1.04ccfc6cb9ae2p-5,  // 1287/4096 * pi^-2
+    0x1.2a0ed757afa27p-7,  // 1287/14336 * pi^-2
+    0x1.99d46818917f6p-9,  // 14157/458752 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    0x1.e900594bdc268p+13,  // 154440 * pi^-2
+    0x1.e900594bdc268p+13,  // 154440 * pi^-2
+    0x1.e900594bdc268p+9,  // 19305/2 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr double dr_1_0[] = {
     -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
     0x1.f6f90b63f8622p+10,  // 138996/7 * pi^-2
     0x1.556d802d31f0dp+14,  // 1509651/7 * pi^-2
     0x1.0b7ed1c2f1ep+13,  // 1182753/14 * pi^-2
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     -0x1.e900594bdc268p+13,  // -154440 * pi^-2
     -0x1.e900594bdc268p+13,  // -154440 * pi^-2
     -0x1.e900594bdc268p+9,  // -19305/2 * pi^-2
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_1_1, 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dr_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
+    -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
+    0x1.87337aa316853p+12,  // 61776 * pi^-2
+    0x1.00c85906da30cp+16,  // 1184040 * pi^-2 + -772200 * pi^-2 * log(2)
+    -0x1.8f996c9724a92p+15,  // 244530 * pi^-2 + -1081080 * pi^-2 * log(2)
+    -0x1.46758f0dafcf4p+14,  // -2335905/16 * pi^-2 + -173745/2 * pi^-2 * log(2)
+    0x1.6699db157f4f7p+7,  // 14157/8 * pi^-2
+    0x1.a7cd1a30adbafp+3,  // 16731/128 * pi^-2
+    0x1.176de9e234a84p+1,  // 19305/896 * pi^-2
+    0x1.1519cc338549p-1,  // 21879/4096 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.31a037cf69981p+16,  // 772200 * pi^-2
+    0x1.abe04e2260a1bp+16,  // 1081080 * pi^-2
+    0x1.1310323aabd5ap+13,  // 173745/2 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+};
+inline constexpr double d2r_1_0[] = {
     -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
     0x1.828b3f45b7c6ap+12,  // 427284/7 * pi^-2
     0x1.e0a20ea015e82p+16,  // 8500635/7 * pi^-2
     0x1.07acd1105a27cp+16,  // 9326889/14 * pi^-2
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     -0x1.31a037cf69981p+16,  // -772200 * pi^-2
     -0x1.abe04e2260a1bp+16,  // -1081080 * pi^-2
     -0x1.1310323aabd5ap+13,  // -173745/2 * pi^-2
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_1_1, 3},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.2e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
+    -0x1.bf1643038773ap+8,  // -30888/7 * pi^-2
+    0x1.46003b87e819bp+13,  // 102960 * pi^-2
+    0x1.4f0bab5f66758p+16,  // 1595880 * pi^-2 + -1081080 * pi^-2 * log(2)
+    -0x1.12597fdabadbdp+16,  // 270270 * pi^-2 + -1389960 * pi^-2 * log(2)
+    -0x1.9266cbe85dbd9p+14,  // -2889315/16 * pi^-2 + -212355/2 * pi^-2 * log(2)
+    0x1.a7cd1a30adbafp+7,  // 16731/8 * pi^-2
+    0x1.e900594bdc268p+3,  // 19305/128 * pi^-2
+    0x1.3cafc4cd2a9c9p+1,  // 21879/896 * pi^-2
+    0x1.35b36bc11c7ecp-1,  // 24453/4096 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.abe04e2260a1bp+16,  // 1081080 * pi^-2
+    0x1.1310323aabd5ap+17,  // 1389960 * pi^-2
+    0x1.50303d64275a7p+13,  // 212355/2 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr double laplacian_1_0[] = {
     -0x1.bf1643038773ap+8,  // -30888/7 * pi^-2
     0x1.3f03e27bd9fbep+13,  // 705276/7 * pi^-2
     0x1.45ac675b57704p+17,  // 11519937/7 * pi^-2
     0x1.4a8c8581169fcp+16,  // 11692395/14 * pi^-2
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     -0x1.abe04e2260a1bp+16,  // -1081080 * pi^-2
     -0x1.1310323aabd5ap+17,  // -1389960 * pi^-2
     -0x1.50303d64275a7p+13,  // -212355/2 * pi^-2
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_1_1, 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 4.8e-21 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
+    -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
+    0x1.04ccfc6cb9ae2p+11,  // 20592 * pi^-2
+    0x1.390d496231132p+13,  // 205920 * pi^-2 + -154440 * pi^-2 * log(2)
+    -0x1.2a33263ca21dp+13,  // 12870 * pi^-2 + -154440 * pi^-2 * log(2)
+    -0x1.2fc4f36ab7b95p+11,  // -276705/16 * pi^-2 + -19305/2 * pi^-2 * log(2)
+    0x1.04ccfc6cb9ae2p+4,  // 1287/8 * pi^-2
+    0x1.04ccfc6cb9ae2p+0,  // 1287/128 * pi^-2
+    0x1.2a0ed757afa27p-3,  // 1287/896 * pi^-2
+    0x1.04ccfc6cb9ae2p-5,  // 1287/4096 * pi^-2
+    0x1.2a0ed757afa27p-7,  // 1287/14336 * pi^-2
+    0x1.99d46818917f6p-9,  // 14157/458752 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.e900594bdc268p+13,  // 154440 * pi^-2
+    0x1.e900594bdc268p+13,  // 154440 * pi^-2
+    0x1.e900594bdc268p+9,  // 19305/2 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr double grad_over_r_1_0[] = {
     -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
     0x1.f6f90b63f8622p+10,  // 138996/7 * pi^-2
     0x1.556d802d31f0dp+14,  // 1509651/7 * pi^-2
     0x1.0b7ed1c2f1ep+13,  // 1182753/14 * pi^-2
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     -0x1.e900594bdc268p+13,  // -154440 * pi^-2
     -0x1.e900594bdc268p+13,  // -154440 * pi^-2
     -0x1.e900594bdc268p+9,  // -19305/2 * pi^-2
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_1_1, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, grad_over_r_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.04ccfc6cb9ae2p+12,  // 41184 * pi^-2
+    0x1.b34d5fb5281ccp+15,  // 978120 * pi^-2 + -617760 * pi^-2 * log(2)
+    -0x1.450ca307fc21ep+15,  // 231660 * pi^-2 + -926640 * pi^-2 * log(2)
+    -0x1.207cf0a058d81p+14,  // -128700 * pi^-2 + -77220 * pi^-2 * log(2)
+    0x1.46003b87e819bp+7,  // 6435/4 * pi^-2
+    0x1.87337aa316853p+3,  // 3861/32 * pi^-2
+    0x1.04ccfc6cb9ae2p+1,  // 1287/64 * pi^-2
+    0x1.04ccfc6cb9ae2p-1,  // 1287/256 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.e900594bdc268p+15,  // 617760 * pi^-2
+    0x1.6ec042f8e51cep+16,  // 926640 * pi^-2
+    0x1.e900594bdc268p+12,  // 77220 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr double hess_radial_1_0[] = {
+    0x1.04ccfc6cb9ae2p+12,  // 41184 * pi^-2
     0x1.8b46ae94c96bfp+16,  // 998712 * pi^-2
     0x1.cc79edaff7d77p+15,  // 581724 * pi^-2
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     -0x1.e900594bdc268p+15,  // -617760 * pi^-2
     -0x1.6ec042f8e51cep+16,  // -926640 * pi^-2
     -0x1.e900594bdc268p+12,  // -77220 * pi^-2
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_1_1, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, hess_radial_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.344b57c19d5cp-2,  // -104/35 * pi^-2
+    0x1.1a9a65c6d03fp+0,  // 1144/105 * pi^-2
+    -0x1.dce48bbf7f6a5p+1,  // -1287/35 * pi^-2
+    0x1.8d691f1f94d89p+3,  // 858/7 * pi^-2
+    0x1.132ef6b7806dbp+3,  // 47905/144 * pi^-2 + -715/2 * pi^-2 * log(2)
+    -0x1.076098665dfe6p+4,  // -35919/880 * pi^-2 + -351/2 * pi^-2 * log(2)
+    -0x1.b8905af6958c9p+0,  // -105633/8320 * pi^-2 + -99/16 * pi^-2 * log(2)
+    0x1.a7e798aa385e8p-8,  // 143/2240 * pi^-2
+    0x1.18867052872f7p-12,  // 1287/487424 * pi^-2
+    0x1.be37276fcf8bep-16,  // 143/544768 * pi^-2
+    0x1.1a9a65c6d03fp-18,  // 143/3440640 * pi^-2
+    0x1.e28c305070bc8p-21,  // 117/13189120 * pi^-2
+    0x1.fcaf83ff76d7cp-23,  // 429/183500800 * pi^-2
+    0x1.3a00e2dce7627p-24,  // 143/198180864 * pi^-2
+    0x1.b685a6c1bebap-26,  // 429/1702887424 * pi^-2
+    0x1.522115ed20335p-27,  // 221/2275409920 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    0x1.21c7515c5c889p+5,  // 715/2 * pi^-2
+    0x1.1c8287bc6d782p+4,  // 351/2 * pi^-2
+    0x1.40fc4a5e6e603p-1,  // 99/16 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 8, potential_0_1, 3},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.006af8fd57cdcp-2,  // -173/70 * pi^-2
     0x1.f96cbfdea5abcp-1,  // 341/35 * pi^-2
     -0x1.a13c1ec42f6d2p+1,  // -1126/35 * pi^-2
@@ -20983,61 +24918,59 @@ inline constexpr double potential_0_0[] = {
     0x1.366b8d29db8bp+5,  // 321691/840 * pi^-2
     0x1.d9b35e4c3877fp+2,  // 24545/336 * pi^-2
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     -0x1.21c7515c5c889p+5,  // -715/2 * pi^-2
     -0x1.1c8287bc6d782p+4,  // -351/2 * pi^-2
     -0x1.40fc4a5e6e603p-1,  // -99/16 * pi^-2
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.2e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-    0x1.1647b336751ddp+1,  // 751/35 * pi^-2
-    -0x1.ba6e95f05135ep+3,  // -4776/35 * pi^-2
-    0x1.0f78a6c64bfccp+6,  // 23444/35 * pi^-2
-    0x1.523725a751cf9p+8,  // 700991/210 * pi^-2
-    0x1.4329583fa9f5cp+6,  // 66979/84 * pi^-2
+    0x1.1a9a65c6d03fp+1,  // 2288/105 * pi^-2
+    -0x1.dce48bbf7f6a5p+3,  // -5148/35 * pi^-2
+    0x1.2a0ed757afa27p+6,  // 5148/7 * pi^-2
+    0x1.a4129f65aeb1fp+6,  // 27170/9 * pi^-2 + -2860 * pi^-2 * log(2)
+    -0x1.25a86d8867cfp+7,  // -20475/88 * pi^-2 + -1755 * pi^-2 * log(2)
+    -0x1.406461e5fcb67p+4,  // -304029/2080 * pi^-2 + -297/4 * pi^-2 * log(2)
+    0x1.72eaa594f152bp-4,  // 143/160 * pi^-2
+    0x1.18867052872f7p-8,  // 1287/30464 * pi^-2
+    0x1.f5fe0c5dc97d6p-12,  // 1287/272384 * pi^-2
+    0x1.6140ff38844ecp-14,  // 143/172032 * pi^-2
+    0x1.4bc061374d81ap-16,  // 1287/6594560 * pi^-2
+    0x1.7d83a2ff9921dp-18,  // 1287/22937600 * pi^-2
+    0x1.fe4170a6f7fffp-20,  // 1859/99090432 * pi^-2
+    0x1.7fb4f1e986e2cp-21,  // 429/60817408 * pi^-2
+    0x1.3cff048e4e302p-22,  // 663/227540992 * pi^-2
+    0x1.1ae522b54cc24p-23,  // 4199/3229614080 * pi^-2
+    0x1.0d4b59a7a9118p-24,  // 2907/4697620480 * pi^-2
 };
 inline constexpr double dpotential_0_1[] = {
-    -0x1.21c7515c5c889p+8,  // -2860 * pi^-2
-    -0x1.63a329ab88d63p+7,  // -1755 * pi^-2
-    -0x1.e17a6f8da5904p+2,  // -297/4 * pi^-2
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+    0x1.21c7515c5c889p+8,  // 2860 * pi^-2
+    0x1.63a329ab88d63p+7,  // 1755 * pi^-2
+    0x1.e17a6f8da5904p+2,  // 297/4 * pi^-2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
     0x1.1647b336751ddp+1,  // 751/35 * pi^-2
     -0x1.ba6e95f05135ep+3,  // -4776/35 * pi^-2
@@ -21045,30 +24978,113 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.523725a751cf9p+8,  // 700991/210 * pi^-2
     0x1.4329583fa9f5cp+6,  // 66979/84 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.21c7515c5c889p+8,  // -2860 * pi^-2
     -0x1.63a329ab88d63p+7,  // -1755 * pi^-2
     -0x1.e17a6f8da5904p+2,  // -297/4 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^33, truncation < 2.3e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.1a9a65c6d03fp+1,  // 2288/105 * pi^-2
+    -0x1.dce48bbf7f6a5p+3,  // -5148/35 * pi^-2
+    0x1.2a0ed757afa27p+6,  // 5148/7 * pi^-2
+    0x1.a4129f65aeb1fp+6,  // 27170/9 * pi^-2 + -2860 * pi^-2 * log(2)
+    -0x1.25a86d8867cfp+7,  // -20475/88 * pi^-2 + -1755 * pi^-2 * log(2)
+    -0x1.406461e5fcb67p+4,  // -304029/2080 * pi^-2 + -297/4 * pi^-2 * log(2)
+    0x1.72eaa594f152bp-4,  // 143/160 * pi^-2
+    0x1.18867052872f7p-8,  // 1287/30464 * pi^-2
+    0x1.f5fe0c5dc97d6p-12,  // 1287/272384 * pi^-2
+    0x1.6140ff38844ecp-14,  // 143/172032 * pi^-2
+    0x1.4bc061374d81ap-16,  // 1287/6594560 * pi^-2
+    0x1.7d83a2ff9921dp-18,  // 1287/22937600 * pi^-2
+    0x1.fe4170a6f7fffp-20,  // 1859/99090432 * pi^-2
+    0x1.7fb4f1e986e2cp-21,  // 429/60817408 * pi^-2
+    0x1.3cff048e4e302p-22,  // 663/227540992 * pi^-2
+    0x1.1ae522b54cc24p-23,  // 4199/3229614080 * pi^-2
+    0x1.0d4b59a7a9118p-24,  // 2907/4697620480 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.21c7515c5c889p+8,  // 2860 * pi^-2
+    0x1.63a329ab88d63p+7,  // 1755 * pi^-2
+    0x1.e17a6f8da5904p+2,  // 297/4 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.1647b336751ddp+1,  // 751/35 * pi^-2
+    -0x1.ba6e95f05135ep+3,  // -4776/35 * pi^-2
+    0x1.0f78a6c64bfccp+6,  // 23444/35 * pi^-2
+    0x1.523725a751cf9p+8,  // 700991/210 * pi^-2
+    0x1.4329583fa9f5cp+6,  // 66979/84 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.21c7515c5c889p+8,  // -2860 * pi^-2
+    -0x1.63a329ab88d63p+7,  // -1755 * pi^-2
+    -0x1.e17a6f8da5904p+2,  // -297/4 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 2.3e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.dce48bbf7f6a5p+4,  // -10296/35 * pi^-2
+    0x1.2a0ed757afa27p+8,  // 20592/7 * pi^-2
+    0x1.cbf1a03a7149cp+9,  // 62920/3 * pi^-2 + -17160 * pi^-2 * log(2)
+    -0x1.f26810a5ed687p+9,  // -1170/11 * pi^-2 + -14040 * pi^-2 * log(2)
+    -0x1.8171a6e30eb78p+7,  // -288585/208 * pi^-2 + -1485/2 * pi^-2 * log(2)
+    0x1.162ffc2fb4fep+0,  // 429/40 * pi^-2
+    0x1.eaeb44906c931p-5,  // 1287/2176 * pi^-2
+    0x1.f5fe0c5dc97d6p-8,  // 1287/17024 * pi^-2
+    0x1.8d691f1f94d89p-10,  // 429/28672 * pi^-2
+    0x1.9eb0798520e2p-12,  // 1287/329728 * pi^-2
+    0x1.064a800fb9474p-13,  // 14157/11468800 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.b2aafa0a8accep+10,  // 17160 * pi^-2
+    0x1.63a329ab88d63p+10,  // 14040 * pi^-2
+    0x1.2cec85b8877a2p+6,  // 1485/2 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.37423899a1558p-3,  // 3/2 * pi^-2
     0x1.9f02f6222c72p-4,  // 1 * pi^-2
     -0x1.db988960fdad2p+4,  // -10268/35 * pi^-2
@@ -21076,163 +25092,324 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.1ade9be1e5852p+11,  // 781707/35 * pi^-2
     0x1.67cb8e6883e95p+9,  // 99429/14 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.b2aafa0a8accep+10,  // -17160 * pi^-2
     -0x1.63a329ab88d63p+10,  // -14040 * pi^-2
     -0x1.2cec85b8877a2p+6,  // -1485/2 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.37423899a1558p-3,  // -3/2 * pi^-2
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 4.2e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, potential_hess_radial_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_D3
 inline constexpr table::Kernel wendland_missing_k_2_D3 = {
     "wendland-missing:k=2", 3, 0x1p+0, 7, 2, 1,
     0x1.87337aa316853p+14, "247104 * pi^-2", true,
     {
-        {detail_wendland_missing_k_2_D3::value, 2},
-        {detail_wendland_missing_k_2_D3::dr, 2},
-        {detail_wendland_missing_k_2_D3::d2r, 2},
-        {detail_wendland_missing_k_2_D3::laplacian, 2},
-        {detail_wendland_missing_k_2_D3::grad_over_r, 2},
-        {detail_wendland_missing_k_2_D3::hess_radial, 2},
-        {detail_wendland_missing_k_2_D3::potential, 2},
-        {detail_wendland_missing_k_2_D3::dpotential, 2},
-        {detail_wendland_missing_k_2_D3::dpotential_over_r, 2},
-        {detail_wendland_missing_k_2_D3::potential_hess_radial, 2},
+        {detail_wendland_missing_k_2_D3::value, 3},
+        {detail_wendland_missing_k_2_D3::dr, 3},
+        {detail_wendland_missing_k_2_D3::d2r, 3},
+        {detail_wendland_missing_k_2_D3::laplacian, 3},
+        {detail_wendland_missing_k_2_D3::grad_over_r, 3},
+        {detail_wendland_missing_k_2_D3::hess_radial, 3},
+        {detail_wendland_missing_k_2_D3::potential, 3},
+        {detail_wendland_missing_k_2_D3::dpotential, 3},
+        {detail_wendland_missing_k_2_D3::dpotential_over_r, 3},
+        {detail_wendland_missing_k_2_D3::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=2,l=1 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_2_l_1_D1 {
 inline constexpr double value_0_0[] = {
     0x1.de0f1b216e1d1p+0,  // 88/15 * pi^-1
+    -0x1.50229f13816c7p+4,  // -66 * pi^-1
+    0x1.261e4b31113eep+7,  // 462 * pi^-1
+    0x1.5c2d49c57c716p+8,  // 2695 * pi^-1 + -2310 * pi^-1 * log(2)
+    -0x1.953aab070dbd7p+8,  // -1155/16 * pi^-1 + -3465/2 * pi^-1 * log(2)
+    -0x1.1d17265ea6b65p+6,  // -52437/320 * pi^-1 + -693/8 * pi^-1 * log(2)
+    0x1.882864416c53dp-2,  // 77/64 * pi^-1
+    0x1.50229f13816c7p-6,  // 33/512 * pi^-1
+    0x1.50229f13816c7p-9,  // 33/4096 * pi^-1
+    0x1.057042d64837ep-11,  // 77/49152 * pi^-1
+    0x1.0ce87f42cdf05p-13,  // 33/81920 * pi^-1
+    0x1.50229f13816c7p-15,  // 33/262144 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.6fa5ddfd558e9p+9,  // 2310 * pi^-1
+    0x1.13bc667e002afp+9,  // 3465/2 * pi^-1
+    0x1.b92d70c999de5p+4,  // 693/8 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr double value_1_0[] = {
+    0x1.de0f1b216e1d1p+0,  // 88/15 * pi^-1
     -0x1.4132263a75fb8p+4,  // -946/15 * pi^-1
     0x1.1282ac94323abp+7,  // 2156/5 * pi^-1
     0x1.ce0a418cb3588p+9,  // 34837/12 * pi^-1
     0x1.0f3699e84b344p+8,  // 20449/24 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     -0x1.6fa5ddfd558e9p+9,  // -2310 * pi^-1
     -0x1.13bc667e002afp+9,  // -3465/2 * pi^-1
     -0x1.b92d70c999de5p+4,  // -693/8 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_1_1, 3},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.3e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.50229f13816c7p+5,  // -132 * pi^-1
+    0x1.261e4b31113eep+9,  // 1848 * pi^-1
+    0x1.610b6ed372b8bp+11,  // 18480 * pi^-1 + -13860 * pi^-1 * log(2)
+    -0x1.504b91678db2bp+11,  // 1155 * pi^-1 + -13860 * pi^-1 * log(2)
+    -0x1.569384700394fp+9,  // -49665/32 * pi^-1 + -3465/4 * pi^-1 * log(2)
+    0x1.261e4b31113eep+2,  // 231/16 * pi^-1
+    0x1.261e4b31113eep-2,  // 231/256 * pi^-1
+    0x1.50229f13816c7p-5,  // 33/256 * pi^-1
+    0x1.261e4b31113eep-7,  // 231/8192 * pi^-1
+    0x1.50229f13816c7p-9,  // 33/4096 * pi^-1
+    0x1.ce2f9abad1f51p-11,  // 363/131072 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.13bc667e002afp+12,  // 13860 * pi^-1
+    0x1.13bc667e002afp+12,  // 13860 * pi^-1
+    0x1.13bc667e002afp+8,  // 3465/4 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.50229f13816c7p+5,  // -132 * pi^-1
     0x1.1b9d363875338p+9,  // 1782 * pi^-1
     0x1.810ba8b918017p+12,  // 38709/2 * pi^-1
     0x1.2dab1243c1671p+11,  // 30327/4 * pi^-1
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     -0x1.13bc667e002afp+12,  // -13860 * pi^-1
     -0x1.13bc667e002afp+12,  // -13860 * pi^-1
     -0x1.13bc667e002afp+8,  // -3465/4 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_1_1, 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dr_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.50229f13816c7p+5,  // -132 * pi^-1
-    0x1.b3ece64d4bd8ap+10,  // 5478 * pi^-1
-    0x1.0f046a125211dp+15,  // 217965/2 * pi^-1
-    0x1.295c20a9c9666p+14,  // 239151/4 * pi^-1
+    0x1.b92d70c999de5p+10,  // 5544 * pi^-1
+    0x1.21963ee3a7be2p+14,  // 106260 * pi^-1 + -69300 * pi^-1 * log(2)
+    -0x1.c2a60b3637e34p+13,  // 21945 * pi^-1 + -97020 * pi^-1 * log(2)
+    -0x1.702a2e962404ep+12,  // -419265/32 * pi^-1 + -31185/4 * pi^-1 * log(2)
+    0x1.9469a76377b67p+5,  // 2541/16 * pi^-1
+    0x1.ddf13a2fbc063p+1,  // 3003/256 * pi^-1
+    0x1.3b2075224955ap-1,  // 495/256 * pi^-1
+    0x1.38802fe42252dp-3,  // 3927/8192 * pi^-1
 };
 inline constexpr double d2r_0_1[] = {
-    -0x1.58ab801d8035bp+14,  // -69300 * pi^-1
-    -0x1.e289b35c804b2p+14,  // -97020 * pi^-1
-    -0x1.3633f34dc0305p+11,  // -31185/4 * pi^-1
+    0x1.58ab801d8035bp+14,  // 69300 * pi^-1
+    0x1.e289b35c804b2p+14,  // 97020 * pi^-1
+    0x1.3633f34dc0305p+11,  // 31185/4 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
 };
-inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
-};
-inline constexpr double laplacian_0_0[] = {
+inline constexpr double d2r_1_0[] = {
     -0x1.50229f13816c7p+5,  // -132 * pi^-1
     0x1.b3ece64d4bd8ap+10,  // 5478 * pi^-1
     0x1.0f046a125211dp+15,  // 217965/2 * pi^-1
     0x1.295c20a9c9666p+14,  // 239151/4 * pi^-1
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     -0x1.58ab801d8035bp+14,  // -69300 * pi^-1
     -0x1.e289b35c804b2p+14,  // -97020 * pi^-1
     -0x1.3633f34dc0305p+11,  // -31185/4 * pi^-1
 };
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_1_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.2e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.50229f13816c7p+5,  // -132 * pi^-1
+    0x1.b92d70c999de5p+10,  // 5544 * pi^-1
+    0x1.21963ee3a7be2p+14,  // 106260 * pi^-1 + -69300 * pi^-1 * log(2)
+    -0x1.c2a60b3637e34p+13,  // 21945 * pi^-1 + -97020 * pi^-1 * log(2)
+    -0x1.702a2e962404ep+12,  // -419265/32 * pi^-1 + -31185/4 * pi^-1 * log(2)
+    0x1.9469a76377b67p+5,  // 2541/16 * pi^-1
+    0x1.ddf13a2fbc063p+1,  // 3003/256 * pi^-1
+    0x1.3b2075224955ap-1,  // 495/256 * pi^-1
+    0x1.38802fe42252dp-3,  // 3927/8192 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.58ab801d8035bp+14,  // 69300 * pi^-1
+    0x1.e289b35c804b2p+14,  // 97020 * pi^-1
+    0x1.3633f34dc0305p+11,  // 31185/4 * pi^-1
+};
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.50229f13816c7p+5,  // -132 * pi^-1
+    0x1.b3ece64d4bd8ap+10,  // 5478 * pi^-1
+    0x1.0f046a125211dp+15,  // 217965/2 * pi^-1
+    0x1.295c20a9c9666p+14,  // 239151/4 * pi^-1
+};
+inline constexpr double laplacian_1_1[] = {
+    -0x1.58ab801d8035bp+14,  // -69300 * pi^-1
+    -0x1.e289b35c804b2p+14,  // -97020 * pi^-1
+    -0x1.3633f34dc0305p+11,  // -31185/4 * pi^-1
+};
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_1_1, 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.2e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
+    -0x1.50229f13816c7p+5,  // -132 * pi^-1
+    0x1.261e4b31113eep+9,  // 1848 * pi^-1
+    0x1.610b6ed372b8bp+11,  // 18480 * pi^-1 + -13860 * pi^-1 * log(2)
+    -0x1.504b91678db2bp+11,  // 1155 * pi^-1 + -13860 * pi^-1 * log(2)
+    -0x1.569384700394fp+9,  // -49665/32 * pi^-1 + -3465/4 * pi^-1 * log(2)
+    0x1.261e4b31113eep+2,  // 231/16 * pi^-1
+    0x1.261e4b31113eep-2,  // 231/256 * pi^-1
+    0x1.50229f13816c7p-5,  // 33/256 * pi^-1
+    0x1.261e4b31113eep-7,  // 231/8192 * pi^-1
+    0x1.50229f13816c7p-9,  // 33/4096 * pi^-1
+    0x1.ce2f9abad1f51p-11,  // 363/131072 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.13bc667e002afp+12,  // 13860 * pi^-1
+    0x1.13bc667e002afp+12,  // 13860 * pi^-1
+    0x1.13bc667e002afp+8,  // 3465/4 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr double grad_over_r_1_0[] = {
     -0x1.50229f13816c7p+5,  // -132 * pi^-1
     0x1.1b9d363875338p+9,  // 1782 * pi^-1
     0x1.810ba8b918017p+12,  // 38709/2 * pi^-1
     0x1.2dab1243c1671p+11,  // 30327/4 * pi^-1
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     -0x1.13bc667e002afp+12,  // -13860 * pi^-1
     -0x1.13bc667e002afp+12,  // -13860 * pi^-1
     -0x1.13bc667e002afp+8,  // -3465/4 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_1_1, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, grad_over_r_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.261e4b31113eep+10,  // 3696 * pi^-1
+    0x1.eae9a21272ce2p+13,  // 87780 * pi^-1 + -55440 * pi^-1 * log(2)
+    -0x1.6e9326dc54769p+13,  // 20790 * pi^-1 + -83160 * pi^-1 * log(2)
+    -0x1.4557be0823924p+12,  // -11550 * pi^-1 + -6930 * pi^-1 * log(2)
+    0x1.6fa5ddfd558e9p+5,  // 1155/8 * pi^-1
+    0x1.b92d70c999de5p+1,  // 693/64 * pi^-1
+    0x1.261e4b31113eep-1,  // 231/128 * pi^-1
+    0x1.261e4b31113eep-3,  // 231/512 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.13bc667e002afp+14,  // 55440 * pi^-1
+    0x1.9d9a99bd00407p+14,  // 83160 * pi^-1
+    0x1.13bc667e002afp+11,  // 6930 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr double hess_radial_1_0[] = {
+    0x1.261e4b31113eep+10,  // 3696 * pi^-1
     0x1.bdc5e9f65e235p+14,  // 89628 * pi^-1
     0x1.03a6be6151398p+14,  // 52206 * pi^-1
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     -0x1.13bc667e002afp+14,  // -55440 * pi^-1
     -0x1.9d9a99bd00407p+14,  // -83160 * pi^-1
     -0x1.13bc667e002afp+11,  // -6930 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_1_1, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, hess_radial_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    0x1.5bade52f95e69p-4,  // 4/15 * pi^-1
+    0x1.de0f1b216e1d1p-1,  // 44/15 * pi^-1
+    -0x1.c02e296f573b4p+0,  // -11/2 * pi^-1
+    0x1.39b9e9cdf0431p+2,  // 77/5 * pi^-1
+    0x1.59a6dcb6fcd1ep+1,  // 8305/224 * pi^-1 + -165/4 * pi^-1 * log(2)
+    -0x1.72f3ab3aa6542p+2,  // -7007/1440 * pi^-1 + -77/4 * pi^-1 * log(2)
+    -0x1.27164089e946cp-1,  // -19089/14080 * pi^-1 + -21/32 * pi^-1 * log(2)
+    0x1.13cda35835ae5p-9,  // 11/1664 * pi^-1
+    0x1.668b54591295dp-14,  // 11/40960 * pi^-1
+    0x1.19360ff58c111p-17,  // 11/417792 * pi^-1
+    0x1.604106846c156p-20,  // 77/18677760 * pi^-1
+    0x1.2a02c471ee336p-22,  // 1/1146880 * pi^-1
+    0x1.37c711b1a0db5p-24,  // 11/48234496 * pi^-1
+    0x1.7e727c1abe7dap-26,  // 11/157286400 * pi^-1
+    0x1.09969d4b76102p-27,  // 11/452984832 * pi^-1
+    0x1.979fbd409e173p-29,  // 17/1824522240 * pi^-1
+    0x1.539e4021522acp-30,  // 323/83214991360 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.a42b46d861c78p+3,  // 165/4 * pi^-1
+    0x1.882864416c53dp+2,  // 77/4 * pi^-1
+    0x1.abcef9018d72bp-3,  // 21/32 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 8, potential_0_1, 3},
+};
+inline constexpr double potential_1_0[] = {
     0x1.5bade52f95e69p-4,  // 4/15 * pi^-1
     0x1.50d0760619376p-1,  // 31/15 * pi^-1
     -0x1.76d77b174d9c9p+0,  // -23/5 * pi^-1
@@ -21240,253 +25417,497 @@ inline constexpr double potential_0_0[] = {
     0x1.b87f99d702136p+3,  // 10379/240 * pi^-1
     0x1.40f0f59f7d0f7p+1,  // 3781/480 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     -0x1.a42b46d861c78p+3,  // -165/4 * pi^-1
     -0x1.882864416c53dp+2,  // -77/4 * pi^-1
     -0x1.abcef9018d72bp-3,  // -21/32 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 5.2e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    0x1.8c92596a46fbp+0,  // 73/15 * pi^-1
-    -0x1.920110ff0552ap+2,  // -296/15 * pi^-1
-    0x1.a70e185f66e61p+4,  // 1246/15 * pi^-1
-    0x1.e03ea6fe46b25p+6,  // 22631/60 * pi^-1
-    0x1.b5f3b3c948da5p+4,  // 10319/120 * pi^-1
+    0x1.de0f1b216e1d1p+0,  // 88/15 * pi^-1
+    -0x1.c02e296f573b4p+2,  // -22 * pi^-1
+    0x1.d696deb4e8649p+4,  // 462/5 * pi^-1
+    0x1.15de401196dadp+5,  // 2365/7 * pi^-1 + -330 * pi^-1 * log(2)
+    -0x1.9eab8981225ebp+5,  // -4235/144 * pi^-1 + -385/2 * pi^-1 * log(2)
+    -0x1.ad42e906d17e8p+2,  // -54957/3520 * pi^-1 + -63/8 * pi^-1 * log(2)
+    0x1.e2a7ddda5df1p-6,  // 77/832 * pi^-1
+    0x1.668b54591295dp-10,  // 11/2560 * pi^-1
+    0x1.3c5cd1f43d934p-13,  // 33/69632 * pi^-1
+    0x1.b8514825871acp-16,  // 77/933888 * pi^-1
+    0x1.99c3ce1ca786ap-18,  // 11/573440 * pi^-1
+    0x1.d3aa9a8a7148fp-20,  // 33/6029312 * pi^-1
+    0x1.36bd04d5bac61p-21,  // 143/78643200 * pi^-1
+    0x1.d0c793440e9c4p-23,  // 77/113246208 * pi^-1
+    0x1.7e25c16c9435bp-24,  // 17/60817408 * pi^-1
+    0x1.539e4021522acp-25,  // 323/2600468480 * pi^-1
 };
 inline constexpr double dpotential_0_1[] = {
-    -0x1.a42b46d861c78p+6,  // -330 * pi^-1
-    -0x1.ea327d51c768cp+5,  // -385/2 * pi^-1
-    -0x1.40db3ac12a161p+1,  // -63/8 * pi^-1
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    0x1.a42b46d861c78p+6,  // 330 * pi^-1
+    0x1.ea327d51c768cp+5,  // 385/2 * pi^-1
+    0x1.40db3ac12a161p+1,  // 63/8 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1p-1,  // 1/2
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     0x1.8c92596a46fbp+0,  // 73/15 * pi^-1
     -0x1.920110ff0552ap+2,  // -296/15 * pi^-1
     0x1.a70e185f66e61p+4,  // 1246/15 * pi^-1
     0x1.e03ea6fe46b25p+6,  // 22631/60 * pi^-1
     0x1.b5f3b3c948da5p+4,  // 10319/120 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.a42b46d861c78p+6,  // -330 * pi^-1
     -0x1.ea327d51c768cp+5,  // -385/2 * pi^-1
     -0x1.40db3ac12a161p+1,  // -63/8 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 9.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.de0f1b216e1d1p+0,  // 88/15 * pi^-1
+    -0x1.c02e296f573b4p+2,  // -22 * pi^-1
+    0x1.d696deb4e8649p+4,  // 462/5 * pi^-1
+    0x1.15de401196dadp+5,  // 2365/7 * pi^-1 + -330 * pi^-1 * log(2)
+    -0x1.9eab8981225ebp+5,  // -4235/144 * pi^-1 + -385/2 * pi^-1 * log(2)
+    -0x1.ad42e906d17e8p+2,  // -54957/3520 * pi^-1 + -63/8 * pi^-1 * log(2)
+    0x1.e2a7ddda5df1p-6,  // 77/832 * pi^-1
+    0x1.668b54591295dp-10,  // 11/2560 * pi^-1
+    0x1.3c5cd1f43d934p-13,  // 33/69632 * pi^-1
+    0x1.b8514825871acp-16,  // 77/933888 * pi^-1
+    0x1.99c3ce1ca786ap-18,  // 11/573440 * pi^-1
+    0x1.d3aa9a8a7148fp-20,  // 33/6029312 * pi^-1
+    0x1.36bd04d5bac61p-21,  // 143/78643200 * pi^-1
+    0x1.d0c793440e9c4p-23,  // 77/113246208 * pi^-1
+    0x1.7e25c16c9435bp-24,  // 17/60817408 * pi^-1
+    0x1.539e4021522acp-25,  // 323/2600468480 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.a42b46d861c78p+6,  // 330 * pi^-1
+    0x1.ea327d51c768cp+5,  // 385/2 * pi^-1
+    0x1.40db3ac12a161p+1,  // 63/8 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.8c92596a46fbp+0,  // 73/15 * pi^-1
+    -0x1.920110ff0552ap+2,  // -296/15 * pi^-1
+    0x1.a70e185f66e61p+4,  // 1246/15 * pi^-1
+    0x1.e03ea6fe46b25p+6,  // 22631/60 * pi^-1
+    0x1.b5f3b3c948da5p+4,  // 10319/120 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.a42b46d861c78p+6,  // -330 * pi^-1
+    -0x1.ea327d51c768cp+5,  // -385/2 * pi^-1
+    -0x1.40db3ac12a161p+1,  // -63/8 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 9.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.c02e296f573b4p+3,  // -44 * pi^-1
+    0x1.d696deb4e8649p+6,  // 1848/5 * pi^-1
+    0x1.397181c34996p+8,  // 16500/7 * pi^-1 + -1980 * pi^-1 * log(2)
+    -0x1.616539d6e9719p+8,  // -385/9 * pi^-1 + -1540 * pi^-1 * log(2)
+    -0x1.0242f7ce399e6p+6,  // -52185/352 * pi^-1 + -315/4 * pi^-1 * log(2)
+    0x1.69fde663c674cp-2,  // 231/208 * pi^-1
+    0x1.39b9e9cdf0431p-6,  // 77/1280 * pi^-1
+    0x1.3c5cd1f43d934p-9,  // 33/4352 * pi^-1
+    0x1.ef5b712a37fe1p-12,  // 231/155648 * pi^-1
+    0x1.001a60d1e8b42p-13,  // 11/28672 * pi^-1
+    0x1.41854a3f2de22p-15,  // 363/3014656 * pi^-1
+    0x1.d21b874098292p-17,  // 143/3276800 * pi^-1
+    0x1.79a227a74bdefp-18,  // 1001/56623104 * pi^-1
+    0x1.4e61093f01afp-19,  // 119/15204352 * pi^-1
+    0x1.3e645c1f3d082p-20,  // 969/260046848 * pi^-1
+    0x1.421a573a74a49p-21,  // 2261/1199570944 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.3b2075224955ap+9,  // 1980 * pi^-1
+    0x1.ea327d51c768cp+8,  // 1540 * pi^-1
+    0x1.91120971749b9p+4,  // 315/4 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     -0x1.b963c3f5694dcp+3,  // -130/3 * pi^-1
     0x1.bb41d3108abbdp+6,  // 5222/15 * pi^-1
     0x1.92026cacea823p+9,  // 25259/10 * pi^-1
     0x1.e7aebd576d4d4p+7,  // 15321/20 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.3b2075224955ap+9,  // -1980 * pi^-1
     -0x1.ea327d51c768cp+8,  // -1540 * pi^-1
     -0x1.91120971749b9p+4,  // -315/4 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_hess_radial_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 4.3e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_hess_radial_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_l_1_D1
 inline constexpr table::Kernel wendland_missing_k_2_l_1_D1 = {
     "wendland-missing:k=2,l=1", 1, 0x1p+0, 7, 2, 1,
     0x1.b92d70c999de5p+12, "22176 * pi^-1", true,
     {
-        {detail_wendland_missing_k_2_l_1_D1::value, 2},
-        {detail_wendland_missing_k_2_l_1_D1::dr, 2},
-        {detail_wendland_missing_k_2_l_1_D1::d2r, 2},
-        {detail_wendland_missing_k_2_l_1_D1::laplacian, 2},
-        {detail_wendland_missing_k_2_l_1_D1::grad_over_r, 2},
-        {detail_wendland_missing_k_2_l_1_D1::hess_radial, 2},
-        {detail_wendland_missing_k_2_l_1_D1::potential, 2},
-        {detail_wendland_missing_k_2_l_1_D1::dpotential, 2},
-        {detail_wendland_missing_k_2_l_1_D1::dpotential_over_r, 2},
-        {detail_wendland_missing_k_2_l_1_D1::potential_hess_radial, 2},
+        {detail_wendland_missing_k_2_l_1_D1::value, 3},
+        {detail_wendland_missing_k_2_l_1_D1::dr, 3},
+        {detail_wendland_missing_k_2_l_1_D1::d2r, 3},
+        {detail_wendland_missing_k_2_l_1_D1::laplacian, 3},
+        {detail_wendland_missing_k_2_l_1_D1::grad_over_r, 3},
+        {detail_wendland_missing_k_2_l_1_D1::hess_radial, 3},
+        {detail_wendland_missing_k_2_l_1_D1::potential, 3},
+        {detail_wendland_missing_k_2_l_1_D1::dpotential, 3},
+        {detail_wendland_missing_k_2_l_1_D1::dpotential_over_r, 3},
+        {detail_wendland_missing_k_2_l_1_D1::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=2,l=1 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_2_l_1_D2 {
 inline constexpr double value_0_0[] = {
     0x1.c02e296f573b4p+1,  // 11 * pi^-1
+    -0x1.3b2075224955ap+5,  // -495/4 * pi^-1
+    0x1.13bc667e002afp+8,  // 3465/4 * pi^-1
+    0x1.466a752924aa4p+9,  // 40425/8 * pi^-1 + -17325/4 * pi^-1 * log(2)
+    -0x1.7be700569ce19p+9,  // -17325/128 * pi^-1 + -51975/16 * pi^-1 * log(2)
+    -0x1.0b45b3f8bc4aep+7,  // -157311/512 * pi^-1 + -10395/64 * pi^-1 * log(2)
+    0x1.6fa5ddfd558e9p-1,  // 1155/512 * pi^-1
+    0x1.3b2075224955ap-5,  // 495/4096 * pi^-1
+    0x1.3b2075224955ap-8,  // 495/32768 * pi^-1
+    0x1.ea327d51c768cp-11,  // 385/131072 * pi^-1
+    0x1.f833ee9d4222ap-13,  // 99/131072 * pi^-1
+    0x1.3b2075224955ap-14,  // 495/2097152 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.58ab801d8035bp+10,  // 17325/4 * pi^-1
+    0x1.0280a01620284p+10,  // 51975/16 * pi^-1
+    0x1.9d9a99bd00407p+5,  // 10395/64 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr double value_1_0[] = {
+    0x1.c02e296f573b4p+1,  // 11 * pi^-1
     -0x1.2d1f03d6ce9bdp+5,  // -473/4 * pi^-1
     0x1.015a81caef17p+8,  // 1617/2 * pi^-1
     0x1.b1299d73e822fp+10,  // 174185/32 * pi^-1
     0x1.fc8660938d02p+8,  // 102245/64 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     -0x1.58ab801d8035bp+10,  // -17325/4 * pi^-1
     -0x1.0280a01620284p+10,  // -51975/16 * pi^-1
     -0x1.9d9a99bd00407p+5,  // -10395/64 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_1_1, 3},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.3e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
+    -0x1.3b2075224955ap+6,  // -495/2 * pi^-1
+    0x1.13bc667e002afp+10,  // 3465 * pi^-1
+    0x1.4afab7e63b8d2p+12,  // 34650 * pi^-1 + -51975/2 * pi^-1 * log(2)
+    -0x1.3b46d85114d78p+12,  // 17325/8 * pi^-1 + -51975/2 * pi^-1 * log(2)
+    -0x1.412a4c29035bap+10,  // -744975/256 * pi^-1 + -51975/32 * pi^-1 * log(2)
+    0x1.13bc667e002afp+3,  // 3465/128 * pi^-1
+    0x1.13bc667e002afp-1,  // 3465/2048 * pi^-1
+    0x1.3b2075224955ap-4,  // 495/2048 * pi^-1
+    0x1.13bc667e002afp-6,  // 3465/65536 * pi^-1
+    0x1.3b2075224955ap-8,  // 495/32768 * pi^-1
+    0x1.b14ca10f24d5cp-10,  // 5445/1048576 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.0280a01620284p+13,  // 51975/2 * pi^-1
+    0x1.0280a01620284p+13,  // 51975/2 * pi^-1
+    0x1.0280a01620284p+9,  // 51975/32 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr double dr_1_0[] = {
     -0x1.3b2075224955ap+6,  // -495/2 * pi^-1
     0x1.09e362d4ede04p+10,  // 13365/4 * pi^-1
     0x1.68faee2d86816p+13,  // 580635/16 * pi^-1
     0x1.1ad0611f8550ap+12,  // 454905/32 * pi^-1
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     -0x1.0280a01620284p+13,  // -51975/2 * pi^-1
     -0x1.0280a01620284p+13,  // -51975/2 * pi^-1
     -0x1.0280a01620284p+9,  // -51975/32 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_1_1, 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dr_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
+    -0x1.3b2075224955ap+6,  // -495/2 * pi^-1
+    0x1.9d9a99bd00407p+11,  // 10395 * pi^-1
+    0x1.0f7cdaf56d424p+15,  // 398475/2 * pi^-1 + -259875/2 * pi^-1 * log(2)
+    -0x1.a67baa82d465p+14,  // 329175/8 * pi^-1 + -363825/2 * pi^-1 * log(2)
+    -0x1.59278bacc1c49p+13,  // -6288975/256 * pi^-1 + -467775/32 * pi^-1 * log(2)
+    0x1.7b230ced403b1p+6,  // 38115/128 * pi^-1
+    0x1.c012268cc045cp+2,  // 45045/2048 * pi^-1
+    0x1.276e6dd024c05p+0,  // 7425/2048 * pi^-1
+    0x1.24f82ce5e02dap-2,  // 58905/65536 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.4320c81ba8325p+15,  // 259875/2 * pi^-1
+    0x1.c4611826b8467p+15,  // 363825/2 * pi^-1
+    0x1.22d0b418e42d5p+12,  // 467775/32 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+};
+inline constexpr double d2r_1_0[] = {
     -0x1.3b2075224955ap+6,  // -495/2 * pi^-1
     0x1.98ae17e8771b1p+11,  // 41085/4 * pi^-1
     0x1.fc2846e259e17p+15,  // 3269475/16 * pi^-1
     0x1.16c65e9f2cdp+15,  // 3587265/32 * pi^-1
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     -0x1.4320c81ba8325p+15,  // -259875/2 * pi^-1
     -0x1.c4611826b8467p+15,  // -363825/2 * pi^-1
     -0x1.22d0b418e42d5p+12,  // -467775/32 * pi^-1
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_1_1, 3},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.2e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
+    -0x1.3b2075224955ap+7,  // -495 * pi^-1
+    0x1.13bc667e002afp+12,  // 13860 * pi^-1
+    0x1.38dc31f234b3ep+15,  // 467775/2 * pi^-1 + -155925 * pi^-1 * log(2)
+    -0x1.f54d6097199aep+14,  // 86625/2 * pi^-1 + -207900 * pi^-1 * log(2)
+    -0x1.814cd531e23p+13,  // -3516975/128 * pi^-1 + -259875/16 * pi^-1 * log(2)
+    0x1.9d9a99bd00407p+6,  // 10395/32 * pi^-1
+    0x1.e289b35c804b2p+2,  // 24255/1024 * pi^-1
+    0x1.3b2075224955ap+0,  // 495/128 * pi^-1
+    0x1.3633f34dc0305p-2,  // 31185/32768 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.83c0f021303c6p+15,  // 155925 * pi^-1
+    0x1.0280a01620284p+16,  // 207900 * pi^-1
+    0x1.4320c81ba8325p+12,  // 259875/16 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr double laplacian_1_0[] = {
     -0x1.3b2075224955ap+7,  // -495 * pi^-1
     0x1.0ecfe4a97705ap+12,  // 27225/2 * pi^-1
     0x1.2b338136ddc0ep+16,  // 1925055/8 * pi^-1
     0x1.3a206ac31d7a1p+15,  // 2021085/16 * pi^-1
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     -0x1.83c0f021303c6p+15,  // -155925 * pi^-1
     -0x1.0280a01620284p+16,  // -207900 * pi^-1
     -0x1.4320c81ba8325p+12,  // -259875/16 * pi^-1
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_1_1, 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 6.5e-21 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
+    -0x1.3b2075224955ap+6,  // -495/2 * pi^-1
+    0x1.13bc667e002afp+10,  // 3465 * pi^-1
+    0x1.4afab7e63b8d2p+12,  // 34650 * pi^-1 + -51975/2 * pi^-1 * log(2)
+    -0x1.3b46d85114d78p+12,  // 17325/8 * pi^-1 + -51975/2 * pi^-1 * log(2)
+    -0x1.412a4c29035bap+10,  // -744975/256 * pi^-1 + -51975/32 * pi^-1 * log(2)
+    0x1.13bc667e002afp+3,  // 3465/128 * pi^-1
+    0x1.13bc667e002afp-1,  // 3465/2048 * pi^-1
+    0x1.3b2075224955ap-4,  // 495/2048 * pi^-1
+    0x1.13bc667e002afp-6,  // 3465/65536 * pi^-1
+    0x1.3b2075224955ap-8,  // 495/32768 * pi^-1
+    0x1.b14ca10f24d5cp-10,  // 5445/1048576 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.0280a01620284p+13,  // 51975/2 * pi^-1
+    0x1.0280a01620284p+13,  // 51975/2 * pi^-1
+    0x1.0280a01620284p+9,  // 51975/32 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr double grad_over_r_1_0[] = {
     -0x1.3b2075224955ap+6,  // -495/2 * pi^-1
     0x1.09e362d4ede04p+10,  // 13365/4 * pi^-1
     0x1.68faee2d86816p+13,  // 580635/16 * pi^-1
     0x1.1ad0611f8550ap+12,  // 454905/32 * pi^-1
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     -0x1.0280a01620284p+13,  // -51975/2 * pi^-1
     -0x1.0280a01620284p+13,  // -51975/2 * pi^-1
     -0x1.0280a01620284p+9,  // -51975/32 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_1_1, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, grad_over_r_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.13bc667e002afp+11,  // 6930 * pi^-1
+    0x1.cc3b07f14ba14p+14,  // 329175/2 * pi^-1 + -103950 * pi^-1 * log(2)
+    -0x1.57a9f46e8f2f2p+14,  // 155925/4 * pi^-1 + -155925 * pi^-1 * log(2)
+    -0x1.31024227a1592p+13,  // -86625/4 * pi^-1 + -51975/4 * pi^-1 * log(2)
+    0x1.58ab801d8035bp+6,  // 17325/64 * pi^-1
+    0x1.9d9a99bd00407p+2,  // 10395/512 * pi^-1
+    0x1.13bc667e002afp+0,  // 3465/1024 * pi^-1
+    0x1.13bc667e002afp-2,  // 3465/4096 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.0280a01620284p+15,  // 103950 * pi^-1
+    0x1.83c0f021303c6p+15,  // 155925 * pi^-1
+    0x1.0280a01620284p+12,  // 51975/4 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr double hess_radial_1_0[] = {
+    0x1.13bc667e002afp+11,  // 6930 * pi^-1
     0x1.a1e98b56f8411p+15,  // 336105/2 * pi^-1
     0x1.e6d8a4f6784bdp+14,  // 391545/4 * pi^-1
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     -0x1.0280a01620284p+15,  // -103950 * pi^-1
     -0x1.83c0f021303c6p+15,  // -155925 * pi^-1
     -0x1.0280a01620284p+12,  // -51975/4 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 3},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 3},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_1_1, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 9.6e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, hess_radial_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.e6c58d428861dp-3,  // -60611/55440 * pi^-1 + 1/2 * pi^-1 * log(2)
+    0x1.c02e296f573b4p-1,  // 11/4 * pi^-1
+    -0x1.3b2075224955ap+1,  // -495/64 * pi^-1
+    0x1.ea327d51c768cp+2,  // 385/16 * pi^-1
+    0x1.34296a34c91eep+2,  // 63525/1024 * pi^-1 + -17325/256 * pi^-1 * log(2)
+    -0x1.35506abc12863p+3,  // -20097/2560 * pi^-1 + -2079/64 * pi^-1 * log(2)
+    -0x1.f9c9bd1d87a66p-1,  // -19019/8192 * pi^-1 + -1155/1024 * pi^-1 * log(2)
+    0x1.e03175899451cp-9,  // 165/14336 * pi^-1
+    0x1.3b2075224955ap-13,  // 495/1048576 * pi^-1
+    0x1.f1fa66ed7d5e4p-17,  // 55/1179648 * pi^-1
+    0x1.39b9e9cdf0431p-19,  // 77/10485760 * pi^-1
+    0x1.0aaf914022fb1p-21,  // 9/5767168 * pi^-1
+    0x1.181cd9e59685p-23,  // 55/134217728 * pi^-1
+    0x1.58c10c2e4319ep-25,  // 55/436207616 * pi^-1
+    0x1.e03175899451cp-27,  // 165/3758096384 * pi^-1
+    0x1.7168c3828f45p-28,  // 17/1006632960 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.58ab801d8035bp+4,  // 17325/256 * pi^-1
+    0x1.4ae214973366cp+3,  // 2079/64 * pi^-1
+    0x1.6fa5ddfd558e9p-2,  // 1155/1024 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 8, potential_0_1, 3},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.6459ecdf3e8b6p-2,  // -60611/55440 * pi^-1
     0x1.7b76dea55160ep-1,  // 258169/110880 * pi^-1
     -0x1.0f5a1476d138fp+1,  // -984611/147840 * pi^-1
@@ -21494,7 +25915,7 @@ inline constexpr double potential_0_0[] = {
     0x1.6dbf21290c144p+4,  // 3640117/50688 * pi^-1
     0x1.1156ee2e8a68bp+2,  // 151135/11264 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     0x0p+0,  // 0
     0x0p+0,  // 0
@@ -21503,59 +25924,56 @@ inline constexpr double potential_0_1[] = {
     -0x1.4ae214973366cp+3,  // -2079/64 * pi^-1
     -0x1.6fa5ddfd558e9p-2,  // -1155/1024 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 7},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_1_1, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_2, 1},
 };
-inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_0_0[] = {
+inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr double dpotential_0_1[] = {
-    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
-    0x1.abcef9018d72bp+0,  // 21/4 * pi^-1
-    -0x1.21067f159ecccp+3,  // -227/8 * pi^-1
-    0x1.4d1c7de33578bp+5,  // 2093/16 * pi^-1
-    0x1.8e9bc8873008ep+7,  // 80145/128 * pi^-1
-    0x1.74f83bc403a4dp+5,  // 37495/256 * pi^-1
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
-inline constexpr double dpotential_0_2[] = {
-    -0x1.58ab801d8035bp+7,  // -17325/32 * pi^-1
-    -0x1.9d9a99bd00407p+6,  // -10395/32 * pi^-1
-    -0x1.13bc667e002afp+2,  // -3465/256 * pi^-1
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 1.6e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.c02e296f573b4p+0,  // 11/2 * pi^-1
+    -0x1.3b2075224955ap+3,  // -495/16 * pi^-1
+    0x1.6fa5ddfd558e9p+5,  // 1155/8 * pi^-1
+    0x1.e07f2a438939bp+5,  // 144375/256 * pi^-1 + -17325/32 * pi^-1 * log(2)
+    -0x1.594842d830baep+6,  // -11781/256 * pi^-1 + -10395/32 * pi^-1 * log(2)
+    -0x1.6fda1ee63b105p+3,  // -54747/2048 * pi^-1 + -3465/256 * pi^-1 * log(2)
+    0x1.a42b46d861c78p-5,  // 165/1024 * pi^-1
+    0x1.3b2075224955ap-9,  // 495/65536 * pi^-1
+    0x1.181cd9e59685p-12,  // 55/65536 * pi^-1
+    0x1.882864416c53dp-15,  // 77/524288 * pi^-1
+    0x1.6eb167b830193p-17,  // 9/262144 * pi^-1
+    0x1.a42b46d861c78p-19,  // 165/16777216 * pi^-1
+    0x1.181cd9e59685p-20,  // 55/16777216 * pi^-1
+    0x1.a42b46d861c78p-22,  // 165/134217728 * pi^-1
+    0x1.5a52374a6650bp-23,  // 17/33554432 * pi^-1
+    0x1.3471393e431fep-24,  // 969/4294967296 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    0x1.58ab801d8035bp+7,  // 17325/32 * pi^-1
+    0x1.9d9a99bd00407p+6,  // 10395/32 * pi^-1
+    0x1.13bc667e002afp+2,  // 3465/256 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_2, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
     0x1.abcef9018d72bp+0,  // 21/4 * pi^-1
     -0x1.21067f159ecccp+3,  // -227/8 * pi^-1
@@ -21563,30 +25981,118 @@ inline constexpr double dpotential_over_r_0_1[] = {
     0x1.8e9bc8873008ep+7,  // 80145/128 * pi^-1
     0x1.74f83bc403a4dp+5,  // 37495/256 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     -0x1.58ab801d8035bp+7,  // -17325/32 * pi^-1
     -0x1.9d9a99bd00407p+6,  // -10395/32 * pi^-1
     -0x1.13bc667e002afp+2,  // -3465/256 * pi^-1
 };
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_1_2, 3},
+};
+inline constexpr double dpotential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 2.4e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.c02e296f573b4p+0,  // 11/2 * pi^-1
+    -0x1.3b2075224955ap+3,  // -495/16 * pi^-1
+    0x1.6fa5ddfd558e9p+5,  // 1155/8 * pi^-1
+    0x1.e07f2a438939bp+5,  // 144375/256 * pi^-1 + -17325/32 * pi^-1 * log(2)
+    -0x1.594842d830baep+6,  // -11781/256 * pi^-1 + -10395/32 * pi^-1 * log(2)
+    -0x1.6fda1ee63b105p+3,  // -54747/2048 * pi^-1 + -3465/256 * pi^-1 * log(2)
+    0x1.a42b46d861c78p-5,  // 165/1024 * pi^-1
+    0x1.3b2075224955ap-9,  // 495/65536 * pi^-1
+    0x1.181cd9e59685p-12,  // 55/65536 * pi^-1
+    0x1.882864416c53dp-15,  // 77/524288 * pi^-1
+    0x1.6eb167b830193p-17,  // 9/262144 * pi^-1
+    0x1.a42b46d861c78p-19,  // 165/16777216 * pi^-1
+    0x1.181cd9e59685p-20,  // 55/16777216 * pi^-1
+    0x1.a42b46d861c78p-22,  // 165/134217728 * pi^-1
+    0x1.5a52374a6650bp-23,  // 17/33554432 * pi^-1
+    0x1.3471393e431fep-24,  // 969/4294967296 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.58ab801d8035bp+7,  // 17325/32 * pi^-1
+    0x1.9d9a99bd00407p+6,  // 10395/32 * pi^-1
+    0x1.13bc667e002afp+2,  // 3465/256 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_2, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 16},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.abcef9018d72bp+0,  // 21/4 * pi^-1
+    -0x1.21067f159ecccp+3,  // -227/8 * pi^-1
+    0x1.4d1c7de33578bp+5,  // 2093/16 * pi^-1
+    0x1.8e9bc8873008ep+7,  // 80145/128 * pi^-1
+    0x1.74f83bc403a4dp+5,  // 37495/256 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    -0x1.58ab801d8035bp+7,  // -17325/32 * pi^-1
+    -0x1.9d9a99bd00407p+6,  // -10395/32 * pi^-1
+    -0x1.13bc667e002afp+2,  // -3465/256 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_1_2, 3},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.4e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    -0x1.3b2075224955ap+4,  // -495/8 * pi^-1
+    0x1.6fa5ddfd558e9p+7,  // 1155/2 * pi^-1
+    0x1.0a5a8fe0b3831p+9,  // 502425/128 * pi^-1 + -51975/16 * pi^-1 * log(2)
+    -0x1.2594efa090b2ep+9,  // -693/16 * pi^-1 + -10395/4 * pi^-1 * log(2)
+    -0x1.ba94e037e9d1cp+6,  // -259875/1024 * pi^-1 + -17325/128 * pi^-1 * log(2)
+    0x1.3b2075224955ap-1,  // 495/256 * pi^-1
+    0x1.13bc667e002afp-5,  // 3465/32768 * pi^-1
+    0x1.181cd9e59685p-8,  // 55/4096 * pi^-1
+    0x1.b92d70c999de5p-11,  // 693/262144 * pi^-1
+    0x1.ca5dc1a63c1f8p-13,  // 45/65536 * pi^-1
+    0x1.20ddc0b4c3393p-14,  // 1815/8388608 * pi^-1
+    0x1.a42b46d861c78p-16,  // 165/2097152 * pi^-1
+    0x1.5563298fcf722p-17,  // 2145/67108864 * pi^-1
+    0x1.2f07f06119869p-18,  // 119/8388608 * pi^-1
+    0x1.212a25aa5eedep-19,  // 14535/2147483648 * pi^-1
+    0x1.251706e69a22ep-20,  // 5985/1744830464 * pi^-1
+    0x1.38a4d133d409fp-21,  // 408595/223338299392 * pi^-1
 };
 inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.0280a01620284p+10,  // 51975/16 * pi^-1
+    0x1.9d9a99bd00407p+9,  // 10395/4 * pi^-1
+    0x1.58ab801d8035bp+5,  // 17325/128 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     -0x1.39378897fe6aep+4,  // -123/2 * pi^-1
@@ -21594,46 +26100,70 @@ inline constexpr double potential_hess_radial_0_1[] = {
     0x1.4d82ab521c20cp+10,  // 268225/64 * pi^-1
     0x1.9f4851a28c18cp+8,  // 166995/128 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.0280a01620284p+10,  // -51975/16 * pi^-1
     -0x1.9d9a99bd00407p+9,  // -10395/4 * pi^-1
     -0x1.58ab801d8035bp+5,  // -17325/128 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_2, 3},
-};
-inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
-};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_1, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_1_2, 3},
+};
+inline constexpr double potential_hess_radial_2_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_hess_radial_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 7.0e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_hess_radial_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_l_1_D2
 inline constexpr table::Kernel wendland_missing_k_2_l_1_D2 = {
     "wendland-missing:k=2,l=1", 2, 0x1p+0, 7, 2, 1,
     0x1.9d9a99bd00407p+13, "41580 * pi^-1", true,
     {
-        {detail_wendland_missing_k_2_l_1_D2::value, 2},
-        {detail_wendland_missing_k_2_l_1_D2::dr, 2},
-        {detail_wendland_missing_k_2_l_1_D2::d2r, 2},
-        {detail_wendland_missing_k_2_l_1_D2::laplacian, 2},
-        {detail_wendland_missing_k_2_l_1_D2::grad_over_r, 2},
-        {detail_wendland_missing_k_2_l_1_D2::hess_radial, 2},
-        {detail_wendland_missing_k_2_l_1_D2::potential, 2},
-        {detail_wendland_missing_k_2_l_1_D2::dpotential, 2},
-        {detail_wendland_missing_k_2_l_1_D2::dpotential_over_r, 2},
-        {detail_wendland_missing_k_2_l_1_D2::potential_hess_radial, 2},
+        {detail_wendland_missing_k_2_l_1_D2::value, 3},
+        {detail_wendland_missing_k_2_l_1_D2::dr, 3},
+        {detail_wendland_missing_k_2_l_1_D2::d2r, 3},
+        {detail_wendland_missing_k_2_l_1_D2::laplacian, 3},
+        {detail_wendland_missing_k_2_l_1_D2::grad_over_r, 3},
+        {detail_wendland_missing_k_2_l_1_D2::hess_radial, 3},
+        {detail_wendland_missing_k_2_l_1_D2::potential, 3},
+        {detail_wendland_missing_k_2_l_1_D2::dpotential, 3},
+        {detail_wendland_missing_k_2_l_1_D2::dpotential_over_r, 3},
+        {detail_wendland_missing_k_2_l_1_D2::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=2,l=1 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_2_l_1_D3 {
 inline constexpr double value_0_0[] = {
+    0x1.0dc1ecc969b08p+3,  // 416/5 * pi^-2
+    -0x1.cfa54efa2da75p+6,  // -1144 * pi^-2
+    0x1.04ccfc6cb9ae2p+10,  // 10296 * pi^-2
+    0x1.3365288ca7915p+12,  // 492492/5 * pi^-2 + -72072 * pi^-2 * log(2)
+    -0x1.ca172dcfb65bap+11,  // 105105/4 * pi^-2 + -90090 * pi^-2 * log(2)
+    -0x1.0f3ddc7ec9f23p+11,  // -963963/80 * pi^-2 + -27027/2 * pi^-2 * log(2)
+    -0x1.30447bd42df5dp+4,  // -3003/16 * pi^-2
+    -0x1.5bbbfb3ba23d8p-2,  // -429/128 * pi^-2
+    -0x1.a147fa478f7dp-6,  // -1287/5120 * pi^-2
+    -0x1.cfa54efa2da75p-9,  // -143/4096 * pi^-2
+    -0x1.72eaa594f152bp-11,  // -143/20480 * pi^-2
+    -0x1.7b58b4fb3ca03p-13,  // -117/65536 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    0x1.c866b9be44f0cp+12,  // 72072 * pi^-2
+    0x1.1d403416eb167p+13,  // 90090 * pi^-2
+    0x1.564d0b4eb3b49p+10,  // 27027/2 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr double value_1_0[] = {
     0x1.0dc1ecc969b08p+3,  // 416/5 * pi^-2
     -0x1.bec9302d970c5p+6,  // -5512/5 * pi^-2
     0x1.ee3446ccfea05p+9,  // 48776/5 * pi^-2
@@ -21641,119 +26171,258 @@ inline constexpr double value_0_0[] = {
     0x1.82801b8ccc07cp+12,  // 610337/10 * pi^-2
     0x1.0dc1ecc969b08p+8,  // 13312/5 * pi^-2
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     -0x1.c866b9be44f0cp+12,  // -72072 * pi^-2
     -0x1.1d403416eb167p+13,  // -90090 * pi^-2
     -0x1.564d0b4eb3b49p+10,  // -27027/2 * pi^-2
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_1_1, 3},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 1.4e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
+    -0x1.cfa54efa2da75p+7,  // -2288 * pi^-2
+    0x1.04ccfc6cb9ae2p+12,  // 41184 * pi^-2
+    0x1.1f98b5a1464b1p+15,  // 3315312/5 * pi^-2 + -432432 * pi^-2 * log(2)
+    -0x1.3b7713c440d07p+14,  // 300300 * pi^-2 + -720720 * pi^-2 * log(2)
+    -0x1.3da882e991337p+14,  // -855855/8 * pi^-2 + -135135 * pi^-2 * log(2)
+    -0x1.c866b9be44f0cp+7,  // -9009/4 * pi^-2
+    -0x1.30447bd42df5dp+2,  // -3003/64 * pi^-2
+    -0x1.a147fa478f7dp-2,  // -1287/320 * pi^-2
+    -0x1.04ccfc6cb9ae2p-4,  // -1287/2048 * pi^-2
+    -0x1.cfa54efa2da75p-7,  // -143/1024 * pi^-2
+    -0x1.04ccfc6cb9ae2p-8,  // -1287/32768 * pi^-2
+    -0x1.5bbbfb3ba23d8p-10,  // -429/32768 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    0x1.564d0b4eb3b49p+15,  // 432432 * pi^-2
+    0x1.1d403416eb167p+16,  // 720720 * pi^-2
+    0x1.abe04e2260a1bp+13,  // 135135 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr double dr_1_0[] = {
     -0x1.cfa54efa2da75p+7,  // -2288 * pi^-2
     0x1.fb1cce61a1efp+11,  // 40040 * pi^-2
     0x1.0e3dbd4b98228p+16,  // 3413982/5 * pi^-2
     0x1.aa393a7d82be7p+15,  // 2692261/5 * pi^-2
     0x1.72eaa594f152bp+11,  // 146432/5 * pi^-2
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     -0x1.564d0b4eb3b49p+15,  // -432432 * pi^-2
     -0x1.1d403416eb167p+16,  // -720720 * pi^-2
     -0x1.abe04e2260a1bp+13,  // -135135 * pi^-2
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_1_1, 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^23, truncation < 4.2e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dr_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
+    -0x1.cfa54efa2da75p+7,  // -2288 * pi^-2
+    0x1.87337aa316853p+13,  // 123552 * pi^-2
+    0x1.bd1225dd44cbp+17,  // 3747744 * pi^-2 + -2162160 * pi^-2 * log(2)
+    -0x1.0ad02e8086564p+16,  // 2822820 * pi^-2 + -5045040 * pi^-2 * log(2)
+    -0x1.4a9f8e649d4fcp+17,  // -6621615/8 * pi^-2 + -1216215 * pi^-2 * log(2)
+    -0x1.39c69fb2cf658p+11,  // -99099/4 * pi^-2
+    -0x1.ee6f4938caaf7p+5,  // -39039/64 * pi^-2
+    -0x1.87337aa316853p+2,  // -3861/64 * pi^-2
+    -0x1.1519cc338549p+0,  // -21879/2048 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.abe04e2260a1bp+17,  // 2162160 * pi^-2
+    0x1.f3305b281b675p+18,  // 5045040 * pi^-2
+    0x1.e15c57e6acb5ep+16,  // 1216215 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+};
+inline constexpr double d2r_1_0[] = {
     -0x1.cfa54efa2da75p+7,  // -2288 * pi^-2
     0x1.839430052229ep+13,  // 122408 * pi^-2
     0x1.78da891570a38p+18,  // 3808662 * pi^-2
     0x1.9fc00d57999cp+18,  // 4201769 * pi^-2
     0x1.cfa54efa2da75p+14,  // 292864 * pi^-2
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     -0x1.abe04e2260a1bp+17,  // -2162160 * pi^-2
     -0x1.f3305b281b675p+18,  // -5045040 * pi^-2
     -0x1.e15c57e6acb5ep+16,  // -1216215 * pi^-2
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_1_1, 3},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 4.0e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
+    -0x1.5bbbfb3ba23d8p+9,  // -6864 * pi^-2
+    0x1.46003b87e819bp+14,  // 205920 * pi^-2
+    0x1.266f4056f3f84p+18,  // 25369344/5 * pi^-2 + -3027024 * pi^-2 * log(2)
+    -0x1.a88bb862a6be8p+16,  // 3423420 * pi^-2 + -6486480 * pi^-2 * log(2)
+    -0x1.9a09af1f019cap+17,  // -8333325/8 * pi^-2 + -1486485 * pi^-2 * log(2)
+    -0x1.72d376ea98039p+11,  // -117117/4 * pi^-2
+    -0x1.1d403416eb167p+6,  // -45045/64 * pi^-2
+    -0x1.bb5c79ec0874dp+2,  // -21879/320 * pi^-2
+    -0x1.35b36bc11c7ecp+0,  // -24453/2048 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.2b8369e4dd3ep+18,  // 3027024 * pi^-2
+    0x1.40e83a99c8794p+19,  // 6486480 * pi^-2
+    0x1.262a35b7a26f2p+17,  // 1486485 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr double laplacian_1_0[] = {
     -0x1.5bbbfb3ba23d8p+9,  // -6864 * pi^-2
     0x1.40914b9af990bp+14,  // 202488 * pi^-2
     0x1.fff967bb3cb4cp+18,  // 25871274/5 * pi^-2
     0x1.05272dfb7d25dp+19,  // 26393367/5 * pi^-2
     0x1.162ffc2fb4fep+15,  // 1757184/5 * pi^-2
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     -0x1.2b8369e4dd3ep+18,  // -3027024 * pi^-2
     -0x1.40e83a99c8794p+19,  // -6486480 * pi^-2
     -0x1.262a35b7a26f2p+17,  // -1486485 * pi^-2
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_1_1, 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.5e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
+    -0x1.cfa54efa2da75p+7,  // -2288 * pi^-2
+    0x1.04ccfc6cb9ae2p+12,  // 41184 * pi^-2
+    0x1.1f98b5a1464b1p+15,  // 3315312/5 * pi^-2 + -432432 * pi^-2 * log(2)
+    -0x1.3b7713c440d07p+14,  // 300300 * pi^-2 + -720720 * pi^-2 * log(2)
+    -0x1.3da882e991337p+14,  // -855855/8 * pi^-2 + -135135 * pi^-2 * log(2)
+    -0x1.c866b9be44f0cp+7,  // -9009/4 * pi^-2
+    -0x1.30447bd42df5dp+2,  // -3003/64 * pi^-2
+    -0x1.a147fa478f7dp-2,  // -1287/320 * pi^-2
+    -0x1.04ccfc6cb9ae2p-4,  // -1287/2048 * pi^-2
+    -0x1.cfa54efa2da75p-7,  // -143/1024 * pi^-2
+    -0x1.04ccfc6cb9ae2p-8,  // -1287/32768 * pi^-2
+    -0x1.5bbbfb3ba23d8p-10,  // -429/32768 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.564d0b4eb3b49p+15,  // 432432 * pi^-2
+    0x1.1d403416eb167p+16,  // 720720 * pi^-2
+    0x1.abe04e2260a1bp+13,  // 135135 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr double grad_over_r_1_0[] = {
     -0x1.cfa54efa2da75p+7,  // -2288 * pi^-2
     0x1.fb1cce61a1efp+11,  // 40040 * pi^-2
     0x1.0e3dbd4b98228p+16,  // 3413982/5 * pi^-2
     0x1.aa393a7d82be7p+15,  // 2692261/5 * pi^-2
     0x1.72eaa594f152bp+11,  // 146432/5 * pi^-2
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     -0x1.564d0b4eb3b49p+15,  // -432432 * pi^-2
     -0x1.1d403416eb167p+16,  // -720720 * pi^-2
     -0x1.abe04e2260a1bp+13,  // -135135 * pi^-2
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_1_1, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.2e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, grad_over_r_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    0x1.04ccfc6cb9ae2p+13,  // 82368 * pi^-2
+    0x1.752bf874f3383p+17,  // 15423408/5 * pi^-2 + -1729728 * pi^-2 * log(2)
+    -0x1.77e4d31eec446p+15,  // 2522520 * pi^-2 + -4324320 * pi^-2 * log(2)
+    -0x1.22ea7e076b295p+17,  // -720720 * pi^-2 + -1081080 * pi^-2 * log(2)
+    -0x1.1d403416eb167p+11,  // -45045/2 * pi^-2
+    -0x1.c866b9be44f0cp+5,  // -9009/16 * pi^-2
+    -0x1.6d1efafe9d8d6p+2,  // -9009/160 * pi^-2
+    -0x1.04ccfc6cb9ae2p+0,  // -1287/128 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.564d0b4eb3b49p+17,  // 1729728 * pi^-2
+    0x1.abe04e2260a1bp+18,  // 4324320 * pi^-2
+    0x1.abe04e2260a1bp+16,  // 1081080 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr double hess_radial_1_0[] = {
     0x1.04ccfc6cb9ae2p+13,  // 82368 * pi^-2
     0x1.354b19c28a9aep+18,  // 15629328/5 * pi^-2
     0x1.6a78e607e9443p+18,  // 18316584/5 * pi^-2
     0x1.a147fa478f7dp+14,  // 1317888/5 * pi^-2
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     -0x1.564d0b4eb3b49p+17,  // -1729728 * pi^-2
     -0x1.abe04e2260a1bp+18,  // -4324320 * pi^-2
     -0x1.abe04e2260a1bp+16,  // -1081080 * pi^-2
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_1_1, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.6e-19 relative (series.hpp)
+    {0x1p-4, 0x1p+0, hess_radial_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.4c025e81bd28p-2,  // -16/5 * pi^-2
+    0x1.67ad3bb73796p+0,  // 208/15 * pi^-2
+    -0x1.72eaa594f152bp+2,  // -286/5 * pi^-2
+    0x1.8d691f1f94d89p+4,  // 1716/7 * pi^-2
+    0x1.62e78858037a9p+5,  // 407407/360 * pi^-2 + -1001 * pi^-2 * log(2)
+    -0x1.8942fa06f7f42p+5,  // 36309/440 * pi^-2 + -819 * pi^-2 * log(2)
+    -0x1.ea1fde1ce521ep+3,  // -379071/4160 * pi^-2 + -693/8 * pi^-2 * log(2)
+    -0x1.72eaa594f152bp-4,  // -143/160 * pi^-2
+    -0x1.4747830af30cbp-10,  // -429/34816 * pi^-2
+    -0x1.3859cece447b8p-14,  // -143/194560 * pi^-2
+    -0x1.1a9a65c6d03fp-17,  // -143/1720320 * pi^-2
+    -0x1.7750975b0259cp-20,  // -13/942080 * pi^-2
+    -0x1.43b5828b4ba09p-22,  // -39/13107200 * pi^-2
+    -0x1.522856c683079p-24,  // -11/14155776 * pi^-2
+    -0x1.99498a92b202fp-26,  // -143/608174080 * pi^-2
+    -0x1.167599961a84ap-27,  // -13/162529280 * pi^-2
+    -0x1.a0e5e24e8c10cp-29,  // -221/7381975040 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    0x1.95b0a51ae7f27p+6,  // 1001 * pi^-2
+    0x1.4bed9e5bd50c3p+6,  // 819 * pi^-2
+    0x1.18dcc112a0942p+3,  // 693/8 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 8, potential_0_1, 3},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.1821ffbd7799cp-2,  // -27/10 * pi^-2
     0x1.46d25507b6336p+0,  // 63/5 * pi^-2
     -0x1.4c025e81bd28p+2,  // -256/5 * pi^-2
@@ -21762,62 +26431,59 @@ inline constexpr double potential_0_0[] = {
     0x1.814f1c1065497p+5,  // 399299/840 * pi^-2
     0x1.7b706c01fccp+0,  // 512/35 * pi^-2
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     -0x1.95b0a51ae7f27p+6,  // -1001 * pi^-2
     -0x1.4bed9e5bd50c3p+6,  // -819 * pi^-2
     -0x1.18dcc112a0942p+3,  // -693/8 * pi^-2
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 4.4e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-    0x1.635a8926dc74dp+1,  // 137/5 * pi^-2
-    -0x1.5cde7d4e53c3p+4,  // -1076/5 * pi^-2
-    0x1.14efd5549350cp+7,  // 47832/35 * pi^-2
-    0x1.0f5a5414ffa97p+10,  // 1124821/105 * pi^-2
-    0x1.0540a87cfc1e9p+9,  // 1082953/210 * pi^-2
-    0x1.344b57c19d5cp+4,  // 6656/35 * pi^-2
+    0x1.67ad3bb73796p+1,  // 416/15 * pi^-2
+    -0x1.72eaa594f152bp+4,  // -1144/5 * pi^-2
+    0x1.2a0ed757afa27p+7,  // 10296/7 * pi^-2
+    0x1.c853b19ebd772p+8,  // 452452/45 * pi^-2 + -8008 * pi^-2 * log(2)
+    -0x1.989850f1c0ae2p+8,  // 72345/44 * pi^-2 + -8190 * pi^-2 * log(2)
+    -0x1.5e0a1a8481d02p+7,  // -1047123/1040 * pi^-2 + -2079/2 * pi^-2 * log(2)
+    -0x1.448d50e253285p+0,  // -1001/80 * pi^-2
+    -0x1.4747830af30cbp-6,  // -429/2176 * pi^-2
+    -0x1.5f6508a80d0afp-10,  // -1287/97280 * pi^-2
+    -0x1.6140ff38844ecp-13,  // -143/86016 * pi^-2
+    -0x1.0207680e919dbp-15,  // -143/471040 * pi^-2
+    -0x1.e59043d0f170ep-18,  // -117/1638400 * pi^-2
+    -0x1.12c0c6814a762p-19,  // -143/7077888 * pi^-2
+    -0x1.662059405bc29p-21,  // -1001/152043520 * pi^-2
+    -0x1.050e3ffcb8dc5p-22,  // -39/16252928 * pi^-2
+    -0x1.a0e5e24e8c10cp-24,  // -221/230686720 * pi^-2
+    -0x1.670f2234e16cbp-25,  // -969/2348810240 * pi^-2
 };
 inline constexpr double dpotential_0_1[] = {
-    -0x1.95b0a51ae7f27p+9,  // -8008 * pi^-2
-    -0x1.9ee905f2ca4f3p+9,  // -8190 * pi^-2
-    -0x1.a54b219bf0de3p+6,  // -2079/2 * pi^-2
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+    0x1.95b0a51ae7f27p+9,  // 8008 * pi^-2
+    0x1.9ee905f2ca4f3p+9,  // 8190 * pi^-2
+    0x1.a54b219bf0de3p+6,  // 2079/2 * pi^-2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
     0x1.635a8926dc74dp+1,  // 137/5 * pi^-2
     -0x1.5cde7d4e53c3p+4,  // -1076/5 * pi^-2
@@ -21826,30 +26492,114 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.0540a87cfc1e9p+9,  // 1082953/210 * pi^-2
     0x1.344b57c19d5cp+4,  // 6656/35 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.95b0a51ae7f27p+9,  // -8008 * pi^-2
     -0x1.9ee905f2ca4f3p+9,  // -8190 * pi^-2
     -0x1.a54b219bf0de3p+6,  // -2079/2 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^33, truncation < 2.0e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.67ad3bb73796p+1,  // 416/15 * pi^-2
+    -0x1.72eaa594f152bp+4,  // -1144/5 * pi^-2
+    0x1.2a0ed757afa27p+7,  // 10296/7 * pi^-2
+    0x1.c853b19ebd772p+8,  // 452452/45 * pi^-2 + -8008 * pi^-2 * log(2)
+    -0x1.989850f1c0ae2p+8,  // 72345/44 * pi^-2 + -8190 * pi^-2 * log(2)
+    -0x1.5e0a1a8481d02p+7,  // -1047123/1040 * pi^-2 + -2079/2 * pi^-2 * log(2)
+    -0x1.448d50e253285p+0,  // -1001/80 * pi^-2
+    -0x1.4747830af30cbp-6,  // -429/2176 * pi^-2
+    -0x1.5f6508a80d0afp-10,  // -1287/97280 * pi^-2
+    -0x1.6140ff38844ecp-13,  // -143/86016 * pi^-2
+    -0x1.0207680e919dbp-15,  // -143/471040 * pi^-2
+    -0x1.e59043d0f170ep-18,  // -117/1638400 * pi^-2
+    -0x1.12c0c6814a762p-19,  // -143/7077888 * pi^-2
+    -0x1.662059405bc29p-21,  // -1001/152043520 * pi^-2
+    -0x1.050e3ffcb8dc5p-22,  // -39/16252928 * pi^-2
+    -0x1.a0e5e24e8c10cp-24,  // -221/230686720 * pi^-2
+    -0x1.670f2234e16cbp-25,  // -969/2348810240 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.95b0a51ae7f27p+9,  // 8008 * pi^-2
+    0x1.9ee905f2ca4f3p+9,  // 8190 * pi^-2
+    0x1.a54b219bf0de3p+6,  // 2079/2 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.635a8926dc74dp+1,  // 137/5 * pi^-2
+    -0x1.5cde7d4e53c3p+4,  // -1076/5 * pi^-2
+    0x1.14efd5549350cp+7,  // 47832/35 * pi^-2
+    0x1.0f5a5414ffa97p+10,  // 1124821/105 * pi^-2
+    0x1.0540a87cfc1e9p+9,  // 1082953/210 * pi^-2
+    0x1.344b57c19d5cp+4,  // 6656/35 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.95b0a51ae7f27p+9,  // -8008 * pi^-2
+    -0x1.9ee905f2ca4f3p+9,  // -8190 * pi^-2
+    -0x1.a54b219bf0de3p+6,  // -2079/2 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 2.0e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.72eaa594f152bp+5,  // -2288/5 * pi^-2
+    0x1.2a0ed757afa27p+9,  // 41184/7 * pi^-2
+    0x1.bbaaee7dc815fp+11,  // 1025024/15 * pi^-2 + -48048 * pi^-2 * log(2)
+    -0x1.30de0f750e1a5p+11,  // 234780/11 * pi^-2 + -65520 * pi^-2 * log(2)
+    -0x1.9b37ef0be3365p+10,  // -939015/104 * pi^-2 + -10395 * pi^-2 * log(2)
+    -0x1.e6d3f9537cbc8p+3,  // -3003/20 * pi^-2
+    -0x1.1e5e92a994ab2p-2,  // -3003/1088 * pi^-2
+    -0x1.5f6508a80d0afp-6,  // -1287/6080 * pi^-2
+    -0x1.8d691f1f94d89p-9,  // -429/14336 * pi^-2
+    -0x1.4289421236052p-11,  // -143/23552 * pi^-2
+    -0x1.4dd32e9fa5fdap-13,  // -1287/819200 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.30447bd42df5dp+12,  // 48048 * pi^-2
+    0x1.9ee905f2ca4f3p+12,  // 65520 * pi^-2
+    0x1.074ef501768aep+10,  // 10395 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.37423899a1558p-3,  // 3/2 * pi^-2
     0x1.9f02f6222c72p-4,  // 1 * pi^-2
     -0x1.7244a465b0741p+5,  // -2284/5 * pi^-2
@@ -21858,49 +26608,73 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.2087dc5ded7c4p+12,  // 1594703/35 * pi^-2
     0x1.a7e798aa385e8p+7,  // 73216/35 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.30447bd42df5dp+12,  // -48048 * pi^-2
     -0x1.9ee905f2ca4f3p+12,  // -65520 * pi^-2
     -0x1.074ef501768aep+10,  // -10395 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.37423899a1558p-3,  // -3/2 * pi^-2
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 1.2e-19 relative (series.hpp)
+    {0x1p-3, 0x1p+0, potential_hess_radial_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_l_1_D3
 inline constexpr table::Kernel wendland_missing_k_2_l_1_D3 = {
     "wendland-missing:k=2,l=1", 3, 0x1p+0, 8, 2, 1,
     0x1.c866b9be44f0cp+15, "576576 * pi^-2", true,
     {
-        {detail_wendland_missing_k_2_l_1_D3::value, 2},
-        {detail_wendland_missing_k_2_l_1_D3::dr, 2},
-        {detail_wendland_missing_k_2_l_1_D3::d2r, 2},
-        {detail_wendland_missing_k_2_l_1_D3::laplacian, 2},
-        {detail_wendland_missing_k_2_l_1_D3::grad_over_r, 2},
-        {detail_wendland_missing_k_2_l_1_D3::hess_radial, 2},
-        {detail_wendland_missing_k_2_l_1_D3::potential, 2},
-        {detail_wendland_missing_k_2_l_1_D3::dpotential, 2},
-        {detail_wendland_missing_k_2_l_1_D3::dpotential_over_r, 2},
-        {detail_wendland_missing_k_2_l_1_D3::potential_hess_radial, 2},
+        {detail_wendland_missing_k_2_l_1_D3::value, 3},
+        {detail_wendland_missing_k_2_l_1_D3::dr, 3},
+        {detail_wendland_missing_k_2_l_1_D3::d2r, 3},
+        {detail_wendland_missing_k_2_l_1_D3::laplacian, 3},
+        {detail_wendland_missing_k_2_l_1_D3::grad_over_r, 3},
+        {detail_wendland_missing_k_2_l_1_D3::hess_radial, 3},
+        {detail_wendland_missing_k_2_l_1_D3::potential, 3},
+        {detail_wendland_missing_k_2_l_1_D3::dpotential, 3},
+        {detail_wendland_missing_k_2_l_1_D3::dpotential_over_r, 3},
+        {detail_wendland_missing_k_2_l_1_D3::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=2,l=2 in D = 1: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_2_l_2_D1 {
 inline constexpr double value_0_0[] = {
+    0x1.04c26be3b06cfp+1,  // 32/5 * pi^-1
+    -0x1.c02e296f573b4p+4,  // -88 * pi^-1
+    0x1.f833ee9d4222ap+7,  // 792 * pi^-1
+    0x1.292442d2030a1p+10,  // 37884/5 * pi^-1 + -5544 * pi^-1 * log(2)
+    -0x1.bacf7810c5ec4p+9,  // 8085/4 * pi^-1 + -6930 * pi^-1 * log(2)
+    -0x1.0631af42605e1p+9,  // -74151/80 * pi^-1 + -2079/2 * pi^-1 * log(2)
+    -0x1.261e4b31113eep+2,  // -231/16 * pi^-1
+    -0x1.50229f13816c7p-4,  // -33/128 * pi^-1
+    -0x1.935cbee434e88p-8,  // -99/5120 * pi^-1
+    -0x1.c02e296f573b4p-11,  // -11/4096 * pi^-1
+    -0x1.668b54591295dp-13,  // -11/20480 * pi^-1
+    -0x1.6eb167b830193p-15,  // -9/65536 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.b92d70c999de5p+10,  // 5544 * pi^-1
+    0x1.13bc667e002afp+11,  // 6930 * pi^-1
+    0x1.4ae214973366cp+8,  // 2079/2 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr double value_1_0[] = {
     0x1.04c26be3b06cfp+1,  // 32/5 * pi^-1
     -0x1.afe202b11c347p+4,  // -424/5 * pi^-1
     0x1.ddb82fa822379p+7,  // 3752/5 * pi^-1
@@ -21908,119 +26682,259 @@ inline constexpr double value_0_0[] = {
     0x1.759bb7a8a7e4fp+10,  // 46949/10 * pi^-1
     0x1.04c26be3b06cfp+6,  // 1024/5 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     -0x1.b92d70c999de5p+10,  // -5544 * pi^-1
     -0x1.13bc667e002afp+11,  // -6930 * pi^-1
     -0x1.4ae214973366cp+8,  // -2079/2 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_1_1, 3},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 1.4e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.c02e296f573b4p+5,  // -176 * pi^-1
+    0x1.f833ee9d4222ap+9,  // 3168 * pi^-1
+    0x1.1600e036b5835p+13,  // 255024/5 * pi^-1 + -33264 * pi^-1 * log(2)
+    -0x1.30f144d1c5d6dp+12,  // 23100 * pi^-1 + -55440 * pi^-1 * log(2)
+    -0x1.330ff9c9853f3p+12,  // -65835/8 * pi^-1 + -10395 * pi^-1 * log(2)
+    -0x1.b92d70c999de5p+5,  // -693/4 * pi^-1
+    -0x1.261e4b31113eep+0,  // -231/64 * pi^-1
+    -0x1.935cbee434e88p-4,  // -99/320 * pi^-1
+    -0x1.f833ee9d4222ap-7,  // -99/2048 * pi^-1
+    -0x1.c02e296f573b4p-9,  // -11/1024 * pi^-1
+    -0x1.f833ee9d4222ap-11,  // -99/32768 * pi^-1
+    -0x1.50229f13816c7p-12,  // -33/32768 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.4ae214973366cp+13,  // 33264 * pi^-1
+    0x1.13bc667e002afp+14,  // 55440 * pi^-1
+    0x1.9d9a99bd00407p+11,  // 10395 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr double dr_1_0[] = {
+    -0x1.c02e296f573b4p+5,  // -176 * pi^-1
     0x1.ea327d51c768cp+9,  // 3080 * pi^-1
     0x1.053a1b20356e7p+14,  // 262614/5 * pi^-1
     0x1.9c01a2d0caa73p+13,  // 207097/5 * pi^-1
     0x1.668b54591295dp+9,  // 11264/5 * pi^-1
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     -0x1.4ae214973366cp+13,  // -33264 * pi^-1
     -0x1.13bc667e002afp+14,  // -55440 * pi^-1
     -0x1.9d9a99bd00407p+11,  // -10395 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_1_1, 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^23, truncation < 4.2e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dr_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.c02e296f573b4p+5,  // -176 * pi^-1
-    0x1.76a696a312eb8p+11,  // 9416 * pi^-1
-    0x1.6c488545b392fp+16,  // 292974 * pi^-1
-    0x1.91e1e4ab94ca6p+16,  // 323213 * pi^-1
-    0x1.c02e296f573b4p+12,  // 22528 * pi^-1
+    0x1.7a26f2f5f19ap+11,  // 9504 * pi^-1
+    0x1.ae399d6a2fbdep+15,  // 288288 * pi^-1 + -166320 * pi^-1 * log(2)
+    -0x1.01e9d1f11a0cfp+14,  // 217140 * pi^-1 + -388080 * pi^-1 * log(2)
+    -0x1.3f984f66e5e31p+15,  // -509355/8 * pi^-1 + -93555 * pi^-1 * log(2)
+    -0x1.2f4f3d8a99c8dp+9,  // -7623/4 * pi^-1
+    -0x1.ddf13a2fbc063p+3,  // -3003/64 * pi^-1
+    -0x1.7a26f2f5f19ap+0,  // -297/64 * pi^-1
+    -0x1.0bdb96c38b226p-2,  // -1683/2048 * pi^-1
 };
 inline constexpr double d2r_0_1[] = {
-    -0x1.9d9a99bd00407p+15,  // -166320 * pi^-1
-    -0x1.e289b35c804b2p+16,  // -388080 * pi^-1
-    -0x1.d14decf4a0487p+14,  // -93555 * pi^-1
+    0x1.9d9a99bd00407p+15,  // 166320 * pi^-1
+    0x1.e289b35c804b2p+16,  // 388080 * pi^-1
+    0x1.d14decf4a0487p+14,  // 93555 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
 };
-inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
-};
-inline constexpr double laplacian_0_0[] = {
+inline constexpr double d2r_1_0[] = {
     -0x1.c02e296f573b4p+5,  // -176 * pi^-1
     0x1.76a696a312eb8p+11,  // 9416 * pi^-1
     0x1.6c488545b392fp+16,  // 292974 * pi^-1
     0x1.91e1e4ab94ca6p+16,  // 323213 * pi^-1
     0x1.c02e296f573b4p+12,  // 22528 * pi^-1
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     -0x1.9d9a99bd00407p+15,  // -166320 * pi^-1
     -0x1.e289b35c804b2p+16,  // -388080 * pi^-1
     -0x1.d14decf4a0487p+14,  // -93555 * pi^-1
 };
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_1_1, 3},
+};
+inline constexpr table::Piece d2r[] = {
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 4.0e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
+    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+};
+inline constexpr double laplacian_0_0[] = {
+    -0x1.c02e296f573b4p+5,  // -176 * pi^-1
+    0x1.7a26f2f5f19ap+11,  // 9504 * pi^-1
+    0x1.ae399d6a2fbdep+15,  // 288288 * pi^-1 + -166320 * pi^-1 * log(2)
+    -0x1.01e9d1f11a0cfp+14,  // 217140 * pi^-1 + -388080 * pi^-1 * log(2)
+    -0x1.3f984f66e5e31p+15,  // -509355/8 * pi^-1 + -93555 * pi^-1 * log(2)
+    -0x1.2f4f3d8a99c8dp+9,  // -7623/4 * pi^-1
+    -0x1.ddf13a2fbc063p+3,  // -3003/64 * pi^-1
+    -0x1.7a26f2f5f19ap+0,  // -297/64 * pi^-1
+    -0x1.0bdb96c38b226p-2,  // -1683/2048 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.9d9a99bd00407p+15,  // 166320 * pi^-1
+    0x1.e289b35c804b2p+16,  // 388080 * pi^-1
+    0x1.d14decf4a0487p+14,  // 93555 * pi^-1
+};
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr double laplacian_1_0[] = {
+    -0x1.c02e296f573b4p+5,  // -176 * pi^-1
+    0x1.76a696a312eb8p+11,  // 9416 * pi^-1
+    0x1.6c488545b392fp+16,  // 292974 * pi^-1
+    0x1.91e1e4ab94ca6p+16,  // 323213 * pi^-1
+    0x1.c02e296f573b4p+12,  // 22528 * pi^-1
+};
+inline constexpr double laplacian_1_1[] = {
+    -0x1.9d9a99bd00407p+15,  // -166320 * pi^-1
+    -0x1.e289b35c804b2p+16,  // -388080 * pi^-1
+    -0x1.d14decf4a0487p+14,  // -93555 * pi^-1
+};
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_1_1, 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 4.0e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
+    -0x1.c02e296f573b4p+5,  // -176 * pi^-1
+    0x1.f833ee9d4222ap+9,  // 3168 * pi^-1
+    0x1.1600e036b5835p+13,  // 255024/5 * pi^-1 + -33264 * pi^-1 * log(2)
+    -0x1.30f144d1c5d6dp+12,  // 23100 * pi^-1 + -55440 * pi^-1 * log(2)
+    -0x1.330ff9c9853f3p+12,  // -65835/8 * pi^-1 + -10395 * pi^-1 * log(2)
+    -0x1.b92d70c999de5p+5,  // -693/4 * pi^-1
+    -0x1.261e4b31113eep+0,  // -231/64 * pi^-1
+    -0x1.935cbee434e88p-4,  // -99/320 * pi^-1
+    -0x1.f833ee9d4222ap-7,  // -99/2048 * pi^-1
+    -0x1.c02e296f573b4p-9,  // -11/1024 * pi^-1
+    -0x1.f833ee9d4222ap-11,  // -99/32768 * pi^-1
+    -0x1.50229f13816c7p-12,  // -33/32768 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.4ae214973366cp+13,  // 33264 * pi^-1
+    0x1.13bc667e002afp+14,  // 55440 * pi^-1
+    0x1.9d9a99bd00407p+11,  // 10395 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr double grad_over_r_1_0[] = {
     -0x1.c02e296f573b4p+5,  // -176 * pi^-1
     0x1.ea327d51c768cp+9,  // 3080 * pi^-1
     0x1.053a1b20356e7p+14,  // 262614/5 * pi^-1
     0x1.9c01a2d0caa73p+13,  // 207097/5 * pi^-1
     0x1.668b54591295dp+9,  // 11264/5 * pi^-1
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     -0x1.4ae214973366cp+13,  // -33264 * pi^-1
     -0x1.13bc667e002afp+14,  // -55440 * pi^-1
     -0x1.9d9a99bd00407p+11,  // -10395 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_1_1, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.2e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, grad_over_r_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    0x1.f833ee9d4222ap+10,  // 6336 * pi^-1
+    0x1.68b9655c825dp+15,  // 1186416/5 * pi^-1 + -133056 * pi^-1 * log(2)
+    -0x1.6b5b0179512e8p+13,  // 194040 * pi^-1 + -332640 * pi^-1 * log(2)
+    -0x1.1936502db53b3p+15,  // -55440 * pi^-1 + -83160 * pi^-1 * log(2)
+    -0x1.13bc667e002afp+9,  // -3465/2 * pi^-1
+    -0x1.b92d70c999de5p+3,  // -693/16 * pi^-1
+    -0x1.60f12707ae4b7p+0,  // -693/160 * pi^-1
+    -0x1.f833ee9d4222ap-3,  // -99/128 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.4ae214973366cp+15,  // 133056 * pi^-1
+    0x1.9d9a99bd00407p+16,  // 332640 * pi^-1
+    0x1.9d9a99bd00407p+14,  // 83160 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr double hess_radial_1_0[] = {
     0x1.f833ee9d4222ap+10,  // 6336 * pi^-1
     0x1.2af9fe7da6375p+16,  // 1202256/5 * pi^-1
     0x1.5e61b0517b757p+16,  // 1408968/5 * pi^-1
     0x1.935cbee434e88p+12,  // 101376/5 * pi^-1
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     -0x1.4ae214973366cp+15,  // -133056 * pi^-1
     -0x1.9d9a99bd00407p+16,  // -332640 * pi^-1
     -0x1.9d9a99bd00407p+14,  // -83160 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_1_1, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.6e-19 relative (series.hpp)
+    {0x1p-4, 0x1p+0, hess_radial_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    0x1.40ef49b5c5726p-4,  // 16/65 * pi^-1
+    0x1.04c26be3b06cfp+0,  // 16/5 * pi^-1
+    -0x1.2ac970f4e4d22p+1,  // -22/3 * pi^-1
+    0x1.0ce87f42cdf05p+3,  // 132/5 * pi^-1
+    0x1.99127d797ef23p+3,  // 30459/280 * pi^-1 + -99 * pi^-1 * log(2)
+    -0x1.e077139f04706p+3,  // 2233/360 * pi^-1 + -77 * pi^-1 * log(2)
+    -0x1.1a33c36e48df1p+2,  // -29547/3520 * pi^-1 + -63/8 * pi^-1 * log(2)
+    -0x1.9db4750450857p-6,  // -33/416 * pi^-1
+    -0x1.668b54591295dp-12,  // -11/10240 * pi^-1
+    -0x1.51741326a8148p-16,  // -11/174080 * pi^-1
+    -0x1.2dee97df38125p-19,  // -11/1556480 * pi^-1
+    -0x1.8d5905ed3d99dp-22,  // -1/860160 * pi^-1
+    -0x1.541efc0798351p-24,  // -3/12058624 * pi^-1
+    -0x1.6107377b25fddp-26,  // -11/170393600 * pi^-1
+    -0x1.a8f0fbabf019dp-28,  // -11/566231040 * pi^-1
+    -0x1.1fbc0d1e8db6p-29,  // -1/152043520 * pi^-1
+    -0x1.acfdca4509796p-31,  // -51/20803747840 * pi^-1
+    -0x1.5a76af92c69b8p-32,  // -19/19193135104 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.f833ee9d4222ap+4,  // 99 * pi^-1
+    0x1.882864416c53dp+4,  // 77 * pi^-1
+    0x1.40db3ac12a161p+1,  // 63/8 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 18},
+    {table::Basis::log, 0, table::Var::r2, 0, 8, potential_0_1, 3},
+};
+inline constexpr double potential_1_0[] = {
     0x1.40ef49b5c5726p-4,  // 16/65 * pi^-1
     0x1.7a9a48f46eecfp-1,  // 151/65 * pi^-1
     -0x1.00ff9e068f1c9p+1,  // -82/13 * pi^-1
@@ -22029,61 +26943,59 @@ inline constexpr double potential_0_0[] = {
     0x1.bffdaff58a716p+3,  // 68611/1560 * pi^-1
     0x1.abe9b79d07433p-2,  // 256/195 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     -0x1.f833ee9d4222ap+4,  // -99 * pi^-1
     -0x1.882864416c53dp+4,  // -77 * pi^-1
     -0x1.40db3ac12a161p+1,  // -63/8 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^34, truncation < 5.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    0x1.b808161039b7dp+0,  // 27/5 * pi^-1
-    -0x1.10fb88f25cb21p+3,  // -134/5 * pi^-1
-    0x1.72c47167bedaep+5,  // 728/5 * pi^-1
-    0x1.4ab9563657d33p+8,  // 1039 * pi^-1
-    0x1.2fd0f0e999094p+7,  // 14317/30 * pi^-1
-    0x1.5bade52f95e69p+2,  // 256/15 * pi^-1
+    0x1.04c26be3b06cfp+1,  // 32/5 * pi^-1
+    -0x1.2ac970f4e4d22p+3,  // -88/3 * pi^-1
+    0x1.935cbee434e88p+5,  // 792/5 * pi^-1
+    0x1.0b8fbc9067bd7p+7,  // 33924/35 * pi^-1 + -792 * pi^-1 * log(2)
+    -0x1.f68abf766a778p+6,  // 5005/36 * pi^-1 + -770 * pi^-1 * log(2)
+    -0x1.933ff1795aad4p+5,  // -81711/880 * pi^-1 + -189/2 * pi^-1 * log(2)
+    -0x1.69fde663c674cp-2,  // -231/208 * pi^-1
+    -0x1.668b54591295dp-8,  // -11/640 * pi^-1
+    -0x1.7ba2958b7d171p-12,  // -99/87040 * pi^-1
+    -0x1.796a3dd70616fp-15,  // -11/77824 * pi^-1
+    -0x1.112d34131a59cp-17,  // -11/430080 * pi^-1
+    -0x1.fe2e7a0b644f9p-20,  // -9/1507328 * pi^-1
+    -0x1.1ed5dd140ede4p-21,  // -11/6553600 * pi^-1
+    -0x1.73d2dc3672169p-23,  // -77/141557760 * pi^-1
+    -0x1.0dc04c4ca4daap-24,  // -3/15204352 * pi^-1
+    -0x1.acfdca4509796p-26,  // -51/650117120 * pi^-1
+    -0x1.701e1a8bf3053p-27,  // -323/9596567552 * pi^-1
 };
 inline constexpr double dpotential_0_1[] = {
-    -0x1.f833ee9d4222ap+7,  // -792 * pi^-1
-    -0x1.ea327d51c768cp+7,  // -770 * pi^-1
-    -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+    0x1.f833ee9d4222ap+7,  // 792 * pi^-1
+    0x1.ea327d51c768cp+7,  // 770 * pi^-1
+    0x1.e148d821bf211p+4,  // 189/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1p-1,  // 1/2
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     0x1.b808161039b7dp+0,  // 27/5 * pi^-1
     -0x1.10fb88f25cb21p+3,  // -134/5 * pi^-1
     0x1.72c47167bedaep+5,  // 728/5 * pi^-1
@@ -22091,30 +27003,113 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.2fd0f0e999094p+7,  // 14317/30 * pi^-1
     0x1.5bade52f95e69p+2,  // 256/15 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.f833ee9d4222ap+7,  // -792 * pi^-1
     -0x1.ea327d51c768cp+7,  // -770 * pi^-1
     -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dpotential_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, 0, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^33, truncation < 1.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.04c26be3b06cfp+1,  // 32/5 * pi^-1
+    -0x1.2ac970f4e4d22p+3,  // -88/3 * pi^-1
+    0x1.935cbee434e88p+5,  // 792/5 * pi^-1
+    0x1.0b8fbc9067bd7p+7,  // 33924/35 * pi^-1 + -792 * pi^-1 * log(2)
+    -0x1.f68abf766a778p+6,  // 5005/36 * pi^-1 + -770 * pi^-1 * log(2)
+    -0x1.933ff1795aad4p+5,  // -81711/880 * pi^-1 + -189/2 * pi^-1 * log(2)
+    -0x1.69fde663c674cp-2,  // -231/208 * pi^-1
+    -0x1.668b54591295dp-8,  // -11/640 * pi^-1
+    -0x1.7ba2958b7d171p-12,  // -99/87040 * pi^-1
+    -0x1.796a3dd70616fp-15,  // -11/77824 * pi^-1
+    -0x1.112d34131a59cp-17,  // -11/430080 * pi^-1
+    -0x1.fe2e7a0b644f9p-20,  // -9/1507328 * pi^-1
+    -0x1.1ed5dd140ede4p-21,  // -11/6553600 * pi^-1
+    -0x1.73d2dc3672169p-23,  // -77/141557760 * pi^-1
+    -0x1.0dc04c4ca4daap-24,  // -3/15204352 * pi^-1
+    -0x1.acfdca4509796p-26,  // -51/650117120 * pi^-1
+    -0x1.701e1a8bf3053p-27,  // -323/9596567552 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.f833ee9d4222ap+7,  // 792 * pi^-1
+    0x1.ea327d51c768cp+7,  // 770 * pi^-1
+    0x1.e148d821bf211p+4,  // 189/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.b808161039b7dp+0,  // 27/5 * pi^-1
+    -0x1.10fb88f25cb21p+3,  // -134/5 * pi^-1
+    0x1.72c47167bedaep+5,  // 728/5 * pi^-1
+    0x1.4ab9563657d33p+8,  // 1039 * pi^-1
+    0x1.2fd0f0e999094p+7,  // 14317/30 * pi^-1
+    0x1.5bade52f95e69p+2,  // 256/15 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.f833ee9d4222ap+7,  // -792 * pi^-1
+    -0x1.ea327d51c768cp+7,  // -770 * pi^-1
+    -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.45f306dc9c883p-2,  // 1 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, dpotential_over_r_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 1.9e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.2ac970f4e4d22p+4,  // -176/3 * pi^-1
+    0x1.935cbee434e88p+7,  // 3168/5 * pi^-1
+    0x1.07b24b3ff6126p+10,  // 231264/35 * pi^-1 + -4752 * pi^-1 * log(2)
+    -0x1.7bfe2021f89d5p+9,  // 16940/9 * pi^-1 + -6160 * pi^-1 * log(2)
+    -0x1.d9fb605595668p+8,  // -73395/88 * pi^-1 + -945 * pi^-1 * log(2)
+    -0x1.0f7e6ccad4d79p+2,  // -693/52 * pi^-1
+    -0x1.39b9e9cdf0431p-4,  // -77/320 * pi^-1
+    -0x1.7ba2958b7d171p-8,  // -99/5440 * pi^-1
+    -0x1.a8978591e6d9dp-11,  // -99/38912 * pi^-1
+    -0x1.55788117e0f03p-13,  // -11/21504 * pi^-1
+    -0x1.5ebff3e7d4f6bp-15,  // -99/753664 * pi^-1
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.7a26f2f5f19ap+10,  // 4752 * pi^-1
+    0x1.ea327d51c768cp+10,  // 6160 * pi^-1
+    0x1.2ccd87151774bp+8,  // 945 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     -0x1.27643e37eddb6p+4,  // -58 * pi^-1
     0x1.8107134e3280ep+7,  // 3024/5 * pi^-1
@@ -22122,49 +27117,73 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.4fa1998b74c3dp+10,  // 12653/3 * pi^-1
     0x1.de0f1b216e1d1p+5,  // 2816/15 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.7a26f2f5f19ap+10,  // -4752 * pi^-1
     -0x1.ea327d51c768cp+10,  // -6160 * pi^-1
     -0x1.2ccd87151774bp+8,  // -945 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, potential_hess_radial_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_1_1, 3},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 8.4e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, potential_hess_radial_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_l_2_D1
 inline constexpr table::Kernel wendland_missing_k_2_l_2_D1 = {
     "wendland-missing:k=2,l=2", 1, 0x1p+0, 8, 2, 1,
     0x1.b92d70c999de5p+13, "44352 * pi^-1", true,
     {
-        {detail_wendland_missing_k_2_l_2_D1::value, 2},
-        {detail_wendland_missing_k_2_l_2_D1::dr, 2},
-        {detail_wendland_missing_k_2_l_2_D1::d2r, 2},
-        {detail_wendland_missing_k_2_l_2_D1::laplacian, 2},
-        {detail_wendland_missing_k_2_l_2_D1::grad_over_r, 2},
-        {detail_wendland_missing_k_2_l_2_D1::hess_radial, 2},
-        {detail_wendland_missing_k_2_l_2_D1::potential, 2},
-        {detail_wendland_missing_k_2_l_2_D1::dpotential, 2},
-        {detail_wendland_missing_k_2_l_2_D1::dpotential_over_r, 2},
-        {detail_wendland_missing_k_2_l_2_D1::potential_hess_radial, 2},
+        {detail_wendland_missing_k_2_l_2_D1::value, 3},
+        {detail_wendland_missing_k_2_l_2_D1::dr, 3},
+        {detail_wendland_missing_k_2_l_2_D1::d2r, 3},
+        {detail_wendland_missing_k_2_l_2_D1::laplacian, 3},
+        {detail_wendland_missing_k_2_l_2_D1::grad_over_r, 3},
+        {detail_wendland_missing_k_2_l_2_D1::hess_radial, 3},
+        {detail_wendland_missing_k_2_l_2_D1::potential, 3},
+        {detail_wendland_missing_k_2_l_2_D1::dpotential, 3},
+        {detail_wendland_missing_k_2_l_2_D1::dpotential_over_r, 3},
+        {detail_wendland_missing_k_2_l_2_D1::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=2,l=2 in D = 2: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_2_l_2_D2 {
 inline constexpr double value_0_0[] = {
+    0x1.08d575933f2eap+2,  // 13 * pi^-1
+    -0x1.c72ee21514982p+5,  // -715/4 * pi^-1
+    0x1.000a5f2bdb959p+9,  // 6435/4 * pi^-1
+    0x1.2dc8d3dd4b164p+11,  // 123123/8 * pi^-1 + -45045/4 * pi^-1 * log(2)
+    -0x1.c1bab5f10903fp+10,  // 525525/128 * pi^-1 + -225225/16 * pi^-1 * log(2)
+    -0x1.0a4a75ff69df9p+10,  // -963963/512 * pi^-1 + -135135/64 * pi^-1 * log(2)
+    -0x1.2ab6c45dd583ep+3,  // -15015/512 * pi^-1
+    -0x1.5563298fcf722p-3,  // -2145/4096 * pi^-1
+    -0x1.99aa31dfc5bc2p-7,  // -1287/32768 * pi^-1
+    -0x1.c72ee21514982p-10,  // -715/131072 * pi^-1
+    -0x1.6c2581aa76e02p-12,  // -143/131072 * pi^-1
+    -0x1.746c2d5710d99p-14,  // -585/2097152 * pi^-1
+};
+inline constexpr double value_0_1[] = {
+    0x1.c012268cc045cp+11,  // 45045/4 * pi^-1
+    0x1.180b5817f82bap+12,  // 225225/16 * pi^-1
+    0x1.500d9ce990345p+9,  // 135135/64 * pi^-1
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, value_0_1, 3},
+};
+inline constexpr double value_1_0[] = {
     0x1.08d575933f2eap+2,  // 13 * pi^-1
     -0x1.b6a18abbe0a54p+5,  // -689/4 * pi^-1
     0x1.e52f1066c2c07p+8,  // 6097/4 * pi^-1
@@ -22172,119 +27191,258 @@ inline constexpr double value_0_0[] = {
     0x1.7b7226874a848p+11,  // 610337/64 * pi^-1
     0x1.08d575933f2eap+7,  // 416 * pi^-1
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     -0x1.c012268cc045cp+11,  // -45045/4 * pi^-1
     -0x1.180b5817f82bap+12,  // -225225/16 * pi^-1
     -0x1.500d9ce990345p+9,  // -135135/64 * pi^-1
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 3},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_1_1, 3},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 1.4e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
+    -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
+    0x1.000a5f2bdb959p+11,  // 6435 * pi^-1
+    0x1.1a58e3b790596p+14,  // 207207/2 * pi^-1 + -135135/2 * pi^-1 * log(2)
+    -0x1.35b509e50cee2p+13,  // 375375/8 * pi^-1 + -225225/2 * pi^-1 * log(2)
+    -0x1.37dc39b0ab543p+13,  // -4279275/256 * pi^-1 + -675675/32 * pi^-1 * log(2)
+    -0x1.c012268cc045cp+6,  // -45045/128 * pi^-1
+    -0x1.2ab6c45dd583ep+1,  // -15015/2048 * pi^-1
+    -0x1.99aa31dfc5bc2p-3,  // -1287/2048 * pi^-1
+    -0x1.000a5f2bdb959p-5,  // -6435/65536 * pi^-1
+    -0x1.c72ee21514982p-8,  // -715/32768 * pi^-1
+    -0x1.000a5f2bdb959p-9,  // -6435/1048576 * pi^-1
+    -0x1.5563298fcf722p-11,  // -2145/1048576 * pi^-1
+};
+inline constexpr double dr_0_1[] = {
+    0x1.500d9ce990345p+14,  // 135135/2 * pi^-1
+    0x1.180b5817f82bap+15,  // 225225/2 * pi^-1
+    0x1.a4110423f4417p+12,  // 675675/32 * pi^-1
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+};
+inline constexpr double dr_1_0[] = {
     -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
     0x1.f1db47470e867p+10,  // 25025/4 * pi^-1
     0x1.094f038cb6442p+15,  // 1706991/16 * pi^-1
     0x1.a271a95c0dd1dp+14,  // 2692261/32 * pi^-1
     0x1.6c2581aa76e02p+10,  // 4576 * pi^-1
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     -0x1.500d9ce990345p+14,  // -135135/2 * pi^-1
     -0x1.180b5817f82bap+15,  // -225225/2 * pi^-1
     -0x1.a4110423f4417p+12,  // -675675/32 * pi^-1
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 3},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_1_1, 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^23, truncation < 4.2e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dr_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
+    -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
+    0x1.800f8ec1c9606p+12,  // 19305 * pi^-1
+    0x1.b4f283dfd87cdp+16,  // 585585 * pi^-1 + -675675/2 * pi^-1 * log(2)
+    -0x1.05f17938de752p+15,  // 3528525/8 * pi^-1 + -1576575/2 * pi^-1 * log(2)
+    -0x1.4496b0a4817aap+16,  // -33108075/256 * pi^-1 + -6081075/32 * pi^-1 * log(2)
+    -0x1.340c7a80c43p+10,  // -495495/128 * pi^-1
+    -0x1.e568ff187af64p+4,  // -195195/2048 * pi^-1
+    -0x1.800f8ec1c9606p+1,  // -19305/2048 * pi^-1
+    -0x1.100b051e994efp-1,  // -109395/65536 * pi^-1
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.a4110423f4417p+16,  // 675675/2 * pi^-1
+    0x1.ea13da29f24c5p+17,  // 1576575/2 * pi^-1
+    0x1.d89324a872c99p+15,  // 6081075/32 * pi^-1
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+};
+inline constexpr double d2r_1_0[] = {
     -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
     0x1.7c8130fd9f373p+12,  // 76505/4 * pi^-1
     0x1.71f9a75aca614p+17,  // 9521655/16 * pi^-1
     0x1.98296c3e431d8p+17,  // 21008845/32 * pi^-1
     0x1.c72ee21514982p+13,  // 45760 * pi^-1
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     -0x1.a4110423f4417p+16,  // -675675/2 * pi^-1
     -0x1.ea13da29f24c5p+17,  // -1576575/2 * pi^-1
     -0x1.d89324a872c99p+15,  // -6081075/32 * pi^-1
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 3},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_1_1, 3},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 4.0e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
+    -0x1.c72ee21514982p+7,  // -715 * pi^-1
+    0x1.000a5f2bdb959p+13,  // 25740 * pi^-1
+    0x1.fb88bccdbc933p+16,  // 1378377/2 * pi^-1 + -405405 * pi^-1 * log(2)
+    -0x1.535ebbb221b0bp+15,  // 975975/2 * pi^-1 + -900900 * pi^-1 * log(2)
+    -0x1.6b9237da96e52p+16,  // -18693675/128 * pi^-1 + -3378375/16 * pi^-1 * log(2)
+    -0x1.500d9ce990345p+10,  // -135135/32 * pi^-1
+    -0x1.055febd21ad36p+5,  // -105105/1024 * pi^-1
+    -0x1.99aa31dfc5bc2p+1,  // -1287/128 * pi^-1
+    -0x1.200bab1157085p-1,  // -57915/32768 * pi^-1
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.f8146b5e584e8p+16,  // 405405 * pi^-1
+    0x1.180b5817f82bap+18,  // 900900 * pi^-1
+    0x1.068aa29678a8ep+16,  // 3378375/16 * pi^-1
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+};
+inline constexpr double laplacian_1_0[] = {
     -0x1.c72ee21514982p+7,  // -715 * pi^-1
     0x1.f8f802cf62d8dp+12,  // 50765/2 * pi^-1
     0x1.b44d683df7f24p+17,  // 5614323/8 * pi^-1
     0x1.cc77a169c4d7cp+17,  // 11850553/16 * pi^-1
     0x1.f4b3924a63743p+13,  // 50336 * pi^-1
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     -0x1.f8146b5e584e8p+16,  // -405405 * pi^-1
     -0x1.180b5817f82bap+18,  // -900900 * pi^-1
     -0x1.068aa29678a8ep+16,  // -3378375/16 * pi^-1
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 3},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_1_1, 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 2.0e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
+    -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
+    0x1.000a5f2bdb959p+11,  // 6435 * pi^-1
+    0x1.1a58e3b790596p+14,  // 207207/2 * pi^-1 + -135135/2 * pi^-1 * log(2)
+    -0x1.35b509e50cee2p+13,  // 375375/8 * pi^-1 + -225225/2 * pi^-1 * log(2)
+    -0x1.37dc39b0ab543p+13,  // -4279275/256 * pi^-1 + -675675/32 * pi^-1 * log(2)
+    -0x1.c012268cc045cp+6,  // -45045/128 * pi^-1
+    -0x1.2ab6c45dd583ep+1,  // -15015/2048 * pi^-1
+    -0x1.99aa31dfc5bc2p-3,  // -1287/2048 * pi^-1
+    -0x1.000a5f2bdb959p-5,  // -6435/65536 * pi^-1
+    -0x1.c72ee21514982p-8,  // -715/32768 * pi^-1
+    -0x1.000a5f2bdb959p-9,  // -6435/1048576 * pi^-1
+    -0x1.5563298fcf722p-11,  // -2145/1048576 * pi^-1
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.500d9ce990345p+14,  // 135135/2 * pi^-1
+    0x1.180b5817f82bap+15,  // 225225/2 * pi^-1
+    0x1.a4110423f4417p+12,  // 675675/32 * pi^-1
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+};
+inline constexpr double grad_over_r_1_0[] = {
     -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
     0x1.f1db47470e867p+10,  // 25025/4 * pi^-1
     0x1.094f038cb6442p+15,  // 1706991/16 * pi^-1
     0x1.a271a95c0dd1dp+14,  // 2692261/32 * pi^-1
     0x1.6c2581aa76e02p+10,  // 4576 * pi^-1
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     -0x1.500d9ce990345p+14,  // -135135/2 * pi^-1
     -0x1.180b5817f82bap+15,  // -225225/2 * pi^-1
     -0x1.a4110423f4417p+12,  // -675675/32 * pi^-1
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 3},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_1_1, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.2e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, grad_over_r_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    0x1.000a5f2bdb959p+12,  // 12870 * pi^-1
+    0x1.6e5c4af1f4668p+16,  // 963963/2 * pi^-1 + -270270 * pi^-1 * log(2)
+    -0x1.71086d7f36733p+14,  // 1576575/4 * pi^-1 + -675675 * pi^-1 * log(2)
+    -0x1.1d9b296e6c101p+16,  // -225225/2 * pi^-1 + -675675/4 * pi^-1 * log(2)
+    -0x1.180b5817f82bap+10,  // -225225/64 * pi^-1
+    -0x1.c012268cc045cp+4,  // -45045/512 * pi^-1
+    -0x1.6674eba3cd04ap+1,  // -9009/1024 * pi^-1
+    -0x1.000a5f2bdb959p-1,  // -6435/4096 * pi^-1
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.500d9ce990345p+16,  // 270270 * pi^-1
+    0x1.a4110423f4417p+17,  // 675675 * pi^-1
+    0x1.a4110423f4417p+15,  // 675675/4 * pi^-1
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 8},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+};
+inline constexpr double hess_radial_1_0[] = {
     0x1.000a5f2bdb959p+12,  // 12870 * pi^-1
     0x1.2fa5e6779cd03p+17,  // 976833/2 * pi^-1
     0x1.63db3712c1635p+17,  // 2289573/4 * pi^-1
     0x1.99aa31dfc5bc2p+13,  // 41184 * pi^-1
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     -0x1.500d9ce990345p+16,  // -270270 * pi^-1
     -0x1.a4110423f4417p+17,  // -675675 * pi^-1
     -0x1.a4110423f4417p+15,  // -675675/4 * pi^-1
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 3},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_1_1, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.6e-19 relative (series.hpp)
+    {0x1p-4, 0x1p+0, hess_radial_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.ffd83f04bbcecp-3,  // -815663/720720 * pi^-1 + 1/2 * pi^-1 * log(2)
+    0x1.08d575933f2eap+0,  // 13/4 * pi^-1
+    -0x1.c72ee21514982p+1,  // -715/64 * pi^-1
+    0x1.c72ee21514982p+3,  // 715/16 * pi^-1
+    0x1.7b88947436099p+4,  // 201201/1024 * pi^-1 + -45045/256 * pi^-1 * log(2)
+    -0x1.af359f7f9f75p+4,  // 33033/2560 * pi^-1 + -9009/64 * pi^-1 * log(2)
+    -0x1.0598877913754p+3,  // -127127/8192 * pi^-1 + -15015/1024 * pi^-1 * log(2)
+    -0x1.86282f7fc8827p-5,  // -2145/14336 * pi^-1
+    -0x1.5563298fcf722p-11,  // -2145/1048576 * pi^-1
+    -0x1.43af8fb3f7e3bp-15,  // -143/1179648 * pi^-1
+    -0x1.235134885f19bp-18,  // -143/10485760 * pi^-1
+    -0x1.81367c7916155p-21,  // -13/5767168 * pi^-1
+    -0x1.4b0ad2f80efa5p-23,  // -65/134217728 * pi^-1
+    -0x1.58c10c2e4319ep-25,  // -55/436207616 * pi^-1
+    -0x1.a02add551a24bp-27,  // -143/3758096384 * pi^-1
+    -0x1.1a7d4a36a9cb5p-28,  // -13/1006632960 * pi^-1
+    -0x1.a6143362acb25p-30,  // -663/137438953472 * pi^-1
+};
+inline constexpr double potential_0_1[] = {
+    0x1.c012268cc045cp+5,  // 45045/256 * pi^-1
+    0x1.6674eba3cd04ap+5,  // 9009/64 * pi^-1
+    0x1.2ab6c45dd583ep+2,  // 15015/1024 * pi^-1
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 8, potential_0_1, 3},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.70e345c05841dp-2,  // -815663/720720 * pi^-1
     0x1.c9d14a2432155p-1,  // 4049197/1441440 * pi^-1
     -0x1.91cf595d44cbbp+1,  // -18953783/1921920 * pi^-1
@@ -22293,7 +27451,7 @@ inline constexpr double potential_0_0[] = {
     0x1.9d1b16f07314ep+4,  // 11877559/146432 * pi^-1
     0x1.912b1c2336cfp-1,  // 32/13 * pi^-1
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     0x0p+0,  // 0
     0x0p+0,  // 0
@@ -22302,60 +27460,57 @@ inline constexpr double potential_0_1[] = {
     -0x1.6674eba3cd04ap+5,  // -9009/64 * pi^-1
     -0x1.2ab6c45dd583ep+2,  // -15015/1024 * pi^-1
 };
-inline constexpr double potential_0_2[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_0_1, 7},
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
+inline constexpr double potential_1_2[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 0, potential_1_1, 7},
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_2, 1},
 };
-inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_0_0[] = {
+inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr double dpotential_0_1[] = {
-    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
-    0x1.fd4bbab8b494cp+0,  // 25/4 * pi^-1
-    -0x1.a7fd1fecf79d2p+3,  // -333/8 * pi^-1
-    0x1.3bd7cdd6256dbp+6,  // 3969/16 * pi^-1
-    0x1.292603d125c66p+9,  // 238981/128 * pi^-1
-    0x1.18205a41e963bp+8,  // 225291/256 * pi^-1
-    0x1.45f306dc9c883p+3,  // 32 * pi^-1
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
 };
-inline constexpr double dpotential_0_2[] = {
-    -0x1.c012268cc045cp+8,  // -45045/32 * pi^-1
-    -0x1.c012268cc045cp+8,  // -45045/32 * pi^-1
-    -0x1.c012268cc045cp+5,  // -45045/256 * pi^-1
+inline constexpr table::Piece potential[] = {
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 3.0e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_0_0[] = {
+    0x1.08d575933f2eap+1,  // 13/2 * pi^-1
+    -0x1.c72ee21514982p+3,  // -715/16 * pi^-1
+    0x1.5563298fcf722p+6,  // 2145/8 * pi^-1
+    0x1.eb8d1e17661bp+7,  // 447447/256 * pi^-1 + -45045/32 * pi^-1 * log(2)
+    -0x1.c165cc7694112p+7,  // 69069/256 * pi^-1 + -45045/32 * pi^-1 * log(2)
+    -0x1.75b95eefbfd7ap+6,  // -351351/2048 * pi^-1 + -45045/256 * pi^-1 * log(2)
+    -0x1.5563298fcf722p-1,  // -2145/1024 * pi^-1
+    -0x1.5563298fcf722p-7,  // -2145/65536 * pi^-1
+    -0x1.6c2581aa76e02p-11,  // -143/65536 * pi^-1
+    -0x1.6c2581aa76e02p-14,  // -143/524288 * pi^-1
+    -0x1.08d575933f2eap-16,  // -13/262144 * pi^-1
+    -0x1.f0903c7416777p-19,  // -195/16777216 * pi^-1
+    -0x1.181cd9e59685p-20,  // -55/16777216 * pi^-1
+    -0x1.6c2581aa76e02p-22,  // -143/134217728 * pi^-1
+    -0x1.08d575933f2eap-23,  // -13/33554432 * pi^-1
+    -0x1.a6143362acb25p-25,  // -663/4294967296 * pi^-1
+    -0x1.6adf8ea39a439p-26,  // -285/4294967296 * pi^-1
+};
+inline constexpr double dpotential_0_1[] = {
+    0x1.c012268cc045cp+8,  // 45045/32 * pi^-1
+    0x1.c012268cc045cp+8,  // 45045/32 * pi^-1
+    0x1.c012268cc045cp+5,  // 45045/256 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_1, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_2, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 7, dpotential_0_1, 3},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
     0x1.fd4bbab8b494cp+0,  // 25/4 * pi^-1
     -0x1.a7fd1fecf79d2p+3,  // -333/8 * pi^-1
@@ -22364,30 +27519,114 @@ inline constexpr double dpotential_over_r_0_1[] = {
     0x1.18205a41e963bp+8,  // 225291/256 * pi^-1
     0x1.45f306dc9c883p+3,  // 32 * pi^-1
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     -0x1.c012268cc045cp+8,  // -45045/32 * pi^-1
     -0x1.c012268cc045cp+8,  // -45045/32 * pi^-1
     -0x1.c012268cc045cp+5,  // -45045/256 * pi^-1
 };
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_1, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_1_2, 3},
+};
+inline constexpr double dpotential_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^33, truncation < 6.4e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.08d575933f2eap+1,  // 13/2 * pi^-1
+    -0x1.c72ee21514982p+3,  // -715/16 * pi^-1
+    0x1.5563298fcf722p+6,  // 2145/8 * pi^-1
+    0x1.eb8d1e17661bp+7,  // 447447/256 * pi^-1 + -45045/32 * pi^-1 * log(2)
+    -0x1.c165cc7694112p+7,  // 69069/256 * pi^-1 + -45045/32 * pi^-1 * log(2)
+    -0x1.75b95eefbfd7ap+6,  // -351351/2048 * pi^-1 + -45045/256 * pi^-1 * log(2)
+    -0x1.5563298fcf722p-1,  // -2145/1024 * pi^-1
+    -0x1.5563298fcf722p-7,  // -2145/65536 * pi^-1
+    -0x1.6c2581aa76e02p-11,  // -143/65536 * pi^-1
+    -0x1.6c2581aa76e02p-14,  // -143/524288 * pi^-1
+    -0x1.08d575933f2eap-16,  // -13/262144 * pi^-1
+    -0x1.f0903c7416777p-19,  // -195/16777216 * pi^-1
+    -0x1.181cd9e59685p-20,  // -55/16777216 * pi^-1
+    -0x1.6c2581aa76e02p-22,  // -143/134217728 * pi^-1
+    -0x1.08d575933f2eap-23,  // -13/33554432 * pi^-1
+    -0x1.a6143362acb25p-25,  // -663/4294967296 * pi^-1
+    -0x1.6adf8ea39a439p-26,  // -285/4294967296 * pi^-1
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.c012268cc045cp+8,  // 45045/32 * pi^-1
+    0x1.c012268cc045cp+8,  // 45045/32 * pi^-1
+    0x1.c012268cc045cp+5,  // 45045/256 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_1, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_2, 3},
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 3},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.fd4bbab8b494cp+0,  // 25/4 * pi^-1
+    -0x1.a7fd1fecf79d2p+3,  // -333/8 * pi^-1
+    0x1.3bd7cdd6256dbp+6,  // 3969/16 * pi^-1
+    0x1.292603d125c66p+9,  // 238981/128 * pi^-1
+    0x1.18205a41e963bp+8,  // 225291/256 * pi^-1
+    0x1.45f306dc9c883p+3,  // 32 * pi^-1
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    -0x1.c012268cc045cp+8,  // -45045/32 * pi^-1
+    -0x1.c012268cc045cp+8,  // -45045/32 * pi^-1
+    -0x1.c012268cc045cp+5,  // -45045/256 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_1, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_1_2, 3},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 6.4e-20 relative (series.hpp)
+    {0x1p-2, 0x1p+0, dpotential_over_r_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    -0x1.c72ee21514982p+4,  // -715/8 * pi^-1
+    0x1.5563298fcf722p+8,  // 2145/2 * pi^-1
+    0x1.e0ae6034bca5bp+10,  // 1522521/128 * pi^-1 + -135135/16 * pi^-1 * log(2)
+    -0x1.516142d363ffbp+10,  // 57057/16 * pi^-1 + -45045/4 * pi^-1 * log(2)
+    -0x1.b7269442e3c93p+9,  // -1576575/1024 * pi^-1 + -225225/128 * pi^-1 * log(2)
+    -0x1.000a5f2bdb959p+3,  // -6435/256 * pi^-1
+    -0x1.2ab6c45dd583ep-3,  // -15015/32768 * pi^-1
+    -0x1.6c2581aa76e02p-7,  // -143/4096 * pi^-1
+    -0x1.99aa31dfc5bc2p-10,  // -1287/262144 * pi^-1
+    -0x1.4b0ad2f80efa5p-12,  // -65/65536 * pi^-1
+    -0x1.5563298fcf722p-14,  // -2145/8388608 * pi^-1
 };
 inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.500d9ce990345p+11,  // 135135/16 * pi^-1
+    0x1.c012268cc045cp+11,  // 45045/4 * pi^-1
+    0x1.180b5817f82bap+9,  // 225225/128 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 3},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     -0x1.c545f58ac9ad6p+4,  // -89 * pi^-1
@@ -22396,46 +27635,71 @@ inline constexpr double potential_hess_radial_0_1[] = {
     0x1.356a0ff6d02bap+11,  // 995383/128 * pi^-1
     0x1.c02e296f573b4p+6,  // 352 * pi^-1
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.500d9ce990345p+11,  // -135135/16 * pi^-1
     -0x1.c012268cc045cp+11,  // -45045/4 * pi^-1
     -0x1.180b5817f82bap+9,  // -225225/128 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_0_0, 1},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_1, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_2, 3},
-};
-inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
-};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_1, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_1_2, 3},
+};
+inline constexpr double potential_hess_radial_2_0[] = {
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+};
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 1.0e-19 relative (series.hpp)
+    {0x1p-3, 0x1p+0, potential_hess_radial_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_l_2_D2
 inline constexpr table::Kernel wendland_missing_k_2_l_2_D2 = {
     "wendland-missing:k=2,l=2", 2, 0x1p+0, 8, 2, 1,
     0x1.c012268cc045cp+14, "90090 * pi^-1", true,
     {
-        {detail_wendland_missing_k_2_l_2_D2::value, 2},
-        {detail_wendland_missing_k_2_l_2_D2::dr, 2},
-        {detail_wendland_missing_k_2_l_2_D2::d2r, 2},
-        {detail_wendland_missing_k_2_l_2_D2::laplacian, 2},
-        {detail_wendland_missing_k_2_l_2_D2::grad_over_r, 2},
-        {detail_wendland_missing_k_2_l_2_D2::hess_radial, 2},
-        {detail_wendland_missing_k_2_l_2_D2::potential, 2},
-        {detail_wendland_missing_k_2_l_2_D2::dpotential, 2},
-        {detail_wendland_missing_k_2_l_2_D2::dpotential_over_r, 2},
-        {detail_wendland_missing_k_2_l_2_D2::potential_hess_radial, 2},
+        {detail_wendland_missing_k_2_l_2_D2::value, 3},
+        {detail_wendland_missing_k_2_l_2_D2::dr, 3},
+        {detail_wendland_missing_k_2_l_2_D2::d2r, 3},
+        {detail_wendland_missing_k_2_l_2_D2::laplacian, 3},
+        {detail_wendland_missing_k_2_l_2_D2::grad_over_r, 3},
+        {detail_wendland_missing_k_2_l_2_D2::hess_radial, 3},
+        {detail_wendland_missing_k_2_l_2_D2::potential, 3},
+        {detail_wendland_missing_k_2_l_2_D2::dpotential, 3},
+        {detail_wendland_missing_k_2_l_2_D2::dpotential_over_r, 3},
+        {detail_wendland_missing_k_2_l_2_D2::potential_hess_radial, 3},
     }};
 
 // wendland-missing:k=2,l=2 in D = 3: Franz 2019, §4.3.3, Thm. 4.65 (psi_{d,k+1/2,l}, d = D)
 namespace detail_wendland_missing_k_2_l_2_D3 {
 inline constexpr double value_0_0[] = {
+    0x1.513267fbc41cap+3,  // 104 * pi^-2
+    -0x1.5bbbfb3ba23d8p+7,  // -1716 * pi^-2
+    0x1.e900594bdc268p+10,  // 19305 * pi^-2
+    0x1.df53d9621fd28p+13,  // 276276 * pi^-2 + -180180 * pi^-2 * log(2)
+    -0x1.4413143a7d21cp+12,  // 2927925/16 * pi^-2 + -675675/2 * pi^-2 * log(2)
+    -0x1.5c1fe020d6697p+13,  // -1270269/32 * pi^-2 + -405405/4 * pi^-2 * log(2)
+    -0x1.945102f7fb37dp+9,  // -771771/128 * pi^-2 + -45045/16 * pi^-2 * log(2)
+    0x1.46003b87e819bp+1,  // 6435/256 * pi^-2
+    0x1.87337aa316853p-4,  // 3861/4096 * pi^-2
+    0x1.21c7515c5c889p-7,  // 715/8192 * pi^-2
+    0x1.5bbbfb3ba23d8p-10,  // 429/32768 * pi^-2
+    0x1.1c8287bc6d782p-12,  // 351/131072 * pi^-2
+};
+inline constexpr double value_0_1[] = {
+    0x1.1d403416eb167p+14,  // 180180 * pi^-2
+    0x1.0b6c30d57c651p+15,  // 675675/2 * pi^-2
+    0x1.40e83a99c8794p+13,  // 405405/4 * pi^-2
+    0x1.1d403416eb167p+8,  // 45045/16 * pi^-2
+};
+inline constexpr table::Term value_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, value_0_1, 4},
+};
+inline constexpr double value_1_0[] = {
     0x1.513267fbc41cap+3,  // 104 * pi^-2
     -0x1.513267fbc41cap+7,  // -1664 * pi^-2
     0x1.d4417f661ed5cp+10,  // 18486 * pi^-2
@@ -22443,125 +27707,265 @@ inline constexpr double value_0_0[] = {
     0x1.bfbe93f5dcc45p+14,  // 2262559/8 * pi^-2
     0x1.d6239576c8c82p+11,  // 593931/16 * pi^-2
 };
-inline constexpr double value_0_1[] = {
+inline constexpr double value_1_1[] = {
     -0x1.1d403416eb167p+14,  // -180180 * pi^-2
     -0x1.0b6c30d57c651p+15,  // -675675/2 * pi^-2
     -0x1.40e83a99c8794p+13,  // -405405/4 * pi^-2
     -0x1.1d403416eb167p+8,  // -45045/16 * pi^-2
 };
-inline constexpr table::Term value_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_0_0, 6},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_0_1, 4},
+inline constexpr table::Term value_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, value_1_0, 6},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, value_1_1, 4},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.6e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, value_1, 2},  // [1/8, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
+    -0x1.5bbbfb3ba23d8p+8,  // -3432 * pi^-2
+    0x1.e900594bdc268p+12,  // 77220 * pi^-2
+    0x1.aecef00f52a37p+16,  // 1837836 * pi^-2 + -1081080 * pi^-2 * log(2)
+    -0x1.c5371b2805e58p+12,  // 1801800 * pi^-2 + -2702700 * pi^-2 * log(2)
+    -0x1.8b0ad0d5d2f4ap+16,  // -4729725/16 * pi^-2 + -2027025/2 * pi^-2 * log(2)
+    -0x1.2652c09945113p+13,  // -2225223/32 * pi^-2 + -135135/4 * pi^-2 * log(2)
+    0x1.1d403416eb167p+5,  // 45045/128 * pi^-2
+    0x1.87337aa316853p+0,  // 3861/256 * pi^-2
+    0x1.46003b87e819bp-3,  // 6435/4096 * pi^-2
+};
+inline constexpr double dr_0_1[] = {
+    0x1.abe04e2260a1bp+16,  // 1081080 * pi^-2
+    0x1.0b6c30d57c651p+18,  // 2702700 * pi^-2
+    0x1.912249403a979p+16,  // 2027025/2 * pi^-2
+    0x1.abe04e2260a1bp+11,  // 135135/4 * pi^-2
+};
+inline constexpr table::Term dr_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 5, dr_0_1, 4},
+};
+inline constexpr double dr_1_0[] = {
     -0x1.5bbbfb3ba23d8p+8,  // -3432 * pi^-2
     0x1.de227971ff149p+12,  // 75504 * pi^-2
     0x1.7314aa29b332p+17,  // 1875159 * pi^-2
     0x1.ea71d106cb82ep+17,  // 2478333 * pi^-2
     0x1.40fdf6597c336p+15,  // 1622049/4 * pi^-2
 };
-inline constexpr double dr_0_1[] = {
+inline constexpr double dr_1_1[] = {
     -0x1.abe04e2260a1bp+16,  // -1081080 * pi^-2
     -0x1.0b6c30d57c651p+18,  // -2702700 * pi^-2
     -0x1.912249403a979p+16,  // -2027025/2 * pi^-2
     -0x1.abe04e2260a1bp+11,  // -135135/4 * pi^-2
 };
-inline constexpr table::Term dr_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_0_1, 4},
+inline constexpr table::Term dr_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 1, dr_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 5, dr_1_1, 4},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, dr_0, 2},  // [0, 1/16), series at 0 up to r^17, truncation < 1.3e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, dr_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
+    -0x1.5bbbfb3ba23d8p+8,  // -3432 * pi^-2
+    0x1.6ec042f8e51cep+14,  // 231660 * pi^-2
+    0x1.42bd5fcddfba6p+19,  // 10270260 * pi^-2 + -5405400 * pi^-2 * log(2)
+    0x1.b3b453ba377fep+17,  // 15315300 * pi^-2 + -18918900 * pi^-2 * log(2)
+    -0x1.8a47e1c886004p+19,  // -26351325/16 * pi^-2 + -18243225/2 * pi^-2 * log(2)
+    -0x1.8752c661abf29p+16,  // -23396373/32 * pi^-2 + -1486485/4 * pi^-2 * log(2)
+    0x1.cf8854a53e048p+8,  // 585585/128 * pi^-2
+    0x1.6ec042f8e51cep+4,  // 57915/256 * pi^-2
+    0x1.5a603f40669b4p+1,  // 109395/4096 * pi^-2
+};
+inline constexpr double d2r_0_1[] = {
+    0x1.0b6c30d57c651p+19,  // 5405400 * pi^-2
+    0x1.d3fd557599b0dp+20,  // 18918900 * pi^-2
+    0x1.c346926841ea8p+19,  // 18243225/2 * pi^-2
+    0x1.262a35b7a26f2p+15,  // 1486485/4 * pi^-2
+};
+inline constexpr table::Term d2r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, d2r_0_1, 4},
+};
+inline constexpr double d2r_1_0[] = {
     -0x1.5bbbfb3ba23d8p+8,  // -3432 * pi^-2
     0x1.6c08cb026dd86p+14,  // 229944 * pi^-2
     0x1.00e2888277c47p+20,  // 10384803 * pi^-2
     0x1.da91abfe828abp+20,  // 19184880 * pi^-2
     0x1.8de5b353967fp+18,  // 16085355/4 * pi^-2
 };
-inline constexpr double d2r_0_1[] = {
+inline constexpr double d2r_1_1[] = {
     -0x1.0b6c30d57c651p+19,  // -5405400 * pi^-2
     -0x1.d3fd557599b0dp+20,  // -18918900 * pi^-2
     -0x1.c346926841ea8p+19,  // -18243225/2 * pi^-2
     -0x1.262a35b7a26f2p+15,  // -1486485/4 * pi^-2
 };
-inline constexpr table::Term d2r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_0_1, 4},
+inline constexpr table::Term d2r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, d2r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, d2r_1_1, 4},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.3e-19 relative (series.hpp)
+    {0x1p-4, 0x1p+0, d2r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
+    -0x1.04ccfc6cb9ae2p+10,  // -10296 * pi^-2
+    0x1.31a037cf69981p+15,  // 386100 * pi^-2
+    0x1.ae711bd1b4634p+19,  // 13945932 * pi^-2 + -7567560 * pi^-2 * log(2)
+    0x1.9760e207b7219p+17,  // 18918900 * pi^-2 + -24324300 * pi^-2 * log(2)
+    -0x1.ed0a95fdfabd7p+19,  // -35810775/16 * pi^-2 + -22297275/2 * pi^-2 * log(2)
+    -0x1.d0e77687fd36ep+16,  // -27846819/32 * pi^-2 + -1756755/4 * pi^-2 * log(2)
+    0x1.0b6c30d57c651p+9,  // 675675/128 * pi^-2
+    0x1.9fa6b24d47ed8p+4,  // 65637/256 * pi^-2
+    0x1.832046b1639e8p+1,  // 122265/4096 * pi^-2
+};
+inline constexpr double laplacian_0_1[] = {
+    0x1.7664445e148d8p+19,  // 7567560 * pi^-2
+    0x1.2cd9b6f02bf1bp+21,  // 24324300 * pi^-2
+    0x1.13c7925c28483p+20,  // 22297275/2 * pi^-2
+    0x1.5ba63f7bee836p+15,  // 1756755/4 * pi^-2
+};
+inline constexpr table::Term laplacian_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, laplacian_0_1, 4},
+};
+inline constexpr double laplacian_1_0[] = {
     -0x1.04ccfc6cb9ae2p+10,  // -10296 * pi^-2
     0x1.2d8d03ddb6b15p+15,  // 380952 * pi^-2
     0x1.5da7b30ce490fp+20,  // 14135121 * pi^-2
     0x1.2a9710201ab5bp+21,  // 24141546 * pi^-2
     0x1.de2530e9f58bdp+18,  // 19329453/4 * pi^-2
 };
-inline constexpr double laplacian_0_1[] = {
+inline constexpr double laplacian_1_1[] = {
     -0x1.7664445e148d8p+19,  // -7567560 * pi^-2
     -0x1.2cd9b6f02bf1bp+21,  // -24324300 * pi^-2
     -0x1.13c7925c28483p+20,  // -22297275/2 * pi^-2
     -0x1.5ba63f7bee836p+15,  // -1756755/4 * pi^-2
 };
-inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_0_1, 4},
+inline constexpr table::Term laplacian_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, laplacian_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, laplacian_1_1, 4},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 4.4e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, laplacian_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
+    -0x1.5bbbfb3ba23d8p+8,  // -3432 * pi^-2
+    0x1.e900594bdc268p+12,  // 77220 * pi^-2
+    0x1.aecef00f52a37p+16,  // 1837836 * pi^-2 + -1081080 * pi^-2 * log(2)
+    -0x1.c5371b2805e58p+12,  // 1801800 * pi^-2 + -2702700 * pi^-2 * log(2)
+    -0x1.8b0ad0d5d2f4ap+16,  // -4729725/16 * pi^-2 + -2027025/2 * pi^-2 * log(2)
+    -0x1.2652c09945113p+13,  // -2225223/32 * pi^-2 + -135135/4 * pi^-2 * log(2)
+    0x1.1d403416eb167p+5,  // 45045/128 * pi^-2
+    0x1.87337aa316853p+0,  // 3861/256 * pi^-2
+    0x1.46003b87e819bp-3,  // 6435/4096 * pi^-2
+};
+inline constexpr double grad_over_r_0_1[] = {
+    0x1.abe04e2260a1bp+16,  // 1081080 * pi^-2
+    0x1.0b6c30d57c651p+18,  // 2702700 * pi^-2
+    0x1.912249403a979p+16,  // 2027025/2 * pi^-2
+    0x1.abe04e2260a1bp+11,  // 135135/4 * pi^-2
+};
+inline constexpr table::Term grad_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 4},
+};
+inline constexpr double grad_over_r_1_0[] = {
     -0x1.5bbbfb3ba23d8p+8,  // -3432 * pi^-2
     0x1.de227971ff149p+12,  // 75504 * pi^-2
     0x1.7314aa29b332p+17,  // 1875159 * pi^-2
     0x1.ea71d106cb82ep+17,  // 2478333 * pi^-2
     0x1.40fdf6597c336p+15,  // 1622049/4 * pi^-2
 };
-inline constexpr double grad_over_r_0_1[] = {
+inline constexpr double grad_over_r_1_1[] = {
     -0x1.abe04e2260a1bp+16,  // -1081080 * pi^-2
     -0x1.0b6c30d57c651p+18,  // -2702700 * pi^-2
     -0x1.912249403a979p+16,  // -2027025/2 * pi^-2
     -0x1.abe04e2260a1bp+11,  // -135135/4 * pi^-2
 };
-inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_0_0, 5},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_0_1, 4},
+inline constexpr table::Term grad_over_r_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, grad_over_r_1_0, 5},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, grad_over_r_1_1, 4},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, grad_over_r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.3e-20 relative (series.hpp)
+    {0x1p-4, 0x1p+0, grad_over_r_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
+    0x1.e900594bdc268p+13,  // 154440 * pi^-2
+    0x1.0ce381cbf565fp+19,  // 8432424 * pi^-2 + -4324320 * pi^-2 * log(2)
+    0x1.c1de0c9377af1p+17,  // 13513500 * pi^-2 + -16216200 * pi^-2 * log(2)
+    -0x1.58e687adcba1bp+19,  // -1351350 * pi^-2 + -8108100 * pi^-2 * log(2)
+    -0x1.62886e4e83507p+16,  // -10585575/16 * pi^-2 + -675675/2 * pi^-2 * log(2)
+    0x1.abe04e2260a1bp+8,  // 135135/32 * pi^-2
+    0x1.564d0b4eb3b49p+4,  // 27027/128 * pi^-2
+    0x1.46003b87e819bp+1,  // 6435/256 * pi^-2
+    0x1.e900594bdc268p-2,  // 19305/4096 * pi^-2
+};
+inline constexpr double hess_radial_0_1[] = {
+    0x1.abe04e2260a1bp+18,  // 4324320 * pi^-2
+    0x1.912249403a979p+20,  // 16216200 * pi^-2
+    0x1.912249403a979p+19,  // 8108100 * pi^-2
+    0x1.0b6c30d57c651p+15,  // 675675/2 * pi^-2
+};
+inline constexpr table::Term hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 9},
+    {table::Basis::log, 0, table::Var::r2, 0, 2, hess_radial_0_1, 4},
+};
+inline constexpr double hess_radial_1_0[] = {
     0x1.e900594bdc268p+13,  // 154440 * pi^-2
     0x1.a4ffe67a82bc5p+19,  // 8509644 * pi^-2
     0x1.9d4371dda91a5p+20,  // 16706547 * pi^-2
     0x1.65c5f48866f89p+18,  // 7231653/2 * pi^-2
 };
-inline constexpr double hess_radial_0_1[] = {
+inline constexpr double hess_radial_1_1[] = {
     -0x1.abe04e2260a1bp+18,  // -4324320 * pi^-2
     -0x1.912249403a979p+20,  // -16216200 * pi^-2
     -0x1.912249403a979p+19,  // -8108100 * pi^-2
     -0x1.0b6c30d57c651p+15,  // -675675/2 * pi^-2
 };
-inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_0_0, 4},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_0_1, 4},
+inline constexpr table::Term hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, hess_radial_1_0, 4},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 2, hess_radial_1_1, 4},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 2},  // [0, 1)
+    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 2.3e-21 relative (series.hpp)
+    {0x1p-4, 0x1p+0, hess_radial_1, 2},  // [1/16, 1)
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
+    -0x1.63b96541dcf4p-2,  // -24/7 * pi^-2
+    0x1.c1988aa5057b8p+0,  // 52/3 * pi^-2
+    -0x1.162ffc2fb4fep+3,  // -429/5 * pi^-2
+    0x1.74928d2d9b8b1p+5,  // 6435/14 * pi^-2
+    0x1.3255824747d47p+7,  // 467467/144 * pi^-2 + -5005/2 * pi^-2 * log(2)
+    -0x1.aa2ed056f92e6p+6,  // 379197/352 * pi^-2 + -12285/4 * pi^-2 * log(2)
+    -0x1.47d665ba5b8a5p+6,  // -596673/1664 * pi^-2 + -10395/16 * pi^-2 * log(2)
+    -0x1.027213ee3ce56p+2,  // -54769/1792 * pi^-2 + -429/32 * pi^-2 * log(2)
+    0x1.32d30ada43dbfp-7,  // 6435/69632 * pi^-2
+    0x1.24d431e16033dp-12,  // 429/155648 * pi^-2
+    0x1.6140ff38844ecp-16,  // 143/688128 * pi^-2
+    0x1.5fdb8de552342p-19,  // 39/1507328 * pi^-2
+    0x1.e59043d0f170ep-22,  // 117/26214400 * pi^-2
+    0x1.a6b26c7823c97p-24,  // 55/56623104 * pi^-2
+    0x1.b685a6c1bebap-26,  // 429/1702887424 * pi^-2
+    0x1.050e3ffcb8dc5p-27,  // 39/520093696 * pi^-2
+    0x1.5b6a3c96ca0dfp-29,  // 221/8858370048 * pi^-2
+};
+inline constexpr double potential_0_1[] = {
+    0x1.fb1cce61a1efp+7,  // 5005/2 * pi^-2
+    0x1.372ec47617bb6p+8,  // 12285/4 * pi^-2
+    0x1.074ef501768aep+6,  // 10395/16 * pi^-2
+    0x1.5bbbfb3ba23d8p+0,  // 429/32 * pi^-2
+};
+inline constexpr table::Term potential_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 17},
+    {table::Basis::log, 0, table::Var::r2, 0, 8, potential_0_1, 4},
+};
+inline constexpr double potential_1_0[] = {
     -0x1.2fd9067d9765cp-2,  // -41/14 * pi^-2
     0x1.9dc6c31d801f6p+0,  // 335/21 * pi^-2
     -0x1.fac89196fcd37p+2,  // -8206/105 * pi^-2
@@ -22570,64 +27974,56 @@ inline constexpr double potential_0_0[] = {
     0x1.c2c323d2af368p+7,  // 373703/168 * pi^-2
     0x1.4dfda58e22d02p+4,  // 46149/224 * pi^-2
 };
-inline constexpr double potential_0_1[] = {
+inline constexpr double potential_1_1[] = {
     -0x1.fb1cce61a1efp+7,  // -5005/2 * pi^-2
     -0x1.372ec47617bb6p+8,  // -12285/4 * pi^-2
     -0x1.074ef501768aep+6,  // -10395/16 * pi^-2
     -0x1.5bbbfb3ba23d8p+0,  // -429/32 * pi^-2
 };
-inline constexpr double potential_0_2[] = {
+inline constexpr double potential_1_2[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-};
-inline constexpr table::Term potential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_0_0, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_0_1, 4},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_0_2, 1},
-};
-inline constexpr double potential_1_0[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, 0, potential_1_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 8, potential_1_1, 4},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -1, potential_1_2, 1},
+};
+inline constexpr double potential_2_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p+0, potential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 1.6e-19 relative (series.hpp)
+    {0x1p-2, 0x1p+0, potential_1, 3},  // [1/4, 1)
+    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
-    0x1.bd45d814aa5a5p+1,  // 103/3 * pi^-2
-    -0x1.085a8d94f7c7p+5,  // -4892/15 * pi^-2
-    0x1.07562ec585149p+8,  // 90966/35 * pi^-2
-    0x1.78951274a420cp+11,  // 6244087/210 * pi^-2
-    0x1.301c34c481928p+11,  // 4033945/168 * pi^-2
-    0x1.0e025a8840a6ep+8,  // 298467/112 * pi^-2
+    0x1.c1988aa5057b8p+1,  // 104/3 * pi^-2
+    -0x1.162ffc2fb4fep+5,  // -1716/5 * pi^-2
+    0x1.176de9e234a84p+8,  // 19305/7 * pi^-2
+    0x1.71b91c137c125p+10,  // 256256/9 * pi^-2 + -20020 * pi^-2 * log(2)
+    -0x1.79232231ab9c4p+9,  // 2436525/176 * pi^-2 + -61425/2 * pi^-2 * log(2)
+    -0x1.cad7b9f75a7e2p+9,  // -1519749/416 * pi^-2 + -31185/4 * pi^-2 * log(2)
+    -0x1.b969c3070d7f8p+5,  // -53053/128 * pi^-2 + -3003/16 * pi^-2 * log(2)
+    0x1.32d30ada43dbfp-3,  // 6435/4352 * pi^-2
+    0x1.496eb81d8c3a4p-8,  // 3861/77824 * pi^-2
+    0x1.b9913f06a5627p-12,  // 715/172032 * pi^-2
+    0x1.e3cde31b5107bp-15,  // 429/753664 * pi^-2
+    0x1.6c2c32dcb514bp-17,  // 351/3276800 * pi^-2
 };
 inline constexpr double dpotential_0_1[] = {
-    -0x1.fb1cce61a1efp+10,  // -20020 * pi^-2
-    -0x1.84fa75939daa4p+11,  // -61425/2 * pi^-2
-    -0x1.8af66f8231d05p+9,  // -31185/4 * pi^-2
-    -0x1.30447bd42df5dp+4,  // -3003/16 * pi^-2
-};
-inline constexpr double dpotential_0_2[] = {
-    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+    0x1.fb1cce61a1efp+10,  // 20020 * pi^-2
+    0x1.84fa75939daa4p+11,  // 61425/2 * pi^-2
+    0x1.8af66f8231d05p+9,  // 31185/4 * pi^-2
+    0x1.30447bd42df5dp+4,  // 3003/16 * pi^-2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_0_0, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_0_1, 4},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_0_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 7, dpotential_0_1, 4},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p+0, dpotential_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_1, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
     0x1.bd45d814aa5a5p+1,  // 103/3 * pi^-2
     -0x1.085a8d94f7c7p+5,  // -4892/15 * pi^-2
@@ -22636,31 +28032,114 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.301c34c481928p+11,  // 4033945/168 * pi^-2
     0x1.0e025a8840a6ep+8,  // 298467/112 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_1[] = {
+inline constexpr double dpotential_1_1[] = {
     -0x1.fb1cce61a1efp+10,  // -20020 * pi^-2
     -0x1.84fa75939daa4p+11,  // -61425/2 * pi^-2
     -0x1.8af66f8231d05p+9,  // -31185/4 * pi^-2
     -0x1.30447bd42df5dp+4,  // -3003/16 * pi^-2
 };
-inline constexpr double dpotential_over_r_0_2[] = {
+inline constexpr double dpotential_1_2[] = {
     0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_0_0, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 4},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_0_2, 1},
+inline constexpr table::Term dpotential_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -1, dpotential_1_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 7, dpotential_1_1, 4},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -2, dpotential_1_2, 1},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-3, dpotential_0, 2},  // [0, 1/8), series at 0 up to r^23, truncation < 1.1e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dpotential_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.c1988aa5057b8p+1,  // 104/3 * pi^-2
+    -0x1.162ffc2fb4fep+5,  // -1716/5 * pi^-2
+    0x1.176de9e234a84p+8,  // 19305/7 * pi^-2
+    0x1.71b91c137c125p+10,  // 256256/9 * pi^-2 + -20020 * pi^-2 * log(2)
+    -0x1.79232231ab9c4p+9,  // 2436525/176 * pi^-2 + -61425/2 * pi^-2 * log(2)
+    -0x1.cad7b9f75a7e2p+9,  // -1519749/416 * pi^-2 + -31185/4 * pi^-2 * log(2)
+    -0x1.b969c3070d7f8p+5,  // -53053/128 * pi^-2 + -3003/16 * pi^-2 * log(2)
+    0x1.32d30ada43dbfp-3,  // 6435/4352 * pi^-2
+    0x1.496eb81d8c3a4p-8,  // 3861/77824 * pi^-2
+    0x1.b9913f06a5627p-12,  // 715/172032 * pi^-2
+    0x1.e3cde31b5107bp-15,  // 429/753664 * pi^-2
+    0x1.6c2c32dcb514bp-17,  // 351/3276800 * pi^-2
+};
+inline constexpr double dpotential_over_r_0_1[] = {
+    0x1.fb1cce61a1efp+10,  // 20020 * pi^-2
+    0x1.84fa75939daa4p+11,  // 61425/2 * pi^-2
+    0x1.8af66f8231d05p+9,  // 31185/4 * pi^-2
+    0x1.30447bd42df5dp+4,  // 3003/16 * pi^-2
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 6, dpotential_over_r_0_1, 4},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    -0x1.9f02f6222c72p-5,  // -1/2 * pi^-2
+    0x1.bd45d814aa5a5p+1,  // 103/3 * pi^-2
+    -0x1.085a8d94f7c7p+5,  // -4892/15 * pi^-2
+    0x1.07562ec585149p+8,  // 90966/35 * pi^-2
+    0x1.78951274a420cp+11,  // 6244087/210 * pi^-2
+    0x1.301c34c481928p+11,  // 4033945/168 * pi^-2
+    0x1.0e025a8840a6ep+8,  // 298467/112 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_1[] = {
+    -0x1.fb1cce61a1efp+10,  // -20020 * pi^-2
+    -0x1.84fa75939daa4p+11,  // -61425/2 * pi^-2
+    -0x1.8af66f8231d05p+9,  // -31185/4 * pi^-2
+    -0x1.30447bd42df5dp+4,  // -3003/16 * pi^-2
+};
+inline constexpr double dpotential_over_r_1_2[] = {
+    0x1.9f02f6222c72p-5,  // 1/2 * pi^-2
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -2, dpotential_over_r_1_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 6, dpotential_over_r_1_1, 4},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -3, dpotential_over_r_1_2, 1},
+};
+inline constexpr double dpotential_over_r_2_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p+0, dpotential_over_r_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, dpotential_over_r_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 1.1e-20 relative (series.hpp)
+    {0x1p-3, 0x1p+0, dpotential_over_r_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
+    -0x1.162ffc2fb4fep+6,  // -3432/5 * pi^-2
+    0x1.176de9e234a84p+10,  // 77220/7 * pi^-2
+    0x1.54ae6edad14bap+13,  // 572572/3 * pi^-2 + -120120 * pi^-2 * log(2)
+    -0x1.6d4bcecfb98e4p+11,  // 1556100/11 * pi^-2 + -245700 * pi^-2 * log(2)
+    -0x1.06176d427571dp+13,  // -5977125/208 * pi^-2 + -155925/2 * pi^-2 * log(2)
+    -0x1.418d2e66a8affp+9,  // -153153/32 * pi^-2 + -9009/4 * pi^-2 * log(2)
+    0x1.0c78a97efb607p+1,  // 45045/2176 * pi^-2
+    0x1.496eb81d8c3a4p-4,  // 3861/4864 * pi^-2
+    0x1.f0c366e77a0ecp-8,  // 2145/28672 * pi^-2
+    0x1.2e60adf112a4dp-10,  // 2145/188416 * pi^-2
+    0x1.f4bcc5ef78fc7p-13,  // 3861/1638400 * pi^-2
+    0x1.0194ba1935cecp-14,  // 715/1179648 * pi^-2
+};
+inline constexpr double potential_hess_radial_0_1[] = {
+    0x1.7c559ac939734p+13,  // 120120 * pi^-2
+    0x1.84fa75939daa4p+14,  // 245700 * pi^-2
+    0x1.edb40b62be446p+12,  // 155925/2 * pi^-2
+    0x1.c866b9be44f0cp+7,  // 9009/4 * pi^-2
+};
+inline constexpr table::Term potential_hess_radial_0[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 12},
+    {table::Basis::log, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 4},
+};
+inline constexpr double potential_hess_radial_1_0[] = {
     0x1.37423899a1558p-3,  // 3/2 * pi^-2
     0x1.9f02f6222c72p-4,  // 1 * pi^-2
     -0x1.15dcfb98148ebp+6,  // -3428/5 * pi^-2
@@ -22669,45 +28148,46 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.4db4002c2c2d6p+14,  // 1475496/7 * pi^-2
     0x1.70e2b383b0899p+11,  // 815529/28 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_1[] = {
+inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.7c559ac939734p+13,  // -120120 * pi^-2
     -0x1.84fa75939daa4p+14,  // -245700 * pi^-2
     -0x1.edb40b62be446p+12,  // -155925/2 * pi^-2
     -0x1.c866b9be44f0cp+7,  // -9009/4 * pi^-2
 };
-inline constexpr double potential_hess_radial_0_2[] = {
+inline constexpr double potential_hess_radial_1_2[] = {
     -0x1.37423899a1558p-3,  // -3/2 * pi^-2
 };
-inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_0_0, 7},
-    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_0_1, 4},
-    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_0_2, 1},
+inline constexpr table::Term potential_hess_radial_1[] = {
+    {table::Basis::sqrt_power, 1, table::Var::r2, 0, -4, potential_hess_radial_1_0, 7},
+    {table::Basis::arcsech, 0, table::Var::r2, 0, 4, potential_hess_radial_1_1, 4},
+    {table::Basis::arcsin, 0, table::Var::r2, 0, -5, potential_hess_radial_1_2, 1},
 };
-inline constexpr double potential_hess_radial_1_0[] = {
+inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
-inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
+inline constexpr table::Term potential_hess_radial_2[] = {
+    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p+0, potential_hess_radial_0, 3},  // [0, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_1, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.6e-21 relative (series.hpp)
+    {0x1p-3, 0x1p+0, potential_hess_radial_1, 3},  // [1/8, 1)
+    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_l_2_D3
 inline constexpr table::Kernel wendland_missing_k_2_l_2_D3 = {
     "wendland-missing:k=2,l=2", 3, 0x1p+0, 9, 2, 1,
     0x1.e900594bdc268p+16, "1235520 * pi^-2", true,
     {
-        {detail_wendland_missing_k_2_l_2_D3::value, 2},
-        {detail_wendland_missing_k_2_l_2_D3::dr, 2},
-        {detail_wendland_missing_k_2_l_2_D3::d2r, 2},
-        {detail_wendland_missing_k_2_l_2_D3::laplacian, 2},
-        {detail_wendland_missing_k_2_l_2_D3::grad_over_r, 2},
-        {detail_wendland_missing_k_2_l_2_D3::hess_radial, 2},
-        {detail_wendland_missing_k_2_l_2_D3::potential, 2},
-        {detail_wendland_missing_k_2_l_2_D3::dpotential, 2},
-        {detail_wendland_missing_k_2_l_2_D3::dpotential_over_r, 2},
-        {detail_wendland_missing_k_2_l_2_D3::potential_hess_radial, 2},
+        {detail_wendland_missing_k_2_l_2_D3::value, 3},
+        {detail_wendland_missing_k_2_l_2_D3::dr, 3},
+        {detail_wendland_missing_k_2_l_2_D3::d2r, 3},
+        {detail_wendland_missing_k_2_l_2_D3::laplacian, 3},
+        {detail_wendland_missing_k_2_l_2_D3::grad_over_r, 3},
+        {detail_wendland_missing_k_2_l_2_D3::hess_radial, 3},
+        {detail_wendland_missing_k_2_l_2_D3::potential, 3},
+        {detail_wendland_missing_k_2_l_2_D3::dpotential, 3},
+        {detail_wendland_missing_k_2_l_2_D3::dpotential_over_r, 3},
+        {detail_wendland_missing_k_2_l_2_D3::potential_hess_radial, 3},
     }};
 
 }  // namespace mollify::tables
