@@ -3,12 +3,15 @@
 #include "anderson.hpp"
 #include "certificate.hpp"
 #include "error.hpp"
+#include "quantities.hpp"
 #include "rounding.hpp"
 #include "series.hpp"
+#include "edge_series.hpp"
 #include "vandermonde.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -54,6 +57,7 @@ struct EmittedTerm {
     int edge_power;
     int low;      // power of r in front
     std::vector<Exact> c;
+    std::optional<Q> edge;  // where edge_power > 0; else the piece's hi is written
 };
 
 // The stable form (table.hpp): per basis, polynomials that are even or odd
@@ -86,7 +90,7 @@ std::vector<EmittedTerm> stable_terms(const ClosedForm& f, const std::optional<Q
             high = std::max(high, part.second.high());
         }
         const int r_low = square ? 2 * low + (odd && !even ? 1 : 0) : low;
-        EmittedTerm t{bs.first, bs.second, square, n, r_low, {}};
+        EmittedTerm t{bs.first, bs.second, square, n, r_low, {}, n > 0 ? edge : std::nullopt};
         for (int i = low; i <= high; ++i) {
             Exact c;
             for (const auto& [atom, p] : parts) c += Exact::of(atom) * p.coefficient(i);
@@ -110,6 +114,7 @@ struct EmittedPiece {
     std::optional<Q> hi;  // nullopt: the exterior, to infinity
     std::vector<EmittedTerm> terms;
     std::string note;
+    bool series = false;  // a truncated series, not the exact piece (bound in the note)
 };
 
 std::vector<EmittedTerm> concat(std::vector<EmittedTerm> a, const std::vector<EmittedTerm>& b) {
@@ -146,7 +151,7 @@ std::optional<std::vector<EmittedTerm>> edge_taylor_terms(const ClosedForm& f, c
     }
     std::vector<EmittedTerm> out;
     for (const auto& [j, c] : taylor)
-        if (!c.is_zero()) out.push_back({Basis::one, 0, square, j, shift ? 1 : 0, {c}});
+        if (!c.is_zero()) out.push_back({Basis::one, 0, square, j, shift ? 1 : 0, {c}, j > 0 ? std::optional(edge) : std::nullopt});
     return out;
 }
 
@@ -190,7 +195,25 @@ std::optional<EmittedPiece> zero_series_piece(const ClosedForm& form, const Q& h
     if (r0 >= hi) fail("internal: series piece beyond its closed form's piece");
     const std::string note = "series at 0 up to r^" + std::to_string(z->order) + ", truncation < " +
                              decimal(z->relative_bound, 2) + " relative (series.hpp)";
-    return EmittedPiece{Q(0), r0, stable_terms(z->series, std::nullopt), note};
+    return EmittedPiece{Q(0), r0, stable_terms(z->series, std::nullopt), note, true};
+}
+
+// The last piece of a quantity whose closed form cancels towards the support
+// edge hi = 1 (the same forms): its exact series in S = sqrt(1 - r^2) there
+// on [r1, 1] (edge_series.hpp), c r^low S^s written one term per power as
+// c r^low (1 - r^2)^(s/2) (times S for odd s).
+std::optional<EmittedPiece> edge_series_piece(const ClosedForm& form, const Q& lo, const Q& hi) {
+    if (form.is_elementary() || hi != 1) return std::nullopt;
+    const auto e = edge_series(form, lo);
+    if (!e) return std::nullopt;
+    std::vector<EmittedTerm> terms;
+    for (const EdgeTerm& t : e->terms)
+        terms.push_back({t.s % 2 ? Basis::sqrt_power : Basis::one, t.s % 2, true, t.s / 2, t.low, {t.c},
+                         t.s / 2 > 0 ? std::optional(hi) : std::nullopt});
+    const std::string note = "series at the edge in S = sqrt(1-r^2) up to S^" + std::to_string(e->order) +
+                             ", truncation < " + decimal(e->relative_bound, 2) +
+                             " of its leading term (edge_series.hpp)";
+    return EmittedPiece{e->r1, hi, std::move(terms), note, true};
 }
 
 // The pieces of one quantity in their stable forms. Potential-like
@@ -221,7 +244,9 @@ std::vector<EmittedPiece> emitted_pieces(const Radial& f, bool potential_like) {
                                 ? edge_taylor_terms(basis_part(form, Basis::one, true), hi)
                                 : std::nullopt;
         if (!green && !taylor) {
-            out.push_back({lo, hi, stable_terms(form, hi), ""});
+            auto edge = edge_series_piece(form, lo, hi);  // [r1, hi] of cancelling closed forms
+            if (!edge || lo < edge->lo) out.push_back({lo, edge ? edge->lo : hi, stable_terms(form, hi), ""});
+            if (edge) out.push_back(std::move(*edge));
             continue;
         }
         std::vector<EmittedTerm> outer =
@@ -238,18 +263,120 @@ std::vector<EmittedPiece> emitted_pieces(const Radial& f, bool potential_like) {
     return out;
 }
 
+// The emitted piece of `pieces` (in order, the exterior last) holding r.
+const EmittedPiece& piece_at(const std::vector<EmittedPiece>& pieces, const Q& r) {
+    for (const EmittedPiece& p : pieces)
+        if (!p.hi || r < *p.hi) return p;
+    fail("internal: no emitted piece holds r = " + short_string(r));
+}
+
+bool same_factor(const EmittedTerm& a, const EmittedTerm& b) {
+    return a.basis == b.basis && a.s_power == b.s_power && a.square == b.square && a.edge_power == b.edge_power &&
+           a.low == b.low && a.edge == b.edge;
+}
+
+// Terms with the same factor (basis, v, (edge - v)^n, r^low) as one term,
+// their polynomials added; terms that cancel to 0 dropped. In the order of
+// first appearance, so emission stays deterministic.
+std::vector<EmittedTerm> merged(const std::vector<EmittedTerm>& terms) {
+    std::vector<EmittedTerm> out;
+    for (const EmittedTerm& t : terms) {
+        auto it = std::find_if(out.begin(), out.end(), [&](const EmittedTerm& o) { return same_factor(o, t); });
+        if (it == out.end()) {
+            out.push_back(t);
+            continue;
+        }
+        if (it->c.size() < t.c.size()) it->c.resize(t.c.size());
+        for (std::size_t k = 0; k < t.c.size(); ++k) it->c[k] += t.c[k];
+    }
+    for (EmittedTerm& t : out)
+        while (!t.c.empty() && t.c.back().is_zero()) t.c.pop_back();
+    std::erase_if(out, [](const EmittedTerm& t) { return t.c.empty(); });
+    return out;
+}
+
+// The pieces of a quantity of a combination f = sum_j w_j f_j, f_j the
+// quantity of psi_{a_j} (Franz (4.17); `parts` holds w_j f_j): on each
+// interval between the breakpoints of all parts' emitted pieces, the sum of
+// the parts' emitted terms there. A term of w_j psi_{a_j} stays factored at
+// its own edge a_j, (a_j - r)^n p_j(r), where expanding the sum at the
+// piece's upper breakpoint cancelled (up to 1e8 ulp); potentials add up the
+// Green's functions of the parts outside their support (sum_j w_j = 1).
+std::vector<EmittedPiece> combination_pieces(const Radial& f, const std::vector<Radial>& parts,
+                                             bool potential_like) {
+    std::vector<std::vector<EmittedPiece>> emitted;
+    std::vector<Q> breaks = f.breaks;
+    for (const Radial& part : parts) {
+        emitted.push_back(emitted_pieces(part, potential_like));
+        for (const EmittedPiece& p : emitted.back())
+            if (p.lo < f.support()) breaks.push_back(p.lo);
+    }
+    std::sort(breaks.begin(), breaks.end());
+    breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
+    std::vector<EmittedPiece> out;
+    for (std::size_t i = 0; i + 1 < breaks.size(); ++i) {
+        const Q mid = (breaks[i] + breaks[i + 1]) / 2;
+        std::vector<EmittedTerm> terms;
+        for (const auto& pieces : emitted) terms = concat(std::move(terms), piece_at(pieces, mid).terms);
+        out.push_back({breaks[i], breaks[i + 1], merged(terms), "per radius a_j, factored at a_j (Franz (4.17))"});
+    }
+    out.push_back({f.support(), std::nullopt, stable_terms(f.outside, std::nullopt), ""});
+    return out;
+}
+
+// p(v) as a Laurent polynomial in r, v = r^2 (square) or v = r.
+Laurent in_r(const Laurent& p, bool square) {
+    if (!square || p.is_zero()) return p;
+    Laurent out;
+    for (int k = p.low(); k <= p.high(); ++k) out += Laurent::monomial(p.coefficient(k), 2 * k);
+    return out;
+}
+
+// An emitted term as an exact closed form (table.hpp):
+// (edge - v)^edge_power r^low sum_k c_k v^k basis.
+ClosedForm term_form(const EmittedTerm& t) {
+    std::map<Atom, Laurent> by_atom;
+    for (std::size_t k = 0; k < t.c.size(); ++k)
+        for (const auto& [atom, q] : t.c[k].terms()) by_atom[atom] += Laurent::monomial(q, static_cast<int>(k));
+    Laurent factor(Q(1));
+    if (t.edge_power > 0) factor = Laurent::binomial_power(t.square ? *t.edge * *t.edge : *t.edge, Q(-1), t.edge_power);
+    ClosedForm out;
+    for (const auto& [atom, p] : by_atom)
+        out += ClosedForm(in_r(p * factor, t.square).shifted(t.low), TermKey{t.basis, t.s_power, atom});
+    return out;
+}
+
+// The emission's own certificate: on every piece (but a truncated series)
+// the emitted terms sum exactly to the quantity's closed form there.
+void check_emitted(const Radial& f, const std::vector<EmittedPiece>& pieces) {
+    for (const EmittedPiece& p : pieces) {
+        if (p.series) continue;
+        ClosedForm sum;
+        for (const EmittedTerm& t : p.terms) sum += term_form(t);
+        const ClosedForm& want = p.hi ? f.form_at((p.lo + *p.hi) / 2) : f.outside;
+        if (!(sum == want))
+            fail("internal: the emitted terms on [" + short_string(p.lo) + ", " +
+                 (p.hi ? short_string(*p.hi) : std::string("inf")) + ") do not sum to the exact piece");
+    }
+}
+
 class HeaderWriter {
 public:
     explicit HeaderWriter(std::string id) : id_(std::move(id)) {}
 
     // Returns the C++ expression of the Quantity.
-    std::string quantity(const std::string& name, const Radial* f, bool potential_like) {
+    // `parts`: for a combination, its terms' quantities w_j f_j (else empty).
+    std::string quantity(const std::string& name, const Radial* f, bool potential_like,
+                         const std::vector<Radial>& parts) {
         if (!f) return "{nullptr, 0}";
         std::vector<std::string> pieces;
-        const std::vector<EmittedPiece> emitted = emitted_pieces(*f, potential_like);
+        const std::vector<EmittedPiece> emitted =
+            parts.empty() ? emitted_pieces(*f, potential_like) : combination_pieces(*f, parts, potential_like);
+        check_emitted(*f, emitted);
         for (std::size_t i = 0; i < emitted.size(); ++i) {
-            const auto& [lo, hi, terms, note] = emitted[i];
+            const auto& [lo, hi, terms, note, series] = emitted[i];
             const std::string terms_name = name + "_" + std::to_string(i);
+            const std::string hi_text = hi ? hex_literal(round_to_double(*hi)) : "table::infinity";
             std::vector<std::string> term_exprs;
             for (std::size_t t = 0; t < terms.size(); ++t) {
                 const std::string cname = terms_name + "_" + std::to_string(t);
@@ -260,7 +387,8 @@ public:
                 const auto& term = terms[t];
                 term_exprs.push_back("{table::Basis::" + std::string(basis_name(term.basis)) + ", " +
                                      std::to_string(term.s_power) + ", table::Var::" + (term.square ? "r2" : "r") +
-                                     ", " + std::to_string(term.edge_power) + ", " + std::to_string(term.low) + ", " +
+                                     ", " + (term.edge ? hex_literal(round_to_double(*term.edge)) : hi_text) + ", " +
+                                     std::to_string(term.edge_power) + ", " + std::to_string(term.low) + ", " +
                                      cname + ", " + std::to_string(term.c.size()) + "}");
             }
             std::string terms_ref = "nullptr";
@@ -270,7 +398,6 @@ public:
                 body_ += "};\n";
                 terms_ref = terms_name;
             }
-            const std::string hi_text = hi ? hex_literal(round_to_double(*hi)) : "table::infinity";
             pieces.push_back("{" + hex_literal(round_to_double(lo)) + ", " + hi_text + ", " + terms_ref + ", " +
                              std::to_string(term_exprs.size()) + "},  // [" + q_comment(lo) + ", " +
                              (hi ? q_comment(*hi) : std::string("inf")) + ")" + (note.empty() ? "" : ", " + note));
@@ -331,13 +458,21 @@ KernelText render_kernel(const CatalogueEntry& e, std::vector<std::string>& fail
         certs.push_back({{"what", c.what}, {"passed", c.passed}, {"detail", c.detail}});
     }
 
+    const std::vector<ComboTerm> terms = combo_terms(k);
+    std::vector<Quantities> term_quantities;
+    for (const ComboTerm& t : terms) term_quantities.push_back(derive_quantities(t.kernel));
+
     HeaderWriter w(id);
     std::vector<std::string> quantities;
     json qjson = json::object();
     for (const std::string& name : quantity_names()) {
         const bool potential_like = name.find("potential") != std::string::npos;
         const Radial* f = (potential_like && !k.claims.no_potential.empty()) ? nullptr : &quantity(k, q, name);
-        quantities.push_back(w.quantity(name, f, potential_like));
+        std::vector<Radial> parts;
+        if (f)
+            for (std::size_t j = 0; j < terms.size(); ++j)
+                parts.push_back(quantity(terms[j].kernel, term_quantities[j], name) * Exact(terms[j].weight));
+        quantities.push_back(w.quantity(name, f, potential_like, parts));
         if (f) qjson[name] = radial_json(*f);
     }
 

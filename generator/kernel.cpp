@@ -126,6 +126,21 @@ Kernel make_kernel(const Spec& spec, int dim) {
     return k;
 }
 
+std::vector<ComboTerm> combo_terms(const Kernel& k) {
+    if (k.spec.family != Family::combo) return {};
+    const Kernel base = make_kernel(*k.spec.base, k.dim);
+    const std::vector<Q> a = radii(k.spec);
+    const std::vector<Q> w = vandermonde_weights(a);
+    std::vector<ComboTerm> out;
+    for (std::size_t j = 0; j < a.size(); ++j) {
+        Kernel psi = base;
+        psi.shape = base.shape.scaled(a[j], k.dim);
+        psi.W = base.W.scaled(a[j], k.dim);
+        out.push_back({w[j], std::move(psi)});
+    }
+    return out;
+}
+
 Exact radial_moment(const Kernel& k, int p) {
     return sphere_measure(k.dim) * radial_integral(k.W, k.dim - 1 + p);
 }

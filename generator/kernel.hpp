@@ -7,6 +7,7 @@
 #include "spec.hpp"
 
 #include <string>
+#include <vector>
 
 namespace mollify::gen {
 
@@ -35,6 +36,15 @@ struct Kernel {
 
 // Throws Error for a dimension outside 1..3 or a kernel not defined in it.
 Kernel make_kernel(const Spec& spec, int dim);
+
+// The terms of a combination W = sum_j w_j psi_{a_j} (Franz (4.17)):
+// psi_{a_j} = a_j^-D psi(r/a_j), the base kernel (unit mass) scaled to
+// support a_j, with its weight w_j (Prop. 4.24). Empty for other families.
+struct ComboTerm {
+    Q weight;
+    Kernel kernel;
+};
+std::vector<ComboTerm> combo_terms(const Kernel& k);
 
 // int_{R^D} |x|^p W dx (radial moment), exactly; p = 0 is the mass.
 Exact radial_moment(const Kernel& k, int p);

@@ -12,6 +12,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
+#include <string>
 
 using namespace mollify::gen;
 namespace table = mollify::table;
@@ -163,4 +165,75 @@ TEST(Tables, CatalogueHoldsTheDefaultKernels) {
                           "combo:m=3,base=mollifier:M=9@3", "poly6@1", "viscosity@2", "box-d2@1", "cubic-spline@3"})
         EXPECT_TRUE(specs.count(s)) << s;
     EXPECT_FALSE(specs.count("viscosity@1"));
+}
+
+namespace {
+
+// The exact value of a piecewise polynomial/log quantity at a double r > 0,
+// correctly rounded (0 where it vanishes exactly).
+double exact_value(const Radial& f, double r) {
+    const Exact x = f.at(Q(r));
+    return x.is_zero() ? 0.0 : round_to_double(x);
+}
+
+}  // namespace
+
+// Every factored term names its own edge (table::Term::edge): for a single
+// kernel the upper breakpoint of its piece, for a combination W = sum_j w_j
+// psi_{a_j} (Franz (4.17)) the radius a_j of the term it comes from.
+TEST(Tables, TermsAreFactoredAtTheirOwnEdges) {
+    int checked = 0;
+    for (const table::Kernel* t : mollify::tables::all_kernels) {
+        const Spec spec = parse_spec(t->spec);
+        std::set<double> edges;
+        if (spec.family == Family::combo)
+            for (const Q& a : radii(spec)) edges.insert(round_to_double(a));
+        for (const table::Quantity& q : t->quantities)
+            for (int p = 0; p < q.npieces; ++p)
+                for (int i = 0; i < q.pieces[p].nterms; ++i) {
+                    const table::Term& term = q.pieces[p].terms[i];
+                    if (term.edge_power == 0) {
+                        EXPECT_EQ(term.edge, q.pieces[p].hi) << t->spec;
+                    } else if (spec.family == Family::combo) {
+                        EXPECT_TRUE(edges.count(term.edge) && term.edge >= q.pieces[p].hi) << t->spec << " edge " << term.edge;
+                    } else {
+                        EXPECT_EQ(term.edge, q.pieces[p].hi) << t->spec;
+                    }
+                    ++checked;
+                }
+    }
+    EXPECT_GT(checked, 10000);
+}
+
+// Combinations on both sides of every radius a_j: each term w_j psi_{a_j}
+// is factored at a_j, so W and W'/r (no interior zeros in psi, psi'/r)
+// keep the accuracy of their terms, error < 32 ulp of sum_j |w_j f_j(r)|.
+// Expanded at the piece's upper breakpoint they cancelled: up to 3e8 ulp.
+TEST(Tables, CombinationsKeepTheAccuracyOfTheirTerms) {
+    int checked = 0;
+    for (const table::Kernel* t : mollify::tables::all_kernels) {
+        const Spec spec = parse_spec(t->spec);
+        if (spec.family != Family::combo) continue;
+        const Kernel k = make_kernel(spec, t->dim);
+        const Quantities q = derive_quantities(k);
+        const std::vector<ComboTerm> terms = combo_terms(k);
+        for (const char* name : {"value", "grad_over_r"}) {
+            const int i = name == std::string("value") ? static_cast<int>(table::QuantityId::value)
+                                                       : static_cast<int>(table::QuantityId::grad_over_r);
+            std::vector<Radial> parts;
+            for (const ComboTerm& term : terms)
+                parts.push_back(quantity(term.kernel, derive_quantities(term.kernel), name) * Exact(term.weight));
+            for (const Q& a : radii(spec))
+                for (int e = 2; e <= 50; e += 4)
+                    for (double r : {round_to_double(a) * (1 - std::ldexp(1.0, -e)), round_to_double(a) * (1 + std::ldexp(1.0, -e))}) {
+                        if (r > 1) continue;
+                        double scale = 0;
+                        for (const Radial& part : parts) scale += std::abs(exact_value(part, r));
+                        const double error = std::abs(table::evaluate(t->quantities[i], r) - exact_value(quantity(k, q, name), r));
+                        EXPECT_LE(error, 32 * std::ldexp(1.0, std::ilogb(scale) - 52)) << t->spec << " D=" << t->dim << " " << name << " r=" << r;
+                        ++checked;
+                    }
+        }
+    }
+    EXPECT_GT(checked, 5000);
 }

@@ -8,6 +8,8 @@
 // so none of the three generator routines (product formula, elimination,
 // equidistant closed form) is trusted to check another.
 #include "error.hpp"
+#include "kernel.hpp"
+#include "quantities.hpp"
 #include "vandermonde.hpp"
 
 #include <gtest/gtest.h>
@@ -175,6 +177,29 @@ void expect_error_mentioning(const std::vector<Q>& radii, const std::string& nee
                 << "message '" << e.what() << "' does not mention " << needle;
         }
     }
+}
+
+// The terms the emitter factors one by one (combo_terms): w_j psi_{a_j},
+// psi_{a_j} of unit mass with support a_j, sum exactly to the combination,
+// and so do their potentials (sum_j w_j = 1: the Green's functions add up).
+TEST(Vandermonde, ComboTermsSumToTheCombination) {
+    for (const char* text : {"combo:m=3,base=wendland:k=2,l=1", "combo:radii=1/4;3/5;1,base=mollifier:M=4",
+                             "combo:m=2,base=cubic-spline"})
+        for (int dim = 1; dim <= 3; ++dim) {
+            const Kernel k = make_kernel(parse_spec(text), dim);
+            const std::vector<ComboTerm> terms = combo_terms(k);
+            ASSERT_EQ(terms.size(), k.spec.radii.size());
+            Radial W = k.W * Exact(Q(0)), phi = *derive_quantities(k).potential * Exact(Q(0));
+            for (std::size_t j = 0; j < terms.size(); ++j) {
+                EXPECT_EQ(terms[j].kernel.W.support(), to_q(k.spec.radii[j])) << text;
+                EXPECT_EQ(radial_moment(terms[j].kernel, 0), Exact(Q(1))) << text;
+                W = W + terms[j].kernel.W * Exact(terms[j].weight);
+                phi = phi + *derive_quantities(terms[j].kernel).potential * Exact(terms[j].weight);
+            }
+            EXPECT_TRUE(W == k.W) << text << " D=" << dim;
+            EXPECT_TRUE(phi == *derive_quantities(k).potential) << text << " D=" << dim;
+        }
+    EXPECT_TRUE(combo_terms(make_kernel(parse_spec("wendland:k=1"), 3)).empty());
 }
 
 TEST(Vandermonde, InvalidRadiiThrowNamingTheValue) {

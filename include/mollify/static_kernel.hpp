@@ -18,7 +18,9 @@
 #include <mollify/smoothing.hpp>
 
 #include <array>
+#include <bit>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
 
@@ -75,19 +77,27 @@ inline std::size_t check_points(const Points<D>& x) {
     return x[0].size();
 }
 
-// One pass, vectorisable: are all radii finite and >= 0? Only when not is
-// the bad one looked for, to name it.
+// One pass on the bits (integer compares vectorise; a floating-point
+// reduction would not): is any value NaN or infinite (exponent all ones), or,
+// for radii, negative (sign bit set, not -0)? Only when so is the bad one
+// looked for, to name it.
+inline constexpr std::uint64_t exponent_bits = 0x7ff0000000000000;
+inline constexpr std::uint64_t sign_bit = 0x8000000000000000;
+
 inline void check_radii(std::span<const double> r) {
-    bool good = true;
-    for (const double x : r) good &= (x >= 0) & (x <= std::numeric_limits<double>::max());
-    if (!good)
+    std::uint64_t bad = 0;
+    for (const double x : r) {
+        const auto u = std::bit_cast<std::uint64_t>(x);
+        bad |= static_cast<std::uint64_t>((u & exponent_bits) == exponent_bits) | static_cast<std::uint64_t>(u > sign_bit);
+    }
+    if (bad)
         for (const double x : r) check_radius(x);
 }
 
 inline void check_coordinates(std::span<const double> x, int component) {
-    bool good = true;
-    for (const double v : x) good &= std::abs(v) <= std::numeric_limits<double>::max();
-    if (!good)
+    std::uint64_t bad = 0;
+    for (const double v : x) bad |= static_cast<std::uint64_t>((std::bit_cast<std::uint64_t>(v) & exponent_bits) == exponent_bits);
+    if (bad)
         for (const double v : x) check_coordinate(v, component);
 }
 
@@ -124,7 +134,7 @@ private:
     template <QuantityId Q>
     MOLLIFY_INLINE static double emitted(double r, const Smoothing& s) {
         constexpr int q = static_cast<int>(Q);
-        const detail::Scaled a{r * s.inverse(), detail::edge_distance(s.h() - r, s)};
+        const detail::Scaled a{r * s.inverse(), detail::edge_distance(s.h() - r, s), r, s.h(), s.inverse()};
         double in = detail::inside<K, q>(a) * s.scale(Q);
         if constexpr (Q == QuantityId::potential && dim == 2) in = detail::mul_add(detail::log_coefficient<K, q>, s.log_h(), in);
         if constexpr (detail::zero_outside<K, q>) {

@@ -8,9 +8,11 @@
 // potentials). A piece is a sum of terms; a term is
 //     (edge - v)^edge_power * r^low * sum_k c[k] v^k * basis(r),
 // with v = r (Var::r) or v = r^2 (Var::r2; then the factor is edge^2 - r^2),
-// `edge` the piece's upper breakpoint. The factored form keeps the
-// evaluation accurate near the support edge: expanded powers of r lose
-// accuracy there (SWIFT's Wendland C6 loses up to 1e-2 at r = 0.98).
+// `edge` the term's own edge: the piece's upper breakpoint for a single
+// kernel, the radius a_j of the term w_j psi(r/a_j) it comes from for a
+// combination (Franz (4.17); a_j may lie beyond the piece). The factored
+// form keeps the evaluation accurate near the edge: expanded powers of r
+// lose accuracy there (SWIFT's Wendland C6 loses up to 1e-2 at r = 0.98).
 #pragma once
 
 #include <cmath>
@@ -32,6 +34,7 @@ struct Term {
     Basis basis;
     int s_power;
     Var var;
+    double edge;  // the factor is (edge - v)^edge_power; the piece's hi where edge_power = 0
     int edge_power;
     int low;  // power of r in front of the polynomial
     const double* c;
@@ -97,7 +100,7 @@ inline double evaluate(const Quantity& q, double r) {
             double x = poly;
             if (term.low != 0) x *= std::pow(r, term.low);
             if (term.edge_power != 0) {
-                const double edge = term.var == Var::r ? piece.hi - r : (piece.hi - r) * (piece.hi + r);
+                const double edge = term.var == Var::r ? term.edge - r : (term.edge - r) * (term.edge + r);
                 x *= std::pow(edge, term.edge_power);
             }
             switch (term.basis) {

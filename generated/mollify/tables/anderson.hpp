@@ -12,7 +12,7 @@ inline constexpr double value_0_0[] = {
     0x1.8p-1,  // 3/4
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -22,7 +22,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -32,7 +32,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 1},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -42,7 +42,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 1},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -52,7 +52,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -68,7 +68,7 @@ inline constexpr double potential_0_0[] = {
     -0x1p-4,  // -1/16
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 3},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -78,14 +78,14 @@ inline constexpr double potential_1_1[] = {
     0x1p-4,  // 1/16
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_1_1, 2},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -97,7 +97,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1p-2,  // -1/4
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 2},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -107,14 +107,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1p-2,  // -1/4
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, 0, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -126,7 +126,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1p-2,  // -1/4
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 2},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -136,14 +136,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1p-2,  // -1/4
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -1, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -154,7 +154,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 1},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -165,14 +165,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, -3, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -3, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -202,7 +202,7 @@ inline constexpr double value_0_0[] = {
     0x1.45f306dc9c883p-1,  // 2 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -212,7 +212,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.45f306dc9c883p+0,  // -4 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -222,7 +222,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.45f306dc9c883p+0,  // -4 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 1},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -232,7 +232,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.45f306dc9c883p+1,  // -8 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 1},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -242,7 +242,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.45f306dc9c883p+0,  // -4 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -258,7 +258,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 3},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -267,14 +267,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -286,7 +286,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 2},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -295,14 +295,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -314,7 +314,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 2},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -323,14 +323,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -341,7 +341,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 1},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -351,14 +351,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 1, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -4, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -388,7 +388,7 @@ inline constexpr double value_0_0[] = {
     0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -398,7 +398,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.3193d66ed2bfap+0,  // -15/4 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -408,7 +408,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.3193d66ed2bfap+0,  // -15/4 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 1},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -418,7 +418,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.ca5dc1a63c1f8p+1,  // -45/4 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 1},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -428,7 +428,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.3193d66ed2bfap+0,  // -15/4 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -444,7 +444,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.e8ec8a4aeacc4p-6,  // -3/32 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 3},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -455,14 +455,14 @@ inline constexpr double potential_1_1[] = {
     0x1.e8ec8a4aeacc4p-6,  // 3/32 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -1, potential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, potential_1_1, 3},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -474,7 +474,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.e8ec8a4aeacc4p-4,  // -3/8 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 2},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -486,14 +486,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.e8ec8a4aeacc4p-4,  // -3/8 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -2, dpotential_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -2, dpotential_1_1, 4},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -505,7 +505,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.e8ec8a4aeacc4p-4,  // -3/8 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 2},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -517,14 +517,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.e8ec8a4aeacc4p-4,  // -3/8 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -3, dpotential_over_r_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -3, dpotential_over_r_1_1, 4},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -535,7 +535,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 1},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -548,14 +548,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, -5, potential_hess_radial_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -5, potential_hess_radial_1_1, 5},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -586,7 +586,7 @@ inline constexpr double value_0_0[] = {
     -0x1.a4p+1,  // -105/32
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -597,7 +597,7 @@ inline constexpr double dr_0_0[] = {
     0x1.a4p+3,  // 105/8
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -608,7 +608,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.3bp+5,  // 315/8
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -619,7 +619,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.3bp+5,  // 315/8
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -630,7 +630,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.a4p+3,  // 105/8
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -640,7 +640,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.a4p+4,  // 105/4
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -653,7 +653,7 @@ inline constexpr double potential_0_0[] = {
     0x1.cp-4,  // 7/64
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 4},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -665,14 +665,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.cp-4,  // -7/64
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_1_1, 4},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -685,7 +685,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.5p-1,  // 21/32
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 3},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -697,14 +697,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.5p-1,  // 21/32
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, 0, dpotential_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, dpotential_1_1, 4},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -717,7 +717,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.5p-1,  // 21/32
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 3},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -729,14 +729,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.5p-1,  // 21/32
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -1, dpotential_over_r_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, dpotential_over_r_1_1, 4},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -748,7 +748,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.5p+1,  // 21/8
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -761,14 +761,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.5p+1,  // -21/8
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, -3, potential_hess_radial_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -3, potential_hess_radial_1_1, 5},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -799,7 +799,7 @@ inline constexpr double value_0_0[] = {
     -0x1.e8ec8a4aeacc4p+1,  // -12 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -810,7 +810,7 @@ inline constexpr double dr_0_0[] = {
     0x1.e8ec8a4aeacc4p+3,  // 48 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -821,7 +821,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.6eb167b830193p+5,  // 144 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -832,7 +832,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.e8ec8a4aeacc4p+5,  // 192 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -843,7 +843,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.e8ec8a4aeacc4p+3,  // 48 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -853,7 +853,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.e8ec8a4aeacc4p+4,  // 96 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -866,7 +866,7 @@ inline constexpr double potential_0_0[] = {
     0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 4},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -878,15 +878,15 @@ inline constexpr double potential_1_2[] = {
     -0x1.b2995e7b7b604p-4,  // -1/3 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -899,7 +899,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-1,  // 2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 3},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -909,14 +909,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.45f306dc9c883p-1,  // 2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -929,7 +929,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.45f306dc9c883p-1,  // 2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 3},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -939,14 +939,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.45f306dc9c883p-1,  // 2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -958,7 +958,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.45f306dc9c883p+1,  // 8 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -969,14 +969,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.45f306dc9c883p+1,  // -8 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 1, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -1007,7 +1007,7 @@ inline constexpr double value_0_0[] = {
     -0x1.2ccd87151774bp+2,  // -945/64 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -1018,7 +1018,7 @@ inline constexpr double dr_0_0[] = {
     0x1.2ccd87151774bp+4,  // 945/16 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -1029,7 +1029,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.c3344a9fa32fp+5,  // 2835/16 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -1040,7 +1040,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.7800e8da5d51dp+6,  // 4725/16 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -1051,7 +1051,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.2ccd87151774bp+4,  // 945/16 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -1061,7 +1061,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.2ccd87151774bp+5,  // 945/8 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -1074,7 +1074,7 @@ inline constexpr double potential_0_0[] = {
     0x1.ca5dc1a63c1f8p-4,  // 45/128 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 4},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -1087,14 +1087,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.ca5dc1a63c1f8p-4,  // -45/128 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -1, potential_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, potential_1_1, 5},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -1107,7 +1107,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.57c6513cad17ap-1,  // 135/64 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 3},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1121,14 +1121,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.57c6513cad17ap-1,  // 135/64 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -2, dpotential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -2, dpotential_1_1, 6},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -1141,7 +1141,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.57c6513cad17ap-1,  // 135/64 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 3},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1155,14 +1155,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.57c6513cad17ap-1,  // 135/64 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -3, dpotential_over_r_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -3, dpotential_over_r_1_1, 6},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -1174,7 +1174,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.57c6513cad17ap+1,  // 135/16 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -1189,14 +1189,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.57c6513cad17ap+1,  // -135/16 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, -5, potential_hess_radial_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -5, potential_hess_radial_1_1, 7},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -1228,7 +1228,7 @@ inline constexpr double value_0_0[] = {
     0x1.b12p+3,  // 3465/256
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -1240,7 +1240,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.44d8p+6,  // -10395/128
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -1252,7 +1252,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.960ep+8,  // -51975/128
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -1264,7 +1264,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.960ep+8,  // -51975/128
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -1276,7 +1276,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.44d8p+6,  // -10395/128
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -1287,7 +1287,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.44d8p+8,  // -10395/32
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -1301,7 +1301,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.efp-3,  // -495/2048
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -1315,14 +1315,14 @@ inline constexpr double potential_1_1[] = {
     0x1.efp-3,  // 495/2048
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_1_1, 6},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -1336,7 +1336,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.efp+0,  // -495/256
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -1350,14 +1350,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.efp+0,  // -495/256
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, 0, dpotential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, dpotential_1_1, 6},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -1371,7 +1371,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.efp+0,  // -495/256
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -1385,14 +1385,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.efp+0,  // -495/256
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -1, dpotential_over_r_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, dpotential_over_r_1_1, 6},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -1405,7 +1405,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.734p+3,  // -1485/128
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -1420,14 +1420,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.734p+3,  // 1485/128
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, -3, potential_hess_radial_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -3, potential_hess_radial_1_1, 7},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -1459,7 +1459,7 @@ inline constexpr double value_0_0[] = {
     0x1.3193d66ed2bfap+4,  // 60 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -1471,7 +1471,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.ca5dc1a63c1f8p+6,  // -360 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -1483,7 +1483,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.1e7a9907e593bp+9,  // -1800 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -1495,7 +1495,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.57c6513cad17ap+9,  // -2160 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -1507,7 +1507,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.ca5dc1a63c1f8p+6,  // -360 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -1518,7 +1518,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.ca5dc1a63c1f8p+8,  // -1440 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -1532,7 +1532,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.3193d66ed2bfap-2,  // -15/16 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -1547,16 +1547,16 @@ inline constexpr double potential_1_3[] = {
     -0x1.3193d66ed2bfap-2,  // -15/16 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -1570,7 +1570,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.3193d66ed2bfap+1,  // -15/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1581,14 +1581,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.3193d66ed2bfap+1,  // -15/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, -1, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -1, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -1602,7 +1602,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.3193d66ed2bfap+1,  // -15/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1613,14 +1613,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.3193d66ed2bfap+1,  // -15/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, -2, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -2, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -1633,7 +1633,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.ca5dc1a63c1f8p+3,  // -45 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1645,14 +1645,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.ca5dc1a63c1f8p+3,  // 45 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 1, -4, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -4, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -1684,7 +1684,7 @@ inline constexpr double value_0_0[] = {
     0x1.c012268cc045cp+4,  // 45045/512 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -1696,7 +1696,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.500d9ce990345p+7,  // -135135/256 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -1708,7 +1708,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.a4110423f4417p+9,  // -675675/256 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -1720,7 +1720,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.260be94c5e2ddp+10,  // -945945/256 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -1732,7 +1732,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.500d9ce990345p+7,  // -135135/256 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -1743,7 +1743,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.500d9ce990345p+9,  // -135135/64 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -1757,7 +1757,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.8e4905d272052p-2,  // -5005/4096 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -1772,14 +1772,14 @@ inline constexpr double potential_1_1[] = {
     0x1.8e4905d272052p-2,  // 5005/4096 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -1, potential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, potential_1_1, 7},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -1793,7 +1793,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.8e4905d272052p+1,  // -5005/512 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1809,14 +1809,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.8e4905d272052p+1,  // -5005/512 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -2, dpotential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -2, dpotential_1_1, 8},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -1830,7 +1830,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.8e4905d272052p+1,  // -5005/512 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1846,14 +1846,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.8e4905d272052p+1,  // -5005/512 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -3, dpotential_over_r_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -3, dpotential_over_r_1_1, 8},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -1866,7 +1866,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.2ab6c45dd583ep+4,  // -15015/256 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -1883,14 +1883,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.2ab6c45dd583ep+4,  // 15015/256 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, -5, potential_hess_radial_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -5, potential_hess_radial_1_1, 9},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -1920,7 +1920,7 @@ inline constexpr double value_0_0[] = {
     0x1.ep-1,  // 15/16
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -1930,7 +1930,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.ep+1,  // -15/4
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -1941,7 +1941,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.68p+3,  // 45/4
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -1952,7 +1952,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.68p+3,  // 45/4
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -1962,7 +1962,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.ep+1,  // -15/4
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -1972,7 +1972,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.ep+2,  // 15/2
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -1985,7 +1985,7 @@ inline constexpr double potential_0_0[] = {
     0x1p-5,  // 1/32
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 4},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -1996,14 +1996,14 @@ inline constexpr double potential_1_1[] = {
     0x1p-5,  // 1/32
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_1_1, 3},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -2016,7 +2016,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.8p-3,  // 3/16
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 3},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -2027,14 +2027,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.8p-3,  // -3/16
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, 0, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -2047,7 +2047,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.8p-3,  // 3/16
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 3},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -2058,14 +2058,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.8p-3,  // -3/16
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -1, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -2077,7 +2077,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.8p-1,  // 3/4
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -2089,14 +2089,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.8p-1,  // 3/4
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -3, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -3, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -2126,7 +2126,7 @@ inline constexpr double value_0_0[] = {
     0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -2136,7 +2136,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.e8ec8a4aeacc4p+1,  // -12 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -2147,7 +2147,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.6eb167b830193p+3,  // 36 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -2158,7 +2158,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.e8ec8a4aeacc4p+3,  // 48 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -2168,7 +2168,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.e8ec8a4aeacc4p+1,  // -12 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -2178,7 +2178,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.e8ec8a4aeacc4p+2,  // 24 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -2191,7 +2191,7 @@ inline constexpr double potential_0_0[] = {
     0x1.b2995e7b7b604p-6,  // 1/12 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 4},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -2203,15 +2203,15 @@ inline constexpr double potential_1_2[] = {
     -0x1.b2995e7b7b604p-6,  // -1/12 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -2224,7 +2224,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 3},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2233,14 +2233,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -2253,7 +2253,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 3},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2262,14 +2262,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -2281,7 +2281,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.45f306dc9c883p-1,  // 2 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -2291,14 +2291,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p-1,  // 2 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -4, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -2328,7 +2328,7 @@ inline constexpr double value_0_0[] = {
     0x1.0b615ba0f867bp+0,  // 105/32 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -2338,7 +2338,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.0b615ba0f867bp+2,  // -105/8 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -2349,7 +2349,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.91120971749b9p+3,  // 315/8 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -2360,7 +2360,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.4e39b2893681ap+4,  // 525/8 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -2370,7 +2370,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.0b615ba0f867bp+2,  // -105/8 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -2380,7 +2380,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.0b615ba0f867bp+3,  // 105/4 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -2393,7 +2393,7 @@ inline constexpr double potential_0_0[] = {
     0x1.976fc893c3aa3p-6,  // 5/64 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 4},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -2405,14 +2405,14 @@ inline constexpr double potential_1_1[] = {
     0x1.976fc893c3aa3p-6,  // 5/64 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, potential_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, potential_1_1, 4},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -2425,7 +2425,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.3193d66ed2bfap-3,  // 15/32 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 3},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -2438,14 +2438,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.3193d66ed2bfap-3,  // -15/32 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -2, dpotential_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -2, dpotential_1_1, 5},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -2458,7 +2458,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.3193d66ed2bfap-3,  // 15/32 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 3},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -2471,14 +2471,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.3193d66ed2bfap-3,  // -15/32 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -3, dpotential_over_r_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, dpotential_over_r_1_1, 5},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -2490,7 +2490,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -2504,14 +2504,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -5, potential_hess_radial_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -5, potential_hess_radial_1_1, 6},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -2542,7 +2542,7 @@ inline constexpr double value_0_0[] = {
     -0x1.3bp+2,  // -315/64
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -2553,7 +2553,7 @@ inline constexpr double dr_0_0[] = {
     0x1.d88p+4,  // 945/32
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -2565,7 +2565,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.275p+7,  // -4725/32
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -2577,7 +2577,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.275p+7,  // -4725/32
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -2588,7 +2588,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.d88p+4,  // 945/32
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -2599,7 +2599,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.d88p+6,  // -945/8
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -2613,7 +2613,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.68p-4,  // -45/512
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -2626,14 +2626,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.68p-4,  // -45/512
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_1_1, 5},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -2647,7 +2647,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.68p-1,  // -45/64
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -2660,14 +2660,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.68p-1,  // 45/64
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, 0, dpotential_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, dpotential_1_1, 5},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -2681,7 +2681,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.68p-1,  // -45/64
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -2694,14 +2694,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.68p-1,  // 45/64
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -1, dpotential_over_r_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, dpotential_over_r_1_1, 5},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -2714,7 +2714,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.0ep+2,  // -135/32
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -2728,14 +2728,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.0ep+2,  // -135/32
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -3, potential_hess_radial_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -3, potential_hess_radial_1_1, 6},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -2766,7 +2766,7 @@ inline constexpr double value_0_0[] = {
     -0x1.976fc893c3aa3p+2,  // -20 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -2777,7 +2777,7 @@ inline constexpr double dr_0_0[] = {
     0x1.3193d66ed2bfap+5,  // 120 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -2789,7 +2789,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.7df8cc0a876f9p+7,  // -600 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -2801,7 +2801,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.ca5dc1a63c1f8p+7,  // -720 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -2812,7 +2812,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.3193d66ed2bfap+5,  // 120 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -2823,7 +2823,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.3193d66ed2bfap+7,  // -480 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -2837,7 +2837,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.976fc893c3aa3p-4,  // -5/16 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -2852,16 +2852,16 @@ inline constexpr double potential_1_3[] = {
     -0x1.976fc893c3aa3p-4,  // -5/16 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -2875,7 +2875,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2885,14 +2885,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -2906,7 +2906,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2916,14 +2916,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -2936,7 +2936,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.3193d66ed2bfap+2,  // -15 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -2947,14 +2947,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.3193d66ed2bfap+2,  // -15 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -2985,7 +2985,7 @@ inline constexpr double value_0_0[] = {
     -0x1.13bc667e002afp+3,  // -3465/128 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -2996,7 +2996,7 @@ inline constexpr double dr_0_0[] = {
     0x1.9d9a99bd00407p+5,  // 10395/64 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -3008,7 +3008,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.0280a01620284p+8,  // -51975/64 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -3020,7 +3020,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.69e7468560386p+8,  // -72765/64 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -3031,7 +3031,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.9d9a99bd00407p+5,  // 10395/64 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -3042,7 +3042,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.9d9a99bd00407p+7,  // -10395/16 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -3056,7 +3056,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.ea327d51c768cp-4,  // -385/1024 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -3070,14 +3070,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.ea327d51c768cp-4,  // -385/1024 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, potential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, potential_1_1, 6},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -3091,7 +3091,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.ea327d51c768cp-1,  // -385/128 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -3106,14 +3106,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.ea327d51c768cp-1,  // 385/128 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -2, dpotential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -2, dpotential_1_1, 7},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -3127,7 +3127,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.ea327d51c768cp-1,  // -385/128 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -3142,14 +3142,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.ea327d51c768cp-1,  // 385/128 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -3, dpotential_over_r_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, dpotential_over_r_1_1, 7},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -3162,7 +3162,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.6fa5ddfd558e9p+2,  // -1155/64 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -3178,14 +3178,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.6fa5ddfd558e9p+2,  // -1155/64 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -5, potential_hess_radial_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -5, potential_hess_radial_1_1, 8},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -3217,7 +3217,7 @@ inline constexpr double value_0_0[] = {
     0x1.5feap+4,  // 45045/2048
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -3229,7 +3229,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.5feap+7,  // -45045/256
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -3242,7 +3242,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.33eccp+10,  // 315315/256
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -3255,7 +3255,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.33eccp+10,  // 315315/256
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -3267,7 +3267,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.5feap+7,  // -45045/256
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -3279,7 +3279,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.07ef8p+10,  // 135135/128
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -3294,7 +3294,7 @@ inline constexpr double potential_0_0[] = {
     0x1.f48p-3,  // 1001/4096
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -3309,14 +3309,14 @@ inline constexpr double potential_1_1[] = {
     0x1.f48p-3,  // 1001/4096
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_1_1, 7},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -3331,7 +3331,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.38dp+1,  // 5005/2048
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -3346,14 +3346,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.38dp+1,  // -5005/2048
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, 0, dpotential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, dpotential_1_1, 7},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -3368,7 +3368,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.38dp+1,  // 5005/2048
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -3383,14 +3383,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.38dp+1,  // -5005/2048
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -1, dpotential_over_r_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, dpotential_over_r_1_1, 7},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -3404,7 +3404,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.38dp+4,  // 5005/256
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 4},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -3420,14 +3420,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.38dp+4,  // 5005/256
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -3, potential_hess_radial_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -3, potential_hess_radial_1_1, 8},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -3459,7 +3459,7 @@ inline constexpr double value_0_0[] = {
     0x1.0b615ba0f867bp+5,  // 105 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -3471,7 +3471,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.0b615ba0f867bp+8,  // -840 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -3484,7 +3484,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.d3ea6059b2b58p+10,  // 5880 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -3497,7 +3497,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.0b615ba0f867bp+11,  // 6720 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -3509,7 +3509,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.0b615ba0f867bp+8,  // -840 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -3521,7 +3521,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.91120971749b9p+10,  // 5040 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -3536,7 +3536,7 @@ inline constexpr double potential_0_0[] = {
     0x1.563f2d9ad78fp-2,  // 21/20 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -3554,17 +3554,17 @@ inline constexpr double potential_1_4[] = {
     -0x1.563f2d9ad78fp-2,  // -21/20 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
@@ -3579,7 +3579,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.abcef9018d72bp+1,  // 21/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -3590,14 +3590,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.abcef9018d72bp+1,  // -21/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, -1, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -1, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -3612,7 +3612,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.abcef9018d72bp+1,  // 21/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -3623,14 +3623,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.abcef9018d72bp+1,  // -21/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, -2, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -2, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -3644,7 +3644,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.abcef9018d72bp+4,  // 84 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 4},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -3656,14 +3656,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.abcef9018d72bp+4,  // 84 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, -4, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -4, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -3695,7 +3695,7 @@ inline constexpr double value_0_0[] = {
     0x1.a4110423f4417p+5,  // 675675/4096 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -3707,7 +3707,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.a4110423f4417p+8,  // -675675/512 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -3720,7 +3720,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.6f8ee39f75b94p+11,  // 4729725/512 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -3733,7 +3733,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.d89324a872c99p+11,  // 6081075/512 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -3745,7 +3745,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.a4110423f4417p+8,  // -675675/512 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -3757,7 +3757,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.3b0cc31af7311p+11,  // 2027025/256 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -3772,7 +3772,7 @@ inline constexpr double potential_0_0[] = {
     0x1.e8cdfb82461d9p-2,  // 12285/8192 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -3788,14 +3788,14 @@ inline constexpr double potential_1_1[] = {
     0x1.e8cdfb82461d9p-2,  // 12285/8192 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, potential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, potential_1_1, 8},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -3810,7 +3810,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.3180bd316bd28p+2,  // 61425/4096 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -3827,14 +3827,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.3180bd316bd28p+2,  // -61425/4096 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -2, dpotential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -2, dpotential_1_1, 9},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -3849,7 +3849,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.3180bd316bd28p+2,  // 61425/4096 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -3866,14 +3866,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.3180bd316bd28p+2,  // -61425/4096 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -3, dpotential_over_r_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, dpotential_over_r_1_1, 9},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -3887,7 +3887,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.3180bd316bd28p+5,  // 61425/512 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 4},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -3905,14 +3905,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.3180bd316bd28p+5,  // 61425/512 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -5, potential_hess_radial_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -5, potential_hess_radial_1_1, 10},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -3942,7 +3942,7 @@ inline constexpr double value_0_0[] = {
     0x1.18p+0,  // 35/32
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -3952,7 +3952,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.a4p+2,  // -105/16
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -3963,7 +3963,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.068p+5,  // 525/16
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -3974,7 +3974,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.068p+5,  // 525/16
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -3984,7 +3984,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.a4p+2,  // -105/16
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -3994,7 +3994,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.a4p+4,  // 105/4
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -4008,7 +4008,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.4p-6,  // -5/256
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -4020,14 +4020,14 @@ inline constexpr double potential_1_1[] = {
     0x1.4p-6,  // 5/256
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_1, 4},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -4041,7 +4041,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.4p-3,  // -5/32
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -4053,14 +4053,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.4p-3,  // -5/32
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, dpotential_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_1_1, 4},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -4074,7 +4074,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.4p-3,  // -5/32
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -4086,14 +4086,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.4p-3,  // -5/32
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, dpotential_over_r_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_over_r_1_1, 4},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -4106,7 +4106,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.ep-1,  // -15/16
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -4119,14 +4119,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.ep-1,  // 15/16
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -3, potential_hess_radial_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, potential_hess_radial_1_1, 5},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -4156,7 +4156,7 @@ inline constexpr double value_0_0[] = {
     0x1.45f306dc9c883p+0,  // 4 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -4166,7 +4166,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -4177,7 +4177,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.3193d66ed2bfap+5,  // 120 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -4188,7 +4188,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.6eb167b830193p+5,  // 144 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -4198,7 +4198,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -4208,7 +4208,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.e8ec8a4aeacc4p+4,  // 96 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -4222,7 +4222,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -4237,16 +4237,16 @@ inline constexpr double potential_1_3[] = {
     -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -4260,7 +4260,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -4269,14 +4269,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -4290,7 +4290,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -4299,14 +4299,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -4319,7 +4319,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.e8ec8a4aeacc4p-1,  // -3 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -4329,14 +4329,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -4, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -4366,7 +4366,7 @@ inline constexpr double value_0_0[] = {
     0x1.91120971749b9p+0,  // 315/64 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -4376,7 +4376,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.2ccd87151774bp+3,  // -945/32 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -4387,7 +4387,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.7800e8da5d51dp+5,  // 4725/32 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -4398,7 +4398,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.0733d63274861p+6,  // 6615/32 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -4408,7 +4408,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.2ccd87151774bp+3,  // -945/32 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -4418,7 +4418,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.2ccd87151774bp+5,  // 945/8 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -4432,7 +4432,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.6481cf814b34fp-6,  // -35/512 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -4445,14 +4445,14 @@ inline constexpr double potential_1_1[] = {
     0x1.6481cf814b34fp-6,  // 35/512 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -1, potential_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, potential_1_1, 5},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -4466,7 +4466,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -4480,14 +4480,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -2, dpotential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 6},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -4501,7 +4501,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -4515,14 +4515,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -3, dpotential_over_r_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_1_1, 6},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -4535,7 +4535,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.0b615ba0f867bp+0,  // -105/32 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -4550,14 +4550,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.0b615ba0f867bp+0,  // 105/32 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -5, potential_hess_radial_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -5, potential_hess_radial_1_1, 7},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -4588,7 +4588,7 @@ inline constexpr double value_0_0[] = {
     -0x1.b12p+2,  // -3465/512
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -4599,7 +4599,7 @@ inline constexpr double dr_0_0[] = {
     0x1.b12p+5,  // 3465/64
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -4611,7 +4611,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.7afcp+8,  // -24255/64
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -4623,7 +4623,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.7afcp+8,  // -24255/64
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -4634,7 +4634,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.b12p+5,  // 3465/64
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -4645,7 +4645,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.44d8p+8,  // -10395/32
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -4660,7 +4660,7 @@ inline constexpr double potential_0_0[] = {
     0x1.34p-4,  // 77/1024
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -4674,14 +4674,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.34p-4,  // -77/1024
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_1, 6},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -4696,7 +4696,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.81p-1,  // 385/512
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -4710,14 +4710,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.81p-1,  // 385/512
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, dpotential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_1_1, 6},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -4732,7 +4732,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.81p-1,  // 385/512
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -4746,14 +4746,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.81p-1,  // 385/512
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, dpotential_over_r_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_over_r_1_1, 6},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -4767,7 +4767,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.81p+2,  // 385/64
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 4},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -4782,14 +4782,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.81p+2,  // -385/64
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -3, potential_hess_radial_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, potential_hess_radial_1_1, 7},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -4820,7 +4820,7 @@ inline constexpr double value_0_0[] = {
     -0x1.3193d66ed2bfap+3,  // -30 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -4831,7 +4831,7 @@ inline constexpr double dr_0_0[] = {
     0x1.3193d66ed2bfap+6,  // 240 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -4843,7 +4843,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.0b615ba0f867bp+9,  // -1680 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -4855,7 +4855,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.3193d66ed2bfap+9,  // -1920 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -4866,7 +4866,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.3193d66ed2bfap+6,  // 240 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -4877,7 +4877,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.ca5dc1a63c1f8p+8,  // -1440 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -4892,7 +4892,7 @@ inline constexpr double potential_0_0[] = {
     0x1.8723a1d588a36p-4,  // 3/10 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -4910,17 +4910,17 @@ inline constexpr double potential_1_4[] = {
     -0x1.8723a1d588a36p-4,  // -3/10 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -4935,7 +4935,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -4945,14 +4945,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -4967,7 +4967,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -4977,14 +4977,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -4998,7 +4998,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.e8ec8a4aeacc4p+2,  // 24 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 4},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -5009,14 +5009,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -5047,7 +5047,7 @@ inline constexpr double value_0_0[] = {
     -0x1.c012268cc045cp+3,  // -45045/1024 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -5058,7 +5058,7 @@ inline constexpr double dr_0_0[] = {
     0x1.c012268cc045cp+6,  // 45045/128 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -5070,7 +5070,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.880fe1bb283d1p+9,  // -315315/128 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -5082,7 +5082,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.f8146b5e584e8p+9,  // -405405/128 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -5093,7 +5093,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.c012268cc045cp+6,  // 45045/128 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -5104,7 +5104,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.500d9ce990345p+9,  // -135135/64 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -5119,7 +5119,7 @@ inline constexpr double potential_0_0[] = {
     0x1.04b21fbcf231ep-3,  // 819/2048 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5134,14 +5134,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.04b21fbcf231ep-3,  // -819/2048 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -1, potential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, potential_1_1, 7},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -5156,7 +5156,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45dea7ac2ebe6p+0,  // 4095/1024 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -5172,14 +5172,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.45dea7ac2ebe6p+0,  // 4095/1024 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -2, dpotential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 8},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -5194,7 +5194,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.45dea7ac2ebe6p+0,  // 4095/1024 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -5210,14 +5210,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.45dea7ac2ebe6p+0,  // 4095/1024 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -3, dpotential_over_r_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_1_1, 8},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -5231,7 +5231,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.45dea7ac2ebe6p+3,  // 4095/128 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 4},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -5248,14 +5248,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.45dea7ac2ebe6p+3,  // -4095/128 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -5, potential_hess_radial_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -5, potential_hess_radial_1_1, 9},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -5287,7 +5287,7 @@ inline constexpr double value_0_0[] = {
     0x1.07ef8p+5,  // 135135/4096
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -5299,7 +5299,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.49eb6p+8,  // -675675/2048
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -5312,7 +5312,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.7328ccp+11,  // 6081075/2048
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -5325,7 +5325,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.7328ccp+11,  // 6081075/2048
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -5337,7 +5337,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.49eb6p+8,  // -675675/2048
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -5349,7 +5349,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.49eb6p+11,  // 675675/256
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -5365,7 +5365,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.ffep-3,  // -4095/16384
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -5381,14 +5381,14 @@ inline constexpr double potential_1_1[] = {
     0x1.ffep-3,  // 4095/16384
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_1, 8},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -5404,7 +5404,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.7fe8p+1,  // -12285/4096
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 6},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -5420,14 +5420,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.7fe8p+1,  // -12285/4096
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, dpotential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_1_1, 8},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -5443,7 +5443,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.7fe8p+1,  // -12285/4096
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 6},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -5459,14 +5459,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.7fe8p+1,  // -12285/4096
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, dpotential_over_r_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_over_r_1_1, 8},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -5481,7 +5481,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.dfe2p+4,  // -61425/2048
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -5498,14 +5498,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.dfe2p+4,  // 61425/2048
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -3, potential_hess_radial_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, potential_hess_radial_1_1, 9},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -5537,7 +5537,7 @@ inline constexpr double value_0_0[] = {
     0x1.abcef9018d72bp+5,  // 168 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -5549,7 +5549,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.0b615ba0f867bp+9,  // -1680 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -5562,7 +5562,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.2ccd87151774bp+12,  // 15120 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -5575,7 +5575,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.4e39b2893681ap+12,  // 16800 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -5587,7 +5587,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.0b615ba0f867bp+9,  // -1680 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -5599,7 +5599,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.0b615ba0f867bp+12,  // 13440 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -5615,7 +5615,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.7c4632ac0bf43p-2,  // -7/6 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5636,18 +5636,18 @@ inline constexpr double potential_1_5[] = {
     -0x1.7c4632ac0bf43p-2,  // -7/6 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
@@ -5663,7 +5663,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.1d34a60108f72p+2,  // -14 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 6},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5674,14 +5674,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.1d34a60108f72p+2,  // -14 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -1, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -1, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -5697,7 +5697,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.1d34a60108f72p+2,  // -14 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 6},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5708,14 +5708,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.1d34a60108f72p+2,  // -14 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -2, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -2, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -5730,7 +5730,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.6481cf814b34fp+5,  // -140 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -5742,14 +5742,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.6481cf814b34fp+5,  // 140 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, -4, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -4, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -5781,7 +5781,7 @@ inline constexpr double value_0_0[] = {
     0x1.650e76b82937ap+6,  // 2297295/8192 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -5793,7 +5793,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.be52146633858p+9,  // -11486475/4096 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -5806,7 +5806,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.f61c56f2f9f63p+12,  // 103378275/4096 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -5819,7 +5819,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.32d86e06436bdp+13,  // 126351225/4096 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -5831,7 +5831,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.be52146633858p+9,  // -11486475/4096 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -5843,7 +5843,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.be52146633858p+12,  // 11486475/512 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -5859,7 +5859,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.24f82ce5e02dap-1,  // -58905/32768 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5876,14 +5876,14 @@ inline constexpr double potential_1_1[] = {
     0x1.24f82ce5e02dap-1,  // 58905/32768 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -1, potential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, potential_1_1, 9},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -5899,7 +5899,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.b7744358d0447p+2,  // -176715/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 6},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -5917,14 +5917,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.b7744358d0447p+2,  // -176715/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -2, dpotential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 10},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -5940,7 +5940,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.b7744358d0447p+2,  // -176715/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 6},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -5958,14 +5958,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.b7744358d0447p+2,  // -176715/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -3, dpotential_over_r_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_1_1, 10},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -5980,7 +5980,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.12a8aa17822acp+6,  // -883575/4096 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -5999,14 +5999,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.12a8aa17822acp+6,  // 883575/4096 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -5, potential_hess_radial_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -5, potential_hess_radial_1_1, 11},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -6036,7 +6036,7 @@ inline constexpr double value_0_0[] = {
     0x1.3bp+0,  // 315/256
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -6046,7 +6046,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.3bp+3,  // -315/32
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -6057,7 +6057,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.13ap+6,  // 2205/32
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -6068,7 +6068,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.13ap+6,  // 2205/32
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -6078,7 +6078,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.3bp+3,  // -315/32
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -6088,7 +6088,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.d88p+5,  // 945/16
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -6103,7 +6103,7 @@ inline constexpr double potential_0_0[] = {
     0x1.cp-7,  // 7/512
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -6116,14 +6116,14 @@ inline constexpr double potential_1_1[] = {
     0x1.cp-7,  // 7/512
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_1_1, 5},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -6138,7 +6138,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.18p-3,  // 35/256
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -6151,14 +6151,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.18p-3,  // -35/256
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, dpotential_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, dpotential_1_1, 5},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -6173,7 +6173,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.18p-3,  // 35/256
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -6186,14 +6186,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.18p-3,  // -35/256
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -1, dpotential_over_r_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, dpotential_over_r_1_1, 5},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -6207,7 +6207,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.18p+0,  // 35/32
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 4},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -6221,14 +6221,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.18p+0,  // 35/32
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -3, potential_hess_radial_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, potential_hess_radial_1_1, 6},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -6258,7 +6258,7 @@ inline constexpr double value_0_0[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -6268,7 +6268,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.976fc893c3aa3p+3,  // -40 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -6279,7 +6279,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.6481cf814b34fp+6,  // 280 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -6290,7 +6290,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.976fc893c3aa3p+6,  // 320 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -6300,7 +6300,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.976fc893c3aa3p+3,  // -40 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -6310,7 +6310,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.3193d66ed2bfap+6,  // 240 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -6325,7 +6325,7 @@ inline constexpr double potential_0_0[] = {
     0x1.04c26be3b06cfp-6,  // 1/20 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -6343,17 +6343,17 @@ inline constexpr double potential_1_4[] = {
     -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -6368,7 +6368,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6377,14 +6377,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -6399,7 +6399,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6408,14 +6408,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -6429,7 +6429,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.45f306dc9c883p+0,  // 4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 4},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -6439,14 +6439,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p+0,  // 4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -4, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -6476,7 +6476,7 @@ inline constexpr double value_0_0[] = {
     0x1.13bc667e002afp+1,  // 3465/512 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -6486,7 +6486,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.13bc667e002afp+4,  // -3465/64 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -6497,7 +6497,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.e289b35c804b2p+6,  // 24255/64 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -6508,7 +6508,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.3633f34dc0305p+7,  // 31185/64 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -6518,7 +6518,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.13bc667e002afp+4,  // -3465/64 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -6528,7 +6528,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.9d9a99bd00407p+6,  // 10395/32 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -6543,7 +6543,7 @@ inline constexpr double potential_0_0[] = {
     0x1.40db3ac12a161p-6,  // 63/1024 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -6557,14 +6557,14 @@ inline constexpr double potential_1_1[] = {
     0x1.40db3ac12a161p-6,  // 63/1024 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -1, potential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, potential_1_1, 6},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -6579,7 +6579,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.91120971749b9p-3,  // 315/512 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6594,14 +6594,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.91120971749b9p-3,  // -315/512 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -2, dpotential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -2, dpotential_1_1, 7},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -6616,7 +6616,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.91120971749b9p-3,  // 315/512 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6631,14 +6631,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.91120971749b9p-3,  // -315/512 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -3, dpotential_over_r_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -3, dpotential_over_r_1_1, 7},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -6652,7 +6652,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.91120971749b9p+0,  // 315/64 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 4},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -6668,14 +6668,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.91120971749b9p+0,  // 315/64 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -5, potential_hess_radial_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -5, potential_hess_radial_1_1, 8},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -6706,7 +6706,7 @@ inline constexpr double value_0_0[] = {
     -0x1.1988p+3,  // -9009/1024
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -6717,7 +6717,7 @@ inline constexpr double dr_0_0[] = {
     0x1.5feap+6,  // 45045/512
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -6729,7 +6729,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.8be74p+9,  // -405405/512
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -6741,7 +6741,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.8be74p+9,  // -405405/512
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -6752,7 +6752,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.5feap+6,  // 45045/512
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -6763,7 +6763,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.5feap+9,  // -45045/64
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -6779,7 +6779,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.11p-4,  // -273/4096
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -6794,14 +6794,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.11p-4,  // -273/4096
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_1_1, 7},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -6817,7 +6817,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.998p-1,  // -819/1024
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 6},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -6832,14 +6832,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.998p-1,  // 819/1024
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, dpotential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, dpotential_1_1, 7},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -6855,7 +6855,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.998p-1,  // -819/1024
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 6},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -6870,14 +6870,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.998p-1,  // 819/1024
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -1, dpotential_over_r_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, dpotential_over_r_1_1, 7},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -6892,7 +6892,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.ffep+2,  // -4095/512
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -6908,14 +6908,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.ffep+2,  // -4095/512
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -3, potential_hess_radial_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, potential_hess_radial_1_1, 8},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -6946,7 +6946,7 @@ inline constexpr double value_0_0[] = {
     -0x1.abcef9018d72bp+3,  // -42 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -6957,7 +6957,7 @@ inline constexpr double dr_0_0[] = {
     0x1.0b615ba0f867bp+7,  // 420 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -6969,7 +6969,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.2ccd87151774bp+10,  // -3780 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -6981,7 +6981,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.4e39b2893681ap+10,  // -4200 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -6992,7 +6992,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.0b615ba0f867bp+7,  // 420 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -7003,7 +7003,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.0b615ba0f867bp+10,  // -3360 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -7019,7 +7019,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.7c4632ac0bf43p-4,  // -7/24 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -7040,18 +7040,18 @@ inline constexpr double potential_1_5[] = {
     -0x1.7c4632ac0bf43p-4,  // -7/24 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -7067,7 +7067,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.1d34a60108f72p+0,  // -7/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 6},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -7077,14 +7077,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -7100,7 +7100,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.1d34a60108f72p+0,  // -7/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 6},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -7110,14 +7110,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -7132,7 +7132,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.6481cf814b34fp+3,  // -35 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -7143,14 +7143,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.6481cf814b34fp+3,  // -35 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -7181,7 +7181,7 @@ inline constexpr double value_0_0[] = {
     -0x1.500d9ce990345p+4,  // -135135/2048 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -7192,7 +7192,7 @@ inline constexpr double dr_0_0[] = {
     0x1.a4110423f4417p+7,  // 675675/1024 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -7204,7 +7204,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.d89324a872c99p+10,  // -6081075/1024 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -7216,7 +7216,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.20cbb2d8b7edp+11,  // -7432425/1024 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -7227,7 +7227,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.a4110423f4417p+7,  // 675675/1024 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -7238,7 +7238,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.a4110423f4417p+10,  // -675675/128 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -7254,7 +7254,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.13bc667e002afp-3,  // -3465/8192 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -7270,14 +7270,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.13bc667e002afp-3,  // -3465/8192 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -1, potential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, potential_1_1, 8},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -7293,7 +7293,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.9d9a99bd00407p+0,  // -10395/2048 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 6},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -7310,14 +7310,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.9d9a99bd00407p+0,  // 10395/2048 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -2, dpotential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -2, dpotential_1_1, 9},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -7333,7 +7333,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.9d9a99bd00407p+0,  // -10395/2048 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 6},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -7350,14 +7350,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.9d9a99bd00407p+0,  // 10395/2048 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -3, dpotential_over_r_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -3, dpotential_over_r_1_1, 9},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -7372,7 +7372,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.0280a01620284p+4,  // -51975/1024 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -7390,14 +7390,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.0280a01620284p+4,  // -51975/1024 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -5, potential_hess_radial_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -5, potential_hess_radial_1_1, 10},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -7429,7 +7429,7 @@ inline constexpr double value_0_0[] = {
     0x1.75e8ap+5,  // 765765/16384
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -7441,7 +7441,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.186e78p+9,  // -2297295/4096
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -7454,7 +7454,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.8197e5p+12,  // 25270245/4096
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -7467,7 +7467,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.8197e5p+12,  // 25270245/4096
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -7479,7 +7479,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.186e78p+9,  // -2297295/4096
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -7491,7 +7491,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.5e8a16p+12,  // 11486475/2048
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -7508,7 +7508,7 @@ inline constexpr double potential_0_0[] = {
     0x1.06f8p-2,  // 8415/32768
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -7525,14 +7525,14 @@ inline constexpr double potential_1_1[] = {
     0x1.06f8p-2,  // 8415/32768
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, 0, potential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_1_1, 9},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -7549,7 +7549,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.cc32p+1,  // 58905/16384
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 7},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -7566,14 +7566,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.cc32p+1,  // -58905/16384
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, dpotential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, dpotential_1_1, 9},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -7590,7 +7590,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.cc32p+1,  // 58905/16384
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -7607,14 +7607,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.cc32p+1,  // -58905/16384
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -1, dpotential_over_r_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, dpotential_over_r_1_1, 9},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -7630,7 +7630,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.59258p+5,  // 176715/4096
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 6},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -7648,14 +7648,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.59258p+5,  // 176715/4096
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -3, potential_hess_radial_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, potential_hess_radial_1_1, 10},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -7687,7 +7687,7 @@ inline constexpr double value_0_0[] = {
     0x1.40db3ac12a161p+6,  // 252 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -7699,7 +7699,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.e148d821bf211p+9,  // -3024 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -7712,7 +7712,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.4ae214973366cp+13,  // 33264 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -7725,7 +7725,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.68f6a2194f58dp+13,  // 36288 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -7737,7 +7737,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.e148d821bf211p+9,  // -3024 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -7749,7 +7749,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.2ccd87151774bp+13,  // 30240 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -7766,7 +7766,7 @@ inline constexpr double potential_0_0[] = {
     0x1.a313e44036f83p-2,  // 9/7 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -7790,19 +7790,19 @@ inline constexpr double potential_1_6[] = {
     -0x1.a313e44036f83p-2,  // -9/7 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
@@ -7819,7 +7819,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.6eb167b830193p+2,  // 18 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 7},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -7830,14 +7830,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.6eb167b830193p+2,  // -18 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, -1, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -1, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -7854,7 +7854,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.6eb167b830193p+2,  // 18 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -7865,14 +7865,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.6eb167b830193p+2,  // -18 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, -2, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -2, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -7888,7 +7888,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.13050dca2412ep+6,  // 216 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 6},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -7900,14 +7900,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.13050dca2412ep+6,  // 216 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -4, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -4, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -7939,7 +7939,7 @@ inline constexpr double value_0_0[] = {
     0x1.1aab7351cb4cp+7,  // 14549535/32768 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -7951,7 +7951,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.a8012cfab0f2p+10,  // -43648605/8192 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -7964,7 +7964,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.2380ceec59a66p+14,  // 480134655/8192 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -7977,7 +7977,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.5880f48bafc4ap+14,  // 567431865/8192 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -7989,7 +7989,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.a8012cfab0f2p+10,  // -43648605/8192 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -8001,7 +8001,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.0900bc1cae974p+14,  // 218243025/4096 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -8018,7 +8018,7 @@ inline constexpr double potential_0_0[] = {
     0x1.58967df38efd9p-1,  // 138567/65536 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -8036,14 +8036,14 @@ inline constexpr double potential_1_1[] = {
     0x1.58967df38efd9p-1,  // 138567/65536 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -1, potential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, potential_1_1, 10},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -8060,7 +8060,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.2d83ae351d1dep+3,  // 969969/32768 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 7},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -8079,14 +8079,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.2d83ae351d1dep+3,  // -969969/32768 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -2, dpotential_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -2, dpotential_1_1, 11},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -8103,7 +8103,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.2d83ae351d1dep+3,  // 969969/32768 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -8122,14 +8122,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.2d83ae351d1dep+3,  // -969969/32768 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -3, dpotential_over_r_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -3, dpotential_over_r_1_1, 11},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -8145,7 +8145,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.c445854fabacdp+6,  // 2909907/8192 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 6},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -8165,14 +8165,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.c445854fabacdp+6,  // 2909907/8192 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -5, potential_hess_radial_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -5, potential_hess_radial_1_1, 12},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -8202,7 +8202,7 @@ inline constexpr double value_0_0[] = {
     0x1.5a8p+0,  // 693/512
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -8212,7 +8212,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.b12p+3,  // -3465/256
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -8223,7 +8223,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.e744p+6,  // 31185/256
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -8234,7 +8234,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.e744p+6,  // 31185/256
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -8244,7 +8244,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.b12p+3,  // -3465/256
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -8254,7 +8254,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.b12p+6,  // 3465/32
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -8270,7 +8270,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.5p-7,  // -21/2048
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -8284,14 +8284,14 @@ inline constexpr double potential_1_1[] = {
     0x1.5p-7,  // 21/2048
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_1_1, 6},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -8307,7 +8307,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.f8p-4,  // -63/512
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 6},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -8321,14 +8321,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.f8p-4,  // -63/512
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, 0, dpotential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, dpotential_1_1, 6},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -8344,7 +8344,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.f8p-4,  // -63/512
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 6},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -8358,14 +8358,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.f8p-4,  // -63/512
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -1, dpotential_over_r_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, dpotential_over_r_1_1, 6},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -8380,7 +8380,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.3bp+0,  // -315/256
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -8395,14 +8395,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.3bp+0,  // 315/256
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -3, potential_hess_radial_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -3, potential_hess_radial_1_1, 7},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -8432,7 +8432,7 @@ inline constexpr double value_0_0[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -8442,7 +8442,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.3193d66ed2bfap+4,  // -60 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -8453,7 +8453,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.57c6513cad17ap+7,  // 540 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -8464,7 +8464,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.7df8cc0a876f9p+7,  // 600 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -8474,7 +8474,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.3193d66ed2bfap+4,  // -60 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -8484,7 +8484,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.3193d66ed2bfap+7,  // 480 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -8500,7 +8500,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -8521,18 +8521,18 @@ inline constexpr double potential_1_5[] = {
     -0x1.b2995e7b7b604p-7,  // -1/24 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -8548,7 +8548,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 6},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -8557,14 +8557,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -8580,7 +8580,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 6},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -8589,14 +8589,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -8611,7 +8611,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.976fc893c3aa3p+0,  // -5 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -8621,14 +8621,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -4, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -8658,7 +8658,7 @@ inline constexpr double value_0_0[] = {
     0x1.6674eba3cd04ap+1,  // 9009/1024 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -8668,7 +8668,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.c012268cc045cp+4,  // -45045/512 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -8679,7 +8679,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.f8146b5e584e8p+7,  // 405405/512 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -8690,7 +8690,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.340c7a80c43p+8,  // 495495/512 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -8700,7 +8700,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.c012268cc045cp+4,  // -45045/512 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -8710,7 +8710,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.c012268cc045cp+7,  // 45045/64 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -8726,7 +8726,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.261e4b31113eep-6,  // -231/4096 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 7},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -8741,14 +8741,14 @@ inline constexpr double potential_1_1[] = {
     0x1.261e4b31113eep-6,  // 231/4096 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -1, potential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -1, potential_1_1, 7},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -8764,7 +8764,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.b92d70c999de5p-3,  // -693/1024 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 6},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -8780,14 +8780,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.b92d70c999de5p-3,  // -693/1024 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -2, dpotential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -2, dpotential_1_1, 8},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -8803,7 +8803,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.b92d70c999de5p-3,  // -693/1024 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 6},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -8819,14 +8819,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.b92d70c999de5p-3,  // -693/1024 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -3, dpotential_over_r_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -3, dpotential_over_r_1_1, 8},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -8841,7 +8841,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.13bc667e002afp+1,  // -3465/512 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -8858,14 +8858,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.13bc667e002afp+1,  // 3465/512 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -5, potential_hess_radial_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -5, potential_hess_radial_1_1, 9},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -8896,7 +8896,7 @@ inline constexpr double value_0_0[] = {
     -0x1.5feap+3,  // -45045/4096
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -8907,7 +8907,7 @@ inline constexpr double dr_0_0[] = {
     0x1.07ef8p+7,  // 135135/1024
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -8919,7 +8919,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.6ae95p+10,  // -1486485/1024
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -8931,7 +8931,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.6ae95p+10,  // -1486485/1024
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -8942,7 +8942,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.07ef8p+7,  // 135135/1024
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -8953,7 +8953,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.49eb6p+10,  // -675675/512
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -8970,7 +8970,7 @@ inline constexpr double potential_0_0[] = {
     0x1.efp-5,  // 495/8192
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -8986,14 +8986,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.efp-5,  // -495/8192
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_1_1, 8},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -9010,7 +9010,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.b12p-1,  // 3465/4096
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 7},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -9026,14 +9026,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.b12p-1,  // 3465/4096
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, 0, dpotential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, dpotential_1_1, 8},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -9050,7 +9050,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.b12p-1,  // 3465/4096
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -9066,14 +9066,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.b12p-1,  // 3465/4096
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -1, dpotential_over_r_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, dpotential_over_r_1_1, 8},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -9089,7 +9089,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.44d8p+3,  // 10395/1024
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 6},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -9106,14 +9106,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.44d8p+3,  // -10395/1024
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -3, potential_hess_radial_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -3, potential_hess_radial_1_1, 9},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -9144,7 +9144,7 @@ inline constexpr double value_0_0[] = {
     -0x1.1d34a60108f72p+4,  // -56 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -9155,7 +9155,7 @@ inline constexpr double dr_0_0[] = {
     0x1.abcef9018d72bp+7,  // 672 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -9167,7 +9167,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.261e4b31113eep+11,  // -7392 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -9179,7 +9179,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.40db3ac12a161p+11,  // -8064 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -9190,7 +9190,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.abcef9018d72bp+7,  // 672 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -9201,7 +9201,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.0b615ba0f867bp+11,  // -6720 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -9218,7 +9218,7 @@ inline constexpr double potential_0_0[] = {
     0x1.7483758e69c03p-4,  // 2/7 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -9242,19 +9242,19 @@ inline constexpr double potential_1_6[] = {
     -0x1.7483758e69c03p-4,  // -2/7 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -9271,7 +9271,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p+0,  // 4 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 7},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -9281,14 +9281,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.45f306dc9c883p+0,  // 4 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -9305,7 +9305,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.45f306dc9c883p+0,  // 4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -9315,14 +9315,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.45f306dc9c883p+0,  // 4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -9338,7 +9338,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.e8ec8a4aeacc4p+3,  // 48 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 6},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -9349,14 +9349,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.e8ec8a4aeacc4p+3,  // -48 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -9387,7 +9387,7 @@ inline constexpr double value_0_0[] = {
     -0x1.dc1348f58c4a2p+4,  // -765765/8192 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -9398,7 +9398,7 @@ inline constexpr double dr_0_0[] = {
     0x1.650e76b82937ap+8,  // 2297295/2048 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -9410,7 +9410,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.eaf3e33d38ac7p+11,  // -25270245/2048 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -9422,7 +9422,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.221bc075a17d3p+12,  // -29864835/2048 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -9433,7 +9433,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.650e76b82937ap+8,  // 2297295/2048 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -9444,7 +9444,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.be52146633858p+11,  // -11486475/1024 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -9461,7 +9461,7 @@ inline constexpr double potential_0_0[] = {
     0x1.222de353d6baap-3,  // 7293/16384 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -9478,14 +9478,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.222de353d6baap-3,  // -7293/16384 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -1, potential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -1, potential_1_1, 9},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -9502,7 +9502,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.fbd04dd2b7c69p+0,  // 51051/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 7},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -9520,14 +9520,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.fbd04dd2b7c69p+0,  // 51051/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -2, dpotential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -2, dpotential_1_1, 10},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -9544,7 +9544,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.fbd04dd2b7c69p+0,  // 51051/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -9562,14 +9562,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.fbd04dd2b7c69p+0,  // 51051/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -3, dpotential_over_r_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -3, dpotential_over_r_1_1, 10},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -9585,7 +9585,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.7cdc3a5e09d4fp+4,  // 153153/2048 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 6},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -9604,14 +9604,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.7cdc3a5e09d4fp+4,  // -153153/2048 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -5, potential_hess_radial_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -5, potential_hess_radial_1_1, 11},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -9643,7 +9643,7 @@ inline constexpr double value_0_0[] = {
     0x1.fb729p+5,  // 2078505/32768
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -9655,7 +9655,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.bc043ep+9,  // -14549535/16384
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -9668,7 +9668,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.68c3726p+13,  // 189143955/16384
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -9681,7 +9681,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.68c3726p+13,  // 189143955/16384
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -9693,7 +9693,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.bc043ep+9,  // -14549535/16384
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -9705,7 +9705,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.4d032e8p+13,  // 43648605/4096
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -9723,7 +9723,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.0ea38p-2,  // -138567/524288
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -9741,14 +9741,14 @@ inline constexpr double potential_1_1[] = {
     0x1.0ea38p-2,  // 138567/524288
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, 0, potential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_1_1, 10},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -9766,7 +9766,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.0ea38p+2,  // -138567/32768
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 8},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -9784,14 +9784,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.0ea38p+2,  // -138567/32768
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, 0, dpotential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, dpotential_1_1, 10},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -9809,7 +9809,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.0ea38p+2,  // -138567/32768
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 8},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -9827,14 +9827,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.0ea38p+2,  // -138567/32768
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -1, dpotential_over_r_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, dpotential_over_r_1_1, 10},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -9851,7 +9851,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.d99e2p+5,  // -969969/16384
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -9870,14 +9870,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.d99e2p+5,  // 969969/16384
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -3, potential_hess_radial_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -3, potential_hess_radial_1_1, 11},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -9909,7 +9909,7 @@ inline constexpr double value_0_0[] = {
     0x1.ca5dc1a63c1f8p+6,  // 360 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -9921,7 +9921,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.91120971749b9p+10,  // -5040 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -9934,7 +9934,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.45dea7ac2ebe6p+14,  // 65520 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -9947,7 +9947,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.5eefc84346082p+14,  // 70560 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -9959,7 +9959,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.91120971749b9p+10,  // -5040 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -9971,7 +9971,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.2ccd87151774bp+14,  // 60480 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -9989,7 +9989,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.ca5dc1a63c1f8p-2,  // -45/32 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -10016,20 +10016,20 @@ inline constexpr double potential_1_7[] = {
     -0x1.ca5dc1a63c1f8p-2,  // -45/32 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
@@ -10047,7 +10047,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.ca5dc1a63c1f8p+2,  // -45/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 8},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -10058,14 +10058,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.ca5dc1a63c1f8p+2,  // -45/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, -1, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, -1, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -10083,7 +10083,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.ca5dc1a63c1f8p+2,  // -45/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 8},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -10094,14 +10094,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.ca5dc1a63c1f8p+2,  // -45/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, -2, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, -2, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -10118,7 +10118,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.91120971749b9p+6,  // -315 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -10130,14 +10130,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.91120971749b9p+6,  // 315 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, -4, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -4, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -10169,7 +10169,7 @@ inline constexpr double value_0_0[] = {
     0x1.a8012cfab0f2p+7,  // 43648605/65536 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -10181,7 +10181,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.7301075b5ad3cp+11,  // -305540235/32768 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -10194,7 +10194,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.2d70d5fa39cc1p+15,  // 3972023055/32768 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -10207,7 +10207,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.5bd0f6e5a5269p+15,  // 4583103525/32768 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -10219,7 +10219,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.7301075b5ad3cp+11,  // -305540235/32768 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -10231,7 +10231,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.1640c584841edp+15,  // 916620705/8192 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -10249,7 +10249,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.8f102a555b3e2p-1,  // -2567565/1048576 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -10268,14 +10268,14 @@ inline constexpr double potential_1_1[] = {
     0x1.8f102a555b3e2p-1,  // 2567565/1048576 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -1, potential_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -1, potential_1_1, 11},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -10293,7 +10293,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.8f102a555b3e2p+3,  // -2567565/65536 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 8},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -10313,14 +10313,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.8f102a555b3e2p+3,  // -2567565/65536 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -2, dpotential_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -2, dpotential_1_1, 12},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -10338,7 +10338,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.8f102a555b3e2p+3,  // -2567565/65536 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 8},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -10358,14 +10358,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.8f102a555b3e2p+3,  // -2567565/65536 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -3, dpotential_over_r_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -3, dpotential_over_r_1_1, 12},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -10382,7 +10382,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.5d2e250aafd66p+7,  // -17972955/32768 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -10403,14 +10403,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.5d2e250aafd66p+7,  // 17972955/32768 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -5, potential_hess_radial_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -5, potential_hess_radial_1_1, 13},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -10440,7 +10440,7 @@ inline constexpr double value_0_0[] = {
     0x1.776p+0,  // 3003/2048
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -10450,7 +10450,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.1988p+4,  // -9009/512
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -10461,7 +10461,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.831bp+7,  // 99099/512
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -10472,7 +10472,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.831bp+7,  // 99099/512
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -10482,7 +10482,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.1988p+4,  // -9009/512
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -10492,7 +10492,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.5feap+7,  // 45045/256
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -10509,7 +10509,7 @@ inline constexpr double potential_0_0[] = {
     0x1.08p-7,  // 33/4096
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -10524,14 +10524,14 @@ inline constexpr double potential_1_1[] = {
     0x1.08p-7,  // 33/4096
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_1_1, 7},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -10548,7 +10548,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.cep-4,  // 231/2048
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 7},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -10563,14 +10563,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.cep-4,  // -231/2048
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, 0, dpotential_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, dpotential_1_1, 7},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -10587,7 +10587,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.cep-4,  // 231/2048
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -10602,14 +10602,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.cep-4,  // -231/2048
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -1, dpotential_over_r_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -1, dpotential_over_r_1_1, 7},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -10625,7 +10625,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.5a8p+0,  // 693/512
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 6},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -10641,14 +10641,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.5a8p+0,  // 693/512
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -3, potential_hess_radial_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -3, potential_hess_radial_1_1, 8},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -10678,7 +10678,7 @@ inline constexpr double value_0_0[] = {
     0x1.1d34a60108f72p+1,  // 7 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -10688,7 +10688,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.abcef9018d72bp+4,  // -84 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -10699,7 +10699,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.261e4b31113eep+8,  // 924 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -10710,7 +10710,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.40db3ac12a161p+8,  // 1008 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -10720,7 +10720,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.abcef9018d72bp+4,  // -84 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -10730,7 +10730,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.0b615ba0f867bp+8,  // 840 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -10747,7 +10747,7 @@ inline constexpr double potential_0_0[] = {
     0x1.7483758e69c03p-7,  // 1/28 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -10771,19 +10771,19 @@ inline constexpr double potential_1_6[] = {
     -0x1.7483758e69c03p-7,  // -1/28 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -10800,7 +10800,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 7},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -10809,14 +10809,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -10833,7 +10833,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -10842,14 +10842,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -10865,7 +10865,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 6},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -10875,14 +10875,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, -4, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -10912,7 +10912,7 @@ inline constexpr double value_0_0[] = {
     0x1.c012268cc045cp+1,  // 45045/4096 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -10922,7 +10922,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.500d9ce990345p+5,  // -135135/1024 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -10933,7 +10933,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.ce12b7c12647fp+8,  // 1486485/1024 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -10944,7 +10944,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.110b0f7dc52a8p+9,  // 1756755/1024 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -10954,7 +10954,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.500d9ce990345p+5,  // -135135/1024 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -10964,7 +10964,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.a4110423f4417p+8,  // 675675/512 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -10981,7 +10981,7 @@ inline constexpr double potential_0_0[] = {
     0x1.111c213fd9281p-6,  // 429/8192 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 8},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -10997,14 +10997,14 @@ inline constexpr double potential_1_1[] = {
     0x1.111c213fd9281p-6,  // 429/8192 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -1, potential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -1, potential_1_1, 8},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -11021,7 +11021,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.ddf13a2fbc063p-3,  // 3003/4096 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 7},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -11038,14 +11038,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.ddf13a2fbc063p-3,  // -3003/4096 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -2, dpotential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -2, dpotential_1_1, 9},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -11062,7 +11062,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.ddf13a2fbc063p-3,  // 3003/4096 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -11079,14 +11079,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.ddf13a2fbc063p-3,  // -3003/4096 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -3, dpotential_over_r_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -3, dpotential_over_r_1_1, 9},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -11102,7 +11102,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.6674eba3cd04ap+1,  // 9009/1024 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 6},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -11120,14 +11120,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.6674eba3cd04ap+1,  // 9009/1024 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -5, potential_hess_radial_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -5, potential_hess_radial_1_1, 10},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -11158,7 +11158,7 @@ inline constexpr double value_0_0[] = {
     -0x1.ab53p+3,  // -109395/8192
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -11169,7 +11169,7 @@ inline constexpr double dr_0_0[] = {
     0x1.75e8ap+7,  // 765765/4096
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -11181,7 +11181,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.2fcd02p+11,  // -9954945/4096
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -11193,7 +11193,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.2fcd02p+11,  // -9954945/4096
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -11204,7 +11204,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.75e8ap+7,  // 765765/4096
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -11215,7 +11215,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.186e78p+11,  // -2297295/1024
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -11233,7 +11233,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.c7dp-5,  // -7293/131072
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -11250,14 +11250,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.c7dp-5,  // -7293/131072
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_1_1, 9},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -11275,7 +11275,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.c7dp-1,  // -7293/8192
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 8},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -11292,14 +11292,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.c7dp-1,  // 7293/8192
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, 0, dpotential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, dpotential_1_1, 9},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -11317,7 +11317,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.c7dp-1,  // -7293/8192
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 8},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -11334,14 +11334,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.c7dp-1,  // 7293/8192
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -1, dpotential_over_r_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -1, dpotential_over_r_1_1, 9},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -11358,7 +11358,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.8ed6p+3,  // -51051/4096
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -11376,14 +11376,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.8ed6p+3,  // -51051/4096
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -3, potential_hess_radial_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -3, potential_hess_radial_1_1, 10},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -11414,7 +11414,7 @@ inline constexpr double value_0_0[] = {
     -0x1.6eb167b830193p+4,  // -72 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -11425,7 +11425,7 @@ inline constexpr double dr_0_0[] = {
     0x1.40db3ac12a161p+8,  // 1008 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -11437,7 +11437,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.04b21fbcf231ep+12,  // -13104 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -11449,7 +11449,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.18bfd36904d35p+12,  // -14112 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -11460,7 +11460,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.40db3ac12a161p+8,  // 1008 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -11471,7 +11471,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.e148d821bf211p+11,  // -12096 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -11489,7 +11489,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.6eb167b830193p-4,  // -9/32 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -11516,20 +11516,20 @@ inline constexpr double potential_1_7[] = {
     -0x1.6eb167b830193p-4,  // -9/32 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -11547,7 +11547,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.6eb167b830193p+0,  // -9/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 8},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -11557,14 +11557,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.6eb167b830193p+0,  // 9/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -11582,7 +11582,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.6eb167b830193p+0,  // -9/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 8},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -11592,14 +11592,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.6eb167b830193p+0,  // 9/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -11616,7 +11616,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.40db3ac12a161p+4,  // -63 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -11627,14 +11627,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.40db3ac12a161p+4,  // -63 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -11665,7 +11665,7 @@ inline constexpr double value_0_0[] = {
     -0x1.430d1614560dcp+5,  // -2078505/16384 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -11676,7 +11676,7 @@ inline constexpr double dr_0_0[] = {
     0x1.1aab7351cb4cp+9,  // 14549535/8192 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -11688,7 +11688,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.cb569b64ea5b8p+12,  // -189143955/8192 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -11700,7 +11700,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.0900bc1cae974p+13,  // -218243025/8192 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -11711,7 +11711,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.1aab7351cb4cp+9,  // 14549535/8192 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -11722,7 +11722,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.a8012cfab0f2p+12,  // -43648605/2048 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -11740,7 +11740,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.300c510414c1ap-3,  // -122265/262144 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -11758,14 +11758,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.300c510414c1ap-3,  // -122265/262144 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -1, potential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -1, potential_1_1, 10},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -11783,7 +11783,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.300c510414c1ap+1,  // -122265/16384 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 8},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -11802,14 +11802,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.300c510414c1ap+1,  // 122265/16384 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -2, dpotential_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -2, dpotential_1_1, 11},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -11827,7 +11827,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.300c510414c1ap+1,  // -122265/16384 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 8},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -11846,14 +11846,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.300c510414c1ap+1,  // 122265/16384 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -3, dpotential_over_r_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -3, dpotential_over_r_1_1, 11},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -11870,7 +11870,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.0a0ac6e392297p+5,  // -855855/8192 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -11890,14 +11890,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.0a0ac6e392297p+5,  // -855855/8192 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -5, potential_hess_radial_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -5, potential_hess_radial_1_1, 12},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -11929,7 +11929,7 @@ inline constexpr double value_0_0[] = {
     0x1.4d032e8p+6,  // 43648605/524288
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -11941,7 +11941,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.4d032e8p+10,  // -43648605/32768
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -11954,7 +11954,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.3832fb98p+14,  // 654729075/32768
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -11967,7 +11967,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.3832fb98p+14,  // 654729075/32768
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -11979,7 +11979,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.4d032e8p+10,  // -43648605/32768
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -11991,7 +11991,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.2362c8bp+14,  // 305540235/16384
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -12010,7 +12010,7 @@ inline constexpr double potential_0_0[] = {
     0x1.16994p-2,  // 285285/1048576
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -12029,14 +12029,14 @@ inline constexpr double potential_1_1[] = {
     0x1.16994p-2,  // 285285/1048576
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, 0, potential_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_1_1, 11},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -12055,7 +12055,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.396c68p+2,  // 2567565/524288
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 9},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -12074,14 +12074,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.396c68p+2,  // -2567565/524288
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, 0, dpotential_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, dpotential_1_1, 11},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -12100,7 +12100,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.396c68p+2,  // 2567565/524288
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -12119,14 +12119,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.396c68p+2,  // -2567565/524288
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -1, dpotential_over_r_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -1, dpotential_over_r_1_1, 11},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -12144,7 +12144,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.396c68p+6,  // 2567565/32768
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 8},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -12164,14 +12164,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.396c68p+6,  // 2567565/32768
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -3, potential_hess_radial_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -3, potential_hess_radial_1_1, 12},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -12203,7 +12203,7 @@ inline constexpr double value_0_0[] = {
     0x1.3b2075224955ap+7,  // 495 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -12215,7 +12215,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.3b2075224955ap+11,  // -7920 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -12228,7 +12228,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.276e6dd024c05p+15,  // 118800 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -12241,7 +12241,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.3b2075224955ap+15,  // 126720 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -12253,7 +12253,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.3b2075224955ap+11,  // -7920 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -12265,7 +12265,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.13bc667e002afp+15,  // 110880 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -12284,7 +12284,7 @@ inline constexpr double potential_0_0[] = {
     0x1.f1fa66ed7d5e4p-2,  // 55/36 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -12314,21 +12314,21 @@ inline constexpr double potential_1_8[] = {
     -0x1.f1fa66ed7d5e4p-2,  // -55/36 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_1_8, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
@@ -12347,7 +12347,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.181cd9e59685p+3,  // 55/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 9},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -12358,14 +12358,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.181cd9e59685p+3,  // -55/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, -1, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, -1, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -12384,7 +12384,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.181cd9e59685p+3,  // 55/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -12395,14 +12395,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.181cd9e59685p+3,  // -55/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, -2, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, -2, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -12420,7 +12420,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.181cd9e59685p+7,  // 440 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 8},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -12432,14 +12432,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.181cd9e59685p+7,  // 440 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, -4, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, -4, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -12471,7 +12471,7 @@ inline constexpr double value_0_0[] = {
     0x1.30c0d8542f2dfp+8,  // 1003917915/1048576 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -12483,7 +12483,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.30c0d8542f2dfp+12,  // -1003917915/65536 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -12496,7 +12496,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.1db4caceec3b1p+16,  // 15058768725/65536 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -12509,7 +12509,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.43cce5d97220dp+16,  // 17066604555/65536 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -12521,7 +12521,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.30c0d8542f2dfp+12,  // -1003917915/65536 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -12533,7 +12533,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.0aa8bd49a9483p+16,  // 7027425405/32768 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 4, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -12552,7 +12552,7 @@ inline constexpr double potential_0_0[] = {
     0x1.c83d25eb511c6p-1,  // 5870865/2097152 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -12572,14 +12572,14 @@ inline constexpr double potential_1_1[] = {
     0x1.c83d25eb511c6p-1,  // 5870865/2097152 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -1, potential_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -1, potential_1_1, 12},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -12598,7 +12598,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.00a265545d9ffp+4,  // 52837785/1048576 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 9},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -12619,14 +12619,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.00a265545d9ffp+4,  // -52837785/1048576 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -2, dpotential_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -2, dpotential_1_1, 13},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -12645,7 +12645,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.00a265545d9ffp+4,  // 52837785/1048576 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -12666,14 +12666,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.00a265545d9ffp+4,  // -52837785/1048576 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -3, dpotential_over_r_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -3, dpotential_over_r_1_1, 13},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -12691,7 +12691,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.00a265545d9ffp+8,  // 52837785/65536 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 8},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -12713,14 +12713,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.00a265545d9ffp+8,  // 52837785/65536 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 6, -5, potential_hess_radial_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -5, potential_hess_radial_1_1, 14},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -12750,7 +12750,7 @@ inline constexpr double value_0_0[] = {
     0x1.923p+0,  // 6435/4096
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -12760,7 +12760,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.5feap+4,  // -45045/2048
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -12771,7 +12771,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.1dee2p+8,  // 585585/2048
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -12782,7 +12782,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.1dee2p+8,  // 585585/2048
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -12792,7 +12792,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.5feap+4,  // -45045/2048
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -12802,7 +12802,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.07ef8p+8,  // 135135/512
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -12820,7 +12820,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.adp-8,  // -429/65536
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -12836,14 +12836,14 @@ inline constexpr double potential_1_1[] = {
     0x1.adp-8,  // 429/65536
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_1_1, 8},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -12861,7 +12861,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.adp-4,  // -429/4096
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 8},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -12877,14 +12877,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.adp-4,  // -429/4096
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, 0, dpotential_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, dpotential_1_1, 8},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -12902,7 +12902,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.adp-4,  // -429/4096
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 8},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -12918,14 +12918,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.adp-4,  // -429/4096
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -1, dpotential_over_r_1_1, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -1, dpotential_over_r_1_1, 8},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -12942,7 +12942,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.776p+0,  // -3003/2048
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -12959,14 +12959,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.776p+0,  // 3003/2048
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -3, potential_hess_radial_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -3, potential_hess_radial_1_1, 9},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -12996,7 +12996,7 @@ inline constexpr double value_0_0[] = {
     0x1.45f306dc9c883p+1,  // 8 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -13006,7 +13006,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.1d34a60108f72p+5,  // -112 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -13017,7 +13017,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.cf758dc1ae91ap+8,  // 1456 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -13028,7 +13028,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.f31c2281cfb08p+8,  // 1568 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -13038,7 +13038,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.1d34a60108f72p+5,  // -112 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -13048,7 +13048,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.abcef9018d72bp+8,  // 1344 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -13066,7 +13066,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -13093,20 +13093,20 @@ inline constexpr double potential_1_7[] = {
     -0x1.45f306dc9c883p-7,  // -1/32 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -13124,7 +13124,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 8},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -13133,14 +13133,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -13158,7 +13158,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 8},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -13167,14 +13167,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -13191,7 +13191,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.1d34a60108f72p+1,  // -7 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -13201,14 +13201,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.1d34a60108f72p+1,  // 7 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, -4, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -13238,7 +13238,7 @@ inline constexpr double value_0_0[] = {
     0x1.100b051e994efp+2,  // 109395/8192 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -13248,7 +13248,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.dc1348f58c4a2p+5,  // -765765/4096 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -13259,7 +13259,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.82cfab4781fc4p+9,  // 9954945/4096 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -13270,7 +13270,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.be52146633858p+9,  // 11486475/4096 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -13280,7 +13280,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.dc1348f58c4a2p+5,  // -765765/4096 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -13290,7 +13290,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.650e76b82937ap+9,  // 2297295/1024 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -13308,7 +13308,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.000a5f2bdb959p-6,  // -6435/131072 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 9},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -13325,14 +13325,14 @@ inline constexpr double potential_1_1[] = {
     0x1.000a5f2bdb959p-6,  // 6435/131072 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -1, potential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, potential_1_1, 9},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -13350,7 +13350,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.000a5f2bdb959p-2,  // -6435/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 8},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -13368,14 +13368,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.000a5f2bdb959p-2,  // -6435/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -2, dpotential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -2, dpotential_1_1, 10},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -13393,7 +13393,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.000a5f2bdb959p-2,  // -6435/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 8},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -13411,14 +13411,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.000a5f2bdb959p-2,  // -6435/8192 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -3, dpotential_over_r_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -3, dpotential_over_r_1_1, 10},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -13435,7 +13435,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.c012268cc045cp+1,  // -45045/4096 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -13454,14 +13454,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.c012268cc045cp+1,  // 45045/4096 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -5, potential_hess_radial_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -5, potential_hess_radial_1_1, 11},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -13492,7 +13492,7 @@ inline constexpr double value_0_0[] = {
     -0x1.fb729p+3,  // -2078505/131072
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -13503,7 +13503,7 @@ inline constexpr double dr_0_0[] = {
     0x1.fb729p+7,  // 2078505/8192
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -13515,7 +13515,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.dbbb67p+11,  // -31177575/8192
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -13527,7 +13527,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.dbbb67p+11,  // -31177575/8192
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -13538,7 +13538,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.fb729p+7,  // 2078505/8192
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -13549,7 +13549,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.bc043ep+11,  // -14549535/4096
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -13568,7 +13568,7 @@ inline constexpr double potential_0_0[] = {
     0x1.a888p-5,  // 13585/262144
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -13586,14 +13586,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.a888p-5,  // -13585/262144
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_1_1, 10},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -13612,7 +13612,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.dd99p-1,  // 122265/131072
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 9},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -13630,14 +13630,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.dd99p-1,  // 122265/131072
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, 0, dpotential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, dpotential_1_1, 10},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -13656,7 +13656,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.dd99p-1,  // 122265/131072
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -13674,14 +13674,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.dd99p-1,  // 122265/131072
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -1, dpotential_over_r_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -1, dpotential_over_r_1_1, 10},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -13699,7 +13699,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.dd99p+3,  // 122265/8192
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 8},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -13718,14 +13718,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.dd99p+3,  // -122265/8192
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -3, potential_hess_radial_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -3, potential_hess_radial_1_1, 11},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -13756,7 +13756,7 @@ inline constexpr double value_0_0[] = {
     -0x1.ca5dc1a63c1f8p+4,  // -90 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -13767,7 +13767,7 @@ inline constexpr double dr_0_0[] = {
     0x1.ca5dc1a63c1f8p+8,  // 1440 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -13779,7 +13779,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.adb7e58bd85d8p+12,  // -21600 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -13791,7 +13791,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.ca5dc1a63c1f8p+12,  // -23040 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -13802,7 +13802,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.ca5dc1a63c1f8p+8,  // 1440 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -13813,7 +13813,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.91120971749b9p+12,  // -20160 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -13832,7 +13832,7 @@ inline constexpr double potential_0_0[] = {
     0x1.6a2a7966e6d03p-4,  // 5/18 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -13862,21 +13862,21 @@ inline constexpr double potential_1_8[] = {
     -0x1.6a2a7966e6d03p-4,  // -5/18 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_1_8, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -13895,7 +13895,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 9},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -13905,14 +13905,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -13931,7 +13931,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -13941,14 +13941,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -13966,7 +13966,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.976fc893c3aa3p+4,  // 80 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 8},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -13977,14 +13977,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.976fc893c3aa3p+4,  // -80 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -14015,7 +14015,7 @@ inline constexpr double value_0_0[] = {
     -0x1.a8012cfab0f2p+5,  // -43648605/262144 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -14026,7 +14026,7 @@ inline constexpr double dr_0_0[] = {
     0x1.a8012cfab0f2p+9,  // 43648605/16384 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -14038,7 +14038,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.8d811a2b05e2ep+13,  // -654729075/16384 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -14050,7 +14050,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.c2813fca5c012p+13,  // -742026285/16384 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -14061,7 +14061,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.a8012cfab0f2p+9,  // 43648605/16384 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -14072,7 +14072,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.7301075b5ad3cp+13,  // -305540235/8192 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -14091,7 +14091,7 @@ inline constexpr double potential_0_0[] = {
     0x1.3d6230a3b2dc1p-3,  // 255255/524288 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -14110,14 +14110,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.3d6230a3b2dc1p-3,  // -255255/524288 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -1, potential_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, potential_1_1, 11},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -14136,7 +14136,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.650e76b82937ap+1,  // 2297295/262144 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 9},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -14156,14 +14156,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.650e76b82937ap+1,  // 2297295/262144 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -2, dpotential_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -2, dpotential_1_1, 12},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -14182,7 +14182,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.650e76b82937ap+1,  // 2297295/262144 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -14202,14 +14202,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.650e76b82937ap+1,  // 2297295/262144 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -3, dpotential_over_r_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -3, dpotential_over_r_1_1, 12},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -14227,7 +14227,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.650e76b82937ap+5,  // 2297295/16384 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 8},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -14248,14 +14248,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.650e76b82937ap+5,  // -2297295/16384 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -5, potential_hess_radial_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -5, potential_hess_radial_1_1, 13},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -14287,7 +14287,7 @@ inline constexpr double value_0_0[] = {
     0x1.a98410cp+6,  // 111546435/1048576
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -14299,7 +14299,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.deb492d8p+10,  // -1003917915/524288
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -14312,7 +14312,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.fc9fdc058p+14,  // 17066604555/524288
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -14325,7 +14325,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.fc9fdc058p+14,  // 17066604555/524288
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -14337,7 +14337,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.deb492d8p+10,  // -1003917915/524288
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -14349,7 +14349,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.deb492d8p+14,  // 1003917915/32768
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -14369,7 +14369,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.1ea9dp-2,  // -1174173/4194304
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -14389,14 +14389,14 @@ inline constexpr double potential_1_1[] = {
     0x1.1ea9dp-2,  // 1174173/4194304
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, 0, potential_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_1_1, 12},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -14416,7 +14416,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.665444p+2,  // -5870865/1048576
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -14436,14 +14436,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.665444p+2,  // -5870865/1048576
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, 0, dpotential_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, dpotential_1_1, 12},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -14463,7 +14463,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.665444p+2,  // -5870865/1048576
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -14483,14 +14483,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.665444p+2,  // -5870865/1048576
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -1, dpotential_over_r_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -1, dpotential_over_r_1_1, 12},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -14509,7 +14509,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.931ecc8p+6,  // -52837785/524288
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 9},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -14530,14 +14530,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.931ecc8p+6,  // 52837785/524288
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -3, potential_hess_radial_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -3, potential_hess_radial_1_1, 13},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -14569,7 +14569,7 @@ inline constexpr double value_0_0[] = {
     0x1.a42b46d861c78p+7,  // 660 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -14581,7 +14581,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.d8b0afb36e007p+11,  // -11880 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -14594,7 +14594,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.f63bbaaea4e08p+15,  // 201960 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -14607,7 +14607,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.09e362d4ede04p+16,  // 213840 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -14619,7 +14619,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.d8b0afb36e007p+11,  // -11880 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -14631,7 +14631,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.d8b0afb36e007p+15,  // 190080 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -14651,7 +14651,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.0ce87f42cdf05p-1,  // -33/20 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -14684,22 +14684,22 @@ inline constexpr double potential_1_9[] = {
     -0x1.0ce87f42cdf05p-1,  // -33/20 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, 0, potential_1_9, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
@@ -14719,7 +14719,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.50229f13816c7p+3,  // -33 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -14730,14 +14730,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.50229f13816c7p+3,  // -33 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, -1, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, -1, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -14757,7 +14757,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.50229f13816c7p+3,  // -33 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -14768,14 +14768,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.50229f13816c7p+3,  // -33 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, -2, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, -2, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -14794,7 +14794,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.7a26f2f5f19ap+7,  // -594 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 9},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -14806,14 +14806,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.7a26f2f5f19ap+7,  // 594 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, -4, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, -4, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -14845,7 +14845,7 @@ inline constexpr double value_0_0[] = {
     0x1.a744baadcfbfdp+8,  // 2788660875/2097152 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -14857,7 +14857,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.dc2d520389b7dp+12,  // -25097947875/1048576 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -14870,7 +14870,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.f9f02723c2535p+16,  // 426665113875/1048576 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -14883,7 +14883,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.1abae8b219c52p+17,  // 476861009625/1048576 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -14895,7 +14895,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.dc2d520389b7dp+12,  // -25097947875/1048576 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -14907,7 +14907,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.dc2d520389b7dp+16,  // 25097947875/65536 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 5, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -14927,7 +14927,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.01fe01a204b93p+0,  // -26558675/8388608 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -14948,14 +14948,14 @@ inline constexpr double potential_1_1[] = {
     0x1.01fe01a204b93p+0,  // 26558675/8388608 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -1, potential_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, potential_1_1, 13},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -14975,7 +14975,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.427d820a85e78p+4,  // -132793375/2097152 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -14997,14 +14997,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.427d820a85e78p+4,  // -132793375/2097152 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -2, dpotential_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -2, dpotential_1_1, 14},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -15024,7 +15024,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.427d820a85e78p+4,  // -132793375/2097152 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -15046,14 +15046,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.427d820a85e78p+4,  // -132793375/2097152 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -3, dpotential_over_r_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -3, dpotential_over_r_1_1, 14},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -15072,7 +15072,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.6acd324bd6a47p+8,  // -1195140375/1048576 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 9},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -15095,14 +15095,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.6acd324bd6a47p+8,  // 1195140375/1048576 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 7, -5, potential_hess_radial_1_1, 15},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -5, potential_hess_radial_1_1, 15},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -15132,7 +15132,7 @@ inline constexpr double value_0_0[] = {
     0x1.ab53p+0,  // 109395/65536
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -15142,7 +15142,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.ab53p+4,  // -109395/4096
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -15153,7 +15153,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.909ddp+8,  // 1640925/4096
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -15164,7 +15164,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.909ddp+8,  // 1640925/4096
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -15174,7 +15174,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.ab53p+4,  // -109395/4096
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -15184,7 +15184,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.75e8ap+8,  // 765765/2048
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -15203,7 +15203,7 @@ inline constexpr double potential_0_0[] = {
     0x1.658p-8,  // 715/131072
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -15220,14 +15220,14 @@ inline constexpr double potential_1_1[] = {
     0x1.658p-8,  // 715/131072
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_1_1, 9},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -15246,7 +15246,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.923p-4,  // 6435/65536
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 9},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -15263,14 +15263,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.923p-4,  // -6435/65536
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, 0, dpotential_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, dpotential_1_1, 9},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -15289,7 +15289,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.923p-4,  // 6435/65536
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -15306,14 +15306,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.923p-4,  // -6435/65536
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -1, dpotential_over_r_1_1, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_over_r_1_1, 9},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -15331,7 +15331,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.923p+0,  // 6435/4096
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 8},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -15349,14 +15349,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.923p+0,  // 6435/4096
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -3, potential_hess_radial_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -3, potential_hess_radial_1_1, 10},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -15386,7 +15386,7 @@ inline constexpr double value_0_0[] = {
     0x1.6eb167b830193p+1,  // 9 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -15396,7 +15396,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.6eb167b830193p+5,  // -144 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -15407,7 +15407,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.57c6513cad17ap+9,  // 2160 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -15418,7 +15418,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.6eb167b830193p+9,  // 2304 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -15428,7 +15428,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.6eb167b830193p+5,  // -144 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -15438,7 +15438,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.40db3ac12a161p+9,  // 2016 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -15457,7 +15457,7 @@ inline constexpr double potential_0_0[] = {
     0x1.21bb945252402p-7,  // 1/36 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -15487,21 +15487,21 @@ inline constexpr double potential_1_8[] = {
     -0x1.21bb945252402p-7,  // -1/36 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_1_8, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -15520,7 +15520,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 9},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -15529,14 +15529,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -15555,7 +15555,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -15564,14 +15564,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -15589,7 +15589,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.45f306dc9c883p+1,  // 8 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 8},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -15599,14 +15599,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p+1,  // 8 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, -4, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -15636,7 +15636,7 @@ inline constexpr double value_0_0[] = {
     0x1.430d1614560dcp+2,  // 2078505/131072 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -15646,7 +15646,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.430d1614560dcp+6,  // -2078505/8192 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -15657,7 +15657,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.2edc44b310acep+10,  // 31177575/8192 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -15668,7 +15668,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.573de7759b6eap+10,  // 35334585/8192 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -15678,7 +15678,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.430d1614560dcp+6,  // -2078505/8192 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -15688,7 +15688,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.1aab7351cb4cp+10,  // 14549535/4096 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -15707,7 +15707,7 @@ inline constexpr double potential_0_0[] = {
     0x1.e3a1d03665e1bp-7,  // 12155/262144 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 10},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -15725,14 +15725,14 @@ inline constexpr double potential_1_1[] = {
     0x1.e3a1d03665e1bp-7,  // 12155/262144 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -1, potential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -1, potential_1_1, 10},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -15751,7 +15751,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.100b051e994efp-2,  // 109395/131072 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 9},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -15770,14 +15770,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.100b051e994efp-2,  // -109395/131072 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -2, dpotential_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -2, dpotential_1_1, 11},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -15796,7 +15796,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.100b051e994efp-2,  // 109395/131072 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -15815,14 +15815,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.100b051e994efp-2,  // -109395/131072 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -3, dpotential_over_r_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -3, dpotential_over_r_1_1, 11},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -15840,7 +15840,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.100b051e994efp+2,  // 109395/8192 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 8},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 8},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -15860,14 +15860,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.100b051e994efp+2,  // 109395/8192 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -5, potential_hess_radial_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -5, potential_hess_radial_1_1, 12},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -15898,7 +15898,7 @@ inline constexpr double value_0_0[] = {
     -0x1.2802d4p+4,  // -4849845/262144
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -15909,7 +15909,7 @@ inline constexpr double dr_0_0[] = {
     0x1.4d032e8p+8,  // 43648605/131072
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -15921,7 +15921,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.61d36168p+12,  // -742026285/131072
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -15933,7 +15933,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.61d36168p+12,  // -742026285/131072
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -15944,7 +15944,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.4d032e8p+8,  // 43648605/131072
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -15955,7 +15955,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.4d032e8p+12,  // -43648605/8192
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -15975,7 +15975,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.8ed6p-5,  // -51051/1048576
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -15994,14 +15994,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.8ed6p-5,  // -51051/1048576
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_1_1, 11},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -16021,7 +16021,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.f28b8p-1,  // -255255/262144
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -16040,14 +16040,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.f28b8p-1,  // 255255/262144
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, 0, dpotential_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, dpotential_1_1, 11},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -16067,7 +16067,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.f28b8p-1,  // -255255/262144
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -16086,14 +16086,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.f28b8p-1,  // 255255/262144
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -1, dpotential_over_r_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_over_r_1_1, 11},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -16112,7 +16112,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.186e78p+4,  // -2297295/131072
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 9},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -16132,14 +16132,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.186e78p+4,  // -2297295/131072
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -3, potential_hess_radial_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -3, potential_hess_radial_1_1, 12},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -16170,7 +16170,7 @@ inline constexpr double value_0_0[] = {
     -0x1.181cd9e59685p+5,  // -110 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -16181,7 +16181,7 @@ inline constexpr double dr_0_0[] = {
     0x1.3b2075224955ap+9,  // 1980 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -16193,7 +16193,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.4ed27c746debp+13,  // -33660 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -16205,7 +16205,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.628483c692806p+13,  // -35640 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -16216,7 +16216,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.3b2075224955ap+9,  // 1980 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -16227,7 +16227,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.3b2075224955ap+13,  // -31680 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -16247,7 +16247,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.668b54591295dp-4,  // -11/40 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -16280,22 +16280,22 @@ inline constexpr double potential_1_9[] = {
     -0x1.668b54591295dp-4,  // -11/40 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, 0, potential_1_9, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -16315,7 +16315,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.c02e296f573b4p+0,  // -11/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -16325,14 +16325,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.c02e296f573b4p+0,  // 11/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -16352,7 +16352,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.c02e296f573b4p+0,  // -11/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -16362,14 +16362,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.c02e296f573b4p+0,  // 11/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -16388,7 +16388,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.f833ee9d4222ap+4,  // -99 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 9},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -16399,14 +16399,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.f833ee9d4222ap+4,  // -99 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -16437,7 +16437,7 @@ inline constexpr double value_0_0[] = {
     -0x1.0ee44e83b828ep+6,  // -111546435/524288 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -16448,7 +16448,7 @@ inline constexpr double dr_0_0[] = {
     0x1.30c0d8542f2dfp+10,  // 1003917915/262144 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -16460,7 +16460,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.43cce5d97220dp+14,  // -17066604555/262144 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -16472,7 +16472,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.69e500e3f8069p+14,  // -19074440385/262144 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -16483,7 +16483,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.30c0d8542f2dfp+10,  // 1003917915/262144 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -16494,7 +16494,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.30c0d8542f2dfp+14,  // -1003917915/16384 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -16514,7 +16514,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.4a3ae35ebe5dbp-3,  // -1062347/2097152 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -16534,14 +16534,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.4a3ae35ebe5dbp-3,  // -1062347/2097152 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -1, potential_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -1, potential_1_1, 12},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -16561,7 +16561,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.9cc99c366df52p+1,  // -5311735/524288 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -16582,14 +16582,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.9cc99c366df52p+1,  // 5311735/524288 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -2, dpotential_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -2, dpotential_1_1, 13},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -16609,7 +16609,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.9cc99c366df52p+1,  // -5311735/524288 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -16630,14 +16630,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.9cc99c366df52p+1,  // 5311735/524288 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -3, dpotential_over_r_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -3, dpotential_over_r_1_1, 13},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -16656,7 +16656,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.d062cfbd3bb3cp+5,  // -47805615/262144 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 9},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -16678,14 +16678,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.d062cfbd3bb3cp+5,  // -47805615/262144 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -5, potential_hess_radial_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -5, potential_hess_radial_1_1, 14},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -16717,7 +16717,7 @@ inline constexpr double value_0_0[] = {
     0x1.09f28a78p+7,  // 557732175/4194304
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -16729,7 +16729,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.4c6f2d16p+11,  // -2788660875/1048576
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -16742,7 +16742,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.8ac4058a2p+15,  // 52984556625/1048576
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -16755,7 +16755,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.8ac4058a2p+15,  // 52984556625/1048576
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -16767,7 +16767,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.4c6f2d16p+11,  // -2788660875/1048576
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -16779,7 +16779,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.75fd12b8cp+15,  // 25097947875/524288
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -16800,7 +16800,7 @@ inline constexpr double potential_0_0[] = {
     0x1.26bac8p-2,  // 2414425/8388608
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -16821,14 +16821,14 @@ inline constexpr double potential_1_1[] = {
     0x1.26bac8p-2,  // 2414425/8388608
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, 0, potential_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_1_1, 13},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -16849,7 +16849,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.9540d3p+2,  // 26558675/4194304
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 11},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -16870,14 +16870,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.9540d3p+2,  // -26558675/4194304
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, 0, dpotential_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, dpotential_1_1, 13},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -16898,7 +16898,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.9540d3p+2,  // 26558675/4194304
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 11},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -16919,14 +16919,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.9540d3p+2,  // -26558675/4194304
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -1, dpotential_over_r_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_over_r_1_1, 13},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -16946,7 +16946,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.fa9107cp+6,  // 132793375/1048576
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 10},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -16968,14 +16968,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.fa9107cp+6,  // 132793375/1048576
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -3, potential_hess_radial_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -3, potential_hess_radial_1_1, 14},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -17007,7 +17007,7 @@ inline constexpr double value_0_0[] = {
     0x1.111c213fd9281p+8,  // 858 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -17019,7 +17019,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.5563298fcf722p+12,  // -17160 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -17032,7 +17032,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.9565c15ac6578p+16,  // 326040 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -17045,7 +17045,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.aabbf3f3c34eap+16,  // 343200 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -17057,7 +17057,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.5563298fcf722p+12,  // -17160 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -17069,7 +17069,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.800f8ec1c9606p+16,  // 308880 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -17090,7 +17090,7 @@ inline constexpr double potential_0_0[] = {
     0x1.20e8dd5ad08ffp-1,  // 39/22 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -17126,23 +17126,23 @@ inline constexpr double potential_1_10[] = {
     -0x1.20e8dd5ad08ffp-1,  // -39/22 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
-    {table::Basis::one, 0, table::Var::r2, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 11, 0, potential_1_10, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
@@ -17163,7 +17163,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.8d40305cdec5fp+3,  // 39 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 11},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -17174,14 +17174,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.8d40305cdec5fp+3,  // -39 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, -1, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -1, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -17202,7 +17202,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.8d40305cdec5fp+3,  // 39 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 11},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -17213,14 +17213,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.8d40305cdec5fp+3,  // -39 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, -2, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -2, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -17240,7 +17240,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.f0903c7416777p+7,  // 780 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 10},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -17252,14 +17252,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.f0903c7416777p+7,  // 780 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, -4, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, -4, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -17291,7 +17291,7 @@ inline constexpr double value_0_0[] = {
     0x1.1db4caceec3b1p+9,  // 15058768725/8388608 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -17303,7 +17303,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.6521fd82a749ep+13,  // -75293843625/2097152 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -17316,7 +17316,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.a8185d0b26a7bp+17,  // 1430583028875/2097152 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -17329,7 +17329,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.d4bc9cbb7b90fp+17,  // 1581170716125/2097152 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -17341,7 +17341,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.6521fd82a749ep+13,  // -75293843625/2097152 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -17353,7 +17353,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.91c63d32fc331p+17,  // 677644592625/1048576 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 6, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -17374,7 +17374,7 @@ inline constexpr double potential_0_0[] = {
     0x1.211813080447fp+0,  // 59520825/16777216 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -17396,14 +17396,14 @@ inline constexpr double potential_1_1[] = {
     0x1.211813080447fp+0,  // 59520825/16777216 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -1, potential_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -1, potential_1_1, 14},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -17424,7 +17424,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.8d811a2b05e2ep+4,  // 654729075/8388608 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 11},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -17447,14 +17447,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.8d811a2b05e2ep+4,  // -654729075/8388608 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -2, dpotential_1_1, 15},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -2, dpotential_1_1, 15},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -17475,7 +17475,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.8d811a2b05e2ep+4,  // 654729075/8388608 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 11},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -17498,14 +17498,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.8d811a2b05e2ep+4,  // -654729075/8388608 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -3, dpotential_over_r_1_1, 15},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -3, dpotential_over_r_1_1, 15},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -17525,7 +17525,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.f0e160b5c75bap+8,  // 3273645375/2097152 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 10},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -17549,14 +17549,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.f0e160b5c75bap+8,  // 3273645375/2097152 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 8, -5, potential_hess_radial_1_1, 16},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -5, potential_hess_radial_1_1, 16},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -17586,7 +17586,7 @@ inline constexpr double value_0_0[] = {
     0x1.c3108p+0,  // 230945/131072
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 9, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -17596,7 +17596,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.fb729p+4,  // -2078505/65536
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -17607,7 +17607,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.0d94dc8p+9,  // 35334585/65536
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -17618,7 +17618,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.0d94dc8p+9,  // 35334585/65536
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -17628,7 +17628,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.fb729p+4,  // -2078505/65536
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -17638,7 +17638,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.fb729p+8,  // 2078505/4096
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -17658,7 +17658,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.2fep-8,  // -2431/524288
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -17676,14 +17676,14 @@ inline constexpr double potential_1_1[] = {
     0x1.2fep-8,  // 2431/524288
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_1_1, 10},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -17703,7 +17703,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.7bd8p-4,  // -12155/131072
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -17721,14 +17721,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.7bd8p-4,  // -12155/131072
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, 0, dpotential_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, dpotential_1_1, 10},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -17748,7 +17748,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.7bd8p-4,  // -12155/131072
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -17766,14 +17766,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.7bd8p-4,  // -12155/131072
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -1, dpotential_over_r_1_1, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -1, dpotential_over_r_1_1, 10},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -17792,7 +17792,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.ab53p+0,  // -109395/65536
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 9},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -17811,14 +17811,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.ab53p+0,  // 109395/65536
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -3, potential_hess_radial_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -3, potential_hess_radial_1_1, 11},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -17848,7 +17848,7 @@ inline constexpr double value_0_0[] = {
     0x1.976fc893c3aa3p+1,  // 10 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 9, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -17858,7 +17858,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.ca5dc1a63c1f8p+5,  // -180 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -17869,7 +17869,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.e7039dc09fe17p+9,  // 3060 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -17880,7 +17880,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.01d4bced81d1bp+10,  // 3240 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -17890,7 +17890,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.ca5dc1a63c1f8p+5,  // -180 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -17900,7 +17900,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.ca5dc1a63c1f8p+9,  // 2880 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -17920,7 +17920,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -17953,22 +17953,22 @@ inline constexpr double potential_1_9[] = {
     -0x1.04c26be3b06cfp-7,  // -1/40 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, 0, potential_1_9, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -17988,7 +17988,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -17997,14 +17997,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -18024,7 +18024,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -18033,14 +18033,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -18059,7 +18059,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.6eb167b830193p+1,  // -9 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 9},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -18069,14 +18069,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.6eb167b830193p+1,  // 9 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -4, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -18106,7 +18106,7 @@ inline constexpr double value_0_0[] = {
     0x1.78e499c264656p+2,  // 4849845/262144 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 9, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -18116,7 +18116,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.a8012cfab0f2p+6,  // -43648605/131072 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -18127,7 +18127,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.c2813fca5c012p+10,  // 742026285/131072 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -18138,7 +18138,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.f7816569b21f7p+10,  // 829323495/131072 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -18148,7 +18148,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.a8012cfab0f2p+6,  // -43648605/131072 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -18158,7 +18158,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.a8012cfab0f2p+10,  // 43648605/8192 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -18178,7 +18178,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.cb73529a13fccp-7,  // -46189/1048576 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 11},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -18197,14 +18197,14 @@ inline constexpr double potential_1_1[] = {
     0x1.cb73529a13fccp-7,  // 46189/1048576 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 11, -1, potential_1_1, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -1, potential_1_1, 11},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -18224,7 +18224,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.1f2813a04c7ep-2,  // -230945/262144 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -18244,14 +18244,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.1f2813a04c7ep-2,  // -230945/262144 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -2, dpotential_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -2, dpotential_1_1, 12},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -18271,7 +18271,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.1f2813a04c7ep-2,  // -230945/262144 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -18291,14 +18291,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.1f2813a04c7ep-2,  // -230945/262144 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -3, dpotential_over_r_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -3, dpotential_over_r_1_1, 12},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -18317,7 +18317,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.430d1614560dcp+2,  // -2078505/131072 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 9},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 9},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -18338,14 +18338,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.430d1614560dcp+2,  // 2078505/131072 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -5, potential_hess_radial_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -5, potential_hess_radial_1_1, 13},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -18376,7 +18376,7 @@ inline constexpr double value_0_0[] = {
     -0x1.5469a7p+4,  // -22309287/1048576
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 9, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -18387,7 +18387,7 @@ inline constexpr double dr_0_0[] = {
     0x1.a98410cp+8,  // 111546435/262144
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -18399,7 +18399,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.f94cd3e4p+12,  // -2119382265/262144
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -18411,7 +18411,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.f94cd3e4p+12,  // -2119382265/262144
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -18422,7 +18422,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.a98410cp+8,  // 111546435/262144
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -18433,7 +18433,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.deb492d8p+12,  // -1003917915/131072
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -18454,7 +18454,7 @@ inline constexpr double potential_0_0[] = {
     0x1.7941p-5,  // 96577/2097152
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -18474,14 +18474,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.7941p-5,  // -96577/2097152
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_1_1, 12},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -18502,7 +18502,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.035cbp+0,  // 1062347/1048576
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 11},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -18522,14 +18522,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.035cbp+0,  // 1062347/1048576
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, 0, dpotential_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, dpotential_1_1, 12},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -18550,7 +18550,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.035cbp+0,  // 1062347/1048576
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 11},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -18570,14 +18570,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.035cbp+0,  // 1062347/1048576
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -1, dpotential_over_r_1_1, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -1, dpotential_over_r_1_1, 12},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -18597,7 +18597,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.4433dcp+4,  // 5311735/262144
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 10},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -18618,14 +18618,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.4433dcp+4,  // -5311735/262144
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -3, potential_hess_radial_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -3, potential_hess_radial_1_1, 13},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -18656,7 +18656,7 @@ inline constexpr double value_0_0[] = {
     -0x1.50229f13816c7p+5,  // -132 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 9, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -18667,7 +18667,7 @@ inline constexpr double dr_0_0[] = {
     0x1.a42b46d861c78p+9,  // 2640 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -18679,7 +18679,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.f2f36420f41cfp+13,  // -50160 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -18691,7 +18691,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.069b0c473d1cbp+14,  // -52800 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -18702,7 +18702,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.a42b46d861c78p+9,  // 2640 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -18713,7 +18713,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.d8b0afb36e007p+13,  // -47520 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -18734,7 +18734,7 @@ inline constexpr double potential_0_0[] = {
     0x1.6394c1aad94ecp-4,  // 3/11 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -18770,23 +18770,23 @@ inline constexpr double potential_1_10[] = {
     -0x1.6394c1aad94ecp-4,  // -3/11 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
-    {table::Basis::one, 0, table::Var::r2, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 11, 0, potential_1_10, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -18807,7 +18807,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 11},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -18817,14 +18817,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -18845,7 +18845,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 11},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -18855,14 +18855,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -18882,7 +18882,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.3193d66ed2bfap+5,  // 120 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 10},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -18893,14 +18893,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.3193d66ed2bfap+5,  // -120 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -18931,7 +18931,7 @@ inline constexpr double value_0_0[] = {
     -0x1.529d6224a6331p+6,  // -557732175/2097152 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 9, 0, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -18942,7 +18942,7 @@ inline constexpr double dr_0_0[] = {
     0x1.a744baadcfbfdp+10,  // 2788660875/524288 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 2},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -18954,7 +18954,7 @@ inline constexpr double d2r_0_0[] = {
     -0x1.f6a19dae66b3dp+14,  // -52984556625/524288 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, d2r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 3},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -18966,7 +18966,7 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.15c51a821055ep+15,  // -58561878375/524288 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, laplacian_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 3},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -18977,7 +18977,7 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.a744baadcfbfdp+10,  // 2788660875/524288 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -18988,7 +18988,7 @@ inline constexpr double hess_radial_0_0[] = {
     -0x1.dc2d520389b7dp+14,  // -25097947875/262144 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -19009,7 +19009,7 @@ inline constexpr double potential_0_0[] = {
     0x1.56a145f689d08p-3,  // 2204475/4194304 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 12},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -19030,14 +19030,14 @@ inline constexpr double potential_1_1[] = {
     -0x1.56a145f689d08p-3,  // -2204475/4194304 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 11, -1, potential_1_1, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -1, potential_1_1, 13},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -19058,7 +19058,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.d71dc032fd7ebp+1,  // 24249225/2097152 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 11},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -19080,14 +19080,14 @@ inline constexpr double dpotential_1_1[] = {
     0x1.d71dc032fd7ebp+1,  // 24249225/2097152 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -2, dpotential_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -2, dpotential_1_1, 14},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -19108,7 +19108,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.d71dc032fd7ebp+1,  // 24249225/2097152 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 11},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -19130,14 +19130,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     0x1.d71dc032fd7ebp+1,  // 24249225/2097152 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -3, dpotential_over_r_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -3, dpotential_over_r_1_1, 14},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -19157,7 +19157,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.2672981fde6f3p+6,  // 121246125/524288 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 10},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 10},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -19180,14 +19180,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     -0x1.2672981fde6f3p+6,  // -121246125/524288 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -5, potential_hess_radial_1_1, 15},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -5, potential_hess_radial_1_1, 15},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -19219,7 +19219,7 @@ inline constexpr double value_0_0[] = {
     0x1.4663d87cp+7,  // 1368978975/8388608
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 9, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -19231,7 +19231,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.c0c949aa8p+11,  // -15058768725/4194304
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -19244,7 +19244,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.26841857e4p+16,  // 316234143225/4194304
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -19257,7 +19257,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.26841857e4p+16,  // 316234143225/4194304
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -19269,7 +19269,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.c0c949aa8p+11,  // -15058768725/4194304
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -19281,7 +19281,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.187dce0a9p+16,  // 75293843625/1048576
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -19303,7 +19303,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.2ebd13p-2,  // -19840275/67108864
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 13},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -19325,14 +19325,14 @@ inline constexpr double potential_1_1[] = {
     0x1.2ebd13p-2,  // 19840275/67108864
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 11, 0, potential_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_1_1, 14},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -19354,7 +19354,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.c61b9c8p+2,  // -59520825/8388608
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 12},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -19376,14 +19376,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.c61b9c8p+2,  // -59520825/8388608
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, 0, dpotential_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, dpotential_1_1, 14},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -19405,7 +19405,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.c61b9c8p+2,  // -59520825/8388608
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 12},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -19427,14 +19427,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.c61b9c8p+2,  // -59520825/8388608
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -1, dpotential_over_r_1_1, 14},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -1, dpotential_over_r_1_1, 14},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -19455,7 +19455,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.3832fb98p+7,  // -654729075/4194304
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 11},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -19478,14 +19478,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.3832fb98p+7,  // 654729075/4194304
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -3, potential_hess_radial_1_1, 15},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -3, potential_hess_radial_1_1, 15},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -19517,7 +19517,7 @@ inline constexpr double value_0_0[] = {
     0x1.5b982a5142ed3p+8,  // 1092 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 9, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -19529,7 +19529,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.ddf13a2fbc063p+12,  // -24024 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -19542,7 +19542,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.39a64e2f53641p+17,  // 504504 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -19555,7 +19555,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.4895d800d1444p+17,  // 528528 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -19567,7 +19567,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.ddf13a2fbc063p+12,  // -24024 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -19579,7 +19579,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.2ab6c45dd583ep+17,  // 480480 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -19601,7 +19601,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.34f9092bc9b67p-1,  // -91/48 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_0_0, 13},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -19640,24 +19640,24 @@ inline constexpr double potential_1_11[] = {
     -0x1.34f9092bc9b67p-1,  // -91/48 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r2, 5, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r2, 6, 0, potential_1_5, 1},
-    {table::Basis::one, 0, table::Var::r2, 7, 0, potential_1_6, 1},
-    {table::Basis::one, 0, table::Var::r2, 8, 0, potential_1_7, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, 0, potential_1_8, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, 0, potential_1_9, 1},
-    {table::Basis::one, 0, table::Var::r2, 11, 0, potential_1_10, 1},
-    {table::Basis::one, 0, table::Var::r2, 12, 0, potential_1_11, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_1_5, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_1_6, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_1_7, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_1_8, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, 0, potential_1_9, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 11, 0, potential_1_10, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 12, 0, potential_1_11, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
@@ -19679,7 +19679,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.cf758dc1ae91ap+3,  // -91/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 12},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -19690,14 +19690,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.cf758dc1ae91ap+3,  // -91/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, -1, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, -1, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -19719,7 +19719,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.cf758dc1ae91ap+3,  // -91/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 12},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -19730,14 +19730,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.cf758dc1ae91ap+3,  // -91/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 10, -2, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, -2, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -19758,7 +19758,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.3ea0d17528042p+8,  // -1001 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 11},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -19770,14 +19770,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.3ea0d17528042p+8,  // 1001 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 9, -4, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -4, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -19809,7 +19809,7 @@ inline constexpr double value_0_0[] = {
     0x1.789cdccaf193bp+9,  // 39700390275/16777216 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 9, 0, value_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 3},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -19821,7 +19821,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.02ebd7cb86159p+14,  // -436704293025/8388608 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 1, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -19834,7 +19834,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.53d58b3b1ffc4p+18,  // 9170790153525/8388608 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -19847,7 +19847,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.7433063490bfp+18,  // 10044198739575/8388608 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -19859,7 +19859,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.02ebd7cb86159p+14,  // -436704293025/8388608 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 8, 0, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -19871,7 +19871,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.43a6cdbe679afp+18,  // 2183521465125/2097152 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 7, 0, hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 3},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -19893,7 +19893,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.41604f2ee2a03p+0,  // -529338537/134217728 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 13},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 13},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -19916,14 +19916,14 @@ inline constexpr double potential_1_1[] = {
     0x1.41604f2ee2a03p+0,  // 529338537/134217728 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 11, -1, potential_1_1, 15},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -1, potential_1_1, 15},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -19945,7 +19945,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.e21076c653f04p+4,  // -1588015611/16777216 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 12},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -19969,14 +19969,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.e21076c653f04p+4,  // -1588015611/16777216 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -2, dpotential_1_1, 16},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -2, dpotential_1_1, 16},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -19998,7 +19998,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.e21076c653f04p+4,  // -1588015611/16777216 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 12},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 12},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -20022,14 +20022,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.e21076c653f04p+4,  // -1588015611/16777216 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 10, -3, dpotential_over_r_1_1, 16},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -3, dpotential_over_r_1_1, 16},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -20050,7 +20050,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.4b6b51a859b53p+9,  // -17468171721/8388608 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 11},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 11},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -20075,14 +20075,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.4b6b51a859b53p+9,  // 17468171721/8388608 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 9, -5, potential_hess_radial_1_1, 17},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -5, potential_hess_radial_1_1, 17},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)

@@ -12,7 +12,7 @@ inline constexpr double value_0_0[] = {
     0x1.18p+0,  // 35/32
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -22,7 +22,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.a4p+2,  // -105/16
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -33,7 +33,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.068p+5,  // 525/16
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -44,7 +44,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.068p+5,  // 525/16
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -54,7 +54,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.a4p+2,  // -105/16
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -64,7 +64,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.a4p+4,  // 105/4
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -78,7 +78,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.4p-6,  // -5/256
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -90,14 +90,14 @@ inline constexpr double potential_1_1[] = {
     0x1.4p-6,  // 5/256
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_1, 4},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -111,7 +111,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.4p-3,  // -5/32
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -123,14 +123,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.4p-3,  // -5/32
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, dpotential_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_1_1, 4},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -144,7 +144,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.4p-3,  // -5/32
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -156,14 +156,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.4p-3,  // -5/32
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, dpotential_over_r_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_over_r_1_1, 4},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -176,7 +176,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.ep-1,  // -15/16
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -189,14 +189,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.ep-1,  // 15/16
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -3, potential_hess_radial_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, potential_hess_radial_1_1, 5},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -226,7 +226,7 @@ inline constexpr double value_0_0[] = {
     0x1.45f306dc9c883p+0,  // 4 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -236,7 +236,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -247,7 +247,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.3193d66ed2bfap+5,  // 120 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -258,7 +258,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.6eb167b830193p+5,  // 144 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -268,7 +268,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -278,7 +278,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.e8ec8a4aeacc4p+4,  // 96 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -292,7 +292,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -307,16 +307,16 @@ inline constexpr double potential_1_3[] = {
     -0x1.45f306dc9c883p-6,  // -1/16 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -330,7 +330,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -339,14 +339,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -360,7 +360,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -369,14 +369,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 4, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -389,7 +389,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.e8ec8a4aeacc4p-1,  // -3 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -399,14 +399,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 3, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -4, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -436,7 +436,7 @@ inline constexpr double value_0_0[] = {
     0x1.91120971749b9p+0,  // 315/64 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 3, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -446,7 +446,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.2ccd87151774bp+3,  // -945/32 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 1, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 1, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -457,7 +457,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.7800e8da5d51dp+5,  // 4725/32 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, d2r_0_0, 2},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -468,7 +468,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.0733d63274861p+6,  // 6615/32 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -478,7 +478,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.2ccd87151774bp+3,  // -945/32 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 2, 0, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -488,7 +488,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.2ccd87151774bp+5,  // 945/8 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -502,7 +502,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.6481cf814b34fp-6,  // -35/512 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 5},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -515,14 +515,14 @@ inline constexpr double potential_1_1[] = {
     0x1.6481cf814b34fp-6,  // 35/512 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -1, potential_1_1, 5},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, potential_1_1, 5},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -536,7 +536,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -550,14 +550,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -2, dpotential_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 6},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -571,7 +571,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -585,14 +585,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -3, dpotential_over_r_1_1, 6},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_1_1, 6},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -605,7 +605,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.0b615ba0f867bp+0,  // -105/32 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -620,14 +620,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.0b615ba0f867bp+0,  // 105/32 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -5, potential_hess_radial_1_1, 7},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -5, potential_hess_radial_1_1, 7},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -657,7 +657,7 @@ inline constexpr double value_0_0[] = {
     0x1p+1,  // 2
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 3, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -667,7 +667,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.8p+2,  // -6
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 2, 0, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -677,7 +677,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.8p+3,  // 12
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, d2r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, d2r_0_0, 1},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -687,7 +687,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.8p+3,  // 12
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, laplacian_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, laplacian_0_0, 1},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -697,7 +697,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.8p+2,  // -6
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 2, -1, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -707,7 +707,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, -3, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -3, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -722,7 +722,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.999999999999ap-4,  // -1/10
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -731,14 +731,14 @@ inline constexpr double potential_1_1[] = {
     0x1.999999999999ap-4,  // 1/10
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -752,7 +752,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -761,14 +761,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -782,7 +782,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -791,14 +791,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -811,7 +811,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, -1, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, -1, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -821,14 +821,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.8p+0,  // 3/2
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -3, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -858,7 +858,7 @@ inline constexpr double value_0_0[] = {
     0x1.976fc893c3aa3p+1,  // 10 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 3, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -868,7 +868,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.3193d66ed2bfap+3,  // -30 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 2, 0, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -878,7 +878,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.3193d66ed2bfap+4,  // 60 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, d2r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, d2r_0_0, 1},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -889,7 +889,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.ca5dc1a63c1f8p+4,  // 90 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, -1, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -1, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -899,7 +899,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.3193d66ed2bfap+3,  // -30 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 2, -1, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -909,7 +909,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.3193d66ed2bfap+3,  // 30 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, -3, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -3, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -924,7 +924,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.04c26be3b06cfp-3,  // -2/5 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
@@ -942,17 +942,17 @@ inline constexpr double potential_1_4[] = {
     0x1.04c26be3b06cfp-3,  // 2/5 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_4, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
@@ -966,7 +966,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.45f306dc9c883p-1,  // -2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -976,14 +976,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-1,  // -2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -997,7 +997,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.45f306dc9c883p-1,  // -2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1007,14 +1007,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-1,  // -2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -1027,7 +1027,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.e8ec8a4aeacc4p+0,  // -6 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, -1, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, -1, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1038,14 +1038,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -1075,7 +1075,7 @@ inline constexpr double value_0_0[] = {
     0x1.3193d66ed2bfap+2,  // 15 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 3, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -1085,7 +1085,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.ca5dc1a63c1f8p+3,  // -45 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 2, 0, dr_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, dr_0_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -1095,7 +1095,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.ca5dc1a63c1f8p+4,  // 90 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, d2r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, d2r_0_0, 1},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -1106,7 +1106,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.ca5dc1a63c1f8p+5,  // 180 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, -1, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -1, laplacian_0_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -1116,7 +1116,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.ca5dc1a63c1f8p+3,  // -45 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 2, -1, grad_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, grad_over_r_0_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -1126,7 +1126,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.ca5dc1a63c1f8p+3,  // 45 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, -3, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -3, hess_radial_0_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -1141,7 +1141,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -1151,14 +1151,14 @@ inline constexpr double potential_1_1[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -1, potential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, potential_1_1, 2},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -1172,7 +1172,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1183,14 +1183,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -2, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -1204,7 +1204,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1215,14 +1215,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -3, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -1235,7 +1235,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.3193d66ed2bfap+1,  // -15/2 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, -1, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, -1, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -1247,14 +1247,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -5, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -5, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -1285,7 +1285,7 @@ inline constexpr double value_0_0[] = {
     0x1.0f9fdb0d2d1c2p-1,  // 5/3 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 3, -1, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -1297,7 +1297,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.976fc893c3aa3p+0,  // -5 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 2, -2, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -2, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -1310,7 +1310,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.976fc893c3aa3p+1,  // 10 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, -3, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -3, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -1323,7 +1323,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.3193d66ed2bfap+2,  // 15 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, -3, laplacian_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -3, laplacian_0_0, 4},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -1335,7 +1335,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.976fc893c3aa3p+0,  // -5 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 2, -3, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -3, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -1346,7 +1346,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.976fc893c3aa3p+0,  // 5 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, -5, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -5, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -1361,7 +1361,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.5bade52f95e69p-6,  // -1/15 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
@@ -1379,17 +1379,17 @@ inline constexpr double potential_1_4[] = {
     0x1.5bade52f95e69p-6,  // 1/15 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_4, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -1404,7 +1404,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.b2995e7b7b604p-4,  // -1/3 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1414,14 +1414,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.b2995e7b7b604p-4,  // -1/3 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -1436,7 +1436,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.b2995e7b7b604p-4,  // -1/3 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, -1, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, -1, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1446,14 +1446,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.b2995e7b7b604p-4,  // -1/3 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -1468,7 +1468,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, -3, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, -3, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1479,14 +1479,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -1517,7 +1517,7 @@ inline constexpr double value_0_0[] = {
     0x1.3193d66ed2bfap+0,  // 15/4 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 3, -1, value_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, value_0_0, 2},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -1529,7 +1529,7 @@ inline constexpr double dr_0_0[] = {
     -0x1.ca5dc1a63c1f8p+1,  // -45/4 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 2, -2, dr_0_0, 3},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -2, dr_0_0, 3},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
@@ -1542,7 +1542,7 @@ inline constexpr double d2r_0_0[] = {
     0x1.ca5dc1a63c1f8p+2,  // 45/2 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, -3, d2r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -3, d2r_0_0, 4},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
@@ -1552,7 +1552,7 @@ inline constexpr double laplacian_0_0[] = {
     0x1.ca5dc1a63c1f8p+3,  // 45 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, laplacian_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, laplacian_0_0, 1},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
@@ -1564,7 +1564,7 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.ca5dc1a63c1f8p+1,  // -45/4 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 2, -3, grad_over_r_0_0, 3},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -3, grad_over_r_0_0, 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
@@ -1575,7 +1575,7 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.ca5dc1a63c1f8p+1,  // 45/4 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, -5, hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -5, hess_radial_0_0, 2},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
@@ -1590,7 +1590,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -1600,14 +1600,14 @@ inline constexpr double potential_1_1[] = {
     0x1.45f306dc9c883p-5,  // 1/8 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -1, potential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, potential_1_1, 2},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -1622,7 +1622,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.976fc893c3aa3p-3,  // -5/8 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1633,14 +1633,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.976fc893c3aa3p-3,  // -5/8 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -2, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -1655,7 +1655,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.976fc893c3aa3p-3,  // -5/8 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, -1, dpotential_over_r_0_0, 5},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, -1, dpotential_over_r_0_0, 5},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1666,14 +1666,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.976fc893c3aa3p-3,  // -5/8 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -3, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -1688,7 +1688,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.3193d66ed2bfap-1,  // -15/8 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, -3, potential_hess_radial_0_0, 5},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, -3, potential_hess_radial_0_0, 5},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -1700,14 +1700,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -5, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -5, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -1740,13 +1740,13 @@ inline constexpr double value_0_0[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, value_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, value_0_0, 4},
 };
 inline constexpr double value_1_0[] = {
     0x1.5555555555555p+1,  // 8/3
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 3, 0, value_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, value_1_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p-1, value_0, 1},  // [0, 1/2)
@@ -1758,13 +1758,13 @@ inline constexpr double dr_0_0[] = {
     0x1.8p+4,  // 24
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dr_0_0, 2},
 };
 inline constexpr double dr_1_0[] = {
     -0x1p+3,  // -8
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 2, 0, dr_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, dr_1_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p-1, dr_0, 1},  // [0, 1/2)
@@ -1776,13 +1776,13 @@ inline constexpr double d2r_0_0[] = {
     0x1.8p+5,  // 48
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, d2r_0_0, 2},
 };
 inline constexpr double d2r_1_0[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, d2r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, d2r_1_0, 1},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p-1, d2r_0, 1},  // [0, 1/2)
@@ -1794,13 +1794,13 @@ inline constexpr double laplacian_0_0[] = {
     0x1.8p+5,  // 48
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, laplacian_0_0, 2},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, laplacian_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, laplacian_1_0, 1},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p-1, laplacian_0, 1},  // [0, 1/2)
@@ -1812,13 +1812,13 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.8p+4,  // 24
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, grad_over_r_0_0, 2},
 };
 inline constexpr double grad_over_r_1_0[] = {
     -0x1p+3,  // -8
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 2, -1, grad_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, grad_over_r_1_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p-1, grad_over_r_0, 1},  // [0, 1/2)
@@ -1829,13 +1829,13 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.8p+4,  // 24
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, hess_radial_0_0, 1},
 };
 inline constexpr double hess_radial_1_0[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, -3, hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -3, hess_radial_1_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p-1, hess_radial_0, 1},  // [0, 1/2)
@@ -1851,7 +1851,7 @@ inline constexpr double potential_0_0[] = {
     0x1.999999999999ap-2,  // 2/5
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -1860,14 +1860,14 @@ inline constexpr double potential_1_1[] = {
     0x1.1111111111111p-3,  // 2/15
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -1881,7 +1881,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1p+1,  // 2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -1890,14 +1890,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.5555555555555p-1,  // -2/3
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -1911,7 +1911,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1p+1,  // 2
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -1920,14 +1920,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.5555555555555p-1,  // -2/3
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -1939,7 +1939,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -1949,14 +1949,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1p+1,  // 2
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -3, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, potential_hess_radial_1_1, 2},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -1989,13 +1989,13 @@ inline constexpr double value_0_0[] = {
     0x1.5d3b3e3583243p+3,  // 240/7 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, value_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, value_0_0, 4},
 };
 inline constexpr double value_1_0[] = {
     0x1.d1a452f204304p+1,  // 80/7 * pi^-1
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 3, 0, value_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, value_1_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p-1, value_0, 1},  // [0, 1/2)
@@ -2007,13 +2007,13 @@ inline constexpr double dr_0_0[] = {
     0x1.05ec6ea8225b2p+5,  // 720/7 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dr_0_0, 2},
 };
 inline constexpr double dr_1_0[] = {
     -0x1.5d3b3e3583243p+3,  // -240/7 * pi^-1
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 2, 0, dr_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, dr_1_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p-1, dr_0, 1},  // [0, 1/2)
@@ -2025,13 +2025,13 @@ inline constexpr double d2r_0_0[] = {
     0x1.05ec6ea8225b2p+6,  // 1440/7 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, d2r_0_0, 2},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.5d3b3e3583243p+4,  // 480/7 * pi^-1
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, d2r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, d2r_1_0, 1},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p-1, d2r_0, 1},  // [0, 1/2)
@@ -2043,14 +2043,14 @@ inline constexpr double laplacian_0_0[] = {
     0x1.88e2a5fc3388bp+6,  // 2160/7 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, laplacian_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, laplacian_0_0, 2},
 };
 inline constexpr double laplacian_1_0[] = {
     -0x1.5d3b3e3583243p+3,  // -240/7 * pi^-1
     0x1.05ec6ea8225b2p+5,  // 720/7 * pi^-1
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, -1, laplacian_1_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -1, laplacian_1_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p-1, laplacian_0, 1},  // [0, 1/2)
@@ -2062,13 +2062,13 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.05ec6ea8225b2p+5,  // 720/7 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, grad_over_r_0_0, 2},
 };
 inline constexpr double grad_over_r_1_0[] = {
     -0x1.5d3b3e3583243p+3,  // -240/7 * pi^-1
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 2, -1, grad_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, grad_over_r_1_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p-1, grad_over_r_0, 1},  // [0, 1/2)
@@ -2079,13 +2079,13 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.05ec6ea8225b2p+5,  // 720/7 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, hess_radial_0_0, 1},
 };
 inline constexpr double hess_radial_1_0[] = {
     0x1.5d3b3e3583243p+3,  // 240/7 * pi^-1
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, -3, hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -3, hess_radial_1_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p-1, hess_radial_0, 1},  // [0, 1/2)
@@ -2101,7 +2101,7 @@ inline constexpr double potential_0_0[] = {
     0x1.bf0426aae54dp-2,  // 48/35 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
@@ -2122,18 +2122,18 @@ inline constexpr double potential_1_5[] = {
     0x1.2a02c471ee336p-3,  // 16/35 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, 0, potential_1_1, 1},
-    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_2, 1},
-    {table::Basis::one, 0, table::Var::r, 3, 0, potential_1_3, 1},
-    {table::Basis::one, 0, table::Var::r, 4, 0, potential_1_4, 1},
-    {table::Basis::one, 0, table::Var::r, 5, 0, potential_1_5, 1},
+    {table::Basis::log, 0, table::Var::r2, 0x1p+0, 0, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_1_2, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_1_3, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_1_4, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_5, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -2147,7 +2147,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.1762982acf502p+1,  // 48/7 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2157,14 +2157,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.7483758e69c03p-1,  // -16/7 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_1_1, 2},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -2178,7 +2178,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.1762982acf502p+1,  // 48/7 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2188,14 +2188,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.7483758e69c03p-1,  // -16/7 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_over_r_1_1, 2},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -2207,7 +2207,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.a313e44036f83p+2,  // 144/7 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -2218,14 +2218,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.1762982acf502p+1,  // 48/7 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -4, potential_hess_radial_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -4, potential_hess_radial_1_1, 3},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -2258,13 +2258,13 @@ inline constexpr double value_0_0[] = {
     0x1.e8ec8a4aeacc4p+3,  // 48 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, value_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, value_0_0, 4},
 };
 inline constexpr double value_1_0[] = {
     0x1.45f306dc9c883p+2,  // 16 * pi^-1
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 3, 0, value_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, value_1_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p-1, value_0, 1},  // [0, 1/2)
@@ -2276,13 +2276,13 @@ inline constexpr double dr_0_0[] = {
     0x1.6eb167b830193p+5,  // 144 * pi^-1
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 1, dr_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dr_0_0, 2},
 };
 inline constexpr double dr_1_0[] = {
     -0x1.e8ec8a4aeacc4p+3,  // -48 * pi^-1
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 2, 0, dr_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, dr_1_0, 1},
 };
 inline constexpr table::Piece dr[] = {
     {0x0p+0, 0x1p-1, dr_0, 1},  // [0, 1/2)
@@ -2294,13 +2294,13 @@ inline constexpr double d2r_0_0[] = {
     0x1.6eb167b830193p+6,  // 288 * pi^-1
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, d2r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, d2r_0_0, 2},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.e8ec8a4aeacc4p+4,  // 96 * pi^-1
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, d2r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, d2r_1_0, 1},
 };
 inline constexpr table::Piece d2r[] = {
     {0x0p+0, 0x1p-1, d2r_0, 1},  // [0, 1/2)
@@ -2311,14 +2311,14 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.6eb167b830193p+7,  // -576 * pi^-1
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 1, 0, laplacian_0_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 1, 0, laplacian_0_0, 1},
 };
 inline constexpr double laplacian_1_0[] = {
     -0x1.e8ec8a4aeacc4p+4,  // -96 * pi^-1
     0x1.e8ec8a4aeacc4p+5,  // 192 * pi^-1
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 1, -1, laplacian_1_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -1, laplacian_1_0, 2},
 };
 inline constexpr table::Piece laplacian[] = {
     {0x0p+0, 0x1p-1, laplacian_0, 1},  // [0, 1/2)
@@ -2330,13 +2330,13 @@ inline constexpr double grad_over_r_0_0[] = {
     0x1.6eb167b830193p+5,  // 144 * pi^-1
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, grad_over_r_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, grad_over_r_0_0, 2},
 };
 inline constexpr double grad_over_r_1_0[] = {
     -0x1.e8ec8a4aeacc4p+3,  // -48 * pi^-1
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 2, -1, grad_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, grad_over_r_1_0, 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {0x0p+0, 0x1p-1, grad_over_r_0, 1},  // [0, 1/2)
@@ -2347,13 +2347,13 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.6eb167b830193p+5,  // 144 * pi^-1
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, hess_radial_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, hess_radial_0_0, 1},
 };
 inline constexpr double hess_radial_1_0[] = {
     0x1.e8ec8a4aeacc4p+3,  // 48 * pi^-1
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, -3, hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -3, hess_radial_1_0, 1},
 };
 inline constexpr table::Piece hess_radial[] = {
     {0x0p+0, 0x1p-1, hess_radial_0, 1},  // [0, 1/2)
@@ -2369,7 +2369,7 @@ inline constexpr double potential_0_0[] = {
     0x1.04c26be3b06cfp-1,  // 8/5 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -2379,14 +2379,14 @@ inline constexpr double potential_1_1[] = {
     0x1.5bade52f95e69p-3,  // 8/15 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 5, -1, potential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, potential_1_1, 2},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -2400,7 +2400,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p+1,  // 8 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -2411,14 +2411,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.b2995e7b7b604p-1,  // -8/3 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -2, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -2432,7 +2432,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.45f306dc9c883p+1,  // 8 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -2443,14 +2443,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.b2995e7b7b604p-1,  // -8/3 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 4, -3, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -2462,7 +2462,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     0x1.e8ec8a4aeacc4p+2,  // 24 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -2474,14 +2474,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p+1,  // 8 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 3, -5, potential_hess_radial_1_1, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -5, potential_hess_radial_1_1, 4},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
@@ -2511,7 +2511,7 @@ inline constexpr double value_0_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -2542,7 +2542,7 @@ inline constexpr double potential_0_0[] = {
     0x1p-2,  // 1/4
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 2},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -2551,14 +2551,14 @@ inline constexpr double potential_1_1[] = {
     0x1p-2,  // 1/4
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_1_1, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -2569,7 +2569,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 1},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1p-1,  // 1/2
@@ -2578,14 +2578,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, 0, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -2596,7 +2596,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 1},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -2605,14 +2605,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, -1, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -1, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -2626,14 +2626,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_1, 1},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, nullptr, 0},  // [0, 1/2)
@@ -2663,7 +2663,7 @@ inline constexpr double value_0_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -2694,19 +2694,19 @@ inline constexpr double potential_0_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_0_0, 2},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 1, 0, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, 0, 0, potential_2_0, 1},
+    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8)
@@ -2717,7 +2717,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 1},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2726,14 +2726,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 1, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -1, dpotential_1_1, 1},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -2744,7 +2744,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 1},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2753,14 +2753,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 1, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -2, dpotential_over_r_1_1, 1},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -2774,14 +2774,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_1, 1},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -4, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, nullptr, 0},  // [0, 1/2)
@@ -2811,7 +2811,7 @@ inline constexpr double value_0_0[] = {
     0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -2842,7 +2842,7 @@ inline constexpr double potential_0_0[] = {
     0x1.45f306dc9c883p-5,  // 1/8 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, potential_0_0, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 2},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -2852,14 +2852,14 @@ inline constexpr double potential_1_1[] = {
     0x1.45f306dc9c883p-5,  // 1/8 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 2, -1, potential_1_1, 2},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, potential_1_1, 2},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
     {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
@@ -2870,7 +2870,7 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 1, dpotential_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 1},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -2881,14 +2881,14 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, -2, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -2, dpotential_1_1, 3},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
@@ -2899,7 +2899,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, dpotential_over_r_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 1},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -2910,14 +2910,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 1, -3, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -3, dpotential_over_r_1_1, 3},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
@@ -2931,14 +2931,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_1_1, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_1, 1},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, -5, potential_hess_radial_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, nullptr, 0},  // [0, 1/2)
@@ -2968,7 +2968,7 @@ inline constexpr double value_0_0[] = {
     -0x1p+0,  // -1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, value_0_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
@@ -3017,13 +3017,13 @@ inline constexpr double value_0_0[] = {
     -0x1p+2,  // -4
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, value_0_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, value_0_0, 1},
 };
 inline constexpr double value_1_0[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0, 0, value_1_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, value_1_0, 1},
 };
 inline constexpr table::Piece value[] = {
     {0x0p+0, 0x1p-1, value_0, 1},  // [0, 1/2)

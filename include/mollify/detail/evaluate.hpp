@@ -70,6 +70,7 @@ inline double ipow(double x) {
 struct Scaled {
     double q;
     double e;
+    double r, h, inv_h;  // for the distance to an interior edge a: (a h - r)/h
 };
 
 template <const table::Kernel& K, int Q>
@@ -112,22 +113,29 @@ inline double basis(const Scaled& a) {
     } else if constexpr (B == table::Basis::log) {
         return log_near_one(a);
     } else {
-        return std::asin(a.q);
+        // atan2(q, S) rather than asin q: near q = 1 asin magnifies the
+        // rounding of q by 1/S, while S comes from the accurate e.
+        return std::atan2(a.q, std::sqrt(a.e * (1 + a.q)));
     }
 }
 
-// One term: (edge - v)^edge_power q^low p(v) basis(q), the edge factor
-// taken from e when the piece ends at the support edge (hi = 1).
+// One term: (edge - v)^edge_power q^low p(v) basis(q), with the term's own
+// edge (table::Term); at the support edge (edge = 1) the distance is a.e,
+// accurate to the last bit, elsewhere edge - q (exact by Sterbenz's lemma
+// for q in [edge/2, 2 edge], where the factor matters).
 template <const table::Kernel& K, int Q, int P, int T>
 inline double term(const Scaled& a) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
-    constexpr double hi = piece_table<K, Q, P>.hi;
     const double v = t.var == table::Var::r ? a.q : a.q * a.q;
     double x = horner<K, Q, P, T>(v, std::make_index_sequence<static_cast<std::size_t>(t.n - 1)>{});
     if constexpr (t.low != 0) x *= ipow<t.low>(a.q);
     if constexpr (t.edge_power != 0) {
-        const double to_edge = hi == 1.0 ? a.e : hi - a.q;
-        const double edge = t.var == table::Var::r ? to_edge : to_edge * (hi + a.q);
+        constexpr bool support_edge = t.edge == 1.0;
+        // At an interior edge (a combination's radius a_j, a breakpoint) the
+        // distance is (a h - r)/h with one rounding of a h - r, not a - q
+        // from the rounded q, which loses ulp(a)/(a - q) near the edge.
+        const double to_edge = support_edge ? a.e : mul_add(t.edge, a.h, -a.r) * a.inv_h;
+        const double edge = t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q);
         x *= ipow<t.edge_power>(edge);
     }
     if constexpr (t.basis == table::Basis::log || t.basis == table::Basis::arcsech) {

@@ -1,0 +1,366 @@
+// kernel_bench: evaluations per second of W and of W + grad W (the pair API,
+// 3D) for one representative kernel per family, mollify's compile-time
+// (StaticKernel) and run-time (Kernel) batches against the naive forms
+// (expanded monomials, textbook pow), each next to the error it achieves,
+// measured in the same run and the same build (same flags, FMA or not)
+// against the exact values: speed against error.
+//
+// Counters: tsc_cyc = time stamp counter ticks per evaluation (constant rate,
+// the nominal clock; a core boosting above it does more work per tick),
+// bound = the FMA-pipe lower bound of mollify's factored form (multiplies and
+// FMAs / 8: AVX2 4 doubles x 2 FMA pipes on Zen), ulp_W and ulp_G = max ulp
+// error of W and W'/r over the sample (hard points + uniform).
+//
+//   kernel_bench [benchmark flags] [--md=FILE]   (cmake --build build --target bench-kernels)
+#include "accuracy/measure.hpp"
+
+#include <mollify/kernel.hpp>
+
+#include <benchmark/benchmark.h>
+#include <x86intrin.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace acc = mollify::accuracy;
+namespace tables = mollify::tables;
+using mollify::QuantityId;
+using mollify::Smoothing;
+using mollify::table::Kernel;
+
+namespace {
+
+constexpr double h = 1.3;  // not 1, so the scaling by h is real work
+constexpr std::size_t sizes[] = {1'000'000, 4096};  // DRAM-bound batch, cache-resident batch
+constexpr int error_uniform = 20'000;                // uniform points of the error sample (plus the hard ones)
+
+// ---- capacities of the naive forms, from the emitted table at compile time ----
+
+constexpr int inner_pieces(const Kernel& k, QuantityId q) { return k.quantities[static_cast<int>(q)].npieces - 1; }
+
+// Coefficients of the expanded Horner form (n + edge_power, plus zero low
+// coefficients) and of the pow form's cofactor (n, factored pieces only),
+// max over the pieces.
+constexpr int naive_size(const Kernel& k, QuantityId q, bool expanded) {
+    int most = 1;
+    const auto& quantity = k.quantities[static_cast<int>(q)];
+    for (int p = 0; p < inner_pieces(k, q); ++p)
+        for (int t = 0; t < quantity.pieces[p].nterms; ++t) {
+            const auto& term = quantity.pieces[p].terms[t];
+            const int low_v = term.var == mollify::table::Var::r ? term.low : term.low / 2;  // odd pieces: q v^k
+            if (!expanded && term.edge_power == 0) continue;  // no factorisation: the pow form uses the monomials
+            most = std::max(most, std::max(low_v, 0) + term.n + (expanded ? term.edge_power : 0));
+        }
+    return most;
+}
+
+template <const Kernel& K, QuantityId Q>
+using NaiveOf = acc::Naive<naive_size(K, Q, true), naive_size(K, Q, false), inner_pieces(K, Q)>;
+
+// ---- the FMA-pipe bound of mollify's factored form ----
+
+constexpr int ipow_products(int n) { return n <= 1 ? 0 : ipow_products(n / 2) + 1 + n % 2; }
+
+// Multiplies and FMAs of one quantity inside the support (every polynomial
+// piece is evaluated, then one is selected), without the shared q, 1 - q, q^2.
+constexpr int quantity_products(const Kernel& k, QuantityId q) {
+    int ops = 1;  // the scale h^p
+    const auto& quantity = k.quantities[static_cast<int>(q)];
+    for (int p = 0; p < inner_pieces(k, q); ++p)
+        for (int t = 0; t < quantity.pieces[p].nterms; ++t) {
+            const auto& term = quantity.pieces[p].terms[t];
+            ops += term.n - 1;                                                          // Horner FMAs
+            if (term.low != 0) ops += ipow_products(std::abs(term.low)) + 1;           // q^low and the product
+            if (term.edge_power != 0) ops += ipow_products(term.edge_power) + 1;       // (1 - v)^n and the product
+            if (term.edge_power != 0 && term.var == mollify::table::Var::r2) ops += 1;  // (1 - q)(1 + q)
+        }
+    return ops;
+}
+
+constexpr bool uses_square(const Kernel& k, QuantityId q) {
+    const auto& quantity = k.quantities[static_cast<int>(q)];
+    for (int p = 0; p < inner_pieces(k, q); ++p)
+        for (int t = 0; t < quantity.pieces[p].nterms; ++t)
+            if (quantity.pieces[p].terms[t].var == mollify::table::Var::r2) return true;
+    return false;
+}
+
+// W + grad W at one displacement: |x|^2 (1 mul + 2 FMA), q = r/h (1),
+// 1 - q from h - r (1 mul + 2 FMA), v = q^2 if used (1), W, W'/r, grad = (W'/r) x (3).
+constexpr int pair_products(const Kernel& k) {
+    const bool square = uses_square(k, QuantityId::value) || uses_square(k, QuantityId::grad_over_r);
+    return 3 + 1 + 3 + (square ? 1 : 0) + quantity_products(k, QuantityId::value) +
+           quantity_products(k, QuantityId::grad_over_r) + 3;
+}
+constexpr int value_products(const Kernel& k) {
+    return 1 + 3 + (uses_square(k, QuantityId::value) ? 1 : 0) + quantity_products(k, QuantityId::value);
+}
+constexpr double lanes_per_cycle = 8;  // AVX2: 4 doubles x 2 FMA pipes
+
+// ---- data ----
+
+// Displacements uniform in [-h, h]^3 (about half inside the support, as in
+// a neighbour loop with a cell list) and their lengths.
+struct Data {
+    std::vector<double> x[3], r, w, g[3];
+    explicit Data(std::size_t n) {
+        std::mt19937_64 rng(42);
+        std::uniform_real_distribution<double> u(-h, h);
+        for (auto& c : x) c.resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (auto& c : x) c[i] = u(rng);
+        r.resize(n);
+        for (std::size_t i = 0; i < n; ++i) r[i] = std::sqrt(x[0][i] * x[0][i] + x[1][i] * x[1][i] + x[2][i] * x[2][i]);
+        w.resize(n);
+        for (auto& c : g) c.resize(n);
+    }
+    mollify::Points<3> points() const { return {x[0], x[1], x[2]}; }
+    mollify::PointsOut<3> grad() { return {g[0], g[1], g[2]}; }
+};
+
+Data& data(std::size_t n) {
+    static std::map<std::size_t, Data> cache;
+    return cache.try_emplace(n, n).first->second;
+}
+
+// ---- errors, measured once per (kernel, form) ----
+
+struct Errors {
+    double value = 0, grad = 0;
+};
+
+struct Sample {
+    std::vector<acc::Point> points = acc::hard_points(error_uniform, 7);
+};
+const Sample& sample() {
+    static const Sample s;
+    return s;
+}
+
+Errors errors_of(const acc::ExactValues& w, const acc::ExactValues& g, const acc::Evaluation& value,
+                 const acc::Evaluation& grad) {
+    return {acc::measure(w, value, sample().points).max_ulp, acc::measure(g, grad, sample().points).max_ulp};
+}
+
+// ---- timing ----
+
+// Runs `batch` in the benchmark loop, TSC ticks around it, and the counters.
+template <class Batch>
+void timed(benchmark::State& state, std::size_t n, double bound, const Errors& e, Batch&& batch) {
+    const unsigned long long start = __rdtsc();
+    for (auto _ : state) {
+        batch();
+        benchmark::ClobberMemory();
+    }
+    const unsigned long long ticks = __rdtsc() - start;
+    const double evals = static_cast<double>(state.iterations()) * static_cast<double>(n);
+    state.SetItemsProcessed(static_cast<std::int64_t>(evals));
+    state.counters["tsc_cyc"] = static_cast<double>(ticks) / evals;
+    state.counters["bound"] = bound;
+    state.counters["ulp_W"] = e.value;
+    if (e.grad >= 0) state.counters["ulp_G"] = e.grad;
+}
+
+// Naive W + grad W: r = |x|, both polynomials in the same q.
+template <acc::Form F, class NW, class NG>
+void naive_pairs(const NW& fw, const NG& fg, const double* x0, const double* x1, const double* x2, double* w,
+                 double* g0, double* g1, double* g2, std::size_t n) {
+    const acc::NaiveScale sw(h, fw.scale_power), sg(h, fg.scale_power);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double r = std::sqrt(x0[i] * x0[i] + x1[i] * x1[i] + x2[i] * x2[i]);
+        w[i] = acc::naive_at<F>(fw, r, sw);
+        const double over_r = acc::naive_at<F>(fg, r, sg);
+        g0[i] = over_r * x0[i];
+        g1[i] = over_r * x1[i];
+        g2[i] = over_r * x2[i];
+    }
+}
+
+template <acc::Form F, class NW>
+void naive_values(const NW& fw, const double* r, double* w, std::size_t n) {
+    const acc::NaiveScale sw(h, fw.scale_power);
+    for (std::size_t i = 0; i < n; ++i) w[i] = acc::naive_at<F>(fw, r[i], sw);
+}
+
+// ---- one family ----
+
+// A naive form whose arrays are exactly as long as the generator's
+// polynomials: no padding Horner steps, so the naive loops are not slowed.
+template <class Naive>
+Naive tight(const std::string& spec, QuantityId q) {
+    const acc::NaivePolynomial p = acc::naive_polynomial(spec, 3, q);
+    if (p.max_expanded() != Naive::capacity || p.max_cofactor() != Naive::cofactor_capacity ||
+        static_cast<int>(p.pieces.size()) != Naive::piece_capacity)
+        mollify::fail("kernel_bench: naive capacities of " + spec + " (" + mollify::quantity_names[static_cast<int>(q)] +
+                      ") are " + std::to_string(Naive::capacity) + "/" + std::to_string(Naive::cofactor_capacity) + "/" +
+                      std::to_string(Naive::piece_capacity) + ", the generator needs " + std::to_string(p.max_expanded()) +
+                      "/" + std::to_string(p.max_cofactor()) + "/" + std::to_string(p.pieces.size()));
+    return Naive(p);
+}
+
+template <const Kernel& K>
+void register_kernel(const char* label) {
+    using W = mollify::StaticKernel<K>;
+    static_assert(W::dim == 3);
+    static constexpr mollify::detail::KernelOps ops =
+        mollify::detail::ops_of<K>(std::make_index_sequence<mollify::table::quantity_count>{});
+    const mollify::Kernel runtime(ops);  // what mollify::kernel(K.spec, 3) returns, without instantiating all tables
+    const std::string spec = K.spec;
+    const NaiveOf<K, QuantityId::value> nw = tight<NaiveOf<K, QuantityId::value>>(spec, QuantityId::value);
+    const NaiveOf<K, QuantityId::grad_over_r> ng = tight<NaiveOf<K, QuantityId::grad_over_r>>(spec, QuantityId::grad_over_r);
+
+    const acc::Reference ref(spec, 3);
+    const auto& pts = sample().points;
+    const acc::ExactValues ew = acc::exact_values(ref, QuantityId::value, pts);
+    const acc::ExactValues eg = acc::exact_values(ref, QuantityId::grad_over_r, pts);
+    const Errors e_static = errors_of(
+        ew, eg, [](double r, double hh) { return W::template radial<QuantityId::value>(r, hh); },
+        [](double r, double hh) { return W::template radial<QuantityId::grad_over_r>(r, hh); });
+    const Errors e_runtime = errors_of(
+        ew, eg, [runtime](double r, double hh) { return runtime(QuantityId::value, r, hh); },
+        [runtime](double r, double hh) { return runtime(QuantityId::grad_over_r, r, hh); });
+    const Errors e_expanded = errors_of(
+        ew, eg, [nw](double r, double hh) { return acc::naive_at<acc::Form::expanded>(nw, r, acc::NaiveScale(hh, nw.scale_power)); },
+        [ng](double r, double hh) { return acc::naive_at<acc::Form::expanded>(ng, r, acc::NaiveScale(hh, ng.scale_power)); });
+    const Errors e_pow = errors_of(
+        ew, eg, [nw](double r, double hh) { return acc::naive_at<acc::Form::pow>(nw, r, acc::NaiveScale(hh, nw.scale_power)); },
+        [ng](double r, double hh) { return acc::naive_at<acc::Form::pow>(ng, r, acc::NaiveScale(hh, ng.scale_power)); });
+    const Errors value_only[] = {{e_static.value, -1}, {e_runtime.value, -1}, {e_expanded.value, -1}, {e_pow.value, -1}};
+
+    const double vb = value_products(K) / lanes_per_cycle, pb = pair_products(K) / lanes_per_cycle;
+    const std::string base = std::string(label) + "/";
+    for (const std::size_t n : sizes) {
+        const std::string suffix = "/" + std::to_string(n);
+        auto reg = [&](const std::string& name, auto fn) { benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMicrosecond); };
+        reg("W/" + base + "static" + suffix, [n, vb, e = value_only[0]](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = W::smoothing(h);
+            timed(st, n, vb, e, [&] { W::template evaluate<QuantityId::value>(d.r, s, d.w); });
+        });
+        reg("W/" + base + "runtime" + suffix, [n, vb, runtime, e = value_only[1]](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = runtime.smoothing(h);
+            timed(st, n, vb, e, [&] { runtime.evaluate(QuantityId::value, d.r, s, d.w); });
+        });
+        reg("W/" + base + "expanded" + suffix, [n, vb, nw, e = value_only[2]](benchmark::State& st) {
+            Data& d = data(n);
+            timed(st, n, vb, e, [&] { naive_values<acc::Form::expanded>(nw, d.r.data(), d.w.data(), n); });
+        });
+        reg("W/" + base + "pow" + suffix, [n, vb, nw, e = value_only[3]](benchmark::State& st) {
+            Data& d = data(n);
+            timed(st, n, vb, e, [&] { naive_values<acc::Form::pow>(nw, d.r.data(), d.w.data(), n); });
+        });
+        reg("W+gradW/" + base + "static" + suffix, [n, pb, e_static](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = W::smoothing(h);
+            timed(st, n, pb, e_static, [&] { W::pairs(d.points(), s, d.w, d.grad()); });
+        });
+        reg("W+gradW/" + base + "static-unchecked" + suffix, [n, pb, e_static](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = W::smoothing(h);
+            timed(st, n, pb, e_static, [&] { W::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
+        });
+        reg("W+gradW/" + base + "runtime" + suffix, [n, pb, runtime, e_runtime](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = runtime.smoothing(h);
+            const std::span<const double> x[3] = {d.x[0], d.x[1], d.x[2]};
+            const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
+            timed(st, n, pb, e_runtime, [&] { runtime.pairs(x, s, d.w, g); });
+        });
+        reg("W+gradW/" + base + "expanded" + suffix, [n, pb, nw, ng, e_expanded](benchmark::State& st) {
+            Data& d = data(n);
+            timed(st, n, pb, e_expanded, [&] {
+                naive_pairs<acc::Form::expanded>(nw, ng, d.x[0].data(), d.x[1].data(), d.x[2].data(), d.w.data(),
+                                                 d.g[0].data(), d.g[1].data(), d.g[2].data(), n);
+            });
+        });
+        reg("W+gradW/" + base + "pow" + suffix, [n, pb, nw, ng, e_pow](benchmark::State& st) {
+            Data& d = data(n);
+            timed(st, n, pb, e_pow, [&] {
+                naive_pairs<acc::Form::pow>(nw, ng, d.x[0].data(), d.x[1].data(), d.x[2].data(), d.w.data(),
+                                            d.g[0].data(), d.g[1].data(), d.g[2].data(), n);
+            });
+        });
+    }
+    std::cerr << label << ": mollify's factored form, W + grad W in 3D: " << pair_products(K)
+              << " multiplies/FMAs per evaluation (bound " << pb << " cycles), W alone " << value_products(K) << "\n";
+}
+
+// ---- Markdown ----
+
+// Collects every run for the Markdown table, and prints as usual.
+class Collector : public benchmark::ConsoleReporter {
+public:
+    void ReportRuns(const std::vector<Run>& runs) override {
+        for (const Run& r : runs)
+            if (!r.error_occurred) runs_.push_back(r);
+        ConsoleReporter::ReportRuns(runs);
+    }
+    const std::vector<Run>& runs() const { return runs_; }
+
+private:
+    std::vector<Run> runs_;
+};
+
+std::string number(const char* f, double x) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, x);
+    return buf;
+}
+
+std::string counter(const benchmark::BenchmarkReporter::Run& r, const char* name, const char* f) {
+    const auto it = r.counters.find(name);
+    return it == r.counters.end() ? "–" : number(f, it->second.value);
+}
+
+// The flags that decide vectorisation (bench/CMakeLists.txt; the mollify
+// target adds -fno-math-errno).
+const char* build_flags() { return "-O3 -march=native -fno-math-errno"; }
+
+void write_markdown(const std::string& path, const std::vector<benchmark::BenchmarkReporter::Run>& runs) {
+    std::ofstream out(path + ".tmp");
+    out << "# kernel_bench results\n\nGenerated by `cmake --build build --target bench-kernels` (bench/kernel_bench.cpp), "
+        << "built with " << build_flags() << ".\n"
+        << "Name: quantity/kernel/form/batch size. ns/eval from wall time; tsc_cyc = time-stamp-counter ticks per\n"
+        << "evaluation; bound = multiplies+FMAs of mollify's factored form / 8 (AVX2 x 2 FMA pipes); ulp_W, ulp_G =\n"
+        << "max ulp error of W and W'/r measured in the same run (" << error_uniform << " uniform + hard points).\n\n"
+        << "| benchmark | ns/eval | Meval/s | tsc_cyc/eval | bound | ulp_W | ulp_G |\n|---|--:|--:|--:|--:|--:|--:|\n";
+    for (const auto& r : runs) {
+        const double evals = r.counters.count("items_per_second") ? r.counters.at("items_per_second").value : 0;
+        out << "| " << r.benchmark_name() << " | " << number("%.3f", 1e9 / evals) << " | " << number("%.1f", evals / 1e6)
+            << " | " << counter(r, "tsc_cyc", "%.2f") << " | " << counter(r, "bound", "%.2f") << " | "
+            << counter(r, "ulp_W", "%.3g") << " | " << counter(r, "ulp_G", "%.3g") << " |\n";
+    }
+    out.close();
+    std::rename((path + ".tmp").c_str(), path.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    std::string md;
+    for (int i = 1; i < argc; ++i)
+        if (std::strncmp(argv[i], "--md=", 5) == 0) md = argv[i] + 5;
+    register_kernel<tables::wendland_k_2_D3>("wendland:k=2");
+    register_kernel<tables::wendland_k_4_l_4_D3>("wendland:k=4,l=4");
+    register_kernel<tables::mollifier_M_4_D3>("mollifier:M=4");
+    register_kernel<tables::mollifier_M_9_order_6_D3>("mollifier:M=9,order=6");
+    register_kernel<tables::combo_m_3_base_wendland_k_2_D3>("combo:m=3,base=wendland:k=2");
+    register_kernel<tables::cubic_spline_D3>("cubic-spline");
+    register_kernel<tables::poly6_D3>("poly6");
+    Collector collector;
+    benchmark::RunSpecifiedBenchmarks(&collector);
+    if (!md.empty()) write_markdown(md, collector.runs());
+    benchmark::Shutdown();
+    return 0;
+}

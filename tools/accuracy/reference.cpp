@@ -1,0 +1,634 @@
+// The exact reference f_h(r) of every runtime quantity, from the
+// generator's closed forms, in MPFR with >= 200 correct bits (Ziv).
+//
+// Speed matters (the accuracy test asks for ~25 million values), so the
+// closed forms are compiled once into arrays of MPFR coefficients per
+// working precision, and a point is evaluated with raw mpfr_t and
+// per-thread temporaries. Each term c * r^low * P(r) * basis(r) of a piece
+// keeps two exact forms of P: in powers of q = r/h, and in powers of the
+// distance to the piece's upper breakpoint, e = hi - q (exact Taylor
+// coefficients). Near the support edge the first cancels like (1 - q)^n
+// (1e-200 relative for Wendland k = 4 at 1 - q = 1e-15), the second not at
+// all; near 0 it is the other way round. Each point uses the form whose
+// sum of |terms| is smaller, which is the one with the smaller error bound.
+//
+// Error bound (Ziv): every term is a product of O(degree) correctly rounded
+// MPFR operations on q, e and the exact coefficients, and q, e, S = sqrt(e
+// (1 + q)), arcsech q = log1p((e + S)/q), log q = log1p(-e), arcsin q =
+// atan2(q, S) all have relative condition numbers O(1) in q and e, so the
+// error of the sum is below 2^(margin - P) * sum |terms|, with margin = 20
+// bits covering degrees up to ~1000 (Higham, Accuracy and Stability, 5.1:
+// Horner's error is gamma_2n sum |c_k| |x|^k). The precision is raised until
+// that bound is below 2^-201 |value|.
+#include "accuracy.hpp"
+
+#include "closed_form.hpp"
+#include "kernel.hpp"
+#include "quantities.hpp"
+
+#include <mollify/error.hpp>
+
+#include <mpfr.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <optional>
+
+namespace mollify::accuracy {
+
+namespace gen = mollify::gen;
+
+namespace {
+
+// Working precisions: 256 * 2^i bits. Beyond the last, a value still below
+// its error bound is 0 within 2^(margin - 32768) * sum |terms|.
+constexpr int level_count = 8;
+constexpr long first_bits = 256;
+constexpr double margin_bits = 20;
+constexpr double wanted_bits = 201;  // 200 correct bits after rounding to the output
+constexpr long output_bits = 320;
+
+long level_bits(int level) { return first_bits << level; }
+
+// An array of MPFR numbers of one precision (raw mpfr_t: Boost's value
+// type allocates on every temporary).
+class MpArray {
+public:
+    MpArray(std::size_t n, long bits) : x_(n) {
+        for (auto& v : x_) mpfr_init2(&v, bits);
+    }
+    ~MpArray() {
+        for (auto& v : x_) mpfr_clear(&v);
+    }
+    MpArray(const MpArray&) = delete;
+    MpArray& operator=(const MpArray&) = delete;
+    mpfr_ptr operator[](std::size_t i) { return &x_[i]; }
+    mpfr_srcptr operator[](std::size_t i) const { return &x_[i]; }
+    std::size_t size() const { return x_.size(); }
+
+private:
+    std::vector<__mpfr_struct> x_;
+};
+
+double log2_abs(mpfr_srcptr x) {
+    if (mpfr_zero_p(x)) return -std::numeric_limits<double>::infinity();
+    if (mpfr_inf_p(x)) return std::numeric_limits<double>::infinity();
+    long e = 0;
+    const double m = mpfr_get_d_2exp(&e, x, MPFR_RNDN);
+    return static_cast<double>(e) + std::log2(std::abs(m));
+}
+
+// log2(2^a + 2^b) without overflow.
+double log2_sum(double a, double b) {
+    if (a < b) std::swap(a, b);
+    if (b == -std::numeric_limits<double>::infinity()) return a;
+    return a + std::log2(1 + std::exp2(b - a));
+}
+
+// Exact constant pi^e log(p) at `bits` (+ guard bits), into x.
+void set_atom(mpfr_ptr x, const gen::Atom& a, long bits) {
+    const gen::Exact c = gen::Exact::of(a);
+    const gen::Real v = c.evaluate(static_cast<unsigned>(bits + 64)).first;
+    mpfr_set(x, v.backend().data(), MPFR_RNDN);
+}
+
+// One form of P: exact coefficients in its variable, their magnitudes as
+// doubles (form choice and error bound), and MPFR copies per precision.
+struct Poly {
+    std::vector<gen::Q> exact;
+    std::vector<double> abs;
+    std::array<std::unique_ptr<MpArray>, level_count> at;
+
+    // sum |c_k| v^k in double (v >= 0): the magnitude of the form.
+    double magnitude(double v) const {
+        double m = 0;
+        for (std::size_t k = abs.size(); k-- > 0;) m = m * v + abs[k];
+        return m;
+    }
+};
+
+struct Term {
+    gen::Basis basis;
+    int s_power;
+    gen::Atom factor;
+    int low;       // power of r in front of P
+    Poly in_q;     // P in powers of q
+    Poly in_edge;  // P in powers of e = hi - q (polynomial pieces only)
+    bool has_edge_form;
+};
+
+struct Piece {
+    gen::Q lo, hi;
+    long hi_num = 0, hi_den = 1;
+    std::vector<Term> terms;
+};
+
+struct Form {
+    bool present = false;
+    std::vector<Piece> pieces;
+    Piece outside;            // in r itself: 0 or the Green's function
+    int power = 0;            // f_h = h^power f(r/h)
+    gen::Exact log_coefficient;  // 2D potential: c of c log r (c log h added inside)
+    std::optional<gen::Exact> at_zero;  // limit at q = 0 where the form is singular termwise
+    bool singular_at_zero = false;
+    std::array<std::unique_ptr<MpArray>, level_count> log_coefficient_at;
+    mutable std::once_flag max_once;
+    mutable double max_abs = 0;
+};
+
+double to_double_abs(const gen::Q& c, const gen::Atom& a) {
+    const gen::Real v = (gen::Exact(c) * gen::Exact::of(a)).evaluate(64).first;
+    return std::abs(static_cast<double>(v));
+}
+
+Poly make_poly(std::vector<gen::Q> coefficients, const gen::Atom& factor) {
+    Poly p;
+    p.exact = std::move(coefficients);
+    for (const gen::Q& c : p.exact) p.abs.push_back(to_double_abs(c, factor));
+    return p;
+}
+
+Term make_term(const gen::TermKey& key, const gen::Laurent& p, const gen::Q& hi, bool edge_form) {
+    Term t{key.basis, key.s_power, key.factor, p.low(), {}, {}, false};
+    const gen::Laurent shifted = p.shifted(-p.low());  // P, a polynomial with P(0) != 0
+    std::vector<gen::Q> in_q;
+    for (int n = 0; n <= shifted.high(); ++n) in_q.push_back(shifted.coefficient(n));
+    t.in_q = make_poly(in_q, key.factor);
+    if (!edge_form) return t;
+    t.in_edge = make_poly(shifted.taylor_at(hi), key.factor);
+    t.has_edge_form = true;
+    return t;
+}
+
+Piece make_piece(const gen::ClosedForm& f, const gen::Q& lo, const gen::Q& hi, bool edge_form = true) {
+    Piece p;
+    p.lo = lo;
+    p.hi = hi;
+    if (!mpz_fits_slong_p(numerator(hi).backend().data()) || !mpz_fits_slong_p(denominator(hi).backend().data()))
+        fail("internal: breakpoint " + gen::short_string(hi) + " does not fit a machine integer");
+    p.hi_num = mpz_get_si(numerator(hi).backend().data());
+    p.hi_den = mpz_get_si(denominator(hi).backend().data());
+    for (const auto& [key, poly] : f.terms()) p.terms.push_back(make_term(key, poly, hi, edge_form));
+    return p;
+}
+
+bool termwise_singular_at_zero(const gen::ClosedForm& f) {
+    for (const auto& [k, p] : f.terms())
+        if (p.low() < 0 || k.basis == gen::Basis::log || k.basis == gen::Basis::arcsech) return true;
+    return false;
+}
+
+gen::Exact green_log_coefficient(const gen::Radial& f) {
+    for (const auto& [k, p] : f.outside.terms())
+        if (k.basis == gen::Basis::log) return gen::Exact(p.coefficient(0)) * gen::Exact::of(k.factor);
+    return gen::Exact();
+}
+
+void make_form(Form& form, const gen::Radial& f, QuantityId q, int dim) {
+    form.present = true;
+    form.power = mollify::detail::scale_power(q, dim);
+    for (std::size_t i = 0; i < f.pieces.size(); ++i)
+        form.pieces.push_back(make_piece(f.pieces[i], f.breaks[i], f.breaks[i + 1]));
+    form.outside = make_piece(f.outside, f.support(), f.support(), false);
+    if (q == QuantityId::potential && dim == 2) form.log_coefficient = green_log_coefficient(f);
+    const gen::ClosedForm& first = f.pieces.front();
+    if (termwise_singular_at_zero(first)) {
+        try {
+            form.at_zero = gen::limit_at_zero(first);
+        } catch (const std::exception&) {
+            form.singular_at_zero = true;  // e.g. spiky's W'/r = -3 (1 - r)^2 / r
+        }
+    }
+}
+
+void build_poly(Poly& p, const gen::Atom& factor, int level) {
+    const long bits = level_bits(level);
+    auto a = std::make_unique<MpArray>(p.exact.size(), bits);
+    mpfr_t f, c;
+    mpfr_init2(f, bits + 64);
+    mpfr_init2(c, bits + 64);
+    set_atom(f, factor, bits);
+    for (std::size_t k = 0; k < p.exact.size(); ++k) {
+        mpfr_set_q(c, p.exact[k].backend().data(), MPFR_RNDN);
+        mpfr_mul(c, c, f, MPFR_RNDN);
+        mpfr_set((*a)[k], c, MPFR_RNDN);
+    }
+    mpfr_clear(f);
+    mpfr_clear(c);
+    p.at[static_cast<std::size_t>(level)] = std::move(a);
+}
+
+void build_piece(Piece& p, int level) {
+    for (Term& t : p.terms) {
+        build_poly(t.in_q, t.factor, level);
+        if (t.has_edge_form) build_poly(t.in_edge, t.factor, level);
+    }
+}
+
+void build_form(Form& form, int level) {
+    for (Piece& p : form.pieces) build_piece(p, level);
+    build_piece(form.outside, level);
+    auto c = std::make_unique<MpArray>(1, level_bits(level));
+    const gen::Real v = form.log_coefficient.evaluate(static_cast<unsigned>(level_bits(level) + 64)).first;
+    mpfr_set((*c)[0], v.backend().data(), MPFR_RNDN);
+    form.log_coefficient_at[static_cast<std::size_t>(level)] = std::move(c);
+}
+
+// Per-thread temporaries of one precision.
+struct Scratch {
+    explicit Scratch(long bits) : v(count, bits) {}
+    enum : std::size_t { q, e1, ehi, acc, term, pw, s, basis, scale, tmp, tmp2, count };
+    MpArray v;
+};
+
+Scratch& scratch(int level) {
+    thread_local std::array<std::unique_ptr<Scratch>, level_count> s;
+    auto& p = s[static_cast<std::size_t>(level)];
+    if (!p) p = std::make_unique<Scratch>(level_bits(level));
+    return *p;
+}
+
+// Two per-thread numbers wide enough for the exact products of r and h
+// with machine integers (64 spare bits).
+struct Products {
+    mpfr_ptr a, b;
+};
+
+Products products(mpfr_srcptr r, mpfr_srcptr h) {
+    thread_local MpArray p(2, 128);
+    const long bits = std::max(mpfr_get_prec(r), mpfr_get_prec(h)) + 64;
+    if (mpfr_get_prec(p[0]) < bits) {
+        mpfr_set_prec(p[0], bits);
+        mpfr_set_prec(p[1], bits);
+    }
+    return {p[0], p[1]};
+}
+
+// Exact comparison of r with (num/den) h: sign of den r - num h.
+int compare_scaled(mpfr_srcptr r, mpfr_srcptr h, long num, long den) {
+    const Products p = products(r, h);
+    mpfr_mul_si(p.a, r, den, MPFR_RNDN);  // exact
+    mpfr_mul_si(p.b, h, num, MPFR_RNDN);
+    return mpfr_cmp(p.a, p.b);
+}
+
+// (num/den - r/h) to precision of out, from the exact num h - den r.
+void edge_distance(mpfr_ptr out, mpfr_srcptr r, mpfr_srcptr h, long num, long den) {
+    const Products p = products(r, h);
+    mpfr_mul_si(p.a, h, num, MPFR_RNDN);
+    mpfr_mul_si(p.b, r, den, MPFR_RNDN);
+    mpfr_sub(out, p.a, p.b, MPFR_RNDN);  // the only rounding
+    if (den == 1) {
+        mpfr_div(out, out, h, MPFR_RNDN);
+    } else {
+        mpfr_mul_si(p.a, h, den, MPFR_RNDN);
+        mpfr_div(out, out, p.a, MPFR_RNDN);
+    }
+}
+
+// A value with the log2 of its error bound's scale (sum of |terms|).
+struct Sum {
+    double log2_magnitude = -std::numeric_limits<double>::infinity();
+};
+
+// Horner's rule in MPFR: out = sum c_k v^k.
+void horner(mpfr_ptr out, const MpArray& c, mpfr_srcptr v) {
+    mpfr_set(out, c[c.size() - 1], MPFR_RNDN);
+    // mul + add: two roundings instead of mpfr_fma's one, but about twice
+    // as fast (the bound's margin covers the extra rounding).
+    for (std::size_t k = c.size() - 1; k-- > 0;) {
+        mpfr_mul(out, out, v, MPFR_RNDN);
+        mpfr_add(out, out, c[k], MPFR_RNDN);
+    }
+}
+
+// The basis function at the point, from q and e1 = 1 - q.
+void basis_value(mpfr_ptr out, const Term& t, Scratch& w) {
+    mpfr_ptr s = w.v[Scratch::s];
+    switch (t.basis) {
+        case gen::Basis::one: mpfr_set_ui(out, 1, MPFR_RNDN); return;
+        case gen::Basis::sqrt_power: mpfr_pow_si(out, s, t.s_power, MPFR_RNDN); return;
+        case gen::Basis::arcsech:  // log1p((e + S)/q)
+            mpfr_add(out, w.v[Scratch::e1], s, MPFR_RNDN);
+            mpfr_div(out, out, w.v[Scratch::q], MPFR_RNDN);
+            mpfr_log1p(out, out, MPFR_RNDN);
+            return;
+        case gen::Basis::log:
+            if (mpfr_cmp_d(w.v[Scratch::q], 0.5) < 0) {
+                mpfr_log(out, w.v[Scratch::q], MPFR_RNDN);
+            } else {
+                mpfr_neg(out, w.v[Scratch::e1], MPFR_RNDN);
+                mpfr_log1p(out, out, MPFR_RNDN);
+            }
+            return;
+        case gen::Basis::arcsin: mpfr_atan2(out, w.v[Scratch::q], s, MPFR_RNDN); return;
+    }
+}
+
+// acc += the piece at the point (q, e1, ehi in the scratch); returns log2 sum |terms|.
+double add_piece(const Piece& p, int level, Scratch& w) {
+    const auto L = static_cast<std::size_t>(level);
+    const double qd = mpfr_get_d(w.v[Scratch::q], MPFR_RNDN), ed = mpfr_get_d(w.v[Scratch::ehi], MPFR_RNDN);
+    const double log2_q = log2_abs(w.v[Scratch::q]);
+    double total = -std::numeric_limits<double>::infinity();
+    for (const Term& t : p.terms) {
+        const double mq = t.in_q.magnitude(std::abs(qd));
+        const double me = t.has_edge_form ? t.in_edge.magnitude(std::abs(ed)) : mq;
+        const bool edge = t.has_edge_form && me < mq;
+        horner(w.v[Scratch::term], *(edge ? t.in_edge : t.in_q).at[L], w.v[edge ? Scratch::ehi : Scratch::q]);
+        double log2_m = std::log2(edge ? me : mq);
+        if (t.low != 0) {
+            mpfr_pow_si(w.v[Scratch::pw], w.v[Scratch::q], t.low, MPFR_RNDN);
+            mpfr_mul(w.v[Scratch::term], w.v[Scratch::term], w.v[Scratch::pw], MPFR_RNDN);
+            log2_m += t.low * log2_q;
+        }
+        if (t.basis != gen::Basis::one) {
+            basis_value(w.v[Scratch::basis], t, w);
+            mpfr_mul(w.v[Scratch::term], w.v[Scratch::term], w.v[Scratch::basis], MPFR_RNDN);
+            log2_m += log2_abs(w.v[Scratch::basis]);
+        }
+        // The double magnitude can underflow where MPFR does not.
+        log2_m = std::max(log2_m, log2_abs(w.v[Scratch::term]));
+        mpfr_add(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::term], MPFR_RNDN);
+        total = log2_sum(total, log2_m);
+    }
+    return total;
+}
+
+std::size_t piece_index(const Form& f, mpfr_srcptr r, mpfr_srcptr h) {
+    for (std::size_t i = 0; i + 1 < f.pieces.size(); ++i)
+        if (compare_scaled(r, h, f.pieces[i].hi_num, f.pieces[i].hi_den) < 0) return i;
+    return f.pieces.size() - 1;
+}
+
+// One attempt at `level`: acc = f_h(r); returns log2 of the error bound.
+double attempt_inside(const Form& f, mpfr_srcptr r, mpfr_srcptr h, int level, Scratch& w) {
+    const Piece& p = f.pieces[piece_index(f, r, h)];
+    mpfr_div(w.v[Scratch::q], r, h, MPFR_RNDN);
+    edge_distance(w.v[Scratch::e1], r, h, 1, 1);
+    if (p.hi_num == p.hi_den) mpfr_set(w.v[Scratch::ehi], w.v[Scratch::e1], MPFR_RNDN);
+    else edge_distance(w.v[Scratch::ehi], r, h, p.hi_num, p.hi_den);
+    // S = sqrt((1 - q)(1 + q)) from e1: accurate where q is within an ulp of 1.
+    mpfr_add_ui(w.v[Scratch::tmp], w.v[Scratch::q], 1, MPFR_RNDN);
+    mpfr_mul(w.v[Scratch::s], w.v[Scratch::tmp], w.v[Scratch::e1], MPFR_RNDN);
+    mpfr_sqrt(w.v[Scratch::s], w.v[Scratch::s], MPFR_RNDN);
+    mpfr_set_zero(w.v[Scratch::acc], 1);
+    double log2_m = add_piece(p, level, w);
+    mpfr_pow_si(w.v[Scratch::scale], h, f.power, MPFR_RNDN);
+    mpfr_mul(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::scale], MPFR_RNDN);
+    log2_m += log2_abs(w.v[Scratch::scale]);
+    if (!f.log_coefficient.is_zero()) {
+        mpfr_log(w.v[Scratch::tmp], h, MPFR_RNDN);
+        mpfr_mul(w.v[Scratch::tmp], w.v[Scratch::tmp], (*f.log_coefficient_at[static_cast<std::size_t>(level)])[0],
+                 MPFR_RNDN);
+        mpfr_add(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::tmp], MPFR_RNDN);
+        log2_m = log2_sum(log2_m, log2_abs(w.v[Scratch::tmp]));
+    }
+    return log2_m + margin_bits - static_cast<double>(level_bits(level));
+}
+
+// Outside: the exterior form at r itself (no h: the Green's function is the
+// same for every h, as in the runtime).
+double attempt_outside(const Form& f, mpfr_srcptr r, int level, Scratch& w) {
+    mpfr_set(w.v[Scratch::q], r, MPFR_RNDN);
+    mpfr_ui_sub(w.v[Scratch::e1], 1, r, MPFR_RNDN);  // for log r near 1
+    mpfr_set(w.v[Scratch::ehi], w.v[Scratch::e1], MPFR_RNDN);
+    mpfr_set_zero(w.v[Scratch::acc], 1);
+    if (f.outside.terms.empty()) return -std::numeric_limits<double>::infinity();
+    const double log2_m = add_piece(f.outside, level, w);
+    return log2_m + margin_bits - static_cast<double>(level_bits(level));
+}
+
+// At q = 0 exactly, where the closed form is singular termwise: its limit.
+double attempt_at_zero(const Form& f, mpfr_srcptr h, int level, Scratch& w) {
+    const long bits = level_bits(level);
+    if (f.singular_at_zero) {
+        // The sign of the singularity: the form just right of 0.
+        mpfr_set_ui_2exp(w.v[Scratch::tmp2], 1, -100000, MPFR_RNDN);
+        mpfr_mul(w.v[Scratch::tmp2], w.v[Scratch::tmp2], h, MPFR_RNDN);
+        attempt_inside(f, w.v[Scratch::tmp2], h, level, w);
+        mpfr_set_inf(w.v[Scratch::acc], mpfr_sgn(w.v[Scratch::acc]));
+        return -std::numeric_limits<double>::infinity();
+    }
+    const auto [v, m] = f.at_zero->evaluate(static_cast<unsigned>(bits));
+    mpfr_set(w.v[Scratch::acc], v.backend().data(), MPFR_RNDN);
+    double log2_m = log2_abs(m.backend().data());
+    mpfr_pow_si(w.v[Scratch::scale], h, f.power, MPFR_RNDN);
+    mpfr_mul(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::scale], MPFR_RNDN);
+    log2_m += log2_abs(w.v[Scratch::scale]);
+    if (!f.log_coefficient.is_zero()) {
+        mpfr_log(w.v[Scratch::tmp], h, MPFR_RNDN);
+        mpfr_mul(w.v[Scratch::tmp], w.v[Scratch::tmp], (*f.log_coefficient_at[static_cast<std::size_t>(level)])[0],
+                 MPFR_RNDN);
+        mpfr_add(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::tmp], MPFR_RNDN);
+        log2_m = log2_sum(log2_m, log2_abs(w.v[Scratch::tmp]));
+    }
+    return log2_m + margin_bits - static_cast<double>(bits);
+}
+
+// The level whose precision is at least `bits`, or -1.
+int level_for(double bits) {
+    for (int l = 0; l < level_count; ++l)
+        if (static_cast<double>(level_bits(l)) >= bits) return l;
+    return -1;
+}
+
+}  // namespace
+
+struct Reference::Impl {
+    int dim = 0;
+    gen::Kernel kernel;
+    std::array<Form, table::quantity_count> forms;
+    std::array<std::once_flag, level_count> built;
+
+    void ensure(int level) {
+        std::call_once(built[static_cast<std::size_t>(level)], [&] {
+            for (Form& f : forms)
+                if (f.present) build_form(f, level);
+        });
+    }
+
+    double attempt(const Form& f, mpfr_srcptr r, mpfr_srcptr h, int level, Scratch& w) {
+        if (compare_scaled(r, h, 1, 1) > 0) return attempt_outside(f, r, level, w);
+        if (mpfr_zero_p(r) && (f.at_zero || f.singular_at_zero)) return attempt_at_zero(f, h, level, w);
+        return attempt_inside(f, r, h, level, w);
+    }
+
+    // Ziv's loop; out gets the value (0 when it stays below its bound at
+    // the largest precision: |f| < 2^(margin - 32768) sum |terms|).
+    void value(const Form& f, mpfr_srcptr r, mpfr_srcptr h, mpfr_ptr out, double wanted = wanted_bits) {
+        int level = 0;
+        for (;;) {
+            ensure(level);
+            Scratch& w = scratch(level);
+            const double log2_err = attempt(f, r, h, level, w);
+            const double log2_v = log2_abs(w.v[Scratch::acc]);
+            if (log2_err == -std::numeric_limits<double>::infinity() || log2_v - log2_err >= wanted) {
+                mpfr_set(out, w.v[Scratch::acc], MPFR_RNDN);
+                return;
+            }
+            // Bits still missing; when the value is not even above its bound,
+            // its size is unknown: double the precision.
+            const double bits = static_cast<double>(level_bits(level));
+            const double need = log2_v > log2_err + 1 ? bits + (wanted - (log2_v - log2_err)) + 16 : 2 * bits;
+            const int next = level_for(need);
+            if (next < 0 || level + 1 >= level_count) {
+                if (log2_v > log2_err) mpfr_set(out, w.v[Scratch::acc], MPFR_RNDN);
+                else mpfr_set_zero(out, 1);
+                return;
+            }
+            level = std::max(next, level + 1);
+        }
+    }
+};
+
+Reference::Reference(const std::string& spec, int dim) : impl_(std::make_unique<Impl>()) {
+    impl_->dim = dim;
+    impl_->kernel = gen::make_kernel(parse_spec(spec), dim);
+    const gen::Quantities qs = gen::derive_quantities(impl_->kernel);
+    for (int i = 0; i < table::quantity_count; ++i) {
+        const std::string& name = gen::quantity_names()[static_cast<std::size_t>(i)];
+        if (!impl_->kernel.claims.no_potential.empty() && name.find("potential") != std::string::npos) continue;
+        make_form(impl_->forms[static_cast<std::size_t>(i)], gen::quantity(impl_->kernel, qs, name),
+                  static_cast<QuantityId>(i), dim);
+    }
+}
+
+Reference::~Reference() = default;
+Reference::Reference(Reference&&) noexcept = default;
+
+int Reference::dim() const { return impl_->dim; }
+
+bool Reference::has(QuantityId q) const {
+    const int i = static_cast<int>(q);
+    return i >= 0 && i < table::quantity_count && impl_->forms[static_cast<std::size_t>(i)].present;
+}
+
+namespace {
+
+void require(const Reference& ref, QuantityId q) {
+    if (!ref.has(q))
+        fail(std::string("the reference has no ") +
+             (static_cast<int>(q) >= 0 && static_cast<int>(q) < table::quantity_count ? quantity_names[static_cast<int>(q)]
+                                                                              : "such quantity"));
+}
+
+void check_arguments(mpfr_srcptr r, mpfr_srcptr h) {
+    if (!mpfr_number_p(r) || mpfr_sgn(r) < 0) fail("reference: radius is not a finite number >= 0");
+    if (!mpfr_number_p(h) || mpfr_sgn(h) <= 0) fail("reference: smoothing length is not a finite number > 0");
+}
+
+}  // namespace
+
+Real Reference::value(QuantityId q, const Real& r, const Real& h) const {
+    require(*this, q);
+    check_arguments(r.backend().data(), h.backend().data());
+    Real out(0, static_cast<unsigned>(output_bits * 30103 / 100000 + 2));
+    impl_->value(impl_->forms[static_cast<std::size_t>(q)], r.backend().data(), h.backend().data(),
+                 out.backend().data());
+    return out;
+}
+
+Real Reference::value(QuantityId q, double r, double h) const {
+    require(*this, q);
+    mpfr_t rr, hh;
+    mpfr_init2(rr, 53);
+    mpfr_init2(hh, 53);
+    mpfr_set_d(rr, r, MPFR_RNDN);
+    mpfr_set_d(hh, h, MPFR_RNDN);
+    Real out(0, static_cast<unsigned>(output_bits * 30103 / 100000 + 2));
+    try {
+        check_arguments(rr, hh);
+        impl_->value(impl_->forms[static_cast<std::size_t>(q)], rr, hh, out.backend().data());
+    } catch (...) {
+        mpfr_clear(rr);
+        mpfr_clear(hh);
+        throw;
+    }
+    mpfr_clear(rr);
+    mpfr_clear(hh);
+    return out;
+}
+
+// max |f| over [0, 1] (h = 1) on a grid of 2048 cells plus every breakpoint
+// (and its neighbours): a scale, accurate to a few per cent. A quantity
+// singular at 0 (spiky's W'/r) is sampled from q = 2^-11 on.
+double Reference::max_abs(QuantityId q) const {
+    require(*this, q);
+    const Form& f = impl_->forms[static_cast<std::size_t>(q)];
+    std::call_once(f.max_once, [&] {
+        std::vector<double> grid;
+        constexpr int cells = 2048;
+        for (int i = f.singular_at_zero ? 1 : 0; i <= cells; ++i) grid.push_back(static_cast<double>(i) / cells);
+        for (const Piece& p : f.pieces)
+            for (double x : {static_cast<double>(p.lo), static_cast<double>(p.hi)})
+                for (double y : {std::nextafter(x, 0.0), x, std::nextafter(x, 2.0)})
+                    if (y >= (f.singular_at_zero ? 1.0 / cells : 0.0) && y <= 1) grid.push_back(y);
+        // 24 correct bits are plenty for a scale.
+        double m = 0;
+        mpfr_t rr, one, v;
+        mpfr_inits2(64, rr, one, v, static_cast<mpfr_ptr>(nullptr));
+        mpfr_set_ui(one, 1, MPFR_RNDN);
+        for (double r : grid) {
+            mpfr_set_d(rr, r, MPFR_RNDN);
+            impl_->value(f, rr, one, v, 24);
+            m = std::max(m, std::abs(mpfr_get_d(v, MPFR_RNDN)));
+        }
+        mpfr_clears(rr, one, v, static_cast<mpfr_ptr>(nullptr));
+        f.max_abs = m;
+    });
+    return f.max_abs;
+}
+
+// SLEEF's countULP (sleef/src/libm-tester/testerutil.c): ulp(x) = 2^(e-52)
+// for 2^e <= |x| < 2^(e+1), never below 2^-1074 (the ulp of the smallest
+// normal). Both infinite with one sign: 0; a NaN: +inf; an infinite result
+// for a finite exact value counts as DBL_MAX plus one ulp, except where the
+// exact value itself rounds to infinity (then inf is the correct result).
+double ulp_error(double y, const Real& x) {
+    mpfr_srcptr c = x.backend().data();
+    if (std::isnan(y) || mpfr_nan_p(c)) return std::numeric_limits<double>::infinity();
+    const double xd = mpfr_get_d(c, MPFR_RNDN);
+    if (std::isinf(xd) && y == xd) return 0;
+    if (std::isinf(xd)) return std::numeric_limits<double>::infinity();
+    double extra = 0;
+    if (std::isinf(y)) {
+        y = std::copysign(std::numeric_limits<double>::max(), y);
+        extra = 1;
+    }
+    if (mpfr_zero_p(c) && y == 0) return extra;
+    mpfr_t d, u;
+    mpfr_init2(d, std::max<long>(mpfr_get_prec(c), 64) + 1100);
+    mpfr_init2(u, 64);
+    const long e = mpfr_zero_p(c) ? -100000 : mpfr_get_exp(c);  // 2^(e-1) <= |x| < 2^e
+    mpfr_set_ui_2exp(u, 1, std::max(e - 53, -1074L), MPFR_RNDN);
+    mpfr_set_d(d, y, MPFR_RNDN);
+    mpfr_sub(d, d, c, MPFR_RNDN);
+    mpfr_div(d, d, u, MPFR_RNDN);
+    const double out = std::abs(mpfr_get_d(d, MPFR_RNDN)) + extra;
+    mpfr_clear(d);
+    mpfr_clear(u);
+    return out;
+}
+
+// |y - x| / ulp(scale), with ulp as in ulp_error.
+double scaled_error(double y, const Real& x, double scale) {
+    if (std::isnan(y) || mpfr_nan_p(x.backend().data())) return std::numeric_limits<double>::infinity();
+    if (std::isinf(y)) return std::numeric_limits<double>::infinity();
+    int e = 0;
+    std::frexp(scale, &e);  // 2^(e-1) <= scale < 2^e
+    const double ulp = std::ldexp(1.0, std::max(e - 53, -1074));
+    mpfr_t d;
+    mpfr_init2(d, std::max<long>(mpfr_get_prec(x.backend().data()), 64) + 1100);
+    mpfr_set_d(d, y, MPFR_RNDN);
+    mpfr_sub(d, d, x.backend().data(), MPFR_RNDN);
+    mpfr_div_d(d, d, ulp, MPFR_RNDN);
+    const double out = std::abs(mpfr_get_d(d, MPFR_RNDN));
+    mpfr_clear(d);
+    return out;
+}
+
+}  // namespace mollify::accuracy
