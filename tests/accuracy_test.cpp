@@ -14,9 +14,8 @@
 // argument.
 //
 // MOLLIFY_ACCURACY_POINTS=N overrides the number of uniform points (default
-// 10,000; the hard points come on top). Only the sanitizer build of .ci/run
-// sets it (MPFR under ASan is slow); every normal run measures >= 10,000
-// points per kernel and quantity.
+// 10,000; the hard points come on top), for quick local runs; CI measures
+// the default. The sanitizer build of .ci/run does not build this suite.
 #include "accuracy/accuracy.hpp"
 
 #include <mollify/kernel.hpp>
