@@ -63,14 +63,21 @@ TEST(Series, NegativePowersCancelInFiniteQuantities) {
     EXPECT_EQ(limit_at_zero(f), Exact(Q(-1, 2)));
 }
 
-TEST(Series, TruncatedSeriesOfEveryMissingWendlandQuantityMatchesTheClosedForm) {
-    int checked = 0;
+// Calls fn(first piece of the quantity, entry, quantity name) for every
+// quantity of every missing Wendland kernel of the catalogue, every D.
+template <class F>
+void for_each_missing_wendland_quantity(F fn) {
     for (const CatalogueEntry& e : expand_dimensions(default_specs())) {
         if (e.spec.family != Family::wendland_missing) continue;
         const Kernel k = make_kernel(e.spec, e.dim);
         const Quantities q = derive_quantities(k);
-        for (const std::string& name : quantity_names()) {
-            const ClosedForm& f = quantity(k, q, name).pieces.front();
+        for (const std::string& name : quantity_names()) fn(quantity(k, q, name).pieces.front(), e, name);
+    }
+}
+
+TEST(Series, TruncatedSeriesOfEveryMissingWendlandQuantityMatchesTheClosedForm) {
+    int checked = 0;
+    for_each_missing_wendland_quantity([&](const ClosedForm& f, const CatalogueEntry& e, const std::string& name) {
             const auto z = zero_series(f);
             ASSERT_TRUE(z) << spec_string(e.spec) << " D=" << e.dim << " " << name;
             EXPECT_LT(z->relative_bound, Q(1) / pow(Q(2), 60));
@@ -81,8 +88,7 @@ TEST(Series, TruncatedSeriesOfEveryMissingWendlandQuantityMatchesTheClosedForm) 
                 EXPECT_LE(relative_gap(f, z->series, r), static_cast<double>(z->relative_bound) * 1.0001 + 1e-100)
                     << spec_string(e.spec) << " D=" << e.dim << " " << name << " r=" << r;
             ++checked;
-        }
-    }
+    });
     EXPECT_EQ(checked, 6 * 3 * 10);
 }
 
@@ -94,12 +100,7 @@ TEST(Series, TruncatedSeriesOfEveryMissingWendlandQuantityMatchesTheClosedForm) 
 TEST(Series, EdgeSeriesOfEveryMissingWendlandQuantityMatchesTheClosedForm) {
     Real::default_precision(400);  // digits: the intermediate S, powers and sums
     int checked = 0;
-    for (const CatalogueEntry& e : expand_dimensions(default_specs())) {
-        if (e.spec.family != Family::wendland_missing) continue;
-        const Kernel k = make_kernel(e.spec, e.dim);
-        const Quantities q = derive_quantities(k);
-        for (const std::string& name : quantity_names()) {
-            const ClosedForm& f = quantity(k, q, name).pieces.front();
+    for_each_missing_wendland_quantity([&](const ClosedForm& f, const CatalogueEntry& e, const std::string& name) {
             const auto z = zero_series(f);
             ASSERT_TRUE(z);
             const auto es = edge_series(f, Q(1) / pow(Q(2), z->m));
@@ -120,7 +121,6 @@ TEST(Series, EdgeSeriesOfEveryMissingWendlandQuantityMatchesTheClosedForm) {
                     << spec_string(e.spec) << " D=" << e.dim << " " << name << " r=" << r;
             }
             ++checked;
-        }
-    }
+    });
     EXPECT_EQ(checked, 6 * 3 * 10);
 }

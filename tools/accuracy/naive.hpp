@@ -22,6 +22,7 @@
 // kernel; shorter pieces are zero-padded at the top (exact: 0 v + c = c).
 #pragma once
 
+#include <mollify/detail/evaluate.hpp>
 #include <mollify/smoothing.hpp>
 
 #include <array>
@@ -71,16 +72,6 @@ struct NaiveScale {
     }
 };
 
-// a*b + c, fused where the target has FMA: what a naive code gets from
-// -ffp-contract=fast (GCC's default outside strict ISO mode).
-inline double naive_mul_add(double a, double b, double c) {
-#if defined(__FMA__) || defined(__FP_FAST_FMA)
-    return std::fma(a, b, c);
-#else
-    return a * b + c;
-#endif
-}
-
 template <int N, int M = N, int P = 1>
 struct Naive {
     static constexpr int capacity = N, cofactor_capacity = M, piece_capacity = P;
@@ -126,7 +117,7 @@ struct Naive {
 template <std::size_t N>
 inline double naive_horner(const std::array<double, N>& c, double v) {
     double sum = c[N - 1];
-    for (std::size_t k = N - 1; k-- > 0;) sum = naive_mul_add(sum, v, c[k]);
+    for (std::size_t k = N - 1; k-- > 0;) sum = mollify::detail::mul_add(sum, v, c[k]);  // fused where the target has FMA, as -ffp-contract=fast gives naive code
     return sum;
 }
 

@@ -364,6 +364,22 @@ std::size_t piece_index(const Form& f, mpfr_srcptr r, mpfr_srcptr h) {
     return f.pieces.size() - 1;
 }
 
+// f(r/h) -> h^p f(r/h) (+ c log h for a 2D potential), as the runtime scales;
+// returns log2 of the updated sum of |terms|.
+double scale_by_h(const Form& f, mpfr_srcptr h, int level, Scratch& w, double log2_m) {
+    mpfr_pow_si(w.v[Scratch::scale], h, f.power, MPFR_RNDN);
+    mpfr_mul(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::scale], MPFR_RNDN);
+    log2_m += log2_abs(w.v[Scratch::scale]);
+    if (!f.log_coefficient.is_zero()) {
+        mpfr_log(w.v[Scratch::tmp], h, MPFR_RNDN);
+        mpfr_mul(w.v[Scratch::tmp], w.v[Scratch::tmp], (*f.log_coefficient_at[static_cast<std::size_t>(level)])[0],
+                 MPFR_RNDN);
+        mpfr_add(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::tmp], MPFR_RNDN);
+        log2_m = log2_sum(log2_m, log2_abs(w.v[Scratch::tmp]));
+    }
+    return log2_m;
+}
+
 // One attempt at `level`: acc = f_h(r); returns log2 of the error bound.
 double attempt_inside(const Form& f, mpfr_srcptr r, mpfr_srcptr h, int level, Scratch& w) {
     const Piece& p = f.pieces[piece_index(f, r, h)];
@@ -377,16 +393,7 @@ double attempt_inside(const Form& f, mpfr_srcptr r, mpfr_srcptr h, int level, Sc
     mpfr_sqrt(w.v[Scratch::s], w.v[Scratch::s], MPFR_RNDN);
     mpfr_set_zero(w.v[Scratch::acc], 1);
     double log2_m = add_piece(p, level, w);
-    mpfr_pow_si(w.v[Scratch::scale], h, f.power, MPFR_RNDN);
-    mpfr_mul(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::scale], MPFR_RNDN);
-    log2_m += log2_abs(w.v[Scratch::scale]);
-    if (!f.log_coefficient.is_zero()) {
-        mpfr_log(w.v[Scratch::tmp], h, MPFR_RNDN);
-        mpfr_mul(w.v[Scratch::tmp], w.v[Scratch::tmp], (*f.log_coefficient_at[static_cast<std::size_t>(level)])[0],
-                 MPFR_RNDN);
-        mpfr_add(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::tmp], MPFR_RNDN);
-        log2_m = log2_sum(log2_m, log2_abs(w.v[Scratch::tmp]));
-    }
+    log2_m = scale_by_h(f, h, level, w, log2_m);
     return log2_m + margin_bits - static_cast<double>(level_bits(level));
 }
 
@@ -416,16 +423,7 @@ double attempt_at_zero(const Form& f, mpfr_srcptr h, int level, Scratch& w) {
     const auto [v, m] = f.at_zero->evaluate(static_cast<unsigned>(bits));
     mpfr_set(w.v[Scratch::acc], v.backend().data(), MPFR_RNDN);
     double log2_m = log2_abs(m.backend().data());
-    mpfr_pow_si(w.v[Scratch::scale], h, f.power, MPFR_RNDN);
-    mpfr_mul(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::scale], MPFR_RNDN);
-    log2_m += log2_abs(w.v[Scratch::scale]);
-    if (!f.log_coefficient.is_zero()) {
-        mpfr_log(w.v[Scratch::tmp], h, MPFR_RNDN);
-        mpfr_mul(w.v[Scratch::tmp], w.v[Scratch::tmp], (*f.log_coefficient_at[static_cast<std::size_t>(level)])[0],
-                 MPFR_RNDN);
-        mpfr_add(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::tmp], MPFR_RNDN);
-        log2_m = log2_sum(log2_m, log2_abs(w.v[Scratch::tmp]));
-    }
+    log2_m = scale_by_h(f, h, level, w, log2_m);
     return log2_m + margin_bits - static_cast<double>(bits);
 }
 
