@@ -12,6 +12,9 @@ packages=(
   nlohmann-json3-dev        # catalogue.json and the transcribed seed tables
   libgtest-dev              # tests
   libbenchmark-dev          # benchmarks
+  libtomlplusplus-dev       # scene files (toml++, tools/mollify)
+  gnuplot-nox               # the PNG plots of `mollify run`
+  libfftw3-dev              # FFTs (issue 5)
 )
 
 missing=()

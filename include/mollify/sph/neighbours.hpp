@@ -1,0 +1,310 @@
+// Neighbour search for a kernel of support radius eps, O(N) per update:
+// in 1D a sorted sweep (the particles sorted by position, each particle's
+// neighbours a contiguous run on either side of it), in 2D and 3D a cell
+// list (cells of side >= eps, filled by a counting sort; a particle's
+// neighbours lie in the 3^D cells around its own). AllPairs is the O(N^2)
+// baseline the benchmarks compare against. All three visit, for particle i,
+// every j with |x_i - x_j| <= eps (i itself included, at displacement 0)
+// exactly once, with the displacement x_i - x_j (minimum image in a
+// periodic box).
+#pragma once
+
+#include <mollify/sph/domain.hpp>
+#include <mollify/static_kernel.hpp>  // mollify::Vector
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <numeric>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace mollify::sph {
+
+template <int D>
+using Positions = std::array<std::span<const double>, D>;
+
+namespace detail {
+
+inline void check_radius(double eps) {
+    if (!(eps > 0) || !std::isfinite(eps))
+        fail("kernel support radius eps = " + mollify::detail::show(eps) + " is not a positive finite number");
+}
+
+// Particles of a periodic box must lie in it: a position outside [0, L) is a
+// state the caller lost track of (or a NaN), not one to fold back silently.
+template <int D>
+void check_positions(const Positions<D>& x, const Domain<D>& domain) {
+    for (int c = 0; c < D; ++c)
+        for (std::size_t i = 0; i < x[c].size(); ++i) {
+            const double v = x[c][i];
+            if (!std::isfinite(v))
+                fail("particle " + std::to_string(i) + " has coordinate x[" + std::to_string(c) +
+                     "] = " + mollify::detail::show(v) + " (not finite)");
+            if (domain.is_periodic() && !(v >= 0 && v < domain.length()))
+                fail("particle " + std::to_string(i) + " at x[" + std::to_string(c) + "] = " + mollify::detail::show(v) +
+                     " lies outside the periodic box [0, " + mollify::detail::show(domain.length()) + ")");
+        }
+    for (int c = 1; c < D; ++c)
+        if (x[c].size() != x[0].size()) fail("positions: components of different lengths");
+}
+
+}  // namespace detail
+
+// 1D: the particles sorted by position. The order is kept between updates
+// and repaired by insertion sort, O(N) when particles barely reorder (the
+// usual case from one time step to the next).
+class SortedSweep {
+public:
+    static constexpr int dim = 1;
+
+    SortedSweep(Domain<1> domain, double eps) : domain_(domain), eps_(eps) {
+        detail::check_radius(eps);
+        domain.check_support(eps);
+    }
+
+    void update(const Positions<1>& x) {
+        detail::check_positions<1>(x, domain_);
+        const std::size_t n = x[0].size();
+        if (order_.size() != n) {
+            order_.resize(n);
+            std::iota(order_.begin(), order_.end(), std::size_t{0});
+        }
+        sorted_.resize(n);
+        rank_.resize(n);
+        for (std::size_t p = 0; p < n; ++p) sorted_[p] = x[0][order_[p]];
+        for (std::size_t p = 1; p < n; ++p) {  // insertion sort, carrying order_ along
+            const double v = sorted_[p];
+            const std::size_t id = order_[p];
+            std::size_t q = p;
+            for (; q > 0 && sorted_[q - 1] > v; --q) {
+                sorted_[q] = sorted_[q - 1];
+                order_[q] = order_[q - 1];
+            }
+            sorted_[q] = v;
+            order_[q] = id;
+        }
+        for (std::size_t p = 0; p < n; ++p) rank_[order_[p]] = p;
+    }
+
+    // f(j, {x_i - x_j}) for every j within eps of particle i (i included).
+    template <class F>
+    void visit(std::size_t i, F&& f) const {
+        const std::size_t n = sorted_.size(), p = rank_[i];
+        const double xi = sorted_[p];
+        f(i, Vector<1>{0.0});
+        // In cyclic order from p the forward distances grow monotonically
+        // (likewise backward), and no j is within eps both ways since 2 eps < L.
+        // A coincident particle (d = 0) belongs to the scan that reaches it
+        // without wrapping round the box; a wrapped scan sees the image
+        // shifted by L (no minimum-image division per neighbour).
+        const double L = domain_.is_periodic() ? domain_.length() : 0.0;
+        for (std::size_t step = 1; step < n; ++step) {
+            std::size_t q = p + step;
+            double d;
+            if (q < n) {
+                d = xi - sorted_[q];
+            } else {
+                if (L == 0) break;
+                q -= n;
+                d = xi - (sorted_[q] + L);
+                if (d >= 0) break;
+            }
+            if (-d > eps_) break;
+            f(order_[q], Vector<1>{d});
+        }
+        for (std::size_t step = 1; step < n; ++step) {
+            std::size_t q;
+            double d;
+            if (step <= p) {
+                q = p - step;
+                d = xi - sorted_[q];
+            } else {
+                if (L == 0) break;
+                q = p + n - step;
+                d = xi - (sorted_[q] - L);
+                if (d <= 0) break;
+            }
+            if (d > eps_) break;
+            f(order_[q], Vector<1>{d});
+        }
+    }
+
+private:
+    Domain<1> domain_;
+    double eps_;
+    std::vector<std::size_t> order_, rank_;
+    std::vector<double> sorted_;
+};
+
+// 2D/3D: a cell list. In a periodic box the cells tile [0, L)^D; in R^D they
+// cover the particles' bounding box.
+template <int D>
+class CellList {
+public:
+    static constexpr int dim = D;
+
+    CellList(Domain<D> domain, double eps) : domain_(domain), eps_(eps) {
+        detail::check_radius(eps);
+        domain.check_support(eps);
+    }
+
+    void update(const Positions<D>& x) {
+        detail::check_positions<D>(x, domain_);
+        const std::size_t n = x[0].size();
+        layout(x, n);
+        std::size_t cells = 1;
+        for (int c = 0; c < D; ++c) cells *= static_cast<std::size_t>(count_[c]);
+        start_.assign(cells + 1, 0);
+        cell_of_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            std::size_t k = 0;
+            for (int c = D - 1; c >= 0; --c) k = k * static_cast<std::size_t>(count_[c]) + coordinate(x[c][i], c);
+            cell_of_[i] = k;
+            ++start_[k + 1];
+        }
+        std::partial_sum(start_.begin(), start_.end(), start_.begin());
+        std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
+        members_.resize(n);
+        slot_.resize(n);
+        for (int c = 0; c < D; ++c) sorted_[c].resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t slot = fill[cell_of_[i]]++;
+            members_[slot] = i;
+            slot_[i] = slot;
+            for (int c = 0; c < D; ++c) sorted_[c][slot] = x[c][i];
+        }
+    }
+
+    template <class F>
+    void visit(std::size_t i, F&& f) const {
+        std::array<long, D> home;
+        std::size_t k = cell_of_[i];
+        for (int c = 0; c < D; ++c) {
+            home[c] = static_cast<long>(k % static_cast<std::size_t>(count_[c]));
+            k /= static_cast<std::size_t>(count_[c]);
+        }
+        Vector<D> xi;
+        for (int c = 0; c < D; ++c) xi[c] = sorted_[c][slot_[i]];
+        // The 3^D cells around home; with fewer than 3 cells per side in a
+        // periodic box, offsets alias, so each cell is visited once.
+        std::array<std::size_t, 27> seen{};
+        int nseen = 0;
+        std::array<int, D> off;
+        off.fill(-1);
+        const double eps2 = eps_ * eps_;
+        for (;;) {
+            bool inside = true;
+            std::size_t cell = 0;
+            for (int c = D - 1; c >= 0; --c) {
+                long v = home[c] + off[c];
+                if (v < 0 || v >= count_[c]) {
+                    if (!domain_.is_periodic()) inside = false;
+                    v = (v + count_[c]) % count_[c];
+                }
+                cell = cell * static_cast<std::size_t>(count_[c]) + static_cast<std::size_t>(v);
+            }
+            if (inside && std::find(seen.begin(), seen.begin() + nseen, cell) == seen.begin() + nseen) {
+                seen[static_cast<std::size_t>(nseen++)] = cell;
+                for (std::size_t s = start_[cell]; s < start_[cell + 1]; ++s) {
+                    Vector<D> d;
+                    double r2 = 0;
+                    for (int c = 0; c < D; ++c) {
+                        d[c] = domain_.displacement(xi[c], sorted_[c][s]);
+                        r2 += d[c] * d[c];
+                    }
+                    if (r2 <= eps2) f(members_[s], d);
+                }
+            }
+            int c = 0;
+            while (c < D && off[c] == 1) off[c++] = -1;
+            if (c == D) break;
+            ++off[c];
+        }
+    }
+
+private:
+    // Cells of side >= eps, at most ~N of them in all (a sparse open domain
+    // must not allocate a huge empty grid).
+    void layout(const Positions<D>& x, std::size_t n) {
+        for (int c = 0; c < D; ++c) {
+            double lo = 0, hi = domain_.length();
+            if (!domain_.is_periodic()) {
+                lo = hi = n ? x[c][0] : 0.0;
+                for (std::size_t i = 0; i < n; ++i) {
+                    lo = std::min(lo, x[c][i]);
+                    hi = std::max(hi, x[c][i]);
+                }
+            }
+            origin_[c] = lo;
+            const double per_side = std::pow(static_cast<double>(std::max<std::size_t>(n, 1)), 1.0 / D) + 1;
+            count_[c] = std::max(1L, std::min(static_cast<long>((hi - lo) / eps_), static_cast<long>(per_side)));
+            side_[c] = domain_.is_periodic() ? domain_.length() / static_cast<double>(count_[c])
+                                             : std::max((hi - lo) / static_cast<double>(count_[c]), eps_);
+        }
+    }
+
+    std::size_t coordinate(double v, int c) const {
+        const long k = static_cast<long>((v - origin_[c]) / side_[c]);
+        return static_cast<std::size_t>(std::clamp(k, 0L, count_[c] - 1));
+    }
+
+    Domain<D> domain_;
+    double eps_;
+    std::array<double, D> origin_{}, side_{};
+    std::array<long, D> count_{};
+    std::vector<std::size_t> start_, cell_of_, members_, slot_;  // slot_ inverts members_
+    std::array<std::vector<double>, D> sorted_;
+};
+
+// The O(N^2) baseline: every pair tested.
+template <int D>
+class AllPairs {
+public:
+    static constexpr int dim = D;
+
+    AllPairs(Domain<D> domain, double eps) : domain_(domain), eps_(eps) {
+        detail::check_radius(eps);
+        domain.check_support(eps);
+    }
+
+    void update(const Positions<D>& x) {
+        detail::check_positions<D>(x, domain_);
+        for (int c = 0; c < D; ++c) x_[c].assign(x[c].begin(), x[c].end());
+    }
+
+    template <class F>
+    void visit(std::size_t i, F&& f) const {
+        const double eps2 = eps_ * eps_;
+        for (std::size_t j = 0; j < x_[0].size(); ++j) {
+            Vector<D> d;
+            double r2 = 0;
+            for (int c = 0; c < D; ++c) {
+                d[c] = domain_.displacement(x_[c][i], x_[c][j]);
+                r2 += d[c] * d[c];
+            }
+            if (r2 <= eps2) f(j, d);
+        }
+    }
+
+private:
+    Domain<D> domain_;
+    double eps_;
+    std::array<std::vector<double>, D> x_;
+};
+
+// The default search of a dimension.
+template <int D>
+struct DefaultSearch {
+    using type = CellList<D>;
+};
+template <>
+struct DefaultSearch<1> {
+    using type = SortedSweep;
+};
+template <int D>
+using Search = typename DefaultSearch<D>::type;
+
+}  // namespace mollify::sph

@@ -1,0 +1,109 @@
+// The mollify command as a user runs it (tools/mollify): a malformed scene
+// exits 1 with a message naming the value and leaves no output folder;
+// command-line misuse exits 2; `mollify list` lists experiments and scenes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+    int status;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::ostringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+// A fresh working folder per test (ctest may run tests in parallel).
+struct Workdir {
+    fs::path dir;
+    Workdir() {
+        std::string t = (fs::temp_directory_path() / "mollify-run-test-XXXXXX").string();
+        dir = ::mkdtemp(t.data());
+    }
+    ~Workdir() { fs::remove_all(dir); }
+    void file(const std::string& name, const std::string& text) const {
+        fs::create_directories((dir / name).parent_path());
+        std::ofstream(dir / name) << text;
+    }
+    // Runs `mollify ARGS` in this folder.
+    Outcome run(const std::string& args) const {
+        const std::string cmd = "cd '" + dir.string() + "' && " + MOLLIFY + " " + args + " >.stdout 2>.stderr";
+        const int raw = std::system(cmd.c_str());
+        Outcome r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir / ".stdout"), slurp(dir / ".stderr")};
+        fs::remove(dir / ".stdout");
+        fs::remove(dir / ".stderr");
+        return r;
+    }
+    std::vector<std::string> entries() const {
+        std::vector<std::string> v;
+        for (const auto& e : fs::directory_iterator(dir)) v.push_back(e.path().filename().string());
+        std::sort(v.begin(), v.end());
+        return v;
+    }
+};
+
+const char* scene_head = "[scene]\nname = \"demo\"\nexperiment = \"franz\"\ntitle = \"A demo\"\n";
+
+}  // namespace
+
+TEST(MollifyRun, MalformedSceneExits1AndWritesNothing) {
+    Workdir w;
+    w.file("scenes/bad.toml", "[scene]\nname = \"demo\"\nexperiment = \"franz\"\ntitle = = \"x\"\n");
+    Outcome r = w.run("run scenes/bad.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(r.err.rfind("mollify: error: scenes/bad.toml:4:", 0), 0u) << r.err;
+    EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"});
+
+    w.file("scenes/unknown.toml", "[scene]\nname = \"demo\"\nexperiment = \"frnz\"\n");
+    r = w.run("run scenes/unknown.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("scenes/unknown.toml:3: scene.experiment = \"frnz\": unknown experiment"), std::string::npos)
+        << r.err;
+    EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"});
+
+    r = w.run("run scenes/missing.toml --out results");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("scenes/missing.toml"), std::string::npos) << r.err;
+    EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"});
+}
+
+TEST(MollifyRun, Usage) {
+    Workdir w;
+    EXPECT_EQ(w.run("").status, 2);
+    EXPECT_EQ(w.run("frobnicate").status, 2);
+    EXPECT_EQ(w.run("run").status, 2);
+    EXPECT_EQ(w.run("run a.toml --bogus").status, 2);
+    const Outcome help = w.run("--help");
+    EXPECT_EQ(help.status, 0);
+    EXPECT_NE(help.out.find("run"), std::string::npos);
+    EXPECT_NE(help.out.find("list"), std::string::npos);
+    const Outcome run_help = w.run("run --help");
+    EXPECT_EQ(run_help.status, 0);
+    EXPECT_NE(run_help.out.find("--out"), std::string::npos);
+    EXPECT_NE(run_help.out.find("sph-periodic"), std::string::npos);
+}
+
+TEST(MollifyRun, List) {
+    Workdir w;
+    w.file("scenes/a.toml", scene_head);
+    w.file("scenes/b.toml", "[scene]\nname = 1\n");
+    w.file("scenes/notes.txt", "not a scene");
+    const Outcome r = w.run("list");
+    EXPECT_EQ(r.status, 0) << r.err;
+    for (const char* part : {"franz", "belley", "sph-periodic", "scenes/a.toml", "A demo", "scenes/b.toml", "invalid"})
+        EXPECT_NE(r.out.find(part), std::string::npos) << "'" << part << "' not in:\n" << r.out;
+    EXPECT_EQ(r.out.find("notes.txt"), std::string::npos);
+    EXPECT_EQ(w.run("list nowhere").status, 1);
+}

@@ -1,0 +1,36 @@
+// The experiments a scene can name (scene.experiment). Each reads its own
+// section of the scene, runs, and writes CSV data, PNG plots and a Markdown
+// summary into the Output; it throws mollify::Error on bad parameters
+// (before writing anything when it can tell in advance).
+#pragma once
+
+#include "output.hpp"
+#include "scene.hpp"
+
+#include <span>
+#include <string_view>
+
+namespace mollify::app {
+
+struct Experiment {
+    std::string_view name;     // scene.experiment
+    std::string_view summary;  // one line for `mollify run --help` / errors
+    void (*run)(const Scene&, Output&);
+};
+
+// All experiments, in the order `mollify` lists them.
+std::span<const Experiment> experiments();
+
+// The experiment scene.experiment names; an Error naming the file, the key,
+// the line and the known experiments if there is none of that name.
+const Experiment& find_experiment(const Scene& scene);
+
+// Defined one per file: franz.cpp, belley.cpp, sph_periodic.cpp; pending.cpp
+// defines a stub (an Error "experiment X is not built yet") for each of those
+// files that does not exist yet (tools/mollify/CMakeLists.txt). Tests that
+// link mollify_app without the experiments link mollify_app_stubs instead.
+void run_franz(const Scene&, Output&);
+void run_belley(const Scene&, Output&);
+void run_sph_periodic(const Scene&, Output&);
+
+}  // namespace mollify::app

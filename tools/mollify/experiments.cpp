@@ -1,0 +1,31 @@
+// The registry of experiments a scene can name.
+#include "experiment.hpp"
+
+#include <array>
+
+namespace mollify::app {
+
+namespace {
+
+constexpr std::array registry = {
+    Experiment{"franz", "Franz's convergence study: weakly compressible SPH against the Burgers reference, rates over epsilon",
+               run_franz},
+    Experiment{"belley", "Belley's estimation study: SPH, trapezoidal and Simpson sums of f, f', f'' on random points",
+               run_belley},
+    Experiment{"sph-periodic", "SPH on a periodic box in 2D, with a density/velocity picture", run_sph_periodic},
+};
+
+}  // namespace
+
+std::span<const Experiment> experiments() { return registry; }
+
+const Experiment& find_experiment(const Scene& scene) {
+    const std::string name = scene.experiment();
+    for (const Experiment& e : registry)
+        if (e.name == name) return e;
+    std::string known;
+    for (const Experiment& e : registry) known += (known.empty() ? "" : ", ") + std::string(e.name);
+    scene.reject("scene.experiment", "unknown experiment (known: " + known + ")");
+}
+
+}  // namespace mollify::app

@@ -1,0 +1,113 @@
+// mollify: runs scenes (README, "Scenes and the mollify command").
+//   mollify run SCENE.toml [--out DIR]   run a scene, write its output folder atomically
+//   mollify list [DIR]                   the experiments, and the scenes in DIR (default scenes/)
+// Exit status: 0 success, 1 a mollify::Error (bad scene, failed run; message on
+// stderr as "mollify: error: ..."), 2 command-line misuse.
+#include "experiment.hpp"
+#include "output.hpp"
+#include "scene.hpp"
+
+#include <mollify/error.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+
+using namespace mollify::app;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int run_failed = 1;
+constexpr int bad_usage = 2;
+
+int run_scene(const std::string& file, const std::string& out_option) {
+    const Scene scene = Scene::load(file);
+    const Experiment& experiment = find_experiment(scene);
+    const fs::path destination = out_option.empty() ? fs::path("out") / scene.name() : fs::path(out_option);
+    Output out(destination);
+    out.write("scene.toml", scene.text());
+    experiment.run(scene, out);
+    out.commit();
+    progress_clear();
+    std::size_t files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(out.destination())) files += e.is_regular_file();
+    std::cout << "mollify: " << scene.name() << " (" << experiment.name << "): wrote " << files << " files to "
+              << out.destination().string() << "/ (summary: " << (out.destination() / "summary.md").string() << ")\n";
+    return 0;
+}
+
+// scenes/ in the working directory, else the source tree's.
+fs::path default_scene_dir() {
+    std::error_code ec;
+    if (fs::is_directory("scenes", ec)) return "scenes";
+    return MOLLIFY_SCENES_DIR;
+}
+
+int run_list(const std::string& dir_option) {
+    std::cout << "experiments:\n";
+    for (const Experiment& e : experiments())
+        std::cout << "  " << std::left << std::setw(14) << e.name << e.summary << "\n";
+    const fs::path dir = dir_option.empty() ? default_scene_dir() : fs::path(dir_option);
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) mollify::fail("scene folder " + dir.string() + " does not exist");
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.is_regular_file() && e.path().extension() == ".toml") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    std::cout << "scenes in " << dir.string() << "/:" << (files.empty() ? " none\n" : "\n");
+    for (const fs::path& f : files) {
+        try {
+            const Scene s = Scene::load(f);
+            std::cout << "  " << f.string() << "  [" << s.experiment() << "]  " << s.title() << "\n";
+        } catch (const mollify::Error& e) {
+            std::cout << "  " << f.string() << "  (invalid: " << e.what() << ")\n";
+        }
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"mollify: SPH experiments and reproduced studies, run from scene files (scenes/*.toml)"};
+    app.require_subcommand(1);
+
+    auto* run = app.add_subcommand("run", "run a scene; writes CSV, PNG plots and summary.md into its output folder");
+    std::string scene_file, out;
+    run->add_option("scene", scene_file, "scene file, e.g. scenes/franz-torus.toml")->required();
+    run->add_option("--out", out, "output folder (default: out/<scene.name>)");
+
+    auto* list = app.add_subcommand("list", "list the experiments and the scenes with their titles");
+    std::string scene_dir;
+    list->add_option("dir", scene_dir, "scene folder (default: scenes/ here, else the source tree's)");
+
+    std::string names;
+    for (const Experiment& e : experiments()) names += "\n  " + std::string(e.name) + "  " + std::string(e.summary);
+    run->footer("Experiments (scene.experiment):" + names);
+
+    // (mollify report: added here later.)
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "mollify: " << e.what() << "\n" << "run 'mollify --help' for usage\n";
+        return bad_usage;
+    }
+    try {
+        if (*run) return run_scene(scene_file, out);
+        if (*list) return run_list(scene_dir);
+    } catch (const std::exception& e) {  // mollify::Error, and filesystem errors
+        progress_clear();
+        std::cerr << "mollify: error: " << e.what() << "\n";
+        return run_failed;
+    }
+    return 0;
+}
