@@ -16,6 +16,8 @@
 
 #include <mollify/kernel.hpp>
 
+#include "report.hpp"
+
 #include <benchmark/benchmark.h>
 #include <x86intrin.h>
 
@@ -297,25 +299,8 @@ void register_kernel(const char* label) {
 
 // ---- Markdown ----
 
-// Collects every run for the Markdown table, and prints as usual.
-class Collector : public benchmark::ConsoleReporter {
-public:
-    void ReportRuns(const std::vector<Run>& runs) override {
-        for (const Run& r : runs)
-            if (!r.error_occurred) runs_.push_back(r);
-        ConsoleReporter::ReportRuns(runs);
-    }
-    const std::vector<Run>& runs() const { return runs_; }
-
-private:
-    std::vector<Run> runs_;
-};
-
-std::string number(const char* f, double x) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, x);
-    return buf;
-}
+using mollify::bench::Collector;
+using mollify::bench::number;
 
 std::string counter(const benchmark::BenchmarkReporter::Run& r, const char* name, const char* f) {
     const auto it = r.counters.find(name);

@@ -1,6 +1,8 @@
 // mollify-gen as a user runs it: output formats, exit status 2 with a message
 // naming the bad value (and nothing written), and the checked-in generated/
 // reproduced byte for byte (CPython-style freshness check).
+#include "command.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,17 +17,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-    int status;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::ostringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
+using mollify::testing::Outcome;
+using mollify::testing::slurp;
 
 fs::path scratch(const std::string& name) {
     const fs::path p = fs::temp_directory_path() / ("mollify-cli-test-" + std::to_string(::getpid()) + "-" + name);
@@ -33,15 +26,7 @@ fs::path scratch(const std::string& name) {
     return p;
 }
 
-Outcome run(const std::string& args) {
-    const fs::path out = scratch("stdout"), err = scratch("stderr");
-    const std::string cmd = std::string(MOLLIFY_GEN) + " " + args + " >" + out.string() + " 2>" + err.string();
-    const int raw = std::system(cmd.c_str());
-    Outcome r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-}
+Outcome run(const std::string& args) { return mollify::testing::run_command(std::string(MOLLIFY_GEN) + " " + args, scratch("run")); }
 
 std::vector<std::string> lines(const std::string& s) {
     std::vector<std::string> v;

@@ -1,6 +1,8 @@
 // The mollify command as a user runs it (tools/mollify): a malformed scene
 // exits 1 with a message naming the value and leaves no output folder;
 // command-line misuse exits 2; `mollify list` lists experiments and scenes.
+#include "command.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -13,17 +15,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-    int status;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::ostringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
+using mollify::testing::Outcome;
+using mollify::testing::slurp;
 
 // A fresh working folder per test (ctest may run tests in parallel).
 struct Workdir {
@@ -39,12 +32,7 @@ struct Workdir {
     }
     // Runs `mollify ARGS` in this folder.
     Outcome run(const std::string& args) const {
-        const std::string cmd = "cd '" + dir.string() + "' && " + MOLLIFY + " " + args + " >.stdout 2>.stderr";
-        const int raw = std::system(cmd.c_str());
-        Outcome r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir / ".stdout"), slurp(dir / ".stderr")};
-        fs::remove(dir / ".stdout");
-        fs::remove(dir / ".stderr");
-        return r;
+        return mollify::testing::run_command("cd '" + dir.string() + "' && " + MOLLIFY + " " + args, dir / ".run");
     }
     std::vector<std::string> entries() const {
         std::vector<std::string> v;

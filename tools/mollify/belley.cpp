@@ -46,6 +46,14 @@
 namespace mollify::app {
 namespace {
 
+// A column name gnuplot can use as a curve title: it splits a header at the
+// CSV separator even inside quotes, so commas (E_{h,6}, combo:m=2,base=...)
+// become semicolons.
+std::string plot_label(std::string s) {
+    std::replace(s.begin(), s.end(), ',', ';');
+    return s;
+}
+
 using std::numbers::pi;
 
 // Belley's five test functions with their exact first and second derivatives.
@@ -430,8 +438,8 @@ void run_belley(const Scene& scene, Output& out) {
         Table plot{{"h"}, {}};
         std::vector<std::string> titles;
         for (const EstimateSpec& e : paper) {
-            plot.columns.push_back(e.symbol);
-            plot.columns.push_back(e.symbol + " printed");
+            plot.columns.push_back(plot_label(e.symbol));
+            plot.columns.push_back(plot_label(e.symbol) + " printed");
         }
         for (double h : hs) {
             std::vector<std::string> row{format(h, 3)};
@@ -466,7 +474,7 @@ void run_belley(const Scene& scene, Output& out) {
             std::vector<std::string> present;
             for (const std::string& k : keys)
                 if (results.count({k, plot_function, plot_n, h_key(hs.front())})) present.push_back(k);
-            for (const std::string& k : present) ex.columns.push_back(k);
+            for (const std::string& k : present) ex.columns.push_back(plot_label(k));
             for (double h : hs) {
                 std::vector<std::string> row{format(h, 3)};
                 for (const std::string& k : present) row.push_back(format(results.at({k, plot_function, plot_n, h_key(h)}).mean(), 6));

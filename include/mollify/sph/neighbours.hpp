@@ -51,6 +51,18 @@ void check_positions(const Positions<D>& x, const Domain<D>& domain) {
         if (x[c].size() != x[0].size()) fail("positions: components of different lengths");
 }
 
+// What every search is made for: a domain and a support radius eps, checked
+// once (eps > 0, and 2 eps < L in a periodic box).
+template <int D>
+struct Reach {
+    Reach(Domain<D> d, double e) : domain(d), eps(e) {
+        check_radius(e);
+        d.check_support(e);
+    }
+    Domain<D> domain;
+    double eps;
+};
+
 }  // namespace detail
 
 // 1D: the particles sorted by position. The order is kept between updates
@@ -60,13 +72,10 @@ class SortedSweep {
 public:
     static constexpr int dim = 1;
 
-    SortedSweep(Domain<1> domain, double eps) : domain_(domain), eps_(eps) {
-        detail::check_radius(eps);
-        domain.check_support(eps);
-    }
+    SortedSweep(Domain<1> domain, double eps) : reach_(domain, eps) {}
 
     void update(const Positions<1>& x) {
-        detail::check_positions<1>(x, domain_);
+        detail::check_positions<1>(x, reach_.domain);
         const std::size_t n = x[0].size();
         if (order_.size() != n) {
             order_.resize(n);
@@ -100,7 +109,7 @@ public:
         // A coincident particle (d = 0) belongs to the scan that reaches it
         // without wrapping round the box; a wrapped scan sees the image
         // shifted by L (no minimum-image division per neighbour).
-        const double L = domain_.is_periodic() ? domain_.length() : 0.0;
+        const double L = reach_.domain.is_periodic() ? reach_.domain.length() : 0.0;
         for (std::size_t step = 1; step < n; ++step) {
             std::size_t q = p + step;
             double d;
@@ -112,7 +121,7 @@ public:
                 d = xi - (sorted_[q] + L);
                 if (d >= 0) break;
             }
-            if (-d > eps_) break;
+            if (-d > reach_.eps) break;
             f(order_[q], Vector<1>{d});
         }
         for (std::size_t step = 1; step < n; ++step) {
@@ -127,14 +136,13 @@ public:
                 d = xi - (sorted_[q] - L);
                 if (d <= 0) break;
             }
-            if (d > eps_) break;
+            if (d > reach_.eps) break;
             f(order_[q], Vector<1>{d});
         }
     }
 
 private:
-    Domain<1> domain_;
-    double eps_;
+    detail::Reach<1> reach_;
     std::vector<std::size_t> order_, rank_;
     std::vector<double> sorted_;
 };
@@ -146,13 +154,10 @@ class CellList {
 public:
     static constexpr int dim = D;
 
-    CellList(Domain<D> domain, double eps) : domain_(domain), eps_(eps) {
-        detail::check_radius(eps);
-        domain.check_support(eps);
-    }
+    CellList(Domain<D> domain, double eps) : reach_(domain, eps) {}
 
     void update(const Positions<D>& x) {
-        detail::check_positions<D>(x, domain_);
+        detail::check_positions<D>(x, reach_.domain);
         const std::size_t n = x[0].size();
         layout(x, n);
         std::size_t cells = 1;
@@ -188,36 +193,44 @@ public:
         }
         Vector<D> xi;
         for (int c = 0; c < D; ++c) xi[c] = sorted_[c][slot_[i]];
-        // The 3^D cells around home; with fewer than 3 cells per side in a
-        // periodic box, offsets alias, so each cell is visited once.
+        // The 3^D cells around home. With at least 3 cells per side each is a
+        // distinct cell, and a periodic neighbour across the box is the cell's
+        // image shifted by +-L: one shift per cell, no minimum image per
+        // candidate. With fewer, offsets alias: each cell once, minimum image.
+        bool aliased = false;
+        for (int c = 0; c < D; ++c) aliased = aliased || (reach_.domain.is_periodic() && count_[c] < 3);
         std::array<std::size_t, 27> seen{};
         int nseen = 0;
         std::array<int, D> off;
         off.fill(-1);
-        const double eps2 = eps_ * eps_;
+        const double eps2 = reach_.eps * reach_.eps, L = reach_.domain.length();
         for (;;) {
             bool inside = true;
             std::size_t cell = 0;
+            Vector<D> origin = xi;  // xi minus the image shift of this cell
             for (int c = D - 1; c >= 0; --c) {
                 long v = home[c] + off[c];
                 if (v < 0 || v >= count_[c]) {
-                    if (!domain_.is_periodic()) inside = false;
+                    if (!reach_.domain.is_periodic()) inside = false;
+                    origin[c] += v < 0 ? L : -L;
                     v = (v + count_[c]) % count_[c];
                 }
                 cell = cell * static_cast<std::size_t>(count_[c]) + static_cast<std::size_t>(v);
             }
-            if (inside && std::find(seen.begin(), seen.begin() + nseen, cell) == seen.begin() + nseen) {
-                seen[static_cast<std::size_t>(nseen++)] = cell;
+            if (inside && aliased) {
+                inside = std::find(seen.begin(), seen.begin() + nseen, cell) == seen.begin() + nseen;
+                if (inside) seen[static_cast<std::size_t>(nseen++)] = cell;
+            }
+            if (inside)
                 for (std::size_t s = start_[cell]; s < start_[cell + 1]; ++s) {
                     Vector<D> d;
                     double r2 = 0;
                     for (int c = 0; c < D; ++c) {
-                        d[c] = domain_.displacement(xi[c], sorted_[c][s]);
+                        d[c] = aliased ? reach_.domain.displacement(xi[c], sorted_[c][s]) : origin[c] - sorted_[c][s];
                         r2 += d[c] * d[c];
                     }
                     if (r2 <= eps2) f(members_[s], d);
                 }
-            }
             int c = 0;
             while (c < D && off[c] == 1) off[c++] = -1;
             if (c == D) break;
@@ -230,8 +243,8 @@ private:
     // must not allocate a huge empty grid).
     void layout(const Positions<D>& x, std::size_t n) {
         for (int c = 0; c < D; ++c) {
-            double lo = 0, hi = domain_.length();
-            if (!domain_.is_periodic()) {
+            double lo = 0, hi = reach_.domain.length();
+            if (!reach_.domain.is_periodic()) {
                 lo = hi = n ? x[c][0] : 0.0;
                 for (std::size_t i = 0; i < n; ++i) {
                     lo = std::min(lo, x[c][i]);
@@ -240,9 +253,9 @@ private:
             }
             origin_[c] = lo;
             const double per_side = std::pow(static_cast<double>(std::max<std::size_t>(n, 1)), 1.0 / D) + 1;
-            count_[c] = std::max(1L, std::min(static_cast<long>((hi - lo) / eps_), static_cast<long>(per_side)));
-            side_[c] = domain_.is_periodic() ? domain_.length() / static_cast<double>(count_[c])
-                                             : std::max((hi - lo) / static_cast<double>(count_[c]), eps_);
+            count_[c] = std::max(1L, std::min(static_cast<long>((hi - lo) / reach_.eps), static_cast<long>(per_side)));
+            side_[c] = reach_.domain.is_periodic() ? reach_.domain.length() / static_cast<double>(count_[c])
+                                             : std::max((hi - lo) / static_cast<double>(count_[c]), reach_.eps);
         }
     }
 
@@ -251,8 +264,7 @@ private:
         return static_cast<std::size_t>(std::clamp(k, 0L, count_[c] - 1));
     }
 
-    Domain<D> domain_;
-    double eps_;
+    detail::Reach<D> reach_;
     std::array<double, D> origin_{}, side_{};
     std::array<long, D> count_{};
     std::vector<std::size_t> start_, cell_of_, members_, slot_;  // slot_ inverts members_
@@ -265,24 +277,21 @@ class AllPairs {
 public:
     static constexpr int dim = D;
 
-    AllPairs(Domain<D> domain, double eps) : domain_(domain), eps_(eps) {
-        detail::check_radius(eps);
-        domain.check_support(eps);
-    }
+    AllPairs(Domain<D> domain, double eps) : reach_(domain, eps) {}
 
     void update(const Positions<D>& x) {
-        detail::check_positions<D>(x, domain_);
+        detail::check_positions<D>(x, reach_.domain);
         for (int c = 0; c < D; ++c) x_[c].assign(x[c].begin(), x[c].end());
     }
 
     template <class F>
     void visit(std::size_t i, F&& f) const {
-        const double eps2 = eps_ * eps_;
+        const double eps2 = reach_.eps * reach_.eps;
         for (std::size_t j = 0; j < x_[0].size(); ++j) {
             Vector<D> d;
             double r2 = 0;
             for (int c = 0; c < D; ++c) {
-                d[c] = domain_.displacement(x_[c][i], x_[c][j]);
+                d[c] = reach_.domain.displacement(x_[c][i], x_[c][j]);
                 r2 += d[c] * d[c];
             }
             if (r2 <= eps2) f(j, d);
@@ -290,8 +299,7 @@ public:
     }
 
 private:
-    Domain<D> domain_;
-    double eps_;
+    detail::Reach<D> reach_;
     std::array<std::vector<double>, D> x_;
 };
 

@@ -1,0 +1,38 @@
+// What the benchmarks share for their Markdown results: a reporter that keeps
+// every run (and says which were skipped) while printing as usual, and
+// printf-style number formatting.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace mollify::bench {
+
+class Collector : public benchmark::ConsoleReporter {
+public:
+    void ReportRuns(const std::vector<Run>& runs) override {
+        for (const Run& r : runs)
+            if (!r.error_occurred)
+                runs_.push_back(r);
+            else
+                skipped_.push_back(r.run_name.function_name + ": " + r.error_message);
+        ConsoleReporter::ReportRuns(runs);
+    }
+    const std::vector<Run>& runs() const { return runs_; }
+    const std::vector<std::string>& skipped() const { return skipped_; }
+
+private:
+    std::vector<Run> runs_;
+    std::vector<std::string> skipped_;
+};
+
+inline std::string number(const char* f, double x) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, x);
+    return buf;
+}
+
+}  // namespace mollify::bench

@@ -1,0 +1,317 @@
+// sph_bench: particle–neighbour interactions per second of one SPH sweep,
+// BarotropicEuler::acceleration (neighbour update + gather + kernel pairs +
+// accumulation), on the periodic unit box, d = 1 and d = 3, with the O(N)
+// searches (SortedSweep in 1D, CellList in 3D) for N = 10^4 .. 10^6 and the
+// O(N^2) AllPairs baseline for N = 10^3 .. 10^4 (Google Benchmark).
+//
+// Particles: the lattice of spacing dx = 1/n per side, each coordinate
+// jittered by a seeded uniform +-jitter*dx, masses dx^d (rho_0 = 1). Support
+// radius eps = 20 dx in 1D (41 lattice points within eps, ~40 after the
+// jitter: the two at exactly 20 dx are in or out), eps = 2 dx in 3D (33
+// lattice points within eps, ~30 after the jitter: the six at exactly 2 dx);
+// the neighbour count per particle is constant in N and measured.
+//
+// Kernels: Wendland C4 (wendland:k=2, D1 and D3); in 1D also the order-6
+// combination of Wendland C6 (combo:m=3,base=wendland:k=3), a costly
+// high-order kernel; in both a zero kernel (writes W = grad W = 0, no
+// arithmetic), which leaves the search, gather and accumulation: the
+// kernel's share of a sweep is the difference.
+//
+// Counters, with as many OpenMP threads as the environment allows (bench-sph
+// runs one), from the process's CPU time with one thread (one core's work,
+// whatever else the shared machine runs), from wall time with several:
+// inter/s = particle–neighbour pairs met per second (i = j included),
+// ns/particle, ms/sweep (the console prints these two inverted rates with a
+// unit "s"), nbrs = pairs per particle. The Markdown adds the wall time, the
+// fit of time ∝ N^α, the kernel's share and the speed-up over all pairs.
+//
+//   sph_bench [benchmark flags] [--md=FILE]   (cmake --build build --target bench-sph)
+#include <mollify/detail/parallel.hpp>
+#include <mollify/sph/euler.hpp>
+#include <mollify/static_kernel.hpp>
+#include <mollify/tables/combo.hpp>
+#include <mollify/tables/wendland.hpp>
+
+#include "report.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace sph = mollify::sph;
+namespace tables = mollify::tables;
+
+namespace {
+
+constexpr double jitter = 0.1;        // of the spacing, each coordinate
+constexpr double all_pairs_cap = 2;   // seconds: AllPairs sweeps slower than this are skipped
+constexpr double linear_within = 0.15;  // |alpha - 1| (or |alpha - 2|) that counts as O(N) (O(N^2))
+
+// W = grad W = 0 on every pair (and 0 for any one quantity, for a sweep
+// that evaluates one alone): the sweep without the kernel arithmetic.
+struct ZeroKernel {
+    template <class Points, class Out>
+    void pairs(const Points&, const mollify::Smoothing&, std::span<double> w, const Out& grad) const {
+        std::fill(w.begin(), w.end(), 0.0);
+        for (const auto& c : grad) std::fill(c.begin(), c.end(), 0.0);
+    }
+    template <mollify::QuantityId>
+    void evaluate(std::span<const double>, const mollify::Smoothing&, std::span<double> out) const {
+        std::fill(out.begin(), out.end(), 0.0);
+    }
+};
+
+// One benchmark's parameters, kept for the Markdown table.
+struct Case {
+    int d;
+    std::string search, kernel;
+    long side;  // particles per side
+    std::size_t n;
+    double eps_over_dx;
+};
+std::map<std::string, Case>& cases() {
+    static std::map<std::string, Case> c;
+    return c;
+}
+std::vector<std::string>& order() {  // registration order
+    static std::vector<std::string> o;
+    return o;
+}
+
+template <int D>
+sph::Field<D> lattice(long side) {
+    const double dx = 1.0 / static_cast<double>(side);
+    const sph::Domain<D> box = sph::Domain<D>::periodic(1.0);
+    std::mt19937_64 rng(20240604);
+    std::uniform_real_distribution<double> u(-jitter * dx, jitter * dx);
+    std::size_t n = 1;
+    for (int c = 0; c < D; ++c) n *= static_cast<std::size_t>(side);
+    sph::Field<D> x;
+    for (auto& c : x) c.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        std::size_t k = i;
+        for (int c = 0; c < D; ++c) {
+            x[c][i] = box.wrap(static_cast<double>(k % static_cast<std::size_t>(side)) * dx + u(rng));
+            k /= static_cast<std::size_t>(side);
+        }
+    }
+    return x;
+}
+
+template <int D, class Kernel, class Search>
+void sweep(benchmark::State& state, long side, double eps_over_dx, bool capped) {
+    const sph::Field<D> x = lattice<D>(side);
+    const std::size_t n = x[0].size();
+    const double dx = 1.0 / static_cast<double>(side);
+    sph::BarotropicEuler<D, Kernel, Search> system(Kernel{}, eps_over_dx * dx, sph::Domain<D>::periodic(1.0),
+                                                   std::vector<double>(n, std::pow(dx, D)));
+    sph::Field<D> a;
+    // Warm-up: the first sort, the scratch buffers, the work estimate.
+    const auto t0 = std::chrono::steady_clock::now();
+    system.acceleration(x, a);
+    const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (capped && first > all_pairs_cap) {
+        state.SkipWithError(("one sweep takes " + std::to_string(first) + " s (cap " + std::to_string(all_pairs_cap) +
+                             " s)").c_str());
+        for (auto _ : state) {
+        }
+        return;
+    }
+    const std::size_t before = system.interactions();
+    for (auto _ : state) {
+        system.acceleration(x, a);
+        benchmark::DoNotOptimize(a[0].data());
+        benchmark::ClobberMemory();
+    }
+    const double iterations = static_cast<double>(state.iterations());
+    const double met = static_cast<double>(system.interactions() - before);
+    using benchmark::Counter;
+    state.counters["inter/s"] = Counter(met, Counter::kIsRate);
+    state.counters["ns/particle"] = Counter(iterations * static_cast<double>(n) * 1e-9, Counter::kIsRate | Counter::kInvert);
+    state.counters["ms/sweep"] = Counter(iterations * 1e-3, Counter::kIsRate | Counter::kInvert);
+    state.counters["nbrs"] = met / (iterations * static_cast<double>(n));
+}
+
+// One thread: the rates come from the process's CPU time, the work done by
+// one core whatever else the shared machine runs; several: from wall time.
+bool per_core() { return mollify::detail::thread_count() == 1; }
+
+template <int D, class Kernel, class Search>
+void register_sweeps(const char* search, const char* kernel, double eps_over_dx, std::initializer_list<long> sides) {
+    const bool capped = std::strcmp(search, "AllPairs") == 0;
+    for (const long side : sides) {
+        std::size_t n = 1;
+        for (int c = 0; c < D; ++c) n *= static_cast<std::size_t>(side);
+        const std::string name =
+            "sweep/d=" + std::to_string(D) + "/" + search + "/" + kernel + "/" + std::to_string(n);
+        cases().emplace(name, Case{D, search, kernel, side, n, eps_over_dx});
+        order().push_back(name);
+        auto* b = benchmark::RegisterBenchmark(name.c_str(), [side, eps_over_dx, capped](benchmark::State& st) {
+            sweep<D, Kernel, Search>(st, side, eps_over_dx, capped);
+        });
+        b->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+        if (!per_core()) b->UseRealTime();
+    }
+}
+
+// ---- Markdown ----
+
+using mollify::bench::Collector;
+using mollify::bench::number;
+
+std::string uptime() {
+    std::string line;
+    if (FILE* p = popen("uptime", "r")) {
+        char buf[256];
+        while (std::fgets(buf, sizeof buf, p)) line += buf;
+        pclose(p);
+    }
+    while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
+    line.erase(0, line.find_first_not_of(' '));
+    return line.empty() ? "(uptime unavailable)" : line;
+}
+
+// Least-squares slope of log t against log N.
+double slope(const std::vector<std::pair<double, double>>& nt) {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    const double m = static_cast<double>(nt.size());
+    for (const auto& [n, t] : nt) {
+        const double lx = std::log(n), ly = std::log(t);
+        sx += lx;
+        sy += ly;
+        sxx += lx * lx;
+        sxy += lx * ly;
+    }
+    return (m * sxy - sx * sy) / (m * sxx - sx * sx);
+}
+
+struct Row {
+    double inter_s = 0, ns_particle = 0, ms_sweep = 0, nbrs = 0, wall_ms = 0;
+};
+
+void write_markdown(const std::string& path, const std::vector<benchmark::BenchmarkReporter::Run>& runs,
+                    const std::vector<std::string>& skipped, const std::string& load_before,
+                    const std::string& load_after) {
+    // Medians when repeated, the single run otherwise.
+    const bool repeated = std::any_of(runs.begin(), runs.end(), [](const auto& r) { return r.aggregate_name == "median"; });
+    std::map<std::string, Row> rows;
+    for (const auto& r : runs) {
+        if (repeated ? r.aggregate_name != "median" : r.run_type != benchmark::BenchmarkReporter::Run::RT_Iteration)
+            continue;
+        auto at = [&](const char* k) { return r.counters.count(k) ? r.counters.at(k).value : NAN; };
+        rows[r.run_name.function_name] =  // the registered name, without /real_time
+             {at("inter/s"), at("ns/particle"), at("ms/sweep"), at("nbrs"),
+                                             r.GetAdjustedRealTime()};  // in ms (Unit)
+    }
+    std::ofstream out(path + ".tmp");
+    out << "# sph_bench results\n\nGenerated by `cmake --build build --target bench-sph` (bench/sph_bench.cpp), built with "
+        << "-O3 -march=native -fno-math-errno, " << mollify::detail::thread_count() << " OpenMP thread(s)"
+        << (repeated ? ", medians of the repetitions" : ", one run each") << "; rates and ms/sweep from "
+        << (per_core() ? "the process's CPU time (one core's work, whatever else the machine runs)" : "wall time")
+        << ", wall = wall-clock ms/sweep.\n"
+        << "One `BarotropicEuler::acceleration` sweep (neighbour update + gather + kernel pairs + accumulation) on the\n"
+        << "periodic unit box; particles on the lattice of spacing dx, jittered by +-" << jitter
+        << " dx (seeded), masses dx^d; eps = 20 dx (d = 1), 2 dx (d = 3).\n"
+        << "inter/s = particle–neighbour pairs met per second (i = j included); neighbours/particle measured.\n\n"
+        << "Load (`uptime`), shared machine:\n\n- before: `" << load_before << "`\n- after: `" << load_after << "`\n\n"
+        << "| d | search | kernel | N | neighbours/particle | interactions/s | ns/particle | ms/sweep | wall |\n"
+        << "|--:|---|---|--:|--:|--:|--:|--:|--:|\n";
+    std::vector<std::string> series;  // d/search/kernel in order
+    std::map<std::string, std::vector<std::pair<double, double>>> fits;
+    for (const auto& name : order()) {
+        const auto it = rows.find(name);
+        if (it == rows.end()) continue;
+        const Case& c = cases().at(name);
+        const Row& r = it->second;
+        out << "| " << c.d << " | " << c.search << " | " << c.kernel << " | " << c.n << " | " << number("%.1f", r.nbrs)
+            << " | " << number("%.3g", r.inter_s) << " | " << number("%.1f", r.ns_particle) << " | "
+            << number("%.3g", r.ms_sweep) << " | " << number("%.3g", r.wall_ms) << " |\n";
+        const std::string key = "d = " + std::to_string(c.d) + ", " + c.search + ", " + c.kernel;
+        if (!fits.count(key)) series.push_back(key);
+        fits[key].emplace_back(static_cast<double>(c.n), r.ms_sweep);
+    }
+    out << "\nFit of time per sweep ∝ N^α (least squares on log t against log N over the N measured); \"O(N)\" / \"O(N²)\" "
+        << "when |α − 1| / |α − 2| ≤ " << linear_within << ":\n\n| series | N | α | growth |\n|---|---|--:|---|\n";
+    for (const auto& key : series) {
+        const auto& nt = fits.at(key);
+        if (nt.size() < 2) {
+            out << "| " << key << " | " << number("%.0f", nt[0].first) << " | – | one point |\n";
+            continue;
+        }
+        const double alpha = slope(nt);
+        const std::string verdict = std::abs(alpha - 1) <= linear_within   ? "O(N) growth shown"
+                                    : std::abs(alpha - 2) <= linear_within ? "O(N²) growth shown"
+                                                                           : "neither O(N) nor O(N²)";
+        out << "| " << key << " | " << number("%.0f", nt.front().first) << " – " << number("%.0f", nt.back().first)
+            << " | " << number("%.3f", alpha) << " | " << verdict << " |\n";
+    }
+    // The kernel's share: against the zero kernel on the same search and N.
+    // The speed-up of the O(N) search over all pairs at the N both ran.
+    std::string shares, speedups;
+    for (const auto& name : order()) {
+        const Case& c = cases().at(name);
+        if (c.kernel == "zero" || !rows.count(name)) continue;
+        for (const auto& [other, o] : cases()) {
+            if (o.d != c.d || o.n != c.n || !rows.count(other)) continue;
+            const double t = rows.at(name).ms_sweep, u = rows.at(other).ms_sweep;
+            if (o.kernel == "zero" && o.search == c.search)
+                shares += "| " + std::to_string(c.d) + " | " + c.search + " | " + c.kernel + " | " + std::to_string(c.n) +
+                          " | " + number("%.0f", 100 * (1 - u / t)) + " % |\n";
+            if (o.kernel == c.kernel && o.search == "AllPairs" && c.search != "AllPairs")
+                speedups += "| " + std::to_string(c.d) + " | " + c.search + " | " + c.kernel + " | " +
+                            std::to_string(c.n) + " | " + number("%.0f", u / t) + " |\n";
+        }
+    }
+    if (!shares.empty())
+        out << "\nThe kernel's share of a sweep, 1 − t(zero kernel) / t(kernel), same search and N (negative: within "
+            << "the noise):\n\n| d | search | kernel | N | share |\n|--:|---|---|--:|--:|\n"
+            << shares;
+    if (!speedups.empty())
+        out << "\nSpeed-up over AllPairs at the same N:\n\n| d | search | kernel | N | t(AllPairs) / t |\n"
+            << "|--:|---|---|--:|--:|\n"
+            << speedups;
+    if (!skipped.empty()) {
+        out << "\nSkipped:\n\n";
+        for (const auto& s : skipped) out << "- " << s << "\n";
+    }
+    out.close();
+    std::rename((path + ".tmp").c_str(), path.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    std::string md;
+    for (int i = 1; i < argc; ++i)
+        if (std::strncmp(argv[i], "--md=", 5) == 0) md = argv[i] + 5;
+    using C4_1 = mollify::StaticKernel<tables::wendland_k_2_D1>;
+    using C4_3 = mollify::StaticKernel<tables::wendland_k_2_D3>;
+    using Combo = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_D1>;
+    // d = 1, eps = 20 dx; d = 3, eps = 2 dx; N = 10^4, 10^5, 10^6 (3D: 22^3, 46^3, 100^3).
+    register_sweeps<1, C4_1, sph::SortedSweep>("SortedSweep", "wendland:k=2", 20, {10'000, 100'000, 1'000'000});
+    register_sweeps<1, Combo, sph::SortedSweep>("SortedSweep", "combo:m=3,base=wendland:k=3", 20,
+                                                {10'000, 100'000, 1'000'000});
+    register_sweeps<1, ZeroKernel, sph::SortedSweep>("SortedSweep", "zero", 20, {10'000, 100'000, 1'000'000});
+    register_sweeps<1, C4_1, sph::AllPairs<1>>("AllPairs", "wendland:k=2", 20, {1'000, 3'000, 10'000});
+    register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100});
+    register_sweeps<3, ZeroKernel, sph::CellList<3>>("CellList", "zero", 2, {22, 46, 100});
+    register_sweeps<3, C4_3, sph::AllPairs<3>>("AllPairs", "wendland:k=2", 2, {10, 14, 22});  // 1000, 2744, 10648
+    Collector collector;
+    const std::string before = uptime();
+    benchmark::RunSpecifiedBenchmarks(&collector);
+    const std::string after = uptime();
+    if (!md.empty()) write_markdown(md, collector.runs(), collector.skipped(), before, after);
+    benchmark::Shutdown();
+    return 0;
+}
