@@ -206,7 +206,8 @@ TEST(Experiments, Registry) {
         EXPECT_FALSE(e.summary.empty());
         EXPECT_NE(e.run, nullptr);
     }
-    EXPECT_EQ(names, (std::vector<std::string>{"franz", "belley", "sph-periodic"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"franz", "belley", "sph-periodic", "poisson-free", "poisson-periodic",
+                                              "vortex-sheet"}));
 }
 
 TEST(Table, CsvQuotingAndMarkdown) {

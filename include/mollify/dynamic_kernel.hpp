@@ -67,6 +67,25 @@ constexpr auto registry_of(std::index_sequence<I...>) {
 template <class = void>
 inline constexpr auto registry = registry_of(std::make_index_sequence<std::size(tables::all_kernels)>{});
 
+// The registry entry of a canonical spec in dimension dim, or nullptr
+// (other_dim says whether the spec exists in another dimension). A template
+// so that only translation units that look kernels up by name instantiate
+// the registry; with MOLLIFY_PRECOMPILED_REGISTRY (the CMake target
+// mollify::registry) it is compiled once, in src/registry.cpp.
+template <class = void>
+const KernelOps* find_ops(std::string_view key, int dim, bool& other_dim) {
+    other_dim = false;
+    for (const KernelOps& ops : registry<>) {
+        if (key != ops.table->spec) continue;
+        if (ops.table->dim == dim) return &ops;
+        other_dim = true;
+    }
+    return nullptr;
+}
+#ifdef MOLLIFY_PRECOMPILED_REGISTRY
+extern template const KernelOps* find_ops<void>(std::string_view, int, bool&);
+#endif
+
 }  // namespace MOLLIFY_ISA
 }  // namespace detail
 
@@ -133,17 +152,14 @@ private:
 };
 
 // The kernel of a spec (any spelling of the grammar, include/mollify/spec.hpp)
-// in dimension dim, from the emitted tables on the include path.
+// in dimension dim, from the emitted tables on the include path. (A template
+// for the reason find_ops is one.)
 template <class = void>
 Kernel kernel(std::string_view spec, int dim) {
     if (dim < 1 || dim > 3) fail("dimension " + std::to_string(dim) + " is not 1, 2 or 3");
     const std::string key = spec_string(parse_spec(spec));
     bool other_dim = false;
-    for (const detail::KernelOps& ops : detail::registry<>) {
-        if (key != ops.table->spec) continue;
-        if (ops.table->dim == dim) return Kernel(ops);
-        other_dim = true;
-    }
+    if (const detail::KernelOps* ops = detail::find_ops<>(key, dim, other_dim)) return Kernel(*ops);
     if (other_dim)
         fail("kernel " + key + " is not defined in D = " + std::to_string(dim) + " (its tables exist for other dimensions)");
     fail("kernel " + key + " is not in the emitted tables; emit it with: mollify-gen emit --only '" + key + "'");

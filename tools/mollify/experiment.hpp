@@ -25,12 +25,16 @@ std::span<const Experiment> experiments();
 // the line and the known experiments if there is none of that name.
 const Experiment& find_experiment(const Scene& scene);
 
-// Defined one per file: franz.cpp, belley.cpp, sph_periodic.cpp; pending.cpp
+// Defined one per file: franz.cpp, belley.cpp, sph_periodic.cpp,
+// poisson_free.cpp, poisson_periodic.cpp, vortex_sheet.cpp; pending.cpp
 // defines a stub (an Error "experiment X is not built yet") for each of those
 // files that does not exist yet (tools/mollify/CMakeLists.txt). Tests that
 // link mollify_app without the experiments link mollify_app_stubs instead.
 void run_franz(const Scene&, Output&);
 void run_belley(const Scene&, Output&);
 void run_sph_periodic(const Scene&, Output&);
+void run_poisson_free(const Scene&, Output&);
+void run_poisson_periodic(const Scene&, Output&);
+void run_vortex_sheet(const Scene&, Output&);
 
 }  // namespace mollify::app

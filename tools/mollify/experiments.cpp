@@ -13,6 +13,12 @@ constexpr std::array registry = {
     Experiment{"belley", "Belley's estimation study: SPH, trapezoidal and Simpson sums of f, f', f'' on random points",
                run_belley},
     Experiment{"sph-periodic", "SPH on a periodic box in 2D, with a density/velocity picture", run_sph_periodic},
+    Experiment{"poisson-free", "free-space particle Poisson solvers (direct, treecode) against exact values: time against error",
+               run_poisson_free},
+    Experiment{"poisson-periodic", "periodic FFT Poisson solver (FD and pseudospectral symbols, charge assignment), 1D BVP",
+               run_poisson_periodic},
+    Experiment{"vortex-sheet", "2D vortex blobs: periodic vortex sheet roll-up, algebraic and compact mollifiers",
+               run_vortex_sheet},
 };
 
 }  // namespace

@@ -7,7 +7,7 @@
 // particles of the slab around z = 1/2). Energy (Franz 2.18/3.7) and
 // momentum are recorded at every snapshot.
 #include "experiment.hpp"
-#include "kernels.hpp"
+#include <mollify/kernel.hpp>
 
 #include <mollify/sph.hpp>
 
@@ -71,7 +71,7 @@ void run(const Scene& scene, Output& out) {
     const double cfl = scene.number("sph_periodic.cfl", 0.1);
     const sph::Integrator method = sph::integrator(scene.string("sph_periodic.integrator", "leapfrog"));
 
-    const Kernel kernel = find_kernel(spec, D);
+    const Kernel kernel = mollify::kernel(spec, D);
     Setup<D> s = lattice<D>(n, amplitude, width, drift);
     const auto domain = sph::Domain<D>::periodic(1.0);
     sph::BarotropicEuler<D, Kernel> system(kernel, eps, domain, s.mass);
