@@ -95,3 +95,40 @@ TEST(MollifyRun, List) {
     EXPECT_EQ(r.out.find("notes.txt"), std::string::npos);
     EXPECT_EQ(w.run("list nowhere").status, 1);
 }
+
+// `mollify report`: a section that passes, a section that fails (its scene
+// is missing from the --scenes folder) reported in its place while the
+// others still run, the exit status saying so, and the report written
+// atomically in either case. (The whole report runs from the README.)
+TEST(MollifyReport, SectionsPassOrFailIndependently) {
+    Workdir w;
+    w.file("empty-scenes/README", "no scenes here\n");
+    const Outcome r = w.run("report --out rep --only exactness --only studies --scenes empty-scenes");
+    EXPECT_EQ(r.status, 1) << r.err;
+    const std::string index = slurp(w.dir / "rep" / "index.md");
+    EXPECT_NE(index.find("| passed |"), std::string::npos) << index;  // exactness
+    EXPECT_NE(index.find("**FAILED** (3)"), std::string::npos) << index;  // three studies, three failures
+    EXPECT_NE(index.find("franz_line.toml"), std::string::npos) << index;   // the failure names the missing scene
+    const std::size_t all = index.find("| **all** |");                      // every certificate exact and passed:
+    ASSERT_NE(all, std::string::npos) << index;                            // "| **all** | kernels | n | n |"
+    std::istringstream row(index.substr(all + 11, index.find('\n', all) - all - 11));
+    long kernels = 0, checks = -1, passed = -2;
+    char bar = 0;
+    row >> kernels >> bar >> checks >> bar >> passed;
+    EXPECT_GT(kernels, 200);
+    EXPECT_EQ(checks, passed) << index;
+    EXPECT_NE(index.find("byte for byte"), std::string::npos) << index;
+    EXPECT_TRUE(fs::exists(w.dir / "rep" / "exactness" / "errata.csv"));
+    EXPECT_NE(r.err.find("exactness passed"), std::string::npos) << r.err;  // progress, per section
+    EXPECT_NE(r.err.find("studies FAILED"), std::string::npos) << r.err;
+    for (const std::string& e : w.entries()) EXPECT_EQ(e.find(".tmp-"), std::string::npos) << e;
+}
+
+TEST(MollifyReport, UnknownSectionIsAnError) {
+    Workdir w;
+    const Outcome r = w.run("report --only exactnes");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("unknown report section 'exactnes'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("exactness, accuracy"), std::string::npos) << r.err;
+    EXPECT_EQ(w.entries(), std::vector<std::string>{});
+}

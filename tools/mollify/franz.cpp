@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -104,7 +105,7 @@ Settings read(const Scene& scene) {
 }
 
 struct Run {
-    double eps = 0, h = 0, dt = 0, wall = 0, energy_drift = 0, mass_change = 0;
+    double eps = 0, h = 0, dt = 0, wall = 0, cpu = 0, energy_drift = 0, mass_change = 0;
     std::size_t particles = 0, steps = 0, interactions = 0;
     sph::EnergyError q;
 };
@@ -112,6 +113,7 @@ struct Run {
 // One SPH run to t_end with step dt_scale times the CFL step.
 Run simulate(const Settings& s, const Kernel& kernel, double eps, double dt_scale) {
     const auto start = std::chrono::steady_clock::now();
+    const std::clock_t cpu_start = std::clock();  // the process's CPU time: robust to other load on the machine
     Run r;
     r.eps = eps;
     r.h = s.problem.spacing(eps);
@@ -141,6 +143,7 @@ Run simulate(const Settings& s, const Kernel& kernel, double eps, double dt_scal
     r.particles = lat.mass.size();
     r.interactions = system.interactions();
     r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.cpu = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     return r;
 }
 
@@ -223,6 +226,26 @@ std::string per_kernel_plot(const std::string& file, const std::vector<std::stri
     return s + "\n";
 }
 
+// Per kernel drawn in the time-against-error plot: the CPU time of the
+// cheapest run reaching each Q_kin target (which kernel gets there fastest).
+Table cost_table(const Settings& s, const std::vector<std::vector<Run>>& runs, const std::vector<std::string>& chosen) {
+    constexpr double targets[] = {1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+    Table t{{"kernel"}, {}};
+    for (double q : targets) t.columns.push_back("Q_kin ≤ " + format(q, 1) + " [s]");
+    for (const std::string& spec : chosen)
+        for (std::size_t i = 0; i < s.kernels.size(); ++i) {
+            if (s.kernels[i].spec != spec) continue;
+            std::vector<std::string> row{spec};
+            for (double q : targets) {
+                double best = INFINITY;
+                for (const Run& r : runs[i])
+                    if (r.q.kinetic <= q) best = std::min(best, r.cpu);
+                row.push_back(std::isfinite(best) ? format(best, 3) : "–");
+            }
+            t.add(row);
+        }
+    return t;
+}
 }  // namespace
 
 void run_franz(const Scene& scene, Output& out) {
@@ -234,7 +257,7 @@ void run_franz(const Scene& scene, Output& out) {
     // Runs, cheapest first within each kernel (largest eps first).
     std::vector<std::vector<Run>> runs(s.kernels.size());
     Table errors{{"kernel", "k", "l", "m", "eps", "h", "particles", "steps", "dt", "Q_kin", "Q_pot", "energy_drift",
-                  "mass_change", "wall_s", "interactions"},
+                  "mass_change", "wall_s", "cpu_s", "interactions"},
                  {}};
     const std::size_t total = s.kernels.size() * s.eps.size();
     std::size_t done = 0;
@@ -247,7 +270,7 @@ void run_franz(const Scene& scene, Output& out) {
             errors.add({k.spec, std::to_string(k.k), std::to_string(k.l), std::to_string(k.m), format(e, 6), format(r.h, 6),
                         std::to_string(r.particles), std::to_string(r.steps), format(r.dt, 6), format(r.q.kinetic, 6),
                         format(r.q.potential, 6), format(r.energy_drift, 3), format(r.mass_change, 3), format(r.wall, 4),
-                        std::to_string(r.interactions)});
+                        format(r.cpu, 4), std::to_string(r.interactions)});
             ++done;
         }
     progress("franz " + s.problem.name, total, total);
@@ -301,14 +324,16 @@ void run_franz(const Scene& scene, Output& out) {
     }
     out.csv("rates.csv", rates);
 
-    // Plots: Q_kin against eps (one line per kernel), wall time against Q_kin.
+    // Plots: Q_kin against eps (one line per kernel), CPU time against Q_kin
+    // (the process's CPU time over all threads: comparable between kernels
+    // even when other work shares the machine).
     std::string blocks, titles_csv;
     std::vector<std::string> titles;
     for (std::size_t i = 0; i < s.kernels.size(); ++i) {
         titles.push_back(s.kernels[i].label());
         for (const Run& r : runs[i])
             blocks += format(r.eps, 6) + "," + format(r.q.kinetic, 6) + "," + format(r.q.potential, 6) + "," +
-                      format(r.wall, 4) + "\n";
+                      format(r.cpu, 4) + "\n";
         blocks += "\n\n";
     }
     out.write("errors_by_kernel.dat", blocks);
@@ -319,8 +344,8 @@ void run_franz(const Scene& scene, Output& out) {
     std::vector<std::string> chosen = s.plot_kernels;
     if (chosen.empty())
         for (const KernelChoice& k : s.kernels) chosen.push_back(k.spec);
-    std::string tv = "set key noautotitle; set logscale xy; set format x '10^{%L}'; set xlabel 'Q_{kin}(t_{end})'; set ylabel 'wall time [s]'; set key outside right; "
-                     "set title 'Franz " + s.problem.name + ": wall time against error (lower left is better)'\nplot ";
+    std::string tv = "set key noautotitle; set logscale xy; set format x '10^{%L}'; set xlabel 'Q_{kin}(t_{end})'; set ylabel 'CPU time [s], all threads'; set key outside right; "
+                     "set title 'Franz " + s.problem.name + ": CPU time against error (lower left is better)'\nplot ";
     bool first = true;
     for (const std::string& spec : chosen) {
         const auto it = std::find_if(s.kernels.begin(), s.kernels.end(), [&](const KernelChoice& k) { return k.spec == spec; });
@@ -332,9 +357,9 @@ void run_franz(const Scene& scene, Output& out) {
     out.plot("time_vs_error.png", tv + "\n", 1100, 700);
 
     // Summary.
-    double wall = 0;
+    double wall = 0, cpu = 0;
     for (const auto& rs : runs)
-        for (const Run& r : rs) wall += r.wall;
+        for (const Run& r : rs) wall += r.wall, cpu += r.cpu;
     std::string& md = out.summary();
     md += "# " + scene.title() + "\n\n";
     md += "SPH for the 1D Euler equations with p = ρ²/2 (Franz eqs. 3.4–3.6) on " +
@@ -345,13 +370,16 @@ void run_franz(const Scene& scene, Output& out) {
     md += "ε range used for every rate: ";
     for (std::size_t j = 0; j < s.eps.size(); ++j) md += (j ? ", " : "") + format(s.eps[j], 4);
     md += " (least squares over all of them). " + std::to_string(s.kernels.size()) + " kernels, " +
-          std::to_string(total) + " runs, " + format(wall, 3) + " s of runs on this machine.\n\n";
+          std::to_string(total) + " runs, " + format(wall, 3) + " s wall (" + format(cpu, 3) + " s CPU) of runs on this machine.\n\n";
     md += "## Rates a in Q ~ ε^a, ours beside the thesis' (" + (s.printed_table.empty() ? "none" : "Table " + s.printed_table) +
           ")\n\n`rate_*`: least squares over all our ε; `thesis_eps_*`: over the ε the thesis used for a marked rate "
           "(a, b, c: see its caption); `diff_*`: ours minus printed, like for like.\n\n" + rates.markdown() + "\n";
     if (compared)
         md += std::to_string(big) + " of " + std::to_string(compared) +
               " kernels differ from the printed rate by more than 0.5 (kin or pot).\n\n";
+    md += "## Cost of an error level\n\n" + cost_table(s, runs, chosen).markdown() +
+          "\nCPU time (all threads) of the cheapest measured run whose Q_kin(t_end) is at most the target; "
+          "– where no run reached it. Figure: time_vs_error.png.\n\n";
     md += "## Time step: the smallest ε again with Δt/2\n\n" + dt_table.markdown() + "\n";
     md += "Mass is conserved exactly (constant particle masses; `mass_change` in errors.csv is 0); the energy "
           "(Franz 2.18 with 3.7) drift of each run is in errors.csv beside its Δt.\n\n";

@@ -1,10 +1,12 @@
 // mollify: runs scenes (README, "Scenes and the mollify command").
 //   mollify run SCENE.toml [--out DIR]   run a scene, write its output folder atomically
 //   mollify list [DIR]                   the experiments, and the scenes in DIR (default scenes/)
+//   mollify report [--out DIR]           the verification report (report.hpp)
 // Exit status: 0 success, 1 a mollify::Error (bad scene, failed run; message on
 // stderr as "mollify: error: ..."), 2 command-line misuse.
 #include "experiment.hpp"
 #include "output.hpp"
+#include "report.hpp"
 #include "scene.hpp"
 
 #include <mollify/error.hpp>
@@ -73,7 +75,7 @@ int run_list(const std::string& dir_option) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"mollify: SPH experiments and reproduced studies, run from scene files (scenes/*.toml)"};
+    CLI::App app{"mollify: the verification report, and experiments run from scene files (scenes/*.toml)"};
     app.require_subcommand(1);
 
     auto* run = app.add_subcommand("run", "run a scene; writes CSV, PNG plots and summary.md into its output folder");
@@ -89,7 +91,15 @@ int main(int argc, char** argv) {
     for (const Experiment& e : experiments()) names += "\n  " + std::string(e.name) + "  " + std::string(e.summary);
     run->footer("Experiments (scene.experiment):" + names);
 
-    // (mollify report: added here later.)
+    auto* report = app.add_subcommand(
+        "report", "the verification report: report/index.md with figures (exactness, accuracy, speed against error, "
+                  "reproduced studies); exit status 0 only if every section passed");
+    ReportOptions report_options;
+    report->add_option("--out", report_options.out, "report folder (written atomically)")->capture_default_str();
+    report->add_option("--scenes", report_options.scenes,
+                       "a scenes/ folder to read the report's scenes from (default: the copies compiled in)");
+    report->add_option("--only", report_options.only,
+                       "sections to run: exactness, accuracy, speed, studies, figures (default: all)");
 
     try {
         app.parse(argc, argv);
@@ -104,6 +114,7 @@ int main(int argc, char** argv) {
     try {
         if (*run) return run_scene(scene_file, out);
         if (*list) return run_list(scene_dir);
+        if (*report) return run_report(report_options);
     } catch (const std::exception& e) {  // mollify::Error, and filesystem errors
         progress_clear();
         std::cerr << "mollify: error: " << e.what() << "\n";

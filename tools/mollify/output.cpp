@@ -1,5 +1,6 @@
 // The atomic output folder, tables, number formatting, gnuplot, progress.
 #include "output.hpp"
+#include "process.hpp"
 
 #include <mollify/error.hpp>
 
@@ -14,10 +15,8 @@
 #include <mutex>
 
 #include <fcntl.h>
-#include <spawn.h>
 #include <stdio.h>  // renameat2 (glibc >= 2.28)
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 extern char** environ;
@@ -83,18 +82,6 @@ std::string markdown_cell(const std::string& f) {
         else m += c;
     }
     return m;
-}
-
-std::string read_all(int fd) {
-    std::string s;
-    char buf[4096];
-    for (;;) {
-        const ssize_t n = ::read(fd, buf, sizeof buf);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        s.append(buf, static_cast<std::size_t>(n));
-    }
-    return s;
 }
 
 std::string trim(std::string s) {
@@ -215,40 +202,22 @@ void Output::plot(const std::string& png, std::string_view script, int width, in
                                  "; set output '" + tmp_png +
                                  "'; set datafile separator ','; set key autotitle columnheader";
 
-    int err_pipe[2];
-    if (::pipe2(err_pipe, O_CLOEXEC) != 0) fail("plot " + png + ": cannot create a pipe: " + errno_text(errno));
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_adddup2(&actions, err_pipe[1], 2);
-    posix_spawn_file_actions_addchdir_np(&actions, staging_.c_str());
-    std::string a0 = "gnuplot", a1 = "-e";
-    std::string a2 = preamble, a3 = script_name;
-    char* argv[] = {a0.data(), a1.data(), a2.data(), a3.data(), nullptr};
-    pid_t pid = 0;
-    const int rc = ::posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
-    posix_spawn_file_actions_destroy(&actions);
-    ::close(err_pipe[1]);
-    if (rc != 0) {
-        ::close(err_pipe[0]);
+    ProcessResult r;
+    try {
+        r = run_process("gnuplot", {"-e", preamble, script_name}, staging_,
+                        "run tools/install-deps.sh, which installs gnuplot-nox");
+    } catch (const Error& e) {
         fs::remove(script_file, ec);
-        if (rc == ENOENT)
-            fail("plot " + png + ": gnuplot is not installed (run tools/install-deps.sh, which installs gnuplot-nox)");
-        fail("plot " + png + ": cannot run gnuplot: " + errno_text(rc));
+        fail("plot " + png + ": " + e.what());
     }
-    const std::string err = trim(read_all(err_pipe[0]));
-    ::close(err_pipe[0]);
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
+    const std::string err = trim(r.err);
     fs::remove(script_file, ec);
     const fs::path produced = staging_ / tmp_png;
-    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::file_size(produced, ec) > 0 && !ec;
+    const bool ok = r.ok() && fs::file_size(produced, ec) > 0 && !ec;
     if (!ok) {
         fs::remove(produced, ec);
-        std::string why = WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status)) : "killed by a signal";
-        if (WIFEXITED(status) && WEXITSTATUS(status) == 0) why = "no image written";
+        std::string why = r.exit_status >= 0 ? "exit status " + std::to_string(r.exit_status) : "killed by a signal";
+        if (r.ok()) why = "no image written";
         fail("plot " + png + ": gnuplot failed (" + why + ")" + (err.empty() ? "" : ":\n" + err));
     }
     if (!err.empty()) std::cerr << "mollify: gnuplot warnings for " << png << ":\n" << err << "\n";
