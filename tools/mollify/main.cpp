@@ -14,9 +14,12 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+
+#include <unistd.h>
 
 using namespace mollify::app;
 namespace fs = std::filesystem;
@@ -74,7 +77,19 @@ int run_list(const std::string& dir_option) {
 
 }  // namespace
 
+// OpenMP threads that spin while waiting (libgomp's default) burn CPU time
+// that the experiments' CPU-time measurements would count, and slow other
+// work on a shared machine. libgomp reads OMP_WAIT_POLICY when it is loaded,
+// before main, so mollify re-executes itself once with it set to passive
+// (unless the user chose a policy).
+static void wait_passively(char** argv) {
+    if (std::getenv("OMP_WAIT_POLICY")) return;
+    ::setenv("OMP_WAIT_POLICY", "passive", 1);
+    ::execv("/proc/self/exe", argv);  // returns only on failure: then run as we are
+}
+
 int main(int argc, char** argv) {
+    wait_passively(argv);
     CLI::App app{"mollify: the verification report, and experiments run from scene files (scenes/*.toml)"};
     app.require_subcommand(1);
 
