@@ -130,6 +130,13 @@ std::string run_scene_in(const Scene& scene, Output& out, const std::string& sub
     return summary;
 }
 
+std::string read_text(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
 std::string markdown_section(const std::string& markdown, std::string_view heading) {
     const std::size_t level = heading.find_first_not_of('#');
     std::istringstream in(markdown);

@@ -58,6 +58,8 @@ Scene report_scene(const ReportContext& ctx, std::string_view name);
 // Runs a scene's experiment into the folder `sub` of `out` (atomically, as
 // `mollify run` does); returns the experiment's summary.md text.
 std::string run_scene_in(const Scene& scene, Output& out, const std::string& sub);
+// A file's whole text (empty if it cannot be read).
+std::string read_text(const std::filesystem::path& file);
 // The part of a Markdown text under the first heading line starting with
 // `heading` (e.g. "## Rates"), up to the next heading of the same or a
 // higher level; empty if there is none.

@@ -80,10 +80,7 @@ void report_accuracy(const ReportContext& ctx, Output& out, SectionResult& r) {
                                          (out.staging() / "edge.csv").string()},
                                         {}, "cmake --build build --target mollify-stability");
     if (!p.ok()) fail("mollify-stability failed (exit status " + std::to_string(p.exit_status) + "): " + p.err);
-    std::ifstream in(out.staging() / "stability.md");
-    std::ostringstream text;
-    text << in.rdbuf();
-    const std::string summary = markdown_section(text.str(), "## Summary: largest error over each family (ulps)");
+    const std::string summary = markdown_section(read_text(out.staging() / "stability.md"), "## Summary: largest error over each family (ulps)");
     if (summary.empty()) fail("mollify-stability wrote no summary table");
 
     r.markdown += "Every kernel of the catalogue in 3D against its exact value (MPFR, ≥ 200 correct bits), at the hard "

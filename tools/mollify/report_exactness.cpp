@@ -18,13 +18,6 @@ namespace mollify::app {
 
 namespace {
 
-std::string read_file(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 // Files under `a` and `b` that differ or exist on one side only.
 std::vector<std::string> differences(const fs::path& a, const fs::path& b) {
     std::map<std::string, int> seen;  // 1: in a, 2: in b, 3: both
@@ -34,7 +27,7 @@ std::vector<std::string> differences(const fs::path& a, const fs::path& b) {
     std::vector<std::string> diff;
     for (const auto& [name, where] : seen) {
         if (where != 3) diff.push_back(name + (where == 1 ? " (only in the new output)" : " (only in generated/)"));
-        else if (read_file(a / name) != read_file(b / name)) diff.push_back(name + " (differs)");
+        else if (read_text(a / name) != read_text(b / name)) diff.push_back(name + " (differs)");
     }
     return diff;
 }
@@ -46,7 +39,7 @@ std::string family(const std::string& spec) {
 
 // Certificates per family from catalogue.json; failures named.
 std::string certificates(const fs::path& catalogue, SectionResult& r) {
-    const nlohmann::json cat = nlohmann::json::parse(read_file(catalogue));
+    const nlohmann::json cat = nlohmann::json::parse(read_text(catalogue));
     struct Count {
         long kernels = 0, checks = 0, passed = 0;
     };

@@ -16,13 +16,6 @@ namespace mollify::app {
 
 namespace {
 
-std::string slurp(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 // Everything after the first line (the experiment's own title).
 std::string body(const std::string& summary) {
     const std::size_t nl = summary.find('\n');
@@ -37,7 +30,7 @@ void kernels(const ReportContext& ctx, Output& out, SectionResult& r) {
                                          "--md=" + (out.staging() / "kernel_bench.md").string()},
                                         {}, "cmake --build build --target kernel_bench");
     if (!p.ok()) fail("kernel_bench failed (exit status " + std::to_string(p.exit_status) + "): " + p.err);
-    const std::string md = slurp(out.staging() / "kernel_bench.md");
+    const std::string md = read_text(out.staging() / "kernel_bench.md");
     const std::size_t table = md.find("| benchmark");
     if (table == std::string::npos) fail("kernel_bench wrote no table");
     r.markdown += "### Kernel evaluation: throughput beside accuracy\n\n"
@@ -62,7 +55,7 @@ void report_speed(const ReportContext& ctx, Output& out, SectionResult& r) {
     if (fs::exists(franz)) {
         r.markdown += "Franz's torus case (section 4), the process's CPU time of each run against its Q_kin at t = 0.8:"
                       "\n\n![CPU time against Q_kin](studies/franz-torus/time_vs_error.png)\n\n" +
-                      markdown_section(slurp(franz), "## Cost of an error level");
+                      markdown_section(read_text(franz), "## Cost of an error level");
     } else {
         r.markdown += "The Franz torus study (section 4) did not run; no SPH timings.\n\n";
         r.failures.push_back("SPH time against error: the Franz torus study did not run");
