@@ -14,6 +14,15 @@
 // function, so the expansion is an expansion of the exact far field; pairs
 // closer than delta are always summed with the exact kernel.
 //
+// 2D runs this particle-cluster form per target (a complex expansion costs
+// O(p) per cell). 3D applies the same two tests to PAIRS of cells of a
+// target tree and the source tree (a dual traversal; rho_c becomes
+// rho_s + rho_t) and collects accepted source cells into Taylor (local)
+// expansions about target cells, pushed down to the leaves: one O(p^6)
+// translation per cell pair instead of an O(p^3) expansion per target and
+// cell, which at p = 8..12 is what makes 3D pay off (Dehnen's method,
+// J. Comput. Phys. 179 (2002), with Cartesian expansions).
+//
 //   mollify::poisson::Treecode<3, mollify::Kernel> tree(k, sources, {.theta = 0.5, .order = 6});
 //   auto f = tree.evaluate(targets);    // or tree.evaluate() at the sources
 #pragma once
