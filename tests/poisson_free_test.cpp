@@ -143,7 +143,7 @@ void many_charges(const std::string& spec, bool per_source) {
     const auto tgt = uniform_cloud<D>(20, -1.2, 1.2, 0, 0.3, false, 12);
     Cloud<D> all = tgt;  // 20 free targets, then 20 at sources (self terms)
     for (std::size_t i = 0; i < 20; ++i)
-        for (int c = 0; c < D; ++c) all.x[c].push_back(src.x[c][i * 7]);
+        for (int c = 0; c < D; ++c) all.x[c].push_back(src.x[c][i * (n / 20)]);
     const auto f = poisson::direct<D>(k, src.sources(), all.points());
     double worst_phi = 0, worst_e = 0;
     for (std::size_t i = 0; i < all.x[0].size(); ++i) {
