@@ -5,8 +5,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mollify::bench {
@@ -33,6 +35,20 @@ inline std::string number(const char* f, double x) {
     char buf[64];
     std::snprintf(buf, sizeof buf, f, x);
     return buf;
+}
+
+// Least-squares slope of log t against log N: the alpha of t ~ N^alpha.
+inline double slope(const std::vector<std::pair<double, double>>& nt) {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    const double m = static_cast<double>(nt.size());
+    for (const auto& [n, t] : nt) {
+        const double lx = std::log(n), ly = std::log(t);
+        sx += lx;
+        sy += ly;
+        sxx += lx * lx;
+        sxy += lx * ly;
+    }
+    return (m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
 }  // namespace mollify::bench

@@ -168,6 +168,7 @@ void register_sweeps(const char* search, const char* kernel, double eps_over_dx,
 
 using mollify::bench::Collector;
 using mollify::bench::number;
+using mollify::bench::slope;
 
 std::string uptime() {
     std::string line;
@@ -179,20 +180,6 @@ std::string uptime() {
     while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
     line.erase(0, line.find_first_not_of(' '));
     return line.empty() ? "(uptime unavailable)" : line;
-}
-
-// Least-squares slope of log t against log N.
-double slope(const std::vector<std::pair<double, double>>& nt) {
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    const double m = static_cast<double>(nt.size());
-    for (const auto& [n, t] : nt) {
-        const double lx = std::log(n), ly = std::log(t);
-        sx += lx;
-        sy += ly;
-        sxx += lx * lx;
-        sxy += lx * ly;
-    }
-    return (m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
 struct Row {

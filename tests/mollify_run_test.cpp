@@ -131,4 +131,25 @@ TEST(MollifyReport, UnknownSectionIsAnError) {
     EXPECT_NE(r.err.find("unknown report section 'exactnes'"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("exactness, accuracy"), std::string::npos) << r.err;
     EXPECT_EQ(w.entries(), std::vector<std::string>{});
+
+// The poisson-free experiment: bad parameters exit 1 naming the value before
+// anything is written; a tiny scene writes its tables, plot and summary.
+TEST(MollifyRun, PoissonFree) {
+    Workdir w;
+    const std::string head = "[scene]\nname = \"pf\"\nexperiment = \"poisson-free\"\n[poisson_free]\nparticles = 300\n"
+                             "kernels = [\"mollifier:M=4\"]\norders = [2]\n";
+    w.file("scenes/bad_delta.toml", head + "delta = -0.5\nthetas = [0.5]\n");
+    Outcome r = w.run("run scenes/bad_delta.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("poisson_free.delta = -0.5"), std::string::npos) << r.err;
+    w.file("scenes/bad_theta.toml", head + "delta = 0.1\nthetas = [1.0]\n");
+    r = w.run("run scenes/bad_theta.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("theta = 1 "), std::string::npos) << r.err;
+    EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"});
+    w.file("scenes/good.toml", head + "delta = 0.1\nthetas = [0.5]\n");
+    r = w.run("run scenes/good.toml");
+    EXPECT_EQ(r.status, 0) << r.err;
+    for (const char* f : {"results.csv", "tree_0.csv", "time_vs_error.png", "summary.md"})
+        EXPECT_TRUE(fs::exists(w.dir / "out" / "pf" / f)) << f;
 }

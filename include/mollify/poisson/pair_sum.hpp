@@ -1,0 +1,192 @@
+// The exact mollified sum over a contiguous range of sources at one target:
+// sum_j q_j phi_delta_j(|x - x_j|) and its field, the inner loop of direct
+// summation and of the treecode's near field. Sources are copied once into
+// SourceArrays (the treecode reorders them); the loop runs in blocks: the
+// radii of a block and the Green's function for all its pairs (vectorised),
+// one batch call of the kernel per quantity (potential, phi'/r) for the
+// pairs within a support, then the weighted sums (vectorised reductions).
+//
+// Per-source smoothing lengths use the scaling of the runtime
+// (include/mollify/smoothing.hpp): f_delta(r) = delta^p f_1(r/delta), with
+// p = 2 - D for the potential (plus log(delta)/(2 pi) in 2D) and p = -D for
+// phi'/r. A global delta uses Smoothing(delta) directly, so a single source
+// gets the runtime's own accuracy.
+#pragma once
+
+#include <mollify/dynamic_kernel.hpp>
+#include <mollify/poisson/sources.hpp>
+#include <mollify/smoothing.hpp>
+#include <mollify/static_kernel.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <numbers>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#if defined(_OPENMP)
+#define MOLLIFY_STRINGIFY(...) #__VA_ARGS__
+#define MOLLIFY_SIMD_REDUCTION(...) _Pragma(MOLLIFY_STRINGIFY(omp simd reduction(+ : __VA_ARGS__)))
+#else
+#define MOLLIFY_SIMD_REDUCTION(...)
+#endif
+
+namespace mollify::poisson {
+namespace detail {
+
+// The kernel's dimension and potential, for a run-time Kernel or a StaticKernel type.
+template <class K>
+int kernel_dim(const K& k) {
+    if constexpr (std::is_same_v<K, Kernel>) return k.dim(); else return K::dim;
+}
+
+template <class K>
+void check_kernel(const K& k, int dim) {
+    std::string spec;
+    bool potential;
+    if constexpr (std::is_same_v<K, Kernel>) {
+        spec = std::string(k.spec());
+        potential = k.has_potential();
+    } else {
+        spec = K::table.spec;
+        potential = K::has_potential;
+    }
+    if (kernel_dim(k) != dim)
+        fail("kernel " + spec + " is made for D = " + std::to_string(kernel_dim(k)) + ", the sources live in D = " +
+             std::to_string(dim));
+    if (!potential) fail("kernel " + spec + " has no potential in D = " + std::to_string(dim) + " (the Poisson solvers need one)");
+}
+
+// One batch of f_s(r) for the potential quantities (unchecked for a
+// StaticKernel; the run-time Kernel checks its radii in one cheap pass).
+template <QuantityId Q, class K>
+void batch(const K& k, const double* r, double* out, std::size_t n, const Smoothing& s) {
+    if constexpr (std::is_same_v<K, Kernel>) {
+        k.evaluate(Q, std::span<const double>(r, n), s, std::span<double>(out, n));
+    } else {
+        K::template evaluate_unchecked<Q>(r, out, n, s);
+    }
+}
+
+inline constexpr double inv_2pi = 0.5 * std::numbers::inv_pi;  // the 2D Green's function log(r)/(2 pi)
+
+// The sources as the sums read them: coordinates, charges, and per source
+// the factors delta^(2-D), log(delta)/(2 pi) (2D) and delta^-D that turn
+// unit-smoothing values at r/delta into delta-smoothed ones (only for
+// per-source delta; a global delta evaluates with Smoothing(delta)).
+template <int D>
+struct SourceArrays {
+    std::array<std::vector<double>, D> x;
+    std::vector<double> q, delta, phi_scale, phi_shift, grad_scale;
+    bool global = true;
+    Smoothing smoothing{1.0, D};  // Smoothing(delta) if global, else the unit one
+
+    SourceArrays(const Sources<D>& s, const std::vector<std::size_t>& order) : smoothing(s.delta[0], D) {
+        global = s.global_delta();
+        if (!global) smoothing = Smoothing(1.0, D);
+        const std::size_t n = order.size();
+        for (int k = 0; k < D; ++k) x[k].resize(n);
+        q.resize(n);
+        delta.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t j = order[i];
+            for (int k = 0; k < D; ++k) x[k][i] = s.x[k][j];
+            q[i] = s.q[j];
+            delta[i] = s.delta_of(j);
+        }
+        if (global) return;
+        phi_scale.resize(n);
+        phi_shift.resize(n);
+        grad_scale.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            phi_scale[i] = std::pow(delta[i], 2 - D);
+            phi_shift[i] = D == 2 ? inv_2pi * std::log(delta[i]) : 0.0;
+            grad_scale[i] = std::pow(delta[i], -D);
+        }
+    }
+    std::size_t size() const { return q.size(); }
+};
+
+inline constexpr std::size_t block = 128;
+
+// Outside the support phi_delta = G and phi_delta'/r = G'(r)/r:
+// 3D -1/(4 pi r) and 1/(4 pi r^3), 2D log(r)/(2 pi) and 1/(2 pi r^2)
+// (the runtime's exterior pieces, static_kernel.hpp). Every pair of a block
+// gets these (a vectorised loop); the few pairs inside a support are then
+// overwritten with the kernel's batch values.
+template <int D>
+inline void green(const double* r, double* pot, double* g, std::size_t n) {
+    constexpr double k = D == 3 ? 0.25 * std::numbers::inv_pi : inv_2pi;
+    for (std::size_t j = 0; j < n; ++j) {
+        const double inv = 1 / r[j];
+        if constexpr (D == 3) {
+            pot[j] = -k * inv;
+            g[j] = k * inv * inv * inv;
+        } else {
+            pot[j] = k * std::log(r[j]);
+            g[j] = k * inv * inv;
+        }
+    }
+}
+
+// Adds sum over sources [begin, end) of q_j phi_j and of -q_j grad phi_j at
+// the target xt to phi and E.
+template <int D, class K>
+void add_exact(const K& kernel, const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t begin,
+               std::size_t end, double& phi, std::array<double, D>& e) {
+    alignas(64) double d[D][block], r[block], pot[block], g[block], near_r[block], near_pot[block], near_g[block];
+    unsigned near[block];
+    double p_sum = 0, e0 = 0, e1 = 0, e2 = 0;
+    for (std::size_t b0 = begin; b0 < end; b0 += block) {
+        const std::size_t n = std::min(block, end - b0);
+        for (std::size_t j = 0; j < n; ++j) {
+            double r2 = 0;
+            for (int k = 0; k < D; ++k) {
+                d[k][j] = xt[k] - s.x[k][b0 + j];
+                r2 = mollify::detail::mul_add(d[k][j], d[k][j], r2);
+            }
+            r[j] = std::sqrt(r2);
+        }
+        green<D>(r, pot, g, n);
+        // The pairs within a support: the exact mollified kernel.
+        std::size_t m = 0;
+        const double* delta = s.delta.data() + b0;
+        for (std::size_t j = 0; j < n; ++j)
+            if (r[j] < delta[j]) near[m++] = static_cast<unsigned>(j);
+        if (m > 0) {
+            for (std::size_t i = 0; i < m; ++i) near_r[i] = s.global ? r[near[i]] : r[near[i]] / delta[near[i]];
+            batch<QuantityId::potential>(kernel, near_r, near_pot, m, s.smoothing);
+            batch<QuantityId::dpotential_over_r>(kernel, near_r, near_g, m, s.smoothing);
+            for (std::size_t i = 0; i < m; ++i) {
+                const std::size_t j = near[i];
+                if (s.global) {
+                    pot[j] = near_pot[i];
+                    g[j] = near_g[i];
+                } else {
+                    pot[j] = near_pot[i] * s.phi_scale[b0 + j] + s.phi_shift[b0 + j];
+                    g[j] = near_g[i] * s.grad_scale[b0 + j];
+                }
+            }
+        }
+        // E = -grad phi = -(phi'/r) (x - x_j) per source.
+        const double* q = s.q.data() + b0;
+        MOLLIFY_SIMD_REDUCTION(p_sum, e0, e1, e2)
+        for (std::size_t j = 0; j < n; ++j) {
+            p_sum += q[j] * pot[j];
+            const double gj = q[j] * g[j];
+            e0 -= gj * d[0][j];
+            e1 -= gj * d[1][j];
+            if constexpr (D == 3) e2 -= gj * d[D - 1][j];
+        }
+    }
+    phi += p_sum;
+    e[0] += e0;
+    e[1] += e1;
+    if constexpr (D == 3) e[2] += e2;
+}
+
+}  // namespace detail
+}  // namespace mollify::poisson

@@ -1,0 +1,94 @@
+// The treecode's parameters and the accuracy knob: a target relative error
+// in, an opening parameter theta and an order p out.
+//
+// The far-field truncation error of one accepted cell is bounded by
+// (multipole.hpp) sum|q| theta^(p+1)/(r (1 - theta)) for the potential, and
+// about (p + 2) times that over r (1 - theta) for the field. These worst
+// cases (every source on the cell's sphere, in line with the target)
+// overestimate the error of a whole evaluation by orders of magnitude: most
+// accepted cells lie well inside the theta limit, so the measured error
+// falls like (alpha theta)^(p+1) with alpha < 1. The knob uses that fitted
+// form,
+//     relative L2 field error ~ C (alpha theta)^(p+1) / (1 - theta)^2,
+// alpha and C calibrated by measurement (calibration below), and picks,
+// among theta in {0.3, 0.4, ..., 0.8}, the cheapest (theta, p) meeting the
+// target by the cost model (expansion work per interaction times the
+// number of interactions) ~ C(p + 3, 3)^2 / theta^3 in 3D (the M2L
+// translation is O(p^6)), (p + 1) / theta^2 in 2D.
+// tests/poisson_free_test.cpp (AccuracyKnob) checks the achieved error.
+#pragma once
+
+#include <mollify/error.hpp>
+#include <mollify/poisson/multipole.hpp>
+#include <mollify/smoothing.hpp>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace mollify::poisson {
+
+struct TreeOptions {
+    double theta = 0.5;  // opening parameter: a cell is expanded when rho_c / R < theta
+    int order = 6;       // multipole order p
+    int leaf_size = 256;  // at most this many sources in a leaf (256: fastest measured at N = 2e5, 3D)
+
+    void check() const {
+        if (!(theta > 0 && theta < 1))
+            fail("opening parameter theta = " + mollify::detail::show(theta) +
+                 " is not in (0, 1) (the multipole series converges only for rho/R < 1)");
+        check_order(order);
+        if (leaf_size < 1) fail("tree leaf size " + std::to_string(leaf_size) + " is not >= 1");
+    }
+};
+
+namespace detail {
+
+// Fit of the relative L2 field error against direct summation over
+// theta in {0.4, 0.5, 0.7}, p = 0..14, for 5000-6000 uniformly random and
+// Gaussian-distributed positive charges (tests/poisson_free_test.cpp
+// Treecode.* and AccuracyKnob.*): errors fall by a factor 1/(alpha theta)
+// per order, alpha = 0.69-0.72 in 3D (dual traversal with local
+// expansions), about 0.8 in 2D (particle-cluster); C is the largest
+// measured ratio (0.12 in 3D, 0.02 in 2D) rounded up.
+struct Calibration {
+    double alpha, c;
+};
+inline constexpr Calibration calibration[2] = {{0.8, 0.05}, {0.7, 0.2}};  // D = 2, D = 3
+
+inline double error_model(int dim, double theta, int p) {
+    const Calibration k = calibration[dim - 2];
+    return k.c * std::pow(k.alpha * theta, p + 1) / ((1 - theta) * (1 - theta));
+}
+
+}  // namespace detail
+
+// The cheapest (theta, p) whose modelled relative L2 field error is at most
+// `relative_error` (in (0, 1)) in dimension dim (2 or 3).
+inline TreeOptions for_relative_error(double relative_error, int dim) {
+    if (!(relative_error > 0 && relative_error < 1))
+        fail("target relative error " + mollify::detail::show(relative_error) + " is not in (0, 1)");
+    if (dim != 2 && dim != 3) fail("dimension " + std::to_string(dim) + " is not 2 or 3");
+    TreeOptions best;
+    double best_cost = std::numeric_limits<double>::infinity();
+    for (int t = 3; t <= 8; ++t) {
+        const double theta = 0.1 * t;
+        for (int p = 0; p <= max_order; ++p) {
+            if (detail::error_model(dim, theta, p) > relative_error) continue;
+            const double coefficients = dim == 3 ? (p + 1.0) * (p + 2) * (p + 3) / 6 : p + 1.0;
+            const double cost = (dim == 3 ? coefficients * coefficients : coefficients) / std::pow(theta, dim);
+            if (cost < best_cost) {
+                best_cost = cost;
+                best.theta = theta;
+                best.order = p;
+            }
+            break;
+        }
+    }
+    if (!(best_cost < std::numeric_limits<double>::infinity()))
+        fail("target relative error " + mollify::detail::show(relative_error) + " needs an order above " +
+             std::to_string(max_order));
+    return best;
+}
+
+}  // namespace mollify::poisson

@@ -1,0 +1,284 @@
+// The Barnes-Hut treecode with multipole expansions of order p (notes 001,
+// "Barnes-Hut treecode: particle-cluster interactions", and "the monopole
+// approximation is the 1st term in a multipole expansion ... the accuracy
+// is improved using higher-order terms"):
+//
+//   compute_interaction(x, c):
+//     if rho_c / R <= theta  and  R - rho_c >= delta_max(c):   far field of c (multipole.hpp)
+//     else if c is a leaf:                                    exact mollified sum over c's sources
+//     else:                                                   recurse into the children
+//
+// with R = |x - centre(c)| and rho_c the cell's radius. The second condition
+// is what smoothing adds: every source of an accepted cell is then at least
+// its delta away from x, where the mollified potential equals the Green's
+// function, so the expansion is an expansion of the exact far field; pairs
+// closer than delta are always summed with the exact kernel.
+//
+// 2D runs this particle-cluster form per target (a complex expansion costs
+// O(p) per cell). 3D applies the same two tests to PAIRS of cells of a
+// target tree and the source tree (a dual traversal; rho_c becomes
+// rho_s + rho_t) and collects accepted source cells into Taylor (local)
+// expansions about target cells, pushed down to the leaves: one O(p^6)
+// translation per cell pair instead of an O(p^3) expansion per target and
+// cell, which at p = 8..12 is what makes 3D pay off (Dehnen's method,
+// J. Comput. Phys. 179 (2002), with Cartesian expansions).
+//
+//   mollify::poisson::Treecode<3, mollify::Kernel> tree(k, sources, {.theta = 0.5, .order = 6});
+//   auto f = tree.evaluate(targets);    // or tree.evaluate() at the sources
+#pragma once
+
+#include <mollify/detail/parallel.hpp>
+#include <mollify/poisson/multipole.hpp>
+#include <mollify/poisson/pair_sum.hpp>
+#include <mollify/poisson/sources.hpp>
+#include <mollify/poisson/tolerance.hpp>
+#include <mollify/poisson/tree.hpp>
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace mollify::poisson {
+
+template <int D, class K>
+class Treecode {
+public:
+    Treecode(const K& kernel, const Sources<D>& sources, const TreeOptions& options)
+        : kernel_(kernel), options_(checked(options)), expansion_(options.order),
+          tree_((detail::check_kernel(kernel, D), detail::check_sources(sources), sources.x), sources.delta,
+                options.leaf_size),
+          s_(sources, tree_.order()) {
+        moments();
+    }
+
+    const Tree<D>& tree() const { return tree_; }
+    const TreeOptions& options() const { return options_; }
+
+    // phi and E = -grad phi at the targets.
+    Field<D> evaluate(const Points<D>& targets) const {
+        const std::size_t m = detail::check_targets<D>(targets);
+        Field<D> out(m);
+        if (m == 0) return out;
+        if constexpr (D == 3) {
+            const std::array<double, 1> no_delta{1.0};
+            const Tree<D> t(targets, no_delta, options_.leaf_size);
+            std::array<std::vector<double>, D> y;
+            for (int c = 0; c < D; ++c) {
+                y[c].resize(m);
+                for (std::size_t i = 0; i < m; ++i) y[c][i] = targets[c][t.order()[i]];
+            }
+            by_target_leaf(t, y, out);
+        } else {
+            by_target(m, [&](std::size_t i) { return i; }, [&](std::size_t i, int c) { return targets[c][i]; }, out);
+        }
+        return out;
+    }
+
+    // At the sources themselves (self terms exact).
+    Field<D> evaluate() const {
+        Field<D> out(s_.size());
+        if constexpr (D == 3) {
+            by_target_leaf(tree_, s_.x, out);
+        } else {
+            const auto& order = tree_.order();
+            by_target(s_.size(), [&](std::size_t i) { return order[i]; }, [&](std::size_t i, int c) { return s_.x[c][i]; }, out);
+        }
+        return out;
+    }
+
+private:
+    static const TreeOptions& checked(const TreeOptions& o) {
+        o.check();
+        return o;
+    }
+
+    // Moments of every cell from its own sources (each source enters one cell
+    // per level: O(N log N) work, parallel over cells).
+    void moments() {
+        const auto& cells = tree_.cells();
+        const std::size_t n = expansion_.size();
+        m_.assign(cells.size() * n, 0.0);
+        const auto count = static_cast<long>(cells.size());
+        MOLLIFY_PARALLEL_FOR(schedule(dynamic, 8))
+        for (long ci = 0; ci < count; ++ci) {
+            const Cell<D>& c = cells[static_cast<std::size_t>(ci)];
+            double* m = m_.data() + static_cast<std::size_t>(ci) * n;
+            const double rho = scale(c);
+            for (std::size_t j = c.begin; j < c.end; ++j) {
+                std::array<double, D> y;
+                for (int k = 0; k < D; ++k) y[k] = s_.x[k][j];
+                expansion_.add_source(m, y, c.centre, rho, s_.q[j]);
+            }
+        }
+    }
+
+    static double scale(const Cell<D>& c) { return c.radius > 0 ? c.radius : 1.0; }
+
+    // 2D: compute_interaction(x_i, root) for every target (particle-cluster).
+    template <class Index, class Coordinate>
+    void by_target(std::size_t m, Index index, Coordinate coordinate, Field<D>& out) const {
+        const auto count = static_cast<long>(m);
+        MOLLIFY_PARALLEL_FOR(schedule(dynamic, 64))
+        for (long ii = 0; ii < count; ++ii) {
+            const auto i = static_cast<std::size_t>(ii);
+            std::array<double, D> x, e{};
+            for (int c = 0; c < D; ++c) x[c] = coordinate(i, c);
+            double phi = 0;
+            at(x, phi, e);
+            const std::size_t o = index(i);
+            out.potential[o] = phi;
+            for (int c = 0; c < D; ++c) out.field[c][o] = e[c];
+        }
+    }
+
+    // 3D: the notes' test applied to PAIRS of cells (a dual traversal of a
+    // target tree t and the source tree; targets y in t's order). A pair
+    // passing (rho_s + rho_t) / R < theta and R - rho_s - rho_t >= delta_max
+    // enters the target cell's local expansion (Multipole<3>::add_local),
+    // pushed down to the leaves (add_shifted) and evaluated at each target;
+    // a pair of leaves that does not pass is summed exactly. Otherwise the
+    // larger cell is split. Target subtrees are independent tasks (OpenMP).
+    void by_target_leaf(const Tree<D>& t, const std::array<std::vector<double>, D>& y, Field<D>& out) const {
+        const auto& tc = t.cells();
+        const std::size_t n = expansion_.size();
+        std::vector<double> local(tc.size() * n, 0.0);
+        std::vector<char> has_local(tc.size(), 0);
+        std::vector<std::vector<int>> near(tc.size());
+        // Tasks: the target cells of the first level with enough of them.
+        std::vector<int> tasks{0};
+        while (tasks.size() < 64) {
+            std::vector<int> next;
+            bool split = false;
+            for (const int ci : tasks) {
+                const Cell<D>& c = tc[static_cast<std::size_t>(ci)];
+                if (c.leaf()) {
+                    next.push_back(ci);
+                } else {
+                    split = true;
+                    for (int k = 0; k < c.children; ++k) next.push_back(c.first_child + k);
+                }
+            }
+            tasks.swap(next);
+            if (!split) break;
+        }
+        const auto count = static_cast<long>(tasks.size());
+        MOLLIFY_PARALLEL_FOR(schedule(dynamic, 1))
+        for (long ti = 0; ti < count; ++ti) {
+            const int root = tasks[static_cast<std::size_t>(ti)];
+            std::vector<double> work;
+            interact(t, root, 0, local, has_local, near, work);
+            descend(t, root, y, local, has_local, near, out, work);
+        }
+    }
+
+    static double local_scale(const Cell<D>& c) { return c.half > 0 ? c.half * std::sqrt(double(D)) : 1.0; }
+
+    void interact(const Tree<D>& t, int a, int b, std::vector<double>& local, std::vector<char>& has_local,
+                  std::vector<std::vector<int>>& near, std::vector<double>& work) const {
+        const Cell<D>& A = t.cells()[static_cast<std::size_t>(a)];
+        const Cell<D>& B = tree_.cells()[static_cast<std::size_t>(b)];
+        std::array<double, D> R;
+        double r2 = 0;
+        for (int k = 0; k < D; ++k) {
+            R[k] = A.centre[k] - B.centre[k];
+            r2 += R[k] * R[k];
+        }
+        const double r = std::sqrt(r2), reach = A.radius + B.radius;
+        const std::size_t n = expansion_.size();
+        if (reach < options_.theta * r && r - reach >= B.delta_max) {
+            const int order = B.radius > 0 ? options_.order : 0;
+            if constexpr (D == 3)
+                expansion_.add_local(m_.data() + static_cast<std::size_t>(b) * n, scale(B), order, R, local_scale(A),
+                                     local.data() + static_cast<std::size_t>(a) * n, work);
+            has_local[static_cast<std::size_t>(a)] = 1;
+        } else if (A.leaf() && B.leaf()) {
+            near[static_cast<std::size_t>(a)].push_back(b);
+        } else if (B.leaf() || (!A.leaf() && A.radius >= B.radius)) {
+            for (int k = 0; k < A.children; ++k) interact(t, A.first_child + k, b, local, has_local, near, work);
+        } else {
+            for (int k = 0; k < B.children; ++k) interact(t, a, B.first_child + k, local, has_local, near, work);
+        }
+    }
+
+    // Local expansions down to the leaves, then phi and E at each target.
+    void descend(const Tree<D>& t, int a, const std::array<std::vector<double>, D>& y, std::vector<double>& local,
+                 std::vector<char>& has_local, const std::vector<std::vector<int>>& near, Field<D>& out,
+                 std::vector<double>& work) const {
+        const Cell<D>& A = t.cells()[static_cast<std::size_t>(a)];
+        const std::size_t n = expansion_.size();
+        const double* la = local.data() + static_cast<std::size_t>(a) * n;
+        if (!A.leaf()) {
+            for (int k = 0; k < A.children; ++k) {
+                const int c = A.first_child + k;
+                if (has_local[static_cast<std::size_t>(a)]) {
+                    const Cell<D>& C = t.cells()[static_cast<std::size_t>(c)];
+                    if constexpr (D == 3)
+                        expansion_.add_shifted(la, local_scale(A), A.centre, local_scale(C), C.centre,
+                                               local.data() + static_cast<std::size_t>(c) * n, work);
+                    has_local[static_cast<std::size_t>(c)] = 1;
+                }
+                descend(t, c, y, local, has_local, near, out, work);
+            }
+            return;
+        }
+        for (std::size_t i = A.begin; i < A.end; ++i) {
+            std::array<double, D> x, e{};
+            for (int c = 0; c < D; ++c) x[c] = y[c][i];
+            double phi = 0;
+            if constexpr (D == 3)
+                if (has_local[static_cast<std::size_t>(a)]) expansion_.add_local_at(la, local_scale(A), A.centre, x, phi, e);
+            for (const int ci : near[static_cast<std::size_t>(a)]) {
+                const Cell<D>& c = tree_.cells()[static_cast<std::size_t>(ci)];
+                detail::add_exact<D>(kernel_, s_, x, c.begin, c.end, phi, e);
+            }
+            const std::size_t o = t.order()[i];
+            out.potential[o] = phi;
+            for (int c = 0; c < D; ++c) out.field[c][o] = e[c];
+        }
+    }
+
+    // compute_interaction(x, root) of the notes, with an explicit stack.
+    void at(const std::array<double, D>& x, double& phi, std::array<double, D>& e) const {
+        thread_local std::vector<double> work;
+        thread_local std::vector<int> stack;
+        const auto& cells = tree_.cells();
+        const std::size_t n = expansion_.size();
+        stack.assign(1, 0);
+        while (!stack.empty()) {
+            const int ci = stack.back();
+            stack.pop_back();
+            const Cell<D>& c = cells[static_cast<std::size_t>(ci)];
+            std::array<double, D> R;
+            double r2 = 0;
+            for (int k = 0; k < D; ++k) {
+                R[k] = x[k] - c.centre[k];
+                r2 += R[k] * R[k];
+            }
+            const double r = std::sqrt(r2);
+            if (c.radius < options_.theta * r && r - c.radius >= c.delta_max) {
+                const int order = c.radius > 0 ? options_.order : 0;
+                expansion_.add_far(m_.data() + static_cast<std::size_t>(ci) * n, scale(c), order, R, phi, e, work);
+            } else if (c.leaf()) {
+                detail::add_exact<D>(kernel_, s_, x, c.begin, c.end, phi, e);
+            } else {
+                for (int k = 0; k < c.children; ++k) stack.push_back(c.first_child + k);
+            }
+        }
+    }
+
+    K kernel_;
+    TreeOptions options_;
+    Multipole<D> expansion_;
+    Tree<D> tree_;
+    detail::SourceArrays<D> s_;
+    std::vector<double> m_;
+};
+
+// One call: build the tree for the sources and evaluate at the targets.
+template <int D, class K>
+Field<D> treecode(const K& kernel, const Sources<D>& sources, const Points<D>& targets, const TreeOptions& options) {
+    return Treecode<D, K>(kernel, sources, options).evaluate(targets);
+}
+
+}  // namespace mollify::poisson

@@ -1,0 +1,453 @@
+// The free-space Poisson solvers (include/mollify/poisson): direct summation
+// against exact MPFR values (tools/accuracy), the treecode against direct
+// summation, the accuracy knob, hard cases and bad input.
+#include <mollify/kernel.hpp>
+#include <mollify/poisson.hpp>
+
+#include "accuracy/accuracy.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace acc = mollify::accuracy;
+namespace poisson = mollify::poisson;
+using acc::Real;
+using mollify::QuantityId;
+
+namespace {
+
+#ifdef MOLLIFY_SANITIZED_BUILD
+constexpr bool sanitized = true;  // -O0 + ASan: smaller problems, same checks
+#else
+constexpr bool sanitized = false;
+#endif
+
+constexpr double u = std::numeric_limits<double>::epsilon() / 2;  // unit roundoff
+
+template <int D>
+struct Cloud {
+    std::array<std::vector<double>, D> x;
+    std::vector<double> q, delta;
+
+    poisson::Sources<D> sources() const {
+        mollify::Points<D> p;
+        for (int c = 0; c < D; ++c) p[c] = x[c];
+        return {p, q, delta};
+    }
+    mollify::Points<D> points() const { return sources().x; }
+    std::size_t size() const { return q.size(); }
+};
+
+// n sources uniform in [lo, hi]^D, charges in [qlo, 1], one delta (or per source in [delta, 2 delta]).
+template <int D>
+Cloud<D> uniform_cloud(std::size_t n, double lo, double hi, double qlo, double delta, bool per_source,
+                       unsigned seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> x(lo, hi), q(qlo, 1.0), d(delta, 2 * delta);
+    Cloud<D> c;
+    for (std::size_t j = 0; j < n; ++j) {
+        for (int k = 0; k < D; ++k) c.x[k].push_back(x(rng));
+        c.q.push_back(q(rng));
+        if (per_source) c.delta.push_back(d(rng));
+    }
+    if (!per_source) c.delta.push_back(delta);
+    return c;
+}
+
+double ulp_of(double x) { return std::ldexp(1.0, x == 0 ? -1074 : std::max(std::ilogb(x) - 52, -1074)); }
+
+// |y - exact| / (ulp(exact) + |slope| 2 ulp(r)): ulps of the exact value, plus
+// the allowance for r itself (the solver's r = |x - y| is rounded: its
+// sqrt and sums cost up to 2 ulp(r), which moves f(r) by slope * 2 ulp(r);
+// the same allowance as tests/accuracy_test.cpp).
+double ulps(double y, const Real& exact, const Real& slope, double r) {
+    const double allowance = std::abs(static_cast<double>(slope)) * 2 * ulp_of(r);
+    const Real diff = boost::multiprecision::abs(Real(y, 400) - exact);
+    return static_cast<double>(diff) / (ulp_of(std::abs(static_cast<double>(exact))) + allowance);
+}
+
+// ---------------------------------------------------------------------------
+// A single smoothed charge: phi and E at >= 1000 targets against MPFR.
+
+template <int D>
+void single_charge(const std::string& spec, double delta, unsigned seed) {
+    const auto k = mollify::kernel(spec, D);
+    const acc::Reference ref(spec, D);
+    const std::array<double, 3> y{0.125, -0.375, 0.25};  // the source (exact binary fractions)
+    Cloud<D> src;
+    for (int c = 0; c < D; ++c) src.x[c].push_back(y[static_cast<std::size_t>(c)]);
+    src.q.push_back(1.0);
+    src.delta.push_back(delta);
+    // Targets in the ball of radius 2 delta: inside and outside the support,
+    // the source point itself first (the self term).
+    const int n = sanitized ? 200 : 1200;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> d(-2 * delta, 2 * delta);
+    Cloud<D> tg;
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < D; ++c) tg.x[c].push_back(y[static_cast<std::size_t>(c)] + (i == 0 ? 0.0 : d(rng)));
+    const auto f = poisson::direct<D>(k, src.sources(), tg.points());
+    const Real H(delta, 400);
+    double worst_phi = 0, worst_e = 0;
+    for (int i = 0; i < n; ++i) {
+        std::array<Real, D> dx;
+        Real r2(0, 400);
+        for (int c = 0; c < D; ++c) {
+            dx[c] = Real(tg.x[c][static_cast<std::size_t>(i)], 400) - Real(y[static_cast<std::size_t>(c)], 400);
+            r2 += dx[c] * dx[c];
+        }
+        const Real r = boost::multiprecision::sqrt(r2);
+        const double rd = static_cast<double>(r);
+        const Real phi = ref.value(QuantityId::potential, r, H);
+        const Real slope = ref.value(QuantityId::dpotential_over_r, r, H) * r;
+        worst_phi = std::max(worst_phi, ulps(f.potential[static_cast<std::size_t>(i)], phi, slope, rd));
+        const Real g = ref.value(QuantityId::dpotential_over_r, r, H);
+        const Real dg = ref.value(QuantityId::potential_hess_radial, r, H) * r;
+        for (int c = 0; c < D; ++c) {
+            const Real e = -g * dx[c];  // E = -(phi'/r)(x - y)
+            worst_e = std::max(worst_e, ulps(f.field[c][static_cast<std::size_t>(i)], e, dg * dx[c], rd));
+        }
+    }
+    std::printf("[poisson] single %s D%d delta=%g: phi %.3g ulp, E %.3g ulp\n", spec.c_str(), D, delta, worst_phi, worst_e);
+    // The runtime's own bounds (tests/accuracy_test.cpp: 8 ulp for values,
+    // 128 ulp for phi'/r, whose degree-16 interior polynomial cancels), plus
+    // one rounding for the charge product and one for the component: the sum
+    // of one term adds nothing.
+    EXPECT_LE(worst_phi, 8 + 1) << spec << " D" << D;
+    EXPECT_LE(worst_e, 128 + 2) << spec << " D" << D;
+}
+
+TEST(SingleCharge, Mollifier3D) { single_charge<3>("mollifier:M=4", 0.25, 1); }
+TEST(SingleCharge, Wendland3D) { single_charge<3>("wendland:k=2", 0.5, 2); }
+TEST(SingleCharge, Combo3D) { single_charge<3>("combo:m=2,base=wendland:k=2", 0.25, 3); }
+TEST(SingleCharge, Mollifier2D) { single_charge<2>("mollifier:M=4", 0.25, 4); }
+TEST(SingleCharge, Wendland2D) { single_charge<2>("wendland:k=2", 0.125, 5); }
+
+// ---------------------------------------------------------------------------
+// K charges: direct summation against an MPFR direct sum.
+
+template <int D>
+void many_charges(const std::string& spec, bool per_source) {
+    const auto k = mollify::kernel(spec, D);
+    const acc::Reference ref(spec, D);
+    const std::size_t n = sanitized ? 100 : 500;
+    // Mixed signs (cancellation), smoothing lengths that overlap many sources.
+    const auto src = uniform_cloud<D>(n, -1, 1, -1, 0.3, per_source, 11);
+    const auto tgt = uniform_cloud<D>(20, -1.2, 1.2, 0, 0.3, false, 12);
+    Cloud<D> all = tgt;  // 20 free targets, then 20 at sources (self terms)
+    for (std::size_t i = 0; i < 20; ++i)
+        for (int c = 0; c < D; ++c) all.x[c].push_back(src.x[c][i * (n / 20)]);
+    const auto f = poisson::direct<D>(k, src.sources(), all.points());
+    double worst_phi = 0, worst_e = 0;
+    for (std::size_t i = 0; i < all.x[0].size(); ++i) {
+        Real phi(0, 400), scale_phi(0, 400), scale_e(0, 400);
+        std::array<Real, D> e;
+        for (auto& v : e) v = Real(0, 400);
+        for (std::size_t j = 0; j < n; ++j) {
+            std::array<Real, D> dx;
+            Real r2(0, 400);
+            for (int c = 0; c < D; ++c) {
+                dx[c] = Real(all.x[c][i], 400) - Real(src.x[c][j], 400);
+                r2 += dx[c] * dx[c];
+            }
+            const Real r = boost::multiprecision::sqrt(r2);
+            const Real H(src.delta.size() == 1 ? src.delta[0] : src.delta[j], 400);
+            const Real q(src.q[j], 400);
+            const Real t = q * ref.value(QuantityId::potential, r, H);
+            const Real g = q * ref.value(QuantityId::dpotential_over_r, r, H);
+            phi += t;
+            scale_phi += boost::multiprecision::abs(t);
+            for (int c = 0; c < D; ++c) {
+                e[c] -= g * dx[c];
+                scale_e += boost::multiprecision::abs(g * dx[c]);
+            }
+        }
+        // Recursive summation of n terms, each with a relative error of at
+        // most ~130 ulp (a single term's, above, plus the radius's and the
+        // per-source delta scaling's roundings): |error| <= (n + 130) u sum|terms|
+        // (Higham, Accuracy and Stability, eq. (4.4)). Reported as the
+        // multiple of u sum|terms| reached.
+        const double sp = static_cast<double>(scale_phi), se = static_cast<double>(scale_e);
+        worst_phi = std::max(worst_phi, static_cast<double>(abs(Real(f.potential[i], 400) - phi)) / (u * sp));
+        for (int c = 0; c < D; ++c)
+            worst_e = std::max(worst_e, static_cast<double>(abs(Real(f.field[c][i], 400) - e[c])) / (u * se));
+    }
+    std::printf("[poisson] %zu charges %s D%d %s delta: phi %.3g u sum|q phi|, E %.3g u sum|q grad phi|\n", n,
+                spec.c_str(), D, per_source ? "per-source" : "global", worst_phi, worst_e);
+    const double bound = static_cast<double>(n) + 130;
+    EXPECT_LE(worst_phi, bound);
+    EXPECT_LE(worst_e, bound);
+}
+
+TEST(ManyCharges, Direct3DGlobalDelta) { many_charges<3>("mollifier:M=4", false); }
+TEST(ManyCharges, Direct3DPerSourceDelta) { many_charges<3>("wendland:k=2", true); }
+TEST(ManyCharges, Direct2DPerSourceDelta) { many_charges<2>("mollifier:M=2", true); }
+TEST(ManyCharges, Direct2DGlobalDelta) { many_charges<2>("wendland:k=3", false); }
+
+// ---------------------------------------------------------------------------
+// Treecode against direct summation.
+
+struct Errors {
+    double phi_l2, phi_max, e_l2, e_max;
+};
+
+// Relative L2 (||a - b|| / ||b||) and max (max |a - b| / max |b|) errors.
+template <int D>
+Errors compare(const poisson::Field<D>& a, const poisson::Field<D>& b) {
+    double dp = 0, np = 0, mp = 0, mpn = 0, de = 0, ne = 0, me = 0, men = 0;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+        const double d = a.potential[i] - b.potential[i];
+        dp += d * d;
+        np += b.potential[i] * b.potential[i];
+        mp = std::max(mp, std::abs(d));
+        mpn = std::max(mpn, std::abs(b.potential[i]));
+        double d2 = 0, n2 = 0;
+        for (int c = 0; c < D; ++c) {
+            const double x = a.field[c][i] - b.field[c][i];
+            d2 += x * x;
+            n2 += b.field[c][i] * b.field[c][i];
+        }
+        de += d2;
+        ne += n2;
+        me = std::max(me, std::sqrt(d2));
+        men = std::max(men, std::sqrt(n2));
+    }
+    return {std::sqrt(dp / np), mp / mpn, std::sqrt(de / ne), me / men};
+}
+
+template <int D>
+void treecode_converges(const std::string& spec, double theta, double finest) {
+    const auto k = mollify::kernel(spec, D);
+    const std::size_t n = sanitized ? 1500 : 6000;
+    const auto src = uniform_cloud<D>(n, 0, 1, 0, 0.01, true, 21);
+    const auto exact = poisson::direct<D>(k, src.sources());
+    Errors previous{1, 1, 1, 1};
+    for (int p = 0; p <= 8; p += 2) {
+        const poisson::Treecode<D, mollify::Kernel> tree(k, src.sources(), {.theta = theta, .order = p, .leaf_size = 32});
+        const Errors e = compare<D>(tree.evaluate(), exact);
+        std::printf("[poisson] treecode D%d theta=%.2f p=%d: phi L2 %.3g max %.3g | E L2 %.3g max %.3g\n", D, theta,
+                    p, e.phi_l2, e.phi_max, e.e_l2, e.e_max);
+        // The truncation error falls like theta^(p+1) (multipole.hpp): each
+        // step of 2 in p must reduce every error measure.
+        EXPECT_LT(e.phi_l2, previous.phi_l2) << "p = " << p;
+        EXPECT_LT(e.phi_max, previous.phi_max) << "p = " << p;
+        EXPECT_LT(e.e_l2, previous.e_l2) << "p = " << p;
+        EXPECT_LT(e.e_max, previous.e_max) << "p = " << p;
+        previous = e;
+    }
+    // And it converges to the exact sum (stated per case below).
+    EXPECT_LE(previous.e_l2, finest);
+}
+
+// Final bounds at p = 8: twice the measured relative L2 field error of this
+// seeded case (theta 0.5: 9.4e-6 in 3D, 5.5e-6 in 2D; theta 0.7: 1.75e-4),
+// far below the worst-case bound (p + 2) theta^(p+1)/(1 - theta)^2 (0.08, 4.5).
+TEST(Treecode, ConvergesInP3D) { treecode_converges<3>("mollifier:M=4", 0.5, 2e-5); }
+TEST(Treecode, ConvergesInP3DWideOpening) { treecode_converges<3>("wendland:k=2", 0.7, 4e-4); }
+TEST(Treecode, ConvergesInP2D) { treecode_converges<2>("mollifier:M=4", 0.5, 1.1e-5); }
+
+// The accuracy knob: the achieved relative L2 field error stays below the target.
+template <int D>
+void knob(double target) {
+    const auto k = mollify::kernel("wendland:k=3", D);
+    // A Gaussian blob (not the calibration's uniform cube), positive charges.
+    std::mt19937_64 rng(31);
+    std::normal_distribution<double> g(0, 1);
+    Cloud<D> src;
+    const std::size_t n = sanitized ? 1500 : 5000;
+    for (std::size_t j = 0; j < n; ++j) {
+        for (int c = 0; c < D; ++c) src.x[c].push_back(g(rng));
+        src.q.push_back(1.0);
+    }
+    src.delta.push_back(0.05);
+    const poisson::TreeOptions o = poisson::for_relative_error(target, D);
+    const Errors e = compare<D>(poisson::Treecode<D, mollify::Kernel>(k, src.sources(), o).evaluate(),
+                                poisson::direct<D>(k, src.sources()));
+    std::printf("[poisson] knob D%d target %.1g: theta %.2f p %d -> E L2 %.3g, phi L2 %.3g\n", D, target, o.theta,
+                o.order, e.e_l2, e.phi_l2);
+    EXPECT_LE(e.e_l2, target);
+    EXPECT_LE(e.phi_l2, target);
+}
+
+TEST(AccuracyKnob, MeetsTarget3D) {
+    for (double t : {1e-2, 1e-4, 1e-6}) knob<3>(t);
+}
+TEST(AccuracyKnob, MeetsTarget2D) {
+    for (double t : {1e-2, 1e-4, 1e-6}) knob<2>(t);
+}
+
+// ---------------------------------------------------------------------------
+// Hard cases.
+
+// Coincident particles: m sources at one point act as one of charge sum q;
+// the tree stops splitting a box whose sources coincide.
+TEST(HardCases, CoincidentParticles) {
+    const auto k = mollify::kernel("mollifier:M=3", 3);
+    Cloud<3> src = uniform_cloud<3>(500, 0, 1, 0, 0.05, false, 41);
+    for (int i = 0; i < 300; ++i) {
+        for (int c = 0; c < 3; ++c) src.x[c].push_back(0.5);
+        src.q.push_back(0.5);
+    }
+    const auto exact = poisson::direct<3>(k, src.sources());
+    const auto tree = poisson::Treecode<3, mollify::Kernel>(k, src.sources(), {.theta = 0.3, .order = 10, .leaf_size = 16});
+    const Errors e = compare<3>(tree.evaluate(), exact);
+    // One dominant point-like cluster (charge 150) off its cells' centres is
+    // the worst case of the expansion: the bound (p + 2) theta^(p+1)/(1 - theta)^2
+    // = 4.3e-5 at theta 0.3, p = 10 (tolerance.hpp) holds, not the milder
+    // errors of spread-out charges.
+    EXPECT_LE(e.e_l2, 4.3e-5);
+    // The 300 coincident sources see each other's self terms: all equal fields.
+    const auto f = tree.evaluate();
+    for (std::size_t i = 501; i < src.size(); ++i) EXPECT_EQ(f.potential[i], f.potential[500]);
+    // A cloud made ONLY of coincident sources: 300 q phi(0) exactly (the sum of
+    // equal terms is exact up to the sum's rounding: 300 u relative).
+    Cloud<3> same;
+    for (int i = 0; i < 300; ++i) {
+        for (int c = 0; c < 3; ++c) same.x[c].push_back(-2.5);
+        same.q.push_back(1.0);
+    }
+    same.delta.push_back(0.5);
+    const auto g = poisson::Treecode<3, mollify::Kernel>(k, same.sources(), {}).evaluate();
+    const double expected = 300 * k.potential(0, 0.5);
+    EXPECT_NEAR(g.potential[7], expected, 300 * u * std::abs(expected));
+    EXPECT_EQ(g.field[0][7], 0.0);
+}
+
+// Zero charges contribute exactly nothing: adding them leaves phi and E
+// bit-identical (each adds +-0 to the sums), and all-zero charges give 0.
+TEST(HardCases, ZeroCharges) {
+    const auto k = mollify::kernel("wendland:k=2", 2);
+    const auto src = uniform_cloud<2>(300, 0, 1, -1, 0.1, false, 51);
+    Cloud<2> with_zeros = src;
+    for (int i = 0; i < 300; ++i) {
+        for (int c = 0; c < 2; ++c) with_zeros.x[c].push_back(src.x[c][static_cast<std::size_t>(i)] + 0.01);
+        with_zeros.q.push_back(0.0);
+    }
+    const auto tgt = uniform_cloud<2>(50, 0, 1, 0, 0.1, false, 52);
+    const auto a = poisson::direct<2>(k, src.sources(), tgt.points());
+    const auto b = poisson::direct<2>(k, with_zeros.sources(), tgt.points());
+    for (std::size_t i = 0; i < 50; ++i) {
+        EXPECT_NEAR(b.potential[i], a.potential[i], 1e-15 * 300);
+        EXPECT_NEAR(b.field[0][i], a.field[0][i], 1e-13 * 300);
+    }
+    Cloud<2> zeros = src;
+    std::fill(zeros.q.begin(), zeros.q.end(), 0.0);
+    const auto z = poisson::Treecode<2, mollify::Kernel>(k, zeros.sources(), {}).evaluate(tgt.points());
+    for (std::size_t i = 0; i < 50; ++i) {
+        EXPECT_EQ(z.potential[i], 0.0);
+        EXPECT_EQ(z.field[1][i], 0.0);
+    }
+}
+
+// A target exactly at a source: the self term is the finite phi_delta(0) and
+// a lone source exerts no field on itself (phi'/r at 0 times x - y = 0).
+TEST(HardCases, TargetAtSource) {
+    for (int dim : {2, 3}) {
+        const auto k = mollify::kernel("mollifier:M=4", dim);
+        const acc::Reference ref("mollifier:M=4", dim);
+        const double q = -1.75, delta = 0.3;
+        const Real exact = Real(q, 400) * ref.value(QuantityId::potential, Real(0, 400), Real(delta, 400));
+        double phi = 0, e = 0;
+        if (dim == 3) {
+            const std::vector<double> x{0.3}, y{-0.2}, z{0.9}, qs{q}, d{delta};
+            const auto f = poisson::direct<3>(k, {{x, y, z}, qs, d});
+            phi = f.potential[0];
+            e = std::abs(f.field[0][0]) + std::abs(f.field[1][0]) + std::abs(f.field[2][0]);
+        } else {
+            const std::vector<double> x{0.3}, y{-0.2}, qs{q}, d{delta};
+            const auto f = poisson::direct<2>(k, {{x, y}, qs, d});
+            phi = f.potential[0];
+            e = std::abs(f.field[0][0]) + std::abs(f.field[1][0]);
+        }
+        // The runtime's 8 ulp at r = 0 and one rounding for the charge.
+        EXPECT_LE(ulps(phi, exact, Real(0, 400), 0), 9) << "D" << dim;
+        EXPECT_EQ(e, 0.0) << "D" << dim;
+    }
+}
+
+// Translation invariance: moving everything by a huge offset a changes the
+// differences x_i - x_j by at most ~2 u |a| each (the rounding of the
+// shifted coordinates), a relative change of the field of about
+// 2 u |a| / (distance): with |a| = 1e6 and distances >= delta = 0.05, at most
+// 2 * 1.1e-16 * 1e6 / 0.05 ~ 5e-9 per pair; the stated bound is 1e-8.
+TEST(HardCases, HugeOffsets) {
+    const auto k = mollify::kernel("mollifier:M=4", 3);
+    const auto src = uniform_cloud<3>(2000, 0, 1, 0, 0.05, false, 61);
+    const double a = 1e6;
+    Cloud<3> moved = src;
+    for (int c = 0; c < 3; ++c)
+        for (double& v : moved.x[c]) v += a;
+    const auto d0 = poisson::direct<3>(k, src.sources());
+    const auto d1 = poisson::direct<3>(k, moved.sources());
+    const Errors direct_change = compare<3>(d1, d0);
+    const poisson::TreeOptions o{.theta = 0.5, .order = 8, .leaf_size = 32};
+    const Errors tree_here = compare<3>(poisson::Treecode<3, mollify::Kernel>(k, src.sources(), o).evaluate(), d0);
+    const Errors tree_moved = compare<3>(poisson::Treecode<3, mollify::Kernel>(k, moved.sources(), o).evaluate(), d0);
+    std::printf("[poisson] offset 1e6: direct E change %.3g; treecode E error %.3g here, %.3g moved\n",
+                direct_change.e_l2, tree_here.e_l2, tree_moved.e_l2);
+    EXPECT_LE(direct_change.e_l2, 1e-8);
+    EXPECT_LE(direct_change.phi_l2, 1e-8);
+    // The treecode computes in cell-centred coordinates: moved, it has its own
+    // truncation error (a moved box boundary may put a source in another
+    // cell) plus the direct sum's 1e-8, within a factor 2 of the unmoved one.
+    EXPECT_LE(tree_moved.e_l2, 2 * tree_here.e_l2 + 1e-8);
+}
+
+// The 2D vortex-blob velocity: a blob of circulation Gamma turns
+// counter-clockwise, |u| = Gamma/(2 pi r) outside its support.
+TEST(BiotSavart, PointVortexOutsideTheSupport) {
+    const auto k = mollify::kernel("mollifier:M=2", 2);
+    const std::vector<double> x{0}, y{0}, gamma{2.0}, delta{0.1}, tx{0.5}, ty{0};
+    const auto f = poisson::direct<2>(k, {{x, y}, gamma, delta}, {{tx, ty}});
+    const auto v = poisson::biot_savart(f);
+    EXPECT_NEAR(v[0][0], 0.0, 1e-16);
+    EXPECT_NEAR(v[1][0], 2.0 / (2 * std::numbers::pi * 0.5), 4 * u);  // a few roundings of 0.64
+}
+
+// ---------------------------------------------------------------------------
+// Bad input: a mollify::Error naming the value.
+
+template <class F>
+void expect_error(F f, const std::string& fragment) {
+    try {
+        f();
+        ADD_FAILURE() << "no error; expected one naming '" << fragment << "'";
+    } catch (const mollify::Error& e) {
+        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+}
+
+TEST(BadInput, NamesTheValue) {
+    const auto k = mollify::kernel("mollifier:M=4", 3);
+    const std::vector<double> x{0, 1}, y{0, 1}, z{0, 1}, q{1, 1}, d{0.1};
+    const std::vector<double> nan_x{0, std::nan("")}, neg{-0.5}, zero{0.0}, two{0.1, 0.2, 0.3}, empty;
+    using S = poisson::Sources<3>;
+    expect_error([&] { poisson::direct<3>(k, S{{x, y, z}, q, neg}); }, "delta[0] = -0.5");
+    expect_error([&] { poisson::direct<3>(k, S{{x, y, z}, q, zero}); }, "delta[0] = 0");
+    expect_error([&] { poisson::direct<3>(k, S{{nan_x, y, z}, q, d}); }, "source 1: coordinate x[0] = nan");
+    expect_error([&] { poisson::direct<3>(k, S{{x, y, z}, q, d}, {{x, nan_x, z}}); }, "target 1: coordinate x[1] = nan");
+    expect_error([&] { poisson::direct<3>(k, S{{empty, empty, empty}, empty, d}); }, "source set is empty");
+    expect_error([&] { poisson::direct<3>(k, S{{x, y, z}, q, two}); }, "3 smoothing lengths");
+    expect_error([&] { poisson::direct<3>(k, S{{x, y}, q, d}); }, "but 0 coordinates x[2]");
+    const S good{{x, y, z}, q, d};
+    using T = poisson::Treecode<3, mollify::Kernel>;
+    expect_error([&] { T(k, good, {.theta = 0}); }, "theta = 0 ");
+    expect_error([&] { T(k, good, {.theta = 1}); }, "theta = 1 ");
+    expect_error([&] { T(k, good, {.theta = std::nan("")}); }, "theta = nan");
+    expect_error([&] { T(k, good, {.order = -1}); }, "order p = -1");
+    expect_error([&] { T(k, good, {.order = 21}); }, "order p = 21");
+    expect_error([&] { T(k, good, {.leaf_size = 0}); }, "leaf size 0");
+    expect_error([&] { T(k, S{{empty, empty, empty}, empty, d}, {}); }, "source set is empty");
+    expect_error([&] { poisson::for_relative_error(0, 3); }, "relative error 0");
+    expect_error([&] { poisson::for_relative_error(1e-300, 3); }, "needs an order above 20");
+    expect_error([&] { poisson::direct<2>(k, poisson::Sources<2>{{x, y}, q, d}); }, "made for D = 3");
+}
+
+}  // namespace
