@@ -131,6 +131,7 @@ TEST(MollifyReport, UnknownSectionIsAnError) {
     EXPECT_NE(r.err.find("unknown report section 'exactnes'"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("exactness, accuracy"), std::string::npos) << r.err;
     EXPECT_EQ(w.entries(), std::vector<std::string>{});
+}
 
 // The poisson-free experiment: bad parameters exit 1 naming the value before
 // anything is written; a tiny scene writes its tables, plot and summary.
