@@ -332,10 +332,7 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
 }  // namespace
 
 int main(int argc, char** argv) {
-    benchmark::Initialize(&argc, argv);
-    std::string md;
-    for (int i = 1; i < argc; ++i)
-        if (std::strncmp(argv[i], "--md=", 5) == 0) md = argv[i] + 5;
+    const std::string md = mollify::bench::initialize(argc, argv);
     register_kernel<tables::wendland_k_2_D3>("wendland:k=2");
     register_kernel<tables::wendland_k_4_l_4_D3>("wendland:k=4,l=4");
     register_kernel<tables::mollifier_M_4_D3>("mollifier:M=4");

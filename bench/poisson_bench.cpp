@@ -220,10 +220,7 @@ void write_markdown(const std::string& path, const mollify::bench::Collector& co
 }  // namespace
 
 int main(int argc, char** argv) {
-    benchmark::Initialize(&argc, argv);
-    std::string md;
-    for (int i = 1; i < argc; ++i)
-        if (std::strncmp(argv[i], "--md=", 5) == 0) md = argv[i] + 5;
+    const std::string md = mollify::bench::initialize(argc, argv);
     cases()["direct/N=10000"] = {10000, 0, -1};
     order().push_back("direct/N=10000");
     benchmark::RegisterBenchmark("direct/N=10000", [](benchmark::State& s) { direct_full(s, 10000); })

@@ -8,10 +8,21 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 namespace mollify::bench {
+
+// Google Benchmark's own flags parsed (and removed from argv); returns FILE
+// of the benchmarks' one extra flag --md=FILE (empty if absent).
+inline std::string initialize(int& argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    std::string md;
+    for (int i = 1; i < argc; ++i)
+        if (std::string_view(argv[i]).substr(0, 5) == "--md=") md = argv[i] + 5;
+    return md;
+}
 
 class Collector : public benchmark::ConsoleReporter {
 public:

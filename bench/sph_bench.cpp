@@ -278,10 +278,7 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
 }  // namespace
 
 int main(int argc, char** argv) {
-    benchmark::Initialize(&argc, argv);
-    std::string md;
-    for (int i = 1; i < argc; ++i)
-        if (std::strncmp(argv[i], "--md=", 5) == 0) md = argv[i] + 5;
+    const std::string md = mollify::bench::initialize(argc, argv);
     using C4_1 = mollify::StaticKernel<tables::wendland_k_2_D1>;
     using C4_3 = mollify::StaticKernel<tables::wendland_k_2_D3>;
     using Combo = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_D1>;

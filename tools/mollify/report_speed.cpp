@@ -63,7 +63,7 @@ void report_speed(const ReportContext& ctx, Output& out, SectionResult& r) {
 
     r.markdown += "### Poisson solvers: time against error\n\n";
     try {
-        const Scene scene = report_scene(ctx, "report/poisson_free.toml");
+        const Scene scene = report_scene(ctx, "poisson_free.toml");
         r.markdown += body(run_scene_in(scene, out, "poisson-free"));
         r.markdown += "\n(Folder: [speed/poisson-free/](speed/poisson-free/summary.md).)\n\n";
     } catch (const Error& e) {
