@@ -106,18 +106,32 @@ Real pi_at(unsigned bits) {
 std::pair<Real, Real> Exact::evaluate(unsigned bits) const {
     const unsigned digits10 = bits * 30103 / 100000 + 2;
     Real sum(0, digits10), magnitude(0, digits10);
-    const Real pi = pi_at(bits);
+    // Raw MPFR at bits + 16 for the factors: Boost's expression temporaries
+    // may take the thread's default precision, below what Ziv's rounding of
+    // a cancelling sum assumes (rounding.hpp).
+    mpfr_t pi, f;
+    mpfr_init2(pi, bits + 16);
+    mpfr_init2(f, bits + 16);
+    mpfr_const_pi(pi, MPFR_RNDN);
     for (const auto& [a, q] : terms_) {
         Real t(0, digits10);
-        mpfr_set_q(t.backend().data(), q.backend().data(), MPFR_RNDN);
-        if (a.pi_power != 0) t *= boost::multiprecision::pow(pi, a.pi_power);
-        if (a.log_of != 1) {
-            Real l(a.log_of, digits10);
-            t *= boost::multiprecision::log(l);
+        mpfr_ptr x = t.backend().data();
+        mpfr_set_q(x, q.backend().data(), MPFR_RNDN);
+        if (a.pi_power != 0) {
+            mpfr_pow_si(f, pi, a.pi_power, MPFR_RNDN);
+            mpfr_mul(x, x, f, MPFR_RNDN);
         }
-        sum += t;
-        magnitude += boost::multiprecision::abs(t);
+        if (a.log_of != 1) {
+            mpfr_set_si(f, static_cast<long>(a.log_of), MPFR_RNDN);
+            mpfr_log(f, f, MPFR_RNDN);
+            mpfr_mul(x, x, f, MPFR_RNDN);
+        }
+        mpfr_add(sum.backend().data(), sum.backend().data(), x, MPFR_RNDN);
+        mpfr_abs(x, x, MPFR_RNDN);
+        mpfr_add(magnitude.backend().data(), magnitude.backend().data(), x, MPFR_RNDN);
     }
+    mpfr_clear(pi);
+    mpfr_clear(f);
     return {sum, magnitude};
 }
 

@@ -138,17 +138,9 @@ double condition(const ClosedForm& series, const Q& r0) {
     return sum == 0 ? 1e300 : magnitude / std::abs(sum);
 }
 
-// Sum of |terms| over |value| of the closed form itself at r0.
-double closed_form_condition(const ClosedForm& f, const Q& r0) {
-    Real r(0, 70);
-    mpfr_set_q(r.backend().data(), r0.backend().data(), MPFR_RNDN);
-    const auto [v, m] = f.evaluate(r, 300);
-    return v == 0 ? 1e300 : static_cast<double>(m / abs(v));
-}
-
 struct Candidate {
     ZeroSeries z;
-    double score;  // the worse of the two condition numbers at the seam r0
+    double score;  // the series' condition number at the seam r0
 };
 
 std::optional<Candidate> series_for_radius(const ClosedForm& f, int m) {
@@ -174,7 +166,9 @@ std::optional<Candidate> series_for_radius(const ClosedForm& f, int m) {
         const auto rel = relative_truncation_bound(f, order, m);
         if (!rel || *rel > target) continue;
         ClosedForm s = series_at_zero(f, order);
-        const double score = std::max(condition(s, r0), closed_form_condition(f, r0));
+        // The next piece is a Taylor piece about a centre (centred_series.hpp),
+        // not the cancelling closed form: only the series' own condition counts.
+        const double score = condition(s, r0);
         return Candidate{ZeroSeries{m, order, std::move(s), *rel}, score};
     }
     return std::nullopt;
@@ -287,8 +281,8 @@ std::optional<Q> relative_truncation_bound(const ClosedForm& f, int order, int m
     return beta / (ell - beta);
 }
 
-// The seam r0 should be where neither form cancels: of the provable radii
-// the largest whose worse condition number is within 2 (or 1.25 times the
+// The seam r0 should be where the series does not cancel: of the provable
+// radii the largest whose condition number is within 2 (or 1.25 times the
 // best seam's).
 std::optional<ZeroSeries> zero_series(const ClosedForm& f) {
     std::vector<Candidate> candidates;

@@ -47,10 +47,11 @@ struct ZeroSeries {
 };
 
 // The series piece of f: r0 = 2^-m (1 <= m <= 8) with a truncation proven
-// below 2^-60 relative (order <= 120), chosen where both the series and the
-// closed form are well conditioned (sum of |terms| over |value|, the factor
-// by which double evaluation loses accuracy): the largest r0 whose worse
-// condition number is at most 2, or within 1.25 of the best seam's.
+// below 2^-60 relative (order <= 120), chosen where the series is well
+// conditioned (sum of |terms| over |value|, the factor by which double
+// evaluation loses accuracy): the largest r0 whose condition number is at
+// most 2, or within 1.25 of the best seam's. (The closed form beyond r0 is
+// not evaluated: Taylor pieces about centres replace it, centred_series.hpp.)
 // nullopt when f has no such series (e.g. it is singular beyond log r).
 std::optional<ZeroSeries> zero_series(const ClosedForm& f);
 

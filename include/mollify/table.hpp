@@ -7,7 +7,10 @@
 // the last one reaching to infinity (zero, or the Green's function for
 // potentials). A piece is a sum of terms; a term is
 //     (edge - v)^edge_power * r^low * sum_k c[k] v^k * basis(r),
-// with v = r (Var::r) or v = r^2 (Var::r2; then the factor is edge^2 - r^2),
+// with v = r (Var::r) or v = r^2 (Var::r2; then the factor is edge^2 - r^2)
+// or v = r - centre (Var::shifted: a Taylor piece about a centre, where the
+// closed form of a missing Wendland function cancels; centre = centre +
+// centre_lo exactly enough, the rational centre's double and its rounding),
 // `edge` the term's own edge: the piece's upper breakpoint for a single
 // kernel, the radius a_j of the term w_j psi(r/a_j) it comes from for a
 // combination (Franz (4.17); a_j may lie beyond the piece). The factored
@@ -28,7 +31,7 @@ enum class Basis : unsigned char {
     arcsin,      // arcsin r
 };
 
-enum class Var : unsigned char { r, r2 };
+enum class Var : unsigned char { r, r2, shifted };
 
 struct Term {
     Basis basis;
@@ -39,6 +42,7 @@ struct Term {
     int low;  // power of r in front of the polynomial
     const double* c;
     int n;
+    double centre = 0, centre_lo = 0;  // Var::shifted: v = (r - centre) - centre_lo
 };
 
 struct Piece {
@@ -94,7 +98,7 @@ inline double evaluate(const Quantity& q, double r) {
         double sum = 0;
         for (int t = 0; t < piece.nterms; ++t) {
             const Term& term = piece.terms[t];
-            const double v = term.var == Var::r ? r : r * r;
+            const double v = term.var == Var::r ? r : term.var == Var::r2 ? r * r : (r - term.centre) - term.centre_lo;
             double poly = 0;
             for (int k = term.n; k-- > 0;) poly = poly * v + term.c[k];
             double x = poly;

@@ -37,6 +37,10 @@ public:
     // r >= 0 and h > 0 exact (doubles or MPFR numbers, e.g. |x| of a vector).
     Real value(QuantityId q, const Real& r, const Real& h) const;
     Real value(QuantityId q, double r, double h) const;
+    // r d/dr f_h(r) = h^p q f'(q) (q = r/h; outside the support r G'(r)),
+    // to >= 24 correct bits: the change of f_h under a relative perturbation
+    // of r, the scale of the intrinsic error metric (tests/accuracy_test.cpp).
+    Real slope(QuantityId q, double r, double h) const;
     // max |f| over the support for h = 1 (the scale of "tiny" values).
     double max_abs(QuantityId q) const;
 

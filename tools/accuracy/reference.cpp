@@ -187,13 +187,14 @@ gen::Exact green_log_coefficient(const gen::Radial& f) {
     return gen::Exact();
 }
 
-void make_form(Form& form, const gen::Radial& f, QuantityId q, int dim) {
+// `slope`: the form of r d/dr f_h = h^p q f'(q) (no c log h: its r-derivative is 0).
+void make_form(Form& form, const gen::Radial& f, QuantityId q, int dim, bool slope = false) {
     form.present = true;
     form.power = mollify::detail::scale_power(q, dim);
     for (std::size_t i = 0; i < f.pieces.size(); ++i)
         form.pieces.push_back(make_piece(f.pieces[i], f.breaks[i], f.breaks[i + 1]));
     form.outside = make_piece(f.outside, f.support(), f.support(), false);
-    if (q == QuantityId::potential && dim == 2) form.log_coefficient = green_log_coefficient(f);
+    if (q == QuantityId::potential && dim == 2 && !slope) form.log_coefficient = green_log_coefficient(f);
     const gen::ClosedForm& first = f.pieces.front();
     if (termwise_singular_at_zero(first)) {
         try {
@@ -436,16 +437,27 @@ int level_for(double bits) {
 
 }  // namespace
 
+namespace {
+
+void check_arguments(mpfr_srcptr r, mpfr_srcptr h) {
+    if (!mpfr_number_p(r) || mpfr_sgn(r) < 0) fail("reference: radius is not a finite number >= 0");
+    if (!mpfr_number_p(h) || mpfr_sgn(h) <= 0) fail("reference: smoothing length is not a finite number > 0");
+}
+
+}  // namespace
+
 struct Reference::Impl {
     int dim = 0;
     gen::Kernel kernel;
     std::array<Form, table::quantity_count> forms;
+    std::array<Form, table::quantity_count> slopes;  // r d/dr of each
     std::array<std::once_flag, level_count> built;
 
     void ensure(int level) {
         std::call_once(built[static_cast<std::size_t>(level)], [&] {
-            for (Form& f : forms)
-                if (f.present) build_form(f, level);
+            for (auto* set : {&forms, &slopes})
+                for (Form& f : *set)
+                    if (f.present) build_form(f, level);
         });
     }
 
@@ -453,6 +465,27 @@ struct Reference::Impl {
         if (compare_scaled(r, h, 1, 1) > 0) return attempt_outside(f, r, level, w);
         if (mpfr_zero_p(r) && (f.at_zero || f.singular_at_zero)) return attempt_at_zero(f, h, level, w);
         return attempt_inside(f, r, h, level, w);
+    }
+
+    // The form at double r and h (exact), `wanted` correct bits, in a number of `bits`.
+    Real at(const Form& f, double r, double h, long bits, double wanted) {
+        mpfr_t rr, hh;
+        mpfr_init2(rr, 53);
+        mpfr_init2(hh, 53);
+        mpfr_set_d(rr, r, MPFR_RNDN);
+        mpfr_set_d(hh, h, MPFR_RNDN);
+        Real out(0, static_cast<unsigned>(bits * 30103 / 100000 + 2));
+        try {
+            check_arguments(rr, hh);
+            value(f, rr, hh, out.backend().data(), wanted);
+        } catch (...) {
+            mpfr_clear(rr);
+            mpfr_clear(hh);
+            throw;
+        }
+        mpfr_clear(rr);
+        mpfr_clear(hh);
+        return out;
     }
 
     // Ziv's loop; out gets the value (0 when it stays below its bound at
@@ -490,8 +523,10 @@ Reference::Reference(const std::string& spec, int dim) : impl_(std::make_unique<
     for (int i = 0; i < table::quantity_count; ++i) {
         const std::string& name = gen::quantity_names()[static_cast<std::size_t>(i)];
         if (!impl_->kernel.claims.no_potential.empty() && name.find("potential") != std::string::npos) continue;
-        make_form(impl_->forms[static_cast<std::size_t>(i)], gen::quantity(impl_->kernel, qs, name),
-                  static_cast<QuantityId>(i), dim);
+        const gen::Radial& f = gen::quantity(impl_->kernel, qs, name);
+        make_form(impl_->forms[static_cast<std::size_t>(i)], f, static_cast<QuantityId>(i), dim);
+        make_form(impl_->slopes[static_cast<std::size_t>(i)], f.derivative().times(gen::Laurent::monomial(gen::Q(1), 1)),
+                  static_cast<QuantityId>(i), dim, true);
     }
 }
 
@@ -514,10 +549,6 @@ void require(const Reference& ref, QuantityId q) {
                                                                               : "such quantity"));
 }
 
-void check_arguments(mpfr_srcptr r, mpfr_srcptr h) {
-    if (!mpfr_number_p(r) || mpfr_sgn(r) < 0) fail("reference: radius is not a finite number >= 0");
-    if (!mpfr_number_p(h) || mpfr_sgn(h) <= 0) fail("reference: smoothing length is not a finite number > 0");
-}
 
 }  // namespace
 
@@ -532,23 +563,12 @@ Real Reference::value(QuantityId q, const Real& r, const Real& h) const {
 
 Real Reference::value(QuantityId q, double r, double h) const {
     require(*this, q);
-    mpfr_t rr, hh;
-    mpfr_init2(rr, 53);
-    mpfr_init2(hh, 53);
-    mpfr_set_d(rr, r, MPFR_RNDN);
-    mpfr_set_d(hh, h, MPFR_RNDN);
-    Real out(0, static_cast<unsigned>(output_bits * 30103 / 100000 + 2));
-    try {
-        check_arguments(rr, hh);
-        impl_->value(impl_->forms[static_cast<std::size_t>(q)], rr, hh, out.backend().data());
-    } catch (...) {
-        mpfr_clear(rr);
-        mpfr_clear(hh);
-        throw;
-    }
-    mpfr_clear(rr);
-    mpfr_clear(hh);
-    return out;
+    return impl_->at(impl_->forms[static_cast<std::size_t>(q)], r, h, output_bits, wanted_bits);
+}
+
+Real Reference::slope(QuantityId q, double r, double h) const {
+    require(*this, q);
+    return impl_->at(impl_->slopes[static_cast<std::size_t>(q)], r, h, 64, 24);
 }
 
 // max |f| over [0, 1] (h = 1) on a grid of 2048 cells plus every breakpoint

@@ -123,10 +123,22 @@ inline double basis(const Scaled& a) {
 // edge (table::Term); at the support edge (edge = 1) the distance is a.e,
 // accurate to the last bit, elsewhere edge - q (exact by Sterbenz's lemma
 // for q in [edge/2, 2 edge], where the factor matters).
+// The distance r/h - centre of a Taylor piece (table::Var::shifted) from r
+// and h, not from the rounded q: (r - c h)/h with one rounding of r - c h
+// where there is an FMA (then v is within ~1.5 ulp of itself); without one
+// c h is rounded first, an absolute error <= c 2^-53, the size of the
+// rounding of q itself. The centre's own rounding (centre_lo, ~2^-55) is
+// subtracted after.
+inline double shifted(const Scaled& a, double centre, double centre_lo) {
+    return mul_add(-centre, a.h, a.r) * a.inv_h - centre_lo;
+}
+
 template <const table::Kernel& K, int Q, int P, int T>
 inline double term(const Scaled& a) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
-    const double v = t.var == table::Var::r ? a.q : a.q * a.q;
+    const double v = t.var == table::Var::r    ? a.q
+                     : t.var == table::Var::r2 ? a.q * a.q
+                                               : shifted(a, t.centre, t.centre_lo);
     double x = horner<K, Q, P, T>(v, std::make_index_sequence<static_cast<std::size_t>(t.n - 1)>{});
     if constexpr (t.low != 0) x *= ipow<t.low>(a.q);
     if constexpr (t.edge_power != 0) {
@@ -222,6 +234,7 @@ inline double green_term(double r) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
     static_assert(t.edge_power == 0 && (t.basis == table::Basis::one || t.basis == table::Basis::log),
                   "the exterior of a potential is a Green's function");
+    static_assert(t.var != table::Var::shifted, "the exterior is a Green's function in r");
     const double v = t.var == table::Var::r ? r : r * r;
     double x = horner<K, Q, P, T>(v, std::make_index_sequence<static_cast<std::size_t>(t.n - 1)>{});
     if constexpr (t.low != 0) x *= ipow<t.low>(r);

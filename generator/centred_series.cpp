@@ -1,0 +1,418 @@
+#include "centred_series.hpp"
+
+#include "edge_series.hpp"
+#include "error.hpp"
+
+#include <mpfr.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <map>
+
+namespace mollify::gen {
+
+namespace {
+
+using Series = std::vector<Q>;  // coefficients of v^0 .. v^n, v = r - c
+
+Series product(const Series& a, const Series& b) {
+    Series out(a.size(), Q(0));
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (a[i] == 0) continue;
+        for (std::size_t j = 0; i + j < out.size(); ++j) out[i + j] += a[i] * b[j];
+    }
+    return out;
+}
+
+Series integral(const Series& s) {  // the antiderivative vanishing at v = 0
+    Series out(s.size(), Q(0));
+    for (std::size_t k = 0; k + 1 < s.size(); ++k) out[k + 1] = s[k] / Q(static_cast<long long>(k + 1));
+    return out;
+}
+
+// r^k = (c + v)^k = sum_j binom(k, j) c^(k-j) v^j, any integer k.
+Series power_of_r(int k, const Q& c, int order) {
+    Series out(static_cast<std::size_t>(order) + 1);
+    Q binom = 1, power = pow(c, k);
+    const Q inverse = Q(1) / c;
+    for (int j = 0; j <= order; ++j) {
+        out[static_cast<std::size_t>(j)] = binom * power;
+        binom = binom * Q(k - j) / Q(j + 1);
+        power *= inverse;
+    }
+    return out;
+}
+
+// S^j = g^(j/2), g = 1 - r^2 = S(c)^2 - 2c v - v^2, by J.C.P. Miller's
+// recurrence for powers of a series: from g h' = (j/2) g' h,
+// k g_0 h_k = sum_{i=1}^{min(k,2)} ((j/2 + 1) i - k) g_i h_(k-i).
+Series power_of_S(int j, const Q& c, const Q& s, int order) {
+    const Q g[3] = {s * s, Q(-2) * c, Q(-1)};
+    const Q alpha = ratio(j, 2);
+    Series h(static_cast<std::size_t>(order) + 1, Q(0));
+    h[0] = j >= 0 ? pow(s, j) : Q(1) / pow(s, -j);
+    for (int k = 1; k <= order; ++k) {
+        Q sum = 0;
+        for (int i = 1; i <= std::min(k, 2); ++i) sum += ((alpha + 1) * Q(i) - Q(k)) * g[i] * h[static_cast<std::size_t>(k - i)];
+        h[static_cast<std::size_t>(k)] = sum / (Q(k) * g[0]);
+    }
+    return h;
+}
+
+// sqrt(x) for a rational square, else Error.
+Q rational_sqrt(const Q& x) {
+    auto root = [](const Z& n) {
+        const Z r = sqrt(n);
+        if (r * r != n) return Z(-1);
+        return r;
+    };
+    const Z p = root(numerator(x)), q = root(denominator(x));
+    if (p < 0 || q < 0) fail("internal: centre with irrational sqrt(1 - c^2): 1 - c^2 = " + short_string(x));
+    return Q(p, q);
+}
+
+Real real(const Q& q, unsigned bits) {
+    Real x(0, bits * 30103 / 100000 + 2);
+    mpfr_set_q(x.backend().data(), q.backend().data(), MPFR_RNDN);
+    return x;
+}
+
+Q rational(const Real& x) {
+    Q q;
+    mpfr_get_q(q.backend().data(), x.backend().data());
+    return q;
+}
+
+// arcsech c, arcsin c, log c, each correctly rounded to `bits` (raw MPFR:
+// Boost's expression temporaries may take the thread's default precision,
+// too low for Ziv's rounding of a cancelling sum, and differing by thread).
+struct Constants {
+    Real arcsech, arcsin, log;
+};
+Constants constants(const Q& c, unsigned bits) {
+    const Q s = rational_sqrt(Q(1) - c * c), argument = (1 + s) / c;  // arcsech c = log((1 + S(c))/c)
+    Constants k{real(Q(0), bits), real(Q(0), bits), real(Q(0), bits)};
+    for (Real* x : {&k.arcsech, &k.arcsin, &k.log}) mpfr_set_prec(x->backend().data(), bits);
+    mpfr_t y;
+    mpfr_init2(y, bits + 8);
+    mpfr_set_q(y, argument.backend().data(), MPFR_RNDN);
+    mpfr_log(k.arcsech.backend().data(), y, MPFR_RNDN);
+    mpfr_set_q(y, c.backend().data(), MPFR_RNDN);
+    mpfr_asin(k.arcsin.backend().data(), y, MPFR_RNDN);
+    mpfr_log(k.log.backend().data(), y, MPFR_RNDN);
+    mpfr_clear(y);
+    return k;
+}
+
+}  // namespace
+
+std::pair<Real, Real> CentredValue::evaluate(const Q& c, unsigned bits) const {
+    const Constants k = constants(c, bits + 16);
+    std::pair<Real, Real> out = one.evaluate(bits);
+    mpfr_ptr sum = out.first.backend().data(), magnitude = out.second.backend().data();
+    mpfr_t t;
+    mpfr_init2(t, bits + 16);
+    auto add = [&](const Exact& x, const Real& constant) {
+        const auto [v, m] = x.evaluate(bits);
+        mpfr_mul(t, v.backend().data(), constant.backend().data(), MPFR_RNDN);
+        mpfr_add(sum, sum, t, MPFR_RNDN);
+        mpfr_mul(t, m.backend().data(), constant.backend().data(), MPFR_RNDN);
+        mpfr_abs(t, t, MPFR_RNDN);
+        mpfr_add(magnitude, magnitude, t, MPFR_RNDN);
+    };
+    add(arcsech, k.arcsech);
+    add(arcsin, k.arcsin);
+    add(log, k.log);
+    mpfr_clear(t);
+    return out;
+}
+
+std::string CentredValue::to_string(const Q& c) const {
+    const Q s = rational_sqrt(Q(1) - c * c);
+    std::string out;
+    auto add = [&](const Exact& x, const std::string& constant) {
+        if (x.is_zero()) return;
+        if (!out.empty()) out += " + ";
+        out += constant.empty() ? x.to_string() : "(" + x.to_string() + ") * " + constant;
+    };
+    add(one, "");
+    add(arcsech, "log(" + short_string((1 + s) / c) + ")");  // arcsech c = log((1 + S(c))/c)
+    add(arcsin, "arcsin(" + short_string(c) + ")");
+    add(log, "log(" + short_string(c) + ")");
+    return out.empty() ? "0" : out;
+}
+
+std::vector<CentredValue> taylor_at_centre(const ClosedForm& f, const Q& c, int order) {
+    const Q s = rational_sqrt(Q(1) - c * c);
+    const std::size_t n = static_cast<std::size_t>(order) + 1;
+    std::map<int, Series> S;  // S^j, j -> series
+    auto S_power = [&](int j) -> const Series& {
+        auto it = S.find(j);
+        if (it == S.end()) it = S.emplace(j, power_of_S(j, c, s, order)).first;
+        return it->second;
+    };
+    const Series inverse_r = power_of_r(-1, c, order);
+    std::map<int, Series> powers;  // r^k, k -> series
+    auto r_power = [&](int k) -> const Series& {
+        auto it = powers.find(k);
+        if (it == powers.end()) it = powers.emplace(k, power_of_r(k, c, order)).first;
+        return it->second;
+    };
+    std::vector<CentredValue> out(n);
+    auto add = [&](Exact CentredValue::*slot, const Exact& factor, const Series& x) {
+        for (std::size_t k = 0; k < n; ++k)
+            if (x[k] != 0) out[k].*slot += factor * x[k];
+    };
+    for (const auto& [key, p] : f.terms()) {
+        Series P(n, Q(0));
+        for (int k = p.low(); k <= p.high(); ++k) {
+            const Q pk = p.coefficient(k);
+            if (pk == 0) continue;
+            const Series& rk = r_power(k);
+            for (std::size_t j = 0; j < n; ++j) P[j] += pk * rk[j];
+        }
+        const Exact factor = Exact::of(key.factor);
+        switch (key.basis) {
+            case Basis::one: add(&CentredValue::one, factor, P); break;
+            case Basis::sqrt_power: add(&CentredValue::one, factor, product(P, S_power(key.s_power))); break;
+            case Basis::arcsech:  // arcsech' = -1/(r S)
+                add(&CentredValue::arcsech, factor, P);
+                add(&CentredValue::one, factor * Q(-1), product(P, integral(product(inverse_r, S_power(-1)))));
+                break;
+            case Basis::arcsin:  // arcsin' = 1/S
+                add(&CentredValue::arcsin, factor, P);
+                add(&CentredValue::one, factor, product(P, integral(S_power(-1))));
+                break;
+            case Basis::log:  // log' = 1/r
+                add(&CentredValue::log, factor, P);
+                add(&CentredValue::one, factor, product(P, integral(inverse_r)));
+                break;
+        }
+    }
+    return out;
+}
+
+namespace {
+
+constexpr unsigned bound_bits = 128;
+
+// A rigorous bound M >= |f(z)| on the circle |z - c| = R (0 < R < min(c,
+// 1 - c)), term by term (the terms cancel on the real line, not in the
+// bound): |z| in [c - R, c + R], Re z > 0, |1 - z^2| <= 1 + |z|^2 and
+// >= (1 - c - R)(1 + c - R); arcsech z = log((1 + S)/z) with Re S >= 0 (the
+// principal branches are analytic on the disc, which avoids 0 and +-1), so
+// |1 + S| >= 1 and |arcsech z| <= max|log|w|| + pi; |log z| <= max|log|z|| +
+// pi/2; |arcsin z| = |int_0^z dt/sqrt(1 - t^2)| <= |z| / sqrt(1 - c - R)
+// (on the segment |1 - t| >= 1 - Re t, |1 + t| >= 1). MPFR at 128 bits; the
+// factor 1.01 covers its rounding.
+Real circle_bound(const ClosedForm& f, const Q& c, const Real& R) {
+    using boost::multiprecision::abs;
+    using boost::multiprecision::log;
+    using boost::multiprecision::max;
+    using boost::multiprecision::pow;
+    using boost::multiprecision::sqrt;
+    const Real cc = real(c, bound_bits), one = real(Q(1), bound_bits), pi = pi_at(bound_bits);
+    const Real zmax = cc + R, zmin = cc - R;
+    const Real gmax = one + zmax * zmax, gmin = (one - zmax) * (one + zmin);
+    const Real smax = sqrt(gmax);
+    const Real arcsech_max = max(abs(log(zmax)), abs(log((one + smax) / zmin))) + pi;
+    const Real log_max = max(abs(log(zmax)), abs(log(zmin))) + pi / 2;
+    const Real arcsin_max = zmax / sqrt(one - zmax);
+    Real M = real(Q(0), bound_bits);
+    for (const auto& [key, p] : f.terms()) {
+        Real poly = real(Q(0), bound_bits);
+        for (int k = p.low(); k <= p.high(); ++k)
+            if (p.coefficient(k) != 0) poly += abs(real(p.coefficient(k), bound_bits)) * pow(k >= 0 ? zmax : zmin, k);
+        Real basis = one;
+        switch (key.basis) {
+            case Basis::one: break;
+            case Basis::sqrt_power: basis = pow(key.s_power > 0 ? gmax : gmin, Real(key.s_power) / 2); break;
+            case Basis::arcsech: basis = arcsech_max; break;
+            case Basis::log: basis = log_max; break;
+            case Basis::arcsin: basis = arcsin_max; break;
+        }
+        const auto [factor, magnitude] = Exact::of(key.factor).evaluate(bound_bits);
+        M += (abs(factor) + magnitude / pow(Real(2), 100)) * poly * basis;
+    }
+    return M * Real(101) / 100;
+}
+
+// min over 257 points of [lo, hi] of max(|f(r)|, |r f'(r)|) at 200 bits:
+// the size of f there in the sense of an exact evaluator that is handed r
+// with a relative error of half an ulp (sampled, not proven; the truncation
+// is then made 2^-61 of it, a factor 2 of room).
+Q intrinsic_scale(const ClosedForm& f, const Q& lo, const Q& hi) {
+    const ClosedForm df = f.derivative();
+    Real m;
+    for (int i = 0; i <= 256; ++i) {
+        const Q x = lo + (hi - lo) * ratio(i, 256);
+        const Real r = real(x, 200);
+        const Real s = boost::multiprecision::max(boost::multiprecision::abs(f.evaluate(r, 200).first),
+                                                  boost::multiprecision::abs(r * df.evaluate(r, 200).first));
+        if (i == 0 || s < m) m = s;
+    }
+    return rational(m);
+}
+
+// A centre c = 2t/(1 + t^2) in (above, at], S(c) = (1 - t^2)/(1 + t^2):
+// t = p/q with the smallest q <= 4096 (small numbers in the coefficients),
+// the largest such c. t(c) = (1 - sqrt(1 - c^2))/c increases with c.
+Q pythagorean_between(const Q& above, const Q& at) {
+    auto t_of = [](const Q& c) {
+        const double x = static_cast<double>(c);
+        return (1 - std::sqrt(1 - x * x)) / x;
+    };
+    const double t_lo = t_of(above), t_hi = t_of(at);
+    for (long long q = 2; q <= 4096; ++q) {
+        std::optional<Q> best;
+        for (long long p = static_cast<long long>(std::floor(t_lo * static_cast<double>(q)));
+             p <= static_cast<long long>(std::ceil(t_hi * static_cast<double>(q))); ++p) {
+            if (p < 1 || p >= q) continue;
+            const Q t = ratio(p, q), c = Q(2) * t / (1 + t * t);
+            if (c <= at && c > above && (!best || c > *best)) best = c;
+        }
+        if (best) return *best;
+    }
+    fail("internal: no Pythagorean centre in (" + short_string(above) + ", " + short_string(at) + "]");
+}
+
+constexpr int max_order = 200;
+
+// The order with M (d/R)^(n+1) / (1 - d/R) <= target, the best over a few
+// radii R = f min(c, 1 - c); the tail bound with it.
+// With m > 0 the series is that of f S^-m: M times max |S^-m| on the circle,
+// ((1 - c - R)(1 + c - R))^(-m/2).
+std::pair<int, Q> order_for(const ClosedForm& f, int m, const Q& c, const Q& d, const Q& target) {
+    const Q rho = std::min<Q>(c, Q(1 - c));
+    std::optional<std::pair<int, Q>> best;
+    for (int tenth = 5; tenth <= 19; ++tenth) {
+        const Q R = rho * ratio(tenth, 20);
+        if (R <= d * Q(21, 20)) continue;
+        const Real Rr = real(R, bound_bits), cc = real(c, bound_bits);
+        const Real M = circle_bound(f, c, Rr) * boost::multiprecision::pow((1 - cc - Rr) * (1 + cc - Rr), Real(-m) / 2) *
+                       Real(101) / 100;
+        const Real x = real(d / R, bound_bits), t = real(target, bound_bits);
+        // n + 1 >= log(M / ((1 - x) t)) / log(1/x)
+        const Real need = boost::multiprecision::log(M / ((1 - x) * t)) / boost::multiprecision::log(1 / x);
+        const int n = std::max(1, static_cast<int>(std::ceil(static_cast<double>(need))));
+        if (n > max_order) continue;  // the caller fails if no radius is left
+        const Q tail = rational(M * boost::multiprecision::pow(x, n + 1) / (1 - x)) * Q(101, 100);
+        if (tail > target) continue;
+        if (!best || n < best->first) best = std::pair{n, tail};
+    }
+    if (!best) return {max_order + 1, Q(0)};
+    return *best;
+}
+
+}  // namespace
+
+namespace {
+
+// The lowest power of S in f's series at the edge (edge_series.hpp): f
+// vanishes like S^m there, and the Taylor pieces next to the edge are
+// written as S^m times the series of f S^-m, which does not cancel where f
+// falls steeply towards the edge. 0 where f has no edge series.
+int edge_power_of_S(const ClosedForm& f) {
+    const auto terms = series_at_edge(f, 40);
+    if (!terms) return 0;
+    int m = std::numeric_limits<int>::max();
+    for (const EdgeTerm& t : *terms) m = std::min(m, t.s);
+    return m == std::numeric_limits<int>::max() ? 0 : m;
+}
+
+// The coefficients of a S^-m, from those of a.
+std::vector<CentredValue> times_power_of_S(const std::vector<CentredValue>& a, int m, const Q& c) {
+    if (m == 0) return a;
+    const Series s = power_of_S(-m, c, rational_sqrt(Q(1) - c * c), static_cast<int>(a.size()) - 1);
+    std::vector<CentredValue> out(a.size());
+    for (std::size_t k = 0; k < a.size(); ++k)
+        for (std::size_t i = 0; i <= k; ++i) {
+            const Q& w = s[k - i];
+            out[k].one += a[i].one * w;
+            out[k].arcsech += a[i].arcsech * w;
+            out[k].arcsin += a[i].arcsin * w;
+            out[k].log += a[i].log * w;
+        }
+    return out;
+}
+
+// The rounding error of a piece's double evaluation, in ulps of f (a
+// heuristic to choose its form): Horner's sum |a_n v^n| / |sum a_n v^n|
+// (max over 17 points) plus the error of the factors, about an ulp of q per
+// power of r and an ulp of S per power of S.
+double expected_error(const CentredPiece& p) {
+    std::vector<double> a;
+    for (const CentredValue& x : p.a) a.push_back(static_cast<double>(x.evaluate(p.centre, 64).first));
+    double worst = 0;
+    for (int i = 0; i <= 16; ++i) {
+        const double v = static_cast<double>(p.lo + (p.hi - p.lo) * ratio(i, 16) - p.centre);
+        double sum = 0, magnitude = 0;
+        for (std::size_t n = a.size(); n-- > 0;) {
+            sum = sum * v + a[n];
+            magnitude = magnitude * std::abs(v) + std::abs(a[n]);
+        }
+        worst = std::max(worst, sum == 0 ? 1e300 : magnitude / std::abs(sum));
+    }
+    return worst + std::abs(p.low) + p.s_power;
+}
+
+}  // namespace
+
+std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const Q& hi) {
+    // Each piece [x, y] within kappa min(c, 1 - c) of its centre: the Taylor
+    // terms then shrink like (kappa/ratio)^n.
+    const Q kappa(3, 10);
+    const int m = edge_power_of_S(f);
+    int K = 0;  // the most negative power of r in f
+    for (const auto& [key, p] : f.terms()) K = std::max(K, -p.low());
+    std::vector<CentredPiece> out;
+    for (Q x = lo; x < hi;) {
+        const Q ideal = std::min<Q>(Q(x / (1 - kappa)), Q((x + kappa) / (1 + kappa)));
+        const Q c = pythagorean_between(Q(x + (ideal - x) / 2), ideal);
+        // y: c + kappa min(c, 1 - c) down to a dyadic breakpoint (exact as a
+        // double), on a grid of 1/8 of that reach.
+        const Q reach = kappa * std::min<Q>(c, Q(1 - c));
+        long long grid = 8;
+        while (Q(grid) * reach < 8) grid *= 2;
+        Q y = Q(static_cast<long long>(std::floor(static_cast<double>((c + reach) * grid))), grid);
+        if (y >= hi || hi - y < reach / 4) y = hi;
+        const Q d = std::max<Q>(Q(c - x), Q(y - c));
+        const Q scale = intrinsic_scale(f, x, y);
+        if (scale == 0) fail("internal: the quantity and its derivative vanish on [" + short_string(x) + ", " + short_string(y) + "]");
+        // f = r^-k S^j g: the series of g = r^k S^-j f, with k = 0 or K
+        // (without f's negative powers, which cancel near 0) and j = 0 or m;
+        // |f - r^-k S^j T_g| <= x^-k |g - T_g| (S <= 1 on [x, y]). Of the
+        // variants, the one with the smallest expected rounding error.
+        const Q target = scale / pow(Q(2), 61);
+        std::optional<CentredPiece> best;
+        double best_error = 0;
+        for (const int k : {0, K}) {
+            if (k == K && k == 0 && best) break;
+            const ClosedForm g = k == 0 ? f : f * Laurent::monomial(Q(1), k);
+            const auto plain = order_for(g, 0, c, d, target * pow(x, k));
+            const auto factored = m > 0 ? order_for(g, m, c, d, target * pow(x, k)) : plain;
+            const int most = std::max(plain.first <= max_order ? plain.first : 0, factored.first <= max_order ? factored.first : 0);
+            if (most == 0) continue;
+            const std::vector<CentredValue> a = taylor_at_centre(g, c, most);
+            for (const int j : {0, m}) {
+                const auto& [order, tail] = j == 0 ? plain : factored;
+                if (order > max_order || (j == m && j == 0 && best)) continue;
+                std::vector<CentredValue> b = times_power_of_S(std::vector<CentredValue>(a.begin(), a.begin() + order + 1), j, c);
+                CentredPiece piece{x, y, c, -k, j, std::move(b), tail / pow(x, k), scale};
+                const double e = expected_error(piece);
+                if (!best || e < best_error) {
+                    best_error = e;
+                    best = std::move(piece);
+                }
+            }
+        }
+        if (!best) fail("internal: no Taylor order <= " + std::to_string(max_order) + " about " + short_string(c));
+        out.push_back(std::move(*best));
+        x = y;
+    }
+    return out;
+}
+
+}  // namespace mollify::gen
