@@ -158,3 +158,29 @@ TEST(MollifyRun, PoissonFree) {
     for (const char* f : {"results.csv", "tree_0.csv", "time_vs_error.png", "summary.md"})
         EXPECT_TRUE(fs::exists(w.dir / "out" / "pf" / f)) << f;
 }
+
+// The vortex-sheet experiment: bad parameters exit 1 naming the value before
+// anything is written; a tiny sheet writes its positions, pictures, summary.
+TEST(MollifyRun, VortexSheet) {
+    Workdir w;
+    const std::string head = "[scene]\nname = \"vs\"\nexperiment = \"vortex-sheet\"\n[vortex_sheet]\nparticles = 24\n"
+                             "times = [0.1, 0.2]\n";
+    w.file("scenes/bad_delta.toml", head + "algebraic_delta = -0.25\ndt = 0.05\n");
+    Outcome r = w.run("run scenes/bad_delta.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("vortex_sheet.algebraic_delta = -0.25"), std::string::npos) << r.err;
+    w.file("scenes/bad_support.toml", head + "kernels = [\"wendland:k=2\"]\nsupport = 0.7\ndt = 0.05\n");
+    r = w.run("run scenes/bad_support.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("vortex_sheet.support = 0.7"), std::string::npos) << r.err;
+    w.file("scenes/bad_steps.toml", head + "algebraic_delta = 0.25\ndt = 0.03\n");
+    r = w.run("run scenes/bad_steps.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("not a whole number of steps dt = 0.03"), std::string::npos) << r.err;
+    EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"});
+    w.file("scenes/good.toml", head + "algebraic_delta = 0.25\nkernels = [\"mollifier:M=4\"]\nsupport = 0.25\ndt = 0.05\n");
+    r = w.run("run scenes/good.toml");
+    EXPECT_EQ(r.status, 0) << r.err;
+    for (const char* f : {"sheet_0.csv", "sheet_1.csv", "sheet_0.png", "sheet_1.png", "sheets_last.png", "summary.md"})
+        EXPECT_TRUE(fs::exists(w.dir / "out" / "vs" / f)) << f;
+}

@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -54,6 +55,10 @@ std::string show(const toml::node& n) {
         v = "\"";
         for (char c : str->get()) v += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
         v += "\"";
+    } else if (const auto* x = n.as_floating_point()) {  // shortest round trip: 0.7, not 0.69999999999999996
+        char buf[64];
+        const auto end = std::to_chars(buf, buf + sizeof buf, x->get()).ptr;
+        v.assign(buf, end);
     } else {
         std::ostringstream s;
         s << toml::node_view<const toml::node>{&n};

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -60,17 +61,22 @@ void velocity(const Blob& blob, const Sheet& s, std::vector<double>& u, std::vec
     const std::size_t n = s.size();
     u.assign(n, 0.0);
     v.assign(n, 0.0);
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-        double ui = 0, vi = 0;
-        for (std::size_t j = 0; j < n; ++j) {
-            if (j == i) continue;
-            const Velocity k = blob(s.x[i] - s.x[j], s.y[i] - s.y[j]);
-            ui += s.gamma[j] * k[0];
-            vi += s.gamma[j] * k[1];
+#pragma omp parallel
+    {
+        std::vector<double> dx(n), dy(n), g(n);
+#pragma omp for schedule(static)
+        for (std::size_t i = 0; i < n; ++i) {
+            std::size_t m = 0;
+            for (std::size_t j = 0; j < n; ++j) {
+                if (j == i) continue;
+                dx[m] = s.x[i] - s.x[j];
+                dy[m] = s.y[i] - s.y[j];
+                g[m++] = s.gamma[j];
+            }
+            const Velocity k = blob.sum(std::span(dx).first(m), std::span(dy).first(m), std::span(g).first(m));
+            u[i] = k[0];
+            v[i] = k[1];
         }
-        u[i] = ui;
-        v[i] = vi;
     }
 }
 
