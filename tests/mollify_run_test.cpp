@@ -184,3 +184,24 @@ TEST(MollifyRun, VortexSheet) {
     for (const char* f : {"sheet_0.csv", "sheet_1.csv", "sheet_0.png", "sheet_1.png", "sheets_last.png", "summary.md"})
         EXPECT_TRUE(fs::exists(w.dir / "out" / "vs" / f)) << f;
 }
+
+// The poisson-periodic experiment: bad parameters exit 1 naming the value
+// before anything is written; a small scene writes its tables and plots.
+TEST(MollifyRun, PoissonPeriodic) {
+    Workdir w;
+    const std::string head = "[scene]\nname = \"pp\"\nexperiment = \"poisson-periodic\"\n[poisson_periodic]\nbvp_sizes = [8, 16]\n"
+                             "particles_per_side = 32\nkernels = [\"wendland:k=2\"]\n";
+    w.file("scenes/bad_sigma.toml", head + "bvp_sigma = -2.5\ngrids = [8]\n");
+    Outcome r = w.run("run scenes/bad_sigma.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("poisson_periodic.bvp_sigma = -2.5"), std::string::npos) << r.err;
+    w.file("scenes/bad_grid.toml", head + "bvp_sigma = 2.5\ngrids = [1]\n");
+    r = w.run("run scenes/bad_grid.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("1 points per axis"), std::string::npos) << r.err;
+    EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"});
+    w.file("scenes/good.toml", head + "bvp_sigma = 2.5\ngrids = [8, 16]\n");
+    r = w.run("run scenes/good.toml");
+    EXPECT_EQ(r.status, 0) << r.err;
+    for (const char* f : {"bvp.csv", "bvp.png", "pic.csv", "pic.png", "summary.md"}) EXPECT_TRUE(fs::exists(w.dir / "out" / "pp" / f)) << f;
+}

@@ -10,7 +10,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <sstream>
+#include <charconv>
 #include <string>
 
 namespace mollify {
@@ -23,11 +23,10 @@ inline constexpr const char* quantity_names[table::quantity_count] = {
 
 namespace detail {
 
+// The shortest decimal that reads back as x (0.6, not 0.59999999999999998).
 inline std::string show(double x) {
-    std::ostringstream out;
-    out.precision(17);
-    out << x;
-    return out.str();
+    char buf[32];
+    return {buf, std::to_chars(buf, buf + sizeof buf, x).ptr};
 }
 
 // f_h(r) = h^(scale_power) f(r/h): W_h = h^-D W(r/h) and every r-derivative
