@@ -3,6 +3,7 @@
 // at r = 0, the vector forms are the radial ones times x, and bad input is
 // an Error naming the value, never a NaN. No GMP here: this is what users link.
 #include <mollify/kernel.hpp>
+#include <mollify/tables/catalogue.hpp>  // the static forms below name tables directly
 
 #include <gtest/gtest.h>
 

@@ -10,7 +10,13 @@
 
 #include <mollify/spec.hpp>
 #include <mollify/static_kernel.hpp>
+// Programs linking the precompiled registry (MOLLIFY_PRECOMPILED_REGISTRY)
+// do not parse the emitted tables here (11 MB of headers, ~30 s per
+// translation unit); src/registry.cpp defines MOLLIFY_DEFINE_REGISTRY.
+#if !defined(MOLLIFY_PRECOMPILED_REGISTRY) || defined(MOLLIFY_DEFINE_REGISTRY)
+#define MOLLIFY_REGISTRY_DEFINED_HERE
 #include <mollify/tables/catalogue.hpp>
+#endif
 
 #include <array>
 #include <cstddef>
@@ -33,6 +39,7 @@ struct KernelOps {
     PairsFunction pairs;
 };
 
+#ifdef MOLLIFY_REGISTRY_DEFINED_HERE
 template <const table::Kernel& K, int Q>
 void batch(const double* r, double* out, std::size_t n, const Smoothing& s) {
     StaticKernel<K>::template evaluate_unchecked<static_cast<QuantityId>(Q)>(r, out, n, s);
@@ -82,6 +89,13 @@ const KernelOps* find_ops(std::string_view key, int dim, bool& other_dim) {
     }
     return nullptr;
 }
+#else
+// The registry entry of a canonical spec in dimension dim, or nullptr
+// (other_dim says whether the spec exists in another dimension); defined
+// in src/registry.cpp.
+template <class = void>
+const KernelOps* find_ops(std::string_view key, int dim, bool& other_dim);
+#endif
 #ifdef MOLLIFY_PRECOMPILED_REGISTRY
 extern template const KernelOps* find_ops<void>(std::string_view, int, bool&);
 #endif
