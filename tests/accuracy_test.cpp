@@ -114,24 +114,26 @@ constexpr double none = std::numeric_limits<double>::infinity();
 //    bound 48) comes, as for the polynomial kernels, from S^m (m up to 9)
 //    amplifying the rounding of S = sqrt(e (1 + q)), e from the rounded
 //    h - r; intrinsic <= 10.6 (bound 16). Formerly up to 7e8 raw ulp.
-//  - potentials: an emission limit, not the evaluation (issue (C) of the
-//    missing-wendland branch, still open): the interior polynomials of
-//    high-degree kernels (wendland:k=4,l=4: degree 16, alternating) cancel
-//    near r/h = 1/2, where the plain form meets the Green's function +
-//    remainder form: measured intrinsic 938 (potential_hess_radial, 572 for
-//    dpotential) for wendland, 133 for mollifier order 6 (M = 1, near the
-//    edge), 63.5 for mollifier order 2, 59.7 for combos, 32.4 for classic
-//    (poly6, box at r/h = 1/2). Bounds 1.5x those.
+//  - potentials (intrinsic 16, measured 11.8): the interior polynomials of
+//    high-degree kernels cancel (wendland:k=4,l=4 in 3D: degree 16,
+//    alternating, sum |terms| ~ 400 |phi| near r/h = 1/2, formerly 938
+//    ulp). The generator now writes, where an emitted piece's sum |terms|
+//    exceeds 2 max(|f|, |r f'|), Taylor polynomials about the midpoints of
+//    its halves, quarters, ... (generator/emit.cpp, recentred()); what is
+//    left is Horner's rounding at condition <= 2 plus the rounding of
+//    q = r/h, measured up to 11.8 (wendland:k=0 in 3D, potential Hessian
+//    part), 10.6 for wendland-missing (its own series pieces), <= 8.8
+//    elsewhere.
 Bound bound(Family f, QuantityId q) {
     const bool potential = static_cast<int>(q) >= static_cast<int>(QuantityId::potential);
     const bool root = q == QuantityId::d2r || q == QuantityId::laplacian;
     switch (f) {
-        case Family::anderson2: return potential ? Bound{96, none, 2} : Bound{32, root ? none : 32, 2};
-        case Family::anderson_high: return {potential ? 200.0 : 80.0, none, 2};
-        case Family::wendland: return potential ? Bound{1408, none, 2} : Bound{32, root ? none : 32, 2};
+        case Family::anderson2: return potential ? Bound{16, none, 2} : Bound{32, root ? none : 32, 2};
+        case Family::anderson_high: return {potential ? 16.0 : 80.0, none, 2};
+        case Family::wendland: return potential ? Bound{16, none, 2} : Bound{32, root ? none : 32, 2};
         case Family::missing: return {16, potential || root ? none : 48, 2};
-        case Family::combo: return {potential ? 96.0 : 64.0, none, 2};
-        case Family::classic: return potential ? Bound{48, none, 2} : Bound{16, root ? none : 16, 2};
+        case Family::combo: return {potential ? 16.0 : 64.0, none, 2};
+        case Family::classic: return potential ? Bound{16, none, 2} : Bound{16, root ? none : 16, 2};
     }
     return {8, 8, 2};
 }
@@ -372,11 +374,10 @@ constexpr int samples = 4000;
 // W and grad W: measured <= 12.3 ulp (wendland:k=4,l=4, the edge factor's
 // n = 8 times the half ulp of 1 - q, plus the squarings of the power).
 constexpr double bound_ulps = 16;
-// grad phi: measured up to 63 ulp for wendland:k=4,l=4 in 2D at r/h ~ 0.5,
-// where the emitted interior polynomial of phi'/r (degree 16, alternating
-// signs) cancels; the radial test above sees the same (raw ulps of
-// dpotential_over_r). An emission limit (see bound() above: the intrinsic metric sees it too).
-constexpr double potential_bound_ulps = 128;
+// grad phi: measured <= 1.95 ulp (formerly 63 for wendland:k=4,l=4 in 2D at
+// r/h ~ 0.5, before the generator recentred the cancelling pieces of phi'/r);
+// phi'/r x is one product away from the radial quantity (<= 8 ulp above).
+constexpr double potential_bound_ulps = 8;
 
 struct Worst {
     double ulps = 0;

@@ -179,18 +179,14 @@ inline constexpr table::Term potential_hess_radial_0[] = {
     {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1p-1,  // -1/2
-};
-inline constexpr double potential_hess_radial_1_1[] = {
-    0x1p-1,  // 1/2
-    0x1.8p+0,  // 3/2
-    0x1.8p+1,  // 3
-    0x1.68p+1,  // 45/16
-    0x1.ep-1,  // 15/16
+    -0x1.01fp+0,  // -4127/4096
+    0x1.2d8p+1,  // 603/256
+    -0x1.14p-1,  // -69/128
+    -0x1.68p+1,  // -45/16
+    -0x1.ep-1,  // -15/16
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, potential_hess_radial_1_1, 5},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, potential_hess_radial_1_0, 5, 0x1.8p-1, 0x0p+0},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
@@ -200,7 +196,7 @@ inline constexpr table::Term potential_hess_radial_2[] = {
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_hess_radial_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_hess_radial_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
     {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_poly6_D1
@@ -330,37 +326,54 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr double dpotential_1_1[] = {
+    0x1.8b1ece01db947p-3,  // 2542197/4194304 * pi^-1
+    0x1.2ca77d58aa75ep-2,  // 483601/524288 * pi^-1
+    -0x1.86d79ea8d5642p-1,  // -157167/65536 * pi^-1
+    -0x1.5bd547e28c4a9p-3,  // -4371/8192 * pi^-1
+    0x1.ccc0e95319c5p-1,  // 2895/1024 * pi^-1
+    0x1.553a6b2ef3de9p-3,  // 67/128 * pi^-1
+    -0x1.abcef9018d72bp-2,  // -21/16 * pi^-1
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 8, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
+inline constexpr double dpotential_2_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+};
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -1, dpotential_2_1, 1},
+};
+inline constexpr double dpotential_3_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_3_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.45f306dc9c883p-1,  // 2 * pi^-1
-    -0x1.e8ec8a4aeacc4p-1,  // -3 * pi^-1
-    0x1.45f306dc9c883p-1,  // 2 * pi^-1
+    0x1.28a51972af058p-1,  // 14911/8192 * pi^-1
+    -0x1.c1229fb47cb0ap-2,  // -1411/1024 * pi^-1
+    -0x1.7377b711eb643p-1,  // -1167/512 * pi^-1
+    0x1.2c7c0a53604d8p-1,  // 59/32 * pi^-1
+    0x1.f31c2281cfb08p-2,  // 49/32 * pi^-1
+    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7, 0x1p-2, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -379,7 +392,7 @@ inline constexpr table::Term dpotential_over_r_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
+    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
     {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
     {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
@@ -392,15 +405,14 @@ inline constexpr table::Term potential_hess_radial_0[] = {
     {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
-};
-inline constexpr double potential_hess_radial_1_1[] = {
-    0x1.45f306dc9c883p-2,  // 1 * pi^-1
-    0x1.e8ec8a4aeacc4p-1,  // 3 * pi^-1
+    -0x1.8f291ce729b0cp-1,  // -627/256 * pi^-1
+    0x1.1aa8bff34fbe1p+1,  // 111/16 * pi^-1
+    -0x1.5a52374a6650bp-1,  // -17/8 * pi^-1
+    -0x1.6eb167b830193p+1,  // -9 * pi^-1
+    -0x1.e8ec8a4aeacc4p-1,  // -3 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -4, potential_hess_radial_1_1, 2},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, potential_hess_radial_1_0, 5, 0x1.8p-1, 0x0p+0},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -410,7 +422,7 @@ inline constexpr table::Term potential_hess_radial_2[] = {
 };
 inline constexpr table::Piece potential_hess_radial[] = {
     {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_hess_radial_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, potential_hess_radial_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
     {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_poly6_D2
@@ -425,7 +437,7 @@ inline constexpr table::Kernel poly6_D2 = {
         {detail_poly6_D2::grad_over_r, 2},
         {detail_poly6_D2::hess_radial, 2},
         {detail_poly6_D2::potential, 3},
-        {detail_poly6_D2::dpotential, 3},
+        {detail_poly6_D2::dpotential, 4},
         {detail_poly6_D2::dpotential_over_r, 3},
         {detail_poly6_D2::potential_hess_radial, 3},
     }};
@@ -536,57 +548,69 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr double dpotential_1_1[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
-    -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
-    -0x1.11bf1ac347766p+0,  // -215/64 * pi^-1
-    -0x1.6481cf814b34fp-1,  // -35/16 * pi^-1
+    0x1.356008cb7d609p-3,  // 63696447/134217728 * pi^-1
+    0x1.8261138659fa1p-3,  // 9943827/16777216 * pi^-1
+    -0x1.76099a1aa0e2dp-1,  // -4813101/2097152 * pi^-1
+    -0x1.dc50e0c1f83a3p-4,  // -95769/262144 * pi^-1
+    0x1.e01372723bb88p-1,  // 96525/32768 * pi^-1
+    0x1.4249ec28e2462p-3,  // 2025/4096 * pi^-1
+    -0x1.d3ea6059b2b58p-2,  // -735/512 * pi^-1
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 6},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 8, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+    0x1.0cb3e167b8c6cp-3,  // 432207/1048576 * pi^-1
+    -0x1.bfdac3c115c93p-3,  // -180093/262144 * pi^-1
+    -0x1.32fae42461c41p-3,  // -30861/65536 * pi^-1
+    0x1.d1704d96598cfp-1,  // 46791/16384 * pi^-1
+    -0x1.adb7e58bd85d8p-5,  // -675/4096 * pi^-1
+    -0x1.628483c692806p+0,  // -4455/1024 * pi^-1
+    -0x1.d3ea6059b2b58p-1,  // -735/256 * pi^-1
+    -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_2_0, 8, 0x1.8p-1, 0x0p+0},
+};
+inline constexpr double dpotential_3_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_3_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_2, 1},  // [1/2, 1), Taylor polynomial about 3/4
+    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.0b615ba0f867bp-1,  // 105/64 * pi^-1
-    -0x1.e148d821bf211p-1,  // -189/64 * pi^-1
-    0x1.57c6513cad17ap-1,  // 135/64 * pi^-1
+    0x1.dd3e04d1b63b2p-2,  // 383821/262144 * pi^-1
+    -0x1.b75b6f55ca768p-2,  // -44169/32768 * pi^-1
+    -0x1.6597607523124p-1,  // -35949/16384 * pi^-1
+    0x1.3bec2d0693378p-1,  // 1985/1024 * pi^-1
+    0x1.0437e49a5f773p-1,  // 1635/1024 * pi^-1
+    -0x1.0b615ba0f867bp-2,  // -105/128 * pi^-1
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7, 0x1p-2, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr double dpotential_over_r_1_1[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
-    -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
-    -0x1.11bf1ac347766p+0,  // -215/64 * pi^-1
-    -0x1.6481cf814b34fp-1,  // -35/16 * pi^-1
+    0x1.66452c8a4bb3bp-3,  // 144069/262144 * pi^-1
+    -0x1.0cb55019207efp-1,  // -54027/32768 * pi^-1
+    0x1.ffe6e82ac0253p-2,  // 25731/16384 * pi^-1
+    0x1.175122014ca33p-1,  // 1755/1024 * pi^-1
+    -0x1.983b80780d8c1p-1,  // -2565/1024 * pi^-1
+    -0x1.91120971749b9p-1,  // -315/128 * pi^-1
     -0x1.6481cf814b34fp-3,  // -35/64 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_1_1, 6},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_over_r_1_0, 7, 0x1.8p-1, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -595,33 +619,29 @@ inline constexpr table::Term dpotential_over_r_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
+    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {0x1p-1, 0x1p+0, dpotential_over_r_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
     {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
-    -0x1.e148d821bf211p+0,  // -189/32 * pi^-1
-    0x1.57c6513cad17ap+1,  // 135/16 * pi^-1
+    -0x1.b75b6f55ca768p+0,  // -44169/8192 * pi^-1
+    0x1.47103b829d912p+0,  // 2055/512 * pi^-1
+    0x1.25a4100e7e843p+1,  // 1845/256 * pi^-1
+    -0x1.0b615ba0f867bp+0,  // -105/32 * pi^-1
     -0x1.0b615ba0f867bp+0,  // -105/32 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 3},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5, 0x1p-2, 0x0p+0},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
-    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
-};
-inline constexpr double potential_hess_radial_1_1[] = {
-    0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
-    0x1.6eb167b830193p-1,  // 9/4 * pi^-1
-    0x1.6eb167b830193p+0,  // 9/2 * pi^-1
-    0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
-    0x1.ca5dc1a63c1f8p+1,  // 45/4 * pi^-1
-    0x1.91120971749b9p+1,  // 315/32 * pi^-1
-    0x1.0b615ba0f867bp+0,  // 105/32 * pi^-1
+    -0x1.66471576d5feap-1,  // -18009/8192 * pi^-1
+    0x1.220f548b320bfp+1,  // 3645/512 * pi^-1
+    -0x1.adb7e58bd85d8p-1,  // -675/256 * pi^-1
+    -0x1.91120971749b9p+1,  // -315/32 * pi^-1
+    -0x1.0b615ba0f867bp+0,  // -105/32 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -5, potential_hess_radial_1_1, 7},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, potential_hess_radial_1_0, 5, 0x1.8p-1, 0x0p+0},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -630,8 +650,8 @@ inline constexpr table::Term potential_hess_radial_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_hess_radial_1, 2},  // [1/2, 1)
+    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {0x1p-1, 0x1p+0, potential_hess_radial_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
     {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
 }  // namespace detail_poly6_D3
@@ -646,7 +666,7 @@ inline constexpr table::Kernel poly6_D3 = {
         {detail_poly6_D3::grad_over_r, 2},
         {detail_poly6_D3::hess_radial, 2},
         {detail_poly6_D3::potential, 3},
-        {detail_poly6_D3::dpotential, 3},
+        {detail_poly6_D3::dpotential, 4},
         {detail_poly6_D3::dpotential_over_r, 3},
         {detail_poly6_D3::potential_hess_radial, 3},
     }};
@@ -722,28 +742,40 @@ inline constexpr double potential_0_0[] = {
     -0x1.999999999999ap-4,  // -1/10
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, potential_0_0, 6},
 };
 inline constexpr double potential_1_0[] = {
-    0x1p-1,  // 1/2
-};
-inline constexpr double potential_1_1[] = {
-    0x1.999999999999ap-4,  // 1/10
+    0x1.9388p-3,  // 12913/65536
+    0x1.b1ep-2,  // 3471/8192
+    0x1.f4p-3,  // 125/512
+    -0x1.9p-2,  // -25/64
+    0x1.4p-2,  // 5/16
+    -0x1.999999999999ap-4,  // -1/10
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_1, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_1_0, 6, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
+inline constexpr double potential_2_1[] = {
+    0x1.999999999999ap-4,  // 1/10
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_2_1, 1},
+};
+inline constexpr double potential_3_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term potential_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_3_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p-1, potential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, potential_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1p+1,  // 2
@@ -752,58 +784,90 @@ inline constexpr double dpotential_0_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1p-1,  // 1/2
-};
-inline constexpr double dpotential_1_1[] = {
+    0x1.20dep-2,  // 36975/131072
+    0x1.12ap+0,  // 2197/2048
+    -0x1.fbp+0,  // -507/256
+    0x1.ap+0,  // 13/8
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 5, 0x1.8p-3, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
-    0x1p-1,  // 1/2
+    0x1.b1ep-2,  // 3471/8192
+    0x1.f4p-2,  // 125/256
+    -0x1.2cp+0,  // -75/64
+    0x1.4p+0,  // 5/4
+    -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 5, 0x1.8p-2, 0x0p+0},
+};
+inline constexpr double dpotential_3_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr double dpotential_3_1[] = {
+    -0x1p-1,  // -1/2
+};
+inline constexpr table::Term dpotential_3[] = {
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_3_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_3_1, 1},
+};
+inline constexpr double dpotential_4_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_4[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_4_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
-    0x1p+1,  // 2
-    -0x1.8p+1,  // -3
-    0x1p+1,  // 2
+    0x1.a7cp+0,  // 1695/1024
+    -0x1.43p+1,  // -323/128
+    0x1.dp+0,  // 29/16
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_0_0, 4, 0x1p-3, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
-    0x1p-1,  // 1/2
-};
-inline constexpr double dpotential_over_r_1_1[] = {
+    0x1.214p+0,  // 1157/1024
+    -0x1.b6p+0,  // -219/128
+    0x1.7p+0,  // 23/16
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 4, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
 };
+inline constexpr double dpotential_over_r_2_1[] = {
+    -0x1p-1,  // -1/2
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_over_r_2_1, 1},
+};
+inline constexpr double dpotential_over_r_3_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_over_r_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_3_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.8p+1,  // -3
@@ -846,9 +910,9 @@ inline constexpr table::Kernel spiky_D1 = {
         {detail_spiky_D1::laplacian, 2},
         {detail_spiky_D1::grad_over_r, 2},
         {detail_spiky_D1::hess_radial, 2},
-        {detail_spiky_D1::potential, 3},
-        {detail_spiky_D1::dpotential, 3},
-        {detail_spiky_D1::dpotential_over_r, 3},
+        {detail_spiky_D1::potential, 4},
+        {detail_spiky_D1::dpotential, 5},
+        {detail_spiky_D1::dpotential_over_r, 4},
         {detail_spiky_D1::potential_hess_radial, 3},
     }};
 
@@ -966,60 +1030,92 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.45f306dc9c883p-1,  // -2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr double dpotential_1_1[] = {
-    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    0x1.9c96dc138873bp-3,  // 20739/32768 * pi^-1
+    0x1.440a1a52519d6p-1,  // 509/256 * pi^-1
+    -0x1.f979e1a41ebf3p+0,  // -397/64 * pi^-1
+    0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
     -0x1.45f306dc9c883p-1,  // -2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 5, 0x1.8p-3, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
-};
-inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
-};
-inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.976fc893c3aa3p+0,  // 5 * pi^-1
-    -0x1.976fc893c3aa3p+1,  // -10 * pi^-1
-    0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
+    0x1.0cd00d08b097dp-2,  // 1689/2048 * pi^-1
+    0x1.3bc36ea5b7a3fp-4,  // 31/128 * pi^-1
+    -0x1.08d575933f2eap+0,  // -13/4 * pi^-1
+    0x1.6eb167b830193p+0,  // 9/2 * pi^-1
     -0x1.45f306dc9c883p-1,  // -2 * pi^-1
 };
-inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
+inline constexpr table::Term dpotential_2[] = {
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 5, 0x1.8p-2, 0x0p+0},
 };
-inline constexpr double dpotential_over_r_1_0[] = {
+inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr double dpotential_over_r_1_1[] = {
+inline constexpr double dpotential_3_1[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
     -0x1.45f306dc9c883p-1,  // -2 * pi^-1
 };
+inline constexpr table::Term dpotential_3[] = {
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_3_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_3_1, 2},
+};
+inline constexpr double dpotential_4_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_4[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_4_0, 1},
+};
+inline constexpr table::Piece dpotential[] = {
+    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+};
+inline constexpr double dpotential_over_r_0_0[] = {
+    0x1.3acef860922e8p+0,  // 989/256 * pi^-1
+    -0x1.4edcac0ca4cfep+1,  // -263/32 * pi^-1
+    0x1.13050dca2412ep+1,  // 27/4 * pi^-1
+    -0x1.45f306dc9c883p-1,  // -2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_0[] = {
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_0_0, 4, 0x1p-3, 0x0p+0},
+};
+inline constexpr double dpotential_over_r_1_0[] = {
+    0x1.666abc0b961fcp-1,  // 563/256 * pi^-1
+    -0x1.a94312f3d439ap+0,  // -167/32 * pi^-1
+    0x1.abcef9018d72bp+0,  // 21/4 * pi^-1
+    -0x1.45f306dc9c883p-1,  // -2 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 4, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
+inline constexpr double dpotential_over_r_2_1[] = {
+    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
+    -0x1.45f306dc9c883p-1,  // -2 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_over_r_2_1, 2},
+};
+inline constexpr double dpotential_over_r_3_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_3_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.976fc893c3aa3p+1,  // -10 * pi^-1
@@ -1064,8 +1160,8 @@ inline constexpr table::Kernel spiky_D2 = {
         {detail_spiky_D2::grad_over_r, 2},
         {detail_spiky_D2::hess_radial, 2},
         {detail_spiky_D2::potential, 3},
-        {detail_spiky_D2::dpotential, 3},
-        {detail_spiky_D2::dpotential_over_r, 3},
+        {detail_spiky_D2::dpotential, 5},
+        {detail_spiky_D2::dpotential_over_r, 4},
         {detail_spiky_D2::potential_hess_radial, 3},
     }};
 
@@ -1133,15 +1229,15 @@ inline constexpr table::Piece hess_radial[] = {
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
-    -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
-    0x0p+0,  // 0
-    0x1.976fc893c3aa3p-1,  // 5/2 * pi^-1
-    -0x1.3193d66ed2bfap+0,  // -15/4 * pi^-1
-    0x1.6eb167b830193p-1,  // 9/4 * pi^-1
+    -0x1.a3d9ca16aaa06p-3,  // -1319/2048 * pi^-1
+    0x1.b9d06a4d082c9p-3,  // 347/512 * pi^-1
+    0x1.27643e37eddb6p-3,  // 29/64 * pi^-1
+    -0x1.27643e37eddb6p-1,  // -29/16 * pi^-1
+    0x1.08d575933f2eap-1,  // 13/8 * pi^-1
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_0_0, 6, 0x1p-2, 0x0p+0},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -1161,7 +1257,7 @@ inline constexpr table::Term potential_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
+    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
     {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
@@ -1172,62 +1268,92 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr double dpotential_1_1[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    0x1.85fbfc66b5bcap-3,  // 78411/131072 * pi^-1
+    0x1.0f4793e5fc071p-1,  // 3409/2048 * pi^-1
+    -0x1.11965c626be2dp+1,  // -1719/256 * pi^-1
+    0x1.224c721c7b694p+1,  // 57/8 * pi^-1
     -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 5, 0x1.8p-3, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+    0x1.d4277deafc12dp-3,  // 5883/8192 * pi^-1
+    -0x1.b5fe91387257p-5,  // -43/256 * pi^-1
+    -0x1.078f828c62922p+0,  // -207/64 * pi^-1
+    0x1.abcef9018d72bp+0,  // 21/4 * pi^-1
+    -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 5, 0x1.8p-2, 0x0p+0},
+};
+inline constexpr double dpotential_3_0[] = {
+    0x1.16d6e6deb9e88p-3,  // 219/512 * pi^-1
+    -0x1.27643e37eddb6p-2,  // -29/32 * pi^-1
+    0x1.6eb167b830193p-3,  // 9/16 * pi^-1
+    0x1.e8ec8a4aeacc4p-2,  // 3/2 * pi^-1
+    -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
+};
+inline constexpr table::Term dpotential_3[] = {
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_3_0, 5, 0x1.8p-1, 0x0p+0},
+};
+inline constexpr double dpotential_4_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_4[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_4_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
+    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_3, 1},  // [1/2, 1), Taylor polynomial about 3/4
+    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.976fc893c3aa3p+0,  // 5 * pi^-1
-    -0x1.ca5dc1a63c1f8p+1,  // -45/4 * pi^-1
-    0x1.6eb167b830193p+1,  // 9 * pi^-1
+    0x1.2fe80775d1323p+0,  // 3819/1024 * pi^-1
+    -0x1.7377b711eb643p+1,  // -1167/128 * pi^-1
+    0x1.487eecea55c14p+1,  // 129/16 * pi^-1
     -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_0_0, 4, 0x1p-3, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr double dpotential_over_r_1_1[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    0x1.381a53f1fd61ep-1,  // 1961/1024 * pi^-1
+    -0x1.c4a2fc075b5f1p+0,  // -711/128 * pi^-1
+    0x1.f833ee9d4222ap+0,  // 99/16 * pi^-1
     -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 4, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
+inline constexpr double dpotential_over_r_2_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    -0x1.976fc893c3aa3p-1,  // -5/2 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_2_1, 3},
+};
+inline constexpr double dpotential_over_r_3_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_3_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.ca5dc1a63c1f8p+1,  // -45/4 * pi^-1
@@ -1273,8 +1399,8 @@ inline constexpr table::Kernel spiky_D3 = {
         {detail_spiky_D3::grad_over_r, 2},
         {detail_spiky_D3::hess_radial, 2},
         {detail_spiky_D3::potential, 3},
-        {detail_spiky_D3::dpotential, 3},
-        {detail_spiky_D3::dpotential_over_r, 3},
+        {detail_spiky_D3::dpotential, 5},
+        {detail_spiky_D3::dpotential_over_r, 4},
         {detail_spiky_D3::potential_hess_radial, 3},
     }};
 
@@ -1397,14 +1523,14 @@ inline constexpr table::Piece potential[] = {
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
-    0x1.0f9fdb0d2d1c2p-1,  // 5/3 * pi^-1
-    -0x1.0f9fdb0d2d1c2p-1,  // -5/3 * pi^-1
-    0x0p+0,  // 0
-    0x1.0f9fdb0d2d1c2p-2,  // 5/6 * pi^-1
+    0x1.9b41a1a8597fdp-2,  // 323/256 * pi^-1
+    -0x1.f31c2281cfb08p-2,  // -49/32 * pi^-1
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
     -0x1.b2995e7b7b604p-4,  // -1/3 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_0_0, 5, 0x1p-2, 0x0p+0},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1424,7 +1550,7 @@ inline constexpr table::Term dpotential_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
+    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
     {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
     {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
 };
@@ -1582,37 +1708,49 @@ inline constexpr table::Piece hess_radial[] = {
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
-    -0x1.6eb167b830193p-2,  // -9/8 * pi^-1
-    0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
-    -0x1.976fc893c3aa3p-2,  // -5/4 * pi^-1
-    0x0p+0,  // 0
-    0x1.e8ec8a4aeacc4p-4,  // 3/8 * pi^-1
+    -0x1.28a2df0963037p-2,  // -238569/262144 * pi^-1
+    0x1.fe33757f956c1p-2,  // 51291/32768 * pi^-1
+    -0x1.8cc5f53a4c0b4p-2,  // -2493/2048 * pi^-1
+    0x1.b5fe91387257p-5,  // 43/256 * pi^-1
+    0x1.83109825f9e1bp-4,  // 19/64 * pi^-1
     -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_0_0, 6, 0x1p-3, 0x0p+0},
 };
 inline constexpr double potential_1_0[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-};
-inline constexpr double potential_1_1[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-    0x1.45f306dc9c883p-5,  // 1/8 * pi^-1
+    -0x1.81619a4d672ccp-3,  // -154971/262144 * pi^-1
+    0x1.4754fcc6101a2p-2,  // 32907/32768 * pi^-1
+    -0x1.45ca487bc0f4ap-2,  // -2047/2048 * pi^-1
+    0x1.f833ee9d4222ap-4,  // 99/256 * pi^-1
+    0x1.6eb167b830193p-5,  // 9/64 * pi^-1
+    -0x1.45f306dc9c883p-5,  // -1/8 * pi^-1
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, potential_1_1, 2},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_1_0, 6, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
 };
+inline constexpr double potential_2_1[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+    0x1.45f306dc9c883p-5,  // 1/8 * pi^-1
+};
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, potential_2_1, 2},
+};
+inline constexpr double potential_3_0[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+};
+inline constexpr table::Term potential_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_3_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {0x1p-2, 0x1p-1, potential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, potential_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
@@ -1622,30 +1760,41 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.976fc893c3aa3p-3,  // -5/8 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_0_0, 5},
+    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, dpotential_0_0, 5},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr double dpotential_1_1[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    0x1.4754fcc6101a2p-2,  // 32907/32768 * pi^-1
+    -0x1.45ca487bc0f4ap-1,  // -2047/1024 * pi^-1
+    0x1.7a26f2f5f19ap-2,  // 297/256 * pi^-1
+    0x1.6eb167b830193p-3,  // 9/16 * pi^-1
     -0x1.976fc893c3aa3p-3,  // -5/8 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 5, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
+inline constexpr double dpotential_2_1[] = {
+    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
+    -0x1.45f306dc9c883p-2,  // -1 * pi^-1
+    -0x1.976fc893c3aa3p-3,  // -5/8 * pi^-1
+};
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_2_1, 3},
+};
+inline constexpr double dpotential_3_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_3_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
@@ -1725,8 +1874,8 @@ inline constexpr table::Kernel viscosity_D3 = {
         {detail_viscosity_D3::laplacian, 2},
         {detail_viscosity_D3::grad_over_r, 2},
         {detail_viscosity_D3::hess_radial, 2},
-        {detail_viscosity_D3::potential, 3},
-        {detail_viscosity_D3::dpotential, 3},
+        {detail_viscosity_D3::potential, 4},
+        {detail_viscosity_D3::dpotential, 4},
         {detail_viscosity_D3::dpotential_over_r, 3},
         {detail_viscosity_D3::potential_hess_radial, 3},
     }};
@@ -1881,37 +2030,48 @@ inline constexpr double dpotential_0_0[] = {
     0x1p+1,  // 2
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1p-1,  // 1/2
-};
-inline constexpr double dpotential_1_1[] = {
-    -0x1.5555555555555p-1,  // -2/3
+    0x1.988p-2,  // 817/2048
+    0x1.42aaaaaaaaaabp-1,  // 121/192
+    -0x1.5p+0,  // -21/16
+    0x1.5555555555555p-2,  // 1/3
+    0x1p+1,  // 2
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 5, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
 };
+inline constexpr double dpotential_2_1[] = {
+    -0x1.5555555555555p-1,  // -2/3
+};
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_2_1, 1},
+};
+inline constexpr double dpotential_3_0[] = {
+    0x1p-1,  // 1/2
+};
+inline constexpr table::Term dpotential_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_3_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.5555555555555p+0,  // 4/3
-    0x0p+0,  // 0
-    -0x1.5555555555555p+1,  // -8/3
+    0x1.32aaaaaaaaaabp+0,  // 115/96
+    -0x1.eaaaaaaaaaaabp-1,  // -23/24
+    -0x1.2aaaaaaaaaaabp+0,  // -7/6
     0x1p+1,  // 2
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4, 0x1p-2, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
@@ -1930,16 +2090,16 @@ inline constexpr table::Term dpotential_over_r_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
+    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
     {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
     {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
-    -0x1.5555555555555p+2,  // -16/3
+    -0x1.eaaaaaaaaaaabp+1,  // -23/6
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2, 0x1p-2, 0x0p+0},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1p-1,  // -1/2
@@ -1959,7 +2119,7 @@ inline constexpr table::Term potential_hess_radial_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
+    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
     {0x1p-1, 0x1p+0, potential_hess_radial_1, 2},  // [1/2, 1)
     {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
@@ -1975,7 +2135,7 @@ inline constexpr table::Kernel cubic_spline_D1 = {
         {detail_cubic_spline_D1::grad_over_r, 3},
         {detail_cubic_spline_D1::hess_radial, 3},
         {detail_cubic_spline_D1::potential, 3},
-        {detail_cubic_spline_D1::dpotential, 3},
+        {detail_cubic_spline_D1::dpotential, 4},
         {detail_cubic_spline_D1::dpotential_over_r, 3},
         {detail_cubic_spline_D1::potential_hess_radial, 3},
     }};
@@ -2093,15 +2253,15 @@ inline constexpr table::Piece hess_radial[] = {
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
-    -0x1.82069a86f8d1ep-3,  // -77/120 * pi^-1 + 1/14 * pi^-1 * log(2)
-    0x0p+0,  // 0
-    0x1.d1a452f204304p-2,  // 10/7 * pi^-1
-    0x0p+0,  // 0
-    -0x1.5d3b3e3583243p-1,  // -15/7 * pi^-1
+    -0x1.4c677b0e38e5cp-3,  // -15037/26880 * pi^-1 + 1/14 * pi^-1 * log(2)
+    0x1.8bcbace7505c3p-3,  // 17/28 * pi^-1
+    0x1.11908a5495a92p-2,  // 47/56 * pi^-1
+    -0x1.a313e44036f83p-2,  // -9/7 * pi^-1
+    -0x1.1762982acf502p-3,  // -3/7 * pi^-1
     0x1.bf0426aae54dp-2,  // 48/35 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_0_0, 6, 0x1p-2, 0x0p+0},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.7483758e69c03p-6,  // -1/14 * pi^-1
@@ -2136,7 +2296,7 @@ inline constexpr table::Term potential_2[] = {
     {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
+    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
     {0x1p-1, 0x1p+0, potential_1, 6},  // [1/2, 1), Taylor polynomial at the edge
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
@@ -2147,29 +2307,40 @@ inline constexpr double dpotential_0_0[] = {
     0x1.1762982acf502p+1,  // 48/7 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr double dpotential_1_1[] = {
-    -0x1.7483758e69c03p-3,  // -4/7 * pi^-1
-    -0x1.7483758e69c03p-1,  // -16/7 * pi^-1
+    0x1.ec32b2136b3a3p-3,  // 1353/1792 * pi^-1
+    0x1.c02e296f573b4p-3,  // 11/16 * pi^-1
+    -0x1.3a4eeb30293a3p+0,  // -27/7 * pi^-1
+    0x1.1762982acf502p-1,  // 12/7 * pi^-1
+    0x1.1762982acf502p+1,  // 48/7 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_1_1, 2},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 5, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
+inline constexpr double dpotential_2_1[] = {
+    -0x1.7483758e69c03p-3,  // -4/7 * pi^-1
+    -0x1.7483758e69c03p-1,  // -16/7 * pi^-1
+};
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_2_1, 2},
+};
+inline constexpr double dpotential_3_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_3_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.d1a452f204304p-1,  // 20/7 * pi^-1
@@ -2178,36 +2349,46 @@ inline constexpr double dpotential_over_r_0_0[] = {
     0x1.1762982acf502p+1,  // 48/7 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, dpotential_over_r_0_0, 4},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
-    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
-};
-inline constexpr double dpotential_over_r_1_1[] = {
-    -0x1.7483758e69c03p-3,  // -4/7 * pi^-1
-    -0x1.7483758e69c03p-1,  // -16/7 * pi^-1
+    0x1.4821cc0cf226dp-1,  // 451/224 * pi^-1
+    -0x1.201dacec25caap+0,  // -99/28 * pi^-1
+    -0x1.1762982acf502p-2,  // -6/7 * pi^-1
+    0x1.1762982acf502p+1,  // 48/7 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_over_r_1_1, 2},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 4, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
+inline constexpr double dpotential_over_r_2_1[] = {
+    -0x1.7483758e69c03p-3,  // -4/7 * pi^-1
+    -0x1.7483758e69c03p-1,  // -16/7 * pi^-1
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_over_r_2_1, 2},
+};
+inline constexpr double dpotential_over_r_3_0[] = {
+    0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
+};
+inline constexpr table::Term dpotential_over_r_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_3_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
-    -0x1.5d3b3e3583243p+2,  // -120/7 * pi^-1
+    -0x1.e8ec8a4aeacc4p+1,  // -12 * pi^-1
     0x1.a313e44036f83p+2,  // 144/7 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2, 0x1p-2, 0x0p+0},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -2228,7 +2409,7 @@ inline constexpr table::Term potential_hess_radial_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
+    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
     {0x1p-1, 0x1p+0, potential_hess_radial_1, 2},  // [1/2, 1)
     {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
@@ -2244,8 +2425,8 @@ inline constexpr table::Kernel cubic_spline_D2 = {
         {detail_cubic_spline_D2::grad_over_r, 3},
         {detail_cubic_spline_D2::hess_radial, 3},
         {detail_cubic_spline_D2::potential, 3},
-        {detail_cubic_spline_D2::dpotential, 3},
-        {detail_cubic_spline_D2::dpotential_over_r, 3},
+        {detail_cubic_spline_D2::dpotential, 4},
+        {detail_cubic_spline_D2::dpotential_over_r, 4},
         {detail_cubic_spline_D2::potential_hess_radial, 3},
     }};
 
@@ -2361,15 +2542,15 @@ inline constexpr table::Piece hess_radial[] = {
     {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
-    -0x1.c8543cce74beap-3,  // -7/10 * pi^-1
-    0x0p+0,  // 0
-    0x1.b2995e7b7b604p-2,  // 4/3 * pi^-1
-    0x0p+0,  // 0
-    -0x1.8723a1d588a36p-1,  // -12/5 * pi^-1
+    -0x1.9718dd1a77c4cp-3,  // -1199/1920 * pi^-1
+    0x1.652fa673e2ffep-3,  // 263/480 * pi^-1
+    0x1.bd76cda4f80f7p-3,  // 41/60 * pi^-1
+    -0x1.c8543cce74beap-2,  // -7/5 * pi^-1
+    -0x1.04c26be3b06cfp-3,  // -2/5 * pi^-1
     0x1.04c26be3b06cfp-1,  // 8/5 * pi^-1
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_0_0, 6},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_0_0, 6, 0x1p-2, 0x0p+0},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -2389,7 +2570,7 @@ inline constexpr table::Term potential_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
+    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
     {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
     {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
 };
@@ -2400,39 +2581,50 @@ inline constexpr double dpotential_0_0[] = {
     0x1.45f306dc9c883p+1,  // 8 * pi^-1
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_0_0, 4},
+    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 1, dpotential_0_0, 4},
 };
 inline constexpr double dpotential_1_0[] = {
-    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
-};
-inline constexpr double dpotential_1_1[] = {
-    -0x1.5bade52f95e69p-4,  // -4/15 * pi^-1
-    -0x1.5bade52f95e69p-2,  // -16/15 * pi^-1
-    -0x1.b2995e7b7b604p-1,  // -8/3 * pi^-1
+    0x1.a901e258db4d9p-3,  // 1669/2560 * pi^-1
+    0x1.8c92596a46fbp-4,  // 73/240 * pi^-1
+    -0x1.4a06108c2b49ep+0,  // -81/20 * pi^-1
+    0x1.8723a1d588a36p-1,  // 12/5 * pi^-1
+    0x1.45f306dc9c883p+1,  // 8 * pi^-1
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 5, 0x1.8p-2, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
+inline constexpr double dpotential_2_1[] = {
+    -0x1.5bade52f95e69p-4,  // -4/15 * pi^-1
+    -0x1.5bade52f95e69p-2,  // -16/15 * pi^-1
+    -0x1.b2995e7b7b604p-1,  // -8/3 * pi^-1
+};
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_2_0, 1},
+    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_2_1, 3},
+};
+inline constexpr double dpotential_3_0[] = {
+    0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
+};
+inline constexpr table::Term dpotential_3[] = {
+    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_3_0, 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
+    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {0x1p-1, 0x1p+0, dpotential_2, 2},  // [1/2, 1)
+    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
-    0x1.b2995e7b7b604p-1,  // 8/3 * pi^-1
-    0x0p+0,  // 0
-    -0x1.8723a1d588a36p+1,  // -48/5 * pi^-1
+    0x1.652fa673e2ffep-1,  // 263/120 * pi^-1
+    -0x1.0ce87f42cdf05p+0,  // -33/10 * pi^-1
+    -0x1.255ab960267a9p+0,  // -18/5 * pi^-1
     0x1.45f306dc9c883p+1,  // 8 * pi^-1
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_0_0, 4, 0x1p-2, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -2453,16 +2645,16 @@ inline constexpr table::Term dpotential_over_r_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
+    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
     {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
     {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
-    -0x1.8723a1d588a36p+2,  // -96/5 * pi^-1
+    -0x1.0ce87f42cdf05p+2,  // -66/5 * pi^-1
     0x1.e8ec8a4aeacc4p+2,  // 24 * pi^-1
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_0_0, 2, 0x1p-2, 0x0p+0},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -2484,7 +2676,7 @@ inline constexpr table::Term potential_hess_radial_2[] = {
     {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
+    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
     {0x1p-1, 0x1p+0, potential_hess_radial_1, 2},  // [1/2, 1)
     {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
 };
@@ -2500,7 +2692,7 @@ inline constexpr table::Kernel cubic_spline_D3 = {
         {detail_cubic_spline_D3::grad_over_r, 3},
         {detail_cubic_spline_D3::hess_radial, 3},
         {detail_cubic_spline_D3::potential, 3},
-        {detail_cubic_spline_D3::dpotential, 3},
+        {detail_cubic_spline_D3::dpotential, 4},
         {detail_cubic_spline_D3::dpotential_over_r, 3},
         {detail_cubic_spline_D3::potential_hess_radial, 3},
     }};
@@ -2572,14 +2764,11 @@ inline constexpr table::Term dpotential_0[] = {
     {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 1},
 };
 inline constexpr double dpotential_1_0[] = {
+    0x1.8p-2,  // 3/8
     0x1p-1,  // 1/2
 };
-inline constexpr double dpotential_1_1[] = {
-    -0x1p-1,  // -1/2
-};
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_1_0, 2, 0x1.8p-1, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
@@ -2589,7 +2778,7 @@ inline constexpr table::Term dpotential_2[] = {
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, dpotential_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
     {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
@@ -2601,12 +2790,8 @@ inline constexpr table::Term dpotential_over_r_0[] = {
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1p-1,  // 1/2
 };
-inline constexpr double dpotential_over_r_1_1[] = {
-    -0x1p-1,  // -1/2
-};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -1, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_over_r_1_0, 1, 0x1.8p-1, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
@@ -2616,7 +2801,7 @@ inline constexpr table::Term dpotential_over_r_2[] = {
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, dpotential_over_r_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
     {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_1_0[] = {
@@ -2720,14 +2905,11 @@ inline constexpr table::Term dpotential_0[] = {
     {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 1},
 };
 inline constexpr double dpotential_1_0[] = {
+    0x1.e8ec8a4aeacc4p-4,  // 3/8 * pi^-1
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr double dpotential_1_1[] = {
-    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
-};
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -1, dpotential_1_1, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_1_0, 2, 0x1.8p-1, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2737,7 +2919,7 @@ inline constexpr table::Term dpotential_2[] = {
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, dpotential_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
     {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
@@ -2749,12 +2931,8 @@ inline constexpr table::Term dpotential_over_r_0[] = {
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
 };
-inline constexpr double dpotential_over_r_1_1[] = {
-    -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
-};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -2, dpotential_over_r_1_1, 1},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_over_r_1_0, 1, 0x1.8p-1, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -2764,7 +2942,7 @@ inline constexpr table::Term dpotential_over_r_2[] = {
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, dpotential_over_r_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
     {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_1_0[] = {
@@ -2873,16 +3051,11 @@ inline constexpr table::Term dpotential_0[] = {
     {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 1},
 };
 inline constexpr double dpotential_1_0[] = {
+    0x1.e8ec8a4aeacc4p-5,  // 3/16 * pi^-1
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
-inline constexpr double dpotential_1_1[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-};
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -2, dpotential_1_1, 3},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_1_0, 2, 0x1.8p-1, 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -2892,7 +3065,7 @@ inline constexpr table::Term dpotential_2[] = {
 };
 inline constexpr table::Piece dpotential[] = {
     {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, dpotential_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
     {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
@@ -2904,14 +3077,8 @@ inline constexpr table::Term dpotential_over_r_0[] = {
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
 };
-inline constexpr double dpotential_over_r_1_1[] = {
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-    -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
-};
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -3, dpotential_over_r_1_1, 3},
+    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_over_r_1_0, 1, 0x1.8p-1, 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -2921,7 +3088,7 @@ inline constexpr table::Term dpotential_over_r_2[] = {
 };
 inline constexpr table::Piece dpotential_over_r[] = {
     {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
+    {0x1p-1, 0x1p+0, dpotential_over_r_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
     {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_1_0[] = {
