@@ -109,8 +109,8 @@ void report_exactness(const ReportContext& ctx, Output& out, SectionResult& r) {
     std::error_code ec;
     if (fs::is_directory(ctx.generated, ec)) {
         const std::vector<std::string> diff = differences(fresh, ctx.generated);
-        r.markdown += diff.empty() ? "The new tables are identical, byte for byte, to the checked-in `generated/` (" +
-                                         ctx.generated.string() + ").\n\n"
+        r.markdown += diff.empty() ? "The new tables are identical, byte for byte, to the checked-in `generated/` (`" +
+                                         fs::proximate(ctx.generated, ec).string() + "`).\n\n"
                                    : "**The new tables differ from the checked-in `generated/`:**\n\n";
         for (const std::string& d : diff) {
             r.markdown += "- " + d + "\n";
