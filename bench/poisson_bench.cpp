@@ -230,9 +230,10 @@ int main(int argc, char** argv) {
     for (const std::size_t n : {10000UL, 100000UL})
         for (const double theta : {0.4, 0.5, 0.6, 0.7})
             for (const int p : {4, 6, 8, 10}) add(n, theta, p);
-    for (const auto& [theta, p] : std::vector<std::pair<double, int>>{{0.4, 8}, {0.5, 8}, {0.5, 9}, {0.5, 10}, {0.6, 10}})
+    for (const auto& [theta, p] :
+         std::vector<std::pair<double, int>>{{0.4, 8}, {0.5, 8}, {0.5, 9}, {0.5, 10}, {0.5, 11}, {0.6, 10}, {0.6, 12}})
         add(200000, theta, p);
-    for (const auto& [theta, p] : std::vector<std::pair<double, int>>{{0.5, 8}, {0.5, 9}}) add(1000000, theta, p);
+    for (const auto& [theta, p] : std::vector<std::pair<double, int>>{{0.5, 8}, {0.5, 10}}) add(1000000, theta, p);
     mollify::bench::Collector collector;
     const std::string before = uptime();
     benchmark::RunSpecifiedBenchmarks(&collector);

@@ -246,11 +246,13 @@ void treecode_converges(const std::string& spec, double theta, double finest) {
     EXPECT_LE(previous.e_l2, finest);
 }
 
-// Final bounds at p = 8: twice the measured relative L2 field error of this
-// seeded case (theta 0.5: 9.4e-6 in 3D, 5.5e-6 in 2D; theta 0.7: 1.75e-4),
+// Final bounds at p = 8: about twice the measured relative L2 field error of
+// this seeded case (theta 0.5: 2.3e-5 in 3D, 5.5e-6 in 2D; theta 0.7:
+// 7.3e-4; in 3D pairs well inside the opening angle use a lower degree,
+// Multipole<3>::pair_degree, hence ~2.5x the error of the full degree),
 // far below the worst-case bound (p + 2) theta^(p+1)/(1 - theta)^2 (0.08, 4.5).
-TEST(Treecode, ConvergesInP3D) { treecode_converges<3>("mollifier:M=4", 0.5, 2e-5); }
-TEST(Treecode, ConvergesInP3DWideOpening) { treecode_converges<3>("wendland:k=2", 0.7, 4e-4); }
+TEST(Treecode, ConvergesInP3D) { treecode_converges<3>("mollifier:M=4", 0.5, 5e-5); }
+TEST(Treecode, ConvergesInP3DWideOpening) { treecode_converges<3>("wendland:k=2", 0.7, 1.5e-3); }
 TEST(Treecode, ConvergesInP2D) { treecode_converges<2>("mollifier:M=4", 0.5, 1.1e-5); }
 
 // The accuracy knob: the achieved relative L2 field error stays below the target.

@@ -31,6 +31,7 @@
 
 #include <mollify/error.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
@@ -90,21 +91,21 @@ public:
         // M2L: L_m gets binom(k + m, k) M_k a_(k+m) for |k| + |m| <= p;
         // the terms of one m are contiguous (m2l_start_).
         for (std::size_t m = 0; m < size(); ++m) {
-            m2l_start_.push_back(m2l_k_.size());
+            m2l_start_.push_back(m2l_km_.size());
             for (std::size_t k = 0; k < size(); ++k) {
                 if (degree_[m] + degree_[k] > p) continue;
                 std::array<int, 3> km;
-                double binom = 1;
-                for (int c = 0; c < 3; ++c) {
-                    km[c] = k_[m][c] + k_[k][c];
-                    for (int t = 1; t <= k_[k][c]; ++t) binom = binom * (k_[m][c] + t) / t;
-                }
-                m2l_k_.push_back(static_cast<int>(k));
+                for (int c = 0; c < 3; ++c) km[c] = k_[m][c] + k_[k][c];
                 m2l_km_.push_back(index(km));
-                m2l_binom_.push_back(binom);
             }
         }
-        m2l_start_.push_back(m2l_k_.size());
+        m2l_start_.push_back(m2l_km_.size());
+        for (const auto& k : k_) {
+            double f = 1;
+            for (int c = 0; c < 3; ++c)
+                for (int t = 2; t <= k[c]; ++t) f *= t;
+            factorial_.push_back(f);
+        }
     }
 
     int order() const { return p_; }
@@ -173,20 +174,24 @@ public:
     //     phi(c_t + v) = -(1/4 pi) sum_(|m|<=p) L_m v^m,
     //     L_m = (-1)^|m| sum_(|k|<=p-|m|) binom(k + m, k) M_k a_(k+m)(R),
     // truncated at total degree |k| + |m| <= p (error ~ ((rho_s + rho_t)/|R|)^(p+1)).
-    // Adds L_m rho_t^|m| (the expansion in v/rho_t) to local (size()).
+    // Adds L_m rho_t^|m| (the expansion in v/rho_t) to local (size()), for
+    // |m| <= degree and |k| + |m| <= degree (degree <= p: a pair far enough
+    // apart reaches the accuracy of the worst accepted pair at a lower
+    // degree, and the cost falls like C(degree + 6, 6); see pair_degree).
     void add_local(const double* m, double rho_s, int order_s, const std::array<double, 3>& R, double rho_t,
-                   double* local, std::vector<double>& work) const {
+                   double* local, std::vector<double>& work, int degree = -1) const {
+        if (degree < 0 || degree > p_) degree = p_;
         const double r = std::sqrt(R[0] * R[0] + R[1] * R[1] + R[2] * R[2]), inv_r = 1 / r;
         const std::array<double, 3> u{R[0] * inv_r, R[1] * inv_r, R[2] * inv_r};
-        const std::size_t n = size();
-        work.resize(k_.size() + 1 + 2 * n);
+        const std::size_t n = count(degree);
+        work.resize(k_.size() + 1 + 2 * size());
         double* a = work.data();
         double* scaled = a + k_.size() + 1;  // M_k (rho_s/|R|)^|k|
-        double* sum = scaled + n;
+        double* sum = scaled + size();
         recurrence(u, a, n);
         std::array<double, max_order + 1> ts, tt;
         ts[0] = tt[0] = 1;
-        for (int d = 1; d <= p_; ++d) {
+        for (int d = 1; d <= degree; ++d) {
             ts[static_cast<std::size_t>(d)] = ts[static_cast<std::size_t>(d) - 1] * rho_s * inv_r;
             tt[static_cast<std::size_t>(d)] = tt[static_cast<std::size_t>(d) - 1] * rho_t * inv_r;
         }
@@ -194,11 +199,22 @@ public:
             scaled[i] = degree_[i] <= order_s ? m[i] * ts[static_cast<std::size_t>(degree_[i])] : 0.0;
             sum[i] = 0;
         }
-        contract(scaled, a, sum);
+        contract(scaled, a, sum, degree);
         for (std::size_t i = 0; i < n; ++i) {
             const double sign = degree_[i] % 2 ? -inv_r : inv_r;
             local[i] += sign * tt[static_cast<std::size_t>(degree_[i])] * sum[i];
         }
+    }
+
+    // The degree at which a pair with (rho_s + rho_t)/|R| = ratio <= theta
+    // has the truncation factor ratio^(degree+1) of the worst accepted pair,
+    // theta^(p+1) (the error bound of the M2L expansion, Dehnen's
+    // error-controlled order): (p + 1) log theta / log ratio - 1, rounded up.
+    int pair_degree(double ratio, double theta) const {
+        if (!(ratio > 0)) return 0;
+        if (!(ratio < theta)) return p_;
+        const double d = std::ceil((p_ + 1) * std::log(theta) / std::log(ratio)) - 1;
+        return d < p_ ? static_cast<int>(std::max(d, 0.0)) : p_;
     }
 
     // Moves a local expansion from a parent cell (centre cp, scale rho_p) to
@@ -208,9 +224,11 @@ public:
     void add_shifted(const double* parent, double rho_p, const std::array<double, 3>& cp, double rho_c,
                      const std::array<double, 3>& cc, double* child, std::vector<double>& work) const {
         const std::size_t n = size();
-        work.resize(2 * n);
+        work.resize(3 * n);
         double* dk = work.data();
         double* sum = dk + n;
+        double* copy = sum + n;  // contract scales its inputs in place
+        std::copy(parent, parent + n, copy);
         std::array<std::array<double, max_order + 1>, 3> pw;
         for (int c = 0; c < 3; ++c) {
             const double d = (cc[c] - cp[c]) / rho_p;
@@ -222,7 +240,7 @@ public:
                     pw[2][static_cast<std::size_t>(k_[i][2])];
             sum[i] = 0;
         }
-        contract(dk, parent, sum);
+        contract(dk, copy, sum, p_);
         const double s = rho_c / rho_p;
         std::array<double, max_order + 1> sn;
         sn[0] = 1;
@@ -273,28 +291,39 @@ private:
         }
     }
 
-    // out_m = sum_k binom(k + m, k) x_k y_(k+m), |k| + |m| <= p: the O(p^6)
-    // heart of M2L and L2L. Four partial sums break the chain of dependent
-    // additions (the terms of one m are a gather, not a vector loop).
-    void contract(const double* x, const double* y, double* out) const {
-        const int* k = m2l_k_.data();
-        const int* km = m2l_km_.data();
-        const double* b = m2l_binom_.data();
-        const std::size_t n = size();
+    // out_m = sum_k binom(k + m, k) x_k y_(k+m), |k| + |m| <= degree: the O(p^6)
+    // heart of M2L and L2L, as (1/m!) sum_k (x_k/k!) ((k+m)! y_(k+m)) with
+    // multi-index factorials (k! = k_0! k_1! k_2!; binom(k + m, k) is
+    // their ratio componentwise): x and y are scaled in place (scratch of
+    // the callers), and a term costs one index, one gather and one FMA.
+    // Four partial sums break the chain of dependent additions.
+    void contract(double* x, double* y, double* out, int degree) const {
+        const std::size_t n = count(degree);
+        for (std::size_t i = 0; i < n; ++i) {
+            x[i] /= factorial_[i];
+            y[i] *= factorial_[i];
+        }
         for (std::size_t m = 0; m < n; ++m) {
+            // The terms of m are in ascending |k|, k = 0, 1, 2, ... (x is read
+            // in order; y_(k+m) is a gather): those with |k| <= degree - |m|
+            // come first.
+            const std::size_t begin = m2l_start_[m], len = count(degree - degree_[m]);
+            const int* km = m2l_km_.data() + begin;
             double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-            std::size_t j = m2l_start_[m];
-            const std::size_t end = m2l_start_[m + 1];
-            for (; j + 4 <= end; j += 4) {
-                s0 += b[j] * x[k[j]] * y[km[j]];
-                s1 += b[j + 1] * x[k[j + 1]] * y[km[j + 1]];
-                s2 += b[j + 2] * x[k[j + 2]] * y[km[j + 2]];
-                s3 += b[j + 3] * x[k[j + 3]] * y[km[j + 3]];
+            std::size_t i = 0;
+            for (; i + 4 <= len; i += 4) {
+                s0 += x[i] * y[km[i]];
+                s1 += x[i + 1] * y[km[i + 1]];
+                s2 += x[i + 2] * y[km[i + 2]];
+                s3 += x[i + 3] * y[km[i + 3]];
             }
-            for (; j < end; ++j) s0 += b[j] * x[k[j]] * y[km[j]];
-            out[m] = (s0 + s1) + (s2 + s3);
+            for (; i < len; ++i) s0 += x[i] * y[km[i]];
+            out[m] = ((s0 + s1) + (s2 + s3)) / factorial_[m];
         }
     }
+
+    // The number of multi-indices of degree <= d.
+    std::size_t count(int d) const { return static_cast<std::size_t>(start_[static_cast<std::size_t>(d) + 1]); }
 
     struct Step {
         double c1, c2;
@@ -317,8 +346,8 @@ private:
     std::vector<Step> steps_;
     std::vector<int> degree_;
     std::vector<std::size_t> m2l_start_;
-    std::vector<int> m2l_k_, m2l_km_;
-    std::vector<double> m2l_binom_;
+    std::vector<int> m2l_km_;
+    std::vector<double> factorial_;  // k_0! k_1! k_2! of multi-index i
 };
 
 // 2D complex expansion of order p: moments M_k = sum q ((w - c)/rho)^k.

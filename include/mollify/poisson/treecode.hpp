@@ -21,7 +21,12 @@
 // expansions about target cells, pushed down to the leaves: one O(p^6)
 // translation per cell pair instead of an O(p^3) expansion per target and
 // cell, which at p = 8..12 is what makes 3D pay off (Dehnen's method,
-// J. Comput. Phys. 179 (2002), with Cartesian expansions).
+// J. Comput. Phys. 179 (2002), with Cartesian expansions). A pair well
+// inside the opening angle, (rho_s + rho_t)/R = ratio < theta, is translated
+// at the lowest degree q with ratio^(q+1) <= theta^(p+1), the truncation
+// factor of the worst accepted pair (Dehnen's error-controlled order;
+// Multipole<3>::pair_degree): ~1.6x faster at N = 2e5 for the same
+// worst-case bound, ~2.5x the measured error at the same (theta, p).
 //
 //   mollify::poisson::Treecode<3, mollify::Kernel> tree(k, sources, {.theta = 0.5, .order = 6});
 //   auto f = tree.evaluate(targets);    // or tree.evaluate() at the sources
@@ -190,7 +195,8 @@ private:
             const int order = B.radius > 0 ? options_.order : 0;
             if constexpr (D == 3)
                 expansion_.add_local(m_.data() + static_cast<std::size_t>(b) * n, scale(B), order, R, local_scale(A),
-                                     local.data() + static_cast<std::size_t>(a) * n, work);
+                                     local.data() + static_cast<std::size_t>(a) * n, work,
+                                     expansion_.pair_degree(reach / r, options_.theta));
             has_local[static_cast<std::size_t>(a)] = 1;
         } else if (A.leaf() && B.leaf()) {
             near[static_cast<std::size_t>(a)].push_back(b);
