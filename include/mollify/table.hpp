@@ -9,8 +9,9 @@
 //     (edge - v)^edge_power * r^low * sum_k c[k] v^k * basis(r),
 // with v = r (Var::r) or v = r^2 (Var::r2; then the factor is edge^2 - r^2)
 // or v = r - centre (Var::shifted: a Taylor piece about a centre, where the
-// closed form of a missing Wendland function cancels; centre = centre +
-// centre_lo exactly enough, the rational centre's double and its rounding),
+// closed form of a missing Wendland function cancels or a potential's
+// polynomial does; centre = centre + centre_lo exactly enough, the rational
+// centre's double and its rounding),
 // `edge` the term's own edge: the piece's upper breakpoint for a single
 // kernel, the radius a_j of the term w_j psi(r/a_j) it comes from for a
 // combination (Franz (4.17); a_j may lie beyond the piece). The factored
