@@ -100,22 +100,36 @@ private:
 
     // Moments of every cell from its own sources (each source enters one cell
     // per level: O(N log N) work, parallel over cells).
+    // 3D keeps the harmonic reduction of the moments (Multipole<3>::reduce).
     void moments() {
         const auto& cells = tree_.cells();
         const std::size_t n = expansion_.size();
-        m_.assign(cells.size() * n, 0.0);
+        m_.assign(cells.size() * stride(), 0.0);
         const auto count = static_cast<long>(cells.size());
         MOLLIFY_PARALLEL_FOR(schedule(dynamic, 8))
         for (long ci = 0; ci < count; ++ci) {
             const Cell<D>& c = cells[static_cast<std::size_t>(ci)];
-            double* m = m_.data() + static_cast<std::size_t>(ci) * n;
+            std::vector<double> full, work;
+            double* m = m_.data() + static_cast<std::size_t>(ci) * stride();
+            if constexpr (D == 3) {
+                full.assign(n, 0.0);
+                m = full.data();
+            }
             const double rho = scale(c);
             for (std::size_t j = c.begin; j < c.end; ++j) {
                 std::array<double, D> y;
                 for (int k = 0; k < D; ++k) y[k] = s_.x[k][j];
                 expansion_.add_source(m, y, c.centre, rho, s_.q[j]);
             }
+            if constexpr (D == 3)
+                expansion_.reduce(m, c.radius > 0 ? options_.order : 0,
+                                  m_.data() + static_cast<std::size_t>(ci) * stride(), work);
         }
+    }
+
+    // Coefficients per cell in m_: reduced in 3D.
+    std::size_t stride() const {
+        if constexpr (D == 3) return expansion_.reduced_size(); else return expansion_.size();
     }
 
     static double scale(const Cell<D>& c) { return c.radius > 0 ? c.radius : 1.0; }
@@ -147,7 +161,7 @@ private:
     void by_target_leaf(const Tree<D>& t, const std::array<std::vector<double>, D>& y, Field<D>& out) const {
         const auto& tc = t.cells();
         const std::size_t n = expansion_.size();
-        std::vector<double> local(tc.size() * n, 0.0);
+        std::vector<double> local(tc.size() * n, 0.0), reduced(tc.size() * stride(), 0.0);
         std::vector<char> has_local(tc.size(), 0);
         std::vector<std::vector<int>> near(tc.size());
         // Tasks: the target cells of the first level with enough of them.
@@ -172,14 +186,14 @@ private:
         for (long ti = 0; ti < count; ++ti) {
             const int root = tasks[static_cast<std::size_t>(ti)];
             std::vector<double> work;
-            interact(t, root, 0, local, has_local, near, work);
-            descend(t, root, y, local, has_local, near, out, work);
+            interact(t, root, 0, reduced, has_local, near, work);
+            descend(t, root, y, reduced, local, has_local, near, out, work);
         }
     }
 
     static double local_scale(const Cell<D>& c) { return c.half > 0 ? c.half * std::sqrt(double(D)) : 1.0; }
 
-    void interact(const Tree<D>& t, int a, int b, std::vector<double>& local, std::vector<char>& has_local,
+    void interact(const Tree<D>& t, int a, int b, std::vector<double>& reduced, std::vector<char>& has_local,
                   std::vector<std::vector<int>>& near, std::vector<double>& work) const {
         const Cell<D>& A = t.cells()[static_cast<std::size_t>(a)];
         const Cell<D>& B = tree_.cells()[static_cast<std::size_t>(b)];
@@ -190,30 +204,32 @@ private:
             r2 += R[k] * R[k];
         }
         const double r = std::sqrt(r2), reach = A.radius + B.radius;
-        const std::size_t n = expansion_.size();
+        const std::size_t n = stride();
         if (reach < options_.theta * r && r - reach >= B.delta_max) {
-            const int order = B.radius > 0 ? options_.order : 0;
             if constexpr (D == 3)
-                expansion_.add_local(m_.data() + static_cast<std::size_t>(b) * n, scale(B), order, R, local_scale(A),
-                                     local.data() + static_cast<std::size_t>(a) * n, work,
+                expansion_.add_local(m_.data() + static_cast<std::size_t>(b) * n, scale(B), R, local_scale(A),
+                                     reduced.data() + static_cast<std::size_t>(a) * n, work,
                                      expansion_.pair_degree(reach / r, options_.theta));
             has_local[static_cast<std::size_t>(a)] = 1;
         } else if (A.leaf() && B.leaf()) {
             near[static_cast<std::size_t>(a)].push_back(b);
         } else if (B.leaf() || (!A.leaf() && A.radius >= B.radius)) {
-            for (int k = 0; k < A.children; ++k) interact(t, A.first_child + k, b, local, has_local, near, work);
+            for (int k = 0; k < A.children; ++k) interact(t, A.first_child + k, b, reduced, has_local, near, work);
         } else {
-            for (int k = 0; k < B.children; ++k) interact(t, a, B.first_child + k, local, has_local, near, work);
+            for (int k = 0; k < B.children; ++k) interact(t, a, B.first_child + k, reduced, has_local, near, work);
         }
     }
 
     // Local expansions down to the leaves, then phi and E at each target.
-    void descend(const Tree<D>& t, int a, const std::array<std::vector<double>, D>& y, std::vector<double>& local,
-                 std::vector<char>& has_local, const std::vector<std::vector<int>>& near, Field<D>& out,
-                 std::vector<double>& work) const {
+    void descend(const Tree<D>& t, int a, const std::array<std::vector<double>, D>& y,
+                 const std::vector<double>& reduced, std::vector<double>& local, std::vector<char>& has_local,
+                 const std::vector<std::vector<int>>& near, Field<D>& out, std::vector<double>& work) const {
         const Cell<D>& A = t.cells()[static_cast<std::size_t>(a)];
         const std::size_t n = expansion_.size();
-        const double* la = local.data() + static_cast<std::size_t>(a) * n;
+        double* la = local.data() + static_cast<std::size_t>(a) * n;
+        if constexpr (D == 3)
+            if (has_local[static_cast<std::size_t>(a)])
+                expansion_.add_expanded(reduced.data() + static_cast<std::size_t>(a) * stride(), la, work);
         if (!A.leaf()) {
             for (int k = 0; k < A.children; ++k) {
                 const int c = A.first_child + k;
@@ -224,7 +240,7 @@ private:
                                                local.data() + static_cast<std::size_t>(c) * n, work);
                     has_local[static_cast<std::size_t>(c)] = 1;
                 }
-                descend(t, c, y, local, has_local, near, out, work);
+                descend(t, c, y, reduced, local, has_local, near, out, work);
             }
             return;
         }
