@@ -7,8 +7,12 @@
 #include <omp.h>
 #define MOLLIFY_PRAGMA(x) _Pragma(#x)
 #define MOLLIFY_PARALLEL_FOR(clauses) MOLLIFY_PRAGMA(omp parallel for clauses)
+#define MOLLIFY_SIMD MOLLIFY_PRAGMA(omp simd)
+#define MOLLIFY_SIMD_SUM(x) MOLLIFY_PRAGMA(omp simd reduction(+ : x))
 #else
 #define MOLLIFY_PARALLEL_FOR(clauses)
+#define MOLLIFY_SIMD
+#define MOLLIFY_SIMD_SUM(x)
 #endif
 
 namespace mollify::detail {

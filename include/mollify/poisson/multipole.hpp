@@ -29,12 +29,15 @@
 // huge coordinates overflow r^-(n+1).
 #pragma once
 
+#include <mollify/detail/parallel.hpp>
 #include <mollify/error.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
+#include <cstdint>
+#include <cstring>
 #include <cstddef>
 #include <numbers>
 #include <string>
@@ -212,47 +215,142 @@ public:
         for (std::size_t r = 0; r < reduced_size(); ++r) out[r] = x[reduced_full_[r]];
     }
 
+    // Source cells translated together (one per SIMD lane) by add_local.
+    static constexpr int lanes = 8;
+
+    // One source cell of an M2L batch: reduced moments mr (reduce), scale
+    // rho_s, R = c_t - c_s.
+    struct Source {
+        const double* mr;
+        double rho_s;
+        std::array<double, 3> R;
+    };
+
     // Adds the reduced local coefficients W_m (-1)^|m| (rho_t/|R|)^|m| / |R|
-    // (m_z <= 1, |m| <= degree, |k| + |m| <= degree) of the source cell's
-    // reduced moments mr (scale rho_s) to lr (reduced_size()); add_expanded
-    // turns the accumulated sum into L_m rho_t^|m|. degree <= p: a pair far
-    // enough apart reaches the accuracy of the worst accepted pair at a
-    // lower degree (pair_degree).
-    void add_local(const double* mr, double rho_s, const std::array<double, 3>& R, double rho_t, double* lr,
-                   std::vector<double>& work, int degree = -1) const {
+    // (m_z <= 1, |m| <= degree, |k| + |m| <= degree) of up to `lanes` source
+    // cells to one target cell's lr (reduced_size()); add_expanded turns the
+    // accumulated sum into L_m rho_t^|m|. degree <= p: a pair far enough
+    // apart reaches the accuracy of the worst accepted pair at a lower degree
+    // (pair_degree); a batch uses the largest degree of its pairs. The cells
+    // are SIMD lanes: derivatives, scaled moments and partial sums are stored
+    // lane-innermost, so every step is a vector operation on contiguous
+    // memory (no gathers) and the lanes' sums are independent chains.
+    void add_local(const Source* src, int count, double rho_t, double* lr, std::vector<double>& work,
+                   int degree = -1) const {
+        constexpr int W = lanes;
         if (degree < 0 || degree > p_) degree = p_;
-        const double r = std::sqrt(R[0] * R[0] + R[1] * R[1] + R[2] * R[2]), inv_r = 1 / r;
-        const std::array<double, 3> u{R[0] * inv_r, R[1] * inv_r, R[2] * inv_r};
+        const std::size_t nt = static_cast<std::size_t>(t_start_[static_cast<std::size_t>(degree) + 1]);
         const std::size_t nr = count_reduced(degree);
-        work.resize(t_steps_.size() + 1 + reduced_size());
-        double* t = work.data();
-        double* x = t + t_steps_.size() + 1;  // x_k (rho_s/|R|)^|k|
-        derivatives(u, t, static_cast<std::size_t>(t_start_[static_cast<std::size_t>(degree) + 1]));
-        std::array<double, max_order + 1> ts, tt;
-        ts[0] = 1;
-        tt[0] = inv_r;
-        for (int d = 1; d <= degree; ++d) {
-            ts[static_cast<std::size_t>(d)] = ts[static_cast<std::size_t>(d) - 1] * rho_s * inv_r;
-            tt[static_cast<std::size_t>(d)] = -tt[static_cast<std::size_t>(d) - 1] * rho_t * inv_r;
+        const std::size_t du = static_cast<std::size_t>(degree) + 1;
+        work.resize((t_steps_.size() + 1 + nr + 2 * du) * W + W);
+        double* t = aligned(work.data());     // T_j, lane l at t[j W + l]
+        double* x = t + (t_steps_.size() + 1) * W;  // x_k (rho_s/|R|)^|k|
+        double* ts = x + nr * W;              // (rho_s/|R|)^d
+        double* tt = ts + du * W;             // (-rho_t/|R|)^d / |R|
+        alignas(64) double u[3][W], inv_r[W], rs[W];
+        for (int l = 0; l < W; ++l) {
+            // Empty lanes: a unit vector and no moments.
+            const bool on = l < count;
+            const std::array<double, 3> R = on ? src[l].R : std::array<double, 3>{1.0, 0.0, 0.0};
+            const double r = std::sqrt(R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
+            inv_r[l] = 1 / r;
+            for (int c = 0; c < 3; ++c) u[c][l] = R[c] * inv_r[l];
+            rs[l] = on ? src[l].rho_s : 0.0;
         }
-        for (std::size_t i = 0; i < nr; ++i) x[i] = mr[i] * ts[static_cast<std::size_t>(reduced_degree_[i])];
+        for (int l = 0; l < W; ++l) {
+            ts[l] = 1;
+            tt[l] = l < count ? inv_r[l] : 0.0;
+        }
+        for (std::size_t d = 1; d < du; ++d)
+            for (int l = 0; l < W; ++l) {
+                ts[d * W + static_cast<std::size_t>(l)] = ts[(d - 1) * W + static_cast<std::size_t>(l)] * rs[l] * inv_r[l];
+                tt[d * W + static_cast<std::size_t>(l)] = -tt[(d - 1) * W + static_cast<std::size_t>(l)] * rho_t * inv_r[l];
+            }
+        // T_j = j! a_j(u): a_j's recurrence times j! (derivatives).
+        for (int l = 0; l < W; ++l) {
+            t[static_cast<std::size_t>(t_zero_) * W + static_cast<std::size_t>(l)] = 0;
+            t[l] = 1;
+        }
+        for (std::size_t i = 1; i < nt; ++i) {
+            const TStep& st = t_steps_[i];
+            double* ti = t + i * W;
+            const double *a0 = t + static_cast<std::size_t>(st.minus1[0]) * W,
+                         *a1 = t + static_cast<std::size_t>(st.minus1[1]) * W,
+                         *a2 = t + static_cast<std::size_t>(st.minus1[2]) * W,
+                         *b0 = t + static_cast<std::size_t>(st.minus2[0]) * W,
+                         *b1 = t + static_cast<std::size_t>(st.minus2[1]) * W,
+                         *b2 = t + static_cast<std::size_t>(st.minus2[2]) * W;
+            MOLLIFY_SIMD
+            for (int l = 0; l < W; ++l)
+                ti[l] = st.c1[0] * u[0][l] * a0[l] + st.c1[1] * u[1][l] * a1[l] + st.c1[2] * u[2][l] * a2[l] -
+                        (st.c2[0] * b0[l] + st.c2[1] * b1[l] + st.c2[2] * b2[l]);
+        }
+        for (std::size_t k = 0; k < nr; ++k) {
+            const double* tsk = ts + static_cast<std::size_t>(reduced_degree_[k]) * W;
+            for (int l = 0; l < W; ++l) x[k * W + static_cast<std::size_t>(l)] = l < count ? src[l].mr[k] * tsk[l] : 0.0;
+        }
         for (std::size_t m = 0; m < nr; ++m) {
-            // The terms of m in ascending |k| (x read in order, T_(k+m) a
-            // gather): those with |k| <= degree - |m| come first.
+            // The terms of m in ascending |k|: those with |k| <= degree - |m|
+            // come first. Two partial sums per lane break the chain.
             const int dm = reduced_degree_[m];
             const std::size_t len = count_reduced(degree - dm);
             const int* km = m2l_km_.data() + m2l_start_[m];
-            double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-            std::size_t i = 0;
-            for (; i + 4 <= len; i += 4) {
-                s0 += x[i] * t[km[i]];
-                s1 += x[i + 1] * t[km[i + 1]];
-                s2 += x[i + 2] * t[km[i + 2]];
-                s3 += x[i + 3] * t[km[i + 3]];
-            }
-            for (; i < len; ++i) s0 += x[i] * t[km[i]];
-            lr[m] += tt[static_cast<std::size_t>(dm)] * ((s0 + s1) + (s2 + s3));
+            lr[m] += lane_dot(x, t, km, len, tt + static_cast<std::size_t>(dm) * W);
         }
+    }
+
+    // The first address at or after q on a multiple of the lanes' width
+    // (rows of lanes then never straddle a cache line); callers leave W
+    // doubles of room.
+    static double* aligned(double* q) {
+        constexpr std::uintptr_t a = lanes * sizeof(double);
+        const auto v = reinterpret_cast<std::uintptr_t>(q);
+        return q + ((a - v % a) % a) / sizeof(double);
+    }
+
+    // sum_l f_l sum_(i < len) x_(i, l) t_(km_i, l), lane l of row j at j W + l:
+    // the lanes are one vector (GCC/Clang vector extension; plain loops
+    // otherwise), four accumulators break the chain of dependent additions.
+    static double lane_dot(const double* x, const double* t, const int* km, std::size_t len, const double* f) {
+        constexpr int W = lanes;
+#if defined(__GNUC__)
+        typedef double V __attribute__((vector_size(W * sizeof(double))));
+        // Unaligned-safe loads (memcpy); no V crosses a call (ABI).
+        V s0 = {}, s1 = {}, s2 = {}, s3 = {}, a0, a1, a2, a3, b0, b1, b2, b3;
+        std::size_t i = 0;
+        for (; i + 4 <= len; i += 4) {
+            std::memcpy(&a0, x + i * W, sizeof(V));
+            std::memcpy(&a1, x + (i + 1) * W, sizeof(V));
+            std::memcpy(&a2, x + (i + 2) * W, sizeof(V));
+            std::memcpy(&a3, x + (i + 3) * W, sizeof(V));
+            std::memcpy(&b0, t + static_cast<std::size_t>(km[i]) * W, sizeof(V));
+            std::memcpy(&b1, t + static_cast<std::size_t>(km[i + 1]) * W, sizeof(V));
+            std::memcpy(&b2, t + static_cast<std::size_t>(km[i + 2]) * W, sizeof(V));
+            std::memcpy(&b3, t + static_cast<std::size_t>(km[i + 3]) * W, sizeof(V));
+            s0 += a0 * b0;
+            s1 += a1 * b1;
+            s2 += a2 * b2;
+            s3 += a3 * b3;
+        }
+        for (; i < len; ++i) {
+            std::memcpy(&a0, x + i * W, sizeof(V));
+            std::memcpy(&b0, t + static_cast<std::size_t>(km[i]) * W, sizeof(V));
+            s0 += a0 * b0;
+        }
+        std::memcpy(&a0, f, sizeof(V));
+        const V s = ((s0 + s1) + (s2 + s3)) * a0;
+        double sum = 0;
+        for (int l = 0; l < W; ++l) sum += s[l];
+        return sum;
+#else
+        double sum = 0;
+        for (int l = 0; l < W; ++l) {
+            double s0 = 0;
+            for (std::size_t i = 0; i < len; ++i) s0 += x[i * W + l] * t[static_cast<std::size_t>(km[i]) * W + l];
+            sum += f[l] * s0;
+        }
+        return sum;
+#endif
     }
 
     // Adds the full local expansion L_m rho_t^|m| = W_m/m! of the reduced
@@ -352,20 +450,10 @@ private:
         }
     }
 
-    // T_j = j! a_j(u) for the first `last` multi-indices with j_z <= 2
-    // (t_k_ order): a_j's recurrence times j!,
+    // The derivatives T_j = j! a_j(u), j_z <= 2 (t_steps_ order), follow
+    // a_j's recurrence times j!:
     //     T_j = c1 sum_i j_i u_i T_(j-e_i) - c2 sum_i j_i (j_i - 1) T_(j-2e_i),
-    // reads only j_z or j_z - 1, j_z - 2 (the set is closed).
-    void derivatives(const std::array<double, 3>& u, double* t, std::size_t last) const {
-        t[t_zero_] = 0;
-        t[0] = 1;
-        for (std::size_t i = 1; i < last; ++i) {
-            const TStep& s = t_steps_[i];
-            t[i] = s.c1[0] * u[0] * t[s.minus1[0]] + s.c1[1] * u[1] * t[s.minus1[1]] + s.c1[2] * u[2] * t[s.minus1[2]] -
-                   (s.c2[0] * t[s.minus2[0]] + s.c2[1] * t[s.minus2[1]] + s.c2[2] * t[s.minus2[2]]);
-        }
-    }
-
+    // which reads only j_z, j_z - 1, j_z - 2 (the set is closed).
     // Tables of the harmonic reduction (see add_local).
     void harmonic_tables() {
         // Reduced multi-indices (k_z <= 1) by degree: k_z = 0 with k_x

@@ -39,6 +39,7 @@
 #include <mollify/poisson/tolerance.hpp>
 #include <mollify/poisson/tree.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -161,9 +162,10 @@ private:
     void by_target_leaf(const Tree<D>& t, const std::array<std::vector<double>, D>& y, Field<D>& out) const {
         const auto& tc = t.cells();
         const std::size_t n = expansion_.size();
-        std::vector<double> local(tc.size() * n, 0.0), reduced(tc.size() * stride(), 0.0);
+        std::vector<double> local(tc.size() * n, 0.0);
         std::vector<char> has_local(tc.size(), 0);
         std::vector<std::vector<int>> near(tc.size());
+        std::vector<std::vector<Far>> far(tc.size());
         // Tasks: the target cells of the first level with enough of them.
         std::vector<int> tasks{0};
         while (tasks.size() < 64) {
@@ -186,15 +188,20 @@ private:
         for (long ti = 0; ti < count; ++ti) {
             const int root = tasks[static_cast<std::size_t>(ti)];
             std::vector<double> work;
-            interact(t, root, 0, reduced, has_local, near, work);
-            descend(t, root, y, reduced, local, has_local, near, out, work);
+            interact(t, root, 0, far, has_local, near);
+            descend(t, root, y, far, local, has_local, near, out, work);
         }
     }
 
     static double local_scale(const Cell<D>& c) { return c.half > 0 ? c.half * std::sqrt(double(D)) : 1.0; }
 
-    void interact(const Tree<D>& t, int a, int b, std::vector<double>& reduced, std::vector<char>& has_local,
-                  std::vector<std::vector<int>>& near, std::vector<double>& work) const {
+    // An accepted pair: source cell b at M2L degree `degree`.
+    struct Far {
+        int b, degree;
+    };
+
+    void interact(const Tree<D>& t, int a, int b, std::vector<std::vector<Far>>& far, std::vector<char>& has_local,
+                  std::vector<std::vector<int>>& near) const {
         const Cell<D>& A = t.cells()[static_cast<std::size_t>(a)];
         const Cell<D>& B = tree_.cells()[static_cast<std::size_t>(b)];
         std::array<double, D> R;
@@ -204,32 +211,54 @@ private:
             r2 += R[k] * R[k];
         }
         const double r = std::sqrt(r2), reach = A.radius + B.radius;
-        const std::size_t n = stride();
         if (reach < options_.theta * r && r - reach >= B.delta_max) {
             if constexpr (D == 3)
-                expansion_.add_local(m_.data() + static_cast<std::size_t>(b) * n, scale(B), R, local_scale(A),
-                                     reduced.data() + static_cast<std::size_t>(a) * n, work,
-                                     expansion_.pair_degree(reach / r, options_.theta));
+                far[static_cast<std::size_t>(a)].push_back({b, expansion_.pair_degree(reach / r, options_.theta)});
             has_local[static_cast<std::size_t>(a)] = 1;
         } else if (A.leaf() && B.leaf()) {
             near[static_cast<std::size_t>(a)].push_back(b);
         } else if (B.leaf() || (!A.leaf() && A.radius >= B.radius)) {
-            for (int k = 0; k < A.children; ++k) interact(t, A.first_child + k, b, reduced, has_local, near, work);
+            for (int k = 0; k < A.children; ++k) interact(t, A.first_child + k, b, far, has_local, near);
         } else {
-            for (int k = 0; k < B.children; ++k) interact(t, a, B.first_child + k, reduced, has_local, near, work);
+            for (int k = 0; k < B.children; ++k) interact(t, a, B.first_child + k, far, has_local, near);
         }
     }
 
     // Local expansions down to the leaves, then phi and E at each target.
+    // The accepted pairs of target cell a, M2L in batches of
+    // Multipole<3>::lanes source cells of similar degree, into la.
+    void translate(const Cell<D>& A, std::vector<Far>& list, double* la, std::vector<double>& work) const {
+        if constexpr (D == 3) {
+            if (list.empty()) return;
+            constexpr int W = Multipole<3>::lanes;
+            std::sort(list.begin(), list.end(),
+                      [](const Far& x, const Far& z) { return x.degree != z.degree ? x.degree < z.degree : x.b < z.b; });
+            std::vector<double> reduced(stride(), 0.0);
+            std::array<Multipole<3>::Source, W> batch;
+            const double rho_t = local_scale(A);
+            for (std::size_t i0 = 0; i0 < list.size(); i0 += W) {
+                const int count = static_cast<int>(std::min<std::size_t>(W, list.size() - i0));
+                for (int l = 0; l < count; ++l) {
+                    const int b = list[i0 + static_cast<std::size_t>(l)].b;
+                    const Cell<D>& B = tree_.cells()[static_cast<std::size_t>(b)];
+                    batch[static_cast<std::size_t>(l)] = {m_.data() + static_cast<std::size_t>(b) * stride(), scale(B),
+                                                          {A.centre[0] - B.centre[0], A.centre[1] - B.centre[1],
+                                                           A.centre[2] - B.centre[2]}};
+                }
+                expansion_.add_local(batch.data(), count, rho_t, reduced.data(), work,
+                                     list[i0 + static_cast<std::size_t>(count) - 1].degree);
+            }
+            expansion_.add_expanded(reduced.data(), la, work);
+        }
+    }
+
     void descend(const Tree<D>& t, int a, const std::array<std::vector<double>, D>& y,
-                 const std::vector<double>& reduced, std::vector<double>& local, std::vector<char>& has_local,
+                 std::vector<std::vector<Far>>& far, std::vector<double>& local, std::vector<char>& has_local,
                  const std::vector<std::vector<int>>& near, Field<D>& out, std::vector<double>& work) const {
         const Cell<D>& A = t.cells()[static_cast<std::size_t>(a)];
         const std::size_t n = expansion_.size();
         double* la = local.data() + static_cast<std::size_t>(a) * n;
-        if constexpr (D == 3)
-            if (has_local[static_cast<std::size_t>(a)])
-                expansion_.add_expanded(reduced.data() + static_cast<std::size_t>(a) * stride(), la, work);
+        translate(A, far[static_cast<std::size_t>(a)], la, work);
         if (!A.leaf()) {
             for (int k = 0; k < A.children; ++k) {
                 const int c = A.first_child + k;
@@ -240,7 +269,7 @@ private:
                                                local.data() + static_cast<std::size_t>(c) * n, work);
                     has_local[static_cast<std::size_t>(c)] = 1;
                 }
-                descend(t, c, y, reduced, local, has_local, near, out, work);
+                descend(t, c, y, far, local, has_local, near, out, work);
             }
             return;
         }
