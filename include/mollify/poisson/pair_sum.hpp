@@ -188,5 +188,77 @@ void add_exact(const K& kernel, const SourceArrays<D>& s, const std::array<doubl
     if constexpr (D == 3) e[2] += e2;
 }
 
+// The treecode's near field in two parts, which together are add_exact
+// over the same sources (each pair in exactly one part: r^2 >= delta_j^2
+// in the first, r^2 < delta_j^2 in the second).
+//
+// add_green: the pairs beyond their support, where phi_delta IS the
+// Green's function (3D), over n sources gathered into plain arrays
+// (coordinates x, y, z, charges q, squared smoothing lengths d2): one
+// vectorised pass, 1/r from one square root and one division, no kernel.
+inline void add_green(const double* x, const double* y, const double* z, const double* q, const double* d2,
+                      std::size_t n, const std::array<double, 3>& xt, double& phi, std::array<double, 3>& e) {
+    constexpr double k = 0.25 * std::numbers::inv_pi;
+    double p_sum = 0, e0 = 0, e1 = 0, e2 = 0;
+    MOLLIFY_SIMD_REDUCTION(p_sum, e0, e1, e2)
+    for (std::size_t j = 0; j < n; ++j) {
+        const double dx = xt[0] - x[j], dy = xt[1] - y[j], dz = xt[2] - z[j];
+        const double r2 = mollify::detail::mul_add(dz, dz, mollify::detail::mul_add(dy, dy, dx * dx));
+        const double inv = r2 >= d2[j] ? 1 / std::sqrt(r2) : 0.0;  // 1/r, or 0 within the support
+        const double w = q[j] * inv, g = w * inv * inv;               // q/r, q/r^3
+        p_sum += w;
+        e0 += g * dx;
+        e1 += g * dy;
+        e2 += g * dz;
+    }
+    // phi = -k q/r, E = -grad phi = -k q (x - x_j)/r^3.
+    phi -= k * p_sum;
+    e[0] -= k * e0;
+    e[1] -= k * e1;
+    e[2] -= k * e2;
+}
+
+// add_within: the pairs of sources [begin, end) within their support
+// (r^2 < delta_j^2), with the exact mollified kernel (as add_exact).
+template <int D, class K>
+void add_within(const K& kernel, const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t begin,
+                std::size_t end, double& phi, std::array<double, D>& e) {
+    alignas(64) double d[D][block], near_r[block], near_pot[block], near_g[block];
+    unsigned near[block];
+    for (std::size_t b0 = begin; b0 < end; b0 += block) {
+        const std::size_t n = std::min(block, end - b0);
+        std::size_t m = 0;
+        const double* delta = s.delta.data() + b0;
+        for (std::size_t j = 0; j < n; ++j) {
+            // r^2 exactly as add_green forms it (the two tests must split the pairs).
+            const double dx = xt[0] - s.x[0][b0 + j], dy = xt[1] - s.x[1][b0 + j];
+            double r2 = dx * dx;
+            r2 = mollify::detail::mul_add(dy, dy, r2);
+            if constexpr (D == 3) {
+                const double dz = xt[2] - s.x[2][b0 + j];
+                r2 = mollify::detail::mul_add(dz, dz, r2);
+            }
+            if (r2 < delta[j] * delta[j]) {
+                for (int k = 0; k < D; ++k) d[k][m] = xt[k] - s.x[k][b0 + j];
+                near_r[m] = s.global ? std::sqrt(r2) : std::sqrt(r2) / delta[j];
+                near[m++] = static_cast<unsigned>(j);
+            }
+        }
+        if (m == 0) continue;
+        batch<QuantityId::potential>(kernel, near_r, near_pot, m, s.smoothing);
+        batch<QuantityId::dpotential_over_r>(kernel, near_r, near_g, m, s.smoothing);
+        for (std::size_t i = 0; i < m; ++i) {
+            const std::size_t j = b0 + near[i];
+            double pot = near_pot[i], g = near_g[i];
+            if (!s.global) {
+                pot = pot * s.phi_scale[j] + s.phi_shift[j];
+                g *= s.grad_scale[j];
+            }
+            phi += s.q[j] * pot;
+            for (int k = 0; k < D; ++k) e[k] -= s.q[j] * g * d[k][i];
+        }
+    }
+}
+
 }  // namespace detail
 }  // namespace mollify::poisson

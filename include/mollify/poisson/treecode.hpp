@@ -273,20 +273,62 @@ private:
             }
             return;
         }
+        // The near field: the sources of the leaf's near cells gathered
+        // into one run (adjacent cells merged), the Green's function for
+        // every pair beyond its support in one vectorised pass per target
+        // (detail::add_green), and the exact kernel for the pairs within a
+        // support (detail::add_within), looked for only in the cells whose
+        // sphere, widened by their largest delta, holds the target.
+        const auto& cells = tree_.cells();
+        std::vector<int> nl = near[static_cast<std::size_t>(a)];
+        std::sort(nl.begin(), nl.end(), [&](int u, int v) {
+            return cells[static_cast<std::size_t>(u)].begin < cells[static_cast<std::size_t>(v)].begin;
+        });
+        Gathered& g = gathered();
+        g.clear();
+        for (const int ci : nl) {
+            const Cell<D>& c = cells[static_cast<std::size_t>(ci)];
+            for (std::size_t j = c.begin; j < c.end; ++j) {
+                for (int k = 0; k < D; ++k) g.x[static_cast<std::size_t>(k)].push_back(s_.x[k][j]);
+                g.q.push_back(s_.q[j]);
+                g.d2.push_back(s_.delta[j] * s_.delta[j]);
+            }
+        }
         for (std::size_t i = A.begin; i < A.end; ++i) {
             std::array<double, D> x, e{};
             for (int c = 0; c < D; ++c) x[c] = y[c][i];
             double phi = 0;
-            if constexpr (D == 3)
+            if constexpr (D == 3) {
                 if (has_local[static_cast<std::size_t>(a)]) expansion_.add_local_at(la, local_scale(A), A.centre, x, phi, e);
-            for (const int ci : near[static_cast<std::size_t>(a)]) {
-                const Cell<D>& c = tree_.cells()[static_cast<std::size_t>(ci)];
-                detail::add_exact<D>(kernel_, s_, x, c.begin, c.end, phi, e);
+                detail::add_green(g.x[0].data(), g.x[1].data(), g.x[2].data(), g.q.data(), g.d2.data(), g.q.size(), x,
+                                  phi, e);
+                for (const int ci : nl) {
+                    const Cell<D>& c = cells[static_cast<std::size_t>(ci)];
+                    double r2 = 0;
+                    for (int k = 0; k < D; ++k) r2 += (x[k] - c.centre[k]) * (x[k] - c.centre[k]);
+                    const double reach = c.radius + c.delta_max;
+                    if (r2 < reach * reach * (1 + 1e-12)) detail::add_within<D>(kernel_, s_, x, c.begin, c.end, phi, e);
+                }
             }
             const std::size_t o = t.order()[i];
             out.potential[o] = phi;
             for (int c = 0; c < D; ++c) out.field[c][o] = e[c];
         }
+    }
+
+    // The near sources of one target leaf, as plain arrays (per thread).
+    struct Gathered {
+        std::array<std::vector<double>, 3> x;
+        std::vector<double> q, d2;
+        void clear() {
+            for (auto& c : x) c.clear();
+            q.clear();
+            d2.clear();
+        }
+    };
+    static Gathered& gathered() {
+        thread_local Gathered g;
+        return g;
     }
 
     // compute_interaction(x, root) of the notes, with an explicit stack.
