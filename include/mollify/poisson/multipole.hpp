@@ -109,26 +109,57 @@ public:
                 for (int t = 2; t <= k[c]; ++t) f *= t;
             factorial_.push_back(f);
         }
+        // Monomials by one multiplication each: u^k = u^(k - e_c) u_c, c the
+        // first nonzero component of k.
+        parent_.assign(size(), {0, 0});
+        for (std::size_t i = 1; i < size(); ++i) {
+            auto k = k_[i];
+            const int c = k[0] > 0 ? 0 : k[1] > 0 ? 1 : 2;
+            --k[static_cast<std::size_t>(c)];
+            parent_[i] = {index(k), c};
+        }
         harmonic_tables();
     }
 
     int order() const { return p_; }
     std::size_t size() const { return static_cast<std::size_t>(start_[static_cast<std::size_t>(p_) + 1]); }
 
-    // Adds q ((y - c)/rho)^k for |k| <= p to m (size()).
-    void add_source(double* m, const std::array<double, 3>& y, const std::array<double, 3>& c, double rho,
-                    double q) const {
-        std::array<std::array<double, max_order + 1>, 3> pw;
-        for (int d = 0; d < 3; ++d) {
-            const double t = (y[d] - c[d]) / rho;
-            pw[d][0] = 1;
-            for (int n = 1; n <= p_; ++n) pw[d][static_cast<std::size_t>(n)] = pw[d][static_cast<std::size_t>(n) - 1] * t;
+    // Adds sum_j q_j ((y_j - c)/rho)^k for |k| <= p to m (size()), n sources
+    // (coordinates y[0..2][j], charges q[j]) as SIMD lanes: each monomial q t^k is its parent's
+    // (multi-index k - e_c) times t_c, lane sums accumulated per
+    // coefficient and added to m once.
+    void add_sources(double* m, const std::array<const double*, 3>& y, const double* q, std::size_t n,
+                     const std::array<double, 3>& c, double rho, std::vector<double>& work) const {
+        constexpr int W = lanes;
+        const std::size_t s = size();
+        work.assign(2 * s * W + W, 0.0);
+        double* mono = aligned(work.data());
+        double* acc = mono + s * W;
+        for (std::size_t j0 = 0; j0 < n; j0 += W) {
+            const std::size_t count = std::min<std::size_t>(W, n - j0);
+            alignas(64) double t[3][W];
+            for (int l = 0; l < W; ++l) {
+                const bool on = static_cast<std::size_t>(l) < count;
+                for (int d = 0; d < 3; ++d) t[d][l] = on ? (y[d][j0 + static_cast<std::size_t>(l)] - c[d]) / rho : 0.0;
+                mono[l] = on ? q[j0 + static_cast<std::size_t>(l)] : 0.0;
+                acc[l] += mono[l];
+            }
+            for (std::size_t i = 1; i < s; ++i) {
+                const double* from = mono + static_cast<std::size_t>(parent_[i].index) * W;
+                const double* tc = t[parent_[i].c];
+                double* to = mono + i * W;
+                double* a = acc + i * W;
+                MOLLIFY_SIMD
+                for (int l = 0; l < W; ++l) {
+                    to[l] = from[l] * tc[l];
+                    a[l] += to[l];
+                }
+            }
         }
-        const std::size_t n = size();
-        for (std::size_t i = 0; i < n; ++i) {
-            const auto& k = k_[i];
-            m[i] += q * pw[0][static_cast<std::size_t>(k[0])] * pw[1][static_cast<std::size_t>(k[1])] *
-                    pw[2][static_cast<std::size_t>(k[2])];
+        for (std::size_t i = 0; i < s; ++i) {
+            double sum = 0;
+            for (int l = 0; l < W; ++l) sum += acc[i * W + static_cast<std::size_t>(l)];
+            m[i] += sum;
         }
     }
 
@@ -407,37 +438,93 @@ public:
         for (std::size_t i = 0; i < n; ++i) child[i] += sn[static_cast<std::size_t>(degree_[i])] * sum[i];
     }
 
-    // phi and E = -grad phi at x from a local expansion about c (radius rho):
-    // phi = -(1/4 pi) sum L_m u^m, u = (x - c)/rho, E_i = (1/4 pi rho) sum L_m m_i u^(m - e_i).
-    void add_local_at(const double* local, double rho, const std::array<double, 3>& c, const std::array<double, 3>& x,
-                      double& phi, std::array<double, 3>& e) const {
-        std::array<std::array<double, max_order + 2>, 3> pw;
-        for (int d = 0; d < 3; ++d) {
-            const double t = (x[d] - c[d]) / rho;
-            pw[d][0] = 0;  // u^-1 times its exponent 0
-            pw[d][1] = 1;
-            for (int k = 1; k <= p_; ++k) pw[d][static_cast<std::size_t>(k) + 1] = pw[d][static_cast<std::size_t>(k)] * t;
-        }
-        double f = 0, g0 = 0, g1 = 0, g2 = 0;
-        const std::size_t n = size();
-        for (std::size_t i = 0; i < n; ++i) {
-            const auto k0 = static_cast<std::size_t>(k_[i][0]), k1 = static_cast<std::size_t>(k_[i][1]),
-                       k2 = static_cast<std::size_t>(k_[i][2]);
-            const double x0 = pw[0][k0 + 1], x1 = pw[1][k1 + 1], x2 = pw[2][k2 + 1];
-            f += local[i] * x0 * x1 * x2;
-            g0 += local[i] * static_cast<double>(k0) * pw[0][k0] * x1 * x2;
-            g1 += local[i] * static_cast<double>(k1) * x0 * pw[1][k1] * x2;
-            g2 += local[i] * static_cast<double>(k2) * x0 * x1 * pw[2][k2];
-        }
+    // phi and E = -grad phi at n points x (coordinates x[0..2][i]) from a
+    // local expansion about c (radius rho), added to phi[i] and e[0..2][i]:
+    // phi = -(1/4 pi) sum L_m u^m, u = (x - c)/rho,
+    // E_c = (1/4 pi rho) sum_m L_m m_c u^(m - e_c) = (1/4 pi rho) sum_j (j_c + 1) L_(j+e_c) u^j.
+    // The points are SIMD lanes, each monomial one multiplication (add_sources).
+    void add_local_at(const double* local, double rho, const std::array<double, 3>& c,
+                      const std::array<const double*, 3>& x, std::size_t n, double* phi,
+                      const std::array<double*, 3>& e, std::vector<double>& work) const {
+        constexpr int W = lanes;
+        const std::size_t s = size(), sg = count(p_ - 1 < 0 ? 0 : p_ - 1), ng = p_ > 0 ? sg : 0;
+        work.resize(s * W + 3 * s + W);
+        double* mono = aligned(work.data());
+        double* lg = mono + s * W;  // (j_c + 1) L_(j+e_c), c = 0, 1, 2
+        for (std::size_t j = 0; j < ng; ++j)
+            for (int d = 0; d < 3; ++d)
+                lg[static_cast<std::size_t>(d) * s + j] =
+                    (k_[j][static_cast<std::size_t>(d)] + 1) * local[steps_[j].plus1[static_cast<std::size_t>(d)]];
         constexpr double k4pi = 0.25 * std::numbers::inv_pi;
-        phi -= k4pi * f;
-        const double s = k4pi / rho;
-        e[0] += s * g0;
-        e[1] += s * g1;
-        e[2] += s * g2;
+        for (std::size_t i0 = 0; i0 < n; i0 += W) {
+            const std::size_t count = std::min<std::size_t>(W, n - i0);
+            alignas(64) double t[3][W], f[W], g[3][W];
+            for (int l = 0; l < W; ++l) {
+                const bool on = static_cast<std::size_t>(l) < count;
+                for (int d = 0; d < 3; ++d) {
+                    t[d][l] = on ? (x[d][i0 + static_cast<std::size_t>(l)] - c[d]) / rho : 0.0;
+                    g[d][l] = ng > 0 ? lg[static_cast<std::size_t>(d) * s] : 0.0;
+                }
+                mono[l] = 1;
+                f[l] = local[0];
+            }
+            local_sums(local, lg, s, ng, t, mono, f, g);
+            for (std::size_t l = 0; l < count; ++l) {
+                phi[i0 + l] -= k4pi * f[l];
+                for (int d = 0; d < 3; ++d) e[static_cast<std::size_t>(d)][i0 + l] += k4pi / rho * g[d][l];
+            }
+        }
     }
 
 private:
+    // The lane sums of add_local_at: f += L_i u^i, g_c += lg_c,i u^i
+    // (i < ng), i >= 1; monomials from their parents (mono row 0 set).
+    void local_sums(const double* local, const double* lg, std::size_t s, std::size_t ng, const double (&t)[3][lanes],
+                    double* mono, double (&f)[lanes], double (&g)[3][lanes]) const {
+        constexpr int W = lanes;
+#if defined(__GNUC__)
+        typedef double V __attribute__((vector_size(W * sizeof(double))));
+        V vf, v0, v1, v2, a, u;
+        std::memcpy(&vf, f, sizeof(V));
+        std::memcpy(&v0, g[0], sizeof(V));
+        std::memcpy(&v1, g[1], sizeof(V));
+        std::memcpy(&v2, g[2], sizeof(V));
+        std::size_t i = 1;
+        for (; i < ng; ++i) {
+            std::memcpy(&a, mono + static_cast<std::size_t>(parent_[i].index) * W, sizeof(V));
+            std::memcpy(&u, t[parent_[i].c], sizeof(V));
+            a *= u;
+            std::memcpy(mono + i * W, &a, sizeof(V));
+            vf += local[i] * a;
+            v0 += lg[i] * a;
+            v1 += lg[s + i] * a;
+            v2 += lg[2 * s + i] * a;
+        }
+        for (; i < s; ++i) {
+            std::memcpy(&a, mono + static_cast<std::size_t>(parent_[i].index) * W, sizeof(V));
+            std::memcpy(&u, t[parent_[i].c], sizeof(V));
+            a *= u;
+            std::memcpy(mono + i * W, &a, sizeof(V));
+            vf += local[i] * a;
+        }
+        std::memcpy(f, &vf, sizeof(V));
+        std::memcpy(g[0], &v0, sizeof(V));
+        std::memcpy(g[1], &v1, sizeof(V));
+        std::memcpy(g[2], &v2, sizeof(V));
+#else
+        for (std::size_t i = 1; i < s; ++i) {
+            const double* from = mono + static_cast<std::size_t>(parent_[i].index) * W;
+            for (int l = 0; l < W; ++l) {
+                const double a = from[l] * t[parent_[i].c][l];
+                mono[i * W + static_cast<std::size_t>(l)] = a;
+                f[l] += local[i] * a;
+                if (i < ng)
+                    for (int d = 0; d < 3; ++d) g[d][l] += lg[static_cast<std::size_t>(d) * s + i] * a;
+            }
+        }
+#endif
+    }
+
     // a_k(u) for |u| = 1 and the first `last` multi-indices (a_k(R) = a_k(u)/|R|^(|k|+1)).
     void recurrence(const std::array<double, 3>& u, double* a, std::size_t last) const {
         a[zero_] = 0;
@@ -574,6 +661,10 @@ private:
     std::vector<std::size_t> shift_start_;
     std::vector<int> shift_km_;
     std::vector<double> factorial_;  // k_0! k_1! k_2! of multi-index i
+    struct Parent {
+        int index, c;  // k - e_c, c
+    };
+    std::vector<Parent> parent_;
     // The harmonic reduction (add_local).
     static std::size_t count_reduced(int d) { return static_cast<std::size_t>(d + 1) * static_cast<std::size_t>(d + 1); }
     struct Fold {

@@ -117,14 +117,18 @@ private:
                 m = full.data();
             }
             const double rho = scale(c);
-            for (std::size_t j = c.begin; j < c.end; ++j) {
-                std::array<double, D> y;
-                for (int k = 0; k < D; ++k) y[k] = s_.x[k][j];
-                expansion_.add_source(m, y, c.centre, rho, s_.q[j]);
-            }
-            if constexpr (D == 3)
+            if constexpr (D == 3) {
+                expansion_.add_sources(m, {s_.x[0].data() + c.begin, s_.x[1].data() + c.begin, s_.x[2].data() + c.begin},
+                                       s_.q.data() + c.begin, c.end - c.begin, c.centre, rho, work);
                 expansion_.reduce(m, c.radius > 0 ? options_.order : 0,
                                   m_.data() + static_cast<std::size_t>(ci) * stride(), work);
+            } else {
+                for (std::size_t j = c.begin; j < c.end; ++j) {
+                    std::array<double, D> y;
+                    for (int k = 0; k < D; ++k) y[k] = s_.x[k][j];
+                    expansion_.add_source(m, y, c.centre, rho, s_.q[j]);
+                }
+            }
         }
     }
 
@@ -294,12 +298,21 @@ private:
                 g.d2.push_back(s_.delta[j] * s_.delta[j]);
             }
         }
+        const std::size_t na = A.end - A.begin;
+        g.phi.assign(na, 0.0);
+        for (auto& c : g.e) c.assign(na, 0.0);
+        if constexpr (D == 3)
+            if (has_local[static_cast<std::size_t>(a)])
+                expansion_.add_local_at(la, local_scale(A), A.centre, {y[0].data() + A.begin, y[1].data() + A.begin, y[2].data() + A.begin},
+                                        na, g.phi.data(), {g.e[0].data(), g.e[1].data(), g.e[2].data()}, work);
         for (std::size_t i = A.begin; i < A.end; ++i) {
-            std::array<double, D> x, e{};
-            for (int c = 0; c < D; ++c) x[c] = y[c][i];
-            double phi = 0;
+            std::array<double, D> x, e;
+            for (int c = 0; c < D; ++c) {
+                x[c] = y[c][i];
+                e[c] = g.e[static_cast<std::size_t>(c)][i - A.begin];
+            }
+            double phi = g.phi[i - A.begin];
             if constexpr (D == 3) {
-                if (has_local[static_cast<std::size_t>(a)]) expansion_.add_local_at(la, local_scale(A), A.centre, x, phi, e);
                 detail::add_green(g.x[0].data(), g.x[1].data(), g.x[2].data(), g.q.data(), g.d2.data(), g.q.size(), x,
                                   phi, e);
                 for (const int ci : nl) {
@@ -320,6 +333,9 @@ private:
     struct Gathered {
         std::array<std::vector<double>, 3> x;
         std::vector<double> q, d2;
+        // The leaf's targets: phi and E from the local expansion.
+        std::vector<double> phi;
+        std::array<std::vector<double>, 3> e;
         void clear() {
             for (auto& c : x) c.clear();
             q.clear();
