@@ -223,28 +223,31 @@ inline void add_green(const double* x, const double* y, const double* z, const d
 template <int D, class K>
 void add_within(const K& kernel, const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t begin,
                 std::size_t end, double& phi, std::array<double, D>& e) {
-    alignas(64) double d[D][block], near_r[block], near_pot[block], near_g[block];
-    unsigned near[block];
+    alignas(64) double r2[block], near_r[block], near_pot[block], near_g[block];
+    unsigned near[block + 1];
     for (std::size_t b0 = begin; b0 < end; b0 += block) {
         const std::size_t n = std::min(block, end - b0);
-        std::size_t m = 0;
         const double* delta = s.delta.data() + b0;
+        const double *x = s.x[0].data() + b0, *y = s.x[1].data() + b0;
+        // r^2 exactly as add_green forms it (the two tests must split the pairs).
         for (std::size_t j = 0; j < n; ++j) {
-            // r^2 exactly as add_green forms it (the two tests must split the pairs).
-            const double dx = xt[0] - s.x[0][b0 + j], dy = xt[1] - s.x[1][b0 + j];
-            double r2 = dx * dx;
-            r2 = mollify::detail::mul_add(dy, dy, r2);
+            const double dx = xt[0] - x[j], dy = xt[1] - y[j];
+            r2[j] = mollify::detail::mul_add(dy, dy, dx * dx);
             if constexpr (D == 3) {
                 const double dz = xt[2] - s.x[2][b0 + j];
-                r2 = mollify::detail::mul_add(dz, dz, r2);
-            }
-            if (r2 < delta[j] * delta[j]) {
-                for (int k = 0; k < D; ++k) d[k][m] = xt[k] - s.x[k][b0 + j];
-                near_r[m] = s.global ? std::sqrt(r2) : std::sqrt(r2) / delta[j];
-                near[m++] = static_cast<unsigned>(j);
+                r2[j] = mollify::detail::mul_add(dz, dz, r2[j]);
             }
         }
+        std::size_t m = 0;
+        for (std::size_t j = 0; j < n; ++j) {  // branch-free compaction
+            near[m] = static_cast<unsigned>(j);
+            m += r2[j] < delta[j] * delta[j] ? 1 : 0;
+        }
         if (m == 0) continue;
+        for (std::size_t i = 0; i < m; ++i) {
+            const std::size_t j = near[i];
+            near_r[i] = s.global ? std::sqrt(r2[j]) : std::sqrt(r2[j]) / delta[j];
+        }
         batch<QuantityId::potential>(kernel, near_r, near_pot, m, s.smoothing);
         batch<QuantityId::dpotential_over_r>(kernel, near_r, near_g, m, s.smoothing);
         for (std::size_t i = 0; i < m; ++i) {
@@ -255,7 +258,7 @@ void add_within(const K& kernel, const SourceArrays<D>& s, const std::array<doub
                 g *= s.grad_scale[j];
             }
             phi += s.q[j] * pot;
-            for (int k = 0; k < D; ++k) e[k] -= s.q[j] * g * d[k][i];
+            for (int k = 0; k < D; ++k) e[k] -= s.q[j] * g * (xt[k] - s.x[k][j]);
         }
     }
 }

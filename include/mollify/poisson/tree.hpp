@@ -5,7 +5,8 @@
 // sources. The sources are permuted so that every cell is a contiguous range
 // [begin, end). Each cell keeps what the multipole acceptance test needs:
 // its centre c (the box centre), radius rho = max |x_j - c| over its
-// sources, and the largest smoothing length delta in it.
+// sources, and the largest smoothing length delta in it; and, for the near
+// field, the bounding box of its sources.
 #pragma once
 
 #include <mollify/error.hpp>
@@ -27,6 +28,7 @@ struct Cell {
     double half;       // half the box side
     double radius;     // max |x_j - centre| over the cell's sources
     double delta_max;  // largest smoothing length in the cell
+    std::array<double, D> lo, hi;  // bounding box of the cell's sources (their coordinates' min and max)
     std::size_t begin, end;
     int first_child = -1, children = 0;  // children are contiguous in Tree::cells
     bool leaf() const { return children == 0; }
@@ -76,11 +78,16 @@ private:
     void finish(Cell<D>& cell) const {
         cell.radius = 0;
         cell.delta_max = 0;
+        cell.lo = cell.hi = cell.centre;
+        if (cell.begin < cell.end)
+            for (int c = 0; c < D; ++c) cell.lo[c] = cell.hi[c] = coordinate(cell.begin, c);
         for (std::size_t i = cell.begin; i < cell.end; ++i) {
             double r2 = 0;
             for (int c = 0; c < D; ++c) {
                 const double d = coordinate(i, c) - cell.centre[c];
                 r2 += d * d;
+                cell.lo[c] = std::min(cell.lo[c], coordinate(i, c));
+                cell.hi[c] = std::max(cell.hi[c], coordinate(i, c));
             }
             cell.radius = std::max(cell.radius, std::sqrt(r2));
             cell.delta_max = std::max(cell.delta_max, delta_of(i));

@@ -289,14 +289,23 @@ private:
             return cells[static_cast<std::size_t>(u)].begin < cells[static_cast<std::size_t>(v)].begin;
         });
         Gathered& g = gathered();
-        g.clear();
-        for (const int ci : nl) {
-            const Cell<D>& c = cells[static_cast<std::size_t>(ci)];
-            for (std::size_t j = c.begin; j < c.end; ++j) {
-                for (int k = 0; k < D; ++k) g.x[static_cast<std::size_t>(k)].push_back(s_.x[k][j]);
-                g.q.push_back(s_.q[j]);
-                g.d2.push_back(s_.delta[j] * s_.delta[j]);
-            }
+        std::size_t total = 0;
+        for (const int ci : nl) total += cells[static_cast<std::size_t>(ci)].end - cells[static_cast<std::size_t>(ci)].begin;
+        g.resize(total);
+        std::size_t at = 0;
+        for (std::size_t r = 0; r < nl.size();) {
+            // A run of cells adjacent in the source order: one copy.
+            const std::size_t begin = cells[static_cast<std::size_t>(nl[r])].begin;
+            std::size_t end = cells[static_cast<std::size_t>(nl[r])].end;
+            for (++r; r < nl.size() && cells[static_cast<std::size_t>(nl[r])].begin == end; ++r)
+                end = cells[static_cast<std::size_t>(nl[r])].end;
+            for (int k = 0; k < D; ++k)
+                std::copy(s_.x[k].begin() + static_cast<std::ptrdiff_t>(begin), s_.x[k].begin() + static_cast<std::ptrdiff_t>(end),
+                          g.x[static_cast<std::size_t>(k)].begin() + static_cast<std::ptrdiff_t>(at));
+            std::copy(s_.q.begin() + static_cast<std::ptrdiff_t>(begin), s_.q.begin() + static_cast<std::ptrdiff_t>(end),
+                      g.q.begin() + static_cast<std::ptrdiff_t>(at));
+            for (std::size_t j = begin; j < end; ++j) g.d2[at + j - begin] = s_.delta[j] * s_.delta[j];
+            at += end - begin;
         }
         const std::size_t na = A.end - A.begin;
         g.phi.assign(na, 0.0);
@@ -316,11 +325,15 @@ private:
                 detail::add_green(g.x[0].data(), g.x[1].data(), g.x[2].data(), g.q.data(), g.d2.data(), g.q.size(), x,
                                   phi, e);
                 for (const int ci : nl) {
+                    // The distance to the sources' bounding box, formed like
+                    // r^2 in add_green from per-axis gaps no larger than any
+                    // |x_k - y_k| (rounding is monotone): never above a pair's r^2.
                     const Cell<D>& c = cells[static_cast<std::size_t>(ci)];
-                    double r2 = 0;
-                    for (int k = 0; k < D; ++k) r2 += (x[k] - c.centre[k]) * (x[k] - c.centre[k]);
-                    const double reach = c.radius + c.delta_max;
-                    if (r2 < reach * reach * (1 + 1e-12)) detail::add_within<D>(kernel_, s_, x, c.begin, c.end, phi, e);
+                    std::array<double, D> gap;
+                    for (int k = 0; k < D; ++k)
+                        gap[k] = x[k] < c.lo[k] ? c.lo[k] - x[k] : x[k] > c.hi[k] ? x[k] - c.hi[k] : 0.0;
+                    const double r2 = mollify::detail::mul_add(gap[2], gap[2], mollify::detail::mul_add(gap[1], gap[1], gap[0] * gap[0]));
+                    if (r2 < c.delta_max * c.delta_max) detail::add_within<D>(kernel_, s_, x, c.begin, c.end, phi, e);
                 }
             }
             const std::size_t o = t.order()[i];
@@ -336,10 +349,10 @@ private:
         // The leaf's targets: phi and E from the local expansion.
         std::vector<double> phi;
         std::array<std::vector<double>, 3> e;
-        void clear() {
-            for (auto& c : x) c.clear();
-            q.clear();
-            d2.clear();
+        void resize(std::size_t n) {
+            for (auto& c : x) c.resize(n);
+            q.resize(n);
+            d2.resize(n);
         }
     };
     static Gathered& gathered() {
