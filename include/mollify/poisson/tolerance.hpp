@@ -31,7 +31,11 @@ namespace mollify::poisson {
 struct TreeOptions {
     double theta = 0.5;  // opening parameter: a cell is expanded when rho_c / R < theta
     int order = 6;       // multipole order p
-    int leaf_size = 256;  // at most this many sources in a leaf (256: fastest measured at N = 2e5, 3D)
+    // At most this many sources in a leaf. 128: uniform sources in 3D fill
+    // octree boxes with N/8^level sources, and 128 splits every level above
+    // ~50 per leaf (N = 2e5: 49, 1e6: 31, 1e5: 24, 1e4: 20), where 256 left
+    // 244 per leaf at N = 1e6 (2.4x slower there, the same tree at 2e5).
+    int leaf_size = 128;
 
     void check() const {
         if (!(theta > 0 && theta < 1))
