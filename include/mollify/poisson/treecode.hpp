@@ -307,6 +307,17 @@ private:
             for (std::size_t j = begin; j < end; ++j) g.d2[at + j - begin] = s_.delta[j] * s_.delta[j];
             at += end - begin;
         }
+        // The near cells' source boxes and delta_max^2 (the search for pairs within a support).
+        const std::size_t nc = nl.size();
+        g.cells(nc);
+        for (std::size_t r = 0; r < nc; ++r) {
+            const Cell<D>& c = cells[static_cast<std::size_t>(nl[r])];
+            for (int k = 0; k < D; ++k) {
+                g.lo[static_cast<std::size_t>(k)][r] = c.lo[k];
+                g.hi[static_cast<std::size_t>(k)][r] = c.hi[k];
+            }
+            g.dm2[r] = c.delta_max * c.delta_max;
+        }
         const std::size_t na = A.end - A.begin;
         g.phi.assign(na, 0.0);
         for (auto& c : g.e) c.assign(na, 0.0);
@@ -324,17 +335,26 @@ private:
             if constexpr (D == 3) {
                 detail::add_green(g.x[0].data(), g.x[1].data(), g.x[2].data(), g.q.data(), g.d2.data(), g.q.size(), x,
                                   phi, e);
-                for (const int ci : nl) {
-                    // The distance to the sources' bounding box, formed like
-                    // r^2 in add_green from per-axis gaps no larger than any
-                    // |x_k - y_k| (rounding is monotone): never above a pair's r^2.
-                    const Cell<D>& c = cells[static_cast<std::size_t>(ci)];
-                    std::array<double, D> gap;
-                    for (int k = 0; k < D; ++k)
-                        gap[k] = x[k] < c.lo[k] ? c.lo[k] - x[k] : x[k] > c.hi[k] ? x[k] - c.hi[k] : 0.0;
-                    const double r2 = mollify::detail::mul_add(gap[2], gap[2], mollify::detail::mul_add(gap[1], gap[1], gap[0] * gap[0]));
-                    if (r2 < c.delta_max * c.delta_max) detail::add_within<D>(kernel_, s_, x, c.begin, c.end, phi, e);
+                // The squared distance to each near cell's source box, formed
+                // like r^2 in add_green from per-axis gaps no larger than any
+                // |x_k - y_k| (rounding is monotone): never above a pair's r^2.
+                double* gap2 = g.gap2.data();
+                {
+                    const double *lx = g.lo[0].data(), *ly = g.lo[1].data(), *lz = g.lo[2].data();
+                    const double *hx = g.hi[0].data(), *hy = g.hi[1].data(), *hz = g.hi[2].data();
+                    MOLLIFY_SIMD
+                    for (std::size_t r = 0; r < nc; ++r) {
+                        const double gx = x[0] < lx[r] ? lx[r] - x[0] : x[0] > hx[r] ? x[0] - hx[r] : 0.0;
+                        const double gy = x[1] < ly[r] ? ly[r] - x[1] : x[1] > hy[r] ? x[1] - hy[r] : 0.0;
+                        const double gz = x[2] < lz[r] ? lz[r] - x[2] : x[2] > hz[r] ? x[2] - hz[r] : 0.0;
+                        gap2[r] = mollify::detail::mul_add(gz, gz, mollify::detail::mul_add(gy, gy, gx * gx));
+                    }
                 }
+                for (std::size_t r = 0; r < nc; ++r)
+                    if (gap2[r] < g.dm2[r]) {
+                        const Cell<D>& c = cells[static_cast<std::size_t>(nl[r])];
+                        detail::add_within<D>(kernel_, s_, x, c.begin, c.end, phi, e);
+                    }
             }
             const std::size_t o = t.order()[i];
             out.potential[o] = phi;
@@ -349,10 +369,19 @@ private:
         // The leaf's targets: phi and E from the local expansion.
         std::vector<double> phi;
         std::array<std::vector<double>, 3> e;
+        // The near cells: source boxes, delta_max^2, a target's squared gaps.
+        std::array<std::vector<double>, 3> lo, hi;
+        std::vector<double> dm2, gap2;
         void resize(std::size_t n) {
             for (auto& c : x) c.resize(n);
             q.resize(n);
             d2.resize(n);
+        }
+        void cells(std::size_t n) {
+            for (auto& c : lo) c.resize(n);
+            for (auto& c : hi) c.resize(n);
+            dm2.resize(n);
+            gap2.resize(n);
         }
     };
     static Gathered& gathered() {
