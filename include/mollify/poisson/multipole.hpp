@@ -259,8 +259,10 @@ public:
 
     // Adds the reduced local coefficients W_m (-1)^|m| (rho_t/|R|)^|m| / |R|
     // (m_z <= 1, |m| <= degree, |k| + |m| <= degree) of up to `lanes` source
-    // cells to one target cell's lr (reduced_size()); add_expanded turns the
-    // accumulated sum into L_m rho_t^|m|. degree <= p: a pair far enough
+    // cells to one target cell's per-lane sums lr (reduced_size() rows of
+    // `lanes`, lane l of row m at m lanes + l, aligned with `aligned`);
+    // add_expanded adds the lanes and turns the accumulated sum into
+    // L_m rho_t^|m|. degree <= p: a pair far enough
     // apart reaches the accuracy of the worst accepted pair at a lower degree
     // (pair_degree); a batch uses the largest degree of its pairs. The cells
     // are SIMD lanes: derivatives, scaled moments and partial sums are stored
@@ -326,7 +328,7 @@ public:
             const int dm = reduced_degree_[m];
             const std::size_t len = count_reduced(degree - dm);
             const int* km = m2l_km_.data() + m2l_start_[m];
-            lr[m] += lane_dot(x, t, km, len, tt + static_cast<std::size_t>(dm) * W);
+            lane_dot(x, t, km, len, tt + static_cast<std::size_t>(dm) * W, lr + m * W);
         }
     }
 
@@ -339,10 +341,11 @@ public:
         return q + ((a - v % a) % a) / sizeof(double);
     }
 
-    // sum_l f_l sum_(i < len) x_(i, l) t_(km_i, l), lane l of row j at j W + l:
+    // out_l += f_l sum_(i < len) x_(i, l) t_(km_i, l), lane l of row j at j W + l:
     // the lanes are one vector (GCC/Clang vector extension; plain loops
     // otherwise), four accumulators break the chain of dependent additions.
-    static double lane_dot(const double* x, const double* t, const int* km, std::size_t len, const double* f) {
+    static void lane_dot(const double* x, const double* t, const int* km, std::size_t len, const double* f,
+                         double* out) {
         constexpr int W = lanes;
 #if defined(__GNUC__)
         typedef double V __attribute__((vector_size(W * sizeof(double))));
@@ -369,29 +372,30 @@ public:
             s0 += a0 * b0;
         }
         std::memcpy(&a0, f, sizeof(V));
-        const V s = ((s0 + s1) + (s2 + s3)) * a0;
-        double sum = 0;
-        for (int l = 0; l < W; ++l) sum += s[l];
-        return sum;
+        std::memcpy(&b0, out, sizeof(V));
+        b0 += ((s0 + s1) + (s2 + s3)) * a0;
+        std::memcpy(out, &b0, sizeof(V));
 #else
-        double sum = 0;
         for (int l = 0; l < W; ++l) {
             double s0 = 0;
             for (std::size_t i = 0; i < len; ++i) s0 += x[i * W + l] * t[static_cast<std::size_t>(km[i]) * W + l];
-            sum += f[l] * s0;
+            out[l] += f[l] * s0;
         }
-        return sum;
 #endif
     }
 
     // Adds the full local expansion L_m rho_t^|m| = W_m/m! of the reduced
-    // accumulation lr (add_local) to local (size()): the W_m with m_z >= 2
+    // accumulation lr (add_local, per lane) to local (size()): the W_m with m_z >= 2
     // from W_m = -W_(m-2e_z+2e_x) - W_(m-2e_z+2e_y), m_z ascending.
     void add_expanded(const double* lr, double* local, std::vector<double>& work) const {
         const std::size_t n = size();
         work.resize(n);
         double* w = work.data();
-        for (std::size_t r = 0; r < reduced_size(); ++r) w[reduced_full_[r]] = lr[r];
+        for (std::size_t r = 0; r < reduced_size(); ++r) {
+            double sum = 0;
+            for (int l = 0; l < lanes; ++l) sum += lr[r * lanes + static_cast<std::size_t>(l)];
+            w[reduced_full_[r]] = sum;
+        }
         for (auto f = fold_.rbegin(); f != fold_.rend(); ++f) w[f->i] = -(w[f->a] + w[f->b]);
         for (std::size_t i = 0; i < n; ++i) local[i] += w[i] / factorial_[i];
     }

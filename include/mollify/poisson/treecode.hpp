@@ -237,7 +237,9 @@ private:
             constexpr int W = Multipole<3>::lanes;
             std::sort(list.begin(), list.end(),
                       [](const Far& x, const Far& z) { return x.degree != z.degree ? x.degree < z.degree : x.b < z.b; });
-            std::vector<double> reduced(stride(), 0.0);
+            thread_local std::vector<double> lanes;  // per-lane sums of the reduced coefficients
+            lanes.assign((stride() + 1) * W, 0.0);
+            double* reduced = Multipole<3>::aligned(lanes.data());
             std::array<Multipole<3>::Source, W> batch;
             const double rho_t = local_scale(A);
             for (std::size_t i0 = 0; i0 < list.size(); i0 += W) {
@@ -249,10 +251,10 @@ private:
                                                           {A.centre[0] - B.centre[0], A.centre[1] - B.centre[1],
                                                            A.centre[2] - B.centre[2]}};
                 }
-                expansion_.add_local(batch.data(), count, rho_t, reduced.data(), work,
+                expansion_.add_local(batch.data(), count, rho_t, reduced, work,
                                      list[i0 + static_cast<std::size_t>(count) - 1].degree);
             }
-            expansion_.add_expanded(reduced.data(), la, work);
+            expansion_.add_expanded(reduced, la, work);
         }
     }
 
