@@ -6,6 +6,11 @@
 // one batch call of the kernel per quantity (potential, phi'/r) for the
 // pairs within a support, then the weighted sums (vectorised reductions).
 //
+// The treecode's near field uses two variants (add_green, add_within, at
+// the end): the Green's function for the pairs beyond their support over
+// sources gathered from several cells, and the exact kernel only for the
+// pairs within a support.
+//
 // Per-source smoothing lengths use the scaling of the runtime
 // (include/mollify/smoothing.hpp): f_delta(r) = delta^p f_1(r/delta), with
 // p = 2 - D for the potential (plus log(delta)/(2 pi) in 2D) and p = -D for

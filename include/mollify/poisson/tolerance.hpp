@@ -14,7 +14,9 @@
 // among theta in {0.3, 0.4, ..., 0.8}, the cheapest (theta, p) meeting the
 // target by the cost model (expansion work per interaction times the
 // number of interactions) ~ C(p + 3, 3)^2 / theta^3 in 3D (the M2L
-// translation is O(p^6)), (p + 1) / theta^2 in 2D.
+// translation was O(p^6); with the harmonic reduction it costs about
+// (p + 1)^4/6 multiply-adds, so this model now overrates high p: it
+// ranks the candidates, the tests check the error), (p + 1) / theta^2 in 2D.
 // tests/poisson_free_test.cpp (AccuracyKnob) checks the achieved error.
 #pragma once
 
