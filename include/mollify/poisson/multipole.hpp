@@ -609,7 +609,8 @@ private:
     }
 
     // out_m = sum_k binom(k + m, k) x_k y_(k+m), |k| + |m| <= degree: the O(p^6)
-    // heart of L2L (M2L uses the harmonic reduction, add_local), as (1/m!) sum_k (x_k/k!) ((k+m)! y_(k+m)) with
+    // heart of L2L (M2L uses the harmonic reduction, add_local), as
+    // (1/m!) sum_k (x_k/k!) ((k+m)! y_(k+m)) with
     // multi-index factorials (k! = k_0! k_1! k_2!; binom(k + m, k) is
     // their ratio componentwise): x and y are scaled in place (scratch of
     // the callers), and a term costs one index, one gather and one FMA.
