@@ -223,6 +223,40 @@ inline void add_green(const double* x, const double* y, const double* z, const d
     e[2] -= k * e2;
 }
 
+// add_green for a target that is itself a source (charge qt, squared
+// smoothing length d2t) and n sources that feel it back: each pair's 1/r
+// serves both directions (Newton's third law; masks r^2 >= d2[j] for the
+// target, r^2 >= d2t for the source). The sources' sums of q/r and
+// q (x_j - x_t)/r^3 are added to w[j], g0[j], g1[j], g2[j] (to be scaled by
+// -1/(4 pi) like the target's).
+inline void add_green_mutual(const double* x, const double* y, const double* z, const double* q, const double* d2,
+                             std::size_t n, const std::array<double, 3>& xt, double qt, double d2t, double& phi,
+                             std::array<double, 3>& e, double* w, double* g0, double* g1, double* g2) {
+    constexpr double k = 0.25 * std::numbers::inv_pi;
+    double p_sum = 0, e0 = 0, e1 = 0, e2 = 0;
+    MOLLIFY_SIMD_REDUCTION(p_sum, e0, e1, e2)
+    for (std::size_t j = 0; j < n; ++j) {
+        const double dx = xt[0] - x[j], dy = xt[1] - y[j], dz = xt[2] - z[j];
+        const double r2 = mollify::detail::mul_add(dz, dz, mollify::detail::mul_add(dy, dy, dx * dx));
+        const double inv = 1 / std::sqrt(r2);
+        const double to_t = r2 >= d2[j] ? inv : 0.0, to_j = r2 >= d2t ? inv : 0.0;
+        const double wt = q[j] * to_t, gt = wt * to_t * to_t;
+        const double wj = qt * to_j, gj = wj * to_j * to_j;
+        p_sum += wt;
+        e0 += gt * dx;
+        e1 += gt * dy;
+        e2 += gt * dz;
+        w[j] += wj;
+        g0[j] -= gj * dx;
+        g1[j] -= gj * dy;
+        g2[j] -= gj * dz;
+    }
+    phi -= k * p_sum;
+    e[0] -= k * e0;
+    e[1] -= k * e1;
+    e[2] -= k * e2;
+}
+
 // add_within: the pairs of sources [begin, end) within their support
 // (r^2 < delta_j^2), with the exact mollified kernel (as add_exact).
 template <int D, class K>

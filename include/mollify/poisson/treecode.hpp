@@ -57,6 +57,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -204,13 +205,63 @@ private:
         }
         const auto count = static_cast<long>(tasks.size());
         MOLLIFY_PARALLEL_FOR(schedule(dynamic, 1))
+        for (long ti = 0; ti < count; ++ti) interact(t, tasks[static_cast<std::size_t>(ti)], 0, far, has_local, near);
+        // The near field's Green's-function part, at the sources (t is the
+        // source tree): a leaf pair (a, b) found from both sides is summed
+        // once, at the smaller index, for both directions (add_green_mutual);
+        // the other near cells one way. The within-support search keeps
+        // every near cell (near).
+        NearField nf;
+        nf.mutual = &t == &tree_;
+        nf.green.resize(tc.size());
+        nf.both.resize(tc.size());
+        const auto ncells = static_cast<long>(tc.size());
+        if (nf.mutual) {
+            MOLLIFY_PARALLEL_FOR(schedule(static))
+            for (long ci = 0; ci < ncells; ++ci) std::sort(near[static_cast<std::size_t>(ci)].begin(), near[static_cast<std::size_t>(ci)].end());
+            nf.acc.resize(static_cast<std::size_t>(mollify::detail::thread_count()));
+        }
+        MOLLIFY_PARALLEL_FOR(schedule(static))
+        for (long ci = 0; ci < ncells; ++ci) {
+            const auto a = static_cast<std::size_t>(ci);
+            for (const int b : near[a]) {
+                const auto& back = near[static_cast<std::size_t>(b)];
+                if (!nf.mutual || b == ci || !std::binary_search(back.begin(), back.end(), static_cast<int>(ci)))
+                    nf.green[a].push_back(b);
+                else if (b > ci)
+                    nf.both[a].push_back(b);
+            }
+        }
+        MOLLIFY_PARALLEL_FOR(schedule(dynamic, 1))
         for (long ti = 0; ti < count; ++ti) {
-            const int root = tasks[static_cast<std::size_t>(ti)];
             std::vector<double> work;
-            interact(t, root, 0, far, has_local, near);
-            descend(t, root, y, far, local, has_local, near, out, work);
+            descend(t, tasks[static_cast<std::size_t>(ti)], y, far, local, has_local, near, nf, out, work);
+        }
+        if (nf.mutual) {
+            constexpr double k = 0.25 * std::numbers::inv_pi;
+            const auto m = static_cast<long>(s_.size());
+            MOLLIFY_PARALLEL_FOR(schedule(static))
+            for (long ii = 0; ii < m; ++ii) {
+                const auto i = static_cast<std::size_t>(ii);
+                std::array<double, 4> sum{};
+                for (const auto& acc : nf.acc)
+                    if (!acc[0].empty())
+                        for (std::size_t c = 0; c < 4; ++c) sum[c] += acc[c][i];
+                const std::size_t o = t.order()[i];
+                out.potential[o] -= k * sum[0];
+                for (int c = 0; c < D; ++c) out.field[c][o] -= k * sum[static_cast<std::size_t>(c) + 1];
+            }
         }
     }
+
+    // The near field's split (by_target_leaf) and, for mutual pairs, per
+    // thread the sums of q/r and q (x_j - x_t)/r^3 felt by each source
+    // (tree order) from targets in other leaves.
+    struct NearField {
+        bool mutual = false;
+        std::vector<std::vector<int>> green, both;
+        std::vector<std::array<std::vector<double>, 4>> acc;
+    };
 
     static double local_scale(const Cell<D>& c) { return c.half > 0 ? c.half * std::sqrt(double(D)) : 1.0; }
 
@@ -275,7 +326,8 @@ private:
 
     void descend(const Tree<D>& t, int a, const std::array<std::vector<double>, D>& y,
                  std::vector<std::vector<Far>>& far, std::vector<double>& local, std::vector<char>& has_local,
-                 const std::vector<std::vector<int>>& near, Field<D>& out, std::vector<double>& work) const {
+                 const std::vector<std::vector<int>>& near, NearField& nf, Field<D>& out,
+                 std::vector<double>& work) const {
         const Cell<D>& A = t.cells()[static_cast<std::size_t>(a)];
         const std::size_t n = expansion_.size();
         double* la = local.data() + static_cast<std::size_t>(a) * n;
@@ -290,40 +342,22 @@ private:
                                                local.data() + static_cast<std::size_t>(c) * n, work);
                     has_local[static_cast<std::size_t>(c)] = 1;
                 }
-                descend(t, c, y, far, local, has_local, near, out, work);
+                descend(t, c, y, far, local, has_local, near, nf, out, work);
             }
             return;
         }
         // The near field: the sources of the leaf's near cells gathered
-        // into one run (adjacent cells merged), the Green's function for
-        // every pair beyond its support in one vectorised pass per target
-        // (detail::add_green), and the exact kernel for the pairs within a
+        // into runs (adjacent cells merged), the Green's function for every
+        // pair beyond its support in one vectorised pass per target and run
+        // (detail::add_green; detail::add_green_mutual for the cells summed
+        // both ways here), and the exact kernel for the pairs within a
         // support (detail::add_within), looked for only in the cells whose
-        // sphere, widened by their largest delta, holds the target.
+        // source box comes within their largest delta of the target.
         const auto& cells = tree_.cells();
-        std::vector<int> nl = near[static_cast<std::size_t>(a)];
-        std::sort(nl.begin(), nl.end(), [&](int u, int v) {
-            return cells[static_cast<std::size_t>(u)].begin < cells[static_cast<std::size_t>(v)].begin;
-        });
+        const std::vector<int>& nl = near[static_cast<std::size_t>(a)];
         Gathered& g = gathered();
-        std::size_t total = 0;
-        for (const int ci : nl) total += cells[static_cast<std::size_t>(ci)].end - cells[static_cast<std::size_t>(ci)].begin;
-        g.resize(total);
-        std::size_t at = 0;
-        for (std::size_t r = 0; r < nl.size();) {
-            // A run of cells adjacent in the source order: one copy.
-            const std::size_t begin = cells[static_cast<std::size_t>(nl[r])].begin;
-            std::size_t end = cells[static_cast<std::size_t>(nl[r])].end;
-            for (++r; r < nl.size() && cells[static_cast<std::size_t>(nl[r])].begin == end; ++r)
-                end = cells[static_cast<std::size_t>(nl[r])].end;
-            for (int k = 0; k < D; ++k)
-                std::copy(s_.x[k].begin() + static_cast<std::ptrdiff_t>(begin), s_.x[k].begin() + static_cast<std::ptrdiff_t>(end),
-                          g.x[static_cast<std::size_t>(k)].begin() + static_cast<std::ptrdiff_t>(at));
-            std::copy(s_.q.begin() + static_cast<std::ptrdiff_t>(begin), s_.q.begin() + static_cast<std::ptrdiff_t>(end),
-                      g.q.begin() + static_cast<std::ptrdiff_t>(at));
-            for (std::size_t j = begin; j < end; ++j) g.d2[at + j - begin] = s_.delta[j] * s_.delta[j];
-            at += end - begin;
-        }
+        g.one.gather(cells, s_, nf.green[static_cast<std::size_t>(a)]);
+        g.both.gather(cells, s_, nf.both[static_cast<std::size_t>(a)]);
         // The near cells' source boxes and delta_max^2 (the search for pairs within a support).
         const std::size_t nc = nl.size();
         g.cells(nc);
@@ -350,8 +384,13 @@ private:
             }
             double phi = g.phi[i - A.begin];
             if constexpr (D == 3) {
-                detail::add_green(g.x[0].data(), g.x[1].data(), g.x[2].data(), g.q.data(), g.d2.data(), g.q.size(), x,
-                                  phi, e);
+                detail::add_green(g.one.x[0].data(), g.one.x[1].data(), g.one.x[2].data(), g.one.q.data(), g.one.d2.data(),
+                                  g.one.q.size(), x, phi, e);
+                if (!g.both.q.empty())
+                    detail::add_green_mutual(g.both.x[0].data(), g.both.x[1].data(), g.both.x[2].data(), g.both.q.data(),
+                                             g.both.d2.data(), g.both.q.size(), x, s_.q[i], s_.delta[i] * s_.delta[i], phi,
+                                             e, g.both.w[0].data(), g.both.w[1].data(), g.both.w[2].data(),
+                                             g.both.w[3].data());
                 // The squared distance to each near cell's source box, formed
                 // like r^2 in add_green from per-axis gaps no larger than any
                 // |x_k - y_k| (rounding is monotone): never above a pair's r^2.
@@ -377,23 +416,63 @@ private:
             out.potential[o] = phi;
             for (int c = 0; c < D; ++c) out.field[c][o] = e[c];
         }
+        if (!g.both.q.empty()) {
+            // What the leaf's targets gave the mutual cells' sources.
+            auto& acc = nf.acc[static_cast<std::size_t>(mollify::detail::thread_index())];
+            if (acc[0].empty())
+                for (auto& v : acc) v.assign(s_.size(), 0.0);
+            for (const auto& [begin, end, at] : g.both.runs)
+                for (std::size_t j = begin; j < end; ++j)
+                    for (std::size_t c = 0; c < 4; ++c) acc[c][j] += g.both.w[c][at + j - begin];
+        }
     }
 
-    // The near sources of one target leaf, as plain arrays (per thread).
-    struct Gathered {
+    // Sources gathered from a list of cells into plain arrays, adjacent
+    // cells (in the source order) as one run; w: the sources' own sums
+    // (mutual pairs), zeroed.
+    struct Run {
         std::array<std::vector<double>, 3> x;
         std::vector<double> q, d2;
+        std::array<std::vector<double>, 4> w;
+        std::vector<std::array<std::size_t, 3>> runs;  // begin, end, position
+        void gather(const std::vector<Cell<D>>& cells, const detail::SourceArrays<D>& s, std::vector<int> list) {
+            std::sort(list.begin(), list.end(), [&](int u, int v) {
+                return cells[static_cast<std::size_t>(u)].begin < cells[static_cast<std::size_t>(v)].begin;
+            });
+            std::size_t total = 0;
+            for (const int ci : list) total += cells[static_cast<std::size_t>(ci)].end - cells[static_cast<std::size_t>(ci)].begin;
+            for (auto& c : x) c.resize(total);
+            q.resize(total);
+            d2.resize(total);
+            for (auto& c : w) c.assign(total, 0.0);
+            runs.clear();
+            std::size_t at = 0;
+            for (std::size_t r = 0; r < list.size();) {
+                const std::size_t begin = cells[static_cast<std::size_t>(list[r])].begin;
+                std::size_t end = cells[static_cast<std::size_t>(list[r])].end;
+                for (++r; r < list.size() && cells[static_cast<std::size_t>(list[r])].begin == end; ++r)
+                    end = cells[static_cast<std::size_t>(list[r])].end;
+                for (int k = 0; k < D; ++k)
+                    std::copy(s.x[k].begin() + static_cast<std::ptrdiff_t>(begin), s.x[k].begin() + static_cast<std::ptrdiff_t>(end),
+                              x[static_cast<std::size_t>(k)].begin() + static_cast<std::ptrdiff_t>(at));
+                std::copy(s.q.begin() + static_cast<std::ptrdiff_t>(begin), s.q.begin() + static_cast<std::ptrdiff_t>(end),
+                          q.begin() + static_cast<std::ptrdiff_t>(at));
+                for (std::size_t j = begin; j < end; ++j) d2[at + j - begin] = s.delta[j] * s.delta[j];
+                runs.push_back({begin, end, at});
+                at += end - begin;
+            }
+        }
+    };
+
+    // The near field of one target leaf (per thread).
+    struct Gathered {
+        Run one, both;
         // The leaf's targets: phi and E from the local expansion.
         std::vector<double> phi;
         std::array<std::vector<double>, 3> e;
         // The near cells: source boxes, delta_max^2, a target's squared gaps.
         std::array<std::vector<double>, 3> lo, hi;
         std::vector<double> dm2, gap2;
-        void resize(std::size_t n) {
-            for (auto& c : x) c.resize(n);
-            q.resize(n);
-            d2.resize(n);
-        }
         void cells(std::size_t n) {
             for (auto& c : lo) c.resize(n);
             for (auto& c : hi) c.resize(n);
