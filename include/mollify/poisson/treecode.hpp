@@ -29,7 +29,7 @@
 // worst-case bound, ~2.5x the measured error at the same (theta, p).
 //
 // Where the 3D time goes and what keeps it down (N = 2e5, theta 0.5,
-// p = 11, one thread, 6.2 CPU s before these measures, ~1.8 s after):
+// p = 11, one thread, 6.2 CPU s before these measures, ~1.5 s after):
 // - M2L (translate): the harmonic reduction of Multipole<3>::add_local
 //   ((p + 1)^2 coefficients instead of C(p + 3, 3): 2926 instead of 8008
 //   multiply-adds at degree 10), and a target cell's source cells
@@ -39,7 +39,9 @@
 //   function in one vectorised pass (detail::add_green), and only the cells
 //   whose source box comes within delta_max of the target are searched for
 //   pairs within a support (detail::add_within, the exact kernel). The two
-//   tests split the pairs exactly, so each pair is counted once.
+//   tests split the pairs exactly, so each pair is counted once. At the
+//   sources, a leaf pair found from both sides gets one Green's pass for
+//   both directions (detail::add_green_mutual).
 // - P2M and L2P: eight sources (targets) at a time, each monomial one
 //   multiplication from its parent's.
 //
