@@ -211,7 +211,8 @@ Naive tight(const std::string& spec, QuantityId q) {
 
 template <const Kernel& K>
 void register_kernel(const char* label) {
-    using W = mollify::StaticKernel<K>;
+    using W = mollify::StaticKernel<K>;  // Precision::accurate, the default
+    using F = mollify::StaticKernel<K, mollify::Precision::fast>;
     static_assert(W::dim == 3);
     static constexpr mollify::detail::KernelOps ops =
         mollify::detail::ops_of<K>(std::make_index_sequence<mollify::table::quantity_count>{});
@@ -227,6 +228,9 @@ void register_kernel(const char* label) {
     const Errors e_static = errors_of(
         ew, eg, [](double r, double hh) { return W::template radial<QuantityId::value>(r, hh); },
         [](double r, double hh) { return W::template radial<QuantityId::grad_over_r>(r, hh); });
+    const Errors e_fast = errors_of(
+        ew, eg, [](double r, double hh) { return F::template radial<QuantityId::value>(r, hh); },
+        [](double r, double hh) { return F::template radial<QuantityId::grad_over_r>(r, hh); });
     const Errors e_runtime = errors_of(
         ew, eg, [runtime](double r, double hh) { return runtime(QuantityId::value, r, hh); },
         [runtime](double r, double hh) { return runtime(QuantityId::grad_over_r, r, hh); });
@@ -236,7 +240,8 @@ void register_kernel(const char* label) {
     const Errors e_pow = errors_of(
         ew, eg, [nw](double r, double hh) { return acc::naive_at<acc::Form::pow>(nw, r, acc::NaiveScale(hh, nw.scale_power)); },
         [ng](double r, double hh) { return acc::naive_at<acc::Form::pow>(ng, r, acc::NaiveScale(hh, ng.scale_power)); });
-    const Errors value_only[] = {{e_static.value, -1}, {e_runtime.value, -1}, {e_expanded.value, -1}, {e_pow.value, -1}};
+    const Errors value_only[] = {{e_static.value, -1}, {e_runtime.value, -1}, {e_expanded.value, -1}, {e_pow.value, -1},
+                                 {e_fast.value, -1}};
 
     const double vb = value_products(K) / lanes_per_cycle, pb = pair_products(K) / lanes_per_cycle;
     const std::string base = std::string(label) + "/";
@@ -247,6 +252,11 @@ void register_kernel(const char* label) {
             Data& d = data(n);
             const Smoothing s = W::smoothing(h);
             timed(st, n, vb, e, [&] { W::template evaluate<QuantityId::value>(d.r, s, d.w); });
+        });
+        reg("W/" + base + "static-fast" + suffix, [n, vb, e = value_only[4]](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = F::smoothing(h);
+            timed(st, n, vb, e, [&] { F::template evaluate<QuantityId::value>(d.r, s, d.w); });
         });
         reg("W/" + base + "runtime" + suffix, [n, vb, runtime, e = value_only[1]](benchmark::State& st) {
             Data& d = data(n);
@@ -270,6 +280,11 @@ void register_kernel(const char* label) {
             Data& d = data(n);
             const Smoothing s = W::smoothing(h);
             timed(st, n, pb, e_static, [&] { W::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
+        });
+        reg("W+gradW/" + base + "static-fast-unchecked" + suffix, [n, pb, e_fast](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = F::smoothing(h);
+            timed(st, n, pb, e_fast, [&] { F::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
         });
         reg("W+gradW/" + base + "runtime" + suffix, [n, pb, runtime, e_runtime](benchmark::State& st) {
             Data& d = data(n);

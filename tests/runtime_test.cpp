@@ -205,3 +205,43 @@ TEST(Runtime, BadInputNamesTheValue) {
     const mollify::Kernel box = mollify::kernel("box-d2", 1);
     if (!box.has_potential()) expect_error([&] { box.potential(0.5, 1.0); }, "no potential");
 }
+
+// Precision::accurate (double-double edge factors) against Precision::fast:
+// the same function, so within the fast form's own error (tests/accuracy_test
+// measures both against the exact values); and the double-double arithmetic
+// keeps the runtime's promises where its parts meet 0, infinity or huge
+// scales: S = sqrt(1 - q^2) = 0 exactly at the edge of a missing Wendland
+// function, q^-3 near a cusp, h^p near the end of the double range.
+TEST(Runtime, AccurateAndFastPrecisionsAgreeAndStayFinite) {
+    using A = mollify::StaticKernel<tables::wendland_missing_k_1_l_1_D2>;
+    using F = mollify::StaticKernel<tables::wendland_missing_k_1_l_1_D2, mollify::Precision::fast>;
+    static_assert(A::precision == mollify::Precision::accurate, "accurate is the default");
+    for (const double h : {1.0, 1e-8, 3e7}) {
+        const mollify::Smoothing s(h, 2);
+        EXPECT_EQ(A::radial<QuantityId::value>(h, s), 0.0) << "h = " << h;
+        EXPECT_TRUE(std::isfinite(A::radial<QuantityId::potential>(h, s))) << "h = " << h;
+        for (const double r : radii(200, 7)) {
+            const double a = A::radial<QuantityId::value>(r * h, s), f = F::radial<QuantityId::value>(r * h, s);
+            EXPECT_NEAR(a, f, 64 * std::numeric_limits<double>::epsilon() * std::abs(a)) << "r/h = " << r << " h = " << h;
+        }
+    }
+    // Wendland k = 0 has a cusp: its Hessian part ~ q^-3 is finite down to
+    // q ~ 1e-102 and +-inf (never NaN) below.
+    using C = mollify::StaticKernel<tables::wendland_k_0_D1>;
+    const mollify::Smoothing one(1.0, 1);
+    for (const double r : {1e-10, 1e-101, 1e-110, 1e-300}) {
+        const double x = C::radial<QuantityId::hess_radial>(r, one);
+        EXPECT_FALSE(std::isnan(x)) << "r = " << r;
+        if (r > 1e-102) {
+            EXPECT_TRUE(std::isfinite(x)) << "r = " << r;
+        }
+    }
+    // Scales near the end of the double range (h^-7 ~ 1e280 for the 3D
+    // Hessian part at h = 1e-40): no NaN from splitting huge factors.
+    using W = mollify::StaticKernel<tables::wendland_k_4_l_4_D3>;
+    const mollify::Smoothing tiny(1e-40, 3);
+    for (const double r : radii(200, 8)) {
+        EXPECT_TRUE(std::isfinite(W::radial<QuantityId::hess_radial>(r * 1e-40, tiny))) << "r/h = " << r;
+        EXPECT_TRUE(std::isfinite(W::radial<QuantityId::value>(r * 1e-40, tiny))) << "r/h = " << r;
+    }
+}

@@ -46,10 +46,12 @@ public:
         inv_h_ = 1 / h;
         for (int q = 0; q < table::quantity_count; ++q) {
             // h^n in long double, then one rounding: the scale is (all but
-            // always) the correctly rounded power.
+            // always) the correctly rounded power; its rounding error, to the
+            // 11 further bits of long double, is kept for Precision::accurate.
             const int n = detail::scale_power(static_cast<QuantityId>(q), dim);
             const long double p = std::pow(static_cast<long double>(h), n);
             scale_[q] = static_cast<double>(p);
+            scale_lo_[q] = static_cast<double>(p - static_cast<long double>(scale_[q]));
             if (!std::isnormal(scale_[q]))
                 fail("smoothing length h = " + detail::show(h) + " is out of range in D = " + std::to_string(dim) +
                      ": h^" + std::to_string(n) + " (for " + quantity_names[q] + ") is not a normal double");
@@ -61,6 +63,7 @@ public:
     double inverse() const { return inv_h_; }
     int dim() const { return dim_; }
     double scale(QuantityId q) const { return scale_[static_cast<int>(q)]; }
+    double scale_lo(QuantityId q) const { return scale_lo_[static_cast<int>(q)]; }  // h^p - scale(q)
     double log_h() const { return log_h_; }
 
 private:
@@ -68,7 +71,7 @@ private:
     int dim_;
     double inv_h_ = 0;
     double log_h_ = 0;
-    std::array<double, table::quantity_count> scale_{};
+    std::array<double, table::quantity_count> scale_{}, scale_lo_{};
 };
 
 namespace detail {

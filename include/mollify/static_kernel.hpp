@@ -15,6 +15,7 @@
 #pragma once
 
 #include <mollify/detail/evaluate.hpp>
+#include <mollify/precision.hpp>
 #include <mollify/smoothing.hpp>
 
 #include <array>
@@ -24,11 +25,6 @@
 #include <span>
 #include <string>
 
-#if defined(__GNUC__)
-#define MOLLIFY_INLINE [[gnu::always_inline]] inline
-#else
-#define MOLLIFY_INLINE inline
-#endif
 
 namespace mollify {
 
@@ -106,7 +102,7 @@ inline void check_coordinates(std::span<const double> x, int component) {
 
 inline namespace MOLLIFY_ISA {
 
-template <const table::Kernel& K>
+template <const table::Kernel& K, Precision Pr = Precision::accurate>
 class StaticKernel {
     static_assert(K.support == 1.0, "tables are emitted with support 1; h scales them");
     static_assert(K.dim >= 1 && K.dim <= 3);
@@ -116,6 +112,7 @@ public:
     static constexpr const table::Kernel& table = K;
     static constexpr bool has_potential = K.has_potential;
     static constexpr bool odd = K.parity < 0;  // Belley's first-derivative kernel in 1D
+    static constexpr Precision precision = Pr;
 
     static Smoothing smoothing(double h) { return Smoothing(h, dim); }
 
@@ -134,14 +131,25 @@ private:
     template <QuantityId Q>
     MOLLIFY_INLINE static double emitted(double r, const Smoothing& s) {
         constexpr int q = static_cast<int>(Q);
-        const detail::Scaled a{r * s.inverse(), detail::edge_distance(s.h() - r, s), r, s.h(), s.inverse()};
-        double in = detail::inside<K, q>(a) * s.scale(Q);
+        detail::Scaled a = scaled(r, s);
+        double in;
+        if constexpr (Pr == Precision::accurate) {
+            a.scale = {s.scale(Q), s.scale_lo(Q)};
+            in = detail::inside<K, q, Pr>(a);
+        } else {
+            in = detail::inside<K, q, Pr>(a) * s.scale(Q);
+        }
         if constexpr (Q == QuantityId::potential && dim == 2) in = detail::mul_add(detail::log_coefficient<K, q>, s.log_h(), in);
         if constexpr (detail::zero_outside<K, q>) {
             return detail::select(r <= s.h(), in, 0.0);
         } else {
             return r <= s.h() ? in : detail::outside<K, q>(r);
         }
+    }
+
+    MOLLIFY_INLINE static detail::Scaled scaled(double r, const Smoothing& s) {
+        if constexpr (Pr == Precision::accurate) return detail::scaled_accurate(r, s.h(), s.inverse());
+        else return {r * s.inverse(), detail::edge_distance(s.h() - r, s), r, s.h(), s.inverse()};
     }
 
 public:

@@ -5,6 +5,9 @@
 // vectorise.
 #pragma once
 
+#include <mollify/detail/double_double.hpp>
+#include <mollify/detail/isa.hpp>
+#include <mollify/precision.hpp>
 #include <mollify/table.hpp>
 
 #include <bit>
@@ -13,39 +16,8 @@
 #include <cstdint>
 #include <utility>
 
-// Code compiled for different instruction sets (a benchmark built with
-// -march=native linked with a generic library) must not be merged by the
-// linker as one inline function: the ISA names an inline namespace.
-#if defined(__AVX512F__)
-#define MOLLIFY_ISA isa_avx512
-#elif defined(__AVX2__) && defined(__FMA__)
-#define MOLLIFY_ISA isa_avx2_fma
-#elif defined(__FMA__) || defined(__FP_FAST_FMA)
-#define MOLLIFY_ISA isa_fma
-#else
-#define MOLLIFY_ISA isa_generic
-#endif
-
 namespace mollify::detail {
 inline namespace MOLLIFY_ISA {
-
-// a*b + c with one rounding where the target has a fused multiply-add;
-// without one, std::fma would be a slow library call.
-inline double mul_add(double a, double b, double c) {
-#if defined(__FMA__) || defined(__FP_FAST_FMA)
-    return std::fma(a, b, c);
-#else
-    return a * b + c;
-#endif
-}
-
-// c ? a : b on the bits, with both sides already computed: GCC will not
-// if-convert a ternary whose arms it sank into branches (floating point may
-// trap under the default -ftrapping-math), and a branch stops vectorisation.
-inline double select(bool c, double a, double b) {
-    const std::uint64_t mask = 0 - static_cast<std::uint64_t>(c);
-    return std::bit_cast<double>((std::bit_cast<std::uint64_t>(a) & mask) | (std::bit_cast<std::uint64_t>(b) & ~mask));
-}
 
 // x^N by binary powering, unrolled: ceil(log2 N) + popcount(N) - 1 products.
 template <int N>
@@ -67,11 +39,43 @@ inline double ipow(double x) {
 // distance to the support edge e = 1 - q, computed from h - r (exact by
 // Sterbenz's lemma for r in [h/2, 2h]) so that it stays accurate to the
 // last bit when q is within an ulp of 1, where (1 - q)^n is the whole value.
+// Precision::accurate also keeps both as double-doubles (qq, ee): their
+// low parts are what the edge factors need to be right to the last bit.
 struct Scaled {
     double q;
     double e;
     double r, h, inv_h;  // for the distance to an interior edge a: (a h - r)/h
+    DoubleDouble qq{}, ee{};
+    DoubleDouble scale{1.0, 0.0};  // Precision::accurate: h^p, multiplied into a piece before its rounding
+    // Precision::accurate: q - rounded(q) and q^2 - rounded(q^2), for the
+    // first-order correction p(v) + p'(v) dv of a polynomial in v = q, q^2.
+    double dq = 0, dq2 = 0;
 };
+
+// x/h to double-double accuracy, for x = x.hi + x.lo near a multiple of h:
+// the residual x.hi - (x.hi/h) h is exact with a fused multiply-add
+// (Markstein), and two_product's error term where there is none.
+inline DoubleDouble over_h(const DoubleDouble& x, double h, double inv_h) {
+    const double y = x.hi * inv_h;
+#if MOLLIFY_HAS_FMA
+    const double residual = std::fma(-y, h, x.hi);
+#else
+    const DoubleDouble yh = two_product(y, h);
+    const double residual = (x.hi - yh.hi) - yh.lo;
+#endif
+    return {y, (residual + x.lo) * inv_h};
+}
+
+// q = r/h and e = (h - r)/h in double-double, for r <= h: h - r is exact as
+// a fast two-sum (|h| >= |r|), then divided by h with its residual. Outside
+// the support (r > h) the numbers are meaningless and are never selected.
+inline Scaled scaled_accurate(double r, double h, double inv_h) {
+    const DoubleDouble q = over_h({r, 0.0}, h, inv_h);
+    const DoubleDouble e = over_h(fast_two_sum(h, -r), h, inv_h);
+    const DoubleDouble q1 = fast_two_sum(q.hi, q.lo);  // q1.hi: q rounded, q1.lo: its error
+    const DoubleDouble square = two_product(q1.hi, q1.hi);
+    return {q1.hi, e.hi + e.lo, r, h, inv_h, q, e, {1.0, 0.0}, q1.lo, mul_add(2 * q1.hi, q1.lo, square.lo)};
+}
 
 template <const table::Kernel& K, int Q>
 inline constexpr const table::Quantity& quantity_table = K.quantities[Q];
@@ -85,6 +89,18 @@ inline constexpr const table::Term& term_table = piece_table<K, Q, P>.terms[T];
 template <const table::Kernel& K, int Q, int P, int T, int I>
 inline constexpr double coefficient = term_table<K, Q, P, T>.c[I];
 
+// sum_k c[k] (v + dv)^k to first order in dv: Horner's rule for the
+// polynomial and its derivative together (the rounding of q = r/h would
+// otherwise enter p(q) multiplied by q p'(q)/p(q), up to ~2 ulp for the
+// Wendland polynomials of degree 8).
+template <const table::Kernel& K, int Q, int P, int T, std::size_t... I>
+inline double horner_corrected(double v, double dv, std::index_sequence<I...>) {
+    constexpr int n = term_table<K, Q, P, T>.n;
+    double sum = coefficient<K, Q, P, T, n - 1>, slope = 0;
+    ((slope = mul_add(slope, v, sum), sum = mul_add(sum, v, coefficient<K, Q, P, T, n - 2 - static_cast<int>(I)>)), ...);
+    return mul_add(slope, dv, sum);
+}
+
 // sum_k c[k] v^k by Horner's rule, from the highest coefficient down.
 template <const table::Kernel& K, int Q, int P, int T, std::size_t... I>
 inline double horner([[maybe_unused]] double v, std::index_sequence<I...>) {
@@ -97,15 +113,12 @@ inline double horner([[maybe_unused]] double v, std::index_sequence<I...>) {
 // log r for 0 < r <= 1 without losing the digits of a value near 0.
 inline double log_near_one(const Scaled& a) { return a.q < 0.5 ? std::log(a.q) : std::log1p(-a.e); }
 
-// The non-polynomial factor of a term (table::Basis), from q and e:
+// The transcendental factor of a term (table::Basis), from q and e:
 // S = sqrt(1 - q^2) = sqrt(e (1 + q)), arcsech q = log((1 + S)/q).
-template <table::Basis B, int SPower>
+// (The algebraic S^m is part of the term's factor, see term().)
+template <table::Basis B>
 inline double basis(const Scaled& a) {
-    if constexpr (B == table::Basis::one) {
-        return 1.0;
-    } else if constexpr (B == table::Basis::sqrt_power) {
-        return ipow<SPower>(std::sqrt(a.e * (1 + a.q)));
-    } else if constexpr (B == table::Basis::arcsech) {
+    if constexpr (B == table::Basis::arcsech) {
         // Near 0 the sum of two positive logs (no cancellation, and finite
         // down to subnormal q); near 1 log1p of the small (1 + S - q)/q.
         const double S = std::sqrt(a.e * (1 + a.q));
@@ -113,62 +126,246 @@ inline double basis(const Scaled& a) {
     } else if constexpr (B == table::Basis::log) {
         return log_near_one(a);
     } else {
+        static_assert(B == table::Basis::arcsin);
         // atan2(q, S) rather than asin q: near q = 1 asin magnifies the
         // rounding of q by 1/S, while S comes from the accurate e.
         return std::atan2(a.q, std::sqrt(a.e * (1 + a.q)));
     }
 }
 
+// The distance to a term's edge, (edge - q) for Var::r and (edge^2 - q^2)
+// for Var::r2 (Var::shifted pieces carry no edge factor): at the support
+// edge from e, elsewhere (a combination's radius a_j) as (a h - r)/h with
+// one rounding of a h - r, not a - q from the rounded q, which loses
+// ulp(a)/(a - q) near the edge.
+template <const table::Kernel& K, int Q, int P, int T>
+inline double distance_to_edge(const Scaled& a) {
+    constexpr const table::Term& t = term_table<K, Q, P, T>;
+    constexpr bool support_edge = t.edge == 1.0;
+    const double to_edge = support_edge ? a.e : mul_add(t.edge, a.h, -a.r) * a.inv_h;
+    return t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q);
+}
+
+// The same in double-double: (a h - r) exactly as a two-product and a
+// two-sum, then divided by h; edge + q by a two-sum.
+template <const table::Kernel& K, int Q, int P, int T>
+inline DoubleDouble distance_to_edge_dd(const Scaled& a) {
+    constexpr const table::Term& t = term_table<K, Q, P, T>;
+    DoubleDouble d = a.ee;
+    if constexpr (t.edge != 1.0) {
+        const DoubleDouble ah = two_product(t.edge, a.h);
+        const DoubleDouble s = two_sum(ah.hi, -a.r);
+        d = over_h({s.hi, s.lo + ah.lo}, a.h, a.inv_h);
+    }
+    if constexpr (t.var == table::Var::r) return d;
+    else return d * plus(t.edge, a.qq);
+}
+
+// The algebraic factor of a term in double-double (Precision::accurate):
+// (edge - v)^edge_power q^low S^s_power.
+template <const table::Kernel& K, int Q, int P, int T>
+inline DoubleDouble factor_dd(const Scaled& a) {
+    constexpr const table::Term& t = term_table<K, Q, P, T>;
+    DoubleDouble f{1.0, 0.0};
+    bool one = true;
+    auto times_f = [&](const DoubleDouble& g) {
+        f = one ? g : f * g;
+        one = false;
+    };
+    if constexpr (t.edge_power != 0) {
+        static_assert(t.var != table::Var::shifted, "Taylor pieces carry no edge factor");
+        times_f(ipow<t.edge_power>(distance_to_edge_dd<K, Q, P, T>(a)));
+    }
+    if constexpr (t.low != 0) times_f(ipow<t.low>(a.qq));
+    if constexpr (t.basis == table::Basis::sqrt_power) {
+        const DoubleDouble s2 = a.ee * plus(1.0, a.qq);  // S^2 = (1 - q)(1 + q)
+        if constexpr (t.s_power % 2 == 0) times_f(ipow<t.s_power / 2>(s2));
+        else times_f(ipow<t.s_power>(sqrt(s2)));
+    }
+    return f;
+}
+
+template <const table::Kernel& K, int Q, int P, int T>
+inline constexpr bool has_factor = term_table<K, Q, P, T>.edge_power != 0 || term_table<K, Q, P, T>.low != 0 ||
+                                   term_table<K, Q, P, T>.basis == table::Basis::sqrt_power;
+
 // One term: (edge - v)^edge_power q^low p(v) basis(q), with the term's own
-// edge (table::Term); at the support edge (edge = 1) the distance is a.e,
-// accurate to the last bit, elsewhere edge - q (exact by Sterbenz's lemma
-// for q in [edge/2, 2 edge], where the factor matters).
+// edge (table::Term). Precision::fast forms the factor in double (its
+// power multiplies the half-ulp rounding of its base), Precision::accurate
+// in double-double, rounded once when it multiplies p(v).
 // The distance r/h - centre of a Taylor piece (table::Var::shifted) from r
 // and h, not from the rounded q: (r - c h)/h with one rounding of r - c h
 // where there is an FMA (then v is within ~1.5 ulp of itself); without one
 // c h is rounded first, an absolute error <= c 2^-53, the size of the
 // rounding of q itself. The centre's own rounding (centre_lo, ~2^-55) is
 // subtracted after.
+// Precision::accurate forms r - c h exactly (a two-product and a
+// two-sum) and rounds only after: then v is within ~1.5 ulp of itself also
+// without an FMA, where the raw error would otherwise grow like the
+// relative slope of S^m near the edge (25 ulp for the missing Wendland
+// function k = l = 2).
+template <Precision Pr>
 inline double shifted(const Scaled& a, double centre, double centre_lo) {
-    return mul_add(-centre, a.h, a.r) * a.inv_h - centre_lo;
+    if constexpr (Pr == Precision::accurate && !MOLLIFY_HAS_FMA) {
+        const DoubleDouble ch = two_product(centre, a.h);
+        const DoubleDouble d = two_sum(a.r, -ch.hi);
+        return (d.hi + (d.lo - ch.lo)) * a.inv_h - centre_lo;
+    } else {
+        return mul_add(-centre, a.h, a.r) * a.inv_h - centre_lo;
+    }
+}
+
+// One term, (edge - v)^edge_power q^low p(v) basis(q), with its algebraic
+// factor (edge - v)^edge_power q^low S^s_power formed in double
+// (Precision::fast: the power multiplies the half-ulp rounding of its base).
+template <const table::Kernel& K, int Q, int P, int T, Precision Pr>
+inline double polynomial(const Scaled& a) {
+    constexpr const table::Term& t = term_table<K, Q, P, T>;
+    constexpr auto steps = std::make_index_sequence<static_cast<std::size_t>(t.n - 1)>{};
+    const double v = t.var == table::Var::r    ? a.q
+                     : t.var == table::Var::r2 ? a.q * a.q
+                                               : shifted<Pr>(a, t.centre, t.centre_lo);
+    if constexpr (Pr == Precision::accurate && t.n > 1 && t.var != table::Var::shifted)
+        return horner_corrected<K, Q, P, T>(v, t.var == table::Var::r ? a.dq : a.dq2, steps);
+    else
+        return horner<K, Q, P, T>(v, steps);
 }
 
 template <const table::Kernel& K, int Q, int P, int T>
-inline double term(const Scaled& a) {
+inline double with_basis(const Scaled& a, double x) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
-    const double v = t.var == table::Var::r    ? a.q
-                     : t.var == table::Var::r2 ? a.q * a.q
-                                               : shifted(a, t.centre, t.centre_lo);
-    double x = horner<K, Q, P, T>(v, std::make_index_sequence<static_cast<std::size_t>(t.n - 1)>{});
-    if constexpr (t.low != 0) x *= ipow<t.low>(a.q);
-    if constexpr (t.edge_power != 0) {
-        constexpr bool support_edge = t.edge == 1.0;
-        // At an interior edge (a combination's radius a_j, a breakpoint) the
-        // distance is (a h - r)/h with one rounding of a h - r, not a - q
-        // from the rounded q, which loses ulp(a)/(a - q) near the edge.
-        const double to_edge = support_edge ? a.e : mul_add(t.edge, a.h, -a.r) * a.inv_h;
-        const double edge = t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q);
-        x *= ipow<t.edge_power>(edge);
-    }
     if constexpr (t.basis == table::Basis::log || t.basis == table::Basis::arcsech) {
         // r^low log r -> 0 as r -> 0 for low > 0: the limit, not 0 * inf.
-        if constexpr (t.low > 0) return a.q == 0 ? 0.0 : x * basis<t.basis, t.s_power>(a);
-        return x * basis<t.basis, t.s_power>(a);
-    } else if constexpr (t.basis != table::Basis::one) {
-        return x * basis<t.basis, t.s_power>(a);
+        if constexpr (t.low > 0) return a.q == 0 ? 0.0 : x * basis<t.basis>(a);
+        return x * basis<t.basis>(a);
+    } else if constexpr (t.basis == table::Basis::arcsin) {
+        return x * basis<t.basis>(a);
     }
     return x;
 }
 
+template <const table::Kernel& K, int Q, int P, int T>
+inline double fast_term(const Scaled& a) {
+    constexpr const table::Term& t = term_table<K, Q, P, T>;
+    double x = polynomial<K, Q, P, T, Precision::fast>(a);
+    if constexpr (t.low != 0) x *= ipow<t.low>(a.q);
+    if constexpr (t.edge_power != 0) x *= ipow<t.edge_power>(distance_to_edge<K, Q, P, T>(a));
+    if constexpr (t.basis == table::Basis::sqrt_power) x *= ipow<t.s_power>(std::sqrt(a.e * (1 + a.q)));
+    return with_basis<K, Q, P, T>(a, x);
+}
+
+// The same with the factor in double-double (Precision::accurate): p(v)
+// times the factor, unrounded, as a double-double; a transcendental basis
+// multiplies the rounded product.
+template <const table::Kernel& K, int Q, int P, int T>
+inline DoubleDouble accurate_term(const Scaled& a, const DoubleDouble& factor) {
+    constexpr const table::Term& t = term_table<K, Q, P, T>;
+    const double x = polynomial<K, Q, P, T, Precision::accurate>(a);
+    if constexpr (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power) {
+        return factor * x;
+    } else {
+        return {with_basis<K, Q, P, T>(a, times(x, factor)), 0.0};
+    }
+}
+
+// Does term T continue the series of term T - 1: the same factor but for a
+// higher power of the same edge distance? Then its factor is the previous
+// one times the distance to the difference of the powers, one or two
+// double-double products instead of a new power (the missing Wendland
+// functions' edge series run to ~50 terms S (1 - q^2)^j).
+template <const table::Kernel& K, int Q, int P, int T>
+constexpr bool continues_series() {
+    if constexpr (T == 0) {
+        return false;
+    } else {
+        constexpr const table::Term &s = term_table<K, Q, P, T - 1>, &t = term_table<K, Q, P, T>;
+        return s.basis == t.basis && s.s_power == t.s_power && s.var == t.var && s.var != table::Var::shifted &&
+               s.edge == t.edge && s.low == t.low && s.edge_power > 0 && t.edge_power > s.edge_power;
+    }
+}
+
+// Precision::accurate: the terms from T on, added to `sum` in order, each
+// factor from the previous one where the terms form a series.
+template <const table::Kernel& K, int Q, int P, int T>
+inline double accurate_terms(const Scaled& a, double sum, [[maybe_unused]] const DoubleDouble& previous) {
+    if constexpr (T == piece_table<K, Q, P>.nterms) {
+        return sum;
+    } else {
+        constexpr const table::Term& t = term_table<K, Q, P, T>;
+        DoubleDouble factor{1.0, 0.0};
+        if constexpr (continues_series<K, Q, P, T>()) {
+            constexpr int step = t.edge_power - term_table<K, Q, P, T - 1>.edge_power;
+            factor = previous * ipow<step>(distance_to_edge_dd<K, Q, P, T>(a));
+        } else if constexpr (has_factor<K, Q, P, T>) {
+            factor = factor_dd<K, Q, P, T>(a);
+        }
+        const DoubleDouble x = accurate_term<K, Q, P, T>(a, factor);
+        return accurate_terms<K, Q, P, T + 1>(a, sum + rounded(x), factor);
+    }
+}
+
+// Is the piece one series sum_j c_j F w^j in the edge distance w (each term
+// a constant times the previous term's factor and one more power of w)?
+// Then it is evaluated as F times Horner's rule in w: each term's rounding
+// is not left in the sum, and ~50 terms cost ~50 FMAs.
 template <const table::Kernel& K, int Q, int P, std::size_t... T>
-inline double piece(const Scaled& a, std::index_sequence<T...>) {
-    return (0.0 + ... + term<K, Q, P, static_cast<int>(T)>(a));
+constexpr bool is_edge_series(std::index_sequence<T...>) {
+    return ((term_table<K, Q, P, static_cast<int>(T)>.n == 1 && (T == 0 || continues_series<K, Q, P, static_cast<int>(T)>()) &&
+             (T == 0 || term_table<K, Q, P, static_cast<int>(T)>.edge_power ==
+                            term_table<K, Q, P, static_cast<int>(T) - (T > 0 ? 1 : 0)>.edge_power + 1)) &&
+            ...);
 }
 
 template <const table::Kernel& K, int Q, int P>
+inline constexpr bool edge_series =
+    piece_table<K, Q, P>.nterms > 2 &&
+    is_edge_series<K, Q, P>(std::make_index_sequence<static_cast<std::size_t>(piece_table<K, Q, P>.nterms)>{});
+
+template <const table::Kernel& K, int Q, int P, std::size_t... T>
+inline double series_horner(double w, std::index_sequence<T...>) {
+    constexpr int n = piece_table<K, Q, P>.nterms;
+    double sum = coefficient<K, Q, P, n - 1, 0>;
+    ((sum = mul_add(sum, w, coefficient<K, Q, P, n - 2 - static_cast<int>(T), 0>)), ...);
+    return sum;
+}
+
+template <const table::Kernel& K, int Q, int P>
+inline double accurate_series(const Scaled& a) {
+    constexpr int n = piece_table<K, Q, P>.nterms;
+    const double w = [&] {
+        return rounded(distance_to_edge_dd<K, Q, P, 0>(a));
+    }();
+    const double sum = series_horner<K, Q, P>(w, std::make_index_sequence<static_cast<std::size_t>(n - 1)>{});
+    const DoubleDouble x = factor_dd<K, Q, P, 0>(a) * sum * a.scale;
+    return with_basis<K, Q, P, 0>(a, rounded(x));
+}
+
+template <const table::Kernel& K, int Q, int P, std::size_t... T>
+inline double fast_piece(const Scaled& a, std::index_sequence<T...>) {
+    return (0.0 + ... + fast_term<K, Q, P, static_cast<int>(T)>(a));
+}
+
+// A piece, times the scale h^p (Scaled::scale) for Precision::accurate:
+// a single term is rounded once, after the scale (h^p last: the factor of a
+// steep term times h^p alone could underflow where the product with p(v)
+// does not); several terms are rounded, added, then scaled.
+// (Precision::fast scales the selected piece, StaticKernel::emitted.)
+template <const table::Kernel& K, int Q, int P, Precision Pr>
 inline double piece(const Scaled& a) {
     constexpr int n = piece_table<K, Q, P>.nterms;
-    return piece<K, Q, P>(a, std::make_index_sequence<static_cast<std::size_t>(n)>{});
+    if constexpr (Pr == Precision::accurate) {
+        if constexpr (edge_series<K, Q, P>) {
+            return accurate_series<K, Q, P>(a);
+        } else if constexpr (n == 1 && !continues_series<K, Q, P, 0>()) {
+            DoubleDouble factor{1.0, 0.0};
+            if constexpr (has_factor<K, Q, P, 0>) factor = factor_dd<K, Q, P, 0>(a);
+            return rounded(accurate_term<K, Q, P, 0>(a, factor) * a.scale);
+        } else {
+            return times(accurate_terms<K, Q, P, 0>(a, 0.0, DoubleDouble{1.0, 0.0}), a.scale);
+        }
+    } else {
+        return fast_piece<K, Q, P>(a, std::make_index_sequence<static_cast<std::size_t>(n)>{});
+    }
 }
 
 template <const table::Kernel& K, int Q, int P>
@@ -207,17 +404,17 @@ inline constexpr bool singular_at_origin = [] {
 // The quantity inside the support, f(q) for 0 <= q <= 1. Polynomial pieces
 // are all evaluated and the right one selected (branch-free, so a batch
 // loop vectorises); pieces with sqrt/log are chosen by branches.
-template <const table::Kernel& K, int Q, int P = inner_pieces<K, Q> - 1>
+template <const table::Kernel& K, int Q, Precision Pr, int P = inner_pieces<K, Q> - 1>
 inline double inside(const Scaled& a) {
     if constexpr (P == 0) {
-        return piece<K, Q, 0>(a);
+        return piece<K, Q, 0, Pr>(a);
     } else if constexpr (polynomial_inside<K, Q>) {
-        const double here = piece<K, Q, P>(a);
-        const double below = inside<K, Q, P - 1>(a);
+        const double here = piece<K, Q, P, Pr>(a);
+        const double below = inside<K, Q, Pr, P - 1>(a);
         return select(a.q < piece_table<K, Q, P>.lo, below, here);
     } else {
-        if (a.q < piece_table<K, Q, P>.lo) return inside<K, Q, P - 1>(a);
-        return piece<K, Q, P>(a);
+        if (a.q < piece_table<K, Q, P>.lo) return inside<K, Q, Pr, P - 1>(a);
+        return piece<K, Q, P, Pr>(a);
     }
 }
 

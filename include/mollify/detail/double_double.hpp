@@ -1,0 +1,136 @@
+// Double-double numbers x = hi + lo (|lo| <= ulp(hi)/2, about 106 bits) for
+// the few places where the runtime must not round: the edge factors
+// (1 - q)^n, (1 - q^2)^M and S^m = (1 - q^2)^(m/2) of the factored kernel
+// forms, which multiply the relative error of their base by n (up to 14
+// for Wendland k = l = 4). Products follow Dekker (1971) and Ogita, Rump &
+// Oishi, "Accurate sum and dot product" (SIAM J. Sci. Comput. 26, 2005):
+// the rounding error of a*b is itself a double, found by one fused
+// multiply-add where the target has one and by Veltkamp's splitting where
+// it does not. Only as much is computed as the edge factors need: the low
+// parts are carried to first order (the terms lo*lo, ~2^-106, are dropped).
+#pragma once
+
+#include <mollify/detail/isa.hpp>
+
+#include <cmath>
+
+namespace mollify::detail {
+inline namespace MOLLIFY_ISA {
+
+struct DoubleDouble {
+    double hi, lo;
+};
+
+// a + b = s + t exactly, for |a| >= |b| (Dekker's fast two-sum).
+inline DoubleDouble fast_two_sum(double a, double b) {
+    const double s = a + b;
+    return {s, b - (s - a)};
+}
+
+// a + b = s + t exactly, for any a, b (Knuth's two-sum).
+inline DoubleDouble two_sum(double a, double b) {
+    const double s = a + b;
+    const double bb = s - a;
+    return {s, (a - (s - bb)) + (b - bb)};
+}
+
+// a + x for 0 <= x.hi <= |a| (the factors 1 + q and a_j + q).
+inline DoubleDouble plus(double a, const DoubleDouble& x) {
+    const DoubleDouble s = fast_two_sum(a, x.hi);
+    return {s.hi, s.lo + x.lo};
+}
+
+#if !MOLLIFY_HAS_FMA
+// Veltkamp's split of a into a 26-bit head and the rest, a = head + (a - head)
+// exactly. The product 2^27 a overflows for |a| > 2^996 (the runtime meets
+// such numbers: h^-p for tiny h, q^-3 near a cusp), so those are split at
+// 2^-40 of their size and scaled back, exactly.
+inline double split_head(double a) {
+    constexpr double splitter = 134217729.0;  // 2^27 + 1
+    const bool big = std::abs(a) > 0x1p995;
+    const double down = big ? 0x1p-40 : 1.0, up = big ? 0x1p40 : 1.0;
+    const double x = a * down, c = splitter * x;
+    return (c - (c - x)) * up;
+}
+#endif
+
+// a * b = p + e exactly (barring underflow of e, and overflow of p).
+inline DoubleDouble two_product(double a, double b) {
+    const double p = a * b;
+#if MOLLIFY_HAS_FMA
+    return {p, std::fma(a, b, -p)};
+#else
+    // Dekker's exact error of the product from the split factors (without
+    // an FMA: a library fma would be a slow call).
+    const double a1 = split_head(a), a2 = a - a1;
+    const double b1 = split_head(b), b2 = b - b1;
+    return {p, ((a1 * b1 - p) + a1 * b2 + a2 * b1) + a2 * b2};
+#endif
+}
+
+inline DoubleDouble operator*(const DoubleDouble& a, const DoubleDouble& b) {
+    const DoubleDouble p = two_product(a.hi, b.hi);
+    return {p.hi, p.lo + (a.hi * b.lo + a.lo * b.hi)};
+}
+
+inline DoubleDouble operator*(const DoubleDouble& a, double b) {
+    const DoubleDouble p = two_product(a.hi, b);
+    return {p.hi, p.lo + a.lo * b};
+}
+
+// 1/x to double-double accuracy: one Newton step on the exact residual.
+inline DoubleDouble reciprocal(const DoubleDouble& x) {
+    const double y = 1 / x.hi;
+    const DoubleDouble yx = two_product(y, x.hi);
+    return {y, ((1 - yx.hi) - yx.lo - y * x.lo) * y};
+}
+
+// sqrt(x) to double-double accuracy: one Newton step on the exact residual
+// x - s^2 (Karp & Markstein).
+// sqrt(0) = 0 exactly (the support edge of S = sqrt(1 - q^2)).
+inline DoubleDouble sqrt(const DoubleDouble& x) {
+    const double s = std::sqrt(x.hi);
+    const DoubleDouble ss = two_product(s, s);
+    const double lo = ((x.hi - ss.hi) - ss.lo + x.lo) / (s > 0 ? 2 * s : 1.0);
+    return {s, s > 0 ? lo : 0.0};
+}
+
+// x^N by binary powering, unrolled (N > 0; N < 0 through the reciprocal).
+template <int N>
+inline DoubleDouble ipow(const DoubleDouble& x) {
+    if constexpr (N < 0) {
+        return ipow<-N>(reciprocal(x));
+    } else if constexpr (N == 0) {
+        return {1.0, 0.0};
+    } else if constexpr (N == 1) {
+        return x;
+    } else {
+        const DoubleDouble half = ipow<N / 2>(x);
+        if constexpr (N % 2 == 0) return half * half;
+        else return half * half * x;
+    }
+}
+
+// hi + lo rounded; where hi overflowed (lo is then inf - inf), hi itself:
+// +-inf, never NaN.
+inline double rounded(const DoubleDouble& x) {
+    return std::abs(x.hi) <= 0x1.fffffffffffffp+1023 ? x.hi + x.lo : x.hi;
+}
+
+// x * y rounded once (to within ~2^-104 relative): y's low part enters
+// before the rounding of the product.
+// Where x y.hi overflows, the low part is inf - inf: the result is then
+// the plain product (+-inf), never NaN.
+inline double times(double x, const DoubleDouble& y) {
+    const double plain = x * y.hi;
+#if MOLLIFY_HAS_FMA
+    const double accurate = std::fma(x, y.hi, x * y.lo);
+#else
+    const DoubleDouble p = two_product(x, y.hi);
+    const double accurate = p.hi + (p.lo + x * y.lo);
+#endif
+    return std::abs(plain) <= 0x1.fffffffffffffp+1023 ? accurate : plain;
+}
+
+}  // namespace MOLLIFY_ISA
+}  // namespace mollify::detail

@@ -1,0 +1,59 @@
+// The instruction set the runtime is compiled for, and the two primitives
+// whose code depends on it.
+//
+// Code compiled for different instruction sets (a benchmark built with
+// -march=native linked with a generic library) must not be merged by the
+// linker as one inline function: the ISA names an inline namespace.
+#pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#if defined(__AVX512F__)
+#define MOLLIFY_ISA isa_avx512
+#elif defined(__AVX2__) && defined(__FMA__)
+#define MOLLIFY_ISA isa_avx2_fma
+#elif defined(__FMA__) || defined(__FP_FAST_FMA)
+#define MOLLIFY_ISA isa_fma
+#else
+#define MOLLIFY_ISA isa_generic
+#endif
+
+#if defined(__FMA__) || defined(__FP_FAST_FMA)
+#define MOLLIFY_HAS_FMA 1
+#else
+#define MOLLIFY_HAS_FMA 0
+#endif
+
+// The entry points of a kernel evaluation (StaticKernel) are inlined
+// always: a batch loop is then straight-line code that vectorises.
+#if defined(__GNUC__)
+#define MOLLIFY_INLINE [[gnu::always_inline]] inline
+#else
+#define MOLLIFY_INLINE inline
+#endif
+
+namespace mollify::detail {
+inline namespace MOLLIFY_ISA {
+
+// a*b + c with one rounding where the target has a fused multiply-add;
+// without one, std::fma would be a slow library call.
+inline double mul_add(double a, double b, double c) {
+#if MOLLIFY_HAS_FMA
+    return std::fma(a, b, c);
+#else
+    return a * b + c;
+#endif
+}
+
+// c ? a : b on the bits, with both sides already computed: GCC will not
+// if-convert a ternary whose arms it sank into branches (floating point may
+// trap under the default -ftrapping-math), and a branch stops vectorisation.
+inline double select(bool c, double a, double b) {
+    const std::uint64_t mask = 0 - static_cast<std::uint64_t>(c);
+    return std::bit_cast<double>((std::bit_cast<std::uint64_t>(a) & mask) | (std::bit_cast<std::uint64_t>(b) & ~mask));
+}
+
+}  // namespace MOLLIFY_ISA
+}  // namespace mollify::detail
