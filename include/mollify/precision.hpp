@@ -11,7 +11,7 @@ enum class Precision {
     // the kernels without interior roots are within 4 ulp (tests/accuracy_test.cpp).
     accurate,
     // Plain double: the same factored forms with rounded q and 1 - q, whose
-    // half-ulp the power n multiplies (up to ~25 ulp for n = 14); about 1.5x
+    // half-ulp the power n multiplies (up to ~25 ulp for n = 14); about 2.4x
     // the speed (bench/results/kernel_bench.md).
     fast,
 };
