@@ -115,7 +115,7 @@ inline double log_near_one(const Scaled& a) { return a.q < 0.5 ? std::log(a.q) :
 
 // The transcendental factor of a term (table::Basis), from q and e:
 // S = sqrt(1 - q^2) = sqrt(e (1 + q)), arcsech q = log((1 + S)/q).
-// (The algebraic S^m is part of the term's factor, see term().)
+// (The algebraic S^m is part of a term's factor: fast_term, factor_dd.)
 template <table::Basis B>
 inline double basis(const Scaled& a) {
     if constexpr (B == table::Basis::arcsech) {
@@ -189,10 +189,6 @@ template <const table::Kernel& K, int Q, int P, int T>
 inline constexpr bool has_factor = term_table<K, Q, P, T>.edge_power != 0 || term_table<K, Q, P, T>.low != 0 ||
                                    term_table<K, Q, P, T>.basis == table::Basis::sqrt_power;
 
-// One term: (edge - v)^edge_power q^low p(v) basis(q), with the term's own
-// edge (table::Term). Precision::fast forms the factor in double (its
-// power multiplies the half-ulp rounding of its base), Precision::accurate
-// in double-double, rounded once when it multiplies p(v).
 // The distance r/h - centre of a Taylor piece (table::Var::shifted) from r
 // and h, not from the rounded q: (r - c h)/h with one rounding of r - c h
 // where there is an FMA (then v is within ~1.5 ulp of itself); without one
@@ -215,9 +211,8 @@ inline double shifted(const Scaled& a, double centre, double centre_lo) {
     }
 }
 
-// One term, (edge - v)^edge_power q^low p(v) basis(q), with its algebraic
-// factor (edge - v)^edge_power q^low S^s_power formed in double
-// (Precision::fast: the power multiplies the half-ulp rounding of its base).
+// The polynomial p(v) of a term, v = q, q^2 or q - centre;
+// Precision::accurate corrects it for the rounding of q.
 template <const table::Kernel& K, int Q, int P, int T, Precision Pr>
 inline double polynomial(const Scaled& a) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
@@ -244,6 +239,9 @@ inline double with_basis(const Scaled& a, double x) {
     return x;
 }
 
+// One term, (edge - v)^edge_power q^low p(v) basis(q), with its algebraic
+// factor (edge - v)^edge_power q^low S^s_power formed in double
+// (Precision::fast: the power multiplies the half-ulp rounding of its base).
 template <const table::Kernel& K, int Q, int P, int T>
 inline double fast_term(const Scaled& a) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
