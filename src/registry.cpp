@@ -1,13 +1,15 @@
-// The run-time kernel registry compiled once (CMake target mollify::registry):
-// every emitted table's batch functions, so that programs looking kernels up
-// by spec string (mollify::kernel) do not each spend a minute compiling them.
+// One part of the run-time kernel registry compiled once (CMake target
+// mollify::registry): the batch functions of every MOLLIFY_REGISTRY_PARTS-th
+// emitted table from MOLLIFY_REGISTRY_PART on, so that programs looking
+// kernels up by spec string (mollify::kernel) do not each spend minutes
+// compiling them, and the parts compile in parallel.
 #define MOLLIFY_DEFINE_REGISTRY
 #include <mollify/dynamic_kernel.hpp>
 
-#ifndef MOLLIFY_PRECOMPILED_REGISTRY
-#error "src/registry.cpp is built with MOLLIFY_PRECOMPILED_REGISTRY (CMake target mollify::registry)"
+#if !defined(MOLLIFY_PRECOMPILED_REGISTRY) || !defined(MOLLIFY_REGISTRY_PART) || !defined(MOLLIFY_REGISTRY_PARTS)
+#error "src/registry.cpp is built by the CMake target mollify::registry, once per MOLLIFY_REGISTRY_PART"
 #endif
 
 namespace mollify::detail {
-template const KernelOps* find_ops<void>(std::string_view, int, bool&);
+template std::span<const KernelOps> registry_slice<MOLLIFY_REGISTRY_PART, MOLLIFY_REGISTRY_PARTS>();
 }  // namespace mollify::detail

@@ -63,42 +63,66 @@ constexpr KernelOps ops_of(std::index_sequence<Q...>) {
     return {&K, {&batch<K, static_cast<int>(Q)>...}, &pairs<K>};
 }
 
-template <std::size_t... I>
-constexpr auto registry_of(std::index_sequence<I...>) {
-    return std::array<KernelOps, sizeof...(I)>{
-        ops_of<*tables::all_kernels[I]>(std::make_index_sequence<table::quantity_count>{})...};
+// Kernels Part, Part + Parts, Part + 2 Parts, ... of the catalogue: the
+// precompiled registry is compiled as Parts translation units (src/registry.cpp
+// once per part: in parallel, and in a fraction of the memory of one).
+template <std::size_t Part, std::size_t Parts, std::size_t... J>
+constexpr auto slice_of(std::index_sequence<J...>) {
+    return std::array<KernelOps, sizeof...(J)>{
+        ops_of<*tables::all_kernels[Part + J * Parts]>(std::make_index_sequence<table::quantity_count>{})...};
 }
 
 // Instantiated only where a kernel is looked up by name (a variable
 // template), so code using only StaticKernel does not compile all tables.
-template <class = void>
-inline constexpr auto registry = registry_of(std::make_index_sequence<std::size(tables::all_kernels)>{});
+template <std::size_t Part, std::size_t Parts>
+inline constexpr auto slice_table =
+    slice_of<Part, Parts>(std::make_index_sequence<(std::size(tables::all_kernels) + Parts - 1 - Part) / Parts>{});
 
-// The registry entry of a canonical spec in dimension dim, or nullptr
-// (other_dim says whether the spec exists in another dimension). A template
-// so that only translation units that look kernels up by name instantiate
-// the registry; with MOLLIFY_PRECOMPILED_REGISTRY (the CMake target
-// mollify::registry) it is compiled once, in src/registry.cpp.
-template <class = void>
-const KernelOps* find_ops(std::string_view key, int dim, bool& other_dim) {
-    other_dim = false;
-    for (const KernelOps& ops : registry<>) {
+template <std::size_t Part, std::size_t Parts>
+std::span<const KernelOps> registry_slice() {
+    return slice_table<Part, Parts>;
+}
+#else
+// Defined (explicitly instantiated) in src/registry.cpp, one part per
+// translation unit.
+template <std::size_t Part, std::size_t Parts>
+std::span<const KernelOps> registry_slice();
+#endif
+
+// The number of parts of the registry: MOLLIFY_REGISTRY_PARTS translation
+// units of the precompiled registry (CMake target mollify::registry), else
+// one, instantiated where kernels are looked up.
+#ifdef MOLLIFY_PRECOMPILED_REGISTRY
+inline constexpr std::size_t registry_parts = MOLLIFY_REGISTRY_PARTS;
+#else
+inline constexpr std::size_t registry_parts = 1;
+#endif
+
+inline const KernelOps* find_in(std::span<const KernelOps> slice, std::string_view key, int dim, bool& other_dim) {
+    for (const KernelOps& ops : slice) {
         if (key != ops.table->spec) continue;
         if (ops.table->dim == dim) return &ops;
         other_dim = true;
     }
     return nullptr;
 }
-#else
+
+template <std::size_t... Part>
+const KernelOps* find_in_parts(std::string_view key, int dim, bool& other_dim, std::index_sequence<Part...>) {
+    const KernelOps* found = nullptr;
+    ((found = found ? found : find_in(registry_slice<Part, registry_parts>(), key, dim, other_dim)), ...);
+    return found;
+}
+
 // The registry entry of a canonical spec in dimension dim, or nullptr
-// (other_dim says whether the spec exists in another dimension); defined
-// in src/registry.cpp.
+// (other_dim says whether the spec exists in another dimension). A template
+// so that only translation units that look kernels up by name instantiate
+// the registry.
 template <class = void>
-const KernelOps* find_ops(std::string_view key, int dim, bool& other_dim);
-#endif
-#ifdef MOLLIFY_PRECOMPILED_REGISTRY
-extern template const KernelOps* find_ops<void>(std::string_view, int, bool&);
-#endif
+const KernelOps* find_ops(std::string_view key, int dim, bool& other_dim) {
+    other_dim = false;
+    return find_in_parts(key, dim, other_dim, std::make_index_sequence<registry_parts>{});
+}
 
 }  // namespace MOLLIFY_ISA
 }  // namespace detail
