@@ -513,6 +513,13 @@ std::vector<double> rounded(const CentredPiece& p) {
     return out;
 }
 
+// The low part of the emitted Taylor coefficient a_k = hi + lo.
+double centred_low_part(const CentredPiece& p, std::size_t k, double hi) {
+    const CentredValue& a = p.a[k];
+    if (a.arcsech.is_zero() && a.arcsin.is_zero() && a.log.is_zero()) return low_part(a.one, hi);
+    return low_part([&](unsigned bits) { return a.evaluate(p.centre, bits); }, hi);
+}
+
 // A centred piece against its closed form in MPFR (200 bits) at 129 points:
 // the emitted doubles' polynomial (times r^low S^s_power), evaluated
 // exactly, is within centred_certificate_bound of max(|f|, |r f'|): the
@@ -584,24 +591,31 @@ public:
             if (centred) term_exprs.push_back(centred_term(terms_name + "_0", *centred, hi_text));
             for (std::size_t t = 0; t < terms.size(); ++t) {
                 const std::string cname = terms_name + "_" + std::to_string(t);
-                body_ += "inline constexpr double " + cname + "[] = {\n";
-                for (const Exact& c : terms[t].c)
-                    body_ += "    " + hex_literal(round_to_double(c)) + ",  // " + c.to_string() + "\n";
-                body_ += "};\n";
                 const auto& term = terms[t];
+                std::vector<double> c, c_lo;
+                std::vector<std::string> exact;
+                for (const Exact& x : term.c) {
+                    c.push_back(round_to_double(x));
+                    c_lo.push_back(low_part(x, c.back()));
+                    exact.push_back(x.to_string());
+                }
+                const std::string lo_name = coefficients(cname, c, c_lo, exact);
                 if (term.centre) {
                     const double centre = round_to_double(*term.centre);
                     term_exprs.push_back("{table::Basis::one, 0, table::Var::shifted, " + hi_text + ", 0, " +
                                          std::to_string(term.low) + ", " + cname + ", " +
                                          std::to_string(term.c.size()) + ", " + hex_literal(centre) + ", " +
-                                         hex_literal(round_to_double(*term.centre - Q(centre))) + "}");
+                                         hex_literal(low_part(*term.centre, centre)) + ", " + lo_name + "}");
                     continue;
                 }
+                const std::optional<Q> edge = term.edge ? term.edge : hi;
+                const double edge_hi = edge ? round_to_double(*edge) : 0;
                 term_exprs.push_back("{table::Basis::" + std::string(basis_name(term.basis)) + ", " +
                                      std::to_string(term.s_power) + ", table::Var::" + (term.square ? "r2" : "r") +
-                                     ", " + (term.edge ? hex_literal(round_to_double(*term.edge)) : hi_text) + ", " +
+                                     ", " + (edge ? hex_literal(edge_hi) : hi_text) + ", " +
                                      std::to_string(term.edge_power) + ", " + std::to_string(term.low) + ", " +
-                                     cname + ", " + std::to_string(term.c.size()) + "}");
+                                     cname + ", " + std::to_string(term.c.size()) + ", 0, 0, " + lo_name + ", " +
+                                     hex_literal(edge ? low_part(*edge, edge_hi) : 0.0) + "}");
             }
             std::string terms_ref = "nullptr";
             if (!term_exprs.empty()) {
@@ -627,14 +641,34 @@ private:
     // (table::Var::shifted), the centre as a double and its rounding error.
     std::string centred_term(const std::string& cname, const CentredPiece& p, const std::string& hi_text) {
         const std::vector<double> a = rounded(p);
-        body_ += "inline constexpr double " + cname + "[] = {\n";
-        for (std::size_t k = 0; k < a.size(); ++k)
-            body_ += "    " + hex_literal(a[k]) + ",  // " + p.a[k].to_string(p.centre) + "\n";
-        body_ += "};\n";
-        const double centre = round_to_double(p.centre), centre_lo = round_to_double(p.centre - Q(centre));
+        std::vector<double> a_lo;
+        std::vector<std::string> exact;
+        for (std::size_t k = 0; k < a.size(); ++k) {
+            a_lo.push_back(centred_low_part(p, k, a[k]));
+            exact.push_back(p.a[k].to_string(p.centre));
+        }
+        const std::string lo_name = coefficients(cname, a, a_lo, exact);
+        const double centre = round_to_double(p.centre), centre_lo = low_part(p.centre, centre);
         const std::string basis = p.s_power ? "sqrt_power, " + std::to_string(p.s_power) : std::string("one, 0");
         return "{table::Basis::" + basis + ", table::Var::shifted, " + hi_text + ", 0, " + std::to_string(p.low) + ", " + cname + ", " +
-               std::to_string(a.size()) + ", " + hex_literal(centre) + ", " + hex_literal(centre_lo) + "}";
+               std::to_string(a.size()) + ", " + hex_literal(centre) + ", " + hex_literal(centre_lo) + ", " + lo_name + "}";
+    }
+
+    // A term's coefficients (correctly rounded, the exact value beside each)
+    // and their low parts c - round(c), correctly rounded: the double-double
+    // coefficients of Precision::accurate (table::Term::c_lo).
+    // Returns the name of the low parts' array, "nullptr" where c is exact.
+    std::string coefficients(const std::string& name, const std::vector<double>& c, const std::vector<double>& c_lo,
+                             const std::vector<std::string>& exact) {
+        body_ += "inline constexpr double " + name + "[] = {\n";
+        for (std::size_t k = 0; k < c.size(); ++k) body_ += "    " + hex_literal(c[k]) + ",  // " + exact[k] + "\n";
+        body_ += "};\n";
+        if (std::all_of(c_lo.begin(), c_lo.end(), [](double x) { return x == 0; })) return "nullptr";
+        body_ += "inline constexpr double " + name + "_lo[] = {";
+        for (std::size_t k = 0; k < c_lo.size(); ++k)
+            body_ += std::string(k % 4 == 0 ? "\n    " : " ") + hex_literal(c_lo[k]) + ",";
+        body_ += "\n};\n";
+        return name + "_lo";
     }
 
 public:
@@ -803,7 +837,10 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
 
     std::string index = banner(command, "//") + "#pragma once\n\n";
     for (const char* family : {"anderson", "wendland", "combo", "classic"}) {
-        std::string h = banner(command, "//") + "#pragma once\n\n#include <mollify/table.hpp>\n\nnamespace mollify::tables {\n";
+        std::string h = banner(command, "//") +
+                        "// Each coefficient is correctly rounded, its exact value beside it; NAME_lo[k] is\n"
+                        "// the rounding error (exact - NAME[k]), correctly rounded (table.hpp: Term::c_lo).\n"
+                        "#pragma once\n\n#include <mollify/table.hpp>\n\nnamespace mollify::tables {\n";
         h += bodies[family];
         h += "\n}  // namespace mollify::tables\n";
         result.files[std::string("mollify/tables/") + family + ".hpp"] = h;

@@ -3,6 +3,7 @@
 #include "error.hpp"
 
 #include <cstdio>
+#include <utility>
 
 namespace mollify::gen {
 
@@ -66,6 +67,22 @@ double round_to_double(const Evaluator& f) {
 double round_to_double(const Exact& x) {
     if (x.is_rational()) return round_to_double(x.rational());
     return round_to_double(of(x));
+}
+
+double low_part(const Q& q, double hi) { return round_to_double(q - Q(hi)); }
+
+double low_part(const Exact& x, double hi) {
+    if (x.is_rational()) return low_part(x.rational(), hi);
+    return round_to_double(of(x - Exact(Q(hi))));
+}
+
+double low_part(const Evaluator& f, double hi) {
+    return round_to_double([&](unsigned bits) {
+        auto [v, magnitude] = f(bits);
+        // Exact: v is within a factor 2 of hi (Sterbenz), at v's precision.
+        mpfr_sub_d(v.backend().data(), v.backend().data(), hi, MPFR_RNDN);
+        return std::pair<Real, Real>(std::move(v), std::move(magnitude));
+    });
 }
 
 std::string hex_literal(double x) {

@@ -19,6 +19,15 @@ double round_to_double(const Q& q);
 double round_to_double(const Exact& x);
 double round_to_double(const Evaluator& f);
 
+// The low part of a double-double x = hi + lo, hi = round_to_double(x): the
+// rounding error x - hi, itself correctly rounded (0 where x is hi). The
+// runtime's Precision::accurate evaluates with both parts (table.hpp).
+double low_part(const Q& q, double hi);
+double low_part(const Exact& x, double hi);
+// For a value that is not exactly a double (a Ziv loop cannot settle an
+// exact zero).
+double low_part(const Evaluator& f, double hi);
+
 // C99 hexadecimal floating literal ("0x1.8p-2"), exact for every double.
 std::string hex_literal(double x);
 

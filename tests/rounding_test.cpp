@@ -47,3 +47,23 @@ TEST(Rounding, DecimalDigits) {
     EXPECT_EQ(decimal(Exact::pi_power(Q(1), -1), 20), "3.1830988618379067154e-01");
     EXPECT_THROW(decimal(Q(1), 0), Error);
 }
+
+// The low parts of the double-double coefficients (table::Term::c_lo).
+// References: 1/3 - round(1/3) = 2^-54/3 exactly; pi's double-double
+// 0x1.921fb54442d18p+1 + 0x1.1a62633145c07p-53 (= 1.224646799147353207e-16,
+// the QD library's dd_real::_pi).
+TEST(Rounding, LowPartsOfDoubleDoubles) {
+    EXPECT_EQ(low_part(Q(1, 3), 1.0 / 3.0), 0x1.5555555555555p-56);
+    EXPECT_EQ(low_part(Q(-1, 3), -1.0 / 3.0), -0x1.5555555555555p-56);
+    EXPECT_EQ(low_part(Q(3, 8), 0.375), 0.0);  // a double: no low part
+    EXPECT_EQ(low_part(Exact::pi_power(Q(1), 1), M_PI), 0x1.1a62633145c07p-53);
+    EXPECT_EQ(low_part(Exact::pi_power(Q(2), 1), 2 * M_PI), 2 * 0x1.1a62633145c07p-53);
+    // An Evaluator (a value at any precision, refined by the Ziv loop): pi
+    // from MPFR's constant.
+    const Evaluator pi = [](unsigned bits) {
+        Real v(0, bits), magnitude(4, 64);
+        mpfr_const_pi(v.backend().data(), MPFR_RNDN);
+        return std::pair<Real, Real>(v, magnitude);
+    };
+    EXPECT_EQ(low_part(pi, M_PI), 0x1.1a62633145c07p-53);
+}

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <set>
 #include <string>
 
@@ -205,6 +206,39 @@ TEST(Tables, TermsAreFactoredAtTheirOwnEdges) {
                 }
     }
     EXPECT_GT(checked, 10000);
+}
+
+// The double-double parts of Precision::accurate (table::Term::c_lo,
+// edge_lo): each low part is at most half an ulp of its high part (so
+// hi + lo rounds to hi), and a combination's edges carry the exact
+// rounding error of their radius a_j.
+TEST(Tables, LowPartsAreTheRoundingErrors) {
+    int with_low_parts = 0, edges_checked = 0;
+    for (const table::Kernel* t : mollify::tables::all_kernels) {
+        const Spec spec = parse_spec(t->spec);
+        std::map<double, double> edge_lo;  // round(a_j) -> a_j - round(a_j), rounded
+        if (spec.family == Family::combo)
+            for (const Q& a : radii(spec)) edge_lo[round_to_double(a)] = low_part(a, round_to_double(a));
+        for (const table::Quantity& q : t->quantities)
+            for (int p = 0; p < q.npieces; ++p)
+                for (int i = 0; i < q.pieces[p].nterms; ++i) {
+                    const table::Term& term = q.pieces[p].terms[i];
+                    if (term.c_lo != nullptr) {
+                        ++with_low_parts;
+                        for (int k = 0; k < term.n; ++k) {
+                            const double c = std::abs(term.c[k]), half_ulp = (std::nextafter(c, INFINITY) - c) / 2;
+                            EXPECT_LE(std::abs(term.c_lo[k]), half_ulp) << t->spec << " c[" << k << "]";
+                            EXPECT_EQ(term.c[k] + term.c_lo[k], term.c[k]) << t->spec << " c[" << k << "]";
+                        }
+                    }
+                    if (term.edge_power != 0 && edge_lo.count(term.edge)) {
+                        EXPECT_EQ(term.edge_lo, edge_lo.at(term.edge)) << t->spec << " edge " << term.edge;
+                        ++edges_checked;
+                    }
+                }
+    }
+    EXPECT_GT(with_low_parts, 1000);
+    EXPECT_GT(edges_checked, 100);
 }
 
 // Combinations on both sides of every radius a_j: each term w_j psi_{a_j}

@@ -1,7 +1,9 @@
 // The format of the tables `mollify-gen emit` writes into generated/: the
 // contract between the exact generator and the double-precision runtime.
 // Every number in a table is a correctly rounded double of an exact value
-// (written beside it, in the generated file, as a comment).
+// (written beside it, in the generated file, as a comment); coefficients
+// and edges also carry their rounding error, correctly rounded (c_lo,
+// edge_lo: double-double values for Precision::accurate).
 //
 // A quantity (W, W', ..., the potential) is a list of pieces over r >= 0,
 // the last one reaching to infinity (zero, or the Green's function for
@@ -44,6 +46,10 @@ struct Term {
     const double* c;
     int n;
     double centre = 0, centre_lo = 0;  // Var::shifted: v = (r - centre) - centre_lo
+    // The low parts c[k] + c_lo[k] and edge + edge_lo of the exact values,
+    // to ~2^-106 (Precision::accurate); nullptr: c is exact.
+    const double* c_lo = nullptr;
+    double edge_lo = 0;
 };
 
 struct Piece {
