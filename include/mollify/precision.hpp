@@ -5,13 +5,16 @@
 namespace mollify {
 
 enum class Precision {
-    // The default. r/h, 1 - r/h and the edge factors (1 - q)^n, (1 - q^2)^M,
-    // S^m in double-double (detail/double_double.hpp): the power no longer
-    // multiplies the rounding of its base by n, and values and gradients of
-    // the kernels without interior roots are within 4 ulp (tests/accuracy_test.cpp).
+    // The default. Everything the error comes from in double-double
+    // (detail/double_double.hpp): r/h, 1 - r/h, the edge factors
+    // (1 - q)^n, (1 - q^2)^M, S^m, the coefficients (table::Term::c_lo) and
+    // the polynomial, by the compensated Horner scheme (detail/evaluate.hpp);
+    // one rounding at the end. Values and derivatives of every catalogue
+    // kernel within 4 ulp (measured <= 0.51 but for the missing Wendland
+    // functions, <= 2.96), potentials within 8 (tests/accuracy_test.cpp).
     accurate,
     // Plain double: the same factored forms with rounded q and 1 - q, whose
-    // half-ulp the power n multiplies (up to ~25 ulp for n = 14); about 2.4x
+    // half-ulp the power n multiplies (up to ~25 ulp for n = 14); 2.8-3.8x
     // the speed (bench/results/kernel_bench.md).
     fast,
 };

@@ -40,6 +40,14 @@ inline DoubleDouble plus(double a, const DoubleDouble& x) {
     return {s.hi, s.lo + x.lo};
 }
 
+// a + b to double-double accuracy (Knuth's two-sum of the high parts, the
+// low parts added to its error); left unnormalised, so an overflowed sum
+// stays +-inf in hi for rounded().
+inline DoubleDouble operator+(const DoubleDouble& a, const DoubleDouble& b) {
+    const DoubleDouble s = two_sum(a.hi, b.hi);
+    return {s.hi, s.lo + (a.lo + b.lo)};
+}
+
 #if !MOLLIFY_HAS_FMA
 // Veltkamp's split of a into a 26-bit head and the rest, a = head + (a - head)
 // exactly. The product 2^27 a overflows for |a| > 2^996 (the runtime meets

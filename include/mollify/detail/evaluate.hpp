@@ -10,6 +10,7 @@
 #include <mollify/precision.hpp>
 #include <mollify/table.hpp>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -89,18 +90,6 @@ inline constexpr const table::Term& term_table = piece_table<K, Q, P>.terms[T];
 template <const table::Kernel& K, int Q, int P, int T, int I>
 inline constexpr double coefficient = term_table<K, Q, P, T>.c[I];
 
-// sum_k c[k] (v + dv)^k to first order in dv: Horner's rule for the
-// polynomial and its derivative together (the rounding of q = r/h would
-// otherwise enter p(q) multiplied by q p'(q)/p(q), up to ~2 ulp for the
-// Wendland polynomials of degree 8).
-template <const table::Kernel& K, int Q, int P, int T, std::size_t... I>
-inline double horner_corrected(double v, double dv, std::index_sequence<I...>) {
-    constexpr int n = term_table<K, Q, P, T>.n;
-    double sum = coefficient<K, Q, P, T, n - 1>, slope = 0;
-    ((slope = mul_add(slope, v, sum), sum = mul_add(sum, v, coefficient<K, Q, P, T, n - 2 - static_cast<int>(I)>)), ...);
-    return mul_add(slope, dv, sum);
-}
-
 // sum_k c[k] v^k by Horner's rule, from the highest coefficient down.
 template <const table::Kernel& K, int Q, int P, int T, std::size_t... I>
 inline double horner([[maybe_unused]] double v, std::index_sequence<I...>) {
@@ -108,6 +97,78 @@ inline double horner([[maybe_unused]] double v, std::index_sequence<I...>) {
     double sum = coefficient<K, Q, P, T, n - 1>;
     ((sum = mul_add(sum, v, coefficient<K, Q, P, T, n - 2 - static_cast<int>(I)>)), ...);
     return sum;
+}
+
+// The coefficients of a term, and those of an edge series (one per term,
+// accurate_series), as arrays of double-doubles {c, c_lo}: the operands of
+// compensated_horner.
+struct Coefficients {
+    static constexpr std::size_t capacity = 128;
+    double c[capacity]{}, lo[capacity]{};
+    std::size_t n = 0;
+    bool exact = true;  // every lo is 0
+    constexpr void push(double hi, double low) {
+        c[n] = hi;
+        lo[n] = low;
+        exact = exact && low == 0;
+        ++n;
+    }
+};
+
+// The k-th low part of a coefficient array; table::Term::c_lo is nullptr
+// where every low part is 0 (a function, not `lo ? lo[k] : 0` in the
+// templates below, where the address is a constant and GCC's -Waddress
+// objects to testing it).
+constexpr double low_part(const double* lo, int k) { return lo == nullptr ? 0.0 : lo[k]; }
+
+template <const table::Kernel& K, int Q, int P, int T>
+inline constexpr Coefficients term_coefficients = [] {
+    constexpr const table::Term& t = term_table<K, Q, P, T>;
+    static_assert(t.n <= static_cast<int>(Coefficients::capacity));
+    Coefficients out;
+    for (int k = 0; k < t.n; ++k) out.push(t.c[k], low_part(t.c_lo, k));
+    return out;
+}();
+
+template <const table::Kernel& K, int Q, int P>
+inline constexpr Coefficients series_coefficients = [] {
+    constexpr const table::Piece& p = piece_table<K, Q, P>;
+    static_assert(p.nterms <= static_cast<int>(Coefficients::capacity));
+    Coefficients out;
+    for (int k = 0; k < p.nterms; ++k) out.push(p.terms[k].c[0], low_part(p.terms[k].c_lo, 0));
+    return out;
+}();
+
+// sum_k C[k] (v + dv)^k as a double-double, for Precision::accurate: the
+// compensated Horner scheme (Graillat, Langlois & Louvet, "Compensated
+// Horner scheme", 2005): each step's product and sum errors, exact by
+// two_product and two_sum, are summed by a second Horner recurrence, so the
+// result is as if Horner's rule ran in twice the precision (relative error
+// ~ u + cond(p, v) u^2; plain Horner is ~ 2 n cond(p, v) u, up to 4 ulp for
+// the Wendland polynomials of degree 8 and unbounded near a root of p).
+// The coefficients' own low parts (table::Term::c_lo) enter the second
+// recurrence, and the derivative p'(v) dv, by a plain Horner recurrence,
+// removes the rounding dv of v itself.
+template <const Coefficients& C, std::size_t... I>
+inline DoubleDouble compensated_horner(double v, double dv, std::index_sequence<I...>) {
+    constexpr std::size_t n = C.n;
+    double sum = C.c[n - 1], error = C.lo[n - 1], slope = 0;
+    auto step = [&](double c, double c_lo) {
+        slope = mul_add(slope, v, sum);
+        const DoubleDouble product = two_product(sum, v);
+        const DoubleDouble s = two_sum(product.hi, c);
+        sum = s.hi;
+        if constexpr (C.exact) error = mul_add(error, v, product.lo + s.lo);
+        else error = mul_add(error, v, (product.lo + s.lo) + c_lo);
+    };
+    (step(C.c[n - 2 - I], C.lo[n - 2 - I]), ...);
+    return {sum, mul_add(slope, dv, error)};
+}
+
+template <const Coefficients& C>
+inline DoubleDouble compensated_horner(double v, double dv) {
+    if constexpr (C.n == 1) return {C.c[0], C.lo[0]};
+    else return compensated_horner<C>(v, dv, std::make_index_sequence<C.n - 1>{});
 }
 
 // log r for 0 < r <= 1 without losing the digits of a value near 0.
@@ -155,10 +216,14 @@ inline DoubleDouble distance_to_edge_dd(const Scaled& a) {
     if constexpr (t.edge != 1.0) {
         const DoubleDouble ah = two_product(t.edge, a.h);
         const DoubleDouble s = two_sum(ah.hi, -a.r);
-        d = over_h({s.hi, s.lo + ah.lo}, a.h, a.inv_h);
+        d = over_h({s.hi, s.lo + mul_add(t.edge_lo, a.h, ah.lo)}, a.h, a.inv_h);
     }
-    if constexpr (t.var == table::Var::r) return d;
-    else return d * plus(t.edge, a.qq);
+    if constexpr (t.var == table::Var::r) {
+        return d;
+    } else {
+        const DoubleDouble edge_plus_q = plus(t.edge, a.qq);
+        return d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + t.edge_lo};
+    }
 }
 
 // The algebraic factor of a term in double-double (Precision::accurate):
@@ -195,35 +260,49 @@ inline constexpr bool has_factor = term_table<K, Q, P, T>.edge_power != 0 || ter
 // c h is rounded first, an absolute error <= c 2^-53, the size of the
 // rounding of q itself. The centre's own rounding (centre_lo, ~2^-55) is
 // subtracted after.
-// Precision::accurate forms r - c h exactly (a two-product and a
-// two-sum) and rounds only after: then v is within ~1.5 ulp of itself also
-// without an FMA, where the raw error would otherwise grow like the
-// relative slope of S^m near the edge (25 ulp for the missing Wendland
-// function k = l = 2).
-template <Precision Pr>
 inline double shifted(const Scaled& a, double centre, double centre_lo) {
-    if constexpr (Pr == Precision::accurate && !MOLLIFY_HAS_FMA) {
-        const DoubleDouble ch = two_product(centre, a.h);
-        const DoubleDouble d = two_sum(a.r, -ch.hi);
-        return (d.hi + (d.lo - ch.lo)) * a.inv_h - centre_lo;
-    } else {
-        return mul_add(-centre, a.h, a.r) * a.inv_h - centre_lo;
-    }
+    return mul_add(-centre, a.h, a.r) * a.inv_h - centre_lo;
 }
 
-// The polynomial p(v) of a term, v = q, q^2 or q - centre;
-// Precision::accurate corrects it for the rounding of q.
-template <const table::Kernel& K, int Q, int P, int T, Precision Pr>
+// The same in double-double (Precision::accurate): r - c h exactly (a
+// two-product and a two-sum), divided by h with its residual, then the
+// centre's rounding taken off; rounding v instead would enter p(v)
+// multiplied by v p'(v)/p(v), large near the edge where S^m is steep.
+inline DoubleDouble shifted_dd(const Scaled& a, double centre, double centre_lo) {
+    const DoubleDouble ch = two_product(centre, a.h);
+    const DoubleDouble d = two_sum(a.r, -ch.hi);
+    const DoubleDouble v = over_h({d.hi, d.lo - ch.lo}, a.h, a.inv_h);
+    const DoubleDouble w = two_sum(v.hi, -centre_lo);
+    return fast_two_sum(w.hi, w.lo + v.lo);
+}
+
+// The polynomial p(v) of a term, v = q, q^2 or q - centre, by Horner's rule.
+template <const table::Kernel& K, int Q, int P, int T>
 inline double polynomial(const Scaled& a) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
     constexpr auto steps = std::make_index_sequence<static_cast<std::size_t>(t.n - 1)>{};
     const double v = t.var == table::Var::r    ? a.q
                      : t.var == table::Var::r2 ? a.q * a.q
-                                               : shifted<Pr>(a, t.centre, t.centre_lo);
-    if constexpr (Pr == Precision::accurate && t.n > 1 && t.var != table::Var::shifted)
-        return horner_corrected<K, Q, P, T>(v, t.var == table::Var::r ? a.dq : a.dq2, steps);
-    else
-        return horner<K, Q, P, T>(v, steps);
+                                               : shifted(a, t.centre, t.centre_lo);
+    return horner<K, Q, P, T>(v, steps);
+}
+
+// The same as a double-double (Precision::accurate): compensated Horner at
+// the rounded v, corrected for v's rounding (Scaled::dq, dq2, shifted_dd).
+template <const table::Kernel& K, int Q, int P, int T>
+inline DoubleDouble accurate_polynomial(const Scaled& a) {
+    constexpr const table::Term& t = term_table<K, Q, P, T>;
+    constexpr const Coefficients& c = term_coefficients<K, Q, P, T>;
+    if constexpr (t.n == 1) {
+        return {c.c[0], c.lo[0]};
+    } else if constexpr (t.var == table::Var::shifted) {
+        const DoubleDouble v = shifted_dd(a, t.centre, t.centre_lo);
+        return compensated_horner<c>(v.hi, v.lo);
+    } else if constexpr (t.var == table::Var::r) {
+        return compensated_horner<c>(a.q, a.dq);
+    } else {
+        return compensated_horner<c>(a.q * a.q, a.dq2);
+    }
 }
 
 template <const table::Kernel& K, int Q, int P, int T>
@@ -245,7 +324,7 @@ inline double with_basis(const Scaled& a, double x) {
 template <const table::Kernel& K, int Q, int P, int T>
 inline double fast_term(const Scaled& a) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
-    double x = polynomial<K, Q, P, T, Precision::fast>(a);
+    double x = polynomial<K, Q, P, T>(a);
     if constexpr (t.low != 0) x *= ipow<t.low>(a.q);
     if constexpr (t.edge_power != 0) x *= ipow<t.edge_power>(distance_to_edge<K, Q, P, T>(a));
     if constexpr (t.basis == table::Basis::sqrt_power) x *= ipow<t.s_power>(std::sqrt(a.e * (1 + a.q)));
@@ -258,11 +337,11 @@ inline double fast_term(const Scaled& a) {
 template <const table::Kernel& K, int Q, int P, int T>
 inline DoubleDouble accurate_term(const Scaled& a, const DoubleDouble& factor) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
-    const double x = polynomial<K, Q, P, T, Precision::accurate>(a);
+    const DoubleDouble x = accurate_polynomial<K, Q, P, T>(a);
     if constexpr (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power) {
         return factor * x;
     } else {
-        return {with_basis<K, Q, P, T>(a, times(x, factor)), 0.0};
+        return {with_basis<K, Q, P, T>(a, rounded(factor * x)), 0.0};
     }
 }
 
@@ -282,10 +361,12 @@ constexpr bool continues_series() {
     }
 }
 
-// Precision::accurate: the terms from T on, added to `sum` in order, each
-// factor from the previous one where the terms form a series.
+// Precision::accurate: the terms from T on, added to `sum` in order (in
+// double-double: a potential's terms cancel), each factor from the
+// previous one where the terms form a series.
 template <const table::Kernel& K, int Q, int P, int T>
-inline double accurate_terms(const Scaled& a, double sum, [[maybe_unused]] const DoubleDouble& previous) {
+MOLLIFY_INLINE DoubleDouble accurate_terms(const Scaled& a, const DoubleDouble& sum,
+                                   [[maybe_unused]] const DoubleDouble& previous) {
     if constexpr (T == piece_table<K, Q, P>.nterms) {
         return sum;
     } else {
@@ -298,7 +379,7 @@ inline double accurate_terms(const Scaled& a, double sum, [[maybe_unused]] const
             factor = factor_dd<K, Q, P, T>(a);
         }
         const DoubleDouble x = accurate_term<K, Q, P, T>(a, factor);
-        return accurate_terms<K, Q, P, T + 1>(a, sum + rounded(x), factor);
+        return accurate_terms<K, Q, P, T + 1>(a, sum + x, factor);
     }
 }
 
@@ -319,21 +400,13 @@ inline constexpr bool edge_series =
     piece_table<K, Q, P>.nterms > 2 &&
     is_edge_series<K, Q, P>(std::make_index_sequence<static_cast<std::size_t>(piece_table<K, Q, P>.nterms)>{});
 
-template <const table::Kernel& K, int Q, int P, std::size_t... T>
-inline double series_horner(double w, std::index_sequence<T...>) {
-    constexpr int n = piece_table<K, Q, P>.nterms;
-    double sum = coefficient<K, Q, P, n - 1, 0>;
-    ((sum = mul_add(sum, w, coefficient<K, Q, P, n - 2 - static_cast<int>(T), 0>)), ...);
-    return sum;
-}
-
 template <const table::Kernel& K, int Q, int P>
 inline double accurate_series(const Scaled& a) {
-    constexpr int n = piece_table<K, Q, P>.nterms;
-    const double w = [&] {
-        return rounded(distance_to_edge_dd<K, Q, P, 0>(a));
+    const DoubleDouble w = [&] {
+        const DoubleDouble d = distance_to_edge_dd<K, Q, P, 0>(a);
+        return fast_two_sum(d.hi, d.lo);
     }();
-    const double sum = series_horner<K, Q, P>(w, std::make_index_sequence<static_cast<std::size_t>(n - 1)>{});
+    const DoubleDouble sum = compensated_horner<series_coefficients<K, Q, P>>(w.hi, w.lo);
     const DoubleDouble x = factor_dd<K, Q, P, 0>(a) * sum * a.scale;
     return with_basis<K, Q, P, 0>(a, rounded(x));
 }
@@ -349,7 +422,7 @@ inline double fast_piece(const Scaled& a, std::index_sequence<T...>) {
 // does not); several terms are rounded, added, then scaled.
 // (Precision::fast scales the selected piece, StaticKernel::emitted.)
 template <const table::Kernel& K, int Q, int P, Precision Pr>
-inline double piece(const Scaled& a) {
+MOLLIFY_INLINE double piece(const Scaled& a) {
     constexpr int n = piece_table<K, Q, P>.nterms;
     if constexpr (Pr == Precision::accurate) {
         if constexpr (edge_series<K, Q, P>) {
@@ -359,7 +432,7 @@ inline double piece(const Scaled& a) {
             if constexpr (has_factor<K, Q, P, 0>) factor = factor_dd<K, Q, P, 0>(a);
             return rounded(accurate_term<K, Q, P, 0>(a, factor) * a.scale);
         } else {
-            return times(accurate_terms<K, Q, P, 0>(a, 0.0, DoubleDouble{1.0, 0.0}), a.scale);
+            return rounded(accurate_terms<K, Q, P, 0>(a, DoubleDouble{0.0, 0.0}, DoubleDouble{1.0, 0.0}) * a.scale);
         }
     } else {
         return fast_piece<K, Q, P>(a, std::make_index_sequence<static_cast<std::size_t>(n)>{});
@@ -402,17 +475,33 @@ inline constexpr bool singular_at_origin = [] {
 // The quantity inside the support, f(q) for 0 <= q <= 1. Polynomial pieces
 // are all evaluated and the right one selected (branch-free, so a batch
 // loop vectorises); pieces with sqrt/log are chosen by branches.
+//
+// In Precision::accurate a piece chosen by a branch is a call (branch_piece):
+// such a loop does not vectorise anyway, and inlining would copy every
+// piece (the missing Wendland functions' Taylor pieces run to 60 terms) into
+// every loop of the run-time registry, whose compile time then triples.
+template <const table::Kernel& K, int Q, int P, Precision Pr>
+MOLLIFY_NOINLINE double branch_piece(const Scaled& a) {
+    return piece<K, Q, P, Pr>(a);
+}
+
+template <const table::Kernel& K, int Q, int P, Precision Pr>
+MOLLIFY_INLINE double chosen_piece(const Scaled& a) {
+    if constexpr (Pr == Precision::accurate && !polynomial_inside<K, Q>) return branch_piece<K, Q, P, Pr>(a);
+    else return piece<K, Q, P, Pr>(a);
+}
+
 template <const table::Kernel& K, int Q, Precision Pr, int P = inner_pieces<K, Q> - 1>
-inline double inside(const Scaled& a) {
+MOLLIFY_INLINE double inside(const Scaled& a) {
     if constexpr (P == 0) {
-        return piece<K, Q, 0, Pr>(a);
+        return chosen_piece<K, Q, 0, Pr>(a);
     } else if constexpr (polynomial_inside<K, Q>) {
         const double here = piece<K, Q, P, Pr>(a);
         const double below = inside<K, Q, Pr, P - 1>(a);
         return select(a.q < piece_table<K, Q, P>.lo, below, here);
     } else {
         if (a.q < piece_table<K, Q, P>.lo) return inside<K, Q, Pr, P - 1>(a);
-        return piece<K, Q, P, Pr>(a);
+        return chosen_piece<K, Q, P, Pr>(a);
     }
 }
 
