@@ -115,29 +115,36 @@ struct Coefficients {
     }
 };
 
-// The k-th low part of a coefficient array; table::Term::c_lo is nullptr
-// where every low part is 0 (a function, not `lo ? lo[k] : 0` in the
-// templates below, where the address is a constant and GCC's -Waddress
-// objects to testing it).
-constexpr double low_part(const double* lo, int k) { return lo == nullptr ? 0.0 : lo[k]; }
+// The k-th low part of a coefficient array Lo (table::Term::c_lo), which is
+// nullptr where every low part is 0. A template argument, not a test
+// `Lo == nullptr`: under -fsanitize GCC no longer folds the comparison of a
+// table's address with null, and the constexpr tables below would not compile.
+template <const double* Lo>
+constexpr double low_at(int k) {
+    return Lo[k];
+}
+template <>
+constexpr double low_at<nullptr>(int) {
+    return 0.0;
+}
 
 template <const table::Kernel& K, int Q, int P, int T>
 inline constexpr Coefficients term_coefficients = [] {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
     static_assert(t.n <= static_cast<int>(Coefficients::capacity));
     Coefficients out;
-    for (int k = 0; k < t.n; ++k) out.push(t.c[k], low_part(t.c_lo, k));
+    for (int k = 0; k < t.n; ++k) out.push(t.c[k], low_at<t.c_lo>(k));
     return out;
 }();
 
 template <const table::Kernel& K, int Q, int P>
-inline constexpr Coefficients series_coefficients = [] {
-    constexpr const table::Piece& p = piece_table<K, Q, P>;
-    static_assert(p.nterms <= static_cast<int>(Coefficients::capacity));
+inline constexpr Coefficients series_coefficients = []<std::size_t... T>(std::index_sequence<T...>) {
+    static_assert(sizeof...(T) <= Coefficients::capacity);
     Coefficients out;
-    for (int k = 0; k < p.nterms; ++k) out.push(p.terms[k].c[0], low_part(p.terms[k].c_lo, 0));
+    (out.push(term_table<K, Q, P, static_cast<int>(T)>.c[0], low_at<term_table<K, Q, P, static_cast<int>(T)>.c_lo>(0)),
+     ...);
     return out;
-}();
+}(std::make_index_sequence<static_cast<std::size_t>(piece_table<K, Q, P>.nterms)>{});
 
 // sum_k C[k] (v + dv)^k as a double-double, for Precision::accurate: the
 // compensated Horner scheme (Graillat, Langlois & Louvet, "Compensated
