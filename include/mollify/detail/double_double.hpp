@@ -125,20 +125,5 @@ inline double rounded(const DoubleDouble& x) {
     return std::abs(x.hi) <= 0x1.fffffffffffffp+1023 ? x.hi + x.lo : x.hi;
 }
 
-// x * y rounded once (to within ~2^-104 relative): y's low part enters
-// before the rounding of the product.
-// Where x y.hi overflows, the low part is inf - inf: the result is then
-// the plain product (+-inf), never NaN.
-inline double times(double x, const DoubleDouble& y) {
-    const double plain = x * y.hi;
-#if MOLLIFY_HAS_FMA
-    const double accurate = std::fma(x, y.hi, x * y.lo);
-#else
-    const DoubleDouble p = two_product(x, y.hi);
-    const double accurate = p.hi + (p.lo + x * y.lo);
-#endif
-    return std::abs(plain) <= 0x1.fffffffffffffp+1023 ? accurate : plain;
-}
-
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::detail

@@ -10,7 +10,6 @@
 #include <mollify/precision.hpp>
 #include <mollify/table.hpp>
 
-#include <array>
 #include <bit>
 #include <cmath>
 #include <cstddef>
