@@ -206,8 +206,8 @@ TEST(Belley, BinarySearchSupportEqualsBruteForce) {
 // The compile-time and the run-time kernel give the same weights, bit for
 // bit (the run-time form calls the same batch code).
 TEST(Belley, StaticAndDynamicKernelsAgree) {
-    static constexpr auto ops = mollify::detail::ops_of<tables::poly6_D1>(std::make_index_sequence<table::quantity_count>{});
-    static constexpr auto ops_box = mollify::detail::ops_of<tables::box_d2_D1>(std::make_index_sequence<table::quantity_count>{});
+    static constexpr auto ops = mollify::detail::ops_of<tables::poly6_D1>();
+    static constexpr auto ops_box = mollify::detail::ops_of<tables::box_d2_D1>();
     const Kernel dynamic(ops), dynamic_box(ops_box);
     const std::vector<double> x = random_points(300, 5);
     const Samples s(x);

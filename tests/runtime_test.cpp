@@ -71,6 +71,48 @@ TEST(Runtime, CompileTimeAndRunTimeFormsAgreeBitForBit) {
     }
 }
 
+// Both precisions are compiled into the registry: kernel(spec, dim, fast)
+// is StaticKernel<table, fast> bit for bit, and with() switches the
+// precision of the same kernel.
+TEST(Runtime, RunTimeFastIsCompileTimeFast) {
+    using F = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_l_1_D1, mollify::Precision::fast>;
+    using A = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_l_1_D1>;
+    const mollify::Kernel fast = mollify::kernel("combo:m=3,base=wendland:k=3,l=1", 1, mollify::Precision::fast);
+    EXPECT_EQ(fast.precision(), mollify::Precision::fast);
+    EXPECT_EQ(fast.with(mollify::Precision::accurate).precision(), mollify::Precision::accurate);
+    const auto r = radii(1000, 3);
+    std::vector<double> a(r.size()), b(r.size()), c(r.size());
+    bool differ = false;
+    for (const double h : {1.0, 0.37, 3e-7, 2.5e6}) {
+        std::vector<double> rh(r);
+        for (double& x : rh) x *= h;
+        F::evaluate<QuantityId::value>(rh, F::smoothing(h), a);
+        fast.evaluate(QuantityId::value, rh, h, b);
+        for (std::size_t i = 0; i < r.size(); ++i) ASSERT_EQ(a[i], b[i]) << "r = " << rh[i] << ", h = " << h;
+        A::evaluate<QuantityId::value>(rh, A::smoothing(h), a);
+        fast.with(mollify::Precision::accurate).evaluate(QuantityId::value, rh, h, c);
+        for (std::size_t i = 0; i < r.size(); ++i) {
+            ASSERT_EQ(a[i], c[i]) << "r = " << rh[i] << ", h = " << h;
+            differ = differ || b[i] != c[i];
+        }
+    }
+    EXPECT_TRUE(differ) << "fast and accurate gave the same bits everywhere: the registry did not switch";
+    // The pair batch (the SPH path) of both precisions, against the scalar forms.
+    std::vector<double> x(r), w(r.size()), g(r.size());
+    const std::span<const double> in[] = {x};
+    const std::span<double> out[] = {g};
+    fast.pairs(in, fast.smoothing(0.5), w, out);
+    for (std::size_t i = 0; i < r.size(); ++i) {
+        const auto p = F::pair(mollify::Vector<1>{x[i]}, F::smoothing(0.5));
+        ASSERT_EQ(w[i], p.value) << "x = " << x[i];
+        ASSERT_EQ(g[i], p.gradient[0]) << "x = " << x[i];
+    }
+    expect_error([] { mollify::kernel("wendland:k=2", 3, static_cast<mollify::Precision>(7)); }, "precision 7");
+    expect_error([] { mollify::precision("exact"); }, "'exact'");
+    EXPECT_EQ(mollify::precision("fast"), mollify::Precision::fast);
+    EXPECT_EQ(mollify::name(mollify::Precision::accurate), "accurate");
+}
+
 TEST(Runtime, EveryEmittedKernelIsReachableByItsSpec) {
     for (const mollify::table::Kernel* t : tables::all_kernels) {
         const mollify::Kernel k = mollify::kernel(t->spec, t->dim);

@@ -1,11 +1,13 @@
 // The run-time form of a kernel, chosen by a spec string (a scene file, a
 // command line): a pointer to the emitted table and to the batch functions
-// of its StaticKernel, instantiated for every emitted table. A batch costs
-// one indirect call more than the compile-time form; nothing else differs.
+// of its StaticKernel, instantiated for every emitted table at both
+// Precisions. A batch costs one indirect call more than the compile-time
+// form; nothing else differs.
 //
 //   const mollify::Kernel w = mollify::kernel("wendland:k=2", 3);
 //   w.evaluate(mollify::QuantityId::value, r, h, out);   // spans
 //   w.pairs({dx, dy, dz}, h, values, {gx, gy, gz});
+//   const mollify::Kernel f = w.with(mollify::Precision::fast);  // or kernel(spec, 3, Precision::fast)
 #pragma once
 
 #include <mollify/spec.hpp>
@@ -33,19 +35,24 @@ using BatchFunction = void (*)(const double* r, double* out, std::size_t n, cons
 using PairsFunction = void (*)(const std::span<const double>* x, const Smoothing& s, double* w,
                                const std::span<double>* grad, std::size_t n);
 
-struct KernelOps {
-    const table::Kernel* table;
+// The batch functions of one kernel at one Precision.
+struct PrecisionOps {
     std::array<BatchFunction, table::quantity_count> batch;
     PairsFunction pairs;
 };
 
+struct KernelOps {
+    const table::Kernel* table;
+    std::array<PrecisionOps, 2> precision;  // indexed by Precision
+};
+
 #ifdef MOLLIFY_REGISTRY_DEFINED_HERE
-template <const table::Kernel& K, int Q>
+template <const table::Kernel& K, Precision Pr, int Q>
 void batch(const double* r, double* out, std::size_t n, const Smoothing& s) {
-    StaticKernel<K>::template evaluate_unchecked<static_cast<QuantityId>(Q)>(r, out, n, s);
+    StaticKernel<K, Pr>::template evaluate_unchecked<static_cast<QuantityId>(Q)>(r, out, n, s);
 }
 
-template <const table::Kernel& K>
+template <const table::Kernel& K, Precision Pr>
 void pairs(const std::span<const double>* x, const Smoothing& s, double* w, const std::span<double>* grad,
            std::size_t n) {
     constexpr int D = K.dim;
@@ -55,12 +62,19 @@ void pairs(const std::span<const double>* x, const Smoothing& s, double* w, cons
         in[c] = x[c];
         out[c] = grad[c];
     }
-    StaticKernel<K>::pairs_unchecked(in, s, w, out, n);
+    StaticKernel<K, Pr>::pairs_unchecked(in, s, w, out, n);
 }
 
-template <const table::Kernel& K, std::size_t... Q>
-constexpr KernelOps ops_of(std::index_sequence<Q...>) {
-    return {&K, {&batch<K, static_cast<int>(Q)>...}, &pairs<K>};
+template <const table::Kernel& K, Precision Pr, std::size_t... Q>
+constexpr PrecisionOps precision_ops(std::index_sequence<Q...>) {
+    return {{&batch<K, Pr, static_cast<int>(Q)>...}, &pairs<K, Pr>};
+}
+
+template <const table::Kernel& K>
+constexpr KernelOps ops_of() {
+    constexpr auto quantities = std::make_index_sequence<table::quantity_count>{};
+    static_assert(static_cast<int>(Precision::accurate) == 0 && static_cast<int>(Precision::fast) == 1);
+    return {&K, {precision_ops<K, Precision::accurate>(quantities), precision_ops<K, Precision::fast>(quantities)}};
 }
 
 // Kernels Part, Part + Parts, Part + 2 Parts, ... of the catalogue: the
@@ -69,7 +83,7 @@ constexpr KernelOps ops_of(std::index_sequence<Q...>) {
 template <std::size_t Part, std::size_t Parts, std::size_t... J>
 constexpr auto slice_of(std::index_sequence<J...>) {
     return std::array<KernelOps, sizeof...(J)>{
-        ops_of<*tables::all_kernels[Part + J * Parts]>(std::make_index_sequence<table::quantity_count>{})...};
+        ops_of<*tables::all_kernels[Part + J * Parts]>()...};
 }
 
 // Instantiated only where a kernel is looked up by name (a variable
@@ -131,7 +145,15 @@ inline namespace MOLLIFY_ISA {
 
 class Kernel {
 public:
-    explicit Kernel(const detail::KernelOps& ops) : ops_(&ops) {}
+    explicit Kernel(const detail::KernelOps& ops, Precision precision = Precision::accurate)
+        : ops_(&ops), precision_(precision) {
+        if (precision != Precision::accurate && precision != Precision::fast)
+            fail("precision " + std::to_string(static_cast<int>(precision)) + " does not exist");
+    }
+
+    // The same kernel evaluated at another Precision (both are compiled in).
+    Kernel with(Precision precision) const { return Kernel(*ops_, precision); }
+    Precision precision() const { return precision_; }
 
     const table::Kernel& table() const { return *ops_->table; }
     std::string_view spec() const { return ops_->table->spec; }
@@ -144,7 +166,7 @@ public:
         require(q, s);
         detail::check_sizes(r.size(), out.size(), "evaluate");
         detail::check_radii(r);
-        ops_->batch[static_cast<int>(q)](r.data(), out.data(), r.size(), s);
+        ops().batch[static_cast<int>(q)](r.data(), out.data(), r.size(), s);
     }
     void evaluate(QuantityId q, std::span<const double> r, double h, std::span<double> out) const {
         evaluate(q, r, smoothing(h), out);
@@ -172,10 +194,12 @@ public:
             detail::check_sizes(n, grad[c].size(), "pairs (gradient)");
             detail::check_coordinates(x[c], static_cast<int>(c));
         }
-        ops_->pairs(x.data(), s, w.data(), grad.data(), n);
+        ops().pairs(x.data(), s, w.data(), grad.data(), n);
     }
 
 private:
+    const detail::PrecisionOps& ops() const { return ops_->precision[static_cast<int>(precision_)]; }
+
     void require(QuantityId q, const Smoothing& s) const {
         if (s.dim() != dim())
             fail("a smoothing length made for D = " + std::to_string(s.dim()) + " used with " + std::string(spec()) +
@@ -187,17 +211,18 @@ private:
     }
 
     const detail::KernelOps* ops_;
+    Precision precision_;
 };
 
 // The kernel of a spec (any spelling of the grammar, include/mollify/spec.hpp)
 // in dimension dim, from the emitted tables on the include path. (A template
 // for the reason find_ops is one.)
 template <class = void>
-Kernel kernel(std::string_view spec, int dim) {
+Kernel kernel(std::string_view spec, int dim, Precision precision = Precision::accurate) {
     if (dim < 1 || dim > 3) fail("dimension " + std::to_string(dim) + " is not 1, 2 or 3");
     const std::string key = spec_string(parse_spec(spec));
     bool other_dim = false;
-    if (const detail::KernelOps* ops = detail::find_ops<>(key, dim, other_dim)) return Kernel(*ops);
+    if (const detail::KernelOps* ops = detail::find_ops<>(key, dim, other_dim)) return Kernel(*ops, precision);
     if (other_dim)
         fail("kernel " + key + " is not defined in D = " + std::to_string(dim) + " (its tables exist for other dimensions)");
     fail("kernel " + key + " is not in the emitted tables; emit it with: mollify-gen emit --only '" + key + "'");

@@ -2,6 +2,11 @@
 // against error, made per kernel type (StaticKernel<table, Precision>).
 #pragma once
 
+#include <mollify/error.hpp>
+
+#include <string>
+#include <string_view>
+
 namespace mollify {
 
 enum class Precision {
@@ -18,5 +23,14 @@ enum class Precision {
     // the speed (bench/results/kernel_bench.md).
     fast,
 };
+
+// Names as in scene files and on command lines: "accurate", "fast".
+inline std::string_view name(Precision p) { return p == Precision::fast ? "fast" : "accurate"; }
+
+inline Precision precision(std::string_view name) {
+    if (name == "accurate") return Precision::accurate;
+    if (name == "fast") return Precision::fast;
+    fail("unknown precision '" + std::string(name) + "' (accurate or fast)");
+}
 
 }  // namespace mollify

@@ -71,7 +71,13 @@ void run(const Scene& scene, Output& out) {
     const double cfl = scene.number("sph_periodic.cfl", 0.1);
     const sph::Integrator method = sph::integrator(scene.string("sph_periodic.integrator", "leapfrog"));
 
-    const Kernel kernel = mollify::kernel(spec, D);
+    Precision precision = Precision::accurate;
+    try {
+        precision = mollify::precision(scene.string("sph_periodic.precision", "accurate"));
+    } catch (const Error& e) {
+        scene.reject("sph_periodic.precision", e.what());
+    }
+    const Kernel kernel = mollify::kernel(spec, D, precision);
     Setup<D> s = lattice<D>(n, amplitude, width, drift);
     const auto domain = sph::Domain<D>::periodic(1.0);
     sph::BarotropicEuler<D, Kernel> system(kernel, eps, domain, s.mass);
@@ -126,7 +132,7 @@ void run(const Scene& scene, Output& out) {
 
     std::string& md = out.summary();
     md += "# " + scene.title() + "\n\n";
-    md += "Franz's SPH scheme for p = ρ²/2 on the periodic box [0, 1)^" + std::to_string(D) + " with " + spec + ", " +
+    md += "Franz's SPH scheme for p = ρ²/2 on the periodic box [0, 1)^" + std::to_string(D) + " with " + spec + " (Precision::" + std::string(name(precision)) + "), " +
           std::to_string(s.mass.size()) + " particles (" + std::to_string(n) + " per side), ε = " + format(ratio, 3) +
           " lattice spacings, " + sph::name(method) + ", Δt ≤ " + format(dt_max, 3) + " (CFL " + format(cfl, 2) + "), " +
           std::to_string(steps) + " steps, " + format(static_cast<double>(system.interactions()) / wall, 3) +
@@ -140,7 +146,7 @@ void run(const Scene& scene, Output& out) {
 
 void run_sph_periodic(const Scene& scene, Output& out) {
     scene.only("sph_periodic", {"dim", "kernel", "particles_per_side", "eps_over_h", "amplitude", "width", "drift",
-                                "snapshots", "cfl", "integrator"});
+                                "snapshots", "cfl", "integrator", "precision"});
     const long dim = scene.integer("sph_periodic.dim", 2);
     if (dim == 2)
         run<2>(scene, out);
