@@ -159,6 +159,31 @@ TEST(MollifyRun, PoissonFree) {
         EXPECT_TRUE(fs::exists(w.dir / "out" / "pf" / f)) << f;
 }
 
+// The Franz experiment: a precision that does not exist, or a checked kernel
+// that is not among the scene's, exits 1 naming it before any run and writes
+// nothing; a small study in Precision::fast writes its precision check (the
+// same kernel in accurate, any spelling of its spec).
+TEST(MollifyRun, FranzPrecisionAndCheckedKernels) {
+    Workdir w;
+    const std::string head = std::string(scene_head) +
+                             "[franz]\ncase = \"torus\"\nk = [1]\nl = [1]\nm = [1, 2]\nepsilon = [0.25, 0.2]\n";
+    w.file("scenes/bad_precision.toml", head + "precision = \"exact\"\n");
+    Outcome r = w.run("run scenes/bad_precision.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("franz.precision = \"exact\": unknown precision 'exact'"), std::string::npos) << r.err;
+    w.file("scenes/bad_check.toml", head + "precision_check = [\"wendland:k=3\"]\n");
+    r = w.run("run scenes/bad_check.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("kernel 'wendland:k=3' is not among the scene's kernels"), std::string::npos) << r.err;
+    EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"});
+    w.file("scenes/good.toml", head + "precision = \"fast\"\nprecision_check = [\"wendland:l=1,k=1\"]\n");
+    r = w.run("run scenes/good.toml");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string check = slurp(w.dir / "out" / "demo" / "precision_check.csv");
+    EXPECT_NE(check.find("Q_kin (fast),Q_kin (accurate)"), std::string::npos) << check;
+    EXPECT_NE(check.find("\"wendland:k=1,l=1\",0.2,"), std::string::npos) << check;
+}
+
 // The vortex-sheet experiment: bad parameters exit 1 naming the value before
 // anything is written; a tiny sheet writes its positions, pictures, summary.
 TEST(MollifyRun, VortexSheet) {

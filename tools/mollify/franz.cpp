@@ -46,12 +46,34 @@ struct Settings {
     std::vector<double> eps;
     double t_end = 0.8, cfl = 0.05;
     sph::Integrator integrator = sph::Integrator::rk4;
-    std::vector<std::string> dt_check;  // specs re-run at the smallest eps with dt/2
+    std::vector<std::size_t> dt_check;  // kernels re-run at the smallest eps with dt/2
     Precision precision = Precision::accurate;
-    std::vector<std::string> precision_check;  // specs re-run at the smallest eps at the other precision
+    std::vector<std::size_t> precision_check;  // kernels re-run at the smallest eps at the other precision
     std::string printed_file, printed_table;
-    std::vector<std::string> plot_kernels;  // time-vs-error plot
+    std::vector<std::size_t> plot_kernels;  // time-vs-error plot
 };
+
+// The canonical spelling of a spec the scene gives under `key`.
+std::string canonical(const Scene& scene, std::string_view key, const std::string& spec) {
+    try {
+        return spec_string(parse_spec(spec));
+    } catch (const Error& e) {
+        scene.reject(key, e.what());
+    }
+}
+
+// The scene's kernels named under `key` (any spelling), as indices into
+// s.kernels: checked before any run, so a typo costs no study.
+std::vector<std::size_t> named_kernels(const Scene& scene, const Settings& s, std::string_view key) {
+    std::vector<std::size_t> out;
+    for (const std::string& spec : scene.strings(key)) {
+        const std::string c = canonical(scene, key, spec);
+        const auto it = std::find_if(s.kernels.begin(), s.kernels.end(), [&](const KernelChoice& k) { return k.spec == c; });
+        if (it == s.kernels.end()) scene.reject(key, "kernel '" + spec + "' is not among the scene's kernels");
+        out.push_back(static_cast<std::size_t>(it - s.kernels.begin()));
+    }
+    return out;
+}
 
 Settings read(const Scene& scene) {
     scene.only("franz", {"case", "k", "l", "m", "kernels", "epsilon", "t_end", "cfl", "integrator", "dt_check",
@@ -72,10 +94,11 @@ Settings read(const Scene& scene) {
                     if (k < 0 || k > 12 || l < 0 || l > 12 || m < 1 || m > 12)
                         scene.reject("franz.k", "(k, l, m) = (" + std::to_string(k) + ", " + std::to_string(l) + ", " +
                                                     std::to_string(m) + ") is outside k, l = 0..12, m = 1..12");
-                    s.kernels.push_back({grid_spec(int(k), int(l), int(m)), int(k), int(l), int(m)});
+                    s.kernels.push_back({canonical(scene, "franz.k", grid_spec(int(k), int(l), int(m))), int(k), int(l), int(m)});
                 }
     if (scene.has("franz.kernels"))
-        for (const std::string& spec : scene.strings("franz.kernels")) s.kernels.push_back({spec});
+        for (const std::string& spec : scene.strings("franz.kernels"))
+            s.kernels.push_back({canonical(scene, "franz.kernels", spec)});
     if (s.kernels.empty()) scene.reject("franz.k", "no kernels: give k, l, m lists or a kernels list");
     s.eps = scene.numbers("franz.epsilon");
     if (s.eps.size() < 2) scene.reject("franz.epsilon", "a rate needs at least two values of eps");
@@ -98,17 +121,16 @@ Settings read(const Scene& scene) {
     s.cfl = scene.number("franz.cfl", 0.05);
     if (!(s.cfl > 0 && s.cfl <= 1)) scene.reject("franz.cfl", "cfl = " + format(s.cfl, 6) + " is not in (0, 1]");
     s.integrator = sph::integrator(scene.string("franz.integrator", "rk4"));
-    s.dt_check = scene.has("franz.dt_check") ? scene.strings("franz.dt_check")
-                                             : std::vector<std::string>{s.kernels.front().spec};
+    s.dt_check = scene.has("franz.dt_check") ? named_kernels(scene, s, "franz.dt_check") : std::vector<std::size_t>{0};
     try {
         s.precision = precision(scene.string("franz.precision", "accurate"));
     } catch (const Error& e) {
         scene.reject("franz.precision", e.what());
     }
-    if (scene.has("franz.precision_check")) s.precision_check = scene.strings("franz.precision_check");
+    if (scene.has("franz.precision_check")) s.precision_check = named_kernels(scene, s, "franz.precision_check");
     s.printed_file = scene.string("franz.printed", "");
     s.printed_table = scene.string("franz.printed_table", "");
-    if (scene.has("franz.time_vs_error")) s.plot_kernels = scene.strings("franz.time_vs_error");
+    if (scene.has("franz.time_vs_error")) s.plot_kernels = named_kernels(scene, s, "franz.time_vs_error");
     return s;
 }
 
@@ -236,22 +258,20 @@ std::string per_kernel_plot(const std::string& file, const std::vector<std::stri
 
 // Per kernel drawn in the time-against-error plot: the CPU time of the
 // cheapest run reaching each Q_kin target (which kernel gets there fastest).
-Table cost_table(const Settings& s, const std::vector<std::vector<Run>>& runs, const std::vector<std::string>& chosen) {
+Table cost_table(const Settings& s, const std::vector<std::vector<Run>>& runs, const std::vector<std::size_t>& chosen) {
     constexpr double targets[] = {1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
     Table t{{"kernel"}, {}};
     for (double q : targets) t.columns.push_back("Q_kin ≤ " + format(q, 1) + " [s]");
-    for (const std::string& spec : chosen)
-        for (std::size_t i = 0; i < s.kernels.size(); ++i) {
-            if (s.kernels[i].spec != spec) continue;
-            std::vector<std::string> row{spec};
-            for (double q : targets) {
-                double best = INFINITY;
-                for (const Run& r : runs[i])
-                    if (r.q.kinetic <= q) best = std::min(best, r.cpu);
-                row.push_back(std::isfinite(best) ? format(best, 3) : "–");
-            }
-            t.add(row);
+    for (const std::size_t i : chosen) {
+        std::vector<std::string> row{s.kernels[i].spec};
+        for (double q : targets) {
+            double best = INFINITY;
+            for (const Run& r : runs[i])
+                if (r.q.kinetic <= q) best = std::min(best, r.cpu);
+            row.push_back(std::isfinite(best) ? format(best, 3) : "–");
         }
+        t.add(row);
+    }
     return t;
 }
 }  // namespace
@@ -286,10 +306,8 @@ void run_franz(const Scene& scene, Output& out) {
 
     // Time-step check: the smallest eps again with dt/2.
     Table dt_table{{"kernel", "eps", "dt", "Q_kin", "Q_kin(dt/2)", "relative change", "energy drift", "energy drift(dt/2)"}, {}};
-    for (const std::string& spec : s.dt_check) {
-        const auto it = std::find_if(s.kernels.begin(), s.kernels.end(), [&](const KernelChoice& k) { return k.spec == spec; });
-        if (it == s.kernels.end()) scene.reject("franz.dt_check", "kernel '" + spec + "' is not among the scene's kernels");
-        const std::size_t i = static_cast<std::size_t>(it - s.kernels.begin());
+    for (const std::size_t i : s.dt_check) {
+        const std::string& spec = s.kernels[i].spec;
         progress("franz dt/2 check", 0, 1, spec);
         const Run& a = runs[i].back();
         const Run b = simulate(s, kernels[i], a.eps, 0.5);
@@ -307,10 +325,8 @@ void run_franz(const Scene& scene, Output& out) {
                            "Q_kin (" + std::string(name(other)) + ")", "relative change kin", "relative change pot",
                            "cpu_s (" + std::string(name(s.precision)) + ")", "cpu_s (" + std::string(name(other)) + ")"},
                           {}};
-    for (const std::string& spec : s.precision_check) {
-        const auto it = std::find_if(s.kernels.begin(), s.kernels.end(), [&](const KernelChoice& k) { return k.spec == spec; });
-        if (it == s.kernels.end()) scene.reject("franz.precision_check", "kernel '" + spec + "' is not among the scene's kernels");
-        const std::size_t i = static_cast<std::size_t>(it - s.kernels.begin());
+    for (const std::size_t i : s.precision_check) {
+        const std::string& spec = s.kernels[i].spec;
         progress("franz precision check", 0, 1, spec);
         const Run& a = runs[i].back();
         const Run b = simulate(s, kernels[i].with(other), a.eps, 1.0);
@@ -371,17 +387,15 @@ void run_franz(const Scene& scene, Output& out) {
              "set key noautotitle; set logscale xy; set format y '10^{%L}'; set xlabel 'ε'; set ylabel 'Q_{kin}(t_{end})'; set key outside right; set title 'Franz " +
                  s.problem.name + ": Q_{kin} against ε'\n" + per_kernel_plot("errors_by_kernel.dat", titles, "1:2"),
              1100, 700);
-    std::vector<std::string> chosen = s.plot_kernels;
+    std::vector<std::size_t> chosen = s.plot_kernels;
     if (chosen.empty())
-        for (const KernelChoice& k : s.kernels) chosen.push_back(k.spec);
+        for (std::size_t i = 0; i < s.kernels.size(); ++i) chosen.push_back(i);
     std::string tv = "set key noautotitle; set logscale xy; set format x '10^{%L}'; set xlabel 'Q_{kin}(t_{end})'; set ylabel 'CPU time [s], all threads'; set key outside right; "
                      "set title 'Franz " + s.problem.name + ": CPU time against error (lower left is better)'\nplot ";
     bool first = true;
-    for (const std::string& spec : chosen) {
-        const auto it = std::find_if(s.kernels.begin(), s.kernels.end(), [&](const KernelChoice& k) { return k.spec == spec; });
-        if (it == s.kernels.end()) scene.reject("franz.time_vs_error", "kernel '" + spec + "' is not among the scene's kernels");
-        tv += std::string(first ? "" : ", ") + "'errors_by_kernel.dat' index " + std::to_string(it - s.kernels.begin()) +
-              " using 2:4 with linespoints title '" + it->label() + "'";
+    for (const std::size_t i : chosen) {
+        tv += std::string(first ? "" : ", ") + "'errors_by_kernel.dat' index " + std::to_string(i) +
+              " using 2:4 with linespoints title '" + s.kernels[i].label() + "'";
         first = false;
     }
     out.plot("time_vs_error.png", tv + "\n", 1100, 700);
