@@ -279,13 +279,23 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
 
 int main(int argc, char** argv) {
     const std::string md = mollify::bench::initialize(argc, argv);
-    using C4_1 = mollify::StaticKernel<tables::wendland_k_2_D1>;
-    using C4_3 = mollify::StaticKernel<tables::wendland_k_2_D3>;
-    using Combo = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_D1>;
+    // Precision::fast, as the SPH scenes run (the kernel's rounding is far
+    // below any SPH error); the 1D kernels also in Precision::accurate, the
+    // cost of nearly correctly rounded kernels in a sweep.
+    constexpr auto fast = mollify::Precision::fast;
+    using C4_1 = mollify::StaticKernel<tables::wendland_k_2_D1, fast>;
+    using C4_3 = mollify::StaticKernel<tables::wendland_k_2_D3, fast>;
+    using Combo = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_D1, fast>;
+    using C4_1_accurate = mollify::StaticKernel<tables::wendland_k_2_D1>;
+    using Combo_accurate = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_D1>;
     // d = 1, eps = 20 dx; d = 3, eps = 2 dx; N = 10^4, 10^5, 10^6 (3D: 22^3, 46^3, 100^3).
     register_sweeps<1, C4_1, sph::SortedSweep>("SortedSweep", "wendland:k=2", 20, {10'000, 100'000, 1'000'000});
+    register_sweeps<1, C4_1_accurate, sph::SortedSweep>("SortedSweep", "wendland:k=2 (accurate)", 20,
+                                                        {10'000, 100'000, 1'000'000});
     register_sweeps<1, Combo, sph::SortedSweep>("SortedSweep", "combo:m=3,base=wendland:k=3", 20,
                                                 {10'000, 100'000, 1'000'000});
+    register_sweeps<1, Combo_accurate, sph::SortedSweep>("SortedSweep", "combo:m=3,base=wendland:k=3 (accurate)", 20,
+                                                         {10'000, 100'000, 1'000'000});
     register_sweeps<1, ZeroKernel, sph::SortedSweep>("SortedSweep", "zero", 20, {10'000, 100'000, 1'000'000});
     register_sweeps<1, C4_1, sph::AllPairs<1>>("AllPairs", "wendland:k=2", 20, {1'000, 3'000, 10'000});
     register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100});
