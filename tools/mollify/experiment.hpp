@@ -7,6 +7,9 @@
 #include "output.hpp"
 #include "scene.hpp"
 
+#include <mollify/error.hpp>
+#include <mollify/precision.hpp>
+
 #include <span>
 #include <string_view>
 
@@ -17,6 +20,16 @@ struct Experiment {
     std::string_view summary;  // one line for `mollify run --help` / errors
     void (*run)(const Scene&, Output&);
 };
+
+// The Precision a scene names under `key` ("accurate", the default, or
+// "fast"); an unknown name is an Error naming the file, line and key.
+inline Precision scene_precision(const Scene& scene, std::string_view key) {
+    try {
+        return precision(scene.string(key, "accurate"));
+    } catch (const Error& e) {
+        scene.reject(key, e.what());
+    }
+}
 
 // All experiments, in the order `mollify` lists them.
 std::span<const Experiment> experiments();

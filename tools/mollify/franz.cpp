@@ -122,11 +122,7 @@ Settings read(const Scene& scene) {
     if (!(s.cfl > 0 && s.cfl <= 1)) scene.reject("franz.cfl", "cfl = " + format(s.cfl, 6) + " is not in (0, 1]");
     s.integrator = sph::integrator(scene.string("franz.integrator", "rk4"));
     s.dt_check = scene.has("franz.dt_check") ? named_kernels(scene, s, "franz.dt_check") : std::vector<std::size_t>{0};
-    try {
-        s.precision = precision(scene.string("franz.precision", "accurate"));
-    } catch (const Error& e) {
-        scene.reject("franz.precision", e.what());
-    }
+    s.precision = scene_precision(scene, "franz.precision");
     if (scene.has("franz.precision_check")) s.precision_check = named_kernels(scene, s, "franz.precision_check");
     s.printed_file = scene.string("franz.printed", "");
     s.printed_table = scene.string("franz.printed_table", "");

@@ -71,12 +71,7 @@ void run(const Scene& scene, Output& out) {
     const double cfl = scene.number("sph_periodic.cfl", 0.1);
     const sph::Integrator method = sph::integrator(scene.string("sph_periodic.integrator", "leapfrog"));
 
-    Precision precision = Precision::accurate;
-    try {
-        precision = mollify::precision(scene.string("sph_periodic.precision", "accurate"));
-    } catch (const Error& e) {
-        scene.reject("sph_periodic.precision", e.what());
-    }
+    const Precision precision = scene_precision(scene, "sph_periodic.precision");
     const Kernel kernel = mollify::kernel(spec, D, precision);
     Setup<D> s = lattice<D>(n, amplitude, width, drift);
     const auto domain = sph::Domain<D>::periodic(1.0);
