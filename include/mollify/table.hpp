@@ -36,6 +36,10 @@ enum class Basis : unsigned char {
 
 enum class Var : unsigned char { r, r2, shifted };
 
+// The enumerators' names, in order (the data format, table_file.hpp).
+inline constexpr const char* basis_names[] = {"one", "sqrt_power", "arcsech", "log", "arcsin"};
+inline constexpr const char* var_names[] = {"r", "r2", "shifted"};
+
 struct Term {
     Basis basis;
     int s_power;
