@@ -4,6 +4,8 @@
 // time-step check, and bad input.
 #include <mollify/kernel.hpp>
 #include <mollify/sph.hpp>
+#include "studies/convergence.hpp"
+#include "studies/franz_cases.hpp"
 
 #include <gtest/gtest.h>
 
