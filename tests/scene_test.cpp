@@ -1,6 +1,6 @@
 // The mollify app's infrastructure (tools/mollify): scene files and their
 // errors (each names the file, the key or value, the line), the atomic output
-// folder, tables, gnuplot.
+// folder, tables, gnuplot, progress.
 #include "experiment.hpp"
 #include "output.hpp"
 #include "scene.hpp"
@@ -9,10 +9,16 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fcntl.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -311,8 +317,11 @@ TEST(Output, CreatesParentFolders) {
 
 bool have_gnuplot() { return std::system("gnuplot --version >/dev/null 2>&1") == 0; }
 
+// gnuplot is a dependency of the app (tools/install-deps.sh installs
+// gnuplot-nox, CI runs it): without it this test fails rather than skips, so
+// the PNG path is never silently untested.
 TEST(Output, GnuplotWritesAPng) {
-    if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not installed (tools/install-deps.sh)";
+    ASSERT_TRUE(have_gnuplot()) << "gnuplot is not installed (tools/install-deps.sh installs gnuplot-nox)";
     Scratch tmp;
     {
         Output out(tmp.dir / "run");
@@ -346,7 +355,81 @@ TEST(Output, MissingGnuplotIsAClearError) {
     EXPECT_NE(message.find("tools/install-deps.sh"), std::string::npos) << message;
 }
 
-TEST(Progress, DoesNotThrow) {
-    for (std::size_t i = 0; i <= 1000; ++i) progress("test", i, 1000, "step");
-    progress_clear();
+// Standard error (file descriptor 2, which std::cerr writes to) redirected to
+// a file while alive. A file is not a terminal, so progress() takes its
+// one-line-per-call path; it decides that once per process, at its first
+// call, which must therefore happen inside the capture (no other test here
+// calls it).
+class CapturedStderr {
+public:
+    explicit CapturedStderr(fs::path file) : file_(std::move(file)) {
+        std::cerr.flush();
+        saved_ = ::dup(STDERR_FILENO);
+        const int fd = ::open(file_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+        if (saved_ < 0 || fd < 0 || ::dup2(fd, STDERR_FILENO) < 0)
+            throw std::runtime_error("cannot redirect stderr to " + file_.string());
+        ::close(fd);
+    }
+    CapturedStderr(const CapturedStderr&) = delete;
+    CapturedStderr& operator=(const CapturedStderr&) = delete;
+    ~CapturedStderr() {
+        std::cerr.flush();
+        ::dup2(saved_, STDERR_FILENO);
+        ::close(saved_);
+    }
+    std::string text() const {
+        std::cerr.flush();
+        return slurp(file_);
+    }
+
+private:
+    fs::path file_;
+    int saved_ = -1;
+};
+
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+}
+
+// Into a log file: the first call, then at most one line a second, and the
+// final call (done == total) always; after it the next stage shows at once.
+// The bound on the lines in between comes from the loop's measured duration,
+// so a slow machine cannot fail it; a progress() that printed every call
+// (1001 lines in well under a second) or dropped the final line fails.
+TEST(Progress, LogFileGetsFirstRateLimitedAndFinalLines) {
+    Scratch tmp;
+    std::string text;
+    double seconds = 0;
+    {
+        const CapturedStderr err(tmp.dir / "stderr.log");
+        const auto start = std::chrono::steady_clock::now();
+        for (std::size_t i = 0; i <= 1000; ++i) progress("test", i, 1000, "step");
+        seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        progress("next", 0, 2);
+        progress_clear();  // no in-place line in a file: writes nothing
+        text = err.text();
+    }
+    EXPECT_EQ(text.find('\r'), std::string::npos) << "in-place rewriting in a file";
+    ASSERT_FALSE(text.empty());
+    EXPECT_EQ(text.back(), '\n');
+    const std::vector<std::string> lines = lines_of(text);
+    ASSERT_GE(lines.size(), 3u) << text;
+    EXPECT_EQ(lines.front(), "[test] 0/1000 step");
+    EXPECT_EQ(lines[lines.size() - 2], "[test] 1000/1000 step");
+    EXPECT_EQ(lines.back(), "[next] 0/2");
+    const std::size_t between = lines.size() - 3;
+    EXPECT_LE(between, static_cast<std::size_t>(seconds)) << text;
+    std::size_t last = 0;
+    for (std::size_t i = 1; i + 2 < lines.size(); ++i) {
+        const std::string& l = lines[i];
+        const std::string head = "[test] ", tail = "/1000 step";
+        ASSERT_TRUE(l.starts_with(head) && l.ends_with(tail)) << l;
+        const std::size_t done = std::stoul(l.substr(head.size(), l.size() - head.size() - tail.size()));
+        EXPECT_GT(done, last) << l;
+        EXPECT_LT(done, 1000u) << l;
+        last = done;
+    }
 }

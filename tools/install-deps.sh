@@ -7,7 +7,7 @@ packages=(
   g++ cmake make            # toolchain
   libgmp-dev libmpfr-dev    # exact arithmetic (GMP rationals, MPFR)
   libboost-dev              # Boost.Multiprecision (mpq_rational, mpfr_float), Boost.Spirit X3
-  libeigen3-dev             # double-precision linear algebra (tools/vandermonde-fp)
+  libeigen3-dev             # double-precision linear algebra (tools/vandermonde-fp, tools/studies)
   libcli11-dev              # command-line parsing
   nlohmann-json3-dev        # catalogue.json and the transcribed seed tables
   libgtest-dev              # tests

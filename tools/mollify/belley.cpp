@@ -11,7 +11,7 @@
 //   Tables 11-15  trapezoidal sums (5.2): poly6' vs delta' (q = 1)
 //   Tables 16-20  trapezoidal sums (5.2): poly6'' vs delta'' (q = 2)
 //   Tables 21-25  Simpson sums (5.3): poly6'' vs delta'' (q = 2)
-// The estimators are include/mollify/sph/estimate.hpp; the printed values
+// The estimators are tools/studies/studies/estimate.hpp; the printed values
 // (scenes/printed/belley_tables.json) are only compared with, never used.
 //
 // Random points differ from Belley's, so agreement is judged in order of
@@ -24,7 +24,7 @@
 #include "scene.hpp"
 
 #include <mollify/error.hpp>
-#include <mollify/sph/estimate.hpp>
+#include "studies/estimate.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -504,7 +504,7 @@ void run_belley(const Scene& scene, Output& out) {
     s += "Belley (seed 002, chapitre 2, §5): N uniform random points sorted in [-2, 2] (seed " + std::to_string(seed) + ", " +
          std::to_string(realisations) + " realisations), mean |f^(q)(x_i) - estimate| over the points x_i in [-1, 1]. "
          "Kernels from mollify's tables: poly6 is exactly Belley's k_{h,poly6} (8); box, box-d1, box-d2 are his "
-         "delta (12), delta' (16), delta'' (20) at h = 1, scaled as h^(-1-q) W(x/h) (`include/mollify/sph/estimate.hpp`).\n\n";
+         "delta (12), delta' (16), delta'' (20) at h = 1, scaled as h^(-1-q) W(x/h) (`tools/studies/studies/estimate.hpp`).\n\n";
     s += "Run time: " + format(seconds, 3) + " s for the estimates (" + std::to_string(estimates.size()) + " estimates × " +
          std::to_string(functions.size()) + " functions × " + std::to_string(ns.size()) + " N × " + std::to_string(hs.size()) +
          " h × " + std::to_string(realisations) + " realisations).\n\n";

@@ -39,10 +39,9 @@ std::span<const Experiment> experiments();
 const Experiment& find_experiment(const Scene& scene);
 
 // Defined one per file: franz.cpp, belley.cpp, sph_periodic.cpp,
-// poisson_free.cpp, poisson_periodic.cpp, vortex_sheet.cpp; pending.cpp
-// defines a stub (an Error "experiment X is not built yet") for each of those
-// files that does not exist yet (tools/mollify/CMakeLists.txt). Tests that
-// link mollify_app without the experiments link mollify_app_stubs instead.
+// poisson_free.cpp, poisson_periodic.cpp, vortex_sheet.cpp, all compiled into
+// the mollify command. Tests that link mollify_app without the experiments
+// link test doubles of them instead (tests/experiment_doubles.cpp).
 void run_franz(const Scene&, Output&);
 void run_belley(const Scene&, Output&);
 void run_sph_periodic(const Scene&, Output&);

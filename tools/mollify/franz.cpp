@@ -8,6 +8,8 @@
 #include <mollify/kernel.hpp>
 
 #include <mollify/sph.hpp>
+#include "studies/convergence.hpp"
+#include "studies/franz_cases.hpp"
 
 #include <nlohmann/json.hpp>
 
