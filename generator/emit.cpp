@@ -33,11 +33,14 @@ std::string banner(const std::string& command, const std::string& comment) {
            " DO NOT EDIT: regenerate with that command; a test fails on any difference.\n";
 }
 
-std::string identifier(const std::string& spec, int dim) {
-    std::string id;
-    for (char c : spec) id += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-    return id + "_D" + std::to_string(dim);
+// `text` with every character but letters and digits written '_'.
+std::string sanitized(const std::string& text) {
+    std::string out;
+    for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+    return out;
 }
+
+std::string identifier(const std::string& spec, int dim) { return sanitized(spec) + "_D" + std::to_string(dim); }
 
 const char* basis_name(Basis b) {
     switch (b) {
@@ -785,14 +788,51 @@ KernelText render_kernel(const CatalogueEntry& e, std::vector<std::string>& fail
     return out;
 }
 
-std::string family_file(Family f) {
-    switch (f) {
-        case Family::mollifier: return "anderson";
-        case Family::wendland:
-        case Family::wendland_missing: return "wendland";
-        case Family::combo: return "combo";
-        default: return "classic";
-    }
+// The header of one kernel in one dimension, relative to generated/:
+// mollify/tables/<family>/<parameters>_D<dim>.hpp, the family and the
+// parameters being the two sides of the canonical spec's first ':' with
+// every character but letters and digits written '_'
+// (wendland:k=2,l=1 -> wendland/k_2_l_1_D3.hpp, wendland-missing:k=1 ->
+// wendland_missing/k_1_D3.hpp, combo:m=3,base=wendland:k=2 ->
+// combo/m_3_base_wendland_k_2_D3.hpp); a kernel without parameters
+// (poly6, box-d1) goes to classic/<name>_D<dim>.hpp. Its symbol,
+// identifier(spec, dim), is <family>_<parameters>_D<dim> (or
+// <name>_D<dim>), so two kernels share a path only if they share a symbol.
+std::string kernel_header(const std::string& spec, int dim) {
+    const std::size_t colon = spec.find(':');
+    const std::string family = colon == std::string::npos ? "classic" : spec.substr(0, colon);
+    const std::string rest = colon == std::string::npos ? spec : spec.substr(colon + 1);
+    return "mollify/tables/" + sanitized(family) + "/" + identifier(rest, dim) + ".hpp";
+}
+
+std::string kernel_file(const std::string& command, const std::string& text) {
+    return banner(command, "//") +
+           "// Each coefficient is correctly rounded, its exact value beside it; NAME_lo[k] is\n"
+           "// the rounding error (exact - NAME[k]), correctly rounded (table.hpp: Term::c_lo).\n"
+           "#pragma once\n\n#include <mollify/table.hpp>\n\nnamespace mollify::tables {\n" +
+           text + "\n}  // namespace mollify::tables\n";
+}
+
+// The list of every emitted kernel, declared without any table: a program
+// that iterates it links the compiled generated/src/catalogue.cpp (the
+// mollify library) instead of compiling every table itself.
+std::string catalogue_header(const std::string& command) {
+    return banner(command, "//") +
+           "#pragma once\n\n#include <mollify/table.hpp>\n\n#include <span>\n\nnamespace mollify::tables {\n\n"
+           "// Every emitted kernel, in catalogue order (generated/src/catalogue.cpp).\n"
+           "extern const std::span<const table::Kernel* const> all_kernels;\n\n}  // namespace mollify::tables\n";
+}
+
+std::string catalogue_source(const std::string& command, const std::vector<std::string>& headers,
+                             const std::vector<std::string>& ids) {
+    std::string out = banner(command, "//") + "#include <mollify/tables/catalogue.hpp>\n\n";
+    for (const std::string& h : headers) out += "#include <" + h + ">\n";
+    out += "\nnamespace mollify::tables {\n\nnamespace {\n\nconstexpr const table::Kernel* kernels[] = {\n";
+    for (const std::string& id : ids) out += "    &" + id + ",\n";
+    out += "};\n\n}  // namespace\n\n"
+           "constinit const std::span<const table::Kernel* const> all_kernels{kernels};\n\n"
+           "}  // namespace mollify::tables\n";
+    return out;
 }
 
 }  // namespace
@@ -822,35 +862,22 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
         if (!e.empty()) fail(e);
 
     EmitResult result;
-    std::map<std::string, std::string> bodies;
-    std::map<std::string, std::vector<std::string>> ids;
+    std::vector<std::string> headers, ids;  // catalogue order
     json kernels = json::array();
     for (std::size_t i = 0; i < entries.size(); ++i) {
-        const std::string file = family_file(entries[i].spec.family);
-        bodies[file] += texts[i].cpp;
-        ids[file].push_back(texts[i].meta["identifier"]);
+        const std::string spec = texts[i].meta["spec"], id = texts[i].meta["identifier"];
+        const std::string header = kernel_header(spec, entries[i].dim);
+        if (result.files.count(header)) fail("internal: two kernels emitted to " + header + " (" + spec + ")");
+        result.files[header] = kernel_file(command, texts[i].cpp);
+        headers.push_back(header);
+        ids.push_back(id);
         kernels.push_back(texts[i].meta);
         result.certificates += counts[i];
         for (auto& f : failures[i]) result.failed_certificates.push_back(f);
     }
     result.kernels = static_cast<int>(entries.size());
-
-    std::string index = banner(command, "//") + "#pragma once\n\n";
-    for (const char* family : {"anderson", "wendland", "combo", "classic"}) {
-        std::string h = banner(command, "//") +
-                        "// Each coefficient is correctly rounded, its exact value beside it; NAME_lo[k] is\n"
-                        "// the rounding error (exact - NAME[k]), correctly rounded (table.hpp: Term::c_lo).\n"
-                        "#pragma once\n\n#include <mollify/table.hpp>\n\nnamespace mollify::tables {\n";
-        h += bodies[family];
-        h += "\n}  // namespace mollify::tables\n";
-        result.files[std::string("mollify/tables/") + family + ".hpp"] = h;
-        index += std::string("#include <mollify/tables/") + family + ".hpp>\n";
-    }
-    index += "\nnamespace mollify::tables {\n\n// Every emitted kernel, in catalogue order.\ninline constexpr const table::Kernel* all_kernels[] = {\n";
-    for (const char* family : {"anderson", "wendland", "combo", "classic"})
-        for (const auto& id : ids[family]) index += "    &" + id + ",\n";
-    index += "};\n\n}  // namespace mollify::tables\n";
-    result.files["mollify/tables/catalogue.hpp"] = index;
+    result.files["mollify/tables/catalogue.hpp"] = catalogue_header(command);
+    result.files["src/catalogue.cpp"] = catalogue_source(command, headers, ids);
 
     json doc = {{"generated_by", std::string("mollify-gen ") + generator_version},
                 {"command", command},
@@ -860,10 +887,25 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
     return result;
 }
 
+namespace {
+
+// Whether `path` holds exactly `text`: such a file is left alone, so that
+// regenerating unchanged tables keeps their timestamps and rebuilds nothing.
+bool holds(const std::filesystem::path& path, const std::string& text) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec) || std::filesystem::file_size(path, ec) != text.size() || ec)
+        return false;
+    std::ifstream f(path, std::ios::binary);
+    std::string old(text.size(), '\0');
+    return f.read(old.data(), static_cast<std::streamsize>(old.size())) && old == text;
+}
+
+}  // namespace
+
 void write_files(const std::filesystem::path& out, const EmitResult& result) {
-    // Every file goes to a temporary beside its target first; only when all
-    // are written are they renamed into place, so a failure leaves the old
-    // tables intact.
+    // Every changed file goes to a temporary beside its target first; only
+    // when all are written are they renamed into place, so a failure leaves
+    // the old tables intact.
     std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;
     auto discard = [&] {
         for (const auto& [tmp, target] : staged) std::filesystem::remove(tmp);
@@ -871,6 +913,7 @@ void write_files(const std::filesystem::path& out, const EmitResult& result) {
     try {
         for (const auto& [rel, text] : result.files) {
             const std::filesystem::path target = out / rel;
+            if (holds(target, text)) continue;
             std::filesystem::create_directories(target.parent_path());
             const std::filesystem::path tmp = target.string() + ".tmp." + std::to_string(::getpid());
             staged.emplace_back(tmp, target);
