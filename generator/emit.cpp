@@ -580,7 +580,7 @@ public:
     // `parts`: for a combination, its terms' quantities w_j f_j (else empty).
     std::string quantity(const std::string& name, const Radial* f, bool potential_like,
                          const std::vector<Radial>& parts) {
-        if (!f) return "{nullptr, 0}";
+        if (!f) return "{.pieces = nullptr, .npieces = 0}";
         std::vector<std::string> pieces;
         std::vector<EmittedPiece> emitted =
             parts.empty() ? emitted_pieces(*f, potential_like) : combination_pieces(*f, parts, potential_like);
@@ -605,20 +605,16 @@ public:
                 const std::string lo_name = coefficients(cname, c, c_lo, exact);
                 if (term.centre) {
                     const double centre = round_to_double(*term.centre);
-                    term_exprs.push_back("{table::Basis::one, 0, table::Var::shifted, " + hi_text + ", 0, " +
-                                         std::to_string(term.low) + ", " + cname + ", " +
-                                         std::to_string(term.c.size()) + ", " + hex_literal(centre) + ", " +
-                                         hex_literal(low_part(*term.centre, centre)) + ", " + lo_name + "}");
+                    term_exprs.push_back(term_text("one", 0, "shifted", hi_text, 0, term.low, cname, term.c.size(),
+                                                   centre, low_part(*term.centre, centre), lo_name, 0.0));
                     continue;
                 }
                 const std::optional<Q> edge = term.edge ? term.edge : hi;
                 const double edge_hi = edge ? round_to_double(*edge) : 0;
-                term_exprs.push_back("{table::Basis::" + std::string(basis_name(term.basis)) + ", " +
-                                     std::to_string(term.s_power) + ", table::Var::" + (term.square ? "r2" : "r") +
-                                     ", " + (edge ? hex_literal(edge_hi) : hi_text) + ", " +
-                                     std::to_string(term.edge_power) + ", " + std::to_string(term.low) + ", " +
-                                     cname + ", " + std::to_string(term.c.size()) + ", 0, 0, " + lo_name + ", " +
-                                     hex_literal(edge ? low_part(*edge, edge_hi) : 0.0) + "}");
+                term_exprs.push_back(term_text(basis_name(term.basis), term.s_power, term.square ? "r2" : "r",
+                                               edge ? hex_literal(edge_hi) : hi_text, term.edge_power, term.low, cname,
+                                               term.c.size(), 0.0, 0.0, lo_name,
+                                               edge ? low_part(*edge, edge_hi) : 0.0));
             }
             std::string terms_ref = "nullptr";
             if (!term_exprs.empty()) {
@@ -627,14 +623,15 @@ public:
                 body_ += "};\n";
                 terms_ref = terms_name;
             }
-            pieces.push_back("{" + hex_literal(round_to_double(lo)) + ", " + hi_text + ", " + terms_ref + ", " +
-                             std::to_string(term_exprs.size()) + "},  // [" + q_comment(lo) + ", " +
+            pieces.push_back("{.lo = " + hex_literal(round_to_double(lo)) + ", .hi = " + hi_text + ", .terms = " +
+                             terms_ref + ", .nterms = " + std::to_string(term_exprs.size()) + "},  // [" +
+                             q_comment(lo) + ", " +
                              (hi ? q_comment(*hi) : std::string("inf")) + ")" + (note.empty() ? "" : ", " + note));
         }
         body_ += "inline constexpr table::Piece " + name + "[] = {\n";
         for (const auto& p : pieces) body_ += "    " + p + "\n";
         body_ += "};\n";
-        return "{detail_" + id_ + "::" + name + ", " + std::to_string(pieces.size()) + "}";
+        return "{.pieces = detail_" + id_ + "::" + name + ", .npieces = " + std::to_string(pieces.size()) + "}";
     }
 
     std::string body() const { return body_; }
@@ -652,9 +649,24 @@ private:
         }
         const std::string lo_name = coefficients(cname, a, a_lo, exact);
         const double centre = round_to_double(p.centre), centre_lo = low_part(p.centre, centre);
-        const std::string basis = p.s_power ? "sqrt_power, " + std::to_string(p.s_power) : std::string("one, 0");
-        return "{table::Basis::" + basis + ", table::Var::shifted, " + hi_text + ", 0, " + std::to_string(p.low) + ", " + cname + ", " +
-               std::to_string(a.size()) + ", " + hex_literal(centre) + ", " + hex_literal(centre_lo) + ", " + lo_name + "}";
+        return term_text(p.s_power ? "sqrt_power" : "one", p.s_power, "shifted", hi_text, 0, p.low, cname, a.size(),
+                         centre, centre_lo, lo_name, 0.0);
+    }
+
+    // A table::Term initialiser, its members named in declaration order;
+    // the defaulted ones (centre, centre_lo, c_lo, edge_lo) are written only
+    // where they differ from their default, a +0.0 double or nullptr.
+    static std::string term_text(const std::string& basis, int s_power, const std::string& var,
+                                 const std::string& edge, int edge_power, int low, const std::string& c, std::size_t n,
+                                 double centre, double centre_lo, const std::string& c_lo, double edge_lo) {
+        auto optional = [](const char* member, double x) {
+            return std::signbit(x) || x != 0 ? std::string(", .") + member + " = " + hex_literal(x) : std::string();
+        };
+        return "{.basis = table::Basis::" + basis + ", .s_power = " + std::to_string(s_power) +
+               ", .var = table::Var::" + var + ", .edge = " + edge + ", .edge_power = " + std::to_string(edge_power) +
+               ", .low = " + std::to_string(low) + ", .c = " + c + ", .n = " + std::to_string(n) +
+               optional("centre", centre) + optional("centre_lo", centre_lo) +
+               (c_lo == "nullptr" ? std::string() : ", .c_lo = " + c_lo) + optional("edge_lo", edge_lo) + "}";
     }
 
     // A term's coefficients (correctly rounded, the exact value beside each)
@@ -731,8 +743,9 @@ KernelText render_kernel(const CatalogueEntry& e, std::vector<std::string>& fail
     HeaderWriter w(id);
     std::vector<std::string> quantities;
     json qjson = json::object();
-    for (const std::string& name : quantity_names()) {
-        const bool potential_like = name.find("potential") != std::string::npos;
+    for (int i = 0; i < table::quantity_count; ++i) {
+        const std::string name = table::quantity_names[i];
+        const bool potential_like = table::is_potential(static_cast<table::QuantityId>(i));
         const Radial* f = (potential_like && !k.claims.no_potential.empty()) ? nullptr : &quantity(k, q, name);
         std::vector<Radial> parts;
         if (f)
@@ -746,11 +759,16 @@ KernelText render_kernel(const CatalogueEntry& e, std::vector<std::string>& fail
     cpp << "\n// " << spec << " in D = " << k.dim << ": " << k.source << "\n";
     cpp << "namespace detail_" << id << " {\n" << w.body() << "}  // namespace detail_" << id << "\n";
     cpp << "inline constexpr table::Kernel " << id << " = {\n";
-    cpp << "    \"" << spec << "\", " << k.dim << ", 0x1p+0, " << k.claims.smoothness << ", " << k.claims.order << ", "
-        << k.W.parity << ",\n";
-    cpp << "    " << hex_literal(round_to_double(k.normalisation)) << ", \"" << k.normalisation.to_string() << "\", "
-        << (k.claims.no_potential.empty() ? "true" : "false") << ",\n    {\n";
-    for (const auto& s : quantities) cpp << "        " << s << ",\n";
+    cpp << "    .spec = \"" << spec << "\",\n    .dim = " << k.dim << ",\n    .support = 0x1p+0,\n";
+    cpp << "    .smoothness = " << k.claims.smoothness << ",\n    .order = " << k.claims.order
+        << ",\n    .parity = " << k.W.parity << ",\n";
+    cpp << "    .normalisation = " << hex_literal(round_to_double(k.normalisation)) << ",  // "
+        << k.normalisation.to_string() << "\n";
+    cpp << "    .normalisation_exact = \"" << k.normalisation.to_string() << "\",\n";
+    cpp << "    .has_potential = " << (k.claims.no_potential.empty() ? "true" : "false") << ",\n";
+    cpp << "    .quantities = {\n";
+    for (std::size_t i = 0; i < quantities.size(); ++i)
+        cpp << "        " << quantities[i] << ",  // " << table::quantity_names[i] << "\n";
     cpp << "    }};\n";
     out.cpp = cpp.str();
 

@@ -14,47 +14,54 @@ inline constexpr double value_0_0[] = {
     -0x1p+0,  // -1
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, value_0_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = value_0_0, .n = 1},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, nullptr, 0},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, nullptr, 0},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, nullptr, 0},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, nullptr, 0},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, nullptr, 0},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 }  // namespace detail_box_d1_D1
 inline constexpr table::Kernel box_d1_D1 = {
-    "box-d1", 1, 0x1p+0, -1, 0, -1,
-    0x1p+0, "1", false,
-    {
-        {detail_box_d1_D1::value, 2},
-        {detail_box_d1_D1::dr, 2},
-        {detail_box_d1_D1::d2r, 2},
-        {detail_box_d1_D1::laplacian, 2},
-        {detail_box_d1_D1::grad_over_r, 2},
-        {detail_box_d1_D1::hess_radial, 2},
-        {nullptr, 0},
-        {nullptr, 0},
-        {nullptr, 0},
-        {nullptr, 0},
+    .spec = "box-d1",
+    .dim = 1,
+    .support = 0x1p+0,
+    .smoothness = -1,
+    .order = 0,
+    .parity = -1,
+    .normalisation = 0x1p+0,  // 1
+    .normalisation_exact = "1",
+    .has_potential = false,
+    .quantities = {
+        {.pieces = detail_box_d1_D1::value, .npieces = 2},  // value
+        {.pieces = detail_box_d1_D1::dr, .npieces = 2},  // dr
+        {.pieces = detail_box_d1_D1::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_box_d1_D1::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_box_d1_D1::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_box_d1_D1::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = nullptr, .npieces = 0},  // potential
+        {.pieces = nullptr, .npieces = 0},  // dpotential
+        {.pieces = nullptr, .npieces = 0},  // dpotential_over_r
+        {.pieces = nullptr, .npieces = 0},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -14,59 +14,66 @@ inline constexpr double value_0_0[] = {
     -0x1p+2,  // -4
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, value_0_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = value_0_0, .n = 1},
 };
 inline constexpr double value_1_0[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, value_1_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = value_1_0, .n = 1},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-1, value_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, value_1, 1},  // [1/2, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 1},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = value_1, .nterms = 1},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-1, nullptr, 0},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, nullptr, 0},  // [1/2, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = nullptr, .nterms = 0},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-1, nullptr, 0},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, nullptr, 0},  // [1/2, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = nullptr, .nterms = 0},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-1, nullptr, 0},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, nullptr, 0},  // [1/2, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = nullptr, .nterms = 0},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-1, nullptr, 0},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, nullptr, 0},  // [1/2, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = nullptr, .nterms = 0},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-1, nullptr, 0},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, nullptr, 0},  // [1/2, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = nullptr, .nterms = 0},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 }  // namespace detail_box_d2_D1
 inline constexpr table::Kernel box_d2_D1 = {
-    "box-d2", 1, 0x1p+0, -1, 0, 1,
-    0x1p+2, "4", false,
-    {
-        {detail_box_d2_D1::value, 3},
-        {detail_box_d2_D1::dr, 3},
-        {detail_box_d2_D1::d2r, 3},
-        {detail_box_d2_D1::laplacian, 3},
-        {detail_box_d2_D1::grad_over_r, 3},
-        {detail_box_d2_D1::hess_radial, 3},
-        {nullptr, 0},
-        {nullptr, 0},
-        {nullptr, 0},
-        {nullptr, 0},
+    .spec = "box-d2",
+    .dim = 1,
+    .support = 0x1p+0,
+    .smoothness = -1,
+    .order = 0,
+    .parity = 1,
+    .normalisation = 0x1p+2,  // 4
+    .normalisation_exact = "4",
+    .has_potential = false,
+    .quantities = {
+        {.pieces = detail_box_d2_D1::value, .npieces = 3},  // value
+        {.pieces = detail_box_d2_D1::dr, .npieces = 3},  // dr
+        {.pieces = detail_box_d2_D1::d2r, .npieces = 3},  // d2r
+        {.pieces = detail_box_d2_D1::laplacian, .npieces = 3},  // laplacian
+        {.pieces = detail_box_d2_D1::grad_over_r, .npieces = 3},  // grad_over_r
+        {.pieces = detail_box_d2_D1::hess_radial, .npieces = 3},  // hess_radial
+        {.pieces = nullptr, .npieces = 0},  // potential
+        {.pieces = nullptr, .npieces = 0},  // dpotential
+        {.pieces = nullptr, .npieces = 0},  // dpotential_over_r
+        {.pieces = nullptr, .npieces = 0},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

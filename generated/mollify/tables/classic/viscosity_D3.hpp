@@ -18,11 +18,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.ebae32712a6afp-54, 0x1.ebae32712a6afp-54,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, value_0_0, 2, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.3193d66ed2bfap+0,  // -15/4 * pi^-1
@@ -33,11 +33,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.ebae32712a6afp-54, -0x1.ebae32712a6afp-53, 0x1.1e7ab456405f9p-53,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -2, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
@@ -49,11 +49,11 @@ inline constexpr double d2r_0_0_lo[] = {
     0x1.ebae32712a6afp-53, 0x1.ebae32712a6afp-53, 0x1.ebae32712a6afp-53, -0x1.1e7ab456405f9p-52,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -3, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = -3, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     0x1.ca5dc1a63c1f8p+3,  // 45 * pi^-1
@@ -62,11 +62,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     -0x1.1e7ab456405f9p-51,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, laplacian_0_0, 1, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = laplacian_0_0, .n = 1, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.3193d66ed2bfap+0,  // -15/4 * pi^-1
@@ -77,11 +77,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.ebae32712a6afp-54, -0x1.ebae32712a6afp-53, 0x1.1e7ab456405f9p-53,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -3, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.ca5dc1a63c1f8p+1,  // 45/4 * pi^-1
@@ -91,11 +91,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.1e7ab456405f9p-53, -0x1.1e7ab456405f9p-53,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -5, hess_radial_0_0, 2, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -5, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.28a2df0963037p-2,  // -238569/262144 * pi^-1
@@ -110,7 +110,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.21db6eb849533p-59, 0x1.6b01ec5417056p-59,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_0_0, 6, 0x1p-3, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 6, .centre = 0x1p-3, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.81619a4d672ccp-3,  // -154971/262144 * pi^-1
@@ -125,7 +125,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.86229de99e612p-63, 0x1.6b01ec5417056p-59,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_1_0, 6, 0x1.8p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 6, .centre = 0x1.8p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -141,8 +141,8 @@ inline constexpr double potential_2_1_lo[] = {
     -0x1.6b01ec5417056p-58, -0x1.6b01ec5417056p-59,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, potential_2_1, 2, 0, 0, potential_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -151,13 +151,13 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, potential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
@@ -171,7 +171,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.3a3d9896e3394p-57,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, dpotential_0_0, 5, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_0_0, .n = 5, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.4754fcc6101a2p-2,  // 32907/32768 * pi^-1
@@ -185,7 +185,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.3a3d9896e3394p-57,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 5, 0x1.8p-2, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 5, .centre = 0x1.8p-2, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -202,8 +202,8 @@ inline constexpr double dpotential_2_1_lo[] = {
     0x1.6b01ec5417056p-58, 0x1.6b01ec5417056p-56, -0x1.3a3d9896e3394p-57,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_2_0, 1, 0, 0, dpotential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -2, dpotential_2_1, 3, 0, 0, dpotential_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -212,13 +212,13 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
@@ -232,7 +232,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.3a3d9896e3394p-57,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, -1, dpotential_over_r_0_0, 5, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_0_0, .n = 5, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -249,8 +249,8 @@ inline constexpr double dpotential_over_r_1_1_lo[] = {
     0x1.6b01ec5417056p-58, 0x1.6b01ec5417056p-56, -0x1.3a3d9896e3394p-57,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1, 0, 0, dpotential_over_r_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, dpotential_over_r_1_1, 3, 0, 0, dpotential_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -259,12 +259,12 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_1, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.3193d66ed2bfap-1,  // -15/8 * pi^-1
@@ -278,7 +278,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     -0x1.ebae32712a6afp-55,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, -3, potential_hess_radial_0_0, 5, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_0_0, .n = 5, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -296,8 +296,8 @@ inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.041713f11440cp-60, -0x1.86229de99e612p-59, 0x1.e38d79d1a1c8fp-55, 0x1.ebae32712a6afp-55,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_1_0, 1, 0, 0, potential_hess_radial_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -5, potential_hess_radial_1_1, 4, 0, 0, potential_hess_radial_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -306,28 +306,35 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_hess_radial_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_1, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_2, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_viscosity_D3
 inline constexpr table::Kernel viscosity_D3 = {
-    "viscosity", 3, 0x1p+0, 2, 2, 1,
-    0x1.3193d66ed2bfap+1, "15/2 * pi^-1", true,
-    {
-        {detail_viscosity_D3::value, 2},
-        {detail_viscosity_D3::dr, 2},
-        {detail_viscosity_D3::d2r, 2},
-        {detail_viscosity_D3::laplacian, 2},
-        {detail_viscosity_D3::grad_over_r, 2},
-        {detail_viscosity_D3::hess_radial, 2},
-        {detail_viscosity_D3::potential, 4},
-        {detail_viscosity_D3::dpotential, 4},
-        {detail_viscosity_D3::dpotential_over_r, 3},
-        {detail_viscosity_D3::potential_hess_radial, 3},
+    .spec = "viscosity",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 2,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
+    .normalisation_exact = "15/2 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_viscosity_D3::value, .npieces = 2},  // value
+        {.pieces = detail_viscosity_D3::dr, .npieces = 2},  // dr
+        {.pieces = detail_viscosity_D3::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_viscosity_D3::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_viscosity_D3::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_viscosity_D3::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_viscosity_D3::potential, .npieces = 4},  // potential
+        {.pieces = detail_viscosity_D3::dpotential, .npieces = 4},  // dpotential
+        {.pieces = detail_viscosity_D3::dpotential_over_r, .npieces = 3},  // dpotential_over_r
+        {.pieces = detail_viscosity_D3::potential_hess_radial, .npieces = 3},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

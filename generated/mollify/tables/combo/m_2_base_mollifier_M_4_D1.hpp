@@ -17,19 +17,19 @@ inline constexpr double value_0_1[] = {
     -0x1.a4p-2,  // -105/256
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 4, 0, value_0_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_1, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 1},
 };
 inline constexpr double value_1_0[] = {
     -0x1.a4p-2,  // -105/256
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_1_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 1},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-1, value_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, value_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = value_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.a4p+12,  // -6720
@@ -38,19 +38,19 @@ inline constexpr double dr_0_1[] = {
     0x1.a4p+1,  // 105/32
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 3, 1, dr_0_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_1, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 3, .low = 1, .c = dr_0_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 1, .c = dr_0_1, .n = 1},
 };
 inline constexpr double dr_1_0[] = {
     0x1.a4p+1,  // 105/32
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_1_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 1, .c = dr_1_0, .n = 1},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-1, dr_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, dr_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dr_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.a4p+10,  // -1680
@@ -61,20 +61,20 @@ inline constexpr double d2r_0_1[] = {
     -0x1.6f8p+4,  // -735/32
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 2, 0, d2r_0_0, 2, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_1, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 2, .low = 0, .c = d2r_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = d2r_0_1, .n = 2},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.a4p+1,  // 105/32
     -0x1.6f8p+4,  // -735/32
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_1_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = d2r_1_0, .n = 2},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-1, d2r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, d2r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = d2r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = d2r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.a4p+10,  // -1680
@@ -85,20 +85,20 @@ inline constexpr double laplacian_0_1[] = {
     -0x1.6f8p+4,  // -735/32
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 2, 0, laplacian_0_0, 2, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_1, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 2, .low = 0, .c = laplacian_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = laplacian_0_1, .n = 2},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.a4p+1,  // 105/32
     -0x1.6f8p+4,  // -735/32
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_1_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = laplacian_1_0, .n = 2},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-1, laplacian_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, laplacian_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = laplacian_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = laplacian_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.a4p+12,  // -6720
@@ -107,19 +107,19 @@ inline constexpr double grad_over_r_0_1[] = {
     0x1.a4p+1,  // 105/32
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 3, 0, grad_over_r_0_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_1, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 3, .low = 0, .c = grad_over_r_0_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = grad_over_r_0_1, .n = 1},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.a4p+1,  // 105/32
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_1_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = grad_over_r_1_0, .n = 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-1, grad_over_r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, grad_over_r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = grad_over_r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.3bp+15,  // 40320
@@ -128,19 +128,19 @@ inline constexpr double hess_radial_0_1[] = {
     -0x1.3bp+4,  // -315/16
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 2, 0, hess_radial_0_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_1, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 2, .low = 0, .c = hess_radial_0_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = hess_radial_0_1, .n = 1},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.3bp+4,  // -315/16
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_1_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = hess_radial_1_0, .n = 1},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-1, hess_radial_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, hess_radial_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = hess_radial_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     0x1.5p-5,  // 21/512
@@ -155,7 +155,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x0p+0, 0x1.5555555555555p-51,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, potential_0_0, 6, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 6, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     0x1.5555555555555p-1,  // 2/3
@@ -187,9 +187,9 @@ inline constexpr double potential_1_2_lo[] = {
     0x0p+0, 0x1.5555555555555p-62,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, potential_1_0, 1, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 6, 0, potential_1_1, 5, 0, 0, potential_1_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_1_2, 6, 0, 0, potential_1_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = potential_1_1, .n = 5, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_1_2, .n = 6, .c_lo = potential_1_2_lo},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
@@ -206,20 +206,20 @@ inline constexpr double potential_2_1_lo[] = {
     0x1.5555555555555p-62,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_2_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_2_1, 5, 0, 0, potential_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_2_1, .n = 5, .c_lo = potential_2_1_lo},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_3_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-2, 0x1p-1, potential_1, 3},  // [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, potential_2, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 1},  // [0, 1/4), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_1, .nterms = 3},  // [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_2, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.6f8p+1,  // 735/256
@@ -233,7 +233,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.5555555555555p-48,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dpotential_0_0, 5, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 5, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.c2ad90cabf4p-2,  // 7742588922621/17592186044416
@@ -253,7 +253,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x0p+0, -0x1.5555555555555p-48,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 10, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 10, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.5555555555555p-1,  // 2/3
@@ -284,9 +284,9 @@ inline constexpr double dpotential_2_2_lo[] = {
     -0x1.5555555555555p-59,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_2_0, 1, 0, 0, dpotential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 5, 0, dpotential_2_1, 5, 0, 0, dpotential_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_2_2, 5, 0, 0, dpotential_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = dpotential_2_1, .n = 5, .c_lo = dpotential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_2_2, .n = 5, .c_lo = dpotential_2_2_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
@@ -303,21 +303,21 @@ inline constexpr double dpotential_3_1_lo[] = {
     0x1.5555555555555p-59,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_3_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, dpotential_3_1, 5, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_3_1, .n = 5, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_4_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 3},  // [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 3},  // [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.4f7d4624d5555p+1,  // 33771463901/12884901888
@@ -336,7 +336,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.5555555555555p-48,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_0_0, 9, 0x1p-3, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 9, .centre = 0x1p-3, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.5555555555555p-1,  // 2/3
@@ -367,9 +367,9 @@ inline constexpr double dpotential_over_r_1_2_lo[] = {
     -0x1.5555555555555p-59,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, dpotential_over_r_1_0, 1, 0, 0, dpotential_over_r_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 5, -1, dpotential_over_r_1_1, 5, 0, 0, dpotential_over_r_1_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_1_2, 5, 0, 0, dpotential_over_r_1_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = -1, .c = dpotential_over_r_1_1, .n = 5, .c_lo = dpotential_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_2, .n = 5, .c_lo = dpotential_over_r_1_2_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
@@ -386,20 +386,20 @@ inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.5555555555555p-59,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_2_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -1, dpotential_over_r_2_1, 5, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_2_1, .n = 5, .c_lo = dpotential_over_r_2_1_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_3_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, dpotential_over_r_1, 3},  // [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_1, .nterms = 3},  // [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.e2c0eecaaaaabp+4,  // -759305827/25165824
@@ -415,7 +415,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x0p+0, 0x0p+0, -0x1.5555555555555p-45,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_0_0, 7, 0x1p-3, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 7, .centre = 0x1p-3, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.5c2e7e4p+3,  // -91273721/8388608
@@ -431,7 +431,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x0p+0, 0x0p+0, -0x1.5555555555555p-45,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_1_0, 7, 0x1.8p-2, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 7, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
@@ -449,36 +449,43 @@ inline constexpr double potential_hess_radial_2_1_lo[] = {
     -0x1.5555555555555p-54, -0x1.5555555555555p-56,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_2_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -3, potential_hess_radial_2_1, 6, 0, 0, potential_hess_radial_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_2_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = potential_hess_radial_2_1, .n = 6, .c_lo = potential_hess_radial_2_1_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_3_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-2, potential_hess_radial_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, potential_hess_radial_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_2, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_2_base_mollifier_M_4_D1
 inline constexpr table::Kernel combo_m_2_base_mollifier_M_4_D1 = {
-    "combo:m=2,base=mollifier:M=4", 1, 0x1p+0, 3, 4, 1,
-    0x1.3bp+0, "315/256", true,
-    {
-        {detail_combo_m_2_base_mollifier_M_4_D1::value, 3},
-        {detail_combo_m_2_base_mollifier_M_4_D1::dr, 3},
-        {detail_combo_m_2_base_mollifier_M_4_D1::d2r, 3},
-        {detail_combo_m_2_base_mollifier_M_4_D1::laplacian, 3},
-        {detail_combo_m_2_base_mollifier_M_4_D1::grad_over_r, 3},
-        {detail_combo_m_2_base_mollifier_M_4_D1::hess_radial, 3},
-        {detail_combo_m_2_base_mollifier_M_4_D1::potential, 4},
-        {detail_combo_m_2_base_mollifier_M_4_D1::dpotential, 5},
-        {detail_combo_m_2_base_mollifier_M_4_D1::dpotential_over_r, 4},
-        {detail_combo_m_2_base_mollifier_M_4_D1::potential_hess_radial, 4},
+    .spec = "combo:m=2,base=mollifier:M=4",
+    .dim = 1,
+    .support = 0x1p+0,
+    .smoothness = 3,
+    .order = 4,
+    .parity = 1,
+    .normalisation = 0x1.3bp+0,  // 315/256
+    .normalisation_exact = "315/256",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_2_base_mollifier_M_4_D1::value, .npieces = 3},  // value
+        {.pieces = detail_combo_m_2_base_mollifier_M_4_D1::dr, .npieces = 3},  // dr
+        {.pieces = detail_combo_m_2_base_mollifier_M_4_D1::d2r, .npieces = 3},  // d2r
+        {.pieces = detail_combo_m_2_base_mollifier_M_4_D1::laplacian, .npieces = 3},  // laplacian
+        {.pieces = detail_combo_m_2_base_mollifier_M_4_D1::grad_over_r, .npieces = 3},  // grad_over_r
+        {.pieces = detail_combo_m_2_base_mollifier_M_4_D1::hess_radial, .npieces = 3},  // hess_radial
+        {.pieces = detail_combo_m_2_base_mollifier_M_4_D1::potential, .npieces = 4},  // potential
+        {.pieces = detail_combo_m_2_base_mollifier_M_4_D1::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_combo_m_2_base_mollifier_M_4_D1::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_combo_m_2_base_mollifier_M_4_D1::potential_hess_radial, .npieces = 4},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -27,8 +27,8 @@ inline constexpr double value_0_1_lo[] = {
     -0x1.a40f855b9a531p-54, -0x1.3b0ba404b3be5p-51, 0x1.9b695d851446ep-51,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 6, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, value_0_1, 3, 0, 0, value_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.a42b46d861c78p+0,  // -165/32 * pi^-1
@@ -39,12 +39,12 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.a40f855b9a531p-54, -0x1.3b0ba404b3be5p-51, 0x1.9b695d851446ep-51,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, value_1_0, 3, 0, 0, value_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-1, value_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, value_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = value_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.ea327d51c768cp+16,  // -394240 * pi^-1
@@ -61,8 +61,8 @@ inline constexpr double dr_0_1_lo[] = {
     0x1.ea121b958960ep-50, -0x1.9b695d851446ep-48,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 5, 1, dr_0_0, 2, 0, 0, dr_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 1, dr_0_1, 2, 0, 0, dr_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.ea327d51c768cp+4,  // 385/4 * pi^-1
@@ -72,12 +72,12 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.ea121b958960ep-50, -0x1.9b695d851446ep-48,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 1, dr_1_0, 2, 0, 0, dr_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-1, dr_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, dr_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dr_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.ea327d51c768cp+15,  // -197120 * pi^-1
@@ -96,8 +96,8 @@ inline constexpr double d2r_0_1_lo[] = {
     0x1.ea121b958960ep-50, 0x1.ea121b958960ep-48, 0x1.67fc31d471be1p-45,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 4, 0, d2r_0_0, 3, 0, 0, d2r_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, d2r_0_1, 3, 0, 0, d2r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = d2r_0_0, .n = 3, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = d2r_0_1, .n = 3, .c_lo = d2r_0_1_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.ea327d51c768cp+4,  // 385/4 * pi^-1
@@ -108,12 +108,12 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.ea121b958960ep-50, 0x1.ea121b958960ep-48, 0x1.67fc31d471be1p-45,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, d2r_1_0, 3, 0, 0, d2r_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = d2r_1_0, .n = 3, .c_lo = d2r_1_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-1, d2r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, d2r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = d2r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = d2r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.6fa5ddfd558e9p+17,  // -591360 * pi^-1
@@ -132,8 +132,8 @@ inline constexpr double laplacian_0_1_lo[] = {
     0x1.6f8d94b02708bp-48, 0x1.6f8d94b02708bp-46, 0x1.ced68935b6cfcp-45,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 4, 0, laplacian_0_0, 3, 0, 0, laplacian_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, laplacian_0_1, 3, 0, 0, laplacian_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = laplacian_0_0, .n = 3, .c_lo = laplacian_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = laplacian_0_1, .n = 3, .c_lo = laplacian_0_1_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.6fa5ddfd558e9p+6,  // 1155/4 * pi^-1
@@ -144,12 +144,12 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.6f8d94b02708bp-48, 0x1.6f8d94b02708bp-46, 0x1.ced68935b6cfcp-45,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, laplacian_1_0, 3, 0, 0, laplacian_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = laplacian_1_0, .n = 3, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-1, laplacian_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, laplacian_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = laplacian_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = laplacian_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.ea327d51c768cp+16,  // -394240 * pi^-1
@@ -166,8 +166,8 @@ inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.ea121b958960ep-50, -0x1.9b695d851446ep-48,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 5, 0, grad_over_r_0_0, 2, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, grad_over_r_0_1, 2, 0, 0, grad_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.ea327d51c768cp+4,  // 385/4 * pi^-1
@@ -177,12 +177,12 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.ea121b958960ep-50, -0x1.9b695d851446ep-48,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, grad_over_r_1_0, 2, 0, 0, grad_over_r_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-1, grad_over_r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, grad_over_r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = grad_over_r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.cb8f557caaf24p+22,  // 23654400 * pi^-1
@@ -197,8 +197,8 @@ inline constexpr double hess_radial_0_1_lo[] = {
     0x1.348f0623cf353p-45,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 4, 0, hess_radial_0_0, 1, 0, 0, hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, hess_radial_0_1, 1, 0, 0, hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = hess_radial_0_0, .n = 1, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = hess_radial_0_1, .n = 1, .c_lo = hess_radial_0_1_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.cb8f557caaf24p+9,  // -5775/2 * pi^-1
@@ -207,12 +207,12 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.348f0623cf353p-45,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, hess_radial_1_0, 1, 0, 0, hess_radial_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = hess_radial_1_0, .n = 1, .c_lo = hess_radial_1_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-1, hess_radial_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, hess_radial_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = hess_radial_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.46cc538bda45ep-1,  // -385/192 * pi^-1
@@ -233,7 +233,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.8886b519bd927p-42, 0x1.955cf730e048fp-42, 0x1.29194dd4dab1ep-44,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 0, potential_0_0, 11, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 11, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.b5b10cab3906bp-2,  // -283477884279889/211106232532992 * pi^-1
@@ -254,7 +254,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.c5361129e319dp-48, -0x1.febe58a6b2675p-43, 0x1.29194dd4dab1ep-44,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_1_0, 11, 0x1.8p-3, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 11, .centre = 0x1.8p-3, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.b2995e7b7b604p-4,  // -1/3 * pi^-1
@@ -290,9 +290,9 @@ inline constexpr double potential_2_2_lo[] = {
     -0x1.0c3c5bf274984p-55, 0x1.b33e3cb2eae5cp-54, 0x1.b42869efe4b7ap-59,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, -1, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, -1, potential_2_1, 4, 0, 0, potential_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, potential_2_2, 11, 0, 0, potential_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = -1, .c = potential_2_1, .n = 4, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 11, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.7af34eedf3b4ep-3,  // -122716616334809/211106232532992 * pi^-1
@@ -313,7 +313,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.91fd0b2275039p-52, 0x1.d285228d7bdc3p-45, 0x1.29194dd4dab1ep-44,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_3_0, 11, 0x1.cp-2, 0x0p+0, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 11, .centre = 0x1.cp-2, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -331,8 +331,8 @@ inline constexpr double potential_4_1_lo[] = {
     0x1.e40290701eb1ep-60, -0x1.7ed13401cfd2p-62, 0x1.0242b977209dp-57, 0x1.b42869efe4b7ap-59,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -1, potential_4_1, 4, 0, 0, potential_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_4_1, .n = 4, .c_lo = potential_4_1_lo},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -341,15 +341,15 @@ inline constexpr double potential_5_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-3, 0x1p-2, potential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, potential_2, 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1p-1, potential_3, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, potential_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_0, .nterms = 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = potential_2, .nterms = 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_3, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.0f5bf31669d0ep+4,  // 1705/32 * pi^-1
@@ -368,7 +368,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.8ca05eb5eea1ap-41,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-4, 0, 1, dpotential_0_0, 9, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-4, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 9, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.4fda891afab51p+0,  // 4640446488790227/1125899906842624 * pi^-1
@@ -388,7 +388,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.57427bc6c808p-40, -0x1.8ca05eb5eea1ap-41,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, dpotential_1_0, 10, 0x1.8p-4, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 10, .centre = 0x1.8p-4, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.8fa30b06b5309p+0,  // 10784631168723/2199023255552 * pi^-1
@@ -408,7 +408,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.f4b11ddc45a1dp-43, -0x1.8ca05eb5eea1ap-41,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_2_0, 10, 0x1.8p-3, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 10, .centre = 0x1.8p-3, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.4bfed2144b92p-1,  // 8749270227/4294967296 * pi^-1
@@ -428,7 +428,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.a7ae74a14193ap-45, -0x1.8ca05eb5eea1ap-41,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_3_0, 10, 0x1.8p-2, 0x0p+0, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 10, .centre = 0x1.8p-2, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -448,8 +448,8 @@ inline constexpr double dpotential_4_1_lo[] = {
     -0x1.884ca11af7796p-54,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -2, dpotential_4_1, 5, 0, 0, dpotential_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_4_1, .n = 5, .c_lo = dpotential_4_1_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -458,15 +458,15 @@ inline constexpr double dpotential_5_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-4, dpotential_0, 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-4, 0x1p-3, dpotential_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, dpotential_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_3, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = dpotential_0, .nterms = 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = dpotential_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_3, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.f150a26e9e2abp+3,  // 20130869268467/412316860416 * pi^-1
@@ -485,7 +485,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.8ca05eb5eea1ap-41,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, dpotential_over_r_0_0, 9, 0x1p-4, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 9, .centre = 0x1p-4, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.0a6cb20478cb1p+3,  // 3594877056241/137438953472 * pi^-1
@@ -504,7 +504,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.8ca05eb5eea1ap-41,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_1_0, 9, 0x1.8p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 9, .centre = 0x1.8p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
@@ -540,9 +540,9 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
     0x1.884ca11af7796p-54,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, -3, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 7, -3, dpotential_over_r_2_1, 5, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, dpotential_over_r_2_2, 9, 0, 0, dpotential_over_r_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = -3, .c = dpotential_over_r_2_1, .n = 5, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 9, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.0c033a4fae795p+0,  // 1356114086963/412316860416 * pi^-1
@@ -561,7 +561,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.8ca05eb5eea1ap-41,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_3_0, 9, 0x1.cp-2, 0x0p+0, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 9, .centre = 0x1.cp-2, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -581,8 +581,8 @@ inline constexpr double dpotential_over_r_4_1_lo[] = {
     -0x1.884ca11af7796p-54,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -3, dpotential_over_r_4_1, 5, 0, 0, dpotential_over_r_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -3, .c = dpotential_over_r_4_1, .n = 5, .c_lo = dpotential_over_r_4_1_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -591,15 +591,15 @@ inline constexpr double dpotential_over_r_5_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 1},  // [0, 1/8), Taylor polynomial about 1/16
-    {0x1p-3, 0x1p-2, dpotential_over_r_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, dpotential_over_r_2, 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1p-1, dpotential_over_r_3, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, dpotential_over_r_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/8), Taylor polynomial about 1/16
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = dpotential_over_r_2, .nterms = 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.5472c35dd758dp+9,  // -143552551919/67108864 * pi^-1
@@ -615,7 +615,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.fa403bd3676b3p-39, 0x1.93b0f4e61cd15p-37, -0x1.8ca05eb5eea1ap-38,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_hess_radial_0_0, 7, 0x1p-4, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 7, .centre = 0x1p-4, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.35074c753596ap+8,  // -65152083479/67108864 * pi^-1
@@ -631,7 +631,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.4e708c5298654p-39, -0x1.010b2e9e1cab5p-37, -0x1.8ca05eb5eea1ap-38,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_1_0, 7, 0x1.8p-3, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 7, .centre = 0x1.8p-3, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -665,9 +665,9 @@ inline constexpr double potential_hess_radial_2_2_lo[] = {
     0x1.9b695d851446ep-48, -0x1.ce3af0ff83178p-50, 0x1.884ca11af7796p-51,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -5, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 6, -5, potential_hess_radial_2_1, 6, 0, 0, potential_hess_radial_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_2_2, 7, 0, 0, potential_hess_radial_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = -5, .c = potential_hess_radial_2_1, .n = 6, .c_lo = potential_hess_radial_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_2, .n = 7, .c_lo = potential_hess_radial_2_2_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -688,8 +688,8 @@ inline constexpr double potential_hess_radial_3_1_lo[] = {
     0x1.9555e4a2c6a95p-51, 0x1.884ca11af7796p-51,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -5, potential_hess_radial_3_1, 6, 0, 0, potential_hess_radial_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -5, .c = potential_hess_radial_3_1, .n = 6, .c_lo = potential_hess_radial_3_1_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -698,30 +698,37 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_4_0, 1, 0, 0, potential_hess_radial_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-3, potential_hess_radial_0, 1},  // [0, 1/8), Taylor polynomial about 1/16
-    {0x1p-3, 0x1p-2, potential_hess_radial_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, potential_hess_radial_2, 3},  // [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, potential_hess_radial_3, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/8), Taylor polynomial about 1/16
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_hess_radial_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_2, .nterms = 3},  // [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_3, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_4, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_2_base_wendland_k_2_D3
 inline constexpr table::Kernel combo_m_2_base_wendland_k_2_D3 = {
-    "combo:m=2,base=wendland:k=2", 3, 0x1p+0, 5, 4, 1,
-    0x1.58ab801d8035bp+11, "17325/2 * pi^-1", true,
-    {
-        {detail_combo_m_2_base_wendland_k_2_D3::value, 3},
-        {detail_combo_m_2_base_wendland_k_2_D3::dr, 3},
-        {detail_combo_m_2_base_wendland_k_2_D3::d2r, 3},
-        {detail_combo_m_2_base_wendland_k_2_D3::laplacian, 3},
-        {detail_combo_m_2_base_wendland_k_2_D3::grad_over_r, 3},
-        {detail_combo_m_2_base_wendland_k_2_D3::hess_radial, 3},
-        {detail_combo_m_2_base_wendland_k_2_D3::potential, 6},
-        {detail_combo_m_2_base_wendland_k_2_D3::dpotential, 6},
-        {detail_combo_m_2_base_wendland_k_2_D3::dpotential_over_r, 6},
-        {detail_combo_m_2_base_wendland_k_2_D3::potential_hess_radial, 5},
+    .spec = "combo:m=2,base=wendland:k=2",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 5,
+    .order = 4,
+    .parity = 1,
+    .normalisation = 0x1.58ab801d8035bp+11,  // 17325/2 * pi^-1
+    .normalisation_exact = "17325/2 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_2_base_wendland_k_2_D3::value, .npieces = 3},  // value
+        {.pieces = detail_combo_m_2_base_wendland_k_2_D3::dr, .npieces = 3},  // dr
+        {.pieces = detail_combo_m_2_base_wendland_k_2_D3::d2r, .npieces = 3},  // d2r
+        {.pieces = detail_combo_m_2_base_wendland_k_2_D3::laplacian, .npieces = 3},  // laplacian
+        {.pieces = detail_combo_m_2_base_wendland_k_2_D3::grad_over_r, .npieces = 3},  // grad_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_2_D3::hess_radial, .npieces = 3},  // hess_radial
+        {.pieces = detail_combo_m_2_base_wendland_k_2_D3::potential, .npieces = 6},  // potential
+        {.pieces = detail_combo_m_2_base_wendland_k_2_D3::dpotential, .npieces = 6},  // dpotential
+        {.pieces = detail_combo_m_2_base_wendland_k_2_D3::dpotential_over_r, .npieces = 6},  // dpotential_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_2_D3::potential_hess_radial, .npieces = 5},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

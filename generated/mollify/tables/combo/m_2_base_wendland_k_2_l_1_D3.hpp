@@ -27,8 +27,8 @@ inline constexpr double value_0_1_lo[] = {
     -0x1.180a58e7bc376p-53, -0x1.ea121b958960ep-51, -0x1.180a58e7bc376p-49,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 7, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, value_0_1, 3, 0, 0, value_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.181cd9e59685p+1,  // -55/8 * pi^-1
@@ -39,12 +39,12 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.180a58e7bc376p-53, -0x1.ea121b958960ep-51, -0x1.180a58e7bc376p-49,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, value_1_0, 3, 0, 0, value_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-1, value_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, value_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = value_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.a42b46d861c78p+18,  // -1351680 * pi^-1
@@ -61,8 +61,8 @@ inline constexpr double dr_0_1_lo[] = {
     0x1.a40f855b9a531p-49, 0x1.3b0ba404b3be5p-46,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 6, 1, dr_0_0, 2, 0, 0, dr_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 1, dr_0_1, 2, 0, 0, dr_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.a42b46d861c78p+5,  // 165 * pi^-1
@@ -72,12 +72,12 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.a40f855b9a531p-49, 0x1.3b0ba404b3be5p-46,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 1, dr_1_0, 2, 0, 0, dr_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-1, dr_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, dr_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dr_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.a42b46d861c78p+17,  // -675840 * pi^-1
@@ -96,8 +96,8 @@ inline constexpr double d2r_0_1_lo[] = {
     0x1.a40f855b9a531p-49, 0x1.0689b3594073ep-46, -0x1.3b0ba404b3be5p-43,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 5, 0, d2r_0_0, 3, 0, 0, d2r_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, d2r_0_1, 3, 0, 0, d2r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = d2r_0_0, .n = 3, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = d2r_0_1, .n = 3, .c_lo = d2r_0_1_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.a42b46d861c78p+5,  // 165 * pi^-1
@@ -108,12 +108,12 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.a40f855b9a531p-49, 0x1.0689b3594073ep-46, -0x1.3b0ba404b3be5p-43,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, d2r_1_0, 3, 0, 0, d2r_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = d2r_1_0, .n = 3, .c_lo = d2r_1_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-1, d2r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, d2r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = d2r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = d2r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.3b2075224955ap+19,  // -2027520 * pi^-1
@@ -132,8 +132,8 @@ inline constexpr double laplacian_0_1_lo[] = {
     0x1.3b0ba404b3be5p-47, -0x1.d8c5cbe87d489p-47, 0x1.d8c5cbe87d489p-45,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 5, 0, laplacian_0_0, 3, 0, 0, laplacian_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, laplacian_0_1, 3, 0, 0, laplacian_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = laplacian_0_0, .n = 3, .c_lo = laplacian_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = laplacian_0_1, .n = 3, .c_lo = laplacian_0_1_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.3b2075224955ap+7,  // 495 * pi^-1
@@ -144,12 +144,12 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.3b0ba404b3be5p-47, -0x1.d8c5cbe87d489p-47, 0x1.d8c5cbe87d489p-45,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, laplacian_1_0, 3, 0, 0, laplacian_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = laplacian_1_0, .n = 3, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-1, laplacian_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, laplacian_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = laplacian_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = laplacian_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.a42b46d861c78p+18,  // -1351680 * pi^-1
@@ -166,8 +166,8 @@ inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.a40f855b9a531p-49, 0x1.3b0ba404b3be5p-46,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 6, 0, grad_over_r_0_0, 2, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, grad_over_r_0_1, 2, 0, 0, grad_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.a42b46d861c78p+5,  // 165 * pi^-1
@@ -177,12 +177,12 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.a40f855b9a531p-49, 0x1.3b0ba404b3be5p-46,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, grad_over_r_1_0, 2, 0, 0, grad_over_r_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-1, grad_over_r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, grad_over_r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = grad_over_r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.13bc667e002afp+25,  // 113541120 * pi^-1
@@ -197,8 +197,8 @@ inline constexpr double hess_radial_0_1_lo[] = {
     -0x1.3aa2f841d467fp-47,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 5, 0, hess_radial_0_0, 1, 0, 0, hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, hess_radial_0_1, 1, 0, 0, hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = hess_radial_0_0, .n = 1, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_0_1, .n = 1, .c_lo = hess_radial_0_1_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.13bc667e002afp+11,  // -6930 * pi^-1
@@ -207,12 +207,12 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.3aa2f841d467fp-47,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, hess_radial_1_0, 1, 0, 0, hess_radial_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_1_0, .n = 1, .c_lo = hess_radial_1_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-1, hess_radial_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, hess_radial_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = hess_radial_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.6481cf814b34fp-1,  // -35/16 * pi^-1
@@ -234,7 +234,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.8886b519bd927p-40, -0x1.9ff48d36af929p-40, -0x1.09682d02dfd4bp-43, 0x1.2a9380fea85b7p-44,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 0, potential_0_0, 12, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 12, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.be747715bf0e5p-2,  // -48192266936149/35184372088832 * pi^-1
@@ -256,7 +256,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.66e7424dadfp-50, -0x1.4c4f1172563f7p-42, -0x1.aac007fe211b3p-42, 0x1.2a9380fea85b7p-44,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_1_0, 12, 0x1.8p-3, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 12, .centre = 0x1.8p-3, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.10414420a6282p-2,  // -29388369990695/35184372088832 * pi^-1
@@ -278,7 +278,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.8634411e06bf6p-44, -0x1.8ccb55ca4bae1p-45, 0x1.df1562cb4622p-45, 0x1.2a9380fea85b7p-44,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_2_0, 12, 0x1.4p-2, 0x0p+0, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 12, .centre = 0x1.4p-2, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.78ea3e352fd39p-3,  // -20342913857889/35184372088832 * pi^-1
@@ -300,7 +300,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.50b022ac77d25p-45, 0x1.2cf3ada5f5665p-47, 0x1.142b0587951d8p-45, 0x1.2a9380fea85b7p-44,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_3_0, 12, 0x1.cp-2, 0x0p+0, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 12, .centre = 0x1.cp-2, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -318,8 +318,8 @@ inline constexpr double potential_4_1_lo[] = {
     0x1.e40290701eb1ep-60, -0x1.425e51366bdb4p-57, -0x1.ebae32712a6afp-56, -0x1.a2fccb73d9a1bp-57,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, potential_4_1, 4, 0, 0, potential_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = potential_4_1, .n = 4, .c_lo = potential_4_1_lo},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -328,15 +328,15 @@ inline constexpr double potential_5_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-3, 0x1p-2, potential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, potential_2, 1},  // [1/4, 3/8), Taylor polynomial about 5/16
-    {0x1.8p-2, 0x1p-1, potential_3, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, potential_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_0, .nterms = 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = potential_2, .nterms = 1},  // [1/4, 3/8), Taylor polynomial about 5/16
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_3, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.69cfeec88d168p+4,  // 1705/24 * pi^-1
@@ -356,7 +356,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.2978470872f94p-37, 0x1.e6a2b45789df7p-39,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-4, 0, 1, dpotential_0_0, 10, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-4, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 10, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.aa07bca7cc26p+0,  // 11772808917321869/2251799813685248 * pi^-1
@@ -377,7 +377,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.ebd2a457beb54p-37, -0x1.dda8930fbaa37p-39, 0x1.e6a2b45789df7p-39,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, dpotential_1_0, 11, 0x1.8p-4, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 11, .centre = 0x1.8p-4, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.c70f4d749e43cp+0,  // 12280277420713/2199023255552 * pi^-1
@@ -398,7 +398,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.f5d8f3a0a1076p-39, 0x1.d51fec04ad3cp-40, 0x1.e6a2b45789df7p-39,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_2_0, 11, 0x1.8p-3, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 11, .centre = 0x1.8p-3, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.4560055b82fe1p-1,  // 4287400631/2147483648 * pi^-1
@@ -419,7 +419,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.c134e9718df1cp-42, -0x1.3fbdf661b7c2ap-45, 0x1.e6a2b45789df7p-39,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_3_0, 11, 0x1.8p-2, 0x0p+0, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 11, .centre = 0x1.8p-2, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -439,8 +439,8 @@ inline constexpr double dpotential_4_1_lo[] = {
     0x1.006e5efd2cf93p-56,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -2, dpotential_4_1, 5, 0, 0, dpotential_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -2, .c = dpotential_4_1, .n = 5, .c_lo = dpotential_4_1_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -449,15 +449,15 @@ inline constexpr double dpotential_5_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-4, dpotential_0, 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-4, 0x1p-3, dpotential_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, dpotential_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_3, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = dpotential_0, .nterms = 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = dpotential_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_3, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.43c9a79a616b5p+4,  // 8737759657609/137438953472 * pi^-1
@@ -477,7 +477,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.250965ac2395dp-37, 0x1.e6a2b45789df7p-39,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, dpotential_over_r_0_0, 10, 0x1p-4, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 10, .centre = 0x1p-4, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.2f5f88f869828p+3,  // 12280277420713/412316860416 * pi^-1
@@ -497,7 +497,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.c7a8ba18f6621p-38, 0x1.e6a2b45789df7p-39,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_1_0, 10, 0x1.8p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 10, .centre = 0x1.8p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
@@ -534,9 +534,9 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
     0x1.31cbc6a1ccd84p-53, 0x1.006e5efd2cf93p-56,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, -3, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, -3, dpotential_over_r_2_1, 5, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, dpotential_over_r_2_2, 10, 0, 0, dpotential_over_r_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = -3, .c = dpotential_over_r_2_1, .n = 5, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 10, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.06197ca61e4b9p+0,  // 442064902711/137438953472 * pi^-1
@@ -556,7 +556,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.4e03b048e8293p-42, 0x1.e6a2b45789df7p-39,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_3_0, 10, 0x1.cp-2, 0x0p+0, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 10, .centre = 0x1.cp-2, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -576,8 +576,8 @@ inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.006e5efd2cf93p-56,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -3, dpotential_over_r_4_1, 5, 0, 0, dpotential_over_r_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -3, .c = dpotential_over_r_4_1, .n = 5, .c_lo = dpotential_over_r_4_1_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -586,15 +586,15 @@ inline constexpr double dpotential_over_r_5_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 1},  // [0, 1/8), Taylor polynomial about 1/16
-    {0x1p-3, 0x1p-2, dpotential_over_r_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, dpotential_over_r_2, 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1p-1, dpotential_over_r_3, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, dpotential_over_r_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/8), Taylor polynomial about 1/16
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = dpotential_over_r_2, .nterms = 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.4d8259d55a699p+10,  // -4191 * pi^-1
@@ -611,7 +611,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     -0x1.d99af82cb1d23p-34, 0x1.345a27f1595dep-37, -0x1.2978470872f94p-34, 0x1.1bb85713d8dafp-39,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-4, 0, 0, potential_hess_radial_0_0, 8, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 8, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.d0869fae6648ap+9,  // -200571684261801/68719476736 * pi^-1
@@ -628,7 +628,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.98ff57ed4ee74p-36, 0x1.1b51673fb9b7ap-39, -0x1.1d35f9fa5635fp-37, 0x1.1bb85713d8dafp-39,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_hess_radial_1_0, 8, 0x1.8p-4, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 8, .centre = 0x1.8p-4, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.9ee0786c670c6p+8,  // -699743601417/536870912 * pi^-1
@@ -645,7 +645,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.925959b92ec6ep-37, -0x1.0320a45211e7bp-35, 0x1.c4559113bad78p-35, 0x1.1bb85713d8dafp-39,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_2_0, 8, 0x1.8p-3, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 8, .centre = 0x1.8p-3, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -680,9 +680,9 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
     0x1.9b695d851446ep-46, -0x1.5aac34bfa251ap-47, 0x1.31cbc6a1ccd84p-50, 0x1.a40f855b9a531p-50,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, -5, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 7, -5, potential_hess_radial_3_1, 6, 0, 0, potential_hess_radial_3_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, potential_hess_radial_3_2, 8, 0, 0, potential_hess_radial_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = -5, .c = potential_hess_radial_3_1, .n = 6, .c_lo = potential_hess_radial_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 8, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.17eb8b1157d8cp+4,  // -29507596397/536870912 * pi^-1
@@ -699,7 +699,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.287424f15804bp-40, -0x1.568ae3f636a09p-41, -0x1.ca2456619708fp-39, 0x1.1bb85713d8dafp-39,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_4_0, 8, 0x1.cp-2, 0x0p+0, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 8, .centre = 0x1.cp-2, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -720,8 +720,8 @@ inline constexpr double potential_hess_radial_5_1_lo[] = {
     -0x1.5c70d8460a3b2p-51, -0x1.a40f855b9a531p-50,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -5, potential_hess_radial_5_1, 6, 0, 0, potential_hess_radial_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -5, .c = potential_hess_radial_5_1, .n = 6, .c_lo = potential_hess_radial_5_1_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -730,32 +730,39 @@ inline constexpr double potential_hess_radial_6_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-4, potential_hess_radial_0, 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-4, 0x1p-3, potential_hess_radial_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, potential_hess_radial_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, potential_hess_radial_3, 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1p-1, potential_hess_radial_4, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, potential_hess_radial_5, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = potential_hess_radial_3, .nterms = 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_hess_radial_4, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_5, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_6, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_2_base_wendland_k_2_l_1_D3
 inline constexpr table::Kernel combo_m_2_base_wendland_k_2_l_1_D3 = {
-    "combo:m=2,base=wendland:k=2,l=1", 3, 0x1p+0, 6, 4, 1,
-    0x1.9d9a99bd00407p+12, "20790 * pi^-1", true,
-    {
-        {detail_combo_m_2_base_wendland_k_2_l_1_D3::value, 3},
-        {detail_combo_m_2_base_wendland_k_2_l_1_D3::dr, 3},
-        {detail_combo_m_2_base_wendland_k_2_l_1_D3::d2r, 3},
-        {detail_combo_m_2_base_wendland_k_2_l_1_D3::laplacian, 3},
-        {detail_combo_m_2_base_wendland_k_2_l_1_D3::grad_over_r, 3},
-        {detail_combo_m_2_base_wendland_k_2_l_1_D3::hess_radial, 3},
-        {detail_combo_m_2_base_wendland_k_2_l_1_D3::potential, 6},
-        {detail_combo_m_2_base_wendland_k_2_l_1_D3::dpotential, 6},
-        {detail_combo_m_2_base_wendland_k_2_l_1_D3::dpotential_over_r, 6},
-        {detail_combo_m_2_base_wendland_k_2_l_1_D3::potential_hess_radial, 7},
+    .spec = "combo:m=2,base=wendland:k=2,l=1",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 6,
+    .order = 4,
+    .parity = 1,
+    .normalisation = 0x1.9d9a99bd00407p+12,  // 20790 * pi^-1
+    .normalisation_exact = "20790 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_2_base_wendland_k_2_l_1_D3::value, .npieces = 3},  // value
+        {.pieces = detail_combo_m_2_base_wendland_k_2_l_1_D3::dr, .npieces = 3},  // dr
+        {.pieces = detail_combo_m_2_base_wendland_k_2_l_1_D3::d2r, .npieces = 3},  // d2r
+        {.pieces = detail_combo_m_2_base_wendland_k_2_l_1_D3::laplacian, .npieces = 3},  // laplacian
+        {.pieces = detail_combo_m_2_base_wendland_k_2_l_1_D3::grad_over_r, .npieces = 3},  // grad_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_2_l_1_D3::hess_radial, .npieces = 3},  // hess_radial
+        {.pieces = detail_combo_m_2_base_wendland_k_2_l_1_D3::potential, .npieces = 6},  // potential
+        {.pieces = detail_combo_m_2_base_wendland_k_2_l_1_D3::dpotential, .npieces = 6},  // dpotential
+        {.pieces = detail_combo_m_2_base_wendland_k_2_l_1_D3::dpotential_over_r, .npieces = 6},  // dpotential_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_2_l_1_D3::potential_hess_radial, .npieces = 7},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

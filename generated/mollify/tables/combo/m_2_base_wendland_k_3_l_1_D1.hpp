@@ -23,8 +23,8 @@ inline constexpr double value_0_1[] = {
     -0x1.4p+4,  // -20
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 0, value_0_0, 4, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, value_0_1, 4, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = value_0_0, .n = 4},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_1, .n = 4},
 };
 inline constexpr double value_1_0[] = {
     -0x1.4p-1,  // -5/8
@@ -33,12 +33,12 @@ inline constexpr double value_1_0[] = {
     -0x1.4p+4,  // -20
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, value_1_0, 4, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_0, .n = 4},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-1, value_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, value_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = value_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.b8p+15,  // -56320
@@ -51,8 +51,8 @@ inline constexpr double dr_0_1[] = {
     0x1.b8p+7,  // 220
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 7, 1, dr_0_0, 3, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 1, dr_0_1, 3, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3},
 };
 inline constexpr double dr_1_0[] = {
     0x1.b8p+3,  // 55/4
@@ -60,12 +60,12 @@ inline constexpr double dr_1_0[] = {
     0x1.b8p+7,  // 220
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 1, dr_1_0, 3, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-1, dr_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, dr_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dr_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.b8p+14,  // -28160
@@ -80,8 +80,8 @@ inline constexpr double d2r_0_1[] = {
     -0x1.13p+11,  // -2200
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 6, 0, d2r_0_0, 4, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, d2r_0_1, 4, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = d2r_0_0, .n = 4},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_0_1, .n = 4},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.b8p+3,  // 55/4
@@ -90,12 +90,12 @@ inline constexpr double d2r_1_0[] = {
     -0x1.13p+11,  // -2200
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, d2r_1_0, 4, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_1_0, .n = 4},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-1, d2r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, d2r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = d2r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = d2r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.b8p+14,  // -28160
@@ -110,8 +110,8 @@ inline constexpr double laplacian_0_1[] = {
     -0x1.13p+11,  // -2200
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 6, 0, laplacian_0_0, 4, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, laplacian_0_1, 4, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = laplacian_0_0, .n = 4},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_0_1, .n = 4},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.b8p+3,  // 55/4
@@ -120,12 +120,12 @@ inline constexpr double laplacian_1_0[] = {
     -0x1.13p+11,  // -2200
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, laplacian_1_0, 4, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_1_0, .n = 4},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-1, laplacian_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, laplacian_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = laplacian_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = laplacian_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.b8p+15,  // -56320
@@ -138,8 +138,8 @@ inline constexpr double grad_over_r_0_1[] = {
     0x1.b8p+7,  // 220
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 7, 0, grad_over_r_0_0, 3, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, grad_over_r_0_1, 3, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.b8p+3,  // 55/4
@@ -147,12 +147,12 @@ inline constexpr double grad_over_r_1_0[] = {
     0x1.b8p+7,  // 220
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, grad_over_r_1_0, 3, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-1, grad_over_r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, grad_over_r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = grad_over_r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.4ap+21,  // 2703360
@@ -163,20 +163,20 @@ inline constexpr double hess_radial_0_1[] = {
     -0x1.efp+10,  // -1980
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 6, 0, hess_radial_0_0, 2, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, hess_radial_0_1, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.4ap+8,  // -330
     -0x1.efp+10,  // -1980
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, hess_radial_1_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-1, hess_radial_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, hess_radial_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = hess_radial_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     0x1.cb7cb7cb7cb7dp-6,  // 35/1248
@@ -201,7 +201,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x0p+0, 0x1.3b13b13b13b14p-43,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-3, 0, 0, potential_0_0, 14, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 14, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     0x1.ad47a365760ap-4,  // 75398876040600771001/719423018874672513024
@@ -226,7 +226,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x0p+0, 0x1.3b13b13b13b14p-43,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_1_0, 14, 0x1.cp-3, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 14, .centre = 0x1.cp-3, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     0x1.7e10953a0e0d2p-3,  // 15999318291977/85761906966528
@@ -251,7 +251,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x0p+0, 0x1.3b13b13b13b14p-43,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_2_0, 14, 0x1.8p-2, 0x0p+0, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 14, .centre = 0x1.8p-2, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
@@ -266,21 +266,21 @@ inline constexpr double potential_3_1_lo[] = {
     0x1.20d20d20d20d2p-60, -0x1.069069069069p-59, -0x1.a41a41a41a41ap-59, -0x1.a41a41a41a41ap-57,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_3_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_3_1, 4, 0, 0, potential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_3_1, .n = 4, .c_lo = potential_3_1_lo},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_4_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.8p-3, potential_0, 1},  // [0, 3/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-3, 0x1p-2, potential_1, 1},  // [3/16, 1/4), Taylor polynomial about 7/32
-    {0x1p-2, 0x1p-1, potential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_3, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.8p-3, .terms = potential_0, .nterms = 1},  // [0, 3/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-3, .hi = 0x1p-2, .terms = potential_1, .nterms = 1},  // [3/16, 1/4), Taylor polynomial about 7/32
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_3, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.18p+2,  // 35/8
@@ -302,7 +302,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.5555555555555p-37, 0x0p+0, 0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 1, dpotential_0_0, 12, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 12, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.06fbd1b5bbfep-1,  // 144576800808447/281474976710656
@@ -326,7 +326,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x0p+0,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 13, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 13, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.064921898p-1,  // 8800846611/17179869184
@@ -350,7 +350,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x0p+0,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 13, 0x1.8p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 13, .centre = 0x1.8p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
@@ -365,21 +365,21 @@ inline constexpr double dpotential_3_1_lo[] = {
     0x1.5555555555555p-57, 0x0p+0, 0x0p+0, -0x1.5555555555555p-54,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_3_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, dpotential_3_1, 4, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_3_1, .n = 4, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_4_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.18p+2,  // 35/8
@@ -401,7 +401,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.5555555555555p-37, 0x0p+0, 0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 0, dpotential_over_r_0_0, 12, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 12, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.5ea5179cfaa8p+1,  // 48192266936149/17592186044416
@@ -423,7 +423,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.5555555555555p-45, 0x0p+0, 0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_1_0, 12, 0x1.8p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 12, .centre = 0x1.8p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.aba835a9427p+0,  // 29388369990695/17592186044416
@@ -445,7 +445,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.5555555555555p-42, 0x0p+0, 0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, dpotential_over_r_2_0, 12, 0x1.4p-2, 0x0p+0, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 12, .centre = 0x1.4p-2, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.28074277961p+0,  // 20342913857889/17592186044416
@@ -467,7 +467,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.5555555555555p-43, 0x0p+0, 0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_3_0, 12, 0x1.cp-2, 0x0p+0, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 12, .centre = 0x1.cp-2, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -482,22 +482,22 @@ inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.5555555555555p-57, 0x0p+0, 0x0p+0, -0x1.5555555555555p-54,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_4_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_over_r_4_1, 4, 0, 0, dpotential_over_r_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_4_1, .n = 4, .c_lo = dpotential_over_r_4_1_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_5_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-3, 0x1p-2, dpotential_over_r_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, dpotential_over_r_2, 1},  // [1/4, 3/8), Taylor polynomial about 5/16
-    {0x1.8p-2, 0x1p-1, dpotential_over_r_3, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, dpotential_over_r_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = dpotential_over_r_2, .nterms = 1},  // [1/4, 3/8), Taylor polynomial about 5/16
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.fc9ac3dfa24p+6,  // -8737759657609/68719476736
@@ -517,7 +517,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_hess_radial_0_0, 10, 0x1p-4, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 10, .centre = 0x1p-4, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.dc8998771c2abp+5,  // -12280277420713/206158430208
@@ -537,7 +537,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_1_0, 10, 0x1.8p-3, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 10, .centre = 0x1.8p-3, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.5555555555555p-1,  // -2/3
@@ -574,9 +574,9 @@ inline constexpr double potential_hess_radial_2_2_lo[] = {
     0x0p+0, -0x1.5555555555555p-50,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, -3, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, -3, potential_hess_radial_2_1, 5, 0, 0, potential_hess_radial_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, potential_hess_radial_2_2, 10, 0, 0, potential_hess_radial_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = -3, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = -3, .c = potential_hess_radial_2_1, .n = 5, .c_lo = potential_hess_radial_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_2, .n = 10, .c_lo = potential_hess_radial_2_2_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.9bb47c68dcp+2,  // -442064902711/68719476736
@@ -596,7 +596,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_3_0, 10, 0x1.cp-2, 0x0p+0, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 10, .centre = 0x1.cp-2, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1p-1,  // -1/2
@@ -613,38 +613,45 @@ inline constexpr double potential_hess_radial_4_1_lo[] = {
     -0x1.5555555555555p-50,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_4_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -3, potential_hess_radial_4_1, 5, 0, 0, potential_hess_radial_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_4_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -3, .c = potential_hess_radial_4_1, .n = 5, .c_lo = potential_hess_radial_4_1_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_5_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = potential_hess_radial_5_0, .n = 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-3, potential_hess_radial_0, 1},  // [0, 1/8), Taylor polynomial about 1/16
-    {0x1p-3, 0x1p-2, potential_hess_radial_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, potential_hess_radial_2, 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1p-1, potential_hess_radial_3, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, potential_hess_radial_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/8), Taylor polynomial about 1/16
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_hess_radial_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = potential_hess_radial_2, .nterms = 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_hess_radial_3, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_5, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_2_base_wendland_k_3_l_1_D1
 inline constexpr table::Kernel combo_m_2_base_wendland_k_3_l_1_D1 = {
-    "combo:m=2,base=wendland:k=3,l=1", 1, 0x1p+0, 7, 4, 1,
-    0x1.44d8p+15, "41580", true,
-    {
-        {detail_combo_m_2_base_wendland_k_3_l_1_D1::value, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D1::dr, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D1::d2r, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D1::laplacian, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D1::grad_over_r, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D1::hess_radial, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D1::potential, 5},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D1::dpotential, 5},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D1::dpotential_over_r, 6},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D1::potential_hess_radial, 6},
+    .spec = "combo:m=2,base=wendland:k=3,l=1",
+    .dim = 1,
+    .support = 0x1p+0,
+    .smoothness = 7,
+    .order = 4,
+    .parity = 1,
+    .normalisation = 0x1.44d8p+15,  // 41580
+    .normalisation_exact = "41580",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D1::value, .npieces = 3},  // value
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D1::dr, .npieces = 3},  // dr
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D1::d2r, .npieces = 3},  // d2r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D1::laplacian, .npieces = 3},  // laplacian
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D1::grad_over_r, .npieces = 3},  // grad_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D1::hess_radial, .npieces = 3},  // hess_radial
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D1::potential, .npieces = 5},  // potential
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D1::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D1::dpotential_over_r, .npieces = 6},  // dpotential_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D1::potential_hess_radial, .npieces = 6},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

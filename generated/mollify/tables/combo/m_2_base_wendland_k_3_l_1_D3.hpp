@@ -29,8 +29,8 @@ inline constexpr double value_0_1_lo[] = {
     -0x1.02837a342ddacp-54, 0x1.6e960b42a634fp-50, 0x1.ff1a24f5bf3b7p-49, 0x1.8ac5612b10ff6p-49,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 9, 0, value_0_0, 4, 0, 0, value_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, value_0_1, 4, 0, 0, value_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 0, .c = value_0_0, .n = 4, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_0_1, .n = 4, .c_lo = value_0_1_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.6a13d6bf5061cp+1,  // -2275/256 * pi^-1
@@ -42,12 +42,12 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.02837a342ddacp-54, 0x1.6e960b42a634fp-50, 0x1.ff1a24f5bf3b7p-49, 0x1.8ac5612b10ff6p-49,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, value_1_0, 4, 0, 0, value_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_1_0, .n = 4, .c_lo = value_1_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-1, value_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, value_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = value_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.2ab6c45dd583ep+21,  // -7687680 * pi^-1
@@ -66,8 +66,8 @@ inline constexpr double dr_0_1_lo[] = {
     -0x1.955cf730e048fp-48, -0x1.955cf730e048fp-45, -0x1.281408e04cbf8p-45,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 1, dr_0_1, 3, 0, 0, dr_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.2ab6c45dd583ep+6,  // 15015/64 * pi^-1
@@ -78,12 +78,12 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.955cf730e048fp-48, -0x1.955cf730e048fp-45, -0x1.281408e04cbf8p-45,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 1, dr_1_0, 3, 0, 0, dr_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-1, dr_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, dr_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dr_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.2ab6c45dd583ep+20,  // -3843840 * pi^-1
@@ -104,8 +104,8 @@ inline constexpr double d2r_0_1_lo[] = {
     -0x1.955cf730e048fp-48, -0x1.8ac5612b10ff6p-47, -0x1.d14d395c11b28p-44, 0x1.a5c6e30d1a61dp-40,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 7, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, d2r_0_1, 4, 0, 0, d2r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = d2r_0_1, .n = 4, .c_lo = d2r_0_1_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.2ab6c45dd583ep+6,  // 15015/64 * pi^-1
@@ -117,12 +117,12 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.955cf730e048fp-48, -0x1.8ac5612b10ff6p-47, -0x1.d14d395c11b28p-44, 0x1.a5c6e30d1a61dp-40,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, d2r_1_0, 4, 0, 0, d2r_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = d2r_1_0, .n = 4, .c_lo = d2r_1_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-1, d2r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, d2r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = d2r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = d2r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.c012268cc045cp+21,  // -11531520 * pi^-1
@@ -143,8 +143,8 @@ inline constexpr double laplacian_0_1_lo[] = {
     0x1.9ff48d36af929p-47, -0x1.281408e04cbf8p-45, 0x1.37f769e903adfp-45, 0x1.3848239b1f2ddp-40,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 7, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, laplacian_0_1, 4, 0, 0, laplacian_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = laplacian_0_1, .n = 4, .c_lo = laplacian_0_1_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.c012268cc045cp+7,  // 45045/64 * pi^-1
@@ -156,12 +156,12 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.9ff48d36af929p-47, -0x1.281408e04cbf8p-45, 0x1.37f769e903adfp-45, 0x1.3848239b1f2ddp-40,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, laplacian_1_0, 4, 0, 0, laplacian_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = laplacian_1_0, .n = 4, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-1, laplacian_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, laplacian_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = laplacian_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = laplacian_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.2ab6c45dd583ep+21,  // -7687680 * pi^-1
@@ -180,8 +180,8 @@ inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.955cf730e048fp-48, -0x1.955cf730e048fp-45, -0x1.281408e04cbf8p-45,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, grad_over_r_0_1, 3, 0, 0, grad_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.2ab6c45dd583ep+6,  // 15015/64 * pi^-1
@@ -192,12 +192,12 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.955cf730e048fp-48, -0x1.955cf730e048fp-45, -0x1.281408e04cbf8p-45,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, grad_over_r_1_0, 3, 0, 0, grad_over_r_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-1, grad_over_r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, grad_over_r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = grad_over_r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.180b5817f82bap+27,  // 461260800 * pi^-1
@@ -214,8 +214,8 @@ inline constexpr double hess_radial_0_1_lo[] = {
     0x1.f80e4f7ba488dp-44, -0x1.1bcde9cf40213p-43,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 7, 0, hess_radial_0_0, 2, 0, 0, hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, hess_radial_0_1, 2, 0, 0, hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.180b5817f82bap+11,  // -225225/32 * pi^-1
@@ -225,12 +225,12 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.f80e4f7ba488dp-44, -0x1.1bcde9cf40213p-43,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, hess_radial_1_0, 2, 0, 0, hess_radial_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-1, hess_radial_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, hess_radial_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = hess_radial_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.85edfaf56a41ep-1,  // -1225/512 * pi^-1
@@ -256,7 +256,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.d7f709650a8fep-35, -0x1.754aa78c4a07dp-36, -0x1.d7a1f2a81d219p-38,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 0, potential_0_0, 15, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 15, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.c62a43886bf5bp-2,  // -51405949541496709855/36893488147419103232 * pi^-1
@@ -282,7 +282,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.068a9c815b013p-39, 0x1.54cc44d58b68cp-38, -0x1.d7a1f2a81d219p-38,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_1_0, 15, 0x1.8p-3, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 15, .centre = 0x1.8p-3, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.0da40ba50fb15p-2,  // -91560151000424862925/110680464442257309696 * pi^-1
@@ -308,7 +308,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.1cedf2294d3e2p-39, 0x1.b70dc2f586dfcp-42, -0x1.d7a1f2a81d219p-38,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_2_0, 15, 0x1.4p-2, 0x0p+0, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 15, .centre = 0x1.4p-2, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.7717b6537c79dp-3,  // -63683865938980498645/110680464442257309696 * pi^-1
@@ -334,7 +334,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.71d0676a33982p-40, -0x1.1dea8c76da8ccp-38, -0x1.d7a1f2a81d219p-38,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_3_0, 15, 0x1.cp-2, 0x0p+0, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 15, .centre = 0x1.cp-2, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -354,8 +354,8 @@ inline constexpr double potential_4_1_lo[] = {
     0x1.27daa1453381p-55,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -1, potential_4_1, 5, 0, 0, potential_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -1, .c = potential_4_1, .n = 5, .c_lo = potential_4_1_lo},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -364,15 +364,15 @@ inline constexpr double potential_5_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-3, 0x1p-2, potential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, potential_2, 1},  // [1/4, 3/8), Taylor polynomial about 5/16
-    {0x1.8p-2, 0x1p-1, potential_3, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, potential_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_0, .nterms = 1},  // [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = potential_2, .nterms = 1},  // [1/4, 3/8), Taylor polynomial about 5/16
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_3, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.d3aef561c7d3ap+4,  // 70525/768 * pi^-1
@@ -396,7 +396,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.9cadb453197d6p-34,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-4, 0, 1, dpotential_0_0, 13, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-4, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 13, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.0aa0c20ac5b04p+1,  // 61806660366214343699533/9444732965739290427392 * pi^-1
@@ -421,7 +421,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.0a132a269bd51p-33, -0x1.9cadb453197d6p-34,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, dpotential_1_0, 14, 0x1.8p-4, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 14, .centre = 0x1.8p-4, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.016898e8e17a5p+1,  // 7283878068351308365/1152921504606846976 * pi^-1
@@ -446,7 +446,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.ca72fbf6c0a29p-33, -0x1.9cadb453197d6p-34,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_2_0, 14, 0x1.8p-3, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 14, .centre = 0x1.8p-3, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
@@ -488,9 +488,9 @@ inline constexpr double dpotential_3_2_lo[] = {
     0x1.fd20b2e372ef2p-51,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, -2, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 10, -2, dpotential_3_1, 6, 0, 0, dpotential_3_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 1, dpotential_3_2, 13, 0, 0, dpotential_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = -2, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 10, .low = -2, .c = dpotential_3_1, .n = 6, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 13, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.c0224d5a37efep-2,  // 4755309614794066475/3458764513820540928 * pi^-1
@@ -515,7 +515,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     0x1.57b16ddf6e6dap-34, -0x1.9cadb453197d6p-34,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_4_0, 14, 0x1.cp-2, 0x0p+0, dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 14, .centre = 0x1.cp-2, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -536,8 +536,8 @@ inline constexpr double dpotential_5_1_lo[] = {
     -0x1.6f40b9e9f69bcp-52, 0x1.fd20b2e372ef2p-51,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -2, dpotential_5_1, 6, 0, 0, dpotential_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -2, .c = dpotential_5_1, .n = 6, .c_lo = dpotential_5_1_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -546,16 +546,16 @@ inline constexpr double dpotential_6_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-4, dpotential_0, 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-4, 0x1p-3, dpotential_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, dpotential_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, dpotential_3, 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1p-1, dpotential_4, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, dpotential_5, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = dpotential_0, .nterms = 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = dpotential_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = dpotential_3, .nterms = 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = dpotential_4, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_5, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.9cfb4dc8765dfp+4,  // 17529182514715951133/216172782113783808 * pi^-1
@@ -579,7 +579,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.9cadb453197d6p-34,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, dpotential_over_r_0_0, 13, 0x1p-4, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 13, .centre = 0x1p-4, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.5736213681f87p+3,  // 7283878068351308365/216172782113783808 * pi^-1
@@ -603,7 +603,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.9cadb453197d6p-34,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_1_0, 13, 0x1.8p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 13, .centre = 0x1.8p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.b2995e7b7b604p-4,  // 1/3 * pi^-1
@@ -645,9 +645,9 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
     0x1.fd20b2e372ef2p-51,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, -3, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 10, -3, dpotential_over_r_2_1, 6, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, dpotential_over_r_2_2, 13, 0, 0, dpotential_over_r_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 10, .low = -3, .c = dpotential_over_r_2_1, .n = 6, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 13, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.001399ea691b6p+0,  // 679329944970580925/216172782113783808 * pi^-1
@@ -671,7 +671,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.9cadb453197d6p-34,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_3_0, 13, 0x1.cp-2, 0x0p+0, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 13, .centre = 0x1.cp-2, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -692,8 +692,8 @@ inline constexpr double dpotential_over_r_4_1_lo[] = {
     -0x1.6f40b9e9f69bcp-52, 0x1.fd20b2e372ef2p-51,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -3, dpotential_over_r_4_1, 6, 0, 0, dpotential_over_r_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -3, .c = dpotential_over_r_4_1, .n = 6, .c_lo = dpotential_over_r_4_1_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -702,15 +702,15 @@ inline constexpr double dpotential_over_r_5_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 1},  // [0, 1/8), Taylor polynomial about 1/16
-    {0x1p-3, 0x1p-2, dpotential_over_r_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, dpotential_over_r_2, 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1p-1, dpotential_over_r_3, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, dpotential_over_r_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/8), Taylor polynomial about 1/16
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = dpotential_over_r_2, .nterms = 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.da3557bb5c8e2p+10,  // -381381/64 * pi^-1
@@ -731,7 +731,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.f4ef319d73cdcp-29, 0x1.5bda6345152d4p-31, -0x1.ac1239f298f04p-33,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-4, 0, 0, potential_hess_radial_0_0, 11, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 11, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.4eb3a07d6710bp+10,  // -303073174121071886043/72057594037927936 * pi^-1
@@ -752,7 +752,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.09ba5f3753157p-29, 0x1.7bc30ed81caa7p-30, -0x1.ac1239f298f04p-33,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_hess_radial_1_0, 11, 0x1.8p-4, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 11, .centre = 0x1.8p-4, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.0fc09b509b731p+9,  // -120152554654319835/70368744177664 * pi^-1
@@ -773,7 +773,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.954873b86804ep-30, -0x1.b66713f25141bp-30, -0x1.ac1239f298f04p-33,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_2_0, 11, 0x1.8p-3, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 11, .centre = 0x1.8p-3, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -813,9 +813,9 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
     0x1.22e2acf6a0066p-43, -0x1.2a9fc37108bc5p-45, 0x1.f76218aa58cd5p-49,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, -5, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 9, -5, potential_hess_radial_3_1, 7, 0, 0, potential_hess_radial_3_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, potential_hess_radial_3_2, 11, 0, 0, potential_hess_radial_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = -5, .c = potential_hess_radial_3_1, .n = 7, .c_lo = potential_hess_radial_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 11, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.0eb35897cddd8p+4,  // -3740234757487795/70368744177664 * pi^-1
@@ -836,7 +836,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     -0x1.8bb23e3a274b7p-36, -0x1.e166307108664p-33, -0x1.ac1239f298f04p-33,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_4_0, 11, 0x1.cp-2, 0x0p+0, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 11, .centre = 0x1.cp-2, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -858,8 +858,8 @@ inline constexpr double potential_hess_radial_5_1_lo[] = {
     -0x1.3b0ba404b3be5p-49, 0x1.ef12b226d91b6p-50, -0x1.f76218aa58cd5p-49,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -5, potential_hess_radial_5_1, 7, 0, 0, potential_hess_radial_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -5, .c = potential_hess_radial_5_1, .n = 7, .c_lo = potential_hess_radial_5_1_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -868,32 +868,39 @@ inline constexpr double potential_hess_radial_6_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-4, potential_hess_radial_0, 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-4, 0x1p-3, potential_hess_radial_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, potential_hess_radial_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, potential_hess_radial_3, 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1p-1, potential_hess_radial_4, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, potential_hess_radial_5, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = potential_hess_radial_3, .nterms = 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_hess_radial_4, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_5, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_6, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_2_base_wendland_k_3_l_1_D3
 inline constexpr table::Kernel combo_m_2_base_wendland_k_3_l_1_D3 = {
-    "combo:m=2,base=wendland:k=3,l=1", 3, 0x1p+0, 8, 4, 1,
-    0x1.6f8ee39f75b94p+18, "4729725/4 * pi^-1", true,
-    {
-        {detail_combo_m_2_base_wendland_k_3_l_1_D3::value, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D3::dr, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D3::d2r, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D3::laplacian, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D3::grad_over_r, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D3::hess_radial, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D3::potential, 6},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D3::dpotential, 7},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D3::dpotential_over_r, 6},
-        {detail_combo_m_2_base_wendland_k_3_l_1_D3::potential_hess_radial, 7},
+    .spec = "combo:m=2,base=wendland:k=3,l=1",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 8,
+    .order = 4,
+    .parity = 1,
+    .normalisation = 0x1.6f8ee39f75b94p+18,  // 4729725/4 * pi^-1
+    .normalisation_exact = "4729725/4 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D3::value, .npieces = 3},  // value
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D3::dr, .npieces = 3},  // dr
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D3::d2r, .npieces = 3},  // d2r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D3::laplacian, .npieces = 3},  // laplacian
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D3::grad_over_r, .npieces = 3},  // grad_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D3::hess_radial, .npieces = 3},  // hess_radial
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D3::potential, .npieces = 6},  // potential
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D3::dpotential, .npieces = 7},  // dpotential
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D3::dpotential_over_r, .npieces = 6},  // dpotential_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_1_D3::potential_hess_radial, .npieces = 7},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -29,8 +29,8 @@ inline constexpr double value_0_1_lo[] = {
     -0x1.3a3d9896e3394p-54, -0x1.1199fd79380f2p-52, -0x1.253c291a5246cp-51, -0x1.3a3d9896e3394p-48,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 10, 0, value_0_0, 4, 0, 0, value_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, value_0_1, 4, 0, 0, value_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 10, .low = 0, .c = value_0_0, .n = 4, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_0_1, .n = 4, .c_lo = value_0_1_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.976fc893c3aa3p+0,  // -5 * pi^-1
@@ -42,12 +42,12 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.3a3d9896e3394p-54, -0x1.1199fd79380f2p-52, -0x1.253c291a5246cp-51, -0x1.3a3d9896e3394p-48,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, value_1_0, 4, 0, 0, value_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_1_0, .n = 4, .c_lo = value_1_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-1, value_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, value_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = value_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.8d40305cdec5fp+20,  // -5111808 * pi^-1
@@ -66,8 +66,8 @@ inline constexpr double dr_0_1_lo[] = {
     0x1.cb2b4ff307e2ep-50, 0x1.0490b9f168df3p-47, -0x1.40adf40567618p-44,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 9, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 1, dr_0_1, 3, 0, 0, dr_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.8d40305cdec5fp+5,  // 156 * pi^-1
@@ -78,12 +78,12 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.cb2b4ff307e2ep-50, 0x1.0490b9f168df3p-47, -0x1.40adf40567618p-44,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 1, dr_1_0, 3, 0, 0, dr_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-1, dr_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, dr_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dr_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.8d40305cdec5fp+19,  // -2555904 * pi^-1
@@ -104,8 +104,8 @@ inline constexpr double d2r_0_1_lo[] = {
     0x1.cb2b4ff307e2ep-50, 0x1.cb2b4ff307e2ep-47, -0x1.4286dde132bacp-47, -0x1.efb11f7e4edc7p-45,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, d2r_0_1, 4, 0, 0, d2r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_0_1, .n = 4, .c_lo = d2r_0_1_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.8d40305cdec5fp+5,  // 156 * pi^-1
@@ -117,12 +117,12 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.cb2b4ff307e2ep-50, 0x1.cb2b4ff307e2ep-47, -0x1.4286dde132bacp-47, -0x1.efb11f7e4edc7p-45,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, d2r_1_0, 4, 0, 0, d2r_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_1_0, .n = 4, .c_lo = d2r_1_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-1, d2r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, d2r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = d2r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = d2r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.8d40305cdec5fp+20,  // -5111808 * pi^-1
@@ -143,8 +143,8 @@ inline constexpr double laplacian_0_1_lo[] = {
     0x1.cb2b4ff307e2ep-49, 0x1.cb2b4ff307e2ep-46, -0x1.321cdff75a974p-49, 0x1.891aac88c7fe7p-41,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, laplacian_0_1, 4, 0, 0, laplacian_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_0_1, .n = 4, .c_lo = laplacian_0_1_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.8d40305cdec5fp+6,  // 312 * pi^-1
@@ -156,12 +156,12 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.cb2b4ff307e2ep-49, 0x1.cb2b4ff307e2ep-46, -0x1.321cdff75a974p-49, 0x1.891aac88c7fe7p-41,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, laplacian_1_0, 4, 0, 0, laplacian_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_1_0, .n = 4, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-1, laplacian_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, laplacian_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = laplacian_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = laplacian_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.8d40305cdec5fp+20,  // -5111808 * pi^-1
@@ -180,8 +180,8 @@ inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.cb2b4ff307e2ep-50, 0x1.0490b9f168df3p-47, -0x1.40adf40567618p-44,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 9, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, grad_over_r_0_1, 3, 0, 0, grad_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.8d40305cdec5fp+5,  // 156 * pi^-1
@@ -192,12 +192,12 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.cb2b4ff307e2ep-50, 0x1.0490b9f168df3p-47, -0x1.40adf40567618p-44,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, grad_over_r_1_0, 3, 0, 0, grad_over_r_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-1, grad_over_r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, grad_over_r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = grad_over_r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.c72ee21514982p+26,  // 374865920 * pi^-1
@@ -214,8 +214,8 @@ inline constexpr double hess_radial_0_1_lo[] = {
     -0x1.c710d07891d9fp-44, -0x1.c710d07891d9fp-41,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 0, hess_radial_0_0, 2, 0, 0, hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, hess_radial_0_1, 2, 0, 0, hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.c72ee21514982p+10,  // -5720 * pi^-1
@@ -225,12 +225,12 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.c710d07891d9fp-44, -0x1.c710d07891d9fp-41,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, hess_radial_1_0, 2, 0, 0, hess_radial_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-1, hess_radial_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, hess_radial_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = hess_radial_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.734bc5a869301p-2,  // -144015801988767962992900649/212718998220863168650936320 * pi^-1 + -2/3 * pi^-1 * log(2)
@@ -257,7 +257,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.9d0477d74d713p-36, 0x1.812e28bd8314ap-36, 0x1.0b8c57b05f0ccp-37, 0x1.994784d6b7ac6p-42,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-3, 0, 0, potential_0_0, 16, 0x1.8p-4, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 16, .centre = 0x1.8p-4, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.eb560a9b6d9e5p-5,  // 118345/432432 * pi^-1 + -2/3 * pi^-1 * log(2)
@@ -374,22 +374,22 @@ inline constexpr double potential_1_15_lo[] = {
     0x1.334914cdd2ba9p-42,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, potential_1_0, 16, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 1, 0, potential_1_1, 1, 0, 0, potential_1_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 2, 0, potential_1_2, 1, 0, 0, potential_1_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 3, 0, potential_1_3, 1, 0, 0, potential_1_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 4, 0, potential_1_4, 1, 0, 0, potential_1_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 5, 0, potential_1_5, 1, 0, 0, potential_1_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 6, 0, potential_1_6, 1, 0, 0, potential_1_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 7, 0, potential_1_7, 1, 0, 0, potential_1_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 0, potential_1_8, 1, 0, 0, potential_1_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 9, 0, potential_1_9, 1, 0, 0, potential_1_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 10, 0, potential_1_10, 1, 0, 0, potential_1_10_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 11, 0, potential_1_11, 1, 0, 0, potential_1_11_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 12, 0, potential_1_12, 1, 0, 0, potential_1_12_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 13, 0, potential_1_13, 1, 0, 0, potential_1_13_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 14, 0, potential_1_14, 1, 0, 0, potential_1_14_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 15, 0, potential_1_15, 1, 0, 0, potential_1_15_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 16, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 1, .low = 0, .c = potential_1_1, .n = 1, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 2, .low = 0, .c = potential_1_2, .n = 1, .c_lo = potential_1_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 3, .low = 0, .c = potential_1_3, .n = 1, .c_lo = potential_1_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = potential_1_4, .n = 1, .c_lo = potential_1_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = potential_1_5, .n = 1, .c_lo = potential_1_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = potential_1_6, .n = 1, .c_lo = potential_1_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = potential_1_7, .n = 1, .c_lo = potential_1_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = potential_1_8, .n = 1, .c_lo = potential_1_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 0, .c = potential_1_9, .n = 1, .c_lo = potential_1_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 10, .low = 0, .c = potential_1_10, .n = 1, .c_lo = potential_1_10_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 11, .low = 0, .c = potential_1_11, .n = 1, .c_lo = potential_1_11_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 12, .low = 0, .c = potential_1_12, .n = 1, .c_lo = potential_1_12_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 13, .low = 0, .c = potential_1_13, .n = 1, .c_lo = potential_1_13_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 14, .low = 0, .c = potential_1_14, .n = 1, .c_lo = potential_1_14_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 15, .low = 0, .c = potential_1_15, .n = 1, .c_lo = potential_1_15_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.2d3dbb4ff0f12p-3,  // -2/3 * pi^-1 * log(2)
@@ -578,37 +578,37 @@ inline constexpr double potential_2_30_lo[] = {
     -0x1.334914cdd2ba9p-59,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 1, 0, potential_2_1, 1, 0, 0, potential_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 2, 0, potential_2_2, 1, 0, 0, potential_2_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 3, 0, potential_2_3, 1, 0, 0, potential_2_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 4, 0, potential_2_4, 1, 0, 0, potential_2_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 5, 0, potential_2_5, 1, 0, 0, potential_2_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 6, 0, potential_2_6, 1, 0, 0, potential_2_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 7, 0, potential_2_7, 1, 0, 0, potential_2_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 0, potential_2_8, 1, 0, 0, potential_2_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 9, 0, potential_2_9, 1, 0, 0, potential_2_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 10, 0, potential_2_10, 1, 0, 0, potential_2_10_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 11, 0, potential_2_11, 1, 0, 0, potential_2_11_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 12, 0, potential_2_12, 1, 0, 0, potential_2_12_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 13, 0, potential_2_13, 1, 0, 0, potential_2_13_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 14, 0, potential_2_14, 1, 0, 0, potential_2_14_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 15, 0, potential_2_15, 1, 0, 0, potential_2_15_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_2_16, 1, 0, 0, potential_2_16_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_2_17, 1, 0, 0, potential_2_17_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_2_18, 1, 0, 0, potential_2_18_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_2_19, 1, 0, 0, potential_2_19_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_2_20, 1, 0, 0, potential_2_20_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_2_21, 1, 0, 0, potential_2_21_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_2_22, 1, 0, 0, potential_2_22_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_2_23, 1, 0, 0, potential_2_23_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_2_24, 1, 0, 0, potential_2_24_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_2_25, 1, 0, 0, potential_2_25_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_2_26, 1, 0, 0, potential_2_26_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, 0, potential_2_27, 1, 0, 0, potential_2_27_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 13, 0, potential_2_28, 1, 0, 0, potential_2_28_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 14, 0, potential_2_29, 1, 0, 0, potential_2_29_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 15, 0, potential_2_30, 1, 0, 0, potential_2_30_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 1, .low = 0, .c = potential_2_1, .n = 1, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 2, .low = 0, .c = potential_2_2, .n = 1, .c_lo = potential_2_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 3, .low = 0, .c = potential_2_3, .n = 1, .c_lo = potential_2_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = potential_2_4, .n = 1, .c_lo = potential_2_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = potential_2_5, .n = 1, .c_lo = potential_2_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = potential_2_6, .n = 1, .c_lo = potential_2_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = potential_2_7, .n = 1, .c_lo = potential_2_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = potential_2_8, .n = 1, .c_lo = potential_2_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 0, .c = potential_2_9, .n = 1, .c_lo = potential_2_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 10, .low = 0, .c = potential_2_10, .n = 1, .c_lo = potential_2_10_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 11, .low = 0, .c = potential_2_11, .n = 1, .c_lo = potential_2_11_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 12, .low = 0, .c = potential_2_12, .n = 1, .c_lo = potential_2_12_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 13, .low = 0, .c = potential_2_13, .n = 1, .c_lo = potential_2_13_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 14, .low = 0, .c = potential_2_14, .n = 1, .c_lo = potential_2_14_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 15, .low = 0, .c = potential_2_15, .n = 1, .c_lo = potential_2_15_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_2_16, .n = 1, .c_lo = potential_2_16_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_2_17, .n = 1, .c_lo = potential_2_17_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_2_18, .n = 1, .c_lo = potential_2_18_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_2_19, .n = 1, .c_lo = potential_2_19_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_2_20, .n = 1, .c_lo = potential_2_20_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_2_21, .n = 1, .c_lo = potential_2_21_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_2_22, .n = 1, .c_lo = potential_2_22_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_2_23, .n = 1, .c_lo = potential_2_23_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_2_24, .n = 1, .c_lo = potential_2_24_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_2_25, .n = 1, .c_lo = potential_2_25_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_2_26, .n = 1, .c_lo = potential_2_26_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_2_27, .n = 1, .c_lo = potential_2_27_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_2_28, .n = 1, .c_lo = potential_2_28_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = potential_2_29, .n = 1, .c_lo = potential_2_29_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = potential_2_30, .n = 1, .c_lo = potential_2_30_lo},
 };
 inline constexpr double potential_3_0[] = {
     0x1.b2995e7b7b604p-3,  // 2/3 * pi^-1
@@ -707,22 +707,22 @@ inline constexpr double potential_3_15_lo[] = {
     -0x1.334914cdd2ba9p-59,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::log, 0, table::Var::r2, 0x1p+0, 0, 0, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_3_1, 1, 0, 0, potential_3_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_3_2, 1, 0, 0, potential_3_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_3_3, 1, 0, 0, potential_3_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_3_4, 1, 0, 0, potential_3_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_3_5, 1, 0, 0, potential_3_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_3_6, 1, 0, 0, potential_3_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_3_7, 1, 0, 0, potential_3_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_3_8, 1, 0, 0, potential_3_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_3_9, 1, 0, 0, potential_3_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_3_10, 1, 0, 0, potential_3_10_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_3_11, 1, 0, 0, potential_3_11_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, 0, potential_3_12, 1, 0, 0, potential_3_12_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 13, 0, potential_3_13, 1, 0, 0, potential_3_13_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 14, 0, potential_3_14, 1, 0, 0, potential_3_14_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 15, 0, potential_3_15, 1, 0, 0, potential_3_15_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_3_1, .n = 1, .c_lo = potential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_3_2, .n = 1, .c_lo = potential_3_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_3_3, .n = 1, .c_lo = potential_3_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_3_4, .n = 1, .c_lo = potential_3_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_3_5, .n = 1, .c_lo = potential_3_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_3_6, .n = 1, .c_lo = potential_3_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_3_7, .n = 1, .c_lo = potential_3_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_3_8, .n = 1, .c_lo = potential_3_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_3_9, .n = 1, .c_lo = potential_3_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_3_10, .n = 1, .c_lo = potential_3_10_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_3_11, .n = 1, .c_lo = potential_3_11_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_3_12, .n = 1, .c_lo = potential_3_12_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_3_13, .n = 1, .c_lo = potential_3_13_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = potential_3_14, .n = 1, .c_lo = potential_3_14_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = potential_3_15, .n = 1, .c_lo = potential_3_15_lo},
 };
 inline constexpr double potential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -731,14 +731,14 @@ inline constexpr double potential_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.8p-3, potential_0, 1},  // [0, 3/16), Taylor polynomial about 3/32
-    {0x1.8p-3, 0x1.8p-2, potential_1, 16},  // [3/16, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1p-1, potential_2, 31},  // [3/8, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, potential_3, 16},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.8p-3, .terms = potential_0, .nterms = 1},  // [0, 3/16), Taylor polynomial about 3/32
+    {.lo = 0x1.8p-3, .hi = 0x1.8p-2, .terms = potential_1, .nterms = 16},  // [3/16, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_2, .nterms = 31},  // [3/8, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_3, .nterms = 16},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.7df8cc0a876f9p+3,  // 75/2 * pi^-1
@@ -763,7 +763,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.b0bbe96d63164p-34, -0x1.50099e6ed679dp-35,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-4, 0, 1, dpotential_0_0, 14, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-4, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 14, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.b51f340651be5p-1,  // 197907466200478856523/73786976294838206464 * pi^-1
@@ -789,7 +789,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.470a7ee6057f4p-32, 0x1.d4359974a6565p-34, -0x1.50099e6ed679dp-35,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, dpotential_1_0, 15, 0x1.8p-4, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 15, .centre = 0x1.8p-4, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.c280653e9adbep-1,  // 24898086219227391/9007199254740992 * pi^-1
@@ -815,7 +815,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.abea814d7e48bp-34, 0x1.f7af497be9966p-34, -0x1.50099e6ed679dp-35,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_2_0, 15, 0x1.8p-3, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 15, .centre = 0x1.8p-3, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.1869273d95b26p-1,  // 15497596478057625/9007199254740992 * pi^-1
@@ -841,7 +841,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.42a4043779777p-37, 0x1.a34dbdb5dbd7ap-35, -0x1.50099e6ed679dp-35,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, dpotential_3_0, 15, 0x1.4p-2, 0x0p+0, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 15, .centre = 0x1.4p-2, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.7b3f062a974c1p-2,  // 10479991013047619/9007199254740992 * pi^-1
@@ -867,7 +867,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.461682fc8529ep-41, -0x1.51862f1836fb1p-36, -0x1.50099e6ed679dp-35,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_4_0, 15, 0x1.cp-2, 0x0p+0, dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 15, .centre = 0x1.cp-2, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -887,8 +887,8 @@ inline constexpr double dpotential_5_1_lo[] = {
     -0x1.e40290701eb1ep-52,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -1, dpotential_5_1, 5, 0, 0, dpotential_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -1, .c = dpotential_5_1, .n = 5, .c_lo = dpotential_5_1_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -897,16 +897,16 @@ inline constexpr double dpotential_6_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-4, dpotential_0, 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-4, 0x1p-3, dpotential_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, dpotential_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, dpotential_3, 1},  // [1/4, 3/8), Taylor polynomial about 5/16
-    {0x1.8p-2, 0x1p-1, dpotential_4, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, dpotential_5, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = dpotential_0, .nterms = 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = dpotential_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = dpotential_3, .nterms = 1},  // [1/4, 3/8), Taylor polynomial about 5/16
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = dpotential_4, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_5, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.51589d5d62a1bp+3,  // 18644272486662485/562949953421312 * pi^-1
@@ -931,7 +931,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.141c00882dfa6p-33, -0x1.50099e6ed679dp-35,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, dpotential_over_r_0_0, 14, 0x1p-4, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 14, .centre = 0x1p-4, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.2c5598d4673d4p+2,  // 8299362073075797/562949953421312 * pi^-1
@@ -956,7 +956,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.8b98182b26d8ep-33, -0x1.50099e6ed679dp-35,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_1_0, 14, 0x1.8p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 14, .centre = 0x1.8p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.c0a83ec8ef83cp+0,  // 3099519295611525/562949953421312 * pi^-1
@@ -981,7 +981,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.8a17e70fdbb6p-40, -0x1.50099e6ed679dp-35,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, dpotential_over_r_2_0, 14, 0x1.4p-2, 0x0p+0, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 14, .centre = 0x1.4p-2, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.b16c99553f326p-1,  // 1497141573292517/562949953421312 * pi^-1
@@ -1006,7 +1006,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.ea411dc46257cp-35, -0x1.50099e6ed679dp-35,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_3_0, 14, 0x1.cp-2, 0x0p+0, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 14, .centre = 0x1.cp-2, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1026,8 +1026,8 @@ inline constexpr double dpotential_over_r_4_1_lo[] = {
     -0x1.e40290701eb1ep-52,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -2, dpotential_over_r_4_1, 5, 0, 0, dpotential_over_r_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_over_r_4_1, .n = 5, .c_lo = dpotential_over_r_4_1_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1036,15 +1036,15 @@ inline constexpr double dpotential_over_r_5_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 1},  // [0, 1/8), Taylor polynomial about 1/16
-    {0x1p-3, 0x1p-2, dpotential_over_r_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, dpotential_over_r_2, 1},  // [1/4, 3/8), Taylor polynomial about 5/16
-    {0x1.8p-2, 0x1p-1, dpotential_over_r_3, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, dpotential_over_r_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/8), Taylor polynomial about 1/16
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = dpotential_over_r_2, .nterms = 1},  // [1/4, 3/8), Taylor polynomial about 5/16
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.870b2f9b6b4aep+9,  // -2457 * pi^-1
@@ -1066,7 +1066,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     -0x1.5a7ce8d27bb74p-31, 0x1.80987a791f37bp-29, 0x1.448cef120a50bp-30, 0x1.ddf05e8be37a1p-32,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-4, 0, 0, potential_hess_radial_0_0, 12, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 12, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.08c413e8c0f4p+9,  // -468254282224618107/281474976710656 * pi^-1
@@ -1088,7 +1088,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.1750e3982633cp-29, 0x1.459ba8c017f45p-29, -0x1.201d8c46f284fp-29, 0x1.ddf05e8be37a1p-32,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_hess_radial_1_0, 12, 0x1.8p-4, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 12, .centre = 0x1.8p-4, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.97070e23d3d44p+7,  // -351490445262603/549755813888 * pi^-1
@@ -1110,7 +1110,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.6138e33b03aebp-41, 0x1.91844dd061f9dp-31, -0x1.c503202dd4646p-30, 0x1.ddf05e8be37a1p-32,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_2_0, 12, 0x1.8p-3, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 12, .centre = 0x1.8p-3, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.39476baa1a462p+5,  // -67633362847191/549755813888 * pi^-1
@@ -1132,7 +1132,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     -0x1.7f88882569786p-36, -0x1.b4c74042a854ep-36, 0x1.be8f00a4839b3p-31, 0x1.ddf05e8be37a1p-32,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_hess_radial_3_0, 12, 0x1.4p-2, 0x0p+0, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 12, .centre = 0x1.4p-2, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.2a792b2eaf304p+3,  // -16109246781019/549755813888 * pi^-1
@@ -1154,7 +1154,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     -0x1.15ef74f3118d3p-37, -0x1.2163094550236p-35, 0x1.c910692bffc77p-37, 0x1.ddf05e8be37a1p-32,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_4_0, 12, 0x1.cp-2, 0x0p+0, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 12, .centre = 0x1.cp-2, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1175,8 +1175,8 @@ inline constexpr double potential_hess_radial_5_1_lo[] = {
     -0x1.eac4053430991p-51, 0x1.12842ab631e1p-49,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -4, potential_hess_radial_5_1, 6, 0, 0, potential_hess_radial_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -4, .c = potential_hess_radial_5_1, .n = 6, .c_lo = potential_hess_radial_5_1_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1185,32 +1185,39 @@ inline constexpr double potential_hess_radial_6_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-4, potential_hess_radial_0, 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-4, 0x1p-3, potential_hess_radial_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, potential_hess_radial_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, potential_hess_radial_3, 1},  // [1/4, 3/8), Taylor polynomial about 5/16
-    {0x1.8p-2, 0x1p-1, potential_hess_radial_4, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, potential_hess_radial_5, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = potential_hess_radial_3, .nterms = 1},  // [1/4, 3/8), Taylor polynomial about 5/16
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_hess_radial_4, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_5, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_6, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_2_base_wendland_k_3_l_2_D2
 inline constexpr table::Kernel combo_m_2_base_wendland_k_3_l_2_D2 = {
-    "combo:m=2,base=wendland:k=3,l=2", 2, 0x1p+0, 9, 4, 1,
-    0x1.800f8ec1c9606p+18, "1235520 * pi^-1", true,
-    {
-        {detail_combo_m_2_base_wendland_k_3_l_2_D2::value, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D2::dr, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D2::d2r, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D2::laplacian, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D2::grad_over_r, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D2::hess_radial, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D2::potential, 5},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D2::dpotential, 7},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D2::dpotential_over_r, 6},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D2::potential_hess_radial, 7},
+    .spec = "combo:m=2,base=wendland:k=3,l=2",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 9,
+    .order = 4,
+    .parity = 1,
+    .normalisation = 0x1.800f8ec1c9606p+18,  // 1235520 * pi^-1
+    .normalisation_exact = "1235520 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D2::value, .npieces = 3},  // value
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D2::dr, .npieces = 3},  // dr
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D2::d2r, .npieces = 3},  // d2r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D2::laplacian, .npieces = 3},  // laplacian
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D2::grad_over_r, .npieces = 3},  // grad_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D2::hess_radial, .npieces = 3},  // hess_radial
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D2::potential, .npieces = 5},  // potential
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D2::dpotential, .npieces = 7},  // dpotential
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D2::dpotential_over_r, .npieces = 6},  // dpotential_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D2::potential_hess_radial, .npieces = 7},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

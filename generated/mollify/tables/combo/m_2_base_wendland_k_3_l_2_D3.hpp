@@ -29,8 +29,8 @@ inline constexpr double value_0_1_lo[] = {
     0x1.884ca11af7796p-53, 0x1.752fe4b0daabep-49, 0x1.27e8c66166c05p-47, 0x1.884ca11af7796p-47,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 10, 0, value_0_0, 4, 0, 0, value_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, value_0_1, 4, 0, 0, value_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 10, .low = 0, .c = value_0_0, .n = 4, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_0_1, .n = 4, .c_lo = value_0_1_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.bda243619e023p+1,  // -175/16 * pi^-1
@@ -42,12 +42,12 @@ inline constexpr double value_1_0_lo[] = {
     0x1.884ca11af7796p-53, 0x1.752fe4b0daabep-49, 0x1.27e8c66166c05p-47, 0x1.884ca11af7796p-47,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, value_1_0, 4, 0, 0, value_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_1_0, .n = 4, .c_lo = value_1_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-1, value_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, value_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = value_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.b27e34e593a88p+22,  // -22364160 * pi^-1
@@ -66,8 +66,8 @@ inline constexpr double dr_0_1_lo[] = {
     0x1.36375f71d0a02p-49, 0x1.5cfe4b600ab42p-46, 0x1.02837a342ddacp-44,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 9, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 1, dr_0_1, 3, 0, 0, dr_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.b27e34e593a88p+6,  // 1365/4 * pi^-1
@@ -78,12 +78,12 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.36375f71d0a02p-49, 0x1.5cfe4b600ab42p-46, 0x1.02837a342ddacp-44,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 1, dr_1_0, 3, 0, 0, dr_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-1, dr_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, dr_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dr_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.b27e34e593a88p+21,  // -11182080 * pi^-1
@@ -104,8 +104,8 @@ inline constexpr double d2r_0_1_lo[] = {
     0x1.36375f71d0a02p-49, 0x1.36375f71d0a02p-46, 0x1.47cf1f546c20fp-44, -0x1.83c5374e44c82p-41,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, d2r_0_1, 4, 0, 0, d2r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_0_1, .n = 4, .c_lo = d2r_0_1_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.b27e34e593a88p+6,  // 1365/4 * pi^-1
@@ -117,12 +117,12 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.36375f71d0a02p-49, 0x1.36375f71d0a02p-46, 0x1.47cf1f546c20fp-44, -0x1.83c5374e44c82p-41,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, d2r_1_0, 4, 0, 0, d2r_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_1_0, .n = 4, .c_lo = d2r_1_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-1, d2r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, d2r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = d2r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = d2r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.45dea7ac2ebe6p+23,  // -33546240 * pi^-1
@@ -143,8 +143,8 @@ inline constexpr double laplacian_0_1_lo[] = {
     0x1.d1530f2ab8f03p-48, 0x1.d1530f2ab8f03p-45, -0x1.61a911f33d83ap-44, 0x1.8ee67a892bf05p-39,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, laplacian_0_1, 4, 0, 0, laplacian_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_0_1, .n = 4, .c_lo = laplacian_0_1_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.45dea7ac2ebe6p+8,  // 4095/4 * pi^-1
@@ -156,12 +156,12 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.d1530f2ab8f03p-48, 0x1.d1530f2ab8f03p-45, -0x1.61a911f33d83ap-44, 0x1.8ee67a892bf05p-39,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, laplacian_1_0, 4, 0, 0, laplacian_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_1_0, .n = 4, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-1, laplacian_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, laplacian_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = laplacian_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = laplacian_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.b27e34e593a88p+22,  // -22364160 * pi^-1
@@ -180,8 +180,8 @@ inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.36375f71d0a02p-49, 0x1.5cfe4b600ab42p-46, 0x1.02837a342ddacp-44,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 9, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, grad_over_r_0_1, 3, 0, 0, grad_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.b27e34e593a88p+6,  // 1365/4 * pi^-1
@@ -192,12 +192,12 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.36375f71d0a02p-49, 0x1.5cfe4b600ab42p-46, 0x1.02837a342ddacp-44,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, grad_over_r_1_0, 3, 0, 0, grad_over_r_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-1, grad_over_r_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, grad_over_r_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = grad_over_r_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.f1db47470e867p+28,  // 1640038400 * pi^-1
@@ -214,8 +214,8 @@ inline constexpr double hess_radial_0_1_lo[] = {
     0x1.4e459bfc2079ap-43, 0x1.4e459bfc2079ap-40,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 8, 0, hess_radial_0_0, 2, 0, 0, hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, hess_radial_0_1, 2, 0, 0, hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.f1db47470e867p+11,  // -25025/2 * pi^-1
@@ -225,12 +225,12 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.4e459bfc2079ap-43, 0x1.4e459bfc2079ap-40,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, hess_radial_1_0, 2, 0, 0, hess_radial_1_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-1, hess_radial_0, 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1p+0, hess_radial_1, 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = hess_radial_1, .nterms = 1},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.7e79393a7b498p-1,  // -32468504177360838317/13835058055282163712 * pi^-1
@@ -257,7 +257,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.6861e1ce4e0cdp-33, 0x1.a106e721e51e5p-34, 0x1.da812bb747c0cp-37, -0x1.8076a9a1ee13ep-37,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_0_0, 16, 0x1p-4, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 16, .centre = 0x1p-4, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.c8ee746445a48p-2,  // -19394650854926991835/13835058055282163712 * pi^-1
@@ -284,7 +284,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.0883ac79e9611p-38, -0x1.5814b45ee20a8p-36, 0x1.84d156d3d4adcp-36, -0x1.8076a9a1ee13ep-37,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_1_0, 16, 0x1.8p-3, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 16, .centre = 0x1.8p-3, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.0c023adc6e481p-2,  // -11375744032450999265/13835058055282163712 * pi^-1
@@ -311,7 +311,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.9043399c9e4f2p-40, -0x1.583d9c981935ep-39, 0x1.c6217cc057b1cp-40, -0x1.8076a9a1ee13ep-37,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_2_0, 16, 0x1.4p-2, 0x0p+0, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 16, .centre = 0x1.4p-2, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.7649863eae8b5p-3,  // -7943390020002855215/13835058055282163712 * pi^-1
@@ -338,7 +338,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.ec3207d6df093p-41, 0x1.6853dd66248ccp-41, -0x1.4c0d273bc9b78p-36, -0x1.8076a9a1ee13ep-37,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_3_0, 16, 0x1.cp-2, 0x0p+0, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 16, .centre = 0x1.cp-2, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -358,8 +358,8 @@ inline constexpr double potential_4_1_lo[] = {
     0x1.22c59bf543251p-56,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, -1, potential_4_1, 5, 0, 0, potential_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = potential_4_1, .n = 5, .c_lo = potential_4_1_lo},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -368,15 +368,15 @@ inline constexpr double potential_5_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8), Taylor polynomial about 1/16
-    {0x1p-3, 0x1p-2, potential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, potential_2, 1},  // [1/4, 3/8), Taylor polynomial about 5/16
-    {0x1.8p-2, 0x1p-1, potential_3, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, potential_4, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_0, .nterms = 1},  // [0, 1/8), Taylor polynomial about 1/16
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = potential_2, .nterms = 1},  // [1/4, 3/8), Taylor polynomial about 5/16
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_3, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.1fce20d9b60c1p+5,  // 5425/48 * pi^-1
@@ -401,7 +401,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.9cadb453197d6p-30, 0x1.2f2181f0619acp-34,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-4, 0, 1, dpotential_0_0, 14, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-4, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 14, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.396632157c18p+1,  // 36324318646493316373169/4722366482869645213696 * pi^-1
@@ -427,7 +427,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.03e5e33e6f3c7p-30, 0x1.b86016ab3d08ap-31, 0x1.2f2181f0619acp-34,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, dpotential_1_0, 15, 0x1.8p-4, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 15, .centre = 0x1.8p-4, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.131cef19c725p+1,  // 1946214936119486845/288230376151711744 * pi^-1
@@ -453,7 +453,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.d0de5ae5d0afp-33, -0x1.55e46a0352f4p-31, 0x1.2f2181f0619acp-34,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_2_0, 15, 0x1.8p-3, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 15, .centre = 0x1.8p-3, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.d698723da160ep-1,  // 2496828302816947375/864691128455135232 * pi^-1
@@ -479,7 +479,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.8bd9079dca3dep-34, -0x1.3951596bd9a24p-35, 0x1.2f2181f0619acp-34,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, dpotential_3_0, 15, 0x1.4p-2, 0x0p+0, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 15, .centre = 0x1.4p-2, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.ba7c089f7d162p-2,  // 1173840225416881295/864691128455135232 * pi^-1
@@ -505,7 +505,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6d9dee0e8126dp-36, 0x1.75d1f6aebdfdap-34, 0x1.2f2181f0619acp-34,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_4_0, 15, 0x1.cp-2, 0x0p+0, dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 15, .centre = 0x1.cp-2, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -526,8 +526,8 @@ inline constexpr double dpotential_5_1_lo[] = {
     -0x1.5aac34bfa251ap-52, -0x1.884ca11af7796p-51,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -2, dpotential_5_1, 6, 0, 0, dpotential_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_5_1, .n = 6, .c_lo = dpotential_5_1_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -536,16 +536,16 @@ inline constexpr double dpotential_6_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-4, dpotential_0, 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-4, 0x1p-3, dpotential_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, dpotential_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, dpotential_3, 1},  // [1/4, 3/8), Taylor polynomial about 5/16
-    {0x1.8p-2, 0x1p-1, dpotential_4, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, dpotential_5, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = dpotential_0, .nterms = 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = dpotential_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = dpotential_3, .nterms = 1},  // [1/4, 3/8), Taylor polynomial about 5/16
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = dpotential_4, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_5, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.1fce20d9b60c1p+5,  // 5425/48 * pi^-1
@@ -570,7 +570,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.9cadb453197d6p-30, 0x1.2f2181f0619acp-34,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-4, 0, 0, dpotential_over_r_0_0, 14, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 14, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.a1dd981ca5755p+4,  // 36324318646493316373169/442721857769029238784 * pi^-1
@@ -595,7 +595,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.d65a9bb528386p-32, 0x1.2f2181f0619acp-34,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, dpotential_over_r_1_0, 14, 0x1.8p-4, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 14, .centre = 0x1.8p-4, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.6ed13ecd0986bp+3,  // 1946214936119486845/54043195528445952 * pi^-1
@@ -620,7 +620,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.6300ccf10ac26p-31, 0x1.2f2181f0619acp-34,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_2_0, 14, 0x1.8p-3, 0x0p+0, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 14, .centre = 0x1.8p-3, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.7879f4fe1ab3fp+1,  // 499365660563389475/54043195528445952 * pi^-1
@@ -645,7 +645,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.049cdaaef4ae8p-34, 0x1.2f2181f0619acp-34,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, dpotential_over_r_3_0, 14, 0x1.4p-2, 0x0p+0, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 14, .centre = 0x1.4p-2, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.f9b252ff6a627p-1,  // 167691460773840185/54043195528445952 * pi^-1
@@ -670,7 +670,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.0eccb22a6cb61p-34, 0x1.2f2181f0619acp-34,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_4_0, 14, 0x1.cp-2, 0x0p+0, dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 14, .centre = 0x1.cp-2, .c_lo = dpotential_over_r_4_0_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -691,8 +691,8 @@ inline constexpr double dpotential_over_r_5_1_lo[] = {
     -0x1.5aac34bfa251ap-52, -0x1.884ca11af7796p-51,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -3, dpotential_over_r_5_1, 6, 0, 0, dpotential_over_r_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -3, .c = dpotential_over_r_5_1, .n = 6, .c_lo = dpotential_over_r_5_1_lo},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -701,16 +701,16 @@ inline constexpr double dpotential_over_r_6_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_6_0, 1, 0, 0, dpotential_over_r_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-4, dpotential_over_r_0, 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-4, 0x1p-3, dpotential_over_r_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, dpotential_over_r_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, dpotential_over_r_3, 1},  // [1/4, 3/8), Taylor polynomial about 5/16
-    {0x1.8p-2, 0x1p-1, dpotential_over_r_4, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, dpotential_over_r_5, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = dpotential_over_r_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_over_r_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = dpotential_over_r_3, .nterms = 1},  // [1/4, 3/8), Taylor polynomial about 5/16
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = dpotential_over_r_4, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_5, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.58e0f9fca0676p+11,  // -34671/4 * pi^-1
@@ -732,7 +732,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.4df4cbbe4d33dp-26, 0x1.5bda6345152d4p-28, -0x1.ac1239f298f04p-29, -0x1.09b4c66cb0b25p-30,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-4, 0, 0, potential_hess_radial_0_0, 12, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 12, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.c6c62031e7d23p+10,  // -823597797233393953521/144115188075855872 * pi^-1
@@ -754,7 +754,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.a8c431c8af39cp-27, -0x1.8a35384fb28fp-27, -0x1.2a89b82152062p-28, -0x1.09b4c66cb0b25p-30,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_hess_radial_1_0, 12, 0x1.8p-4, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 12, .centre = 0x1.8p-4, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.4139ba3848bffp+9,  // -142026596438959425/70368744177664 * pi^-1
@@ -776,7 +776,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.23a15ff34d28bp-30, 0x1.2c182a069b61dp-28, -0x1.7f0a534957941p-28, -0x1.09b4c66cb0b25p-30,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_2_0, 12, 0x1.8p-3, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 12, .centre = 0x1.8p-3, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -817,9 +817,9 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
     0x1.741c8a46aaeecp-44, -0x1.2a9fc37108bc5p-42, 0x1.f76218aa58cd5p-45, -0x1.02837a342ddacp-48,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, -5, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 10, -5, potential_hess_radial_3_1, 7, 0, 0, potential_hess_radial_3_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, potential_hess_radial_3_2, 12, 0, 0, potential_hess_radial_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 10, .low = -5, .c = potential_hess_radial_3_1, .n = 7, .c_lo = potential_hess_radial_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 12, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.088de1afcb2bcp+4,  // -3655311495390485/70368744177664 * pi^-1
@@ -841,7 +841,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.bf786fb61e865p-36, 0x1.5137fa4ec4b36p-31, -0x1.adb4dda088751p-31, -0x1.09b4c66cb0b25p-30,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_4_0, 12, 0x1.cp-2, 0x0p+0, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 12, .centre = 0x1.cp-2, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -863,8 +863,8 @@ inline constexpr double potential_hess_radial_5_1_lo[] = {
     -0x1.c710d07891d9fp-49, -0x1.2f09005b82109p-47, -0x1.02837a342ddacp-48,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -5, potential_hess_radial_5_1, 7, 0, 0, potential_hess_radial_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -5, .c = potential_hess_radial_5_1, .n = 7, .c_lo = potential_hess_radial_5_1_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -873,32 +873,39 @@ inline constexpr double potential_hess_radial_6_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-4, potential_hess_radial_0, 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-4, 0x1p-3, potential_hess_radial_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, potential_hess_radial_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1.8p-2, potential_hess_radial_3, 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1p-1, potential_hess_radial_4, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, potential_hess_radial_5, 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/16), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1.8p-2, .terms = potential_hess_radial_3, .nterms = 3},  // [1/4, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_hess_radial_4, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_5, .nterms = 2},  // [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_6, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_2_base_wendland_k_3_l_2_D3
 inline constexpr table::Kernel combo_m_2_base_wendland_k_3_l_2_D3 = {
-    "combo:m=2,base=wendland:k=3,l=2", 3, 0x1p+0, 9, 4, 1,
-    0x1.a4110423f4417p+19, "2702700 * pi^-1", true,
-    {
-        {detail_combo_m_2_base_wendland_k_3_l_2_D3::value, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D3::dr, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D3::d2r, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D3::laplacian, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D3::grad_over_r, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D3::hess_radial, 3},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D3::potential, 6},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D3::dpotential, 7},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D3::dpotential_over_r, 7},
-        {detail_combo_m_2_base_wendland_k_3_l_2_D3::potential_hess_radial, 7},
+    .spec = "combo:m=2,base=wendland:k=3,l=2",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 9,
+    .order = 4,
+    .parity = 1,
+    .normalisation = 0x1.a4110423f4417p+19,  // 2702700 * pi^-1
+    .normalisation_exact = "2702700 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D3::value, .npieces = 3},  // value
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D3::dr, .npieces = 3},  // dr
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D3::d2r, .npieces = 3},  // d2r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D3::laplacian, .npieces = 3},  // laplacian
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D3::grad_over_r, .npieces = 3},  // grad_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D3::hess_radial, .npieces = 3},  // hess_radial
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D3::potential, .npieces = 6},  // potential
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D3::dpotential, .npieces = 7},  // dpotential
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D3::dpotential_over_r, .npieces = 7},  // dpotential_over_r
+        {.pieces = detail_combo_m_2_base_wendland_k_3_l_2_D3::potential_hess_radial, .npieces = 7},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -29,9 +29,9 @@ inline constexpr double value_0_2_lo[] = {
     -0x1.5aac34bfa251ap-58,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-2, 4, 0, value_0_0, 1, 0, 0, value_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 4, 0, value_0_1, 1, 0, 0, value_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_2, 1, 0, 0, value_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 1, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 1, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 1, .c_lo = value_0_2_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.bf32549f27fedp+6,  // -368288613/1048576 * pi^-1
@@ -46,8 +46,8 @@ inline constexpr double value_1_1_lo[] = {
     -0x1.5aac34bfa251ap-58,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 4, 0, value_1_0, 1, 0, 0, value_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_1_1, 1, 0, 0, value_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 1, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 1, .c_lo = value_1_1_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.b92d70c999de5p-3,  // 693/1024 * pi^-1
@@ -56,13 +56,13 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.5aac34bfa251ap-58,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_2_0, 1, 0, 0, value_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 1, .c_lo = value_2_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1.5555555555555p-2, value_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, value_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, value_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = value_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = value_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.177f74e378ff4p+22,  // -1841443065/128 * pi^-1
@@ -83,9 +83,9 @@ inline constexpr double dr_0_2_lo[] = {
     0x1.5aac34bfa251ap-55,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-2, 3, 1, dr_0_0, 1, 0, 0, dr_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 3, 1, dr_0_1, 1, 0, 0, dr_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_2, 1, 0, 0, dr_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 1, .c = dr_0_0, .n = 1, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 1, .c = dr_0_1, .n = 1, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 1, .c = dr_0_2, .n = 1, .c_lo = dr_0_2_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.bf32549f27fedp+9,  // 368288613/131072 * pi^-1
@@ -100,8 +100,8 @@ inline constexpr double dr_1_1_lo[] = {
     0x1.5aac34bfa251ap-55,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 3, 1, dr_1_0, 1, 0, 0, dr_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_1_1, 1, 0, 0, dr_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 1, .c = dr_1_0, .n = 1, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 1, .c = dr_1_1, .n = 1, .c_lo = dr_1_1_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.b92d70c999de5p+0,  // -693/128 * pi^-1
@@ -110,13 +110,13 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.5aac34bfa251ap-55,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_2_0, 1, 0, 0, dr_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 1, .c = dr_2_0, .n = 1, .c_lo = dr_2_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1.5555555555555p-2, dr_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, dr_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dr_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dr_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dr_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.f0e296e9baa96p+18,  // -204604785/128 * pi^-1
@@ -140,9 +140,9 @@ inline constexpr double d2r_0_2_lo[] = {
     0x1.5aac34bfa251ap-55, 0x1.d0a951d851f89p-52,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-2, 2, 0, d2r_0_0, 2, 0, 0, d2r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 2, 0, d2r_0_1, 2, 0, 0, d2r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_2, 2, 0, 0, d2r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-2, .edge_power = 2, .low = 0, .c = d2r_0_0, .n = 2, .c_lo = d2r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = d2r_0_1, .n = 2, .c_lo = d2r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = d2r_0_2, .n = 2, .c_lo = d2r_0_2_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.8d82125495545p+8,  // 40920957/32768 * pi^-1
@@ -159,8 +159,8 @@ inline constexpr double d2r_1_1_lo[] = {
     0x1.5aac34bfa251ap-55, 0x1.d0a951d851f89p-52,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 2, 0, d2r_1_0, 2, 0, 0, d2r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_1_1, 2, 0, 0, d2r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = d2r_1_0, .n = 2, .c_lo = d2r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = d2r_1_1, .n = 2, .c_lo = d2r_1_1_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.b92d70c999de5p+0,  // -693/128 * pi^-1
@@ -170,13 +170,13 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.5aac34bfa251ap-55, 0x1.d0a951d851f89p-52,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_2_0, 2, 0, 0, d2r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = d2r_2_0, .n = 2, .c_lo = d2r_2_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, d2r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, d2r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, d2r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = d2r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = d2r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = d2r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.74a9f12f4bff1p+20,  // -613814355/128 * pi^-1
@@ -200,9 +200,9 @@ inline constexpr double laplacian_0_2_lo[] = {
     0x1.820093c7dcdeap-52, 0x1.bcff225434b22p-51,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-2, 2, 0, laplacian_0_0, 2, 0, 0, laplacian_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 2, 0, laplacian_0_1, 2, 0, 0, laplacian_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_2, 2, 0, 0, laplacian_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-2, .edge_power = 2, .low = 0, .c = laplacian_0_0, .n = 2, .c_lo = laplacian_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = laplacian_0_1, .n = 2, .c_lo = laplacian_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = laplacian_0_2, .n = 2, .c_lo = laplacian_0_2_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.2a218dbf6fff4p+10,  // 122762871/32768 * pi^-1
@@ -219,8 +219,8 @@ inline constexpr double laplacian_1_1_lo[] = {
     0x1.820093c7dcdeap-52, 0x1.bcff225434b22p-51,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 2, 0, laplacian_1_0, 2, 0, 0, laplacian_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_1_1, 2, 0, 0, laplacian_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = laplacian_1_0, .n = 2, .c_lo = laplacian_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = laplacian_1_1, .n = 2, .c_lo = laplacian_1_1_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.4ae214973366cp+2,  // -2079/128 * pi^-1
@@ -230,13 +230,13 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.820093c7dcdeap-52, 0x1.bcff225434b22p-51,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_2_0, 2, 0, 0, laplacian_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = laplacian_2_0, .n = 2, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1.5555555555555p-2, laplacian_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, laplacian_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, laplacian_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = laplacian_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.177f74e378ff4p+22,  // -1841443065/128 * pi^-1
@@ -257,9 +257,9 @@ inline constexpr double grad_over_r_0_2_lo[] = {
     0x1.5aac34bfa251ap-55,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-2, 3, 0, grad_over_r_0_0, 1, 0, 0, grad_over_r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 3, 0, grad_over_r_0_1, 1, 0, 0, grad_over_r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_2, 1, 0, 0, grad_over_r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = grad_over_r_0_0, .n = 1, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = grad_over_r_0_1, .n = 1, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = grad_over_r_0_2, .n = 1, .c_lo = grad_over_r_0_2_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.bf32549f27fedp+9,  // 368288613/131072 * pi^-1
@@ -274,8 +274,8 @@ inline constexpr double grad_over_r_1_1_lo[] = {
     0x1.5aac34bfa251ap-55,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 3, 0, grad_over_r_1_0, 1, 0, 0, grad_over_r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_1_1, 1, 0, 0, grad_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = grad_over_r_1_0, .n = 1, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = grad_over_r_1_1, .n = 1, .c_lo = grad_over_r_1_1_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.b92d70c999de5p+0,  // -693/128 * pi^-1
@@ -284,13 +284,13 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.5aac34bfa251ap-55,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_2_0, 1, 0, 0, grad_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = grad_over_r_2_0, .n = 1, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, grad_over_r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, grad_over_r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, grad_over_r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = grad_over_r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.a33f2f55357efp+24,  // 5524329195/64 * pi^-1
@@ -311,9 +311,9 @@ inline constexpr double hess_radial_0_2_lo[] = {
     -0x1.820093c7dcdeap-51,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-2, 2, 0, hess_radial_0_0, 1, 0, 0, hess_radial_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 2, 0, hess_radial_0_1, 1, 0, 0, hess_radial_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_2, 1, 0, 0, hess_radial_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-2, .edge_power = 2, .low = 0, .c = hess_radial_0_0, .n = 1, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = hess_radial_0_1, .n = 1, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = hess_radial_0_2, .n = 1, .c_lo = hess_radial_0_2_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.4f65bf775dff2p+12,  // -1104865839/65536 * pi^-1
@@ -328,8 +328,8 @@ inline constexpr double hess_radial_1_1_lo[] = {
     -0x1.820093c7dcdeap-51,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 2, 0, hess_radial_1_0, 1, 0, 0, hess_radial_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_1_1, 1, 0, 0, hess_radial_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = hess_radial_1_0, .n = 1, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = hess_radial_1_1, .n = 1, .c_lo = hess_radial_1_1_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.4ae214973366cp+3,  // 2079/64 * pi^-1
@@ -338,13 +338,13 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.820093c7dcdeap-51,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_2_0, 1, 0, 0, hess_radial_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = hess_radial_2_0, .n = 1, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-2, hess_radial_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, hess_radial_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, hess_radial_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = hess_radial_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = hess_radial_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.6a81fec35fee6p-1,  // -53486708067318557/24046319299461120 * pi^-1
@@ -365,7 +365,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.f7eb1a4b96794p-44, 0x1.1362dec5f07e8p-43, -0x1.c12b13efa2e75p-42,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, potential_0_0, 11, 0x1.5555555555555p-4, 0x1.5555555555555p-58, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 11, .centre = 0x1.5555555555555p-4, .centre_lo = 0x1.5555555555555p-58, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.5cc39e0a4c2d6p-2,  // -11764718898703/10995116277760 * pi^-1
@@ -386,7 +386,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.727875a218d2p-41, -0x1.3175d8eb8ba12p-41, -0x1.c12b13efa2e75p-42,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_1_0, 11, 0x1p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 11, .centre = 0x1p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.255ab960267a9p-4,  // -9/40 * pi^-1
@@ -419,9 +419,9 @@ inline constexpr double potential_2_2_lo[] = {
     -0x1.76835f55a89bp-62, -0x1.4444b6e89eedep-63,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, -1, potential_2_1, 6, 0, 0, potential_2_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_2_2, 6, 0, 0, potential_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = potential_2_1, .n = 6, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 6, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -454,9 +454,9 @@ inline constexpr double potential_3_2_lo[] = {
     -0x1.e667125cee64cp-61, -0x1.4444b6e89eedep-63,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -1, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, -1, potential_3_1, 6, 0, 0, potential_3_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, potential_3_2, 6, 0, 0, potential_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = potential_3_1, .n = 6, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_3_2, .n = 6, .c_lo = potential_3_2_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -477,8 +477,8 @@ inline constexpr double potential_4_1_lo[] = {
     -0x1.e667125cee64cp-61, -0x1.4444b6e89eedep-63,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, potential_4_1, 6, 0, 0, potential_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_4_1, .n = 6, .c_lo = potential_4_1_lo},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -487,15 +487,15 @@ inline constexpr double potential_5_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.5555555555555p-3, potential_0, 1},  // [0, 1/6), Taylor polynomial about 1/12
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, potential_1, 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {0x1.5555555555555p-2, 0x1p-1, potential_2, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_3, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_4, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-3, .terms = potential_0, .nterms = 1},  // [0, 1/6), Taylor polynomial about 1/12
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = potential_1, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_2, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_3, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.bb3025cd2fbc8p+4,  // 356433/4096 * pi^-1
@@ -509,7 +509,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.3175d8eb8ba12p-39,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-4, 0, 1, dpotential_0_0, 5, 0, 0, dpotential_0_0_lo, 0x1.5555555555555p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 5, .c_lo = dpotential_0_0_lo, .edge_lo = 0x1.5555555555555p-58},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.35fb3d22d778dp+1,  // 5353716146768501/703687441776640 * pi^-1
@@ -529,7 +529,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.57a49408fd154p-39, -0x1.3175d8eb8ba12p-39,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_1_0, 10, 0x1p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 10, .centre = 0x1p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.99eefbc7766b2p+0,  // 6914060709749/1374389534720 * pi^-1
@@ -549,7 +549,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.57a49408fd154p-38, -0x1.3175d8eb8ba12p-39,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_2_0, 10, 0x1p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 10, .centre = 0x1p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.255ab960267a9p-4,  // 9/40 * pi^-1
@@ -582,9 +582,9 @@ inline constexpr double dpotential_3_2_lo[] = {
     -0x1.9555e4a2c6a95p-60,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -2, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, -2, dpotential_3_1, 7, 0, 0, dpotential_3_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_3_2, 5, 0, 0, dpotential_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_3_1, .n = 7, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 5, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -619,9 +619,9 @@ inline constexpr double dpotential_4_2_lo[] = {
     0x1.d5a1e4869ea43p-57, 0x1.f556bb96f0a74p-59, 0x1.9555e4a2c6a95p-60,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -2, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, -2, dpotential_4_1, 7, 0, 0, dpotential_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -2, dpotential_4_2, 7, 0, 0, dpotential_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_4_1, .n = 7, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_4_2, .n = 7, .c_lo = dpotential_4_2_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -643,8 +643,8 @@ inline constexpr double dpotential_5_1_lo[] = {
     0x1.d5a1e4869ea43p-57, 0x1.f556bb96f0a74p-59, 0x1.9555e4a2c6a95p-60,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -2, dpotential_5_1, 7, 0, 0, dpotential_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_5_1, .n = 7, .c_lo = dpotential_5_1_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -653,16 +653,16 @@ inline constexpr double dpotential_6_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1.5555555555555p-4, dpotential_0, 1},  // [0, 1/12), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, dpotential_2, 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_3, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_4, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_5, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = dpotential_0, .nterms = 1},  // [0, 1/12), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = dpotential_2, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_3, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_4, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_5, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.7ac172a370667p+4,  // 18628007020674829/250482492702720 * pi^-1
@@ -681,7 +681,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.3175d8eb8ba12p-39,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_over_r_0_0, 9, 0x1.5555555555555p-4, 0x1.5555555555555p-58, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 9, .centre = 0x1.5555555555555p-4, .centre_lo = 0x1.5555555555555p-58, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.e8ec8a4aeacc4p-4,  // 3/8 * pi^-1
@@ -714,9 +714,9 @@ inline constexpr double dpotential_over_r_1_2_lo[] = {
     0x1.90d4dc9f44983p-52,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-2, 0, -3, dpotential_over_r_1_0, 1, 0, 0, dpotential_over_r_1_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 5, -3, dpotential_over_r_1_1, 7, 0, 0, dpotential_over_r_1_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-2, 0, 0, dpotential_over_r_1_2, 5, 0, 0, dpotential_over_r_1_2_lo, 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = -3, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = -3, .c = dpotential_over_r_1_1, .n = 7, .c_lo = dpotential_over_r_1_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_2, .n = 5, .c_lo = dpotential_over_r_1_2_lo, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.255ab960267a9p-4,  // 9/40 * pi^-1
@@ -749,9 +749,9 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
     -0x1.9555e4a2c6a95p-60,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -3, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, -3, dpotential_over_r_2_1, 7, 0, 0, dpotential_over_r_2_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_2_2, 5, 0, 0, dpotential_over_r_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -3, .c = dpotential_over_r_2_1, .n = 7, .c_lo = dpotential_over_r_2_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 5, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -786,9 +786,9 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
     0x1.d5a1e4869ea43p-57, 0x1.f556bb96f0a74p-59, 0x1.9555e4a2c6a95p-60,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -3, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, -3, dpotential_over_r_3_1, 7, 0, 0, dpotential_over_r_3_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -3, dpotential_over_r_3_2, 7, 0, 0, dpotential_over_r_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -3, .c = dpotential_over_r_3_1, .n = 7, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_3_2, .n = 7, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -810,8 +810,8 @@ inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.d5a1e4869ea43p-57, 0x1.f556bb96f0a74p-59, 0x1.9555e4a2c6a95p-60,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -3, dpotential_over_r_4_1, 7, 0, 0, dpotential_over_r_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_4_1, .n = 7, .c_lo = dpotential_over_r_4_1_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -820,15 +820,15 @@ inline constexpr double dpotential_over_r_5_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-3, dpotential_over_r_0, 1},  // [0, 1/6), Taylor polynomial about 1/12
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, dpotential_over_r_1, 3},  // [1/6, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_over_r_2, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_over_r_3, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_over_r_4, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/6), Taylor polynomial about 1/12
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = dpotential_over_r_1, .nterms = 3},  // [1/6, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_over_r_2, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_3, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_over_r_4, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.0e50972849725p+10,  // -738591994870579/217432719360 * pi^-1
@@ -844,7 +844,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.a8bce039a5da7p-41, -0x1.3175d8eb8ba12p-37, -0x1.3175d8eb8ba12p-36,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, potential_hess_radial_0_0, 7, 0x1.5555555555555p-4, 0x1.5555555555555p-58, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 7, .centre = 0x1.5555555555555p-4, .centre_lo = 0x1.5555555555555p-58, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.23b6e41061972p+8,  // -2460071021259/2684354560 * pi^-1
@@ -860,7 +860,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.72c7647b06fbcp-37, -0x1.ca30c5615171bp-36, -0x1.3175d8eb8ba12p-36,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_hess_radial_1_0, 7, 0x1p-2, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 7, .centre = 0x1p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.b808161039b7dp-3,  // -27/40 * pi^-1
@@ -892,9 +892,9 @@ inline constexpr double potential_hess_radial_2_2_lo[] = {
     -0x1.0886120095e3dp-58, -0x1.b9253b2d8eb54p-55, 0x1.ce3af0ff83178p-57, -0x1.9555e4a2c6a95p-57,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -5, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, -5, potential_hess_radial_2_1, 8, 0, 0, potential_hess_radial_2_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_2_2, 4, 0, 0, potential_hess_radial_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -5, .c = potential_hess_radial_2_1, .n = 8, .c_lo = potential_hess_radial_2_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_2, .n = 4, .c_lo = potential_hess_radial_2_2_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -931,9 +931,9 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
     0x1.e38d79d1a1c8fp-55, -0x1.81c7ff570fe17p-55, -0x1.9555e4a2c6a95p-55, -0x1.9555e4a2c6a95p-57,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -5, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, -5, potential_hess_radial_3_1, 8, 0, 0, potential_hess_radial_3_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -5, potential_hess_radial_3_2, 8, 0, 0, potential_hess_radial_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -5, .c = potential_hess_radial_3_1, .n = 8, .c_lo = potential_hess_radial_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -5, .c = potential_hess_radial_3_2, .n = 8, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -956,8 +956,8 @@ inline constexpr double potential_hess_radial_4_1_lo[] = {
     0x1.e38d79d1a1c8fp-55, -0x1.81c7ff570fe17p-55, -0x1.9555e4a2c6a95p-55, -0x1.9555e4a2c6a95p-57,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_4_0, 1, 0, 0, potential_hess_radial_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -5, potential_hess_radial_4_1, 8, 0, 0, potential_hess_radial_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -5, .c = potential_hess_radial_4_1, .n = 8, .c_lo = potential_hess_radial_4_1_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -966,31 +966,38 @@ inline constexpr double potential_hess_radial_5_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-3, potential_hess_radial_0, 1},  // [0, 1/6), Taylor polynomial about 1/12
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, potential_hess_radial_1, 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {0x1.5555555555555p-2, 0x1p-1, potential_hess_radial_2, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_hess_radial_3, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_hess_radial_4, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-3, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/6), Taylor polynomial about 1/12
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = potential_hess_radial_1, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_hess_radial_2, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_3, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_4, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_5, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_3_base_mollifier_M_4_D3
 inline constexpr table::Kernel combo_m_3_base_mollifier_M_4_D3 = {
-    "combo:m=3,base=mollifier:M=4", 3, 0x1p+0, 3, 6, 1,
-    0x1.13bc667e002afp+1, "3465/512 * pi^-1", true,
-    {
-        {detail_combo_m_3_base_mollifier_M_4_D3::value, 4},
-        {detail_combo_m_3_base_mollifier_M_4_D3::dr, 4},
-        {detail_combo_m_3_base_mollifier_M_4_D3::d2r, 4},
-        {detail_combo_m_3_base_mollifier_M_4_D3::laplacian, 4},
-        {detail_combo_m_3_base_mollifier_M_4_D3::grad_over_r, 4},
-        {detail_combo_m_3_base_mollifier_M_4_D3::hess_radial, 4},
-        {detail_combo_m_3_base_mollifier_M_4_D3::potential, 6},
-        {detail_combo_m_3_base_mollifier_M_4_D3::dpotential, 7},
-        {detail_combo_m_3_base_mollifier_M_4_D3::dpotential_over_r, 6},
-        {detail_combo_m_3_base_mollifier_M_4_D3::potential_hess_radial, 6},
+    .spec = "combo:m=3,base=mollifier:M=4",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 3,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.13bc667e002afp+1,  // 3465/512 * pi^-1
+    .normalisation_exact = "3465/512 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_3_base_mollifier_M_4_D3::value, .npieces = 4},  // value
+        {.pieces = detail_combo_m_3_base_mollifier_M_4_D3::dr, .npieces = 4},  // dr
+        {.pieces = detail_combo_m_3_base_mollifier_M_4_D3::d2r, .npieces = 4},  // d2r
+        {.pieces = detail_combo_m_3_base_mollifier_M_4_D3::laplacian, .npieces = 4},  // laplacian
+        {.pieces = detail_combo_m_3_base_mollifier_M_4_D3::grad_over_r, .npieces = 4},  // grad_over_r
+        {.pieces = detail_combo_m_3_base_mollifier_M_4_D3::hess_radial, .npieces = 4},  // hess_radial
+        {.pieces = detail_combo_m_3_base_mollifier_M_4_D3::potential, .npieces = 6},  // potential
+        {.pieces = detail_combo_m_3_base_mollifier_M_4_D3::dpotential, .npieces = 7},  // dpotential
+        {.pieces = detail_combo_m_3_base_mollifier_M_4_D3::dpotential_over_r, .npieces = 6},  // dpotential_over_r
+        {.pieces = detail_combo_m_3_base_mollifier_M_4_D3::potential_hess_radial, .npieces = 6},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -23,9 +23,9 @@ inline constexpr double value_0_2[] = {
     0x1.8p-2,  // 3/8
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 3, 0, value_0_0, 2, 0, 0, nullptr, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, value_0_1, 2, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, value_0_2, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = value_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_0_2, .n = 2},
 };
 inline constexpr double value_1_0[] = {
     -0x1.e6p+1,  // -243/64
@@ -36,21 +36,21 @@ inline constexpr double value_1_1[] = {
     0x1.8p-2,  // 3/8
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, value_1_0, 2, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, value_1_1, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = value_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_1_1, .n = 2},
 };
 inline constexpr double value_2_0[] = {
     0x1p-3,  // 1/8
     0x1.8p-2,  // 3/8
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, value_2_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_2_0, .n = 2},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1.5555555555555p-2, value_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, value_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, value_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = value_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = value_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.55b8p+12,  // -10935/2
@@ -62,9 +62,9 @@ inline constexpr double dr_0_2[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 2, 1, dr_0_0, 1, 0, 0, nullptr, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 1, dr_0_1, 1, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 1, dr_0_2, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 2, .low = 1, .c = dr_0_0, .n = 1, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 1, .c = dr_0_1, .n = 1, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 1, .c = dr_0_2, .n = 1},
 };
 inline constexpr double dr_1_0[] = {
     0x1.116p+6,  // 2187/32
@@ -73,20 +73,20 @@ inline constexpr double dr_1_1[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 1, dr_1_0, 1, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 1, dr_1_1, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 1, .c = dr_1_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 1, .c = dr_1_1, .n = 1},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 1, dr_2_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 1, .c = dr_2_0, .n = 1},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1.5555555555555p-2, dr_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, dr_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dr_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dr_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dr_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.c7ap+10,  // -3645/2
@@ -101,9 +101,9 @@ inline constexpr double d2r_0_2[] = {
     0x1.2p+2,  // 9/2
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 1, 0, d2r_0_0, 2, 0, 0, nullptr, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, d2r_0_1, 2, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, d2r_0_2, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 1, .low = 0, .c = d2r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = d2r_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = d2r_0_2, .n = 2},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.6c8p+5,  // 729/16
@@ -114,21 +114,21 @@ inline constexpr double d2r_1_1[] = {
     0x1.2p+2,  // 9/2
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, d2r_1_0, 2, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, d2r_1_1, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = d2r_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = d2r_1_1, .n = 2},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.8p+0,  // -3/2
     0x1.2p+2,  // 9/2
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, d2r_2_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = d2r_2_0, .n = 2},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, d2r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, d2r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, d2r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = d2r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = d2r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = d2r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.c7ap+10,  // -3645/2
@@ -143,9 +143,9 @@ inline constexpr double laplacian_0_2[] = {
     0x1.2p+2,  // 9/2
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 1, 0, laplacian_0_0, 2, 0, 0, nullptr, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, laplacian_0_1, 2, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, laplacian_0_2, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 1, .low = 0, .c = laplacian_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = laplacian_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = laplacian_0_2, .n = 2},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.6c8p+5,  // 729/16
@@ -156,21 +156,21 @@ inline constexpr double laplacian_1_1[] = {
     0x1.2p+2,  // 9/2
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, laplacian_1_0, 2, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, laplacian_1_1, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = laplacian_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = laplacian_1_1, .n = 2},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.8p+0,  // -3/2
     0x1.2p+2,  // 9/2
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, laplacian_2_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = laplacian_2_0, .n = 2},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1.5555555555555p-2, laplacian_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, laplacian_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, laplacian_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = laplacian_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.55b8p+12,  // -10935/2
@@ -182,9 +182,9 @@ inline constexpr double grad_over_r_0_2[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 2, 0, grad_over_r_0_0, 1, 0, 0, nullptr, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 0, grad_over_r_0_1, 1, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, grad_over_r_0_2, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 2, .low = 0, .c = grad_over_r_0_0, .n = 1, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = grad_over_r_0_1, .n = 1, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = grad_over_r_0_2, .n = 1},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.116p+6,  // 2187/32
@@ -193,20 +193,20 @@ inline constexpr double grad_over_r_1_1[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 0, grad_over_r_1_0, 1, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, grad_over_r_1_1, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = grad_over_r_1_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = grad_over_r_1_1, .n = 1},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.8p+0,  // -3/2
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, grad_over_r_2_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = grad_over_r_2_0, .n = 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, grad_over_r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, grad_over_r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, grad_over_r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = grad_over_r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.55b8p+13,  // 10935
@@ -218,9 +218,9 @@ inline constexpr double hess_radial_0_2[] = {
     0x1.8p+1,  // 3
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 1, -1, hess_radial_0_0, 1, 0, 0, nullptr, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, -1, hess_radial_0_1, 1, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -1, hess_radial_0_2, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 1, .low = -1, .c = hess_radial_0_0, .n = 1, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = -1, .c = hess_radial_0_1, .n = 1, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = -1, .c = hess_radial_0_2, .n = 1},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.116p+7,  // -2187/16
@@ -229,20 +229,20 @@ inline constexpr double hess_radial_1_1[] = {
     0x1.8p+1,  // 3
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, -1, hess_radial_1_0, 1, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -1, hess_radial_1_1, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = -1, .c = hess_radial_1_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = -1, .c = hess_radial_1_1, .n = 1},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.8p+1,  // 3
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -1, hess_radial_2_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = -1, .c = hess_radial_2_0, .n = 1},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-2, hess_radial_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, hess_radial_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, hess_radial_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = hess_radial_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = hess_radial_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     0x1.999999999999ap-6,  // 1/40
@@ -258,7 +258,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x0p+0, 0x0p+0, -0x1.999999999999ap-50,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-3, 0, 0, potential_0_0, 7, 0, 0, potential_0_0_lo, 0x1.5555555555555p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 7, .c_lo = potential_0_0_lo, .edge_lo = 0x1.5555555555555p-57},
 };
 inline constexpr double potential_1_0[] = {
     0x1.f4c5p-4,  // 128197/1048576
@@ -274,7 +274,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x0p+0, -0x1.999999999999ap-52, -0x1.999999999999ap-50,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_1_0, 7, 0x1p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 7, .centre = 0x1p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     0x1.ccccccccccccdp-2,  // 9/20
@@ -303,9 +303,9 @@ inline constexpr double potential_2_2_lo[] = {
     0x0p+0, -0x1.999999999999ap-59, 0x1.999999999999ap-61,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, potential_2_1, 2, 0, 0, potential_2_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_2_2, 7, 0, 0, potential_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 7, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
@@ -325,9 +325,9 @@ inline constexpr double potential_3_2_lo[] = {
     -0x1.999999999999ap-61, -0x1.999999999999ap-61,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, 1, potential_3_0, 1, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, potential_3_1, 2, 0, 0, potential_3_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_3_2, 2, 0, 0, potential_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_3_2, .n = 2, .c_lo = potential_3_2_lo},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -340,22 +340,22 @@ inline constexpr double potential_4_1_lo[] = {
     -0x1.999999999999ap-61, -0x1.999999999999ap-61,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_4_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_4_1, 2, 0, 0, potential_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_5_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 1, .c = potential_5_0, .n = 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.5555555555555p-3, potential_0, 1},  // [0, 1/6), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, potential_1, 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {0x1.5555555555555p-2, 0x1p-1, potential_2, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_3, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_4, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-3, .terms = potential_0, .nterms = 1},  // [0, 1/6), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = potential_1, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_2, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_3, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.28p+2,  // 37/8
@@ -369,7 +369,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.999999999999ap-46,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-4, 0, 1, dpotential_0_0, 5, 0, 0, dpotential_0_0_lo, 0x1.5555555555555p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 5, .c_lo = dpotential_0_0_lo, .edge_lo = 0x1.5555555555555p-58},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.d0c9bcccccccdp-2,  // 9518859/20971520
@@ -384,7 +384,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x0p+0, -0x1.999999999999ap-46,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_1_0, 6, 0x1p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 6, .centre = 0x1p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.164bccccccccdp-1,  // 356219/655360
@@ -399,7 +399,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x0p+0, -0x1.999999999999ap-46,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_2_0, 6, 0x1p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 6, .centre = 0x1p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.ccccccccccccdp-2,  // 9/20
@@ -426,9 +426,9 @@ inline constexpr double dpotential_3_2_lo[] = {
     -0x1.999999999999ap-59,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, dpotential_3_1, 2, 0, 0, dpotential_3_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_3_2, 5, 0, 0, dpotential_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 5, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -448,9 +448,9 @@ inline constexpr double dpotential_4_2_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-59,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, 0, dpotential_4_0, 1, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, dpotential_4_1, 2, 0, 0, dpotential_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_4_2, 2, 0, 0, dpotential_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_4_2, .n = 2, .c_lo = dpotential_4_2_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -463,23 +463,23 @@ inline constexpr double dpotential_5_1_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-59,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_5_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, dpotential_5_1, 2, 0, 0, dpotential_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_6_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = dpotential_6_0, .n = 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1.5555555555555p-4, dpotential_0, 1},  // [0, 1/12), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, dpotential_2, 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_3, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_4, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_5, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = dpotential_0, .nterms = 1},  // [0, 1/12), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = dpotential_2, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_3, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_4, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_5, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.0748911111111p+2,  // 2022017/491520
@@ -493,7 +493,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.999999999999ap-46,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_over_r_0_0, 5, 0x1.5555555555555p-4, 0x1.5555555555555p-58, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 5, .centre = 0x1.5555555555555p-4, .centre_lo = 0x1.5555555555555p-58, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.164bccccccccdp+1,  // 356219/163840
@@ -507,7 +507,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.999999999999ap-46,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_over_r_1_0, 5, 0x1p-2, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 5, .centre = 0x1p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.ccccccccccccdp-2,  // 9/20
@@ -534,9 +534,9 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
     -0x1.999999999999ap-59,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, -1, dpotential_over_r_2_1, 2, 0, 0, dpotential_over_r_2_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_2_2, 5, 0, 0, dpotential_over_r_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 5, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2
@@ -556,9 +556,9 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-59,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -1, dpotential_over_r_3_0, 1, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, -1, dpotential_over_r_3_1, 2, 0, 0, dpotential_over_r_3_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_over_r_3_2, 2, 0, 0, dpotential_over_r_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_3_2, .n = 2, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -571,22 +571,22 @@ inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-59,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_4_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, dpotential_over_r_4_1, 2, 0, 0, dpotential_over_r_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_5_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-3, dpotential_over_r_0, 1},  // [0, 1/6), Taylor polynomial about 1/12
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, dpotential_over_r_1, 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_over_r_2, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_over_r_3, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_over_r_4, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/6), Taylor polynomial about 1/12
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_over_r_2, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_3, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_over_r_4, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.3b661dddddddep+7,  // -4844527/30720
@@ -597,7 +597,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.1111111111111p-48, -0x1.999999999999ap-45, -0x1.999999999999ap-44,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, potential_hess_radial_0_0, 3, 0x1.5555555555555p-5, 0x1.5555555555555p-59, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 3, .centre = 0x1.5555555555555p-5, .centre_lo = 0x1.5555555555555p-59, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.8a6619999999ap+6,  // -1009661/10240
@@ -608,7 +608,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.999999999999ap-48, -0x1.999999999999ap-46, -0x1.999999999999ap-44,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, potential_hess_radial_1_0, 3, 0x1p-3, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 3, .centre = 0x1p-3, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.30a0ccccccccdp+5,  // -97481/2560
@@ -619,7 +619,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.999999999999ap-50, 0x1.999999999999ap-47, -0x1.999999999999ap-44,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_hess_radial_2_0, 3, 0x1p-2, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 3, .centre = 0x1p-2, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.ccccccccccccdp-2,  // -9/20
@@ -644,9 +644,9 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
     0x0p+0, 0x0p+0, -0x1.999999999999ap-57,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -3, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, -3, potential_hess_radial_3_1, 3, 0, 0, potential_hess_radial_3_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_3_2, 3, 0, 0, potential_hess_radial_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .c_lo = potential_hess_radial_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 3, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1p-1,  // -1/2
@@ -668,9 +668,9 @@ inline constexpr double potential_hess_radial_4_2_lo[] = {
     -0x1.999999999999ap-59, 0x1.999999999999ap-58, 0x1.999999999999ap-57,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -3, potential_hess_radial_4_0, 1, 0, 0, nullptr, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, -3, potential_hess_radial_4_1, 3, 0, 0, potential_hess_radial_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, potential_hess_radial_4_2, 3, 0, 0, potential_hess_radial_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = -3, .c = potential_hess_radial_4_1, .n = 3, .c_lo = potential_hess_radial_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = potential_hess_radial_4_2, .n = 3, .c_lo = potential_hess_radial_4_2_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2
@@ -684,39 +684,46 @@ inline constexpr double potential_hess_radial_5_1_lo[] = {
     -0x1.999999999999ap-59, 0x1.999999999999ap-58, 0x1.999999999999ap-57,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_5_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, potential_hess_radial_5_1, 3, 0, 0, potential_hess_radial_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_5_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = potential_hess_radial_5_1, .n = 3, .c_lo = potential_hess_radial_5_1_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_6_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = potential_hess_radial_6_0, .n = 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-4, potential_hess_radial_0, 1},  // [0, 1/12), Taylor polynomial about 1/24
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, potential_hess_radial_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, potential_hess_radial_2, 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {0x1.5555555555555p-2, 0x1p-1, potential_hess_radial_3, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_hess_radial_4, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_hess_radial_5, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/12), Taylor polynomial about 1/24
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_hess_radial_3, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_4, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_5, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_6, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_3_base_wendland_k_1_D1
 inline constexpr table::Kernel combo_m_3_base_wendland_k_1_D1 = {
-    "combo:m=3,base=wendland:k=1", 1, 0x1p+0, 2, 6, 1,
-    0x1.ep+3, "15", true,
-    {
-        {detail_combo_m_3_base_wendland_k_1_D1::value, 4},
-        {detail_combo_m_3_base_wendland_k_1_D1::dr, 4},
-        {detail_combo_m_3_base_wendland_k_1_D1::d2r, 4},
-        {detail_combo_m_3_base_wendland_k_1_D1::laplacian, 4},
-        {detail_combo_m_3_base_wendland_k_1_D1::grad_over_r, 4},
-        {detail_combo_m_3_base_wendland_k_1_D1::hess_radial, 4},
-        {detail_combo_m_3_base_wendland_k_1_D1::potential, 6},
-        {detail_combo_m_3_base_wendland_k_1_D1::dpotential, 7},
-        {detail_combo_m_3_base_wendland_k_1_D1::dpotential_over_r, 6},
-        {detail_combo_m_3_base_wendland_k_1_D1::potential_hess_radial, 7},
+    .spec = "combo:m=3,base=wendland:k=1",
+    .dim = 1,
+    .support = 0x1p+0,
+    .smoothness = 2,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.ep+3,  // 15
+    .normalisation_exact = "15",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_3_base_wendland_k_1_D1::value, .npieces = 4},  // value
+        {.pieces = detail_combo_m_3_base_wendland_k_1_D1::dr, .npieces = 4},  // dr
+        {.pieces = detail_combo_m_3_base_wendland_k_1_D1::d2r, .npieces = 4},  // d2r
+        {.pieces = detail_combo_m_3_base_wendland_k_1_D1::laplacian, .npieces = 4},  // laplacian
+        {.pieces = detail_combo_m_3_base_wendland_k_1_D1::grad_over_r, .npieces = 4},  // grad_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_1_D1::hess_radial, .npieces = 4},  // hess_radial
+        {.pieces = detail_combo_m_3_base_wendland_k_1_D1::potential, .npieces = 6},  // potential
+        {.pieces = detail_combo_m_3_base_wendland_k_1_D1::dpotential, .npieces = 7},  // dpotential
+        {.pieces = detail_combo_m_3_base_wendland_k_1_D1::dpotential_over_r, .npieces = 6},  // dpotential_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_1_D1::potential_hess_radial, .npieces = 7},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -32,9 +32,9 @@ inline constexpr double value_0_2_lo[] = {
     0x1.1b2c052c76dadp-58, 0x1.61f7067794918p-56,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 5, 0, value_0_0, 2, 0, 0, value_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, value_0_1, 2, 0, 0, value_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, value_0_2, 2, 0, 0, value_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.e74cf46ef7eb1p+4,  // -15309/160 * pi^-1
@@ -51,8 +51,8 @@ inline constexpr double value_1_1_lo[] = {
     0x1.1b2c052c76dadp-58, 0x1.61f7067794918p-56,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, value_1_0, 2, 0, 0, value_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, value_1_1, 2, 0, 0, value_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.30382889a329cp-2,  // 14/15 * pi^-1
@@ -62,13 +62,13 @@ inline constexpr double value_2_0_lo[] = {
     0x1.1b2c052c76dadp-58, 0x1.61f7067794918p-56,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, value_2_0, 2, 0, 0, value_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1.5555555555555p-2, value_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, value_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, value_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = value_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = value_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.ac4aa2d587e5ap+19,  // -2755620 * pi^-1
@@ -89,9 +89,9 @@ inline constexpr double dr_0_2_lo[] = {
     -0x1.425e51366bdb4p-51,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 4, 1, dr_0_0, 1, 0, 0, dr_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 1, dr_0_1, 1, 0, 0, dr_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 1, dr_0_2, 1, 0, 0, dr_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 1, .c = dr_0_0, .n = 1, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 1, .c = dr_0_1, .n = 1, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_0_2, .n = 1, .c_lo = dr_0_2_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.56a21bde06515p+10,  // 137781/32 * pi^-1
@@ -106,8 +106,8 @@ inline constexpr double dr_1_1_lo[] = {
     -0x1.425e51366bdb4p-51,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 1, dr_1_0, 1, 0, 0, dr_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 1, dr_1_1, 1, 0, 0, dr_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 1, .c = dr_1_0, .n = 1, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_1_1, .n = 1, .c_lo = dr_1_1_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.1d34a60108f72p+3,  // -28 * pi^-1
@@ -116,13 +116,13 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.425e51366bdb4p-51,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 1, dr_2_0, 1, 0, 0, dr_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_2_0, .n = 1, .c_lo = dr_2_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1.5555555555555p-2, dr_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, dr_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dr_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dr_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dr_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.1d8717390543cp+18,  // -918540 * pi^-1
@@ -146,9 +146,9 @@ inline constexpr double d2r_0_2_lo[] = {
     -0x1.425e51366bdb4p-51, -0x1.b42869efe4b7ap-51,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 3, 0, d2r_0_0, 2, 0, 0, d2r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, d2r_0_1, 2, 0, 0, d2r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, d2r_0_2, 2, 0, 0, d2r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = d2r_0_0, .n = 2, .c_lo = d2r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = d2r_0_1, .n = 2, .c_lo = d2r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = d2r_0_2, .n = 2, .c_lo = d2r_0_2_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.c8d82528086c6p+9,  // 45927/16 * pi^-1
@@ -165,8 +165,8 @@ inline constexpr double d2r_1_1_lo[] = {
     -0x1.425e51366bdb4p-51, -0x1.b42869efe4b7ap-51,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, d2r_1_0, 2, 0, 0, d2r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, d2r_1_1, 2, 0, 0, d2r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = d2r_1_0, .n = 2, .c_lo = d2r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = d2r_1_1, .n = 2, .c_lo = d2r_1_1_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.1d34a60108f72p+3,  // -28 * pi^-1
@@ -176,13 +176,13 @@ inline constexpr double d2r_2_0_lo[] = {
     -0x1.425e51366bdb4p-51, -0x1.b42869efe4b7ap-51,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, d2r_2_0, 2, 0, 0, d2r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = d2r_2_0, .n = 2, .c_lo = d2r_2_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, d2r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, d2r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, d2r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = d2r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = d2r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = d2r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.1d8717390543cp+19,  // -1837080 * pi^-1
@@ -206,9 +206,9 @@ inline constexpr double laplacian_0_2_lo[] = {
     -0x1.425e51366bdb4p-50, 0x1.e38d79d1a1c8fp-49,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 3, 0, laplacian_0_0, 2, 0, 0, laplacian_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, laplacian_0_1, 2, 0, 0, laplacian_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, laplacian_0_2, 2, 0, 0, laplacian_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = laplacian_0_0, .n = 2, .c_lo = laplacian_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = laplacian_0_1, .n = 2, .c_lo = laplacian_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = laplacian_0_2, .n = 2, .c_lo = laplacian_0_2_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.c8d82528086c6p+10,  // 45927/8 * pi^-1
@@ -225,8 +225,8 @@ inline constexpr double laplacian_1_1_lo[] = {
     -0x1.425e51366bdb4p-50, 0x1.e38d79d1a1c8fp-49,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, laplacian_1_0, 2, 0, 0, laplacian_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, laplacian_1_1, 2, 0, 0, laplacian_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = laplacian_1_0, .n = 2, .c_lo = laplacian_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = laplacian_1_1, .n = 2, .c_lo = laplacian_1_1_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.1d34a60108f72p+4,  // -56 * pi^-1
@@ -236,13 +236,13 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.425e51366bdb4p-50, 0x1.e38d79d1a1c8fp-49,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, laplacian_2_0, 2, 0, 0, laplacian_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = laplacian_2_0, .n = 2, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1.5555555555555p-2, laplacian_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, laplacian_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, laplacian_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = laplacian_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.ac4aa2d587e5ap+19,  // -2755620 * pi^-1
@@ -263,9 +263,9 @@ inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.425e51366bdb4p-51,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 4, 0, grad_over_r_0_0, 1, 0, 0, grad_over_r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, grad_over_r_0_1, 1, 0, 0, grad_over_r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, grad_over_r_0_2, 1, 0, 0, grad_over_r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = grad_over_r_0_0, .n = 1, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = grad_over_r_0_1, .n = 1, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_0_2, .n = 1, .c_lo = grad_over_r_0_2_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.56a21bde06515p+10,  // 137781/32 * pi^-1
@@ -280,8 +280,8 @@ inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.425e51366bdb4p-51,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, grad_over_r_1_0, 1, 0, 0, grad_over_r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, grad_over_r_1_1, 1, 0, 0, grad_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = grad_over_r_1_0, .n = 1, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_1_1, .n = 1, .c_lo = grad_over_r_1_1_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.1d34a60108f72p+3,  // -28 * pi^-1
@@ -290,13 +290,13 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.425e51366bdb4p-51,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, grad_over_r_2_0, 1, 0, 0, grad_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_2_0, .n = 1, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, grad_over_r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, grad_over_r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, grad_over_r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = grad_over_r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.ac4aa2d587e5ap+21,  // 11022480 * pi^-1
@@ -317,9 +317,9 @@ inline constexpr double hess_radial_0_2_lo[] = {
     0x1.425e51366bdb4p-49,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 3, -1, hess_radial_0_0, 1, 0, 0, hess_radial_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, -1, hess_radial_0_1, 1, 0, 0, hess_radial_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, hess_radial_0_2, 1, 0, 0, hess_radial_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = -1, .c = hess_radial_0_0, .n = 1, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = -1, .c = hess_radial_0_1, .n = 1, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = hess_radial_0_2, .n = 1, .c_lo = hess_radial_0_2_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.56a21bde06515p+12,  // -137781/8 * pi^-1
@@ -334,8 +334,8 @@ inline constexpr double hess_radial_1_1_lo[] = {
     0x1.425e51366bdb4p-49,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, -1, hess_radial_1_0, 1, 0, 0, hess_radial_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, hess_radial_1_1, 1, 0, 0, hess_radial_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = -1, .c = hess_radial_1_0, .n = 1, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = hess_radial_1_1, .n = 1, .c_lo = hess_radial_1_1_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.1d34a60108f72p+5,  // 112 * pi^-1
@@ -344,13 +344,13 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.425e51366bdb4p-49,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, hess_radial_2_0, 1, 0, 0, hess_radial_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = hess_radial_2_0, .n = 1, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-2, hess_radial_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, hess_radial_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, hess_radial_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = hess_radial_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = hess_radial_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.c6901be0a9805p-2,  // -1163/1680 * pi^-1 + -3/10 * pi^-1 * log(2) + -9/20 * pi^-1 * log(3)
@@ -369,7 +369,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.d70574ebc8d66p-43,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-4, 0, 0, potential_0_0, 9, 0, 0, potential_0_0_lo, 0x1.5555555555555p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 9, .c_lo = potential_0_0_lo, .edge_lo = 0x1.5555555555555p-58},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.d065dd1110de1p-4,  // 1163/3360 * pi^-1 + -3/10 * pi^-1 * log(2) + -9/20 * pi^-1 * log(3)
@@ -436,15 +436,15 @@ inline constexpr double potential_1_8_lo[] = {
     0x1.c2e8ff0c34d31p-44,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-3, 0, 0, potential_1_0, 9, 0, 0, potential_1_0_lo, 0x1.5555555555555p-57},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 1, 0, potential_1_1, 1, 0, 0, potential_1_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 2, 0, potential_1_2, 1, 0, 0, potential_1_2_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 3, 0, potential_1_3, 1, 0, 0, potential_1_3_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 4, 0, potential_1_4, 1, 0, 0, potential_1_4_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 5, 0, potential_1_5, 1, 0, 0, potential_1_5_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, potential_1_6, 1, 0, 0, potential_1_6_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 7, 0, potential_1_7, 1, 0, 0, potential_1_7_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, 0, potential_1_8, 1, 0, 0, potential_1_8_lo, 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 9, .c_lo = potential_1_0_lo, .edge_lo = 0x1.5555555555555p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 1, .low = 0, .c = potential_1_1, .n = 1, .c_lo = potential_1_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 2, .low = 0, .c = potential_1_2, .n = 1, .c_lo = potential_1_2_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = potential_1_3, .n = 1, .c_lo = potential_1_3_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = potential_1_4, .n = 1, .c_lo = potential_1_4_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = potential_1_5, .n = 1, .c_lo = potential_1_5_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = potential_1_6, .n = 1, .c_lo = potential_1_6_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = potential_1_7, .n = 1, .c_lo = potential_1_7_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = potential_1_8, .n = 1, .c_lo = potential_1_8_lo, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.f6f83f05a642ep-3,  // -1163/16800 * pi^-1 + -3/10 * pi^-1 * log(2) + -9/20 * pi^-1 * log(3)
@@ -559,23 +559,23 @@ inline constexpr double potential_2_16_lo[] = {
     0x1.86f99fb1e11f7p-56,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 0, 0, potential_2_0, 9, 0, 0, potential_2_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 1, 0, potential_2_1, 1, 0, 0, potential_2_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 2, 0, potential_2_2, 1, 0, 0, potential_2_2_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 3, 0, potential_2_3, 1, 0, 0, potential_2_3_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 4, 0, potential_2_4, 1, 0, 0, potential_2_4_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 5, 0, potential_2_5, 1, 0, 0, potential_2_5_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, potential_2_6, 1, 0, 0, potential_2_6_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 7, 0, potential_2_7, 1, 0, 0, potential_2_7_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, 0, potential_2_8, 1, 0, 0, potential_2_8_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, potential_2_9, 1, 0, 0, potential_2_9_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 0, potential_2_10, 1, 0, 0, potential_2_10_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, potential_2_11, 1, 0, 0, potential_2_11_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, potential_2_12, 1, 0, 0, potential_2_12_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, potential_2_13, 1, 0, 0, potential_2_13_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, potential_2_14, 1, 0, 0, potential_2_14_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, potential_2_15, 1, 0, 0, potential_2_15_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, potential_2_16, 1, 0, 0, potential_2_16_lo, 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 9, .c_lo = potential_2_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 1, .low = 0, .c = potential_2_1, .n = 1, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 2, .low = 0, .c = potential_2_2, .n = 1, .c_lo = potential_2_2_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = potential_2_3, .n = 1, .c_lo = potential_2_3_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = potential_2_4, .n = 1, .c_lo = potential_2_4_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = potential_2_5, .n = 1, .c_lo = potential_2_5_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = potential_2_6, .n = 1, .c_lo = potential_2_6_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = potential_2_7, .n = 1, .c_lo = potential_2_7_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = potential_2_8, .n = 1, .c_lo = potential_2_8_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = potential_2_9, .n = 1, .c_lo = potential_2_9_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = potential_2_10, .n = 1, .c_lo = potential_2_10_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = potential_2_11, .n = 1, .c_lo = potential_2_11_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = potential_2_12, .n = 1, .c_lo = potential_2_12_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_2_13, .n = 1, .c_lo = potential_2_13_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_2_14, .n = 1, .c_lo = potential_2_14_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_2_15, .n = 1, .c_lo = potential_2_15_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_2_16, .n = 1, .c_lo = potential_2_16_lo, .edge_lo = 0x1.5555555555555p-55},
 };
 inline constexpr double potential_3_0[] = {
     0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
@@ -648,16 +648,16 @@ inline constexpr double potential_3_9_lo[] = {
     0x1.86f99fb1e11f7p-56,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::log, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, potential_3_1, 9, 0, 0, potential_3_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, potential_3_2, 1, 0, 0, potential_3_2_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 0, potential_3_3, 1, 0, 0, potential_3_3_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, potential_3_4, 1, 0, 0, potential_3_4_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, potential_3_5, 1, 0, 0, potential_3_5_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, potential_3_6, 1, 0, 0, potential_3_6_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, potential_3_7, 1, 0, 0, potential_3_7_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, potential_3_8, 1, 0, 0, potential_3_8_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, potential_3_9, 1, 0, 0, potential_3_9_lo, 0x1.5555555555555p-55},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_3_1, .n = 9, .c_lo = potential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = potential_3_2, .n = 1, .c_lo = potential_3_2_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = potential_3_3, .n = 1, .c_lo = potential_3_3_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = potential_3_4, .n = 1, .c_lo = potential_3_4_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = potential_3_5, .n = 1, .c_lo = potential_3_5_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_3_6, .n = 1, .c_lo = potential_3_6_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_3_7, .n = 1, .c_lo = potential_3_7_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_8, .n = 1, .c_lo = potential_3_8_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_3_9, .n = 1, .c_lo = potential_3_9_lo, .edge_lo = 0x1.5555555555555p-55},
 };
 inline constexpr double potential_4_0[] = {
     0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
@@ -768,24 +768,24 @@ inline constexpr double potential_4_17_lo[] = {
     -0x1.61f7067794918p-62,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::log, 0, table::Var::r2, 0x1.5555555555555p-1, 0, 0, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 0, 0, potential_4_1, 1, 0, 0, potential_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, potential_4_2, 1, 0, 0, potential_4_2_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 0, potential_4_3, 1, 0, 0, potential_4_3_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, potential_4_4, 1, 0, 0, potential_4_4_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, potential_4_5, 1, 0, 0, potential_4_5_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, potential_4_6, 1, 0, 0, potential_4_6_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, potential_4_7, 1, 0, 0, potential_4_7_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, potential_4_8, 1, 0, 0, potential_4_8_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, potential_4_9, 1, 0, 0, potential_4_9_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_4_10, 1, 0, 0, potential_4_10_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_4_11, 1, 0, 0, potential_4_11_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_4_12, 1, 0, 0, potential_4_12_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_4_13, 1, 0, 0, potential_4_13_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_4_14, 1, 0, 0, potential_4_14_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_4_15, 1, 0, 0, potential_4_15_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_4_16, 1, 0, 0, potential_4_16_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_4_17, 1, 0, 0, potential_4_17_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = potential_4_1, .n = 1, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = potential_4_2, .n = 1, .c_lo = potential_4_2_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = potential_4_3, .n = 1, .c_lo = potential_4_3_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = potential_4_4, .n = 1, .c_lo = potential_4_4_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = potential_4_5, .n = 1, .c_lo = potential_4_5_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_4_6, .n = 1, .c_lo = potential_4_6_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_4_7, .n = 1, .c_lo = potential_4_7_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_4_8, .n = 1, .c_lo = potential_4_8_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_4_9, .n = 1, .c_lo = potential_4_9_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_4_10, .n = 1, .c_lo = potential_4_10_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_4_11, .n = 1, .c_lo = potential_4_11_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_4_12, .n = 1, .c_lo = potential_4_12_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_4_13, .n = 1, .c_lo = potential_4_13_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_14, .n = 1, .c_lo = potential_4_14_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_15, .n = 1, .c_lo = potential_4_15_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_16, .n = 1, .c_lo = potential_4_16_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_17, .n = 1, .c_lo = potential_4_17_lo},
 };
 inline constexpr double potential_5_0[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
@@ -842,15 +842,15 @@ inline constexpr double potential_5_8_lo[] = {
     -0x1.61f7067794918p-62,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::log, 0, table::Var::r2, 0x1p+0, 0, 0, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_5_1, 1, 0, 0, potential_5_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_5_2, 1, 0, 0, potential_5_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_5_3, 1, 0, 0, potential_5_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_5_4, 1, 0, 0, potential_5_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_5_5, 1, 0, 0, potential_5_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_5_6, 1, 0, 0, potential_5_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_5_7, 1, 0, 0, potential_5_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_5_8, 1, 0, 0, potential_5_8_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_5_1, .n = 1, .c_lo = potential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_5_2, .n = 1, .c_lo = potential_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_5_3, .n = 1, .c_lo = potential_5_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_5_4, .n = 1, .c_lo = potential_5_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_5_5, .n = 1, .c_lo = potential_5_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_5_6, .n = 1, .c_lo = potential_5_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_5_7, .n = 1, .c_lo = potential_5_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_5_8, .n = 1, .c_lo = potential_5_8_lo},
 };
 inline constexpr double potential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -859,16 +859,16 @@ inline constexpr double potential_6_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_6[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_6_0, 1, 0, 0, potential_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_6_0, .n = 1, .c_lo = potential_6_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.5555555555555p-4, potential_0, 1},  // [0, 1/12), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, potential_1, 9},  // [1/12, 1/6), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, potential_2, 17},  // [1/6, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.8p-2, potential_3, 10},  // [1/3, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1.5555555555555p-1, potential_4, 18},  // [3/8, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_5, 9},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = potential_0, .nterms = 1},  // [0, 1/12), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = potential_1, .nterms = 9},  // [1/12, 1/6), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = potential_2, .nterms = 17},  // [1/6, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.8p-2, .terms = potential_3, .nterms = 10},  // [1/3, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1.5555555555555p-1, .terms = potential_4, .nterms = 18},  // [3/8, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_5, .nterms = 9},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.2325becbb926fp+4,  // 343/6 * pi^-1
@@ -884,7 +884,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.f6c2e9fa73812p-40, -0x1.6f85dd9cc1029p-39, -0x1.d70574ebc8d66p-40,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-5, 0, 1, dpotential_0_0, 7, 0, 0, dpotential_0_0_lo, 0x1.5555555555555p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-5, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 7, .c_lo = dpotential_0_0_lo, .edge_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.d93201451de4ap-1,  // 399052653415/137438953472 * pi^-1
@@ -901,7 +901,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.40fc72e5f684ap-44, -0x1.c856163adde4ep-43, -0x1.2d1e1e60a9e2ep-40, -0x1.d70574ebc8d66p-40,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, dpotential_1_0, 8, 0x1p-4, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 8, .centre = 0x1p-4, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.29cd1d872bd18p+0,  // 58860985097/16106127360 * pi^-1
@@ -918,7 +918,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.c8788339db413p-53, 0x1.3b33f9e868a5ep-43, 0x1.099efcf05c7ebp-41, -0x1.d70574ebc8d66p-40,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_2_0, 8, 0x1p-3, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 8, .centre = 0x1p-3, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.6ac926b1e6836p-1,  // 18673255/8388608 * pi^-1
@@ -935,7 +935,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.1fe37a06be937p-46, 0x1.07453b9d1ddeap-44, -0x1.75547d6217c36p-44, -0x1.d70574ebc8d66p-40,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_3_0, 8, 0x1p-2, 0x0p+0, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 8, .centre = 0x1p-2, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
@@ -965,9 +965,9 @@ inline constexpr double dpotential_4_2_lo[] = {
     -0x1.425e51366bdb4p-53, -0x1.566c8dd9e3448p-56, -0x1.61f7067794918p-59,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, -1, dpotential_4_1, 3, 0, 0, dpotential_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_4_2, 7, 0, 0, dpotential_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_4_2, .n = 7, .c_lo = dpotential_4_2_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -992,9 +992,9 @@ inline constexpr double dpotential_5_2_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.7f974ace4ac65p-58, -0x1.61f7067794918p-59,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -1, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, -1, dpotential_5_1, 3, 0, 0, dpotential_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, dpotential_5_2, 3, 0, 0, dpotential_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_5_2, .n = 3, .c_lo = dpotential_5_2_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1011,8 +1011,8 @@ inline constexpr double dpotential_6_1_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.7f974ace4ac65p-58, -0x1.61f7067794918p-59,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, dpotential_6_1, 3, 0, 0, dpotential_6_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_6_1, .n = 3, .c_lo = dpotential_6_1_lo},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1021,17 +1021,17 @@ inline constexpr double dpotential_7_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_7[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_7_0, 1, 0, 0, dpotential_7_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_7_0, .n = 1, .c_lo = dpotential_7_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1.5555555555555p-5, dpotential_0, 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-5, 0x1.5555555555555p-4, dpotential_1, 1},  // [1/24, 1/12), Taylor polynomial about 1/16
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_2, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, dpotential_3, 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_4, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_5, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_6, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_7, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-5, .terms = dpotential_0, .nterms = 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-5, .hi = 0x1.5555555555555p-4, .terms = dpotential_1, .nterms = 1},  // [1/24, 1/12), Taylor polynomial about 1/16
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_2, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = dpotential_3, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_4, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_5, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_6, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_7, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.074209b25405ap+4,  // 15172951456309/293534171136 * pi^-1
@@ -1047,7 +1047,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.64af553860b65p-42, -0x1.54cd1874743abp-40, -0x1.d70574ebc8d66p-40,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, dpotential_over_r_0_0, 7, 0x1.5555555555555p-5, 0x1.5555555555555p-59, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 7, .centre = 0x1.5555555555555p-5, .centre_lo = 0x1.5555555555555p-59, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.29cd1d872bd18p+3,  // 58860985097/2013265920 * pi^-1
@@ -1063,7 +1063,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.bdc1e66960a5ep-42, 0x1.bfb02d15a75a2p-40, -0x1.d70574ebc8d66p-40,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_over_r_1_0, 7, 0x1p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 7, .centre = 0x1p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.6ac926b1e6836p+1,  // 18673255/2097152 * pi^-1
@@ -1079,7 +1079,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.c9ac67d8941b8p-46, 0x1.79b0559342e58p-42, -0x1.d70574ebc8d66p-40,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_over_r_2_0, 7, 0x1p-2, 0x0p+0, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 7, .centre = 0x1p-2, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
@@ -1109,9 +1109,9 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
     -0x1.425e51366bdb4p-53, -0x1.566c8dd9e3448p-56, -0x1.61f7067794918p-59,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -2, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, -2, dpotential_over_r_3_1, 3, 0, 0, dpotential_over_r_3_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_3_2, 7, 0, 0, dpotential_over_r_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_2, .n = 7, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1136,9 +1136,9 @@ inline constexpr double dpotential_over_r_4_2_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.7f974ace4ac65p-58, -0x1.61f7067794918p-59,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -2, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, -2, dpotential_over_r_4_1, 3, 0, 0, dpotential_over_r_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -2, dpotential_over_r_4_2, 3, 0, 0, dpotential_over_r_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1155,8 +1155,8 @@ inline constexpr double dpotential_over_r_5_1_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.7f974ace4ac65p-58, -0x1.61f7067794918p-59,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -2, dpotential_over_r_5_1, 3, 0, 0, dpotential_over_r_5_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1165,16 +1165,16 @@ inline constexpr double dpotential_over_r_6_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_6_0, 1, 0, 0, dpotential_over_r_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-4, dpotential_over_r_0, 1},  // [0, 1/12), Taylor polynomial about 1/24
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_over_r_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, dpotential_over_r_2, 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_over_r_3, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_over_r_4, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_over_r_5, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/12), Taylor polynomial about 1/24
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_over_r_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = dpotential_over_r_2, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_over_r_3, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_4, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_over_r_5, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.0c70102bc83f4p+11,  // -45841451827447/6794772480 * pi^-1
@@ -1188,7 +1188,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.3d77d09e52be7p-38,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-5, 0, 0, potential_hess_radial_0_0, 5, 0x1.5555555555555p-6, 0x1.5555555555555p-60, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-5, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 5, .centre = 0x1.5555555555555p-6, .centre_lo = 0x1.5555555555555p-60, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.582a6336c7a92p+10,  // -362799929591/83886080 * pi^-1
@@ -1202,7 +1202,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.3d77d09e52be7p-38,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, potential_hess_radial_1_0, 5, 0x1p-4, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 5, .centre = 0x1p-4, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.43d65c075a8aap+9,  // -10667845367/5242880 * pi^-1
@@ -1216,7 +1216,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.3d77d09e52be7p-38,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, potential_hess_radial_2_0, 5, 0x1p-3, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 5, .centre = 0x1p-3, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.e8ec8a4aeacc4p-2,  // -3/2 * pi^-1
@@ -1245,9 +1245,9 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
     -0x1.6ddd55a9bfbccp-47,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, -4, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 5, -4, potential_hess_radial_3_1, 4, 0, 0, potential_hess_radial_3_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, potential_hess_radial_3_2, 5, 0, 0, potential_hess_radial_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = -4, .c = potential_hess_radial_3_1, .n = 4, .c_lo = potential_hess_radial_3_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 5, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.ad3a61a45bc8fp+5,  // -71581850263/424673280 * pi^-1
@@ -1261,7 +1261,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.3d77d09e52be7p-38,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_hess_radial_4_0, 5, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 5, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.255ab960267a9p-2,  // -9/10 * pi^-1
@@ -1290,9 +1290,9 @@ inline constexpr double potential_hess_radial_5_2_lo[] = {
     -0x1.425e51366bdb4p-54,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -4, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, -4, potential_hess_radial_5_1, 4, 0, 0, potential_hess_radial_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_5_2, 5, 0, 0, potential_hess_radial_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -4, .c = potential_hess_radial_5_1, .n = 4, .c_lo = potential_hess_radial_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_5_2, .n = 5, .c_lo = potential_hess_radial_5_2_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1319,9 +1319,9 @@ inline constexpr double potential_hess_radial_6_2_lo[] = {
     -0x1.566c8dd9e3448p-61, -0x1.6b01ec5417056p-57, -0x1.041713f11440cp-59, 0x1.425e51366bdb4p-54,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -4, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, -4, potential_hess_radial_6_1, 4, 0, 0, potential_hess_radial_6_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -4, potential_hess_radial_6_2, 4, 0, 0, potential_hess_radial_6_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -4, .c = potential_hess_radial_6_1, .n = 4, .c_lo = potential_hess_radial_6_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_6_2, .n = 4, .c_lo = potential_hess_radial_6_2_lo},
 };
 inline constexpr double potential_hess_radial_7_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1339,8 +1339,8 @@ inline constexpr double potential_hess_radial_7_1_lo[] = {
     -0x1.566c8dd9e3448p-61, -0x1.6b01ec5417056p-57, -0x1.041713f11440cp-59, 0x1.425e51366bdb4p-54,
 };
 inline constexpr table::Term potential_hess_radial_7[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_7_0, 1, 0, 0, potential_hess_radial_7_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -4, potential_hess_radial_7_1, 4, 0, 0, potential_hess_radial_7_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_7_0, .n = 1, .c_lo = potential_hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_7_1, .n = 4, .c_lo = potential_hess_radial_7_1_lo},
 };
 inline constexpr double potential_hess_radial_8_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1349,34 +1349,41 @@ inline constexpr double potential_hess_radial_8_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_8[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_8_0, 1, 0, 0, potential_hess_radial_8_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_8_0, .n = 1, .c_lo = potential_hess_radial_8_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-5, potential_hess_radial_0, 1},  // [0, 1/24), Taylor polynomial about 1/48
-    {0x1.5555555555555p-5, 0x1.5555555555555p-4, potential_hess_radial_1, 1},  // [1/24, 1/12), Taylor polynomial about 1/16
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, potential_hess_radial_2, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, potential_hess_radial_3, 3},  // [1/6, 1/4), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-2, 0x1.5555555555555p-2, potential_hess_radial_4, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, potential_hess_radial_5, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_hess_radial_6, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_hess_radial_7, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_8, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-5, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/24), Taylor polynomial about 1/48
+    {.lo = 0x1.5555555555555p-5, .hi = 0x1.5555555555555p-4, .terms = potential_hess_radial_1, .nterms = 1},  // [1/24, 1/12), Taylor polynomial about 1/16
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = potential_hess_radial_2, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = potential_hess_radial_3, .nterms = 3},  // [1/6, 1/4), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = potential_hess_radial_4, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_hess_radial_5, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_6, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_7, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_8, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_3_base_wendland_k_1_l_1_D2
 inline constexpr table::Kernel combo_m_3_base_wendland_k_1_l_1_D2 = {
-    "combo:m=3,base=wendland:k=1,l=1", 2, 0x1p+0, 4, 6, 1,
-    0x1.6481cf814b34fp+6, "280 * pi^-1", true,
-    {
-        {detail_combo_m_3_base_wendland_k_1_l_1_D2::value, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_1_D2::dr, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_1_D2::d2r, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_1_D2::laplacian, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_1_D2::grad_over_r, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_1_D2::hess_radial, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_1_D2::potential, 7},
-        {detail_combo_m_3_base_wendland_k_1_l_1_D2::dpotential, 8},
-        {detail_combo_m_3_base_wendland_k_1_l_1_D2::dpotential_over_r, 7},
-        {detail_combo_m_3_base_wendland_k_1_l_1_D2::potential_hess_radial, 9},
+    .spec = "combo:m=3,base=wendland:k=1,l=1",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 4,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.6481cf814b34fp+6,  // 280 * pi^-1
+    .normalisation_exact = "280 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_1_D2::value, .npieces = 4},  // value
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_1_D2::dr, .npieces = 4},  // dr
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_1_D2::d2r, .npieces = 4},  // d2r
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_1_D2::laplacian, .npieces = 4},  // laplacian
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_1_D2::grad_over_r, .npieces = 4},  // grad_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_1_D2::hess_radial, .npieces = 4},  // hess_radial
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_1_D2::potential, .npieces = 7},  // potential
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_1_D2::dpotential, .npieces = 8},  // dpotential
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_1_D2::dpotential_over_r, .npieces = 7},  // dpotential_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_1_D2::potential_hess_radial, .npieces = 9},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

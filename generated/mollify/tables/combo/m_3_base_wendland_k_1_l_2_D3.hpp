@@ -32,9 +32,9 @@ inline constexpr double value_0_2_lo[] = {
     -0x1.86229de99e612p-59, 0x1.db6cc1321926ep-53,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, value_0_0, 2, 0, 0, value_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, value_0_1, 2, 0, 0, value_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, value_0_2, 2, 0, 0, value_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.4a65764cf3ce6p+7,  // -531441/1024 * pi^-1
@@ -51,8 +51,8 @@ inline constexpr double value_1_1_lo[] = {
     -0x1.86229de99e612p-59, 0x1.db6cc1321926ep-53,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, value_1_0, 2, 0, 0, value_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, value_1_1, 2, 0, 0, value_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.6eb167b830193p-1,  // 9/4 * pi^-1
@@ -62,13 +62,13 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.86229de99e612p-59, 0x1.db6cc1321926ep-53,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, value_2_0, 2, 0, 0, value_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1.5555555555555p-2, value_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, value_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, value_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = value_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = value_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.968ad890affefp+24,  // -167403915/2 * pi^-1
@@ -89,9 +89,9 @@ inline constexpr double dr_0_2_lo[] = {
     0x1.80035bd0a7f7ep-52,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 5, 1, dr_0_0, 1, 0, 0, dr_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 1, dr_0_1, 1, 0, 0, dr_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 1, dr_0_2, 1, 0, 0, dr_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 1, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 1, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 1, .c_lo = dr_0_2_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.453be073bfff2p+13,  // 33480783/1024 * pi^-1
@@ -106,8 +106,8 @@ inline constexpr double dr_1_1_lo[] = {
     0x1.80035bd0a7f7ep-52,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 1, dr_1_0, 1, 0, 0, dr_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 1, dr_1_1, 1, 0, 0, dr_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 1, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 1, .c_lo = dr_1_1_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
@@ -116,13 +116,13 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.80035bd0a7f7ep-52,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 1, dr_2_0, 1, 0, 0, dr_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 1, .c_lo = dr_2_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1.5555555555555p-2, dr_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, dr_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dr_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dr_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dr_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.0f073b0b1fff5p+23,  // -55801305/2 * pi^-1
@@ -146,9 +146,9 @@ inline constexpr double d2r_0_2_lo[] = {
     0x1.80035bd0a7f7ep-52, -0x1.4800a1371f7e8p-47,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 4, 0, d2r_0_0, 2, 0, 0, d2r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, d2r_0_1, 2, 0, 0, d2r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, d2r_0_2, 2, 0, 0, d2r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = d2r_0_0, .n = 2, .c_lo = d2r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = d2r_0_1, .n = 2, .c_lo = d2r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = d2r_0_2, .n = 2, .c_lo = d2r_0_2_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.b1a52b44fffeep+12,  // 11160261/512 * pi^-1
@@ -165,8 +165,8 @@ inline constexpr double d2r_1_1_lo[] = {
     0x1.80035bd0a7f7ep-52, -0x1.4800a1371f7e8p-47,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, d2r_1_0, 2, 0, 0, d2r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, d2r_1_1, 2, 0, 0, d2r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = d2r_1_0, .n = 2, .c_lo = d2r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = d2r_1_1, .n = 2, .c_lo = d2r_1_1_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
@@ -176,13 +176,13 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.80035bd0a7f7ep-52, -0x1.4800a1371f7e8p-47,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, d2r_2_0, 2, 0, 0, d2r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = d2r_2_0, .n = 2, .c_lo = d2r_2_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, d2r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, d2r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, d2r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = d2r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = d2r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = d2r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.968ad890affefp+24,  // -167403915/2 * pi^-1
@@ -206,9 +206,9 @@ inline constexpr double laplacian_0_2_lo[] = {
     0x1.4800a1371f7e8p-48, -0x1.80035bd0a7f7ep-49,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 4, 0, laplacian_0_0, 2, 0, 0, laplacian_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, laplacian_0_1, 2, 0, 0, laplacian_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, laplacian_0_2, 2, 0, 0, laplacian_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = laplacian_0_0, .n = 2, .c_lo = laplacian_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = laplacian_0_1, .n = 2, .c_lo = laplacian_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = laplacian_0_2, .n = 2, .c_lo = laplacian_0_2_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.453be073bfff2p+14,  // 33480783/512 * pi^-1
@@ -225,8 +225,8 @@ inline constexpr double laplacian_1_1_lo[] = {
     0x1.4800a1371f7e8p-48, -0x1.80035bd0a7f7ep-49,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, laplacian_1_0, 2, 0, 0, laplacian_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, laplacian_1_1, 2, 0, 0, laplacian_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = laplacian_1_0, .n = 2, .c_lo = laplacian_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = laplacian_1_1, .n = 2, .c_lo = laplacian_1_1_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.68f6a2194f58dp+6,  // -567/2 * pi^-1
@@ -236,13 +236,13 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.4800a1371f7e8p-48, -0x1.80035bd0a7f7ep-49,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, laplacian_2_0, 2, 0, 0, laplacian_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = laplacian_2_0, .n = 2, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1.5555555555555p-2, laplacian_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, laplacian_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, laplacian_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = laplacian_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.968ad890affefp+24,  // -167403915/2 * pi^-1
@@ -263,9 +263,9 @@ inline constexpr double grad_over_r_0_2_lo[] = {
     0x1.80035bd0a7f7ep-52,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 5, 0, grad_over_r_0_0, 1, 0, 0, grad_over_r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, grad_over_r_0_1, 1, 0, 0, grad_over_r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, grad_over_r_0_2, 1, 0, 0, grad_over_r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 1, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 1, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 1, .c_lo = grad_over_r_0_2_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.453be073bfff2p+13,  // 33480783/1024 * pi^-1
@@ -280,8 +280,8 @@ inline constexpr double grad_over_r_1_1_lo[] = {
     0x1.80035bd0a7f7ep-52,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, grad_over_r_1_0, 1, 0, 0, grad_over_r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, grad_over_r_1_1, 1, 0, 0, grad_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 1, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 1, .c_lo = grad_over_r_1_1_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.e148d821bf211p+4,  // -189/2 * pi^-1
@@ -290,13 +290,13 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.80035bd0a7f7ep-52,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, grad_over_r_2_0, 1, 0, 0, grad_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 1, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, grad_over_r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, grad_over_r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, grad_over_r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = grad_over_r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.fc2d8eb4dbfebp+26,  // 837019575/2 * pi^-1
@@ -317,9 +317,9 @@ inline constexpr double hess_radial_0_2_lo[] = {
     -0x1.bc0086589a3ecp-47,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 4, -1, hess_radial_0_0, 1, 0, 0, hess_radial_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, -1, hess_radial_0_1, 1, 0, 0, hess_radial_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, hess_radial_0_2, 1, 0, 0, hess_radial_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = -1, .c = hess_radial_0_0, .n = 1, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = hess_radial_0_1, .n = 1, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = hess_radial_0_2, .n = 1, .c_lo = hess_radial_0_2_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.968ad890affefp+15,  // -167403915/1024 * pi^-1
@@ -334,8 +334,8 @@ inline constexpr double hess_radial_1_1_lo[] = {
     -0x1.bc0086589a3ecp-47,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, -1, hess_radial_1_0, 1, 0, 0, hess_radial_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, hess_radial_1_1, 1, 0, 0, hess_radial_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = hess_radial_1_0, .n = 1, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = hess_radial_1_1, .n = 1, .c_lo = hess_radial_1_1_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.2ccd87151774bp+7,  // 945/2 * pi^-1
@@ -344,13 +344,13 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.bc0086589a3ecp-47,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, hess_radial_2_0, 1, 0, 0, hess_radial_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = hess_radial_2_0, .n = 1, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-2, hess_radial_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, hess_radial_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, hess_radial_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = hess_radial_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = hess_radial_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.1aa8bff34fbe1p+0,  // -111/32 * pi^-1
@@ -370,7 +370,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.ccfd85d33e0cp-38, -0x1.df47b79def94dp-39,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-4, 0, 0, potential_0_0, 10, 0, 0, potential_0_0_lo, 0x1.5555555555555p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 10, .c_lo = potential_0_0_lo, .edge_lo = 0x1.5555555555555p-58},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.573240c87beb8p-1,  // -2894225393507/1374389534720 * pi^-1
@@ -390,7 +390,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.fb2974533a426p-41, -0x1.df47b79def94dp-39,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, potential_1_0, 10, 0x1p-3, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 10, .centre = 0x1p-3, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.9af1dafa56d24p-2,  // -2273752675016357/1803473947459584 * pi^-1
@@ -410,7 +410,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.d156d9434a3ep-40, -0x1.df47b79def94dp-39,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_2_0, 10, 0x1.aaaaaaaaaaaabp-3, -0x1.5555555555555p-57, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 10, .centre = 0x1.aaaaaaaaaaaabp-3, .centre_lo = -0x1.5555555555555p-57, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.193fdbd4c6906p-2,  // -2593583398315909/3005789912432640 * pi^-1
@@ -430,7 +430,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.4084d960633a6p-41, -0x1.df47b79def94dp-39,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_3_0, 10, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 10, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.255ab960267a9p-4,  // -9/40 * pi^-1
@@ -464,9 +464,9 @@ inline constexpr double potential_4_2_lo[] = {
     0x1.b42869efe4b7ap-58, 0x1.7f974ace4ac65p-59,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, -1, potential_4_1, 3, 0, 0, potential_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_4_2, 10, 0, 0, potential_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_4_2, .n = 10, .c_lo = potential_4_2_lo},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -491,9 +491,9 @@ inline constexpr double potential_5_2_lo[] = {
     -0x1.566c8dd9e3448p-63, -0x1.35e9ab5bc0bc6p-60, 0x1.7f974ace4ac65p-59,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -1, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, -1, potential_5_1, 3, 0, 0, potential_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -1, potential_5_2, 3, 0, 0, potential_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -1, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_5_2, .n = 3, .c_lo = potential_5_2_lo},
 };
 inline constexpr double potential_6_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -510,8 +510,8 @@ inline constexpr double potential_6_1_lo[] = {
     -0x1.566c8dd9e3448p-63, -0x1.35e9ab5bc0bc6p-60, 0x1.7f974ace4ac65p-59,
 };
 inline constexpr table::Term potential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_6_0, 1, 0, 0, potential_6_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -1, potential_6_1, 3, 0, 0, potential_6_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_6_0, .n = 1, .c_lo = potential_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_6_1, .n = 3, .c_lo = potential_6_1_lo},
 };
 inline constexpr double potential_7_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -520,17 +520,17 @@ inline constexpr double potential_7_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_7[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_7_0, 1, 0, 0, potential_7_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_7_0, .n = 1, .c_lo = potential_7_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.5555555555555p-4, potential_0, 1},  // [0, 1/12), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, potential_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, potential_2, 1},  // [1/6, 1/4), Taylor polynomial about 5/24
-    {0x1p-2, 0x1.5555555555555p-2, potential_3, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, potential_4, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_5, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_6, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_7, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = potential_0, .nterms = 1},  // [0, 1/12), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = potential_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = potential_2, .nterms = 1},  // [1/6, 1/4), Taylor polynomial about 5/24
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = potential_3, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_4, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_5, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_6, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_7, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.705d36b131a6ap+6,  // 4629/16 * pi^-1
@@ -547,7 +547,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.aa1beea8a1d36p-38, -0x1.7ba300b2ba162p-40, 0x1.ccfd85d33e0cp-35, 0x1.c99ea2dca4f14p-37,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-5, 0, 1, dpotential_0_0, 8, 0, 0, dpotential_0_0_lo, 0x1.5555555555555p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-5, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 8, .c_lo = dpotential_0_0_lo, .edge_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.0d013c646a2bdp+2,  // 580750765391719/43980465111040 * pi^-1
@@ -566,7 +566,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.c99ea2dca4f14p-37,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, dpotential_1_0, 9, 0x1p-4, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 9, .centre = 0x1p-4, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.1061dcd803515p+2,  // 2297040200567/171798691840 * pi^-1
@@ -585,7 +585,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.c99ea2dca4f14p-37,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_2_0, 9, 0x1p-3, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 9, .centre = 0x1p-3, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.7934d873edef3p+0,  // 3106482271/671088640 * pi^-1
@@ -604,7 +604,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.c99ea2dca4f14p-37,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_3_0, 9, 0x1p-2, 0x0p+0, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 9, .centre = 0x1p-2, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.255ab960267a9p-4,  // 9/40 * pi^-1
@@ -636,9 +636,9 @@ inline constexpr double dpotential_4_2_lo[] = {
     0x1.adb80e81608f6p-52, -0x1.80035bd0a7f7ep-54, 0x1.b42869efe4b7ap-55, 0x1.5f146850283e4p-57,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -2, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, -2, dpotential_4_1, 4, 0, 0, dpotential_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_4_2, 8, 0, 0, dpotential_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -2, .c = dpotential_4_1, .n = 4, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_4_2, .n = 8, .c_lo = dpotential_4_2_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -665,9 +665,9 @@ inline constexpr double dpotential_5_2_lo[] = {
     0x1.566c8dd9e3448p-63, -0x1.a8c207c2b2483p-61, -0x1.a8c207c2b2483p-59, -0x1.5f146850283e4p-57,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -2, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, -2, dpotential_5_1, 4, 0, 0, dpotential_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -2, dpotential_5_2, 4, 0, 0, dpotential_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -2, .c = dpotential_5_1, .n = 4, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_5_2, .n = 4, .c_lo = dpotential_5_2_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -685,8 +685,8 @@ inline constexpr double dpotential_6_1_lo[] = {
     0x1.566c8dd9e3448p-63, -0x1.a8c207c2b2483p-61, -0x1.a8c207c2b2483p-59, -0x1.5f146850283e4p-57,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -2, dpotential_6_1, 4, 0, 0, dpotential_6_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_6_1, .n = 4, .c_lo = dpotential_6_1_lo},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -695,17 +695,17 @@ inline constexpr double dpotential_7_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_7[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_7_0, 1, 0, 0, dpotential_7_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_7_0, .n = 1, .c_lo = dpotential_7_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1.5555555555555p-5, dpotential_0, 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-5, 0x1.5555555555555p-4, dpotential_1, 1},  // [1/24, 1/12), Taylor polynomial about 1/16
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_2, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1.5555555555555p-2, dpotential_3, 1},  // [1/6, 1/3), Taylor polynomial about 1/4
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_4, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_5, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_6, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_7, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-5, .terms = dpotential_0, .nterms = 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-5, .hi = 0x1.5555555555555p-4, .terms = dpotential_1, .nterms = 1},  // [1/24, 1/12), Taylor polynomial about 1/16
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_2, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1.5555555555555p-2, .terms = dpotential_3, .nterms = 1},  // [1/6, 1/3), Taylor polynomial about 1/4
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_4, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_5, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_6, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_7, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.3b8c39ee3d561p+6,  // 3879827128547357/15655155793920 * pi^-1
@@ -722,7 +722,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.de1fd8a9e434fp-37, -0x1.a38f78a61bbbfp-38, 0x1.dcb78366a97b2p-36, 0x1.c99ea2dca4f14p-37,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, dpotential_over_r_0_0, 8, 0x1.5555555555555p-5, 0x1.5555555555555p-59, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 8, .centre = 0x1.5555555555555p-5, .centre_lo = 0x1.5555555555555p-59, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.1061dcd803515p+5,  // 2297040200567/21474836480 * pi^-1
@@ -739,7 +739,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.5b6d0379e746cp-39, -0x1.64a782586dff5p-38, -0x1.9dcf8d18fbbe8p-36, 0x1.c99ea2dca4f14p-37,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_over_r_1_0, 8, 0x1p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 8, .centre = 0x1p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.e8ec8a4aeacc4p-4,  // 3/8 * pi^-1
@@ -771,9 +771,9 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
     0x1.f3633d7de8c69p-46, -0x1.0b4d3fb8c638cp-44, -0x1.c9b02ae30dec8p-48, -0x1.56d6c4b8405cep-47,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, -3, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 7, -3, dpotential_over_r_2_1, 4, 0, 0, dpotential_over_r_2_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, dpotential_over_r_2_2, 8, 0, 0, dpotential_over_r_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = -3, .c = dpotential_over_r_2_1, .n = 4, .c_lo = dpotential_over_r_2_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 8, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.bedcb10e73826p+1,  // 171700198166363/15655155793920 * pi^-1
@@ -790,7 +790,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.00104b33ada54p-41, 0x1.cff03a2871018p-41, -0x1.2ddae184631c5p-40, 0x1.c99ea2dca4f14p-37,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_over_r_3_0, 8, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 8, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.255ab960267a9p-4,  // 9/40 * pi^-1
@@ -822,9 +822,9 @@ inline constexpr double dpotential_over_r_4_2_lo[] = {
     0x1.adb80e81608f6p-52, -0x1.80035bd0a7f7ep-54, 0x1.b42869efe4b7ap-55, 0x1.5f146850283e4p-57,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -3, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, -3, dpotential_over_r_4_1, 4, 0, 0, dpotential_over_r_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_4_2, 8, 0, 0, dpotential_over_r_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -3, .c = dpotential_over_r_4_1, .n = 4, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_2, .n = 8, .c_lo = dpotential_over_r_4_2_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -851,9 +851,9 @@ inline constexpr double dpotential_over_r_5_2_lo[] = {
     0x1.566c8dd9e3448p-63, -0x1.a8c207c2b2483p-61, -0x1.a8c207c2b2483p-59, -0x1.5f146850283e4p-57,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -3, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, -3, dpotential_over_r_5_1, 4, 0, 0, dpotential_over_r_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -3, dpotential_over_r_5_2, 4, 0, 0, dpotential_over_r_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -3, .c = dpotential_over_r_5_1, .n = 4, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -3, .c = dpotential_over_r_5_2, .n = 4, .c_lo = dpotential_over_r_5_2_lo},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -871,8 +871,8 @@ inline constexpr double dpotential_over_r_6_1_lo[] = {
     0x1.566c8dd9e3448p-63, -0x1.a8c207c2b2483p-61, -0x1.a8c207c2b2483p-59, -0x1.5f146850283e4p-57,
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_6_0, 1, 0, 0, dpotential_over_r_6_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -3, dpotential_over_r_6_1, 4, 0, 0, dpotential_over_r_6_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -3, .c = dpotential_over_r_6_1, .n = 4, .c_lo = dpotential_over_r_6_1_lo},
 };
 inline constexpr double dpotential_over_r_7_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -881,17 +881,17 @@ inline constexpr double dpotential_over_r_7_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_7[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_7_0, 1, 0, 0, dpotential_over_r_7_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_7_0, .n = 1, .c_lo = dpotential_over_r_7_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-4, dpotential_over_r_0, 1},  // [0, 1/12), Taylor polynomial about 1/24
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_over_r_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, dpotential_over_r_2, 3},  // [1/6, 1/4), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-2, 0x1.5555555555555p-2, dpotential_over_r_3, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_over_r_4, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_over_r_5, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_over_r_6, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_7, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/12), Taylor polynomial about 1/24
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_over_r_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = dpotential_over_r_2, .nterms = 3},  // [1/6, 1/4), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = dpotential_over_r_3, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_over_r_4, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_5, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_over_r_6, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_7, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.02ca0d69868e6p+14,  // -15084806425497559/289910292480 * pi^-1
@@ -906,7 +906,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.a8572e28eb41p-33, -0x1.37ca98bf77d67p-33,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-5, 0, 0, potential_hess_radial_0_0, 6, 0x1.5555555555555p-6, 0x1.5555555555555p-60, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-5, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 6, .centre = 0x1.5555555555555p-6, .centre_lo = 0x1.5555555555555p-60, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.22741142643dbp+13,  // -313527881640207/10737418240 * pi^-1
@@ -921,7 +921,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.b7cc1bfbe1842p-35, -0x1.37ca98bf77d67p-33,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, potential_hess_radial_1_0, 6, 0x1p-4, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 6, .centre = 0x1p-4, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.b2115ad58bfafp+11,  // -3660558179631/335544320 * pi^-1
@@ -936,7 +936,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.c276a514c8afcp-35, -0x1.37ca98bf77d67p-33,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, potential_hess_radial_2_0, 6, 0x1p-3, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 6, .centre = 0x1p-3, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.6eb167b830193p-2,  // -9/8 * pi^-1
@@ -968,9 +968,9 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
     -0x1.5744202a4a716p-45, -0x1.57f7d84270a28p-45,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, -5, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, -5, potential_hess_radial_3_1, 5, 0, 0, potential_hess_radial_3_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, potential_hess_radial_3_2, 6, 0, 0, potential_hess_radial_3_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = -5, .c = potential_hess_radial_3_1, .n = 5, .c_lo = potential_hess_radial_3_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 6, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.175f0cd434286p+7,  // -3975715556897/9059696640 * pi^-1
@@ -985,7 +985,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.774d4a5a3a3e4p-37, -0x1.37ca98bf77d67p-33,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_hess_radial_4_0, 6, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 6, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.b808161039b7dp-3,  // -27/40 * pi^-1
@@ -1017,9 +1017,9 @@ inline constexpr double potential_hess_radial_5_2_lo[] = {
     -0x1.5c70d8460a3b2p-51, -0x1.e667125cee64cp-53,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -5, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, -5, potential_hess_radial_5_1, 5, 0, 0, potential_hess_radial_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_5_2, 6, 0, 0, potential_hess_radial_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -5, .c = potential_hess_radial_5_1, .n = 5, .c_lo = potential_hess_radial_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_5_2, .n = 6, .c_lo = potential_hess_radial_5_2_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -1050,9 +1050,9 @@ inline constexpr double potential_hess_radial_6_2_lo[] = {
     -0x1.e667125cee64cp-53,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -5, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, -5, potential_hess_radial_6_1, 5, 0, 0, potential_hess_radial_6_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -5, potential_hess_radial_6_2, 5, 0, 0, potential_hess_radial_6_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -5, .c = potential_hess_radial_6_1, .n = 5, .c_lo = potential_hess_radial_6_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -5, .c = potential_hess_radial_6_2, .n = 5, .c_lo = potential_hess_radial_6_2_lo},
 };
 inline constexpr double potential_hess_radial_7_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -1072,8 +1072,8 @@ inline constexpr double potential_hess_radial_7_1_lo[] = {
     -0x1.e667125cee64cp-53,
 };
 inline constexpr table::Term potential_hess_radial_7[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_7_0, 1, 0, 0, potential_hess_radial_7_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -5, potential_hess_radial_7_1, 5, 0, 0, potential_hess_radial_7_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_7_0, .n = 1, .c_lo = potential_hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -5, .c = potential_hess_radial_7_1, .n = 5, .c_lo = potential_hess_radial_7_1_lo},
 };
 inline constexpr double potential_hess_radial_8_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -1082,34 +1082,41 @@ inline constexpr double potential_hess_radial_8_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_8[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_8_0, 1, 0, 0, potential_hess_radial_8_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_8_0, .n = 1, .c_lo = potential_hess_radial_8_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-5, potential_hess_radial_0, 1},  // [0, 1/24), Taylor polynomial about 1/48
-    {0x1.5555555555555p-5, 0x1.5555555555555p-4, potential_hess_radial_1, 1},  // [1/24, 1/12), Taylor polynomial about 1/16
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, potential_hess_radial_2, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, potential_hess_radial_3, 3},  // [1/6, 1/4), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-2, 0x1.5555555555555p-2, potential_hess_radial_4, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, potential_hess_radial_5, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_hess_radial_6, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_hess_radial_7, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_8, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-5, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/24), Taylor polynomial about 1/48
+    {.lo = 0x1.5555555555555p-5, .hi = 0x1.5555555555555p-4, .terms = potential_hess_radial_1, .nterms = 1},  // [1/24, 1/12), Taylor polynomial about 1/16
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = potential_hess_radial_2, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = potential_hess_radial_3, .nterms = 3},  // [1/6, 1/4), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = potential_hess_radial_4, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_hess_radial_5, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_6, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_7, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_8, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_3_base_wendland_k_1_l_2_D3
 inline constexpr table::Kernel combo_m_3_base_wendland_k_1_l_2_D3 = {
-    "combo:m=3,base=wendland:k=1,l=2", 3, 0x1p+0, 5, 6, 1,
-    0x1.2ccd87151774bp+8, "945 * pi^-1", true,
-    {
-        {detail_combo_m_3_base_wendland_k_1_l_2_D3::value, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_2_D3::dr, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_2_D3::d2r, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_2_D3::laplacian, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_2_D3::grad_over_r, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_2_D3::hess_radial, 4},
-        {detail_combo_m_3_base_wendland_k_1_l_2_D3::potential, 8},
-        {detail_combo_m_3_base_wendland_k_1_l_2_D3::dpotential, 8},
-        {detail_combo_m_3_base_wendland_k_1_l_2_D3::dpotential_over_r, 8},
-        {detail_combo_m_3_base_wendland_k_1_l_2_D3::potential_hess_radial, 9},
+    .spec = "combo:m=3,base=wendland:k=1,l=2",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 5,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.2ccd87151774bp+8,  // 945 * pi^-1
+    .normalisation_exact = "945 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_2_D3::value, .npieces = 4},  // value
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_2_D3::dr, .npieces = 4},  // dr
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_2_D3::d2r, .npieces = 4},  // d2r
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_2_D3::laplacian, .npieces = 4},  // laplacian
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_2_D3::grad_over_r, .npieces = 4},  // grad_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_2_D3::hess_radial, .npieces = 4},  // hess_radial
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_2_D3::potential, .npieces = 8},  // potential
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_2_D3::dpotential, .npieces = 8},  // dpotential
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_2_D3::dpotential_over_r, .npieces = 8},  // dpotential_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_1_l_2_D3::potential_hess_radial, .npieces = 9},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

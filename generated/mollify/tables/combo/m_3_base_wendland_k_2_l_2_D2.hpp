@@ -35,9 +35,9 @@ inline constexpr double value_0_2_lo[] = {
     0x1.a5f338afb8a6fp-56, 0x1.a5f338afb8a6fp-53, 0x1.a73ce99a896c8p-54,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, value_0_1, 3, 0, 0, value_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, value_0_2, 3, 0, 0, value_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.22bfafc8d68cap+7,  // -5845851/12800 * pi^-1
@@ -56,8 +56,8 @@ inline constexpr double value_1_1_lo[] = {
     0x1.a5f338afb8a6fp-56, 0x1.a5f338afb8a6fp-53, 0x1.a73ce99a896c8p-54,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, value_1_0, 3, 0, 0, value_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, value_1_1, 3, 0, 0, value_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.ae40cb9e164d5p-2,  // 33/25 * pi^-1
@@ -68,13 +68,13 @@ inline constexpr double value_2_0_lo[] = {
     0x1.a5f338afb8a6fp-56, 0x1.a5f338afb8a6fp-53, 0x1.a73ce99a896c8p-54,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, value_2_0, 3, 0, 0, value_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1.5555555555555p-2, value_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, value_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, value_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = value_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = value_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.ff14f2ff09234p+24,  // -105225318 * pi^-1
@@ -98,9 +98,9 @@ inline constexpr double dr_0_2_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 7, 1, dr_0_0, 2, 0, 0, dr_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 1, dr_0_1, 2, 0, 0, dr_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 1, dr_0_2, 2, 0, 0, dr_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.98dd8f326db5dp+12,  // 52612659/2560 * pi^-1
@@ -117,8 +117,8 @@ inline constexpr double dr_1_1_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 1, dr_1_0, 2, 0, 0, dr_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 1, dr_1_1, 2, 0, 0, dr_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.935cbee434e88p+3,  // -198/5 * pi^-1
@@ -128,13 +128,13 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 1, dr_2_0, 2, 0, 0, dr_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1.5555555555555p-2, dr_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, dr_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dr_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dr_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dr_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.54b8a1ff5b6cdp+23,  // -35075106 * pi^-1
@@ -161,9 +161,9 @@ inline constexpr double d2r_0_2_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.c5781edc6eab2p-51, -0x1.acd2577eaebf6p-48,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, d2r_0_0, 3, 0, 0, d2r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, d2r_0_1, 3, 0, 0, d2r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, d2r_0_2, 3, 0, 0, d2r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = d2r_0_0, .n = 3, .c_lo = d2r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = d2r_0_1, .n = 3, .c_lo = d2r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_0_2, .n = 3, .c_lo = d2r_0_2_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.1093b4cc4923ep+12,  // 17537553/1280 * pi^-1
@@ -182,8 +182,8 @@ inline constexpr double d2r_1_1_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.c5781edc6eab2p-51, -0x1.acd2577eaebf6p-48,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, d2r_1_0, 3, 0, 0, d2r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, d2r_1_1, 3, 0, 0, d2r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = d2r_1_0, .n = 3, .c_lo = d2r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_1_1, .n = 3, .c_lo = d2r_1_1_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.935cbee434e88p+3,  // -198/5 * pi^-1
@@ -194,13 +194,13 @@ inline constexpr double d2r_2_0_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.c5781edc6eab2p-51, -0x1.acd2577eaebf6p-48,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, d2r_2_0, 3, 0, 0, d2r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_2_0, .n = 3, .c_lo = d2r_2_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, d2r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, d2r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, d2r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = d2r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = d2r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = d2r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.54b8a1ff5b6cdp+24,  // -70150212 * pi^-1
@@ -227,9 +227,9 @@ inline constexpr double laplacian_0_2_lo[] = {
     -0x1.2e501492f4721p-52, -0x1.c5781edc6eab2p-50, -0x1.5aac34bfa251ap-46,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, laplacian_0_0, 3, 0, 0, laplacian_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, laplacian_0_1, 3, 0, 0, laplacian_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, laplacian_0_2, 3, 0, 0, laplacian_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = laplacian_0_0, .n = 3, .c_lo = laplacian_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = laplacian_0_1, .n = 3, .c_lo = laplacian_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_0_2, .n = 3, .c_lo = laplacian_0_2_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.1093b4cc4923ep+13,  // 17537553/640 * pi^-1
@@ -248,8 +248,8 @@ inline constexpr double laplacian_1_1_lo[] = {
     -0x1.2e501492f4721p-52, -0x1.c5781edc6eab2p-50, -0x1.5aac34bfa251ap-46,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, laplacian_1_0, 3, 0, 0, laplacian_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, laplacian_1_1, 3, 0, 0, laplacian_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = laplacian_1_0, .n = 3, .c_lo = laplacian_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_1_1, .n = 3, .c_lo = laplacian_1_1_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.935cbee434e88p+4,  // -396/5 * pi^-1
@@ -260,13 +260,13 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.2e501492f4721p-52, -0x1.c5781edc6eab2p-50, -0x1.5aac34bfa251ap-46,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, laplacian_2_0, 3, 0, 0, laplacian_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_2_0, .n = 3, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1.5555555555555p-2, laplacian_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, laplacian_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, laplacian_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = laplacian_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.ff14f2ff09234p+24,  // -105225318 * pi^-1
@@ -290,9 +290,9 @@ inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 7, 0, grad_over_r_0_0, 2, 0, 0, grad_over_r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, grad_over_r_0_1, 2, 0, 0, grad_over_r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, grad_over_r_0_2, 2, 0, 0, grad_over_r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.98dd8f326db5dp+12,  // 52612659/2560 * pi^-1
@@ -309,8 +309,8 @@ inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, grad_over_r_1_0, 2, 0, 0, grad_over_r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, grad_over_r_1_1, 2, 0, 0, grad_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.935cbee434e88p+3,  // -198/5 * pi^-1
@@ -320,13 +320,13 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, grad_over_r_2_0, 2, 0, 0, grad_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, grad_over_r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, grad_over_r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, grad_over_r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = grad_over_r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.4f65bf775dff2p+32,  // 17677853424 * pi^-1
@@ -347,9 +347,9 @@ inline constexpr double hess_radial_0_2_lo[] = {
     0x1.0886120095e3dp-47,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, hess_radial_0_0, 1, 0, 0, hess_radial_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, hess_radial_0_1, 1, 0, 0, hess_radial_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, hess_radial_0_2, 1, 0, 0, hess_radial_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 1, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 1, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_2, .n = 1, .c_lo = hess_radial_0_2_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.0c5165f917ff5p+19,  // -1104865839/640 * pi^-1
@@ -364,8 +364,8 @@ inline constexpr double hess_radial_1_1_lo[] = {
     0x1.0886120095e3dp-47,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, hess_radial_1_0, 1, 0, 0, hess_radial_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, hess_radial_1_1, 1, 0, 0, hess_radial_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 1, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_1, .n = 1, .c_lo = hess_radial_1_1_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.60f12707ae4b7p+9,  // 11088/5 * pi^-1
@@ -374,13 +374,13 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.0886120095e3dp-47,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, hess_radial_2_0, 1, 0, 0, hess_radial_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_2_0, .n = 1, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-2, hess_radial_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, hess_radial_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, hess_radial_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = hess_radial_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = hess_radial_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.b78c9a1d616edp-2,  // -11473283352140591059403/17754991170945443430400 * pi^-1 + -3/10 * pi^-1 * log(2) + -9/20 * pi^-1 * log(3)
@@ -404,7 +404,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.c3f5e7ff25726p-37,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_0_0, 13, 0x1p-4, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 13, .centre = 0x1p-4, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.93fb674d48272p-4,  // 43517/110880 * pi^-1 + -3/10 * pi^-1 * log(2) + -9/20 * pi^-1 * log(3)
@@ -500,19 +500,19 @@ inline constexpr double potential_1_12_lo[] = {
     0x1.84754f82ceca4p-37,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, potential_1_0, 13, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 1, 0, potential_1_1, 1, 0, 0, potential_1_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 2, 0, potential_1_2, 1, 0, 0, potential_1_2_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 3, 0, potential_1_3, 1, 0, 0, potential_1_3_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 4, 0, potential_1_4, 1, 0, 0, potential_1_4_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 5, 0, potential_1_5, 1, 0, 0, potential_1_5_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, potential_1_6, 1, 0, 0, potential_1_6_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 7, 0, potential_1_7, 1, 0, 0, potential_1_7_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, 0, potential_1_8, 1, 0, 0, potential_1_8_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 9, 0, potential_1_9, 1, 0, 0, potential_1_9_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 10, 0, potential_1_10, 1, 0, 0, potential_1_10_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 11, 0, potential_1_11, 1, 0, 0, potential_1_11_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 12, 0, potential_1_12, 1, 0, 0, potential_1_12_lo, 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 13, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 1, .low = 0, .c = potential_1_1, .n = 1, .c_lo = potential_1_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 2, .low = 0, .c = potential_1_2, .n = 1, .c_lo = potential_1_2_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = potential_1_3, .n = 1, .c_lo = potential_1_3_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = potential_1_4, .n = 1, .c_lo = potential_1_4_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = potential_1_5, .n = 1, .c_lo = potential_1_5_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = potential_1_6, .n = 1, .c_lo = potential_1_6_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = potential_1_7, .n = 1, .c_lo = potential_1_7_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = potential_1_8, .n = 1, .c_lo = potential_1_8_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 0, .c = potential_1_9, .n = 1, .c_lo = potential_1_9_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 10, .low = 0, .c = potential_1_10, .n = 1, .c_lo = potential_1_10_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 11, .low = 0, .c = potential_1_11, .n = 1, .c_lo = potential_1_11_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 12, .low = 0, .c = potential_1_12, .n = 1, .c_lo = potential_1_12_lo, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.fd02e4660722p-3,  // -43517/554400 * pi^-1 + -3/10 * pi^-1 * log(2) + -9/20 * pi^-1 * log(3)
@@ -680,31 +680,31 @@ inline constexpr double potential_2_24_lo[] = {
     0x1.fc6ef3975a917p-50,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 0, 0, potential_2_0, 13, 0, 0, potential_2_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 1, 0, potential_2_1, 1, 0, 0, potential_2_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 2, 0, potential_2_2, 1, 0, 0, potential_2_2_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 3, 0, potential_2_3, 1, 0, 0, potential_2_3_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 4, 0, potential_2_4, 1, 0, 0, potential_2_4_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 5, 0, potential_2_5, 1, 0, 0, potential_2_5_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, potential_2_6, 1, 0, 0, potential_2_6_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 7, 0, potential_2_7, 1, 0, 0, potential_2_7_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, 0, potential_2_8, 1, 0, 0, potential_2_8_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 9, 0, potential_2_9, 1, 0, 0, potential_2_9_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 10, 0, potential_2_10, 1, 0, 0, potential_2_10_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 11, 0, potential_2_11, 1, 0, 0, potential_2_11_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 12, 0, potential_2_12, 1, 0, 0, potential_2_12_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, potential_2_13, 1, 0, 0, potential_2_13_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 0, potential_2_14, 1, 0, 0, potential_2_14_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, potential_2_15, 1, 0, 0, potential_2_15_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, potential_2_16, 1, 0, 0, potential_2_16_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, potential_2_17, 1, 0, 0, potential_2_17_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, potential_2_18, 1, 0, 0, potential_2_18_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, potential_2_19, 1, 0, 0, potential_2_19_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, potential_2_20, 1, 0, 0, potential_2_20_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, 0, potential_2_21, 1, 0, 0, potential_2_21_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 10, 0, potential_2_22, 1, 0, 0, potential_2_22_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 11, 0, potential_2_23, 1, 0, 0, potential_2_23_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 12, 0, potential_2_24, 1, 0, 0, potential_2_24_lo, 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 13, .c_lo = potential_2_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 1, .low = 0, .c = potential_2_1, .n = 1, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 2, .low = 0, .c = potential_2_2, .n = 1, .c_lo = potential_2_2_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = potential_2_3, .n = 1, .c_lo = potential_2_3_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = potential_2_4, .n = 1, .c_lo = potential_2_4_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = potential_2_5, .n = 1, .c_lo = potential_2_5_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = potential_2_6, .n = 1, .c_lo = potential_2_6_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = potential_2_7, .n = 1, .c_lo = potential_2_7_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = potential_2_8, .n = 1, .c_lo = potential_2_8_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 0, .c = potential_2_9, .n = 1, .c_lo = potential_2_9_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 10, .low = 0, .c = potential_2_10, .n = 1, .c_lo = potential_2_10_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 11, .low = 0, .c = potential_2_11, .n = 1, .c_lo = potential_2_11_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 12, .low = 0, .c = potential_2_12, .n = 1, .c_lo = potential_2_12_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = potential_2_13, .n = 1, .c_lo = potential_2_13_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = potential_2_14, .n = 1, .c_lo = potential_2_14_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = potential_2_15, .n = 1, .c_lo = potential_2_15_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = potential_2_16, .n = 1, .c_lo = potential_2_16_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_2_17, .n = 1, .c_lo = potential_2_17_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_2_18, .n = 1, .c_lo = potential_2_18_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_2_19, .n = 1, .c_lo = potential_2_19_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_2_20, .n = 1, .c_lo = potential_2_20_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = potential_2_21, .n = 1, .c_lo = potential_2_21_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 10, .low = 0, .c = potential_2_22, .n = 1, .c_lo = potential_2_22_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 11, .low = 0, .c = potential_2_23, .n = 1, .c_lo = potential_2_23_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 12, .low = 0, .c = potential_2_24, .n = 1, .c_lo = potential_2_24_lo, .edge_lo = 0x1.5555555555555p-55},
 };
 inline constexpr double potential_3_0[] = {
     0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
@@ -806,20 +806,20 @@ inline constexpr double potential_3_13_lo[] = {
     0x1.fc6ef3975a917p-50,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::log, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, potential_3_1, 13, 0, 0, potential_3_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, potential_3_2, 1, 0, 0, potential_3_2_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 0, potential_3_3, 1, 0, 0, potential_3_3_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, potential_3_4, 1, 0, 0, potential_3_4_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, potential_3_5, 1, 0, 0, potential_3_5_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, potential_3_6, 1, 0, 0, potential_3_6_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, potential_3_7, 1, 0, 0, potential_3_7_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, potential_3_8, 1, 0, 0, potential_3_8_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, potential_3_9, 1, 0, 0, potential_3_9_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, 0, potential_3_10, 1, 0, 0, potential_3_10_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 10, 0, potential_3_11, 1, 0, 0, potential_3_11_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 11, 0, potential_3_12, 1, 0, 0, potential_3_12_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 12, 0, potential_3_13, 1, 0, 0, potential_3_13_lo, 0x1.5555555555555p-55},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_3_1, .n = 13, .c_lo = potential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = potential_3_2, .n = 1, .c_lo = potential_3_2_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = potential_3_3, .n = 1, .c_lo = potential_3_3_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = potential_3_4, .n = 1, .c_lo = potential_3_4_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = potential_3_5, .n = 1, .c_lo = potential_3_5_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_3_6, .n = 1, .c_lo = potential_3_6_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_3_7, .n = 1, .c_lo = potential_3_7_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_8, .n = 1, .c_lo = potential_3_8_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_3_9, .n = 1, .c_lo = potential_3_9_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = potential_3_10, .n = 1, .c_lo = potential_3_10_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 10, .low = 0, .c = potential_3_11, .n = 1, .c_lo = potential_3_11_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 11, .low = 0, .c = potential_3_12, .n = 1, .c_lo = potential_3_12_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 12, .low = 0, .c = potential_3_13, .n = 1, .c_lo = potential_3_13_lo, .edge_lo = 0x1.5555555555555p-55},
 };
 inline constexpr double potential_4_0[] = {
     0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
@@ -978,32 +978,32 @@ inline constexpr double potential_4_25_lo[] = {
     0x1.419bc222576d7p-59,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::log, 0, table::Var::r2, 0x1.5555555555555p-1, 0, 0, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 0, 0, potential_4_1, 1, 0, 0, potential_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, potential_4_2, 1, 0, 0, potential_4_2_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 0, potential_4_3, 1, 0, 0, potential_4_3_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, potential_4_4, 1, 0, 0, potential_4_4_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, potential_4_5, 1, 0, 0, potential_4_5_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, potential_4_6, 1, 0, 0, potential_4_6_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, potential_4_7, 1, 0, 0, potential_4_7_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, potential_4_8, 1, 0, 0, potential_4_8_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, potential_4_9, 1, 0, 0, potential_4_9_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, 0, potential_4_10, 1, 0, 0, potential_4_10_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 10, 0, potential_4_11, 1, 0, 0, potential_4_11_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 11, 0, potential_4_12, 1, 0, 0, potential_4_12_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 12, 0, potential_4_13, 1, 0, 0, potential_4_13_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_4_14, 1, 0, 0, potential_4_14_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_4_15, 1, 0, 0, potential_4_15_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_4_16, 1, 0, 0, potential_4_16_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_4_17, 1, 0, 0, potential_4_17_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_4_18, 1, 0, 0, potential_4_18_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_4_19, 1, 0, 0, potential_4_19_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_4_20, 1, 0, 0, potential_4_20_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_4_21, 1, 0, 0, potential_4_21_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_4_22, 1, 0, 0, potential_4_22_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_4_23, 1, 0, 0, potential_4_23_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_4_24, 1, 0, 0, potential_4_24_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, 0, potential_4_25, 1, 0, 0, potential_4_25_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = potential_4_1, .n = 1, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = potential_4_2, .n = 1, .c_lo = potential_4_2_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = potential_4_3, .n = 1, .c_lo = potential_4_3_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = potential_4_4, .n = 1, .c_lo = potential_4_4_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = potential_4_5, .n = 1, .c_lo = potential_4_5_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_4_6, .n = 1, .c_lo = potential_4_6_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_4_7, .n = 1, .c_lo = potential_4_7_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_4_8, .n = 1, .c_lo = potential_4_8_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_4_9, .n = 1, .c_lo = potential_4_9_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = potential_4_10, .n = 1, .c_lo = potential_4_10_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 10, .low = 0, .c = potential_4_11, .n = 1, .c_lo = potential_4_11_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 11, .low = 0, .c = potential_4_12, .n = 1, .c_lo = potential_4_12_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 12, .low = 0, .c = potential_4_13, .n = 1, .c_lo = potential_4_13_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_4_14, .n = 1, .c_lo = potential_4_14_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_4_15, .n = 1, .c_lo = potential_4_15_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_4_16, .n = 1, .c_lo = potential_4_16_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_4_17, .n = 1, .c_lo = potential_4_17_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_18, .n = 1, .c_lo = potential_4_18_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_19, .n = 1, .c_lo = potential_4_19_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_20, .n = 1, .c_lo = potential_4_20_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_21, .n = 1, .c_lo = potential_4_21_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_4_22, .n = 1, .c_lo = potential_4_22_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_4_23, .n = 1, .c_lo = potential_4_23_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_24, .n = 1, .c_lo = potential_4_24_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_4_25, .n = 1, .c_lo = potential_4_25_lo},
 };
 inline constexpr double potential_5_0[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
@@ -1084,19 +1084,19 @@ inline constexpr double potential_5_12_lo[] = {
     0x1.419bc222576d7p-59,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::log, 0, table::Var::r2, 0x1p+0, 0, 0, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_5_1, 1, 0, 0, potential_5_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_5_2, 1, 0, 0, potential_5_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_5_3, 1, 0, 0, potential_5_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_5_4, 1, 0, 0, potential_5_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_5_5, 1, 0, 0, potential_5_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_5_6, 1, 0, 0, potential_5_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_5_7, 1, 0, 0, potential_5_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_5_8, 1, 0, 0, potential_5_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_5_9, 1, 0, 0, potential_5_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_5_10, 1, 0, 0, potential_5_10_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_5_11, 1, 0, 0, potential_5_11_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, 0, potential_5_12, 1, 0, 0, potential_5_12_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_5_1, .n = 1, .c_lo = potential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_5_2, .n = 1, .c_lo = potential_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_5_3, .n = 1, .c_lo = potential_5_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_5_4, .n = 1, .c_lo = potential_5_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_5_5, .n = 1, .c_lo = potential_5_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_5_6, .n = 1, .c_lo = potential_5_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_5_7, .n = 1, .c_lo = potential_5_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_5_8, .n = 1, .c_lo = potential_5_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_5_9, .n = 1, .c_lo = potential_5_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_5_10, .n = 1, .c_lo = potential_5_10_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_5_11, .n = 1, .c_lo = potential_5_11_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_5_12, .n = 1, .c_lo = potential_5_12_lo},
 };
 inline constexpr double potential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1105,16 +1105,16 @@ inline constexpr double potential_6_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_6[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_6_0, 1, 0, 0, potential_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_6_0, .n = 1, .c_lo = potential_6_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8), Taylor polynomial about 1/16
-    {0x1p-3, 0x1p-2, potential_1, 13},  // [1/8, 1/4), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-2, 0x1.5555555555555p-2, potential_2, 25},  // [1/4, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.8p-2, potential_3, 14},  // [1/3, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1.5555555555555p-1, potential_4, 26},  // [3/8, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_5, 13},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_0, .nterms = 1},  // [0, 1/8), Taylor polynomial about 1/16
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_1, .nterms = 13},  // [1/8, 1/4), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = potential_2, .nterms = 25},  // [1/4, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.8p-2, .terms = potential_3, .nterms = 14},  // [1/3, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1.5555555555555p-1, .terms = potential_4, .nterms = 26},  // [3/8, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_5, .nterms = 13},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.9bc402de4b58p+4,  // 1617/20 * pi^-1
@@ -1135,7 +1135,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.378649507cd0cp-30, -0x1.538d987a757afp-31, -0x1.52f86dff5c15dp-33,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-5, 0, 1, dpotential_0_0, 11, 0, 0, dpotential_0_0_lo, 0x1.5555555555555p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-5, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 11, .c_lo = dpotential_0_0_lo, .edge_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.3e58f090dd82bp+0,  // 14075408388051350683/3602879701896396800 * pi^-1
@@ -1157,7 +1157,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.59448f53730bp-32, 0x1.fe9f3b6bf9027p-31, -0x1.add04b62594ebp-31, -0x1.52f86dff5c15dp-33,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, dpotential_1_0, 12, 0x1p-4, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 12, .centre = 0x1p-4, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.57219bf2b2f71p+0,  // 7407813403651739/1759218604441600 * pi^-1
@@ -1179,7 +1179,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.0fbaca56a755bp-35, -0x1.546f9733ec01dp-32, -0x1.025fc947a44e9p-36, -0x1.52f86dff5c15dp-33,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_2_0, 12, 0x1p-3, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 12, .centre = 0x1p-3, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.b143f3d24ea58p-1,  // 11046540952950121997/4155203974946881536 * pi^-1
@@ -1201,7 +1201,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.d9ee5cd0cb8f4p-37, 0x1.d5f886b22bd0fp-36, 0x1.51f5eeaf436f1p-34, -0x1.52f86dff5c15dp-33,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_3_0, 12, 0x1.aaaaaaaaaaaabp-3, -0x1.5555555555555p-57, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 12, .centre = 0x1.aaaaaaaaaaaabp-3, .centre_lo = -0x1.5555555555555p-57, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.1c1548802922bp-1,  // 181074678993620088271/103880099373672038400 * pi^-1
@@ -1223,7 +1223,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     0x1.192b18d10b41p-38, -0x1.e79cf00ea4e1ap-38, 0x1.7241e7d837f8ep-33, -0x1.52f86dff5c15dp-33,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_4_0, 12, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 12, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
@@ -1259,9 +1259,9 @@ inline constexpr double dpotential_5_2_lo[] = {
     0x1.0886120095e3dp-52, -0x1.7f974ace4ac65p-52, -0x1.0ecb2e663e6dfp-55,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, -1, dpotential_5_1, 4, 0, 0, dpotential_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_5_2, 11, 0, 0, dpotential_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = -1, .c = dpotential_5_1, .n = 4, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_5_2, .n = 11, .c_lo = dpotential_5_2_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1288,9 +1288,9 @@ inline constexpr double dpotential_6_2_lo[] = {
     0x1.566c8dd9e3448p-62, 0x1.c09d0fca8fd68p-58, 0x1.81def80a880fdp-55, 0x1.0ecb2e663e6dfp-55,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -1, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, -1, dpotential_6_1, 4, 0, 0, dpotential_6_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_6_2, 4, 0, 0, dpotential_6_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = -1, .c = dpotential_6_1, .n = 4, .c_lo = dpotential_6_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_6_2, .n = 4, .c_lo = dpotential_6_2_lo},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1308,8 +1308,8 @@ inline constexpr double dpotential_7_1_lo[] = {
     0x1.566c8dd9e3448p-62, 0x1.c09d0fca8fd68p-58, 0x1.81def80a880fdp-55, 0x1.0ecb2e663e6dfp-55,
 };
 inline constexpr table::Term dpotential_7[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_7_0, 1, 0, 0, dpotential_7_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_7_1, 4, 0, 0, dpotential_7_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_7_0, .n = 1, .c_lo = dpotential_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_7_1, .n = 4, .c_lo = dpotential_7_1_lo},
 };
 inline constexpr double dpotential_8_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1318,18 +1318,18 @@ inline constexpr double dpotential_8_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_8[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_8_0, 1, 0, 0, dpotential_8_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_8_0, .n = 1, .c_lo = dpotential_8_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1.5555555555555p-5, dpotential_0, 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-5, 0x1.5555555555555p-4, dpotential_1, 1},  // [1/24, 1/12), Taylor polynomial about 1/16
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_2, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, dpotential_3, 1},  // [1/6, 1/4), Taylor polynomial about 5/24
-    {0x1p-2, 0x1.5555555555555p-2, dpotential_4, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_5, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_6, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_7, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_8, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-5, .terms = dpotential_0, .nterms = 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-5, .hi = 0x1.5555555555555p-4, .terms = dpotential_1, .nterms = 1},  // [1/24, 1/12), Taylor polynomial about 1/16
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_2, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = dpotential_3, .nterms = 1},  // [1/6, 1/4), Taylor polynomial about 5/24
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = dpotential_4, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_5, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_6, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_7, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_8, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.6d5735e519075p+4,  // 310491003529428062089/4328337473903001600 * pi^-1
@@ -1350,7 +1350,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.f1189f4d10c6fp-31, 0x1.24662cb373034p-36, -0x1.52f86dff5c15dp-33,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, dpotential_over_r_0_0, 11, 0x1.5555555555555p-5, 0x1.5555555555555p-59, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 11, .centre = 0x1.5555555555555p-5, .centre_lo = 0x1.5555555555555p-59, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.57219bf2b2f71p+3,  // 7407813403651739/219902325555200 * pi^-1
@@ -1371,7 +1371,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.44321f56dc569p-38, -0x1.3d7b3ada4241cp-31, -0x1.52f86dff5c15dp-33,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_over_r_1_0, 11, 0x1p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 11, .centre = 0x1p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.03f5924afbfcep+2,  // 11046540952950121997/865667494780600320 * pi^-1
@@ -1392,7 +1392,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.4dfc705ad644ap-35, 0x1.ef9963977f916p-33, -0x1.52f86dff5c15dp-33,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_2_0, 11, 0x1.aaaaaaaaaaaabp-3, -0x1.5555555555555p-57, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 11, .centre = 0x1.aaaaaaaaaaaabp-3, .centre_lo = -0x1.5555555555555p-57, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.e6ffea004684ap+0,  // 25867811284802869753/4328337473903001600 * pi^-1
@@ -1413,7 +1413,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.15dbdcbbbc44dp-36, -0x1.57026b3fbeb0dp-36, -0x1.52f86dff5c15dp-33,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_over_r_3_0, 11, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 11, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
@@ -1449,9 +1449,9 @@ inline constexpr double dpotential_over_r_4_2_lo[] = {
     0x1.0886120095e3dp-52, -0x1.7f974ace4ac65p-52, -0x1.0ecb2e663e6dfp-55,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -2, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, -2, dpotential_over_r_4_1, 4, 0, 0, dpotential_over_r_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_4_2, 11, 0, 0, dpotential_over_r_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = -2, .c = dpotential_over_r_4_1, .n = 4, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_2, .n = 11, .c_lo = dpotential_over_r_4_2_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1478,9 +1478,9 @@ inline constexpr double dpotential_over_r_5_2_lo[] = {
     0x1.566c8dd9e3448p-62, 0x1.c09d0fca8fd68p-58, 0x1.81def80a880fdp-55, 0x1.0ecb2e663e6dfp-55,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -2, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, -2, dpotential_over_r_5_1, 4, 0, 0, dpotential_over_r_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -2, dpotential_over_r_5_2, 4, 0, 0, dpotential_over_r_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = -2, .c = dpotential_over_r_5_1, .n = 4, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_5_2, .n = 4, .c_lo = dpotential_over_r_5_2_lo},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1498,8 +1498,8 @@ inline constexpr double dpotential_over_r_6_1_lo[] = {
     0x1.566c8dd9e3448p-62, 0x1.c09d0fca8fd68p-58, 0x1.81def80a880fdp-55, 0x1.0ecb2e663e6dfp-55,
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_6_0, 1, 0, 0, dpotential_over_r_6_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -2, dpotential_over_r_6_1, 4, 0, 0, dpotential_over_r_6_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_6_1, .n = 4, .c_lo = dpotential_over_r_6_1_lo},
 };
 inline constexpr double dpotential_over_r_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1508,17 +1508,17 @@ inline constexpr double dpotential_over_r_7_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_7[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_7_0, 1, 0, 0, dpotential_over_r_7_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_7_0, .n = 1, .c_lo = dpotential_over_r_7_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-4, dpotential_over_r_0, 1},  // [0, 1/12), Taylor polynomial about 1/24
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_over_r_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, dpotential_over_r_2, 1},  // [1/6, 1/4), Taylor polynomial about 5/24
-    {0x1p-2, 0x1.5555555555555p-2, dpotential_over_r_3, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_over_r_4, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_over_r_5, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_over_r_6, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_7, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/12), Taylor polynomial about 1/24
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_over_r_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = dpotential_over_r_2, .nterms = 1},  // [1/6, 1/4), Taylor polynomial about 5/24
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = dpotential_over_r_3, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_over_r_4, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_5, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_over_r_6, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_7, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.d3071a6569e25p+11,  // -187803/16 * pi^-1
@@ -1537,7 +1537,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.6125da033393p-32,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-5, 0, 0, potential_hess_radial_0_0, 9, 0, 0, potential_hess_radial_0_0_lo, 0x1.5555555555555p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-5, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 9, .c_lo = potential_hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.301640677f4a4p+11,  // -134448948187446241/17592186044416 * pi^-1
@@ -1556,7 +1556,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.6125da033393p-32,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, potential_hess_radial_1_0, 9, 0x1p-4, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 9, .centre = 0x1p-4, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.ed4adfa9a48cbp+9,  // -1064962235019109/343597383680 * pi^-1
@@ -1575,7 +1575,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.6125da033393p-32,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, potential_hess_radial_2_0, 9, 0x1p-3, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 9, .centre = 0x1p-3, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.a58bbae3df335p+7,  // -99516087135933931/150289495621632 * pi^-1
@@ -1594,7 +1594,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.6125da033393p-32,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_3_0, 9, 0x1.aaaaaaaaaaaabp-3, -0x1.5555555555555p-57, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 9, .centre = 0x1.aaaaaaaaaaaabp-3, .centre_lo = -0x1.5555555555555p-57, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.8684135fe5353p+5,  // -115238410923548087/751447478108160 * pi^-1
@@ -1613,7 +1613,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.6125da033393p-32,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_hess_radial_4_0, 9, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 9, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.255ab960267a9p-2,  // -9/10 * pi^-1
@@ -1649,9 +1649,9 @@ inline constexpr double potential_hess_radial_5_2_lo[] = {
     0x1.ad82060031f6ap-52,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -4, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, -4, potential_hess_radial_5_1, 5, 0, 0, potential_hess_radial_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_5_2, 9, 0, 0, potential_hess_radial_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -4, .c = potential_hess_radial_5_1, .n = 5, .c_lo = potential_hess_radial_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_5_2, .n = 9, .c_lo = potential_hess_radial_5_2_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1682,9 +1682,9 @@ inline constexpr double potential_hess_radial_6_2_lo[] = {
     0x1.ad82060031f6ap-52,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -4, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, -4, potential_hess_radial_6_1, 5, 0, 0, potential_hess_radial_6_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -4, potential_hess_radial_6_2, 5, 0, 0, potential_hess_radial_6_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -4, .c = potential_hess_radial_6_1, .n = 5, .c_lo = potential_hess_radial_6_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_6_2, .n = 5, .c_lo = potential_hess_radial_6_2_lo},
 };
 inline constexpr double potential_hess_radial_7_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1704,8 +1704,8 @@ inline constexpr double potential_hess_radial_7_1_lo[] = {
     0x1.ad82060031f6ap-52,
 };
 inline constexpr table::Term potential_hess_radial_7[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_7_0, 1, 0, 0, potential_hess_radial_7_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -4, potential_hess_radial_7_1, 5, 0, 0, potential_hess_radial_7_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_7_0, .n = 1, .c_lo = potential_hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_7_1, .n = 5, .c_lo = potential_hess_radial_7_1_lo},
 };
 inline constexpr double potential_hess_radial_8_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1714,34 +1714,41 @@ inline constexpr double potential_hess_radial_8_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_8[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_8_0, 1, 0, 0, potential_hess_radial_8_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_8_0, .n = 1, .c_lo = potential_hess_radial_8_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-5, potential_hess_radial_0, 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-5, 0x1.5555555555555p-4, potential_hess_radial_1, 1},  // [1/24, 1/12), Taylor polynomial about 1/16
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, potential_hess_radial_2, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, potential_hess_radial_3, 1},  // [1/6, 1/4), Taylor polynomial about 5/24
-    {0x1p-2, 0x1.5555555555555p-2, potential_hess_radial_4, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, potential_hess_radial_5, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_hess_radial_6, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_hess_radial_7, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_8, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-5, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-5, .hi = 0x1.5555555555555p-4, .terms = potential_hess_radial_1, .nterms = 1},  // [1/24, 1/12), Taylor polynomial about 1/16
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = potential_hess_radial_2, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = potential_hess_radial_3, .nterms = 1},  // [1/6, 1/4), Taylor polynomial about 5/24
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = potential_hess_radial_4, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_hess_radial_5, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_6, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_7, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_8, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_3_base_wendland_k_2_l_2_D2
 inline constexpr table::Kernel combo_m_3_base_wendland_k_2_l_2_D2 = {
-    "combo:m=3,base=wendland:k=2,l=2", 2, 0x1p+0, 7, 6, 1,
-    0x1.b92d70c999de5p+12, "22176 * pi^-1", true,
-    {
-        {detail_combo_m_3_base_wendland_k_2_l_2_D2::value, 4},
-        {detail_combo_m_3_base_wendland_k_2_l_2_D2::dr, 4},
-        {detail_combo_m_3_base_wendland_k_2_l_2_D2::d2r, 4},
-        {detail_combo_m_3_base_wendland_k_2_l_2_D2::laplacian, 4},
-        {detail_combo_m_3_base_wendland_k_2_l_2_D2::grad_over_r, 4},
-        {detail_combo_m_3_base_wendland_k_2_l_2_D2::hess_radial, 4},
-        {detail_combo_m_3_base_wendland_k_2_l_2_D2::potential, 7},
-        {detail_combo_m_3_base_wendland_k_2_l_2_D2::dpotential, 9},
-        {detail_combo_m_3_base_wendland_k_2_l_2_D2::dpotential_over_r, 8},
-        {detail_combo_m_3_base_wendland_k_2_l_2_D2::potential_hess_radial, 9},
+    .spec = "combo:m=3,base=wendland:k=2,l=2",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 7,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.b92d70c999de5p+12,  // 22176 * pi^-1
+    .normalisation_exact = "22176 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_3_base_wendland_k_2_l_2_D2::value, .npieces = 4},  // value
+        {.pieces = detail_combo_m_3_base_wendland_k_2_l_2_D2::dr, .npieces = 4},  // dr
+        {.pieces = detail_combo_m_3_base_wendland_k_2_l_2_D2::d2r, .npieces = 4},  // d2r
+        {.pieces = detail_combo_m_3_base_wendland_k_2_l_2_D2::laplacian, .npieces = 4},  // laplacian
+        {.pieces = detail_combo_m_3_base_wendland_k_2_l_2_D2::grad_over_r, .npieces = 4},  // grad_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_2_l_2_D2::hess_radial, .npieces = 4},  // hess_radial
+        {.pieces = detail_combo_m_3_base_wendland_k_2_l_2_D2::potential, .npieces = 7},  // potential
+        {.pieces = detail_combo_m_3_base_wendland_k_2_l_2_D2::dpotential, .npieces = 9},  // dpotential
+        {.pieces = detail_combo_m_3_base_wendland_k_2_l_2_D2::dpotential_over_r, .npieces = 8},  // dpotential_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_2_l_2_D2::potential_hess_radial, .npieces = 9},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

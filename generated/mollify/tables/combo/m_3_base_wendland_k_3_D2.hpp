@@ -38,9 +38,9 @@ inline constexpr double value_0_2_lo[] = {
     0x1.64310e9afc4a7p-56, 0x1.64310e9afc4a7p-53, 0x1.36465369151a3p-51, 0x1.64310e9afc4a7p-51,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, 0, value_0_0, 4, 0, 0, value_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, value_0_1, 4, 0, 0, value_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, value_0_2, 4, 0, 0, value_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = value_0_0, .n = 4, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_0_1, .n = 4, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_2, .n = 4, .c_lo = value_0_2_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.eadfe2f5fc831p+6,  // -6908733/17920 * pi^-1
@@ -61,8 +61,8 @@ inline constexpr double value_1_1_lo[] = {
     0x1.64310e9afc4a7p-56, 0x1.64310e9afc4a7p-53, 0x1.36465369151a3p-51, 0x1.64310e9afc4a7p-51,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, value_1_0, 4, 0, 0, value_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, value_1_1, 4, 0, 0, value_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_1_0, .n = 4, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_1, .n = 4, .c_lo = value_1_1_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.6b335f6ada4e9p-2,  // 39/35 * pi^-1
@@ -74,13 +74,13 @@ inline constexpr double value_2_0_lo[] = {
     0x1.64310e9afc4a7p-56, 0x1.64310e9afc4a7p-53, 0x1.36465369151a3p-51, 0x1.64310e9afc4a7p-51,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, value_2_0, 4, 0, 0, value_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_2_0, .n = 4, .c_lo = value_2_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1.5555555555555p-2, value_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, value_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, value_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = value_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = value_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.3c624d488bc08p+24,  // -455976378/7 * pi^-1
@@ -107,9 +107,9 @@ inline constexpr double dr_0_2_lo[] = {
     0x1.2c7917d5ca334p-53, 0x1.0374fa6d88767p-49, 0x1.2c7917d5ca334p-49,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 7, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 1, dr_0_1, 3, 0, 0, dr_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 1, dr_0_2, 3, 0, 0, dr_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.fa36e20dac673p+11,  // 227988189/17920 * pi^-1
@@ -128,8 +128,8 @@ inline constexpr double dr_1_1_lo[] = {
     0x1.2c7917d5ca334p-53, 0x1.0374fa6d88767p-49, 0x1.2c7917d5ca334p-49,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 1, dr_1_0, 3, 0, 0, dr_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 1, dr_1_1, 3, 0, 0, dr_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.f366a332ec2c1p+2,  // -858/35 * pi^-1
@@ -140,13 +140,13 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.2c7917d5ca334p-53, 0x1.0374fa6d88767p-49, 0x1.2c7917d5ca334p-49,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 1, dr_2_0, 3, 0, 0, dr_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1.5555555555555p-2, dr_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, dr_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dr_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dr_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dr_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.a5d8670b6500ap+22,  // -151992126/7 * pi^-1
@@ -176,9 +176,9 @@ inline constexpr double d2r_0_2_lo[] = {
     0x1.2c7917d5ca334p-53, 0x1.70ad68f02bd34p-49, -0x1.99b186586d901p-49, -0x1.dde5d772cf3p-44,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, d2r_0_1, 4, 0, 0, d2r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, d2r_0_2, 4, 0, 0, d2r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = d2r_0_1, .n = 4, .c_lo = d2r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_0_2, .n = 4, .c_lo = d2r_0_2_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.5179ec091d9a2p+11,  // 75996063/8960 * pi^-1
@@ -199,8 +199,8 @@ inline constexpr double d2r_1_1_lo[] = {
     0x1.2c7917d5ca334p-53, 0x1.70ad68f02bd34p-49, -0x1.99b186586d901p-49, -0x1.dde5d772cf3p-44,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, d2r_1_0, 4, 0, 0, d2r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, d2r_1_1, 4, 0, 0, d2r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = d2r_1_0, .n = 4, .c_lo = d2r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_1_1, .n = 4, .c_lo = d2r_1_1_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.f366a332ec2c1p+2,  // -858/35 * pi^-1
@@ -212,13 +212,13 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.2c7917d5ca334p-53, 0x1.70ad68f02bd34p-49, -0x1.99b186586d901p-49, -0x1.dde5d772cf3p-44,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, d2r_2_0, 4, 0, 0, d2r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_2_0, .n = 4, .c_lo = d2r_2_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, d2r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, d2r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, d2r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = d2r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = d2r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = d2r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.a5d8670b6500ap+23,  // -303984252/7 * pi^-1
@@ -248,9 +248,9 @@ inline constexpr double laplacian_0_2_lo[] = {
     0x1.2c7917d5ca334p-52, 0x1.70ad68f02bd34p-48, -0x1.70ad68f02bd34p-49, -0x1.a749a0317d81ap-44,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, laplacian_0_1, 4, 0, 0, laplacian_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, laplacian_0_2, 4, 0, 0, laplacian_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = laplacian_0_1, .n = 4, .c_lo = laplacian_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_0_2, .n = 4, .c_lo = laplacian_0_2_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.5179ec091d9a2p+12,  // 75996063/4480 * pi^-1
@@ -271,8 +271,8 @@ inline constexpr double laplacian_1_1_lo[] = {
     0x1.2c7917d5ca334p-52, 0x1.70ad68f02bd34p-48, -0x1.70ad68f02bd34p-49, -0x1.a749a0317d81ap-44,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, laplacian_1_0, 4, 0, 0, laplacian_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, laplacian_1_1, 4, 0, 0, laplacian_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = laplacian_1_0, .n = 4, .c_lo = laplacian_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_1_1, .n = 4, .c_lo = laplacian_1_1_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.f366a332ec2c1p+3,  // -1716/35 * pi^-1
@@ -284,13 +284,13 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.2c7917d5ca334p-52, 0x1.70ad68f02bd34p-48, -0x1.70ad68f02bd34p-49, -0x1.a749a0317d81ap-44,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, laplacian_2_0, 4, 0, 0, laplacian_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_2_0, .n = 4, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1.5555555555555p-2, laplacian_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, laplacian_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, laplacian_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = laplacian_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.3c624d488bc08p+24,  // -455976378/7 * pi^-1
@@ -317,9 +317,9 @@ inline constexpr double grad_over_r_0_2_lo[] = {
     0x1.2c7917d5ca334p-53, 0x1.0374fa6d88767p-49, 0x1.2c7917d5ca334p-49,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 7, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, grad_over_r_0_1, 3, 0, 0, grad_over_r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, grad_over_r_0_2, 3, 0, 0, grad_over_r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.fa36e20dac673p+11,  // 227988189/17920 * pi^-1
@@ -338,8 +338,8 @@ inline constexpr double grad_over_r_1_1_lo[] = {
     0x1.2c7917d5ca334p-53, 0x1.0374fa6d88767p-49, 0x1.2c7917d5ca334p-49,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, grad_over_r_1_0, 3, 0, 0, grad_over_r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, grad_over_r_1_1, 3, 0, 0, grad_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.f366a332ec2c1p+2,  // -858/35 * pi^-1
@@ -350,13 +350,13 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.2c7917d5ca334p-53, 0x1.0374fa6d88767p-49, 0x1.2c7917d5ca334p-49,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, grad_over_r_2_0, 3, 0, 0, grad_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, grad_over_r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, grad_over_r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, grad_over_r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = grad_over_r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.63ee96f19d389p+30,  // 32830299216/7 * pi^-1
@@ -380,9 +380,9 @@ inline constexpr double hess_radial_0_2_lo[] = {
     -0x1.70ad68f02bd34p-47, 0x1.eb7df14bdf219p-44,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, hess_radial_0_0, 2, 0, 0, hess_radial_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, hess_radial_0_1, 2, 0, 0, hess_radial_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, hess_radial_0_2, 2, 0, 0, hess_radial_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.1cbedf27b0fa1p+17,  // -2051893701/4480 * pi^-1
@@ -399,8 +399,8 @@ inline constexpr double hess_radial_1_1_lo[] = {
     -0x1.70ad68f02bd34p-47, 0x1.eb7df14bdf219p-44,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, hess_radial_1_0, 2, 0, 0, hess_radial_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, hess_radial_1_1, 2, 0, 0, hess_radial_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.768cfa6631211p+7,  // 20592/35 * pi^-1
@@ -410,13 +410,13 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.70ad68f02bd34p-47, 0x1.eb7df14bdf219p-44,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, hess_radial_2_0, 2, 0, 0, hess_radial_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-2, hess_radial_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, hess_radial_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, hess_radial_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = hess_radial_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = hess_radial_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.b2b46b452cb17p-2,  // -5828886676673710425263/9232595408891630583808 * pi^-1 + -3/10 * pi^-1 * log(2) + -9/20 * pi^-1 * log(3)
@@ -441,7 +441,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.bc48a7fb24f2dp-33, -0x1.5480d37c8aecdp-36,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_0_0, 14, 0x1p-4, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 14, .centre = 0x1p-4, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.a979243ce1f23p-4,  // 77423/205920 * pi^-1 + -3/10 * pi^-1 * log(2) + -9/20 * pi^-1 * log(3)
@@ -544,20 +544,20 @@ inline constexpr double potential_1_13_lo[] = {
     0x1.d2d652b260e06p-34,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, potential_1_0, 14, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 1, 0, potential_1_1, 1, 0, 0, potential_1_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 2, 0, potential_1_2, 1, 0, 0, potential_1_2_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 3, 0, potential_1_3, 1, 0, 0, potential_1_3_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 4, 0, potential_1_4, 1, 0, 0, potential_1_4_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 5, 0, potential_1_5, 1, 0, 0, potential_1_5_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 6, 0, potential_1_6, 1, 0, 0, potential_1_6_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 7, 0, potential_1_7, 1, 0, 0, potential_1_7_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, 0, potential_1_8, 1, 0, 0, potential_1_8_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 9, 0, potential_1_9, 1, 0, 0, potential_1_9_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 10, 0, potential_1_10, 1, 0, 0, potential_1_10_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 11, 0, potential_1_11, 1, 0, 0, potential_1_11_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 12, 0, potential_1_12, 1, 0, 0, potential_1_12_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 13, 0, potential_1_13, 1, 0, 0, potential_1_13_lo, 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 14, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 1, .low = 0, .c = potential_1_1, .n = 1, .c_lo = potential_1_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 2, .low = 0, .c = potential_1_2, .n = 1, .c_lo = potential_1_2_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = potential_1_3, .n = 1, .c_lo = potential_1_3_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = potential_1_4, .n = 1, .c_lo = potential_1_4_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = potential_1_5, .n = 1, .c_lo = potential_1_5_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = potential_1_6, .n = 1, .c_lo = potential_1_6_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = potential_1_7, .n = 1, .c_lo = potential_1_7_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = potential_1_8, .n = 1, .c_lo = potential_1_8_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 0, .c = potential_1_9, .n = 1, .c_lo = potential_1_9_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 10, .low = 0, .c = potential_1_10, .n = 1, .c_lo = potential_1_10_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 11, .low = 0, .c = potential_1_11, .n = 1, .c_lo = potential_1_11_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 12, .low = 0, .c = potential_1_12, .n = 1, .c_lo = potential_1_12_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 13, .low = 0, .c = potential_1_13, .n = 1, .c_lo = potential_1_13_lo, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.91123170b831ep-3,  // 74512838186875502623091/855639602521061845893120 * pi^-1 + -3/10 * pi^-1 * log(2) + -9/20 * pi^-1 * log(3)
@@ -582,7 +582,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.9f2967db9ea2p-34, -0x1.5480d37c8aecdp-36,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_2_0, 14, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 14, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
@@ -691,21 +691,21 @@ inline constexpr double potential_3_14_lo[] = {
     0x1.bdbaf10ae5b2fp-48,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::log, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-2, 0, 0, potential_3_1, 14, 0, 0, potential_3_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, potential_3_2, 1, 0, 0, potential_3_2_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 0, potential_3_3, 1, 0, 0, potential_3_3_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, potential_3_4, 1, 0, 0, potential_3_4_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, potential_3_5, 1, 0, 0, potential_3_5_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, potential_3_6, 1, 0, 0, potential_3_6_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, potential_3_7, 1, 0, 0, potential_3_7_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, potential_3_8, 1, 0, 0, potential_3_8_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, potential_3_9, 1, 0, 0, potential_3_9_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, 0, potential_3_10, 1, 0, 0, potential_3_10_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 10, 0, potential_3_11, 1, 0, 0, potential_3_11_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 11, 0, potential_3_12, 1, 0, 0, potential_3_12_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 12, 0, potential_3_13, 1, 0, 0, potential_3_13_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 13, 0, potential_3_14, 1, 0, 0, potential_3_14_lo, 0x1.5555555555555p-55},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_3_1, .n = 14, .c_lo = potential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = potential_3_2, .n = 1, .c_lo = potential_3_2_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = potential_3_3, .n = 1, .c_lo = potential_3_3_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = potential_3_4, .n = 1, .c_lo = potential_3_4_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = potential_3_5, .n = 1, .c_lo = potential_3_5_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_3_6, .n = 1, .c_lo = potential_3_6_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_3_7, .n = 1, .c_lo = potential_3_7_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_8, .n = 1, .c_lo = potential_3_8_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_3_9, .n = 1, .c_lo = potential_3_9_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = potential_3_10, .n = 1, .c_lo = potential_3_10_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 10, .low = 0, .c = potential_3_11, .n = 1, .c_lo = potential_3_11_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 11, .low = 0, .c = potential_3_12, .n = 1, .c_lo = potential_3_12_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 12, .low = 0, .c = potential_3_13, .n = 1, .c_lo = potential_3_13_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 13, .low = 0, .c = potential_3_14, .n = 1, .c_lo = potential_3_14_lo, .edge_lo = 0x1.5555555555555p-55},
 };
 inline constexpr double potential_4_0[] = {
     0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
@@ -876,34 +876,34 @@ inline constexpr double potential_4_27_lo[] = {
     -0x1.7e04a17c30e9fp-59,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::log, 0, table::Var::r2, 0x1.5555555555555p-1, 0, 0, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 0, 0, potential_4_1, 1, 0, 0, potential_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 1, 0, potential_4_2, 1, 0, 0, potential_4_2_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 2, 0, potential_4_3, 1, 0, 0, potential_4_3_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 3, 0, potential_4_4, 1, 0, 0, potential_4_4_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 4, 0, potential_4_5, 1, 0, 0, potential_4_5_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 5, 0, potential_4_6, 1, 0, 0, potential_4_6_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 6, 0, potential_4_7, 1, 0, 0, potential_4_7_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 7, 0, potential_4_8, 1, 0, 0, potential_4_8_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, potential_4_9, 1, 0, 0, potential_4_9_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, 0, potential_4_10, 1, 0, 0, potential_4_10_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 10, 0, potential_4_11, 1, 0, 0, potential_4_11_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 11, 0, potential_4_12, 1, 0, 0, potential_4_12_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 12, 0, potential_4_13, 1, 0, 0, potential_4_13_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 13, 0, potential_4_14, 1, 0, 0, potential_4_14_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_4_15, 1, 0, 0, potential_4_15_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_4_16, 1, 0, 0, potential_4_16_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_4_17, 1, 0, 0, potential_4_17_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_4_18, 1, 0, 0, potential_4_18_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_4_19, 1, 0, 0, potential_4_19_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_4_20, 1, 0, 0, potential_4_20_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_4_21, 1, 0, 0, potential_4_21_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_4_22, 1, 0, 0, potential_4_22_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_4_23, 1, 0, 0, potential_4_23_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_4_24, 1, 0, 0, potential_4_24_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_4_25, 1, 0, 0, potential_4_25_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, 0, potential_4_26, 1, 0, 0, potential_4_26_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 13, 0, potential_4_27, 1, 0, 0, potential_4_27_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = potential_4_1, .n = 1, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 1, .low = 0, .c = potential_4_2, .n = 1, .c_lo = potential_4_2_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 2, .low = 0, .c = potential_4_3, .n = 1, .c_lo = potential_4_3_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = potential_4_4, .n = 1, .c_lo = potential_4_4_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = potential_4_5, .n = 1, .c_lo = potential_4_5_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_4_6, .n = 1, .c_lo = potential_4_6_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_4_7, .n = 1, .c_lo = potential_4_7_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_4_8, .n = 1, .c_lo = potential_4_8_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_4_9, .n = 1, .c_lo = potential_4_9_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = potential_4_10, .n = 1, .c_lo = potential_4_10_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 10, .low = 0, .c = potential_4_11, .n = 1, .c_lo = potential_4_11_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 11, .low = 0, .c = potential_4_12, .n = 1, .c_lo = potential_4_12_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 12, .low = 0, .c = potential_4_13, .n = 1, .c_lo = potential_4_13_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 13, .low = 0, .c = potential_4_14, .n = 1, .c_lo = potential_4_14_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_4_15, .n = 1, .c_lo = potential_4_15_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_4_16, .n = 1, .c_lo = potential_4_16_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_4_17, .n = 1, .c_lo = potential_4_17_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_4_18, .n = 1, .c_lo = potential_4_18_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_19, .n = 1, .c_lo = potential_4_19_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_20, .n = 1, .c_lo = potential_4_20_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_21, .n = 1, .c_lo = potential_4_21_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_22, .n = 1, .c_lo = potential_4_22_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_4_23, .n = 1, .c_lo = potential_4_23_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_4_24, .n = 1, .c_lo = potential_4_24_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_25, .n = 1, .c_lo = potential_4_25_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_4_26, .n = 1, .c_lo = potential_4_26_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_4_27, .n = 1, .c_lo = potential_4_27_lo},
 };
 inline constexpr double potential_5_0[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
@@ -990,20 +990,20 @@ inline constexpr double potential_5_13_lo[] = {
     -0x1.7e04a17c30e9fp-59,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::log, 0, table::Var::r2, 0x1p+0, 0, 0, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_5_1, 1, 0, 0, potential_5_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_5_2, 1, 0, 0, potential_5_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_5_3, 1, 0, 0, potential_5_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_5_4, 1, 0, 0, potential_5_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_5_5, 1, 0, 0, potential_5_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_5_6, 1, 0, 0, potential_5_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_5_7, 1, 0, 0, potential_5_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_5_8, 1, 0, 0, potential_5_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_5_9, 1, 0, 0, potential_5_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_5_10, 1, 0, 0, potential_5_10_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_5_11, 1, 0, 0, potential_5_11_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, 0, potential_5_12, 1, 0, 0, potential_5_12_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 13, 0, potential_5_13, 1, 0, 0, potential_5_13_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_5_1, .n = 1, .c_lo = potential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_5_2, .n = 1, .c_lo = potential_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_5_3, .n = 1, .c_lo = potential_5_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_5_4, .n = 1, .c_lo = potential_5_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_5_5, .n = 1, .c_lo = potential_5_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_5_6, .n = 1, .c_lo = potential_5_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_5_7, .n = 1, .c_lo = potential_5_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_5_8, .n = 1, .c_lo = potential_5_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_5_9, .n = 1, .c_lo = potential_5_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_5_10, .n = 1, .c_lo = potential_5_10_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_5_11, .n = 1, .c_lo = potential_5_11_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_5_12, .n = 1, .c_lo = potential_5_12_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_5_13, .n = 1, .c_lo = potential_5_13_lo},
 };
 inline constexpr double potential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1012,16 +1012,16 @@ inline constexpr double potential_6_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_6[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_6_0, 1, 0, 0, potential_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_6_0, .n = 1, .c_lo = potential_6_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-3, potential_0, 1},  // [0, 1/8), Taylor polynomial about 1/16
-    {0x1p-3, 0x1p-2, potential_1, 14},  // [1/8, 1/4), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-2, 0x1.5555555555555p-2, potential_2, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1.8p-2, potential_3, 15},  // [1/3, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.8p-2, 0x1.5555555555555p-1, potential_4, 28},  // [3/8, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_5, 14},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_0, .nterms = 1},  // [0, 1/8), Taylor polynomial about 1/16
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_1, .nterms = 14},  // [1/8, 1/4), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = potential_2, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.8p-2, .terms = potential_3, .nterms = 15},  // [1/3, 3/8), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.8p-2, .hi = 0x1.5555555555555p-1, .terms = potential_4, .nterms = 28},  // [3/8, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_5, .nterms = 14},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.5b982a5142ed3p+4,  // 273/4 * pi^-1
@@ -1043,7 +1043,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.6a6a68a62ac1dp-29, 0x1.e4501b2c9108fp-30, -0x1.768d5bc0be422p-30, -0x1.852a2af54c382p-30,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-5, 0, 1, dpotential_0_0, 12, 0, 0, dpotential_0_0_lo, 0x1.5555555555555p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-5, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 12, .c_lo = dpotential_0_0_lo, .edge_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.1c5bc9346a12ep+0,  // 17601674220659571317/5044031582654955520 * pi^-1
@@ -1067,7 +1067,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.852a2af54c382p-30,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, dpotential_1_0, 13, 0x1p-4, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 13, .centre = 0x1p-4, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.4d850f454324cp+0,  // 10080436249779913/2462906046218240 * pi^-1
@@ -1091,7 +1091,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.852a2af54c382p-30,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_2_0, 13, 0x1p-3, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 13, .centre = 0x1p-3, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.b8bf54816dec4p-1,  // 235983314485462833265/87259283473884512256 * pi^-1
@@ -1115,7 +1115,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.852a2af54c382p-30,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_3_0, 13, 0x1.aaaaaaaaaaaabp-3, -0x1.5555555555555p-57, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 13, .centre = 0x1.aaaaaaaaaaaabp-3, .centre_lo = -0x1.5555555555555p-57, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.1e86b43e4bcbp-1,  // 109579127992340297753/62328059624203223040 * pi^-1
@@ -1139,7 +1139,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.852a2af54c382p-30,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_4_0, 13, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 13, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
@@ -1178,9 +1178,9 @@ inline constexpr double dpotential_5_2_lo[] = {
     0x1.c297bbd22658dp-49, 0x1.64310e9afc4a7p-50, 0x1.0374fa6d88767p-52, 0x1.b663c334e7be1p-55,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, -1, dpotential_5_1, 5, 0, 0, dpotential_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_5_2, 12, 0, 0, dpotential_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = -1, .c = dpotential_5_1, .n = 5, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_5_2, .n = 12, .c_lo = dpotential_5_2_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1211,9 +1211,9 @@ inline constexpr double dpotential_6_2_lo[] = {
     -0x1.b663c334e7be1p-55,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -1, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, -1, dpotential_6_1, 5, 0, 0, dpotential_6_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_6_2, 5, 0, 0, dpotential_6_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = -1, .c = dpotential_6_1, .n = 5, .c_lo = dpotential_6_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_6_2, .n = 5, .c_lo = dpotential_6_2_lo},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1233,8 +1233,8 @@ inline constexpr double dpotential_7_1_lo[] = {
     -0x1.b663c334e7be1p-55,
 };
 inline constexpr table::Term dpotential_7[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_7_0, 1, 0, 0, dpotential_7_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_7_1, 5, 0, 0, dpotential_7_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_7_0, .n = 1, .c_lo = dpotential_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_7_1, .n = 5, .c_lo = dpotential_7_1_lo},
 };
 inline constexpr double dpotential_8_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1243,18 +1243,18 @@ inline constexpr double dpotential_8_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_8[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_8_0, 1, 0, 0, dpotential_8_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_8_0, .n = 1, .c_lo = dpotential_8_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1.5555555555555p-5, dpotential_0, 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-5, 0x1.5555555555555p-4, dpotential_1, 1},  // [1/24, 1/12), Taylor polynomial about 1/16
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_2, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, dpotential_3, 1},  // [1/6, 1/4), Taylor polynomial about 5/24
-    {0x1p-2, 0x1.5555555555555p-2, dpotential_4, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_5, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_6, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_7, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_8, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-5, .terms = dpotential_0, .nterms = 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-5, .hi = 0x1.5555555555555p-4, .terms = dpotential_1, .nterms = 1},  // [1/24, 1/12), Taylor polynomial about 1/16
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_2, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = dpotential_3, .nterms = 1},  // [1/6, 1/4), Taylor polynomial about 5/24
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = dpotential_4, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_5, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_6, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_7, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_8, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.3d628e802e1dbp+4,  // 1132887212769112548953/18179017390392606720 * pi^-1
@@ -1276,7 +1276,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.6d19f3fd2b99ap-30, -0x1.ac87b913c611bp-32, 0x1.9634fd9cbf677p-29, -0x1.852a2af54c382p-30,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, dpotential_over_r_0_0, 12, 0x1.5555555555555p-5, 0x1.5555555555555p-59, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 12, .centre = 0x1.5555555555555p-5, .centre_lo = 0x1.5555555555555p-59, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.4d850f454324cp+3,  // 10080436249779913/307863255777280 * pi^-1
@@ -1298,7 +1298,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.805c2b8a60642p-39, 0x1.835e5721ab6c2p-31, 0x1.c962a4b7e3c2fp-32, -0x1.852a2af54c382p-30,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_over_r_1_0, 12, 0x1p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 12, .centre = 0x1p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.e8ec8a4aeacc4p-3,  // 3/4 * pi^-1
@@ -1337,9 +1337,9 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
     -0x1.615015a2e0205p-41, -0x1.ff8785ead1dcbp-41, -0x1.060d24c86a52ep-42, 0x1.fc1dd13f17f73p-45,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, -2, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 9, -2, dpotential_over_r_2_1, 5, 0, 0, dpotential_over_r_2_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, dpotential_over_r_2_2, 12, 0, 0, dpotential_over_r_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = -2, .c = dpotential_over_r_2_1, .n = 5, .c_lo = dpotential_over_r_2_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 12, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.eb30106acb12ep+0,  // 15654161141762899679/2597002484341800960 * pi^-1
@@ -1361,7 +1361,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.2c842653d5a1ap-37, 0x1.44c243f2aff98p-35, 0x1.fc6c0a2dda691p-31, -0x1.852a2af54c382p-30,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_over_r_3_0, 12, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 12, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.255ab960267a9p-3,  // 9/20 * pi^-1
@@ -1400,9 +1400,9 @@ inline constexpr double dpotential_over_r_4_2_lo[] = {
     0x1.c297bbd22658dp-49, 0x1.64310e9afc4a7p-50, 0x1.0374fa6d88767p-52, 0x1.b663c334e7be1p-55,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -2, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, -2, dpotential_over_r_4_1, 5, 0, 0, dpotential_over_r_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_4_2, 12, 0, 0, dpotential_over_r_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = -2, .c = dpotential_over_r_4_1, .n = 5, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_2, .n = 12, .c_lo = dpotential_over_r_4_2_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1433,9 +1433,9 @@ inline constexpr double dpotential_over_r_5_2_lo[] = {
     -0x1.b663c334e7be1p-55,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -2, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, -2, dpotential_over_r_5_1, 5, 0, 0, dpotential_over_r_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -2, dpotential_over_r_5_2, 5, 0, 0, dpotential_over_r_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = -2, .c = dpotential_over_r_5_1, .n = 5, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_5_2, .n = 5, .c_lo = dpotential_over_r_5_2_lo},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1455,8 +1455,8 @@ inline constexpr double dpotential_over_r_6_1_lo[] = {
     -0x1.b663c334e7be1p-55,
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_6_0, 1, 0, 0, dpotential_over_r_6_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -2, dpotential_over_r_6_1, 5, 0, 0, dpotential_over_r_6_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_6_1, .n = 5, .c_lo = dpotential_over_r_6_1_lo},
 };
 inline constexpr double dpotential_over_r_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1465,17 +1465,17 @@ inline constexpr double dpotential_over_r_7_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_7[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_7_0, 1, 0, 0, dpotential_over_r_7_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_7_0, .n = 1, .c_lo = dpotential_over_r_7_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-4, dpotential_over_r_0, 1},  // [0, 1/12), Taylor polynomial about 1/24
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_over_r_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, dpotential_over_r_2, 3},  // [1/6, 1/4), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-2, 0x1.5555555555555p-2, dpotential_over_r_3, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_over_r_4, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_over_r_5, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_over_r_6, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_7, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/12), Taylor polynomial about 1/24
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_over_r_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = dpotential_over_r_2, .nterms = 3},  // [1/6, 1/4), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = dpotential_over_r_3, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_over_r_4, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_5, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_over_r_6, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_7, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.ff5d64ca6ee3p+10,  // -101404828810905226279/15780397040271360 * pi^-1
@@ -1495,7 +1495,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.b192c7944b703p-26, 0x1.e8e604eeb732ep-27,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, potential_hess_radial_0_0, 10, 0x1.5555555555555p-5, 0x1.5555555555555p-59, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 10, .centre = 0x1.5555555555555p-5, .centre_lo = 0x1.5555555555555p-59, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.b19dc40eccd47p+9,  // -6552896805195199/2405181685760 * pi^-1
@@ -1515,7 +1515,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.d1d212dba0469p-27, 0x1.e8e604eeb732ep-27,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, potential_hess_radial_1_0, 10, 0x1p-3, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 10, .centre = 0x1p-3, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-2,  // -3/2 * pi^-1
@@ -1553,9 +1553,9 @@ inline constexpr double potential_hess_radial_2_2_lo[] = {
     -0x1.1e41b7ea139e8p-41, 0x1.7551ff6d81e7dp-43,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, -4, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, -4, potential_hess_radial_2_1, 6, 0, 0, potential_hess_radial_2_1_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, potential_hess_radial_2_2, 10, 0, 0, potential_hess_radial_2_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = -4, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = -4, .c = potential_hess_radial_2_1, .n = 6, .c_lo = potential_hess_radial_2_1_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_2, .n = 10, .c_lo = potential_hess_radial_2_2_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.91a378bf94a6bp+5,  // -355561864054474393/2254342434324480 * pi^-1
@@ -1575,7 +1575,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     -0x1.435396f933b4ap-29, 0x1.e8e604eeb732ep-27,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_hess_radial_3_0, 10, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 10, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.255ab960267a9p-2,  // -9/10 * pi^-1
@@ -1613,9 +1613,9 @@ inline constexpr double potential_hess_radial_4_2_lo[] = {
     -0x1.ddd6e37b8ab6p-48, 0x1.2d6496345f52bp-51,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -4, potential_hess_radial_4_0, 1, 0, 0, potential_hess_radial_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, -4, potential_hess_radial_4_1, 6, 0, 0, potential_hess_radial_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_4_2, 10, 0, 0, potential_hess_radial_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -4, .c = potential_hess_radial_4_1, .n = 6, .c_lo = potential_hess_radial_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_2, .n = 10, .c_lo = potential_hess_radial_4_2_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1648,9 +1648,9 @@ inline constexpr double potential_hess_radial_5_2_lo[] = {
     -0x1.83926a395b1a6p-51, 0x1.2d6496345f52bp-51,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -4, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, -4, potential_hess_radial_5_1, 6, 0, 0, potential_hess_radial_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -4, potential_hess_radial_5_2, 6, 0, 0, potential_hess_radial_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -4, .c = potential_hess_radial_5_1, .n = 6, .c_lo = potential_hess_radial_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_5_2, .n = 6, .c_lo = potential_hess_radial_5_2_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1671,8 +1671,8 @@ inline constexpr double potential_hess_radial_6_1_lo[] = {
     -0x1.83926a395b1a6p-51, 0x1.2d6496345f52bp-51,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -4, potential_hess_radial_6_1, 6, 0, 0, potential_hess_radial_6_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_6_1, .n = 6, .c_lo = potential_hess_radial_6_1_lo},
 };
 inline constexpr double potential_hess_radial_7_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1681,33 +1681,40 @@ inline constexpr double potential_hess_radial_7_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_7[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_7_0, 1, 0, 0, potential_hess_radial_7_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_7_0, .n = 1, .c_lo = potential_hess_radial_7_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-4, potential_hess_radial_0, 1},  // [0, 1/12), Taylor polynomial about 1/24
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, potential_hess_radial_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, potential_hess_radial_2, 3},  // [1/6, 1/4), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-2, 0x1.5555555555555p-2, potential_hess_radial_3, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, potential_hess_radial_4, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_hess_radial_5, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_hess_radial_6, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_7, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/12), Taylor polynomial about 1/24
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = potential_hess_radial_2, .nterms = 3},  // [1/6, 1/4), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = potential_hess_radial_3, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_hess_radial_4, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_5, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_6, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_7, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_3_base_wendland_k_3_D2
 inline constexpr table::Kernel combo_m_3_base_wendland_k_3_D2 = {
-    "combo:m=3,base=wendland:k=3", 2, 0x1p+0, 7, 6, 1,
-    0x1.333fa567d44d2p+16, "247104 * pi^-1", true,
-    {
-        {detail_combo_m_3_base_wendland_k_3_D2::value, 4},
-        {detail_combo_m_3_base_wendland_k_3_D2::dr, 4},
-        {detail_combo_m_3_base_wendland_k_3_D2::d2r, 4},
-        {detail_combo_m_3_base_wendland_k_3_D2::laplacian, 4},
-        {detail_combo_m_3_base_wendland_k_3_D2::grad_over_r, 4},
-        {detail_combo_m_3_base_wendland_k_3_D2::hess_radial, 4},
-        {detail_combo_m_3_base_wendland_k_3_D2::potential, 7},
-        {detail_combo_m_3_base_wendland_k_3_D2::dpotential, 9},
-        {detail_combo_m_3_base_wendland_k_3_D2::dpotential_over_r, 8},
-        {detail_combo_m_3_base_wendland_k_3_D2::potential_hess_radial, 8},
+    .spec = "combo:m=3,base=wendland:k=3",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 7,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.333fa567d44d2p+16,  // 247104 * pi^-1
+    .normalisation_exact = "247104 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_3_base_wendland_k_3_D2::value, .npieces = 4},  // value
+        {.pieces = detail_combo_m_3_base_wendland_k_3_D2::dr, .npieces = 4},  // dr
+        {.pieces = detail_combo_m_3_base_wendland_k_3_D2::d2r, .npieces = 4},  // d2r
+        {.pieces = detail_combo_m_3_base_wendland_k_3_D2::laplacian, .npieces = 4},  // laplacian
+        {.pieces = detail_combo_m_3_base_wendland_k_3_D2::grad_over_r, .npieces = 4},  // grad_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_3_D2::hess_radial, .npieces = 4},  // hess_radial
+        {.pieces = detail_combo_m_3_base_wendland_k_3_D2::potential, .npieces = 7},  // potential
+        {.pieces = detail_combo_m_3_base_wendland_k_3_D2::dpotential, .npieces = 9},  // dpotential
+        {.pieces = detail_combo_m_3_base_wendland_k_3_D2::dpotential_over_r, .npieces = 8},  // dpotential_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_3_D2::potential_hess_radial, .npieces = 8},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

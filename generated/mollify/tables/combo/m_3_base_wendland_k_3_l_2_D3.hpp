@@ -38,9 +38,9 @@ inline constexpr double value_0_2_lo[] = {
     0x1.5c70d8460a3b2p-55, -0x1.31cbc6a1ccd84p-54, 0x1.d01bdebe517fap-49, 0x1.5c70d8460a3b2p-49,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 10, 0, value_0_0, 4, 0, 0, value_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 10, 0, value_0_1, 4, 0, 0, value_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, value_0_2, 4, 0, 0, value_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 10, .low = 0, .c = value_0_0, .n = 4, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 10, .low = 0, .c = value_0_1, .n = 4, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_0_2, .n = 4, .c_lo = value_0_2_lo},
 };
 inline constexpr double value_1_0[] = {
     -0x1.30e8226c83ff3p+10,  // -502211745/131072 * pi^-1
@@ -61,8 +61,8 @@ inline constexpr double value_1_1_lo[] = {
     0x1.5c70d8460a3b2p-55, -0x1.31cbc6a1ccd84p-54, 0x1.d01bdebe517fap-49, 0x1.5c70d8460a3b2p-49,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 10, 0, value_1_0, 4, 0, 0, value_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, value_1_1, 4, 0, 0, value_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 10, .low = 0, .c = value_1_0, .n = 4, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_1_1, .n = 4, .c_lo = value_1_1_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.0b615ba0f867bp+0,  // 105/32 * pi^-1
@@ -74,13 +74,13 @@ inline constexpr double value_2_0_lo[] = {
     0x1.5c70d8460a3b2p-55, -0x1.31cbc6a1ccd84p-54, 0x1.d01bdebe517fap-49, 0x1.5c70d8460a3b2p-49,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, value_2_0, 4, 0, 0, value_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_2_0, .n = 4, .c_lo = value_2_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1.5555555555555p-2, value_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, value_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, value_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = value_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = value_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.16b42f7730a74p+31,  // -58758774165/8 * pi^-1
@@ -107,9 +107,9 @@ inline constexpr double dr_0_2_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 9, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, 1, dr_0_1, 3, 0, 0, dr_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 1, dr_0_2, 3, 0, 0, dr_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo},
 };
 inline constexpr double dr_1_0[] = {
     0x1.bded18beb43edp+15,  // 11751754833/65536 * pi^-1
@@ -128,8 +128,8 @@ inline constexpr double dr_1_1_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, 1, dr_1_0, 3, 0, 0, dr_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 1, dr_1_1, 3, 0, 0, dr_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.04b21fbcf231ep+5,  // -819/8 * pi^-1
@@ -140,13 +140,13 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 1, dr_2_0, 3, 0, 0, dr_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1.5555555555555p-2, dr_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, dr_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dr_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = dr_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dr_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.739ae9f440df1p+29,  // -19586258055/8 * pi^-1
@@ -176,9 +176,9 @@ inline constexpr double d2r_0_2_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.f6aa363bbe967p-46, 0x1.a9d440cde4a54p-46, 0x1.d1530f2ab8f03p-43,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, d2r_0_1, 4, 0, 0, d2r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, d2r_0_2, 4, 0, 0, d2r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = d2r_0_1, .n = 4, .c_lo = d2r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_0_2, .n = 4, .c_lo = d2r_0_2_lo},
 };
 inline constexpr double d2r_1_0[] = {
     0x1.2948bb29cd7f4p+15,  // 3917251611/32768 * pi^-1
@@ -199,8 +199,8 @@ inline constexpr double d2r_1_1_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.f6aa363bbe967p-46, 0x1.a9d440cde4a54p-46, 0x1.d1530f2ab8f03p-43,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, d2r_1_0, 4, 0, 0, d2r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, d2r_1_1, 4, 0, 0, d2r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = d2r_1_0, .n = 4, .c_lo = d2r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_1_1, .n = 4, .c_lo = d2r_1_1_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.04b21fbcf231ep+5,  // -819/8 * pi^-1
@@ -212,13 +212,13 @@ inline constexpr double d2r_2_0_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.f6aa363bbe967p-46, 0x1.a9d440cde4a54p-46, 0x1.d1530f2ab8f03p-43,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, d2r_2_0, 4, 0, 0, d2r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_2_0, .n = 4, .c_lo = d2r_2_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, d2r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, d2r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, d2r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = d2r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = d2r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = d2r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.16b42f7730a74p+31,  // -58758774165/8 * pi^-1
@@ -248,9 +248,9 @@ inline constexpr double laplacian_0_2_lo[] = {
     0x1.0e00aea6621e6p-48, 0x1.0e00aea6621e6p-45, 0x1.a8647bf0b0379p-46, 0x1.0f707383968c2p-42,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, laplacian_0_1, 4, 0, 0, laplacian_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, laplacian_0_2, 4, 0, 0, laplacian_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = laplacian_0_1, .n = 4, .c_lo = laplacian_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_0_2, .n = 4, .c_lo = laplacian_0_2_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     0x1.bded18beb43edp+16,  // 11751754833/32768 * pi^-1
@@ -271,8 +271,8 @@ inline constexpr double laplacian_1_1_lo[] = {
     0x1.0e00aea6621e6p-48, 0x1.0e00aea6621e6p-45, 0x1.a8647bf0b0379p-46, 0x1.0f707383968c2p-42,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, laplacian_1_0, 4, 0, 0, laplacian_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, laplacian_1_1, 4, 0, 0, laplacian_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = laplacian_1_0, .n = 4, .c_lo = laplacian_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_1_1, .n = 4, .c_lo = laplacian_1_1_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.870b2f9b6b4aep+6,  // -2457/8 * pi^-1
@@ -284,13 +284,13 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.0e00aea6621e6p-48, 0x1.0e00aea6621e6p-45, 0x1.a8647bf0b0379p-46, 0x1.0f707383968c2p-42,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, laplacian_2_0, 4, 0, 0, laplacian_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_2_0, .n = 4, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1.5555555555555p-2, laplacian_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, laplacian_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, laplacian_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = laplacian_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = laplacian_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = laplacian_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.16b42f7730a74p+31,  // -58758774165/8 * pi^-1
@@ -317,9 +317,9 @@ inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 9, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, 0, grad_over_r_0_1, 3, 0, 0, grad_over_r_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, grad_over_r_0_2, 3, 0, 0, grad_over_r_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.bded18beb43edp+15,  // 11751754833/65536 * pi^-1
@@ -338,8 +338,8 @@ inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 9, 0, grad_over_r_1_0, 3, 0, 0, grad_over_r_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, grad_over_r_1_1, 3, 0, 0, grad_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.04b21fbcf231ep+5,  // -819/8 * pi^-1
@@ -350,13 +350,13 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, grad_over_r_2_0, 3, 0, 0, grad_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-2, grad_over_r_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, grad_over_r_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, grad_over_r_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = grad_over_r_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = grad_over_r_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.df05b194db9f8p+37,  // 3231732579075/4 * pi^-1
@@ -380,9 +380,9 @@ inline constexpr double hess_radial_0_2_lo[] = {
     -0x1.955cf730e048fp-44, -0x1.955cf730e048fp-41,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-2, 8, 0, hess_radial_0_0, 2, 0, 0, hess_radial_0_0_lo, 0x1.5555555555555p-56},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, hess_radial_0_1, 2, 0, 0, hess_radial_0_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, hess_radial_0_2, 2, 0, 0, hess_radial_0_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.7f37c143e2e6p+21,  // -646346515815/65536 * pi^-1
@@ -399,8 +399,8 @@ inline constexpr double hess_radial_1_1_lo[] = {
     -0x1.955cf730e048fp-44, -0x1.955cf730e048fp-41,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 8, 0, hess_radial_1_0, 2, 0, 0, hess_radial_1_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, hess_radial_1_1, 2, 0, 0, hess_radial_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.2ab6c45dd583ep+10,  // 15015/4 * pi^-1
@@ -410,13 +410,13 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.955cf730e048fp-44, -0x1.955cf730e048fp-41,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, hess_radial_2_0, 2, 0, 0, hess_radial_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-2, hess_radial_0, 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-2, 0x1.5555555555555p-1, hess_radial_1, 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, hess_radial_2, 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1.5555555555555p-1, .terms = hess_radial_1, .nterms = 2},  // [1/3, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = hess_radial_2, .nterms = 1},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.2e0b6d234d30dp+0,  // -2452785578779108141150715591/661726537916148752874209280 * pi^-1
@@ -443,7 +443,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.de67721891d9dp-27, 0x1.dd45364fb9be5p-25, -0x1.db53d68e3b6c6p-28, 0x1.c68eb8b0ea976p-27,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, potential_0_0, 16, 0x1.5555555555555p-5, 0x1.5555555555555p-59, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 16, .centre = 0x1.5555555555555p-5, .centre_lo = 0x1.5555555555555p-59, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.5ef6f9d02bb33p-1,  // -99312323178304983219/46116860184273879040 * pi^-1
@@ -470,7 +470,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.34bbc570b4812p-30, -0x1.3f69529310a24p-27, -0x1.dabbc234fc3c8p-26, 0x1.c68eb8b0ea976p-27,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, potential_1_0, 16, 0x1p-3, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 16, .centre = 0x1p-3, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.90ed37ebda0cap-2,  // -162788369077418938199869511/132345307583229750574841856 * pi^-1
@@ -497,7 +497,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.15c0e4b9010ap-30, 0x1.17efcce7c44dp-30, -0x1.f51476334cef5p-29, 0x1.c68eb8b0ea976p-27,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_2_0, 16, 0x1.aaaaaaaaaaaabp-3, -0x1.5555555555555p-57, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 16, .centre = 0x1.aaaaaaaaaaaabp-3, .centre_lo = -0x1.5555555555555p-57, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.16c4f65adccd6p-2,  // -565944108885262182460619213/661726537916148752874209280 * pi^-1
@@ -524,7 +524,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.69b98525a9e7fp-34, 0x1.c4abdcf027cdbp-31, -0x1.4512b6afadfeap-27, 0x1.c68eb8b0ea976p-27,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_3_0, 16, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 16, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.255ab960267a9p-4,  // -9/40 * pi^-1
@@ -568,9 +568,9 @@ inline constexpr double potential_4_2_lo[] = {
     -0x1.8337c434444f3p-50, -0x1.1e7ab456405f9p-51, 0x1.63065b1fd767ap-53, 0x1.425e51366bdb4p-56,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -1, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 12, -1, potential_4_1, 5, 0, 0, potential_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_4_2, 16, 0, 0, potential_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 12, .low = -1, .c = potential_4_1, .n = 5, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_4_2, .n = 16, .c_lo = potential_4_2_lo},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -601,9 +601,9 @@ inline constexpr double potential_5_2_lo[] = {
     0x1.425e51366bdb4p-56,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -1, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 12, -1, potential_5_1, 5, 0, 0, potential_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, -1, potential_5_2, 5, 0, 0, potential_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 12, .low = -1, .c = potential_5_1, .n = 5, .c_lo = potential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = potential_5_2, .n = 5, .c_lo = potential_5_2_lo},
 };
 inline constexpr double potential_6_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -623,8 +623,8 @@ inline constexpr double potential_6_1_lo[] = {
     0x1.425e51366bdb4p-56,
 };
 inline constexpr table::Term potential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_6_0, 1, 0, 0, potential_6_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, -1, potential_6_1, 5, 0, 0, potential_6_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_6_0, .n = 1, .c_lo = potential_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = potential_6_1, .n = 5, .c_lo = potential_6_1_lo},
 };
 inline constexpr double potential_7_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -633,17 +633,17 @@ inline constexpr double potential_7_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_7[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_7_0, 1, 0, 0, potential_7_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_7_0, .n = 1, .c_lo = potential_7_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.5555555555555p-4, potential_0, 1},  // [0, 1/12), Taylor polynomial about 1/24
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, potential_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, potential_2, 1},  // [1/6, 1/4), Taylor polynomial about 5/24
-    {0x1p-2, 0x1.5555555555555p-2, potential_3, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, potential_4, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_5, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_6, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_7, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = potential_0, .nterms = 1},  // [0, 1/12), Taylor polynomial about 1/24
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = potential_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = potential_2, .nterms = 1},  // [1/6, 1/4), Taylor polynomial about 5/24
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = potential_3, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_4, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_5, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_6, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_7, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.0c994d3689898p+7,  // 54005/128 * pi^-1
@@ -668,7 +668,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.b9dd5148416d7p-21, -0x1.5da32da24121dp-27,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-5, 0, 1, dpotential_0_0, 14, 0, 0, dpotential_0_0_lo, 0x1.5555555555555p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-5, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 14, .c_lo = dpotential_0_0_lo, .edge_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.843c9c3d5e11dp+2,  // 1799932567517440888549889/94447329657392904273920 * pi^-1
@@ -694,7 +694,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.308e560f63607p-24, -0x1.95d4d3aeecedp-22, -0x1.5da32da24121dp-27,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, dpotential_1_0, 15, 0x1p-4, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 15, .centre = 0x1p-4, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.4f1f1a0882f57p+2,  // 94829164121924640909/5764607523034234880 * pi^-1
@@ -720,7 +720,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.f8f4d9d104f86p-24, -0x1.3ec893dcb969ep-23, -0x1.5da32da24121dp-27,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_2_0, 15, 0x1p-3, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 15, .centre = 0x1p-3, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.1092f29edd302p+1,  // 12297034881521857829743075/1838129271989302091317248 * pi^-1
@@ -746,7 +746,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.1c8d2983b0817p-26, -0x1.5b38f3b671a8bp-24, -0x1.5da32da24121dp-27,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_3_0, 15, 0x1.aaaaaaaaaaaabp-3, -0x1.5555555555555p-57, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 15, .centre = 0x1.aaaaaaaaaaaabp-3, .centre_lo = -0x1.5555555555555p-57, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.ea8abfd33cb48p-1,  // 27663183360089100469199183/9190646359946510456586240 * pi^-1
@@ -772,7 +772,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     0x1.df97470640ae3p-28, -0x1.c705fd9b83ecfp-27, -0x1.5da32da24121dp-27,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_4_0, 15, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 15, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.255ab960267a9p-4,  // 9/40 * pi^-1
@@ -815,9 +815,9 @@ inline constexpr double dpotential_5_2_lo[] = {
     -0x1.92b4e088470aap-50, 0x1.5c70d8460a3b2p-53,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -2, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 11, -2, dpotential_5_1, 6, 0, 0, dpotential_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 1, dpotential_5_2, 14, 0, 0, dpotential_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 11, .low = -2, .c = dpotential_5_1, .n = 6, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_5_2, .n = 14, .c_lo = dpotential_5_2_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -850,9 +850,9 @@ inline constexpr double dpotential_6_2_lo[] = {
     -0x1.319923601c1abp-52, -0x1.5c70d8460a3b2p-53,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -2, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 11, -2, dpotential_6_1, 6, 0, 0, dpotential_6_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -2, dpotential_6_2, 6, 0, 0, dpotential_6_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 11, .low = -2, .c = dpotential_6_1, .n = 6, .c_lo = dpotential_6_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_6_2, .n = 6, .c_lo = dpotential_6_2_lo},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -873,8 +873,8 @@ inline constexpr double dpotential_7_1_lo[] = {
     -0x1.319923601c1abp-52, -0x1.5c70d8460a3b2p-53,
 };
 inline constexpr table::Term dpotential_7[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_7_0, 1, 0, 0, dpotential_7_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -2, dpotential_7_1, 6, 0, 0, dpotential_7_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_7_0, .n = 1, .c_lo = dpotential_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_7_1, .n = 6, .c_lo = dpotential_7_1_lo},
 };
 inline constexpr double dpotential_8_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -883,18 +883,18 @@ inline constexpr double dpotential_8_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_8[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_8_0, 1, 0, 0, dpotential_8_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_8_0, .n = 1, .c_lo = dpotential_8_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1.5555555555555p-5, dpotential_0, 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-5, 0x1.5555555555555p-4, dpotential_1, 1},  // [1/24, 1/12), Taylor polynomial about 1/16
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_2, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, dpotential_3, 1},  // [1/6, 1/4), Taylor polynomial about 5/24
-    {0x1p-2, 0x1.5555555555555p-2, dpotential_4, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_5, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_6, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_7, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_8, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-5, .terms = dpotential_0, .nterms = 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-5, .hi = 0x1.5555555555555p-4, .terms = dpotential_1, .nterms = 1},  // [1/24, 1/12), Taylor polynomial about 1/16
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_2, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = dpotential_3, .nterms = 1},  // [1/6, 1/4), Taylor polynomial about 5/24
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = dpotential_4, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_5, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_6, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_7, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_8, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.0c994d3689898p+7,  // 54005/128 * pi^-1
@@ -919,7 +919,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.b9dd5148416d7p-21, -0x1.5da32da24121dp-27,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-5, 0, 0, dpotential_over_r_0_0, 14, 0, 0, dpotential_over_r_0_0_lo, 0x1.5555555555555p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-5, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 14, .c_lo = dpotential_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.843c9c3d5e11dp+6,  // 1799932567517440888549889/5902958103587056517120 * pi^-1
@@ -944,7 +944,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.ead9fde7e4339p-22, -0x1.5da32da24121dp-27,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, dpotential_over_r_1_0, 14, 0x1p-4, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 14, .centre = 0x1p-4, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.4f1f1a0882f57p+5,  // 94829164121924640909/720575940379279360 * pi^-1
@@ -969,7 +969,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.87e564fd1630cp-24, -0x1.5da32da24121dp-27,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, dpotential_over_r_2_0, 14, 0x1p-3, 0x0p+0, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 14, .centre = 0x1p-3, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.4716bcbea3069p+3,  // 2459406976304371565948615/76588719666220920471552 * pi^-1
@@ -994,7 +994,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.9ba612395a18fp-31, -0x1.5da32da24121dp-27,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_3_0, 14, 0x1.aaaaaaaaaaaabp-3, -0x1.5555555555555p-57, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 14, .centre = 0x1.aaaaaaaaaaaabp-3, .centre_lo = -0x1.5555555555555p-57, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.a476ed907d2dp+1,  // 3951883337155585781314169/382943598331104602357760 * pi^-1
@@ -1019,7 +1019,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.8176ccb430c86p-24, -0x1.5da32da24121dp-27,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, dpotential_over_r_4_0, 14, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 14, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = dpotential_over_r_4_0_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.255ab960267a9p-4,  // 9/40 * pi^-1
@@ -1062,9 +1062,9 @@ inline constexpr double dpotential_over_r_5_2_lo[] = {
     -0x1.92b4e088470aap-50, 0x1.5c70d8460a3b2p-53,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -3, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 11, -3, dpotential_over_r_5_1, 6, 0, 0, dpotential_over_r_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, dpotential_over_r_5_2, 14, 0, 0, dpotential_over_r_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 11, .low = -3, .c = dpotential_over_r_5_1, .n = 6, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_5_2, .n = 14, .c_lo = dpotential_over_r_5_2_lo},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1097,9 +1097,9 @@ inline constexpr double dpotential_over_r_6_2_lo[] = {
     -0x1.319923601c1abp-52, -0x1.5c70d8460a3b2p-53,
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -3, dpotential_over_r_6_0, 1, 0, 0, dpotential_over_r_6_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 11, -3, dpotential_over_r_6_1, 6, 0, 0, dpotential_over_r_6_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -3, dpotential_over_r_6_2, 6, 0, 0, dpotential_over_r_6_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 11, .low = -3, .c = dpotential_over_r_6_1, .n = 6, .c_lo = dpotential_over_r_6_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -3, .c = dpotential_over_r_6_2, .n = 6, .c_lo = dpotential_over_r_6_2_lo},
 };
 inline constexpr double dpotential_over_r_7_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1120,8 +1120,8 @@ inline constexpr double dpotential_over_r_7_1_lo[] = {
     -0x1.319923601c1abp-52, -0x1.5c70d8460a3b2p-53,
 };
 inline constexpr table::Term dpotential_over_r_7[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_7_0, 1, 0, 0, dpotential_over_r_7_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -3, dpotential_over_r_7_1, 6, 0, 0, dpotential_over_r_7_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_7_0, .n = 1, .c_lo = dpotential_over_r_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -3, .c = dpotential_over_r_7_1, .n = 6, .c_lo = dpotential_over_r_7_1_lo},
 };
 inline constexpr double dpotential_over_r_8_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -1130,18 +1130,18 @@ inline constexpr double dpotential_over_r_8_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_8[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_8_0, 1, 0, 0, dpotential_over_r_8_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_8_0, .n = 1, .c_lo = dpotential_over_r_8_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1.5555555555555p-5, dpotential_over_r_0, 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-5, 0x1.5555555555555p-4, dpotential_over_r_1, 1},  // [1/24, 1/12), Taylor polynomial about 1/16
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, dpotential_over_r_2, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, dpotential_over_r_3, 1},  // [1/6, 1/4), Taylor polynomial about 5/24
-    {0x1p-2, 0x1.5555555555555p-2, dpotential_over_r_4, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, dpotential_over_r_5, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, dpotential_over_r_6, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, dpotential_over_r_7, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, dpotential_over_r_8, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-5, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/24), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-5, .hi = 0x1.5555555555555p-4, .terms = dpotential_over_r_1, .nterms = 1},  // [1/24, 1/12), Taylor polynomial about 1/16
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = dpotential_over_r_2, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = dpotential_over_r_3, .nterms = 1},  // [1/6, 1/4), Taylor polynomial about 5/24
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = dpotential_over_r_4, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = dpotential_over_r_5, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = dpotential_over_r_6, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = dpotential_over_r_7, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_8, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.2ddde322314f9p+14,  // -40351292645905164145912441/664832635991501045760 * pi^-1
@@ -1163,7 +1163,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.93a35fce31a65p-19, 0x1.bb80ec8a18293p-22, 0x1.1aca0793882efp-19, 0x1.dc7d6d5d85629p-20,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-4, 0, 0, potential_hess_radial_0_0, 12, 0x1.5555555555555p-5, 0x1.5555555555555p-59, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 12, .centre = 0x1.5555555555555p-5, .centre_lo = 0x1.5555555555555p-59, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.52c30a0938fadp+12,  // -191718561844406026827/11258999068426240 * pi^-1
@@ -1185,7 +1185,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.e2b2e3abe4f2p-22, 0x1.be1789a7d7c1cp-19, 0x1.ea5c5e121ff84p-20, 0x1.dc7d6d5d85629p-20,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-3, 0, 0, potential_hess_radial_1_0, 12, 0x1p-3, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 12, .centre = 0x1p-3, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.89cd21a10851fp+9,  // -1645013013852077284614197/664832635991501045760 * pi^-1
@@ -1207,7 +1207,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.b9c97d8e6c43ap-27, -0x1.50ba57e895a8bp-25, 0x1.9f24acfd2f92ap-20, 0x1.dc7d6d5d85629p-20,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_2_0, 12, 0x1.aaaaaaaaaaaabp-3, -0x1.5555555555555p-57, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 12, .centre = 0x1.aaaaaaaaaaaabp-3, .centre_lo = -0x1.5555555555555p-57, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.fb2cd480b574ep+6,  // -264825713035938509318143/664832635991501045760 * pi^-1
@@ -1229,7 +1229,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.f1869e85670a3p-27, -0x1.29f3b852b440fp-23, 0x1.4fb3efa0fcb3ep-22, 0x1.dc7d6d5d85629p-20,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5555555555555p-2, 0, 0, potential_hess_radial_3_0, 12, 0x1.2aaaaaaaaaaabp-2, -0x1.5555555555555p-56, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 12, .centre = 0x1.2aaaaaaaaaaabp-2, .centre_lo = -0x1.5555555555555p-56, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.b808161039b7dp-3,  // -27/40 * pi^-1
@@ -1270,9 +1270,9 @@ inline constexpr double potential_hess_radial_4_2_lo[] = {
     -0x1.b58223f880052p-42, 0x1.7ff97543d20aap-43, -0x1.2e07a8663548p-46, 0x1.36375f71d0a02p-50,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, -5, potential_hess_radial_4_0, 1, 0, 0, potential_hess_radial_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 10, -5, potential_hess_radial_4_1, 7, 0, 0, potential_hess_radial_4_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p-1, 0, 0, potential_hess_radial_4_2, 12, 0, 0, potential_hess_radial_4_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 10, .low = -5, .c = potential_hess_radial_4_1, .n = 7, .c_lo = potential_hess_radial_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_2, .n = 12, .c_lo = potential_hess_radial_4_2_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -1307,9 +1307,9 @@ inline constexpr double potential_hess_radial_5_2_lo[] = {
     0x1.ddd6e37b8ab6p-50, 0x1.3daf340ed1c16p-50, 0x1.36375f71d0a02p-50,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.5555555555555p-1, 0, -5, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1.5555555555555p-1, 10, -5, potential_hess_radial_5_1, 7, 0, 0, potential_hess_radial_5_1_lo, 0x1.5555555555555p-55},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -5, potential_hess_radial_5_2, 7, 0, 0, potential_hess_radial_5_2_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 10, .low = -5, .c = potential_hess_radial_5_1, .n = 7, .c_lo = potential_hess_radial_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -5, .c = potential_hess_radial_5_2, .n = 7, .c_lo = potential_hess_radial_5_2_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -1331,8 +1331,8 @@ inline constexpr double potential_hess_radial_6_1_lo[] = {
     0x1.ddd6e37b8ab6p-50, 0x1.3daf340ed1c16p-50, 0x1.36375f71d0a02p-50,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -5, potential_hess_radial_6_1, 7, 0, 0, potential_hess_radial_6_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -5, .c = potential_hess_radial_6_1, .n = 7, .c_lo = potential_hess_radial_6_1_lo},
 };
 inline constexpr double potential_hess_radial_7_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -1341,33 +1341,40 @@ inline constexpr double potential_hess_radial_7_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_7[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_7_0, 1, 0, 0, potential_hess_radial_7_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_7_0, .n = 1, .c_lo = potential_hess_radial_7_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1.5555555555555p-4, potential_hess_radial_0, 1},  // [0, 1/12), Taylor polynomial about 1/24
-    {0x1.5555555555555p-4, 0x1.5555555555555p-3, potential_hess_radial_1, 1},  // [1/12, 1/6), Taylor polynomial about 1/8
-    {0x1.5555555555555p-3, 0x1p-2, potential_hess_radial_2, 1},  // [1/6, 1/4), Taylor polynomial about 5/24
-    {0x1p-2, 0x1.5555555555555p-2, potential_hess_radial_3, 1},  // [1/4, 1/3), Taylor polynomial about 7/24
-    {0x1.5555555555555p-2, 0x1p-1, potential_hess_radial_4, 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p-1, 0x1.5555555555555p-1, potential_hess_radial_5, 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1.5555555555555p-1, 0x1p+0, potential_hess_radial_6, 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
-    {0x1p+0, table::infinity, potential_hess_radial_7, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.5555555555555p-4, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/12), Taylor polynomial about 1/24
+    {.lo = 0x1.5555555555555p-4, .hi = 0x1.5555555555555p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/12, 1/6), Taylor polynomial about 1/8
+    {.lo = 0x1.5555555555555p-3, .hi = 0x1p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [1/6, 1/4), Taylor polynomial about 5/24
+    {.lo = 0x1p-2, .hi = 0x1.5555555555555p-2, .terms = potential_hess_radial_3, .nterms = 1},  // [1/4, 1/3), Taylor polynomial about 7/24
+    {.lo = 0x1.5555555555555p-2, .hi = 0x1p-1, .terms = potential_hess_radial_4, .nterms = 3},  // [1/3, 1/2), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p-1, .hi = 0x1.5555555555555p-1, .terms = potential_hess_radial_5, .nterms = 3},  // [1/2, 2/3), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1.5555555555555p-1, .hi = 0x1p+0, .terms = potential_hess_radial_6, .nterms = 2},  // [2/3, 1), per radius a_j, factored at a_j (Franz (4.17))
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_7, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_combo_m_3_base_wendland_k_3_l_2_D3
 inline constexpr table::Kernel combo_m_3_base_wendland_k_3_l_2_D3 = {
-    "combo:m=3,base=wendland:k=3,l=2", 3, 0x1p+0, 9, 6, 1,
-    0x1.a4110423f4417p+19, "2702700 * pi^-1", true,
-    {
-        {detail_combo_m_3_base_wendland_k_3_l_2_D3::value, 4},
-        {detail_combo_m_3_base_wendland_k_3_l_2_D3::dr, 4},
-        {detail_combo_m_3_base_wendland_k_3_l_2_D3::d2r, 4},
-        {detail_combo_m_3_base_wendland_k_3_l_2_D3::laplacian, 4},
-        {detail_combo_m_3_base_wendland_k_3_l_2_D3::grad_over_r, 4},
-        {detail_combo_m_3_base_wendland_k_3_l_2_D3::hess_radial, 4},
-        {detail_combo_m_3_base_wendland_k_3_l_2_D3::potential, 8},
-        {detail_combo_m_3_base_wendland_k_3_l_2_D3::dpotential, 9},
-        {detail_combo_m_3_base_wendland_k_3_l_2_D3::dpotential_over_r, 9},
-        {detail_combo_m_3_base_wendland_k_3_l_2_D3::potential_hess_radial, 8},
+    .spec = "combo:m=3,base=wendland:k=3,l=2",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 9,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.a4110423f4417p+19,  // 2702700 * pi^-1
+    .normalisation_exact = "2702700 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_combo_m_3_base_wendland_k_3_l_2_D3::value, .npieces = 4},  // value
+        {.pieces = detail_combo_m_3_base_wendland_k_3_l_2_D3::dr, .npieces = 4},  // dr
+        {.pieces = detail_combo_m_3_base_wendland_k_3_l_2_D3::d2r, .npieces = 4},  // d2r
+        {.pieces = detail_combo_m_3_base_wendland_k_3_l_2_D3::laplacian, .npieces = 4},  // laplacian
+        {.pieces = detail_combo_m_3_base_wendland_k_3_l_2_D3::grad_over_r, .npieces = 4},  // grad_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_3_l_2_D3::hess_radial, .npieces = 4},  // hess_radial
+        {.pieces = detail_combo_m_3_base_wendland_k_3_l_2_D3::potential, .npieces = 8},  // potential
+        {.pieces = detail_combo_m_3_base_wendland_k_3_l_2_D3::dpotential, .npieces = 9},  // dpotential
+        {.pieces = detail_combo_m_3_base_wendland_k_3_l_2_D3::dpotential_over_r, .npieces = 9},  // dpotential_over_r
+        {.pieces = detail_combo_m_3_base_wendland_k_3_l_2_D3::potential_hess_radial, .npieces = 8},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

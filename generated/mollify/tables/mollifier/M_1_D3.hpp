@@ -17,11 +17,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.ebae32712a6afp-55,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 1, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = value_0_0, .n = 1, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.3193d66ed2bfap+0,  // -15/4 * pi^-1
@@ -30,11 +30,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.ebae32712a6afp-54,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 1, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = dr_0_0, .n = 1, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.3193d66ed2bfap+0,  // -15/4 * pi^-1
@@ -43,11 +43,11 @@ inline constexpr double d2r_0_0_lo[] = {
     -0x1.ebae32712a6afp-54,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 1, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = d2r_0_0, .n = 1, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.ca5dc1a63c1f8p+1,  // -45/4 * pi^-1
@@ -56,11 +56,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     0x1.1e7ab456405f9p-53,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 1, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 1, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.3193d66ed2bfap+0,  // -15/4 * pi^-1
@@ -69,15 +69,15 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.ebae32712a6afp-54,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 1, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 1, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, nullptr, 0},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = nullptr, .nterms = 0},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.3193d66ed2bfap-3,  // -15/32 * pi^-1
@@ -88,7 +88,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.ebae32712a6afp-57, 0x1.3a3d9896e3394p-58, 0x1.041713f11440cp-63,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 3, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 3, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -105,8 +105,8 @@ inline constexpr double potential_1_1_lo[] = {
     -0x1.6b01ec5417056p-58, -0x1.86229de99e612p-62, -0x1.041713f11440cp-63,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, potential_1_1, 3, 0, 0, potential_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -115,12 +115,12 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_0, .nterms = 1},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_1, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.976fc893c3aa3p-3,  // 5/8 * pi^-1
@@ -130,7 +130,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.3a3d9896e3394p-57, 0x1.041713f11440cp-61,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 1, dpotential_0_0, 2, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 2, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.94e3e2860a712p-4,  // 159/512 * pi^-1
@@ -142,7 +142,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.25139c6f8b675p-58, 0x1.6b01ec5417056p-63, -0x1.db6cc1321926ep-57, 0x1.041713f11440cp-61,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_1_0, 4, 0x1.8p-1, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 4, .centre = 0x1.8p-1, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -151,12 +151,12 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_2_0, 1, 0, 0, dpotential_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-1, dpotential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
-    {0x1p+0, table::infinity, dpotential_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dpotential_0, .nterms = 1},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_1, .nterms = 1},  // [1/2, 1), Taylor polynomial about 3/4
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.976fc893c3aa3p-3,  // 5/8 * pi^-1
@@ -166,7 +166,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.3a3d9896e3394p-57, 0x1.041713f11440cp-61,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, dpotential_over_r_0_0, 2, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 2, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.0ded41aeb1a0cp-3,  // 53/128 * pi^-1
@@ -177,7 +177,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.86c4d094b9df1p-58, 0x1.86229de99e612p-61, 0x1.041713f11440cp-61,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_over_r_1_0, 3, 0x1.8p-1, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 3, .centre = 0x1.8p-1, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -186,12 +186,12 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
-    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_1, .nterms = 1},  // [1/2, 1), Taylor polynomial about 3/4
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -200,7 +200,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_hess_radial_0_0, 1, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 1, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -209,7 +209,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, potential_hess_radial_1_0, 1, 0x1.8p-1, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 1, .centre = 0x1.8p-1, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -218,28 +218,35 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_hess_radial_1, 1},  // [1/2, 1), Taylor polynomial about 3/4
-    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_1, .nterms = 1},  // [1/2, 1), Taylor polynomial about 3/4
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_2, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_1_D3
 inline constexpr table::Kernel mollifier_M_1_D3 = {
-    "mollifier:M=1", 3, 0x1p+0, 0, 2, 1,
-    0x1.3193d66ed2bfap-1, "15/8 * pi^-1", true,
-    {
-        {detail_mollifier_M_1_D3::value, 2},
-        {detail_mollifier_M_1_D3::dr, 2},
-        {detail_mollifier_M_1_D3::d2r, 2},
-        {detail_mollifier_M_1_D3::laplacian, 2},
-        {detail_mollifier_M_1_D3::grad_over_r, 2},
-        {detail_mollifier_M_1_D3::hess_radial, 2},
-        {detail_mollifier_M_1_D3::potential, 3},
-        {detail_mollifier_M_1_D3::dpotential, 3},
-        {detail_mollifier_M_1_D3::dpotential_over_r, 3},
-        {detail_mollifier_M_1_D3::potential_hess_radial, 3},
+    .spec = "mollifier:M=1",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 0,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.3193d66ed2bfap-1,  // 15/8 * pi^-1
+    .normalisation_exact = "15/8 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_1_D3::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_1_D3::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_1_D3::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_1_D3::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_1_D3::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_1_D3::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_1_D3::potential, .npieces = 3},  // potential
+        {.pieces = detail_mollifier_M_1_D3::dpotential, .npieces = 3},  // dpotential
+        {.pieces = detail_mollifier_M_1_D3::dpotential_over_r, .npieces = 3},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_1_D3::potential_hess_radial, .npieces = 3},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

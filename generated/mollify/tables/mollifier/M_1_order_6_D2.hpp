@@ -19,11 +19,11 @@ inline constexpr double value_0_0_lo[] = {
     -0x1.041713f11440cp-56, -0x1.ebae32712a6afp-50, 0x1.ebae32712a6afp-50,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.6eb167b830193p+5,  // -144 * pi^-1
@@ -34,11 +34,11 @@ inline constexpr double dr_0_0_lo[] = {
     0x1.86229de99e612p-53, 0x1.ebae32712a6afp-47, 0x1.1e7ab456405f9p-48,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.6eb167b830193p+5,  // -144 * pi^-1
@@ -49,11 +49,11 @@ inline constexpr double d2r_0_0_lo[] = {
     0x1.86229de99e612p-53, -0x1.1e7ab456405f9p-46, 0x1.6619616bd0778p-46,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 3, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = d2r_0_0, .n = 3, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.6eb167b830193p+6,  // -288 * pi^-1
@@ -64,11 +64,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     0x1.86229de99e612p-52, 0x1.ebae32712a6afp-45, 0x1.adb80e81608f6p-46,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 3, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 3, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.6eb167b830193p+5,  // -144 * pi^-1
@@ -79,11 +79,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.86229de99e612p-53, 0x1.ebae32712a6afp-47, 0x1.1e7ab456405f9p-48,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.3193d66ed2bfap+8,  // 960 * pi^-1
@@ -93,11 +93,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     0x1.ebae32712a6afp-46, 0x1.1e7ab456405f9p-46,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 2, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.d8b312db1ade2p-3,  // -760335/1048576 * pi^-1
@@ -116,7 +116,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.ebae32712a6afp-56,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_0_0, 9, 0x1p-2, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 9, .centre = 0x1p-2, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -143,10 +143,10 @@ inline constexpr double potential_1_3_lo[] = {
     -0x1.ebae32712a6afp-56,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1, 0, 0, potential_1_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1, 0, 0, potential_1_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1, 0, 0, potential_1_3_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_1_1, .n = 1, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_1_2, .n = 1, .c_lo = potential_1_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_1_3, .n = 1, .c_lo = potential_1_3_lo},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -155,12 +155,12 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1p+0, potential_1, 4},  // [1/2, 1), Taylor polynomial at the edge
-    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_1, .nterms = 4},  // [1/2, 1), Taylor polynomial at the edge
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.e8ec8a4aeacc4p+0,  // 6 * pi^-1
@@ -172,7 +172,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.041713f11440cp-57, 0x1.86229de99e612p-56, 0x1.3a3d9896e3394p-52, -0x1.ebae32712a6afp-53,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 1, dpotential_0_0, 4, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 4, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.d5c860db46c3dp-2,  // 6045147/4194304 * pi^-1
@@ -189,7 +189,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.2d73fc0dfaa63p-52, -0x1.5e0cef21ab453p-55, 0x1.f556bb96f0a74p-53, -0x1.ebae32712a6afp-53,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 8, 0x1.8p-2, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 8, .centre = 0x1.8p-2, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.408b97a498e78p-2,  // 4124765/4194304 * pi^-1
@@ -206,7 +206,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.5a87e6a438c43p-55, -0x1.b357126a260afp-55, 0x1.31cbc6a1ccd84p-54, -0x1.ebae32712a6afp-53,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dpotential_2_0, 8, 0x1.4p-1, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 8, .centre = 0x1.4p-1, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.48cb992d1af63p-3,  // 2115463/4194304 * pi^-1
@@ -223,7 +223,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.710b056dd7208p-53, -0x1.4668c8eadbc67p-52, 0x1.cf1d42c2b70c4p-51, -0x1.ebae32712a6afp-53,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_3_0, 8, 0x1.cp-1, 0x0p+0, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 8, .centre = 0x1.cp-1, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -232,14 +232,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1.8p-1, dpotential_2, 1},  // [1/2, 3/4), Taylor polynomial about 5/8
-    {0x1.8p-1, 0x1p+0, dpotential_3, 1},  // [3/4, 1), Taylor polynomial about 7/8
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1.8p-1, .terms = dpotential_2, .nterms = 1},  // [1/2, 3/4), Taylor polynomial about 5/8
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 1},  // [3/4, 1), Taylor polynomial about 7/8
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.9377bd045ffa4p+0,  // 40561/8192 * pi^-1
@@ -255,7 +255,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.b0f03c38a2a38p-54, 0x1.1e7ab456405f9p-53, -0x1.ebae32712a6afp-53,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7, 0x1p-2, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 7, .centre = 0x1p-2, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -272,8 +272,8 @@ inline constexpr double dpotential_over_r_1_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.3a3d9896e3394p-54, -0x1.ebae32712a6afp-53,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1, 0, 0, dpotential_over_r_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -2, dpotential_over_r_1_1, 3, 0, 0, dpotential_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -282,12 +282,12 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_1, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.3d8dcc675de01p+3,  // -7981/256 * pi^-1
@@ -301,7 +301,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.1e7ab456405f9p-51,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5, 0x1p-2, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 5, .centre = 0x1p-2, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.d94c0584b3231p+1,  // -47581/4096 * pi^-1
@@ -315,7 +315,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.1e7ab456405f9p-51,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, potential_hess_radial_1_0, 5, 0x1.4p-1, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 5, .centre = 0x1.4p-1, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -333,8 +333,8 @@ inline constexpr double potential_hess_radial_2_1_lo[] = {
     -0x1.6b01ec5417056p-56, -0x1.6b01ec5417056p-56, 0x1.b42869efe4b7ap-53, -0x1.1e7ab456405f9p-51,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.cp-1, 0, -4, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, -4, potential_hess_radial_2_1, 4, 0, 0, potential_hess_radial_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.cp-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -4, .c = potential_hess_radial_2_1, .n = 4, .c_lo = potential_hess_radial_2_1_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.24a7f6172fe32p-3,  // -29421/65536 * pi^-1
@@ -348,7 +348,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.1e7ab456405f9p-51,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, potential_hess_radial_3_0, 5, 0x1.ep-1, 0x0p+0, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 5, .centre = 0x1.ep-1, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -357,30 +357,37 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_4_0, 1, 0, 0, potential_hess_radial_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1.8p-1, potential_hess_radial_1, 1},  // [1/2, 3/4), Taylor polynomial about 5/8
-    {0x1.8p-1, 0x1.cp-1, potential_hess_radial_2, 2},  // [3/4, 7/8)
-    {0x1.cp-1, 0x1p+0, potential_hess_radial_3, 1},  // [7/8, 1), Taylor polynomial about 15/16
-    {0x1p+0, table::infinity, potential_hess_radial_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1.8p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/2, 3/4), Taylor polynomial about 5/8
+    {.lo = 0x1.8p-1, .hi = 0x1.cp-1, .terms = potential_hess_radial_2, .nterms = 2},  // [3/4, 7/8)
+    {.lo = 0x1.cp-1, .hi = 0x1p+0, .terms = potential_hess_radial_3, .nterms = 1},  // [7/8, 1), Taylor polynomial about 15/16
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_4, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_1_order_6_D2
 inline constexpr table::Kernel mollifier_M_1_order_6_D2 = {
-    "mollifier:M=1,order=6", 2, 0x1p+0, 0, 6, 1,
-    0x1.e8ec8a4aeacc4p+1, "12 * pi^-1", true,
-    {
-        {detail_mollifier_M_1_order_6_D2::value, 2},
-        {detail_mollifier_M_1_order_6_D2::dr, 2},
-        {detail_mollifier_M_1_order_6_D2::d2r, 2},
-        {detail_mollifier_M_1_order_6_D2::laplacian, 2},
-        {detail_mollifier_M_1_order_6_D2::grad_over_r, 2},
-        {detail_mollifier_M_1_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_1_order_6_D2::potential, 3},
-        {detail_mollifier_M_1_order_6_D2::dpotential, 5},
-        {detail_mollifier_M_1_order_6_D2::dpotential_over_r, 3},
-        {detail_mollifier_M_1_order_6_D2::potential_hess_radial, 5},
+    .spec = "mollifier:M=1,order=6",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 0,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.e8ec8a4aeacc4p+1,  // 12 * pi^-1
+    .normalisation_exact = "12 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_1_order_6_D2::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_1_order_6_D2::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_1_order_6_D2::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_1_order_6_D2::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_1_order_6_D2::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_1_order_6_D2::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_1_order_6_D2::potential, .npieces = 3},  // potential
+        {.pieces = detail_mollifier_M_1_order_6_D2::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_mollifier_M_1_order_6_D2::dpotential_over_r, .npieces = 3},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_1_order_6_D2::potential_hess_radial, .npieces = 5},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

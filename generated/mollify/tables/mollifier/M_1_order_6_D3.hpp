@@ -19,11 +19,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.375245a5d1921p-54, -0x1.2269d327333b6p-50, 0x1.9ff48d36af929p-50,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.281a50f8c316dp+6,  // -59535/256 * pi^-1
@@ -34,11 +34,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.9aef7bc0c82a4p-48, 0x1.612f302ef166fp-47, -0x1.37f769e903adfp-47,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.281a50f8c316dp+6,  // -59535/256 * pi^-1
@@ -49,11 +49,11 @@ inline constexpr double d2r_0_0_lo[] = {
     -0x1.9aef7bc0c82a4p-48, -0x1.f71c9bdccaf2cp-45, 0x1.7a0abb9cbb66ap-45,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 3, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = d2r_0_0, .n = 3, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.bc27797524a24p+7,  // -178605/256 * pi^-1
@@ -64,11 +64,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     -0x1.a19ce684b0fd8p-49, -0x1.a34281e2a91fap-44, 0x1.6f0783541cc7dp-44,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 3, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 3, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.281a50f8c316dp+6,  // -59535/256 * pi^-1
@@ -79,11 +79,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.9aef7bc0c82a4p-48, 0x1.612f302ef166fp-47, -0x1.37f769e903adfp-47,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.d14decf4a0487p+8,  // 93555/64 * pi^-1
@@ -93,11 +93,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     0x1.612f302ef166fp-46, -0x1.37f769e903adfp-45,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 2, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.7800e8da5d51dp-2,  // -4725/4096 * pi^-1
@@ -111,7 +111,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.1c5d6cd2ff3d7p-57,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, potential_0_0, 5, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 5, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.ea612492b5dc7p-3,  // -51693035949/68719476736 * pi^-1
@@ -130,7 +130,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.1c5d6cd2ff3d7p-57,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_1_0, 9, 0x1.8p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 9, .centre = 0x1.8p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -152,8 +152,8 @@ inline constexpr double potential_2_1_lo[] = {
     0x1.cb63e463d4e01p-56, -0x1.955cf730e048fp-54, 0x1.1c5d6cd2ff3d7p-57,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -1, potential_2_1, 7, 0, 0, potential_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = potential_2_1, .n = 7, .c_lo = potential_2_1_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -162,13 +162,13 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, potential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.24727c380fb17p+1,  // 3675/512 * pi^-1
@@ -180,7 +180,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.217249b9b267ap-53, 0x1.6e80d3985956p-52, 0x1.93a3a4c7ef512p-52, -0x1.1c5d6cd2ff3d7p-54,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 1, dpotential_0_0, 4, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 4, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.0cb033b1fff9bp-1,  // 1770225201/1073741824 * pi^-1
@@ -197,7 +197,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.018f1b7fed38ap-54, -0x1.c9aa91fae3e83p-57, 0x1.8ac5612b10ff6p-53, -0x1.1c5d6cd2ff3d7p-54,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 8, 0x1.8p-2, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 8, .centre = 0x1.8p-2, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.30525fb06a238p-2,  // 1002496375/1073741824 * pi^-1
@@ -214,7 +214,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.7f3a78bc76e8ap-55, -0x1.01c3f9b2630ffp-51, 0x1.48f9d0f938d4dp-52, -0x1.1c5d6cd2ff3d7p-54,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dpotential_2_0, 8, 0x1.4p-1, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 8, .centre = 0x1.4p-1, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.47187c3666fafp-4,  // 269379509/1073741824 * pi^-1
@@ -231,7 +231,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.c241b33898e5dp-50, -0x1.f66bfc3485942p-49, 0x1.cc90f15ce929fp-52, -0x1.1c5d6cd2ff3d7p-54,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_3_0, 8, 0x1.cp-1, 0x0p+0, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 8, .centre = 0x1.cp-1, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -240,14 +240,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1.8p-1, dpotential_2, 1},  // [1/2, 3/4), Taylor polynomial about 5/8
-    {0x1.8p-1, 0x1p+0, dpotential_3, 1},  // [3/4, 1), Taylor polynomial about 7/8
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1.8p-1, .terms = dpotential_2, .nterms = 1},  // [1/2, 3/4), Taylor polynomial about 5/8
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 1},  // [3/4, 1), Taylor polynomial about 7/8
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.da915d35be7a7p+0,  // 12213443/2097152 * pi^-1
@@ -263,7 +263,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.bc0902e612053p-54, 0x1.955cf730e048fp-52, -0x1.1c5d6cd2ff3d7p-54,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_0_0, 7, 0x1p-2, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 7, .centre = 0x1p-2, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -286,8 +286,8 @@ inline constexpr double dpotential_over_r_1_1_lo[] = {
     -0x1.f5162343209b4p-52, -0x1.0689b3594073ep-54, -0x1.1c5d6cd2ff3d7p-53, -0x1.1c5d6cd2ff3d7p-54,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.cp-1, 0, -3, dpotential_over_r_1_0, 1, 0, 0, dpotential_over_r_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -3, dpotential_over_r_1_1, 8, 0, 0, dpotential_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.cp-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = dpotential_over_r_1_1, .n = 8, .c_lo = dpotential_over_r_1_1_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.5a2c8781c8c8bp-4,  // 2280731475/8589934592 * pi^-1
@@ -303,7 +303,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.79ccd72b70525p-49, 0x1.f80e4f7ba488dp-51, -0x1.1c5d6cd2ff3d7p-54,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_over_r_2_0, 7, 0x1.ep-1, 0x0p+0, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 7, .centre = 0x1.ep-1, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -312,13 +312,13 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1.cp-1, dpotential_over_r_1, 2},  // [1/2, 7/8)
-    {0x1.cp-1, 0x1p+0, dpotential_over_r_2, 1},  // [7/8, 1), Taylor polynomial about 15/16
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1.cp-1, .terms = dpotential_over_r_1, .nterms = 2},  // [1/2, 7/8)
+    {.lo = 0x1.cp-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 1},  // [7/8, 1), Taylor polynomial about 15/16
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.99a04994b8578p+3,  // -2635527/65536 * pi^-1
@@ -332,7 +332,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.955cf730e048fp-50,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_0_0, 5, 0x1p-2, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 5, .centre = 0x1p-2, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.2af2e2034e7ep+2,  // -15387447/1048576 * pi^-1
@@ -346,7 +346,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.955cf730e048fp-50,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, potential_hess_radial_1_0, 5, 0x1.4p-1, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 5, .centre = 0x1.4p-1, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -371,8 +371,8 @@ inline constexpr double potential_hess_radial_2_1_lo[] = {
     -0x1.955cf730e048fp-50,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.cp-1, 0, -5, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, -5, potential_hess_radial_2_1, 9, 0, 0, potential_hess_radial_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.cp-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = -5, .c = potential_hess_radial_2_1, .n = 9, .c_lo = potential_hess_radial_2_1_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.fffc648fd3fp-7,  // -823527/16777216 * pi^-1
@@ -386,7 +386,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.955cf730e048fp-50,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, potential_hess_radial_3_0, 5, 0x1.ep-1, 0x0p+0, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 5, .centre = 0x1.ep-1, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -395,30 +395,37 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_4_0, 1, 0, 0, potential_hess_radial_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1.8p-1, potential_hess_radial_1, 1},  // [1/2, 3/4), Taylor polynomial about 5/8
-    {0x1.8p-1, 0x1.cp-1, potential_hess_radial_2, 2},  // [3/4, 7/8)
-    {0x1.cp-1, 0x1p+0, potential_hess_radial_3, 1},  // [7/8, 1), Taylor polynomial about 15/16
-    {0x1p+0, table::infinity, potential_hess_radial_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1.8p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/2, 3/4), Taylor polynomial about 5/8
+    {.lo = 0x1.8p-1, .hi = 0x1.cp-1, .terms = potential_hess_radial_2, .nterms = 2},  // [3/4, 7/8)
+    {.lo = 0x1.cp-1, .hi = 0x1p+0, .terms = potential_hess_radial_3, .nterms = 1},  // [7/8, 1), Taylor polynomial about 15/16
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_4, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_1_order_6_D3
 inline constexpr table::Kernel mollifier_M_1_order_6_D3 = {
-    "mollifier:M=1,order=6", 3, 0x1p+0, 0, 6, 1,
-    0x1.2ccd87151774bp+2, "945/64 * pi^-1", true,
-    {
-        {detail_mollifier_M_1_order_6_D3::value, 2},
-        {detail_mollifier_M_1_order_6_D3::dr, 2},
-        {detail_mollifier_M_1_order_6_D3::d2r, 2},
-        {detail_mollifier_M_1_order_6_D3::laplacian, 2},
-        {detail_mollifier_M_1_order_6_D3::grad_over_r, 2},
-        {detail_mollifier_M_1_order_6_D3::hess_radial, 2},
-        {detail_mollifier_M_1_order_6_D3::potential, 4},
-        {detail_mollifier_M_1_order_6_D3::dpotential, 5},
-        {detail_mollifier_M_1_order_6_D3::dpotential_over_r, 4},
-        {detail_mollifier_M_1_order_6_D3::potential_hess_radial, 5},
+    .spec = "mollifier:M=1,order=6",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 0,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.2ccd87151774bp+2,  // 945/64 * pi^-1
+    .normalisation_exact = "945/64 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_1_order_6_D3::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_1_order_6_D3::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_1_order_6_D3::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_1_order_6_D3::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_1_order_6_D3::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_1_order_6_D3::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_1_order_6_D3::potential, .npieces = 4},  // potential
+        {.pieces = detail_mollifier_M_1_order_6_D3::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_mollifier_M_1_order_6_D3::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_1_order_6_D3::potential_hess_radial, .npieces = 5},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

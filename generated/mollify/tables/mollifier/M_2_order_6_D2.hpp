@@ -19,11 +19,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.ebae32712a6afp-52, 0x1.1e7ab456405f9p-50, 0x1.5c70d8460a3b2p-50,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.3193d66ed2bfap+6,  // -240 * pi^-1
@@ -34,11 +34,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.ebae32712a6afp-48, 0x1.ebae32712a6afp-46, -0x1.5c70d8460a3b2p-47,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.3193d66ed2bfap+6,  // -240 * pi^-1
@@ -50,11 +50,11 @@ inline constexpr double d2r_0_0_lo[] = {
     -0x1.ebae32712a6afp-48, -0x1.6619616bd0778p-45, 0x1.dfcfdce3624abp-43, -0x1.cf1d42c2b70c4p-44,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.3193d66ed2bfap+7,  // -480 * pi^-1
@@ -66,11 +66,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     -0x1.ebae32712a6afp-47, 0x1.9a66fc35d416bp-46, -0x1.e6d9edde474ccp-44, 0x1.5c70d8460a3b2p-44,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.3193d66ed2bfap+6,  // -240 * pi^-1
@@ -81,11 +81,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.ebae32712a6afp-48, 0x1.ebae32712a6afp-46, -0x1.5c70d8460a3b2p-47,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.7df8cc0a876f9p+9,  // 2400 * pi^-1
@@ -96,11 +96,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     0x1.9a66fc35d416bp-47, 0x1.6619616bd0778p-44, -0x1.f556bb96f0a74p-45,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 3, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.0c3a471bf7db8p-2,  // -54288086425001/65970697666560 * pi^-1
@@ -121,7 +121,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.3ccc08fbbe55dp-55, -0x1.9555e4a2c6a95p-55, -0x1.b05b9e8b7e927p-56,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_0_0, 11, 0x1.8p-3, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 11, .centre = 0x1.8p-3, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -154,11 +154,11 @@ inline constexpr double potential_1_4_lo[] = {
     0x1.b05b9e8b7e927p-56,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_1_0, 1, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_1_1, 1, 0, 0, potential_1_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_1_2, 1, 0, 0, potential_1_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_1_3, 1, 0, 0, potential_1_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_1_4, 1, 0, 0, potential_1_4_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_1_1, .n = 1, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_1_2, .n = 1, .c_lo = potential_1_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_1_3, .n = 1, .c_lo = potential_1_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_1_4, .n = 1, .c_lo = potential_1_4_lo},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -167,12 +167,12 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8), Taylor polynomial about 3/16
-    {0x1.8p-2, 0x1p+0, potential_1, 5},  // [3/8, 1), Taylor polynomial at the edge
-    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.8p-2, .terms = potential_0, .nterms = 1},  // [0, 3/8), Taylor polynomial about 3/16
+    {.lo = 0x1.8p-2, .hi = 0x1p+0, .terms = potential_1, .nterms = 5},  // [3/8, 1), Taylor polynomial at the edge
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.3193d66ed2bfap+1,  // 15/2 * pi^-1
@@ -186,7 +186,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 1, dpotential_0_0, 5, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 5, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.fdaf12541ec53p-2,  // 419749983/268435456 * pi^-1
@@ -206,7 +206,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.4800a1371f7e8p-51, 0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 10, 0x1.8p-2, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 10, .centre = 0x1.8p-2, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.2144b0634ea81p-2,  // 238226825/268435456 * pi^-1
@@ -226,7 +226,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.bc0086589a3ecp-50, 0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dpotential_2_0, 10, 0x1.4p-1, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 10, .centre = 0x1.4p-1, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.60be3801b353cp-3,  // 145250707/268435456 * pi^-1
@@ -246,7 +246,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.a801782b497c7p-51, 0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, dpotential_3_0, 10, 0x1.cp-1, 0x0p+0, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 10, .centre = 0x1.cp-1, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -255,14 +255,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1.8p-1, dpotential_2, 1},  // [1/2, 3/4), Taylor polynomial about 5/8
-    {0x1.8p-1, 0x1p+0, dpotential_3, 1},  // [3/4, 1), Taylor polynomial about 7/8
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1.8p-1, .terms = dpotential_2, .nterms = 1},  // [1/2, 3/4), Taylor polynomial about 5/8
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 1},  // [3/4, 1), Taylor polynomial about 7/8
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.d98c7ab3ee838p+0,  // 761701/131072 * pi^-1
@@ -281,7 +281,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9, 0x1p-2, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 9, .centre = 0x1p-2, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -298,8 +298,8 @@ inline constexpr double dpotential_over_r_1_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.041713f11440cp-57, -0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_1_0, 1, 0, 0, dpotential_over_r_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, -2, dpotential_over_r_1_1, 3, 0, 0, dpotential_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -2, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -308,12 +308,12 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_1, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.ec93191897551p+3,  // -49519/1024 * pi^-1
@@ -329,7 +329,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     -0x1.173c4d79ebb25p-49, -0x1.9555e4a2c6a95p-49, 0x1.e38d79d1a1c8fp-50,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7, 0x1p-2, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 7, .centre = 0x1p-2, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -347,8 +347,8 @@ inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.6b01ec5417056p-56, -0x1.6b01ec5417056p-55, -0x1.6cb249851b7f3p-50, 0x1.e38d79d1a1c8fp-50,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.cp-1, 0, -4, potential_hess_radial_1_0, 1, 0, 0, potential_hess_radial_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, -4, potential_hess_radial_1_1, 4, 0, 0, potential_hess_radial_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.cp-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -4, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.44754616572eap-2,  // -4175115/4194304 * pi^-1
@@ -364,7 +364,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.4b8d71425ab29p-46, -0x1.bc0086589a3ecp-47, 0x1.e38d79d1a1c8fp-50,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, potential_hess_radial_2_0, 7, 0x1.ep-1, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 7, .centre = 0x1.ep-1, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -373,29 +373,36 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1.cp-1, potential_hess_radial_1, 2},  // [1/2, 7/8)
-    {0x1.cp-1, 0x1p+0, potential_hess_radial_2, 1},  // [7/8, 1), Taylor polynomial about 15/16
-    {0x1p+0, table::infinity, potential_hess_radial_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1.cp-1, .terms = potential_hess_radial_1, .nterms = 2},  // [1/2, 7/8)
+    {.lo = 0x1.cp-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 1},  // [7/8, 1), Taylor polynomial about 15/16
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_2_order_6_D2
 inline constexpr table::Kernel mollifier_M_2_order_6_D2 = {
-    "mollifier:M=2,order=6", 2, 0x1p+0, 1, 6, 1,
-    0x1.3193d66ed2bfap+3, "30 * pi^-1", true,
-    {
-        {detail_mollifier_M_2_order_6_D2::value, 2},
-        {detail_mollifier_M_2_order_6_D2::dr, 2},
-        {detail_mollifier_M_2_order_6_D2::d2r, 2},
-        {detail_mollifier_M_2_order_6_D2::laplacian, 2},
-        {detail_mollifier_M_2_order_6_D2::grad_over_r, 2},
-        {detail_mollifier_M_2_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_2_order_6_D2::potential, 3},
-        {detail_mollifier_M_2_order_6_D2::dpotential, 5},
-        {detail_mollifier_M_2_order_6_D2::dpotential_over_r, 3},
-        {detail_mollifier_M_2_order_6_D2::potential_hess_radial, 4},
+    .spec = "mollifier:M=2,order=6",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 1,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.3193d66ed2bfap+3,  // 30 * pi^-1
+    .normalisation_exact = "30 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_2_order_6_D2::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_2_order_6_D2::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_2_order_6_D2::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_2_order_6_D2::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_2_order_6_D2::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_2_order_6_D2::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_2_order_6_D2::potential, .npieces = 3},  // potential
+        {.pieces = detail_mollifier_M_2_order_6_D2::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_mollifier_M_2_order_6_D2::dpotential_over_r, .npieces = 3},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_2_order_6_D2::potential_hess_radial, .npieces = 4},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -19,11 +19,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.b58223f880052p-51, 0x1.281408e04cbf8p-50, -0x1.7a0abb9cbb66ap-49,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.0f6d74e4082a4p+7,  // -218295/512 * pi^-1
@@ -34,11 +34,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.235b86c60cd16p-47, -0x1.60670913d3d9p-49, 0x1.7a0abb9cbb66ap-46,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.0f6d74e4082a4p+7,  // -218295/512 * pi^-1
@@ -50,11 +50,11 @@ inline constexpr double d2r_0_0_lo[] = {
     -0x1.235b86c60cd16p-47, -0x1.b3c7564f970ddp-44, 0x1.c3e760fbc0d69p-42, -0x1.9592c85247f39p-44,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.97242f560c3f6p+8,  // -654885/512 * pi^-1
@@ -66,11 +66,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     -0x1.b5094a29133a1p-46, 0x1.3f848d6857748p-43, -0x1.8755ab6c586d4p-42, 0x1.d6b3ecefad2c9p-43,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.0f6d74e4082a4p+7,  // -218295/512 * pi^-1
@@ -81,11 +81,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.235b86c60cd16p-47, -0x1.60670913d3d9p-49, 0x1.7a0abb9cbb66ap-46,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.3fe592e82e31dp+10,  // 1029105/256 * pi^-1
@@ -96,11 +96,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     0x1.968389022fb65p-47, -0x1.2cf431a0650f2p-43, -0x1.b880cb58c8cf4p-47,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, hess_radial_0_0, 3, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.9d9a99bd00407p-2,  // -10395/8192 * pi^-1
@@ -115,7 +115,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.e1c01d6887bd2p-53, 0x1.5cfe4b600ab42p-57,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, potential_0_0, 6, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 6, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.ec357870dcfa3p-3,  // -6641392828347/8796093022208 * pi^-1
@@ -136,7 +136,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.091dd79cd1fa8p-55, -0x1.9c68ccaafafb9p-54, 0x1.5cfe4b600ab42p-57,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_1_0, 11, 0x1.8p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 11, .centre = 0x1.8p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -159,8 +159,8 @@ inline constexpr double potential_2_1_lo[] = {
     0x1.69eb44af73657p-56, -0x1.e84b932043229p-59, 0x1.5cfe4b600ab42p-55, 0x1.5cfe4b600ab42p-57,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -1, potential_2_1, 8, 0, 0, potential_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = potential_2_1, .n = 8, .c_lo = potential_2_1_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -169,13 +169,13 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, potential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.921d6acd1593fp+1,  // 40425/4096 * pi^-1
@@ -189,7 +189,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.12f08871fca7bp-52,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 1, dpotential_0_0, 5, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 5, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.3ab93e98c9ccdp-1,  // 1061644388787/549755813888 * pi^-1
@@ -209,7 +209,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.e7faf3202d2d8p-50, -0x1.12f08871fca7bp-52,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 10, 0x1.8p-2, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 10, .centre = 0x1.8p-2, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -234,8 +234,8 @@ inline constexpr double dpotential_2_1_lo[] = {
     0x1.12f08871fca7bp-52,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_2_0, 1, 0, 0, dpotential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -2, dpotential_2_1, 9, 0, 0, dpotential_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -2, .c = dpotential_2_1, .n = 9, .c_lo = dpotential_2_1_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -244,13 +244,13 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.30717b3218fa8p+1,  // 2005793329/268435456 * pi^-1
@@ -269,7 +269,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.12f08871fca7bp-52,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_0_0, 9, 0x1p-2, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 9, .centre = 0x1p-2, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -294,8 +294,8 @@ inline constexpr double dpotential_over_r_1_1_lo[] = {
     0x1.12f08871fca7bp-52,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_1_0, 1, 0, 0, dpotential_over_r_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, -3, dpotential_over_r_1_1, 9, 0, 0, dpotential_over_r_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = dpotential_over_r_1_1, .n = 9, .c_lo = dpotential_over_r_1_1_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -304,12 +304,12 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-1, dpotential_over_r_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1p+0, dpotential_over_r_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_1, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.5d274e2d9f9a9p+4,  // -143772639/2097152 * pi^-1
@@ -325,7 +325,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     -0x1.4e03b048e8293p-50, -0x1.9c68ccaafafb9p-49, -0x1.12f08871fca7bp-49,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_0_0, 7, 0x1p-2, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 7, .centre = 0x1p-2, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -351,8 +351,8 @@ inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.12f08871fca7bp-48, -0x1.12f08871fca7bp-49,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.cp-1, 0, -5, potential_hess_radial_1_0, 1, 0, 0, potential_hess_radial_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -5, potential_hess_radial_1_1, 10, 0, 0, potential_hess_radial_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.cp-1, .edge_power = 0, .low = -5, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -5, .c = potential_hess_radial_1_1, .n = 10, .c_lo = potential_hess_radial_1_1_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.a30547a94dbafp-3,  // -5521348719/8589934592 * pi^-1
@@ -368,7 +368,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.4dbe2de20b23dp-46, -0x1.05447fc09697bp-48, -0x1.12f08871fca7bp-49,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p+0, 0, 0, potential_hess_radial_2_0, 7, 0x1.ep-1, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 7, .centre = 0x1.ep-1, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -377,29 +377,36 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1.cp-1, potential_hess_radial_1, 2},  // [1/2, 7/8)
-    {0x1.cp-1, 0x1p+0, potential_hess_radial_2, 1},  // [7/8, 1), Taylor polynomial about 15/16
-    {0x1p+0, table::infinity, potential_hess_radial_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1.cp-1, .terms = potential_hess_radial_1, .nterms = 2},  // [1/2, 7/8)
+    {.lo = 0x1.cp-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 1},  // [7/8, 1), Taylor polynomial about 15/16
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_2_order_6_D3
 inline constexpr table::Kernel mollifier_M_2_order_6_D3 = {
-    "mollifier:M=2,order=6", 3, 0x1p+0, 1, 6, 1,
-    0x1.9d9a99bd00407p+3, "10395/256 * pi^-1", true,
-    {
-        {detail_mollifier_M_2_order_6_D3::value, 2},
-        {detail_mollifier_M_2_order_6_D3::dr, 2},
-        {detail_mollifier_M_2_order_6_D3::d2r, 2},
-        {detail_mollifier_M_2_order_6_D3::laplacian, 2},
-        {detail_mollifier_M_2_order_6_D3::grad_over_r, 2},
-        {detail_mollifier_M_2_order_6_D3::hess_radial, 2},
-        {detail_mollifier_M_2_order_6_D3::potential, 4},
-        {detail_mollifier_M_2_order_6_D3::dpotential, 4},
-        {detail_mollifier_M_2_order_6_D3::dpotential_over_r, 3},
-        {detail_mollifier_M_2_order_6_D3::potential_hess_radial, 4},
+    .spec = "mollifier:M=2,order=6",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 1,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.9d9a99bd00407p+3,  // 10395/256 * pi^-1
+    .normalisation_exact = "10395/256 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_2_order_6_D3::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_2_order_6_D3::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_2_order_6_D3::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_2_order_6_D3::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_2_order_6_D3::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_2_order_6_D3::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_2_order_6_D3::potential, .npieces = 4},  // potential
+        {.pieces = detail_mollifier_M_2_order_6_D3::dpotential, .npieces = 4},  // dpotential
+        {.pieces = detail_mollifier_M_2_order_6_D3::dpotential_over_r, .npieces = 3},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_2_order_6_D3::potential_hess_radial, .npieces = 4},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -19,11 +19,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.e38d79d1a1c8fp-52, -0x1.e38d79d1a1c8fp-49, -0x1.9555e4a2c6a95p-48,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.40db3ac12a161p+7,  // -504 * pi^-1
@@ -34,11 +34,11 @@ inline constexpr double dr_0_0_lo[] = {
     0x1.9555e4a2c6a95p-47, 0x1.e38d79d1a1c8fp-45, 0x1.80035bd0a7f7ep-47,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.40db3ac12a161p+7,  // -504 * pi^-1
@@ -50,11 +50,11 @@ inline constexpr double d2r_0_0_lo[] = {
     0x1.9555e4a2c6a95p-47, -0x1.0d56f153fb26cp-44, 0x1.0e00aea6621e6p-41, -0x1.820093c7dcdeap-41,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.40db3ac12a161p+8,  // -1008 * pi^-1
@@ -66,11 +66,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     0x1.9555e4a2c6a95p-46, -0x1.ce3af0ff83178p-44, 0x1.f5c7e4788aa1bp-41, -0x1.4800a1371f7e8p-41,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.40db3ac12a161p+7,  // -504 * pi^-1
@@ -81,11 +81,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.9555e4a2c6a95p-47, 0x1.e38d79d1a1c8fp-45, 0x1.80035bd0a7f7ep-47,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.4e39b2893681ap+11,  // 8400 * pi^-1
@@ -96,11 +96,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.31cbc6a1ccd84p-46, 0x1.31cbc6a1ccd84p-44, -0x1.bc0086589a3ecp-41,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, hess_radial_0_0, 3, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.4d8418d981148p-2,  // -573/560 * pi^-1
@@ -117,7 +117,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.31cbc6a1ccd84p-54, 0x1.c887bfe8e9dfcp-52, 0x1.3291f695d7803p-53, 0x1.9afd870199423p-56,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-3, 0, 0, potential_0_0, 8, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 8, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.c3efcbc2faacdp-3,  // -28646084859605197555299/41320706725109395619840 * pi^-1
@@ -143,7 +143,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.fc07d7c2820d5p-56, 0x1.649190e592dd3p-54, 0x1.9afd870199423p-56,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_1_0, 15, 0x1.2p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 15, .centre = 0x1.2p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -188,13 +188,13 @@ inline constexpr double potential_2_6_lo[] = {
     -0x1.9afd870199423p-56,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_2_1, 1, 0, 0, potential_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_2_2, 1, 0, 0, potential_2_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_2_3, 1, 0, 0, potential_2_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_2_4, 1, 0, 0, potential_2_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_2_5, 1, 0, 0, potential_2_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_2_6, 1, 0, 0, potential_2_6_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_2_1, .n = 1, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_2_2, .n = 1, .c_lo = potential_2_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_2_3, .n = 1, .c_lo = potential_2_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_2_4, .n = 1, .c_lo = potential_2_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_2_5, .n = 1, .c_lo = potential_2_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_2_6, .n = 1, .c_lo = potential_2_6_lo},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -203,13 +203,13 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.8p-3, potential_0, 1},  // [0, 3/16)
-    {0x1.8p-3, 0x1.8p-2, potential_1, 1},  // [3/16, 3/8), Taylor polynomial about 9/32
-    {0x1.8p-2, 0x1p+0, potential_2, 7},  // [3/8, 1), Taylor polynomial at the edge
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.8p-3, .terms = potential_0, .nterms = 1},  // [0, 3/16)
+    {.lo = 0x1.8p-3, .hi = 0x1.8p-2, .terms = potential_1, .nterms = 1},  // [3/16, 3/8), Taylor polynomial about 9/32
+    {.lo = 0x1.8p-2, .hi = 0x1p+0, .terms = potential_2, .nterms = 7},  // [3/8, 1), Taylor polynomial at the edge
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.abcef9018d72bp+1,  // 21/2 * pi^-1
@@ -225,7 +225,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.e2ab280e6dd42p-48, -0x1.a12870f9e5fdep-53, -0x1.86229de99e612p-56,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dpotential_0_0, 7, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 7, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.03725e5356a31p-1,  // 3584742199568235/2251799813685248 * pi^-1
@@ -250,7 +250,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.0490b9f168df3p-52, -0x1.86229de99e612p-56,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 14, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 14, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.101ae3aa5f098p-1,  // 458940439467/274877906944 * pi^-1
@@ -275,7 +275,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.0490b9f168df3p-51, -0x1.86229de99e612p-56,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 14, 0x1.8p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 14, .centre = 0x1.8p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -292,8 +292,8 @@ inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.6b01ec5417056p-53, 0x1.86229de99e612p-56,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -1, dpotential_3_1, 3, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -302,14 +302,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.8566e4f8fa434p+1,  // 328388433865/34359738368 * pi^-1
@@ -333,7 +333,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.86229de99e612p-56,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_0_0, 13, 0x1p-3, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 13, .centre = 0x1p-3, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.6ace84e32962p+0,  // 152980146489/34359738368 * pi^-1
@@ -357,7 +357,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.86229de99e612p-56,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 13, 0x1.8p-2, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 13, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -374,8 +374,8 @@ inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.6b01ec5417056p-53, 0x1.86229de99e612p-56,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, -2, dpotential_over_r_2_1, 3, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -384,13 +384,13 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.c01c773fa5dd1p+4,  // -11532557/131072 * pi^-1
@@ -411,7 +411,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     -0x1.972ece7e92029p-50, -0x1.adb80e81608f6p-48, 0x1.db6cc1321926ep-49,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_0_0, 11, 0x1p-2, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 11, .centre = 0x1p-2, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -429,8 +429,8 @@ inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.6b01ec5417056p-56, -0x1.6b01ec5417056p-54, -0x1.970641d3cb232p-49, 0x1.db6cc1321926ep-49,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_1_0, 1, 0, 0, potential_hess_radial_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, -4, potential_hess_radial_1_1, 4, 0, 0, potential_hess_radial_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -439,28 +439,35 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-1, potential_hess_radial_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1p+0, potential_hess_radial_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_1, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_2, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_4_order_6_D2
 inline constexpr table::Kernel mollifier_M_4_order_6_D2 = {
-    "mollifier:M=4,order=6", 2, 0x1p+0, 3, 6, 1,
-    0x1.0b615ba0f867bp+5, "105 * pi^-1", true,
-    {
-        {detail_mollifier_M_4_order_6_D2::value, 2},
-        {detail_mollifier_M_4_order_6_D2::dr, 2},
-        {detail_mollifier_M_4_order_6_D2::d2r, 2},
-        {detail_mollifier_M_4_order_6_D2::laplacian, 2},
-        {detail_mollifier_M_4_order_6_D2::grad_over_r, 2},
-        {detail_mollifier_M_4_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_4_order_6_D2::potential, 4},
-        {detail_mollifier_M_4_order_6_D2::dpotential, 5},
-        {detail_mollifier_M_4_order_6_D2::dpotential_over_r, 4},
-        {detail_mollifier_M_4_order_6_D2::potential_hess_radial, 3},
+    .spec = "mollifier:M=4,order=6",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 3,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.0b615ba0f867bp+5,  // 105 * pi^-1
+    .normalisation_exact = "105 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_4_order_6_D2::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_4_order_6_D2::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_4_order_6_D2::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_4_order_6_D2::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_4_order_6_D2::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_4_order_6_D2::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_4_order_6_D2::potential, .npieces = 4},  // potential
+        {.pieces = detail_mollifier_M_4_order_6_D2::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_mollifier_M_4_order_6_D2::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_4_order_6_D2::potential_hess_radial, .npieces = 3},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -19,11 +19,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.743865c650975p-50, -0x1.2e68c715ffc2fp-47, 0x1.c59d2aa0ffa47p-47,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.d4a2fbd1b619p+8,  // -48243195/32768 * pi^-1
@@ -34,11 +34,11 @@ inline constexpr double dr_0_0_lo[] = {
     0x1.68f3f94e0dde7p-46, 0x1.5435dff8bfbb5p-43, -0x1.8ce9854cdfafep-43,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.d4a2fbd1b619p+8,  // -48243195/32768 * pi^-1
@@ -50,11 +50,11 @@ inline constexpr double d2r_0_0_lo[] = {
     0x1.68f3f94e0dde7p-46, -0x1.665c3623641a1p-41, 0x1.9a11fc5cf6484p-39, 0x1.09f6f139d6fbap-41,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.5f7a3cdd4892cp+10,  // -144729585/32768 * pi^-1
@@ -66,11 +66,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     0x1.0eb6fafa8a66ep-44, -0x1.a5a10b77ca34ap-42, -0x1.8423e0977b4a5p-40, -0x1.8be51307ee4b2p-39,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.d4a2fbd1b619p+8,  // -48243195/32768 * pi^-1
@@ -81,11 +81,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.68f3f94e0dde7p-46, 0x1.5435dff8bfbb5p-43, -0x1.8ce9854cdfafep-43,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.14292fd26fe1p+13,  // 227432205/8192 * pi^-1
@@ -96,11 +96,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     0x1.3f77c6a371983p-43, -0x1.37dc0d4eafc11p-39, 0x1.29af23f9a7c3fp-39,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, hess_radial_0_0, 3, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.cf516834918f5p-2,  // -419535572556954042253/295147905179352825856 * pi^-1
@@ -129,7 +129,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.3275cdc4b45e8p-55,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_0_0, 17, 0x1p-3, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 17, .centre = 0x1p-3, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.de5df57735b9p-3,  // -216581253121444462029/295147905179352825856 * pi^-1
@@ -158,7 +158,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.3275cdc4b45e8p-55,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_1_0, 17, 0x1.8p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 17, .centre = 0x1.8p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -185,8 +185,8 @@ inline constexpr double potential_2_1_lo[] = {
     0x1.1cd1f346d251cp-50, 0x1.84e28183ba56dp-57, 0x1.3275cdc4b45e8p-55,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -1, potential_2_1, 11, 0, 0, potential_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_2_1, .n = 11, .c_lo = potential_2_1_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -195,13 +195,13 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, potential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.8cbabccc9f932p+2,  // 1276275/65536 * pi^-1
@@ -218,7 +218,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.fd3fc30bfc701p-48, 0x1.5c681b812be65p-47, 0x1.16a7caca210d7p-50, -0x1.3275cdc4b45e8p-51,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dpotential_0_0, 8, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 8, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.c677d1b578b19p-1,  // 210699222483192201051921/75557863725914323419136 * pi^-1
@@ -245,7 +245,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.d7cd7da789c62p-49, -0x1.d17d51bfb6ed9p-49, -0x1.ddeb52b93b49ep-51, -0x1.3275cdc4b45e8p-51,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 16, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 16, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.84d49f4f6df8dp-1,  // 5501359595122929873/2305843009213693952 * pi^-1
@@ -272,7 +272,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.5a0b74112ff17p-48, -0x1.cfe1ee5c1a948p-50, -0x1.ddeb52b93b49ep-50, -0x1.3275cdc4b45e8p-51,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 16, 0x1.8p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 16, .centre = 0x1.8p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -300,8 +300,8 @@ inline constexpr double dpotential_3_1_lo[] = {
     0x1.40c30fce42fe7p-48, 0x1.09a5b4717659cp-51, 0x1.1a27a5ac78b92p-48, -0x1.3275cdc4b45e8p-51,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -2, dpotential_3_1, 12, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_3_1, .n = 12, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -310,14 +310,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.6042b70fd0b86p+2,  // 4983950552220598963/288230376151711744 * pi^-1
@@ -343,7 +343,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.399bfabfdb96ep-49, -0x1.84e28183ba56dp-55, -0x1.3275cdc4b45e8p-51,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_0_0, 15, 0x1p-3, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 15, .centre = 0x1p-3, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.03386a34f3fb3p+1,  // 1833786531707643291/288230376151711744 * pi^-1
@@ -369,7 +369,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.b08d7df39e41ep-48, 0x1.f6e2b0f6e9a1fp-48, -0x1.3275cdc4b45e8p-51,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 15, 0x1.8p-2, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 15, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -397,8 +397,8 @@ inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.40c30fce42fe7p-48, 0x1.09a5b4717659cp-51, 0x1.1a27a5ac78b92p-48, -0x1.3275cdc4b45e8p-51,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -3, dpotential_over_r_2_1, 12, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -3, .c = dpotential_over_r_2_1, .n = 12, .c_lo = dpotential_over_r_2_1_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -407,13 +407,13 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.51263d92e79f6p+6,  // -596268712786447707/2251799813685248 * pi^-1
@@ -437,7 +437,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     -0x1.84e28183ba56dp-52,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_0_0, 13, 0x1p-3, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 13, .centre = 0x1p-3, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.0bed8f4dd0033p+5,  // -236923268163229611/2251799813685248 * pi^-1
@@ -461,7 +461,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.84e28183ba56dp-52,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_1_0, 13, 0x1.8p-2, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 13, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -491,8 +491,8 @@ inline constexpr double potential_hess_radial_2_1_lo[] = {
     0x1.84e28183ba56dp-52,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -5, potential_hess_radial_2_1, 13, 0, 0, potential_hess_radial_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -5, .c = potential_hess_radial_2_1, .n = 13, .c_lo = potential_hess_radial_2_1_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -501,29 +501,36 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-2, potential_hess_radial_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, potential_hess_radial_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_5_order_6_D3
 inline constexpr table::Kernel mollifier_M_5_order_6_D3 = {
-    "mollifier:M=5,order=6", 3, 0x1p+0, 4, 6, 1,
-    0x1.650e76b82937ap+6, "2297295/8192 * pi^-1", true,
-    {
-        {detail_mollifier_M_5_order_6_D3::value, 2},
-        {detail_mollifier_M_5_order_6_D3::dr, 2},
-        {detail_mollifier_M_5_order_6_D3::d2r, 2},
-        {detail_mollifier_M_5_order_6_D3::laplacian, 2},
-        {detail_mollifier_M_5_order_6_D3::grad_over_r, 2},
-        {detail_mollifier_M_5_order_6_D3::hess_radial, 2},
-        {detail_mollifier_M_5_order_6_D3::potential, 4},
-        {detail_mollifier_M_5_order_6_D3::dpotential, 5},
-        {detail_mollifier_M_5_order_6_D3::dpotential_over_r, 4},
-        {detail_mollifier_M_5_order_6_D3::potential_hess_radial, 4},
+    .spec = "mollifier:M=5,order=6",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 4,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.650e76b82937ap+6,  // 2297295/8192 * pi^-1
+    .normalisation_exact = "2297295/8192 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_5_order_6_D3::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_5_order_6_D3::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_5_order_6_D3::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_5_order_6_D3::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_5_order_6_D3::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_5_order_6_D3::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_5_order_6_D3::potential, .npieces = 4},  // potential
+        {.pieces = detail_mollifier_M_5_order_6_D3::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_mollifier_M_5_order_6_D3::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_5_order_6_D3::potential_hess_radial, .npieces = 4},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -15,22 +15,22 @@ inline constexpr double value_0_0[] = {
     -0x1.2802d4p+4,  // -4849845/262144
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 2},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.3d279ap+6,  // -10392525/131072
     0x1.4d032e8p+8,  // 43648605/131072
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.3d279ap+6,  // -10392525/131072
@@ -38,11 +38,11 @@ inline constexpr double d2r_0_0[] = {
     -0x1.61d36168p+12,  // -742026285/131072
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 3, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_0_0, .n = 3},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.3d279ap+6,  // -10392525/131072
@@ -50,33 +50,33 @@ inline constexpr double laplacian_0_0[] = {
     -0x1.61d36168p+12,  // -742026285/131072
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 3, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_0_0, .n = 3},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.3d279ap+6,  // -10392525/131072
     0x1.4d032e8p+8,  // 43648605/131072
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.bc043ep+10,  // 14549535/8192
     -0x1.4d032e8p+12,  // -43648605/8192
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     0x1.68dap-5,  // 46189/1048576
@@ -92,7 +92,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.8ed6p-5,  // -51051/1048576
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-2, 0, 0, potential_0_0, 11, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 11},
 };
 inline constexpr double potential_1_0[] = {
     0x1.b8159f0127e91p-3,  // 272399085282394197128435412725/1267650600228229401496703205376
@@ -126,7 +126,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x0p+0,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_1_0, 21, 0x1.cp-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 21, .centre = 0x1.cp-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
@@ -145,20 +145,20 @@ inline constexpr double potential_2_1[] = {
     -0x1.8ed6p-5,  // -51051/1048576
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_2_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_2_1, 11, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_2_1, .n = 11},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_3_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8)
-    {0x1.8p-2, 0x1p-1, potential_1, 1},  // [3/8, 1/2), Taylor polynomial about 7/16
-    {0x1p-1, 0x1p+0, potential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.8p-2, .terms = potential_0, .nterms = 1},  // [0, 3/8)
+    {.lo = 0x1.8p-2, .hi = 0x1p-1, .terms = potential_1, .nterms = 1},  // [3/8, 1/2), Taylor polynomial about 7/16
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.524c6p+1,  // 692835/262144
@@ -173,7 +173,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.f28b8p-1,  // -255255/262144
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 1, dpotential_0_0, 10, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.155aeec9fb464p-1,  // 20465202020025875776659/37778931862957161709568
@@ -205,7 +205,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x0p+0, 0x0p+0, 0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 20, 0x1.8p-2, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 20, .centre = 0x1.8p-2, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
@@ -224,20 +224,20 @@ inline constexpr double dpotential_2_1[] = {
     0x1.f28b8p-1,  // 255255/262144
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_2_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, dpotential_2_1, 11, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_2_1, .n = 11},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_3_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.524c6p+1,  // 692835/262144
@@ -252,7 +252,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.f28b8p-1,  // -255255/262144
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, dpotential_over_r_0_0, 10, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.71ce93b7f9b3p+0,  // 6821734006675291925553/4722366482869645213696
@@ -283,7 +283,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x0p+0, 0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 19, 0x1.8p-2, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 19, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
@@ -302,20 +302,20 @@ inline constexpr double dpotential_over_r_2_1[] = {
     0x1.f28b8p-1,  // 255255/262144
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_2_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_over_r_2_1, 11, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_2_1, .n = 11},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_3_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.7ca2e162dafcfp+4,  // -877687439850777515983/36893488147419103232
@@ -344,7 +344,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x0p+0,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_0_0, 17, 0x1p-3, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 17, .centre = 0x1p-3, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.45ebfa0892fcp+3,  // -375762233545380041871/36893488147419103232
@@ -373,7 +373,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x0p+0,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_1_0, 17, 0x1.8p-2, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 17, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
@@ -393,36 +393,43 @@ inline constexpr double potential_hess_radial_2_1[] = {
     -0x1.186e78p+4,  // -2297295/131072
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_2_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -3, potential_hess_radial_2_1, 12, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_2_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -3, .c = potential_hess_radial_2_1, .n = 12},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_3_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-2, potential_hess_radial_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, potential_hess_radial_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_8_order_4_D1
 inline constexpr table::Kernel mollifier_M_8_order_4_D1 = {
-    "mollifier:M=8,order=4", 1, 0x1p+0, 7, 4, 1,
-    -0x1.fb729p+3, "-2078505/131072", true,
-    {
-        {detail_mollifier_M_8_order_4_D1::value, 2},
-        {detail_mollifier_M_8_order_4_D1::dr, 2},
-        {detail_mollifier_M_8_order_4_D1::d2r, 2},
-        {detail_mollifier_M_8_order_4_D1::laplacian, 2},
-        {detail_mollifier_M_8_order_4_D1::grad_over_r, 2},
-        {detail_mollifier_M_8_order_4_D1::hess_radial, 2},
-        {detail_mollifier_M_8_order_4_D1::potential, 4},
-        {detail_mollifier_M_8_order_4_D1::dpotential, 4},
-        {detail_mollifier_M_8_order_4_D1::dpotential_over_r, 4},
-        {detail_mollifier_M_8_order_4_D1::potential_hess_radial, 4},
+    .spec = "mollifier:M=8,order=4",
+    .dim = 1,
+    .support = 0x1p+0,
+    .smoothness = 7,
+    .order = 4,
+    .parity = 1,
+    .normalisation = -0x1.fb729p+3,  // -2078505/131072
+    .normalisation_exact = "-2078505/131072",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_8_order_4_D1::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_8_order_4_D1::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_8_order_4_D1::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_8_order_4_D1::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_8_order_4_D1::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_8_order_4_D1::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_8_order_4_D1::potential, .npieces = 4},  // potential
+        {.pieces = detail_mollifier_M_8_order_4_D1::dpotential, .npieces = 4},  // dpotential
+        {.pieces = detail_mollifier_M_8_order_4_D1::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_8_order_4_D1::potential_hess_radial, .npieces = 4},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

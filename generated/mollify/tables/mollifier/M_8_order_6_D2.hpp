@@ -19,11 +19,11 @@ inline constexpr double value_0_0_lo[] = {
     -0x1.1659fbb6b7bd9p-51, -0x1.79e419b7b18eap-50, 0x1.ddd6e37b8ab6p-46,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.a42b46d861c78p+8,  // -1320 * pi^-1
@@ -34,11 +34,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.a40f855b9a531p-46, 0x1.a40f855b9a531p-43, 0x1.5566c74b25391p-43,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.a42b46d861c78p+8,  // -1320 * pi^-1
@@ -50,11 +50,11 @@ inline constexpr double d2r_0_0_lo[] = {
     -0x1.a40f855b9a531p-46, 0x1.7ff97543d20aap-40, 0x1.d62fd04b13d4dp-38, 0x1.6a95f356c3cc4p-39,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.a42b46d861c78p+9,  // -2640 * pi^-1
@@ -66,11 +66,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     -0x1.a40f855b9a531p-45, 0x1.3b0ba404b3be5p-40, -0x1.ac4575a56fd4p-38, 0x1.2a9fc37108bc5p-38,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.a42b46d861c78p+8,  // -1320 * pi^-1
@@ -81,11 +81,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.a40f855b9a531p-46, 0x1.a40f855b9a531p-43, 0x1.5566c74b25391p-43,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.89e8926adbab1p+13,  // 39600 * pi^-1
@@ -96,11 +96,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.d8c5cbe87d489p-43, 0x1.58a5163b977dap-38, 0x1.ffb17f2dd87f4p-41,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, hess_radial_0_0, 3, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.70500fc5a53fcp-2,  // -125291/110880 * pi^-1
@@ -122,7 +122,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.58a5163b977dap-48, -0x1.b4586651239a4p-54, -0x1.9a9d04b702af8p-52, 0x1.be3e4b9e3169cp-55,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-3, 0, 0, potential_0_0, 12, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 12, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.ba18336a02ca3p-3,  // -6100533606866068821254970360479298899/8995654307411588866429084890373816320 * pi^-1
@@ -158,7 +158,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.c47c56df90856p-53, 0x1.0490b9f168df3p-54, 0x1.be3e4b9e3169cp-55,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_1_0, 23, 0x1.2p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 23, .centre = 0x1.2p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -227,17 +227,17 @@ inline constexpr double potential_2_10_lo[] = {
     -0x1.be3e4b9e3169cp-55,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_2_1, 1, 0, 0, potential_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_2_2, 1, 0, 0, potential_2_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_2_3, 1, 0, 0, potential_2_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_2_4, 1, 0, 0, potential_2_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_2_5, 1, 0, 0, potential_2_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_2_6, 1, 0, 0, potential_2_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_2_7, 1, 0, 0, potential_2_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_2_8, 1, 0, 0, potential_2_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, 0, potential_2_9, 1, 0, 0, potential_2_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 11, 0, potential_2_10, 1, 0, 0, potential_2_10_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_2_1, .n = 1, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_2_2, .n = 1, .c_lo = potential_2_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_2_3, .n = 1, .c_lo = potential_2_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_2_4, .n = 1, .c_lo = potential_2_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_2_5, .n = 1, .c_lo = potential_2_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_2_6, .n = 1, .c_lo = potential_2_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_2_7, .n = 1, .c_lo = potential_2_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_2_8, .n = 1, .c_lo = potential_2_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_2_9, .n = 1, .c_lo = potential_2_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_2_10, .n = 1, .c_lo = potential_2_10_lo},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -246,13 +246,13 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.8p-3, potential_0, 1},  // [0, 3/16)
-    {0x1.8p-3, 0x1.8p-2, potential_1, 1},  // [3/16, 3/8), Taylor polynomial about 9/32
-    {0x1.8p-2, 0x1p+0, potential_2, 11},  // [3/8, 1), Taylor polynomial at the edge
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.8p-3, .terms = potential_0, .nterms = 1},  // [0, 3/16)
+    {.lo = 0x1.8p-3, .hi = 0x1.8p-2, .terms = potential_1, .nterms = 1},  // [3/16, 3/8), Taylor polynomial about 9/32
+    {.lo = 0x1.8p-2, .hi = 0x1p+0, .terms = potential_2, .nterms = 11},  // [3/8, 1), Taylor polynomial at the edge
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.50229f13816c7p+2,  // 33/2 * pi^-1
@@ -273,7 +273,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.eae3731b480d9p-50, -0x1.014445e4c35b6p-48, 0x1.cb2b4ff307e2ep-52,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dpotential_0_0, 11, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 11, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.63085f7b0f14bp-1,  // 42137417108375777774309445/19342813113834066795298816 * pi^-1
@@ -308,7 +308,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.0e00aea6621e6p-49, 0x1.cb2b4ff307e2ep-52,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 22, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 22, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.078c4d3e53eedp-1,  // 14915212724370820869/9223372036854775808 * pi^-1
@@ -343,7 +343,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.0e00aea6621e6p-48, 0x1.cb2b4ff307e2ep-52,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 22, 0x1.8p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 22, .centre = 0x1.8p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -360,8 +360,8 @@ inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.041713f11440cp-56, -0x1.cb2b4ff307e2ep-52,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -1, dpotential_3_1, 3, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -370,14 +370,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.1f87df717515dp+2,  // 16272487274528910695/1152921504606846976 * pi^-1
@@ -411,7 +411,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.cb2b4ff307e2ep-52,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_0_0, 21, 0x1p-3, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 21, .centre = 0x1p-3, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.5f65bc531a93cp+0,  // 4971737574790273623/1152921504606846976 * pi^-1
@@ -445,7 +445,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.cb2b4ff307e2ep-52,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 21, 0x1.8p-2, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 21, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -462,8 +462,8 @@ inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.041713f11440cp-56, -0x1.cb2b4ff307e2ep-52,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -2, dpotential_over_r_2_1, 3, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -472,13 +472,13 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.66f338bc97487p+6,  // -1269649119372015517/4503599627370496 * pi^-1
@@ -509,7 +509,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     -0x1.5a2ac7c2c7ddbp-44, -0x1.74962f2479d2p-48, 0x1.efb11f7e4edc7p-51,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_0_0, 19, 0x1p-3, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 19, .centre = 0x1p-3, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.75fb544694dc2p+4,  // -330704480954385861/4503599627370496 * pi^-1
@@ -540,7 +540,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.bfcade63aed57p-45, 0x1.ba23d7292928ap-44, 0x1.efb11f7e4edc7p-51,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_1_0, 19, 0x1.8p-2, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 19, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -558,8 +558,8 @@ inline constexpr double potential_hess_radial_2_1_lo[] = {
     -0x1.6b01ec5417056p-56, -0x1.6b01ec5417056p-53, -0x1.38de54bb6c7e7p-51, 0x1.efb11f7e4edc7p-51,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, -4, potential_hess_radial_2_1, 4, 0, 0, potential_hess_radial_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_2_1, .n = 4, .c_lo = potential_hess_radial_2_1_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -568,29 +568,36 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-2, potential_hess_radial_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, potential_hess_radial_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_8_order_6_D2
 inline constexpr table::Kernel mollifier_M_8_order_6_D2 = {
-    "mollifier:M=8,order=6", 2, 0x1p+0, 7, 6, 1,
-    0x1.3b2075224955ap+7, "495 * pi^-1", true,
-    {
-        {detail_mollifier_M_8_order_6_D2::value, 2},
-        {detail_mollifier_M_8_order_6_D2::dr, 2},
-        {detail_mollifier_M_8_order_6_D2::d2r, 2},
-        {detail_mollifier_M_8_order_6_D2::laplacian, 2},
-        {detail_mollifier_M_8_order_6_D2::grad_over_r, 2},
-        {detail_mollifier_M_8_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_8_order_6_D2::potential, 4},
-        {detail_mollifier_M_8_order_6_D2::dpotential, 5},
-        {detail_mollifier_M_8_order_6_D2::dpotential_over_r, 4},
-        {detail_mollifier_M_8_order_6_D2::potential_hess_radial, 4},
+    .spec = "mollifier:M=8,order=6",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 7,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.3b2075224955ap+7,  // 495 * pi^-1
+    .normalisation_exact = "495 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_8_order_6_D2::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_8_order_6_D2::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_8_order_6_D2::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_8_order_6_D2::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_8_order_6_D2::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_8_order_6_D2::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_8_order_6_D2::potential, .npieces = 4},  // potential
+        {.pieces = detail_mollifier_M_8_order_6_D2::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_mollifier_M_8_order_6_D2::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_8_order_6_D2::potential_hess_radial, .npieces = 4},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -14,63 +14,63 @@ inline constexpr double value_0_0[] = {
     0x1.c3108p+0,  // 230945/131072
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_0_0, .n = 1},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.fb729p+4,  // -2078505/65536
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 1},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.fb729p+4,  // -2078505/65536
     0x1.0d94dc8p+9,  // 35334585/65536
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = d2r_0_0, .n = 2},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.fb729p+4,  // -2078505/65536
     0x1.0d94dc8p+9,  // 35334585/65536
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 2, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = laplacian_0_0, .n = 2},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.fb729p+4,  // -2078505/65536
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 1},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.fb729p+8,  // 2078505/4096
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 1},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     0x1.68dap-4,  // 46189/524288
@@ -86,7 +86,7 @@ inline constexpr double potential_0_0[] = {
     -0x1.2fep-8,  // -2431/524288
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-1, 0, 0, potential_0_0, 11, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 11},
 };
 inline constexpr double potential_1_0[] = {
     0x1p-1,  // 1/2
@@ -104,19 +104,19 @@ inline constexpr double potential_1_1[] = {
     0x1.2fep-8,  // 2431/524288
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_1_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_1_1, 10, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_1_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_1_1, .n = 10},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_2_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2)
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_0, .nterms = 1},  // [0, 1/2)
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_1, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.c3108p+0,  // 230945/131072
@@ -131,7 +131,7 @@ inline constexpr double dpotential_0_0[] = {
     -0x1.7bd8p-4,  // -12155/131072
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 1, dpotential_0_0, 10, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 10},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.d43986b9e725ap-2,  // 8637221431405530661767/18889465931478580854784
@@ -163,7 +163,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x0p+0, 0x0p+0, 0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 20, 0x1.8p-2, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 20, .centre = 0x1.8p-2, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
@@ -181,20 +181,20 @@ inline constexpr double dpotential_2_1[] = {
     -0x1.7bd8p-4,  // -12155/131072
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_2_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, dpotential_2_1, 10, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = dpotential_2_1, .n = 10},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_3_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.c3108p+0,  // 230945/131072
@@ -209,7 +209,7 @@ inline constexpr double dpotential_over_r_0_0[] = {
     -0x1.7bd8p-4,  // -12155/131072
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, dpotential_over_r_0_0, 10, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 10},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.382659d144c3cp+0,  // 2879073810468510220589/2361183241434822606848
@@ -240,7 +240,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x0p+0, 0x0p+0, 0x0p+0,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 19, 0x1.8p-2, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 19, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
@@ -258,20 +258,20 @@ inline constexpr double dpotential_over_r_2_1[] = {
     -0x1.7bd8p-4,  // -12155/131072
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_2_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -1, dpotential_over_r_2_1, 10, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_over_r_2_1, .n = 10},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_3_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.524c6p+3,  // -692835/65536
@@ -285,7 +285,7 @@ inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.ab53p+0,  // -109395/65536
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, potential_hess_radial_0_0, 9, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 9},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.5dee0ab18525bp+2,  // -100860412485013263123/18446744073709551616
@@ -314,7 +314,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x0p+0,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_1_0, 17, 0x1.8p-2, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 17, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2
@@ -333,36 +333,43 @@ inline constexpr double potential_hess_radial_2_1[] = {
     0x1.ab53p+0,  // 109395/65536
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_2_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -3, potential_hess_radial_2_1, 11, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_2_0, .n = 1},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -3, .c = potential_hess_radial_2_1, .n = 11},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_3_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-2, potential_hess_radial_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, potential_hess_radial_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_9_D1
 inline constexpr table::Kernel mollifier_M_9_D1 = {
-    "mollifier:M=9", 1, 0x1p+0, 8, 2, 1,
-    0x1.c3108p+0, "230945/131072", true,
-    {
-        {detail_mollifier_M_9_D1::value, 2},
-        {detail_mollifier_M_9_D1::dr, 2},
-        {detail_mollifier_M_9_D1::d2r, 2},
-        {detail_mollifier_M_9_D1::laplacian, 2},
-        {detail_mollifier_M_9_D1::grad_over_r, 2},
-        {detail_mollifier_M_9_D1::hess_radial, 2},
-        {detail_mollifier_M_9_D1::potential, 3},
-        {detail_mollifier_M_9_D1::dpotential, 4},
-        {detail_mollifier_M_9_D1::dpotential_over_r, 4},
-        {detail_mollifier_M_9_D1::potential_hess_radial, 4},
+    .spec = "mollifier:M=9",
+    .dim = 1,
+    .support = 0x1p+0,
+    .smoothness = 8,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.c3108p+0,  // 230945/131072
+    .normalisation_exact = "230945/131072",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_9_D1::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_9_D1::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_9_D1::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_9_D1::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_9_D1::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_9_D1::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_9_D1::potential, .npieces = 3},  // potential
+        {.pieces = detail_mollifier_M_9_D1::dpotential, .npieces = 4},  // dpotential
+        {.pieces = detail_mollifier_M_9_D1::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_9_D1::potential_hess_radial, .npieces = 4},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -19,11 +19,11 @@ inline constexpr double value_0_0_lo[] = {
     -0x1.86229de99e612p-55, -0x1.ac303dfb22f51p-47, 0x1.48e2f2fa53734p-46,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.f833ee9d4222ap+8,  // -1584 * pi^-1
@@ -34,11 +34,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.79e419b7b18eap-48, 0x1.ddd6e37b8ab6p-42, 0x1.bbc7f1e7cd419p-42,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.f833ee9d4222ap+8,  // -1584 * pi^-1
@@ -50,11 +50,11 @@ inline constexpr double d2r_0_0_lo[] = {
     -0x1.79e419b7b18eap-48, 0x1.1f795051dad2fp-40, 0x1.d33f4d75bb6c6p-38, -0x1.433b36c01eb3p-37,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.f833ee9d4222ap+9,  // -3168 * pi^-1
@@ -66,11 +66,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     -0x1.79e419b7b18eap-47, 0x1.3868ed4a7532p-40, -0x1.9770d0d1c0357p-37, -0x1.e232ec9eba3a2p-38,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.f833ee9d4222ap+8,  // -1584 * pi^-1
@@ -81,11 +81,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.79e419b7b18eap-48, 0x1.ddd6e37b8ab6p-42, 0x1.bbc7f1e7cd419p-42,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.069b0c473d1cbp+14,  // 52800 * pi^-1
@@ -96,11 +96,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     0x1.0689b3594073ep-40, -0x1.2a9fc37108bc5p-38, -0x1.955cf730e048fp-37,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, hess_radial_0_0, 3, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.771a753f932d4p-2,  // -127601/110880 * pi^-1
@@ -124,7 +124,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.f819d2afb5d27p-55,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1.8p-3, 0, 0, potential_0_0, 13, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 13, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.b7311a1998552p-3,  // -49647438794106271284288805589641212070993/73692400086315735993787063421942303293440 * pi^-1
@@ -163,7 +163,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.f819d2afb5d27p-55,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_1_0, 25, 0x1.2p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 25, .centre = 0x1.2p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -238,18 +238,18 @@ inline constexpr double potential_2_11_lo[] = {
     0x1.f819d2afb5d27p-55,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_2_1, 1, 0, 0, potential_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_2_2, 1, 0, 0, potential_2_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_2_3, 1, 0, 0, potential_2_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_2_4, 1, 0, 0, potential_2_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_2_5, 1, 0, 0, potential_2_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_2_6, 1, 0, 0, potential_2_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_2_7, 1, 0, 0, potential_2_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_2_8, 1, 0, 0, potential_2_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, 0, potential_2_9, 1, 0, 0, potential_2_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 11, 0, potential_2_10, 1, 0, 0, potential_2_10_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 12, 0, potential_2_11, 1, 0, 0, potential_2_11_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_2_1, .n = 1, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_2_2, .n = 1, .c_lo = potential_2_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_2_3, .n = 1, .c_lo = potential_2_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_2_4, .n = 1, .c_lo = potential_2_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_2_5, .n = 1, .c_lo = potential_2_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_2_6, .n = 1, .c_lo = potential_2_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_2_7, .n = 1, .c_lo = potential_2_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_2_8, .n = 1, .c_lo = potential_2_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_2_9, .n = 1, .c_lo = potential_2_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_2_10, .n = 1, .c_lo = potential_2_10_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_2_11, .n = 1, .c_lo = potential_2_11_lo},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -258,13 +258,13 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.8p-3, potential_0, 1},  // [0, 3/16)
-    {0x1.8p-3, 0x1.8p-2, potential_1, 1},  // [3/16, 3/8), Taylor polynomial about 9/32
-    {0x1.8p-2, 0x1p+0, potential_2, 12},  // [3/8, 1), Taylor polynomial at the edge
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.8p-3, .terms = potential_0, .nterms = 1},  // [0, 3/16)
+    {.lo = 0x1.8p-3, .hi = 0x1.8p-2, .terms = potential_1, .nterms = 1},  // [3/16, 3/8), Taylor polynomial about 9/32
+    {.lo = 0x1.8p-2, .hi = 0x1p+0, .terms = potential_2, .nterms = 12},  // [3/8, 1), Taylor polynomial at the edge
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.6eb167b830193p+2,  // 18 * pi^-1
@@ -286,7 +286,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.eae3731b480d9p-48, 0x1.f8665ca36bdbfp-48, 0x1.ac303dfb22f51p-47, 0x1.e84d780f21776p-52,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dpotential_0_0, 12, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 12, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.764ff1d9d367ep-1,  // 22745924245057854064712607063/9903520314283042199192993792 * pi^-1
@@ -323,7 +323,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.0ec31a7602a1p-46, 0x1.1b503310bcd33p-50, 0x1.ce7385705014bp-50, 0x1.e84d780f21776p-52,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 24, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 24, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.0232bfce21856p-1,  // 1870393068915236555607/1180591620717411303424 * pi^-1
@@ -360,7 +360,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.f0255fad43ee2p-47, 0x1.c48bafcb7ac53p-46, 0x1.ce7385705014bp-49, 0x1.e84d780f21776p-52,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 24, 0x1.8p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 24, .centre = 0x1.8p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -377,8 +377,8 @@ inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.321cdff75a974p-53, 0x1.e84d780f21776p-52,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, -1, dpotential_3_1, 3, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -387,14 +387,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.34dc247f1c677p+2,  // 2237387356451886901669/147573952589676412928 * pi^-1
@@ -430,7 +430,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.25780a3450493p-48, 0x1.27daa1453381p-49, 0x1.e84d780f21776p-52,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_0_0, 23, 0x1p-3, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 23, .centre = 0x1p-3, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.5843aa682cb1dp+0,  // 623464356305078851869/147573952589676412928 * pi^-1
@@ -466,7 +466,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.450f0ee24078fp-46, 0x1.bbc7f1e7cd419p-48, 0x1.e84d780f21776p-52,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 23, 0x1.8p-2, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 23, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -483,8 +483,8 @@ inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.321cdff75a974p-53, 0x1.e84d780f21776p-52,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, -2, dpotential_over_r_2_1, 3, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -493,13 +493,13 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.a7473eda249d5p+6,  // -383279532705650909161/1152921504606846976 * pi^-1
@@ -533,7 +533,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.27daa1453381p-46,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_0_0, 21, 0x1p-3, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 21, .centre = 0x1p-3, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.7e1956984a07fp+4,  // -86497888391332546041/1152921504606846976 * pi^-1
@@ -567,7 +567,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.27daa1453381p-46,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_1_0, 21, 0x1.8p-2, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 21, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -585,8 +585,8 @@ inline constexpr double potential_hess_radial_2_1_lo[] = {
     -0x1.6b01ec5417056p-56, -0x1.86229de99e612p-57, -0x1.0490b9f168df3p-49, -0x1.27daa1453381p-46,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, -4, potential_hess_radial_2_1, 4, 0, 0, potential_hess_radial_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -4, .c = potential_hess_radial_2_1, .n = 4, .c_lo = potential_hess_radial_2_1_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -595,29 +595,36 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-2, potential_hess_radial_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, potential_hess_radial_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_mollifier_M_9_order_6_D2
 inline constexpr table::Kernel mollifier_M_9_order_6_D2 = {
-    "mollifier:M=9,order=6", 2, 0x1p+0, 8, 6, 1,
-    0x1.a42b46d861c78p+7, "660 * pi^-1", true,
-    {
-        {detail_mollifier_M_9_order_6_D2::value, 2},
-        {detail_mollifier_M_9_order_6_D2::dr, 2},
-        {detail_mollifier_M_9_order_6_D2::d2r, 2},
-        {detail_mollifier_M_9_order_6_D2::laplacian, 2},
-        {detail_mollifier_M_9_order_6_D2::grad_over_r, 2},
-        {detail_mollifier_M_9_order_6_D2::hess_radial, 2},
-        {detail_mollifier_M_9_order_6_D2::potential, 4},
-        {detail_mollifier_M_9_order_6_D2::dpotential, 5},
-        {detail_mollifier_M_9_order_6_D2::dpotential_over_r, 4},
-        {detail_mollifier_M_9_order_6_D2::potential_hess_radial, 4},
+    .spec = "mollifier:M=9,order=6",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 8,
+    .order = 6,
+    .parity = 1,
+    .normalisation = 0x1.a42b46d861c78p+7,  // 660 * pi^-1
+    .normalisation_exact = "660 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_mollifier_M_9_order_6_D2::value, .npieces = 2},  // value
+        {.pieces = detail_mollifier_M_9_order_6_D2::dr, .npieces = 2},  // dr
+        {.pieces = detail_mollifier_M_9_order_6_D2::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_mollifier_M_9_order_6_D2::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_mollifier_M_9_order_6_D2::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_mollifier_M_9_order_6_D2::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_mollifier_M_9_order_6_D2::potential, .npieces = 4},  // potential
+        {.pieces = detail_mollifier_M_9_order_6_D2::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_mollifier_M_9_order_6_D2::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_mollifier_M_9_order_6_D2::potential_hess_radial, .npieces = 4},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

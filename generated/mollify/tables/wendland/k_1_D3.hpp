@@ -18,11 +18,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.e38d79d1a1c8fp-53, 0x1.e38d79d1a1c8fp-51,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, value_0_0, 2, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.0b615ba0f867bp+6,  // -210 * pi^-1
@@ -31,11 +31,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.5c70d8460a3b2p-49,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 1, dr_0_0, 1, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 1, .c = dr_0_0, .n = 1, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.0b615ba0f867bp+6,  // -210 * pi^-1
@@ -45,11 +45,11 @@ inline constexpr double d2r_0_0_lo[] = {
     -0x1.5c70d8460a3b2p-49, 0x1.5c70d8460a3b2p-47,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, d2r_0_0, 2, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = d2r_0_0, .n = 2, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.91120971749b9p+7,  // -630 * pi^-1
@@ -59,11 +59,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     0x1.f556bb96f0a74p-48, -0x1.f556bb96f0a74p-47,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, laplacian_0_0, 2, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = laplacian_0_0, .n = 2, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.0b615ba0f867bp+6,  // -210 * pi^-1
@@ -72,11 +72,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.5c70d8460a3b2p-49,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, grad_over_r_0_0, 1, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = grad_over_r_0_0, .n = 1, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.91120971749b9p+7,  // 630 * pi^-1
@@ -85,11 +85,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.f556bb96f0a74p-48,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, -1, hess_radial_0_0, 1, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -1, .c = hess_radial_0_0, .n = 1, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.ab1a2c33bf13ep-3,  // -42937/65536 * pi^-1
@@ -106,7 +106,7 @@ inline constexpr double potential_0_0_lo[] = {
     0x1.6641ee169756fp-59, 0x1.ef0eecd3335e9p-57, -0x1.cb2b4ff307e2ep-56, -0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_0_0, 8, 0x1p-2, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 8, .centre = 0x1p-2, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -123,8 +123,8 @@ inline constexpr double potential_1_1_lo[] = {
     -0x1.6b01ec5417056p-58, -0x1.041713f11440cp-60, -0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_1_0, 1, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, potential_1_1, 3, 0, 0, potential_1_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -133,12 +133,12 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-1, potential_0, 1},  // [0, 1/2), Taylor polynomial about 1/4
-    {0x1p-1, 0x1p+0, potential_1, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-1, .terms = potential_0, .nterms = 1},  // [0, 1/2), Taylor polynomial about 1/4
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_1, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.1d34a60108f72p+0,  // 7/2 * pi^-1
@@ -153,7 +153,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.1e7ab456405f9p-52, 0x1.e38d79d1a1c8fp-54,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 1, dpotential_0_0, 6, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 6, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.6a84792aaae4bp-3,  // 37318893/67108864 * pi^-1
@@ -169,7 +169,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.e0c14517b2edfp-52, -0x1.f9858166ca1fep-52, 0x1.e38d79d1a1c8fp-54,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 7, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 7, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.e5a3b9821775fp-3,  // 781149/1048576 * pi^-1
@@ -185,7 +185,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.bdd0f315aaf3fp-57, 0x1.dcf491b856c13p-53, 0x1.e38d79d1a1c8fp-54,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 7, 0x1.8p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 7, .centre = 0x1.8p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -203,8 +203,8 @@ inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-58, -0x1.3a3d9896e3394p-56, -0x1.ebae32712a6afp-54, -0x1.e38d79d1a1c8fp-54,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -2, dpotential_3_1, 4, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_3_1, .n = 4, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -213,14 +213,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.079a7ddc7dc0ep+0,  // 424005/131072 * pi^-1
@@ -235,7 +235,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.28233d7c069bfp-54, 0x1.e38d79d1a1c8fp-54,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_0_0, 6, 0x1p-3, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 6, .centre = 0x1p-3, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.43c27bac0fa4p-1,  // 260383/131072 * pi^-1
@@ -250,7 +250,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.5edafa8f7bca4p-52, 0x1.e38d79d1a1c8fp-54,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 6, 0x1.8p-2, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 6, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -268,8 +268,8 @@ inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-58, -0x1.3a3d9896e3394p-56, -0x1.ebae32712a6afp-54, -0x1.e38d79d1a1c8fp-54,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, -3, dpotential_over_r_2_1, 4, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_2_1, .n = 4, .c_lo = dpotential_over_r_2_1_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -278,13 +278,13 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.abcef9018d72bp+3,  // -42 * pi^-1
@@ -296,7 +296,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     -0x1.e38d79d1a1c8fp-51, 0x1.5c70d8460a3b2p-50, 0x1.1e7ab456405f9p-50, 0x1.5c70d8460a3b2p-52,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 0, potential_hess_radial_0_0, 4, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 4, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.01bd579be3bcp+3,  // -414573/16384 * pi^-1
@@ -308,7 +308,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.b2a7772d2dacap-51, -0x1.e789532e26df9p-53, -0x1.4215b4ff98c06p-52, 0x1.5c70d8460a3b2p-52,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_1_0, 4, 0x1.8p-3, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 4, .centre = 0x1.8p-3, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.1b1b5763b94d2p+2,  // -28461/2048 * pi^-1
@@ -320,7 +320,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.b626933c030d9p-53, 0x1.006632b0ecb8ap-53, -0x1.bf858ed60cbfcp-50, 0x1.5c70d8460a3b2p-52,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_2_0, 4, 0x1.8p-2, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 4, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.a16c72d19616p+0,  // -10491/2048 * pi^-1
@@ -332,7 +332,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     -0x1.e9f20c097d257p-57, 0x1.c27d24397ec7dp-52, -0x1.fc60cc91d5a96p-51, 0x1.5c70d8460a3b2p-52,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, potential_hess_radial_3_0, 4, 0x1.4p-1, 0x0p+0, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 4, .centre = 0x1.4p-1, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -352,8 +352,8 @@ inline constexpr double potential_hess_radial_4_1_lo[] = {
     0x1.5c70d8460a3b2p-52,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_4_0, 1, 0, 0, potential_hess_radial_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, -5, potential_hess_radial_4_1, 5, 0, 0, potential_hess_radial_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -5, .c = potential_hess_radial_4_1, .n = 5, .c_lo = potential_hess_radial_4_1_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -362,31 +362,38 @@ inline constexpr double potential_hess_radial_5_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-3, potential_hess_radial_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, potential_hess_radial_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, potential_hess_radial_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1.8p-1, potential_hess_radial_3, 1},  // [1/2, 3/4), Taylor polynomial about 5/8
-    {0x1.8p-1, 0x1p+0, potential_hess_radial_4, 2},  // [3/4, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_hess_radial_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1.8p-1, .terms = potential_hess_radial_3, .nterms = 1},  // [1/2, 3/4), Taylor polynomial about 5/8
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = potential_hess_radial_4, .nterms = 2},  // [3/4, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_5, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_k_1_D3
 inline constexpr table::Kernel wendland_k_1_D3 = {
-    "wendland:k=1", 3, 0x1p+0, 3, 2, 1,
-    0x1.0b615ba0f867bp+6, "210 * pi^-1", true,
-    {
-        {detail_wendland_k_1_D3::value, 2},
-        {detail_wendland_k_1_D3::dr, 2},
-        {detail_wendland_k_1_D3::d2r, 2},
-        {detail_wendland_k_1_D3::laplacian, 2},
-        {detail_wendland_k_1_D3::grad_over_r, 2},
-        {detail_wendland_k_1_D3::hess_radial, 2},
-        {detail_wendland_k_1_D3::potential, 3},
-        {detail_wendland_k_1_D3::dpotential, 5},
-        {detail_wendland_k_1_D3::dpotential_over_r, 4},
-        {detail_wendland_k_1_D3::potential_hess_radial, 6},
+    .spec = "wendland:k=1",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 3,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.0b615ba0f867bp+6,  // 210 * pi^-1
+    .normalisation_exact = "210 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_k_1_D3::value, .npieces = 2},  // value
+        {.pieces = detail_wendland_k_1_D3::dr, .npieces = 2},  // dr
+        {.pieces = detail_wendland_k_1_D3::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_wendland_k_1_D3::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_wendland_k_1_D3::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_wendland_k_1_D3::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_wendland_k_1_D3::potential, .npieces = 3},  // potential
+        {.pieces = detail_wendland_k_1_D3::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_wendland_k_1_D3::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_wendland_k_1_D3::potential_hess_radial, .npieces = 6},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -18,11 +18,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.006e5efd2cf93p-55, 0x1.006e5efd2cf93p-52,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, value_0_0, 2, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.a42b46d861c78p+8,  // -1320 * pi^-1
@@ -31,11 +31,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.a40f855b9a531p-46,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 1, dr_0_0, 1, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 1, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.a42b46d861c78p+8,  // -1320 * pi^-1
@@ -45,11 +45,11 @@ inline constexpr double d2r_0_0_lo[] = {
     -0x1.a40f855b9a531p-46, 0x1.a40f855b9a531p-43,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, d2r_0_0, 2, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_0_0, .n = 2, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.a42b46d861c78p+9,  // -2640 * pi^-1
@@ -59,11 +59,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     -0x1.a40f855b9a531p-45, 0x1.d89176070d9d7p-43,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, laplacian_0_0, 2, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_0_0, .n = 2, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.a42b46d861c78p+8,  // -1320 * pi^-1
@@ -72,11 +72,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.a40f855b9a531p-46,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, grad_over_r_0_0, 1, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 1, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.6fa5ddfd558e9p+11,  // 9240 * pi^-1
@@ -85,11 +85,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     0x1.6f8d94b02708bp-43,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -1, hess_radial_0_0, 1, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = hess_radial_0_0, .n = 1, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.fb94c4492e99ep-3,  // -1655352314329/2126008811520 * pi^-1
@@ -111,7 +111,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.ebc36a1b7749ep-50, -0x1.434ca211ef88bp-51, 0x1.0dbb26dc927b3p-54, -0x1.b80254c304a1bp-56,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_0_0, 12, 0x1p-3, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 12, .centre = 0x1p-3, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
@@ -180,17 +180,17 @@ inline constexpr double potential_1_10_lo[] = {
     0x1.b80254c304a1bp-56,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_1_0, 1, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_1_1, 1, 0, 0, potential_1_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_1_2, 1, 0, 0, potential_1_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_1_3, 1, 0, 0, potential_1_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_4, 1, 0, 0, potential_1_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_1_5, 1, 0, 0, potential_1_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_1_6, 1, 0, 0, potential_1_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_1_7, 1, 0, 0, potential_1_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_1_8, 1, 0, 0, potential_1_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_1_9, 1, 0, 0, potential_1_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_1_10, 1, 0, 0, potential_1_10_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_1_1, .n = 1, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_1_2, .n = 1, .c_lo = potential_1_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_1_3, .n = 1, .c_lo = potential_1_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_1_4, .n = 1, .c_lo = potential_1_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_1_5, .n = 1, .c_lo = potential_1_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_1_6, .n = 1, .c_lo = potential_1_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_1_7, .n = 1, .c_lo = potential_1_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_1_8, .n = 1, .c_lo = potential_1_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_1_9, .n = 1, .c_lo = potential_1_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_1_10, .n = 1, .c_lo = potential_1_10_lo},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -199,12 +199,12 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p+0, potential_1, 11},  // [1/4, 1), Taylor polynomial at the edge
-    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p+0, .terms = potential_1, .nterms = 11},  // [1/4, 1), Taylor polynomial at the edge
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.757bcd321e06bp+1,  // 55/6 * pi^-1
@@ -224,7 +224,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.ce3af0ff83178p-51, 0x1.a2fccb73d9a1bp-53,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 1, dpotential_0_0, 10, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 10, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.7ef92cfa32272p-2,  // 80741777357/68719476736 * pi^-1
@@ -245,7 +245,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.60cbf01450501p-48, 0x1.0950b82ee88dap-50, 0x1.a2fccb73d9a1bp-53,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 11, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 11, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.7f36ee40669d4p-2,  // 315596233/268435456 * pi^-1
@@ -266,7 +266,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.5fe19a6e194c7p-49, 0x1.2b83f7de0f8f8p-50, 0x1.a2fccb73d9a1bp-53,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 11, 0x1.8p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 11, .centre = 0x1.8p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -283,8 +283,8 @@ inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.86229de99e612p-58, -0x1.a2fccb73d9a1bp-53,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_3_1, 3, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -293,14 +293,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.757bcd321e06bp+1,  // 55/6 * pi^-1
@@ -320,7 +320,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.ce3af0ff83178p-51, 0x1.a2fccb73d9a1bp-53,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 0, dpotential_over_r_0_0, 10, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 10, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.fea1914d98342p+0,  // 80741777357/12884901888 * pi^-1
@@ -340,7 +340,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.3efd96d462e7bp-51, 0x1.a2fccb73d9a1bp-53,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_1_0, 10, 0x1.8p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 10, .centre = 0x1.8p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.fef3e855de27p-1,  // 315596233/100663296 * pi^-1
@@ -360,7 +360,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.5f807952856fcp-52, 0x1.a2fccb73d9a1bp-53,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_2_0, 10, 0x1.8p-2, 0x0p+0, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 10, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -377,8 +377,8 @@ inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.86229de99e612p-58, -0x1.a2fccb73d9a1bp-53,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -2, dpotential_over_r_3_1, 3, 0, 0, dpotential_over_r_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -387,14 +387,14 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_over_r_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_over_r_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.602268b9db51ap+6,  // -1187840719457/4294967296 * pi^-1
@@ -411,7 +411,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.9f9479a9082bp-44, -0x1.92572d9bec6aap-45, -0x1.37fc02f83889ap-49, 0x1.ebae32712a6afp-49,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-4, 0, 0, potential_hess_radial_0_0, 8, 0x1p-5, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 8, .centre = 0x1p-5, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e9cb43e0908bcp+5,  // -826101121227/4294967296 * pi^-1
@@ -428,7 +428,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.0511c67dcce2p-47, 0x1.c95e3ef476c9dp-45, -0x1.5c1bf99cd6bf6p-46, 0x1.ebae32712a6afp-49,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_hess_radial_1_0, 8, 0x1.8p-4, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 8, .centre = 0x1.8p-4, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.1542233a9d54dp+5,  // -3653376339/33554432 * pi^-1
@@ -445,7 +445,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.ad8626cedab6fp-45, 0x1.4c84be5aa12a8p-46, 0x1.a872a10ce376dp-47, 0x1.ebae32712a6afp-49,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_2_0, 8, 0x1.8p-3, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 8, .centre = 0x1.8p-3, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.4a818b02d523ep+3,  // -8505879/262144 * pi^-1
@@ -462,7 +462,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     -0x1.444f0a6606055p-46, -0x1.4e5ad3a66d589p-46, -0x1.96383665fa9e1p-47, 0x1.ebae32712a6afp-49,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_3_0, 8, 0x1.8p-2, 0x0p+0, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 8, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -480,8 +480,8 @@ inline constexpr double potential_hess_radial_4_1_lo[] = {
     -0x1.6b01ec5417056p-56, -0x1.6b01ec5417056p-53, -0x1.86229de99e612p-55, 0x1.ebae32712a6afp-49,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_4_0, 1, 0, 0, potential_hess_radial_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -4, potential_hess_radial_4_1, 4, 0, 0, potential_hess_radial_4_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_4_1, .n = 4, .c_lo = potential_hess_radial_4_1_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -490,31 +490,38 @@ inline constexpr double potential_hess_radial_5_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-4, potential_hess_radial_0, 1},  // [0, 1/16), Taylor polynomial about 1/32
-    {0x1p-4, 0x1p-3, potential_hess_radial_1, 1},  // [1/16, 1/8), Taylor polynomial about 3/32
-    {0x1p-3, 0x1p-2, potential_hess_radial_2, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, potential_hess_radial_3, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_4, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/16), Taylor polynomial about 1/32
+    {.lo = 0x1p-4, .hi = 0x1p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/16, 1/8), Taylor polynomial about 3/32
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_3, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_4, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_5, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_k_1_l_4_D2
 inline constexpr table::Kernel wendland_k_1_l_4_D2 = {
-    "wendland:k=1,l=4", 2, 0x1p+0, 7, 2, 1,
-    0x1.a42b46d861c78p+8, "1320 * pi^-1", true,
-    {
-        {detail_wendland_k_1_l_4_D2::value, 2},
-        {detail_wendland_k_1_l_4_D2::dr, 2},
-        {detail_wendland_k_1_l_4_D2::d2r, 2},
-        {detail_wendland_k_1_l_4_D2::laplacian, 2},
-        {detail_wendland_k_1_l_4_D2::grad_over_r, 2},
-        {detail_wendland_k_1_l_4_D2::hess_radial, 2},
-        {detail_wendland_k_1_l_4_D2::potential, 3},
-        {detail_wendland_k_1_l_4_D2::dpotential, 5},
-        {detail_wendland_k_1_l_4_D2::dpotential_over_r, 5},
-        {detail_wendland_k_1_l_4_D2::potential_hess_radial, 6},
+    .spec = "wendland:k=1,l=4",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 7,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.a42b46d861c78p+8,  // 1320 * pi^-1
+    .normalisation_exact = "1320 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_k_1_l_4_D2::value, .npieces = 2},  // value
+        {.pieces = detail_wendland_k_1_l_4_D2::dr, .npieces = 2},  // dr
+        {.pieces = detail_wendland_k_1_l_4_D2::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_wendland_k_1_l_4_D2::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_wendland_k_1_l_4_D2::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_wendland_k_1_l_4_D2::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_wendland_k_1_l_4_D2::potential, .npieces = 3},  // potential
+        {.pieces = detail_wendland_k_1_l_4_D2::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_wendland_k_1_l_4_D2::dpotential_over_r, .npieces = 5},  // dpotential_over_r
+        {.pieces = detail_wendland_k_1_l_4_D2::potential_hess_radial, .npieces = 6},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

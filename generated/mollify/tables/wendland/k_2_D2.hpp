@@ -19,11 +19,11 @@ inline constexpr double value_0_0_lo[] = {
     -0x1.86229de99e612p-57, 0x1.db6cc1321926ep-51, 0x1.5c70d8460a3b2p-50,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.abcef9018d72bp+5,  // -168 * pi^-1
@@ -33,11 +33,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.e38d79d1a1c8fp-49, -0x1.5c70d8460a3b2p-47,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 1, dr_0_0, 2, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.abcef9018d72bp+5,  // -168 * pi^-1
@@ -48,11 +48,11 @@ inline constexpr double d2r_0_0_lo[] = {
     -0x1.e38d79d1a1c8fp-49, -0x1.e38d79d1a1c8fp-47, -0x1.cf1d42c2b70c4p-44,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, d2r_0_0, 3, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = d2r_0_0, .n = 3, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.abcef9018d72bp+6,  // -336 * pi^-1
@@ -63,11 +63,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     -0x1.e38d79d1a1c8fp-48, -0x1.e38d79d1a1c8fp-46, 0x1.5c70d8460a3b2p-44,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, laplacian_0_0, 3, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = laplacian_0_0, .n = 3, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.abcef9018d72bp+5,  // -168 * pi^-1
@@ -77,11 +77,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.e38d79d1a1c8fp-49, -0x1.5c70d8460a3b2p-47,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, grad_over_r_0_0, 2, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.91120971749b9p+10,  // 5040 * pi^-1
@@ -90,11 +90,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.f556bb96f0a74p-45,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, hess_radial_0_0, 1, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = hess_radial_0_0, .n = 1, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.9733a5fd89835p-3,  // -865366202480221/1385384650997760 * pi^-1
@@ -115,7 +115,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.494fdd4c901bap-55, -0x1.9aa787113a678p-54, -0x1.b05b9e8b7e927p-56,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_0_0, 11, 0x1.8p-3, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 11, .centre = 0x1.8p-3, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
@@ -178,16 +178,16 @@ inline constexpr double potential_1_9_lo[] = {
     -0x1.b05b9e8b7e927p-56,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_1_0, 1, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_1_1, 1, 0, 0, potential_1_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_1_2, 1, 0, 0, potential_1_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_1_3, 1, 0, 0, potential_1_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_4, 1, 0, 0, potential_1_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_1_5, 1, 0, 0, potential_1_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_1_6, 1, 0, 0, potential_1_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_1_7, 1, 0, 0, potential_1_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_1_8, 1, 0, 0, potential_1_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_1_9, 1, 0, 0, potential_1_9_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_1_1, .n = 1, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_1_2, .n = 1, .c_lo = potential_1_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_1_3, .n = 1, .c_lo = potential_1_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_1_4, .n = 1, .c_lo = potential_1_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_1_5, .n = 1, .c_lo = potential_1_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_1_6, .n = 1, .c_lo = potential_1_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_1_7, .n = 1, .c_lo = potential_1_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_1_8, .n = 1, .c_lo = potential_1_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_1_9, .n = 1, .c_lo = potential_1_9_lo},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -196,12 +196,12 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8), Taylor polynomial about 3/16
-    {0x1.8p-2, 0x1p+0, potential_1, 10},  // [3/8, 1), Taylor polynomial at the edge
-    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.8p-2, .terms = potential_0, .nterms = 1},  // [0, 3/8), Taylor polynomial about 3/16
+    {.lo = 0x1.8p-2, .hi = 0x1p+0, .terms = potential_1, .nterms = 10},  // [3/8, 1), Taylor polynomial at the edge
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.6eb167b830193p+0,  // 9/2 * pi^-1
@@ -220,7 +220,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 1, dpotential_0_0, 9, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 9, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.3ab9137f4700ap-2,  // 259189983/268435456 * pi^-1
@@ -240,7 +240,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.8e0337710e8c5p-51, 0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_1_0, 10, 0x1.8p-2, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 10, .centre = 0x1.8p-2, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -258,8 +258,8 @@ inline constexpr double dpotential_2_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.425e51366bdb4p-54, -0x1.21db6eb849533p-54, -0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_2_0, 1, 0, 0, dpotential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -1, dpotential_2_1, 4, 0, 0, dpotential_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_2_1, .n = 4, .c_lo = dpotential_2_1_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -268,13 +268,13 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-2, dpotential_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.6eb167b830193p+0,  // 9/2 * pi^-1
@@ -293,7 +293,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-2, 0, 0, dpotential_over_r_0_0, 9, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 9, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.a3a16f545eab7p-1,  // 86396661/33554432 * pi^-1
@@ -312,7 +312,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 9, 0x1.8p-2, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 9, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -330,8 +330,8 @@ inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.425e51366bdb4p-54, -0x1.21db6eb849533p-54, -0x1.e38d79d1a1c8fp-53,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, -2, dpotential_over_r_2_1, 4, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_2_1, .n = 4, .c_lo = dpotential_over_r_2_1_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -340,13 +340,13 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4)
-    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/4)
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.79d9151f55f63p+3,  // -2431067/65536 * pi^-1
@@ -362,7 +362,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.d6aea59e6c56ep-47, -0x1.ea121b958960ep-48, 0x1.e38d79d1a1c8fp-50,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_0_0, 7, 0x1p-3, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 7, .centre = 0x1p-3, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.6df2a86fbc1edp+2,  // -1177251/65536 * pi^-1
@@ -378,7 +378,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.f5e42eb0f1204p-48, -0x1.697a1bcdd96b1p-49, 0x1.e38d79d1a1c8fp-50,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_1_0, 7, 0x1.8p-2, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 7, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -398,8 +398,8 @@ inline constexpr double potential_hess_radial_2_1_lo[] = {
     0x1.e38d79d1a1c8fp-50,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, -4, potential_hess_radial_2_1, 5, 0, 0, potential_hess_radial_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -4, .c = potential_hess_radial_2_1, .n = 5, .c_lo = potential_hess_radial_2_1_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -408,29 +408,36 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-2, potential_hess_radial_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, potential_hess_radial_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_k_2_D2
 inline constexpr table::Kernel wendland_k_2_D2 = {
-    "wendland:k=2", 2, 0x1p+0, 5, 2, 1,
-    0x1.91120971749b9p+10, "5040 * pi^-1", true,
-    {
-        {detail_wendland_k_2_D2::value, 2},
-        {detail_wendland_k_2_D2::dr, 2},
-        {detail_wendland_k_2_D2::d2r, 2},
-        {detail_wendland_k_2_D2::laplacian, 2},
-        {detail_wendland_k_2_D2::grad_over_r, 2},
-        {detail_wendland_k_2_D2::hess_radial, 2},
-        {detail_wendland_k_2_D2::potential, 3},
-        {detail_wendland_k_2_D2::dpotential, 4},
-        {detail_wendland_k_2_D2::dpotential_over_r, 4},
-        {detail_wendland_k_2_D2::potential_hess_radial, 4},
+    .spec = "wendland:k=2",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 5,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.91120971749b9p+10,  // 5040 * pi^-1
+    .normalisation_exact = "5040 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_k_2_D2::value, .npieces = 2},  // value
+        {.pieces = detail_wendland_k_2_D2::dr, .npieces = 2},  // dr
+        {.pieces = detail_wendland_k_2_D2::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_wendland_k_2_D2::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_wendland_k_2_D2::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_wendland_k_2_D2::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_wendland_k_2_D2::potential, .npieces = 3},  // potential
+        {.pieces = detail_wendland_k_2_D2::dpotential, .npieces = 4},  // dpotential
+        {.pieces = detail_wendland_k_2_D2::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_wendland_k_2_D2::potential_hess_radial, .npieces = 4},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

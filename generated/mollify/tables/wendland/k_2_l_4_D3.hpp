@@ -19,11 +19,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.36375f71d0a02p-52, 0x1.83c5374e44c82p-49, 0x1.9ff48d36af929p-46,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, value_0_0, 3, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.2ab6c45dd583ep+9,  // -15015/8 * pi^-1
@@ -33,11 +33,11 @@ inline constexpr double dr_0_0_lo[] = {
     0x1.955cf730e048fp-45, -0x1.37f769e903adfp-42,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 1, dr_0_0, 2, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.2ab6c45dd583ep+9,  // -15015/8 * pi^-1
@@ -48,11 +48,11 @@ inline constexpr double d2r_0_0_lo[] = {
     0x1.955cf730e048fp-45, 0x1.955cf730e048fp-42, 0x1.2cf431a0650f2p-39,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, d2r_0_0, 3, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_0_0, .n = 3, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.c012268cc045cp+10,  // -45045/8 * pi^-1
@@ -63,11 +63,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     -0x1.9ff48d36af929p-44, -0x1.9ff48d36af929p-41, 0x1.3d79060d52fd5p-38,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, laplacian_0_0, 3, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_0_0, .n = 3, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.2ab6c45dd583ep+9,  // -15015/8 * pi^-1
@@ -77,11 +77,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.955cf730e048fp-45, -0x1.37f769e903adfp-42,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, grad_over_r_0_0, 2, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.a4110423f4417p+15,  // 675675/4 * pi^-1
@@ -90,11 +90,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.7a0abb9cbb66ap-39,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, hess_radial_0_0, 1, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 1, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.5d1392a3a7103p-2,  // -301446514332819/281474976710656 * pi^-1
@@ -120,7 +120,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.a489361aa7052p-48, 0x1.c3da856b22a44p-51, 0x1.ddd6e37b8ab6p-53,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_0_0, 15, 0x1p-3, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 15, .centre = 0x1p-3, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.a5ea5f53771bbp-3,  // -182173503353979/281474976710656 * pi^-1
@@ -146,7 +146,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.1055f3c55e583p-51, -0x1.1a097388c3fc8p-51, 0x1.ddd6e37b8ab6p-53,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_1_0, 15, 0x1.8p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 15, .centre = 0x1.8p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -164,8 +164,8 @@ inline constexpr double potential_2_1_lo[] = {
     -0x1.6b01ec5417056p-58, 0x1.ac303dfb22f51p-55, -0x1.9d769d424f4b5p-54, 0x1.ddd6e37b8ab6p-53,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, -1, potential_2_1, 4, 0, 0, potential_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = potential_2_1, .n = 4, .c_lo = potential_2_1_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -174,13 +174,13 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, potential_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.21a978990d1bp+2,  // 455/32 * pi^-1
@@ -204,7 +204,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.bbc7f1e7cd419p-50,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 1, dpotential_0_0, 13, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 13, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.2253c1cd8253p-1,  // 256730433564257313/144115188075855872 * pi^-1
@@ -229,7 +229,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.f41e7bab0299ap-48, -0x1.bbc7f1e7cd419p-50,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 14, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 14, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.d3c343960a532p-2,  // 25246161691809/17592186044416 * pi^-1
@@ -254,7 +254,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.1ad85220e0c2dp-47, -0x1.bbc7f1e7cd419p-50,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 14, 0x1.8p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 14, .centre = 0x1.8p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -274,8 +274,8 @@ inline constexpr double dpotential_3_1_lo[] = {
     0x1.bbc7f1e7cd419p-50,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -2, dpotential_3_1, 5, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_3_1, .n = 5, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -284,14 +284,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.21a978990d1bp+2,  // 455/32 * pi^-1
@@ -315,7 +315,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.bbc7f1e7cd419p-50,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 0, dpotential_over_r_0_0, 13, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 13, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.831a57bcadc3fp+1,  // 85576811188085771/9007199254740992 * pi^-1
@@ -339,7 +339,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.bbc7f1e7cd419p-50,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_1_0, 13, 0x1.8p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 13, .centre = 0x1.8p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.37d7826406e21p+0,  // 8415387230603/2199023255552 * pi^-1
@@ -363,7 +363,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.bbc7f1e7cd419p-50,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_2_0, 13, 0x1.8p-2, 0x0p+0, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 13, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -383,8 +383,8 @@ inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.bbc7f1e7cd419p-50,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, -3, dpotential_over_r_3_1, 5, 0, 0, dpotential_over_r_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = -3, .c = dpotential_over_r_3_1, .n = 5, .c_lo = dpotential_over_r_3_1_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -393,14 +393,14 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_over_r_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_over_r_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.b11987d9c7889p+6,  // -2992041459441231/8796093022208 * pi^-1
@@ -421,7 +421,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.9862c65ee14acp-43, 0x1.ef5f8562623cdp-43, -0x1.3357d5b767c4ap-48,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-3, 0, 0, potential_hess_radial_0_0, 11, 0x1p-4, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 11, .centre = 0x1p-4, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.f5598678bc04p+5,  // -1731771011806503/8796093022208 * pi^-1
@@ -442,7 +442,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.d0bb5b96da09ep-41, 0x1.1af0b849c1792p-46, -0x1.3357d5b767c4ap-48,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_1_0, 11, 0x1.8p-3, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 11, .centre = 0x1.8p-3, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.1bd8b751d496p+4,  // -478744020519/8589934592 * pi^-1
@@ -463,7 +463,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.386a65921dbdcp-43, 0x1.715bf183791aap-43, -0x1.3357d5b767c4ap-48,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_2_0, 11, 0x1.8p-2, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 11, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -484,8 +484,8 @@ inline constexpr double potential_hess_radial_3_1_lo[] = {
     -0x1.5566c74b25391p-48, -0x1.3357d5b767c4ap-48,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, -5, potential_hess_radial_3_1, 6, 0, 0, potential_hess_radial_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -5, .c = potential_hess_radial_3_1, .n = 6, .c_lo = potential_hess_radial_3_1_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -494,30 +494,37 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_4_0, 1, 0, 0, potential_hess_radial_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-3, potential_hess_radial_0, 1},  // [0, 1/8), Taylor polynomial about 1/16
-    {0x1p-3, 0x1p-2, potential_hess_radial_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, potential_hess_radial_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/8), Taylor polynomial about 1/16
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_hess_radial_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_4, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_k_2_l_4_D3
 inline constexpr table::Kernel wendland_k_2_l_4_D3 = {
-    "wendland:k=2,l=4", 3, 0x1p+0, 9, 2, 1,
-    0x1.a4110423f4417p+15, "675675/4 * pi^-1", true,
-    {
-        {detail_wendland_k_2_l_4_D3::value, 2},
-        {detail_wendland_k_2_l_4_D3::dr, 2},
-        {detail_wendland_k_2_l_4_D3::d2r, 2},
-        {detail_wendland_k_2_l_4_D3::laplacian, 2},
-        {detail_wendland_k_2_l_4_D3::grad_over_r, 2},
-        {detail_wendland_k_2_l_4_D3::hess_radial, 2},
-        {detail_wendland_k_2_l_4_D3::potential, 4},
-        {detail_wendland_k_2_l_4_D3::dpotential, 5},
-        {detail_wendland_k_2_l_4_D3::dpotential_over_r, 5},
-        {detail_wendland_k_2_l_4_D3::potential_hess_radial, 5},
+    .spec = "wendland:k=2,l=4",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 9,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.a4110423f4417p+15,  // 675675/4 * pi^-1
+    .normalisation_exact = "675675/4 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_k_2_l_4_D3::value, .npieces = 2},  // value
+        {.pieces = detail_wendland_k_2_l_4_D3::dr, .npieces = 2},  // dr
+        {.pieces = detail_wendland_k_2_l_4_D3::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_wendland_k_2_l_4_D3::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_wendland_k_2_l_4_D3::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_wendland_k_2_l_4_D3::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_wendland_k_2_l_4_D3::potential, .npieces = 4},  // potential
+        {.pieces = detail_wendland_k_2_l_4_D3::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_wendland_k_2_l_4_D3::dpotential_over_r, .npieces = 5},  // dpotential_over_r
+        {.pieces = detail_wendland_k_2_l_4_D3::potential_hess_radial, .npieces = 5},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -20,11 +20,11 @@ inline constexpr double value_0_0_lo[] = {
     -0x1.42c2adbe44a2fp-53, -0x1.42c2adbe44a2fp-50, -0x1.f0a05ef2967d3p-50, -0x1.42c2adbe44a2fp-48,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, value_0_0, 4, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 4, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.382025ffd39b9p+6,  // -1716/7 * pi^-1
@@ -35,11 +35,11 @@ inline constexpr double dr_0_0_lo[] = {
     0x1.dde5d772cf3p-48, -0x1.ddd6e37b8ab6p-45, 0x1.dde5d772cf3p-44,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.382025ffd39b9p+6,  // -1716/7 * pi^-1
@@ -51,11 +51,11 @@ inline constexpr double d2r_0_0_lo[] = {
     0x1.dde5d772cf3p-48, 0x1.99b186586d901p-47, -0x1.de7ee88f41802p-58, -0x1.555f4d4f82fc1p-41,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.382025ffd39b9p+7,  // -3432/7 * pi^-1
@@ -67,11 +67,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     0x1.dde5d772cf3p-47, 0x1.99b186586d901p-46, -0x1.99b186586d901p-47, -0x1.111c083ddce21p-41,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.382025ffd39b9p+6,  // -1716/7 * pi^-1
@@ -82,11 +82,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.dde5d772cf3p-48, -0x1.ddd6e37b8ab6p-45, 0x1.dde5d772cf3p-44,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.d43038ffbd695p+10,  // 41184/7 * pi^-1
@@ -96,11 +96,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.99b186586d901p-45, -0x1.99a292612916p-41,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, hess_radial_0_0, 2, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.b00428d1ec63ap-3,  // -738677683991136721/1114640907774197760 * pi^-1
@@ -125,7 +125,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.aed1e0e69fddbp-54, 0x1.eec2e4ed9e924p-55,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_0_0, 14, 0x1.8p-3, 0x0p+0, potential_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 14, .centre = 0x1.8p-3, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
@@ -206,19 +206,19 @@ inline constexpr double potential_1_12_lo[] = {
     -0x1.eec2e4ed9e924p-55,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_1_0, 1, 0, 0, potential_1_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_1_1, 1, 0, 0, potential_1_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_1_2, 1, 0, 0, potential_1_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_1_3, 1, 0, 0, potential_1_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_1_4, 1, 0, 0, potential_1_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_1_5, 1, 0, 0, potential_1_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_1_6, 1, 0, 0, potential_1_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_1_7, 1, 0, 0, potential_1_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_1_8, 1, 0, 0, potential_1_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_1_9, 1, 0, 0, potential_1_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_1_10, 1, 0, 0, potential_1_10_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, 0, potential_1_11, 1, 0, 0, potential_1_11_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 13, 0, potential_1_12, 1, 0, 0, potential_1_12_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_1_1, .n = 1, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_1_2, .n = 1, .c_lo = potential_1_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_1_3, .n = 1, .c_lo = potential_1_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_1_4, .n = 1, .c_lo = potential_1_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_1_5, .n = 1, .c_lo = potential_1_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_1_6, .n = 1, .c_lo = potential_1_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_1_7, .n = 1, .c_lo = potential_1_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_1_8, .n = 1, .c_lo = potential_1_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_1_9, .n = 1, .c_lo = potential_1_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_1_10, .n = 1, .c_lo = potential_1_10_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_1_11, .n = 1, .c_lo = potential_1_11_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_1_12, .n = 1, .c_lo = potential_1_12_lo},
 };
 inline constexpr double potential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -227,12 +227,12 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.8p-2, potential_0, 1},  // [0, 3/8), Taylor polynomial about 3/16
-    {0x1.8p-2, 0x1p+0, potential_1, 13},  // [3/8, 1), Taylor polynomial at the edge
-    {0x1p+0, table::infinity, potential_2, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.8p-2, .terms = potential_0, .nterms = 1},  // [0, 3/8), Taylor polynomial about 3/16
+    {.lo = 0x1.8p-2, .hi = 0x1p+0, .terms = potential_1, .nterms = 13},  // [3/8, 1), Taylor polynomial at the edge
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_2, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.c600374590e24p+0,  // 39/7 * pi^-1
@@ -254,7 +254,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     -0x1.9984aa72a021fp-47, -0x1.42c2adbe44a2fp-47, -0x1.ddd6e37b8ab6p-48, 0x1.11fe5a0110d6dp-51,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 1, dpotential_0_0, 12, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 12, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.1ac107c134f86p-2,  // 213651800024895/246290604621824 * pi^-1
@@ -278,7 +278,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.11fe5a0110d6dp-51,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 13, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 13, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.5c60625197ca8p-2,  // 128533596759/120259084288 * pi^-1
@@ -302,7 +302,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.11fe5a0110d6dp-51,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 13, 0x1.8p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 13, .centre = 0x1.8p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -322,8 +322,8 @@ inline constexpr double dpotential_3_1_lo[] = {
     -0x1.11fe5a0110d6dp-51,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -1, dpotential_3_1, 5, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_3_1, .n = 5, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -332,14 +332,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.a144c08b57c3dp+0,  // 10996524323/2147483648 * pi^-1
@@ -361,7 +361,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     -0x1.c5d87262069e6p-47, -0x1.70b19295ecad2p-47, -0x1.3afcb00d6f444p-50, 0x1.11fe5a0110d6dp-51,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_0_0, 12, 0x1p-3, 0x0p+0, dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 12, .centre = 0x1p-3, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.d0808317750ep-1,  // 42844532253/15032385536 * pi^-1
@@ -383,7 +383,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.69e897b4a6391p-63, 0x1.fbd1bbc1b2baep-51, 0x1.9ee085da03f19p-49, 0x1.11fe5a0110d6dp-51,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_1_0, 12, 0x1.8p-2, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 12, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -403,8 +403,8 @@ inline constexpr double dpotential_over_r_2_1_lo[] = {
     -0x1.11fe5a0110d6dp-51,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_2_0, 1, 0, 0, dpotential_over_r_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, -2, dpotential_over_r_2_1, 5, 0, 0, dpotential_over_r_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_2_1, .n = 5, .c_lo = dpotential_over_r_2_1_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -413,13 +413,13 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, dpotential_over_r_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.14ac5c05df08p+4,  // -911416745/16777216 * pi^-1
@@ -439,7 +439,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     0x1.aeb848331d784p-47, 0x1.e2f6ef05dc9d7p-50,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_0_0, 10, 0x1p-3, 0x0p+0, potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 10, .centre = 0x1p-3, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.dfe3dbe5a1cd8p+2,  // -2766493167/117440512 * pi^-1
@@ -459,7 +459,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.25c9124cf1edfp-49, 0x1.e2f6ef05dc9d7p-50,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_1_0, 10, 0x1.8p-2, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 10, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -480,8 +480,8 @@ inline constexpr double potential_hess_radial_2_1_lo[] = {
     0x1.1b88fb384e1f1p-48, 0x1.e2f6ef05dc9d7p-50,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_2_0, 1, 0, 0, potential_hess_radial_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, -4, potential_hess_radial_2_1, 6, 0, 0, potential_hess_radial_2_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_2_1, .n = 6, .c_lo = potential_hess_radial_2_1_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -490,29 +490,36 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-2, potential_hess_radial_0, 1},  // [0, 1/4), Taylor polynomial about 1/8
-    {0x1p-2, 0x1p-1, potential_hess_radial_1, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_2, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/4), Taylor polynomial about 1/8
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_1, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_2, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_3, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_k_3_D2
 inline constexpr table::Kernel wendland_k_3_D2 = {
-    "wendland:k=3", 2, 0x1p+0, 7, 2, 1,
-    0x1.333fa567d44d2p+16, "247104 * pi^-1", true,
-    {
-        {detail_wendland_k_3_D2::value, 2},
-        {detail_wendland_k_3_D2::dr, 2},
-        {detail_wendland_k_3_D2::d2r, 2},
-        {detail_wendland_k_3_D2::laplacian, 2},
-        {detail_wendland_k_3_D2::grad_over_r, 2},
-        {detail_wendland_k_3_D2::hess_radial, 2},
-        {detail_wendland_k_3_D2::potential, 3},
-        {detail_wendland_k_3_D2::dpotential, 5},
-        {detail_wendland_k_3_D2::dpotential_over_r, 4},
-        {detail_wendland_k_3_D2::potential_hess_radial, 4},
+    .spec = "wendland:k=3",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 7,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.333fa567d44d2p+16,  // 247104 * pi^-1
+    .normalisation_exact = "247104 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_k_3_D2::value, .npieces = 2},  // value
+        {.pieces = detail_wendland_k_3_D2::dr, .npieces = 2},  // dr
+        {.pieces = detail_wendland_k_3_D2::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_wendland_k_3_D2::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_wendland_k_3_D2::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_wendland_k_3_D2::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_wendland_k_3_D2::potential, .npieces = 3},  // potential
+        {.pieces = detail_wendland_k_3_D2::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_wendland_k_3_D2::dpotential_over_r, .npieces = 4},  // dpotential_over_r
+        {.pieces = detail_wendland_k_3_D2::potential_hess_radial, .npieces = 4},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -20,11 +20,11 @@ inline constexpr double value_0_0_lo[] = {
     0x1.b2fb54585a60ap-53, 0x1.a31e3fa121e44p-48, -0x1.1c9828e14f81fp-47, -0x1.83641632b0eb7p-46,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, 0, value_0_0, 4, 0, 0, value_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = value_0_0, .n = 4, .c_lo = value_0_0_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p+0, value_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.03bda977ccbc8p+8,  // -816 * pi^-1
@@ -35,11 +35,11 @@ inline constexpr double dr_0_0_lo[] = {
     -0x1.bae9deb3f69edp-48, -0x1.3080c91bb98d3p-44, -0x1.14d22b307a234p-42,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 1, dr_0_0, 3, 0, 0, dr_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p+0, dr_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.03bda977ccbc8p+8,  // -816 * pi^-1
@@ -51,11 +51,11 @@ inline constexpr double d2r_0_0_lo[] = {
     -0x1.bae9deb3f69edp-48, -0x1.14d22b307a234p-44, -0x1.60d3f3f7535efp-42, -0x1.0dc81a3595213p-38,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, d2r_0_0, 4, 0, 0, d2r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p+0, d2r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.03bda977ccbc8p+9,  // -1632 * pi^-1
@@ -67,11 +67,11 @@ inline constexpr double laplacian_0_0_lo[] = {
     -0x1.bae9deb3f69edp-47, -0x1.14d22b307a234p-43, -0x1.4c2f6706f8f72p-45, -0x1.fe3d7bc146bf8p-37,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, laplacian_0_0, 4, 0, 0, laplacian_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = laplacian_0_0, .n = 4, .c_lo = laplacian_0_0_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p+0, laplacian_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = laplacian_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.03bda977ccbc8p+8,  // -816 * pi^-1
@@ -82,11 +82,11 @@ inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.bae9deb3f69edp-48, -0x1.3080c91bb98d3p-44, -0x1.14d22b307a234p-42,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, grad_over_r_0_0, 3, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p+0, grad_over_r_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.a6143362acb25p+13,  // 42432 * pi^-1
@@ -96,11 +96,11 @@ inline constexpr double hess_radial_0_0_lo[] = {
     0x1.67de04f23861p-42, 0x1.e0eac317633cap-38,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, hess_radial_0_0, 2, 0, 0, hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p+0, hess_radial_0, 1},  // [0, 1)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.1f62221ce4279p-2,  // -4321027/4900896 * pi^-1
@@ -130,7 +130,7 @@ inline constexpr double potential_0_0_lo[] = {
     -0x1.9966c284172ddp-52, 0x1.7d2b5dcef9645p-53,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1.8p-3, 0, 0, potential_0_0, 18, 0, 0, potential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-3, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 18, .c_lo = potential_0_0_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.8d165ab064a31p-3,  // -18044758955075504268458671309973/29624098568230288319003995668480 * pi^-1
@@ -160,7 +160,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.8d753a6fad418p-50, 0x1.7d2b5dcef9645p-53,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-2, 0, 0, potential_1_0, 18, 0x1.2p-2, 0x0p+0, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 18, .centre = 0x1.2p-2, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-3,  // -1/2 * pi^-1
@@ -265,23 +265,23 @@ inline constexpr double potential_2_16_lo[] = {
     -0x1.7d2b5dcef9645p-53,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 1, 0, potential_2_0, 1, 0, 0, potential_2_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 2, 0, potential_2_1, 1, 0, 0, potential_2_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 3, 0, potential_2_2, 1, 0, 0, potential_2_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 4, 0, potential_2_3, 1, 0, 0, potential_2_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 5, 0, potential_2_4, 1, 0, 0, potential_2_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 6, 0, potential_2_5, 1, 0, 0, potential_2_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 7, 0, potential_2_6, 1, 0, 0, potential_2_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 8, 0, potential_2_7, 1, 0, 0, potential_2_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 9, 0, potential_2_8, 1, 0, 0, potential_2_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 10, 0, potential_2_9, 1, 0, 0, potential_2_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 11, 0, potential_2_10, 1, 0, 0, potential_2_10_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, 0, potential_2_11, 1, 0, 0, potential_2_11_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 13, 0, potential_2_12, 1, 0, 0, potential_2_12_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 14, 0, potential_2_13, 1, 0, 0, potential_2_13_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 15, 0, potential_2_14, 1, 0, 0, potential_2_14_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 16, 0, potential_2_15, 1, 0, 0, potential_2_15_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 17, 0, potential_2_16, 1, 0, 0, potential_2_16_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_2_1, .n = 1, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_2_2, .n = 1, .c_lo = potential_2_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_2_3, .n = 1, .c_lo = potential_2_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_2_4, .n = 1, .c_lo = potential_2_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_2_5, .n = 1, .c_lo = potential_2_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_2_6, .n = 1, .c_lo = potential_2_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_2_7, .n = 1, .c_lo = potential_2_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_2_8, .n = 1, .c_lo = potential_2_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_2_9, .n = 1, .c_lo = potential_2_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_2_10, .n = 1, .c_lo = potential_2_10_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_2_11, .n = 1, .c_lo = potential_2_11_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_2_12, .n = 1, .c_lo = potential_2_12_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = potential_2_13, .n = 1, .c_lo = potential_2_13_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = potential_2_14, .n = 1, .c_lo = potential_2_14_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = potential_2_15, .n = 1, .c_lo = potential_2_15_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = potential_2_16, .n = 1, .c_lo = potential_2_16_lo},
 };
 inline constexpr double potential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -290,13 +290,13 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_3_0, 1, 0, 0, potential_3_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1.8p-3, potential_0, 1},  // [0, 3/16)
-    {0x1.8p-3, 0x1.8p-2, potential_1, 1},  // [3/16, 3/8), Taylor polynomial about 9/32
-    {0x1.8p-2, 0x1p+0, potential_2, 17},  // [3/8, 1), Taylor polynomial at the edge
-    {0x1p+0, table::infinity, potential_3, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1.8p-3, .terms = potential_0, .nterms = 1},  // [0, 3/16)
+    {.lo = 0x1.8p-3, .hi = 0x1.8p-2, .terms = potential_1, .nterms = 1},  // [3/16, 3/8), Taylor polynomial about 9/32
+    {.lo = 0x1.8p-2, .hi = 0x1p+0, .terms = potential_2, .nterms = 17},  // [3/8, 1), Taylor polynomial at the edge
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_3, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.8bcbace7505c3p+1,  // 68/7 * pi^-1
@@ -323,7 +323,7 @@ inline constexpr double dpotential_0_0_lo[] = {
     0x1.c44bae4cbc9eap-41, -0x1.83641632b0eb7p-44, -0x1.9966c284172ddp-48, -0x1.6b01ec5417056p-49,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 1, dpotential_0_0, 16, 0, 0, dpotential_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 16, .c_lo = dpotential_0_0_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.a8adbcf3f2b43p-2,  // 21029944883374992819/16140901064495857664 * pi^-1
@@ -352,7 +352,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.6b01ec5417056p-49,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_1_0, 17, 0x1.8p-3, 0x0p+0, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 17, .centre = 0x1.8p-3, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.9407cee6b21c9p-2,  // 610579063496739/492581209243648 * pi^-1
@@ -381,7 +381,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.6b01ec5417056p-49,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_2_0, 17, 0x1.8p-2, 0x0p+0, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 17, .centre = 0x1.8p-2, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -401,8 +401,8 @@ inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-49,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_3_0, 1, 0, 0, dpotential_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 13, -1, dpotential_3_1, 5, 0, 0, dpotential_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 13, .low = -1, .c = dpotential_3_1, .n = 5, .c_lo = dpotential_3_1_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -411,14 +411,14 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.8bcbace7505c3p+1,  // 68/7 * pi^-1
@@ -445,7 +445,7 @@ inline constexpr double dpotential_over_r_0_0_lo[] = {
     0x1.c44bae4cbc9eap-41, -0x1.83641632b0eb7p-44, -0x1.9966c284172ddp-48, -0x1.6b01ec5417056p-49,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 0, dpotential_over_r_0_0, 16, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 16, .c_lo = dpotential_over_r_0_0_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.1b1e7df7f722dp+1,  // 7009981627791664273/1008806316530991104 * pi^-1
@@ -472,7 +472,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.512532a08caa6p-44, 0x1.83e1fa311ffe5p-45, -0x1.5bf0bb6d2bc6bp-47, -0x1.6b01ec5417056p-49,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, dpotential_over_r_1_0, 16, 0x1.8p-3, 0x0p+0, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 16, .centre = 0x1.8p-3, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.0d5a89ef21686p+0,  // 203526354498913/61572651155456 * pi^-1
@@ -499,7 +499,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.965bd70c5c63ap-44, -0x1.9ee844c956978p-46, -0x1.eb2e15984bf68p-47, -0x1.6b01ec5417056p-49,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, dpotential_over_r_2_0, 16, 0x1.8p-2, 0x0p+0, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 16, .centre = 0x1.8p-2, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -519,8 +519,8 @@ inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.6b01ec5417056p-49,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_3_0, 1, 0, 0, dpotential_over_r_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 13, -2, dpotential_over_r_3_1, 5, 0, 0, dpotential_over_r_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 13, .low = -2, .c = dpotential_over_r_3_1, .n = 5, .c_lo = dpotential_over_r_3_1_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -529,14 +529,14 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, dpotential_over_r_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, dpotential_over_r_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, dpotential_over_r_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, dpotential_over_r_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = dpotential_over_r_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = dpotential_over_r_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_4, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.03bda977ccbc8p+6,  // -204 * pi^-1
@@ -561,7 +561,7 @@ inline constexpr double potential_hess_radial_0_0_lo[] = {
     -0x1.598e7a8ce512p-42, 0x1.ebae32712a6afp-45,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r, 0x1p-3, 0, 0, potential_hess_radial_0_0, 14, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 14, .c_lo = potential_hess_radial_0_0_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.34a9e4f1233f6p+5,  // -34118125669828383/281474976710656 * pi^-1
@@ -586,7 +586,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.3bf672e6a2572p-46, 0x1.ebae32712a6afp-45,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-2, 0, 0, potential_hess_radial_1_0, 14, 0x1.8p-3, 0x0p+0, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 14, .centre = 0x1.8p-3, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.7dbfa4456f616p+3,  // -2575474128951/68719476736 * pi^-1
@@ -611,7 +611,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.9be0a79fde71cp-43, 0x1.ebae32712a6afp-45,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, potential_hess_radial_2_0, 14, 0x1.8p-2, 0x0p+0, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 14, .centre = 0x1.8p-2, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -632,8 +632,8 @@ inline constexpr double potential_hess_radial_3_1_lo[] = {
     0x1.fdb44736a3988p-48, 0x1.ebae32712a6afp-45,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_3_0, 1, 0, 0, potential_hess_radial_3_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r, 0x1p+0, 12, -4, potential_hess_radial_3_1, 6, 0, 0, potential_hess_radial_3_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = -4, .c = potential_hess_radial_3_1, .n = 6, .c_lo = potential_hess_radial_3_1_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -642,30 +642,37 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_4_0, 1, 0, 0, potential_hess_radial_4_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-3, potential_hess_radial_0, 1},  // [0, 1/8)
-    {0x1p-3, 0x1p-2, potential_hess_radial_1, 1},  // [1/8, 1/4), Taylor polynomial about 3/16
-    {0x1p-2, 0x1p-1, potential_hess_radial_2, 1},  // [1/4, 1/2), Taylor polynomial about 3/8
-    {0x1p-1, 0x1p+0, potential_hess_radial_3, 2},  // [1/2, 1)
-    {0x1p+0, table::infinity, potential_hess_radial_4, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_hess_radial_0, .nterms = 1},  // [0, 1/8)
+    {.lo = 0x1p-3, .hi = 0x1p-2, .terms = potential_hess_radial_1, .nterms = 1},  // [1/8, 1/4), Taylor polynomial about 3/16
+    {.lo = 0x1p-2, .hi = 0x1p-1, .terms = potential_hess_radial_2, .nterms = 1},  // [1/4, 1/2), Taylor polynomial about 3/8
+    {.lo = 0x1p-1, .hi = 0x1p+0, .terms = potential_hess_radial_3, .nterms = 2},  // [1/2, 1)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_4, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_k_3_l_4_D2
 inline constexpr table::Kernel wendland_k_3_l_4_D2 = {
-    "wendland:k=3,l=4", 2, 0x1p+0, 11, 2, 1,
-    0x1.6ab95c28cc694p+20, "4667520 * pi^-1", true,
-    {
-        {detail_wendland_k_3_l_4_D2::value, 2},
-        {detail_wendland_k_3_l_4_D2::dr, 2},
-        {detail_wendland_k_3_l_4_D2::d2r, 2},
-        {detail_wendland_k_3_l_4_D2::laplacian, 2},
-        {detail_wendland_k_3_l_4_D2::grad_over_r, 2},
-        {detail_wendland_k_3_l_4_D2::hess_radial, 2},
-        {detail_wendland_k_3_l_4_D2::potential, 4},
-        {detail_wendland_k_3_l_4_D2::dpotential, 5},
-        {detail_wendland_k_3_l_4_D2::dpotential_over_r, 5},
-        {detail_wendland_k_3_l_4_D2::potential_hess_radial, 5},
+    .spec = "wendland:k=3,l=4",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 11,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.6ab95c28cc694p+20,  // 4667520 * pi^-1
+    .normalisation_exact = "4667520 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_k_3_l_4_D2::value, .npieces = 2},  // value
+        {.pieces = detail_wendland_k_3_l_4_D2::dr, .npieces = 2},  // dr
+        {.pieces = detail_wendland_k_3_l_4_D2::d2r, .npieces = 2},  // d2r
+        {.pieces = detail_wendland_k_3_l_4_D2::laplacian, .npieces = 2},  // laplacian
+        {.pieces = detail_wendland_k_3_l_4_D2::grad_over_r, .npieces = 2},  // grad_over_r
+        {.pieces = detail_wendland_k_3_l_4_D2::hess_radial, .npieces = 2},  // hess_radial
+        {.pieces = detail_wendland_k_3_l_4_D2::potential, .npieces = 4},  // potential
+        {.pieces = detail_wendland_k_3_l_4_D2::dpotential, .npieces = 5},  // dpotential
+        {.pieces = detail_wendland_k_3_l_4_D2::dpotential_over_r, .npieces = 5},  // dpotential_over_r
+        {.pieces = detail_wendland_k_3_l_4_D2::potential_hess_radial, .npieces = 5},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

@@ -36,8 +36,8 @@ inline constexpr double value_0_1_lo[] = {
     -0x1.7e3ee45674d6ap-51, -0x1.7e3ee45674d6ap-52,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, value_0_0, 11, 0, 0, value_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 4, value_0_1, 2, 0, 0, value_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = value_0_0, .n = 11, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 4, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo},
 };
 inline constexpr double value_1_0[] = {
     0x1.def8eab86a611p+1,  // 43350492966011088/1347646586640625 * pi^-2 + (3563855511552/1858822878125 * pi^-2) * log(12)
@@ -94,7 +94,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.1d4aaf2d6075ep+16, 0x1.f5ebb325589a2p+14, 0x1.eb2e6d6b4287fp+20, -0x1.04cdd853a6a11p+19,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, value_1_0, 40, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.322ddc7771851p+1,  // -47082713184/6103515625 * pi^-2 + (785962548/48828125 * pi^-2) * log(7)
@@ -153,7 +153,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.fd9dace3b34fap-2,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, value_2_0, 41, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
 };
 inline constexpr double value_3_0[] = {
     0x1.66e3512f7599cp-1,  // -75246634800/410338673 * pi^-2 + (3313336320/24137569 * pi^-2) * log(4)
@@ -215,7 +215,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.964229a44eaa9p-29, 0x1.4af3579174b76p-29, 0x1.558c8cf7c12dfp-29, -0x1.befafb032cfc6p-26,
 };
 inline constexpr table::Term value_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, value_3_0, 44, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, value_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
 };
 inline constexpr double value_4_0[] = {
     0x1.ef2fb3d9edfdap+0,  // -1985843987815568/88253338509 * pi^-2 + (45551159699200000/1853320108689 * pi^-2) * log(5/2)
@@ -302,7 +302,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.3c712676505c3p-42, -0x1.5e8df660bc542p-42, -0x1.01f9105923687p-40, 0x1.671842165492bp-40,
 };
 inline constexpr table::Term value_4[] = {
-    {table::Basis::sqrt_power, 11, table::Var::shifted, 0x1.9p-1, 0, 0, value_4_0, 64, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
 };
 inline constexpr double value_5_0[] = {
     0x1.2dd39bbbc33bap+0,  // 128/11 * pi^-2
@@ -605,65 +605,65 @@ inline constexpr double value_5_49_lo[] = {
     -0x1.9be25be681195p-65,
 };
 inline constexpr table::Term value_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, value_5_0, 1, 0, 0, value_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, value_5_1, 1, 0, 0, value_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, value_5_2, 1, 0, 0, value_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, value_5_3, 1, 0, 0, value_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, value_5_4, 1, 0, 0, value_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, value_5_5, 1, 0, 0, value_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, value_5_6, 1, 0, 0, value_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, value_5_7, 1, 0, 0, value_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, value_5_8, 1, 0, 0, value_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, value_5_9, 1, 0, 0, value_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, value_5_10, 1, 0, 0, value_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, value_5_11, 1, 0, 0, value_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, value_5_12, 1, 0, 0, value_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, value_5_13, 1, 0, 0, value_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, value_5_14, 1, 0, 0, value_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, value_5_15, 1, 0, 0, value_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, value_5_16, 1, 0, 0, value_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, value_5_17, 1, 0, 0, value_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, value_5_18, 1, 0, 0, value_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, value_5_19, 1, 0, 0, value_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, value_5_20, 1, 0, 0, value_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, value_5_21, 1, 0, 0, value_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, value_5_22, 1, 0, 0, value_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, value_5_23, 1, 0, 0, value_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, value_5_24, 1, 0, 0, value_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, value_5_25, 1, 0, 0, value_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, value_5_26, 1, 0, 0, value_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, value_5_27, 1, 0, 0, value_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, value_5_28, 1, 0, 0, value_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, value_5_29, 1, 0, 0, value_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, value_5_30, 1, 0, 0, value_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, value_5_31, 1, 0, 0, value_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, value_5_32, 1, 0, 0, value_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, value_5_33, 1, 0, 0, value_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, value_5_34, 1, 0, 0, value_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, value_5_35, 1, 0, 0, value_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, value_5_36, 1, 0, 0, value_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, value_5_37, 1, 0, 0, value_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, value_5_38, 1, 0, 0, value_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, value_5_39, 1, 0, 0, value_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, value_5_40, 1, 0, 0, value_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, value_5_41, 1, 0, 0, value_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, value_5_42, 1, 0, 0, value_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, value_5_43, 1, 0, 0, value_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, value_5_44, 1, 0, 0, value_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, value_5_45, 1, 0, 0, value_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, value_5_46, 1, 0, 0, value_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, value_5_47, 1, 0, 0, value_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, value_5_48, 1, 0, 0, value_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, value_5_49, 1, 0, 0, value_5_49_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_5_0, .n = 1, .c_lo = value_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_5_1, .n = 1, .c_lo = value_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_5_2, .n = 1, .c_lo = value_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_5_3, .n = 1, .c_lo = value_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_5_4, .n = 1, .c_lo = value_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_5_5, .n = 1, .c_lo = value_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = value_5_6, .n = 1, .c_lo = value_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = value_5_7, .n = 1, .c_lo = value_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = value_5_8, .n = 1, .c_lo = value_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = value_5_9, .n = 1, .c_lo = value_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = value_5_10, .n = 1, .c_lo = value_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = value_5_11, .n = 1, .c_lo = value_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = value_5_12, .n = 1, .c_lo = value_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = value_5_13, .n = 1, .c_lo = value_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = value_5_14, .n = 1, .c_lo = value_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = value_5_15, .n = 1, .c_lo = value_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = value_5_16, .n = 1, .c_lo = value_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = value_5_17, .n = 1, .c_lo = value_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = value_5_18, .n = 1, .c_lo = value_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = value_5_19, .n = 1, .c_lo = value_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = value_5_20, .n = 1, .c_lo = value_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = value_5_21, .n = 1, .c_lo = value_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = value_5_22, .n = 1, .c_lo = value_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = value_5_23, .n = 1, .c_lo = value_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = value_5_24, .n = 1, .c_lo = value_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = value_5_25, .n = 1, .c_lo = value_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = value_5_26, .n = 1, .c_lo = value_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = value_5_27, .n = 1, .c_lo = value_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = value_5_28, .n = 1, .c_lo = value_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = value_5_29, .n = 1, .c_lo = value_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = value_5_30, .n = 1, .c_lo = value_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = value_5_31, .n = 1, .c_lo = value_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = value_5_32, .n = 1, .c_lo = value_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = value_5_33, .n = 1, .c_lo = value_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = value_5_34, .n = 1, .c_lo = value_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = value_5_35, .n = 1, .c_lo = value_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = value_5_36, .n = 1, .c_lo = value_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = value_5_37, .n = 1, .c_lo = value_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = value_5_38, .n = 1, .c_lo = value_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = value_5_39, .n = 1, .c_lo = value_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = value_5_40, .n = 1, .c_lo = value_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = value_5_41, .n = 1, .c_lo = value_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = value_5_42, .n = 1, .c_lo = value_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = value_5_43, .n = 1, .c_lo = value_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = value_5_44, .n = 1, .c_lo = value_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = value_5_45, .n = 1, .c_lo = value_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = value_5_46, .n = 1, .c_lo = value_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = value_5_47, .n = 1, .c_lo = value_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = value_5_48, .n = 1, .c_lo = value_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = value_5_49, .n = 1, .c_lo = value_5_49_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, value_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^39, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, value_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 4.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, value_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^43, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, value_4, 1},  // [39/64, 25/32), S^11 times Taylor about 20/29 up to (r-c)^63, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, value_5, 50},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 8.9e-20 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = value_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = value_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^39, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = value_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 4.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = value_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^43, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = value_4, .nterms = 1},  // [39/64, 25/32), S^11 times Taylor about 20/29 up to (r-c)^63, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = value_5, .nterms = 50},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 8.9e-20 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
@@ -691,8 +691,8 @@ inline constexpr double dr_0_1_lo[] = {
     -0x1.7e3ee45674d6ap-49, -0x1.1eaf2b40d7a1p-49,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dr_0_0, 11, 0, 0, dr_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 3, dr_0_1, 2, 0, 0, dr_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dr_0_0, .n = 11, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 3, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo},
 };
 inline constexpr double dr_1_0[] = {
     -0x1.68e8749121db3p+3,  // -2111868369426816/9294114390625 * pi^-2 + (597989081088/12819468125 * pi^-2) * log(12)
@@ -752,7 +752,7 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.3a8d1bda7ed2dp+33, -0x1.eadd585066bd4p+35,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dr_1_0, 42, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.6f7e7a729bf8p+3,  // -138976133184/244140625 * pi^-2 + (457592184/1953125 * pi^-2) * log(7)
@@ -811,7 +811,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.a802a410b6dccp+4,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dr_2_0, 41, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.73d8ec7d5899fp+2,  // -42372892800/24137569 * pi^-2 + (1739243520/1419857 * pi^-2) * log(4)
@@ -873,7 +873,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.aff06f9b44ea1p-25, 0x1.b0121e414b631p-22, -0x1.f8a1414c44732p-21, 0x1.cbb09f29e98eep-20,
 };
 inline constexpr table::Term dr_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, dr_3_0, 44, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.ca0f4154a55bbp-1,  // -2450187956160/594823321 * pi^-2 + (92010240000/20511149 * pi^-2) * log(5/2)
@@ -930,7 +930,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.efb5d69a4f25dp-18, -0x1.277d80bed2f2dp-15, 0x1.23c95625f1387p-14, -0x1.9e74e6aed8f72p-12,
 };
 inline constexpr table::Term dr_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dr_4_0, 40, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.9f02f6222c72p+3,  // -128 * pi^-2
@@ -1263,70 +1263,70 @@ inline constexpr double dr_5_54_lo[] = {
     0x1.909d0c4ebfb72p-58,
 };
 inline constexpr table::Term dr_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 1, dr_5_0, 1, 0, 0, dr_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 1, dr_5_1, 1, 0, 0, dr_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 1, dr_5_2, 1, 0, 0, dr_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 1, dr_5_3, 1, 0, 0, dr_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 1, dr_5_4, 1, 0, 0, dr_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 1, dr_5_5, 1, 0, 0, dr_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 1, dr_5_6, 1, 0, 0, dr_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 1, dr_5_7, 1, 0, 0, dr_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 1, dr_5_8, 1, 0, 0, dr_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 1, dr_5_9, 1, 0, 0, dr_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 1, dr_5_10, 1, 0, 0, dr_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 1, dr_5_11, 1, 0, 0, dr_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 1, dr_5_12, 1, 0, 0, dr_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 1, dr_5_13, 1, 0, 0, dr_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 1, dr_5_14, 1, 0, 0, dr_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 1, dr_5_15, 1, 0, 0, dr_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 1, dr_5_16, 1, 0, 0, dr_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 1, dr_5_17, 1, 0, 0, dr_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 1, dr_5_18, 1, 0, 0, dr_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 1, dr_5_19, 1, 0, 0, dr_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 1, dr_5_20, 1, 0, 0, dr_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 1, dr_5_21, 1, 0, 0, dr_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 1, dr_5_22, 1, 0, 0, dr_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 1, dr_5_23, 1, 0, 0, dr_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 1, dr_5_24, 1, 0, 0, dr_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 1, dr_5_25, 1, 0, 0, dr_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 1, dr_5_26, 1, 0, 0, dr_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 1, dr_5_27, 1, 0, 0, dr_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 1, dr_5_28, 1, 0, 0, dr_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 1, dr_5_29, 1, 0, 0, dr_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 1, dr_5_30, 1, 0, 0, dr_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 1, dr_5_31, 1, 0, 0, dr_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 1, dr_5_32, 1, 0, 0, dr_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 1, dr_5_33, 1, 0, 0, dr_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 1, dr_5_34, 1, 0, 0, dr_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 1, dr_5_35, 1, 0, 0, dr_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 1, dr_5_36, 1, 0, 0, dr_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 1, dr_5_37, 1, 0, 0, dr_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 1, dr_5_38, 1, 0, 0, dr_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 1, dr_5_39, 1, 0, 0, dr_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 1, dr_5_40, 1, 0, 0, dr_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 1, dr_5_41, 1, 0, 0, dr_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 1, dr_5_42, 1, 0, 0, dr_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 1, dr_5_43, 1, 0, 0, dr_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 1, dr_5_44, 1, 0, 0, dr_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 1, dr_5_45, 1, 0, 0, dr_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 1, dr_5_46, 1, 0, 0, dr_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 1, dr_5_47, 1, 0, 0, dr_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 1, dr_5_48, 1, 0, 0, dr_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 1, dr_5_49, 1, 0, 0, dr_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 1, dr_5_50, 1, 0, 0, dr_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 1, dr_5_51, 1, 0, 0, dr_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 1, dr_5_52, 1, 0, 0, dr_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 1, dr_5_53, 1, 0, 0, dr_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 58, 1, dr_5_54, 1, 0, 0, dr_5_54_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_5_0, .n = 1, .c_lo = dr_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_5_1, .n = 1, .c_lo = dr_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_5_2, .n = 1, .c_lo = dr_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_5_3, .n = 1, .c_lo = dr_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_5_4, .n = 1, .c_lo = dr_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_5_5, .n = 1, .c_lo = dr_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 1, .c = dr_5_6, .n = 1, .c_lo = dr_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 1, .c = dr_5_7, .n = 1, .c_lo = dr_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 1, .c = dr_5_8, .n = 1, .c_lo = dr_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 1, .c = dr_5_9, .n = 1, .c_lo = dr_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 1, .c = dr_5_10, .n = 1, .c_lo = dr_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 1, .c = dr_5_11, .n = 1, .c_lo = dr_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 1, .c = dr_5_12, .n = 1, .c_lo = dr_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 1, .c = dr_5_13, .n = 1, .c_lo = dr_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 1, .c = dr_5_14, .n = 1, .c_lo = dr_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 1, .c = dr_5_15, .n = 1, .c_lo = dr_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 1, .c = dr_5_16, .n = 1, .c_lo = dr_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 1, .c = dr_5_17, .n = 1, .c_lo = dr_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 1, .c = dr_5_18, .n = 1, .c_lo = dr_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 1, .c = dr_5_19, .n = 1, .c_lo = dr_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 1, .c = dr_5_20, .n = 1, .c_lo = dr_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 1, .c = dr_5_21, .n = 1, .c_lo = dr_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 1, .c = dr_5_22, .n = 1, .c_lo = dr_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 1, .c = dr_5_23, .n = 1, .c_lo = dr_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 1, .c = dr_5_24, .n = 1, .c_lo = dr_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 1, .c = dr_5_25, .n = 1, .c_lo = dr_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 1, .c = dr_5_26, .n = 1, .c_lo = dr_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 1, .c = dr_5_27, .n = 1, .c_lo = dr_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 1, .c = dr_5_28, .n = 1, .c_lo = dr_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 1, .c = dr_5_29, .n = 1, .c_lo = dr_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 1, .c = dr_5_30, .n = 1, .c_lo = dr_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 1, .c = dr_5_31, .n = 1, .c_lo = dr_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 1, .c = dr_5_32, .n = 1, .c_lo = dr_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 1, .c = dr_5_33, .n = 1, .c_lo = dr_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 1, .c = dr_5_34, .n = 1, .c_lo = dr_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 1, .c = dr_5_35, .n = 1, .c_lo = dr_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 1, .c = dr_5_36, .n = 1, .c_lo = dr_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 1, .c = dr_5_37, .n = 1, .c_lo = dr_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 1, .c = dr_5_38, .n = 1, .c_lo = dr_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 1, .c = dr_5_39, .n = 1, .c_lo = dr_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 1, .c = dr_5_40, .n = 1, .c_lo = dr_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 1, .c = dr_5_41, .n = 1, .c_lo = dr_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 1, .c = dr_5_42, .n = 1, .c_lo = dr_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 1, .c = dr_5_43, .n = 1, .c_lo = dr_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 1, .c = dr_5_44, .n = 1, .c_lo = dr_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 1, .c = dr_5_45, .n = 1, .c_lo = dr_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 1, .c = dr_5_46, .n = 1, .c_lo = dr_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 1, .c = dr_5_47, .n = 1, .c_lo = dr_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 1, .c = dr_5_48, .n = 1, .c_lo = dr_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 1, .c = dr_5_49, .n = 1, .c_lo = dr_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 1, .c = dr_5_50, .n = 1, .c_lo = dr_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 1, .c = dr_5_51, .n = 1, .c_lo = dr_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 1, .c = dr_5_52, .n = 1, .c_lo = dr_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 1, .c = dr_5_53, .n = 1, .c_lo = dr_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 58, .low = 1, .c = dr_5_54, .n = 1, .c_lo = dr_5_54_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 8.0e-21 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dr_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dr_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 8.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dr_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^43, truncation < 7.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.8p-1, dr_4, 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 8.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, dr_5, 55},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^117, truncation < 1.1e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dr_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^21, truncation < 8.0e-21 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dr_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dr_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 8.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dr_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^43, truncation < 7.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.8p-1, .terms = dr_4, .nterms = 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 8.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dr_5, .nterms = 55},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^117, truncation < 1.1e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
@@ -1350,8 +1350,8 @@ inline constexpr double d2r_0_1_lo[] = {
     -0x1.1eaf2b40d7a1p-47, 0x1.d334a13dde4eep-44,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, d2r_0_0, 8, 0, 0, d2r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 2, d2r_0_1, 2, 0, 0, d2r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = d2r_0_0, .n = 8, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 2, .c = d2r_0_1, .n = 2, .c_lo = d2r_0_1_lo},
 };
 inline constexpr double d2r_1_0[] = {
     -0x1.0df9e0a2d14fp+6,  // -1812769272401472/1306860915625 * pi^-2 + (45358580232/197262025 * pi^-2) * log(23)
@@ -1407,7 +1407,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.300e4b86d82b6p+63, -0x1.5f8d8e1e375afp+66, 0x1.c2d836c0f96d3p+69,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, d2r_1_0, 39, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.fd5c89c1703c2p+4,  // -9679649146272/4437053125 * pi^-2 + (1520136072/2088025 * pi^-2) * log(13)
@@ -1463,7 +1463,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.02f1c24b3bbaap+33, 0x1.3c0d20b48167ep+37, -0x1.c5d5cd4eee4fdp+40,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, d2r_2_0, 39, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.e5a8be323fcc1p+2,  // -4668814143504/1160290625 * pi^-2 + (1407393792/714025 * pi^-2) * log(8)
@@ -1519,7 +1519,7 @@ inline constexpr double d2r_3_0_lo[] = {
     0x1.3d02fc67a9aaap+9, -0x1.430e77c9a7b8ap+12, 0x1.2d7f0ad028071p+14,
 };
 inline constexpr table::Term d2r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, d2r_3_0, 39, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.0667f71b8edbap+5,  // -3047266656/371293 * pi^-2 + (151389000/28561 * pi^-2) * log(5)
@@ -1581,7 +1581,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.512b040621368p-5, 0x1.f210b2dc868e2p-4, -0x1.75a9ef7d77192p-3, -0x1.a3cf60450861bp-3,
 };
 inline constexpr table::Term d2r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, d2r_4_0, 44, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.49172929556acp+4,  // -53559072/3125 * pi^-2 + (394632/25 * pi^-2) * log(3)
@@ -1643,7 +1643,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.05463cf2f499dp-19, 0x1.d605618f27568p-17, -0x1.b990577aa189cp-16, -0x1.1311388d7e5ebp-14,
 };
 inline constexpr table::Term d2r_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-1, 0, 0, d2r_5_0, 44, 0x1.3333333333333p-1, 0x1.999999999999ap-56, d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.79403d9c237ep+2,  // -47845950735744/2073071593 * pi^-2 + (833369229000/28398241 * pi^-2) * log(11/5)
@@ -1684,7 +1684,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.817d1795c969ep-22, -0x1.690e0d359e573p-26, 0x1.ce5e031f43026p-17,
 };
 inline constexpr table::Term d2r_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, d2r_6_0, 27, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.d2e354e672004p+6,  // 1152 * pi^-2
@@ -2005,70 +2005,70 @@ inline constexpr double d2r_7_52_lo[] = {
     -0x1.5bb511b474c57p-56,
 };
 inline constexpr table::Term d2r_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, d2r_7_0, 1, 0, 0, d2r_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, d2r_7_1, 1, 0, 0, d2r_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, d2r_7_2, 1, 0, 0, d2r_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, d2r_7_3, 1, 0, 0, d2r_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, d2r_7_4, 1, 0, 0, d2r_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, d2r_7_5, 1, 0, 0, d2r_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, d2r_7_6, 1, 0, 0, d2r_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, d2r_7_7, 1, 0, 0, d2r_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, d2r_7_8, 1, 0, 0, d2r_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, d2r_7_9, 1, 0, 0, d2r_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, d2r_7_10, 1, 0, 0, d2r_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, d2r_7_11, 1, 0, 0, d2r_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, d2r_7_12, 1, 0, 0, d2r_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, d2r_7_13, 1, 0, 0, d2r_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, d2r_7_14, 1, 0, 0, d2r_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, d2r_7_15, 1, 0, 0, d2r_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, d2r_7_16, 1, 0, 0, d2r_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, d2r_7_17, 1, 0, 0, d2r_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, d2r_7_18, 1, 0, 0, d2r_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, d2r_7_19, 1, 0, 0, d2r_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, d2r_7_20, 1, 0, 0, d2r_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, d2r_7_21, 1, 0, 0, d2r_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, d2r_7_22, 1, 0, 0, d2r_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, d2r_7_23, 1, 0, 0, d2r_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, d2r_7_24, 1, 0, 0, d2r_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, d2r_7_25, 1, 0, 0, d2r_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, d2r_7_26, 1, 0, 0, d2r_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, d2r_7_27, 1, 0, 0, d2r_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, d2r_7_28, 1, 0, 0, d2r_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, d2r_7_29, 1, 0, 0, d2r_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, d2r_7_30, 1, 0, 0, d2r_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, d2r_7_31, 1, 0, 0, d2r_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, d2r_7_32, 1, 0, 0, d2r_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, d2r_7_33, 1, 0, 0, d2r_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, d2r_7_34, 1, 0, 0, d2r_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, d2r_7_35, 1, 0, 0, d2r_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, d2r_7_36, 1, 0, 0, d2r_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, d2r_7_37, 1, 0, 0, d2r_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, d2r_7_38, 1, 0, 0, d2r_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, d2r_7_39, 1, 0, 0, d2r_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, d2r_7_40, 1, 0, 0, d2r_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, d2r_7_41, 1, 0, 0, d2r_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, d2r_7_42, 1, 0, 0, d2r_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, d2r_7_43, 1, 0, 0, d2r_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, d2r_7_44, 1, 0, 0, d2r_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, d2r_7_45, 1, 0, 0, d2r_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, d2r_7_46, 1, 0, 0, d2r_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, d2r_7_47, 1, 0, 0, d2r_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, d2r_7_48, 1, 0, 0, d2r_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, d2r_7_49, 1, 0, 0, d2r_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, d2r_7_50, 1, 0, 0, d2r_7_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, d2r_7_51, 1, 0, 0, d2r_7_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, d2r_7_52, 1, 0, 0, d2r_7_52_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = d2r_7_0, .n = 1, .c_lo = d2r_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = d2r_7_1, .n = 1, .c_lo = d2r_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_7_2, .n = 1, .c_lo = d2r_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = d2r_7_3, .n = 1, .c_lo = d2r_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_7_4, .n = 1, .c_lo = d2r_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = d2r_7_5, .n = 1, .c_lo = d2r_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = d2r_7_6, .n = 1, .c_lo = d2r_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = d2r_7_7, .n = 1, .c_lo = d2r_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = d2r_7_8, .n = 1, .c_lo = d2r_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = d2r_7_9, .n = 1, .c_lo = d2r_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = d2r_7_10, .n = 1, .c_lo = d2r_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = d2r_7_11, .n = 1, .c_lo = d2r_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = d2r_7_12, .n = 1, .c_lo = d2r_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = d2r_7_13, .n = 1, .c_lo = d2r_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = d2r_7_14, .n = 1, .c_lo = d2r_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = d2r_7_15, .n = 1, .c_lo = d2r_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = d2r_7_16, .n = 1, .c_lo = d2r_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = d2r_7_17, .n = 1, .c_lo = d2r_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = d2r_7_18, .n = 1, .c_lo = d2r_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = d2r_7_19, .n = 1, .c_lo = d2r_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = d2r_7_20, .n = 1, .c_lo = d2r_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = d2r_7_21, .n = 1, .c_lo = d2r_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = d2r_7_22, .n = 1, .c_lo = d2r_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = d2r_7_23, .n = 1, .c_lo = d2r_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = d2r_7_24, .n = 1, .c_lo = d2r_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = d2r_7_25, .n = 1, .c_lo = d2r_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = d2r_7_26, .n = 1, .c_lo = d2r_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = d2r_7_27, .n = 1, .c_lo = d2r_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = d2r_7_28, .n = 1, .c_lo = d2r_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = d2r_7_29, .n = 1, .c_lo = d2r_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = d2r_7_30, .n = 1, .c_lo = d2r_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = d2r_7_31, .n = 1, .c_lo = d2r_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = d2r_7_32, .n = 1, .c_lo = d2r_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = d2r_7_33, .n = 1, .c_lo = d2r_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = d2r_7_34, .n = 1, .c_lo = d2r_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = d2r_7_35, .n = 1, .c_lo = d2r_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = d2r_7_36, .n = 1, .c_lo = d2r_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = d2r_7_37, .n = 1, .c_lo = d2r_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = d2r_7_38, .n = 1, .c_lo = d2r_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = d2r_7_39, .n = 1, .c_lo = d2r_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = d2r_7_40, .n = 1, .c_lo = d2r_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = d2r_7_41, .n = 1, .c_lo = d2r_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = d2r_7_42, .n = 1, .c_lo = d2r_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = d2r_7_43, .n = 1, .c_lo = d2r_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = d2r_7_44, .n = 1, .c_lo = d2r_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = d2r_7_45, .n = 1, .c_lo = d2r_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = d2r_7_46, .n = 1, .c_lo = d2r_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = d2r_7_47, .n = 1, .c_lo = d2r_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = d2r_7_48, .n = 1, .c_lo = d2r_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = d2r_7_49, .n = 1, .c_lo = d2r_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = d2r_7_50, .n = 1, .c_lo = d2r_7_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = d2r_7_51, .n = 1, .c_lo = d2r_7_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = d2r_7_52, .n = 1, .c_lo = d2r_7_52_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.2e-19 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, d2r_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, d2r_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, d2r_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, d2r_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^43, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, d2r_5, 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^43, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.8p-1, d2r_6, 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^26, truncation < 3.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, d2r_7, 53},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.2e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = d2r_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.2e-19 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = d2r_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = d2r_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = d2r_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = d2r_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^43, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = d2r_5, .nterms = 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^43, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.8p-1, .terms = d2r_6, .nterms = 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^26, truncation < 3.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = d2r_7, .nterms = 53},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.2e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.32652fb73ad02p+8,  // -3024 * pi^-2
@@ -2092,8 +2092,8 @@ inline constexpr double laplacian_0_1_lo[] = {
     0x1.f1118b149f6fap-42, 0x1.70526ba274353p-42,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, laplacian_0_0, 8, 0, 0, laplacian_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 2, laplacian_0_1, 2, 0, 0, laplacian_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 8, .c_lo = laplacian_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 2, .c = laplacian_0_1, .n = 2, .c_lo = laplacian_0_1_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     -0x1.e7687bf3e55a8p+7,  // -4711363210927296/1306860915625 * pi^-2 + (377424009144/986310125 * pi^-2) * log(23)
@@ -2148,7 +2148,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.5bc193c1c4dc3p+63, 0x1.cb57147cb17b4p+67,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, laplacian_1_0, 38, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.5d36209f30f6cp+7,  // -21392772873696/4437053125 * pi^-2 + (12610221624/10440125 * pi^-2) * log(13)
@@ -2204,7 +2204,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.fab41993ccc12p+33, -0x1.4e8653ae0eaa3p+37, 0x1.966bae03eae84p+41,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, laplacian_2_0, 39, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.64d69716d5c74p+6,  // -8858493210672/1160290625 * pi^-2 + (11596161024/3570125 * pi^-2) * log(8)
@@ -2260,7 +2260,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     0x1.3504efe33610cp+11, -0x1.ade29c76fb10cp+13, -0x1.8812b130592d8p+15,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, laplacian_3_0, 39, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
 };
 inline constexpr double laplacian_4_0[] = {
     -0x1.594b47ad47823p+4,  // -1015654003/41472 * pi^-2 + (7506874375/497664 * pi^-2) * log(5)
@@ -2329,7 +2329,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     0x1.da6e9a139ebcfp+5,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {table::Basis::sqrt_power, 7, table::Var::shifted, 0x1p-1, 0, 0, laplacian_4_0, 49, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, laplacian_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 49, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.9c400c80b44d8p+3,  // -85440096/3125 * pi^-2 + (3125304/125 * pi^-2) * log(3)
@@ -2394,7 +2394,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.7be1512b7e7a2p-14, 0x1.d5f7ca2007239p-14,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-1, 0, 0, laplacian_5_0, 46, 0x1.3333333333333p-1, 0x1.999999999999ap-56, laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.3c1680b921965p+2,  // -74534212271232/2073071593 * pi^-2 + (1296710415000/28398241 * pi^-2) * log(11/5)
@@ -2436,7 +2436,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.a238c11f5643bp-21, -0x1.418b3a7bb4b13p-20, 0x1.0f3cdf4aa88aap-17, -0x1.43f9bd28016cfp-16,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, laplacian_6_0, 28, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.d2e354e672004p+6,  // 1152 * pi^-2
@@ -2763,71 +2763,71 @@ inline constexpr double laplacian_7_53_lo[] = {
     -0x1.d6bbe751349e7p-59,
 };
 inline constexpr table::Term laplacian_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, laplacian_7_0, 1, 0, 0, laplacian_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, laplacian_7_1, 1, 0, 0, laplacian_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, laplacian_7_2, 1, 0, 0, laplacian_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, laplacian_7_3, 1, 0, 0, laplacian_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, laplacian_7_4, 1, 0, 0, laplacian_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, laplacian_7_5, 1, 0, 0, laplacian_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, laplacian_7_6, 1, 0, 0, laplacian_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, laplacian_7_7, 1, 0, 0, laplacian_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, laplacian_7_8, 1, 0, 0, laplacian_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, laplacian_7_9, 1, 0, 0, laplacian_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, laplacian_7_10, 1, 0, 0, laplacian_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, laplacian_7_11, 1, 0, 0, laplacian_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, laplacian_7_12, 1, 0, 0, laplacian_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, laplacian_7_13, 1, 0, 0, laplacian_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, laplacian_7_14, 1, 0, 0, laplacian_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, laplacian_7_15, 1, 0, 0, laplacian_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, laplacian_7_16, 1, 0, 0, laplacian_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, laplacian_7_17, 1, 0, 0, laplacian_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, laplacian_7_18, 1, 0, 0, laplacian_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, laplacian_7_19, 1, 0, 0, laplacian_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, laplacian_7_20, 1, 0, 0, laplacian_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, laplacian_7_21, 1, 0, 0, laplacian_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, laplacian_7_22, 1, 0, 0, laplacian_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, laplacian_7_23, 1, 0, 0, laplacian_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, laplacian_7_24, 1, 0, 0, laplacian_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, laplacian_7_25, 1, 0, 0, laplacian_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, laplacian_7_26, 1, 0, 0, laplacian_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, laplacian_7_27, 1, 0, 0, laplacian_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, laplacian_7_28, 1, 0, 0, laplacian_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, laplacian_7_29, 1, 0, 0, laplacian_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, laplacian_7_30, 1, 0, 0, laplacian_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, laplacian_7_31, 1, 0, 0, laplacian_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, laplacian_7_32, 1, 0, 0, laplacian_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, laplacian_7_33, 1, 0, 0, laplacian_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, laplacian_7_34, 1, 0, 0, laplacian_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, laplacian_7_35, 1, 0, 0, laplacian_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, laplacian_7_36, 1, 0, 0, laplacian_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, laplacian_7_37, 1, 0, 0, laplacian_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, laplacian_7_38, 1, 0, 0, laplacian_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, laplacian_7_39, 1, 0, 0, laplacian_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, laplacian_7_40, 1, 0, 0, laplacian_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, laplacian_7_41, 1, 0, 0, laplacian_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, laplacian_7_42, 1, 0, 0, laplacian_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, laplacian_7_43, 1, 0, 0, laplacian_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, laplacian_7_44, 1, 0, 0, laplacian_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, laplacian_7_45, 1, 0, 0, laplacian_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, laplacian_7_46, 1, 0, 0, laplacian_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, laplacian_7_47, 1, 0, 0, laplacian_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, laplacian_7_48, 1, 0, 0, laplacian_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, laplacian_7_49, 1, 0, 0, laplacian_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, laplacian_7_50, 1, 0, 0, laplacian_7_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, laplacian_7_51, 1, 0, 0, laplacian_7_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, laplacian_7_52, 1, 0, 0, laplacian_7_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, laplacian_7_53, 1, 0, 0, laplacian_7_53_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = laplacian_7_0, .n = 1, .c_lo = laplacian_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = laplacian_7_1, .n = 1, .c_lo = laplacian_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = laplacian_7_2, .n = 1, .c_lo = laplacian_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_7_3, .n = 1, .c_lo = laplacian_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = laplacian_7_4, .n = 1, .c_lo = laplacian_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_7_5, .n = 1, .c_lo = laplacian_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = laplacian_7_6, .n = 1, .c_lo = laplacian_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = laplacian_7_7, .n = 1, .c_lo = laplacian_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = laplacian_7_8, .n = 1, .c_lo = laplacian_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = laplacian_7_9, .n = 1, .c_lo = laplacian_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = laplacian_7_10, .n = 1, .c_lo = laplacian_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = laplacian_7_11, .n = 1, .c_lo = laplacian_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = laplacian_7_12, .n = 1, .c_lo = laplacian_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = laplacian_7_13, .n = 1, .c_lo = laplacian_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = laplacian_7_14, .n = 1, .c_lo = laplacian_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = laplacian_7_15, .n = 1, .c_lo = laplacian_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = laplacian_7_16, .n = 1, .c_lo = laplacian_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = laplacian_7_17, .n = 1, .c_lo = laplacian_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = laplacian_7_18, .n = 1, .c_lo = laplacian_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = laplacian_7_19, .n = 1, .c_lo = laplacian_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = laplacian_7_20, .n = 1, .c_lo = laplacian_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = laplacian_7_21, .n = 1, .c_lo = laplacian_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = laplacian_7_22, .n = 1, .c_lo = laplacian_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = laplacian_7_23, .n = 1, .c_lo = laplacian_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = laplacian_7_24, .n = 1, .c_lo = laplacian_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = laplacian_7_25, .n = 1, .c_lo = laplacian_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = laplacian_7_26, .n = 1, .c_lo = laplacian_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = laplacian_7_27, .n = 1, .c_lo = laplacian_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = laplacian_7_28, .n = 1, .c_lo = laplacian_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = laplacian_7_29, .n = 1, .c_lo = laplacian_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = laplacian_7_30, .n = 1, .c_lo = laplacian_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = laplacian_7_31, .n = 1, .c_lo = laplacian_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = laplacian_7_32, .n = 1, .c_lo = laplacian_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = laplacian_7_33, .n = 1, .c_lo = laplacian_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = laplacian_7_34, .n = 1, .c_lo = laplacian_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = laplacian_7_35, .n = 1, .c_lo = laplacian_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = laplacian_7_36, .n = 1, .c_lo = laplacian_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = laplacian_7_37, .n = 1, .c_lo = laplacian_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = laplacian_7_38, .n = 1, .c_lo = laplacian_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = laplacian_7_39, .n = 1, .c_lo = laplacian_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = laplacian_7_40, .n = 1, .c_lo = laplacian_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = laplacian_7_41, .n = 1, .c_lo = laplacian_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = laplacian_7_42, .n = 1, .c_lo = laplacian_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = laplacian_7_43, .n = 1, .c_lo = laplacian_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = laplacian_7_44, .n = 1, .c_lo = laplacian_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = laplacian_7_45, .n = 1, .c_lo = laplacian_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = laplacian_7_46, .n = 1, .c_lo = laplacian_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = laplacian_7_47, .n = 1, .c_lo = laplacian_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = laplacian_7_48, .n = 1, .c_lo = laplacian_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = laplacian_7_49, .n = 1, .c_lo = laplacian_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = laplacian_7_50, .n = 1, .c_lo = laplacian_7_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = laplacian_7_51, .n = 1, .c_lo = laplacian_7_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = laplacian_7_52, .n = 1, .c_lo = laplacian_7_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = laplacian_7_53, .n = 1, .c_lo = laplacian_7_53_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 8.2e-20 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, laplacian_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^37, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, laplacian_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 6.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, laplacian_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 5.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, laplacian_4, 1},  // [5/16, 1/2), S^7 times Taylor about 5/13 up to (r-c)^48, truncation < 5.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, laplacian_5, 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^45, truncation < 4.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.8p-1, laplacian_6, 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^27, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, laplacian_7, 54},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.7e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = laplacian_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^14, truncation < 8.2e-20 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = laplacian_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^37, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = laplacian_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 6.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = laplacian_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 5.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = laplacian_4, .nterms = 1},  // [5/16, 1/2), S^7 times Taylor about 5/13 up to (r-c)^48, truncation < 5.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = laplacian_5, .nterms = 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^45, truncation < 4.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.8p-1, .terms = laplacian_6, .nterms = 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^27, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = laplacian_7, .nterms = 54},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.7e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.9886ea49a3c03p+6,  // -1008 * pi^-2
@@ -2855,8 +2855,8 @@ inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.7e3ee45674d6ap-49, -0x1.1eaf2b40d7a1p-49,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, grad_over_r_0_0, 11, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 2, grad_over_r_0_1, 2, 0, 0, grad_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 11, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 2, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     -0x1.108f8d5d9ae6ep+6,  // -87994515392784/64097340625 * pi^-2 + (24916211712/88410125 * pi^-2) * log(12)
@@ -2915,7 +2915,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.a7d472baa1ea1p+37,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, grad_over_r_1_0, 41, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.481ea42f78f8ep+5,  // -19853733312/9765625 * pi^-2 + (65370312/78125 * pi^-2) * log(7)
@@ -2972,7 +2972,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.9b2618d685f93p+0, 0x1.2b923c6bb2c2ep+1, -0x1.8d5802091d77cp+7, -0x1.1b2918fb41745p+6,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, grad_over_r_2_0, 40, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.8b167b452e239p+3,  // -5296611600/1419857 * pi^-2 + (217405440/83521 * pi^-2) * log(4)
@@ -3033,7 +3033,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     -0x1.4345b302eb34bp-18, 0x1.5c2b42356fe99p-17, -0x1.770abaed773d2p-20,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, grad_over_r_3_0, 43, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.4c17dc2a2b15ap+0,  // -122509397808/20511149 * pi^-2 + (4600512000/707281 * pi^-2) * log(5/2)
@@ -3090,7 +3090,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.fffa8bbb56c6cp-17, -0x1.18e8011135dd2p-16, -0x1.7fc31eff17026p-15, -0x1.406914f1c9a8ap-13,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, grad_over_r_4_0, 40, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.9f02f6222c72p+3,  // -128 * pi^-2
@@ -3423,70 +3423,70 @@ inline constexpr double grad_over_r_5_54_lo[] = {
     0x1.909d0c4ebfb72p-58,
 };
 inline constexpr table::Term grad_over_r_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_5_0, 1, 0, 0, grad_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_5_1, 1, 0, 0, grad_over_r_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_5_2, 1, 0, 0, grad_over_r_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_5_3, 1, 0, 0, grad_over_r_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_5_4, 1, 0, 0, grad_over_r_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, grad_over_r_5_5, 1, 0, 0, grad_over_r_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, grad_over_r_5_6, 1, 0, 0, grad_over_r_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, grad_over_r_5_7, 1, 0, 0, grad_over_r_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, grad_over_r_5_8, 1, 0, 0, grad_over_r_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, grad_over_r_5_9, 1, 0, 0, grad_over_r_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, grad_over_r_5_10, 1, 0, 0, grad_over_r_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, grad_over_r_5_11, 1, 0, 0, grad_over_r_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, grad_over_r_5_12, 1, 0, 0, grad_over_r_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, grad_over_r_5_13, 1, 0, 0, grad_over_r_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, grad_over_r_5_14, 1, 0, 0, grad_over_r_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, grad_over_r_5_15, 1, 0, 0, grad_over_r_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, grad_over_r_5_16, 1, 0, 0, grad_over_r_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, grad_over_r_5_17, 1, 0, 0, grad_over_r_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, grad_over_r_5_18, 1, 0, 0, grad_over_r_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, grad_over_r_5_19, 1, 0, 0, grad_over_r_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, grad_over_r_5_20, 1, 0, 0, grad_over_r_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, grad_over_r_5_21, 1, 0, 0, grad_over_r_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, grad_over_r_5_22, 1, 0, 0, grad_over_r_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, grad_over_r_5_23, 1, 0, 0, grad_over_r_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, grad_over_r_5_24, 1, 0, 0, grad_over_r_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, grad_over_r_5_25, 1, 0, 0, grad_over_r_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, grad_over_r_5_26, 1, 0, 0, grad_over_r_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, grad_over_r_5_27, 1, 0, 0, grad_over_r_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, grad_over_r_5_28, 1, 0, 0, grad_over_r_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, grad_over_r_5_29, 1, 0, 0, grad_over_r_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, grad_over_r_5_30, 1, 0, 0, grad_over_r_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, grad_over_r_5_31, 1, 0, 0, grad_over_r_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, grad_over_r_5_32, 1, 0, 0, grad_over_r_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, grad_over_r_5_33, 1, 0, 0, grad_over_r_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, grad_over_r_5_34, 1, 0, 0, grad_over_r_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, grad_over_r_5_35, 1, 0, 0, grad_over_r_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, grad_over_r_5_36, 1, 0, 0, grad_over_r_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, grad_over_r_5_37, 1, 0, 0, grad_over_r_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, grad_over_r_5_38, 1, 0, 0, grad_over_r_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, grad_over_r_5_39, 1, 0, 0, grad_over_r_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, grad_over_r_5_40, 1, 0, 0, grad_over_r_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, grad_over_r_5_41, 1, 0, 0, grad_over_r_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, grad_over_r_5_42, 1, 0, 0, grad_over_r_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, grad_over_r_5_43, 1, 0, 0, grad_over_r_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, grad_over_r_5_44, 1, 0, 0, grad_over_r_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, grad_over_r_5_45, 1, 0, 0, grad_over_r_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, grad_over_r_5_46, 1, 0, 0, grad_over_r_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, grad_over_r_5_47, 1, 0, 0, grad_over_r_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, grad_over_r_5_48, 1, 0, 0, grad_over_r_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, grad_over_r_5_49, 1, 0, 0, grad_over_r_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, grad_over_r_5_50, 1, 0, 0, grad_over_r_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, grad_over_r_5_51, 1, 0, 0, grad_over_r_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, grad_over_r_5_52, 1, 0, 0, grad_over_r_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 0, grad_over_r_5_53, 1, 0, 0, grad_over_r_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 58, 0, grad_over_r_5_54, 1, 0, 0, grad_over_r_5_54_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_5_0, .n = 1, .c_lo = grad_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_5_1, .n = 1, .c_lo = grad_over_r_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_5_2, .n = 1, .c_lo = grad_over_r_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_5_3, .n = 1, .c_lo = grad_over_r_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_5_4, .n = 1, .c_lo = grad_over_r_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_5_5, .n = 1, .c_lo = grad_over_r_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = grad_over_r_5_6, .n = 1, .c_lo = grad_over_r_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = grad_over_r_5_7, .n = 1, .c_lo = grad_over_r_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = grad_over_r_5_8, .n = 1, .c_lo = grad_over_r_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = grad_over_r_5_9, .n = 1, .c_lo = grad_over_r_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = grad_over_r_5_10, .n = 1, .c_lo = grad_over_r_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = grad_over_r_5_11, .n = 1, .c_lo = grad_over_r_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = grad_over_r_5_12, .n = 1, .c_lo = grad_over_r_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = grad_over_r_5_13, .n = 1, .c_lo = grad_over_r_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = grad_over_r_5_14, .n = 1, .c_lo = grad_over_r_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = grad_over_r_5_15, .n = 1, .c_lo = grad_over_r_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = grad_over_r_5_16, .n = 1, .c_lo = grad_over_r_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = grad_over_r_5_17, .n = 1, .c_lo = grad_over_r_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = grad_over_r_5_18, .n = 1, .c_lo = grad_over_r_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = grad_over_r_5_19, .n = 1, .c_lo = grad_over_r_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = grad_over_r_5_20, .n = 1, .c_lo = grad_over_r_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = grad_over_r_5_21, .n = 1, .c_lo = grad_over_r_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = grad_over_r_5_22, .n = 1, .c_lo = grad_over_r_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = grad_over_r_5_23, .n = 1, .c_lo = grad_over_r_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = grad_over_r_5_24, .n = 1, .c_lo = grad_over_r_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = grad_over_r_5_25, .n = 1, .c_lo = grad_over_r_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = grad_over_r_5_26, .n = 1, .c_lo = grad_over_r_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = grad_over_r_5_27, .n = 1, .c_lo = grad_over_r_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = grad_over_r_5_28, .n = 1, .c_lo = grad_over_r_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = grad_over_r_5_29, .n = 1, .c_lo = grad_over_r_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = grad_over_r_5_30, .n = 1, .c_lo = grad_over_r_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = grad_over_r_5_31, .n = 1, .c_lo = grad_over_r_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = grad_over_r_5_32, .n = 1, .c_lo = grad_over_r_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = grad_over_r_5_33, .n = 1, .c_lo = grad_over_r_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = grad_over_r_5_34, .n = 1, .c_lo = grad_over_r_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = grad_over_r_5_35, .n = 1, .c_lo = grad_over_r_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = grad_over_r_5_36, .n = 1, .c_lo = grad_over_r_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = grad_over_r_5_37, .n = 1, .c_lo = grad_over_r_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = grad_over_r_5_38, .n = 1, .c_lo = grad_over_r_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = grad_over_r_5_39, .n = 1, .c_lo = grad_over_r_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = grad_over_r_5_40, .n = 1, .c_lo = grad_over_r_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = grad_over_r_5_41, .n = 1, .c_lo = grad_over_r_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = grad_over_r_5_42, .n = 1, .c_lo = grad_over_r_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = grad_over_r_5_43, .n = 1, .c_lo = grad_over_r_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = grad_over_r_5_44, .n = 1, .c_lo = grad_over_r_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = grad_over_r_5_45, .n = 1, .c_lo = grad_over_r_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = grad_over_r_5_46, .n = 1, .c_lo = grad_over_r_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = grad_over_r_5_47, .n = 1, .c_lo = grad_over_r_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = grad_over_r_5_48, .n = 1, .c_lo = grad_over_r_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = grad_over_r_5_49, .n = 1, .c_lo = grad_over_r_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = grad_over_r_5_50, .n = 1, .c_lo = grad_over_r_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = grad_over_r_5_51, .n = 1, .c_lo = grad_over_r_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = grad_over_r_5_52, .n = 1, .c_lo = grad_over_r_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 0, .c = grad_over_r_5_53, .n = 1, .c_lo = grad_over_r_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 58, .low = 0, .c = grad_over_r_5_54, .n = 1, .c_lo = grad_over_r_5_54_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 8.0e-21 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, grad_over_r_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 7.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, grad_over_r_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^39, truncation < 9.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, grad_over_r_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^42, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.8p-1, grad_over_r_4, 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 5.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, grad_over_r_5, 55},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^117, truncation < 1.1e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 8.0e-21 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = grad_over_r_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 7.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = grad_over_r_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^39, truncation < 9.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = grad_over_r_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^42, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.8p-1, .terms = grad_over_r_4, .nterms = 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 5.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = grad_over_r_5, .nterms = 55},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^117, truncation < 1.1e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     -0x1.231f7eac8539ap+11,  // -36960 * pi^-2 + 20160 * pi^-2 * log(2)
@@ -3508,8 +3508,8 @@ inline constexpr double hess_radial_0_1_lo[] = {
     -0x1.7e3ee45674d6ap-48, -0x1.1eaf2b40d7a1p-47,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-5, 0, 0, hess_radial_0_0, 6, 0, 0, hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-5, 0, 0, hess_radial_0_1, 2, 0, 0, hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-5, .edge_power = 0, .low = 0, .c = hess_radial_0_0, .n = 6, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-5, .edge_power = 0, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     0x1.fada3aa37852fp+11,  // -38409875306880/1039509197 * pi^-2 + (20748803040/1026169 * pi^-2) * log(45)
@@ -3566,7 +3566,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.289af874bb5acp+112, -0x1.3ddd741ba73e1p+118, 0x1.b82a122decb43p+119, -0x1.a34cc65c09d47p+119,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.d8p-5, 0, 0, hess_radial_1_0, 40, 0x1.6be8c0102c7a5p-5, 0x1.73fefd385afa3p-63, hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = hess_radial_1_0_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.6a0c2ed0c0a67p+11,  // -1132352282880/30664297 * pi^-2 + (1993955040/97969 * pi^-2) * log(25)
@@ -3623,7 +3623,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.ce5ade15e7f4bp+82, -0x1.8efbcc671b9c8p+85, 0x1.c7248516290a1p+90, 0x1.77dee706bc079p+93,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-4, 0, 0, hess_radial_2_0, 40, 0x1.472813a11fe5dp-4, 0x1.eabc1d71afd8cp-59, hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.c6fbf28380e23p+10,  // -281758932000/7645373 * pi^-2 + (806097600/38809 * pi^-2) * log(14)
@@ -3680,7 +3680,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.6cba1ee12f3acp+53, 0x1.4d8ec01b91a3fp+52, -0x1.1783133d7d4a6p+56, -0x1.cbe26106c2724p+61,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.78p-3, 0, 0, hess_radial_3_0, 40, 0x1.231617640f981p-3, -0x1.66a8ef1b4a123p-57, hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = hess_radial_3_0_lo},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.ce016af9efcf9p+9,  // -2010917664/54925 * pi^-2 + (18583488/845 * pi^-2) * log(8)
@@ -3735,7 +3735,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     0x1.c6ddaf18ff156p+23, 0x1.4bfe0cda8bc9ap+26,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, hess_radial_4_0, 38, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 38, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_4_0_lo},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.7640d25fe6092p+8,  // -78986880/2197 * pi^-2 + (4163040/169 * pi^-2) * log(5)
@@ -3795,7 +3795,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     0x1.f558f4d148a09p+6, 0x1.7d8d4139c6e88p+8,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, hess_radial_5_0, 42, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 42, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_5_0_lo},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.43553e16cda18p+8,  // -20409375/128 * pi^-2 + (75796875/512 * pi^-2) * log(3)
@@ -3870,7 +3870,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.988475d976bb4p-11, 0x1.c8f0b5f2fd34ap-11,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {table::Basis::sqrt_power, 7, table::Var::shifted, 0x1.7p-1, 0, 0, hess_radial_6_0, 54, 0x1.3333333333333p-1, 0x1.999999999999ap-56, hess_radial_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 54, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_6_0_lo},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.673ac81a1097fp+3,  // -11405560320/389017 * pi^-2 + (198908640/5329 * pi^-2) * log(11/5)
@@ -3911,7 +3911,7 @@ inline constexpr double hess_radial_7_0_lo[] = {
     -0x1.ab375bcfa60cbp-23, -0x1.4362d02cc8795p-19, 0x1.4e8ab2592fe18p-19,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, hess_radial_7_0, 27, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_7_0_lo},
 };
 inline constexpr double hess_radial_8_0[] = {
     0x1.d2e354e672004p+6,  // 1152 * pi^-2
@@ -4232,71 +4232,71 @@ inline constexpr double hess_radial_8_52_lo[] = {
     -0x1.fc0e756a641f4p-52,
 };
 inline constexpr table::Term hess_radial_8[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, hess_radial_8_0, 1, 0, 0, hess_radial_8_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, hess_radial_8_1, 1, 0, 0, hess_radial_8_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, hess_radial_8_2, 1, 0, 0, hess_radial_8_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, hess_radial_8_3, 1, 0, 0, hess_radial_8_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, hess_radial_8_4, 1, 0, 0, hess_radial_8_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, hess_radial_8_5, 1, 0, 0, hess_radial_8_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, hess_radial_8_6, 1, 0, 0, hess_radial_8_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, hess_radial_8_7, 1, 0, 0, hess_radial_8_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, hess_radial_8_8, 1, 0, 0, hess_radial_8_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, hess_radial_8_9, 1, 0, 0, hess_radial_8_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, hess_radial_8_10, 1, 0, 0, hess_radial_8_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, hess_radial_8_11, 1, 0, 0, hess_radial_8_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, hess_radial_8_12, 1, 0, 0, hess_radial_8_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, hess_radial_8_13, 1, 0, 0, hess_radial_8_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, hess_radial_8_14, 1, 0, 0, hess_radial_8_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, hess_radial_8_15, 1, 0, 0, hess_radial_8_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, hess_radial_8_16, 1, 0, 0, hess_radial_8_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, hess_radial_8_17, 1, 0, 0, hess_radial_8_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, hess_radial_8_18, 1, 0, 0, hess_radial_8_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, hess_radial_8_19, 1, 0, 0, hess_radial_8_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, hess_radial_8_20, 1, 0, 0, hess_radial_8_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, hess_radial_8_21, 1, 0, 0, hess_radial_8_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, hess_radial_8_22, 1, 0, 0, hess_radial_8_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, hess_radial_8_23, 1, 0, 0, hess_radial_8_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, hess_radial_8_24, 1, 0, 0, hess_radial_8_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, hess_radial_8_25, 1, 0, 0, hess_radial_8_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, hess_radial_8_26, 1, 0, 0, hess_radial_8_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, hess_radial_8_27, 1, 0, 0, hess_radial_8_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, hess_radial_8_28, 1, 0, 0, hess_radial_8_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, hess_radial_8_29, 1, 0, 0, hess_radial_8_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, hess_radial_8_30, 1, 0, 0, hess_radial_8_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, hess_radial_8_31, 1, 0, 0, hess_radial_8_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, hess_radial_8_32, 1, 0, 0, hess_radial_8_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, hess_radial_8_33, 1, 0, 0, hess_radial_8_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, hess_radial_8_34, 1, 0, 0, hess_radial_8_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, hess_radial_8_35, 1, 0, 0, hess_radial_8_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, hess_radial_8_36, 1, 0, 0, hess_radial_8_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, hess_radial_8_37, 1, 0, 0, hess_radial_8_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, hess_radial_8_38, 1, 0, 0, hess_radial_8_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, hess_radial_8_39, 1, 0, 0, hess_radial_8_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, hess_radial_8_40, 1, 0, 0, hess_radial_8_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, hess_radial_8_41, 1, 0, 0, hess_radial_8_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, hess_radial_8_42, 1, 0, 0, hess_radial_8_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, hess_radial_8_43, 1, 0, 0, hess_radial_8_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, hess_radial_8_44, 1, 0, 0, hess_radial_8_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, hess_radial_8_45, 1, 0, 0, hess_radial_8_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, hess_radial_8_46, 1, 0, 0, hess_radial_8_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, hess_radial_8_47, 1, 0, 0, hess_radial_8_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, hess_radial_8_48, 1, 0, 0, hess_radial_8_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, hess_radial_8_49, 1, 0, 0, hess_radial_8_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, hess_radial_8_50, 1, 0, 0, hess_radial_8_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, hess_radial_8_51, 1, 0, 0, hess_radial_8_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, hess_radial_8_52, 1, 0, 0, hess_radial_8_52_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = hess_radial_8_0, .n = 1, .c_lo = hess_radial_8_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = hess_radial_8_1, .n = 1, .c_lo = hess_radial_8_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_8_2, .n = 1, .c_lo = hess_radial_8_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_8_3, .n = 1, .c_lo = hess_radial_8_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_8_4, .n = 1, .c_lo = hess_radial_8_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_8_5, .n = 1, .c_lo = hess_radial_8_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_8_6, .n = 1, .c_lo = hess_radial_8_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_8_7, .n = 1, .c_lo = hess_radial_8_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = hess_radial_8_8, .n = 1, .c_lo = hess_radial_8_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = hess_radial_8_9, .n = 1, .c_lo = hess_radial_8_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = hess_radial_8_10, .n = 1, .c_lo = hess_radial_8_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = hess_radial_8_11, .n = 1, .c_lo = hess_radial_8_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = hess_radial_8_12, .n = 1, .c_lo = hess_radial_8_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = hess_radial_8_13, .n = 1, .c_lo = hess_radial_8_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = hess_radial_8_14, .n = 1, .c_lo = hess_radial_8_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = hess_radial_8_15, .n = 1, .c_lo = hess_radial_8_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = hess_radial_8_16, .n = 1, .c_lo = hess_radial_8_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = hess_radial_8_17, .n = 1, .c_lo = hess_radial_8_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = hess_radial_8_18, .n = 1, .c_lo = hess_radial_8_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = hess_radial_8_19, .n = 1, .c_lo = hess_radial_8_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = hess_radial_8_20, .n = 1, .c_lo = hess_radial_8_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = hess_radial_8_21, .n = 1, .c_lo = hess_radial_8_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = hess_radial_8_22, .n = 1, .c_lo = hess_radial_8_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = hess_radial_8_23, .n = 1, .c_lo = hess_radial_8_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = hess_radial_8_24, .n = 1, .c_lo = hess_radial_8_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = hess_radial_8_25, .n = 1, .c_lo = hess_radial_8_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = hess_radial_8_26, .n = 1, .c_lo = hess_radial_8_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = hess_radial_8_27, .n = 1, .c_lo = hess_radial_8_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = hess_radial_8_28, .n = 1, .c_lo = hess_radial_8_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = hess_radial_8_29, .n = 1, .c_lo = hess_radial_8_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = hess_radial_8_30, .n = 1, .c_lo = hess_radial_8_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = hess_radial_8_31, .n = 1, .c_lo = hess_radial_8_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = hess_radial_8_32, .n = 1, .c_lo = hess_radial_8_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = hess_radial_8_33, .n = 1, .c_lo = hess_radial_8_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = hess_radial_8_34, .n = 1, .c_lo = hess_radial_8_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = hess_radial_8_35, .n = 1, .c_lo = hess_radial_8_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = hess_radial_8_36, .n = 1, .c_lo = hess_radial_8_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = hess_radial_8_37, .n = 1, .c_lo = hess_radial_8_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = hess_radial_8_38, .n = 1, .c_lo = hess_radial_8_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = hess_radial_8_39, .n = 1, .c_lo = hess_radial_8_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = hess_radial_8_40, .n = 1, .c_lo = hess_radial_8_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = hess_radial_8_41, .n = 1, .c_lo = hess_radial_8_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = hess_radial_8_42, .n = 1, .c_lo = hess_radial_8_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = hess_radial_8_43, .n = 1, .c_lo = hess_radial_8_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = hess_radial_8_44, .n = 1, .c_lo = hess_radial_8_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = hess_radial_8_45, .n = 1, .c_lo = hess_radial_8_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = hess_radial_8_46, .n = 1, .c_lo = hess_radial_8_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = hess_radial_8_47, .n = 1, .c_lo = hess_radial_8_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = hess_radial_8_48, .n = 1, .c_lo = hess_radial_8_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = hess_radial_8_49, .n = 1, .c_lo = hess_radial_8_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = hess_radial_8_50, .n = 1, .c_lo = hess_radial_8_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = hess_radial_8_51, .n = 1, .c_lo = hess_radial_8_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = hess_radial_8_52, .n = 1, .c_lo = hess_radial_8_52_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-5, hess_radial_0, 2},  // [0, 1/32), series at 0 up to r^10, truncation < 4.2e-20 relative (series.hpp)
-    {0x1p-5, 0x1.d8p-5, hess_radial_1, 1},  // [1/32, 59/1024), Taylor about 45/1013 up to (r-c)^39, truncation < 6.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.d8p-5, 0x1.a8p-4, hess_radial_2, 1},  // [59/1024, 53/512), Taylor about 25/313 up to (r-c)^39, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-4, 0x1.78p-3, hess_radial_3, 1},  // [53/512, 47/256), Taylor about 28/197 up to (r-c)^39, truncation < 6.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.78p-3, 0x1.4p-2, hess_radial_4, 1},  // [47/256, 5/16), Taylor about 16/65 up to (r-c)^37, truncation < 5.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, hess_radial_5, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^41, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, hess_radial_6, 1},  // [1/2, 23/32), S^7 times Taylor about 3/5 up to (r-c)^53, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.8p-1, hess_radial_7, 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^26, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, hess_radial_8, 53},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.0e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-5, .terms = hess_radial_0, .nterms = 2},  // [0, 1/32), series at 0 up to r^10, truncation < 4.2e-20 relative (series.hpp)
+    {.lo = 0x1p-5, .hi = 0x1.d8p-5, .terms = hess_radial_1, .nterms = 1},  // [1/32, 59/1024), Taylor about 45/1013 up to (r-c)^39, truncation < 6.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.d8p-5, .hi = 0x1.a8p-4, .terms = hess_radial_2, .nterms = 1},  // [59/1024, 53/512), Taylor about 25/313 up to (r-c)^39, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-4, .hi = 0x1.78p-3, .terms = hess_radial_3, .nterms = 1},  // [53/512, 47/256), Taylor about 28/197 up to (r-c)^39, truncation < 6.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.78p-3, .hi = 0x1.4p-2, .terms = hess_radial_4, .nterms = 1},  // [47/256, 5/16), Taylor about 16/65 up to (r-c)^37, truncation < 5.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = hess_radial_5, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^41, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = hess_radial_6, .nterms = 1},  // [1/2, 23/32), S^7 times Taylor about 3/5 up to (r-c)^53, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.8p-1, .terms = hess_radial_7, .nterms = 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^26, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = hess_radial_8, .nterms = 53},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.0e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.14aca416c84cp-2,  // -8/3 * pi^-2
@@ -4330,8 +4330,8 @@ inline constexpr double potential_0_1_lo[] = {
     0x1.125e876998e99p-52, 0x1.4018f35087bb3p-54,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, potential_0_0, 16, 0, 0, potential_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-2, 0, 6, potential_0_1, 2, 0, 0, potential_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 16, .c_lo = potential_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 6, .c = potential_0_1, .n = 2, .c_lo = potential_0_1_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.a4581b0b9be25p-3,  // -1283067945230855/779770438770462 * pi^-2 + (252793405440/3512479453921 * pi^-2) * log(6) + (-37/24 * pi^-2) * arcsin(12/37)
@@ -4387,7 +4387,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.d5f4c2ee1939bp-30, 0x1.62ff1e25a9e32p-29, -0x1.cbb04e86618a2p-26,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-2, 0, 0, potential_1_0, 39, 0x1.4c1bacf914c1cp-2, -0x1.4c1bacf914c1cp-56, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.2ea1a7ff62dbfp-3,  // -17811510525566595/6599527183604266 * pi^-2 + (87829326807040/62259690411361 * pi^-2) * log(7/2) + (-53/56 * pi^-2) * arcsin(28/53)
@@ -4444,7 +4444,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.4149b21443456p-50, 0x1.6f6769dafecb5p-50, -0x1.708c996c3dd6bp-53, -0x1.eaef8e13f8825p-49,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5p-1, 0, 0, potential_2_0, 40, 0x1.0e7d95bc609a9p-1, 0x1.cfb2b78c13522p-58, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.c1e24db67affp-4,  // -390656272405480/43521437927607 * pi^-2 + (9979317008955/1000492825922 * pi^-2) * log(7/3) + (-29/42 * pi^-2) * arcsin(21/29)
@@ -4499,7 +4499,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.3da5fd395902fp-37, -0x1.fa0788a50f3a9p-31,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, potential_3_0, 38, 0x1.72c234f72c235p-1, -0x1.1a7b9611a7b96p-58, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5168,117 +5168,117 @@ inline constexpr double potential_4_110_lo[] = {
     0x1.94495ba6ba872p-73,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -1, potential_4_1, 1, 0, 0, potential_4_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -1, potential_4_2, 1, 0, 0, potential_4_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -1, potential_4_3, 1, 0, 0, potential_4_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -1, potential_4_4, 1, 0, 0, potential_4_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -1, potential_4_5, 1, 0, 0, potential_4_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -1, potential_4_6, 1, 0, 0, potential_4_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -1, potential_4_7, 1, 0, 0, potential_4_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -1, potential_4_8, 1, 0, 0, potential_4_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -1, potential_4_9, 1, 0, 0, potential_4_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -1, potential_4_10, 1, 0, 0, potential_4_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -1, potential_4_11, 1, 0, 0, potential_4_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -1, potential_4_12, 1, 0, 0, potential_4_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -1, potential_4_13, 1, 0, 0, potential_4_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -1, potential_4_14, 1, 0, 0, potential_4_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -1, potential_4_15, 1, 0, 0, potential_4_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -1, potential_4_16, 1, 0, 0, potential_4_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -1, potential_4_17, 1, 0, 0, potential_4_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -1, potential_4_18, 1, 0, 0, potential_4_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -1, potential_4_19, 1, 0, 0, potential_4_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -1, potential_4_20, 1, 0, 0, potential_4_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -1, potential_4_21, 1, 0, 0, potential_4_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -1, potential_4_22, 1, 0, 0, potential_4_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -1, potential_4_23, 1, 0, 0, potential_4_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -1, potential_4_24, 1, 0, 0, potential_4_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -1, potential_4_25, 1, 0, 0, potential_4_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -1, potential_4_26, 1, 0, 0, potential_4_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -1, potential_4_27, 1, 0, 0, potential_4_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -1, potential_4_28, 1, 0, 0, potential_4_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -1, potential_4_29, 1, 0, 0, potential_4_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -1, potential_4_30, 1, 0, 0, potential_4_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -1, potential_4_31, 1, 0, 0, potential_4_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -1, potential_4_32, 1, 0, 0, potential_4_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -1, potential_4_33, 1, 0, 0, potential_4_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -1, potential_4_34, 1, 0, 0, potential_4_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -1, potential_4_35, 1, 0, 0, potential_4_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -1, potential_4_36, 1, 0, 0, potential_4_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -1, potential_4_37, 1, 0, 0, potential_4_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -1, potential_4_38, 1, 0, 0, potential_4_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -1, potential_4_39, 1, 0, 0, potential_4_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -1, potential_4_40, 1, 0, 0, potential_4_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -1, potential_4_41, 1, 0, 0, potential_4_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -1, potential_4_42, 1, 0, 0, potential_4_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -1, potential_4_43, 1, 0, 0, potential_4_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -1, potential_4_44, 1, 0, 0, potential_4_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -1, potential_4_45, 1, 0, 0, potential_4_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -1, potential_4_46, 1, 0, 0, potential_4_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -1, potential_4_47, 1, 0, 0, potential_4_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -1, potential_4_48, 1, 0, 0, potential_4_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -1, potential_4_49, 1, 0, 0, potential_4_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -1, potential_4_50, 1, 0, 0, potential_4_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -1, potential_4_51, 1, 0, 0, potential_4_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -1, potential_4_52, 1, 0, 0, potential_4_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -1, potential_4_53, 1, 0, 0, potential_4_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -1, potential_4_54, 1, 0, 0, potential_4_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -1, potential_4_55, 1, 0, 0, potential_4_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, 0, potential_4_56, 1, 0, 0, potential_4_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, 0, potential_4_57, 1, 0, 0, potential_4_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, 0, potential_4_58, 1, 0, 0, potential_4_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, potential_4_59, 1, 0, 0, potential_4_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, potential_4_60, 1, 0, 0, potential_4_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, potential_4_61, 1, 0, 0, potential_4_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, potential_4_62, 1, 0, 0, potential_4_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, potential_4_63, 1, 0, 0, potential_4_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, potential_4_64, 1, 0, 0, potential_4_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, potential_4_65, 1, 0, 0, potential_4_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, potential_4_66, 1, 0, 0, potential_4_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, potential_4_67, 1, 0, 0, potential_4_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, potential_4_68, 1, 0, 0, potential_4_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, potential_4_69, 1, 0, 0, potential_4_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, potential_4_70, 1, 0, 0, potential_4_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, potential_4_71, 1, 0, 0, potential_4_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, potential_4_72, 1, 0, 0, potential_4_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, potential_4_73, 1, 0, 0, potential_4_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, potential_4_74, 1, 0, 0, potential_4_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, potential_4_75, 1, 0, 0, potential_4_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, potential_4_76, 1, 0, 0, potential_4_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, potential_4_77, 1, 0, 0, potential_4_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, potential_4_78, 1, 0, 0, potential_4_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, potential_4_79, 1, 0, 0, potential_4_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, potential_4_80, 1, 0, 0, potential_4_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, potential_4_81, 1, 0, 0, potential_4_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, potential_4_82, 1, 0, 0, potential_4_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, potential_4_83, 1, 0, 0, potential_4_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, potential_4_84, 1, 0, 0, potential_4_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, potential_4_85, 1, 0, 0, potential_4_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, potential_4_86, 1, 0, 0, potential_4_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, potential_4_87, 1, 0, 0, potential_4_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, potential_4_88, 1, 0, 0, potential_4_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, potential_4_89, 1, 0, 0, potential_4_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, potential_4_90, 1, 0, 0, potential_4_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, potential_4_91, 1, 0, 0, potential_4_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, potential_4_92, 1, 0, 0, potential_4_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, potential_4_93, 1, 0, 0, potential_4_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, potential_4_94, 1, 0, 0, potential_4_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, potential_4_95, 1, 0, 0, potential_4_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, potential_4_96, 1, 0, 0, potential_4_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, potential_4_97, 1, 0, 0, potential_4_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, potential_4_98, 1, 0, 0, potential_4_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, potential_4_99, 1, 0, 0, potential_4_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, potential_4_100, 1, 0, 0, potential_4_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, potential_4_101, 1, 0, 0, potential_4_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, potential_4_102, 1, 0, 0, potential_4_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, potential_4_103, 1, 0, 0, potential_4_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, potential_4_104, 1, 0, 0, potential_4_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, potential_4_105, 1, 0, 0, potential_4_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, potential_4_106, 1, 0, 0, potential_4_106_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, potential_4_107, 1, 0, 0, potential_4_107_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, potential_4_108, 1, 0, 0, potential_4_108_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, potential_4_109, 1, 0, 0, potential_4_109_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, potential_4_110, 1, 0, 0, potential_4_110_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_1, .n = 1, .c_lo = potential_4_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -1, .c = potential_4_2, .n = 1, .c_lo = potential_4_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -1, .c = potential_4_3, .n = 1, .c_lo = potential_4_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = potential_4_4, .n = 1, .c_lo = potential_4_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = potential_4_5, .n = 1, .c_lo = potential_4_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_4_6, .n = 1, .c_lo = potential_4_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_4_7, .n = 1, .c_lo = potential_4_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_4_8, .n = 1, .c_lo = potential_4_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_4_9, .n = 1, .c_lo = potential_4_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = potential_4_10, .n = 1, .c_lo = potential_4_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = potential_4_11, .n = 1, .c_lo = potential_4_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -1, .c = potential_4_12, .n = 1, .c_lo = potential_4_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = potential_4_13, .n = 1, .c_lo = potential_4_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -1, .c = potential_4_14, .n = 1, .c_lo = potential_4_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -1, .c = potential_4_15, .n = 1, .c_lo = potential_4_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -1, .c = potential_4_16, .n = 1, .c_lo = potential_4_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -1, .c = potential_4_17, .n = 1, .c_lo = potential_4_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -1, .c = potential_4_18, .n = 1, .c_lo = potential_4_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -1, .c = potential_4_19, .n = 1, .c_lo = potential_4_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -1, .c = potential_4_20, .n = 1, .c_lo = potential_4_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -1, .c = potential_4_21, .n = 1, .c_lo = potential_4_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -1, .c = potential_4_22, .n = 1, .c_lo = potential_4_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -1, .c = potential_4_23, .n = 1, .c_lo = potential_4_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -1, .c = potential_4_24, .n = 1, .c_lo = potential_4_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -1, .c = potential_4_25, .n = 1, .c_lo = potential_4_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -1, .c = potential_4_26, .n = 1, .c_lo = potential_4_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -1, .c = potential_4_27, .n = 1, .c_lo = potential_4_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -1, .c = potential_4_28, .n = 1, .c_lo = potential_4_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -1, .c = potential_4_29, .n = 1, .c_lo = potential_4_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -1, .c = potential_4_30, .n = 1, .c_lo = potential_4_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -1, .c = potential_4_31, .n = 1, .c_lo = potential_4_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -1, .c = potential_4_32, .n = 1, .c_lo = potential_4_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -1, .c = potential_4_33, .n = 1, .c_lo = potential_4_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -1, .c = potential_4_34, .n = 1, .c_lo = potential_4_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -1, .c = potential_4_35, .n = 1, .c_lo = potential_4_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -1, .c = potential_4_36, .n = 1, .c_lo = potential_4_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -1, .c = potential_4_37, .n = 1, .c_lo = potential_4_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -1, .c = potential_4_38, .n = 1, .c_lo = potential_4_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -1, .c = potential_4_39, .n = 1, .c_lo = potential_4_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -1, .c = potential_4_40, .n = 1, .c_lo = potential_4_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -1, .c = potential_4_41, .n = 1, .c_lo = potential_4_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -1, .c = potential_4_42, .n = 1, .c_lo = potential_4_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -1, .c = potential_4_43, .n = 1, .c_lo = potential_4_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -1, .c = potential_4_44, .n = 1, .c_lo = potential_4_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -1, .c = potential_4_45, .n = 1, .c_lo = potential_4_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -1, .c = potential_4_46, .n = 1, .c_lo = potential_4_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -1, .c = potential_4_47, .n = 1, .c_lo = potential_4_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -1, .c = potential_4_48, .n = 1, .c_lo = potential_4_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -1, .c = potential_4_49, .n = 1, .c_lo = potential_4_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -1, .c = potential_4_50, .n = 1, .c_lo = potential_4_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -1, .c = potential_4_51, .n = 1, .c_lo = potential_4_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -1, .c = potential_4_52, .n = 1, .c_lo = potential_4_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -1, .c = potential_4_53, .n = 1, .c_lo = potential_4_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -1, .c = potential_4_54, .n = 1, .c_lo = potential_4_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -1, .c = potential_4_55, .n = 1, .c_lo = potential_4_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_4_56, .n = 1, .c_lo = potential_4_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_4_57, .n = 1, .c_lo = potential_4_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_4_58, .n = 1, .c_lo = potential_4_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_4_59, .n = 1, .c_lo = potential_4_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_4_60, .n = 1, .c_lo = potential_4_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_61, .n = 1, .c_lo = potential_4_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_62, .n = 1, .c_lo = potential_4_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_63, .n = 1, .c_lo = potential_4_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_64, .n = 1, .c_lo = potential_4_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_4_65, .n = 1, .c_lo = potential_4_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_4_66, .n = 1, .c_lo = potential_4_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_67, .n = 1, .c_lo = potential_4_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_4_68, .n = 1, .c_lo = potential_4_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_4_69, .n = 1, .c_lo = potential_4_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = potential_4_70, .n = 1, .c_lo = potential_4_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = potential_4_71, .n = 1, .c_lo = potential_4_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = potential_4_72, .n = 1, .c_lo = potential_4_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = potential_4_73, .n = 1, .c_lo = potential_4_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = potential_4_74, .n = 1, .c_lo = potential_4_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = potential_4_75, .n = 1, .c_lo = potential_4_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = potential_4_76, .n = 1, .c_lo = potential_4_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = potential_4_77, .n = 1, .c_lo = potential_4_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = potential_4_78, .n = 1, .c_lo = potential_4_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = potential_4_79, .n = 1, .c_lo = potential_4_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = potential_4_80, .n = 1, .c_lo = potential_4_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = potential_4_81, .n = 1, .c_lo = potential_4_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = potential_4_82, .n = 1, .c_lo = potential_4_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = potential_4_83, .n = 1, .c_lo = potential_4_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = potential_4_84, .n = 1, .c_lo = potential_4_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = potential_4_85, .n = 1, .c_lo = potential_4_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = potential_4_86, .n = 1, .c_lo = potential_4_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = potential_4_87, .n = 1, .c_lo = potential_4_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = potential_4_88, .n = 1, .c_lo = potential_4_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = potential_4_89, .n = 1, .c_lo = potential_4_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = potential_4_90, .n = 1, .c_lo = potential_4_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = potential_4_91, .n = 1, .c_lo = potential_4_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = potential_4_92, .n = 1, .c_lo = potential_4_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = potential_4_93, .n = 1, .c_lo = potential_4_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = potential_4_94, .n = 1, .c_lo = potential_4_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = potential_4_95, .n = 1, .c_lo = potential_4_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = potential_4_96, .n = 1, .c_lo = potential_4_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = potential_4_97, .n = 1, .c_lo = potential_4_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = potential_4_98, .n = 1, .c_lo = potential_4_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = potential_4_99, .n = 1, .c_lo = potential_4_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = potential_4_100, .n = 1, .c_lo = potential_4_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = potential_4_101, .n = 1, .c_lo = potential_4_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = potential_4_102, .n = 1, .c_lo = potential_4_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = potential_4_103, .n = 1, .c_lo = potential_4_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = potential_4_104, .n = 1, .c_lo = potential_4_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = potential_4_105, .n = 1, .c_lo = potential_4_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = potential_4_106, .n = 1, .c_lo = potential_4_106_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = potential_4_107, .n = 1, .c_lo = potential_4_107_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = potential_4_108, .n = 1, .c_lo = potential_4_108_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = potential_4_109, .n = 1, .c_lo = potential_4_109_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = potential_4_110, .n = 1, .c_lo = potential_4_110_lo},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5287,15 +5287,15 @@ inline constexpr double potential_5_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.9e-20 relative (series.hpp)
-    {0x1p-2, 0x1.a8p-2, potential_1, 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^38, truncation < 8.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-2, 0x1.5p-1, potential_2, 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^39, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.5p-1, 0x1.8p-1, potential_3, 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^37, truncation < 3.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, potential_4, 111},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 1.4e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.9e-20 relative (series.hpp)
+    {.lo = 0x1p-2, .hi = 0x1.a8p-2, .terms = potential_1, .nterms = 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^38, truncation < 8.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-2, .hi = 0x1.5p-1, .terms = potential_2, .nterms = 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^39, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.5p-1, .hi = 0x1.8p-1, .terms = potential_3, .nterms = 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^37, truncation < 3.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 111},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 1.4e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.9f02f6222c72p+0,  // 16 * pi^-2
@@ -5323,8 +5323,8 @@ inline constexpr double dpotential_0_1_lo[] = {
     -0x1.32391a70cd50dp-49, 0x1.4018f35087bb3p-51,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dpotential_0_0, 11, 0, 0, dpotential_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 5, dpotential_0_1, 2, 0, 0, dpotential_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 11, .c_lo = dpotential_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 5, .c = dpotential_0_1, .n = 2, .c_lo = dpotential_0_1_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.d561a53dab905p-3,  // -41509345804942659787/46898101215093750000 * pi^-2 + (12182241411072/269529317328125 * pi^-2) * log(12) + (21025/1152 * pi^-2) * arcsin(24/145)
@@ -5388,7 +5388,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.b820df2ea3f3ep+26,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dpotential_1_0, 45, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 45, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.320e052faa86p-2,  // -547198025508/5340576171875 * pi^-2 + (779374204/1220703125 * pi^-2) * log(7) + (625/98 * pi^-2) * arcsin(7/25)
@@ -5448,7 +5448,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.ef0380149e959p-11, -0x1.504ee6a9a7065p-11,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dpotential_2_0, 42, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.12e063b27e877p-2,  // -1223987013135/111612119056 * pi^-2 + (3702784000/410338673 * pi^-2) * log(4) + (289/128 * pi^-2) * arcsin(8/17)
@@ -5512,7 +5512,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.7a143b315cff8p-33,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, dpotential_3_0, 45, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.50157e0f1962fp-3,  // -1203839537832981/20009856518440 * pi^-2 + (1148032000000/17249876309 * pi^-2) * log(5/2) + (841/800 * pi^-2) * arcsin(20/29)
@@ -5569,7 +5569,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     0x1.d8c6cc7cffb46p-31, 0x1.d79e3fdd18252p-29, -0x1.8d11e19e4bb9p-27, -0x1.9aa37d9ba5993p-26,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dpotential_4_0, 40, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6262,121 +6262,121 @@ inline constexpr double dpotential_5_114_lo[] = {
     0x1.1fc9900a7fda3p-71,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -2, dpotential_5_1, 1, 0, 0, dpotential_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -2, dpotential_5_2, 1, 0, 0, dpotential_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -2, dpotential_5_3, 1, 0, 0, dpotential_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -2, dpotential_5_4, 1, 0, 0, dpotential_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -2, dpotential_5_5, 1, 0, 0, dpotential_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -2, dpotential_5_6, 1, 0, 0, dpotential_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -2, dpotential_5_7, 1, 0, 0, dpotential_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -2, dpotential_5_8, 1, 0, 0, dpotential_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -2, dpotential_5_9, 1, 0, 0, dpotential_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -2, dpotential_5_10, 1, 0, 0, dpotential_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -2, dpotential_5_11, 1, 0, 0, dpotential_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -2, dpotential_5_12, 1, 0, 0, dpotential_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -2, dpotential_5_13, 1, 0, 0, dpotential_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -2, dpotential_5_14, 1, 0, 0, dpotential_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -2, dpotential_5_15, 1, 0, 0, dpotential_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -2, dpotential_5_16, 1, 0, 0, dpotential_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -2, dpotential_5_17, 1, 0, 0, dpotential_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -2, dpotential_5_18, 1, 0, 0, dpotential_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -2, dpotential_5_19, 1, 0, 0, dpotential_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -2, dpotential_5_20, 1, 0, 0, dpotential_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -2, dpotential_5_21, 1, 0, 0, dpotential_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -2, dpotential_5_22, 1, 0, 0, dpotential_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -2, dpotential_5_23, 1, 0, 0, dpotential_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -2, dpotential_5_24, 1, 0, 0, dpotential_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -2, dpotential_5_25, 1, 0, 0, dpotential_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -2, dpotential_5_26, 1, 0, 0, dpotential_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -2, dpotential_5_27, 1, 0, 0, dpotential_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -2, dpotential_5_28, 1, 0, 0, dpotential_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -2, dpotential_5_29, 1, 0, 0, dpotential_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -2, dpotential_5_30, 1, 0, 0, dpotential_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -2, dpotential_5_31, 1, 0, 0, dpotential_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -2, dpotential_5_32, 1, 0, 0, dpotential_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -2, dpotential_5_33, 1, 0, 0, dpotential_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -2, dpotential_5_34, 1, 0, 0, dpotential_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -2, dpotential_5_35, 1, 0, 0, dpotential_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -2, dpotential_5_36, 1, 0, 0, dpotential_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -2, dpotential_5_37, 1, 0, 0, dpotential_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -2, dpotential_5_38, 1, 0, 0, dpotential_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -2, dpotential_5_39, 1, 0, 0, dpotential_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -2, dpotential_5_40, 1, 0, 0, dpotential_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -2, dpotential_5_41, 1, 0, 0, dpotential_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -2, dpotential_5_42, 1, 0, 0, dpotential_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -2, dpotential_5_43, 1, 0, 0, dpotential_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -2, dpotential_5_44, 1, 0, 0, dpotential_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -2, dpotential_5_45, 1, 0, 0, dpotential_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -2, dpotential_5_46, 1, 0, 0, dpotential_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -2, dpotential_5_47, 1, 0, 0, dpotential_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -2, dpotential_5_48, 1, 0, 0, dpotential_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -2, dpotential_5_49, 1, 0, 0, dpotential_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -2, dpotential_5_50, 1, 0, 0, dpotential_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -2, dpotential_5_51, 1, 0, 0, dpotential_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -2, dpotential_5_52, 1, 0, 0, dpotential_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -2, dpotential_5_53, 1, 0, 0, dpotential_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -2, dpotential_5_54, 1, 0, 0, dpotential_5_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -2, dpotential_5_55, 1, 0, 0, dpotential_5_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -2, dpotential_5_56, 1, 0, 0, dpotential_5_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -2, dpotential_5_57, 1, 0, 0, dpotential_5_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -1, dpotential_5_58, 1, 0, 0, dpotential_5_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -1, dpotential_5_59, 1, 0, 0, dpotential_5_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -1, dpotential_5_60, 1, 0, 0, dpotential_5_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -1, dpotential_5_61, 1, 0, 0, dpotential_5_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -1, dpotential_5_62, 1, 0, 0, dpotential_5_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -1, dpotential_5_63, 1, 0, 0, dpotential_5_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -1, dpotential_5_64, 1, 0, 0, dpotential_5_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -1, dpotential_5_65, 1, 0, 0, dpotential_5_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -1, dpotential_5_66, 1, 0, 0, dpotential_5_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -1, dpotential_5_67, 1, 0, 0, dpotential_5_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -1, dpotential_5_68, 1, 0, 0, dpotential_5_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -1, dpotential_5_69, 1, 0, 0, dpotential_5_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -1, dpotential_5_70, 1, 0, 0, dpotential_5_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -1, dpotential_5_71, 1, 0, 0, dpotential_5_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -1, dpotential_5_72, 1, 0, 0, dpotential_5_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -1, dpotential_5_73, 1, 0, 0, dpotential_5_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -1, dpotential_5_74, 1, 0, 0, dpotential_5_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -1, dpotential_5_75, 1, 0, 0, dpotential_5_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -1, dpotential_5_76, 1, 0, 0, dpotential_5_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -1, dpotential_5_77, 1, 0, 0, dpotential_5_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -1, dpotential_5_78, 1, 0, 0, dpotential_5_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -1, dpotential_5_79, 1, 0, 0, dpotential_5_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -1, dpotential_5_80, 1, 0, 0, dpotential_5_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -1, dpotential_5_81, 1, 0, 0, dpotential_5_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -1, dpotential_5_82, 1, 0, 0, dpotential_5_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -1, dpotential_5_83, 1, 0, 0, dpotential_5_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -1, dpotential_5_84, 1, 0, 0, dpotential_5_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -1, dpotential_5_85, 1, 0, 0, dpotential_5_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -1, dpotential_5_86, 1, 0, 0, dpotential_5_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -1, dpotential_5_87, 1, 0, 0, dpotential_5_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -1, dpotential_5_88, 1, 0, 0, dpotential_5_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -1, dpotential_5_89, 1, 0, 0, dpotential_5_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -1, dpotential_5_90, 1, 0, 0, dpotential_5_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -1, dpotential_5_91, 1, 0, 0, dpotential_5_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -1, dpotential_5_92, 1, 0, 0, dpotential_5_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -1, dpotential_5_93, 1, 0, 0, dpotential_5_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -1, dpotential_5_94, 1, 0, 0, dpotential_5_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -1, dpotential_5_95, 1, 0, 0, dpotential_5_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -1, dpotential_5_96, 1, 0, 0, dpotential_5_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -1, dpotential_5_97, 1, 0, 0, dpotential_5_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -1, dpotential_5_98, 1, 0, 0, dpotential_5_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -1, dpotential_5_99, 1, 0, 0, dpotential_5_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -1, dpotential_5_100, 1, 0, 0, dpotential_5_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -1, dpotential_5_101, 1, 0, 0, dpotential_5_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -1, dpotential_5_102, 1, 0, 0, dpotential_5_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -1, dpotential_5_103, 1, 0, 0, dpotential_5_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -1, dpotential_5_104, 1, 0, 0, dpotential_5_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -1, dpotential_5_105, 1, 0, 0, dpotential_5_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -1, dpotential_5_106, 1, 0, 0, dpotential_5_106_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -1, dpotential_5_107, 1, 0, 0, dpotential_5_107_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -1, dpotential_5_108, 1, 0, 0, dpotential_5_108_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -1, dpotential_5_109, 1, 0, 0, dpotential_5_109_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -1, dpotential_5_110, 1, 0, 0, dpotential_5_110_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -1, dpotential_5_111, 1, 0, 0, dpotential_5_111_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -1, dpotential_5_112, 1, 0, 0, dpotential_5_112_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -1, dpotential_5_113, 1, 0, 0, dpotential_5_113_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -1, dpotential_5_114, 1, 0, 0, dpotential_5_114_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_5_1, .n = 1, .c_lo = dpotential_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -2, .c = dpotential_5_2, .n = 1, .c_lo = dpotential_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = dpotential_5_3, .n = 1, .c_lo = dpotential_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -2, .c = dpotential_5_4, .n = 1, .c_lo = dpotential_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_5_5, .n = 1, .c_lo = dpotential_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_5_6, .n = 1, .c_lo = dpotential_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_5_7, .n = 1, .c_lo = dpotential_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_5_8, .n = 1, .c_lo = dpotential_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -2, .c = dpotential_5_9, .n = 1, .c_lo = dpotential_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_5_10, .n = 1, .c_lo = dpotential_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -2, .c = dpotential_5_11, .n = 1, .c_lo = dpotential_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_5_12, .n = 1, .c_lo = dpotential_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -2, .c = dpotential_5_13, .n = 1, .c_lo = dpotential_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -2, .c = dpotential_5_14, .n = 1, .c_lo = dpotential_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -2, .c = dpotential_5_15, .n = 1, .c_lo = dpotential_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -2, .c = dpotential_5_16, .n = 1, .c_lo = dpotential_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -2, .c = dpotential_5_17, .n = 1, .c_lo = dpotential_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -2, .c = dpotential_5_18, .n = 1, .c_lo = dpotential_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -2, .c = dpotential_5_19, .n = 1, .c_lo = dpotential_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -2, .c = dpotential_5_20, .n = 1, .c_lo = dpotential_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -2, .c = dpotential_5_21, .n = 1, .c_lo = dpotential_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -2, .c = dpotential_5_22, .n = 1, .c_lo = dpotential_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -2, .c = dpotential_5_23, .n = 1, .c_lo = dpotential_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -2, .c = dpotential_5_24, .n = 1, .c_lo = dpotential_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -2, .c = dpotential_5_25, .n = 1, .c_lo = dpotential_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -2, .c = dpotential_5_26, .n = 1, .c_lo = dpotential_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -2, .c = dpotential_5_27, .n = 1, .c_lo = dpotential_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -2, .c = dpotential_5_28, .n = 1, .c_lo = dpotential_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -2, .c = dpotential_5_29, .n = 1, .c_lo = dpotential_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -2, .c = dpotential_5_30, .n = 1, .c_lo = dpotential_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -2, .c = dpotential_5_31, .n = 1, .c_lo = dpotential_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -2, .c = dpotential_5_32, .n = 1, .c_lo = dpotential_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -2, .c = dpotential_5_33, .n = 1, .c_lo = dpotential_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -2, .c = dpotential_5_34, .n = 1, .c_lo = dpotential_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -2, .c = dpotential_5_35, .n = 1, .c_lo = dpotential_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -2, .c = dpotential_5_36, .n = 1, .c_lo = dpotential_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -2, .c = dpotential_5_37, .n = 1, .c_lo = dpotential_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -2, .c = dpotential_5_38, .n = 1, .c_lo = dpotential_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -2, .c = dpotential_5_39, .n = 1, .c_lo = dpotential_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -2, .c = dpotential_5_40, .n = 1, .c_lo = dpotential_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -2, .c = dpotential_5_41, .n = 1, .c_lo = dpotential_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -2, .c = dpotential_5_42, .n = 1, .c_lo = dpotential_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -2, .c = dpotential_5_43, .n = 1, .c_lo = dpotential_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -2, .c = dpotential_5_44, .n = 1, .c_lo = dpotential_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -2, .c = dpotential_5_45, .n = 1, .c_lo = dpotential_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -2, .c = dpotential_5_46, .n = 1, .c_lo = dpotential_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -2, .c = dpotential_5_47, .n = 1, .c_lo = dpotential_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -2, .c = dpotential_5_48, .n = 1, .c_lo = dpotential_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -2, .c = dpotential_5_49, .n = 1, .c_lo = dpotential_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -2, .c = dpotential_5_50, .n = 1, .c_lo = dpotential_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -2, .c = dpotential_5_51, .n = 1, .c_lo = dpotential_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -2, .c = dpotential_5_52, .n = 1, .c_lo = dpotential_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -2, .c = dpotential_5_53, .n = 1, .c_lo = dpotential_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -2, .c = dpotential_5_54, .n = 1, .c_lo = dpotential_5_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -2, .c = dpotential_5_55, .n = 1, .c_lo = dpotential_5_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -2, .c = dpotential_5_56, .n = 1, .c_lo = dpotential_5_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -2, .c = dpotential_5_57, .n = 1, .c_lo = dpotential_5_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_5_58, .n = 1, .c_lo = dpotential_5_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -1, .c = dpotential_5_59, .n = 1, .c_lo = dpotential_5_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -1, .c = dpotential_5_60, .n = 1, .c_lo = dpotential_5_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = dpotential_5_61, .n = 1, .c_lo = dpotential_5_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_5_62, .n = 1, .c_lo = dpotential_5_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_5_63, .n = 1, .c_lo = dpotential_5_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_5_64, .n = 1, .c_lo = dpotential_5_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_5_65, .n = 1, .c_lo = dpotential_5_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_5_66, .n = 1, .c_lo = dpotential_5_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_5_67, .n = 1, .c_lo = dpotential_5_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_5_68, .n = 1, .c_lo = dpotential_5_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -1, .c = dpotential_5_69, .n = 1, .c_lo = dpotential_5_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = dpotential_5_70, .n = 1, .c_lo = dpotential_5_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -1, .c = dpotential_5_71, .n = 1, .c_lo = dpotential_5_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -1, .c = dpotential_5_72, .n = 1, .c_lo = dpotential_5_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -1, .c = dpotential_5_73, .n = 1, .c_lo = dpotential_5_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -1, .c = dpotential_5_74, .n = 1, .c_lo = dpotential_5_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -1, .c = dpotential_5_75, .n = 1, .c_lo = dpotential_5_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -1, .c = dpotential_5_76, .n = 1, .c_lo = dpotential_5_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -1, .c = dpotential_5_77, .n = 1, .c_lo = dpotential_5_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -1, .c = dpotential_5_78, .n = 1, .c_lo = dpotential_5_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -1, .c = dpotential_5_79, .n = 1, .c_lo = dpotential_5_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -1, .c = dpotential_5_80, .n = 1, .c_lo = dpotential_5_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -1, .c = dpotential_5_81, .n = 1, .c_lo = dpotential_5_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -1, .c = dpotential_5_82, .n = 1, .c_lo = dpotential_5_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -1, .c = dpotential_5_83, .n = 1, .c_lo = dpotential_5_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -1, .c = dpotential_5_84, .n = 1, .c_lo = dpotential_5_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -1, .c = dpotential_5_85, .n = 1, .c_lo = dpotential_5_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -1, .c = dpotential_5_86, .n = 1, .c_lo = dpotential_5_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -1, .c = dpotential_5_87, .n = 1, .c_lo = dpotential_5_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -1, .c = dpotential_5_88, .n = 1, .c_lo = dpotential_5_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -1, .c = dpotential_5_89, .n = 1, .c_lo = dpotential_5_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -1, .c = dpotential_5_90, .n = 1, .c_lo = dpotential_5_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -1, .c = dpotential_5_91, .n = 1, .c_lo = dpotential_5_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -1, .c = dpotential_5_92, .n = 1, .c_lo = dpotential_5_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -1, .c = dpotential_5_93, .n = 1, .c_lo = dpotential_5_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -1, .c = dpotential_5_94, .n = 1, .c_lo = dpotential_5_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -1, .c = dpotential_5_95, .n = 1, .c_lo = dpotential_5_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -1, .c = dpotential_5_96, .n = 1, .c_lo = dpotential_5_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -1, .c = dpotential_5_97, .n = 1, .c_lo = dpotential_5_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -1, .c = dpotential_5_98, .n = 1, .c_lo = dpotential_5_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -1, .c = dpotential_5_99, .n = 1, .c_lo = dpotential_5_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -1, .c = dpotential_5_100, .n = 1, .c_lo = dpotential_5_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -1, .c = dpotential_5_101, .n = 1, .c_lo = dpotential_5_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -1, .c = dpotential_5_102, .n = 1, .c_lo = dpotential_5_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -1, .c = dpotential_5_103, .n = 1, .c_lo = dpotential_5_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -1, .c = dpotential_5_104, .n = 1, .c_lo = dpotential_5_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -1, .c = dpotential_5_105, .n = 1, .c_lo = dpotential_5_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -1, .c = dpotential_5_106, .n = 1, .c_lo = dpotential_5_106_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -1, .c = dpotential_5_107, .n = 1, .c_lo = dpotential_5_107_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -1, .c = dpotential_5_108, .n = 1, .c_lo = dpotential_5_108_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -1, .c = dpotential_5_109, .n = 1, .c_lo = dpotential_5_109_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -1, .c = dpotential_5_110, .n = 1, .c_lo = dpotential_5_110_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -1, .c = dpotential_5_111, .n = 1, .c_lo = dpotential_5_111_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -1, .c = dpotential_5_112, .n = 1, .c_lo = dpotential_5_112_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -1, .c = dpotential_5_113, .n = 1, .c_lo = dpotential_5_113_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -1, .c = dpotential_5_114, .n = 1, .c_lo = dpotential_5_114_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6385,16 +6385,16 @@ inline constexpr double dpotential_6_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 1.1e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dpotential_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^44, truncation < 5.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dpotential_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dpotential_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^44, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.8p-1, dpotential_4, 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 4.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, dpotential_5, 115},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, dpotential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^21, truncation < 1.1e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dpotential_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^44, truncation < 5.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dpotential_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dpotential_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^44, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.8p-1, .terms = dpotential_4, .nterms = 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 4.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dpotential_5, .nterms = 115},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.9f02f6222c72p+0,  // 16 * pi^-2
@@ -6422,8 +6422,8 @@ inline constexpr double dpotential_over_r_0_1_lo[] = {
     -0x1.32391a70cd50dp-49, 0x1.4018f35087bb3p-51,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, dpotential_over_r_0_0, 11, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 4, dpotential_over_r_0_1, 2, 0, 0, dpotential_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 11, .c_lo = dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 4, .c = dpotential_over_r_0_1, .n = 2, .c_lo = dpotential_over_r_0_1_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.627b13753d91p+0,  // -41509345804942659787/7762444339050000000 * pi^-2 + (507593392128/1858822878125 * pi^-2) * log(12) + (3048625/27648 * pi^-2) * arcsin(24/145)
@@ -6489,7 +6489,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.b1a47633364dap+28, 0x1.786c044edcdc9p+34, -0x1.123c2c879e387p+37,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dpotential_over_r_1_0, 47, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.1143600f21656p+0,  // -547198025508/1495361328125 * pi^-2 + (111339172/48828125 * pi^-2) * log(7) + (15625/686 * pi^-2) * arcsin(7/25)
@@ -6553,7 +6553,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.af526992568dp+0,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dpotential_over_r_2_0, 45, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.240e69eda66ffp-1,  // -1223987013135/52523350144 * pi^-2 + (462848000/24137569 * pi^-2) * log(4) + (4913/1024 * pi^-2) * arcsin(8/17)
@@ -6618,7 +6618,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.e8fc89af21d69p-31, 0x1.498aa9a27c829p-27,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, dpotential_over_r_3_0, 46, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.e7525d2f7e691p-3,  // -1203839537832981/13799901047200 * pi^-2 + (57401600000/594823321 * pi^-2) * log(5/2) + (24389/16000 * pi^-2) * arcsin(20/29)
@@ -6674,7 +6674,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.518fd1d6a7caap-31, -0x1.00c003b99a42ep-31, 0x1.311ddf974a95p-27,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dpotential_over_r_4_0, 39, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -7367,121 +7367,121 @@ inline constexpr double dpotential_over_r_5_114_lo[] = {
     0x1.1fc9900a7fda3p-71,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_5_1, 1, 0, 0, dpotential_over_r_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -3, dpotential_over_r_5_2, 1, 0, 0, dpotential_over_r_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -3, dpotential_over_r_5_3, 1, 0, 0, dpotential_over_r_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -3, dpotential_over_r_5_4, 1, 0, 0, dpotential_over_r_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -3, dpotential_over_r_5_5, 1, 0, 0, dpotential_over_r_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -3, dpotential_over_r_5_6, 1, 0, 0, dpotential_over_r_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -3, dpotential_over_r_5_7, 1, 0, 0, dpotential_over_r_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -3, dpotential_over_r_5_8, 1, 0, 0, dpotential_over_r_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -3, dpotential_over_r_5_9, 1, 0, 0, dpotential_over_r_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -3, dpotential_over_r_5_10, 1, 0, 0, dpotential_over_r_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -3, dpotential_over_r_5_11, 1, 0, 0, dpotential_over_r_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -3, dpotential_over_r_5_12, 1, 0, 0, dpotential_over_r_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -3, dpotential_over_r_5_13, 1, 0, 0, dpotential_over_r_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -3, dpotential_over_r_5_14, 1, 0, 0, dpotential_over_r_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -3, dpotential_over_r_5_15, 1, 0, 0, dpotential_over_r_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -3, dpotential_over_r_5_16, 1, 0, 0, dpotential_over_r_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -3, dpotential_over_r_5_17, 1, 0, 0, dpotential_over_r_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -3, dpotential_over_r_5_18, 1, 0, 0, dpotential_over_r_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -3, dpotential_over_r_5_19, 1, 0, 0, dpotential_over_r_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -3, dpotential_over_r_5_20, 1, 0, 0, dpotential_over_r_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -3, dpotential_over_r_5_21, 1, 0, 0, dpotential_over_r_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -3, dpotential_over_r_5_22, 1, 0, 0, dpotential_over_r_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -3, dpotential_over_r_5_23, 1, 0, 0, dpotential_over_r_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -3, dpotential_over_r_5_24, 1, 0, 0, dpotential_over_r_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -3, dpotential_over_r_5_25, 1, 0, 0, dpotential_over_r_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -3, dpotential_over_r_5_26, 1, 0, 0, dpotential_over_r_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -3, dpotential_over_r_5_27, 1, 0, 0, dpotential_over_r_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -3, dpotential_over_r_5_28, 1, 0, 0, dpotential_over_r_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -3, dpotential_over_r_5_29, 1, 0, 0, dpotential_over_r_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -3, dpotential_over_r_5_30, 1, 0, 0, dpotential_over_r_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -3, dpotential_over_r_5_31, 1, 0, 0, dpotential_over_r_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -3, dpotential_over_r_5_32, 1, 0, 0, dpotential_over_r_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -3, dpotential_over_r_5_33, 1, 0, 0, dpotential_over_r_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -3, dpotential_over_r_5_34, 1, 0, 0, dpotential_over_r_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -3, dpotential_over_r_5_35, 1, 0, 0, dpotential_over_r_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -3, dpotential_over_r_5_36, 1, 0, 0, dpotential_over_r_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -3, dpotential_over_r_5_37, 1, 0, 0, dpotential_over_r_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -3, dpotential_over_r_5_38, 1, 0, 0, dpotential_over_r_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -3, dpotential_over_r_5_39, 1, 0, 0, dpotential_over_r_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -3, dpotential_over_r_5_40, 1, 0, 0, dpotential_over_r_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -3, dpotential_over_r_5_41, 1, 0, 0, dpotential_over_r_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -3, dpotential_over_r_5_42, 1, 0, 0, dpotential_over_r_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -3, dpotential_over_r_5_43, 1, 0, 0, dpotential_over_r_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -3, dpotential_over_r_5_44, 1, 0, 0, dpotential_over_r_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -3, dpotential_over_r_5_45, 1, 0, 0, dpotential_over_r_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -3, dpotential_over_r_5_46, 1, 0, 0, dpotential_over_r_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -3, dpotential_over_r_5_47, 1, 0, 0, dpotential_over_r_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -3, dpotential_over_r_5_48, 1, 0, 0, dpotential_over_r_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -3, dpotential_over_r_5_49, 1, 0, 0, dpotential_over_r_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -3, dpotential_over_r_5_50, 1, 0, 0, dpotential_over_r_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -3, dpotential_over_r_5_51, 1, 0, 0, dpotential_over_r_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -3, dpotential_over_r_5_52, 1, 0, 0, dpotential_over_r_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -3, dpotential_over_r_5_53, 1, 0, 0, dpotential_over_r_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -3, dpotential_over_r_5_54, 1, 0, 0, dpotential_over_r_5_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -3, dpotential_over_r_5_55, 1, 0, 0, dpotential_over_r_5_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -3, dpotential_over_r_5_56, 1, 0, 0, dpotential_over_r_5_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -3, dpotential_over_r_5_57, 1, 0, 0, dpotential_over_r_5_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_5_58, 1, 0, 0, dpotential_over_r_5_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -2, dpotential_over_r_5_59, 1, 0, 0, dpotential_over_r_5_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -2, dpotential_over_r_5_60, 1, 0, 0, dpotential_over_r_5_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -2, dpotential_over_r_5_61, 1, 0, 0, dpotential_over_r_5_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -2, dpotential_over_r_5_62, 1, 0, 0, dpotential_over_r_5_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -2, dpotential_over_r_5_63, 1, 0, 0, dpotential_over_r_5_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -2, dpotential_over_r_5_64, 1, 0, 0, dpotential_over_r_5_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -2, dpotential_over_r_5_65, 1, 0, 0, dpotential_over_r_5_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -2, dpotential_over_r_5_66, 1, 0, 0, dpotential_over_r_5_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -2, dpotential_over_r_5_67, 1, 0, 0, dpotential_over_r_5_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -2, dpotential_over_r_5_68, 1, 0, 0, dpotential_over_r_5_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -2, dpotential_over_r_5_69, 1, 0, 0, dpotential_over_r_5_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -2, dpotential_over_r_5_70, 1, 0, 0, dpotential_over_r_5_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -2, dpotential_over_r_5_71, 1, 0, 0, dpotential_over_r_5_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -2, dpotential_over_r_5_72, 1, 0, 0, dpotential_over_r_5_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -2, dpotential_over_r_5_73, 1, 0, 0, dpotential_over_r_5_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -2, dpotential_over_r_5_74, 1, 0, 0, dpotential_over_r_5_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -2, dpotential_over_r_5_75, 1, 0, 0, dpotential_over_r_5_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -2, dpotential_over_r_5_76, 1, 0, 0, dpotential_over_r_5_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -2, dpotential_over_r_5_77, 1, 0, 0, dpotential_over_r_5_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -2, dpotential_over_r_5_78, 1, 0, 0, dpotential_over_r_5_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -2, dpotential_over_r_5_79, 1, 0, 0, dpotential_over_r_5_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -2, dpotential_over_r_5_80, 1, 0, 0, dpotential_over_r_5_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -2, dpotential_over_r_5_81, 1, 0, 0, dpotential_over_r_5_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -2, dpotential_over_r_5_82, 1, 0, 0, dpotential_over_r_5_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -2, dpotential_over_r_5_83, 1, 0, 0, dpotential_over_r_5_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -2, dpotential_over_r_5_84, 1, 0, 0, dpotential_over_r_5_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -2, dpotential_over_r_5_85, 1, 0, 0, dpotential_over_r_5_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -2, dpotential_over_r_5_86, 1, 0, 0, dpotential_over_r_5_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -2, dpotential_over_r_5_87, 1, 0, 0, dpotential_over_r_5_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -2, dpotential_over_r_5_88, 1, 0, 0, dpotential_over_r_5_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -2, dpotential_over_r_5_89, 1, 0, 0, dpotential_over_r_5_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -2, dpotential_over_r_5_90, 1, 0, 0, dpotential_over_r_5_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -2, dpotential_over_r_5_91, 1, 0, 0, dpotential_over_r_5_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -2, dpotential_over_r_5_92, 1, 0, 0, dpotential_over_r_5_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -2, dpotential_over_r_5_93, 1, 0, 0, dpotential_over_r_5_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -2, dpotential_over_r_5_94, 1, 0, 0, dpotential_over_r_5_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -2, dpotential_over_r_5_95, 1, 0, 0, dpotential_over_r_5_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -2, dpotential_over_r_5_96, 1, 0, 0, dpotential_over_r_5_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -2, dpotential_over_r_5_97, 1, 0, 0, dpotential_over_r_5_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -2, dpotential_over_r_5_98, 1, 0, 0, dpotential_over_r_5_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -2, dpotential_over_r_5_99, 1, 0, 0, dpotential_over_r_5_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -2, dpotential_over_r_5_100, 1, 0, 0, dpotential_over_r_5_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -2, dpotential_over_r_5_101, 1, 0, 0, dpotential_over_r_5_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -2, dpotential_over_r_5_102, 1, 0, 0, dpotential_over_r_5_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -2, dpotential_over_r_5_103, 1, 0, 0, dpotential_over_r_5_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -2, dpotential_over_r_5_104, 1, 0, 0, dpotential_over_r_5_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -2, dpotential_over_r_5_105, 1, 0, 0, dpotential_over_r_5_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -2, dpotential_over_r_5_106, 1, 0, 0, dpotential_over_r_5_106_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -2, dpotential_over_r_5_107, 1, 0, 0, dpotential_over_r_5_107_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -2, dpotential_over_r_5_108, 1, 0, 0, dpotential_over_r_5_108_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -2, dpotential_over_r_5_109, 1, 0, 0, dpotential_over_r_5_109_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -2, dpotential_over_r_5_110, 1, 0, 0, dpotential_over_r_5_110_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -2, dpotential_over_r_5_111, 1, 0, 0, dpotential_over_r_5_111_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -2, dpotential_over_r_5_112, 1, 0, 0, dpotential_over_r_5_112_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -2, dpotential_over_r_5_113, 1, 0, 0, dpotential_over_r_5_113_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -2, dpotential_over_r_5_114, 1, 0, 0, dpotential_over_r_5_114_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_1, .n = 1, .c_lo = dpotential_over_r_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -3, .c = dpotential_over_r_5_2, .n = 1, .c_lo = dpotential_over_r_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = dpotential_over_r_5_3, .n = 1, .c_lo = dpotential_over_r_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = dpotential_over_r_5_4, .n = 1, .c_lo = dpotential_over_r_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_5_5, .n = 1, .c_lo = dpotential_over_r_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_5_6, .n = 1, .c_lo = dpotential_over_r_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -3, .c = dpotential_over_r_5_7, .n = 1, .c_lo = dpotential_over_r_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -3, .c = dpotential_over_r_5_8, .n = 1, .c_lo = dpotential_over_r_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -3, .c = dpotential_over_r_5_9, .n = 1, .c_lo = dpotential_over_r_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -3, .c = dpotential_over_r_5_10, .n = 1, .c_lo = dpotential_over_r_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -3, .c = dpotential_over_r_5_11, .n = 1, .c_lo = dpotential_over_r_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -3, .c = dpotential_over_r_5_12, .n = 1, .c_lo = dpotential_over_r_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -3, .c = dpotential_over_r_5_13, .n = 1, .c_lo = dpotential_over_r_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -3, .c = dpotential_over_r_5_14, .n = 1, .c_lo = dpotential_over_r_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -3, .c = dpotential_over_r_5_15, .n = 1, .c_lo = dpotential_over_r_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -3, .c = dpotential_over_r_5_16, .n = 1, .c_lo = dpotential_over_r_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -3, .c = dpotential_over_r_5_17, .n = 1, .c_lo = dpotential_over_r_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -3, .c = dpotential_over_r_5_18, .n = 1, .c_lo = dpotential_over_r_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -3, .c = dpotential_over_r_5_19, .n = 1, .c_lo = dpotential_over_r_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -3, .c = dpotential_over_r_5_20, .n = 1, .c_lo = dpotential_over_r_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -3, .c = dpotential_over_r_5_21, .n = 1, .c_lo = dpotential_over_r_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -3, .c = dpotential_over_r_5_22, .n = 1, .c_lo = dpotential_over_r_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -3, .c = dpotential_over_r_5_23, .n = 1, .c_lo = dpotential_over_r_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -3, .c = dpotential_over_r_5_24, .n = 1, .c_lo = dpotential_over_r_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -3, .c = dpotential_over_r_5_25, .n = 1, .c_lo = dpotential_over_r_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -3, .c = dpotential_over_r_5_26, .n = 1, .c_lo = dpotential_over_r_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -3, .c = dpotential_over_r_5_27, .n = 1, .c_lo = dpotential_over_r_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -3, .c = dpotential_over_r_5_28, .n = 1, .c_lo = dpotential_over_r_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -3, .c = dpotential_over_r_5_29, .n = 1, .c_lo = dpotential_over_r_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -3, .c = dpotential_over_r_5_30, .n = 1, .c_lo = dpotential_over_r_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -3, .c = dpotential_over_r_5_31, .n = 1, .c_lo = dpotential_over_r_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -3, .c = dpotential_over_r_5_32, .n = 1, .c_lo = dpotential_over_r_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -3, .c = dpotential_over_r_5_33, .n = 1, .c_lo = dpotential_over_r_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -3, .c = dpotential_over_r_5_34, .n = 1, .c_lo = dpotential_over_r_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -3, .c = dpotential_over_r_5_35, .n = 1, .c_lo = dpotential_over_r_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -3, .c = dpotential_over_r_5_36, .n = 1, .c_lo = dpotential_over_r_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -3, .c = dpotential_over_r_5_37, .n = 1, .c_lo = dpotential_over_r_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -3, .c = dpotential_over_r_5_38, .n = 1, .c_lo = dpotential_over_r_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -3, .c = dpotential_over_r_5_39, .n = 1, .c_lo = dpotential_over_r_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -3, .c = dpotential_over_r_5_40, .n = 1, .c_lo = dpotential_over_r_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -3, .c = dpotential_over_r_5_41, .n = 1, .c_lo = dpotential_over_r_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -3, .c = dpotential_over_r_5_42, .n = 1, .c_lo = dpotential_over_r_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -3, .c = dpotential_over_r_5_43, .n = 1, .c_lo = dpotential_over_r_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -3, .c = dpotential_over_r_5_44, .n = 1, .c_lo = dpotential_over_r_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -3, .c = dpotential_over_r_5_45, .n = 1, .c_lo = dpotential_over_r_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -3, .c = dpotential_over_r_5_46, .n = 1, .c_lo = dpotential_over_r_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -3, .c = dpotential_over_r_5_47, .n = 1, .c_lo = dpotential_over_r_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -3, .c = dpotential_over_r_5_48, .n = 1, .c_lo = dpotential_over_r_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -3, .c = dpotential_over_r_5_49, .n = 1, .c_lo = dpotential_over_r_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -3, .c = dpotential_over_r_5_50, .n = 1, .c_lo = dpotential_over_r_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -3, .c = dpotential_over_r_5_51, .n = 1, .c_lo = dpotential_over_r_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -3, .c = dpotential_over_r_5_52, .n = 1, .c_lo = dpotential_over_r_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -3, .c = dpotential_over_r_5_53, .n = 1, .c_lo = dpotential_over_r_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -3, .c = dpotential_over_r_5_54, .n = 1, .c_lo = dpotential_over_r_5_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -3, .c = dpotential_over_r_5_55, .n = 1, .c_lo = dpotential_over_r_5_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -3, .c = dpotential_over_r_5_56, .n = 1, .c_lo = dpotential_over_r_5_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -3, .c = dpotential_over_r_5_57, .n = 1, .c_lo = dpotential_over_r_5_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_58, .n = 1, .c_lo = dpotential_over_r_5_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -2, .c = dpotential_over_r_5_59, .n = 1, .c_lo = dpotential_over_r_5_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = dpotential_over_r_5_60, .n = 1, .c_lo = dpotential_over_r_5_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -2, .c = dpotential_over_r_5_61, .n = 1, .c_lo = dpotential_over_r_5_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_over_r_5_62, .n = 1, .c_lo = dpotential_over_r_5_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_5_63, .n = 1, .c_lo = dpotential_over_r_5_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_5_64, .n = 1, .c_lo = dpotential_over_r_5_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_5_65, .n = 1, .c_lo = dpotential_over_r_5_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -2, .c = dpotential_over_r_5_66, .n = 1, .c_lo = dpotential_over_r_5_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_5_67, .n = 1, .c_lo = dpotential_over_r_5_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -2, .c = dpotential_over_r_5_68, .n = 1, .c_lo = dpotential_over_r_5_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_over_r_5_69, .n = 1, .c_lo = dpotential_over_r_5_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -2, .c = dpotential_over_r_5_70, .n = 1, .c_lo = dpotential_over_r_5_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -2, .c = dpotential_over_r_5_71, .n = 1, .c_lo = dpotential_over_r_5_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -2, .c = dpotential_over_r_5_72, .n = 1, .c_lo = dpotential_over_r_5_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -2, .c = dpotential_over_r_5_73, .n = 1, .c_lo = dpotential_over_r_5_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -2, .c = dpotential_over_r_5_74, .n = 1, .c_lo = dpotential_over_r_5_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -2, .c = dpotential_over_r_5_75, .n = 1, .c_lo = dpotential_over_r_5_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -2, .c = dpotential_over_r_5_76, .n = 1, .c_lo = dpotential_over_r_5_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -2, .c = dpotential_over_r_5_77, .n = 1, .c_lo = dpotential_over_r_5_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -2, .c = dpotential_over_r_5_78, .n = 1, .c_lo = dpotential_over_r_5_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -2, .c = dpotential_over_r_5_79, .n = 1, .c_lo = dpotential_over_r_5_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -2, .c = dpotential_over_r_5_80, .n = 1, .c_lo = dpotential_over_r_5_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -2, .c = dpotential_over_r_5_81, .n = 1, .c_lo = dpotential_over_r_5_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -2, .c = dpotential_over_r_5_82, .n = 1, .c_lo = dpotential_over_r_5_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -2, .c = dpotential_over_r_5_83, .n = 1, .c_lo = dpotential_over_r_5_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -2, .c = dpotential_over_r_5_84, .n = 1, .c_lo = dpotential_over_r_5_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -2, .c = dpotential_over_r_5_85, .n = 1, .c_lo = dpotential_over_r_5_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -2, .c = dpotential_over_r_5_86, .n = 1, .c_lo = dpotential_over_r_5_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -2, .c = dpotential_over_r_5_87, .n = 1, .c_lo = dpotential_over_r_5_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -2, .c = dpotential_over_r_5_88, .n = 1, .c_lo = dpotential_over_r_5_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -2, .c = dpotential_over_r_5_89, .n = 1, .c_lo = dpotential_over_r_5_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -2, .c = dpotential_over_r_5_90, .n = 1, .c_lo = dpotential_over_r_5_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -2, .c = dpotential_over_r_5_91, .n = 1, .c_lo = dpotential_over_r_5_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -2, .c = dpotential_over_r_5_92, .n = 1, .c_lo = dpotential_over_r_5_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -2, .c = dpotential_over_r_5_93, .n = 1, .c_lo = dpotential_over_r_5_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -2, .c = dpotential_over_r_5_94, .n = 1, .c_lo = dpotential_over_r_5_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -2, .c = dpotential_over_r_5_95, .n = 1, .c_lo = dpotential_over_r_5_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -2, .c = dpotential_over_r_5_96, .n = 1, .c_lo = dpotential_over_r_5_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -2, .c = dpotential_over_r_5_97, .n = 1, .c_lo = dpotential_over_r_5_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -2, .c = dpotential_over_r_5_98, .n = 1, .c_lo = dpotential_over_r_5_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -2, .c = dpotential_over_r_5_99, .n = 1, .c_lo = dpotential_over_r_5_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -2, .c = dpotential_over_r_5_100, .n = 1, .c_lo = dpotential_over_r_5_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -2, .c = dpotential_over_r_5_101, .n = 1, .c_lo = dpotential_over_r_5_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -2, .c = dpotential_over_r_5_102, .n = 1, .c_lo = dpotential_over_r_5_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -2, .c = dpotential_over_r_5_103, .n = 1, .c_lo = dpotential_over_r_5_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -2, .c = dpotential_over_r_5_104, .n = 1, .c_lo = dpotential_over_r_5_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -2, .c = dpotential_over_r_5_105, .n = 1, .c_lo = dpotential_over_r_5_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -2, .c = dpotential_over_r_5_106, .n = 1, .c_lo = dpotential_over_r_5_106_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -2, .c = dpotential_over_r_5_107, .n = 1, .c_lo = dpotential_over_r_5_107_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -2, .c = dpotential_over_r_5_108, .n = 1, .c_lo = dpotential_over_r_5_108_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -2, .c = dpotential_over_r_5_109, .n = 1, .c_lo = dpotential_over_r_5_109_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -2, .c = dpotential_over_r_5_110, .n = 1, .c_lo = dpotential_over_r_5_110_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -2, .c = dpotential_over_r_5_111, .n = 1, .c_lo = dpotential_over_r_5_111_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -2, .c = dpotential_over_r_5_112, .n = 1, .c_lo = dpotential_over_r_5_112_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -2, .c = dpotential_over_r_5_113, .n = 1, .c_lo = dpotential_over_r_5_113_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -2, .c = dpotential_over_r_5_114, .n = 1, .c_lo = dpotential_over_r_5_114_lo},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -7490,16 +7490,16 @@ inline constexpr double dpotential_over_r_6_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_6_0, 1, 0, 0, dpotential_over_r_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 1.1e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dpotential_over_r_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^46, truncation < 9.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dpotential_over_r_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^44, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dpotential_over_r_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.8p-1, dpotential_over_r_4, 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^38, truncation < 7.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, dpotential_over_r_5, 115},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, dpotential_over_r_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 1.1e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^46, truncation < 9.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dpotential_over_r_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^44, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.8p-1, .terms = dpotential_over_r_4, .nterms = 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^38, truncation < 7.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dpotential_over_r_5, .nterms = 115},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.46d25507b6336p+4,  // -1008/5 * pi^-2
@@ -7527,8 +7527,8 @@ inline constexpr double potential_hess_radial_0_1_lo[] = {
     -0x1.32391a70cd50dp-47, -0x1.fda9307346738p-53,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_hess_radial_0_0, 11, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 2, potential_hess_radial_0_1, 2, 0, 0, potential_hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 11, .c_lo = potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 2, .c = potential_hess_radial_0_1, .n = 2, .c_lo = potential_hess_radial_0_1_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.e15b18eb19b22p+3,  // 124742292299683948747/70886530944000000 * pi^-2 + (3543533568/88410125 * pi^-2) * log(12) + (-64097340625/5308416 * pi^-2) * arcsin(24/145)
@@ -7603,7 +7603,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.d92d32bcc72f1p+66, 0x1.0fede689a3c91p+68,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, potential_hess_radial_1_0, 54, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 54, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.4ab9d25354716p+3,  // -9893670653556/117236328125 * pi^-2 + (9223368/78125 * pi^-2) * log(7) + (-29296875/33614 * pi^-2) * arcsin(7/25)
@@ -7673,7 +7673,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.61037c44d57c2p+22, 0x1.860ba4c142a9dp+23,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, potential_hess_radial_2_0, 50, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 50, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.23fb190ca3754p+2,  // -5959608214995/11631468544 * pi^-2 + (30074880/83521 * pi^-2) * log(4) + (-4259571/65536 * pi^-2) * arcsin(8/17)
@@ -7744,7 +7744,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.7d79ed29376efp-14, -0x1.7293aca2f156bp-12, -0x1.2574b8e29b1b8p-12,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, potential_hess_radial_3_0, 51, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.6254f31d3abb5p+0,  // -5303540366046657/6563567680000 * pi^-2 + (618816000/707281 * pi^-2) * log(5/2) + (-61533447/6400000 * pi^-2) * arcsin(20/29)
@@ -7800,7 +7800,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.e140e7637be6bp-24, 0x1.043c9f08e2369p-23, 0x1.d3988c73b87adp-21,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, potential_hess_radial_4_0, 39, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -8505,123 +8505,123 @@ inline constexpr double potential_hess_radial_5_116_lo[] = {
     0x1.af75b73d083bdp-69,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_5_1, 1, 0, 0, potential_hess_radial_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -5, potential_hess_radial_5_2, 1, 0, 0, potential_hess_radial_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -5, potential_hess_radial_5_3, 1, 0, 0, potential_hess_radial_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -5, potential_hess_radial_5_4, 1, 0, 0, potential_hess_radial_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -5, potential_hess_radial_5_5, 1, 0, 0, potential_hess_radial_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -5, potential_hess_radial_5_6, 1, 0, 0, potential_hess_radial_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -5, potential_hess_radial_5_7, 1, 0, 0, potential_hess_radial_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -5, potential_hess_radial_5_8, 1, 0, 0, potential_hess_radial_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -5, potential_hess_radial_5_9, 1, 0, 0, potential_hess_radial_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -5, potential_hess_radial_5_10, 1, 0, 0, potential_hess_radial_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -5, potential_hess_radial_5_11, 1, 0, 0, potential_hess_radial_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -5, potential_hess_radial_5_12, 1, 0, 0, potential_hess_radial_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -5, potential_hess_radial_5_13, 1, 0, 0, potential_hess_radial_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -5, potential_hess_radial_5_14, 1, 0, 0, potential_hess_radial_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -5, potential_hess_radial_5_15, 1, 0, 0, potential_hess_radial_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -5, potential_hess_radial_5_16, 1, 0, 0, potential_hess_radial_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -5, potential_hess_radial_5_17, 1, 0, 0, potential_hess_radial_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -5, potential_hess_radial_5_18, 1, 0, 0, potential_hess_radial_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -5, potential_hess_radial_5_19, 1, 0, 0, potential_hess_radial_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -5, potential_hess_radial_5_20, 1, 0, 0, potential_hess_radial_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -5, potential_hess_radial_5_21, 1, 0, 0, potential_hess_radial_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -5, potential_hess_radial_5_22, 1, 0, 0, potential_hess_radial_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -5, potential_hess_radial_5_23, 1, 0, 0, potential_hess_radial_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -5, potential_hess_radial_5_24, 1, 0, 0, potential_hess_radial_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -5, potential_hess_radial_5_25, 1, 0, 0, potential_hess_radial_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -5, potential_hess_radial_5_26, 1, 0, 0, potential_hess_radial_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -5, potential_hess_radial_5_27, 1, 0, 0, potential_hess_radial_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -5, potential_hess_radial_5_28, 1, 0, 0, potential_hess_radial_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -5, potential_hess_radial_5_29, 1, 0, 0, potential_hess_radial_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -5, potential_hess_radial_5_30, 1, 0, 0, potential_hess_radial_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -5, potential_hess_radial_5_31, 1, 0, 0, potential_hess_radial_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -5, potential_hess_radial_5_32, 1, 0, 0, potential_hess_radial_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -5, potential_hess_radial_5_33, 1, 0, 0, potential_hess_radial_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -5, potential_hess_radial_5_34, 1, 0, 0, potential_hess_radial_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -5, potential_hess_radial_5_35, 1, 0, 0, potential_hess_radial_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -5, potential_hess_radial_5_36, 1, 0, 0, potential_hess_radial_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -5, potential_hess_radial_5_37, 1, 0, 0, potential_hess_radial_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -5, potential_hess_radial_5_38, 1, 0, 0, potential_hess_radial_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -5, potential_hess_radial_5_39, 1, 0, 0, potential_hess_radial_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -5, potential_hess_radial_5_40, 1, 0, 0, potential_hess_radial_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -5, potential_hess_radial_5_41, 1, 0, 0, potential_hess_radial_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -5, potential_hess_radial_5_42, 1, 0, 0, potential_hess_radial_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -5, potential_hess_radial_5_43, 1, 0, 0, potential_hess_radial_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -5, potential_hess_radial_5_44, 1, 0, 0, potential_hess_radial_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -5, potential_hess_radial_5_45, 1, 0, 0, potential_hess_radial_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -5, potential_hess_radial_5_46, 1, 0, 0, potential_hess_radial_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -5, potential_hess_radial_5_47, 1, 0, 0, potential_hess_radial_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -5, potential_hess_radial_5_48, 1, 0, 0, potential_hess_radial_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -5, potential_hess_radial_5_49, 1, 0, 0, potential_hess_radial_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -5, potential_hess_radial_5_50, 1, 0, 0, potential_hess_radial_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -5, potential_hess_radial_5_51, 1, 0, 0, potential_hess_radial_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -5, potential_hess_radial_5_52, 1, 0, 0, potential_hess_radial_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -5, potential_hess_radial_5_53, 1, 0, 0, potential_hess_radial_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -5, potential_hess_radial_5_54, 1, 0, 0, potential_hess_radial_5_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -5, potential_hess_radial_5_55, 1, 0, 0, potential_hess_radial_5_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -5, potential_hess_radial_5_56, 1, 0, 0, potential_hess_radial_5_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -5, potential_hess_radial_5_57, 1, 0, 0, potential_hess_radial_5_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, -5, potential_hess_radial_5_58, 1, 0, 0, potential_hess_radial_5_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_5_59, 1, 0, 0, potential_hess_radial_5_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -4, potential_hess_radial_5_60, 1, 0, 0, potential_hess_radial_5_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -4, potential_hess_radial_5_61, 1, 0, 0, potential_hess_radial_5_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -4, potential_hess_radial_5_62, 1, 0, 0, potential_hess_radial_5_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -4, potential_hess_radial_5_63, 1, 0, 0, potential_hess_radial_5_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -4, potential_hess_radial_5_64, 1, 0, 0, potential_hess_radial_5_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -4, potential_hess_radial_5_65, 1, 0, 0, potential_hess_radial_5_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -4, potential_hess_radial_5_66, 1, 0, 0, potential_hess_radial_5_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -4, potential_hess_radial_5_67, 1, 0, 0, potential_hess_radial_5_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -4, potential_hess_radial_5_68, 1, 0, 0, potential_hess_radial_5_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -4, potential_hess_radial_5_69, 1, 0, 0, potential_hess_radial_5_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -4, potential_hess_radial_5_70, 1, 0, 0, potential_hess_radial_5_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -4, potential_hess_radial_5_71, 1, 0, 0, potential_hess_radial_5_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -4, potential_hess_radial_5_72, 1, 0, 0, potential_hess_radial_5_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -4, potential_hess_radial_5_73, 1, 0, 0, potential_hess_radial_5_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -4, potential_hess_radial_5_74, 1, 0, 0, potential_hess_radial_5_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -4, potential_hess_radial_5_75, 1, 0, 0, potential_hess_radial_5_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -4, potential_hess_radial_5_76, 1, 0, 0, potential_hess_radial_5_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -4, potential_hess_radial_5_77, 1, 0, 0, potential_hess_radial_5_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -4, potential_hess_radial_5_78, 1, 0, 0, potential_hess_radial_5_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -4, potential_hess_radial_5_79, 1, 0, 0, potential_hess_radial_5_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -4, potential_hess_radial_5_80, 1, 0, 0, potential_hess_radial_5_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -4, potential_hess_radial_5_81, 1, 0, 0, potential_hess_radial_5_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -4, potential_hess_radial_5_82, 1, 0, 0, potential_hess_radial_5_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -4, potential_hess_radial_5_83, 1, 0, 0, potential_hess_radial_5_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -4, potential_hess_radial_5_84, 1, 0, 0, potential_hess_radial_5_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -4, potential_hess_radial_5_85, 1, 0, 0, potential_hess_radial_5_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -4, potential_hess_radial_5_86, 1, 0, 0, potential_hess_radial_5_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -4, potential_hess_radial_5_87, 1, 0, 0, potential_hess_radial_5_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -4, potential_hess_radial_5_88, 1, 0, 0, potential_hess_radial_5_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -4, potential_hess_radial_5_89, 1, 0, 0, potential_hess_radial_5_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -4, potential_hess_radial_5_90, 1, 0, 0, potential_hess_radial_5_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -4, potential_hess_radial_5_91, 1, 0, 0, potential_hess_radial_5_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -4, potential_hess_radial_5_92, 1, 0, 0, potential_hess_radial_5_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -4, potential_hess_radial_5_93, 1, 0, 0, potential_hess_radial_5_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -4, potential_hess_radial_5_94, 1, 0, 0, potential_hess_radial_5_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -4, potential_hess_radial_5_95, 1, 0, 0, potential_hess_radial_5_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -4, potential_hess_radial_5_96, 1, 0, 0, potential_hess_radial_5_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -4, potential_hess_radial_5_97, 1, 0, 0, potential_hess_radial_5_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -4, potential_hess_radial_5_98, 1, 0, 0, potential_hess_radial_5_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -4, potential_hess_radial_5_99, 1, 0, 0, potential_hess_radial_5_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -4, potential_hess_radial_5_100, 1, 0, 0, potential_hess_radial_5_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -4, potential_hess_radial_5_101, 1, 0, 0, potential_hess_radial_5_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -4, potential_hess_radial_5_102, 1, 0, 0, potential_hess_radial_5_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -4, potential_hess_radial_5_103, 1, 0, 0, potential_hess_radial_5_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -4, potential_hess_radial_5_104, 1, 0, 0, potential_hess_radial_5_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -4, potential_hess_radial_5_105, 1, 0, 0, potential_hess_radial_5_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -4, potential_hess_radial_5_106, 1, 0, 0, potential_hess_radial_5_106_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -4, potential_hess_radial_5_107, 1, 0, 0, potential_hess_radial_5_107_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -4, potential_hess_radial_5_108, 1, 0, 0, potential_hess_radial_5_108_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -4, potential_hess_radial_5_109, 1, 0, 0, potential_hess_radial_5_109_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -4, potential_hess_radial_5_110, 1, 0, 0, potential_hess_radial_5_110_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -4, potential_hess_radial_5_111, 1, 0, 0, potential_hess_radial_5_111_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -4, potential_hess_radial_5_112, 1, 0, 0, potential_hess_radial_5_112_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -4, potential_hess_radial_5_113, 1, 0, 0, potential_hess_radial_5_113_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -4, potential_hess_radial_5_114, 1, 0, 0, potential_hess_radial_5_114_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -4, potential_hess_radial_5_115, 1, 0, 0, potential_hess_radial_5_115_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, -4, potential_hess_radial_5_116, 1, 0, 0, potential_hess_radial_5_116_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_1, .n = 1, .c_lo = potential_hess_radial_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -5, .c = potential_hess_radial_5_2, .n = 1, .c_lo = potential_hess_radial_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -5, .c = potential_hess_radial_5_3, .n = 1, .c_lo = potential_hess_radial_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -5, .c = potential_hess_radial_5_4, .n = 1, .c_lo = potential_hess_radial_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -5, .c = potential_hess_radial_5_5, .n = 1, .c_lo = potential_hess_radial_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -5, .c = potential_hess_radial_5_6, .n = 1, .c_lo = potential_hess_radial_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -5, .c = potential_hess_radial_5_7, .n = 1, .c_lo = potential_hess_radial_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -5, .c = potential_hess_radial_5_8, .n = 1, .c_lo = potential_hess_radial_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -5, .c = potential_hess_radial_5_9, .n = 1, .c_lo = potential_hess_radial_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -5, .c = potential_hess_radial_5_10, .n = 1, .c_lo = potential_hess_radial_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -5, .c = potential_hess_radial_5_11, .n = 1, .c_lo = potential_hess_radial_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -5, .c = potential_hess_radial_5_12, .n = 1, .c_lo = potential_hess_radial_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -5, .c = potential_hess_radial_5_13, .n = 1, .c_lo = potential_hess_radial_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -5, .c = potential_hess_radial_5_14, .n = 1, .c_lo = potential_hess_radial_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -5, .c = potential_hess_radial_5_15, .n = 1, .c_lo = potential_hess_radial_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -5, .c = potential_hess_radial_5_16, .n = 1, .c_lo = potential_hess_radial_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -5, .c = potential_hess_radial_5_17, .n = 1, .c_lo = potential_hess_radial_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -5, .c = potential_hess_radial_5_18, .n = 1, .c_lo = potential_hess_radial_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -5, .c = potential_hess_radial_5_19, .n = 1, .c_lo = potential_hess_radial_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -5, .c = potential_hess_radial_5_20, .n = 1, .c_lo = potential_hess_radial_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -5, .c = potential_hess_radial_5_21, .n = 1, .c_lo = potential_hess_radial_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -5, .c = potential_hess_radial_5_22, .n = 1, .c_lo = potential_hess_radial_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -5, .c = potential_hess_radial_5_23, .n = 1, .c_lo = potential_hess_radial_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -5, .c = potential_hess_radial_5_24, .n = 1, .c_lo = potential_hess_radial_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -5, .c = potential_hess_radial_5_25, .n = 1, .c_lo = potential_hess_radial_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -5, .c = potential_hess_radial_5_26, .n = 1, .c_lo = potential_hess_radial_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -5, .c = potential_hess_radial_5_27, .n = 1, .c_lo = potential_hess_radial_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -5, .c = potential_hess_radial_5_28, .n = 1, .c_lo = potential_hess_radial_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -5, .c = potential_hess_radial_5_29, .n = 1, .c_lo = potential_hess_radial_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -5, .c = potential_hess_radial_5_30, .n = 1, .c_lo = potential_hess_radial_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -5, .c = potential_hess_radial_5_31, .n = 1, .c_lo = potential_hess_radial_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -5, .c = potential_hess_radial_5_32, .n = 1, .c_lo = potential_hess_radial_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -5, .c = potential_hess_radial_5_33, .n = 1, .c_lo = potential_hess_radial_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -5, .c = potential_hess_radial_5_34, .n = 1, .c_lo = potential_hess_radial_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -5, .c = potential_hess_radial_5_35, .n = 1, .c_lo = potential_hess_radial_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -5, .c = potential_hess_radial_5_36, .n = 1, .c_lo = potential_hess_radial_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -5, .c = potential_hess_radial_5_37, .n = 1, .c_lo = potential_hess_radial_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -5, .c = potential_hess_radial_5_38, .n = 1, .c_lo = potential_hess_radial_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -5, .c = potential_hess_radial_5_39, .n = 1, .c_lo = potential_hess_radial_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -5, .c = potential_hess_radial_5_40, .n = 1, .c_lo = potential_hess_radial_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -5, .c = potential_hess_radial_5_41, .n = 1, .c_lo = potential_hess_radial_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -5, .c = potential_hess_radial_5_42, .n = 1, .c_lo = potential_hess_radial_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -5, .c = potential_hess_radial_5_43, .n = 1, .c_lo = potential_hess_radial_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -5, .c = potential_hess_radial_5_44, .n = 1, .c_lo = potential_hess_radial_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -5, .c = potential_hess_radial_5_45, .n = 1, .c_lo = potential_hess_radial_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -5, .c = potential_hess_radial_5_46, .n = 1, .c_lo = potential_hess_radial_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -5, .c = potential_hess_radial_5_47, .n = 1, .c_lo = potential_hess_radial_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -5, .c = potential_hess_radial_5_48, .n = 1, .c_lo = potential_hess_radial_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -5, .c = potential_hess_radial_5_49, .n = 1, .c_lo = potential_hess_radial_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -5, .c = potential_hess_radial_5_50, .n = 1, .c_lo = potential_hess_radial_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -5, .c = potential_hess_radial_5_51, .n = 1, .c_lo = potential_hess_radial_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -5, .c = potential_hess_radial_5_52, .n = 1, .c_lo = potential_hess_radial_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -5, .c = potential_hess_radial_5_53, .n = 1, .c_lo = potential_hess_radial_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -5, .c = potential_hess_radial_5_54, .n = 1, .c_lo = potential_hess_radial_5_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -5, .c = potential_hess_radial_5_55, .n = 1, .c_lo = potential_hess_radial_5_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -5, .c = potential_hess_radial_5_56, .n = 1, .c_lo = potential_hess_radial_5_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -5, .c = potential_hess_radial_5_57, .n = 1, .c_lo = potential_hess_radial_5_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = -5, .c = potential_hess_radial_5_58, .n = 1, .c_lo = potential_hess_radial_5_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_59, .n = 1, .c_lo = potential_hess_radial_5_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -4, .c = potential_hess_radial_5_60, .n = 1, .c_lo = potential_hess_radial_5_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -4, .c = potential_hess_radial_5_61, .n = 1, .c_lo = potential_hess_radial_5_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -4, .c = potential_hess_radial_5_62, .n = 1, .c_lo = potential_hess_radial_5_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_5_63, .n = 1, .c_lo = potential_hess_radial_5_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_5_64, .n = 1, .c_lo = potential_hess_radial_5_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -4, .c = potential_hess_radial_5_65, .n = 1, .c_lo = potential_hess_radial_5_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -4, .c = potential_hess_radial_5_66, .n = 1, .c_lo = potential_hess_radial_5_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_5_67, .n = 1, .c_lo = potential_hess_radial_5_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -4, .c = potential_hess_radial_5_68, .n = 1, .c_lo = potential_hess_radial_5_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -4, .c = potential_hess_radial_5_69, .n = 1, .c_lo = potential_hess_radial_5_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -4, .c = potential_hess_radial_5_70, .n = 1, .c_lo = potential_hess_radial_5_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -4, .c = potential_hess_radial_5_71, .n = 1, .c_lo = potential_hess_radial_5_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -4, .c = potential_hess_radial_5_72, .n = 1, .c_lo = potential_hess_radial_5_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -4, .c = potential_hess_radial_5_73, .n = 1, .c_lo = potential_hess_radial_5_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -4, .c = potential_hess_radial_5_74, .n = 1, .c_lo = potential_hess_radial_5_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -4, .c = potential_hess_radial_5_75, .n = 1, .c_lo = potential_hess_radial_5_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -4, .c = potential_hess_radial_5_76, .n = 1, .c_lo = potential_hess_radial_5_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -4, .c = potential_hess_radial_5_77, .n = 1, .c_lo = potential_hess_radial_5_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -4, .c = potential_hess_radial_5_78, .n = 1, .c_lo = potential_hess_radial_5_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -4, .c = potential_hess_radial_5_79, .n = 1, .c_lo = potential_hess_radial_5_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -4, .c = potential_hess_radial_5_80, .n = 1, .c_lo = potential_hess_radial_5_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -4, .c = potential_hess_radial_5_81, .n = 1, .c_lo = potential_hess_radial_5_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -4, .c = potential_hess_radial_5_82, .n = 1, .c_lo = potential_hess_radial_5_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -4, .c = potential_hess_radial_5_83, .n = 1, .c_lo = potential_hess_radial_5_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -4, .c = potential_hess_radial_5_84, .n = 1, .c_lo = potential_hess_radial_5_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -4, .c = potential_hess_radial_5_85, .n = 1, .c_lo = potential_hess_radial_5_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -4, .c = potential_hess_radial_5_86, .n = 1, .c_lo = potential_hess_radial_5_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -4, .c = potential_hess_radial_5_87, .n = 1, .c_lo = potential_hess_radial_5_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -4, .c = potential_hess_radial_5_88, .n = 1, .c_lo = potential_hess_radial_5_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -4, .c = potential_hess_radial_5_89, .n = 1, .c_lo = potential_hess_radial_5_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -4, .c = potential_hess_radial_5_90, .n = 1, .c_lo = potential_hess_radial_5_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -4, .c = potential_hess_radial_5_91, .n = 1, .c_lo = potential_hess_radial_5_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -4, .c = potential_hess_radial_5_92, .n = 1, .c_lo = potential_hess_radial_5_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -4, .c = potential_hess_radial_5_93, .n = 1, .c_lo = potential_hess_radial_5_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -4, .c = potential_hess_radial_5_94, .n = 1, .c_lo = potential_hess_radial_5_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -4, .c = potential_hess_radial_5_95, .n = 1, .c_lo = potential_hess_radial_5_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -4, .c = potential_hess_radial_5_96, .n = 1, .c_lo = potential_hess_radial_5_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -4, .c = potential_hess_radial_5_97, .n = 1, .c_lo = potential_hess_radial_5_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -4, .c = potential_hess_radial_5_98, .n = 1, .c_lo = potential_hess_radial_5_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -4, .c = potential_hess_radial_5_99, .n = 1, .c_lo = potential_hess_radial_5_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -4, .c = potential_hess_radial_5_100, .n = 1, .c_lo = potential_hess_radial_5_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -4, .c = potential_hess_radial_5_101, .n = 1, .c_lo = potential_hess_radial_5_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -4, .c = potential_hess_radial_5_102, .n = 1, .c_lo = potential_hess_radial_5_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -4, .c = potential_hess_radial_5_103, .n = 1, .c_lo = potential_hess_radial_5_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -4, .c = potential_hess_radial_5_104, .n = 1, .c_lo = potential_hess_radial_5_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -4, .c = potential_hess_radial_5_105, .n = 1, .c_lo = potential_hess_radial_5_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -4, .c = potential_hess_radial_5_106, .n = 1, .c_lo = potential_hess_radial_5_106_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -4, .c = potential_hess_radial_5_107, .n = 1, .c_lo = potential_hess_radial_5_107_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -4, .c = potential_hess_radial_5_108, .n = 1, .c_lo = potential_hess_radial_5_108_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -4, .c = potential_hess_radial_5_109, .n = 1, .c_lo = potential_hess_radial_5_109_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -4, .c = potential_hess_radial_5_110, .n = 1, .c_lo = potential_hess_radial_5_110_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -4, .c = potential_hess_radial_5_111, .n = 1, .c_lo = potential_hess_radial_5_111_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -4, .c = potential_hess_radial_5_112, .n = 1, .c_lo = potential_hess_radial_5_112_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -4, .c = potential_hess_radial_5_113, .n = 1, .c_lo = potential_hess_radial_5_113_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -4, .c = potential_hess_radial_5_114, .n = 1, .c_lo = potential_hess_radial_5_114_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -4, .c = potential_hess_radial_5_115, .n = 1, .c_lo = potential_hess_radial_5_115_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = -4, .c = potential_hess_radial_5_116, .n = 1, .c_lo = potential_hess_radial_5_116_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -8630,32 +8630,39 @@ inline constexpr double potential_hess_radial_6_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 4.1e-21 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, potential_hess_radial_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^53, truncation < 6.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, potential_hess_radial_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^49, truncation < 8.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, potential_hess_radial_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^50, truncation < 7.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.8p-1, potential_hess_radial_4, 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^38, truncation < 4.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, potential_hess_radial_5, 117},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^115, truncation < 1.2e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, potential_hess_radial_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_hess_radial_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 4.1e-21 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^53, truncation < 6.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^49, truncation < 8.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = potential_hess_radial_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^50, truncation < 7.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.8p-1, .terms = potential_hess_radial_4, .nterms = 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^38, truncation < 4.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = potential_hess_radial_5, .nterms = 117},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^115, truncation < 1.2e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_6, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_D3
 inline constexpr table::Kernel wendland_missing_k_1_D3 = {
-    "wendland-missing:k=1", 3, 0x1p+0, 5, 2, 1,
-    0x1.fea8a4dc0cb04p+8, "5040 * pi^-2", true,
-    {
-        {detail_wendland_missing_k_1_D3::value, 7},
-        {detail_wendland_missing_k_1_D3::dr, 7},
-        {detail_wendland_missing_k_1_D3::d2r, 9},
-        {detail_wendland_missing_k_1_D3::laplacian, 9},
-        {detail_wendland_missing_k_1_D3::grad_over_r, 7},
-        {detail_wendland_missing_k_1_D3::hess_radial, 10},
-        {detail_wendland_missing_k_1_D3::potential, 6},
-        {detail_wendland_missing_k_1_D3::dpotential, 7},
-        {detail_wendland_missing_k_1_D3::dpotential_over_r, 7},
-        {detail_wendland_missing_k_1_D3::potential_hess_radial, 7},
+    .spec = "wendland-missing:k=1",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 5,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.fea8a4dc0cb04p+8,  // 5040 * pi^-2
+    .normalisation_exact = "5040 * pi^-2",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_missing_k_1_D3::value, .npieces = 7},  // value
+        {.pieces = detail_wendland_missing_k_1_D3::dr, .npieces = 7},  // dr
+        {.pieces = detail_wendland_missing_k_1_D3::d2r, .npieces = 9},  // d2r
+        {.pieces = detail_wendland_missing_k_1_D3::laplacian, .npieces = 9},  // laplacian
+        {.pieces = detail_wendland_missing_k_1_D3::grad_over_r, .npieces = 7},  // grad_over_r
+        {.pieces = detail_wendland_missing_k_1_D3::hess_radial, .npieces = 10},  // hess_radial
+        {.pieces = detail_wendland_missing_k_1_D3::potential, .npieces = 6},  // potential
+        {.pieces = detail_wendland_missing_k_1_D3::dpotential, .npieces = 7},  // dpotential
+        {.pieces = detail_wendland_missing_k_1_D3::dpotential_over_r, .npieces = 7},  // dpotential_over_r
+        {.pieces = detail_wendland_missing_k_1_D3::potential_hess_radial, .npieces = 7},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

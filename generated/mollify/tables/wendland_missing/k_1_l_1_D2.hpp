@@ -36,8 +36,8 @@ inline constexpr double value_0_1_lo[] = {
     0x1.bc0086589a3ecp-47, 0x1.bc0086589a3ecp-48,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, value_0_0, 11, 0, 0, value_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 4, value_0_1, 2, 0, 0, value_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = value_0_0, .n = 11, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 4, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo},
 };
 inline constexpr double value_1_0[] = {
     0x1.1a235373e52d1p+1,  // 8128217431127079/1347646586640625 * pi^-1 + (668222908416/1858822878125 * pi^-1) * log(12)
@@ -94,7 +94,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.aee4963d79f5cp+15, -0x1.ba961a222af61p+17, 0x1.43c15c2d59ad7p+19, -0x1.8bd93d597031ep+22,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, value_1_0, 40, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.68b57469fec66p+0,  // -8828008722/6103515625 * pi^-1 + (589471911/195312500 * pi^-1) * log(7)
@@ -153,7 +153,7 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.fe9d7c40ffd81p-7,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, value_2_0, 41, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
 };
 inline constexpr double value_3_0[] = {
     0x1.a6ce0ed954676p-2,  // -14108744025/410338673 * pi^-1 + (621250560/24137569 * pi^-1) * log(4)
@@ -215,7 +215,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.1918855f3f4b8p-31, -0x1.d5e70ba9920b5p-29, 0x1.ae9891fd43c8ep-28, -0x1.1285f1450210dp-27,
 };
 inline constexpr table::Term value_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, value_3_0, 44, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, value_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
 };
 inline constexpr double value_4_0[] = {
     0x1.23b0572f69323p+0,  // -124115249238473/29417779503 * pi^-1 + (2846947481200000/617773369563 * pi^-1) * log(5/2)
@@ -302,7 +302,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.8cdef4e0884cfp-45, -0x1.b0106b744952ap-41, -0x1.6a4a2efd4bbcbp-41, 0x1.9c1bf110005fdp-42,
 };
 inline constexpr table::Term value_4[] = {
-    {table::Basis::sqrt_power, 11, table::Var::shifted, 0x1.9p-1, 0, 0, value_4_0, 64, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
 };
 inline constexpr double value_5_0[] = {
     0x1.6394c1aad94ecp-1,  // 24/11 * pi^-1
@@ -605,65 +605,65 @@ inline constexpr double value_5_49_lo[] = {
     -0x1.08d11908df935p-65,
 };
 inline constexpr table::Term value_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, value_5_0, 1, 0, 0, value_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, value_5_1, 1, 0, 0, value_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, value_5_2, 1, 0, 0, value_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, value_5_3, 1, 0, 0, value_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, value_5_4, 1, 0, 0, value_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, value_5_5, 1, 0, 0, value_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, value_5_6, 1, 0, 0, value_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, value_5_7, 1, 0, 0, value_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, value_5_8, 1, 0, 0, value_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, value_5_9, 1, 0, 0, value_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, value_5_10, 1, 0, 0, value_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, value_5_11, 1, 0, 0, value_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, value_5_12, 1, 0, 0, value_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, value_5_13, 1, 0, 0, value_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, value_5_14, 1, 0, 0, value_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, value_5_15, 1, 0, 0, value_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, value_5_16, 1, 0, 0, value_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, value_5_17, 1, 0, 0, value_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, value_5_18, 1, 0, 0, value_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, value_5_19, 1, 0, 0, value_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, value_5_20, 1, 0, 0, value_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, value_5_21, 1, 0, 0, value_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, value_5_22, 1, 0, 0, value_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, value_5_23, 1, 0, 0, value_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, value_5_24, 1, 0, 0, value_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, value_5_25, 1, 0, 0, value_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, value_5_26, 1, 0, 0, value_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, value_5_27, 1, 0, 0, value_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, value_5_28, 1, 0, 0, value_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, value_5_29, 1, 0, 0, value_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, value_5_30, 1, 0, 0, value_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, value_5_31, 1, 0, 0, value_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, value_5_32, 1, 0, 0, value_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, value_5_33, 1, 0, 0, value_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, value_5_34, 1, 0, 0, value_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, value_5_35, 1, 0, 0, value_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, value_5_36, 1, 0, 0, value_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, value_5_37, 1, 0, 0, value_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, value_5_38, 1, 0, 0, value_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, value_5_39, 1, 0, 0, value_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, value_5_40, 1, 0, 0, value_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, value_5_41, 1, 0, 0, value_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, value_5_42, 1, 0, 0, value_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, value_5_43, 1, 0, 0, value_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, value_5_44, 1, 0, 0, value_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, value_5_45, 1, 0, 0, value_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, value_5_46, 1, 0, 0, value_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, value_5_47, 1, 0, 0, value_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, value_5_48, 1, 0, 0, value_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, value_5_49, 1, 0, 0, value_5_49_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_5_0, .n = 1, .c_lo = value_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_5_1, .n = 1, .c_lo = value_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_5_2, .n = 1, .c_lo = value_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_5_3, .n = 1, .c_lo = value_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_5_4, .n = 1, .c_lo = value_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_5_5, .n = 1, .c_lo = value_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = value_5_6, .n = 1, .c_lo = value_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = value_5_7, .n = 1, .c_lo = value_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = value_5_8, .n = 1, .c_lo = value_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = value_5_9, .n = 1, .c_lo = value_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = value_5_10, .n = 1, .c_lo = value_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = value_5_11, .n = 1, .c_lo = value_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = value_5_12, .n = 1, .c_lo = value_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = value_5_13, .n = 1, .c_lo = value_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = value_5_14, .n = 1, .c_lo = value_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = value_5_15, .n = 1, .c_lo = value_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = value_5_16, .n = 1, .c_lo = value_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = value_5_17, .n = 1, .c_lo = value_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = value_5_18, .n = 1, .c_lo = value_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = value_5_19, .n = 1, .c_lo = value_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = value_5_20, .n = 1, .c_lo = value_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = value_5_21, .n = 1, .c_lo = value_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = value_5_22, .n = 1, .c_lo = value_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = value_5_23, .n = 1, .c_lo = value_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = value_5_24, .n = 1, .c_lo = value_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = value_5_25, .n = 1, .c_lo = value_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = value_5_26, .n = 1, .c_lo = value_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = value_5_27, .n = 1, .c_lo = value_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = value_5_28, .n = 1, .c_lo = value_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = value_5_29, .n = 1, .c_lo = value_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = value_5_30, .n = 1, .c_lo = value_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = value_5_31, .n = 1, .c_lo = value_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = value_5_32, .n = 1, .c_lo = value_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = value_5_33, .n = 1, .c_lo = value_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = value_5_34, .n = 1, .c_lo = value_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = value_5_35, .n = 1, .c_lo = value_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = value_5_36, .n = 1, .c_lo = value_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = value_5_37, .n = 1, .c_lo = value_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = value_5_38, .n = 1, .c_lo = value_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = value_5_39, .n = 1, .c_lo = value_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = value_5_40, .n = 1, .c_lo = value_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = value_5_41, .n = 1, .c_lo = value_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = value_5_42, .n = 1, .c_lo = value_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = value_5_43, .n = 1, .c_lo = value_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = value_5_44, .n = 1, .c_lo = value_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = value_5_45, .n = 1, .c_lo = value_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = value_5_46, .n = 1, .c_lo = value_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = value_5_47, .n = 1, .c_lo = value_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = value_5_48, .n = 1, .c_lo = value_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = value_5_49, .n = 1, .c_lo = value_5_49_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, value_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^39, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, value_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 4.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, value_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^43, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, value_4, 1},  // [39/64, 25/32), S^11 times Taylor about 20/29 up to (r-c)^63, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, value_5, 50},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 8.9e-20 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = value_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = value_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^39, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = value_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 4.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = value_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^43, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = value_4, .nterms = 1},  // [39/64, 25/32), S^11 times Taylor about 20/29 up to (r-c)^63, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = value_5, .nterms = 50},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 8.9e-20 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.e148d821bf211p+5,  // -189 * pi^-1
@@ -691,8 +691,8 @@ inline constexpr double dr_0_1_lo[] = {
     0x1.bc0086589a3ecp-45, 0x1.34019309cebc3p-47,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dr_0_0, 11, 0, 0, dr_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 3, dr_0_1, 2, 0, 0, dr_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dr_0_0, .n = 11, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 3, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo},
 };
 inline constexpr double dr_1_0[] = {
     -0x1.a92f4c0ef453ap+2,  // -395975319267528/9294114390625 * pi^-1 + (112122952704/12819468125 * pi^-1) * log(12)
@@ -752,7 +752,7 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.0deeb1f5a9929p+31, 0x1.b3a79e37cb5dfp+35,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dr_1_0, 42, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.b0f1989b692a7p+2,  // -26058024972/244140625 * pi^-1 + (171597069/3906250 * pi^-1) * log(7)
@@ -811,7 +811,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.976199cc5f374p+3,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dr_2_0, 41, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.b6128571bea4ep+1,  // -7944917400/24137569 * pi^-1 + (326108160/1419857 * pi^-1) * log(4)
@@ -873,7 +873,7 @@ inline constexpr double dr_3_0_lo[] = {
     0x1.0bdff21d79c3p-25, -0x1.5af80c72e10b9p-28, -0x1.61c7f869758d2p-23, -0x1.ac14debdf23fp-21,
 };
 inline constexpr table::Term dr_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, dr_3_0, 44, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.0dd1c24a88a4ap-1,  // -459410241780/594823321 * pi^-1 + (17251920000/20511149 * pi^-1) * log(5/2)
@@ -930,7 +930,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.33139d0324a76p-22, 0x1.847b3506c96ecp-16, -0x1.fc8221cd52aep-17, 0x1.1048f9f8c83c6p-13,
 };
 inline constexpr table::Term dr_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dr_4_0, 40, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
@@ -1263,70 +1263,70 @@ inline constexpr double dr_5_54_lo[] = {
     0x1.2b4c23d11b277p-64,
 };
 inline constexpr table::Term dr_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 1, dr_5_0, 1, 0, 0, dr_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 1, dr_5_1, 1, 0, 0, dr_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 1, dr_5_2, 1, 0, 0, dr_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 1, dr_5_3, 1, 0, 0, dr_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 1, dr_5_4, 1, 0, 0, dr_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 1, dr_5_5, 1, 0, 0, dr_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 1, dr_5_6, 1, 0, 0, dr_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 1, dr_5_7, 1, 0, 0, dr_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 1, dr_5_8, 1, 0, 0, dr_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 1, dr_5_9, 1, 0, 0, dr_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 1, dr_5_10, 1, 0, 0, dr_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 1, dr_5_11, 1, 0, 0, dr_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 1, dr_5_12, 1, 0, 0, dr_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 1, dr_5_13, 1, 0, 0, dr_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 1, dr_5_14, 1, 0, 0, dr_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 1, dr_5_15, 1, 0, 0, dr_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 1, dr_5_16, 1, 0, 0, dr_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 1, dr_5_17, 1, 0, 0, dr_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 1, dr_5_18, 1, 0, 0, dr_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 1, dr_5_19, 1, 0, 0, dr_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 1, dr_5_20, 1, 0, 0, dr_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 1, dr_5_21, 1, 0, 0, dr_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 1, dr_5_22, 1, 0, 0, dr_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 1, dr_5_23, 1, 0, 0, dr_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 1, dr_5_24, 1, 0, 0, dr_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 1, dr_5_25, 1, 0, 0, dr_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 1, dr_5_26, 1, 0, 0, dr_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 1, dr_5_27, 1, 0, 0, dr_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 1, dr_5_28, 1, 0, 0, dr_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 1, dr_5_29, 1, 0, 0, dr_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 1, dr_5_30, 1, 0, 0, dr_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 1, dr_5_31, 1, 0, 0, dr_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 1, dr_5_32, 1, 0, 0, dr_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 1, dr_5_33, 1, 0, 0, dr_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 1, dr_5_34, 1, 0, 0, dr_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 1, dr_5_35, 1, 0, 0, dr_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 1, dr_5_36, 1, 0, 0, dr_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 1, dr_5_37, 1, 0, 0, dr_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 1, dr_5_38, 1, 0, 0, dr_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 1, dr_5_39, 1, 0, 0, dr_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 1, dr_5_40, 1, 0, 0, dr_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 1, dr_5_41, 1, 0, 0, dr_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 1, dr_5_42, 1, 0, 0, dr_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 1, dr_5_43, 1, 0, 0, dr_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 1, dr_5_44, 1, 0, 0, dr_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 1, dr_5_45, 1, 0, 0, dr_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 1, dr_5_46, 1, 0, 0, dr_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 1, dr_5_47, 1, 0, 0, dr_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 1, dr_5_48, 1, 0, 0, dr_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 1, dr_5_49, 1, 0, 0, dr_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 1, dr_5_50, 1, 0, 0, dr_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 1, dr_5_51, 1, 0, 0, dr_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 1, dr_5_52, 1, 0, 0, dr_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 1, dr_5_53, 1, 0, 0, dr_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 58, 1, dr_5_54, 1, 0, 0, dr_5_54_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_5_0, .n = 1, .c_lo = dr_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_5_1, .n = 1, .c_lo = dr_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_5_2, .n = 1, .c_lo = dr_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_5_3, .n = 1, .c_lo = dr_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_5_4, .n = 1, .c_lo = dr_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_5_5, .n = 1, .c_lo = dr_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 1, .c = dr_5_6, .n = 1, .c_lo = dr_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 1, .c = dr_5_7, .n = 1, .c_lo = dr_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 1, .c = dr_5_8, .n = 1, .c_lo = dr_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 1, .c = dr_5_9, .n = 1, .c_lo = dr_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 1, .c = dr_5_10, .n = 1, .c_lo = dr_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 1, .c = dr_5_11, .n = 1, .c_lo = dr_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 1, .c = dr_5_12, .n = 1, .c_lo = dr_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 1, .c = dr_5_13, .n = 1, .c_lo = dr_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 1, .c = dr_5_14, .n = 1, .c_lo = dr_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 1, .c = dr_5_15, .n = 1, .c_lo = dr_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 1, .c = dr_5_16, .n = 1, .c_lo = dr_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 1, .c = dr_5_17, .n = 1, .c_lo = dr_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 1, .c = dr_5_18, .n = 1, .c_lo = dr_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 1, .c = dr_5_19, .n = 1, .c_lo = dr_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 1, .c = dr_5_20, .n = 1, .c_lo = dr_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 1, .c = dr_5_21, .n = 1, .c_lo = dr_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 1, .c = dr_5_22, .n = 1, .c_lo = dr_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 1, .c = dr_5_23, .n = 1, .c_lo = dr_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 1, .c = dr_5_24, .n = 1, .c_lo = dr_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 1, .c = dr_5_25, .n = 1, .c_lo = dr_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 1, .c = dr_5_26, .n = 1, .c_lo = dr_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 1, .c = dr_5_27, .n = 1, .c_lo = dr_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 1, .c = dr_5_28, .n = 1, .c_lo = dr_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 1, .c = dr_5_29, .n = 1, .c_lo = dr_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 1, .c = dr_5_30, .n = 1, .c_lo = dr_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 1, .c = dr_5_31, .n = 1, .c_lo = dr_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 1, .c = dr_5_32, .n = 1, .c_lo = dr_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 1, .c = dr_5_33, .n = 1, .c_lo = dr_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 1, .c = dr_5_34, .n = 1, .c_lo = dr_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 1, .c = dr_5_35, .n = 1, .c_lo = dr_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 1, .c = dr_5_36, .n = 1, .c_lo = dr_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 1, .c = dr_5_37, .n = 1, .c_lo = dr_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 1, .c = dr_5_38, .n = 1, .c_lo = dr_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 1, .c = dr_5_39, .n = 1, .c_lo = dr_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 1, .c = dr_5_40, .n = 1, .c_lo = dr_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 1, .c = dr_5_41, .n = 1, .c_lo = dr_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 1, .c = dr_5_42, .n = 1, .c_lo = dr_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 1, .c = dr_5_43, .n = 1, .c_lo = dr_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 1, .c = dr_5_44, .n = 1, .c_lo = dr_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 1, .c = dr_5_45, .n = 1, .c_lo = dr_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 1, .c = dr_5_46, .n = 1, .c_lo = dr_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 1, .c = dr_5_47, .n = 1, .c_lo = dr_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 1, .c = dr_5_48, .n = 1, .c_lo = dr_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 1, .c = dr_5_49, .n = 1, .c_lo = dr_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 1, .c = dr_5_50, .n = 1, .c_lo = dr_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 1, .c = dr_5_51, .n = 1, .c_lo = dr_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 1, .c = dr_5_52, .n = 1, .c_lo = dr_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 1, .c = dr_5_53, .n = 1, .c_lo = dr_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 58, .low = 1, .c = dr_5_54, .n = 1, .c_lo = dr_5_54_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 8.0e-21 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dr_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dr_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 8.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dr_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^43, truncation < 7.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.8p-1, dr_4, 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 8.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, dr_5, 55},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^117, truncation < 1.1e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dr_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^21, truncation < 8.0e-21 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dr_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dr_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 8.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dr_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^43, truncation < 7.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.8p-1, .terms = dr_4, .nterms = 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 8.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dr_5, .nterms = 55},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^117, truncation < 1.1e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.e148d821bf211p+5,  // -189 * pi^-1
@@ -1350,8 +1350,8 @@ inline constexpr double d2r_0_1_lo[] = {
     0x1.34019309cebc3p-45, 0x1.8101f7cc426b4p-45,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, d2r_0_0, 8, 0, 0, d2r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 2, d2r_0_1, 2, 0, 0, d2r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = d2r_0_0, .n = 8, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 2, .c = d2r_0_1, .n = 2, .c_lo = d2r_0_1_lo},
 };
 inline constexpr double d2r_1_0[] = {
     -0x1.3e0ede60a6cbbp+5,  // -339894238575276/1306860915625 * pi^-1 + (17009467587/394524050 * pi^-1) * log(23)
@@ -1407,7 +1407,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.f9b2c9cd05b4dp+61, -0x1.b33007fb8f7bep+61, -0x1.297da4526c3aep+67,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, d2r_1_0, 39, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.2c09e6b241d91p+4,  // -1814934214926/4437053125 * pi^-1 + (570051027/4176050 * pi^-1) * log(13)
@@ -1463,7 +1463,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.af9ab18417211p+32, -0x1.9a81a4056af54p+37, 0x1.8d9ce11da291fp+38,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, d2r_2_0, 39, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.1e13acbe675f3p+2,  // -875402651907/1160290625 * pi^-1 + (263886336/714025 * pi^-1) * log(8)
@@ -1519,7 +1519,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.d4cbc4b453511p+11, 0x1.29117d60f781cp+11, 0x1.91306589b1d1bp+12,
 };
 inline constexpr table::Term d2r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, d2r_3_0, 39, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.3523d1d2415dap+4,  // -571362498/371293 * pi^-1 + (56770875/57122 * pi^-1) * log(5)
@@ -1581,7 +1581,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.102a04d8b6804p-6, -0x1.e31ba569fe0bfp-5, -0x1.7f95c09d014c8p-4, 0x1.4e19c898f319ap-3,
 };
 inline constexpr table::Term d2r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, d2r_4_0, 44, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.83b3591883371p+3,  // -10042326/3125 * pi^-1 + (147987/50 * pi^-1) * log(3)
@@ -1643,7 +1643,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.7c906e38dc74ep-22, 0x1.52df1d405a5f2p-17, 0x1.710bc69ffc416p-17, 0x1.2a9396dde9933p-15,
 };
 inline constexpr table::Term d2r_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-1, 0, 0, d2r_5_0, 44, 0x1.3333333333333p-1, 0x1.999999999999ap-56, d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.bc7033fc3e8c7p+1,  // -8971115762952/2073071593 * pi^-1 + (312513460875/56796482 * pi^-1) * log(11/5)
@@ -1684,7 +1684,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.0890b0a8c2d36p-22, -0x1.b73aef94aa948p-20, 0x1.8e5bc2118cd7dp-18,
 };
 inline constexpr table::Term d2r_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, d2r_6_0, 27, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.13050dca2412ep+6,  // 216 * pi^-1
@@ -2005,70 +2005,70 @@ inline constexpr double d2r_7_52_lo[] = {
     0x1.ec16095a5655ep-56,
 };
 inline constexpr table::Term d2r_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, d2r_7_0, 1, 0, 0, d2r_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, d2r_7_1, 1, 0, 0, d2r_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, d2r_7_2, 1, 0, 0, d2r_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, d2r_7_3, 1, 0, 0, d2r_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, d2r_7_4, 1, 0, 0, d2r_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, d2r_7_5, 1, 0, 0, d2r_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, d2r_7_6, 1, 0, 0, d2r_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, d2r_7_7, 1, 0, 0, d2r_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, d2r_7_8, 1, 0, 0, d2r_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, d2r_7_9, 1, 0, 0, d2r_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, d2r_7_10, 1, 0, 0, d2r_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, d2r_7_11, 1, 0, 0, d2r_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, d2r_7_12, 1, 0, 0, d2r_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, d2r_7_13, 1, 0, 0, d2r_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, d2r_7_14, 1, 0, 0, d2r_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, d2r_7_15, 1, 0, 0, d2r_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, d2r_7_16, 1, 0, 0, d2r_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, d2r_7_17, 1, 0, 0, d2r_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, d2r_7_18, 1, 0, 0, d2r_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, d2r_7_19, 1, 0, 0, d2r_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, d2r_7_20, 1, 0, 0, d2r_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, d2r_7_21, 1, 0, 0, d2r_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, d2r_7_22, 1, 0, 0, d2r_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, d2r_7_23, 1, 0, 0, d2r_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, d2r_7_24, 1, 0, 0, d2r_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, d2r_7_25, 1, 0, 0, d2r_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, d2r_7_26, 1, 0, 0, d2r_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, d2r_7_27, 1, 0, 0, d2r_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, d2r_7_28, 1, 0, 0, d2r_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, d2r_7_29, 1, 0, 0, d2r_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, d2r_7_30, 1, 0, 0, d2r_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, d2r_7_31, 1, 0, 0, d2r_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, d2r_7_32, 1, 0, 0, d2r_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, d2r_7_33, 1, 0, 0, d2r_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, d2r_7_34, 1, 0, 0, d2r_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, d2r_7_35, 1, 0, 0, d2r_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, d2r_7_36, 1, 0, 0, d2r_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, d2r_7_37, 1, 0, 0, d2r_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, d2r_7_38, 1, 0, 0, d2r_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, d2r_7_39, 1, 0, 0, d2r_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, d2r_7_40, 1, 0, 0, d2r_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, d2r_7_41, 1, 0, 0, d2r_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, d2r_7_42, 1, 0, 0, d2r_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, d2r_7_43, 1, 0, 0, d2r_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, d2r_7_44, 1, 0, 0, d2r_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, d2r_7_45, 1, 0, 0, d2r_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, d2r_7_46, 1, 0, 0, d2r_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, d2r_7_47, 1, 0, 0, d2r_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, d2r_7_48, 1, 0, 0, d2r_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, d2r_7_49, 1, 0, 0, d2r_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, d2r_7_50, 1, 0, 0, d2r_7_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, d2r_7_51, 1, 0, 0, d2r_7_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, d2r_7_52, 1, 0, 0, d2r_7_52_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = d2r_7_0, .n = 1, .c_lo = d2r_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = d2r_7_1, .n = 1, .c_lo = d2r_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_7_2, .n = 1, .c_lo = d2r_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = d2r_7_3, .n = 1, .c_lo = d2r_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_7_4, .n = 1, .c_lo = d2r_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = d2r_7_5, .n = 1, .c_lo = d2r_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = d2r_7_6, .n = 1, .c_lo = d2r_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = d2r_7_7, .n = 1, .c_lo = d2r_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = d2r_7_8, .n = 1, .c_lo = d2r_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = d2r_7_9, .n = 1, .c_lo = d2r_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = d2r_7_10, .n = 1, .c_lo = d2r_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = d2r_7_11, .n = 1, .c_lo = d2r_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = d2r_7_12, .n = 1, .c_lo = d2r_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = d2r_7_13, .n = 1, .c_lo = d2r_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = d2r_7_14, .n = 1, .c_lo = d2r_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = d2r_7_15, .n = 1, .c_lo = d2r_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = d2r_7_16, .n = 1, .c_lo = d2r_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = d2r_7_17, .n = 1, .c_lo = d2r_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = d2r_7_18, .n = 1, .c_lo = d2r_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = d2r_7_19, .n = 1, .c_lo = d2r_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = d2r_7_20, .n = 1, .c_lo = d2r_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = d2r_7_21, .n = 1, .c_lo = d2r_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = d2r_7_22, .n = 1, .c_lo = d2r_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = d2r_7_23, .n = 1, .c_lo = d2r_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = d2r_7_24, .n = 1, .c_lo = d2r_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = d2r_7_25, .n = 1, .c_lo = d2r_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = d2r_7_26, .n = 1, .c_lo = d2r_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = d2r_7_27, .n = 1, .c_lo = d2r_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = d2r_7_28, .n = 1, .c_lo = d2r_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = d2r_7_29, .n = 1, .c_lo = d2r_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = d2r_7_30, .n = 1, .c_lo = d2r_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = d2r_7_31, .n = 1, .c_lo = d2r_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = d2r_7_32, .n = 1, .c_lo = d2r_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = d2r_7_33, .n = 1, .c_lo = d2r_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = d2r_7_34, .n = 1, .c_lo = d2r_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = d2r_7_35, .n = 1, .c_lo = d2r_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = d2r_7_36, .n = 1, .c_lo = d2r_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = d2r_7_37, .n = 1, .c_lo = d2r_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = d2r_7_38, .n = 1, .c_lo = d2r_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = d2r_7_39, .n = 1, .c_lo = d2r_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = d2r_7_40, .n = 1, .c_lo = d2r_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = d2r_7_41, .n = 1, .c_lo = d2r_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = d2r_7_42, .n = 1, .c_lo = d2r_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = d2r_7_43, .n = 1, .c_lo = d2r_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = d2r_7_44, .n = 1, .c_lo = d2r_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = d2r_7_45, .n = 1, .c_lo = d2r_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = d2r_7_46, .n = 1, .c_lo = d2r_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = d2r_7_47, .n = 1, .c_lo = d2r_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = d2r_7_48, .n = 1, .c_lo = d2r_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = d2r_7_49, .n = 1, .c_lo = d2r_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = d2r_7_50, .n = 1, .c_lo = d2r_7_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = d2r_7_51, .n = 1, .c_lo = d2r_7_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = d2r_7_52, .n = 1, .c_lo = d2r_7_52_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.2e-19 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, d2r_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, d2r_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, d2r_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, d2r_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^43, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, d2r_5, 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^43, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.8p-1, d2r_6, 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^26, truncation < 3.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, d2r_7, 53},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.2e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = d2r_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.2e-19 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = d2r_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = d2r_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = d2r_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = d2r_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^43, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = d2r_5, .nterms = 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^43, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.8p-1, .terms = d2r_6, .nterms = 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^26, truncation < 3.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = d2r_7, .nterms = 53},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.2e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.e148d821bf211p+6,  // -378 * pi^-1
@@ -2092,8 +2092,8 @@ inline constexpr double laplacian_0_1_lo[] = {
     0x1.bc0086589a3ecp-43, 0x1.ce025c8eb61a5p-45,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, laplacian_0_0, 8, 0, 0, laplacian_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 2, laplacian_0_1, 2, 0, 0, laplacian_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 8, .c_lo = laplacian_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 2, .c = laplacian_0_1, .n = 2, .c_lo = laplacian_0_1_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     -0x1.6e9f22203a6fdp+6,  // -611637420312072/1306860915625 * pi^-1 + (56645335341/986310125 * pi^-1) * log(23)
@@ -2149,7 +2149,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.9b61c0db0c421p+62, -0x1.1af451e52efabp+66, 0x1.ddcd0ee55a63fp+69,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, laplacian_1_0, 39, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.e66a29b5cd075p+5,  // -2913039564372/4437053125 * pi^-1 + (1894772061/10440125 * pi^-1) * log(13)
@@ -2205,7 +2205,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.73387fbaac0e8p+34, 0x1.96c8d3d8c6c0bp+37, -0x1.9fd41a4e5dd64p+39,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, laplacian_2_0, 39, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.80a16b56f7e62p+4,  // -1268185064454/1160290625 * pi^-1 + (1746855936/3570125 * pi^-1) * log(8)
@@ -2261,7 +2261,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     0x1.f74415aa39c97p+11, -0x1.0a6eccbfeb6a3p+11, 0x1.3ba18e45d0a7fp+15,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, laplacian_3_0, 39, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.81fcb72dd7fa7p+2,  // -772473996/371293 * pi^-1 + (37256625/28561 * pi^-1) * log(5)
@@ -2325,7 +2325,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     0x1.1c5d24f3cd12p-2,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, laplacian_4_0, 45, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.3b449b2a4963cp+3,  // -13031172/3125 * pi^-1 + (477981/125 * pi^-1) * log(3)
@@ -2389,7 +2389,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     -0x1.1126a0302f1b6p-14,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-1, 0, 0, laplacian_5_0, 45, 0x1.3333333333333p-1, 0x1.999999999999ap-56, laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.986908becec4cp+1,  // -11473140281904/2073071593 * pi^-1 + (199694966625/28398241 * pi^-1) * log(11/5)
@@ -2430,7 +2430,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.7a80b309d7621p-26, -0x1.decf1d17577bcp-22, -0x1.c1c3be6e5a87p-18,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, laplacian_6_0, 27, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.13050dca2412ep+6,  // 216 * pi^-1
@@ -2757,71 +2757,71 @@ inline constexpr double laplacian_7_53_lo[] = {
     0x1.fe4eb56765a4fp-58,
 };
 inline constexpr table::Term laplacian_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, laplacian_7_0, 1, 0, 0, laplacian_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, laplacian_7_1, 1, 0, 0, laplacian_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, laplacian_7_2, 1, 0, 0, laplacian_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, laplacian_7_3, 1, 0, 0, laplacian_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, laplacian_7_4, 1, 0, 0, laplacian_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, laplacian_7_5, 1, 0, 0, laplacian_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, laplacian_7_6, 1, 0, 0, laplacian_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, laplacian_7_7, 1, 0, 0, laplacian_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, laplacian_7_8, 1, 0, 0, laplacian_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, laplacian_7_9, 1, 0, 0, laplacian_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, laplacian_7_10, 1, 0, 0, laplacian_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, laplacian_7_11, 1, 0, 0, laplacian_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, laplacian_7_12, 1, 0, 0, laplacian_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, laplacian_7_13, 1, 0, 0, laplacian_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, laplacian_7_14, 1, 0, 0, laplacian_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, laplacian_7_15, 1, 0, 0, laplacian_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, laplacian_7_16, 1, 0, 0, laplacian_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, laplacian_7_17, 1, 0, 0, laplacian_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, laplacian_7_18, 1, 0, 0, laplacian_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, laplacian_7_19, 1, 0, 0, laplacian_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, laplacian_7_20, 1, 0, 0, laplacian_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, laplacian_7_21, 1, 0, 0, laplacian_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, laplacian_7_22, 1, 0, 0, laplacian_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, laplacian_7_23, 1, 0, 0, laplacian_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, laplacian_7_24, 1, 0, 0, laplacian_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, laplacian_7_25, 1, 0, 0, laplacian_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, laplacian_7_26, 1, 0, 0, laplacian_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, laplacian_7_27, 1, 0, 0, laplacian_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, laplacian_7_28, 1, 0, 0, laplacian_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, laplacian_7_29, 1, 0, 0, laplacian_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, laplacian_7_30, 1, 0, 0, laplacian_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, laplacian_7_31, 1, 0, 0, laplacian_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, laplacian_7_32, 1, 0, 0, laplacian_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, laplacian_7_33, 1, 0, 0, laplacian_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, laplacian_7_34, 1, 0, 0, laplacian_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, laplacian_7_35, 1, 0, 0, laplacian_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, laplacian_7_36, 1, 0, 0, laplacian_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, laplacian_7_37, 1, 0, 0, laplacian_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, laplacian_7_38, 1, 0, 0, laplacian_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, laplacian_7_39, 1, 0, 0, laplacian_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, laplacian_7_40, 1, 0, 0, laplacian_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, laplacian_7_41, 1, 0, 0, laplacian_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, laplacian_7_42, 1, 0, 0, laplacian_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, laplacian_7_43, 1, 0, 0, laplacian_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, laplacian_7_44, 1, 0, 0, laplacian_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, laplacian_7_45, 1, 0, 0, laplacian_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, laplacian_7_46, 1, 0, 0, laplacian_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, laplacian_7_47, 1, 0, 0, laplacian_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, laplacian_7_48, 1, 0, 0, laplacian_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, laplacian_7_49, 1, 0, 0, laplacian_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, laplacian_7_50, 1, 0, 0, laplacian_7_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, laplacian_7_51, 1, 0, 0, laplacian_7_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, laplacian_7_52, 1, 0, 0, laplacian_7_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, laplacian_7_53, 1, 0, 0, laplacian_7_53_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = laplacian_7_0, .n = 1, .c_lo = laplacian_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = laplacian_7_1, .n = 1, .c_lo = laplacian_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = laplacian_7_2, .n = 1, .c_lo = laplacian_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_7_3, .n = 1, .c_lo = laplacian_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = laplacian_7_4, .n = 1, .c_lo = laplacian_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_7_5, .n = 1, .c_lo = laplacian_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = laplacian_7_6, .n = 1, .c_lo = laplacian_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = laplacian_7_7, .n = 1, .c_lo = laplacian_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = laplacian_7_8, .n = 1, .c_lo = laplacian_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = laplacian_7_9, .n = 1, .c_lo = laplacian_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = laplacian_7_10, .n = 1, .c_lo = laplacian_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = laplacian_7_11, .n = 1, .c_lo = laplacian_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = laplacian_7_12, .n = 1, .c_lo = laplacian_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = laplacian_7_13, .n = 1, .c_lo = laplacian_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = laplacian_7_14, .n = 1, .c_lo = laplacian_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = laplacian_7_15, .n = 1, .c_lo = laplacian_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = laplacian_7_16, .n = 1, .c_lo = laplacian_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = laplacian_7_17, .n = 1, .c_lo = laplacian_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = laplacian_7_18, .n = 1, .c_lo = laplacian_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = laplacian_7_19, .n = 1, .c_lo = laplacian_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = laplacian_7_20, .n = 1, .c_lo = laplacian_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = laplacian_7_21, .n = 1, .c_lo = laplacian_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = laplacian_7_22, .n = 1, .c_lo = laplacian_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = laplacian_7_23, .n = 1, .c_lo = laplacian_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = laplacian_7_24, .n = 1, .c_lo = laplacian_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = laplacian_7_25, .n = 1, .c_lo = laplacian_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = laplacian_7_26, .n = 1, .c_lo = laplacian_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = laplacian_7_27, .n = 1, .c_lo = laplacian_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = laplacian_7_28, .n = 1, .c_lo = laplacian_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = laplacian_7_29, .n = 1, .c_lo = laplacian_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = laplacian_7_30, .n = 1, .c_lo = laplacian_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = laplacian_7_31, .n = 1, .c_lo = laplacian_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = laplacian_7_32, .n = 1, .c_lo = laplacian_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = laplacian_7_33, .n = 1, .c_lo = laplacian_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = laplacian_7_34, .n = 1, .c_lo = laplacian_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = laplacian_7_35, .n = 1, .c_lo = laplacian_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = laplacian_7_36, .n = 1, .c_lo = laplacian_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = laplacian_7_37, .n = 1, .c_lo = laplacian_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = laplacian_7_38, .n = 1, .c_lo = laplacian_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = laplacian_7_39, .n = 1, .c_lo = laplacian_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = laplacian_7_40, .n = 1, .c_lo = laplacian_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = laplacian_7_41, .n = 1, .c_lo = laplacian_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = laplacian_7_42, .n = 1, .c_lo = laplacian_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = laplacian_7_43, .n = 1, .c_lo = laplacian_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = laplacian_7_44, .n = 1, .c_lo = laplacian_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = laplacian_7_45, .n = 1, .c_lo = laplacian_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = laplacian_7_46, .n = 1, .c_lo = laplacian_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = laplacian_7_47, .n = 1, .c_lo = laplacian_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = laplacian_7_48, .n = 1, .c_lo = laplacian_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = laplacian_7_49, .n = 1, .c_lo = laplacian_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = laplacian_7_50, .n = 1, .c_lo = laplacian_7_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = laplacian_7_51, .n = 1, .c_lo = laplacian_7_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = laplacian_7_52, .n = 1, .c_lo = laplacian_7_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = laplacian_7_53, .n = 1, .c_lo = laplacian_7_53_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 1.1e-19 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, laplacian_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 4.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, laplacian_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 7.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, laplacian_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 6.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, laplacian_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^44, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, laplacian_5, 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^44, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.8p-1, laplacian_6, 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^26, truncation < 5.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, laplacian_7, 54},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.5e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = laplacian_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^14, truncation < 1.1e-19 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = laplacian_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 4.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = laplacian_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 7.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = laplacian_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 6.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = laplacian_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^44, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = laplacian_5, .nterms = 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^44, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.8p-1, .terms = laplacian_6, .nterms = 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^26, truncation < 5.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = laplacian_7, .nterms = 54},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.5e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.e148d821bf211p+5,  // -189 * pi^-1
@@ -2849,8 +2849,8 @@ inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.bc0086589a3ecp-45, 0x1.34019309cebc3p-47,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, grad_over_r_0_0, 11, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 2, grad_over_r_0_1, 2, 0, 0, grad_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 11, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 2, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     -0x1.411a62c5f5d9dp+5,  // -16498971636147/64097340625 * pi^-1 + (4671789696/88410125 * pi^-1) * log(12)
@@ -2909,7 +2909,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.dc6c93131aa91p+38,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, grad_over_r_1_0, 41, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.828e9166302f1p+4,  // -3722574996/9765625 * pi^-1 + (24513867/156250 * pi^-1) * log(7)
@@ -2966,7 +2966,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.11521188397fcp+2, 0x1.520e14d959527p+2, 0x1.8f8dcd1ce451fp+6, 0x1.5160a437a5ef2p+5,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, grad_over_r_2_0, 40, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.d173adc8da8f3p+2,  // -993114675/1419857 * pi^-1 + (40763520/83521 * pi^-1) * log(4)
@@ -3027,7 +3027,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.a834c78e43c51p-20, -0x1.7428bb9462108p-19, -0x1.78260062b139ap-19,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, grad_over_r_3_0, 43, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.873cf35279552p-1,  // -22970512089/20511149 * pi^-1 + (862596000/707281 * pi^-1) * log(5/2)
@@ -3084,7 +3084,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.a9f295c12edb3p-18, -0x1.1b042c652d042p-17, -0x1.70481eb84e819p-16, -0x1.b26f832c42a0fp-13,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, grad_over_r_4_0, 40, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
@@ -3417,70 +3417,70 @@ inline constexpr double grad_over_r_5_54_lo[] = {
     0x1.2b4c23d11b277p-64,
 };
 inline constexpr table::Term grad_over_r_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, grad_over_r_5_0, 1, 0, 0, grad_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, grad_over_r_5_1, 1, 0, 0, grad_over_r_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_5_2, 1, 0, 0, grad_over_r_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_5_3, 1, 0, 0, grad_over_r_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_5_4, 1, 0, 0, grad_over_r_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, grad_over_r_5_5, 1, 0, 0, grad_over_r_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, grad_over_r_5_6, 1, 0, 0, grad_over_r_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, grad_over_r_5_7, 1, 0, 0, grad_over_r_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, grad_over_r_5_8, 1, 0, 0, grad_over_r_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, grad_over_r_5_9, 1, 0, 0, grad_over_r_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, grad_over_r_5_10, 1, 0, 0, grad_over_r_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, grad_over_r_5_11, 1, 0, 0, grad_over_r_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, grad_over_r_5_12, 1, 0, 0, grad_over_r_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, grad_over_r_5_13, 1, 0, 0, grad_over_r_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, grad_over_r_5_14, 1, 0, 0, grad_over_r_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, grad_over_r_5_15, 1, 0, 0, grad_over_r_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, grad_over_r_5_16, 1, 0, 0, grad_over_r_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, grad_over_r_5_17, 1, 0, 0, grad_over_r_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, grad_over_r_5_18, 1, 0, 0, grad_over_r_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, grad_over_r_5_19, 1, 0, 0, grad_over_r_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, grad_over_r_5_20, 1, 0, 0, grad_over_r_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, grad_over_r_5_21, 1, 0, 0, grad_over_r_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, grad_over_r_5_22, 1, 0, 0, grad_over_r_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, grad_over_r_5_23, 1, 0, 0, grad_over_r_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, grad_over_r_5_24, 1, 0, 0, grad_over_r_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, grad_over_r_5_25, 1, 0, 0, grad_over_r_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, grad_over_r_5_26, 1, 0, 0, grad_over_r_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, grad_over_r_5_27, 1, 0, 0, grad_over_r_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, grad_over_r_5_28, 1, 0, 0, grad_over_r_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, grad_over_r_5_29, 1, 0, 0, grad_over_r_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, grad_over_r_5_30, 1, 0, 0, grad_over_r_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, grad_over_r_5_31, 1, 0, 0, grad_over_r_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, grad_over_r_5_32, 1, 0, 0, grad_over_r_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, grad_over_r_5_33, 1, 0, 0, grad_over_r_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, grad_over_r_5_34, 1, 0, 0, grad_over_r_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, grad_over_r_5_35, 1, 0, 0, grad_over_r_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, grad_over_r_5_36, 1, 0, 0, grad_over_r_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, grad_over_r_5_37, 1, 0, 0, grad_over_r_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, grad_over_r_5_38, 1, 0, 0, grad_over_r_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, grad_over_r_5_39, 1, 0, 0, grad_over_r_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, grad_over_r_5_40, 1, 0, 0, grad_over_r_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, grad_over_r_5_41, 1, 0, 0, grad_over_r_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, grad_over_r_5_42, 1, 0, 0, grad_over_r_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, grad_over_r_5_43, 1, 0, 0, grad_over_r_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, grad_over_r_5_44, 1, 0, 0, grad_over_r_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, grad_over_r_5_45, 1, 0, 0, grad_over_r_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, grad_over_r_5_46, 1, 0, 0, grad_over_r_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, grad_over_r_5_47, 1, 0, 0, grad_over_r_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, grad_over_r_5_48, 1, 0, 0, grad_over_r_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, grad_over_r_5_49, 1, 0, 0, grad_over_r_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, grad_over_r_5_50, 1, 0, 0, grad_over_r_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, grad_over_r_5_51, 1, 0, 0, grad_over_r_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, grad_over_r_5_52, 1, 0, 0, grad_over_r_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 0, grad_over_r_5_53, 1, 0, 0, grad_over_r_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 58, 0, grad_over_r_5_54, 1, 0, 0, grad_over_r_5_54_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_5_0, .n = 1, .c_lo = grad_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_5_1, .n = 1, .c_lo = grad_over_r_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_5_2, .n = 1, .c_lo = grad_over_r_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_5_3, .n = 1, .c_lo = grad_over_r_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_5_4, .n = 1, .c_lo = grad_over_r_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_5_5, .n = 1, .c_lo = grad_over_r_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = grad_over_r_5_6, .n = 1, .c_lo = grad_over_r_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = grad_over_r_5_7, .n = 1, .c_lo = grad_over_r_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = grad_over_r_5_8, .n = 1, .c_lo = grad_over_r_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = grad_over_r_5_9, .n = 1, .c_lo = grad_over_r_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = grad_over_r_5_10, .n = 1, .c_lo = grad_over_r_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = grad_over_r_5_11, .n = 1, .c_lo = grad_over_r_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = grad_over_r_5_12, .n = 1, .c_lo = grad_over_r_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = grad_over_r_5_13, .n = 1, .c_lo = grad_over_r_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = grad_over_r_5_14, .n = 1, .c_lo = grad_over_r_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = grad_over_r_5_15, .n = 1, .c_lo = grad_over_r_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = grad_over_r_5_16, .n = 1, .c_lo = grad_over_r_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = grad_over_r_5_17, .n = 1, .c_lo = grad_over_r_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = grad_over_r_5_18, .n = 1, .c_lo = grad_over_r_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = grad_over_r_5_19, .n = 1, .c_lo = grad_over_r_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = grad_over_r_5_20, .n = 1, .c_lo = grad_over_r_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = grad_over_r_5_21, .n = 1, .c_lo = grad_over_r_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = grad_over_r_5_22, .n = 1, .c_lo = grad_over_r_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = grad_over_r_5_23, .n = 1, .c_lo = grad_over_r_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = grad_over_r_5_24, .n = 1, .c_lo = grad_over_r_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = grad_over_r_5_25, .n = 1, .c_lo = grad_over_r_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = grad_over_r_5_26, .n = 1, .c_lo = grad_over_r_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = grad_over_r_5_27, .n = 1, .c_lo = grad_over_r_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = grad_over_r_5_28, .n = 1, .c_lo = grad_over_r_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = grad_over_r_5_29, .n = 1, .c_lo = grad_over_r_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = grad_over_r_5_30, .n = 1, .c_lo = grad_over_r_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = grad_over_r_5_31, .n = 1, .c_lo = grad_over_r_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = grad_over_r_5_32, .n = 1, .c_lo = grad_over_r_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = grad_over_r_5_33, .n = 1, .c_lo = grad_over_r_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = grad_over_r_5_34, .n = 1, .c_lo = grad_over_r_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = grad_over_r_5_35, .n = 1, .c_lo = grad_over_r_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = grad_over_r_5_36, .n = 1, .c_lo = grad_over_r_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = grad_over_r_5_37, .n = 1, .c_lo = grad_over_r_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = grad_over_r_5_38, .n = 1, .c_lo = grad_over_r_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = grad_over_r_5_39, .n = 1, .c_lo = grad_over_r_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = grad_over_r_5_40, .n = 1, .c_lo = grad_over_r_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = grad_over_r_5_41, .n = 1, .c_lo = grad_over_r_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = grad_over_r_5_42, .n = 1, .c_lo = grad_over_r_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = grad_over_r_5_43, .n = 1, .c_lo = grad_over_r_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = grad_over_r_5_44, .n = 1, .c_lo = grad_over_r_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = grad_over_r_5_45, .n = 1, .c_lo = grad_over_r_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = grad_over_r_5_46, .n = 1, .c_lo = grad_over_r_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = grad_over_r_5_47, .n = 1, .c_lo = grad_over_r_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = grad_over_r_5_48, .n = 1, .c_lo = grad_over_r_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = grad_over_r_5_49, .n = 1, .c_lo = grad_over_r_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = grad_over_r_5_50, .n = 1, .c_lo = grad_over_r_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = grad_over_r_5_51, .n = 1, .c_lo = grad_over_r_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = grad_over_r_5_52, .n = 1, .c_lo = grad_over_r_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 0, .c = grad_over_r_5_53, .n = 1, .c_lo = grad_over_r_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 58, .low = 0, .c = grad_over_r_5_54, .n = 1, .c_lo = grad_over_r_5_54_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 8.0e-21 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, grad_over_r_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 7.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, grad_over_r_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^39, truncation < 9.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, grad_over_r_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^42, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.8p-1, grad_over_r_4, 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 5.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, grad_over_r_5, 55},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^117, truncation < 1.1e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 8.0e-21 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = grad_over_r_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 7.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = grad_over_r_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^39, truncation < 9.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = grad_over_r_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^42, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.8p-1, .terms = grad_over_r_4, .nterms = 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 5.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = grad_over_r_5, .nterms = 55},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^117, truncation < 1.1e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     -0x1.56f8a2e69bc1fp+10,  // -6930 * pi^-1 + 3780 * pi^-1 * log(2)
@@ -3502,8 +3502,8 @@ inline constexpr double hess_radial_0_1_lo[] = {
     0x1.bc0086589a3ecp-44, 0x1.34019309cebc3p-45,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-5, 0, 0, hess_radial_0_0, 6, 0, 0, hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-5, 0, 0, hess_radial_0_1, 2, 0, 0, hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-5, .edge_power = 0, .low = 0, .c = hess_radial_0_0, .n = 6, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-5, .edge_power = 0, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     0x1.2a8f8cc5f76c4p+11,  // -7201851620040/1039509197 * pi^-1 + (3890400570/1026169 * pi^-1) * log(45)
@@ -3560,7 +3560,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.15d55f4c6384dp+109, 0x1.84af91a5e5b82p+117, 0x1.96ecb6fe5497ap+121, 0x1.1e966ef1df06fp+125,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.d8p-5, 0, 0, hess_radial_1_0, 40, 0x1.6be8c0102c7a5p-5, 0x1.73fefd385afa3p-63, hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = hess_radial_1_0_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.aa86fb0278799p+10,  // -212316053040/30664297 * pi^-1 + (373866570/97969 * pi^-1) * log(25)
@@ -3617,7 +3617,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.2c74374903c98p+82, -0x1.4282d5b0b64f5p+85, 0x1.616485f25989dp+88, -0x1.f18302c7555cdp+93,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-4, 0, 0, hess_radial_2_0, 40, 0x1.472813a11fe5dp-4, 0x1.eabc1d71afd8cp-59, hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.0c01ff0f5eebbp+10,  // -52829799750/7645373 * pi^-1 + (151143300/38809 * pi^-1) * log(14)
@@ -3674,7 +3674,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.240a5e99e6138p+52, 0x1.12d45126c4345p+54, -0x1.6c8071cf911cbp+57, 0x1.5782932e18acfp+58,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.78p-3, 0, 0, hess_radial_3_0, 40, 0x1.231617640f981p-3, -0x1.66a8ef1b4a123p-57, hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = hess_radial_3_0_lo},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.1024cb3bfc2a9p+9,  // -377047062/54925 * pi^-1 + (3484404/845 * pi^-1) * log(8)
@@ -3729,7 +3729,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     0x1.b46bcfb55bd67p+23, 0x1.1498779ccde23p+25,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, hess_radial_4_0, 38, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 38, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_4_0_lo},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.b8e81be6c45cep+7,  // -14810040/2197 * pi^-1 + (780570/169 * pi^-1) * log(5)
@@ -3789,7 +3789,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     0x1.a1abbd9184462p+6, 0x1.3436b6a5e94a9p+7,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, hess_radial_5_0, 42, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 42, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_5_0_lo},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.7ceaedd2dbb35p+7,  // -61228125/2048 * pi^-1 + (227390625/8192 * pi^-1) * log(3)
@@ -3864,7 +3864,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.075342321120bp-12, -0x1.3b552b0d6f075p-11,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {table::Basis::sqrt_power, 7, table::Var::shifted, 0x1.7p-1, 0, 0, hess_radial_6_0, 54, 0x1.3333333333333p-1, 0x1.999999999999ap-56, hess_radial_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 54, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_6_0_lo},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.a7351986a18dp+2,  // -2138542560/389017 * pi^-1 + (37295370/5329 * pi^-1) * log(11/5)
@@ -3905,7 +3905,7 @@ inline constexpr double hess_radial_7_0_lo[] = {
     0x1.b55d5d769ac6ep-23, 0x1.9f782af20a0a5p-20, 0x1.818ecde52bef2p-20,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, hess_radial_7_0, 27, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_7_0_lo},
 };
 inline constexpr double hess_radial_8_0[] = {
     0x1.13050dca2412ep+6,  // 216 * pi^-1
@@ -4226,71 +4226,71 @@ inline constexpr double hess_radial_8_52_lo[] = {
     0x1.a72c54e1b923cp-51,
 };
 inline constexpr table::Term hess_radial_8[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, hess_radial_8_0, 1, 0, 0, hess_radial_8_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, hess_radial_8_1, 1, 0, 0, hess_radial_8_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, hess_radial_8_2, 1, 0, 0, hess_radial_8_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, hess_radial_8_3, 1, 0, 0, hess_radial_8_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, hess_radial_8_4, 1, 0, 0, hess_radial_8_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, hess_radial_8_5, 1, 0, 0, hess_radial_8_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, hess_radial_8_6, 1, 0, 0, hess_radial_8_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, hess_radial_8_7, 1, 0, 0, hess_radial_8_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, hess_radial_8_8, 1, 0, 0, hess_radial_8_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, hess_radial_8_9, 1, 0, 0, hess_radial_8_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, hess_radial_8_10, 1, 0, 0, hess_radial_8_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, hess_radial_8_11, 1, 0, 0, hess_radial_8_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, hess_radial_8_12, 1, 0, 0, hess_radial_8_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, hess_radial_8_13, 1, 0, 0, hess_radial_8_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, hess_radial_8_14, 1, 0, 0, hess_radial_8_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, hess_radial_8_15, 1, 0, 0, hess_radial_8_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, hess_radial_8_16, 1, 0, 0, hess_radial_8_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, hess_radial_8_17, 1, 0, 0, hess_radial_8_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, hess_radial_8_18, 1, 0, 0, hess_radial_8_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, hess_radial_8_19, 1, 0, 0, hess_radial_8_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, hess_radial_8_20, 1, 0, 0, hess_radial_8_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, hess_radial_8_21, 1, 0, 0, hess_radial_8_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, hess_radial_8_22, 1, 0, 0, hess_radial_8_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, hess_radial_8_23, 1, 0, 0, hess_radial_8_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, hess_radial_8_24, 1, 0, 0, hess_radial_8_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, hess_radial_8_25, 1, 0, 0, hess_radial_8_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, hess_radial_8_26, 1, 0, 0, hess_radial_8_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, hess_radial_8_27, 1, 0, 0, hess_radial_8_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, hess_radial_8_28, 1, 0, 0, hess_radial_8_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, hess_radial_8_29, 1, 0, 0, hess_radial_8_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, hess_radial_8_30, 1, 0, 0, hess_radial_8_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, hess_radial_8_31, 1, 0, 0, hess_radial_8_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, hess_radial_8_32, 1, 0, 0, hess_radial_8_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, hess_radial_8_33, 1, 0, 0, hess_radial_8_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, hess_radial_8_34, 1, 0, 0, hess_radial_8_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, hess_radial_8_35, 1, 0, 0, hess_radial_8_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, hess_radial_8_36, 1, 0, 0, hess_radial_8_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, hess_radial_8_37, 1, 0, 0, hess_radial_8_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, hess_radial_8_38, 1, 0, 0, hess_radial_8_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, hess_radial_8_39, 1, 0, 0, hess_radial_8_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, hess_radial_8_40, 1, 0, 0, hess_radial_8_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, hess_radial_8_41, 1, 0, 0, hess_radial_8_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, hess_radial_8_42, 1, 0, 0, hess_radial_8_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, hess_radial_8_43, 1, 0, 0, hess_radial_8_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, hess_radial_8_44, 1, 0, 0, hess_radial_8_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, hess_radial_8_45, 1, 0, 0, hess_radial_8_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, hess_radial_8_46, 1, 0, 0, hess_radial_8_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, hess_radial_8_47, 1, 0, 0, hess_radial_8_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, hess_radial_8_48, 1, 0, 0, hess_radial_8_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, hess_radial_8_49, 1, 0, 0, hess_radial_8_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, hess_radial_8_50, 1, 0, 0, hess_radial_8_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, hess_radial_8_51, 1, 0, 0, hess_radial_8_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, hess_radial_8_52, 1, 0, 0, hess_radial_8_52_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = hess_radial_8_0, .n = 1, .c_lo = hess_radial_8_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = hess_radial_8_1, .n = 1, .c_lo = hess_radial_8_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_8_2, .n = 1, .c_lo = hess_radial_8_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_8_3, .n = 1, .c_lo = hess_radial_8_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_8_4, .n = 1, .c_lo = hess_radial_8_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_8_5, .n = 1, .c_lo = hess_radial_8_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_8_6, .n = 1, .c_lo = hess_radial_8_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_8_7, .n = 1, .c_lo = hess_radial_8_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = hess_radial_8_8, .n = 1, .c_lo = hess_radial_8_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = hess_radial_8_9, .n = 1, .c_lo = hess_radial_8_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = hess_radial_8_10, .n = 1, .c_lo = hess_radial_8_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = hess_radial_8_11, .n = 1, .c_lo = hess_radial_8_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = hess_radial_8_12, .n = 1, .c_lo = hess_radial_8_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = hess_radial_8_13, .n = 1, .c_lo = hess_radial_8_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = hess_radial_8_14, .n = 1, .c_lo = hess_radial_8_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = hess_radial_8_15, .n = 1, .c_lo = hess_radial_8_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = hess_radial_8_16, .n = 1, .c_lo = hess_radial_8_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = hess_radial_8_17, .n = 1, .c_lo = hess_radial_8_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = hess_radial_8_18, .n = 1, .c_lo = hess_radial_8_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = hess_radial_8_19, .n = 1, .c_lo = hess_radial_8_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = hess_radial_8_20, .n = 1, .c_lo = hess_radial_8_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = hess_radial_8_21, .n = 1, .c_lo = hess_radial_8_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = hess_radial_8_22, .n = 1, .c_lo = hess_radial_8_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = hess_radial_8_23, .n = 1, .c_lo = hess_radial_8_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = hess_radial_8_24, .n = 1, .c_lo = hess_radial_8_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = hess_radial_8_25, .n = 1, .c_lo = hess_radial_8_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = hess_radial_8_26, .n = 1, .c_lo = hess_radial_8_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = hess_radial_8_27, .n = 1, .c_lo = hess_radial_8_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = hess_radial_8_28, .n = 1, .c_lo = hess_radial_8_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = hess_radial_8_29, .n = 1, .c_lo = hess_radial_8_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = hess_radial_8_30, .n = 1, .c_lo = hess_radial_8_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = hess_radial_8_31, .n = 1, .c_lo = hess_radial_8_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = hess_radial_8_32, .n = 1, .c_lo = hess_radial_8_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = hess_radial_8_33, .n = 1, .c_lo = hess_radial_8_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = hess_radial_8_34, .n = 1, .c_lo = hess_radial_8_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = hess_radial_8_35, .n = 1, .c_lo = hess_radial_8_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = hess_radial_8_36, .n = 1, .c_lo = hess_radial_8_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = hess_radial_8_37, .n = 1, .c_lo = hess_radial_8_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = hess_radial_8_38, .n = 1, .c_lo = hess_radial_8_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = hess_radial_8_39, .n = 1, .c_lo = hess_radial_8_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = hess_radial_8_40, .n = 1, .c_lo = hess_radial_8_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = hess_radial_8_41, .n = 1, .c_lo = hess_radial_8_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = hess_radial_8_42, .n = 1, .c_lo = hess_radial_8_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = hess_radial_8_43, .n = 1, .c_lo = hess_radial_8_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = hess_radial_8_44, .n = 1, .c_lo = hess_radial_8_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = hess_radial_8_45, .n = 1, .c_lo = hess_radial_8_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = hess_radial_8_46, .n = 1, .c_lo = hess_radial_8_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = hess_radial_8_47, .n = 1, .c_lo = hess_radial_8_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = hess_radial_8_48, .n = 1, .c_lo = hess_radial_8_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = hess_radial_8_49, .n = 1, .c_lo = hess_radial_8_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = hess_radial_8_50, .n = 1, .c_lo = hess_radial_8_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = hess_radial_8_51, .n = 1, .c_lo = hess_radial_8_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = hess_radial_8_52, .n = 1, .c_lo = hess_radial_8_52_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-5, hess_radial_0, 2},  // [0, 1/32), series at 0 up to r^10, truncation < 4.2e-20 relative (series.hpp)
-    {0x1p-5, 0x1.d8p-5, hess_radial_1, 1},  // [1/32, 59/1024), Taylor about 45/1013 up to (r-c)^39, truncation < 6.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.d8p-5, 0x1.a8p-4, hess_radial_2, 1},  // [59/1024, 53/512), Taylor about 25/313 up to (r-c)^39, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-4, 0x1.78p-3, hess_radial_3, 1},  // [53/512, 47/256), Taylor about 28/197 up to (r-c)^39, truncation < 6.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.78p-3, 0x1.4p-2, hess_radial_4, 1},  // [47/256, 5/16), Taylor about 16/65 up to (r-c)^37, truncation < 5.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, hess_radial_5, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^41, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, hess_radial_6, 1},  // [1/2, 23/32), S^7 times Taylor about 3/5 up to (r-c)^53, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.8p-1, hess_radial_7, 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^26, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, hess_radial_8, 53},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.0e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-5, .terms = hess_radial_0, .nterms = 2},  // [0, 1/32), series at 0 up to r^10, truncation < 4.2e-20 relative (series.hpp)
+    {.lo = 0x1p-5, .hi = 0x1.d8p-5, .terms = hess_radial_1, .nterms = 1},  // [1/32, 59/1024), Taylor about 45/1013 up to (r-c)^39, truncation < 6.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.d8p-5, .hi = 0x1.a8p-4, .terms = hess_radial_2, .nterms = 1},  // [59/1024, 53/512), Taylor about 25/313 up to (r-c)^39, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-4, .hi = 0x1.78p-3, .terms = hess_radial_3, .nterms = 1},  // [53/512, 47/256), Taylor about 28/197 up to (r-c)^39, truncation < 6.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.78p-3, .hi = 0x1.4p-2, .terms = hess_radial_4, .nterms = 1},  // [47/256, 5/16), Taylor about 16/65 up to (r-c)^37, truncation < 5.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = hess_radial_5, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^41, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = hess_radial_6, .nterms = 1},  // [1/2, 23/32), S^7 times Taylor about 3/5 up to (r-c)^53, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.8p-1, .terms = hess_radial_7, .nterms = 1},  // [23/32, 3/4), Taylor about 55/73 up to (r-c)^26, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = hess_radial_8, .nterms = 53},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.0e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.c3b51adf8d43bp-3,  // -5239/5040 * pi^-1 + 1/2 * pi^-1 * log(2)
@@ -4324,8 +4324,8 @@ inline constexpr double potential_0_1_lo[] = {
     -0x1.5c70d8460a3b2p-53, 0x1.bc0086589a3ecp-54,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, potential_0_0, 16, 0, 0, potential_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-2, 0, 6, potential_0_1, 2, 0, 0, potential_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 16, .c_lo = potential_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 6, .c = potential_0_1, .n = 2, .c_lo = potential_0_1_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.48a4ddf46b8c2p-3,  // -16191518903236495/18714490530491088 * pi^-1 + (3622958995681/7024958907842 * pi^-1) * log(6) + (1/2 * pi^-1) * log(12/37)
@@ -4381,7 +4381,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.de1e3f1301c05p-29, -0x1.29e65b76d436ap-29, 0x1.858af71a09369p-29,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-2, 0, 0, potential_1_0, 39, 0x1.4c1bacf914c1cp-2, -0x1.4c1bacf914c1cp-56, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.99c0d6d5c1379p-4,  // -372221274261881295/369573522281838896 * pi^-1 + (100581715655521/124519380822722 * pi^-1) * log(7/2) + (1/2 * pi^-1) * log(28/53)
@@ -4438,7 +4438,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.924101f9c628ap-53, -0x1.caca028e1e8dbp-50, 0x1.418fb6e60f88cp-49, 0x1.3349457486f58p-50,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5p-1, 0, 0, potential_2_0, 40, 0x1.0e7d95bc609a9p-1, 0x1.cfb2b78c13522p-58, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.a490911d3a4cfp-5,  // -132398928104661595/58492812574703808 * pi^-1 + (342128617032113/128063081718016 * pi^-1) * log(7/3) + (1/2 * pi^-1) * log(21/29)
@@ -4492,7 +4492,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.9dca0dbbb6762p-33,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, potential_3_0, 37, 0x1.72c234f72c235p-1, -0x1.1a7b9611a7b96p-58, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5119,110 +5119,110 @@ inline constexpr double potential_4_103_lo[] = {
     0x1.312b11c91cb36p-66,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_4_1, 1, 0, 0, potential_4_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_4_2, 1, 0, 0, potential_4_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_4_3, 1, 0, 0, potential_4_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_4_4, 1, 0, 0, potential_4_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_4_5, 1, 0, 0, potential_4_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_4_6, 1, 0, 0, potential_4_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, potential_4_7, 1, 0, 0, potential_4_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_4_8, 1, 0, 0, potential_4_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, potential_4_9, 1, 0, 0, potential_4_9_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_4_10, 1, 0, 0, potential_4_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, potential_4_11, 1, 0, 0, potential_4_11_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, 0, potential_4_12, 1, 0, 0, potential_4_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, potential_4_13, 1, 0, 0, potential_4_13_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 11, 0, potential_4_14, 1, 0, 0, potential_4_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, potential_4_15, 1, 0, 0, potential_4_15_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 12, 0, potential_4_16, 1, 0, 0, potential_4_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, potential_4_17, 1, 0, 0, potential_4_17_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 13, 0, potential_4_18, 1, 0, 0, potential_4_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, potential_4_19, 1, 0, 0, potential_4_19_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 14, 0, potential_4_20, 1, 0, 0, potential_4_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, potential_4_21, 1, 0, 0, potential_4_21_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 15, 0, potential_4_22, 1, 0, 0, potential_4_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, potential_4_23, 1, 0, 0, potential_4_23_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 16, 0, potential_4_24, 1, 0, 0, potential_4_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, potential_4_25, 1, 0, 0, potential_4_25_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 17, 0, potential_4_26, 1, 0, 0, potential_4_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, potential_4_27, 1, 0, 0, potential_4_27_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 18, 0, potential_4_28, 1, 0, 0, potential_4_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, potential_4_29, 1, 0, 0, potential_4_29_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 19, 0, potential_4_30, 1, 0, 0, potential_4_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, potential_4_31, 1, 0, 0, potential_4_31_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 20, 0, potential_4_32, 1, 0, 0, potential_4_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, potential_4_33, 1, 0, 0, potential_4_33_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 21, 0, potential_4_34, 1, 0, 0, potential_4_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, potential_4_35, 1, 0, 0, potential_4_35_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 22, 0, potential_4_36, 1, 0, 0, potential_4_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, potential_4_37, 1, 0, 0, potential_4_37_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 23, 0, potential_4_38, 1, 0, 0, potential_4_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, potential_4_39, 1, 0, 0, potential_4_39_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 24, 0, potential_4_40, 1, 0, 0, potential_4_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, potential_4_41, 1, 0, 0, potential_4_41_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 25, 0, potential_4_42, 1, 0, 0, potential_4_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, potential_4_43, 1, 0, 0, potential_4_43_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 26, 0, potential_4_44, 1, 0, 0, potential_4_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, potential_4_45, 1, 0, 0, potential_4_45_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 27, 0, potential_4_46, 1, 0, 0, potential_4_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, potential_4_47, 1, 0, 0, potential_4_47_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 28, 0, potential_4_48, 1, 0, 0, potential_4_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, potential_4_49, 1, 0, 0, potential_4_49_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 29, 0, potential_4_50, 1, 0, 0, potential_4_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, potential_4_51, 1, 0, 0, potential_4_51_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 30, 0, potential_4_52, 1, 0, 0, potential_4_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, potential_4_53, 1, 0, 0, potential_4_53_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 31, 0, potential_4_54, 1, 0, 0, potential_4_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, potential_4_55, 1, 0, 0, potential_4_55_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 32, 0, potential_4_56, 1, 0, 0, potential_4_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, potential_4_57, 1, 0, 0, potential_4_57_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 33, 0, potential_4_58, 1, 0, 0, potential_4_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, potential_4_59, 1, 0, 0, potential_4_59_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 34, 0, potential_4_60, 1, 0, 0, potential_4_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, potential_4_61, 1, 0, 0, potential_4_61_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 35, 0, potential_4_62, 1, 0, 0, potential_4_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, potential_4_63, 1, 0, 0, potential_4_63_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 36, 0, potential_4_64, 1, 0, 0, potential_4_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, potential_4_65, 1, 0, 0, potential_4_65_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 37, 0, potential_4_66, 1, 0, 0, potential_4_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, potential_4_67, 1, 0, 0, potential_4_67_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 38, 0, potential_4_68, 1, 0, 0, potential_4_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, potential_4_69, 1, 0, 0, potential_4_69_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 39, 0, potential_4_70, 1, 0, 0, potential_4_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, potential_4_71, 1, 0, 0, potential_4_71_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 40, 0, potential_4_72, 1, 0, 0, potential_4_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, potential_4_73, 1, 0, 0, potential_4_73_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 41, 0, potential_4_74, 1, 0, 0, potential_4_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, potential_4_75, 1, 0, 0, potential_4_75_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 42, 0, potential_4_76, 1, 0, 0, potential_4_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, potential_4_77, 1, 0, 0, potential_4_77_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 43, 0, potential_4_78, 1, 0, 0, potential_4_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, potential_4_79, 1, 0, 0, potential_4_79_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 44, 0, potential_4_80, 1, 0, 0, potential_4_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, potential_4_81, 1, 0, 0, potential_4_81_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 45, 0, potential_4_82, 1, 0, 0, potential_4_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, potential_4_83, 1, 0, 0, potential_4_83_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 46, 0, potential_4_84, 1, 0, 0, potential_4_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, potential_4_85, 1, 0, 0, potential_4_85_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 47, 0, potential_4_86, 1, 0, 0, potential_4_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, potential_4_87, 1, 0, 0, potential_4_87_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 48, 0, potential_4_88, 1, 0, 0, potential_4_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, potential_4_89, 1, 0, 0, potential_4_89_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 49, 0, potential_4_90, 1, 0, 0, potential_4_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, potential_4_91, 1, 0, 0, potential_4_91_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 50, 0, potential_4_92, 1, 0, 0, potential_4_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, potential_4_93, 1, 0, 0, potential_4_93_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 51, 0, potential_4_94, 1, 0, 0, potential_4_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, potential_4_95, 1, 0, 0, potential_4_95_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 52, 0, potential_4_96, 1, 0, 0, potential_4_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, potential_4_97, 1, 0, 0, potential_4_97_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 53, 0, potential_4_98, 1, 0, 0, potential_4_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, potential_4_99, 1, 0, 0, potential_4_99_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 54, 0, potential_4_100, 1, 0, 0, potential_4_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, potential_4_101, 1, 0, 0, potential_4_101_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 55, 0, potential_4_102, 1, 0, 0, potential_4_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, potential_4_103, 1, 0, 0, potential_4_103_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_4_1, .n = 1, .c_lo = potential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_4_2, .n = 1, .c_lo = potential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_4_3, .n = 1, .c_lo = potential_4_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_4, .n = 1, .c_lo = potential_4_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_5, .n = 1, .c_lo = potential_4_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_6, .n = 1, .c_lo = potential_4_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_7, .n = 1, .c_lo = potential_4_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_8, .n = 1, .c_lo = potential_4_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_9, .n = 1, .c_lo = potential_4_9_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_4_10, .n = 1, .c_lo = potential_4_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_4_11, .n = 1, .c_lo = potential_4_11_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_4_12, .n = 1, .c_lo = potential_4_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_4_13, .n = 1, .c_lo = potential_4_13_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_14, .n = 1, .c_lo = potential_4_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_15, .n = 1, .c_lo = potential_4_15_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_4_16, .n = 1, .c_lo = potential_4_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_4_17, .n = 1, .c_lo = potential_4_17_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_4_18, .n = 1, .c_lo = potential_4_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_4_19, .n = 1, .c_lo = potential_4_19_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = potential_4_20, .n = 1, .c_lo = potential_4_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = potential_4_21, .n = 1, .c_lo = potential_4_21_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = potential_4_22, .n = 1, .c_lo = potential_4_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = potential_4_23, .n = 1, .c_lo = potential_4_23_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = potential_4_24, .n = 1, .c_lo = potential_4_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = potential_4_25, .n = 1, .c_lo = potential_4_25_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = potential_4_26, .n = 1, .c_lo = potential_4_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = potential_4_27, .n = 1, .c_lo = potential_4_27_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = potential_4_28, .n = 1, .c_lo = potential_4_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = potential_4_29, .n = 1, .c_lo = potential_4_29_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = potential_4_30, .n = 1, .c_lo = potential_4_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = potential_4_31, .n = 1, .c_lo = potential_4_31_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = potential_4_32, .n = 1, .c_lo = potential_4_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = potential_4_33, .n = 1, .c_lo = potential_4_33_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = potential_4_34, .n = 1, .c_lo = potential_4_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = potential_4_35, .n = 1, .c_lo = potential_4_35_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = potential_4_36, .n = 1, .c_lo = potential_4_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = potential_4_37, .n = 1, .c_lo = potential_4_37_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = potential_4_38, .n = 1, .c_lo = potential_4_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = potential_4_39, .n = 1, .c_lo = potential_4_39_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = potential_4_40, .n = 1, .c_lo = potential_4_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = potential_4_41, .n = 1, .c_lo = potential_4_41_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = potential_4_42, .n = 1, .c_lo = potential_4_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = potential_4_43, .n = 1, .c_lo = potential_4_43_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = potential_4_44, .n = 1, .c_lo = potential_4_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = potential_4_45, .n = 1, .c_lo = potential_4_45_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = potential_4_46, .n = 1, .c_lo = potential_4_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = potential_4_47, .n = 1, .c_lo = potential_4_47_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = potential_4_48, .n = 1, .c_lo = potential_4_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = potential_4_49, .n = 1, .c_lo = potential_4_49_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = potential_4_50, .n = 1, .c_lo = potential_4_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = potential_4_51, .n = 1, .c_lo = potential_4_51_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = potential_4_52, .n = 1, .c_lo = potential_4_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = potential_4_53, .n = 1, .c_lo = potential_4_53_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = potential_4_54, .n = 1, .c_lo = potential_4_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = potential_4_55, .n = 1, .c_lo = potential_4_55_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = potential_4_56, .n = 1, .c_lo = potential_4_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = potential_4_57, .n = 1, .c_lo = potential_4_57_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = potential_4_58, .n = 1, .c_lo = potential_4_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = potential_4_59, .n = 1, .c_lo = potential_4_59_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = potential_4_60, .n = 1, .c_lo = potential_4_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = potential_4_61, .n = 1, .c_lo = potential_4_61_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = potential_4_62, .n = 1, .c_lo = potential_4_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = potential_4_63, .n = 1, .c_lo = potential_4_63_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = potential_4_64, .n = 1, .c_lo = potential_4_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = potential_4_65, .n = 1, .c_lo = potential_4_65_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = potential_4_66, .n = 1, .c_lo = potential_4_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = potential_4_67, .n = 1, .c_lo = potential_4_67_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = potential_4_68, .n = 1, .c_lo = potential_4_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = potential_4_69, .n = 1, .c_lo = potential_4_69_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = potential_4_70, .n = 1, .c_lo = potential_4_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = potential_4_71, .n = 1, .c_lo = potential_4_71_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = potential_4_72, .n = 1, .c_lo = potential_4_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = potential_4_73, .n = 1, .c_lo = potential_4_73_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = potential_4_74, .n = 1, .c_lo = potential_4_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = potential_4_75, .n = 1, .c_lo = potential_4_75_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = potential_4_76, .n = 1, .c_lo = potential_4_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = potential_4_77, .n = 1, .c_lo = potential_4_77_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = potential_4_78, .n = 1, .c_lo = potential_4_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = potential_4_79, .n = 1, .c_lo = potential_4_79_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = potential_4_80, .n = 1, .c_lo = potential_4_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = potential_4_81, .n = 1, .c_lo = potential_4_81_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = potential_4_82, .n = 1, .c_lo = potential_4_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = potential_4_83, .n = 1, .c_lo = potential_4_83_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = potential_4_84, .n = 1, .c_lo = potential_4_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = potential_4_85, .n = 1, .c_lo = potential_4_85_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = potential_4_86, .n = 1, .c_lo = potential_4_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = potential_4_87, .n = 1, .c_lo = potential_4_87_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = potential_4_88, .n = 1, .c_lo = potential_4_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = potential_4_89, .n = 1, .c_lo = potential_4_89_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = potential_4_90, .n = 1, .c_lo = potential_4_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = potential_4_91, .n = 1, .c_lo = potential_4_91_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = potential_4_92, .n = 1, .c_lo = potential_4_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = potential_4_93, .n = 1, .c_lo = potential_4_93_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = potential_4_94, .n = 1, .c_lo = potential_4_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = potential_4_95, .n = 1, .c_lo = potential_4_95_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = potential_4_96, .n = 1, .c_lo = potential_4_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = potential_4_97, .n = 1, .c_lo = potential_4_97_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = potential_4_98, .n = 1, .c_lo = potential_4_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = potential_4_99, .n = 1, .c_lo = potential_4_99_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = potential_4_100, .n = 1, .c_lo = potential_4_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = potential_4_101, .n = 1, .c_lo = potential_4_101_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = potential_4_102, .n = 1, .c_lo = potential_4_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = potential_4_103, .n = 1, .c_lo = potential_4_103_lo},
 };
 inline constexpr double potential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5231,15 +5231,15 @@ inline constexpr double potential_5_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.5e-20 relative (series.hpp)
-    {0x1p-2, 0x1.a8p-2, potential_1, 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^38, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-2, 0x1.5p-1, potential_2, 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^39, truncation < 7.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.5p-1, 0x1.8p-1, potential_3, 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^36, truncation < 5.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, potential_4, 104},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.3e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.5e-20 relative (series.hpp)
+    {.lo = 0x1p-2, .hi = 0x1.a8p-2, .terms = potential_1, .nterms = 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^38, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-2, .hi = 0x1.5p-1, .terms = potential_2, .nterms = 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^39, truncation < 7.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.5p-1, .hi = 0x1.8p-1, .terms = potential_3, .nterms = 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^36, truncation < 5.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 104},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.3e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.6eb167b830193p+0,  // 9/2 * pi^-1
@@ -5273,8 +5273,8 @@ inline constexpr double dpotential_0_1_lo[] = {
     0x1.f556bb96f0a74p-51, 0x1.bc0086589a3ecp-51,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 1, dpotential_0_0, 16, 0, 0, dpotential_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-2, 0, 5, dpotential_0_1, 2, 0, 0, dpotential_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 16, .c_lo = dpotential_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 5, .c = dpotential_0_1, .n = 2, .c_lo = dpotential_0_1_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.30b92ff565bc3p-2,  // 17221737555901/42149753447052 * pi^-1 + (27884424960/94931877133 * pi^-1) * log(6)
@@ -5331,7 +5331,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.ac392ce0b2af9p-23, -0x1.18b57d488a87ap-23, -0x1.01609de95adadp-20, 0x1.49e79e28a7e98p-19,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-2, 0, 0, dpotential_1_0, 40, 0x1.4c1bacf914c1cp-2, -0x1.4c1bacf914c1cp-56, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.1d3ad291254e6p-2,  // -1573260531594974/435817832879527 * pi^-1 + (4205547037440/1174711139837 * pi^-1) * log(7/2)
@@ -5390,7 +5390,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.9460b11070c9cp-42,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5p-1, 0, 0, dpotential_2_0, 41, 0x1.0e7d95bc609a9p-1, 0x1.cfb2b78c13522p-58, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.c05eb64fd10c4p-3,  // -426110619425283/28013799125816 * pi^-1 + (10357545602565/551996041888 * pi^-1) * log(7/3)
@@ -5445,7 +5445,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.c0f627718815ap-29, 0x1.8513f4e9c33bcp-24,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dpotential_3_0, 38, 0x1.72c234f72c235p-1, -0x1.1a7b9611a7b96p-58, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5754,57 +5754,57 @@ inline constexpr double dpotential_4_50_lo[] = {
     -0x1.2b59501fc8e4bp-71,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_4_0, 1, 0, 0, dpotential_4_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -1, dpotential_4_1, 1, 0, 0, dpotential_4_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -1, dpotential_4_2, 1, 0, 0, dpotential_4_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -1, dpotential_4_3, 1, 0, 0, dpotential_4_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -1, dpotential_4_4, 1, 0, 0, dpotential_4_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -1, dpotential_4_5, 1, 0, 0, dpotential_4_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -1, dpotential_4_6, 1, 0, 0, dpotential_4_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -1, dpotential_4_7, 1, 0, 0, dpotential_4_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -1, dpotential_4_8, 1, 0, 0, dpotential_4_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -1, dpotential_4_9, 1, 0, 0, dpotential_4_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -1, dpotential_4_10, 1, 0, 0, dpotential_4_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -1, dpotential_4_11, 1, 0, 0, dpotential_4_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -1, dpotential_4_12, 1, 0, 0, dpotential_4_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -1, dpotential_4_13, 1, 0, 0, dpotential_4_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -1, dpotential_4_14, 1, 0, 0, dpotential_4_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -1, dpotential_4_15, 1, 0, 0, dpotential_4_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -1, dpotential_4_16, 1, 0, 0, dpotential_4_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -1, dpotential_4_17, 1, 0, 0, dpotential_4_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -1, dpotential_4_18, 1, 0, 0, dpotential_4_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -1, dpotential_4_19, 1, 0, 0, dpotential_4_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -1, dpotential_4_20, 1, 0, 0, dpotential_4_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -1, dpotential_4_21, 1, 0, 0, dpotential_4_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -1, dpotential_4_22, 1, 0, 0, dpotential_4_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -1, dpotential_4_23, 1, 0, 0, dpotential_4_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -1, dpotential_4_24, 1, 0, 0, dpotential_4_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -1, dpotential_4_25, 1, 0, 0, dpotential_4_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -1, dpotential_4_26, 1, 0, 0, dpotential_4_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -1, dpotential_4_27, 1, 0, 0, dpotential_4_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -1, dpotential_4_28, 1, 0, 0, dpotential_4_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -1, dpotential_4_29, 1, 0, 0, dpotential_4_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -1, dpotential_4_30, 1, 0, 0, dpotential_4_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -1, dpotential_4_31, 1, 0, 0, dpotential_4_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -1, dpotential_4_32, 1, 0, 0, dpotential_4_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -1, dpotential_4_33, 1, 0, 0, dpotential_4_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -1, dpotential_4_34, 1, 0, 0, dpotential_4_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -1, dpotential_4_35, 1, 0, 0, dpotential_4_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -1, dpotential_4_36, 1, 0, 0, dpotential_4_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -1, dpotential_4_37, 1, 0, 0, dpotential_4_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -1, dpotential_4_38, 1, 0, 0, dpotential_4_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -1, dpotential_4_39, 1, 0, 0, dpotential_4_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -1, dpotential_4_40, 1, 0, 0, dpotential_4_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -1, dpotential_4_41, 1, 0, 0, dpotential_4_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -1, dpotential_4_42, 1, 0, 0, dpotential_4_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -1, dpotential_4_43, 1, 0, 0, dpotential_4_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -1, dpotential_4_44, 1, 0, 0, dpotential_4_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -1, dpotential_4_45, 1, 0, 0, dpotential_4_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -1, dpotential_4_46, 1, 0, 0, dpotential_4_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -1, dpotential_4_47, 1, 0, 0, dpotential_4_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -1, dpotential_4_48, 1, 0, 0, dpotential_4_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -1, dpotential_4_49, 1, 0, 0, dpotential_4_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -1, dpotential_4_50, 1, 0, 0, dpotential_4_50_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_4_1, .n = 1, .c_lo = dpotential_4_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_4_2, .n = 1, .c_lo = dpotential_4_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_4_3, .n = 1, .c_lo = dpotential_4_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_4_4, .n = 1, .c_lo = dpotential_4_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_4_5, .n = 1, .c_lo = dpotential_4_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -1, .c = dpotential_4_6, .n = 1, .c_lo = dpotential_4_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = dpotential_4_7, .n = 1, .c_lo = dpotential_4_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -1, .c = dpotential_4_8, .n = 1, .c_lo = dpotential_4_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -1, .c = dpotential_4_9, .n = 1, .c_lo = dpotential_4_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -1, .c = dpotential_4_10, .n = 1, .c_lo = dpotential_4_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -1, .c = dpotential_4_11, .n = 1, .c_lo = dpotential_4_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -1, .c = dpotential_4_12, .n = 1, .c_lo = dpotential_4_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -1, .c = dpotential_4_13, .n = 1, .c_lo = dpotential_4_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -1, .c = dpotential_4_14, .n = 1, .c_lo = dpotential_4_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -1, .c = dpotential_4_15, .n = 1, .c_lo = dpotential_4_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -1, .c = dpotential_4_16, .n = 1, .c_lo = dpotential_4_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -1, .c = dpotential_4_17, .n = 1, .c_lo = dpotential_4_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -1, .c = dpotential_4_18, .n = 1, .c_lo = dpotential_4_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -1, .c = dpotential_4_19, .n = 1, .c_lo = dpotential_4_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -1, .c = dpotential_4_20, .n = 1, .c_lo = dpotential_4_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -1, .c = dpotential_4_21, .n = 1, .c_lo = dpotential_4_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -1, .c = dpotential_4_22, .n = 1, .c_lo = dpotential_4_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -1, .c = dpotential_4_23, .n = 1, .c_lo = dpotential_4_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -1, .c = dpotential_4_24, .n = 1, .c_lo = dpotential_4_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -1, .c = dpotential_4_25, .n = 1, .c_lo = dpotential_4_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -1, .c = dpotential_4_26, .n = 1, .c_lo = dpotential_4_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -1, .c = dpotential_4_27, .n = 1, .c_lo = dpotential_4_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -1, .c = dpotential_4_28, .n = 1, .c_lo = dpotential_4_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -1, .c = dpotential_4_29, .n = 1, .c_lo = dpotential_4_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -1, .c = dpotential_4_30, .n = 1, .c_lo = dpotential_4_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -1, .c = dpotential_4_31, .n = 1, .c_lo = dpotential_4_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -1, .c = dpotential_4_32, .n = 1, .c_lo = dpotential_4_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -1, .c = dpotential_4_33, .n = 1, .c_lo = dpotential_4_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -1, .c = dpotential_4_34, .n = 1, .c_lo = dpotential_4_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -1, .c = dpotential_4_35, .n = 1, .c_lo = dpotential_4_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -1, .c = dpotential_4_36, .n = 1, .c_lo = dpotential_4_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -1, .c = dpotential_4_37, .n = 1, .c_lo = dpotential_4_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -1, .c = dpotential_4_38, .n = 1, .c_lo = dpotential_4_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -1, .c = dpotential_4_39, .n = 1, .c_lo = dpotential_4_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -1, .c = dpotential_4_40, .n = 1, .c_lo = dpotential_4_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -1, .c = dpotential_4_41, .n = 1, .c_lo = dpotential_4_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -1, .c = dpotential_4_42, .n = 1, .c_lo = dpotential_4_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -1, .c = dpotential_4_43, .n = 1, .c_lo = dpotential_4_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -1, .c = dpotential_4_44, .n = 1, .c_lo = dpotential_4_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -1, .c = dpotential_4_45, .n = 1, .c_lo = dpotential_4_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -1, .c = dpotential_4_46, .n = 1, .c_lo = dpotential_4_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -1, .c = dpotential_4_47, .n = 1, .c_lo = dpotential_4_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -1, .c = dpotential_4_48, .n = 1, .c_lo = dpotential_4_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -1, .c = dpotential_4_49, .n = 1, .c_lo = dpotential_4_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -1, .c = dpotential_4_50, .n = 1, .c_lo = dpotential_4_50_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5813,15 +5813,15 @@ inline constexpr double dpotential_5_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 2.8e-20 relative (series.hpp)
-    {0x1p-2, 0x1.a8p-2, dpotential_1, 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^39, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-2, 0x1.5p-1, dpotential_2, 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^40, truncation < 7.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.5p-1, 0x1.8p-1, dpotential_3, 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^37, truncation < 6.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, dpotential_4, 51},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.9e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, dpotential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_0, .nterms = 2},  // [0, 1/4), series at 0 up to r^31, truncation < 2.8e-20 relative (series.hpp)
+    {.lo = 0x1p-2, .hi = 0x1.a8p-2, .terms = dpotential_1, .nterms = 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^39, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-2, .hi = 0x1.5p-1, .terms = dpotential_2, .nterms = 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^40, truncation < 7.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.5p-1, .hi = 0x1.8p-1, .terms = dpotential_3, .nterms = 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^37, truncation < 6.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dpotential_4, .nterms = 51},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.9e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.6eb167b830193p+0,  // 9/2 * pi^-1
@@ -5855,8 +5855,8 @@ inline constexpr double dpotential_over_r_0_1_lo[] = {
     0x1.f556bb96f0a74p-51, 0x1.bc0086589a3ecp-51,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, dpotential_over_r_0_0, 16, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-2, 0, 4, dpotential_over_r_0_1, 2, 0, 0, dpotential_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 16, .c_lo = dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 4, .c = dpotential_over_r_0_1, .n = 2, .c_lo = dpotential_over_r_0_1_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.d5c829efa7821p-1,  // 17221737555901/13670190307152 * pi^-1 + (2323702080/2565726409 * pi^-1) * log(6)
@@ -5916,7 +5916,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.e17fe0a0ba0c7p-13, -0x1.f1d3d27e35968p-12,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-2, 0, 0, dpotential_over_r_1_0, 42, 0x1.4c1bacf914c1cp-2, -0x1.4c1bacf914c1cp-56, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 42, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.0df31992834ecp-1,  // -786630265797487/115121691704026 * pi^-1 + (150198108480/22164361129 * pi^-1) * log(7/2)
@@ -5973,7 +5973,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.aaad205a7e92dp-43, -0x1.237b882c37314p-42, 0x1.0d28641d99cfcp-40, 0x1.4252fcfd89b89p-40,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5p-1, 0, 0, dpotential_over_r_2_0, 40, 0x1.0e7d95bc609a9p-1, 0x1.cfb2b78c13522p-58, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.3596bad596701p-2,  // -142036873141761/6761951513128 * pi^-1 + (493216457265/19034346272 * pi^-1) * log(7/3)
@@ -6027,7 +6027,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.c89f3eab8d638p-26,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dpotential_over_r_3_0, 37, 0x1.72c234f72c235p-1, -0x1.1a7b9611a7b96p-58, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6336,57 +6336,57 @@ inline constexpr double dpotential_over_r_4_50_lo[] = {
     -0x1.2b59501fc8e4bp-71,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_4_0, 1, 0, 0, dpotential_over_r_4_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -2, dpotential_over_r_4_1, 1, 0, 0, dpotential_over_r_4_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -2, dpotential_over_r_4_2, 1, 0, 0, dpotential_over_r_4_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -2, dpotential_over_r_4_3, 1, 0, 0, dpotential_over_r_4_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -2, dpotential_over_r_4_4, 1, 0, 0, dpotential_over_r_4_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -2, dpotential_over_r_4_5, 1, 0, 0, dpotential_over_r_4_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -2, dpotential_over_r_4_6, 1, 0, 0, dpotential_over_r_4_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -2, dpotential_over_r_4_7, 1, 0, 0, dpotential_over_r_4_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -2, dpotential_over_r_4_8, 1, 0, 0, dpotential_over_r_4_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -2, dpotential_over_r_4_9, 1, 0, 0, dpotential_over_r_4_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -2, dpotential_over_r_4_10, 1, 0, 0, dpotential_over_r_4_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -2, dpotential_over_r_4_11, 1, 0, 0, dpotential_over_r_4_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -2, dpotential_over_r_4_12, 1, 0, 0, dpotential_over_r_4_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -2, dpotential_over_r_4_13, 1, 0, 0, dpotential_over_r_4_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -2, dpotential_over_r_4_14, 1, 0, 0, dpotential_over_r_4_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -2, dpotential_over_r_4_15, 1, 0, 0, dpotential_over_r_4_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -2, dpotential_over_r_4_16, 1, 0, 0, dpotential_over_r_4_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -2, dpotential_over_r_4_17, 1, 0, 0, dpotential_over_r_4_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -2, dpotential_over_r_4_18, 1, 0, 0, dpotential_over_r_4_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -2, dpotential_over_r_4_19, 1, 0, 0, dpotential_over_r_4_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -2, dpotential_over_r_4_20, 1, 0, 0, dpotential_over_r_4_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -2, dpotential_over_r_4_21, 1, 0, 0, dpotential_over_r_4_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -2, dpotential_over_r_4_22, 1, 0, 0, dpotential_over_r_4_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -2, dpotential_over_r_4_23, 1, 0, 0, dpotential_over_r_4_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -2, dpotential_over_r_4_24, 1, 0, 0, dpotential_over_r_4_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -2, dpotential_over_r_4_25, 1, 0, 0, dpotential_over_r_4_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -2, dpotential_over_r_4_26, 1, 0, 0, dpotential_over_r_4_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -2, dpotential_over_r_4_27, 1, 0, 0, dpotential_over_r_4_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -2, dpotential_over_r_4_28, 1, 0, 0, dpotential_over_r_4_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -2, dpotential_over_r_4_29, 1, 0, 0, dpotential_over_r_4_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -2, dpotential_over_r_4_30, 1, 0, 0, dpotential_over_r_4_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -2, dpotential_over_r_4_31, 1, 0, 0, dpotential_over_r_4_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -2, dpotential_over_r_4_32, 1, 0, 0, dpotential_over_r_4_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -2, dpotential_over_r_4_33, 1, 0, 0, dpotential_over_r_4_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -2, dpotential_over_r_4_34, 1, 0, 0, dpotential_over_r_4_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -2, dpotential_over_r_4_35, 1, 0, 0, dpotential_over_r_4_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -2, dpotential_over_r_4_36, 1, 0, 0, dpotential_over_r_4_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -2, dpotential_over_r_4_37, 1, 0, 0, dpotential_over_r_4_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -2, dpotential_over_r_4_38, 1, 0, 0, dpotential_over_r_4_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -2, dpotential_over_r_4_39, 1, 0, 0, dpotential_over_r_4_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -2, dpotential_over_r_4_40, 1, 0, 0, dpotential_over_r_4_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -2, dpotential_over_r_4_41, 1, 0, 0, dpotential_over_r_4_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -2, dpotential_over_r_4_42, 1, 0, 0, dpotential_over_r_4_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -2, dpotential_over_r_4_43, 1, 0, 0, dpotential_over_r_4_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -2, dpotential_over_r_4_44, 1, 0, 0, dpotential_over_r_4_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -2, dpotential_over_r_4_45, 1, 0, 0, dpotential_over_r_4_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -2, dpotential_over_r_4_46, 1, 0, 0, dpotential_over_r_4_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -2, dpotential_over_r_4_47, 1, 0, 0, dpotential_over_r_4_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -2, dpotential_over_r_4_48, 1, 0, 0, dpotential_over_r_4_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -2, dpotential_over_r_4_49, 1, 0, 0, dpotential_over_r_4_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -2, dpotential_over_r_4_50, 1, 0, 0, dpotential_over_r_4_50_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_4_1, .n = 1, .c_lo = dpotential_over_r_4_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_4_2, .n = 1, .c_lo = dpotential_over_r_4_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -2, .c = dpotential_over_r_4_3, .n = 1, .c_lo = dpotential_over_r_4_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_4_4, .n = 1, .c_lo = dpotential_over_r_4_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -2, .c = dpotential_over_r_4_5, .n = 1, .c_lo = dpotential_over_r_4_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_over_r_4_6, .n = 1, .c_lo = dpotential_over_r_4_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -2, .c = dpotential_over_r_4_7, .n = 1, .c_lo = dpotential_over_r_4_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -2, .c = dpotential_over_r_4_8, .n = 1, .c_lo = dpotential_over_r_4_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -2, .c = dpotential_over_r_4_9, .n = 1, .c_lo = dpotential_over_r_4_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -2, .c = dpotential_over_r_4_10, .n = 1, .c_lo = dpotential_over_r_4_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -2, .c = dpotential_over_r_4_11, .n = 1, .c_lo = dpotential_over_r_4_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -2, .c = dpotential_over_r_4_12, .n = 1, .c_lo = dpotential_over_r_4_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -2, .c = dpotential_over_r_4_13, .n = 1, .c_lo = dpotential_over_r_4_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -2, .c = dpotential_over_r_4_14, .n = 1, .c_lo = dpotential_over_r_4_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -2, .c = dpotential_over_r_4_15, .n = 1, .c_lo = dpotential_over_r_4_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -2, .c = dpotential_over_r_4_16, .n = 1, .c_lo = dpotential_over_r_4_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -2, .c = dpotential_over_r_4_17, .n = 1, .c_lo = dpotential_over_r_4_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -2, .c = dpotential_over_r_4_18, .n = 1, .c_lo = dpotential_over_r_4_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -2, .c = dpotential_over_r_4_19, .n = 1, .c_lo = dpotential_over_r_4_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -2, .c = dpotential_over_r_4_20, .n = 1, .c_lo = dpotential_over_r_4_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -2, .c = dpotential_over_r_4_21, .n = 1, .c_lo = dpotential_over_r_4_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -2, .c = dpotential_over_r_4_22, .n = 1, .c_lo = dpotential_over_r_4_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -2, .c = dpotential_over_r_4_23, .n = 1, .c_lo = dpotential_over_r_4_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -2, .c = dpotential_over_r_4_24, .n = 1, .c_lo = dpotential_over_r_4_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -2, .c = dpotential_over_r_4_25, .n = 1, .c_lo = dpotential_over_r_4_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -2, .c = dpotential_over_r_4_26, .n = 1, .c_lo = dpotential_over_r_4_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -2, .c = dpotential_over_r_4_27, .n = 1, .c_lo = dpotential_over_r_4_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -2, .c = dpotential_over_r_4_28, .n = 1, .c_lo = dpotential_over_r_4_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -2, .c = dpotential_over_r_4_29, .n = 1, .c_lo = dpotential_over_r_4_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -2, .c = dpotential_over_r_4_30, .n = 1, .c_lo = dpotential_over_r_4_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -2, .c = dpotential_over_r_4_31, .n = 1, .c_lo = dpotential_over_r_4_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -2, .c = dpotential_over_r_4_32, .n = 1, .c_lo = dpotential_over_r_4_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -2, .c = dpotential_over_r_4_33, .n = 1, .c_lo = dpotential_over_r_4_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -2, .c = dpotential_over_r_4_34, .n = 1, .c_lo = dpotential_over_r_4_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -2, .c = dpotential_over_r_4_35, .n = 1, .c_lo = dpotential_over_r_4_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -2, .c = dpotential_over_r_4_36, .n = 1, .c_lo = dpotential_over_r_4_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -2, .c = dpotential_over_r_4_37, .n = 1, .c_lo = dpotential_over_r_4_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -2, .c = dpotential_over_r_4_38, .n = 1, .c_lo = dpotential_over_r_4_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -2, .c = dpotential_over_r_4_39, .n = 1, .c_lo = dpotential_over_r_4_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -2, .c = dpotential_over_r_4_40, .n = 1, .c_lo = dpotential_over_r_4_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -2, .c = dpotential_over_r_4_41, .n = 1, .c_lo = dpotential_over_r_4_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -2, .c = dpotential_over_r_4_42, .n = 1, .c_lo = dpotential_over_r_4_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -2, .c = dpotential_over_r_4_43, .n = 1, .c_lo = dpotential_over_r_4_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -2, .c = dpotential_over_r_4_44, .n = 1, .c_lo = dpotential_over_r_4_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -2, .c = dpotential_over_r_4_45, .n = 1, .c_lo = dpotential_over_r_4_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -2, .c = dpotential_over_r_4_46, .n = 1, .c_lo = dpotential_over_r_4_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -2, .c = dpotential_over_r_4_47, .n = 1, .c_lo = dpotential_over_r_4_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -2, .c = dpotential_over_r_4_48, .n = 1, .c_lo = dpotential_over_r_4_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -2, .c = dpotential_over_r_4_49, .n = 1, .c_lo = dpotential_over_r_4_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -2, .c = dpotential_over_r_4_50, .n = 1, .c_lo = dpotential_over_r_4_50_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6395,15 +6395,15 @@ inline constexpr double dpotential_over_r_5_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.8e-20 relative (series.hpp)
-    {0x1p-2, 0x1.a8p-2, dpotential_over_r_1, 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^41, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-2, 0x1.5p-1, dpotential_over_r_2, 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^39, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.5p-1, 0x1.8p-1, dpotential_over_r_3, 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^36, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, dpotential_over_r_4, 51},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.9e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, dpotential_over_r_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.8e-20 relative (series.hpp)
+    {.lo = 0x1p-2, .hi = 0x1.a8p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^41, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-2, .hi = 0x1.5p-1, .terms = dpotential_over_r_2, .nterms = 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^39, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.5p-1, .hi = 0x1.8p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^36, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dpotential_over_r_4, .nterms = 51},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.9e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.e148d821bf211p+3,  // -189/4 * pi^-1
@@ -6431,8 +6431,8 @@ inline constexpr double potential_hess_radial_0_1_lo[] = {
     0x1.f556bb96f0a74p-49, 0x1.34019309cebc3p-50,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_hess_radial_0_0, 11, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 2, potential_hess_radial_0_1, 2, 0, 0, potential_hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 11, .c_lo = potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 2, .c = potential_hess_radial_0_1, .n = 2, .c_lo = potential_hess_radial_0_1_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.68ea87a14bcd2p+3,  // -608284918538170129/10632979641600000 * pi^-1 + (774712512/88410125 * pi^-1) * log(12)
@@ -6506,7 +6506,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.6460ed920e406p+66,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, potential_hess_radial_1_0, 53, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.fc5d8fbd9af82p+2,  // -3523177091963/46894531250 * pi^-1 + (32231367/1250000 * pi^-1) * log(7)
@@ -6575,7 +6575,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.3ab40de9b0ap+19,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, potential_hess_radial_2_0, 49, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.e0ef3b7a5daaep+1,  // -350557948561/2907867136 * pi^-1 + (6552000/83521 * pi^-1) * log(4)
@@ -6644,7 +6644,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.e7c12f69c4d4ep-13,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, potential_hess_radial_3_0, 49, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.53d71f929e3e4p+0,  // -9136609419617/51277872500 * pi^-1 + (134316000/707281 * pi^-1) * log(5/2)
@@ -6700,7 +6700,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.d733759618d24p-25, -0x1.7d22e9fa6043ap-23, -0x1.dd87c7cc01c6p-23,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, potential_hess_radial_4_0, 39, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -7021,59 +7021,59 @@ inline constexpr double potential_hess_radial_5_52_lo[] = {
     -0x1.44ec783cd5672p-69,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -4, potential_hess_radial_5_1, 1, 0, 0, potential_hess_radial_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -4, potential_hess_radial_5_2, 1, 0, 0, potential_hess_radial_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -4, potential_hess_radial_5_3, 1, 0, 0, potential_hess_radial_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -4, potential_hess_radial_5_4, 1, 0, 0, potential_hess_radial_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -4, potential_hess_radial_5_5, 1, 0, 0, potential_hess_radial_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -4, potential_hess_radial_5_6, 1, 0, 0, potential_hess_radial_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -4, potential_hess_radial_5_7, 1, 0, 0, potential_hess_radial_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -4, potential_hess_radial_5_8, 1, 0, 0, potential_hess_radial_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -4, potential_hess_radial_5_9, 1, 0, 0, potential_hess_radial_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -4, potential_hess_radial_5_10, 1, 0, 0, potential_hess_radial_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -4, potential_hess_radial_5_11, 1, 0, 0, potential_hess_radial_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -4, potential_hess_radial_5_12, 1, 0, 0, potential_hess_radial_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -4, potential_hess_radial_5_13, 1, 0, 0, potential_hess_radial_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -4, potential_hess_radial_5_14, 1, 0, 0, potential_hess_radial_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -4, potential_hess_radial_5_15, 1, 0, 0, potential_hess_radial_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -4, potential_hess_radial_5_16, 1, 0, 0, potential_hess_radial_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -4, potential_hess_radial_5_17, 1, 0, 0, potential_hess_radial_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -4, potential_hess_radial_5_18, 1, 0, 0, potential_hess_radial_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -4, potential_hess_radial_5_19, 1, 0, 0, potential_hess_radial_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -4, potential_hess_radial_5_20, 1, 0, 0, potential_hess_radial_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -4, potential_hess_radial_5_21, 1, 0, 0, potential_hess_radial_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -4, potential_hess_radial_5_22, 1, 0, 0, potential_hess_radial_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -4, potential_hess_radial_5_23, 1, 0, 0, potential_hess_radial_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -4, potential_hess_radial_5_24, 1, 0, 0, potential_hess_radial_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -4, potential_hess_radial_5_25, 1, 0, 0, potential_hess_radial_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -4, potential_hess_radial_5_26, 1, 0, 0, potential_hess_radial_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -4, potential_hess_radial_5_27, 1, 0, 0, potential_hess_radial_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -4, potential_hess_radial_5_28, 1, 0, 0, potential_hess_radial_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -4, potential_hess_radial_5_29, 1, 0, 0, potential_hess_radial_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -4, potential_hess_radial_5_30, 1, 0, 0, potential_hess_radial_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -4, potential_hess_radial_5_31, 1, 0, 0, potential_hess_radial_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -4, potential_hess_radial_5_32, 1, 0, 0, potential_hess_radial_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -4, potential_hess_radial_5_33, 1, 0, 0, potential_hess_radial_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -4, potential_hess_radial_5_34, 1, 0, 0, potential_hess_radial_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -4, potential_hess_radial_5_35, 1, 0, 0, potential_hess_radial_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -4, potential_hess_radial_5_36, 1, 0, 0, potential_hess_radial_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -4, potential_hess_radial_5_37, 1, 0, 0, potential_hess_radial_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -4, potential_hess_radial_5_38, 1, 0, 0, potential_hess_radial_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -4, potential_hess_radial_5_39, 1, 0, 0, potential_hess_radial_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -4, potential_hess_radial_5_40, 1, 0, 0, potential_hess_radial_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -4, potential_hess_radial_5_41, 1, 0, 0, potential_hess_radial_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -4, potential_hess_radial_5_42, 1, 0, 0, potential_hess_radial_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -4, potential_hess_radial_5_43, 1, 0, 0, potential_hess_radial_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -4, potential_hess_radial_5_44, 1, 0, 0, potential_hess_radial_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -4, potential_hess_radial_5_45, 1, 0, 0, potential_hess_radial_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -4, potential_hess_radial_5_46, 1, 0, 0, potential_hess_radial_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -4, potential_hess_radial_5_47, 1, 0, 0, potential_hess_radial_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -4, potential_hess_radial_5_48, 1, 0, 0, potential_hess_radial_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -4, potential_hess_radial_5_49, 1, 0, 0, potential_hess_radial_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -4, potential_hess_radial_5_50, 1, 0, 0, potential_hess_radial_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -4, potential_hess_radial_5_51, 1, 0, 0, potential_hess_radial_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -4, potential_hess_radial_5_52, 1, 0, 0, potential_hess_radial_5_52_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_5_1, .n = 1, .c_lo = potential_hess_radial_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -4, .c = potential_hess_radial_5_2, .n = 1, .c_lo = potential_hess_radial_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -4, .c = potential_hess_radial_5_3, .n = 1, .c_lo = potential_hess_radial_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_5_4, .n = 1, .c_lo = potential_hess_radial_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -4, .c = potential_hess_radial_5_5, .n = 1, .c_lo = potential_hess_radial_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -4, .c = potential_hess_radial_5_6, .n = 1, .c_lo = potential_hess_radial_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -4, .c = potential_hess_radial_5_7, .n = 1, .c_lo = potential_hess_radial_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -4, .c = potential_hess_radial_5_8, .n = 1, .c_lo = potential_hess_radial_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -4, .c = potential_hess_radial_5_9, .n = 1, .c_lo = potential_hess_radial_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -4, .c = potential_hess_radial_5_10, .n = 1, .c_lo = potential_hess_radial_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -4, .c = potential_hess_radial_5_11, .n = 1, .c_lo = potential_hess_radial_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -4, .c = potential_hess_radial_5_12, .n = 1, .c_lo = potential_hess_radial_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -4, .c = potential_hess_radial_5_13, .n = 1, .c_lo = potential_hess_radial_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -4, .c = potential_hess_radial_5_14, .n = 1, .c_lo = potential_hess_radial_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -4, .c = potential_hess_radial_5_15, .n = 1, .c_lo = potential_hess_radial_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -4, .c = potential_hess_radial_5_16, .n = 1, .c_lo = potential_hess_radial_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -4, .c = potential_hess_radial_5_17, .n = 1, .c_lo = potential_hess_radial_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -4, .c = potential_hess_radial_5_18, .n = 1, .c_lo = potential_hess_radial_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -4, .c = potential_hess_radial_5_19, .n = 1, .c_lo = potential_hess_radial_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -4, .c = potential_hess_radial_5_20, .n = 1, .c_lo = potential_hess_radial_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -4, .c = potential_hess_radial_5_21, .n = 1, .c_lo = potential_hess_radial_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -4, .c = potential_hess_radial_5_22, .n = 1, .c_lo = potential_hess_radial_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -4, .c = potential_hess_radial_5_23, .n = 1, .c_lo = potential_hess_radial_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -4, .c = potential_hess_radial_5_24, .n = 1, .c_lo = potential_hess_radial_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -4, .c = potential_hess_radial_5_25, .n = 1, .c_lo = potential_hess_radial_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -4, .c = potential_hess_radial_5_26, .n = 1, .c_lo = potential_hess_radial_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -4, .c = potential_hess_radial_5_27, .n = 1, .c_lo = potential_hess_radial_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -4, .c = potential_hess_radial_5_28, .n = 1, .c_lo = potential_hess_radial_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -4, .c = potential_hess_radial_5_29, .n = 1, .c_lo = potential_hess_radial_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -4, .c = potential_hess_radial_5_30, .n = 1, .c_lo = potential_hess_radial_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -4, .c = potential_hess_radial_5_31, .n = 1, .c_lo = potential_hess_radial_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -4, .c = potential_hess_radial_5_32, .n = 1, .c_lo = potential_hess_radial_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -4, .c = potential_hess_radial_5_33, .n = 1, .c_lo = potential_hess_radial_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -4, .c = potential_hess_radial_5_34, .n = 1, .c_lo = potential_hess_radial_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -4, .c = potential_hess_radial_5_35, .n = 1, .c_lo = potential_hess_radial_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -4, .c = potential_hess_radial_5_36, .n = 1, .c_lo = potential_hess_radial_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -4, .c = potential_hess_radial_5_37, .n = 1, .c_lo = potential_hess_radial_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -4, .c = potential_hess_radial_5_38, .n = 1, .c_lo = potential_hess_radial_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -4, .c = potential_hess_radial_5_39, .n = 1, .c_lo = potential_hess_radial_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -4, .c = potential_hess_radial_5_40, .n = 1, .c_lo = potential_hess_radial_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -4, .c = potential_hess_radial_5_41, .n = 1, .c_lo = potential_hess_radial_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -4, .c = potential_hess_radial_5_42, .n = 1, .c_lo = potential_hess_radial_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -4, .c = potential_hess_radial_5_43, .n = 1, .c_lo = potential_hess_radial_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -4, .c = potential_hess_radial_5_44, .n = 1, .c_lo = potential_hess_radial_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -4, .c = potential_hess_radial_5_45, .n = 1, .c_lo = potential_hess_radial_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -4, .c = potential_hess_radial_5_46, .n = 1, .c_lo = potential_hess_radial_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -4, .c = potential_hess_radial_5_47, .n = 1, .c_lo = potential_hess_radial_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -4, .c = potential_hess_radial_5_48, .n = 1, .c_lo = potential_hess_radial_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -4, .c = potential_hess_radial_5_49, .n = 1, .c_lo = potential_hess_radial_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -4, .c = potential_hess_radial_5_50, .n = 1, .c_lo = potential_hess_radial_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -4, .c = potential_hess_radial_5_51, .n = 1, .c_lo = potential_hess_radial_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -4, .c = potential_hess_radial_5_52, .n = 1, .c_lo = potential_hess_radial_5_52_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -7082,32 +7082,39 @@ inline constexpr double potential_hess_radial_6_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.7e-21 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, potential_hess_radial_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^52, truncation < 5.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, potential_hess_radial_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^48, truncation < 5.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, potential_hess_radial_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^48, truncation < 7.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.8p-1, potential_hess_radial_4, 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^38, truncation < 3.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, potential_hess_radial_5, 53},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.9e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, potential_hess_radial_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_hess_radial_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.7e-21 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^52, truncation < 5.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^48, truncation < 5.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = potential_hess_radial_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^48, truncation < 7.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.8p-1, .terms = potential_hess_radial_4, .nterms = 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^38, truncation < 3.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = potential_hess_radial_5, .nterms = 53},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.9e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_6, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_1_l_1_D2
 inline constexpr table::Kernel wendland_missing_k_1_l_1_D2 = {
-    "wendland-missing:k=1,l=1", 2, 0x1p+0, 5, 2, 1,
-    0x1.2ccd87151774bp+8, "945 * pi^-1", true,
-    {
-        {detail_wendland_missing_k_1_l_1_D2::value, 7},
-        {detail_wendland_missing_k_1_l_1_D2::dr, 7},
-        {detail_wendland_missing_k_1_l_1_D2::d2r, 9},
-        {detail_wendland_missing_k_1_l_1_D2::laplacian, 9},
-        {detail_wendland_missing_k_1_l_1_D2::grad_over_r, 7},
-        {detail_wendland_missing_k_1_l_1_D2::hess_radial, 10},
-        {detail_wendland_missing_k_1_l_1_D2::potential, 6},
-        {detail_wendland_missing_k_1_l_1_D2::dpotential, 6},
-        {detail_wendland_missing_k_1_l_1_D2::dpotential_over_r, 6},
-        {detail_wendland_missing_k_1_l_1_D2::potential_hess_radial, 7},
+    .spec = "wendland-missing:k=1,l=1",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 5,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.2ccd87151774bp+8,  // 945 * pi^-1
+    .normalisation_exact = "945 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_missing_k_1_l_1_D2::value, .npieces = 7},  // value
+        {.pieces = detail_wendland_missing_k_1_l_1_D2::dr, .npieces = 7},  // dr
+        {.pieces = detail_wendland_missing_k_1_l_1_D2::d2r, .npieces = 9},  // d2r
+        {.pieces = detail_wendland_missing_k_1_l_1_D2::laplacian, .npieces = 9},  // laplacian
+        {.pieces = detail_wendland_missing_k_1_l_1_D2::grad_over_r, .npieces = 7},  // grad_over_r
+        {.pieces = detail_wendland_missing_k_1_l_1_D2::hess_radial, .npieces = 10},  // hess_radial
+        {.pieces = detail_wendland_missing_k_1_l_1_D2::potential, .npieces = 6},  // potential
+        {.pieces = detail_wendland_missing_k_1_l_1_D2::dpotential, .npieces = 6},  // dpotential
+        {.pieces = detail_wendland_missing_k_1_l_1_D2::dpotential_over_r, .npieces = 6},  // dpotential_over_r
+        {.pieces = detail_wendland_missing_k_1_l_1_D2::potential_hess_radial, .npieces = 7},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

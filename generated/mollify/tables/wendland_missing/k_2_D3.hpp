@@ -38,8 +38,8 @@ inline constexpr double value_0_1_lo[] = {
     -0x1.b9e43475fa9fcp-43, -0x1.2dac9d61efdf3p-45, 0x1.50856a9680349p-50,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, value_0_0, 12, 0, 0, value_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 6, value_0_1, 3, 0, 0, value_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = value_0_0, .n = 12, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 6, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo},
 };
 inline constexpr double value_1_0[] = {
     0x1.399548ea937dfp+2,  // 9857627235227655959504/198339886388833984375 * pi^-2 + (-2219182278044820701184/4108469075197275390625 * pi^-2) * log(12)
@@ -98,7 +98,7 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.7a2e6fe8fcc8fp+18,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, value_1_0, 41, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.6aad6cad74cb1p+1,  // 1429306587688122/26702880859375 * pi^-2 + (-5011010063948889/381469726562500 * pi^-2) * log(7)
@@ -157,7 +157,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.b8788a8123b91p-8,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, value_2_0, 41, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
 };
 inline constexpr double value_3_0[] = {
     0x1.ebc616f8c59b3p+1,  // 68038640515746382768/22705609130859375 * pi^-2 + (-103839526371074244608/48654876708984375 * pi^-2) * log(4)
@@ -243,7 +243,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.bcb93ace504dep-17, -0x1.ba6966535f30ep-15, -0x1.4a1aee8918ff6p-14,
 };
 inline constexpr table::Term value_3[] = {
-    {table::Basis::sqrt_power, 15, table::Var::shifted, 0x1.38p-1, 0, 0, value_3_0, 63, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
 };
 inline constexpr double value_4_0[] = {
     0x1.4be74478bff38p+1,  // 790922694356098752418256/1802177740289727045 * pi^-2 + (-3625139371580629760000000/7569146509216853589 * pi^-2) * log(5/2)
@@ -342,7 +342,7 @@ inline constexpr double value_4_0_lo[] = {
     -0x1.eca220a655628p-41,
 };
 inline constexpr table::Term value_4[] = {
-    {table::Basis::sqrt_power, 15, table::Var::shifted, 0x1.9p-1, 0, 0, value_4_0, 73, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
 };
 inline constexpr double value_5_0[] = {
     0x1.7b706c01fccp+0,  // 512/35 * pi^-2
@@ -663,68 +663,68 @@ inline constexpr double value_5_52_lo[] = {
     -0x1.1beb997ac6289p-65,
 };
 inline constexpr table::Term value_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, value_5_0, 1, 0, 0, value_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, value_5_1, 1, 0, 0, value_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, value_5_2, 1, 0, 0, value_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, value_5_3, 1, 0, 0, value_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, value_5_4, 1, 0, 0, value_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, value_5_5, 1, 0, 0, value_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, value_5_6, 1, 0, 0, value_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, value_5_7, 1, 0, 0, value_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, value_5_8, 1, 0, 0, value_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, value_5_9, 1, 0, 0, value_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, value_5_10, 1, 0, 0, value_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, value_5_11, 1, 0, 0, value_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, value_5_12, 1, 0, 0, value_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, value_5_13, 1, 0, 0, value_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, value_5_14, 1, 0, 0, value_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, value_5_15, 1, 0, 0, value_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, value_5_16, 1, 0, 0, value_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, value_5_17, 1, 0, 0, value_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, value_5_18, 1, 0, 0, value_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, value_5_19, 1, 0, 0, value_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, value_5_20, 1, 0, 0, value_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, value_5_21, 1, 0, 0, value_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, value_5_22, 1, 0, 0, value_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, value_5_23, 1, 0, 0, value_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, value_5_24, 1, 0, 0, value_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, value_5_25, 1, 0, 0, value_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, value_5_26, 1, 0, 0, value_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, value_5_27, 1, 0, 0, value_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, value_5_28, 1, 0, 0, value_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, value_5_29, 1, 0, 0, value_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, value_5_30, 1, 0, 0, value_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, value_5_31, 1, 0, 0, value_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, value_5_32, 1, 0, 0, value_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, value_5_33, 1, 0, 0, value_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, value_5_34, 1, 0, 0, value_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, value_5_35, 1, 0, 0, value_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, value_5_36, 1, 0, 0, value_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, value_5_37, 1, 0, 0, value_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, value_5_38, 1, 0, 0, value_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, value_5_39, 1, 0, 0, value_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, value_5_40, 1, 0, 0, value_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, value_5_41, 1, 0, 0, value_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, value_5_42, 1, 0, 0, value_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, value_5_43, 1, 0, 0, value_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, value_5_44, 1, 0, 0, value_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, value_5_45, 1, 0, 0, value_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, value_5_46, 1, 0, 0, value_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, value_5_47, 1, 0, 0, value_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, value_5_48, 1, 0, 0, value_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, value_5_49, 1, 0, 0, value_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 0, value_5_50, 1, 0, 0, value_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 58, 0, value_5_51, 1, 0, 0, value_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 59, 0, value_5_52, 1, 0, 0, value_5_52_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_5_0, .n = 1, .c_lo = value_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_5_1, .n = 1, .c_lo = value_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_5_2, .n = 1, .c_lo = value_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_5_3, .n = 1, .c_lo = value_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = value_5_4, .n = 1, .c_lo = value_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = value_5_5, .n = 1, .c_lo = value_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = value_5_6, .n = 1, .c_lo = value_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = value_5_7, .n = 1, .c_lo = value_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = value_5_8, .n = 1, .c_lo = value_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = value_5_9, .n = 1, .c_lo = value_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = value_5_10, .n = 1, .c_lo = value_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = value_5_11, .n = 1, .c_lo = value_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = value_5_12, .n = 1, .c_lo = value_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = value_5_13, .n = 1, .c_lo = value_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = value_5_14, .n = 1, .c_lo = value_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = value_5_15, .n = 1, .c_lo = value_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = value_5_16, .n = 1, .c_lo = value_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = value_5_17, .n = 1, .c_lo = value_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = value_5_18, .n = 1, .c_lo = value_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = value_5_19, .n = 1, .c_lo = value_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = value_5_20, .n = 1, .c_lo = value_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = value_5_21, .n = 1, .c_lo = value_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = value_5_22, .n = 1, .c_lo = value_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = value_5_23, .n = 1, .c_lo = value_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = value_5_24, .n = 1, .c_lo = value_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = value_5_25, .n = 1, .c_lo = value_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = value_5_26, .n = 1, .c_lo = value_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = value_5_27, .n = 1, .c_lo = value_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = value_5_28, .n = 1, .c_lo = value_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = value_5_29, .n = 1, .c_lo = value_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = value_5_30, .n = 1, .c_lo = value_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = value_5_31, .n = 1, .c_lo = value_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = value_5_32, .n = 1, .c_lo = value_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = value_5_33, .n = 1, .c_lo = value_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = value_5_34, .n = 1, .c_lo = value_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = value_5_35, .n = 1, .c_lo = value_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = value_5_36, .n = 1, .c_lo = value_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = value_5_37, .n = 1, .c_lo = value_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = value_5_38, .n = 1, .c_lo = value_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = value_5_39, .n = 1, .c_lo = value_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = value_5_40, .n = 1, .c_lo = value_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = value_5_41, .n = 1, .c_lo = value_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = value_5_42, .n = 1, .c_lo = value_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = value_5_43, .n = 1, .c_lo = value_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = value_5_44, .n = 1, .c_lo = value_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = value_5_45, .n = 1, .c_lo = value_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = value_5_46, .n = 1, .c_lo = value_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = value_5_47, .n = 1, .c_lo = value_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = value_5_48, .n = 1, .c_lo = value_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = value_5_49, .n = 1, .c_lo = value_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 0, .c = value_5_50, .n = 1, .c_lo = value_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 58, .low = 0, .c = value_5_51, .n = 1, .c_lo = value_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 59, .low = 0, .c = value_5_52, .n = 1, .c_lo = value_5_52_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.3e-21 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, value_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, value_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 9.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, value_3, 1},  // [23/64, 39/64), S^15 times Taylor about 8/17 up to (r-c)^62, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, value_4, 1},  // [39/64, 25/32), S^15 times Taylor about 20/29 up to (r-c)^72, truncation < 1.4e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, value_5, 53},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^119, truncation < 1.1e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = value_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.3e-21 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = value_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = value_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 9.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = value_3, .nterms = 1},  // [23/64, 39/64), S^15 times Taylor about 8/17 up to (r-c)^62, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = value_4, .nterms = 1},  // [39/64, 25/32), S^15 times Taylor about 20/29 up to (r-c)^72, truncation < 1.4e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = value_5, .nterms = 53},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^119, truncation < 1.1e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
@@ -753,8 +753,8 @@ inline constexpr double dr_0_1_lo[] = {
     -0x1.2dac9d61efdf3p-42, -0x1.2dac9d61efdf3p-42, -0x1.2dac9d61efdf3p-46,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dr_0_0, 11, 0, 0, dr_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 5, dr_0_1, 3, 0, 0, dr_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dr_0_0, .n = 11, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 5, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo},
 };
 inline constexpr double dr_1_0[] = {
     -0x1.196330caa4f04p+4,  // -170423366868536962752/1367861285440234375 * pi^-2 + (-111705790703390687232/5666853896823828125 * pi^-2) * log(12)
@@ -814,7 +814,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.c2110bf360b1ap+26, 0x1.619603b66fdafp+28,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dr_1_0, 42, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.0fb95f94b4e06p+4,  // 59563039757364/152587890625 * pi^-2 + (-437526719256627/1525878906250 * pi^-2) * log(7)
@@ -874,7 +874,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.1250acaa9ab3dp-1, 0x1.71a921ef54071p+0,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dr_2_0, 42, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.96789c4a0386bp+2,  // 292383256651200/48830302087 * pi^-2 + (-517571940188160/118587876497 * pi^-2) * log(4)
@@ -939,7 +939,7 @@ inline constexpr double dr_3_0_lo[] = {
     0x1.9a5f468de292bp-24, -0x1.fc103dcea99e7p-26,
 };
 inline constexpr table::Term dr_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, dr_3_0, 46, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.d4d01dc049839p+4,  // 198372926838118420960/90812685325761 * pi^-2 + (-4547009828037248000000/1907066391840981 * pi^-2) * log(5/2)
@@ -1033,7 +1033,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.ee93e279faa29p-36,
 };
 inline constexpr table::Term dr_4[] = {
-    {table::Basis::sqrt_power, 13, table::Var::shifted, 0x1.9p-1, 0, 0, dr_4_0, 69, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 69, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.63b96541dcf4p+4,  // -1536/7 * pi^-2
@@ -1342,66 +1342,66 @@ inline constexpr double dr_5_50_lo[] = {
     -0x1.d8a2740ade812p-58,
 };
 inline constexpr table::Term dr_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 1, dr_5_0, 1, 0, 0, dr_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 1, dr_5_1, 1, 0, 0, dr_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 1, dr_5_2, 1, 0, 0, dr_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 1, dr_5_3, 1, 0, 0, dr_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 1, dr_5_4, 1, 0, 0, dr_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 1, dr_5_5, 1, 0, 0, dr_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 1, dr_5_6, 1, 0, 0, dr_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 1, dr_5_7, 1, 0, 0, dr_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 1, dr_5_8, 1, 0, 0, dr_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 1, dr_5_9, 1, 0, 0, dr_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 1, dr_5_10, 1, 0, 0, dr_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 1, dr_5_11, 1, 0, 0, dr_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 1, dr_5_12, 1, 0, 0, dr_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 1, dr_5_13, 1, 0, 0, dr_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 1, dr_5_14, 1, 0, 0, dr_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 1, dr_5_15, 1, 0, 0, dr_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 1, dr_5_16, 1, 0, 0, dr_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 1, dr_5_17, 1, 0, 0, dr_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 1, dr_5_18, 1, 0, 0, dr_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 1, dr_5_19, 1, 0, 0, dr_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 1, dr_5_20, 1, 0, 0, dr_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 1, dr_5_21, 1, 0, 0, dr_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 1, dr_5_22, 1, 0, 0, dr_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 1, dr_5_23, 1, 0, 0, dr_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 1, dr_5_24, 1, 0, 0, dr_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 1, dr_5_25, 1, 0, 0, dr_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 1, dr_5_26, 1, 0, 0, dr_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 1, dr_5_27, 1, 0, 0, dr_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 1, dr_5_28, 1, 0, 0, dr_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 1, dr_5_29, 1, 0, 0, dr_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 1, dr_5_30, 1, 0, 0, dr_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 1, dr_5_31, 1, 0, 0, dr_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 1, dr_5_32, 1, 0, 0, dr_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 1, dr_5_33, 1, 0, 0, dr_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 1, dr_5_34, 1, 0, 0, dr_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 1, dr_5_35, 1, 0, 0, dr_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 1, dr_5_36, 1, 0, 0, dr_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 1, dr_5_37, 1, 0, 0, dr_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 1, dr_5_38, 1, 0, 0, dr_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 1, dr_5_39, 1, 0, 0, dr_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 1, dr_5_40, 1, 0, 0, dr_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 1, dr_5_41, 1, 0, 0, dr_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 1, dr_5_42, 1, 0, 0, dr_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 1, dr_5_43, 1, 0, 0, dr_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 1, dr_5_44, 1, 0, 0, dr_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 1, dr_5_45, 1, 0, 0, dr_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 1, dr_5_46, 1, 0, 0, dr_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 1, dr_5_47, 1, 0, 0, dr_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 1, dr_5_48, 1, 0, 0, dr_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 1, dr_5_49, 1, 0, 0, dr_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 1, dr_5_50, 1, 0, 0, dr_5_50_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_5_0, .n = 1, .c_lo = dr_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_5_1, .n = 1, .c_lo = dr_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_5_2, .n = 1, .c_lo = dr_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_5_3, .n = 1, .c_lo = dr_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 1, .c = dr_5_4, .n = 1, .c_lo = dr_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 1, .c = dr_5_5, .n = 1, .c_lo = dr_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 1, .c = dr_5_6, .n = 1, .c_lo = dr_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 1, .c = dr_5_7, .n = 1, .c_lo = dr_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 1, .c = dr_5_8, .n = 1, .c_lo = dr_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 1, .c = dr_5_9, .n = 1, .c_lo = dr_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 1, .c = dr_5_10, .n = 1, .c_lo = dr_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 1, .c = dr_5_11, .n = 1, .c_lo = dr_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 1, .c = dr_5_12, .n = 1, .c_lo = dr_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 1, .c = dr_5_13, .n = 1, .c_lo = dr_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 1, .c = dr_5_14, .n = 1, .c_lo = dr_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 1, .c = dr_5_15, .n = 1, .c_lo = dr_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 1, .c = dr_5_16, .n = 1, .c_lo = dr_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 1, .c = dr_5_17, .n = 1, .c_lo = dr_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 1, .c = dr_5_18, .n = 1, .c_lo = dr_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 1, .c = dr_5_19, .n = 1, .c_lo = dr_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 1, .c = dr_5_20, .n = 1, .c_lo = dr_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 1, .c = dr_5_21, .n = 1, .c_lo = dr_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 1, .c = dr_5_22, .n = 1, .c_lo = dr_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 1, .c = dr_5_23, .n = 1, .c_lo = dr_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 1, .c = dr_5_24, .n = 1, .c_lo = dr_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 1, .c = dr_5_25, .n = 1, .c_lo = dr_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 1, .c = dr_5_26, .n = 1, .c_lo = dr_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 1, .c = dr_5_27, .n = 1, .c_lo = dr_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 1, .c = dr_5_28, .n = 1, .c_lo = dr_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 1, .c = dr_5_29, .n = 1, .c_lo = dr_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 1, .c = dr_5_30, .n = 1, .c_lo = dr_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 1, .c = dr_5_31, .n = 1, .c_lo = dr_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 1, .c = dr_5_32, .n = 1, .c_lo = dr_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 1, .c = dr_5_33, .n = 1, .c_lo = dr_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 1, .c = dr_5_34, .n = 1, .c_lo = dr_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 1, .c = dr_5_35, .n = 1, .c_lo = dr_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 1, .c = dr_5_36, .n = 1, .c_lo = dr_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 1, .c = dr_5_37, .n = 1, .c_lo = dr_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 1, .c = dr_5_38, .n = 1, .c_lo = dr_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 1, .c = dr_5_39, .n = 1, .c_lo = dr_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 1, .c = dr_5_40, .n = 1, .c_lo = dr_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 1, .c = dr_5_41, .n = 1, .c_lo = dr_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 1, .c = dr_5_42, .n = 1, .c_lo = dr_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 1, .c = dr_5_43, .n = 1, .c_lo = dr_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 1, .c = dr_5_44, .n = 1, .c_lo = dr_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 1, .c = dr_5_45, .n = 1, .c_lo = dr_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 1, .c = dr_5_46, .n = 1, .c_lo = dr_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 1, .c = dr_5_47, .n = 1, .c_lo = dr_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 1, .c = dr_5_48, .n = 1, .c_lo = dr_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 1, .c = dr_5_49, .n = 1, .c_lo = dr_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 1, .c = dr_5_50, .n = 1, .c_lo = dr_5_50_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 9.6e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dr_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dr_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 8.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dr_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 9.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, dr_4, 1},  // [39/64, 25/32), S^13 times Taylor about 20/29 up to (r-c)^68, truncation < 5.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, dr_5, 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dr_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^21, truncation < 9.6e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dr_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dr_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 8.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dr_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 9.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = dr_4, .nterms = 1},  // [39/64, 25/32), S^13 times Taylor about 20/29 up to (r-c)^68, truncation < 5.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = dr_5, .nterms = 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
@@ -1428,8 +1428,8 @@ inline constexpr double d2r_0_1_lo[] = {
     -0x1.7917c4ba6bd6fp-40, -0x1.07f709b5b1e34p-39, 0x1.ab2773bc74894p-41,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, d2r_0_0, 9, 0, 0, d2r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 4, d2r_0_1, 3, 0, 0, d2r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = d2r_0_0, .n = 9, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 4, .c = d2r_0_1, .n = 3, .c_lo = d2r_0_1_lo},
 };
 inline constexpr double d2r_1_0[] = {
     -0x1.b48c091d2de79p+6,  // -602779009372771430628/642420154598359375 * pi^-2 + (-430768068648799150269/9728076626775156250 * pi^-2) * log(23)
@@ -1485,7 +1485,7 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.cd4998cc4f9b3p+54, 0x1.45d81753585dcp+57, -0x1.d0ec376099ed2p+60,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, d2r_1_0, 39, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.92a7d8df44d93p+5,  // 19955648554547706/32057708828125 * pi^-2 + (-475618672910924829/1089962100156250 * pi^-2) * log(13)
@@ -1542,7 +1542,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.3ed08047722f5p+26, -0x1.3b153b8299b85p+30, -0x1.967bbaf730f37p+32, -0x1.82f4e7524b273p+35,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, d2r_2_0, 40, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.6ec2da9384f9bp+4,  // 2497880405451816/377094453125 * pi^-2 + (-15082598240354304/4902227890625 * pi^-2) * log(8)
@@ -1599,7 +1599,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.7a00b1414095cp+3, 0x1.1ec7a60ad522bp+7, 0x1.6801d2b25054bp+9, -0x1.c2ebf07217f2bp+10,
 };
 inline constexpr table::Term d2r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, d2r_3_0, 40, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.e849cab0df1dap+5,  // 1131822022914/33787663 * pi^-2 + (-2565063703125/125497034 * pi^-2) * log(5)
@@ -1664,7 +1664,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.a672b1aa3ff57p-5, -0x1.dd20fb7cb936dp-4,
 };
 inline constexpr table::Term d2r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, d2r_4_0, 46, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.5aa9d51308d09p+4,  // 91424137662/546875 * pi^-2 + (-23746111389/156250 * pi^-2) * log(3)
@@ -1730,7 +1730,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.7d2f0f52cf4ddp-18, 0x1.79bf5559fc9d3p-19, 0x1.97be0c13c5b69p-20,
 };
 inline constexpr table::Term d2r_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-1, 0, 0, d2r_5_0, 47, 0x1.3333333333333p-1, 0x1.999999999999ap-56, d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.67f5ac6837c4dp+1,  // 27780333081958859688/77331789633679 * pi^-2 + (-734819202647545640625/1612920183788162 * pi^-2) * log(11/5)
@@ -1774,7 +1774,7 @@ inline constexpr double d2r_6_0_lo[] = {
     -0x1.52051cd41235bp-19,
 };
 inline constexpr table::Term d2r_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, d2r_6_0, 29, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.2106a24583864p+8,  // 19968/7 * pi^-2
@@ -2083,68 +2083,68 @@ inline constexpr double d2r_7_50_lo[] = {
     0x1.01e8158d9b547p-57,
 };
 inline constexpr table::Term d2r_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, d2r_7_0, 1, 0, 0, d2r_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, d2r_7_1, 1, 0, 0, d2r_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, d2r_7_2, 1, 0, 0, d2r_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, d2r_7_3, 1, 0, 0, d2r_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, d2r_7_4, 1, 0, 0, d2r_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, d2r_7_5, 1, 0, 0, d2r_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, d2r_7_6, 1, 0, 0, d2r_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, d2r_7_7, 1, 0, 0, d2r_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, d2r_7_8, 1, 0, 0, d2r_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, d2r_7_9, 1, 0, 0, d2r_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, d2r_7_10, 1, 0, 0, d2r_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, d2r_7_11, 1, 0, 0, d2r_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, d2r_7_12, 1, 0, 0, d2r_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, d2r_7_13, 1, 0, 0, d2r_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, d2r_7_14, 1, 0, 0, d2r_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, d2r_7_15, 1, 0, 0, d2r_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, d2r_7_16, 1, 0, 0, d2r_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, d2r_7_17, 1, 0, 0, d2r_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, d2r_7_18, 1, 0, 0, d2r_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, d2r_7_19, 1, 0, 0, d2r_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, d2r_7_20, 1, 0, 0, d2r_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, d2r_7_21, 1, 0, 0, d2r_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, d2r_7_22, 1, 0, 0, d2r_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, d2r_7_23, 1, 0, 0, d2r_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, d2r_7_24, 1, 0, 0, d2r_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, d2r_7_25, 1, 0, 0, d2r_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, d2r_7_26, 1, 0, 0, d2r_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, d2r_7_27, 1, 0, 0, d2r_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, d2r_7_28, 1, 0, 0, d2r_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, d2r_7_29, 1, 0, 0, d2r_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, d2r_7_30, 1, 0, 0, d2r_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, d2r_7_31, 1, 0, 0, d2r_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, d2r_7_32, 1, 0, 0, d2r_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, d2r_7_33, 1, 0, 0, d2r_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, d2r_7_34, 1, 0, 0, d2r_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, d2r_7_35, 1, 0, 0, d2r_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, d2r_7_36, 1, 0, 0, d2r_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, d2r_7_37, 1, 0, 0, d2r_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, d2r_7_38, 1, 0, 0, d2r_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, d2r_7_39, 1, 0, 0, d2r_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, d2r_7_40, 1, 0, 0, d2r_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, d2r_7_41, 1, 0, 0, d2r_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, d2r_7_42, 1, 0, 0, d2r_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, d2r_7_43, 1, 0, 0, d2r_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, d2r_7_44, 1, 0, 0, d2r_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, d2r_7_45, 1, 0, 0, d2r_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, d2r_7_46, 1, 0, 0, d2r_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, d2r_7_47, 1, 0, 0, d2r_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, d2r_7_48, 1, 0, 0, d2r_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, d2r_7_49, 1, 0, 0, d2r_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, d2r_7_50, 1, 0, 0, d2r_7_50_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = d2r_7_0, .n = 1, .c_lo = d2r_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_7_1, .n = 1, .c_lo = d2r_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = d2r_7_2, .n = 1, .c_lo = d2r_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_7_3, .n = 1, .c_lo = d2r_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = d2r_7_4, .n = 1, .c_lo = d2r_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = d2r_7_5, .n = 1, .c_lo = d2r_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = d2r_7_6, .n = 1, .c_lo = d2r_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = d2r_7_7, .n = 1, .c_lo = d2r_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = d2r_7_8, .n = 1, .c_lo = d2r_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = d2r_7_9, .n = 1, .c_lo = d2r_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = d2r_7_10, .n = 1, .c_lo = d2r_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = d2r_7_11, .n = 1, .c_lo = d2r_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = d2r_7_12, .n = 1, .c_lo = d2r_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = d2r_7_13, .n = 1, .c_lo = d2r_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = d2r_7_14, .n = 1, .c_lo = d2r_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = d2r_7_15, .n = 1, .c_lo = d2r_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = d2r_7_16, .n = 1, .c_lo = d2r_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = d2r_7_17, .n = 1, .c_lo = d2r_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = d2r_7_18, .n = 1, .c_lo = d2r_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = d2r_7_19, .n = 1, .c_lo = d2r_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = d2r_7_20, .n = 1, .c_lo = d2r_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = d2r_7_21, .n = 1, .c_lo = d2r_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = d2r_7_22, .n = 1, .c_lo = d2r_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = d2r_7_23, .n = 1, .c_lo = d2r_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = d2r_7_24, .n = 1, .c_lo = d2r_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = d2r_7_25, .n = 1, .c_lo = d2r_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = d2r_7_26, .n = 1, .c_lo = d2r_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = d2r_7_27, .n = 1, .c_lo = d2r_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = d2r_7_28, .n = 1, .c_lo = d2r_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = d2r_7_29, .n = 1, .c_lo = d2r_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = d2r_7_30, .n = 1, .c_lo = d2r_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = d2r_7_31, .n = 1, .c_lo = d2r_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = d2r_7_32, .n = 1, .c_lo = d2r_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = d2r_7_33, .n = 1, .c_lo = d2r_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = d2r_7_34, .n = 1, .c_lo = d2r_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = d2r_7_35, .n = 1, .c_lo = d2r_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = d2r_7_36, .n = 1, .c_lo = d2r_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = d2r_7_37, .n = 1, .c_lo = d2r_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = d2r_7_38, .n = 1, .c_lo = d2r_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = d2r_7_39, .n = 1, .c_lo = d2r_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = d2r_7_40, .n = 1, .c_lo = d2r_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = d2r_7_41, .n = 1, .c_lo = d2r_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = d2r_7_42, .n = 1, .c_lo = d2r_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = d2r_7_43, .n = 1, .c_lo = d2r_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = d2r_7_44, .n = 1, .c_lo = d2r_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = d2r_7_45, .n = 1, .c_lo = d2r_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = d2r_7_46, .n = 1, .c_lo = d2r_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = d2r_7_47, .n = 1, .c_lo = d2r_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = d2r_7_48, .n = 1, .c_lo = d2r_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = d2r_7_49, .n = 1, .c_lo = d2r_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = d2r_7_50, .n = 1, .c_lo = d2r_7_50_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.2e-20 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, d2r_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, d2r_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^39, truncation < 4.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, d2r_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^39, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, d2r_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^45, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, d2r_5, 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^46, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.9p-1, d2r_6, 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^28, truncation < 4.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, d2r_7, 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 9.1e-20 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = d2r_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.2e-20 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = d2r_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = d2r_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^39, truncation < 4.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = d2r_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^39, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = d2r_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^45, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = d2r_5, .nterms = 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^46, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.9p-1, .terms = d2r_6, .nterms = 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^28, truncation < 4.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = d2r_7, .nterms = 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 9.1e-20 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.bf1643038773ap+8,  // -30888/7 * pi^-2
@@ -2171,8 +2171,8 @@ inline constexpr double laplacian_0_1_lo[] = {
     -0x1.07f709b5b1e34p-39, 0x1.ab2773bc74894p-37, 0x1.984ca9e6558b5p-41,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, laplacian_0_0, 9, 0, 0, laplacian_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 4, laplacian_0_1, 3, 0, 0, laplacian_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 9, .c_lo = laplacian_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 4, .c = laplacian_0_1, .n = 3, .c_lo = laplacian_0_1_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     -0x1.7b018436a5c37p+8,  // -455658945808435860348/128484030919671875 * pi^-2 + (-602561042578245558951/9728076626775156250 * pi^-2) * log(23)
@@ -2227,7 +2227,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.c9aa1ba56fb01p+54, 0x1.3f1dcd7a2291p+58,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, laplacian_1_0, 38, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.10f911d7b50f2p+8,  // -7253091111820554/6411541765625 * pi^-2 + (-664137616910101191/1089962100156250 * pi^-2) * log(13)
@@ -2283,7 +2283,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.5dd61a936f7f8p+28, -0x1.77e4c6c076ed7p+31, 0x1.180ba8cd18b89p+33,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, laplacian_2_0, 39, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.efa737fbfce06p+6,  // 578940511337496/75418890625 * pi^-2 + (-20979881243836416/4902227890625 * pi^-2) * log(8)
@@ -2340,7 +2340,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     0x1.149b0607a20bep+5, -0x1.2668d47255828p+6, 0x1.d3787f3ff4746p+9, 0x1.f42598d5b8304p+11,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, laplacian_3_0, 40, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.40911b3367329p+1,  // 1534739447142/33787663 * pi^-2 + (-3539968059375/125497034 * pi^-2) * log(5)
@@ -2406,7 +2406,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.5049b2e80380ap-8, -0x1.ecdfad660be6bp-4, 0x1.473fb523f59a6p-5,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, laplacian_4_0, 47, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.ff9092f02b39ap+3,  // 24859442322/109375 * pi^-2 + (-32303330631/156250 * pi^-2) * log(3)
@@ -2473,7 +2473,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     -0x1.358f3538d7d4fp-18, -0x1.2359030bbaf61p-20, -0x1.1dfdd4cfe95c6p-20, -0x1.89177b2c4c169p-15,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-1, 0, 0, laplacian_5_0, 48, 0x1.3333333333333p-1, 0x1.999999999999ap-56, laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 48, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.3f3c12cda2d3bp+1,  // 37415669641479135864/77331789633679 * pi^-2 + (-989710165708089271875/1612920183788162 * pi^-2) * log(11/5)
@@ -2518,7 +2518,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.16b6ec0a488fcp-20, 0x1.cc7779a03f679p-17,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, laplacian_6_0, 30, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.2106a24583864p+8,  // 19968/7 * pi^-2
@@ -2827,68 +2827,68 @@ inline constexpr double laplacian_7_50_lo[] = {
     0x1.138ea7126f673p-55,
 };
 inline constexpr table::Term laplacian_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, laplacian_7_0, 1, 0, 0, laplacian_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, laplacian_7_1, 1, 0, 0, laplacian_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, laplacian_7_2, 1, 0, 0, laplacian_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, laplacian_7_3, 1, 0, 0, laplacian_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, laplacian_7_4, 1, 0, 0, laplacian_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, laplacian_7_5, 1, 0, 0, laplacian_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, laplacian_7_6, 1, 0, 0, laplacian_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, laplacian_7_7, 1, 0, 0, laplacian_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, laplacian_7_8, 1, 0, 0, laplacian_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, laplacian_7_9, 1, 0, 0, laplacian_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, laplacian_7_10, 1, 0, 0, laplacian_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, laplacian_7_11, 1, 0, 0, laplacian_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, laplacian_7_12, 1, 0, 0, laplacian_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, laplacian_7_13, 1, 0, 0, laplacian_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, laplacian_7_14, 1, 0, 0, laplacian_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, laplacian_7_15, 1, 0, 0, laplacian_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, laplacian_7_16, 1, 0, 0, laplacian_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, laplacian_7_17, 1, 0, 0, laplacian_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, laplacian_7_18, 1, 0, 0, laplacian_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, laplacian_7_19, 1, 0, 0, laplacian_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, laplacian_7_20, 1, 0, 0, laplacian_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, laplacian_7_21, 1, 0, 0, laplacian_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, laplacian_7_22, 1, 0, 0, laplacian_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, laplacian_7_23, 1, 0, 0, laplacian_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, laplacian_7_24, 1, 0, 0, laplacian_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, laplacian_7_25, 1, 0, 0, laplacian_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, laplacian_7_26, 1, 0, 0, laplacian_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, laplacian_7_27, 1, 0, 0, laplacian_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, laplacian_7_28, 1, 0, 0, laplacian_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, laplacian_7_29, 1, 0, 0, laplacian_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, laplacian_7_30, 1, 0, 0, laplacian_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, laplacian_7_31, 1, 0, 0, laplacian_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, laplacian_7_32, 1, 0, 0, laplacian_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, laplacian_7_33, 1, 0, 0, laplacian_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, laplacian_7_34, 1, 0, 0, laplacian_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, laplacian_7_35, 1, 0, 0, laplacian_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, laplacian_7_36, 1, 0, 0, laplacian_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, laplacian_7_37, 1, 0, 0, laplacian_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, laplacian_7_38, 1, 0, 0, laplacian_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, laplacian_7_39, 1, 0, 0, laplacian_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, laplacian_7_40, 1, 0, 0, laplacian_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, laplacian_7_41, 1, 0, 0, laplacian_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, laplacian_7_42, 1, 0, 0, laplacian_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, laplacian_7_43, 1, 0, 0, laplacian_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, laplacian_7_44, 1, 0, 0, laplacian_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, laplacian_7_45, 1, 0, 0, laplacian_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, laplacian_7_46, 1, 0, 0, laplacian_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, laplacian_7_47, 1, 0, 0, laplacian_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, laplacian_7_48, 1, 0, 0, laplacian_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, laplacian_7_49, 1, 0, 0, laplacian_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, laplacian_7_50, 1, 0, 0, laplacian_7_50_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = laplacian_7_0, .n = 1, .c_lo = laplacian_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_7_1, .n = 1, .c_lo = laplacian_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = laplacian_7_2, .n = 1, .c_lo = laplacian_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_7_3, .n = 1, .c_lo = laplacian_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = laplacian_7_4, .n = 1, .c_lo = laplacian_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = laplacian_7_5, .n = 1, .c_lo = laplacian_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = laplacian_7_6, .n = 1, .c_lo = laplacian_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = laplacian_7_7, .n = 1, .c_lo = laplacian_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = laplacian_7_8, .n = 1, .c_lo = laplacian_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = laplacian_7_9, .n = 1, .c_lo = laplacian_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = laplacian_7_10, .n = 1, .c_lo = laplacian_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = laplacian_7_11, .n = 1, .c_lo = laplacian_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = laplacian_7_12, .n = 1, .c_lo = laplacian_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = laplacian_7_13, .n = 1, .c_lo = laplacian_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = laplacian_7_14, .n = 1, .c_lo = laplacian_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = laplacian_7_15, .n = 1, .c_lo = laplacian_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = laplacian_7_16, .n = 1, .c_lo = laplacian_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = laplacian_7_17, .n = 1, .c_lo = laplacian_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = laplacian_7_18, .n = 1, .c_lo = laplacian_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = laplacian_7_19, .n = 1, .c_lo = laplacian_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = laplacian_7_20, .n = 1, .c_lo = laplacian_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = laplacian_7_21, .n = 1, .c_lo = laplacian_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = laplacian_7_22, .n = 1, .c_lo = laplacian_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = laplacian_7_23, .n = 1, .c_lo = laplacian_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = laplacian_7_24, .n = 1, .c_lo = laplacian_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = laplacian_7_25, .n = 1, .c_lo = laplacian_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = laplacian_7_26, .n = 1, .c_lo = laplacian_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = laplacian_7_27, .n = 1, .c_lo = laplacian_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = laplacian_7_28, .n = 1, .c_lo = laplacian_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = laplacian_7_29, .n = 1, .c_lo = laplacian_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = laplacian_7_30, .n = 1, .c_lo = laplacian_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = laplacian_7_31, .n = 1, .c_lo = laplacian_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = laplacian_7_32, .n = 1, .c_lo = laplacian_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = laplacian_7_33, .n = 1, .c_lo = laplacian_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = laplacian_7_34, .n = 1, .c_lo = laplacian_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = laplacian_7_35, .n = 1, .c_lo = laplacian_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = laplacian_7_36, .n = 1, .c_lo = laplacian_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = laplacian_7_37, .n = 1, .c_lo = laplacian_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = laplacian_7_38, .n = 1, .c_lo = laplacian_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = laplacian_7_39, .n = 1, .c_lo = laplacian_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = laplacian_7_40, .n = 1, .c_lo = laplacian_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = laplacian_7_41, .n = 1, .c_lo = laplacian_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = laplacian_7_42, .n = 1, .c_lo = laplacian_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = laplacian_7_43, .n = 1, .c_lo = laplacian_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = laplacian_7_44, .n = 1, .c_lo = laplacian_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = laplacian_7_45, .n = 1, .c_lo = laplacian_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = laplacian_7_46, .n = 1, .c_lo = laplacian_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = laplacian_7_47, .n = 1, .c_lo = laplacian_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = laplacian_7_48, .n = 1, .c_lo = laplacian_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = laplacian_7_49, .n = 1, .c_lo = laplacian_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = laplacian_7_50, .n = 1, .c_lo = laplacian_7_50_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 4.8e-21 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, laplacian_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^37, truncation < 7.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, laplacian_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, laplacian_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^39, truncation < 5.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, laplacian_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^46, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, laplacian_5, 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^47, truncation < 5.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.9p-1, laplacian_6, 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^29, truncation < 4.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, laplacian_7, 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.2e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = laplacian_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^16, truncation < 4.8e-21 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = laplacian_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^37, truncation < 7.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = laplacian_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 8.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = laplacian_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^39, truncation < 5.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = laplacian_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^46, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = laplacian_5, .nterms = 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^47, truncation < 5.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.9p-1, .terms = laplacian_6, .nterms = 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^29, truncation < 4.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = laplacian_7, .nterms = 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 1.2e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.2a0ed757afa27p+7,  // -10296/7 * pi^-2
@@ -2917,8 +2917,8 @@ inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.2dac9d61efdf3p-42, -0x1.2dac9d61efdf3p-42, -0x1.2dac9d61efdf3p-46,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, grad_over_r_0_0, 11, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 4, grad_over_r_0_1, 3, 0, 0, grad_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 11, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 4, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     -0x1.a903270769204p+6,  // -7100973619522373448/9433526106484375 * pi^-2 + (-4654407945974611968/39081751012578125 * pi^-2) * log(12)
@@ -2977,7 +2977,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.529279c37280ep+31,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, grad_over_r_1_0, 41, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.e538bcf742fe7p+5,  // 59563039757364/42724609375 * pi^-2 + (-62503817036661/61035156250 * pi^-2) * log(7)
@@ -3036,7 +3036,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.3e42e67e3d7d7p-2,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, grad_over_r_2_0, 41, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.12bcda79aaad9p+6,  // 145214424523931048/2242529296875 * pi^-2 + (-226814241444364288/4805419921875 * pi^-2) * log(4)
@@ -3117,7 +3117,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     -0x1.1955c145272e2p-9, 0x1.df9f191a2ddc6p-7, 0x1.3868f4f811e3bp-6,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {table::Basis::sqrt_power, 13, table::Var::shifted, 0x1.38p-1, 0, 0, grad_over_r_3_0, 59, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, grad_over_r_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.53e3af2b687f6p+5,  // 287640743915271710392/90812685325761 * pi^-2 + (-6593164250654009600000/1907066391840981 * pi^-2) * log(5/2)
@@ -3209,7 +3209,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.000d4ceb32c33p-34, -0x1.2c37cef08244dp-33, -0x1.cd1baa9a7c0eap-34, 0x1.cfd7353577da4p-34,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {table::Basis::sqrt_power, 13, table::Var::shifted, 0x1.9p-1, 0, 0, grad_over_r_4_0, 68, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.63b96541dcf4p+4,  // -1536/7 * pi^-2
@@ -3518,66 +3518,66 @@ inline constexpr double grad_over_r_5_50_lo[] = {
     -0x1.d8a2740ade812p-58,
 };
 inline constexpr table::Term grad_over_r_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_5_0, 1, 0, 0, grad_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_5_1, 1, 0, 0, grad_over_r_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_5_2, 1, 0, 0, grad_over_r_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, grad_over_r_5_3, 1, 0, 0, grad_over_r_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, grad_over_r_5_4, 1, 0, 0, grad_over_r_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, grad_over_r_5_5, 1, 0, 0, grad_over_r_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, grad_over_r_5_6, 1, 0, 0, grad_over_r_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, grad_over_r_5_7, 1, 0, 0, grad_over_r_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, grad_over_r_5_8, 1, 0, 0, grad_over_r_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, grad_over_r_5_9, 1, 0, 0, grad_over_r_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, grad_over_r_5_10, 1, 0, 0, grad_over_r_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, grad_over_r_5_11, 1, 0, 0, grad_over_r_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, grad_over_r_5_12, 1, 0, 0, grad_over_r_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, grad_over_r_5_13, 1, 0, 0, grad_over_r_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, grad_over_r_5_14, 1, 0, 0, grad_over_r_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, grad_over_r_5_15, 1, 0, 0, grad_over_r_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, grad_over_r_5_16, 1, 0, 0, grad_over_r_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, grad_over_r_5_17, 1, 0, 0, grad_over_r_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, grad_over_r_5_18, 1, 0, 0, grad_over_r_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, grad_over_r_5_19, 1, 0, 0, grad_over_r_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, grad_over_r_5_20, 1, 0, 0, grad_over_r_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, grad_over_r_5_21, 1, 0, 0, grad_over_r_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, grad_over_r_5_22, 1, 0, 0, grad_over_r_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, grad_over_r_5_23, 1, 0, 0, grad_over_r_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, grad_over_r_5_24, 1, 0, 0, grad_over_r_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, grad_over_r_5_25, 1, 0, 0, grad_over_r_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, grad_over_r_5_26, 1, 0, 0, grad_over_r_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, grad_over_r_5_27, 1, 0, 0, grad_over_r_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, grad_over_r_5_28, 1, 0, 0, grad_over_r_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, grad_over_r_5_29, 1, 0, 0, grad_over_r_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, grad_over_r_5_30, 1, 0, 0, grad_over_r_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, grad_over_r_5_31, 1, 0, 0, grad_over_r_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, grad_over_r_5_32, 1, 0, 0, grad_over_r_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, grad_over_r_5_33, 1, 0, 0, grad_over_r_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, grad_over_r_5_34, 1, 0, 0, grad_over_r_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, grad_over_r_5_35, 1, 0, 0, grad_over_r_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, grad_over_r_5_36, 1, 0, 0, grad_over_r_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, grad_over_r_5_37, 1, 0, 0, grad_over_r_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, grad_over_r_5_38, 1, 0, 0, grad_over_r_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, grad_over_r_5_39, 1, 0, 0, grad_over_r_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, grad_over_r_5_40, 1, 0, 0, grad_over_r_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, grad_over_r_5_41, 1, 0, 0, grad_over_r_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, grad_over_r_5_42, 1, 0, 0, grad_over_r_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, grad_over_r_5_43, 1, 0, 0, grad_over_r_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, grad_over_r_5_44, 1, 0, 0, grad_over_r_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, grad_over_r_5_45, 1, 0, 0, grad_over_r_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, grad_over_r_5_46, 1, 0, 0, grad_over_r_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, grad_over_r_5_47, 1, 0, 0, grad_over_r_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, grad_over_r_5_48, 1, 0, 0, grad_over_r_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, grad_over_r_5_49, 1, 0, 0, grad_over_r_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, grad_over_r_5_50, 1, 0, 0, grad_over_r_5_50_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_5_0, .n = 1, .c_lo = grad_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_5_1, .n = 1, .c_lo = grad_over_r_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_5_2, .n = 1, .c_lo = grad_over_r_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_5_3, .n = 1, .c_lo = grad_over_r_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = grad_over_r_5_4, .n = 1, .c_lo = grad_over_r_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = grad_over_r_5_5, .n = 1, .c_lo = grad_over_r_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = grad_over_r_5_6, .n = 1, .c_lo = grad_over_r_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = grad_over_r_5_7, .n = 1, .c_lo = grad_over_r_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = grad_over_r_5_8, .n = 1, .c_lo = grad_over_r_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = grad_over_r_5_9, .n = 1, .c_lo = grad_over_r_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = grad_over_r_5_10, .n = 1, .c_lo = grad_over_r_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = grad_over_r_5_11, .n = 1, .c_lo = grad_over_r_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = grad_over_r_5_12, .n = 1, .c_lo = grad_over_r_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = grad_over_r_5_13, .n = 1, .c_lo = grad_over_r_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = grad_over_r_5_14, .n = 1, .c_lo = grad_over_r_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = grad_over_r_5_15, .n = 1, .c_lo = grad_over_r_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = grad_over_r_5_16, .n = 1, .c_lo = grad_over_r_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = grad_over_r_5_17, .n = 1, .c_lo = grad_over_r_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = grad_over_r_5_18, .n = 1, .c_lo = grad_over_r_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = grad_over_r_5_19, .n = 1, .c_lo = grad_over_r_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = grad_over_r_5_20, .n = 1, .c_lo = grad_over_r_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = grad_over_r_5_21, .n = 1, .c_lo = grad_over_r_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = grad_over_r_5_22, .n = 1, .c_lo = grad_over_r_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = grad_over_r_5_23, .n = 1, .c_lo = grad_over_r_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = grad_over_r_5_24, .n = 1, .c_lo = grad_over_r_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = grad_over_r_5_25, .n = 1, .c_lo = grad_over_r_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = grad_over_r_5_26, .n = 1, .c_lo = grad_over_r_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = grad_over_r_5_27, .n = 1, .c_lo = grad_over_r_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = grad_over_r_5_28, .n = 1, .c_lo = grad_over_r_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = grad_over_r_5_29, .n = 1, .c_lo = grad_over_r_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = grad_over_r_5_30, .n = 1, .c_lo = grad_over_r_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = grad_over_r_5_31, .n = 1, .c_lo = grad_over_r_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = grad_over_r_5_32, .n = 1, .c_lo = grad_over_r_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = grad_over_r_5_33, .n = 1, .c_lo = grad_over_r_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = grad_over_r_5_34, .n = 1, .c_lo = grad_over_r_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = grad_over_r_5_35, .n = 1, .c_lo = grad_over_r_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = grad_over_r_5_36, .n = 1, .c_lo = grad_over_r_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = grad_over_r_5_37, .n = 1, .c_lo = grad_over_r_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = grad_over_r_5_38, .n = 1, .c_lo = grad_over_r_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = grad_over_r_5_39, .n = 1, .c_lo = grad_over_r_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = grad_over_r_5_40, .n = 1, .c_lo = grad_over_r_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = grad_over_r_5_41, .n = 1, .c_lo = grad_over_r_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = grad_over_r_5_42, .n = 1, .c_lo = grad_over_r_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = grad_over_r_5_43, .n = 1, .c_lo = grad_over_r_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = grad_over_r_5_44, .n = 1, .c_lo = grad_over_r_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = grad_over_r_5_45, .n = 1, .c_lo = grad_over_r_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = grad_over_r_5_46, .n = 1, .c_lo = grad_over_r_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = grad_over_r_5_47, .n = 1, .c_lo = grad_over_r_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = grad_over_r_5_48, .n = 1, .c_lo = grad_over_r_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = grad_over_r_5_49, .n = 1, .c_lo = grad_over_r_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = grad_over_r_5_50, .n = 1, .c_lo = grad_over_r_5_50_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.6e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, grad_over_r_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 8.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, grad_over_r_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 8.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, grad_over_r_3, 1},  // [23/64, 39/64), S^13 times Taylor about 8/17 up to (r-c)^58, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, grad_over_r_4, 1},  // [39/64, 25/32), S^13 times Taylor about 20/29 up to (r-c)^67, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, grad_over_r_5, 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.6e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = grad_over_r_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 8.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = grad_over_r_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 8.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = grad_over_r_3, .nterms = 1},  // [23/64, 39/64), S^13 times Taylor about 8/17 up to (r-c)^58, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = grad_over_r_4, .nterms = 1},  // [39/64, 25/32), S^13 times Taylor about 20/29 up to (r-c)^67, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = grad_over_r_5, .nterms = 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.04ccfc6cb9ae2p+12,  // 41184 * pi^-2
@@ -3602,8 +3602,8 @@ inline constexpr double hess_radial_0_1_lo[] = {
     -0x1.2dac9d61efdf3p-40, -0x1.c482ec12e7cecp-40, -0x1.2dac9d61efdf3p-43,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, hess_radial_0_0, 8, 0, 0, hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 2, hess_radial_0_1, 3, 0, 0, hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = hess_radial_0_0, .n = 8, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 2, .c = hess_radial_0_1, .n = 3, .c_lo = hess_radial_0_1_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     0x1.ac15941edf144p+11,  // 63456346330524576/1306860915625 * pi^-2 + (-325965578151300516/69263628528125 * pi^-2) * log(23)
@@ -3658,7 +3658,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.0f0475fe74542p+66, 0x1.1e8250b1741cap+70,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, hess_radial_1_0, 38, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.45eb31f519886p+11,  // 284415388232976/4437053125 * pi^-2 + (-1128281659500996/75429903125 * pi^-2) * log(13)
@@ -3714,7 +3714,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.cbc51457e7e32p+39, 0x1.509143eacab3cp+42, -0x1.735022bc45fd2p+44,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, hess_radial_2_0, 39, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.8d7fa92fda255p+10,  // 8982302069664/89253125 * pi^-2 + (-47398268510208/1160290625 * pi^-2) * log(8)
@@ -3770,7 +3770,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.c767c1d510b94p+16, -0x1.398fa647542fep+15, -0x1.687195f933b83p+18,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, hess_radial_3_0, 39, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.31385ea2dfa83p+9,  // 5316361776/28561 * pi^-2 + (-41552230500/371293 * pi^-2) * log(5)
@@ -3832,7 +3832,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.d9532365477b7p-1, -0x1.1fbbaf6bfd47ep+0, -0x1.6941209c480cp+1, -0x1.44f7c0a5a3288p+3,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, hess_radial_4_0, 44, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.8c3d90e5f870fp+9,  // 1162382203125/262144 * pi^-2 + (-4224718265625/1048576 * pi^-2) * log(3)
@@ -3918,7 +3918,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.2973b86b7e4d2p-13, 0x1.707f9fed7985bp-13, 0x1.1d5987e21ec57p-11,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {table::Basis::sqrt_power, 11, table::Var::shifted, 0x1.7p-1, 0, 0, hess_radial_5_0, 63, 0x1.3333333333333p-1, 0x1.999999999999ap-56, hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.4eff7106ce7f7p+2,  // 1084423367282112/2073071593 * pi^-2 + (-100392350597896500/151334226289 * pi^-2) * log(11/5)
@@ -3962,7 +3962,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.7c8a6f60618c4p-21,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, hess_radial_6_0, 29, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.2106a24583864p+8,  // 19968/7 * pi^-2
@@ -4265,67 +4265,67 @@ inline constexpr double hess_radial_7_49_lo[] = {
     -0x1.c2f90d725bac5p-55,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, hess_radial_7_0, 1, 0, 0, hess_radial_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, hess_radial_7_1, 1, 0, 0, hess_radial_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, hess_radial_7_2, 1, 0, 0, hess_radial_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, hess_radial_7_3, 1, 0, 0, hess_radial_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, hess_radial_7_4, 1, 0, 0, hess_radial_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, hess_radial_7_5, 1, 0, 0, hess_radial_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, hess_radial_7_6, 1, 0, 0, hess_radial_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, hess_radial_7_7, 1, 0, 0, hess_radial_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, hess_radial_7_8, 1, 0, 0, hess_radial_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, hess_radial_7_9, 1, 0, 0, hess_radial_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, hess_radial_7_10, 1, 0, 0, hess_radial_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, hess_radial_7_11, 1, 0, 0, hess_radial_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, hess_radial_7_12, 1, 0, 0, hess_radial_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, hess_radial_7_13, 1, 0, 0, hess_radial_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, hess_radial_7_14, 1, 0, 0, hess_radial_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, hess_radial_7_15, 1, 0, 0, hess_radial_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, hess_radial_7_16, 1, 0, 0, hess_radial_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, hess_radial_7_17, 1, 0, 0, hess_radial_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, hess_radial_7_18, 1, 0, 0, hess_radial_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, hess_radial_7_19, 1, 0, 0, hess_radial_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, hess_radial_7_20, 1, 0, 0, hess_radial_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, hess_radial_7_21, 1, 0, 0, hess_radial_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, hess_radial_7_22, 1, 0, 0, hess_radial_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, hess_radial_7_23, 1, 0, 0, hess_radial_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, hess_radial_7_24, 1, 0, 0, hess_radial_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, hess_radial_7_25, 1, 0, 0, hess_radial_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, hess_radial_7_26, 1, 0, 0, hess_radial_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, hess_radial_7_27, 1, 0, 0, hess_radial_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, hess_radial_7_28, 1, 0, 0, hess_radial_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, hess_radial_7_29, 1, 0, 0, hess_radial_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, hess_radial_7_30, 1, 0, 0, hess_radial_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, hess_radial_7_31, 1, 0, 0, hess_radial_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, hess_radial_7_32, 1, 0, 0, hess_radial_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, hess_radial_7_33, 1, 0, 0, hess_radial_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, hess_radial_7_34, 1, 0, 0, hess_radial_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, hess_radial_7_35, 1, 0, 0, hess_radial_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, hess_radial_7_36, 1, 0, 0, hess_radial_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, hess_radial_7_37, 1, 0, 0, hess_radial_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, hess_radial_7_38, 1, 0, 0, hess_radial_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, hess_radial_7_39, 1, 0, 0, hess_radial_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, hess_radial_7_40, 1, 0, 0, hess_radial_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, hess_radial_7_41, 1, 0, 0, hess_radial_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, hess_radial_7_42, 1, 0, 0, hess_radial_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, hess_radial_7_43, 1, 0, 0, hess_radial_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, hess_radial_7_44, 1, 0, 0, hess_radial_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, hess_radial_7_45, 1, 0, 0, hess_radial_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, hess_radial_7_46, 1, 0, 0, hess_radial_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, hess_radial_7_47, 1, 0, 0, hess_radial_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, hess_radial_7_48, 1, 0, 0, hess_radial_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, hess_radial_7_49, 1, 0, 0, hess_radial_7_49_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_7_0, .n = 1, .c_lo = hess_radial_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_7_1, .n = 1, .c_lo = hess_radial_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_7_2, .n = 1, .c_lo = hess_radial_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_7_3, .n = 1, .c_lo = hess_radial_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_7_4, .n = 1, .c_lo = hess_radial_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_7_5, .n = 1, .c_lo = hess_radial_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = hess_radial_7_6, .n = 1, .c_lo = hess_radial_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = hess_radial_7_7, .n = 1, .c_lo = hess_radial_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = hess_radial_7_8, .n = 1, .c_lo = hess_radial_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = hess_radial_7_9, .n = 1, .c_lo = hess_radial_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = hess_radial_7_10, .n = 1, .c_lo = hess_radial_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = hess_radial_7_11, .n = 1, .c_lo = hess_radial_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = hess_radial_7_12, .n = 1, .c_lo = hess_radial_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = hess_radial_7_13, .n = 1, .c_lo = hess_radial_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = hess_radial_7_14, .n = 1, .c_lo = hess_radial_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = hess_radial_7_15, .n = 1, .c_lo = hess_radial_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = hess_radial_7_16, .n = 1, .c_lo = hess_radial_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = hess_radial_7_17, .n = 1, .c_lo = hess_radial_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = hess_radial_7_18, .n = 1, .c_lo = hess_radial_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = hess_radial_7_19, .n = 1, .c_lo = hess_radial_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = hess_radial_7_20, .n = 1, .c_lo = hess_radial_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = hess_radial_7_21, .n = 1, .c_lo = hess_radial_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = hess_radial_7_22, .n = 1, .c_lo = hess_radial_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = hess_radial_7_23, .n = 1, .c_lo = hess_radial_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = hess_radial_7_24, .n = 1, .c_lo = hess_radial_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = hess_radial_7_25, .n = 1, .c_lo = hess_radial_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = hess_radial_7_26, .n = 1, .c_lo = hess_radial_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = hess_radial_7_27, .n = 1, .c_lo = hess_radial_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = hess_radial_7_28, .n = 1, .c_lo = hess_radial_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = hess_radial_7_29, .n = 1, .c_lo = hess_radial_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = hess_radial_7_30, .n = 1, .c_lo = hess_radial_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = hess_radial_7_31, .n = 1, .c_lo = hess_radial_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = hess_radial_7_32, .n = 1, .c_lo = hess_radial_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = hess_radial_7_33, .n = 1, .c_lo = hess_radial_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = hess_radial_7_34, .n = 1, .c_lo = hess_radial_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = hess_radial_7_35, .n = 1, .c_lo = hess_radial_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = hess_radial_7_36, .n = 1, .c_lo = hess_radial_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = hess_radial_7_37, .n = 1, .c_lo = hess_radial_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = hess_radial_7_38, .n = 1, .c_lo = hess_radial_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = hess_radial_7_39, .n = 1, .c_lo = hess_radial_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = hess_radial_7_40, .n = 1, .c_lo = hess_radial_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = hess_radial_7_41, .n = 1, .c_lo = hess_radial_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = hess_radial_7_42, .n = 1, .c_lo = hess_radial_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = hess_radial_7_43, .n = 1, .c_lo = hess_radial_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = hess_radial_7_44, .n = 1, .c_lo = hess_radial_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = hess_radial_7_45, .n = 1, .c_lo = hess_radial_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = hess_radial_7_46, .n = 1, .c_lo = hess_radial_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = hess_radial_7_47, .n = 1, .c_lo = hess_radial_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = hess_radial_7_48, .n = 1, .c_lo = hess_radial_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = hess_radial_7_49, .n = 1, .c_lo = hess_radial_7_49_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 9.6e-20 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, hess_radial_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^37, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, hess_radial_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 6.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, hess_radial_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 6.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, hess_radial_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^43, truncation < 8.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, hess_radial_5, 1},  // [1/2, 23/32), S^11 times Taylor about 3/5 up to (r-c)^62, truncation < 7.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.9p-1, hess_radial_6, 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^28, truncation < 1.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, hess_radial_7, 50},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 1.0e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = hess_radial_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^14, truncation < 9.6e-20 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = hess_radial_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^37, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = hess_radial_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 6.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = hess_radial_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 6.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = hess_radial_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^43, truncation < 8.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = hess_radial_5, .nterms = 1},  // [1/2, 23/32), S^11 times Taylor about 3/5 up to (r-c)^62, truncation < 7.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.9p-1, .terms = hess_radial_6, .nterms = 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^28, truncation < 1.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = hess_radial_7, .nterms = 50},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 1.0e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.344b57c19d5cp-2,  // -104/35 * pi^-2
@@ -4360,8 +4360,8 @@ inline constexpr double potential_0_1_lo[] = {
     0x1.93a6edd004c76p-49, 0x1.eebc26c25d2a6p-51, -0x1.e25ac950b7c0bp-55,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, potential_0_0, 16, 0, 0, potential_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-2, 0, 8, potential_0_1, 3, 0, 0, potential_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 16, .c_lo = potential_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 8, .c = potential_0_1, .n = 3, .c_lo = potential_0_1_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.baa43da8ae277p-3,  // -548508188869548005/355835243558920826 * pi^-2 + (-303024539156447232/6582952005840035281 * pi^-2) * log(6) + (-37/24 * pi^-2) * arcsin(12/37)
@@ -4418,7 +4418,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.77fa2ae89ad49p-37, 0x1.ab751061cc475p-34, -0x1.890662e9e3b8fp-31, 0x1.77bf4fd535361p-32,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-2, 0, 0, potential_1_0, 40, 0x1.4c1bacf914c1cp-2, -0x1.4c1bacf914c1cp-56, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.31dc7fd0f019ep-3,  // 278547013751450543955/129766503011210682358 * pi^-2 + (-1213177402005891940352/491258904256726154641 * pi^-2) * log(7/2) + (-53/56 * pi^-2) * arcsin(28/53)
@@ -4478,7 +4478,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.505bc25411b2ep-53, -0x1.53982fa4b718p-51,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5p-1, 0, 0, potential_2_0, 42, 0x1.0e7d95bc609a9p-1, 0x1.cfb2b78c13522p-58, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.c213a2627b33dp-4,  // 9695592383899056665/341614273439763212 * pi^-2 + (-193136182498882891107/5661036531287504656 * pi^-2) * log(7/3) + (-29/42 * pi^-2) * arcsin(21/29)
@@ -4534,7 +4534,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.c9b052e76b594p-37, -0x1.fc44e27572cc1p-36, -0x1.b110c314e5d96p-34,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, potential_3_0, 39, 0x1.72c234f72c235p-1, -0x1.1a7b9611a7b96p-58, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5239,123 +5239,123 @@ inline constexpr double potential_4_116_lo[] = {
     0x1.90b95c2db92abp-75,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -1, potential_4_1, 1, 0, 0, potential_4_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -1, potential_4_2, 1, 0, 0, potential_4_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -1, potential_4_3, 1, 0, 0, potential_4_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -1, potential_4_4, 1, 0, 0, potential_4_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -1, potential_4_5, 1, 0, 0, potential_4_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -1, potential_4_6, 1, 0, 0, potential_4_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -1, potential_4_7, 1, 0, 0, potential_4_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -1, potential_4_8, 1, 0, 0, potential_4_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -1, potential_4_9, 1, 0, 0, potential_4_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -1, potential_4_10, 1, 0, 0, potential_4_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -1, potential_4_11, 1, 0, 0, potential_4_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -1, potential_4_12, 1, 0, 0, potential_4_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -1, potential_4_13, 1, 0, 0, potential_4_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -1, potential_4_14, 1, 0, 0, potential_4_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -1, potential_4_15, 1, 0, 0, potential_4_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -1, potential_4_16, 1, 0, 0, potential_4_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -1, potential_4_17, 1, 0, 0, potential_4_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -1, potential_4_18, 1, 0, 0, potential_4_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -1, potential_4_19, 1, 0, 0, potential_4_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -1, potential_4_20, 1, 0, 0, potential_4_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -1, potential_4_21, 1, 0, 0, potential_4_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -1, potential_4_22, 1, 0, 0, potential_4_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -1, potential_4_23, 1, 0, 0, potential_4_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -1, potential_4_24, 1, 0, 0, potential_4_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -1, potential_4_25, 1, 0, 0, potential_4_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -1, potential_4_26, 1, 0, 0, potential_4_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -1, potential_4_27, 1, 0, 0, potential_4_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -1, potential_4_28, 1, 0, 0, potential_4_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -1, potential_4_29, 1, 0, 0, potential_4_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -1, potential_4_30, 1, 0, 0, potential_4_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -1, potential_4_31, 1, 0, 0, potential_4_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -1, potential_4_32, 1, 0, 0, potential_4_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -1, potential_4_33, 1, 0, 0, potential_4_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -1, potential_4_34, 1, 0, 0, potential_4_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -1, potential_4_35, 1, 0, 0, potential_4_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -1, potential_4_36, 1, 0, 0, potential_4_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -1, potential_4_37, 1, 0, 0, potential_4_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -1, potential_4_38, 1, 0, 0, potential_4_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -1, potential_4_39, 1, 0, 0, potential_4_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -1, potential_4_40, 1, 0, 0, potential_4_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -1, potential_4_41, 1, 0, 0, potential_4_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -1, potential_4_42, 1, 0, 0, potential_4_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -1, potential_4_43, 1, 0, 0, potential_4_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -1, potential_4_44, 1, 0, 0, potential_4_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -1, potential_4_45, 1, 0, 0, potential_4_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -1, potential_4_46, 1, 0, 0, potential_4_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -1, potential_4_47, 1, 0, 0, potential_4_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -1, potential_4_48, 1, 0, 0, potential_4_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -1, potential_4_49, 1, 0, 0, potential_4_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -1, potential_4_50, 1, 0, 0, potential_4_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -1, potential_4_51, 1, 0, 0, potential_4_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -1, potential_4_52, 1, 0, 0, potential_4_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -1, potential_4_53, 1, 0, 0, potential_4_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -1, potential_4_54, 1, 0, 0, potential_4_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -1, potential_4_55, 1, 0, 0, potential_4_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -1, potential_4_56, 1, 0, 0, potential_4_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -1, potential_4_57, 1, 0, 0, potential_4_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, -1, potential_4_58, 1, 0, 0, potential_4_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, 0, potential_4_59, 1, 0, 0, potential_4_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, 0, potential_4_60, 1, 0, 0, potential_4_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, 0, potential_4_61, 1, 0, 0, potential_4_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, potential_4_62, 1, 0, 0, potential_4_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, potential_4_63, 1, 0, 0, potential_4_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, potential_4_64, 1, 0, 0, potential_4_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, potential_4_65, 1, 0, 0, potential_4_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, potential_4_66, 1, 0, 0, potential_4_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, potential_4_67, 1, 0, 0, potential_4_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, potential_4_68, 1, 0, 0, potential_4_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, potential_4_69, 1, 0, 0, potential_4_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, potential_4_70, 1, 0, 0, potential_4_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, potential_4_71, 1, 0, 0, potential_4_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, potential_4_72, 1, 0, 0, potential_4_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, potential_4_73, 1, 0, 0, potential_4_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, potential_4_74, 1, 0, 0, potential_4_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, potential_4_75, 1, 0, 0, potential_4_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, potential_4_76, 1, 0, 0, potential_4_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, potential_4_77, 1, 0, 0, potential_4_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, potential_4_78, 1, 0, 0, potential_4_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, potential_4_79, 1, 0, 0, potential_4_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, potential_4_80, 1, 0, 0, potential_4_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, potential_4_81, 1, 0, 0, potential_4_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, potential_4_82, 1, 0, 0, potential_4_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, potential_4_83, 1, 0, 0, potential_4_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, potential_4_84, 1, 0, 0, potential_4_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, potential_4_85, 1, 0, 0, potential_4_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, potential_4_86, 1, 0, 0, potential_4_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, potential_4_87, 1, 0, 0, potential_4_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, potential_4_88, 1, 0, 0, potential_4_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, potential_4_89, 1, 0, 0, potential_4_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, potential_4_90, 1, 0, 0, potential_4_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, potential_4_91, 1, 0, 0, potential_4_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, potential_4_92, 1, 0, 0, potential_4_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, potential_4_93, 1, 0, 0, potential_4_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, potential_4_94, 1, 0, 0, potential_4_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, potential_4_95, 1, 0, 0, potential_4_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, potential_4_96, 1, 0, 0, potential_4_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, potential_4_97, 1, 0, 0, potential_4_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, potential_4_98, 1, 0, 0, potential_4_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, potential_4_99, 1, 0, 0, potential_4_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, potential_4_100, 1, 0, 0, potential_4_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, potential_4_101, 1, 0, 0, potential_4_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, potential_4_102, 1, 0, 0, potential_4_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, potential_4_103, 1, 0, 0, potential_4_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, potential_4_104, 1, 0, 0, potential_4_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, potential_4_105, 1, 0, 0, potential_4_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, potential_4_106, 1, 0, 0, potential_4_106_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, potential_4_107, 1, 0, 0, potential_4_107_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, potential_4_108, 1, 0, 0, potential_4_108_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, potential_4_109, 1, 0, 0, potential_4_109_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, potential_4_110, 1, 0, 0, potential_4_110_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, potential_4_111, 1, 0, 0, potential_4_111_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, potential_4_112, 1, 0, 0, potential_4_112_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, potential_4_113, 1, 0, 0, potential_4_113_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, potential_4_114, 1, 0, 0, potential_4_114_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, potential_4_115, 1, 0, 0, potential_4_115_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 0, potential_4_116, 1, 0, 0, potential_4_116_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_1, .n = 1, .c_lo = potential_4_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -1, .c = potential_4_2, .n = 1, .c_lo = potential_4_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -1, .c = potential_4_3, .n = 1, .c_lo = potential_4_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = potential_4_4, .n = 1, .c_lo = potential_4_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = potential_4_5, .n = 1, .c_lo = potential_4_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_4_6, .n = 1, .c_lo = potential_4_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_4_7, .n = 1, .c_lo = potential_4_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_4_8, .n = 1, .c_lo = potential_4_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_4_9, .n = 1, .c_lo = potential_4_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = potential_4_10, .n = 1, .c_lo = potential_4_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = potential_4_11, .n = 1, .c_lo = potential_4_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -1, .c = potential_4_12, .n = 1, .c_lo = potential_4_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = potential_4_13, .n = 1, .c_lo = potential_4_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -1, .c = potential_4_14, .n = 1, .c_lo = potential_4_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -1, .c = potential_4_15, .n = 1, .c_lo = potential_4_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -1, .c = potential_4_16, .n = 1, .c_lo = potential_4_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -1, .c = potential_4_17, .n = 1, .c_lo = potential_4_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -1, .c = potential_4_18, .n = 1, .c_lo = potential_4_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -1, .c = potential_4_19, .n = 1, .c_lo = potential_4_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -1, .c = potential_4_20, .n = 1, .c_lo = potential_4_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -1, .c = potential_4_21, .n = 1, .c_lo = potential_4_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -1, .c = potential_4_22, .n = 1, .c_lo = potential_4_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -1, .c = potential_4_23, .n = 1, .c_lo = potential_4_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -1, .c = potential_4_24, .n = 1, .c_lo = potential_4_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -1, .c = potential_4_25, .n = 1, .c_lo = potential_4_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -1, .c = potential_4_26, .n = 1, .c_lo = potential_4_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -1, .c = potential_4_27, .n = 1, .c_lo = potential_4_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -1, .c = potential_4_28, .n = 1, .c_lo = potential_4_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -1, .c = potential_4_29, .n = 1, .c_lo = potential_4_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -1, .c = potential_4_30, .n = 1, .c_lo = potential_4_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -1, .c = potential_4_31, .n = 1, .c_lo = potential_4_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -1, .c = potential_4_32, .n = 1, .c_lo = potential_4_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -1, .c = potential_4_33, .n = 1, .c_lo = potential_4_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -1, .c = potential_4_34, .n = 1, .c_lo = potential_4_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -1, .c = potential_4_35, .n = 1, .c_lo = potential_4_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -1, .c = potential_4_36, .n = 1, .c_lo = potential_4_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -1, .c = potential_4_37, .n = 1, .c_lo = potential_4_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -1, .c = potential_4_38, .n = 1, .c_lo = potential_4_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -1, .c = potential_4_39, .n = 1, .c_lo = potential_4_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -1, .c = potential_4_40, .n = 1, .c_lo = potential_4_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -1, .c = potential_4_41, .n = 1, .c_lo = potential_4_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -1, .c = potential_4_42, .n = 1, .c_lo = potential_4_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -1, .c = potential_4_43, .n = 1, .c_lo = potential_4_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -1, .c = potential_4_44, .n = 1, .c_lo = potential_4_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -1, .c = potential_4_45, .n = 1, .c_lo = potential_4_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -1, .c = potential_4_46, .n = 1, .c_lo = potential_4_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -1, .c = potential_4_47, .n = 1, .c_lo = potential_4_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -1, .c = potential_4_48, .n = 1, .c_lo = potential_4_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -1, .c = potential_4_49, .n = 1, .c_lo = potential_4_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -1, .c = potential_4_50, .n = 1, .c_lo = potential_4_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -1, .c = potential_4_51, .n = 1, .c_lo = potential_4_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -1, .c = potential_4_52, .n = 1, .c_lo = potential_4_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -1, .c = potential_4_53, .n = 1, .c_lo = potential_4_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -1, .c = potential_4_54, .n = 1, .c_lo = potential_4_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -1, .c = potential_4_55, .n = 1, .c_lo = potential_4_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -1, .c = potential_4_56, .n = 1, .c_lo = potential_4_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -1, .c = potential_4_57, .n = 1, .c_lo = potential_4_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = -1, .c = potential_4_58, .n = 1, .c_lo = potential_4_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_4_59, .n = 1, .c_lo = potential_4_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_4_60, .n = 1, .c_lo = potential_4_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_4_61, .n = 1, .c_lo = potential_4_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_4_62, .n = 1, .c_lo = potential_4_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_4_63, .n = 1, .c_lo = potential_4_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_64, .n = 1, .c_lo = potential_4_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_65, .n = 1, .c_lo = potential_4_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_66, .n = 1, .c_lo = potential_4_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_67, .n = 1, .c_lo = potential_4_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_4_68, .n = 1, .c_lo = potential_4_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_4_69, .n = 1, .c_lo = potential_4_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_70, .n = 1, .c_lo = potential_4_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_4_71, .n = 1, .c_lo = potential_4_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_4_72, .n = 1, .c_lo = potential_4_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = potential_4_73, .n = 1, .c_lo = potential_4_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = potential_4_74, .n = 1, .c_lo = potential_4_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = potential_4_75, .n = 1, .c_lo = potential_4_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = potential_4_76, .n = 1, .c_lo = potential_4_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = potential_4_77, .n = 1, .c_lo = potential_4_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = potential_4_78, .n = 1, .c_lo = potential_4_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = potential_4_79, .n = 1, .c_lo = potential_4_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = potential_4_80, .n = 1, .c_lo = potential_4_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = potential_4_81, .n = 1, .c_lo = potential_4_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = potential_4_82, .n = 1, .c_lo = potential_4_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = potential_4_83, .n = 1, .c_lo = potential_4_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = potential_4_84, .n = 1, .c_lo = potential_4_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = potential_4_85, .n = 1, .c_lo = potential_4_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = potential_4_86, .n = 1, .c_lo = potential_4_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = potential_4_87, .n = 1, .c_lo = potential_4_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = potential_4_88, .n = 1, .c_lo = potential_4_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = potential_4_89, .n = 1, .c_lo = potential_4_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = potential_4_90, .n = 1, .c_lo = potential_4_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = potential_4_91, .n = 1, .c_lo = potential_4_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = potential_4_92, .n = 1, .c_lo = potential_4_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = potential_4_93, .n = 1, .c_lo = potential_4_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = potential_4_94, .n = 1, .c_lo = potential_4_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = potential_4_95, .n = 1, .c_lo = potential_4_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = potential_4_96, .n = 1, .c_lo = potential_4_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = potential_4_97, .n = 1, .c_lo = potential_4_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = potential_4_98, .n = 1, .c_lo = potential_4_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = potential_4_99, .n = 1, .c_lo = potential_4_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = potential_4_100, .n = 1, .c_lo = potential_4_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = potential_4_101, .n = 1, .c_lo = potential_4_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = potential_4_102, .n = 1, .c_lo = potential_4_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = potential_4_103, .n = 1, .c_lo = potential_4_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = potential_4_104, .n = 1, .c_lo = potential_4_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = potential_4_105, .n = 1, .c_lo = potential_4_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = potential_4_106, .n = 1, .c_lo = potential_4_106_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = potential_4_107, .n = 1, .c_lo = potential_4_107_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = potential_4_108, .n = 1, .c_lo = potential_4_108_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = potential_4_109, .n = 1, .c_lo = potential_4_109_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = potential_4_110, .n = 1, .c_lo = potential_4_110_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = potential_4_111, .n = 1, .c_lo = potential_4_111_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = potential_4_112, .n = 1, .c_lo = potential_4_112_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = potential_4_113, .n = 1, .c_lo = potential_4_113_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = potential_4_114, .n = 1, .c_lo = potential_4_114_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = potential_4_115, .n = 1, .c_lo = potential_4_115_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 0, .c = potential_4_116, .n = 1, .c_lo = potential_4_116_lo},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5364,15 +5364,15 @@ inline constexpr double potential_5_0_lo[] = {
     0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.2e-19 relative (series.hpp)
-    {0x1p-2, 0x1.a8p-2, potential_1, 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^39, truncation < 4.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-2, 0x1.5p-1, potential_2, 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^41, truncation < 6.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.5p-1, 0x1.8p-1, potential_3, 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^38, truncation < 5.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, potential_4, 117},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^115, truncation < 1.8e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 2},  // [0, 1/4), series at 0 up to r^30, truncation < 2.2e-19 relative (series.hpp)
+    {.lo = 0x1p-2, .hi = 0x1.a8p-2, .terms = potential_1, .nterms = 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^39, truncation < 4.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-2, .hi = 0x1.5p-1, .terms = potential_2, .nterms = 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^41, truncation < 6.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.5p-1, .hi = 0x1.8p-1, .terms = potential_3, .nterms = 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^38, truncation < 5.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 117},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^115, truncation < 1.8e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.1a9a65c6d03fp+1,  // 2288/105 * pi^-2
@@ -5401,8 +5401,8 @@ inline constexpr double dpotential_0_1_lo[] = {
     0x1.93a6edd004c76p-46, -0x1.9594cf8d0b8bp-48, -0x1.a7105bf227422p-53,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dpotential_0_0, 11, 0, 0, dpotential_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 7, dpotential_0_1, 3, 0, 0, dpotential_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 11, .c_lo = dpotential_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 7, .c = dpotential_0_1, .n = 3, .c_lo = dpotential_0_1_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.38fd7caf045efp-2,  // 8949924582207003333367/1380445609266284531250000 * pi^-2 + (-5896107031263845548032/595728015903604931640625 * pi^-2) * log(12) + (21025/1152 * pi^-2) * arcsin(24/145)
@@ -5464,7 +5464,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.f5040800529d5p+2, 0x1.aa1ffe2a28911p+12, -0x1.acc5ab8106cb6p+15, 0x1.33e0bfeead665p+16,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dpotential_1_0, 44, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.84d3939f114a6p-2,  // 1819051998730506/667572021484375 * pi^-2 + (-3857846498005171/9536743164062500 * pi^-2) * log(7) + (625/98 * pi^-2) * arcsin(7/25)
@@ -5524,7 +5524,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.77c95f9ae5e72p-18, 0x1.b13fe9fa0354dp-19,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dpotential_2_0, 42, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.34e4174b482d9p-2,  // 5625274081636215/225791316850288 * pi^-2 + (-569659187265536/34271896307633 * pi^-2) * log(4) + (289/128 * pi^-2) * arcsin(8/17)
@@ -5589,7 +5589,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.03fd7c19cdde1p-39, 0x1.1412f457c58p-43,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, dpotential_3_0, 46, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.54cf539529a33p-3,  // 4260848269669645059/16828289332008040 * pi^-2 + (-3360109644800000000/12200509765705829 * pi^-2) * log(5/2) + (841/800 * pi^-2) * arcsin(20/29)
@@ -5654,7 +5654,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     0x1.18af0794ef90bp-25, -0x1.ad9e9ad4fba92p-23,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, dpotential_4_0, 46, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6299,113 +6299,113 @@ inline constexpr double dpotential_5_106_lo[] = {
     0x1.c5ff20152892dp-75,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -2, dpotential_5_1, 1, 0, 0, dpotential_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -2, dpotential_5_2, 1, 0, 0, dpotential_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -2, dpotential_5_3, 1, 0, 0, dpotential_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -2, dpotential_5_4, 1, 0, 0, dpotential_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -2, dpotential_5_5, 1, 0, 0, dpotential_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -2, dpotential_5_6, 1, 0, 0, dpotential_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -2, dpotential_5_7, 1, 0, 0, dpotential_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -2, dpotential_5_8, 1, 0, 0, dpotential_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -2, dpotential_5_9, 1, 0, 0, dpotential_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -2, dpotential_5_10, 1, 0, 0, dpotential_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -2, dpotential_5_11, 1, 0, 0, dpotential_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -2, dpotential_5_12, 1, 0, 0, dpotential_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -2, dpotential_5_13, 1, 0, 0, dpotential_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -2, dpotential_5_14, 1, 0, 0, dpotential_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -2, dpotential_5_15, 1, 0, 0, dpotential_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -2, dpotential_5_16, 1, 0, 0, dpotential_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -2, dpotential_5_17, 1, 0, 0, dpotential_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -2, dpotential_5_18, 1, 0, 0, dpotential_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -2, dpotential_5_19, 1, 0, 0, dpotential_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -2, dpotential_5_20, 1, 0, 0, dpotential_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -2, dpotential_5_21, 1, 0, 0, dpotential_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -2, dpotential_5_22, 1, 0, 0, dpotential_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -2, dpotential_5_23, 1, 0, 0, dpotential_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -2, dpotential_5_24, 1, 0, 0, dpotential_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -2, dpotential_5_25, 1, 0, 0, dpotential_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -2, dpotential_5_26, 1, 0, 0, dpotential_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -2, dpotential_5_27, 1, 0, 0, dpotential_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -2, dpotential_5_28, 1, 0, 0, dpotential_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -2, dpotential_5_29, 1, 0, 0, dpotential_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -2, dpotential_5_30, 1, 0, 0, dpotential_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -2, dpotential_5_31, 1, 0, 0, dpotential_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -2, dpotential_5_32, 1, 0, 0, dpotential_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -2, dpotential_5_33, 1, 0, 0, dpotential_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -2, dpotential_5_34, 1, 0, 0, dpotential_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -2, dpotential_5_35, 1, 0, 0, dpotential_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -2, dpotential_5_36, 1, 0, 0, dpotential_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -2, dpotential_5_37, 1, 0, 0, dpotential_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -2, dpotential_5_38, 1, 0, 0, dpotential_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -2, dpotential_5_39, 1, 0, 0, dpotential_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -2, dpotential_5_40, 1, 0, 0, dpotential_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -2, dpotential_5_41, 1, 0, 0, dpotential_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -2, dpotential_5_42, 1, 0, 0, dpotential_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -2, dpotential_5_43, 1, 0, 0, dpotential_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -2, dpotential_5_44, 1, 0, 0, dpotential_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -2, dpotential_5_45, 1, 0, 0, dpotential_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -2, dpotential_5_46, 1, 0, 0, dpotential_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -2, dpotential_5_47, 1, 0, 0, dpotential_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -2, dpotential_5_48, 1, 0, 0, dpotential_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -2, dpotential_5_49, 1, 0, 0, dpotential_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -2, dpotential_5_50, 1, 0, 0, dpotential_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -2, dpotential_5_51, 1, 0, 0, dpotential_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -2, dpotential_5_52, 1, 0, 0, dpotential_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -2, dpotential_5_53, 1, 0, 0, dpotential_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -1, dpotential_5_54, 1, 0, 0, dpotential_5_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -1, dpotential_5_55, 1, 0, 0, dpotential_5_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -1, dpotential_5_56, 1, 0, 0, dpotential_5_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -1, dpotential_5_57, 1, 0, 0, dpotential_5_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -1, dpotential_5_58, 1, 0, 0, dpotential_5_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -1, dpotential_5_59, 1, 0, 0, dpotential_5_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -1, dpotential_5_60, 1, 0, 0, dpotential_5_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -1, dpotential_5_61, 1, 0, 0, dpotential_5_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -1, dpotential_5_62, 1, 0, 0, dpotential_5_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -1, dpotential_5_63, 1, 0, 0, dpotential_5_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -1, dpotential_5_64, 1, 0, 0, dpotential_5_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -1, dpotential_5_65, 1, 0, 0, dpotential_5_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -1, dpotential_5_66, 1, 0, 0, dpotential_5_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -1, dpotential_5_67, 1, 0, 0, dpotential_5_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -1, dpotential_5_68, 1, 0, 0, dpotential_5_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -1, dpotential_5_69, 1, 0, 0, dpotential_5_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -1, dpotential_5_70, 1, 0, 0, dpotential_5_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -1, dpotential_5_71, 1, 0, 0, dpotential_5_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -1, dpotential_5_72, 1, 0, 0, dpotential_5_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -1, dpotential_5_73, 1, 0, 0, dpotential_5_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -1, dpotential_5_74, 1, 0, 0, dpotential_5_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -1, dpotential_5_75, 1, 0, 0, dpotential_5_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -1, dpotential_5_76, 1, 0, 0, dpotential_5_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -1, dpotential_5_77, 1, 0, 0, dpotential_5_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -1, dpotential_5_78, 1, 0, 0, dpotential_5_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -1, dpotential_5_79, 1, 0, 0, dpotential_5_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -1, dpotential_5_80, 1, 0, 0, dpotential_5_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -1, dpotential_5_81, 1, 0, 0, dpotential_5_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -1, dpotential_5_82, 1, 0, 0, dpotential_5_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -1, dpotential_5_83, 1, 0, 0, dpotential_5_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -1, dpotential_5_84, 1, 0, 0, dpotential_5_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -1, dpotential_5_85, 1, 0, 0, dpotential_5_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -1, dpotential_5_86, 1, 0, 0, dpotential_5_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -1, dpotential_5_87, 1, 0, 0, dpotential_5_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -1, dpotential_5_88, 1, 0, 0, dpotential_5_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -1, dpotential_5_89, 1, 0, 0, dpotential_5_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -1, dpotential_5_90, 1, 0, 0, dpotential_5_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -1, dpotential_5_91, 1, 0, 0, dpotential_5_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -1, dpotential_5_92, 1, 0, 0, dpotential_5_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -1, dpotential_5_93, 1, 0, 0, dpotential_5_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -1, dpotential_5_94, 1, 0, 0, dpotential_5_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -1, dpotential_5_95, 1, 0, 0, dpotential_5_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -1, dpotential_5_96, 1, 0, 0, dpotential_5_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -1, dpotential_5_97, 1, 0, 0, dpotential_5_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -1, dpotential_5_98, 1, 0, 0, dpotential_5_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -1, dpotential_5_99, 1, 0, 0, dpotential_5_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -1, dpotential_5_100, 1, 0, 0, dpotential_5_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -1, dpotential_5_101, 1, 0, 0, dpotential_5_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -1, dpotential_5_102, 1, 0, 0, dpotential_5_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -1, dpotential_5_103, 1, 0, 0, dpotential_5_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -1, dpotential_5_104, 1, 0, 0, dpotential_5_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -1, dpotential_5_105, 1, 0, 0, dpotential_5_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -1, dpotential_5_106, 1, 0, 0, dpotential_5_106_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_5_1, .n = 1, .c_lo = dpotential_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -2, .c = dpotential_5_2, .n = 1, .c_lo = dpotential_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = dpotential_5_3, .n = 1, .c_lo = dpotential_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -2, .c = dpotential_5_4, .n = 1, .c_lo = dpotential_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_5_5, .n = 1, .c_lo = dpotential_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_5_6, .n = 1, .c_lo = dpotential_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_5_7, .n = 1, .c_lo = dpotential_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_5_8, .n = 1, .c_lo = dpotential_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -2, .c = dpotential_5_9, .n = 1, .c_lo = dpotential_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_5_10, .n = 1, .c_lo = dpotential_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -2, .c = dpotential_5_11, .n = 1, .c_lo = dpotential_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_5_12, .n = 1, .c_lo = dpotential_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -2, .c = dpotential_5_13, .n = 1, .c_lo = dpotential_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -2, .c = dpotential_5_14, .n = 1, .c_lo = dpotential_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -2, .c = dpotential_5_15, .n = 1, .c_lo = dpotential_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -2, .c = dpotential_5_16, .n = 1, .c_lo = dpotential_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -2, .c = dpotential_5_17, .n = 1, .c_lo = dpotential_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -2, .c = dpotential_5_18, .n = 1, .c_lo = dpotential_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -2, .c = dpotential_5_19, .n = 1, .c_lo = dpotential_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -2, .c = dpotential_5_20, .n = 1, .c_lo = dpotential_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -2, .c = dpotential_5_21, .n = 1, .c_lo = dpotential_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -2, .c = dpotential_5_22, .n = 1, .c_lo = dpotential_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -2, .c = dpotential_5_23, .n = 1, .c_lo = dpotential_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -2, .c = dpotential_5_24, .n = 1, .c_lo = dpotential_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -2, .c = dpotential_5_25, .n = 1, .c_lo = dpotential_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -2, .c = dpotential_5_26, .n = 1, .c_lo = dpotential_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -2, .c = dpotential_5_27, .n = 1, .c_lo = dpotential_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -2, .c = dpotential_5_28, .n = 1, .c_lo = dpotential_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -2, .c = dpotential_5_29, .n = 1, .c_lo = dpotential_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -2, .c = dpotential_5_30, .n = 1, .c_lo = dpotential_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -2, .c = dpotential_5_31, .n = 1, .c_lo = dpotential_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -2, .c = dpotential_5_32, .n = 1, .c_lo = dpotential_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -2, .c = dpotential_5_33, .n = 1, .c_lo = dpotential_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -2, .c = dpotential_5_34, .n = 1, .c_lo = dpotential_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -2, .c = dpotential_5_35, .n = 1, .c_lo = dpotential_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -2, .c = dpotential_5_36, .n = 1, .c_lo = dpotential_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -2, .c = dpotential_5_37, .n = 1, .c_lo = dpotential_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -2, .c = dpotential_5_38, .n = 1, .c_lo = dpotential_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -2, .c = dpotential_5_39, .n = 1, .c_lo = dpotential_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -2, .c = dpotential_5_40, .n = 1, .c_lo = dpotential_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -2, .c = dpotential_5_41, .n = 1, .c_lo = dpotential_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -2, .c = dpotential_5_42, .n = 1, .c_lo = dpotential_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -2, .c = dpotential_5_43, .n = 1, .c_lo = dpotential_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -2, .c = dpotential_5_44, .n = 1, .c_lo = dpotential_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -2, .c = dpotential_5_45, .n = 1, .c_lo = dpotential_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -2, .c = dpotential_5_46, .n = 1, .c_lo = dpotential_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -2, .c = dpotential_5_47, .n = 1, .c_lo = dpotential_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -2, .c = dpotential_5_48, .n = 1, .c_lo = dpotential_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -2, .c = dpotential_5_49, .n = 1, .c_lo = dpotential_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -2, .c = dpotential_5_50, .n = 1, .c_lo = dpotential_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -2, .c = dpotential_5_51, .n = 1, .c_lo = dpotential_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -2, .c = dpotential_5_52, .n = 1, .c_lo = dpotential_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -2, .c = dpotential_5_53, .n = 1, .c_lo = dpotential_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_5_54, .n = 1, .c_lo = dpotential_5_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -1, .c = dpotential_5_55, .n = 1, .c_lo = dpotential_5_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -1, .c = dpotential_5_56, .n = 1, .c_lo = dpotential_5_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = dpotential_5_57, .n = 1, .c_lo = dpotential_5_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_5_58, .n = 1, .c_lo = dpotential_5_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_5_59, .n = 1, .c_lo = dpotential_5_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_5_60, .n = 1, .c_lo = dpotential_5_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_5_61, .n = 1, .c_lo = dpotential_5_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_5_62, .n = 1, .c_lo = dpotential_5_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_5_63, .n = 1, .c_lo = dpotential_5_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_5_64, .n = 1, .c_lo = dpotential_5_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -1, .c = dpotential_5_65, .n = 1, .c_lo = dpotential_5_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = dpotential_5_66, .n = 1, .c_lo = dpotential_5_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -1, .c = dpotential_5_67, .n = 1, .c_lo = dpotential_5_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -1, .c = dpotential_5_68, .n = 1, .c_lo = dpotential_5_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -1, .c = dpotential_5_69, .n = 1, .c_lo = dpotential_5_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -1, .c = dpotential_5_70, .n = 1, .c_lo = dpotential_5_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -1, .c = dpotential_5_71, .n = 1, .c_lo = dpotential_5_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -1, .c = dpotential_5_72, .n = 1, .c_lo = dpotential_5_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -1, .c = dpotential_5_73, .n = 1, .c_lo = dpotential_5_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -1, .c = dpotential_5_74, .n = 1, .c_lo = dpotential_5_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -1, .c = dpotential_5_75, .n = 1, .c_lo = dpotential_5_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -1, .c = dpotential_5_76, .n = 1, .c_lo = dpotential_5_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -1, .c = dpotential_5_77, .n = 1, .c_lo = dpotential_5_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -1, .c = dpotential_5_78, .n = 1, .c_lo = dpotential_5_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -1, .c = dpotential_5_79, .n = 1, .c_lo = dpotential_5_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -1, .c = dpotential_5_80, .n = 1, .c_lo = dpotential_5_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -1, .c = dpotential_5_81, .n = 1, .c_lo = dpotential_5_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -1, .c = dpotential_5_82, .n = 1, .c_lo = dpotential_5_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -1, .c = dpotential_5_83, .n = 1, .c_lo = dpotential_5_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -1, .c = dpotential_5_84, .n = 1, .c_lo = dpotential_5_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -1, .c = dpotential_5_85, .n = 1, .c_lo = dpotential_5_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -1, .c = dpotential_5_86, .n = 1, .c_lo = dpotential_5_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -1, .c = dpotential_5_87, .n = 1, .c_lo = dpotential_5_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -1, .c = dpotential_5_88, .n = 1, .c_lo = dpotential_5_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -1, .c = dpotential_5_89, .n = 1, .c_lo = dpotential_5_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -1, .c = dpotential_5_90, .n = 1, .c_lo = dpotential_5_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -1, .c = dpotential_5_91, .n = 1, .c_lo = dpotential_5_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -1, .c = dpotential_5_92, .n = 1, .c_lo = dpotential_5_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -1, .c = dpotential_5_93, .n = 1, .c_lo = dpotential_5_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -1, .c = dpotential_5_94, .n = 1, .c_lo = dpotential_5_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -1, .c = dpotential_5_95, .n = 1, .c_lo = dpotential_5_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -1, .c = dpotential_5_96, .n = 1, .c_lo = dpotential_5_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -1, .c = dpotential_5_97, .n = 1, .c_lo = dpotential_5_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -1, .c = dpotential_5_98, .n = 1, .c_lo = dpotential_5_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -1, .c = dpotential_5_99, .n = 1, .c_lo = dpotential_5_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -1, .c = dpotential_5_100, .n = 1, .c_lo = dpotential_5_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -1, .c = dpotential_5_101, .n = 1, .c_lo = dpotential_5_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -1, .c = dpotential_5_102, .n = 1, .c_lo = dpotential_5_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -1, .c = dpotential_5_103, .n = 1, .c_lo = dpotential_5_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -1, .c = dpotential_5_104, .n = 1, .c_lo = dpotential_5_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -1, .c = dpotential_5_105, .n = 1, .c_lo = dpotential_5_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -1, .c = dpotential_5_106, .n = 1, .c_lo = dpotential_5_106_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6414,16 +6414,16 @@ inline constexpr double dpotential_6_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 9.1e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dpotential_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^43, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dpotential_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 9.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dpotential_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 5.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, dpotential_4, 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^45, truncation < 6.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, dpotential_5, 107},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^105, truncation < 2.1e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, dpotential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^21, truncation < 9.1e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dpotential_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^43, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dpotential_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 9.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dpotential_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 5.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = dpotential_4, .nterms = 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^45, truncation < 6.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = dpotential_5, .nterms = 107},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^105, truncation < 2.1e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.1a9a65c6d03fp+1,  // 2288/105 * pi^-2
@@ -6452,8 +6452,8 @@ inline constexpr double dpotential_over_r_0_1_lo[] = {
     0x1.93a6edd004c76p-46, -0x1.9594cf8d0b8bp-48, -0x1.a7105bf227422p-53,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, dpotential_over_r_0_0, 11, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 6, dpotential_over_r_0_1, 3, 0, 0, dpotential_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 11, .c_lo = dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 6, .c = dpotential_over_r_0_1, .n = 3, .c_lo = dpotential_over_r_0_1_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.d8bedefdae9a2p+0,  // 8949924582207003333367/228487549119936750000000 * pi^-2 + (-245671126302660231168/4108469075197275390625 * pi^-2) * log(12) + (3048625/27648 * pi^-2) * arcsin(24/145)
@@ -6519,7 +6519,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.e5bb4ef62ceb1p+20, 0x1.fde6af7212b95p+27, -0x1.45156e07ec706p+28,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dpotential_over_r_1_0, 47, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.5b2a9f3bbd27p+0,  // 1819051998730506/186920166015625 * pi^-2 + (-551120928286453/381469726562500 * pi^-2) * log(7) + (15625/686 * pi^-2) * arcsin(7/25)
@@ -6583,7 +6583,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.c54c925219ba8p-5,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dpotential_over_r_2_0, 45, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.483258bffcb07p-1,  // 5625274081636215/106254737341312 * pi^-2 + (-71207398408192/2015993900449 * pi^-2) * log(4) + (4913/1024 * pi^-2) * arcsin(8/17)
@@ -6648,7 +6648,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.d12a2fff7e216p-33, 0x1.ba0c8209714dp-32,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, dpotential_over_r_3_0, 46, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.ee2c9f98492c9p-3,  // 4260848269669645059/11605716780695200 * pi^-2 + (-168005482240000000/420707233300201 * pi^-2) * log(5/2) + (24389/16000 * pi^-2) * arcsin(20/29)
@@ -6712,7 +6712,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     0x1.de3ad239ac0cdp-25,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, dpotential_over_r_4_0, 45, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 45, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -7357,113 +7357,113 @@ inline constexpr double dpotential_over_r_5_106_lo[] = {
     0x1.c5ff20152892dp-75,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -3, dpotential_over_r_5_1, 1, 0, 0, dpotential_over_r_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -3, dpotential_over_r_5_2, 1, 0, 0, dpotential_over_r_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -3, dpotential_over_r_5_3, 1, 0, 0, dpotential_over_r_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -3, dpotential_over_r_5_4, 1, 0, 0, dpotential_over_r_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -3, dpotential_over_r_5_5, 1, 0, 0, dpotential_over_r_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -3, dpotential_over_r_5_6, 1, 0, 0, dpotential_over_r_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -3, dpotential_over_r_5_7, 1, 0, 0, dpotential_over_r_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -3, dpotential_over_r_5_8, 1, 0, 0, dpotential_over_r_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -3, dpotential_over_r_5_9, 1, 0, 0, dpotential_over_r_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -3, dpotential_over_r_5_10, 1, 0, 0, dpotential_over_r_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -3, dpotential_over_r_5_11, 1, 0, 0, dpotential_over_r_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -3, dpotential_over_r_5_12, 1, 0, 0, dpotential_over_r_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -3, dpotential_over_r_5_13, 1, 0, 0, dpotential_over_r_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -3, dpotential_over_r_5_14, 1, 0, 0, dpotential_over_r_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -3, dpotential_over_r_5_15, 1, 0, 0, dpotential_over_r_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -3, dpotential_over_r_5_16, 1, 0, 0, dpotential_over_r_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -3, dpotential_over_r_5_17, 1, 0, 0, dpotential_over_r_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -3, dpotential_over_r_5_18, 1, 0, 0, dpotential_over_r_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -3, dpotential_over_r_5_19, 1, 0, 0, dpotential_over_r_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -3, dpotential_over_r_5_20, 1, 0, 0, dpotential_over_r_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -3, dpotential_over_r_5_21, 1, 0, 0, dpotential_over_r_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -3, dpotential_over_r_5_22, 1, 0, 0, dpotential_over_r_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -3, dpotential_over_r_5_23, 1, 0, 0, dpotential_over_r_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -3, dpotential_over_r_5_24, 1, 0, 0, dpotential_over_r_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -3, dpotential_over_r_5_25, 1, 0, 0, dpotential_over_r_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -3, dpotential_over_r_5_26, 1, 0, 0, dpotential_over_r_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -3, dpotential_over_r_5_27, 1, 0, 0, dpotential_over_r_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -3, dpotential_over_r_5_28, 1, 0, 0, dpotential_over_r_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -3, dpotential_over_r_5_29, 1, 0, 0, dpotential_over_r_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -3, dpotential_over_r_5_30, 1, 0, 0, dpotential_over_r_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -3, dpotential_over_r_5_31, 1, 0, 0, dpotential_over_r_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -3, dpotential_over_r_5_32, 1, 0, 0, dpotential_over_r_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -3, dpotential_over_r_5_33, 1, 0, 0, dpotential_over_r_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -3, dpotential_over_r_5_34, 1, 0, 0, dpotential_over_r_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -3, dpotential_over_r_5_35, 1, 0, 0, dpotential_over_r_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -3, dpotential_over_r_5_36, 1, 0, 0, dpotential_over_r_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -3, dpotential_over_r_5_37, 1, 0, 0, dpotential_over_r_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -3, dpotential_over_r_5_38, 1, 0, 0, dpotential_over_r_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -3, dpotential_over_r_5_39, 1, 0, 0, dpotential_over_r_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -3, dpotential_over_r_5_40, 1, 0, 0, dpotential_over_r_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -3, dpotential_over_r_5_41, 1, 0, 0, dpotential_over_r_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -3, dpotential_over_r_5_42, 1, 0, 0, dpotential_over_r_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -3, dpotential_over_r_5_43, 1, 0, 0, dpotential_over_r_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -3, dpotential_over_r_5_44, 1, 0, 0, dpotential_over_r_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -3, dpotential_over_r_5_45, 1, 0, 0, dpotential_over_r_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -3, dpotential_over_r_5_46, 1, 0, 0, dpotential_over_r_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -3, dpotential_over_r_5_47, 1, 0, 0, dpotential_over_r_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -3, dpotential_over_r_5_48, 1, 0, 0, dpotential_over_r_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -3, dpotential_over_r_5_49, 1, 0, 0, dpotential_over_r_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -3, dpotential_over_r_5_50, 1, 0, 0, dpotential_over_r_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -3, dpotential_over_r_5_51, 1, 0, 0, dpotential_over_r_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -3, dpotential_over_r_5_52, 1, 0, 0, dpotential_over_r_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -3, dpotential_over_r_5_53, 1, 0, 0, dpotential_over_r_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_5_54, 1, 0, 0, dpotential_over_r_5_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -2, dpotential_over_r_5_55, 1, 0, 0, dpotential_over_r_5_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -2, dpotential_over_r_5_56, 1, 0, 0, dpotential_over_r_5_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -2, dpotential_over_r_5_57, 1, 0, 0, dpotential_over_r_5_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -2, dpotential_over_r_5_58, 1, 0, 0, dpotential_over_r_5_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -2, dpotential_over_r_5_59, 1, 0, 0, dpotential_over_r_5_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -2, dpotential_over_r_5_60, 1, 0, 0, dpotential_over_r_5_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -2, dpotential_over_r_5_61, 1, 0, 0, dpotential_over_r_5_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -2, dpotential_over_r_5_62, 1, 0, 0, dpotential_over_r_5_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -2, dpotential_over_r_5_63, 1, 0, 0, dpotential_over_r_5_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -2, dpotential_over_r_5_64, 1, 0, 0, dpotential_over_r_5_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -2, dpotential_over_r_5_65, 1, 0, 0, dpotential_over_r_5_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -2, dpotential_over_r_5_66, 1, 0, 0, dpotential_over_r_5_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -2, dpotential_over_r_5_67, 1, 0, 0, dpotential_over_r_5_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -2, dpotential_over_r_5_68, 1, 0, 0, dpotential_over_r_5_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -2, dpotential_over_r_5_69, 1, 0, 0, dpotential_over_r_5_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -2, dpotential_over_r_5_70, 1, 0, 0, dpotential_over_r_5_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -2, dpotential_over_r_5_71, 1, 0, 0, dpotential_over_r_5_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -2, dpotential_over_r_5_72, 1, 0, 0, dpotential_over_r_5_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -2, dpotential_over_r_5_73, 1, 0, 0, dpotential_over_r_5_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -2, dpotential_over_r_5_74, 1, 0, 0, dpotential_over_r_5_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -2, dpotential_over_r_5_75, 1, 0, 0, dpotential_over_r_5_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -2, dpotential_over_r_5_76, 1, 0, 0, dpotential_over_r_5_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -2, dpotential_over_r_5_77, 1, 0, 0, dpotential_over_r_5_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -2, dpotential_over_r_5_78, 1, 0, 0, dpotential_over_r_5_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -2, dpotential_over_r_5_79, 1, 0, 0, dpotential_over_r_5_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -2, dpotential_over_r_5_80, 1, 0, 0, dpotential_over_r_5_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -2, dpotential_over_r_5_81, 1, 0, 0, dpotential_over_r_5_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -2, dpotential_over_r_5_82, 1, 0, 0, dpotential_over_r_5_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -2, dpotential_over_r_5_83, 1, 0, 0, dpotential_over_r_5_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -2, dpotential_over_r_5_84, 1, 0, 0, dpotential_over_r_5_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -2, dpotential_over_r_5_85, 1, 0, 0, dpotential_over_r_5_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -2, dpotential_over_r_5_86, 1, 0, 0, dpotential_over_r_5_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -2, dpotential_over_r_5_87, 1, 0, 0, dpotential_over_r_5_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -2, dpotential_over_r_5_88, 1, 0, 0, dpotential_over_r_5_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -2, dpotential_over_r_5_89, 1, 0, 0, dpotential_over_r_5_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -2, dpotential_over_r_5_90, 1, 0, 0, dpotential_over_r_5_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -2, dpotential_over_r_5_91, 1, 0, 0, dpotential_over_r_5_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -2, dpotential_over_r_5_92, 1, 0, 0, dpotential_over_r_5_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -2, dpotential_over_r_5_93, 1, 0, 0, dpotential_over_r_5_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -2, dpotential_over_r_5_94, 1, 0, 0, dpotential_over_r_5_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -2, dpotential_over_r_5_95, 1, 0, 0, dpotential_over_r_5_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -2, dpotential_over_r_5_96, 1, 0, 0, dpotential_over_r_5_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -2, dpotential_over_r_5_97, 1, 0, 0, dpotential_over_r_5_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -2, dpotential_over_r_5_98, 1, 0, 0, dpotential_over_r_5_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -2, dpotential_over_r_5_99, 1, 0, 0, dpotential_over_r_5_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -2, dpotential_over_r_5_100, 1, 0, 0, dpotential_over_r_5_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -2, dpotential_over_r_5_101, 1, 0, 0, dpotential_over_r_5_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -2, dpotential_over_r_5_102, 1, 0, 0, dpotential_over_r_5_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -2, dpotential_over_r_5_103, 1, 0, 0, dpotential_over_r_5_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -2, dpotential_over_r_5_104, 1, 0, 0, dpotential_over_r_5_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -2, dpotential_over_r_5_105, 1, 0, 0, dpotential_over_r_5_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -2, dpotential_over_r_5_106, 1, 0, 0, dpotential_over_r_5_106_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_1, .n = 1, .c_lo = dpotential_over_r_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -3, .c = dpotential_over_r_5_2, .n = 1, .c_lo = dpotential_over_r_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = dpotential_over_r_5_3, .n = 1, .c_lo = dpotential_over_r_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = dpotential_over_r_5_4, .n = 1, .c_lo = dpotential_over_r_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_5_5, .n = 1, .c_lo = dpotential_over_r_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_5_6, .n = 1, .c_lo = dpotential_over_r_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -3, .c = dpotential_over_r_5_7, .n = 1, .c_lo = dpotential_over_r_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -3, .c = dpotential_over_r_5_8, .n = 1, .c_lo = dpotential_over_r_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -3, .c = dpotential_over_r_5_9, .n = 1, .c_lo = dpotential_over_r_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -3, .c = dpotential_over_r_5_10, .n = 1, .c_lo = dpotential_over_r_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -3, .c = dpotential_over_r_5_11, .n = 1, .c_lo = dpotential_over_r_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -3, .c = dpotential_over_r_5_12, .n = 1, .c_lo = dpotential_over_r_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -3, .c = dpotential_over_r_5_13, .n = 1, .c_lo = dpotential_over_r_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -3, .c = dpotential_over_r_5_14, .n = 1, .c_lo = dpotential_over_r_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -3, .c = dpotential_over_r_5_15, .n = 1, .c_lo = dpotential_over_r_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -3, .c = dpotential_over_r_5_16, .n = 1, .c_lo = dpotential_over_r_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -3, .c = dpotential_over_r_5_17, .n = 1, .c_lo = dpotential_over_r_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -3, .c = dpotential_over_r_5_18, .n = 1, .c_lo = dpotential_over_r_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -3, .c = dpotential_over_r_5_19, .n = 1, .c_lo = dpotential_over_r_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -3, .c = dpotential_over_r_5_20, .n = 1, .c_lo = dpotential_over_r_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -3, .c = dpotential_over_r_5_21, .n = 1, .c_lo = dpotential_over_r_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -3, .c = dpotential_over_r_5_22, .n = 1, .c_lo = dpotential_over_r_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -3, .c = dpotential_over_r_5_23, .n = 1, .c_lo = dpotential_over_r_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -3, .c = dpotential_over_r_5_24, .n = 1, .c_lo = dpotential_over_r_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -3, .c = dpotential_over_r_5_25, .n = 1, .c_lo = dpotential_over_r_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -3, .c = dpotential_over_r_5_26, .n = 1, .c_lo = dpotential_over_r_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -3, .c = dpotential_over_r_5_27, .n = 1, .c_lo = dpotential_over_r_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -3, .c = dpotential_over_r_5_28, .n = 1, .c_lo = dpotential_over_r_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -3, .c = dpotential_over_r_5_29, .n = 1, .c_lo = dpotential_over_r_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -3, .c = dpotential_over_r_5_30, .n = 1, .c_lo = dpotential_over_r_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -3, .c = dpotential_over_r_5_31, .n = 1, .c_lo = dpotential_over_r_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -3, .c = dpotential_over_r_5_32, .n = 1, .c_lo = dpotential_over_r_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -3, .c = dpotential_over_r_5_33, .n = 1, .c_lo = dpotential_over_r_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -3, .c = dpotential_over_r_5_34, .n = 1, .c_lo = dpotential_over_r_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -3, .c = dpotential_over_r_5_35, .n = 1, .c_lo = dpotential_over_r_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -3, .c = dpotential_over_r_5_36, .n = 1, .c_lo = dpotential_over_r_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -3, .c = dpotential_over_r_5_37, .n = 1, .c_lo = dpotential_over_r_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -3, .c = dpotential_over_r_5_38, .n = 1, .c_lo = dpotential_over_r_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -3, .c = dpotential_over_r_5_39, .n = 1, .c_lo = dpotential_over_r_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -3, .c = dpotential_over_r_5_40, .n = 1, .c_lo = dpotential_over_r_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -3, .c = dpotential_over_r_5_41, .n = 1, .c_lo = dpotential_over_r_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -3, .c = dpotential_over_r_5_42, .n = 1, .c_lo = dpotential_over_r_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -3, .c = dpotential_over_r_5_43, .n = 1, .c_lo = dpotential_over_r_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -3, .c = dpotential_over_r_5_44, .n = 1, .c_lo = dpotential_over_r_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -3, .c = dpotential_over_r_5_45, .n = 1, .c_lo = dpotential_over_r_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -3, .c = dpotential_over_r_5_46, .n = 1, .c_lo = dpotential_over_r_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -3, .c = dpotential_over_r_5_47, .n = 1, .c_lo = dpotential_over_r_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -3, .c = dpotential_over_r_5_48, .n = 1, .c_lo = dpotential_over_r_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -3, .c = dpotential_over_r_5_49, .n = 1, .c_lo = dpotential_over_r_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -3, .c = dpotential_over_r_5_50, .n = 1, .c_lo = dpotential_over_r_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -3, .c = dpotential_over_r_5_51, .n = 1, .c_lo = dpotential_over_r_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -3, .c = dpotential_over_r_5_52, .n = 1, .c_lo = dpotential_over_r_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -3, .c = dpotential_over_r_5_53, .n = 1, .c_lo = dpotential_over_r_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_54, .n = 1, .c_lo = dpotential_over_r_5_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -2, .c = dpotential_over_r_5_55, .n = 1, .c_lo = dpotential_over_r_5_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = dpotential_over_r_5_56, .n = 1, .c_lo = dpotential_over_r_5_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -2, .c = dpotential_over_r_5_57, .n = 1, .c_lo = dpotential_over_r_5_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_over_r_5_58, .n = 1, .c_lo = dpotential_over_r_5_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_5_59, .n = 1, .c_lo = dpotential_over_r_5_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_5_60, .n = 1, .c_lo = dpotential_over_r_5_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_5_61, .n = 1, .c_lo = dpotential_over_r_5_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -2, .c = dpotential_over_r_5_62, .n = 1, .c_lo = dpotential_over_r_5_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_5_63, .n = 1, .c_lo = dpotential_over_r_5_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -2, .c = dpotential_over_r_5_64, .n = 1, .c_lo = dpotential_over_r_5_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_over_r_5_65, .n = 1, .c_lo = dpotential_over_r_5_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -2, .c = dpotential_over_r_5_66, .n = 1, .c_lo = dpotential_over_r_5_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -2, .c = dpotential_over_r_5_67, .n = 1, .c_lo = dpotential_over_r_5_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -2, .c = dpotential_over_r_5_68, .n = 1, .c_lo = dpotential_over_r_5_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -2, .c = dpotential_over_r_5_69, .n = 1, .c_lo = dpotential_over_r_5_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -2, .c = dpotential_over_r_5_70, .n = 1, .c_lo = dpotential_over_r_5_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -2, .c = dpotential_over_r_5_71, .n = 1, .c_lo = dpotential_over_r_5_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -2, .c = dpotential_over_r_5_72, .n = 1, .c_lo = dpotential_over_r_5_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -2, .c = dpotential_over_r_5_73, .n = 1, .c_lo = dpotential_over_r_5_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -2, .c = dpotential_over_r_5_74, .n = 1, .c_lo = dpotential_over_r_5_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -2, .c = dpotential_over_r_5_75, .n = 1, .c_lo = dpotential_over_r_5_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -2, .c = dpotential_over_r_5_76, .n = 1, .c_lo = dpotential_over_r_5_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -2, .c = dpotential_over_r_5_77, .n = 1, .c_lo = dpotential_over_r_5_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -2, .c = dpotential_over_r_5_78, .n = 1, .c_lo = dpotential_over_r_5_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -2, .c = dpotential_over_r_5_79, .n = 1, .c_lo = dpotential_over_r_5_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -2, .c = dpotential_over_r_5_80, .n = 1, .c_lo = dpotential_over_r_5_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -2, .c = dpotential_over_r_5_81, .n = 1, .c_lo = dpotential_over_r_5_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -2, .c = dpotential_over_r_5_82, .n = 1, .c_lo = dpotential_over_r_5_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -2, .c = dpotential_over_r_5_83, .n = 1, .c_lo = dpotential_over_r_5_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -2, .c = dpotential_over_r_5_84, .n = 1, .c_lo = dpotential_over_r_5_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -2, .c = dpotential_over_r_5_85, .n = 1, .c_lo = dpotential_over_r_5_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -2, .c = dpotential_over_r_5_86, .n = 1, .c_lo = dpotential_over_r_5_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -2, .c = dpotential_over_r_5_87, .n = 1, .c_lo = dpotential_over_r_5_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -2, .c = dpotential_over_r_5_88, .n = 1, .c_lo = dpotential_over_r_5_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -2, .c = dpotential_over_r_5_89, .n = 1, .c_lo = dpotential_over_r_5_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -2, .c = dpotential_over_r_5_90, .n = 1, .c_lo = dpotential_over_r_5_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -2, .c = dpotential_over_r_5_91, .n = 1, .c_lo = dpotential_over_r_5_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -2, .c = dpotential_over_r_5_92, .n = 1, .c_lo = dpotential_over_r_5_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -2, .c = dpotential_over_r_5_93, .n = 1, .c_lo = dpotential_over_r_5_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -2, .c = dpotential_over_r_5_94, .n = 1, .c_lo = dpotential_over_r_5_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -2, .c = dpotential_over_r_5_95, .n = 1, .c_lo = dpotential_over_r_5_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -2, .c = dpotential_over_r_5_96, .n = 1, .c_lo = dpotential_over_r_5_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -2, .c = dpotential_over_r_5_97, .n = 1, .c_lo = dpotential_over_r_5_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -2, .c = dpotential_over_r_5_98, .n = 1, .c_lo = dpotential_over_r_5_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -2, .c = dpotential_over_r_5_99, .n = 1, .c_lo = dpotential_over_r_5_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -2, .c = dpotential_over_r_5_100, .n = 1, .c_lo = dpotential_over_r_5_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -2, .c = dpotential_over_r_5_101, .n = 1, .c_lo = dpotential_over_r_5_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -2, .c = dpotential_over_r_5_102, .n = 1, .c_lo = dpotential_over_r_5_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -2, .c = dpotential_over_r_5_103, .n = 1, .c_lo = dpotential_over_r_5_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -2, .c = dpotential_over_r_5_104, .n = 1, .c_lo = dpotential_over_r_5_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -2, .c = dpotential_over_r_5_105, .n = 1, .c_lo = dpotential_over_r_5_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -2, .c = dpotential_over_r_5_106, .n = 1, .c_lo = dpotential_over_r_5_106_lo},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -7472,16 +7472,16 @@ inline constexpr double dpotential_over_r_6_0_lo[] = {
     -0x1.6b01ec5417056p-58,
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, dpotential_over_r_6_0, 1, 0, 0, dpotential_over_r_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.1e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dpotential_over_r_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^46, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dpotential_over_r_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^44, truncation < 6.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dpotential_over_r_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, dpotential_over_r_4, 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^44, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, dpotential_over_r_5, 107},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^105, truncation < 2.1e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, dpotential_over_r_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.1e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^46, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dpotential_over_r_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^44, truncation < 6.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = dpotential_over_r_4, .nterms = 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^44, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = dpotential_over_r_5, .nterms = 107},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^105, truncation < 2.1e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.dce48bbf7f6a5p+4,  // -10296/35 * pi^-2
@@ -7510,8 +7510,8 @@ inline constexpr double potential_hess_radial_0_1_lo[] = {
     0x1.75e992e01cac2p-46, -0x1.9594cf8d0b8bp-45, 0x1.7bcae34453bb5p-48,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_hess_radial_0_0, 11, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 4, potential_hess_radial_0_1, 3, 0, 0, potential_hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 11, .c_lo = potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 4, .c = potential_hess_radial_0_1, .n = 3, .c_lo = potential_hess_radial_0_1_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.75ec9a461c251p+4,  // 3776378933745212885116169/2086545038336640000000 * pi^-2 + (-514641978866958336/39081751012578125 * pi^-2) * log(12) + (-64097340625/5308416 * pi^-2) * arcsin(24/145)
@@ -7585,7 +7585,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.e85b9c039baa5p+57,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, potential_hess_radial_1_0, 53, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.f80e9c7a81614p+3,  // 4547990117625336/14654541015625 * pi^-2 + (-6852341385897/61035156250 * pi^-2) * log(7) + (-29296875/33614 * pi^-2) * arcsin(7/25)
@@ -7655,7 +7655,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.58d05940a21c5p+11, 0x1.48bc7d788bbd6p+16,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, potential_hess_radial_2_0, 50, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 50, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.81e5603795ae2p+2,  // 31832799079471515/23530460864512 * pi^-2 + (-6946592686080/6975757441 * pi^-2) * log(4) + (-4259571/65536 * pi^-2) * arcsin(8/17)
@@ -7726,7 +7726,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.7dd2378f9c4bbp-20, -0x1.530e38744218p-18, -0x1.f2b3f2a037e4dp-17,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, potential_hess_radial_3_0, 51, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.7a9b9242f8436p+0,  // 27426877775699081463/5519960418880000 * pi^-2 + (-2716607673600000/500246412961 * pi^-2) * log(5/2) + (-61533447/6400000 * pi^-2) * arcsin(20/29)
@@ -7790,7 +7790,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.838aef13439b8p-19,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, potential_hess_radial_4_0, 45, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 45, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -8447,115 +8447,115 @@ inline constexpr double potential_hess_radial_5_108_lo[] = {
     -0x1.f78098faf8fdcp-70,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -5, potential_hess_radial_5_1, 1, 0, 0, potential_hess_radial_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -5, potential_hess_radial_5_2, 1, 0, 0, potential_hess_radial_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -5, potential_hess_radial_5_3, 1, 0, 0, potential_hess_radial_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -5, potential_hess_radial_5_4, 1, 0, 0, potential_hess_radial_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -5, potential_hess_radial_5_5, 1, 0, 0, potential_hess_radial_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -5, potential_hess_radial_5_6, 1, 0, 0, potential_hess_radial_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -5, potential_hess_radial_5_7, 1, 0, 0, potential_hess_radial_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -5, potential_hess_radial_5_8, 1, 0, 0, potential_hess_radial_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -5, potential_hess_radial_5_9, 1, 0, 0, potential_hess_radial_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -5, potential_hess_radial_5_10, 1, 0, 0, potential_hess_radial_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -5, potential_hess_radial_5_11, 1, 0, 0, potential_hess_radial_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -5, potential_hess_radial_5_12, 1, 0, 0, potential_hess_radial_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -5, potential_hess_radial_5_13, 1, 0, 0, potential_hess_radial_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -5, potential_hess_radial_5_14, 1, 0, 0, potential_hess_radial_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -5, potential_hess_radial_5_15, 1, 0, 0, potential_hess_radial_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -5, potential_hess_radial_5_16, 1, 0, 0, potential_hess_radial_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -5, potential_hess_radial_5_17, 1, 0, 0, potential_hess_radial_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -5, potential_hess_radial_5_18, 1, 0, 0, potential_hess_radial_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -5, potential_hess_radial_5_19, 1, 0, 0, potential_hess_radial_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -5, potential_hess_radial_5_20, 1, 0, 0, potential_hess_radial_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -5, potential_hess_radial_5_21, 1, 0, 0, potential_hess_radial_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -5, potential_hess_radial_5_22, 1, 0, 0, potential_hess_radial_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -5, potential_hess_radial_5_23, 1, 0, 0, potential_hess_radial_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -5, potential_hess_radial_5_24, 1, 0, 0, potential_hess_radial_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -5, potential_hess_radial_5_25, 1, 0, 0, potential_hess_radial_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -5, potential_hess_radial_5_26, 1, 0, 0, potential_hess_radial_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -5, potential_hess_radial_5_27, 1, 0, 0, potential_hess_radial_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -5, potential_hess_radial_5_28, 1, 0, 0, potential_hess_radial_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -5, potential_hess_radial_5_29, 1, 0, 0, potential_hess_radial_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -5, potential_hess_radial_5_30, 1, 0, 0, potential_hess_radial_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -5, potential_hess_radial_5_31, 1, 0, 0, potential_hess_radial_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -5, potential_hess_radial_5_32, 1, 0, 0, potential_hess_radial_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -5, potential_hess_radial_5_33, 1, 0, 0, potential_hess_radial_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -5, potential_hess_radial_5_34, 1, 0, 0, potential_hess_radial_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -5, potential_hess_radial_5_35, 1, 0, 0, potential_hess_radial_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -5, potential_hess_radial_5_36, 1, 0, 0, potential_hess_radial_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -5, potential_hess_radial_5_37, 1, 0, 0, potential_hess_radial_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -5, potential_hess_radial_5_38, 1, 0, 0, potential_hess_radial_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -5, potential_hess_radial_5_39, 1, 0, 0, potential_hess_radial_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -5, potential_hess_radial_5_40, 1, 0, 0, potential_hess_radial_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -5, potential_hess_radial_5_41, 1, 0, 0, potential_hess_radial_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -5, potential_hess_radial_5_42, 1, 0, 0, potential_hess_radial_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -5, potential_hess_radial_5_43, 1, 0, 0, potential_hess_radial_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -5, potential_hess_radial_5_44, 1, 0, 0, potential_hess_radial_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -5, potential_hess_radial_5_45, 1, 0, 0, potential_hess_radial_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -5, potential_hess_radial_5_46, 1, 0, 0, potential_hess_radial_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -5, potential_hess_radial_5_47, 1, 0, 0, potential_hess_radial_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -5, potential_hess_radial_5_48, 1, 0, 0, potential_hess_radial_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -5, potential_hess_radial_5_49, 1, 0, 0, potential_hess_radial_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -5, potential_hess_radial_5_50, 1, 0, 0, potential_hess_radial_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -5, potential_hess_radial_5_51, 1, 0, 0, potential_hess_radial_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -5, potential_hess_radial_5_52, 1, 0, 0, potential_hess_radial_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -5, potential_hess_radial_5_53, 1, 0, 0, potential_hess_radial_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -5, potential_hess_radial_5_54, 1, 0, 0, potential_hess_radial_5_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_5_55, 1, 0, 0, potential_hess_radial_5_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -4, potential_hess_radial_5_56, 1, 0, 0, potential_hess_radial_5_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -4, potential_hess_radial_5_57, 1, 0, 0, potential_hess_radial_5_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -4, potential_hess_radial_5_58, 1, 0, 0, potential_hess_radial_5_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -4, potential_hess_radial_5_59, 1, 0, 0, potential_hess_radial_5_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -4, potential_hess_radial_5_60, 1, 0, 0, potential_hess_radial_5_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -4, potential_hess_radial_5_61, 1, 0, 0, potential_hess_radial_5_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -4, potential_hess_radial_5_62, 1, 0, 0, potential_hess_radial_5_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -4, potential_hess_radial_5_63, 1, 0, 0, potential_hess_radial_5_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -4, potential_hess_radial_5_64, 1, 0, 0, potential_hess_radial_5_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -4, potential_hess_radial_5_65, 1, 0, 0, potential_hess_radial_5_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -4, potential_hess_radial_5_66, 1, 0, 0, potential_hess_radial_5_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -4, potential_hess_radial_5_67, 1, 0, 0, potential_hess_radial_5_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -4, potential_hess_radial_5_68, 1, 0, 0, potential_hess_radial_5_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -4, potential_hess_radial_5_69, 1, 0, 0, potential_hess_radial_5_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -4, potential_hess_radial_5_70, 1, 0, 0, potential_hess_radial_5_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -4, potential_hess_radial_5_71, 1, 0, 0, potential_hess_radial_5_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -4, potential_hess_radial_5_72, 1, 0, 0, potential_hess_radial_5_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -4, potential_hess_radial_5_73, 1, 0, 0, potential_hess_radial_5_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -4, potential_hess_radial_5_74, 1, 0, 0, potential_hess_radial_5_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -4, potential_hess_radial_5_75, 1, 0, 0, potential_hess_radial_5_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -4, potential_hess_radial_5_76, 1, 0, 0, potential_hess_radial_5_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -4, potential_hess_radial_5_77, 1, 0, 0, potential_hess_radial_5_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -4, potential_hess_radial_5_78, 1, 0, 0, potential_hess_radial_5_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -4, potential_hess_radial_5_79, 1, 0, 0, potential_hess_radial_5_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -4, potential_hess_radial_5_80, 1, 0, 0, potential_hess_radial_5_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -4, potential_hess_radial_5_81, 1, 0, 0, potential_hess_radial_5_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -4, potential_hess_radial_5_82, 1, 0, 0, potential_hess_radial_5_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -4, potential_hess_radial_5_83, 1, 0, 0, potential_hess_radial_5_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -4, potential_hess_radial_5_84, 1, 0, 0, potential_hess_radial_5_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -4, potential_hess_radial_5_85, 1, 0, 0, potential_hess_radial_5_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -4, potential_hess_radial_5_86, 1, 0, 0, potential_hess_radial_5_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -4, potential_hess_radial_5_87, 1, 0, 0, potential_hess_radial_5_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -4, potential_hess_radial_5_88, 1, 0, 0, potential_hess_radial_5_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -4, potential_hess_radial_5_89, 1, 0, 0, potential_hess_radial_5_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -4, potential_hess_radial_5_90, 1, 0, 0, potential_hess_radial_5_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -4, potential_hess_radial_5_91, 1, 0, 0, potential_hess_radial_5_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -4, potential_hess_radial_5_92, 1, 0, 0, potential_hess_radial_5_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -4, potential_hess_radial_5_93, 1, 0, 0, potential_hess_radial_5_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -4, potential_hess_radial_5_94, 1, 0, 0, potential_hess_radial_5_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -4, potential_hess_radial_5_95, 1, 0, 0, potential_hess_radial_5_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -4, potential_hess_radial_5_96, 1, 0, 0, potential_hess_radial_5_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -4, potential_hess_radial_5_97, 1, 0, 0, potential_hess_radial_5_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -4, potential_hess_radial_5_98, 1, 0, 0, potential_hess_radial_5_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -4, potential_hess_radial_5_99, 1, 0, 0, potential_hess_radial_5_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -4, potential_hess_radial_5_100, 1, 0, 0, potential_hess_radial_5_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -4, potential_hess_radial_5_101, 1, 0, 0, potential_hess_radial_5_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -4, potential_hess_radial_5_102, 1, 0, 0, potential_hess_radial_5_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -4, potential_hess_radial_5_103, 1, 0, 0, potential_hess_radial_5_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -4, potential_hess_radial_5_104, 1, 0, 0, potential_hess_radial_5_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -4, potential_hess_radial_5_105, 1, 0, 0, potential_hess_radial_5_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -4, potential_hess_radial_5_106, 1, 0, 0, potential_hess_radial_5_106_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -4, potential_hess_radial_5_107, 1, 0, 0, potential_hess_radial_5_107_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -4, potential_hess_radial_5_108, 1, 0, 0, potential_hess_radial_5_108_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_5_1, .n = 1, .c_lo = potential_hess_radial_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -5, .c = potential_hess_radial_5_2, .n = 1, .c_lo = potential_hess_radial_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -5, .c = potential_hess_radial_5_3, .n = 1, .c_lo = potential_hess_radial_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -5, .c = potential_hess_radial_5_4, .n = 1, .c_lo = potential_hess_radial_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -5, .c = potential_hess_radial_5_5, .n = 1, .c_lo = potential_hess_radial_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -5, .c = potential_hess_radial_5_6, .n = 1, .c_lo = potential_hess_radial_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -5, .c = potential_hess_radial_5_7, .n = 1, .c_lo = potential_hess_radial_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -5, .c = potential_hess_radial_5_8, .n = 1, .c_lo = potential_hess_radial_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -5, .c = potential_hess_radial_5_9, .n = 1, .c_lo = potential_hess_radial_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -5, .c = potential_hess_radial_5_10, .n = 1, .c_lo = potential_hess_radial_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -5, .c = potential_hess_radial_5_11, .n = 1, .c_lo = potential_hess_radial_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -5, .c = potential_hess_radial_5_12, .n = 1, .c_lo = potential_hess_radial_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -5, .c = potential_hess_radial_5_13, .n = 1, .c_lo = potential_hess_radial_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -5, .c = potential_hess_radial_5_14, .n = 1, .c_lo = potential_hess_radial_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -5, .c = potential_hess_radial_5_15, .n = 1, .c_lo = potential_hess_radial_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -5, .c = potential_hess_radial_5_16, .n = 1, .c_lo = potential_hess_radial_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -5, .c = potential_hess_radial_5_17, .n = 1, .c_lo = potential_hess_radial_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -5, .c = potential_hess_radial_5_18, .n = 1, .c_lo = potential_hess_radial_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -5, .c = potential_hess_radial_5_19, .n = 1, .c_lo = potential_hess_radial_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -5, .c = potential_hess_radial_5_20, .n = 1, .c_lo = potential_hess_radial_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -5, .c = potential_hess_radial_5_21, .n = 1, .c_lo = potential_hess_radial_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -5, .c = potential_hess_radial_5_22, .n = 1, .c_lo = potential_hess_radial_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -5, .c = potential_hess_radial_5_23, .n = 1, .c_lo = potential_hess_radial_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -5, .c = potential_hess_radial_5_24, .n = 1, .c_lo = potential_hess_radial_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -5, .c = potential_hess_radial_5_25, .n = 1, .c_lo = potential_hess_radial_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -5, .c = potential_hess_radial_5_26, .n = 1, .c_lo = potential_hess_radial_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -5, .c = potential_hess_radial_5_27, .n = 1, .c_lo = potential_hess_radial_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -5, .c = potential_hess_radial_5_28, .n = 1, .c_lo = potential_hess_radial_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -5, .c = potential_hess_radial_5_29, .n = 1, .c_lo = potential_hess_radial_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -5, .c = potential_hess_radial_5_30, .n = 1, .c_lo = potential_hess_radial_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -5, .c = potential_hess_radial_5_31, .n = 1, .c_lo = potential_hess_radial_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -5, .c = potential_hess_radial_5_32, .n = 1, .c_lo = potential_hess_radial_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -5, .c = potential_hess_radial_5_33, .n = 1, .c_lo = potential_hess_radial_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -5, .c = potential_hess_radial_5_34, .n = 1, .c_lo = potential_hess_radial_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -5, .c = potential_hess_radial_5_35, .n = 1, .c_lo = potential_hess_radial_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -5, .c = potential_hess_radial_5_36, .n = 1, .c_lo = potential_hess_radial_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -5, .c = potential_hess_radial_5_37, .n = 1, .c_lo = potential_hess_radial_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -5, .c = potential_hess_radial_5_38, .n = 1, .c_lo = potential_hess_radial_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -5, .c = potential_hess_radial_5_39, .n = 1, .c_lo = potential_hess_radial_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -5, .c = potential_hess_radial_5_40, .n = 1, .c_lo = potential_hess_radial_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -5, .c = potential_hess_radial_5_41, .n = 1, .c_lo = potential_hess_radial_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -5, .c = potential_hess_radial_5_42, .n = 1, .c_lo = potential_hess_radial_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -5, .c = potential_hess_radial_5_43, .n = 1, .c_lo = potential_hess_radial_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -5, .c = potential_hess_radial_5_44, .n = 1, .c_lo = potential_hess_radial_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -5, .c = potential_hess_radial_5_45, .n = 1, .c_lo = potential_hess_radial_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -5, .c = potential_hess_radial_5_46, .n = 1, .c_lo = potential_hess_radial_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -5, .c = potential_hess_radial_5_47, .n = 1, .c_lo = potential_hess_radial_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -5, .c = potential_hess_radial_5_48, .n = 1, .c_lo = potential_hess_radial_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -5, .c = potential_hess_radial_5_49, .n = 1, .c_lo = potential_hess_radial_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -5, .c = potential_hess_radial_5_50, .n = 1, .c_lo = potential_hess_radial_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -5, .c = potential_hess_radial_5_51, .n = 1, .c_lo = potential_hess_radial_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -5, .c = potential_hess_radial_5_52, .n = 1, .c_lo = potential_hess_radial_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -5, .c = potential_hess_radial_5_53, .n = 1, .c_lo = potential_hess_radial_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -5, .c = potential_hess_radial_5_54, .n = 1, .c_lo = potential_hess_radial_5_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_55, .n = 1, .c_lo = potential_hess_radial_5_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -4, .c = potential_hess_radial_5_56, .n = 1, .c_lo = potential_hess_radial_5_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -4, .c = potential_hess_radial_5_57, .n = 1, .c_lo = potential_hess_radial_5_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -4, .c = potential_hess_radial_5_58, .n = 1, .c_lo = potential_hess_radial_5_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_5_59, .n = 1, .c_lo = potential_hess_radial_5_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_5_60, .n = 1, .c_lo = potential_hess_radial_5_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -4, .c = potential_hess_radial_5_61, .n = 1, .c_lo = potential_hess_radial_5_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -4, .c = potential_hess_radial_5_62, .n = 1, .c_lo = potential_hess_radial_5_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_5_63, .n = 1, .c_lo = potential_hess_radial_5_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -4, .c = potential_hess_radial_5_64, .n = 1, .c_lo = potential_hess_radial_5_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -4, .c = potential_hess_radial_5_65, .n = 1, .c_lo = potential_hess_radial_5_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -4, .c = potential_hess_radial_5_66, .n = 1, .c_lo = potential_hess_radial_5_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -4, .c = potential_hess_radial_5_67, .n = 1, .c_lo = potential_hess_radial_5_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -4, .c = potential_hess_radial_5_68, .n = 1, .c_lo = potential_hess_radial_5_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -4, .c = potential_hess_radial_5_69, .n = 1, .c_lo = potential_hess_radial_5_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -4, .c = potential_hess_radial_5_70, .n = 1, .c_lo = potential_hess_radial_5_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -4, .c = potential_hess_radial_5_71, .n = 1, .c_lo = potential_hess_radial_5_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -4, .c = potential_hess_radial_5_72, .n = 1, .c_lo = potential_hess_radial_5_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -4, .c = potential_hess_radial_5_73, .n = 1, .c_lo = potential_hess_radial_5_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -4, .c = potential_hess_radial_5_74, .n = 1, .c_lo = potential_hess_radial_5_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -4, .c = potential_hess_radial_5_75, .n = 1, .c_lo = potential_hess_radial_5_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -4, .c = potential_hess_radial_5_76, .n = 1, .c_lo = potential_hess_radial_5_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -4, .c = potential_hess_radial_5_77, .n = 1, .c_lo = potential_hess_radial_5_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -4, .c = potential_hess_radial_5_78, .n = 1, .c_lo = potential_hess_radial_5_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -4, .c = potential_hess_radial_5_79, .n = 1, .c_lo = potential_hess_radial_5_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -4, .c = potential_hess_radial_5_80, .n = 1, .c_lo = potential_hess_radial_5_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -4, .c = potential_hess_radial_5_81, .n = 1, .c_lo = potential_hess_radial_5_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -4, .c = potential_hess_radial_5_82, .n = 1, .c_lo = potential_hess_radial_5_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -4, .c = potential_hess_radial_5_83, .n = 1, .c_lo = potential_hess_radial_5_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -4, .c = potential_hess_radial_5_84, .n = 1, .c_lo = potential_hess_radial_5_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -4, .c = potential_hess_radial_5_85, .n = 1, .c_lo = potential_hess_radial_5_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -4, .c = potential_hess_radial_5_86, .n = 1, .c_lo = potential_hess_radial_5_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -4, .c = potential_hess_radial_5_87, .n = 1, .c_lo = potential_hess_radial_5_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -4, .c = potential_hess_radial_5_88, .n = 1, .c_lo = potential_hess_radial_5_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -4, .c = potential_hess_radial_5_89, .n = 1, .c_lo = potential_hess_radial_5_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -4, .c = potential_hess_radial_5_90, .n = 1, .c_lo = potential_hess_radial_5_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -4, .c = potential_hess_radial_5_91, .n = 1, .c_lo = potential_hess_radial_5_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -4, .c = potential_hess_radial_5_92, .n = 1, .c_lo = potential_hess_radial_5_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -4, .c = potential_hess_radial_5_93, .n = 1, .c_lo = potential_hess_radial_5_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -4, .c = potential_hess_radial_5_94, .n = 1, .c_lo = potential_hess_radial_5_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -4, .c = potential_hess_radial_5_95, .n = 1, .c_lo = potential_hess_radial_5_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -4, .c = potential_hess_radial_5_96, .n = 1, .c_lo = potential_hess_radial_5_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -4, .c = potential_hess_radial_5_97, .n = 1, .c_lo = potential_hess_radial_5_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -4, .c = potential_hess_radial_5_98, .n = 1, .c_lo = potential_hess_radial_5_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -4, .c = potential_hess_radial_5_99, .n = 1, .c_lo = potential_hess_radial_5_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -4, .c = potential_hess_radial_5_100, .n = 1, .c_lo = potential_hess_radial_5_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -4, .c = potential_hess_radial_5_101, .n = 1, .c_lo = potential_hess_radial_5_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -4, .c = potential_hess_radial_5_102, .n = 1, .c_lo = potential_hess_radial_5_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -4, .c = potential_hess_radial_5_103, .n = 1, .c_lo = potential_hess_radial_5_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -4, .c = potential_hess_radial_5_104, .n = 1, .c_lo = potential_hess_radial_5_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -4, .c = potential_hess_radial_5_105, .n = 1, .c_lo = potential_hess_radial_5_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -4, .c = potential_hess_radial_5_106, .n = 1, .c_lo = potential_hess_radial_5_106_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -4, .c = potential_hess_radial_5_107, .n = 1, .c_lo = potential_hess_radial_5_107_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -4, .c = potential_hess_radial_5_108, .n = 1, .c_lo = potential_hess_radial_5_108_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
@@ -8564,32 +8564,39 @@ inline constexpr double potential_hess_radial_6_0_lo[] = {
     0x1.041713f11440cp-60,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -5, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -5, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 4.2e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, potential_hess_radial_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^52, truncation < 1.4e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, potential_hess_radial_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^49, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, potential_hess_radial_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^50, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, potential_hess_radial_4, 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^44, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, potential_hess_radial_5, 109},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^107, truncation < 2.0e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, potential_hess_radial_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_hess_radial_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 4.2e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^52, truncation < 1.4e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^49, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = potential_hess_radial_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^50, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = potential_hess_radial_4, .nterms = 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^44, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = potential_hess_radial_5, .nterms = 109},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^107, truncation < 2.0e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_6, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_D3
 inline constexpr table::Kernel wendland_missing_k_2_D3 = {
-    "wendland-missing:k=2", 3, 0x1p+0, 7, 2, 1,
-    0x1.87337aa316853p+14, "247104 * pi^-2", true,
-    {
-        {detail_wendland_missing_k_2_D3::value, 7},
-        {detail_wendland_missing_k_2_D3::dr, 7},
-        {detail_wendland_missing_k_2_D3::d2r, 9},
-        {detail_wendland_missing_k_2_D3::laplacian, 9},
-        {detail_wendland_missing_k_2_D3::grad_over_r, 7},
-        {detail_wendland_missing_k_2_D3::hess_radial, 9},
-        {detail_wendland_missing_k_2_D3::potential, 6},
-        {detail_wendland_missing_k_2_D3::dpotential, 7},
-        {detail_wendland_missing_k_2_D3::dpotential_over_r, 7},
-        {detail_wendland_missing_k_2_D3::potential_hess_radial, 7},
+    .spec = "wendland-missing:k=2",
+    .dim = 3,
+    .support = 0x1p+0,
+    .smoothness = 7,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.87337aa316853p+14,  // 247104 * pi^-2
+    .normalisation_exact = "247104 * pi^-2",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_missing_k_2_D3::value, .npieces = 7},  // value
+        {.pieces = detail_wendland_missing_k_2_D3::dr, .npieces = 7},  // dr
+        {.pieces = detail_wendland_missing_k_2_D3::d2r, .npieces = 9},  // d2r
+        {.pieces = detail_wendland_missing_k_2_D3::laplacian, .npieces = 9},  // laplacian
+        {.pieces = detail_wendland_missing_k_2_D3::grad_over_r, .npieces = 7},  // grad_over_r
+        {.pieces = detail_wendland_missing_k_2_D3::hess_radial, .npieces = 9},  // hess_radial
+        {.pieces = detail_wendland_missing_k_2_D3::potential, .npieces = 6},  // potential
+        {.pieces = detail_wendland_missing_k_2_D3::dpotential, .npieces = 7},  // dpotential
+        {.pieces = detail_wendland_missing_k_2_D3::dpotential_over_r, .npieces = 7},  // dpotential_over_r
+        {.pieces = detail_wendland_missing_k_2_D3::potential_hess_radial, .npieces = 7},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

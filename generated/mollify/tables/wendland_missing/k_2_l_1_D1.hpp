@@ -38,8 +38,8 @@ inline constexpr double value_0_1_lo[] = {
     0x1.6f8d94b02708bp-45, 0x1.3aa2f841d467fp-49, -0x1.5aac34bfa251ap-51,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, value_0_0, 12, 0, 0, value_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 6, value_0_1, 3, 0, 0, value_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = value_0_0, .n = 12, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 6, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo},
 };
 inline constexpr double value_1_0[] = {
     0x1.61a4ce15ca831p+0,  // 379139509047217536904/85002808452357421875 * pi^-1 + (-199157383927099293696/4108469075197275390625 * pi^-1) * log(12)
@@ -98,7 +98,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.913bad75fec87p+16,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, value_1_0, 41, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.99028a2d3c2f9p-1,  // 18324443431899/3814697265625 * pi^-1 + (-899412062760057/762939453125000 * pi^-1) * log(7)
@@ -157,7 +157,7 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.a0e5075da5c4fp-11,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, value_2_0, 41, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
 };
 inline constexpr double value_3_0[] = {
     0x1.154c9b1f8dec8p+0,  // 2616870789067168568/9730975341796875 * pi^-1 + (-27956795561443065856/145964630126953125 * pi^-1) * log(4)
@@ -243,7 +243,7 @@ inline constexpr double value_3_0_lo[] = {
     0x1.2e8c0ddb4e7a6p-19, -0x1.d8eddee41acf7p-22, -0x1.1775c11c9f516p-19,
 };
 inline constexpr table::Term value_3[] = {
-    {table::Basis::sqrt_power, 15, table::Var::shifted, 0x1.38p-1, 0, 0, value_3_0, 63, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
 };
 inline constexpr double value_4_0[] = {
     0x1.764df048c3589p-1,  // 30420103629080721246856/772361888695597305 * pi^-1 + (-139428437368485760000000/3243919932521508681 * pi^-1) * log(5/2)
@@ -342,7 +342,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.e83611f001a39p-45,
 };
 inline constexpr table::Term value_4[] = {
-    {table::Basis::sqrt_power, 15, table::Var::shifted, 0x1.9p-1, 0, 0, value_4_0, 73, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
 };
 inline constexpr double value_5_0[] = {
     0x1.abe9b79d07433p-2,  // 256/195 * pi^-1
@@ -663,68 +663,68 @@ inline constexpr double value_5_52_lo[] = {
     0x1.a47faa5c37182p-67,
 };
 inline constexpr table::Term value_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, value_5_0, 1, 0, 0, value_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, value_5_1, 1, 0, 0, value_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, value_5_2, 1, 0, 0, value_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, value_5_3, 1, 0, 0, value_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, value_5_4, 1, 0, 0, value_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, value_5_5, 1, 0, 0, value_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, value_5_6, 1, 0, 0, value_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, value_5_7, 1, 0, 0, value_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, value_5_8, 1, 0, 0, value_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, value_5_9, 1, 0, 0, value_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, value_5_10, 1, 0, 0, value_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, value_5_11, 1, 0, 0, value_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, value_5_12, 1, 0, 0, value_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, value_5_13, 1, 0, 0, value_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, value_5_14, 1, 0, 0, value_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, value_5_15, 1, 0, 0, value_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, value_5_16, 1, 0, 0, value_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, value_5_17, 1, 0, 0, value_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, value_5_18, 1, 0, 0, value_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, value_5_19, 1, 0, 0, value_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, value_5_20, 1, 0, 0, value_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, value_5_21, 1, 0, 0, value_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, value_5_22, 1, 0, 0, value_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, value_5_23, 1, 0, 0, value_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, value_5_24, 1, 0, 0, value_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, value_5_25, 1, 0, 0, value_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, value_5_26, 1, 0, 0, value_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, value_5_27, 1, 0, 0, value_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, value_5_28, 1, 0, 0, value_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, value_5_29, 1, 0, 0, value_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, value_5_30, 1, 0, 0, value_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, value_5_31, 1, 0, 0, value_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, value_5_32, 1, 0, 0, value_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, value_5_33, 1, 0, 0, value_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, value_5_34, 1, 0, 0, value_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, value_5_35, 1, 0, 0, value_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, value_5_36, 1, 0, 0, value_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, value_5_37, 1, 0, 0, value_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, value_5_38, 1, 0, 0, value_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, value_5_39, 1, 0, 0, value_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, value_5_40, 1, 0, 0, value_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, value_5_41, 1, 0, 0, value_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, value_5_42, 1, 0, 0, value_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, value_5_43, 1, 0, 0, value_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, value_5_44, 1, 0, 0, value_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, value_5_45, 1, 0, 0, value_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, value_5_46, 1, 0, 0, value_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, value_5_47, 1, 0, 0, value_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, value_5_48, 1, 0, 0, value_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, value_5_49, 1, 0, 0, value_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 0, value_5_50, 1, 0, 0, value_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 58, 0, value_5_51, 1, 0, 0, value_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 59, 0, value_5_52, 1, 0, 0, value_5_52_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_5_0, .n = 1, .c_lo = value_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_5_1, .n = 1, .c_lo = value_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_5_2, .n = 1, .c_lo = value_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_5_3, .n = 1, .c_lo = value_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = value_5_4, .n = 1, .c_lo = value_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = value_5_5, .n = 1, .c_lo = value_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = value_5_6, .n = 1, .c_lo = value_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = value_5_7, .n = 1, .c_lo = value_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = value_5_8, .n = 1, .c_lo = value_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = value_5_9, .n = 1, .c_lo = value_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = value_5_10, .n = 1, .c_lo = value_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = value_5_11, .n = 1, .c_lo = value_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = value_5_12, .n = 1, .c_lo = value_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = value_5_13, .n = 1, .c_lo = value_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = value_5_14, .n = 1, .c_lo = value_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = value_5_15, .n = 1, .c_lo = value_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = value_5_16, .n = 1, .c_lo = value_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = value_5_17, .n = 1, .c_lo = value_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = value_5_18, .n = 1, .c_lo = value_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = value_5_19, .n = 1, .c_lo = value_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = value_5_20, .n = 1, .c_lo = value_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = value_5_21, .n = 1, .c_lo = value_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = value_5_22, .n = 1, .c_lo = value_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = value_5_23, .n = 1, .c_lo = value_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = value_5_24, .n = 1, .c_lo = value_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = value_5_25, .n = 1, .c_lo = value_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = value_5_26, .n = 1, .c_lo = value_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = value_5_27, .n = 1, .c_lo = value_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = value_5_28, .n = 1, .c_lo = value_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = value_5_29, .n = 1, .c_lo = value_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = value_5_30, .n = 1, .c_lo = value_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = value_5_31, .n = 1, .c_lo = value_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = value_5_32, .n = 1, .c_lo = value_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = value_5_33, .n = 1, .c_lo = value_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = value_5_34, .n = 1, .c_lo = value_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = value_5_35, .n = 1, .c_lo = value_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = value_5_36, .n = 1, .c_lo = value_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = value_5_37, .n = 1, .c_lo = value_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = value_5_38, .n = 1, .c_lo = value_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = value_5_39, .n = 1, .c_lo = value_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = value_5_40, .n = 1, .c_lo = value_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = value_5_41, .n = 1, .c_lo = value_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = value_5_42, .n = 1, .c_lo = value_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = value_5_43, .n = 1, .c_lo = value_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = value_5_44, .n = 1, .c_lo = value_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = value_5_45, .n = 1, .c_lo = value_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = value_5_46, .n = 1, .c_lo = value_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = value_5_47, .n = 1, .c_lo = value_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = value_5_48, .n = 1, .c_lo = value_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = value_5_49, .n = 1, .c_lo = value_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 0, .c = value_5_50, .n = 1, .c_lo = value_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 58, .low = 0, .c = value_5_51, .n = 1, .c_lo = value_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 59, .low = 0, .c = value_5_52, .n = 1, .c_lo = value_5_52_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.3e-21 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, value_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, value_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 9.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, value_3, 1},  // [23/64, 39/64), S^15 times Taylor about 8/17 up to (r-c)^62, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, value_4, 1},  // [39/64, 25/32), S^15 times Taylor about 20/29 up to (r-c)^72, truncation < 1.4e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, value_5, 53},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^119, truncation < 1.1e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = value_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.3e-21 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = value_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = value_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 9.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = value_3, .nterms = 1},  // [23/64, 39/64), S^15 times Taylor about 8/17 up to (r-c)^62, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = value_4, .nterms = 1},  // [39/64, 25/32), S^15 times Taylor about 20/29 up to (r-c)^72, truncation < 1.4e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = value_5, .nterms = 53},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^119, truncation < 1.1e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.50229f13816c7p+5,  // -132 * pi^-1
@@ -753,8 +753,8 @@ inline constexpr double dr_0_1_lo[] = {
     0x1.3aa2f841d467fp-46, 0x1.3aa2f841d467fp-46, 0x1.3aa2f841d467fp-50,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dr_0_0, 11, 0, 0, dr_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 5, dr_0_1, 3, 0, 0, dr_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dr_0_0, .n = 11, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 5, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo},
 };
 inline constexpr double dr_1_0[] = {
     -0x1.3d55c5f5a3e16p+2,  // -2184914959853037984/195408755062890625 * pi^-1 + (-10024878652868395008/5666853896823828125 * pi^-1) * log(12)
@@ -814,7 +814,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.e447db5391396p+22, 0x1.96688726e24c9p+26,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dr_1_0, 42, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.326fec43b80c5p+2,  // 5345401003866/152587890625 * pi^-1 + (-78530436789651/3051757812500 * pi^-1) * log(7)
@@ -874,7 +874,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.f251885cdaebbp-5, 0x1.68d66b803757ep-2,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dr_2_0, 42, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.ca65f7e26d532p+0,  // 3748503290400/6975757441 * pi^-1 + (-46448763863040/118587876497 * pi^-1) * log(4)
@@ -939,7 +939,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.02ccaa22c0521p-25, -0x1.f334c233ffc57p-24,
 };
 inline constexpr table::Term dr_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, dr_3_0, 46, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.085a28faf88e4p+3,  // 7629727955312246960/38919722282469 * pi^-1 + (-174884993386048000000/817314167931849 * pi^-1) * log(5/2)
@@ -1033,7 +1033,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.14ebe47b68edap-38,
 };
 inline constexpr table::Term dr_4[] = {
-    {table::Basis::sqrt_power, 13, table::Var::shifted, 0x1.9p-1, 0, 0, dr_4_0, 69, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 69, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.912b1c2336cfp+2,  // -256/13 * pi^-1
@@ -1342,66 +1342,66 @@ inline constexpr double dr_5_50_lo[] = {
     -0x1.b5bb78018a96p-60,
 };
 inline constexpr table::Term dr_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 1, dr_5_0, 1, 0, 0, dr_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 1, dr_5_1, 1, 0, 0, dr_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 1, dr_5_2, 1, 0, 0, dr_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 1, dr_5_3, 1, 0, 0, dr_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 1, dr_5_4, 1, 0, 0, dr_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 1, dr_5_5, 1, 0, 0, dr_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 1, dr_5_6, 1, 0, 0, dr_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 1, dr_5_7, 1, 0, 0, dr_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 1, dr_5_8, 1, 0, 0, dr_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 1, dr_5_9, 1, 0, 0, dr_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 1, dr_5_10, 1, 0, 0, dr_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 1, dr_5_11, 1, 0, 0, dr_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 1, dr_5_12, 1, 0, 0, dr_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 1, dr_5_13, 1, 0, 0, dr_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 1, dr_5_14, 1, 0, 0, dr_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 1, dr_5_15, 1, 0, 0, dr_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 1, dr_5_16, 1, 0, 0, dr_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 1, dr_5_17, 1, 0, 0, dr_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 1, dr_5_18, 1, 0, 0, dr_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 1, dr_5_19, 1, 0, 0, dr_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 1, dr_5_20, 1, 0, 0, dr_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 1, dr_5_21, 1, 0, 0, dr_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 1, dr_5_22, 1, 0, 0, dr_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 1, dr_5_23, 1, 0, 0, dr_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 1, dr_5_24, 1, 0, 0, dr_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 1, dr_5_25, 1, 0, 0, dr_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 1, dr_5_26, 1, 0, 0, dr_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 1, dr_5_27, 1, 0, 0, dr_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 1, dr_5_28, 1, 0, 0, dr_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 1, dr_5_29, 1, 0, 0, dr_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 1, dr_5_30, 1, 0, 0, dr_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 1, dr_5_31, 1, 0, 0, dr_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 1, dr_5_32, 1, 0, 0, dr_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 1, dr_5_33, 1, 0, 0, dr_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 1, dr_5_34, 1, 0, 0, dr_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 1, dr_5_35, 1, 0, 0, dr_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 1, dr_5_36, 1, 0, 0, dr_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 1, dr_5_37, 1, 0, 0, dr_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 1, dr_5_38, 1, 0, 0, dr_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 1, dr_5_39, 1, 0, 0, dr_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 1, dr_5_40, 1, 0, 0, dr_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 1, dr_5_41, 1, 0, 0, dr_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 1, dr_5_42, 1, 0, 0, dr_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 1, dr_5_43, 1, 0, 0, dr_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 1, dr_5_44, 1, 0, 0, dr_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 1, dr_5_45, 1, 0, 0, dr_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 1, dr_5_46, 1, 0, 0, dr_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 1, dr_5_47, 1, 0, 0, dr_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 1, dr_5_48, 1, 0, 0, dr_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 1, dr_5_49, 1, 0, 0, dr_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 1, dr_5_50, 1, 0, 0, dr_5_50_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_5_0, .n = 1, .c_lo = dr_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_5_1, .n = 1, .c_lo = dr_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_5_2, .n = 1, .c_lo = dr_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_5_3, .n = 1, .c_lo = dr_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 1, .c = dr_5_4, .n = 1, .c_lo = dr_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 1, .c = dr_5_5, .n = 1, .c_lo = dr_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 1, .c = dr_5_6, .n = 1, .c_lo = dr_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 1, .c = dr_5_7, .n = 1, .c_lo = dr_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 1, .c = dr_5_8, .n = 1, .c_lo = dr_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 1, .c = dr_5_9, .n = 1, .c_lo = dr_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 1, .c = dr_5_10, .n = 1, .c_lo = dr_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 1, .c = dr_5_11, .n = 1, .c_lo = dr_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 1, .c = dr_5_12, .n = 1, .c_lo = dr_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 1, .c = dr_5_13, .n = 1, .c_lo = dr_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 1, .c = dr_5_14, .n = 1, .c_lo = dr_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 1, .c = dr_5_15, .n = 1, .c_lo = dr_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 1, .c = dr_5_16, .n = 1, .c_lo = dr_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 1, .c = dr_5_17, .n = 1, .c_lo = dr_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 1, .c = dr_5_18, .n = 1, .c_lo = dr_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 1, .c = dr_5_19, .n = 1, .c_lo = dr_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 1, .c = dr_5_20, .n = 1, .c_lo = dr_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 1, .c = dr_5_21, .n = 1, .c_lo = dr_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 1, .c = dr_5_22, .n = 1, .c_lo = dr_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 1, .c = dr_5_23, .n = 1, .c_lo = dr_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 1, .c = dr_5_24, .n = 1, .c_lo = dr_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 1, .c = dr_5_25, .n = 1, .c_lo = dr_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 1, .c = dr_5_26, .n = 1, .c_lo = dr_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 1, .c = dr_5_27, .n = 1, .c_lo = dr_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 1, .c = dr_5_28, .n = 1, .c_lo = dr_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 1, .c = dr_5_29, .n = 1, .c_lo = dr_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 1, .c = dr_5_30, .n = 1, .c_lo = dr_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 1, .c = dr_5_31, .n = 1, .c_lo = dr_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 1, .c = dr_5_32, .n = 1, .c_lo = dr_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 1, .c = dr_5_33, .n = 1, .c_lo = dr_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 1, .c = dr_5_34, .n = 1, .c_lo = dr_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 1, .c = dr_5_35, .n = 1, .c_lo = dr_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 1, .c = dr_5_36, .n = 1, .c_lo = dr_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 1, .c = dr_5_37, .n = 1, .c_lo = dr_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 1, .c = dr_5_38, .n = 1, .c_lo = dr_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 1, .c = dr_5_39, .n = 1, .c_lo = dr_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 1, .c = dr_5_40, .n = 1, .c_lo = dr_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 1, .c = dr_5_41, .n = 1, .c_lo = dr_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 1, .c = dr_5_42, .n = 1, .c_lo = dr_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 1, .c = dr_5_43, .n = 1, .c_lo = dr_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 1, .c = dr_5_44, .n = 1, .c_lo = dr_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 1, .c = dr_5_45, .n = 1, .c_lo = dr_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 1, .c = dr_5_46, .n = 1, .c_lo = dr_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 1, .c = dr_5_47, .n = 1, .c_lo = dr_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 1, .c = dr_5_48, .n = 1, .c_lo = dr_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 1, .c = dr_5_49, .n = 1, .c_lo = dr_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 1, .c = dr_5_50, .n = 1, .c_lo = dr_5_50_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 9.6e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dr_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dr_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 8.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dr_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 9.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, dr_4, 1},  // [39/64, 25/32), S^13 times Taylor about 20/29 up to (r-c)^68, truncation < 5.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, dr_5, 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dr_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^21, truncation < 9.6e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dr_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dr_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 8.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dr_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 9.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = dr_4, .nterms = 1},  // [39/64, 25/32), S^13 times Taylor about 20/29 up to (r-c)^68, truncation < 5.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = dr_5, .nterms = 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.50229f13816c7p+5,  // -132 * pi^-1
@@ -1428,8 +1428,8 @@ inline constexpr double d2r_0_1_lo[] = {
     -0x1.ced68935b6cfcp-41, 0x1.2269d327333b6p-40, -0x1.a7822a2d7c42cp-45,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, d2r_0_0, 9, 0, 0, d2r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 4, d2r_0_1, 3, 0, 0, d2r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = d2r_0_0, .n = 9, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 4, .c = d2r_0_1, .n = 3, .c_lo = d2r_0_1_lo},
 };
 inline constexpr double d2r_1_0[] = {
     -0x1.ec5101173753p+4,  // -7727936017599633726/91774307799765625 * pi^-1 + (-77317345654912667997/19456153253550312500 * pi^-1) * log(23)
@@ -1485,7 +1485,7 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.3825cc713201dp+51, -0x1.72874cdf0901ep+55, 0x1.dcb87cd06f133p+58,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, d2r_1_0, 39, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.c6186c18c038ep+3,  // 1790891536946589/32057708828125 * pi^-1 + (-85367454112217277/2179924200312500 * pi^-1) * log(13)
@@ -1542,7 +1542,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.9057676a243e7p+26, 0x1.625d3ac18e4d3p+28, -0x1.91cfe610b6514p+29, 0x1.416e4eac5fa6p+31,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, d2r_2_0, 40, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.9d9d861e560b1p+2,  // 2914193806360452/4902227890625 * pi^-1 + (-17596364613746688/63728962578125 * pi^-1) * log(8)
@@ -1599,7 +1599,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.48498076858e4p+4, -0x1.a2a00625be187p+6, 0x1.1722ab3f43a49p+4, 0x1.dd2e7fc367ef7p+9,
 };
 inline constexpr table::Term d2r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, d2r_3_0, 40, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.135575fd01a39p+4,  // 188637003819/62748517 * pi^-1 + (-5985148640625/3262922884 * pi^-1) * log(5)
@@ -1664,7 +1664,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.72963f8233fcep-8, -0x1.6a752d1db5b3ep-10,
 };
 inline constexpr table::Term d2r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, d2r_4_0, 46, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.86f3383dc9b78p+2,  // 1172104329/78125 * pi^-1 + (-4262122557/312500 * pi^-1) * log(3)
@@ -1730,7 +1730,7 @@ inline constexpr double d2r_5_0_lo[] = {
     -0x1.0b1a1adb0781dp-21, 0x1.dcd18d7e4e19dp-20, -0x1.f9baca7b35fb8p-21,
 };
 inline constexpr table::Term d2r_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-1, 0, 0, d2r_5_0, 47, 0x1.3333333333333p-1, 0x1.999999999999ap-56, d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.95f1e7d92d8ccp-1,  // 356158116435369996/11047398519097 * pi^-1 + (-131890626116226140625/3225840367576324 * pi^-1) * log(11/5)
@@ -1774,7 +1774,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.b8cdf03a5e24cp-21,
 };
 inline constexpr table::Term d2r_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, d2r_6_0, 29, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.45f306dc9c883p+6,  // 256 * pi^-1
@@ -2083,68 +2083,68 @@ inline constexpr double d2r_7_50_lo[] = {
     0x1.ec59444baca12p-57,
 };
 inline constexpr table::Term d2r_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, d2r_7_0, 1, 0, 0, d2r_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, d2r_7_1, 1, 0, 0, d2r_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, d2r_7_2, 1, 0, 0, d2r_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, d2r_7_3, 1, 0, 0, d2r_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, d2r_7_4, 1, 0, 0, d2r_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, d2r_7_5, 1, 0, 0, d2r_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, d2r_7_6, 1, 0, 0, d2r_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, d2r_7_7, 1, 0, 0, d2r_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, d2r_7_8, 1, 0, 0, d2r_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, d2r_7_9, 1, 0, 0, d2r_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, d2r_7_10, 1, 0, 0, d2r_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, d2r_7_11, 1, 0, 0, d2r_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, d2r_7_12, 1, 0, 0, d2r_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, d2r_7_13, 1, 0, 0, d2r_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, d2r_7_14, 1, 0, 0, d2r_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, d2r_7_15, 1, 0, 0, d2r_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, d2r_7_16, 1, 0, 0, d2r_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, d2r_7_17, 1, 0, 0, d2r_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, d2r_7_18, 1, 0, 0, d2r_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, d2r_7_19, 1, 0, 0, d2r_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, d2r_7_20, 1, 0, 0, d2r_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, d2r_7_21, 1, 0, 0, d2r_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, d2r_7_22, 1, 0, 0, d2r_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, d2r_7_23, 1, 0, 0, d2r_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, d2r_7_24, 1, 0, 0, d2r_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, d2r_7_25, 1, 0, 0, d2r_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, d2r_7_26, 1, 0, 0, d2r_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, d2r_7_27, 1, 0, 0, d2r_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, d2r_7_28, 1, 0, 0, d2r_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, d2r_7_29, 1, 0, 0, d2r_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, d2r_7_30, 1, 0, 0, d2r_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, d2r_7_31, 1, 0, 0, d2r_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, d2r_7_32, 1, 0, 0, d2r_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, d2r_7_33, 1, 0, 0, d2r_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, d2r_7_34, 1, 0, 0, d2r_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, d2r_7_35, 1, 0, 0, d2r_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, d2r_7_36, 1, 0, 0, d2r_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, d2r_7_37, 1, 0, 0, d2r_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, d2r_7_38, 1, 0, 0, d2r_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, d2r_7_39, 1, 0, 0, d2r_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, d2r_7_40, 1, 0, 0, d2r_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, d2r_7_41, 1, 0, 0, d2r_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, d2r_7_42, 1, 0, 0, d2r_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, d2r_7_43, 1, 0, 0, d2r_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, d2r_7_44, 1, 0, 0, d2r_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, d2r_7_45, 1, 0, 0, d2r_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, d2r_7_46, 1, 0, 0, d2r_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, d2r_7_47, 1, 0, 0, d2r_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, d2r_7_48, 1, 0, 0, d2r_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, d2r_7_49, 1, 0, 0, d2r_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, d2r_7_50, 1, 0, 0, d2r_7_50_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = d2r_7_0, .n = 1, .c_lo = d2r_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_7_1, .n = 1, .c_lo = d2r_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = d2r_7_2, .n = 1, .c_lo = d2r_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = d2r_7_3, .n = 1, .c_lo = d2r_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = d2r_7_4, .n = 1, .c_lo = d2r_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = d2r_7_5, .n = 1, .c_lo = d2r_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = d2r_7_6, .n = 1, .c_lo = d2r_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = d2r_7_7, .n = 1, .c_lo = d2r_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = d2r_7_8, .n = 1, .c_lo = d2r_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = d2r_7_9, .n = 1, .c_lo = d2r_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = d2r_7_10, .n = 1, .c_lo = d2r_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = d2r_7_11, .n = 1, .c_lo = d2r_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = d2r_7_12, .n = 1, .c_lo = d2r_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = d2r_7_13, .n = 1, .c_lo = d2r_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = d2r_7_14, .n = 1, .c_lo = d2r_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = d2r_7_15, .n = 1, .c_lo = d2r_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = d2r_7_16, .n = 1, .c_lo = d2r_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = d2r_7_17, .n = 1, .c_lo = d2r_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = d2r_7_18, .n = 1, .c_lo = d2r_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = d2r_7_19, .n = 1, .c_lo = d2r_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = d2r_7_20, .n = 1, .c_lo = d2r_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = d2r_7_21, .n = 1, .c_lo = d2r_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = d2r_7_22, .n = 1, .c_lo = d2r_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = d2r_7_23, .n = 1, .c_lo = d2r_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = d2r_7_24, .n = 1, .c_lo = d2r_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = d2r_7_25, .n = 1, .c_lo = d2r_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = d2r_7_26, .n = 1, .c_lo = d2r_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = d2r_7_27, .n = 1, .c_lo = d2r_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = d2r_7_28, .n = 1, .c_lo = d2r_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = d2r_7_29, .n = 1, .c_lo = d2r_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = d2r_7_30, .n = 1, .c_lo = d2r_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = d2r_7_31, .n = 1, .c_lo = d2r_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = d2r_7_32, .n = 1, .c_lo = d2r_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = d2r_7_33, .n = 1, .c_lo = d2r_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = d2r_7_34, .n = 1, .c_lo = d2r_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = d2r_7_35, .n = 1, .c_lo = d2r_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = d2r_7_36, .n = 1, .c_lo = d2r_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = d2r_7_37, .n = 1, .c_lo = d2r_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = d2r_7_38, .n = 1, .c_lo = d2r_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = d2r_7_39, .n = 1, .c_lo = d2r_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = d2r_7_40, .n = 1, .c_lo = d2r_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = d2r_7_41, .n = 1, .c_lo = d2r_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = d2r_7_42, .n = 1, .c_lo = d2r_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = d2r_7_43, .n = 1, .c_lo = d2r_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = d2r_7_44, .n = 1, .c_lo = d2r_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = d2r_7_45, .n = 1, .c_lo = d2r_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = d2r_7_46, .n = 1, .c_lo = d2r_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = d2r_7_47, .n = 1, .c_lo = d2r_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = d2r_7_48, .n = 1, .c_lo = d2r_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = d2r_7_49, .n = 1, .c_lo = d2r_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = d2r_7_50, .n = 1, .c_lo = d2r_7_50_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.2e-20 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, d2r_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, d2r_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^39, truncation < 4.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, d2r_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^39, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, d2r_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^45, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, d2r_5, 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^46, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.9p-1, d2r_6, 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^28, truncation < 4.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, d2r_7, 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 9.1e-20 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = d2r_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.2e-20 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = d2r_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = d2r_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^39, truncation < 4.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = d2r_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^39, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = d2r_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^45, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = d2r_5, .nterms = 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^46, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.9p-1, .terms = d2r_6, .nterms = 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^28, truncation < 4.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = d2r_7, .nterms = 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 9.1e-20 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.50229f13816c7p+5,  // -132 * pi^-1
@@ -2171,8 +2171,8 @@ inline constexpr double laplacian_0_1_lo[] = {
     -0x1.ced68935b6cfcp-41, 0x1.2269d327333b6p-40, -0x1.a7822a2d7c42cp-45,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, laplacian_0_0, 9, 0, 0, laplacian_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 4, laplacian_0_1, 3, 0, 0, laplacian_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 9, .c_lo = laplacian_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 4, .c = laplacian_0_1, .n = 3, .c_lo = laplacian_0_1_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     -0x1.ec5101173753p+4,  // -7727936017599633726/91774307799765625 * pi^-1 + (-77317345654912667997/19456153253550312500 * pi^-1) * log(23)
@@ -2228,7 +2228,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.3825cc713201dp+51, -0x1.72874cdf0901ep+55, 0x1.dcb87cd06f133p+58,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, laplacian_1_0, 39, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.c6186c18c038ep+3,  // 1790891536946589/32057708828125 * pi^-1 + (-85367454112217277/2179924200312500 * pi^-1) * log(13)
@@ -2285,7 +2285,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.9057676a243e7p+26, 0x1.625d3ac18e4d3p+28, -0x1.91cfe610b6514p+29, 0x1.416e4eac5fa6p+31,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, laplacian_2_0, 40, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr double laplacian_3_0[] = {
     0x1.9d9d861e560b1p+2,  // 2914193806360452/4902227890625 * pi^-1 + (-17596364613746688/63728962578125 * pi^-1) * log(8)
@@ -2342,7 +2342,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.48498076858e4p+4, -0x1.a2a00625be187p+6, 0x1.1722ab3f43a49p+4, 0x1.dd2e7fc367ef7p+9,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, laplacian_3_0, 40, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.135575fd01a39p+4,  // 188637003819/62748517 * pi^-1 + (-5985148640625/3262922884 * pi^-1) * log(5)
@@ -2407,7 +2407,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     0x1.72963f8233fcep-8, -0x1.6a752d1db5b3ep-10,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, laplacian_4_0, 46, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.86f3383dc9b78p+2,  // 1172104329/78125 * pi^-1 + (-4262122557/312500 * pi^-1) * log(3)
@@ -2473,7 +2473,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     -0x1.0b1a1adb0781dp-21, 0x1.dcd18d7e4e19dp-20, -0x1.f9baca7b35fb8p-21,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-1, 0, 0, laplacian_5_0, 47, 0x1.3333333333333p-1, 0x1.999999999999ap-56, laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.95f1e7d92d8ccp-1,  // 356158116435369996/11047398519097 * pi^-1 + (-131890626116226140625/3225840367576324 * pi^-1) * log(11/5)
@@ -2517,7 +2517,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.b8cdf03a5e24cp-21,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, laplacian_6_0, 29, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.45f306dc9c883p+6,  // 256 * pi^-1
@@ -2826,68 +2826,68 @@ inline constexpr double laplacian_7_50_lo[] = {
     0x1.ec59444baca12p-57,
 };
 inline constexpr table::Term laplacian_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, laplacian_7_0, 1, 0, 0, laplacian_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, laplacian_7_1, 1, 0, 0, laplacian_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, laplacian_7_2, 1, 0, 0, laplacian_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, laplacian_7_3, 1, 0, 0, laplacian_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, laplacian_7_4, 1, 0, 0, laplacian_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, laplacian_7_5, 1, 0, 0, laplacian_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, laplacian_7_6, 1, 0, 0, laplacian_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, laplacian_7_7, 1, 0, 0, laplacian_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, laplacian_7_8, 1, 0, 0, laplacian_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, laplacian_7_9, 1, 0, 0, laplacian_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, laplacian_7_10, 1, 0, 0, laplacian_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, laplacian_7_11, 1, 0, 0, laplacian_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, laplacian_7_12, 1, 0, 0, laplacian_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, laplacian_7_13, 1, 0, 0, laplacian_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, laplacian_7_14, 1, 0, 0, laplacian_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, laplacian_7_15, 1, 0, 0, laplacian_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, laplacian_7_16, 1, 0, 0, laplacian_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, laplacian_7_17, 1, 0, 0, laplacian_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, laplacian_7_18, 1, 0, 0, laplacian_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, laplacian_7_19, 1, 0, 0, laplacian_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, laplacian_7_20, 1, 0, 0, laplacian_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, laplacian_7_21, 1, 0, 0, laplacian_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, laplacian_7_22, 1, 0, 0, laplacian_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, laplacian_7_23, 1, 0, 0, laplacian_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, laplacian_7_24, 1, 0, 0, laplacian_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, laplacian_7_25, 1, 0, 0, laplacian_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, laplacian_7_26, 1, 0, 0, laplacian_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, laplacian_7_27, 1, 0, 0, laplacian_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, laplacian_7_28, 1, 0, 0, laplacian_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, laplacian_7_29, 1, 0, 0, laplacian_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, laplacian_7_30, 1, 0, 0, laplacian_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, laplacian_7_31, 1, 0, 0, laplacian_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, laplacian_7_32, 1, 0, 0, laplacian_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, laplacian_7_33, 1, 0, 0, laplacian_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, laplacian_7_34, 1, 0, 0, laplacian_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, laplacian_7_35, 1, 0, 0, laplacian_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, laplacian_7_36, 1, 0, 0, laplacian_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, laplacian_7_37, 1, 0, 0, laplacian_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, laplacian_7_38, 1, 0, 0, laplacian_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, laplacian_7_39, 1, 0, 0, laplacian_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, laplacian_7_40, 1, 0, 0, laplacian_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, laplacian_7_41, 1, 0, 0, laplacian_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, laplacian_7_42, 1, 0, 0, laplacian_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, laplacian_7_43, 1, 0, 0, laplacian_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, laplacian_7_44, 1, 0, 0, laplacian_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, laplacian_7_45, 1, 0, 0, laplacian_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, laplacian_7_46, 1, 0, 0, laplacian_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, laplacian_7_47, 1, 0, 0, laplacian_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, laplacian_7_48, 1, 0, 0, laplacian_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, laplacian_7_49, 1, 0, 0, laplacian_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, laplacian_7_50, 1, 0, 0, laplacian_7_50_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = laplacian_7_0, .n = 1, .c_lo = laplacian_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_7_1, .n = 1, .c_lo = laplacian_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = laplacian_7_2, .n = 1, .c_lo = laplacian_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_7_3, .n = 1, .c_lo = laplacian_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = laplacian_7_4, .n = 1, .c_lo = laplacian_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = laplacian_7_5, .n = 1, .c_lo = laplacian_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = laplacian_7_6, .n = 1, .c_lo = laplacian_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = laplacian_7_7, .n = 1, .c_lo = laplacian_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = laplacian_7_8, .n = 1, .c_lo = laplacian_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = laplacian_7_9, .n = 1, .c_lo = laplacian_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = laplacian_7_10, .n = 1, .c_lo = laplacian_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = laplacian_7_11, .n = 1, .c_lo = laplacian_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = laplacian_7_12, .n = 1, .c_lo = laplacian_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = laplacian_7_13, .n = 1, .c_lo = laplacian_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = laplacian_7_14, .n = 1, .c_lo = laplacian_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = laplacian_7_15, .n = 1, .c_lo = laplacian_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = laplacian_7_16, .n = 1, .c_lo = laplacian_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = laplacian_7_17, .n = 1, .c_lo = laplacian_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = laplacian_7_18, .n = 1, .c_lo = laplacian_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = laplacian_7_19, .n = 1, .c_lo = laplacian_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = laplacian_7_20, .n = 1, .c_lo = laplacian_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = laplacian_7_21, .n = 1, .c_lo = laplacian_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = laplacian_7_22, .n = 1, .c_lo = laplacian_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = laplacian_7_23, .n = 1, .c_lo = laplacian_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = laplacian_7_24, .n = 1, .c_lo = laplacian_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = laplacian_7_25, .n = 1, .c_lo = laplacian_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = laplacian_7_26, .n = 1, .c_lo = laplacian_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = laplacian_7_27, .n = 1, .c_lo = laplacian_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = laplacian_7_28, .n = 1, .c_lo = laplacian_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = laplacian_7_29, .n = 1, .c_lo = laplacian_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = laplacian_7_30, .n = 1, .c_lo = laplacian_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = laplacian_7_31, .n = 1, .c_lo = laplacian_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = laplacian_7_32, .n = 1, .c_lo = laplacian_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = laplacian_7_33, .n = 1, .c_lo = laplacian_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = laplacian_7_34, .n = 1, .c_lo = laplacian_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = laplacian_7_35, .n = 1, .c_lo = laplacian_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = laplacian_7_36, .n = 1, .c_lo = laplacian_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = laplacian_7_37, .n = 1, .c_lo = laplacian_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = laplacian_7_38, .n = 1, .c_lo = laplacian_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = laplacian_7_39, .n = 1, .c_lo = laplacian_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = laplacian_7_40, .n = 1, .c_lo = laplacian_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = laplacian_7_41, .n = 1, .c_lo = laplacian_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = laplacian_7_42, .n = 1, .c_lo = laplacian_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = laplacian_7_43, .n = 1, .c_lo = laplacian_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = laplacian_7_44, .n = 1, .c_lo = laplacian_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = laplacian_7_45, .n = 1, .c_lo = laplacian_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = laplacian_7_46, .n = 1, .c_lo = laplacian_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = laplacian_7_47, .n = 1, .c_lo = laplacian_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = laplacian_7_48, .n = 1, .c_lo = laplacian_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = laplacian_7_49, .n = 1, .c_lo = laplacian_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = laplacian_7_50, .n = 1, .c_lo = laplacian_7_50_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.2e-20 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, laplacian_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, laplacian_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^39, truncation < 4.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, laplacian_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^39, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, laplacian_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^45, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, laplacian_5, 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^46, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.9p-1, laplacian_6, 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^28, truncation < 4.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, laplacian_7, 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 9.1e-20 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = laplacian_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^16, truncation < 1.2e-20 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = laplacian_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = laplacian_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^39, truncation < 4.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = laplacian_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^39, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = laplacian_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^45, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = laplacian_5, .nterms = 1},  // [1/2, 23/32), Taylor about 3/5 up to (r-c)^46, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.9p-1, .terms = laplacian_6, .nterms = 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^28, truncation < 4.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = laplacian_7, .nterms = 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 9.1e-20 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.50229f13816c7p+5,  // -132 * pi^-1
@@ -2916,8 +2916,8 @@ inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.3aa2f841d467fp-46, 0x1.3aa2f841d467fp-46, 0x1.3aa2f841d467fp-50,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, grad_over_r_0_0, 11, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 4, grad_over_r_0_1, 3, 0, 0, grad_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 11, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 4, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     -0x1.df4ee3005a31cp+4,  // -91038123327209916/1347646586640625 * pi^-1 + (-417703277202849792/39081751012578125 * pi^-1) * log(12)
@@ -2976,7 +2976,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.057b1e9b158cfp+29,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, grad_over_r_1_0, 41, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.119ac9cebfc1dp+4,  // 763628714838/6103515625 * pi^-1 + (-11218633827093/122070312500 * pi^-1) * log(7)
@@ -3035,7 +3035,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.4d7bc264fc3edp+0,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, grad_over_r_2_0, 41, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.35d5f5e1a580bp+4,  // 5585170173997348/961083984375 * pi^-1 + (-61065372696559616/14416259765625 * pi^-1) * log(4)
@@ -3116,7 +3116,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.1e61afd5066a8p-11, 0x1.f1b4b80d59ae4p-13, -0x1.295df8492981dp-9,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {table::Basis::sqrt_power, 13, table::Var::shifted, 0x1.38p-1, 0, 0, grad_over_r_3_0, 59, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, grad_over_r_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.7f4f8838b534bp+3,  // 11063105535202758092/38919722282469 * pi^-1 + (-253583240409769600000/817314167931849 * pi^-1) * log(5/2)
@@ -3208,7 +3208,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.1cfe81fc2854cp-37, -0x1.6daa8caf0be08p-35, -0x1.8fa5ff580ad27p-36, 0x1.4ce4d4b7d2245p-34,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {table::Basis::sqrt_power, 13, table::Var::shifted, 0x1.9p-1, 0, 0, grad_over_r_4_0, 68, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.912b1c2336cfp+2,  // -256/13 * pi^-1
@@ -3517,66 +3517,66 @@ inline constexpr double grad_over_r_5_50_lo[] = {
     -0x1.b5bb78018a96p-60,
 };
 inline constexpr table::Term grad_over_r_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, grad_over_r_5_0, 1, 0, 0, grad_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_5_1, 1, 0, 0, grad_over_r_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_5_2, 1, 0, 0, grad_over_r_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, grad_over_r_5_3, 1, 0, 0, grad_over_r_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, grad_over_r_5_4, 1, 0, 0, grad_over_r_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, grad_over_r_5_5, 1, 0, 0, grad_over_r_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, grad_over_r_5_6, 1, 0, 0, grad_over_r_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, grad_over_r_5_7, 1, 0, 0, grad_over_r_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, grad_over_r_5_8, 1, 0, 0, grad_over_r_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, grad_over_r_5_9, 1, 0, 0, grad_over_r_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, grad_over_r_5_10, 1, 0, 0, grad_over_r_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, grad_over_r_5_11, 1, 0, 0, grad_over_r_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, grad_over_r_5_12, 1, 0, 0, grad_over_r_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, grad_over_r_5_13, 1, 0, 0, grad_over_r_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, grad_over_r_5_14, 1, 0, 0, grad_over_r_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, grad_over_r_5_15, 1, 0, 0, grad_over_r_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, grad_over_r_5_16, 1, 0, 0, grad_over_r_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, grad_over_r_5_17, 1, 0, 0, grad_over_r_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, grad_over_r_5_18, 1, 0, 0, grad_over_r_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, grad_over_r_5_19, 1, 0, 0, grad_over_r_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, grad_over_r_5_20, 1, 0, 0, grad_over_r_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, grad_over_r_5_21, 1, 0, 0, grad_over_r_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, grad_over_r_5_22, 1, 0, 0, grad_over_r_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, grad_over_r_5_23, 1, 0, 0, grad_over_r_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, grad_over_r_5_24, 1, 0, 0, grad_over_r_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, grad_over_r_5_25, 1, 0, 0, grad_over_r_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, grad_over_r_5_26, 1, 0, 0, grad_over_r_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, grad_over_r_5_27, 1, 0, 0, grad_over_r_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, grad_over_r_5_28, 1, 0, 0, grad_over_r_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, grad_over_r_5_29, 1, 0, 0, grad_over_r_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, grad_over_r_5_30, 1, 0, 0, grad_over_r_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, grad_over_r_5_31, 1, 0, 0, grad_over_r_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, grad_over_r_5_32, 1, 0, 0, grad_over_r_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, grad_over_r_5_33, 1, 0, 0, grad_over_r_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, grad_over_r_5_34, 1, 0, 0, grad_over_r_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, grad_over_r_5_35, 1, 0, 0, grad_over_r_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, grad_over_r_5_36, 1, 0, 0, grad_over_r_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, grad_over_r_5_37, 1, 0, 0, grad_over_r_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, grad_over_r_5_38, 1, 0, 0, grad_over_r_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, grad_over_r_5_39, 1, 0, 0, grad_over_r_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, grad_over_r_5_40, 1, 0, 0, grad_over_r_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, grad_over_r_5_41, 1, 0, 0, grad_over_r_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, grad_over_r_5_42, 1, 0, 0, grad_over_r_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, grad_over_r_5_43, 1, 0, 0, grad_over_r_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, grad_over_r_5_44, 1, 0, 0, grad_over_r_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, grad_over_r_5_45, 1, 0, 0, grad_over_r_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, grad_over_r_5_46, 1, 0, 0, grad_over_r_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, grad_over_r_5_47, 1, 0, 0, grad_over_r_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, grad_over_r_5_48, 1, 0, 0, grad_over_r_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, grad_over_r_5_49, 1, 0, 0, grad_over_r_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, grad_over_r_5_50, 1, 0, 0, grad_over_r_5_50_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_5_0, .n = 1, .c_lo = grad_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_5_1, .n = 1, .c_lo = grad_over_r_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_5_2, .n = 1, .c_lo = grad_over_r_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_5_3, .n = 1, .c_lo = grad_over_r_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = grad_over_r_5_4, .n = 1, .c_lo = grad_over_r_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = grad_over_r_5_5, .n = 1, .c_lo = grad_over_r_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = grad_over_r_5_6, .n = 1, .c_lo = grad_over_r_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = grad_over_r_5_7, .n = 1, .c_lo = grad_over_r_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = grad_over_r_5_8, .n = 1, .c_lo = grad_over_r_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = grad_over_r_5_9, .n = 1, .c_lo = grad_over_r_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = grad_over_r_5_10, .n = 1, .c_lo = grad_over_r_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = grad_over_r_5_11, .n = 1, .c_lo = grad_over_r_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = grad_over_r_5_12, .n = 1, .c_lo = grad_over_r_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = grad_over_r_5_13, .n = 1, .c_lo = grad_over_r_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = grad_over_r_5_14, .n = 1, .c_lo = grad_over_r_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = grad_over_r_5_15, .n = 1, .c_lo = grad_over_r_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = grad_over_r_5_16, .n = 1, .c_lo = grad_over_r_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = grad_over_r_5_17, .n = 1, .c_lo = grad_over_r_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = grad_over_r_5_18, .n = 1, .c_lo = grad_over_r_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = grad_over_r_5_19, .n = 1, .c_lo = grad_over_r_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = grad_over_r_5_20, .n = 1, .c_lo = grad_over_r_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = grad_over_r_5_21, .n = 1, .c_lo = grad_over_r_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = grad_over_r_5_22, .n = 1, .c_lo = grad_over_r_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = grad_over_r_5_23, .n = 1, .c_lo = grad_over_r_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = grad_over_r_5_24, .n = 1, .c_lo = grad_over_r_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = grad_over_r_5_25, .n = 1, .c_lo = grad_over_r_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = grad_over_r_5_26, .n = 1, .c_lo = grad_over_r_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = grad_over_r_5_27, .n = 1, .c_lo = grad_over_r_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = grad_over_r_5_28, .n = 1, .c_lo = grad_over_r_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = grad_over_r_5_29, .n = 1, .c_lo = grad_over_r_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = grad_over_r_5_30, .n = 1, .c_lo = grad_over_r_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = grad_over_r_5_31, .n = 1, .c_lo = grad_over_r_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = grad_over_r_5_32, .n = 1, .c_lo = grad_over_r_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = grad_over_r_5_33, .n = 1, .c_lo = grad_over_r_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = grad_over_r_5_34, .n = 1, .c_lo = grad_over_r_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = grad_over_r_5_35, .n = 1, .c_lo = grad_over_r_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = grad_over_r_5_36, .n = 1, .c_lo = grad_over_r_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = grad_over_r_5_37, .n = 1, .c_lo = grad_over_r_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = grad_over_r_5_38, .n = 1, .c_lo = grad_over_r_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = grad_over_r_5_39, .n = 1, .c_lo = grad_over_r_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = grad_over_r_5_40, .n = 1, .c_lo = grad_over_r_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = grad_over_r_5_41, .n = 1, .c_lo = grad_over_r_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = grad_over_r_5_42, .n = 1, .c_lo = grad_over_r_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = grad_over_r_5_43, .n = 1, .c_lo = grad_over_r_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = grad_over_r_5_44, .n = 1, .c_lo = grad_over_r_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = grad_over_r_5_45, .n = 1, .c_lo = grad_over_r_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = grad_over_r_5_46, .n = 1, .c_lo = grad_over_r_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = grad_over_r_5_47, .n = 1, .c_lo = grad_over_r_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = grad_over_r_5_48, .n = 1, .c_lo = grad_over_r_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = grad_over_r_5_49, .n = 1, .c_lo = grad_over_r_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = grad_over_r_5_50, .n = 1, .c_lo = grad_over_r_5_50_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.6e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, grad_over_r_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 8.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, grad_over_r_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 8.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, grad_over_r_3, 1},  // [23/64, 39/64), S^13 times Taylor about 8/17 up to (r-c)^58, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, grad_over_r_4, 1},  // [39/64, 25/32), S^13 times Taylor about 20/29 up to (r-c)^67, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, grad_over_r_5, 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 9.6e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = grad_over_r_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 8.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = grad_over_r_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^40, truncation < 8.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = grad_over_r_3, .nterms = 1},  // [23/64, 39/64), S^13 times Taylor about 8/17 up to (r-c)^58, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = grad_over_r_4, .nterms = 1},  // [39/64, 25/32), S^13 times Taylor about 20/29 up to (r-c)^67, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = grad_over_r_5, .nterms = 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.8e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.261e4b31113eep+10,  // 3696 * pi^-1
@@ -3601,8 +3601,8 @@ inline constexpr double hess_radial_0_1_lo[] = {
     0x1.3aa2f841d467fp-44, -0x1.e280b8b9d4164p-40, 0x1.3aa2f841d467fp-47,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, hess_radial_0_0, 8, 0, 0, hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 2, hess_radial_0_1, 3, 0, 0, hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = hess_radial_0_0, .n = 8, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 2, .c = hess_radial_0_1, .n = 3, .c_lo = hess_radial_0_1_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     0x1.e2c5c79deb8d8p+9,  // 5694800311713744/1306860915625 * pi^-1 + (-29253321116142354/69263628528125 * pi^-1) * log(23)
@@ -3657,7 +3657,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.348863b7e8134p+65, -0x1.ea67945e82f99p+69,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, hess_radial_1_0, 38, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.6f8e246710de3p+9,  // 25524457918344/4437053125 * pi^-1 + (-101256046365474/75429903125 * pi^-1) * log(13)
@@ -3713,7 +3713,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.c5de6425b93fdp+35, -0x1.2a0a7a66693b4p+40, 0x1.1d3e190226fbap+40,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, hess_radial_2_0, 39, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.c04794a18e4cep+8,  // 10479352414608/1160290625 * pi^-1 + (-55297979928576/15083778125 * pi^-1) * log(8)
@@ -3769,7 +3769,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.0d1e5884668ccp+13, 0x1.90f5cbb5f307ep+16, 0x1.5b95c6efacb7dp+18,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, hess_radial_3_0, 39, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.583662a7343eap+7,  // 6202422072/371293 * pi^-1 + (-48477602250/4826809 * pi^-1) * log(5)
@@ -3831,7 +3831,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.503eeb9b977cdp-3, 0x1.9941ea71ca27dp-3, -0x1.f7f0e13bacd0fp+0, -0x1.8c4417de7624fp-4,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, hess_radial_4_0, 44, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.bedc5673b1116p+7,  // 208632703125/524288 * pi^-1 + (-758282765625/2097152 * pi^-1) * log(3)
@@ -3917,7 +3917,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.30786b15d5292p-16, 0x1.78c87a6424c6bp-14, -0x1.7d359b5c1bc31p-14,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {table::Basis::sqrt_power, 11, table::Var::shifted, 0x1.7p-1, 0, 0, hess_radial_5_0, 63, 0x1.3333333333333p-1, 0x1.999999999999ap-56, hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.79cb50581df43p+0,  // 97320045781728/2073071593 * pi^-1 + (-9009569925452250/151334226289 * pi^-1) * log(11/5)
@@ -3961,7 +3961,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     0x1.1d02cd0150772p-22,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, hess_radial_6_0, 29, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.45f306dc9c883p+6,  // 256 * pi^-1
@@ -4264,67 +4264,67 @@ inline constexpr double hess_radial_7_49_lo[] = {
     -0x1.1170bd497b50ap-53,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, hess_radial_7_0, 1, 0, 0, hess_radial_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, hess_radial_7_1, 1, 0, 0, hess_radial_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, hess_radial_7_2, 1, 0, 0, hess_radial_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, hess_radial_7_3, 1, 0, 0, hess_radial_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, hess_radial_7_4, 1, 0, 0, hess_radial_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, hess_radial_7_5, 1, 0, 0, hess_radial_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, hess_radial_7_6, 1, 0, 0, hess_radial_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, hess_radial_7_7, 1, 0, 0, hess_radial_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, hess_radial_7_8, 1, 0, 0, hess_radial_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, hess_radial_7_9, 1, 0, 0, hess_radial_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, hess_radial_7_10, 1, 0, 0, hess_radial_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, hess_radial_7_11, 1, 0, 0, hess_radial_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, hess_radial_7_12, 1, 0, 0, hess_radial_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, hess_radial_7_13, 1, 0, 0, hess_radial_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, hess_radial_7_14, 1, 0, 0, hess_radial_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, hess_radial_7_15, 1, 0, 0, hess_radial_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, hess_radial_7_16, 1, 0, 0, hess_radial_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, hess_radial_7_17, 1, 0, 0, hess_radial_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, hess_radial_7_18, 1, 0, 0, hess_radial_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, hess_radial_7_19, 1, 0, 0, hess_radial_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, hess_radial_7_20, 1, 0, 0, hess_radial_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, hess_radial_7_21, 1, 0, 0, hess_radial_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, hess_radial_7_22, 1, 0, 0, hess_radial_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, hess_radial_7_23, 1, 0, 0, hess_radial_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, hess_radial_7_24, 1, 0, 0, hess_radial_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, hess_radial_7_25, 1, 0, 0, hess_radial_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, hess_radial_7_26, 1, 0, 0, hess_radial_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, hess_radial_7_27, 1, 0, 0, hess_radial_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, hess_radial_7_28, 1, 0, 0, hess_radial_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, hess_radial_7_29, 1, 0, 0, hess_radial_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, hess_radial_7_30, 1, 0, 0, hess_radial_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, hess_radial_7_31, 1, 0, 0, hess_radial_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, hess_radial_7_32, 1, 0, 0, hess_radial_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, hess_radial_7_33, 1, 0, 0, hess_radial_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, hess_radial_7_34, 1, 0, 0, hess_radial_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, hess_radial_7_35, 1, 0, 0, hess_radial_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, hess_radial_7_36, 1, 0, 0, hess_radial_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, hess_radial_7_37, 1, 0, 0, hess_radial_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, hess_radial_7_38, 1, 0, 0, hess_radial_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, hess_radial_7_39, 1, 0, 0, hess_radial_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, hess_radial_7_40, 1, 0, 0, hess_radial_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, hess_radial_7_41, 1, 0, 0, hess_radial_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, hess_radial_7_42, 1, 0, 0, hess_radial_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, hess_radial_7_43, 1, 0, 0, hess_radial_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, hess_radial_7_44, 1, 0, 0, hess_radial_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, hess_radial_7_45, 1, 0, 0, hess_radial_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, hess_radial_7_46, 1, 0, 0, hess_radial_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, hess_radial_7_47, 1, 0, 0, hess_radial_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, hess_radial_7_48, 1, 0, 0, hess_radial_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, hess_radial_7_49, 1, 0, 0, hess_radial_7_49_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_7_0, .n = 1, .c_lo = hess_radial_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_7_1, .n = 1, .c_lo = hess_radial_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_7_2, .n = 1, .c_lo = hess_radial_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_7_3, .n = 1, .c_lo = hess_radial_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_7_4, .n = 1, .c_lo = hess_radial_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_7_5, .n = 1, .c_lo = hess_radial_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = hess_radial_7_6, .n = 1, .c_lo = hess_radial_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = hess_radial_7_7, .n = 1, .c_lo = hess_radial_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = hess_radial_7_8, .n = 1, .c_lo = hess_radial_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = hess_radial_7_9, .n = 1, .c_lo = hess_radial_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = hess_radial_7_10, .n = 1, .c_lo = hess_radial_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = hess_radial_7_11, .n = 1, .c_lo = hess_radial_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = hess_radial_7_12, .n = 1, .c_lo = hess_radial_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = hess_radial_7_13, .n = 1, .c_lo = hess_radial_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = hess_radial_7_14, .n = 1, .c_lo = hess_radial_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = hess_radial_7_15, .n = 1, .c_lo = hess_radial_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = hess_radial_7_16, .n = 1, .c_lo = hess_radial_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = hess_radial_7_17, .n = 1, .c_lo = hess_radial_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = hess_radial_7_18, .n = 1, .c_lo = hess_radial_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = hess_radial_7_19, .n = 1, .c_lo = hess_radial_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = hess_radial_7_20, .n = 1, .c_lo = hess_radial_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = hess_radial_7_21, .n = 1, .c_lo = hess_radial_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = hess_radial_7_22, .n = 1, .c_lo = hess_radial_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = hess_radial_7_23, .n = 1, .c_lo = hess_radial_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = hess_radial_7_24, .n = 1, .c_lo = hess_radial_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = hess_radial_7_25, .n = 1, .c_lo = hess_radial_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = hess_radial_7_26, .n = 1, .c_lo = hess_radial_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = hess_radial_7_27, .n = 1, .c_lo = hess_radial_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = hess_radial_7_28, .n = 1, .c_lo = hess_radial_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = hess_radial_7_29, .n = 1, .c_lo = hess_radial_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = hess_radial_7_30, .n = 1, .c_lo = hess_radial_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = hess_radial_7_31, .n = 1, .c_lo = hess_radial_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = hess_radial_7_32, .n = 1, .c_lo = hess_radial_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = hess_radial_7_33, .n = 1, .c_lo = hess_radial_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = hess_radial_7_34, .n = 1, .c_lo = hess_radial_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = hess_radial_7_35, .n = 1, .c_lo = hess_radial_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = hess_radial_7_36, .n = 1, .c_lo = hess_radial_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = hess_radial_7_37, .n = 1, .c_lo = hess_radial_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = hess_radial_7_38, .n = 1, .c_lo = hess_radial_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = hess_radial_7_39, .n = 1, .c_lo = hess_radial_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = hess_radial_7_40, .n = 1, .c_lo = hess_radial_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = hess_radial_7_41, .n = 1, .c_lo = hess_radial_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = hess_radial_7_42, .n = 1, .c_lo = hess_radial_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = hess_radial_7_43, .n = 1, .c_lo = hess_radial_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = hess_radial_7_44, .n = 1, .c_lo = hess_radial_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = hess_radial_7_45, .n = 1, .c_lo = hess_radial_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = hess_radial_7_46, .n = 1, .c_lo = hess_radial_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = hess_radial_7_47, .n = 1, .c_lo = hess_radial_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = hess_radial_7_48, .n = 1, .c_lo = hess_radial_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = hess_radial_7_49, .n = 1, .c_lo = hess_radial_7_49_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 9.6e-20 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, hess_radial_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^37, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, hess_radial_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 6.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, hess_radial_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 6.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, hess_radial_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^43, truncation < 8.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, hess_radial_5, 1},  // [1/2, 23/32), S^11 times Taylor about 3/5 up to (r-c)^62, truncation < 7.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.9p-1, hess_radial_6, 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^28, truncation < 1.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, hess_radial_7, 50},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 1.0e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = hess_radial_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^14, truncation < 9.6e-20 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = hess_radial_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^37, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = hess_radial_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 6.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = hess_radial_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 6.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = hess_radial_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^43, truncation < 8.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = hess_radial_5, .nterms = 1},  // [1/2, 23/32), S^11 times Taylor about 3/5 up to (r-c)^62, truncation < 7.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.9p-1, .terms = hess_radial_6, .nterms = 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^28, truncation < 1.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = hess_radial_7, .nterms = 50},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 1.0e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     0x1.5bade52f95e69p-4,  // 4/15 * pi^-1
@@ -4361,8 +4361,8 @@ inline constexpr double potential_0_1_lo[] = {
     0x1.a40f855b9a531p-51, 0x1.76835f55a89bp-53, 0x1.e38d79d1a1c8fp-57,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, potential_0_0, 17, 0, 0, potential_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-2, 0, 8, potential_0_1, 3, 0, 0, potential_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 17, .c_lo = potential_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 8, .c = potential_0_1, .n = 3, .c_lo = potential_0_1_lo},
 };
 inline constexpr double potential_1_0[] = {
     0x1.57a0aeb7f6518p-3,  // 229240570029598540/533752865338381239 * pi^-1 + (-34879090640633856/6582952005840035281 * pi^-1) * log(6) + (12/37 * pi^-1) * arcsin(12/37)
@@ -4418,7 +4418,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.255606646449dp-37, 0x1.7fe39e597f33ep-38, 0x1.d8b86cf70faefp-32,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-2, 0, 0, potential_1_0, 39, 0x1.4c1bacf914c1cp-2, -0x1.4c1bacf914c1cp-56, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     0x1.0ecd771c7e0a2p-2,  // 8264019909445233660/9269035929372191597 * pi^-1 + (-139136593998508015616/491258904256726154641 * pi^-1) * log(7/2) + (28/53 * pi^-1) * arcsin(28/53)
@@ -4477,7 +4477,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.d0edb53540901p-55,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5p-1, 0, 0, potential_2_0, 41, 0x1.0e7d95bc609a9p-1, 0x1.cfb2b78c13522p-58, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     0x1.72c2f0fcb4c5cp-2,  // 1127885413815790835/292812234376939896 * pi^-1 + (-44107419322835838837/11322073062575009312 * pi^-1) * log(7/3) + (21/29 * pi^-1) * arcsin(21/29)
@@ -4531,7 +4531,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.4f44842f30aap-39,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, potential_3_0, 37, 0x1.72c234f72c235p-1, -0x1.1a7b9611a7b96p-58, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
@@ -5209,133 +5209,133 @@ inline constexpr double potential_4_112_lo[] = {
     -0x1.dac8c436d0fecp-68,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, 0, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, 0, potential_4_1, 1, 0, 0, potential_4_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, 0, potential_4_2, 1, 0, 0, potential_4_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, potential_4_3, 1, 0, 0, potential_4_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, potential_4_4, 1, 0, 0, potential_4_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, potential_4_5, 1, 0, 0, potential_4_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, potential_4_6, 1, 0, 0, potential_4_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, potential_4_7, 1, 0, 0, potential_4_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, potential_4_8, 1, 0, 0, potential_4_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, potential_4_9, 1, 0, 0, potential_4_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, potential_4_10, 1, 0, 0, potential_4_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, potential_4_11, 1, 0, 0, potential_4_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, potential_4_12, 1, 0, 0, potential_4_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, potential_4_13, 1, 0, 0, potential_4_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, potential_4_14, 1, 0, 0, potential_4_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, potential_4_15, 1, 0, 0, potential_4_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, potential_4_16, 1, 0, 0, potential_4_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, potential_4_17, 1, 0, 0, potential_4_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, potential_4_18, 1, 0, 0, potential_4_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, potential_4_19, 1, 0, 0, potential_4_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, potential_4_20, 1, 0, 0, potential_4_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, potential_4_21, 1, 0, 0, potential_4_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, potential_4_22, 1, 0, 0, potential_4_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, potential_4_23, 1, 0, 0, potential_4_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, potential_4_24, 1, 0, 0, potential_4_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, potential_4_25, 1, 0, 0, potential_4_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, potential_4_26, 1, 0, 0, potential_4_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, potential_4_27, 1, 0, 0, potential_4_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, potential_4_28, 1, 0, 0, potential_4_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, potential_4_29, 1, 0, 0, potential_4_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, potential_4_30, 1, 0, 0, potential_4_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, potential_4_31, 1, 0, 0, potential_4_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, potential_4_32, 1, 0, 0, potential_4_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, potential_4_33, 1, 0, 0, potential_4_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, potential_4_34, 1, 0, 0, potential_4_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, potential_4_35, 1, 0, 0, potential_4_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, potential_4_36, 1, 0, 0, potential_4_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, potential_4_37, 1, 0, 0, potential_4_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, potential_4_38, 1, 0, 0, potential_4_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, potential_4_39, 1, 0, 0, potential_4_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, potential_4_40, 1, 0, 0, potential_4_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, potential_4_41, 1, 0, 0, potential_4_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, potential_4_42, 1, 0, 0, potential_4_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, potential_4_43, 1, 0, 0, potential_4_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, potential_4_44, 1, 0, 0, potential_4_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, potential_4_45, 1, 0, 0, potential_4_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, potential_4_46, 1, 0, 0, potential_4_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, potential_4_47, 1, 0, 0, potential_4_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, potential_4_48, 1, 0, 0, potential_4_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, potential_4_49, 1, 0, 0, potential_4_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, potential_4_50, 1, 0, 0, potential_4_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, potential_4_51, 1, 0, 0, potential_4_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, potential_4_52, 1, 0, 0, potential_4_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, potential_4_53, 1, 0, 0, potential_4_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, potential_4_54, 1, 0, 0, potential_4_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, potential_4_55, 1, 0, 0, potential_4_55_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 1, potential_4_56, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, 1, potential_4_57, 1, 0, 0, potential_4_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, 1, potential_4_58, 1, 0, 0, potential_4_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, 1, potential_4_59, 1, 0, 0, potential_4_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 1, potential_4_60, 1, 0, 0, potential_4_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 1, potential_4_61, 1, 0, 0, potential_4_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 1, potential_4_62, 1, 0, 0, potential_4_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 1, potential_4_63, 1, 0, 0, potential_4_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 1, potential_4_64, 1, 0, 0, potential_4_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 1, potential_4_65, 1, 0, 0, potential_4_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 1, potential_4_66, 1, 0, 0, potential_4_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 1, potential_4_67, 1, 0, 0, potential_4_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 1, potential_4_68, 1, 0, 0, potential_4_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 1, potential_4_69, 1, 0, 0, potential_4_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 1, potential_4_70, 1, 0, 0, potential_4_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 1, potential_4_71, 1, 0, 0, potential_4_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 1, potential_4_72, 1, 0, 0, potential_4_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 1, potential_4_73, 1, 0, 0, potential_4_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 1, potential_4_74, 1, 0, 0, potential_4_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 1, potential_4_75, 1, 0, 0, potential_4_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 1, potential_4_76, 1, 0, 0, potential_4_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 1, potential_4_77, 1, 0, 0, potential_4_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 1, potential_4_78, 1, 0, 0, potential_4_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 1, potential_4_79, 1, 0, 0, potential_4_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 1, potential_4_80, 1, 0, 0, potential_4_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 1, potential_4_81, 1, 0, 0, potential_4_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 1, potential_4_82, 1, 0, 0, potential_4_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 1, potential_4_83, 1, 0, 0, potential_4_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 1, potential_4_84, 1, 0, 0, potential_4_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 1, potential_4_85, 1, 0, 0, potential_4_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 1, potential_4_86, 1, 0, 0, potential_4_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 1, potential_4_87, 1, 0, 0, potential_4_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 1, potential_4_88, 1, 0, 0, potential_4_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 1, potential_4_89, 1, 0, 0, potential_4_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 1, potential_4_90, 1, 0, 0, potential_4_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 1, potential_4_91, 1, 0, 0, potential_4_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 1, potential_4_92, 1, 0, 0, potential_4_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 1, potential_4_93, 1, 0, 0, potential_4_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 1, potential_4_94, 1, 0, 0, potential_4_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 1, potential_4_95, 1, 0, 0, potential_4_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 1, potential_4_96, 1, 0, 0, potential_4_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 1, potential_4_97, 1, 0, 0, potential_4_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 1, potential_4_98, 1, 0, 0, potential_4_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 1, potential_4_99, 1, 0, 0, potential_4_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 1, potential_4_100, 1, 0, 0, potential_4_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 1, potential_4_101, 1, 0, 0, potential_4_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 1, potential_4_102, 1, 0, 0, potential_4_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 1, potential_4_103, 1, 0, 0, potential_4_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 1, potential_4_104, 1, 0, 0, potential_4_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 1, potential_4_105, 1, 0, 0, potential_4_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 1, potential_4_106, 1, 0, 0, potential_4_106_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 1, potential_4_107, 1, 0, 0, potential_4_107_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 1, potential_4_108, 1, 0, 0, potential_4_108_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 1, potential_4_109, 1, 0, 0, potential_4_109_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 1, potential_4_110, 1, 0, 0, potential_4_110_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 1, potential_4_111, 1, 0, 0, potential_4_111_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 1, potential_4_112, 1, 0, 0, potential_4_112_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_4_1, .n = 1, .c_lo = potential_4_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_4_2, .n = 1, .c_lo = potential_4_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_4_3, .n = 1, .c_lo = potential_4_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_4_4, .n = 1, .c_lo = potential_4_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_5, .n = 1, .c_lo = potential_4_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_6, .n = 1, .c_lo = potential_4_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_7, .n = 1, .c_lo = potential_4_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_8, .n = 1, .c_lo = potential_4_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_4_9, .n = 1, .c_lo = potential_4_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_4_10, .n = 1, .c_lo = potential_4_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_11, .n = 1, .c_lo = potential_4_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_4_12, .n = 1, .c_lo = potential_4_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_4_13, .n = 1, .c_lo = potential_4_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = potential_4_14, .n = 1, .c_lo = potential_4_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = potential_4_15, .n = 1, .c_lo = potential_4_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = potential_4_16, .n = 1, .c_lo = potential_4_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = potential_4_17, .n = 1, .c_lo = potential_4_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = potential_4_18, .n = 1, .c_lo = potential_4_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = potential_4_19, .n = 1, .c_lo = potential_4_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = potential_4_20, .n = 1, .c_lo = potential_4_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = potential_4_21, .n = 1, .c_lo = potential_4_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = potential_4_22, .n = 1, .c_lo = potential_4_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = potential_4_23, .n = 1, .c_lo = potential_4_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = potential_4_24, .n = 1, .c_lo = potential_4_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = potential_4_25, .n = 1, .c_lo = potential_4_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = potential_4_26, .n = 1, .c_lo = potential_4_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = potential_4_27, .n = 1, .c_lo = potential_4_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = potential_4_28, .n = 1, .c_lo = potential_4_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = potential_4_29, .n = 1, .c_lo = potential_4_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = potential_4_30, .n = 1, .c_lo = potential_4_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = potential_4_31, .n = 1, .c_lo = potential_4_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = potential_4_32, .n = 1, .c_lo = potential_4_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = potential_4_33, .n = 1, .c_lo = potential_4_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = potential_4_34, .n = 1, .c_lo = potential_4_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = potential_4_35, .n = 1, .c_lo = potential_4_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = potential_4_36, .n = 1, .c_lo = potential_4_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = potential_4_37, .n = 1, .c_lo = potential_4_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = potential_4_38, .n = 1, .c_lo = potential_4_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = potential_4_39, .n = 1, .c_lo = potential_4_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = potential_4_40, .n = 1, .c_lo = potential_4_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = potential_4_41, .n = 1, .c_lo = potential_4_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = potential_4_42, .n = 1, .c_lo = potential_4_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = potential_4_43, .n = 1, .c_lo = potential_4_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = potential_4_44, .n = 1, .c_lo = potential_4_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = potential_4_45, .n = 1, .c_lo = potential_4_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = potential_4_46, .n = 1, .c_lo = potential_4_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = potential_4_47, .n = 1, .c_lo = potential_4_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = potential_4_48, .n = 1, .c_lo = potential_4_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = potential_4_49, .n = 1, .c_lo = potential_4_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = potential_4_50, .n = 1, .c_lo = potential_4_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = potential_4_51, .n = 1, .c_lo = potential_4_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = potential_4_52, .n = 1, .c_lo = potential_4_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = potential_4_53, .n = 1, .c_lo = potential_4_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = potential_4_54, .n = 1, .c_lo = potential_4_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = potential_4_55, .n = 1, .c_lo = potential_4_55_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_4_56, .n = 1},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_4_57, .n = 1, .c_lo = potential_4_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 1, .c = potential_4_58, .n = 1, .c_lo = potential_4_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 1, .c = potential_4_59, .n = 1, .c_lo = potential_4_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 1, .c = potential_4_60, .n = 1, .c_lo = potential_4_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = potential_4_61, .n = 1, .c_lo = potential_4_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = potential_4_62, .n = 1, .c_lo = potential_4_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = potential_4_63, .n = 1, .c_lo = potential_4_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = potential_4_64, .n = 1, .c_lo = potential_4_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = potential_4_65, .n = 1, .c_lo = potential_4_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = potential_4_66, .n = 1, .c_lo = potential_4_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 1, .c = potential_4_67, .n = 1, .c_lo = potential_4_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 1, .c = potential_4_68, .n = 1, .c_lo = potential_4_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 1, .c = potential_4_69, .n = 1, .c_lo = potential_4_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 1, .c = potential_4_70, .n = 1, .c_lo = potential_4_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 1, .c = potential_4_71, .n = 1, .c_lo = potential_4_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 1, .c = potential_4_72, .n = 1, .c_lo = potential_4_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 1, .c = potential_4_73, .n = 1, .c_lo = potential_4_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 1, .c = potential_4_74, .n = 1, .c_lo = potential_4_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 1, .c = potential_4_75, .n = 1, .c_lo = potential_4_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 1, .c = potential_4_76, .n = 1, .c_lo = potential_4_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 1, .c = potential_4_77, .n = 1, .c_lo = potential_4_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 1, .c = potential_4_78, .n = 1, .c_lo = potential_4_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 1, .c = potential_4_79, .n = 1, .c_lo = potential_4_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 1, .c = potential_4_80, .n = 1, .c_lo = potential_4_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 1, .c = potential_4_81, .n = 1, .c_lo = potential_4_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 1, .c = potential_4_82, .n = 1, .c_lo = potential_4_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 1, .c = potential_4_83, .n = 1, .c_lo = potential_4_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 1, .c = potential_4_84, .n = 1, .c_lo = potential_4_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 1, .c = potential_4_85, .n = 1, .c_lo = potential_4_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 1, .c = potential_4_86, .n = 1, .c_lo = potential_4_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 1, .c = potential_4_87, .n = 1, .c_lo = potential_4_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 1, .c = potential_4_88, .n = 1, .c_lo = potential_4_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 1, .c = potential_4_89, .n = 1, .c_lo = potential_4_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 1, .c = potential_4_90, .n = 1, .c_lo = potential_4_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 1, .c = potential_4_91, .n = 1, .c_lo = potential_4_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 1, .c = potential_4_92, .n = 1, .c_lo = potential_4_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 1, .c = potential_4_93, .n = 1, .c_lo = potential_4_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 1, .c = potential_4_94, .n = 1, .c_lo = potential_4_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 1, .c = potential_4_95, .n = 1, .c_lo = potential_4_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 1, .c = potential_4_96, .n = 1, .c_lo = potential_4_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 1, .c = potential_4_97, .n = 1, .c_lo = potential_4_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 1, .c = potential_4_98, .n = 1, .c_lo = potential_4_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 1, .c = potential_4_99, .n = 1, .c_lo = potential_4_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 1, .c = potential_4_100, .n = 1, .c_lo = potential_4_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 1, .c = potential_4_101, .n = 1, .c_lo = potential_4_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 1, .c = potential_4_102, .n = 1, .c_lo = potential_4_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 1, .c = potential_4_103, .n = 1, .c_lo = potential_4_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 1, .c = potential_4_104, .n = 1, .c_lo = potential_4_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 1, .c = potential_4_105, .n = 1, .c_lo = potential_4_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 1, .c = potential_4_106, .n = 1, .c_lo = potential_4_106_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 1, .c = potential_4_107, .n = 1, .c_lo = potential_4_107_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 1, .c = potential_4_108, .n = 1, .c_lo = potential_4_108_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 1, .c = potential_4_109, .n = 1, .c_lo = potential_4_109_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 1, .c = potential_4_110, .n = 1, .c_lo = potential_4_110_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 1, .c = potential_4_111, .n = 1, .c_lo = potential_4_111_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 1, .c = potential_4_112, .n = 1, .c_lo = potential_4_112_lo},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 1, potential_5_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 1, .c = potential_5_0, .n = 1},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 5.2e-20 relative (series.hpp)
-    {0x1p-2, 0x1.a8p-2, potential_1, 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^38, truncation < 6.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-2, 0x1.5p-1, potential_2, 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^40, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.5p-1, 0x1.8p-1, potential_3, 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^36, truncation < 9.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, potential_4, 113},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 9.5e-20 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 2},  // [0, 1/4), series at 0 up to r^32, truncation < 5.2e-20 relative (series.hpp)
+    {.lo = 0x1p-2, .hi = 0x1.a8p-2, .terms = potential_1, .nterms = 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^38, truncation < 6.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-2, .hi = 0x1.5p-1, .terms = potential_2, .nterms = 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^40, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.5p-1, .hi = 0x1.8p-1, .terms = potential_3, .nterms = 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^36, truncation < 9.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 113},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 9.5e-20 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.de0f1b216e1d1p+0,  // 88/15 * pi^-1
@@ -5370,8 +5370,8 @@ inline constexpr double dpotential_0_1_lo[] = {
     0x1.a40f855b9a531p-48, 0x1.ea121b958960ep-49, -0x1.9555e4a2c6a95p-53,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 1, dpotential_0_0, 16, 0, 0, dpotential_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-2, 0, 7, dpotential_0_1, 3, 0, 0, dpotential_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 16, .c_lo = dpotential_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 7, .c = dpotential_0_1, .n = 3, .c_lo = dpotential_0_1_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.be622d323b72ep-2,  // 6136332213628540/4808584372417849 * pi^-1 + (-23526631453851648/177917621779460413 * pi^-1) * log(6) + (1 * pi^-1) * arcsin(12/37)
@@ -5428,7 +5428,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.eef7cbc5dec5p-31, -0x1.3a93fa6a7580ep-29, 0x1.70e2d1bb8428fp-26, 0x1.073a37536d414p-26,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-2, 0, 0, dpotential_1_0, 40, 0x1.4c1bacf914c1cp-2, -0x1.4c1bacf914c1cp-56, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.fa6a2dde2475cp-2,  // 1141580029820034420/174887470365513049 * pi^-1 + (-40919106020119642112/9269035929372191597 * pi^-1) * log(7/2) + (1 * pi^-1) * arcsin(28/53)
@@ -5488,7 +5488,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.b434fa3c9a95dp-46, 0x1.a531161cc63b3p-47,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5p-1, 0, 0, dpotential_2_0, 42, 0x1.0e7d95bc609a9p-1, 0x1.cfb2b78c13522p-58, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.ffe81fe17078bp-2,  // 32879793360723155/841414466600402 * pi^-1 + (-4413803201592011703/97604078125646632 * pi^-1) * log(7/3) + (1 * pi^-1) * arcsin(21/29)
@@ -5544,7 +5544,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.a9b93a6780f4ep-32, -0x1.5d3984e4c5208p-33, 0x1.2429a0f7aefcap-31,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dpotential_3_0, 39, 0x1.72c234f72c235p-1, -0x1.1a7b9611a7b96p-58, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -6234,135 +6234,135 @@ inline constexpr double dpotential_4_114_lo[] = {
     0x1.0b6132345bb1ep-70,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, 0, dpotential_4_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, 0, dpotential_4_1, 1, 0, 0, dpotential_4_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, 0, dpotential_4_2, 1, 0, 0, dpotential_4_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, 0, dpotential_4_3, 1, 0, 0, dpotential_4_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, dpotential_4_4, 1, 0, 0, dpotential_4_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, dpotential_4_5, 1, 0, 0, dpotential_4_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, dpotential_4_6, 1, 0, 0, dpotential_4_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, dpotential_4_7, 1, 0, 0, dpotential_4_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, dpotential_4_8, 1, 0, 0, dpotential_4_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, dpotential_4_9, 1, 0, 0, dpotential_4_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, dpotential_4_10, 1, 0, 0, dpotential_4_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, dpotential_4_11, 1, 0, 0, dpotential_4_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, dpotential_4_12, 1, 0, 0, dpotential_4_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, dpotential_4_13, 1, 0, 0, dpotential_4_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, dpotential_4_14, 1, 0, 0, dpotential_4_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, dpotential_4_15, 1, 0, 0, dpotential_4_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, dpotential_4_16, 1, 0, 0, dpotential_4_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, dpotential_4_17, 1, 0, 0, dpotential_4_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, dpotential_4_18, 1, 0, 0, dpotential_4_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, dpotential_4_19, 1, 0, 0, dpotential_4_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, dpotential_4_20, 1, 0, 0, dpotential_4_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, dpotential_4_21, 1, 0, 0, dpotential_4_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, dpotential_4_22, 1, 0, 0, dpotential_4_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, dpotential_4_23, 1, 0, 0, dpotential_4_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, dpotential_4_24, 1, 0, 0, dpotential_4_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, dpotential_4_25, 1, 0, 0, dpotential_4_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, dpotential_4_26, 1, 0, 0, dpotential_4_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, dpotential_4_27, 1, 0, 0, dpotential_4_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, dpotential_4_28, 1, 0, 0, dpotential_4_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, dpotential_4_29, 1, 0, 0, dpotential_4_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, dpotential_4_30, 1, 0, 0, dpotential_4_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, dpotential_4_31, 1, 0, 0, dpotential_4_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, dpotential_4_32, 1, 0, 0, dpotential_4_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, dpotential_4_33, 1, 0, 0, dpotential_4_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, dpotential_4_34, 1, 0, 0, dpotential_4_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, dpotential_4_35, 1, 0, 0, dpotential_4_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, dpotential_4_36, 1, 0, 0, dpotential_4_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, dpotential_4_37, 1, 0, 0, dpotential_4_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, dpotential_4_38, 1, 0, 0, dpotential_4_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, dpotential_4_39, 1, 0, 0, dpotential_4_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, dpotential_4_40, 1, 0, 0, dpotential_4_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, dpotential_4_41, 1, 0, 0, dpotential_4_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, dpotential_4_42, 1, 0, 0, dpotential_4_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, dpotential_4_43, 1, 0, 0, dpotential_4_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, dpotential_4_44, 1, 0, 0, dpotential_4_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, dpotential_4_45, 1, 0, 0, dpotential_4_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, dpotential_4_46, 1, 0, 0, dpotential_4_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, dpotential_4_47, 1, 0, 0, dpotential_4_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, dpotential_4_48, 1, 0, 0, dpotential_4_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, dpotential_4_49, 1, 0, 0, dpotential_4_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, dpotential_4_50, 1, 0, 0, dpotential_4_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, dpotential_4_51, 1, 0, 0, dpotential_4_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, dpotential_4_52, 1, 0, 0, dpotential_4_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, dpotential_4_53, 1, 0, 0, dpotential_4_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, dpotential_4_54, 1, 0, 0, dpotential_4_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, dpotential_4_55, 1, 0, 0, dpotential_4_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, dpotential_4_56, 1, 0, 0, dpotential_4_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, dpotential_4_57, 1, 0, 0, dpotential_4_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, 1, dpotential_4_58, 1, 0, 0, dpotential_4_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, 1, dpotential_4_59, 1, 0, 0, dpotential_4_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, 1, dpotential_4_60, 1, 0, 0, dpotential_4_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 1, dpotential_4_61, 1, 0, 0, dpotential_4_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 1, dpotential_4_62, 1, 0, 0, dpotential_4_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 1, dpotential_4_63, 1, 0, 0, dpotential_4_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 1, dpotential_4_64, 1, 0, 0, dpotential_4_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 1, dpotential_4_65, 1, 0, 0, dpotential_4_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 1, dpotential_4_66, 1, 0, 0, dpotential_4_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 1, dpotential_4_67, 1, 0, 0, dpotential_4_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 1, dpotential_4_68, 1, 0, 0, dpotential_4_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 1, dpotential_4_69, 1, 0, 0, dpotential_4_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 1, dpotential_4_70, 1, 0, 0, dpotential_4_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 1, dpotential_4_71, 1, 0, 0, dpotential_4_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 1, dpotential_4_72, 1, 0, 0, dpotential_4_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 1, dpotential_4_73, 1, 0, 0, dpotential_4_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 1, dpotential_4_74, 1, 0, 0, dpotential_4_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 1, dpotential_4_75, 1, 0, 0, dpotential_4_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 1, dpotential_4_76, 1, 0, 0, dpotential_4_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 1, dpotential_4_77, 1, 0, 0, dpotential_4_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 1, dpotential_4_78, 1, 0, 0, dpotential_4_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 1, dpotential_4_79, 1, 0, 0, dpotential_4_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 1, dpotential_4_80, 1, 0, 0, dpotential_4_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 1, dpotential_4_81, 1, 0, 0, dpotential_4_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 1, dpotential_4_82, 1, 0, 0, dpotential_4_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 1, dpotential_4_83, 1, 0, 0, dpotential_4_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 1, dpotential_4_84, 1, 0, 0, dpotential_4_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 1, dpotential_4_85, 1, 0, 0, dpotential_4_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 1, dpotential_4_86, 1, 0, 0, dpotential_4_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 1, dpotential_4_87, 1, 0, 0, dpotential_4_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 1, dpotential_4_88, 1, 0, 0, dpotential_4_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 1, dpotential_4_89, 1, 0, 0, dpotential_4_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 1, dpotential_4_90, 1, 0, 0, dpotential_4_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 1, dpotential_4_91, 1, 0, 0, dpotential_4_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 1, dpotential_4_92, 1, 0, 0, dpotential_4_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 1, dpotential_4_93, 1, 0, 0, dpotential_4_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 1, dpotential_4_94, 1, 0, 0, dpotential_4_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 1, dpotential_4_95, 1, 0, 0, dpotential_4_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 1, dpotential_4_96, 1, 0, 0, dpotential_4_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 1, dpotential_4_97, 1, 0, 0, dpotential_4_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 1, dpotential_4_98, 1, 0, 0, dpotential_4_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 1, dpotential_4_99, 1, 0, 0, dpotential_4_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 1, dpotential_4_100, 1, 0, 0, dpotential_4_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 1, dpotential_4_101, 1, 0, 0, dpotential_4_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 1, dpotential_4_102, 1, 0, 0, dpotential_4_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 1, dpotential_4_103, 1, 0, 0, dpotential_4_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 1, dpotential_4_104, 1, 0, 0, dpotential_4_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 1, dpotential_4_105, 1, 0, 0, dpotential_4_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 1, dpotential_4_106, 1, 0, 0, dpotential_4_106_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 1, dpotential_4_107, 1, 0, 0, dpotential_4_107_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 1, dpotential_4_108, 1, 0, 0, dpotential_4_108_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 1, dpotential_4_109, 1, 0, 0, dpotential_4_109_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 1, dpotential_4_110, 1, 0, 0, dpotential_4_110_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 1, dpotential_4_111, 1, 0, 0, dpotential_4_111_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 1, dpotential_4_112, 1, 0, 0, dpotential_4_112_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 1, dpotential_4_113, 1, 0, 0, dpotential_4_113_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 1, dpotential_4_114, 1, 0, 0, dpotential_4_114_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_4_1, .n = 1, .c_lo = dpotential_4_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = dpotential_4_2, .n = 1, .c_lo = dpotential_4_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = dpotential_4_3, .n = 1, .c_lo = dpotential_4_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = dpotential_4_4, .n = 1, .c_lo = dpotential_4_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_4_5, .n = 1, .c_lo = dpotential_4_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_4_6, .n = 1, .c_lo = dpotential_4_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_4_7, .n = 1, .c_lo = dpotential_4_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_4_8, .n = 1, .c_lo = dpotential_4_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = dpotential_4_9, .n = 1, .c_lo = dpotential_4_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_4_10, .n = 1, .c_lo = dpotential_4_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = dpotential_4_11, .n = 1, .c_lo = dpotential_4_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = dpotential_4_12, .n = 1, .c_lo = dpotential_4_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = dpotential_4_13, .n = 1, .c_lo = dpotential_4_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = dpotential_4_14, .n = 1, .c_lo = dpotential_4_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = dpotential_4_15, .n = 1, .c_lo = dpotential_4_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = dpotential_4_16, .n = 1, .c_lo = dpotential_4_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = dpotential_4_17, .n = 1, .c_lo = dpotential_4_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = dpotential_4_18, .n = 1, .c_lo = dpotential_4_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = dpotential_4_19, .n = 1, .c_lo = dpotential_4_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = dpotential_4_20, .n = 1, .c_lo = dpotential_4_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = dpotential_4_21, .n = 1, .c_lo = dpotential_4_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = dpotential_4_22, .n = 1, .c_lo = dpotential_4_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = dpotential_4_23, .n = 1, .c_lo = dpotential_4_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = dpotential_4_24, .n = 1, .c_lo = dpotential_4_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = dpotential_4_25, .n = 1, .c_lo = dpotential_4_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = dpotential_4_26, .n = 1, .c_lo = dpotential_4_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = dpotential_4_27, .n = 1, .c_lo = dpotential_4_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = dpotential_4_28, .n = 1, .c_lo = dpotential_4_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = dpotential_4_29, .n = 1, .c_lo = dpotential_4_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = dpotential_4_30, .n = 1, .c_lo = dpotential_4_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = dpotential_4_31, .n = 1, .c_lo = dpotential_4_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = dpotential_4_32, .n = 1, .c_lo = dpotential_4_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = dpotential_4_33, .n = 1, .c_lo = dpotential_4_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = dpotential_4_34, .n = 1, .c_lo = dpotential_4_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = dpotential_4_35, .n = 1, .c_lo = dpotential_4_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = dpotential_4_36, .n = 1, .c_lo = dpotential_4_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = dpotential_4_37, .n = 1, .c_lo = dpotential_4_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = dpotential_4_38, .n = 1, .c_lo = dpotential_4_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = dpotential_4_39, .n = 1, .c_lo = dpotential_4_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = dpotential_4_40, .n = 1, .c_lo = dpotential_4_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = dpotential_4_41, .n = 1, .c_lo = dpotential_4_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = dpotential_4_42, .n = 1, .c_lo = dpotential_4_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = dpotential_4_43, .n = 1, .c_lo = dpotential_4_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = dpotential_4_44, .n = 1, .c_lo = dpotential_4_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = dpotential_4_45, .n = 1, .c_lo = dpotential_4_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = dpotential_4_46, .n = 1, .c_lo = dpotential_4_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = dpotential_4_47, .n = 1, .c_lo = dpotential_4_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = dpotential_4_48, .n = 1, .c_lo = dpotential_4_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = dpotential_4_49, .n = 1, .c_lo = dpotential_4_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = dpotential_4_50, .n = 1, .c_lo = dpotential_4_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = dpotential_4_51, .n = 1, .c_lo = dpotential_4_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = dpotential_4_52, .n = 1, .c_lo = dpotential_4_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = dpotential_4_53, .n = 1, .c_lo = dpotential_4_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = dpotential_4_54, .n = 1, .c_lo = dpotential_4_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = dpotential_4_55, .n = 1, .c_lo = dpotential_4_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = dpotential_4_56, .n = 1, .c_lo = dpotential_4_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = dpotential_4_57, .n = 1, .c_lo = dpotential_4_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = dpotential_4_58, .n = 1, .c_lo = dpotential_4_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 1, .c = dpotential_4_59, .n = 1, .c_lo = dpotential_4_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 1, .c = dpotential_4_60, .n = 1, .c_lo = dpotential_4_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 1, .c = dpotential_4_61, .n = 1, .c_lo = dpotential_4_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dpotential_4_62, .n = 1, .c_lo = dpotential_4_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dpotential_4_63, .n = 1, .c_lo = dpotential_4_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dpotential_4_64, .n = 1, .c_lo = dpotential_4_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dpotential_4_65, .n = 1, .c_lo = dpotential_4_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dpotential_4_66, .n = 1, .c_lo = dpotential_4_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dpotential_4_67, .n = 1, .c_lo = dpotential_4_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 1, .c = dpotential_4_68, .n = 1, .c_lo = dpotential_4_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 1, .c = dpotential_4_69, .n = 1, .c_lo = dpotential_4_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 1, .c = dpotential_4_70, .n = 1, .c_lo = dpotential_4_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 1, .c = dpotential_4_71, .n = 1, .c_lo = dpotential_4_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 1, .c = dpotential_4_72, .n = 1, .c_lo = dpotential_4_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 1, .c = dpotential_4_73, .n = 1, .c_lo = dpotential_4_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 1, .c = dpotential_4_74, .n = 1, .c_lo = dpotential_4_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 1, .c = dpotential_4_75, .n = 1, .c_lo = dpotential_4_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 1, .c = dpotential_4_76, .n = 1, .c_lo = dpotential_4_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 1, .c = dpotential_4_77, .n = 1, .c_lo = dpotential_4_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 1, .c = dpotential_4_78, .n = 1, .c_lo = dpotential_4_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 1, .c = dpotential_4_79, .n = 1, .c_lo = dpotential_4_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 1, .c = dpotential_4_80, .n = 1, .c_lo = dpotential_4_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 1, .c = dpotential_4_81, .n = 1, .c_lo = dpotential_4_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 1, .c = dpotential_4_82, .n = 1, .c_lo = dpotential_4_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 1, .c = dpotential_4_83, .n = 1, .c_lo = dpotential_4_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 1, .c = dpotential_4_84, .n = 1, .c_lo = dpotential_4_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 1, .c = dpotential_4_85, .n = 1, .c_lo = dpotential_4_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 1, .c = dpotential_4_86, .n = 1, .c_lo = dpotential_4_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 1, .c = dpotential_4_87, .n = 1, .c_lo = dpotential_4_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 1, .c = dpotential_4_88, .n = 1, .c_lo = dpotential_4_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 1, .c = dpotential_4_89, .n = 1, .c_lo = dpotential_4_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 1, .c = dpotential_4_90, .n = 1, .c_lo = dpotential_4_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 1, .c = dpotential_4_91, .n = 1, .c_lo = dpotential_4_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 1, .c = dpotential_4_92, .n = 1, .c_lo = dpotential_4_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 1, .c = dpotential_4_93, .n = 1, .c_lo = dpotential_4_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 1, .c = dpotential_4_94, .n = 1, .c_lo = dpotential_4_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 1, .c = dpotential_4_95, .n = 1, .c_lo = dpotential_4_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 1, .c = dpotential_4_96, .n = 1, .c_lo = dpotential_4_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 1, .c = dpotential_4_97, .n = 1, .c_lo = dpotential_4_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 1, .c = dpotential_4_98, .n = 1, .c_lo = dpotential_4_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 1, .c = dpotential_4_99, .n = 1, .c_lo = dpotential_4_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 1, .c = dpotential_4_100, .n = 1, .c_lo = dpotential_4_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 1, .c = dpotential_4_101, .n = 1, .c_lo = dpotential_4_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 1, .c = dpotential_4_102, .n = 1, .c_lo = dpotential_4_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 1, .c = dpotential_4_103, .n = 1, .c_lo = dpotential_4_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 1, .c = dpotential_4_104, .n = 1, .c_lo = dpotential_4_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 1, .c = dpotential_4_105, .n = 1, .c_lo = dpotential_4_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 1, .c = dpotential_4_106, .n = 1, .c_lo = dpotential_4_106_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 1, .c = dpotential_4_107, .n = 1, .c_lo = dpotential_4_107_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 1, .c = dpotential_4_108, .n = 1, .c_lo = dpotential_4_108_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 1, .c = dpotential_4_109, .n = 1, .c_lo = dpotential_4_109_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 1, .c = dpotential_4_110, .n = 1, .c_lo = dpotential_4_110_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 1, .c = dpotential_4_111, .n = 1, .c_lo = dpotential_4_111_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 1, .c = dpotential_4_112, .n = 1, .c_lo = dpotential_4_112_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 1, .c = dpotential_4_113, .n = 1, .c_lo = dpotential_4_113_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 1, .c = dpotential_4_114, .n = 1, .c_lo = dpotential_4_114_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, 0, dpotential_5_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-2, dpotential_0, 2},  // [0, 1/4), series at 0 up to r^31, truncation < 9.9e-20 relative (series.hpp)
-    {0x1p-2, 0x1.a8p-2, dpotential_1, 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^39, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-2, 0x1.5p-1, dpotential_2, 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^41, truncation < 4.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.5p-1, 0x1.8p-1, dpotential_3, 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^38, truncation < 3.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, dpotential_4, 115},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.0e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, dpotential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_0, .nterms = 2},  // [0, 1/4), series at 0 up to r^31, truncation < 9.9e-20 relative (series.hpp)
+    {.lo = 0x1p-2, .hi = 0x1.a8p-2, .terms = dpotential_1, .nterms = 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^39, truncation < 7.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-2, .hi = 0x1.5p-1, .terms = dpotential_2, .nterms = 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^41, truncation < 4.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.5p-1, .hi = 0x1.8p-1, .terms = dpotential_3, .nterms = 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^38, truncation < 3.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dpotential_4, .nterms = 115},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.0e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.de0f1b216e1d1p+0,  // 88/15 * pi^-1
@@ -6397,8 +6397,8 @@ inline constexpr double dpotential_over_r_0_1_lo[] = {
     0x1.a40f855b9a531p-48, 0x1.ea121b958960ep-49, -0x1.9555e4a2c6a95p-53,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, dpotential_over_r_0_0, 16, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-2, 0, 6, dpotential_over_r_0_1, 3, 0, 0, dpotential_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 16, .c_lo = dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 6, .c = dpotential_over_r_0_1, .n = 3, .c_lo = dpotential_over_r_0_1_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.5816582c0dd33p+0,  // 1534083053407135/389885219385231 * pi^-1 + (-1960552621154304/4808584372417849 * pi^-1) * log(6) + (37/12 * pi^-1) * arcsin(12/37)
@@ -6455,7 +6455,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.3039f1ced5caap-25, 0x1.6201be6adf154p-24, -0x1.7c81341e4f4cap-24, 0x1.dabaf5ac37074p-23,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-2, 0, 0, dpotential_over_r_1_0, 40, 0x1.4c1bacf914c1cp-2, -0x1.4c1bacf914c1cp-56, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.df490ffb6281cp-1,  // 40770715350715515/3299763591802133 * pi^-1 + (-1461396643575701504/174887470365513049 * pi^-1) * log(7/2) + (53/28 * pi^-1) * arcsin(28/53)
@@ -6514,7 +6514,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.61caa1b21980dp-43,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5p-1, 0, 0, dpotential_over_r_2_0, 41, 0x1.0e7d95bc609a9p-1, 0x1.cfb2b78c13522p-58, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.61759c1ba9166p-1,  // 4697113337246165/87042875855214 * pi^-1 + (-210181104837714843/3365657866401608 * pi^-1) * log(7/3) + (29/21 * pi^-1) * arcsin(21/29)
@@ -6569,7 +6569,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.ffb11bff9a4c9p-32, 0x1.aa23286100409p-36,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, dpotential_over_r_3_0, 38, 0x1.72c234f72c235p-1, -0x1.1a7b9611a7b96p-58, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -7259,135 +7259,135 @@ inline constexpr double dpotential_over_r_4_114_lo[] = {
     0x1.0b6132345bb1ep-70,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_4_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -1, dpotential_over_r_4_1, 1, 0, 0, dpotential_over_r_4_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -1, dpotential_over_r_4_2, 1, 0, 0, dpotential_over_r_4_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -1, dpotential_over_r_4_3, 1, 0, 0, dpotential_over_r_4_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -1, dpotential_over_r_4_4, 1, 0, 0, dpotential_over_r_4_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -1, dpotential_over_r_4_5, 1, 0, 0, dpotential_over_r_4_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -1, dpotential_over_r_4_6, 1, 0, 0, dpotential_over_r_4_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -1, dpotential_over_r_4_7, 1, 0, 0, dpotential_over_r_4_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -1, dpotential_over_r_4_8, 1, 0, 0, dpotential_over_r_4_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -1, dpotential_over_r_4_9, 1, 0, 0, dpotential_over_r_4_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -1, dpotential_over_r_4_10, 1, 0, 0, dpotential_over_r_4_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -1, dpotential_over_r_4_11, 1, 0, 0, dpotential_over_r_4_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -1, dpotential_over_r_4_12, 1, 0, 0, dpotential_over_r_4_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -1, dpotential_over_r_4_13, 1, 0, 0, dpotential_over_r_4_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -1, dpotential_over_r_4_14, 1, 0, 0, dpotential_over_r_4_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -1, dpotential_over_r_4_15, 1, 0, 0, dpotential_over_r_4_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -1, dpotential_over_r_4_16, 1, 0, 0, dpotential_over_r_4_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -1, dpotential_over_r_4_17, 1, 0, 0, dpotential_over_r_4_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -1, dpotential_over_r_4_18, 1, 0, 0, dpotential_over_r_4_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -1, dpotential_over_r_4_19, 1, 0, 0, dpotential_over_r_4_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -1, dpotential_over_r_4_20, 1, 0, 0, dpotential_over_r_4_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -1, dpotential_over_r_4_21, 1, 0, 0, dpotential_over_r_4_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -1, dpotential_over_r_4_22, 1, 0, 0, dpotential_over_r_4_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -1, dpotential_over_r_4_23, 1, 0, 0, dpotential_over_r_4_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -1, dpotential_over_r_4_24, 1, 0, 0, dpotential_over_r_4_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -1, dpotential_over_r_4_25, 1, 0, 0, dpotential_over_r_4_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -1, dpotential_over_r_4_26, 1, 0, 0, dpotential_over_r_4_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -1, dpotential_over_r_4_27, 1, 0, 0, dpotential_over_r_4_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -1, dpotential_over_r_4_28, 1, 0, 0, dpotential_over_r_4_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -1, dpotential_over_r_4_29, 1, 0, 0, dpotential_over_r_4_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -1, dpotential_over_r_4_30, 1, 0, 0, dpotential_over_r_4_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -1, dpotential_over_r_4_31, 1, 0, 0, dpotential_over_r_4_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -1, dpotential_over_r_4_32, 1, 0, 0, dpotential_over_r_4_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -1, dpotential_over_r_4_33, 1, 0, 0, dpotential_over_r_4_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -1, dpotential_over_r_4_34, 1, 0, 0, dpotential_over_r_4_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -1, dpotential_over_r_4_35, 1, 0, 0, dpotential_over_r_4_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -1, dpotential_over_r_4_36, 1, 0, 0, dpotential_over_r_4_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -1, dpotential_over_r_4_37, 1, 0, 0, dpotential_over_r_4_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -1, dpotential_over_r_4_38, 1, 0, 0, dpotential_over_r_4_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -1, dpotential_over_r_4_39, 1, 0, 0, dpotential_over_r_4_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -1, dpotential_over_r_4_40, 1, 0, 0, dpotential_over_r_4_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -1, dpotential_over_r_4_41, 1, 0, 0, dpotential_over_r_4_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -1, dpotential_over_r_4_42, 1, 0, 0, dpotential_over_r_4_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -1, dpotential_over_r_4_43, 1, 0, 0, dpotential_over_r_4_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -1, dpotential_over_r_4_44, 1, 0, 0, dpotential_over_r_4_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -1, dpotential_over_r_4_45, 1, 0, 0, dpotential_over_r_4_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -1, dpotential_over_r_4_46, 1, 0, 0, dpotential_over_r_4_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -1, dpotential_over_r_4_47, 1, 0, 0, dpotential_over_r_4_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -1, dpotential_over_r_4_48, 1, 0, 0, dpotential_over_r_4_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -1, dpotential_over_r_4_49, 1, 0, 0, dpotential_over_r_4_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -1, dpotential_over_r_4_50, 1, 0, 0, dpotential_over_r_4_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -1, dpotential_over_r_4_51, 1, 0, 0, dpotential_over_r_4_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -1, dpotential_over_r_4_52, 1, 0, 0, dpotential_over_r_4_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -1, dpotential_over_r_4_53, 1, 0, 0, dpotential_over_r_4_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -1, dpotential_over_r_4_54, 1, 0, 0, dpotential_over_r_4_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -1, dpotential_over_r_4_55, 1, 0, 0, dpotential_over_r_4_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -1, dpotential_over_r_4_56, 1, 0, 0, dpotential_over_r_4_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -1, dpotential_over_r_4_57, 1, 0, 0, dpotential_over_r_4_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, 0, dpotential_over_r_4_58, 1, 0, 0, dpotential_over_r_4_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, 0, dpotential_over_r_4_59, 1, 0, 0, dpotential_over_r_4_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, 0, dpotential_over_r_4_60, 1, 0, 0, dpotential_over_r_4_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, 0, dpotential_over_r_4_61, 1, 0, 0, dpotential_over_r_4_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, 0, dpotential_over_r_4_62, 1, 0, 0, dpotential_over_r_4_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, 0, dpotential_over_r_4_63, 1, 0, 0, dpotential_over_r_4_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, dpotential_over_r_4_64, 1, 0, 0, dpotential_over_r_4_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, dpotential_over_r_4_65, 1, 0, 0, dpotential_over_r_4_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, dpotential_over_r_4_66, 1, 0, 0, dpotential_over_r_4_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, dpotential_over_r_4_67, 1, 0, 0, dpotential_over_r_4_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, dpotential_over_r_4_68, 1, 0, 0, dpotential_over_r_4_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, dpotential_over_r_4_69, 1, 0, 0, dpotential_over_r_4_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, dpotential_over_r_4_70, 1, 0, 0, dpotential_over_r_4_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, dpotential_over_r_4_71, 1, 0, 0, dpotential_over_r_4_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, dpotential_over_r_4_72, 1, 0, 0, dpotential_over_r_4_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, dpotential_over_r_4_73, 1, 0, 0, dpotential_over_r_4_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, dpotential_over_r_4_74, 1, 0, 0, dpotential_over_r_4_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, dpotential_over_r_4_75, 1, 0, 0, dpotential_over_r_4_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, dpotential_over_r_4_76, 1, 0, 0, dpotential_over_r_4_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, dpotential_over_r_4_77, 1, 0, 0, dpotential_over_r_4_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, dpotential_over_r_4_78, 1, 0, 0, dpotential_over_r_4_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, dpotential_over_r_4_79, 1, 0, 0, dpotential_over_r_4_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, dpotential_over_r_4_80, 1, 0, 0, dpotential_over_r_4_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, dpotential_over_r_4_81, 1, 0, 0, dpotential_over_r_4_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, dpotential_over_r_4_82, 1, 0, 0, dpotential_over_r_4_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, dpotential_over_r_4_83, 1, 0, 0, dpotential_over_r_4_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, dpotential_over_r_4_84, 1, 0, 0, dpotential_over_r_4_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, dpotential_over_r_4_85, 1, 0, 0, dpotential_over_r_4_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, dpotential_over_r_4_86, 1, 0, 0, dpotential_over_r_4_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, dpotential_over_r_4_87, 1, 0, 0, dpotential_over_r_4_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, dpotential_over_r_4_88, 1, 0, 0, dpotential_over_r_4_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, dpotential_over_r_4_89, 1, 0, 0, dpotential_over_r_4_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, dpotential_over_r_4_90, 1, 0, 0, dpotential_over_r_4_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, dpotential_over_r_4_91, 1, 0, 0, dpotential_over_r_4_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, dpotential_over_r_4_92, 1, 0, 0, dpotential_over_r_4_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, dpotential_over_r_4_93, 1, 0, 0, dpotential_over_r_4_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, dpotential_over_r_4_94, 1, 0, 0, dpotential_over_r_4_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, dpotential_over_r_4_95, 1, 0, 0, dpotential_over_r_4_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, dpotential_over_r_4_96, 1, 0, 0, dpotential_over_r_4_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, dpotential_over_r_4_97, 1, 0, 0, dpotential_over_r_4_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, dpotential_over_r_4_98, 1, 0, 0, dpotential_over_r_4_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, dpotential_over_r_4_99, 1, 0, 0, dpotential_over_r_4_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, dpotential_over_r_4_100, 1, 0, 0, dpotential_over_r_4_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, dpotential_over_r_4_101, 1, 0, 0, dpotential_over_r_4_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, dpotential_over_r_4_102, 1, 0, 0, dpotential_over_r_4_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, dpotential_over_r_4_103, 1, 0, 0, dpotential_over_r_4_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, dpotential_over_r_4_104, 1, 0, 0, dpotential_over_r_4_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, dpotential_over_r_4_105, 1, 0, 0, dpotential_over_r_4_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, dpotential_over_r_4_106, 1, 0, 0, dpotential_over_r_4_106_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, dpotential_over_r_4_107, 1, 0, 0, dpotential_over_r_4_107_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, dpotential_over_r_4_108, 1, 0, 0, dpotential_over_r_4_108_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, dpotential_over_r_4_109, 1, 0, 0, dpotential_over_r_4_109_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, dpotential_over_r_4_110, 1, 0, 0, dpotential_over_r_4_110_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, dpotential_over_r_4_111, 1, 0, 0, dpotential_over_r_4_111_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, dpotential_over_r_4_112, 1, 0, 0, dpotential_over_r_4_112_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, dpotential_over_r_4_113, 1, 0, 0, dpotential_over_r_4_113_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, dpotential_over_r_4_114, 1, 0, 0, dpotential_over_r_4_114_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_1, .n = 1, .c_lo = dpotential_over_r_4_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -1, .c = dpotential_over_r_4_2, .n = 1, .c_lo = dpotential_over_r_4_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -1, .c = dpotential_over_r_4_3, .n = 1, .c_lo = dpotential_over_r_4_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = dpotential_over_r_4_4, .n = 1, .c_lo = dpotential_over_r_4_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_4_5, .n = 1, .c_lo = dpotential_over_r_4_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_4_6, .n = 1, .c_lo = dpotential_over_r_4_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_7, .n = 1, .c_lo = dpotential_over_r_4_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_4_8, .n = 1, .c_lo = dpotential_over_r_4_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_over_r_4_9, .n = 1, .c_lo = dpotential_over_r_4_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_4_10, .n = 1, .c_lo = dpotential_over_r_4_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_over_r_4_11, .n = 1, .c_lo = dpotential_over_r_4_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -1, .c = dpotential_over_r_4_12, .n = 1, .c_lo = dpotential_over_r_4_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = dpotential_over_r_4_13, .n = 1, .c_lo = dpotential_over_r_4_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -1, .c = dpotential_over_r_4_14, .n = 1, .c_lo = dpotential_over_r_4_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -1, .c = dpotential_over_r_4_15, .n = 1, .c_lo = dpotential_over_r_4_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -1, .c = dpotential_over_r_4_16, .n = 1, .c_lo = dpotential_over_r_4_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -1, .c = dpotential_over_r_4_17, .n = 1, .c_lo = dpotential_over_r_4_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -1, .c = dpotential_over_r_4_18, .n = 1, .c_lo = dpotential_over_r_4_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -1, .c = dpotential_over_r_4_19, .n = 1, .c_lo = dpotential_over_r_4_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -1, .c = dpotential_over_r_4_20, .n = 1, .c_lo = dpotential_over_r_4_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -1, .c = dpotential_over_r_4_21, .n = 1, .c_lo = dpotential_over_r_4_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -1, .c = dpotential_over_r_4_22, .n = 1, .c_lo = dpotential_over_r_4_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -1, .c = dpotential_over_r_4_23, .n = 1, .c_lo = dpotential_over_r_4_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -1, .c = dpotential_over_r_4_24, .n = 1, .c_lo = dpotential_over_r_4_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -1, .c = dpotential_over_r_4_25, .n = 1, .c_lo = dpotential_over_r_4_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -1, .c = dpotential_over_r_4_26, .n = 1, .c_lo = dpotential_over_r_4_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -1, .c = dpotential_over_r_4_27, .n = 1, .c_lo = dpotential_over_r_4_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -1, .c = dpotential_over_r_4_28, .n = 1, .c_lo = dpotential_over_r_4_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -1, .c = dpotential_over_r_4_29, .n = 1, .c_lo = dpotential_over_r_4_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -1, .c = dpotential_over_r_4_30, .n = 1, .c_lo = dpotential_over_r_4_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -1, .c = dpotential_over_r_4_31, .n = 1, .c_lo = dpotential_over_r_4_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -1, .c = dpotential_over_r_4_32, .n = 1, .c_lo = dpotential_over_r_4_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -1, .c = dpotential_over_r_4_33, .n = 1, .c_lo = dpotential_over_r_4_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -1, .c = dpotential_over_r_4_34, .n = 1, .c_lo = dpotential_over_r_4_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -1, .c = dpotential_over_r_4_35, .n = 1, .c_lo = dpotential_over_r_4_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -1, .c = dpotential_over_r_4_36, .n = 1, .c_lo = dpotential_over_r_4_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -1, .c = dpotential_over_r_4_37, .n = 1, .c_lo = dpotential_over_r_4_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -1, .c = dpotential_over_r_4_38, .n = 1, .c_lo = dpotential_over_r_4_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -1, .c = dpotential_over_r_4_39, .n = 1, .c_lo = dpotential_over_r_4_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -1, .c = dpotential_over_r_4_40, .n = 1, .c_lo = dpotential_over_r_4_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -1, .c = dpotential_over_r_4_41, .n = 1, .c_lo = dpotential_over_r_4_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -1, .c = dpotential_over_r_4_42, .n = 1, .c_lo = dpotential_over_r_4_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -1, .c = dpotential_over_r_4_43, .n = 1, .c_lo = dpotential_over_r_4_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -1, .c = dpotential_over_r_4_44, .n = 1, .c_lo = dpotential_over_r_4_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -1, .c = dpotential_over_r_4_45, .n = 1, .c_lo = dpotential_over_r_4_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -1, .c = dpotential_over_r_4_46, .n = 1, .c_lo = dpotential_over_r_4_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -1, .c = dpotential_over_r_4_47, .n = 1, .c_lo = dpotential_over_r_4_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -1, .c = dpotential_over_r_4_48, .n = 1, .c_lo = dpotential_over_r_4_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -1, .c = dpotential_over_r_4_49, .n = 1, .c_lo = dpotential_over_r_4_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -1, .c = dpotential_over_r_4_50, .n = 1, .c_lo = dpotential_over_r_4_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -1, .c = dpotential_over_r_4_51, .n = 1, .c_lo = dpotential_over_r_4_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -1, .c = dpotential_over_r_4_52, .n = 1, .c_lo = dpotential_over_r_4_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -1, .c = dpotential_over_r_4_53, .n = 1, .c_lo = dpotential_over_r_4_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -1, .c = dpotential_over_r_4_54, .n = 1, .c_lo = dpotential_over_r_4_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -1, .c = dpotential_over_r_4_55, .n = 1, .c_lo = dpotential_over_r_4_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -1, .c = dpotential_over_r_4_56, .n = 1, .c_lo = dpotential_over_r_4_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -1, .c = dpotential_over_r_4_57, .n = 1, .c_lo = dpotential_over_r_4_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_58, .n = 1, .c_lo = dpotential_over_r_4_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = dpotential_over_r_4_59, .n = 1, .c_lo = dpotential_over_r_4_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = dpotential_over_r_4_60, .n = 1, .c_lo = dpotential_over_r_4_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = dpotential_over_r_4_61, .n = 1, .c_lo = dpotential_over_r_4_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_over_r_4_62, .n = 1, .c_lo = dpotential_over_r_4_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_over_r_4_63, .n = 1, .c_lo = dpotential_over_r_4_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_over_r_4_64, .n = 1, .c_lo = dpotential_over_r_4_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_over_r_4_65, .n = 1, .c_lo = dpotential_over_r_4_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = dpotential_over_r_4_66, .n = 1, .c_lo = dpotential_over_r_4_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_over_r_4_67, .n = 1, .c_lo = dpotential_over_r_4_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = dpotential_over_r_4_68, .n = 1, .c_lo = dpotential_over_r_4_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = dpotential_over_r_4_69, .n = 1, .c_lo = dpotential_over_r_4_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = dpotential_over_r_4_70, .n = 1, .c_lo = dpotential_over_r_4_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = dpotential_over_r_4_71, .n = 1, .c_lo = dpotential_over_r_4_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = dpotential_over_r_4_72, .n = 1, .c_lo = dpotential_over_r_4_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = dpotential_over_r_4_73, .n = 1, .c_lo = dpotential_over_r_4_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = dpotential_over_r_4_74, .n = 1, .c_lo = dpotential_over_r_4_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = dpotential_over_r_4_75, .n = 1, .c_lo = dpotential_over_r_4_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = dpotential_over_r_4_76, .n = 1, .c_lo = dpotential_over_r_4_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = dpotential_over_r_4_77, .n = 1, .c_lo = dpotential_over_r_4_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = dpotential_over_r_4_78, .n = 1, .c_lo = dpotential_over_r_4_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = dpotential_over_r_4_79, .n = 1, .c_lo = dpotential_over_r_4_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = dpotential_over_r_4_80, .n = 1, .c_lo = dpotential_over_r_4_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = dpotential_over_r_4_81, .n = 1, .c_lo = dpotential_over_r_4_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = dpotential_over_r_4_82, .n = 1, .c_lo = dpotential_over_r_4_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = dpotential_over_r_4_83, .n = 1, .c_lo = dpotential_over_r_4_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = dpotential_over_r_4_84, .n = 1, .c_lo = dpotential_over_r_4_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = dpotential_over_r_4_85, .n = 1, .c_lo = dpotential_over_r_4_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = dpotential_over_r_4_86, .n = 1, .c_lo = dpotential_over_r_4_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = dpotential_over_r_4_87, .n = 1, .c_lo = dpotential_over_r_4_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = dpotential_over_r_4_88, .n = 1, .c_lo = dpotential_over_r_4_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = dpotential_over_r_4_89, .n = 1, .c_lo = dpotential_over_r_4_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = dpotential_over_r_4_90, .n = 1, .c_lo = dpotential_over_r_4_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = dpotential_over_r_4_91, .n = 1, .c_lo = dpotential_over_r_4_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = dpotential_over_r_4_92, .n = 1, .c_lo = dpotential_over_r_4_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = dpotential_over_r_4_93, .n = 1, .c_lo = dpotential_over_r_4_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = dpotential_over_r_4_94, .n = 1, .c_lo = dpotential_over_r_4_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = dpotential_over_r_4_95, .n = 1, .c_lo = dpotential_over_r_4_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = dpotential_over_r_4_96, .n = 1, .c_lo = dpotential_over_r_4_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = dpotential_over_r_4_97, .n = 1, .c_lo = dpotential_over_r_4_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = dpotential_over_r_4_98, .n = 1, .c_lo = dpotential_over_r_4_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = dpotential_over_r_4_99, .n = 1, .c_lo = dpotential_over_r_4_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = dpotential_over_r_4_100, .n = 1, .c_lo = dpotential_over_r_4_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = dpotential_over_r_4_101, .n = 1, .c_lo = dpotential_over_r_4_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = dpotential_over_r_4_102, .n = 1, .c_lo = dpotential_over_r_4_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = dpotential_over_r_4_103, .n = 1, .c_lo = dpotential_over_r_4_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = dpotential_over_r_4_104, .n = 1, .c_lo = dpotential_over_r_4_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = dpotential_over_r_4_105, .n = 1, .c_lo = dpotential_over_r_4_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = dpotential_over_r_4_106, .n = 1, .c_lo = dpotential_over_r_4_106_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = dpotential_over_r_4_107, .n = 1, .c_lo = dpotential_over_r_4_107_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = dpotential_over_r_4_108, .n = 1, .c_lo = dpotential_over_r_4_108_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = dpotential_over_r_4_109, .n = 1, .c_lo = dpotential_over_r_4_109_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = dpotential_over_r_4_110, .n = 1, .c_lo = dpotential_over_r_4_110_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = dpotential_over_r_4_111, .n = 1, .c_lo = dpotential_over_r_4_111_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = dpotential_over_r_4_112, .n = 1, .c_lo = dpotential_over_r_4_112_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = dpotential_over_r_4_113, .n = 1, .c_lo = dpotential_over_r_4_113_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = dpotential_over_r_4_114, .n = 1, .c_lo = dpotential_over_r_4_114_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_over_r_5_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-2, dpotential_over_r_0, 2},  // [0, 1/4), series at 0 up to r^30, truncation < 9.9e-20 relative (series.hpp)
-    {0x1p-2, 0x1.a8p-2, dpotential_over_r_1, 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^39, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-2, 0x1.5p-1, dpotential_over_r_2, 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^40, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.5p-1, 0x1.8p-1, dpotential_over_r_3, 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^37, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, dpotential_over_r_4, 115},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.0e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, dpotential_over_r_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = dpotential_over_r_0, .nterms = 2},  // [0, 1/4), series at 0 up to r^30, truncation < 9.9e-20 relative (series.hpp)
+    {.lo = 0x1p-2, .hi = 0x1.a8p-2, .terms = dpotential_over_r_1, .nterms = 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^39, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-2, .hi = 0x1.5p-1, .terms = dpotential_over_r_2, .nterms = 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^40, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.5p-1, .hi = 0x1.8p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [21/32, 3/4), Taylor about 21/29 up to (r-c)^37, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = dpotential_over_r_4, .nterms = 115},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.0e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.c02e296f573b4p+3,  // -44 * pi^-1
@@ -7416,8 +7416,8 @@ inline constexpr double potential_hess_radial_0_1_lo[] = {
     0x1.3b0ba404b3be5p-45, 0x1.ea121b958960ep-46, -0x1.f556bb96f0a74p-51,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_hess_radial_0_0, 11, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 4, potential_hess_radial_0_1, 3, 0, 0, potential_hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 11, .c_lo = potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 4, .c = potential_hess_radial_0_1, .n = 3, .c_lo = potential_hess_radial_0_1_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.6d8e33dd790cep+3,  // 17673909879273154507/3881222169525000000 * pi^-1 + (-59317327339241472/39081751012578125 * pi^-1) * log(12) + (-3048625/13824 * pi^-1) * arcsin(24/145)
@@ -7483,7 +7483,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.8ca1ea0ae332bp+36, -0x1.2b19f72ac0e34p+38, -0x1.0f6574245e38ep+41,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, potential_hess_radial_1_0, 47, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.085de02a5ae3ap+3,  // 18102490154226/1495361328125 * pi^-1 + (-1576571662463/122070312500 * pi^-1) * log(7) + (-15625/343 * pi^-1) * arcsin(7/25)
@@ -7547,7 +7547,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.9a6292f72e975p+4,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, potential_hess_radial_2_0, 45, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.f709bf8dc4779p+1,  // 3950171224335/26261675072 * pi^-1 + (-795353006080/6975757441 * pi^-1) * log(4) + (-4913/512 * pi^-1) * arcsin(8/17)
@@ -7612,7 +7612,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.33c1e86f1ba81p-24, -0x1.6d28297ce89d5p-28,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, potential_hess_radial_3_0, 46, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.82f03ef8e331ep+0,  // 3888179228996181/6899950523600 * pi^-1 + (-308971580800000/500246412961 * pi^-1) * log(5/2) + (-24389/8000 * pi^-1) * arcsin(20/29)
@@ -7669,7 +7669,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.faba66ddee585p-34, -0x1.1c98647b2d227p-29, -0x1.256e42cefa43bp-30, 0x1.8475a0c644db8p-28,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.8p-1, 0, 0, potential_hess_radial_4_0, 40, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2
@@ -8383,156 +8383,163 @@ inline constexpr double potential_hess_radial_5_118_lo[] = {
     0x1.3fc9a65899f5fp-67,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_5_0, 1, 0, 0, nullptr, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -3, potential_hess_radial_5_1, 1, 0, 0, potential_hess_radial_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -3, potential_hess_radial_5_2, 1, 0, 0, potential_hess_radial_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -3, potential_hess_radial_5_3, 1, 0, 0, potential_hess_radial_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -3, potential_hess_radial_5_4, 1, 0, 0, potential_hess_radial_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -3, potential_hess_radial_5_5, 1, 0, 0, potential_hess_radial_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -3, potential_hess_radial_5_6, 1, 0, 0, potential_hess_radial_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -3, potential_hess_radial_5_7, 1, 0, 0, potential_hess_radial_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -3, potential_hess_radial_5_8, 1, 0, 0, potential_hess_radial_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -3, potential_hess_radial_5_9, 1, 0, 0, potential_hess_radial_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -3, potential_hess_radial_5_10, 1, 0, 0, potential_hess_radial_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -3, potential_hess_radial_5_11, 1, 0, 0, potential_hess_radial_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -3, potential_hess_radial_5_12, 1, 0, 0, potential_hess_radial_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -3, potential_hess_radial_5_13, 1, 0, 0, potential_hess_radial_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -3, potential_hess_radial_5_14, 1, 0, 0, potential_hess_radial_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -3, potential_hess_radial_5_15, 1, 0, 0, potential_hess_radial_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -3, potential_hess_radial_5_16, 1, 0, 0, potential_hess_radial_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -3, potential_hess_radial_5_17, 1, 0, 0, potential_hess_radial_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -3, potential_hess_radial_5_18, 1, 0, 0, potential_hess_radial_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -3, potential_hess_radial_5_19, 1, 0, 0, potential_hess_radial_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -3, potential_hess_radial_5_20, 1, 0, 0, potential_hess_radial_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -3, potential_hess_radial_5_21, 1, 0, 0, potential_hess_radial_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -3, potential_hess_radial_5_22, 1, 0, 0, potential_hess_radial_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -3, potential_hess_radial_5_23, 1, 0, 0, potential_hess_radial_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -3, potential_hess_radial_5_24, 1, 0, 0, potential_hess_radial_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -3, potential_hess_radial_5_25, 1, 0, 0, potential_hess_radial_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -3, potential_hess_radial_5_26, 1, 0, 0, potential_hess_radial_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -3, potential_hess_radial_5_27, 1, 0, 0, potential_hess_radial_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -3, potential_hess_radial_5_28, 1, 0, 0, potential_hess_radial_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -3, potential_hess_radial_5_29, 1, 0, 0, potential_hess_radial_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -3, potential_hess_radial_5_30, 1, 0, 0, potential_hess_radial_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -3, potential_hess_radial_5_31, 1, 0, 0, potential_hess_radial_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -3, potential_hess_radial_5_32, 1, 0, 0, potential_hess_radial_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -3, potential_hess_radial_5_33, 1, 0, 0, potential_hess_radial_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -3, potential_hess_radial_5_34, 1, 0, 0, potential_hess_radial_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -3, potential_hess_radial_5_35, 1, 0, 0, potential_hess_radial_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -3, potential_hess_radial_5_36, 1, 0, 0, potential_hess_radial_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -3, potential_hess_radial_5_37, 1, 0, 0, potential_hess_radial_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -3, potential_hess_radial_5_38, 1, 0, 0, potential_hess_radial_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -3, potential_hess_radial_5_39, 1, 0, 0, potential_hess_radial_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -3, potential_hess_radial_5_40, 1, 0, 0, potential_hess_radial_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -3, potential_hess_radial_5_41, 1, 0, 0, potential_hess_radial_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -3, potential_hess_radial_5_42, 1, 0, 0, potential_hess_radial_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -3, potential_hess_radial_5_43, 1, 0, 0, potential_hess_radial_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -3, potential_hess_radial_5_44, 1, 0, 0, potential_hess_radial_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -3, potential_hess_radial_5_45, 1, 0, 0, potential_hess_radial_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -3, potential_hess_radial_5_46, 1, 0, 0, potential_hess_radial_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -3, potential_hess_radial_5_47, 1, 0, 0, potential_hess_radial_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -3, potential_hess_radial_5_48, 1, 0, 0, potential_hess_radial_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -3, potential_hess_radial_5_49, 1, 0, 0, potential_hess_radial_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -3, potential_hess_radial_5_50, 1, 0, 0, potential_hess_radial_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -3, potential_hess_radial_5_51, 1, 0, 0, potential_hess_radial_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -3, potential_hess_radial_5_52, 1, 0, 0, potential_hess_radial_5_52_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -3, potential_hess_radial_5_53, 1, 0, 0, potential_hess_radial_5_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -3, potential_hess_radial_5_54, 1, 0, 0, potential_hess_radial_5_54_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -3, potential_hess_radial_5_55, 1, 0, 0, potential_hess_radial_5_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -3, potential_hess_radial_5_56, 1, 0, 0, potential_hess_radial_5_56_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -3, potential_hess_radial_5_57, 1, 0, 0, potential_hess_radial_5_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, -3, potential_hess_radial_5_58, 1, 0, 0, potential_hess_radial_5_58_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 58, -3, potential_hess_radial_5_59, 1, 0, 0, potential_hess_radial_5_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 0, -2, potential_hess_radial_5_60, 1, 0, 0, potential_hess_radial_5_60_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 1, -2, potential_hess_radial_5_61, 1, 0, 0, potential_hess_radial_5_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 2, -2, potential_hess_radial_5_62, 1, 0, 0, potential_hess_radial_5_62_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 3, -2, potential_hess_radial_5_63, 1, 0, 0, potential_hess_radial_5_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 4, -2, potential_hess_radial_5_64, 1, 0, 0, potential_hess_radial_5_64_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 5, -2, potential_hess_radial_5_65, 1, 0, 0, potential_hess_radial_5_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, -2, potential_hess_radial_5_66, 1, 0, 0, potential_hess_radial_5_66_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, -2, potential_hess_radial_5_67, 1, 0, 0, potential_hess_radial_5_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -2, potential_hess_radial_5_68, 1, 0, 0, potential_hess_radial_5_68_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -2, potential_hess_radial_5_69, 1, 0, 0, potential_hess_radial_5_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -2, potential_hess_radial_5_70, 1, 0, 0, potential_hess_radial_5_70_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -2, potential_hess_radial_5_71, 1, 0, 0, potential_hess_radial_5_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -2, potential_hess_radial_5_72, 1, 0, 0, potential_hess_radial_5_72_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -2, potential_hess_radial_5_73, 1, 0, 0, potential_hess_radial_5_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -2, potential_hess_radial_5_74, 1, 0, 0, potential_hess_radial_5_74_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -2, potential_hess_radial_5_75, 1, 0, 0, potential_hess_radial_5_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -2, potential_hess_radial_5_76, 1, 0, 0, potential_hess_radial_5_76_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -2, potential_hess_radial_5_77, 1, 0, 0, potential_hess_radial_5_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -2, potential_hess_radial_5_78, 1, 0, 0, potential_hess_radial_5_78_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -2, potential_hess_radial_5_79, 1, 0, 0, potential_hess_radial_5_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -2, potential_hess_radial_5_80, 1, 0, 0, potential_hess_radial_5_80_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -2, potential_hess_radial_5_81, 1, 0, 0, potential_hess_radial_5_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -2, potential_hess_radial_5_82, 1, 0, 0, potential_hess_radial_5_82_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -2, potential_hess_radial_5_83, 1, 0, 0, potential_hess_radial_5_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -2, potential_hess_radial_5_84, 1, 0, 0, potential_hess_radial_5_84_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -2, potential_hess_radial_5_85, 1, 0, 0, potential_hess_radial_5_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -2, potential_hess_radial_5_86, 1, 0, 0, potential_hess_radial_5_86_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -2, potential_hess_radial_5_87, 1, 0, 0, potential_hess_radial_5_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -2, potential_hess_radial_5_88, 1, 0, 0, potential_hess_radial_5_88_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -2, potential_hess_radial_5_89, 1, 0, 0, potential_hess_radial_5_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -2, potential_hess_radial_5_90, 1, 0, 0, potential_hess_radial_5_90_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -2, potential_hess_radial_5_91, 1, 0, 0, potential_hess_radial_5_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -2, potential_hess_radial_5_92, 1, 0, 0, potential_hess_radial_5_92_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -2, potential_hess_radial_5_93, 1, 0, 0, potential_hess_radial_5_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -2, potential_hess_radial_5_94, 1, 0, 0, potential_hess_radial_5_94_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -2, potential_hess_radial_5_95, 1, 0, 0, potential_hess_radial_5_95_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -2, potential_hess_radial_5_96, 1, 0, 0, potential_hess_radial_5_96_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -2, potential_hess_radial_5_97, 1, 0, 0, potential_hess_radial_5_97_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -2, potential_hess_radial_5_98, 1, 0, 0, potential_hess_radial_5_98_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -2, potential_hess_radial_5_99, 1, 0, 0, potential_hess_radial_5_99_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -2, potential_hess_radial_5_100, 1, 0, 0, potential_hess_radial_5_100_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -2, potential_hess_radial_5_101, 1, 0, 0, potential_hess_radial_5_101_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -2, potential_hess_radial_5_102, 1, 0, 0, potential_hess_radial_5_102_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -2, potential_hess_radial_5_103, 1, 0, 0, potential_hess_radial_5_103_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -2, potential_hess_radial_5_104, 1, 0, 0, potential_hess_radial_5_104_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -2, potential_hess_radial_5_105, 1, 0, 0, potential_hess_radial_5_105_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -2, potential_hess_radial_5_106, 1, 0, 0, potential_hess_radial_5_106_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -2, potential_hess_radial_5_107, 1, 0, 0, potential_hess_radial_5_107_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -2, potential_hess_radial_5_108, 1, 0, 0, potential_hess_radial_5_108_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -2, potential_hess_radial_5_109, 1, 0, 0, potential_hess_radial_5_109_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -2, potential_hess_radial_5_110, 1, 0, 0, potential_hess_radial_5_110_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -2, potential_hess_radial_5_111, 1, 0, 0, potential_hess_radial_5_111_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -2, potential_hess_radial_5_112, 1, 0, 0, potential_hess_radial_5_112_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -2, potential_hess_radial_5_113, 1, 0, 0, potential_hess_radial_5_113_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -2, potential_hess_radial_5_114, 1, 0, 0, potential_hess_radial_5_114_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, -2, potential_hess_radial_5_115, 1, 0, 0, potential_hess_radial_5_115_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, -2, potential_hess_radial_5_116, 1, 0, 0, potential_hess_radial_5_116_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, -2, potential_hess_radial_5_117, 1, 0, 0, potential_hess_radial_5_117_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 58, -2, potential_hess_radial_5_118, 1, 0, 0, potential_hess_radial_5_118_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_5_0, .n = 1},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_5_1, .n = 1, .c_lo = potential_hess_radial_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -3, .c = potential_hess_radial_5_2, .n = 1, .c_lo = potential_hess_radial_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = potential_hess_radial_5_3, .n = 1, .c_lo = potential_hess_radial_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = potential_hess_radial_5_4, .n = 1, .c_lo = potential_hess_radial_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = potential_hess_radial_5_5, .n = 1, .c_lo = potential_hess_radial_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_5_6, .n = 1, .c_lo = potential_hess_radial_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -3, .c = potential_hess_radial_5_7, .n = 1, .c_lo = potential_hess_radial_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -3, .c = potential_hess_radial_5_8, .n = 1, .c_lo = potential_hess_radial_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -3, .c = potential_hess_radial_5_9, .n = 1, .c_lo = potential_hess_radial_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -3, .c = potential_hess_radial_5_10, .n = 1, .c_lo = potential_hess_radial_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -3, .c = potential_hess_radial_5_11, .n = 1, .c_lo = potential_hess_radial_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -3, .c = potential_hess_radial_5_12, .n = 1, .c_lo = potential_hess_radial_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -3, .c = potential_hess_radial_5_13, .n = 1, .c_lo = potential_hess_radial_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -3, .c = potential_hess_radial_5_14, .n = 1, .c_lo = potential_hess_radial_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -3, .c = potential_hess_radial_5_15, .n = 1, .c_lo = potential_hess_radial_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -3, .c = potential_hess_radial_5_16, .n = 1, .c_lo = potential_hess_radial_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -3, .c = potential_hess_radial_5_17, .n = 1, .c_lo = potential_hess_radial_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -3, .c = potential_hess_radial_5_18, .n = 1, .c_lo = potential_hess_radial_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -3, .c = potential_hess_radial_5_19, .n = 1, .c_lo = potential_hess_radial_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -3, .c = potential_hess_radial_5_20, .n = 1, .c_lo = potential_hess_radial_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -3, .c = potential_hess_radial_5_21, .n = 1, .c_lo = potential_hess_radial_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -3, .c = potential_hess_radial_5_22, .n = 1, .c_lo = potential_hess_radial_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -3, .c = potential_hess_radial_5_23, .n = 1, .c_lo = potential_hess_radial_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -3, .c = potential_hess_radial_5_24, .n = 1, .c_lo = potential_hess_radial_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -3, .c = potential_hess_radial_5_25, .n = 1, .c_lo = potential_hess_radial_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -3, .c = potential_hess_radial_5_26, .n = 1, .c_lo = potential_hess_radial_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -3, .c = potential_hess_radial_5_27, .n = 1, .c_lo = potential_hess_radial_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -3, .c = potential_hess_radial_5_28, .n = 1, .c_lo = potential_hess_radial_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -3, .c = potential_hess_radial_5_29, .n = 1, .c_lo = potential_hess_radial_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -3, .c = potential_hess_radial_5_30, .n = 1, .c_lo = potential_hess_radial_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -3, .c = potential_hess_radial_5_31, .n = 1, .c_lo = potential_hess_radial_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -3, .c = potential_hess_radial_5_32, .n = 1, .c_lo = potential_hess_radial_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -3, .c = potential_hess_radial_5_33, .n = 1, .c_lo = potential_hess_radial_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -3, .c = potential_hess_radial_5_34, .n = 1, .c_lo = potential_hess_radial_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -3, .c = potential_hess_radial_5_35, .n = 1, .c_lo = potential_hess_radial_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -3, .c = potential_hess_radial_5_36, .n = 1, .c_lo = potential_hess_radial_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -3, .c = potential_hess_radial_5_37, .n = 1, .c_lo = potential_hess_radial_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -3, .c = potential_hess_radial_5_38, .n = 1, .c_lo = potential_hess_radial_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -3, .c = potential_hess_radial_5_39, .n = 1, .c_lo = potential_hess_radial_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -3, .c = potential_hess_radial_5_40, .n = 1, .c_lo = potential_hess_radial_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -3, .c = potential_hess_radial_5_41, .n = 1, .c_lo = potential_hess_radial_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -3, .c = potential_hess_radial_5_42, .n = 1, .c_lo = potential_hess_radial_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -3, .c = potential_hess_radial_5_43, .n = 1, .c_lo = potential_hess_radial_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -3, .c = potential_hess_radial_5_44, .n = 1, .c_lo = potential_hess_radial_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -3, .c = potential_hess_radial_5_45, .n = 1, .c_lo = potential_hess_radial_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -3, .c = potential_hess_radial_5_46, .n = 1, .c_lo = potential_hess_radial_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -3, .c = potential_hess_radial_5_47, .n = 1, .c_lo = potential_hess_radial_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -3, .c = potential_hess_radial_5_48, .n = 1, .c_lo = potential_hess_radial_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -3, .c = potential_hess_radial_5_49, .n = 1, .c_lo = potential_hess_radial_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -3, .c = potential_hess_radial_5_50, .n = 1, .c_lo = potential_hess_radial_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -3, .c = potential_hess_radial_5_51, .n = 1, .c_lo = potential_hess_radial_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -3, .c = potential_hess_radial_5_52, .n = 1, .c_lo = potential_hess_radial_5_52_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -3, .c = potential_hess_radial_5_53, .n = 1, .c_lo = potential_hess_radial_5_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -3, .c = potential_hess_radial_5_54, .n = 1, .c_lo = potential_hess_radial_5_54_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -3, .c = potential_hess_radial_5_55, .n = 1, .c_lo = potential_hess_radial_5_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -3, .c = potential_hess_radial_5_56, .n = 1, .c_lo = potential_hess_radial_5_56_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -3, .c = potential_hess_radial_5_57, .n = 1, .c_lo = potential_hess_radial_5_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = -3, .c = potential_hess_radial_5_58, .n = 1, .c_lo = potential_hess_radial_5_58_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 58, .low = -3, .c = potential_hess_radial_5_59, .n = 1, .c_lo = potential_hess_radial_5_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = potential_hess_radial_5_60, .n = 1, .c_lo = potential_hess_radial_5_60_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = -2, .c = potential_hess_radial_5_61, .n = 1, .c_lo = potential_hess_radial_5_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = potential_hess_radial_5_62, .n = 1, .c_lo = potential_hess_radial_5_62_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = -2, .c = potential_hess_radial_5_63, .n = 1, .c_lo = potential_hess_radial_5_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = potential_hess_radial_5_64, .n = 1, .c_lo = potential_hess_radial_5_64_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = potential_hess_radial_5_65, .n = 1, .c_lo = potential_hess_radial_5_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = potential_hess_radial_5_66, .n = 1, .c_lo = potential_hess_radial_5_66_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = potential_hess_radial_5_67, .n = 1, .c_lo = potential_hess_radial_5_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -2, .c = potential_hess_radial_5_68, .n = 1, .c_lo = potential_hess_radial_5_68_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = potential_hess_radial_5_69, .n = 1, .c_lo = potential_hess_radial_5_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -2, .c = potential_hess_radial_5_70, .n = 1, .c_lo = potential_hess_radial_5_70_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = potential_hess_radial_5_71, .n = 1, .c_lo = potential_hess_radial_5_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -2, .c = potential_hess_radial_5_72, .n = 1, .c_lo = potential_hess_radial_5_72_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -2, .c = potential_hess_radial_5_73, .n = 1, .c_lo = potential_hess_radial_5_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -2, .c = potential_hess_radial_5_74, .n = 1, .c_lo = potential_hess_radial_5_74_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -2, .c = potential_hess_radial_5_75, .n = 1, .c_lo = potential_hess_radial_5_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -2, .c = potential_hess_radial_5_76, .n = 1, .c_lo = potential_hess_radial_5_76_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -2, .c = potential_hess_radial_5_77, .n = 1, .c_lo = potential_hess_radial_5_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -2, .c = potential_hess_radial_5_78, .n = 1, .c_lo = potential_hess_radial_5_78_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -2, .c = potential_hess_radial_5_79, .n = 1, .c_lo = potential_hess_radial_5_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -2, .c = potential_hess_radial_5_80, .n = 1, .c_lo = potential_hess_radial_5_80_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -2, .c = potential_hess_radial_5_81, .n = 1, .c_lo = potential_hess_radial_5_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -2, .c = potential_hess_radial_5_82, .n = 1, .c_lo = potential_hess_radial_5_82_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -2, .c = potential_hess_radial_5_83, .n = 1, .c_lo = potential_hess_radial_5_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -2, .c = potential_hess_radial_5_84, .n = 1, .c_lo = potential_hess_radial_5_84_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -2, .c = potential_hess_radial_5_85, .n = 1, .c_lo = potential_hess_radial_5_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -2, .c = potential_hess_radial_5_86, .n = 1, .c_lo = potential_hess_radial_5_86_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -2, .c = potential_hess_radial_5_87, .n = 1, .c_lo = potential_hess_radial_5_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -2, .c = potential_hess_radial_5_88, .n = 1, .c_lo = potential_hess_radial_5_88_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -2, .c = potential_hess_radial_5_89, .n = 1, .c_lo = potential_hess_radial_5_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -2, .c = potential_hess_radial_5_90, .n = 1, .c_lo = potential_hess_radial_5_90_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -2, .c = potential_hess_radial_5_91, .n = 1, .c_lo = potential_hess_radial_5_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -2, .c = potential_hess_radial_5_92, .n = 1, .c_lo = potential_hess_radial_5_92_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -2, .c = potential_hess_radial_5_93, .n = 1, .c_lo = potential_hess_radial_5_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -2, .c = potential_hess_radial_5_94, .n = 1, .c_lo = potential_hess_radial_5_94_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -2, .c = potential_hess_radial_5_95, .n = 1, .c_lo = potential_hess_radial_5_95_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -2, .c = potential_hess_radial_5_96, .n = 1, .c_lo = potential_hess_radial_5_96_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -2, .c = potential_hess_radial_5_97, .n = 1, .c_lo = potential_hess_radial_5_97_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -2, .c = potential_hess_radial_5_98, .n = 1, .c_lo = potential_hess_radial_5_98_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -2, .c = potential_hess_radial_5_99, .n = 1, .c_lo = potential_hess_radial_5_99_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -2, .c = potential_hess_radial_5_100, .n = 1, .c_lo = potential_hess_radial_5_100_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -2, .c = potential_hess_radial_5_101, .n = 1, .c_lo = potential_hess_radial_5_101_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -2, .c = potential_hess_radial_5_102, .n = 1, .c_lo = potential_hess_radial_5_102_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -2, .c = potential_hess_radial_5_103, .n = 1, .c_lo = potential_hess_radial_5_103_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -2, .c = potential_hess_radial_5_104, .n = 1, .c_lo = potential_hess_radial_5_104_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -2, .c = potential_hess_radial_5_105, .n = 1, .c_lo = potential_hess_radial_5_105_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -2, .c = potential_hess_radial_5_106, .n = 1, .c_lo = potential_hess_radial_5_106_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -2, .c = potential_hess_radial_5_107, .n = 1, .c_lo = potential_hess_radial_5_107_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -2, .c = potential_hess_radial_5_108, .n = 1, .c_lo = potential_hess_radial_5_108_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -2, .c = potential_hess_radial_5_109, .n = 1, .c_lo = potential_hess_radial_5_109_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -2, .c = potential_hess_radial_5_110, .n = 1, .c_lo = potential_hess_radial_5_110_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -2, .c = potential_hess_radial_5_111, .n = 1, .c_lo = potential_hess_radial_5_111_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -2, .c = potential_hess_radial_5_112, .n = 1, .c_lo = potential_hess_radial_5_112_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -2, .c = potential_hess_radial_5_113, .n = 1, .c_lo = potential_hess_radial_5_113_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -2, .c = potential_hess_radial_5_114, .n = 1, .c_lo = potential_hess_radial_5_114_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = -2, .c = potential_hess_radial_5_115, .n = 1, .c_lo = potential_hess_radial_5_115_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = -2, .c = potential_hess_radial_5_116, .n = 1, .c_lo = potential_hess_radial_5_116_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = -2, .c = potential_hess_radial_5_117, .n = 1, .c_lo = potential_hess_radial_5_117_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 58, .low = -2, .c = potential_hess_radial_5_118, .n = 1, .c_lo = potential_hess_radial_5_118_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1p-1,  // -1/2
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -3, potential_hess_radial_6_0, 1, 0, 0, nullptr, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -3, .c = potential_hess_radial_6_0, .n = 1},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, potential_hess_radial_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^46, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, potential_hess_radial_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^44, truncation < 6.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, potential_hess_radial_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 9.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.8p-1, potential_hess_radial_4, 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 7.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.8p-1, 0x1p+0, potential_hess_radial_5, 119},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^117, truncation < 1.4e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, potential_hess_radial_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_hess_radial_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 3.0e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^46, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^44, truncation < 6.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = potential_hess_radial_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 9.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.8p-1, .terms = potential_hess_radial_4, .nterms = 1},  // [39/64, 3/4), Taylor about 20/29 up to (r-c)^39, truncation < 7.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.8p-1, .hi = 0x1p+0, .terms = potential_hess_radial_5, .nterms = 119},  // [3/4, 1), series at the edge in S = sqrt(1-r^2) up to S^117, truncation < 1.4e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_6, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_l_1_D1
 inline constexpr table::Kernel wendland_missing_k_2_l_1_D1 = {
-    "wendland-missing:k=2,l=1", 1, 0x1p+0, 7, 2, 1,
-    0x1.b92d70c999de5p+12, "22176 * pi^-1", true,
-    {
-        {detail_wendland_missing_k_2_l_1_D1::value, 7},
-        {detail_wendland_missing_k_2_l_1_D1::dr, 7},
-        {detail_wendland_missing_k_2_l_1_D1::d2r, 9},
-        {detail_wendland_missing_k_2_l_1_D1::laplacian, 9},
-        {detail_wendland_missing_k_2_l_1_D1::grad_over_r, 7},
-        {detail_wendland_missing_k_2_l_1_D1::hess_radial, 9},
-        {detail_wendland_missing_k_2_l_1_D1::potential, 6},
-        {detail_wendland_missing_k_2_l_1_D1::dpotential, 6},
-        {detail_wendland_missing_k_2_l_1_D1::dpotential_over_r, 6},
-        {detail_wendland_missing_k_2_l_1_D1::potential_hess_radial, 7},
+    .spec = "wendland-missing:k=2,l=1",
+    .dim = 1,
+    .support = 0x1p+0,
+    .smoothness = 7,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.b92d70c999de5p+12,  // 22176 * pi^-1
+    .normalisation_exact = "22176 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_missing_k_2_l_1_D1::value, .npieces = 7},  // value
+        {.pieces = detail_wendland_missing_k_2_l_1_D1::dr, .npieces = 7},  // dr
+        {.pieces = detail_wendland_missing_k_2_l_1_D1::d2r, .npieces = 9},  // d2r
+        {.pieces = detail_wendland_missing_k_2_l_1_D1::laplacian, .npieces = 9},  // laplacian
+        {.pieces = detail_wendland_missing_k_2_l_1_D1::grad_over_r, .npieces = 7},  // grad_over_r
+        {.pieces = detail_wendland_missing_k_2_l_1_D1::hess_radial, .npieces = 9},  // hess_radial
+        {.pieces = detail_wendland_missing_k_2_l_1_D1::potential, .npieces = 6},  // potential
+        {.pieces = detail_wendland_missing_k_2_l_1_D1::dpotential, .npieces = 6},  // dpotential
+        {.pieces = detail_wendland_missing_k_2_l_1_D1::dpotential_over_r, .npieces = 6},  // dpotential_over_r
+        {.pieces = detail_wendland_missing_k_2_l_1_D1::potential_hess_radial, .npieces = 7},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables

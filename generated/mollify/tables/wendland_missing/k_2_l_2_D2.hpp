@@ -38,8 +38,8 @@ inline constexpr double value_0_1_lo[] = {
     0x1.9ff48d36af929p-43, -0x1.f80e4f7ba488dp-43, 0x1.37f769e903adfp-45,
 };
 inline constexpr table::Term value_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, value_0_0, 12, 0, 0, value_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 6, value_0_1, 3, 0, 0, value_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = value_0_0, .n = 12, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 6, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo},
 };
 inline constexpr double value_1_0[] = {
     0x1.700272621e262p+1,  // 5735359645908781446806963/595728015903604931640625 * pi^-1 + (-196806098159423520768/821693815039455078125 * pi^-1) * log(12)
@@ -98,7 +98,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.c3618fa0e139dp+18,
 };
 inline constexpr table::Term value_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, value_1_0, 41, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
 };
 inline constexpr double value_2_0[] = {
     0x1.800a90d544a8ep+0,  // 311275024936563753/19073486328125000 * pi^-1 + (-7281197117417223/1220703125000000 * pi^-1) * log(7)
@@ -158,7 +158,7 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.c278068e8777ep-9, -0x1.d9542866281c1p-6,
 };
 inline constexpr table::Term value_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, value_2_0, 42, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
 };
 inline constexpr double value_3_0[] = {
     0x1.00f1affd409cfp+1,  // 89378603245014593627/48654876708984375 * pi^-1 + (-963775487339948867584/729823150634765625 * pi^-1) * log(4)
@@ -248,7 +248,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.f522fcb0e4efbp-15, -0x1.54910da499dcbp-11,
 };
 inline constexpr table::Term value_3[] = {
-    {table::Basis::sqrt_power, 17, table::Var::shifted, 0x1.38p-1, 0, 0, value_3_0, 66, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 66, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
 };
 inline constexpr double value_4_0[] = {
     0x1.3684bfd21506bp+0,  // 3323035201663339810864957/7569146509216853589 * pi^-1 + (-76158288083631387920000000/158952076693553925369 * pi^-1) * log(5/2)
@@ -352,7 +352,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.30e43f4c8b349p-39,
 };
 inline constexpr table::Term value_4[] = {
-    {table::Basis::sqrt_power, 17, table::Var::shifted, 0x1.9p-1, 0, 0, value_4_0, 77, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 77, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
 };
 inline constexpr double value_5_0[] = {
     0x1.60d650992d4e6p-15,  // 5321492429546168101299276405293/1174562876521148458974062689 * pi^-1 + (-29292418743036608839680000000/4064231406647572522401601 * pi^-1) * log(15/8)
@@ -423,7 +423,7 @@ inline constexpr double value_5_0_lo[] = {
     0x1.25dca6c0f071fp+18, -0x1.a83d0ccfa00afp+20, 0x1.cd841c5235506p+22,
 };
 inline constexpr table::Term value_5[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.ap-1, 0, 0, value_5_0, 51, 0x1.a930b83fc74edp-1, 0x1.97795b3d1f00ep-55, value_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = value_5_0, .n = 51, .centre = 0x1.a930b83fc74edp-1, .centre_lo = 0x1.97795b3d1f00ep-55, .c_lo = value_5_0_lo},
 };
 inline constexpr double value_6_0[] = {
     0x1.32c69d0bde9e4p-1,  // 32/17 * pi^-1
@@ -714,64 +714,64 @@ inline constexpr double value_6_47_lo[] = {
     0x1.b7ebc88b88333p-64,
 };
 inline constexpr table::Term value_6[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, value_6_0, 1, 0, 0, value_6_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, value_6_1, 1, 0, 0, value_6_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, value_6_2, 1, 0, 0, value_6_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, value_6_3, 1, 0, 0, value_6_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, value_6_4, 1, 0, 0, value_6_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, value_6_5, 1, 0, 0, value_6_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, value_6_6, 1, 0, 0, value_6_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, value_6_7, 1, 0, 0, value_6_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, value_6_8, 1, 0, 0, value_6_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, value_6_9, 1, 0, 0, value_6_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, value_6_10, 1, 0, 0, value_6_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, value_6_11, 1, 0, 0, value_6_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, value_6_12, 1, 0, 0, value_6_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, value_6_13, 1, 0, 0, value_6_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, value_6_14, 1, 0, 0, value_6_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, value_6_15, 1, 0, 0, value_6_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, value_6_16, 1, 0, 0, value_6_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, value_6_17, 1, 0, 0, value_6_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, value_6_18, 1, 0, 0, value_6_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, value_6_19, 1, 0, 0, value_6_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, value_6_20, 1, 0, 0, value_6_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, value_6_21, 1, 0, 0, value_6_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, value_6_22, 1, 0, 0, value_6_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, value_6_23, 1, 0, 0, value_6_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, value_6_24, 1, 0, 0, value_6_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, value_6_25, 1, 0, 0, value_6_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, value_6_26, 1, 0, 0, value_6_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, value_6_27, 1, 0, 0, value_6_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, value_6_28, 1, 0, 0, value_6_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, value_6_29, 1, 0, 0, value_6_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, value_6_30, 1, 0, 0, value_6_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, value_6_31, 1, 0, 0, value_6_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, value_6_32, 1, 0, 0, value_6_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, value_6_33, 1, 0, 0, value_6_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, value_6_34, 1, 0, 0, value_6_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, value_6_35, 1, 0, 0, value_6_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, value_6_36, 1, 0, 0, value_6_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, value_6_37, 1, 0, 0, value_6_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, value_6_38, 1, 0, 0, value_6_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, value_6_39, 1, 0, 0, value_6_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, value_6_40, 1, 0, 0, value_6_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, value_6_41, 1, 0, 0, value_6_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, value_6_42, 1, 0, 0, value_6_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, value_6_43, 1, 0, 0, value_6_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, value_6_44, 1, 0, 0, value_6_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, value_6_45, 1, 0, 0, value_6_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, value_6_46, 1, 0, 0, value_6_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, value_6_47, 1, 0, 0, value_6_47_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_6_0, .n = 1, .c_lo = value_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_6_1, .n = 1, .c_lo = value_6_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = value_6_2, .n = 1, .c_lo = value_6_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = value_6_3, .n = 1, .c_lo = value_6_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = value_6_4, .n = 1, .c_lo = value_6_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = value_6_5, .n = 1, .c_lo = value_6_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = value_6_6, .n = 1, .c_lo = value_6_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = value_6_7, .n = 1, .c_lo = value_6_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = value_6_8, .n = 1, .c_lo = value_6_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = value_6_9, .n = 1, .c_lo = value_6_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = value_6_10, .n = 1, .c_lo = value_6_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = value_6_11, .n = 1, .c_lo = value_6_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = value_6_12, .n = 1, .c_lo = value_6_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = value_6_13, .n = 1, .c_lo = value_6_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = value_6_14, .n = 1, .c_lo = value_6_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = value_6_15, .n = 1, .c_lo = value_6_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = value_6_16, .n = 1, .c_lo = value_6_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = value_6_17, .n = 1, .c_lo = value_6_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = value_6_18, .n = 1, .c_lo = value_6_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = value_6_19, .n = 1, .c_lo = value_6_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = value_6_20, .n = 1, .c_lo = value_6_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = value_6_21, .n = 1, .c_lo = value_6_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = value_6_22, .n = 1, .c_lo = value_6_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = value_6_23, .n = 1, .c_lo = value_6_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = value_6_24, .n = 1, .c_lo = value_6_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = value_6_25, .n = 1, .c_lo = value_6_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = value_6_26, .n = 1, .c_lo = value_6_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = value_6_27, .n = 1, .c_lo = value_6_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = value_6_28, .n = 1, .c_lo = value_6_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = value_6_29, .n = 1, .c_lo = value_6_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = value_6_30, .n = 1, .c_lo = value_6_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = value_6_31, .n = 1, .c_lo = value_6_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = value_6_32, .n = 1, .c_lo = value_6_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = value_6_33, .n = 1, .c_lo = value_6_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = value_6_34, .n = 1, .c_lo = value_6_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = value_6_35, .n = 1, .c_lo = value_6_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = value_6_36, .n = 1, .c_lo = value_6_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = value_6_37, .n = 1, .c_lo = value_6_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = value_6_38, .n = 1, .c_lo = value_6_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = value_6_39, .n = 1, .c_lo = value_6_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = value_6_40, .n = 1, .c_lo = value_6_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = value_6_41, .n = 1, .c_lo = value_6_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = value_6_42, .n = 1, .c_lo = value_6_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = value_6_43, .n = 1, .c_lo = value_6_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = value_6_44, .n = 1, .c_lo = value_6_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = value_6_45, .n = 1, .c_lo = value_6_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = value_6_46, .n = 1, .c_lo = value_6_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = value_6_47, .n = 1, .c_lo = value_6_47_lo},
 };
 inline constexpr table::Piece value[] = {
-    {0x0p+0, 0x1p-3, value_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 1.4e-20 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, value_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 8.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, value_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 6.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, value_3, 1},  // [23/64, 39/64), S^17 times Taylor about 8/17 up to (r-c)^65, truncation < 8.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, value_4, 1},  // [39/64, 25/32), S^17 times Taylor about 20/29 up to (r-c)^76, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1.ap-1, value_5, 1},  // [25/32, 13/16), Taylor about 240/289 up to (r-c)^50, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.ap-1, 0x1p+0, value_6, 48},  // [13/16, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 9.0e-20 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = value_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^22, truncation < 1.4e-20 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = value_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^40, truncation < 8.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = value_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 6.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = value_3, .nterms = 1},  // [23/64, 39/64), S^17 times Taylor about 8/17 up to (r-c)^65, truncation < 8.0e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = value_4, .nterms = 1},  // [39/64, 25/32), S^17 times Taylor about 20/29 up to (r-c)^76, truncation < 1.3e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1.ap-1, .terms = value_5, .nterms = 1},  // [25/32, 13/16), Taylor about 240/289 up to (r-c)^50, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.ap-1, .hi = 0x1p+0, .terms = value_6, .nterms = 48},  // [13/16, 1), series at the edge in S = sqrt(1-r^2) up to S^111, truncation < 9.0e-20 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double dr_0_0[] = {
     -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
@@ -801,8 +801,8 @@ inline constexpr double dr_0_1_lo[] = {
     0x1.37f769e903adfp-40, -0x1.f80e4f7ba488dp-40, -0x1.7a0abb9cbb66ap-42,
 };
 inline constexpr table::Term dr_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dr_0_0, 12, 0, 0, dr_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 5, dr_0_1, 3, 0, 0, dr_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dr_0_0, .n = 12, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 5, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo},
 };
 inline constexpr double dr_1_0[] = {
     -0x1.8b9ef1e49d783p+3,  // -69947305790004682564668/4108469075197275390625 * pi^-1 + (-9949790275908747264/1133370779364765625 * pi^-1) * log(12)
@@ -862,7 +862,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.513748c11eb81p+25, 0x1.a5bf1e6d8d681p+28,
 };
 inline constexpr table::Term dr_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dr_1_0, 42, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.5371a5b51a945p+3,  // 85052409359965047/381469726562500 * pi^-1 + (-643087112056389/4882812500000 * pi^-1) * log(7)
@@ -923,7 +923,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.bf39e9e171b2p+0, 0x1.3e49825c48e1bp-1, -0x1.c924f71d2524bp+3,
 };
 inline constexpr table::Term dr_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dr_2_0, 43, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.3933996d1f3f7p+4,  // 12651073255660386404/648731689453125 * pi^-1 + (-137318977696144211968/9730975341796875 * pi^-1) * log(4)
@@ -1009,7 +1009,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.2143c691ba2e7p-8, -0x1.9709ddee55046p-10, -0x1.342679a4c13bp-7,
 };
 inline constexpr table::Term dr_3[] = {
-    {table::Basis::sqrt_power, 15, table::Var::shifted, 0x1.38p-1, 0, 0, dr_3_0, 63, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dr_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.f6318d376a0edp+3,  // 117391875056547884628550/51490792579706487 * pi^-1 + (-2690502699424657832000000/1081306644173836227 * pi^-1) * log(5/2)
@@ -1108,7 +1108,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.ddf13bc66cdf8p-34,
 };
 inline constexpr table::Term dr_4[] = {
-    {table::Basis::sqrt_power, 15, table::Var::shifted, 0x1.9p-1, 0, 0, dr_4_0, 73, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.45f306dc9c883p+3,  // -32 * pi^-1
@@ -1429,68 +1429,68 @@ inline constexpr double dr_5_52_lo[] = {
     0x1.0ad81c2d72444p-63,
 };
 inline constexpr table::Term dr_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 1, dr_5_0, 1, 0, 0, dr_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 1, dr_5_1, 1, 0, 0, dr_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 1, dr_5_2, 1, 0, 0, dr_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 1, dr_5_3, 1, 0, 0, dr_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 1, dr_5_4, 1, 0, 0, dr_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 1, dr_5_5, 1, 0, 0, dr_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 1, dr_5_6, 1, 0, 0, dr_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 1, dr_5_7, 1, 0, 0, dr_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 1, dr_5_8, 1, 0, 0, dr_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 1, dr_5_9, 1, 0, 0, dr_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 1, dr_5_10, 1, 0, 0, dr_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 1, dr_5_11, 1, 0, 0, dr_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 1, dr_5_12, 1, 0, 0, dr_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 1, dr_5_13, 1, 0, 0, dr_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 1, dr_5_14, 1, 0, 0, dr_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 1, dr_5_15, 1, 0, 0, dr_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 1, dr_5_16, 1, 0, 0, dr_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 1, dr_5_17, 1, 0, 0, dr_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 1, dr_5_18, 1, 0, 0, dr_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 1, dr_5_19, 1, 0, 0, dr_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 1, dr_5_20, 1, 0, 0, dr_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 1, dr_5_21, 1, 0, 0, dr_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 1, dr_5_22, 1, 0, 0, dr_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 1, dr_5_23, 1, 0, 0, dr_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 1, dr_5_24, 1, 0, 0, dr_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 1, dr_5_25, 1, 0, 0, dr_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 1, dr_5_26, 1, 0, 0, dr_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 1, dr_5_27, 1, 0, 0, dr_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 1, dr_5_28, 1, 0, 0, dr_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 1, dr_5_29, 1, 0, 0, dr_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 1, dr_5_30, 1, 0, 0, dr_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 1, dr_5_31, 1, 0, 0, dr_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 1, dr_5_32, 1, 0, 0, dr_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 1, dr_5_33, 1, 0, 0, dr_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 1, dr_5_34, 1, 0, 0, dr_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 1, dr_5_35, 1, 0, 0, dr_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 1, dr_5_36, 1, 0, 0, dr_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 1, dr_5_37, 1, 0, 0, dr_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 1, dr_5_38, 1, 0, 0, dr_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 1, dr_5_39, 1, 0, 0, dr_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 1, dr_5_40, 1, 0, 0, dr_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 1, dr_5_41, 1, 0, 0, dr_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 1, dr_5_42, 1, 0, 0, dr_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 1, dr_5_43, 1, 0, 0, dr_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 1, dr_5_44, 1, 0, 0, dr_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 1, dr_5_45, 1, 0, 0, dr_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 1, dr_5_46, 1, 0, 0, dr_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 1, dr_5_47, 1, 0, 0, dr_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 1, dr_5_48, 1, 0, 0, dr_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 1, dr_5_49, 1, 0, 0, dr_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 1, dr_5_50, 1, 0, 0, dr_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 58, 1, dr_5_51, 1, 0, 0, dr_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 59, 1, dr_5_52, 1, 0, 0, dr_5_52_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_5_0, .n = 1, .c_lo = dr_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_5_1, .n = 1, .c_lo = dr_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_5_2, .n = 1, .c_lo = dr_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 1, .c = dr_5_3, .n = 1, .c_lo = dr_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 1, .c = dr_5_4, .n = 1, .c_lo = dr_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 1, .c = dr_5_5, .n = 1, .c_lo = dr_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 1, .c = dr_5_6, .n = 1, .c_lo = dr_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 1, .c = dr_5_7, .n = 1, .c_lo = dr_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 1, .c = dr_5_8, .n = 1, .c_lo = dr_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 1, .c = dr_5_9, .n = 1, .c_lo = dr_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 1, .c = dr_5_10, .n = 1, .c_lo = dr_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 1, .c = dr_5_11, .n = 1, .c_lo = dr_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 1, .c = dr_5_12, .n = 1, .c_lo = dr_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 1, .c = dr_5_13, .n = 1, .c_lo = dr_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 1, .c = dr_5_14, .n = 1, .c_lo = dr_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 1, .c = dr_5_15, .n = 1, .c_lo = dr_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 1, .c = dr_5_16, .n = 1, .c_lo = dr_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 1, .c = dr_5_17, .n = 1, .c_lo = dr_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 1, .c = dr_5_18, .n = 1, .c_lo = dr_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 1, .c = dr_5_19, .n = 1, .c_lo = dr_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 1, .c = dr_5_20, .n = 1, .c_lo = dr_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 1, .c = dr_5_21, .n = 1, .c_lo = dr_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 1, .c = dr_5_22, .n = 1, .c_lo = dr_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 1, .c = dr_5_23, .n = 1, .c_lo = dr_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 1, .c = dr_5_24, .n = 1, .c_lo = dr_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 1, .c = dr_5_25, .n = 1, .c_lo = dr_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 1, .c = dr_5_26, .n = 1, .c_lo = dr_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 1, .c = dr_5_27, .n = 1, .c_lo = dr_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 1, .c = dr_5_28, .n = 1, .c_lo = dr_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 1, .c = dr_5_29, .n = 1, .c_lo = dr_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 1, .c = dr_5_30, .n = 1, .c_lo = dr_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 1, .c = dr_5_31, .n = 1, .c_lo = dr_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 1, .c = dr_5_32, .n = 1, .c_lo = dr_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 1, .c = dr_5_33, .n = 1, .c_lo = dr_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 1, .c = dr_5_34, .n = 1, .c_lo = dr_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 1, .c = dr_5_35, .n = 1, .c_lo = dr_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 1, .c = dr_5_36, .n = 1, .c_lo = dr_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 1, .c = dr_5_37, .n = 1, .c_lo = dr_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 1, .c = dr_5_38, .n = 1, .c_lo = dr_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 1, .c = dr_5_39, .n = 1, .c_lo = dr_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 1, .c = dr_5_40, .n = 1, .c_lo = dr_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 1, .c = dr_5_41, .n = 1, .c_lo = dr_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 1, .c = dr_5_42, .n = 1, .c_lo = dr_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 1, .c = dr_5_43, .n = 1, .c_lo = dr_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 1, .c = dr_5_44, .n = 1, .c_lo = dr_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 1, .c = dr_5_45, .n = 1, .c_lo = dr_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 1, .c = dr_5_46, .n = 1, .c_lo = dr_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 1, .c = dr_5_47, .n = 1, .c_lo = dr_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 1, .c = dr_5_48, .n = 1, .c_lo = dr_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 1, .c = dr_5_49, .n = 1, .c_lo = dr_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 1, .c = dr_5_50, .n = 1, .c_lo = dr_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 58, .low = 1, .c = dr_5_51, .n = 1, .c_lo = dr_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 59, .low = 1, .c = dr_5_52, .n = 1, .c_lo = dr_5_52_lo},
 };
 inline constexpr table::Piece dr[] = {
-    {0x0p+0, 0x1p-3, dr_0, 2},  // [0, 1/8), series at 0 up to r^23, truncation < 4.2e-21 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dr_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 9.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dr_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^42, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dr_3, 1},  // [23/64, 39/64), S^15 times Taylor about 8/17 up to (r-c)^62, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, dr_4, 1},  // [39/64, 25/32), S^15 times Taylor about 20/29 up to (r-c)^72, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, dr_5, 53},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^119, truncation < 1.3e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dr_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^23, truncation < 4.2e-21 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dr_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 9.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dr_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^42, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dr_3, .nterms = 1},  // [23/64, 39/64), S^15 times Taylor about 8/17 up to (r-c)^62, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = dr_4, .nterms = 1},  // [39/64, 25/32), S^15 times Taylor about 20/29 up to (r-c)^72, truncation < 1.2e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = dr_5, .nterms = 53},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^119, truncation < 1.3e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double d2r_0_0[] = {
     -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
@@ -1517,8 +1517,8 @@ inline constexpr double d2r_0_1_lo[] = {
     -0x1.7a0abb9cbb66ap-38, 0x1.1bcde9cf40213p-39, 0x1.d6b3ecefad2c9p-39,
 };
 inline constexpr table::Term d2r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, d2r_0_0, 9, 0, 0, d2r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 4, d2r_0_1, 3, 0, 0, d2r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = d2r_0_0, .n = 9, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 4, .c = d2r_0_1, .n = 3, .c_lo = d2r_0_1_lo},
 };
 inline constexpr double d2r_1_0[] = {
     -0x1.31679520ce0fep+6,  // -921337675248425618278953/5155880612190832812500 * pi^-1 + (-607286321329246041483/31129845205680500000 * pi^-1) * log(23)
@@ -1574,7 +1574,7 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.1641a1268f3aap+53, -0x1.75722e44e0b1fp+58, 0x1.67b0444d2d424p+61,
 };
 inline constexpr table::Term d2r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, d2r_1_0, 39, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.e2769de5f4b6ap+4,  // 30626864045797610801478125/62684600389727560925184 * pi^-1 + (-1197476147109517004852890625/5265506432737115117715456 * pi^-1) * log(13)
@@ -1634,7 +1634,7 @@ inline constexpr double d2r_2_0_lo[] = {
     -0x1.861b45af827bap+38, 0x1.dfbbbad86cd8dp+41,
 };
 inline constexpr table::Term d2r_2[] = {
-    {table::Basis::sqrt_power, 13, table::Var::shifted, 0x1.9p-3, 0, 0, d2r_2_0, 42, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, d2r_2_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 42, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.bcdaf8cf7bd1bp+4,  // 1935127259764819659/637289625781250 * pi^-1 + (-1390507826577408/980445578125 * pi^-1) * log(8)
@@ -1693,7 +1693,7 @@ inline constexpr double d2r_3_0_lo[] = {
     0x1.a3635d1b7f91dp+12,
 };
 inline constexpr table::Term d2r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, d2r_3_0, 41, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.522220afc80f7p+5,  // 106270733528685/6525845768 * pi^-1 + (-20151173109375/2007952544 * pi^-1) * log(5)
@@ -1759,7 +1759,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.38ee393e7038fp-6, 0x1.6df3ab9195118p-6, 0x1.60936c8419882p-5,
 };
 inline constexpr table::Term d2r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, d2r_4_0, 47, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.520fa8b354fcap+7,  // 898850342121875/536870912 * pi^-1 + (-3271637353359375/2147483648 * pi^-1) * log(3)
@@ -1851,7 +1851,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.c668f28aef52ap-23, 0x1.7a56c2f81d774p-18, 0x1.8fe03102ea9acp-18, 0x1.d8ab633c10c78p-17,
 };
 inline constexpr table::Term d2r_5[] = {
-    {table::Basis::sqrt_power, 13, table::Var::shifted, 0x1.7p-1, 0, 0, d2r_5_0, 68, 0x1.3333333333333p-1, 0x1.999999999999ap-56, d2r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.7966ea3da7001p-1,  // 25323642945261400587705/117743173416535826 * pi^-1 + (-7039477355386522921875/25806722940610592 * pi^-1) * log(11/5)
@@ -1896,7 +1896,7 @@ inline constexpr double d2r_6_0_lo[] = {
     -0x1.f4cfb326085d7p-22, -0x1.6481a57276d8p-21,
 };
 inline constexpr table::Term d2r_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, d2r_6_0, 30, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.3193d66ed2bfap+7,  // 480 * pi^-1
@@ -2205,68 +2205,68 @@ inline constexpr double d2r_7_50_lo[] = {
     0x1.10b5f1054ad49p-55,
 };
 inline constexpr table::Term d2r_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, d2r_7_0, 1, 0, 0, d2r_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, d2r_7_1, 1, 0, 0, d2r_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, d2r_7_2, 1, 0, 0, d2r_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, d2r_7_3, 1, 0, 0, d2r_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, d2r_7_4, 1, 0, 0, d2r_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, d2r_7_5, 1, 0, 0, d2r_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, d2r_7_6, 1, 0, 0, d2r_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, d2r_7_7, 1, 0, 0, d2r_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, d2r_7_8, 1, 0, 0, d2r_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, d2r_7_9, 1, 0, 0, d2r_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, d2r_7_10, 1, 0, 0, d2r_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, d2r_7_11, 1, 0, 0, d2r_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, d2r_7_12, 1, 0, 0, d2r_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, d2r_7_13, 1, 0, 0, d2r_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, d2r_7_14, 1, 0, 0, d2r_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, d2r_7_15, 1, 0, 0, d2r_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, d2r_7_16, 1, 0, 0, d2r_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, d2r_7_17, 1, 0, 0, d2r_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, d2r_7_18, 1, 0, 0, d2r_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, d2r_7_19, 1, 0, 0, d2r_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, d2r_7_20, 1, 0, 0, d2r_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, d2r_7_21, 1, 0, 0, d2r_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, d2r_7_22, 1, 0, 0, d2r_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, d2r_7_23, 1, 0, 0, d2r_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, d2r_7_24, 1, 0, 0, d2r_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, d2r_7_25, 1, 0, 0, d2r_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, d2r_7_26, 1, 0, 0, d2r_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, d2r_7_27, 1, 0, 0, d2r_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, d2r_7_28, 1, 0, 0, d2r_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, d2r_7_29, 1, 0, 0, d2r_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, d2r_7_30, 1, 0, 0, d2r_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, d2r_7_31, 1, 0, 0, d2r_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, d2r_7_32, 1, 0, 0, d2r_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, d2r_7_33, 1, 0, 0, d2r_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, d2r_7_34, 1, 0, 0, d2r_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, d2r_7_35, 1, 0, 0, d2r_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, d2r_7_36, 1, 0, 0, d2r_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, d2r_7_37, 1, 0, 0, d2r_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, d2r_7_38, 1, 0, 0, d2r_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, d2r_7_39, 1, 0, 0, d2r_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, d2r_7_40, 1, 0, 0, d2r_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, d2r_7_41, 1, 0, 0, d2r_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, d2r_7_42, 1, 0, 0, d2r_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, d2r_7_43, 1, 0, 0, d2r_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, d2r_7_44, 1, 0, 0, d2r_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, d2r_7_45, 1, 0, 0, d2r_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, d2r_7_46, 1, 0, 0, d2r_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, d2r_7_47, 1, 0, 0, d2r_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, d2r_7_48, 1, 0, 0, d2r_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, d2r_7_49, 1, 0, 0, d2r_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 0, d2r_7_50, 1, 0, 0, d2r_7_50_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = d2r_7_0, .n = 1, .c_lo = d2r_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = d2r_7_1, .n = 1, .c_lo = d2r_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = d2r_7_2, .n = 1, .c_lo = d2r_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = d2r_7_3, .n = 1, .c_lo = d2r_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = d2r_7_4, .n = 1, .c_lo = d2r_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = d2r_7_5, .n = 1, .c_lo = d2r_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = d2r_7_6, .n = 1, .c_lo = d2r_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = d2r_7_7, .n = 1, .c_lo = d2r_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = d2r_7_8, .n = 1, .c_lo = d2r_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = d2r_7_9, .n = 1, .c_lo = d2r_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = d2r_7_10, .n = 1, .c_lo = d2r_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = d2r_7_11, .n = 1, .c_lo = d2r_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = d2r_7_12, .n = 1, .c_lo = d2r_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = d2r_7_13, .n = 1, .c_lo = d2r_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = d2r_7_14, .n = 1, .c_lo = d2r_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = d2r_7_15, .n = 1, .c_lo = d2r_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = d2r_7_16, .n = 1, .c_lo = d2r_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = d2r_7_17, .n = 1, .c_lo = d2r_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = d2r_7_18, .n = 1, .c_lo = d2r_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = d2r_7_19, .n = 1, .c_lo = d2r_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = d2r_7_20, .n = 1, .c_lo = d2r_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = d2r_7_21, .n = 1, .c_lo = d2r_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = d2r_7_22, .n = 1, .c_lo = d2r_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = d2r_7_23, .n = 1, .c_lo = d2r_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = d2r_7_24, .n = 1, .c_lo = d2r_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = d2r_7_25, .n = 1, .c_lo = d2r_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = d2r_7_26, .n = 1, .c_lo = d2r_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = d2r_7_27, .n = 1, .c_lo = d2r_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = d2r_7_28, .n = 1, .c_lo = d2r_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = d2r_7_29, .n = 1, .c_lo = d2r_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = d2r_7_30, .n = 1, .c_lo = d2r_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = d2r_7_31, .n = 1, .c_lo = d2r_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = d2r_7_32, .n = 1, .c_lo = d2r_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = d2r_7_33, .n = 1, .c_lo = d2r_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = d2r_7_34, .n = 1, .c_lo = d2r_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = d2r_7_35, .n = 1, .c_lo = d2r_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = d2r_7_36, .n = 1, .c_lo = d2r_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = d2r_7_37, .n = 1, .c_lo = d2r_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = d2r_7_38, .n = 1, .c_lo = d2r_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = d2r_7_39, .n = 1, .c_lo = d2r_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = d2r_7_40, .n = 1, .c_lo = d2r_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = d2r_7_41, .n = 1, .c_lo = d2r_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = d2r_7_42, .n = 1, .c_lo = d2r_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = d2r_7_43, .n = 1, .c_lo = d2r_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = d2r_7_44, .n = 1, .c_lo = d2r_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = d2r_7_45, .n = 1, .c_lo = d2r_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = d2r_7_46, .n = 1, .c_lo = d2r_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = d2r_7_47, .n = 1, .c_lo = d2r_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = d2r_7_48, .n = 1, .c_lo = d2r_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = d2r_7_49, .n = 1, .c_lo = d2r_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 0, .c = d2r_7_50, .n = 1, .c_lo = d2r_7_50_lo},
 };
 inline constexpr table::Piece d2r[] = {
-    {0x0p+0, 0x1p-4, d2r_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 4.0e-20 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, d2r_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 8.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, d2r_2, 1},  // [57/512, 25/128), S^13 times Taylor about 13/85 up to (r-c)^41, truncation < 6.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, d2r_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^40, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, d2r_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^46, truncation < 8.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, d2r_5, 1},  // [1/2, 23/32), S^13 times Taylor about 3/5 up to (r-c)^67, truncation < 8.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.9p-1, d2r_6, 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^29, truncation < 4.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, d2r_7, 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^115, truncation < 1.7e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = d2r_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^16, truncation < 4.0e-20 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = d2r_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 8.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = d2r_2, .nterms = 1},  // [57/512, 25/128), S^13 times Taylor about 13/85 up to (r-c)^41, truncation < 6.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = d2r_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^40, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = d2r_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^46, truncation < 8.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = d2r_5, .nterms = 1},  // [1/2, 23/32), S^13 times Taylor about 3/5 up to (r-c)^67, truncation < 8.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.9p-1, .terms = d2r_6, .nterms = 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^29, truncation < 4.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = d2r_7, .nterms = 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^115, truncation < 1.7e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double laplacian_0_0[] = {
     -0x1.c72ee21514982p+7,  // -715 * pi^-1
@@ -2293,8 +2293,8 @@ inline constexpr double laplacian_0_1_lo[] = {
     -0x1.60670913d3d9p-41, -0x1.f80e4f7ba488dp-37, 0x1.2772957c15bfcp-39,
 };
 inline constexpr table::Term laplacian_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, laplacian_0_0, 9, 0, 0, laplacian_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 4, laplacian_0_1, 3, 0, 0, laplacian_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = laplacian_0_0, .n = 9, .c_lo = laplacian_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 4, .c = laplacian_0_1, .n = 3, .c_lo = laplacian_0_1_lo},
 };
 inline constexpr double laplacian_1_0[] = {
     -0x1.616ed5a3762c2p+7,  // -6210650213613925692418377/12889701530477082031250 * pi^-1 + (-72814249433747688867/3112984520568050000 * pi^-1) * log(23)
@@ -2350,7 +2350,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.832fdbbed4cf4p+51, 0x1.b0708aa9bf683p+58, -0x1.4924695d6f2cbp+60,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, laplacian_1_0, 39, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.a3c41f6770475p+6,  // 249211415902865507091/926467785132812500 * pi^-1 + (-81409164537447747/348787872050000 * pi^-1) * log(13)
@@ -2407,7 +2407,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.0ed9af3d10bddp+28, -0x1.3f5542389f4ep+30, -0x1.b8c99de795c71p+29, 0x1.3986092284175p+35,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, laplacian_2_0, 40, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.3dee74d405ec2p+4,  // 5504975200646922231/1593224064453125 * pi^-1 + (-331712334987264/196089115625 * pi^-1) * log(8)
@@ -2466,7 +2466,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.f707d855dfab4p+14,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, laplacian_3_0, 41, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.a619577c0e878p+4,  // 62704718734185/3262922884 * pi^-1 + (-11936186521875/1003976272 * pi^-1) * log(5)
@@ -2533,7 +2533,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.f016878032fa3p-5, 0x1.17dd7842c3745p-4, 0x1.4238c80a4c04dp-3, 0x1.90af1821d452p-1,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, laplacian_4_0, 48, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 48, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.2cdd0f79a6f3p+7,  // 526470299444375/268435456 * pi^-1 + (-1916393776171875/1073741824 * pi^-1) * log(3)
@@ -2625,7 +2625,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.f1c8651e8a2a9p-21, 0x1.e04cd54de9b7cp-18, -0x1.3bba423b3b9bp-22, 0x1.62daf1c033495p-19,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {table::Basis::sqrt_power, 13, table::Var::shifted, 0x1.7p-1, 0, 0, laplacian_5_0, 68, 0x1.3333333333333p-1, 0x1.999999999999ap-56, laplacian_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.672af95cbe9b1p-1,  // 14730295940607575819205/58871586708267913 * pi^-1 + (-4094742138140563284375/12903361470305296 * pi^-1) * log(11/5)
@@ -2670,7 +2670,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     -0x1.f04caecc6244bp-22, -0x1.dddaf07c82f4ap-21,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, laplacian_6_0, 30, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.3193d66ed2bfap+7,  // 480 * pi^-1
@@ -2985,69 +2985,69 @@ inline constexpr double laplacian_7_51_lo[] = {
     -0x1.78df38c239f7ep-55,
 };
 inline constexpr table::Term laplacian_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, laplacian_7_0, 1, 0, 0, laplacian_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, laplacian_7_1, 1, 0, 0, laplacian_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, laplacian_7_2, 1, 0, 0, laplacian_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, laplacian_7_3, 1, 0, 0, laplacian_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, laplacian_7_4, 1, 0, 0, laplacian_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, laplacian_7_5, 1, 0, 0, laplacian_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, laplacian_7_6, 1, 0, 0, laplacian_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, laplacian_7_7, 1, 0, 0, laplacian_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, laplacian_7_8, 1, 0, 0, laplacian_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, laplacian_7_9, 1, 0, 0, laplacian_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, laplacian_7_10, 1, 0, 0, laplacian_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, laplacian_7_11, 1, 0, 0, laplacian_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, laplacian_7_12, 1, 0, 0, laplacian_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, laplacian_7_13, 1, 0, 0, laplacian_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, laplacian_7_14, 1, 0, 0, laplacian_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, laplacian_7_15, 1, 0, 0, laplacian_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, laplacian_7_16, 1, 0, 0, laplacian_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, laplacian_7_17, 1, 0, 0, laplacian_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, laplacian_7_18, 1, 0, 0, laplacian_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, laplacian_7_19, 1, 0, 0, laplacian_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, laplacian_7_20, 1, 0, 0, laplacian_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, laplacian_7_21, 1, 0, 0, laplacian_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, laplacian_7_22, 1, 0, 0, laplacian_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, laplacian_7_23, 1, 0, 0, laplacian_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, laplacian_7_24, 1, 0, 0, laplacian_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, laplacian_7_25, 1, 0, 0, laplacian_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, laplacian_7_26, 1, 0, 0, laplacian_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, laplacian_7_27, 1, 0, 0, laplacian_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, laplacian_7_28, 1, 0, 0, laplacian_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, laplacian_7_29, 1, 0, 0, laplacian_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, laplacian_7_30, 1, 0, 0, laplacian_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, laplacian_7_31, 1, 0, 0, laplacian_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, laplacian_7_32, 1, 0, 0, laplacian_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, laplacian_7_33, 1, 0, 0, laplacian_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, laplacian_7_34, 1, 0, 0, laplacian_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, laplacian_7_35, 1, 0, 0, laplacian_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, laplacian_7_36, 1, 0, 0, laplacian_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, laplacian_7_37, 1, 0, 0, laplacian_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, laplacian_7_38, 1, 0, 0, laplacian_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, laplacian_7_39, 1, 0, 0, laplacian_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, laplacian_7_40, 1, 0, 0, laplacian_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, laplacian_7_41, 1, 0, 0, laplacian_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, laplacian_7_42, 1, 0, 0, laplacian_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, laplacian_7_43, 1, 0, 0, laplacian_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, laplacian_7_44, 1, 0, 0, laplacian_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, laplacian_7_45, 1, 0, 0, laplacian_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, laplacian_7_46, 1, 0, 0, laplacian_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, laplacian_7_47, 1, 0, 0, laplacian_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, laplacian_7_48, 1, 0, 0, laplacian_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, laplacian_7_49, 1, 0, 0, laplacian_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, laplacian_7_50, 1, 0, 0, laplacian_7_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 0, laplacian_7_51, 1, 0, 0, laplacian_7_51_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = laplacian_7_0, .n = 1, .c_lo = laplacian_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = laplacian_7_1, .n = 1, .c_lo = laplacian_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = laplacian_7_2, .n = 1, .c_lo = laplacian_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = laplacian_7_3, .n = 1, .c_lo = laplacian_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = laplacian_7_4, .n = 1, .c_lo = laplacian_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = laplacian_7_5, .n = 1, .c_lo = laplacian_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = laplacian_7_6, .n = 1, .c_lo = laplacian_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = laplacian_7_7, .n = 1, .c_lo = laplacian_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = laplacian_7_8, .n = 1, .c_lo = laplacian_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = laplacian_7_9, .n = 1, .c_lo = laplacian_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = laplacian_7_10, .n = 1, .c_lo = laplacian_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = laplacian_7_11, .n = 1, .c_lo = laplacian_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = laplacian_7_12, .n = 1, .c_lo = laplacian_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = laplacian_7_13, .n = 1, .c_lo = laplacian_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = laplacian_7_14, .n = 1, .c_lo = laplacian_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = laplacian_7_15, .n = 1, .c_lo = laplacian_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = laplacian_7_16, .n = 1, .c_lo = laplacian_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = laplacian_7_17, .n = 1, .c_lo = laplacian_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = laplacian_7_18, .n = 1, .c_lo = laplacian_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = laplacian_7_19, .n = 1, .c_lo = laplacian_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = laplacian_7_20, .n = 1, .c_lo = laplacian_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = laplacian_7_21, .n = 1, .c_lo = laplacian_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = laplacian_7_22, .n = 1, .c_lo = laplacian_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = laplacian_7_23, .n = 1, .c_lo = laplacian_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = laplacian_7_24, .n = 1, .c_lo = laplacian_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = laplacian_7_25, .n = 1, .c_lo = laplacian_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = laplacian_7_26, .n = 1, .c_lo = laplacian_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = laplacian_7_27, .n = 1, .c_lo = laplacian_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = laplacian_7_28, .n = 1, .c_lo = laplacian_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = laplacian_7_29, .n = 1, .c_lo = laplacian_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = laplacian_7_30, .n = 1, .c_lo = laplacian_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = laplacian_7_31, .n = 1, .c_lo = laplacian_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = laplacian_7_32, .n = 1, .c_lo = laplacian_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = laplacian_7_33, .n = 1, .c_lo = laplacian_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = laplacian_7_34, .n = 1, .c_lo = laplacian_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = laplacian_7_35, .n = 1, .c_lo = laplacian_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = laplacian_7_36, .n = 1, .c_lo = laplacian_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = laplacian_7_37, .n = 1, .c_lo = laplacian_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = laplacian_7_38, .n = 1, .c_lo = laplacian_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = laplacian_7_39, .n = 1, .c_lo = laplacian_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = laplacian_7_40, .n = 1, .c_lo = laplacian_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = laplacian_7_41, .n = 1, .c_lo = laplacian_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = laplacian_7_42, .n = 1, .c_lo = laplacian_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = laplacian_7_43, .n = 1, .c_lo = laplacian_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = laplacian_7_44, .n = 1, .c_lo = laplacian_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = laplacian_7_45, .n = 1, .c_lo = laplacian_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = laplacian_7_46, .n = 1, .c_lo = laplacian_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = laplacian_7_47, .n = 1, .c_lo = laplacian_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = laplacian_7_48, .n = 1, .c_lo = laplacian_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = laplacian_7_49, .n = 1, .c_lo = laplacian_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = laplacian_7_50, .n = 1, .c_lo = laplacian_7_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 0, .c = laplacian_7_51, .n = 1, .c_lo = laplacian_7_51_lo},
 };
 inline constexpr table::Piece laplacian[] = {
-    {0x0p+0, 0x1p-4, laplacian_0, 2},  // [0, 1/16), series at 0 up to r^16, truncation < 2.0e-20 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, laplacian_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, laplacian_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^39, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, laplacian_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^40, truncation < 5.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, laplacian_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^47, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, laplacian_5, 1},  // [1/2, 23/32), S^13 times Taylor about 3/5 up to (r-c)^67, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.9p-1, laplacian_6, 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^29, truncation < 5.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, laplacian_7, 52},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^115, truncation < 1.9e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = laplacian_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^16, truncation < 2.0e-20 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = laplacian_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 4.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = laplacian_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^39, truncation < 5.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = laplacian_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^40, truncation < 5.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = laplacian_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^47, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = laplacian_5, .nterms = 1},  // [1/2, 23/32), S^13 times Taylor about 3/5 up to (r-c)^67, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.9p-1, .terms = laplacian_6, .nterms = 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^29, truncation < 5.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = laplacian_7, .nterms = 52},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^115, truncation < 1.9e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double grad_over_r_0_0[] = {
     -0x1.c72ee21514982p+6,  // -715/2 * pi^-1
@@ -3077,8 +3077,8 @@ inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.37f769e903adfp-40, -0x1.f80e4f7ba488dp-40, -0x1.7a0abb9cbb66ap-42,
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, grad_over_r_0_0, 12, 0, 0, grad_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 4, grad_over_r_0_1, 3, 0, 0, grad_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = grad_over_r_0_0, .n = 12, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 4, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo},
 };
 inline constexpr double grad_over_r_1_0[] = {
     -0x1.2ac6b4035196cp+6,  // -5828942149167056880389/56668538968238281250 * pi^-1 + (-414574594829531136/7816350202515625 * pi^-1) * log(12)
@@ -3138,7 +3138,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.8891f2e3b334dp+30, 0x1.b793c3a8072e1p+34,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, grad_over_r_1_0, 42, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.2f132f61b329p+5,  // 12150344194280721/15258789062500 * pi^-1 + (-91869587436627/195312500000 * pi^-1) * log(7)
@@ -3198,7 +3198,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.e58d876014385p+3, 0x1.4b002ea8a265p+2,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, grad_over_r_2_0, 42, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.4cc6d303f1336p+5,  // 53767061336556642217/1297463378906250 * pi^-1 + (-291802827604306450432/9730975341796875 * pi^-1) * log(4)
@@ -3284,7 +3284,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.9572a633dee0bp-5, 0x1.f1d92dc53caf5p-3, -0x1.4d6d4eb5814f3p-2,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {table::Basis::sqrt_power, 15, table::Var::shifted, 0x1.38p-1, 0, 0, grad_over_r_3_0, 63, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, grad_over_r_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.6c171ffb60178p+4,  // 340436437663988865422795/102981585159412974 * pi^-1 + (-3901228914165753856400000/1081306644173836227 * pi^-1) * log(5/2)
@@ -3383,7 +3383,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.081a0e188562p-33,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {table::Basis::sqrt_power, 15, table::Var::shifted, 0x1.9p-1, 0, 0, grad_over_r_4_0, 73, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.45f306dc9c883p+3,  // -32 * pi^-1
@@ -3704,68 +3704,68 @@ inline constexpr double grad_over_r_5_52_lo[] = {
     0x1.0ad81c2d72444p-63,
 };
 inline constexpr table::Term grad_over_r_5[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, grad_over_r_5_0, 1, 0, 0, grad_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, grad_over_r_5_1, 1, 0, 0, grad_over_r_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, grad_over_r_5_2, 1, 0, 0, grad_over_r_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, grad_over_r_5_3, 1, 0, 0, grad_over_r_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, grad_over_r_5_4, 1, 0, 0, grad_over_r_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, grad_over_r_5_5, 1, 0, 0, grad_over_r_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, grad_over_r_5_6, 1, 0, 0, grad_over_r_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, grad_over_r_5_7, 1, 0, 0, grad_over_r_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, grad_over_r_5_8, 1, 0, 0, grad_over_r_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, grad_over_r_5_9, 1, 0, 0, grad_over_r_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, grad_over_r_5_10, 1, 0, 0, grad_over_r_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, grad_over_r_5_11, 1, 0, 0, grad_over_r_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, grad_over_r_5_12, 1, 0, 0, grad_over_r_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, grad_over_r_5_13, 1, 0, 0, grad_over_r_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, grad_over_r_5_14, 1, 0, 0, grad_over_r_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, grad_over_r_5_15, 1, 0, 0, grad_over_r_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, grad_over_r_5_16, 1, 0, 0, grad_over_r_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, grad_over_r_5_17, 1, 0, 0, grad_over_r_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, grad_over_r_5_18, 1, 0, 0, grad_over_r_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, grad_over_r_5_19, 1, 0, 0, grad_over_r_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, grad_over_r_5_20, 1, 0, 0, grad_over_r_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, grad_over_r_5_21, 1, 0, 0, grad_over_r_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, grad_over_r_5_22, 1, 0, 0, grad_over_r_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, grad_over_r_5_23, 1, 0, 0, grad_over_r_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, grad_over_r_5_24, 1, 0, 0, grad_over_r_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, grad_over_r_5_25, 1, 0, 0, grad_over_r_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, grad_over_r_5_26, 1, 0, 0, grad_over_r_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, grad_over_r_5_27, 1, 0, 0, grad_over_r_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, grad_over_r_5_28, 1, 0, 0, grad_over_r_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, grad_over_r_5_29, 1, 0, 0, grad_over_r_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, grad_over_r_5_30, 1, 0, 0, grad_over_r_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, grad_over_r_5_31, 1, 0, 0, grad_over_r_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, grad_over_r_5_32, 1, 0, 0, grad_over_r_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, grad_over_r_5_33, 1, 0, 0, grad_over_r_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, grad_over_r_5_34, 1, 0, 0, grad_over_r_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, grad_over_r_5_35, 1, 0, 0, grad_over_r_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, grad_over_r_5_36, 1, 0, 0, grad_over_r_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, grad_over_r_5_37, 1, 0, 0, grad_over_r_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, grad_over_r_5_38, 1, 0, 0, grad_over_r_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, grad_over_r_5_39, 1, 0, 0, grad_over_r_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, grad_over_r_5_40, 1, 0, 0, grad_over_r_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, grad_over_r_5_41, 1, 0, 0, grad_over_r_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, grad_over_r_5_42, 1, 0, 0, grad_over_r_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, grad_over_r_5_43, 1, 0, 0, grad_over_r_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, grad_over_r_5_44, 1, 0, 0, grad_over_r_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, grad_over_r_5_45, 1, 0, 0, grad_over_r_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, grad_over_r_5_46, 1, 0, 0, grad_over_r_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, grad_over_r_5_47, 1, 0, 0, grad_over_r_5_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, grad_over_r_5_48, 1, 0, 0, grad_over_r_5_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, grad_over_r_5_49, 1, 0, 0, grad_over_r_5_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 57, 0, grad_over_r_5_50, 1, 0, 0, grad_over_r_5_50_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 58, 0, grad_over_r_5_51, 1, 0, 0, grad_over_r_5_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 59, 0, grad_over_r_5_52, 1, 0, 0, grad_over_r_5_52_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_5_0, .n = 1, .c_lo = grad_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_5_1, .n = 1, .c_lo = grad_over_r_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_5_2, .n = 1, .c_lo = grad_over_r_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = grad_over_r_5_3, .n = 1, .c_lo = grad_over_r_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = grad_over_r_5_4, .n = 1, .c_lo = grad_over_r_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = grad_over_r_5_5, .n = 1, .c_lo = grad_over_r_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = grad_over_r_5_6, .n = 1, .c_lo = grad_over_r_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = grad_over_r_5_7, .n = 1, .c_lo = grad_over_r_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = grad_over_r_5_8, .n = 1, .c_lo = grad_over_r_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = grad_over_r_5_9, .n = 1, .c_lo = grad_over_r_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = grad_over_r_5_10, .n = 1, .c_lo = grad_over_r_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = grad_over_r_5_11, .n = 1, .c_lo = grad_over_r_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = grad_over_r_5_12, .n = 1, .c_lo = grad_over_r_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = grad_over_r_5_13, .n = 1, .c_lo = grad_over_r_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = grad_over_r_5_14, .n = 1, .c_lo = grad_over_r_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = grad_over_r_5_15, .n = 1, .c_lo = grad_over_r_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = grad_over_r_5_16, .n = 1, .c_lo = grad_over_r_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = grad_over_r_5_17, .n = 1, .c_lo = grad_over_r_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = grad_over_r_5_18, .n = 1, .c_lo = grad_over_r_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = grad_over_r_5_19, .n = 1, .c_lo = grad_over_r_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = grad_over_r_5_20, .n = 1, .c_lo = grad_over_r_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = grad_over_r_5_21, .n = 1, .c_lo = grad_over_r_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = grad_over_r_5_22, .n = 1, .c_lo = grad_over_r_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = grad_over_r_5_23, .n = 1, .c_lo = grad_over_r_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = grad_over_r_5_24, .n = 1, .c_lo = grad_over_r_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = grad_over_r_5_25, .n = 1, .c_lo = grad_over_r_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = grad_over_r_5_26, .n = 1, .c_lo = grad_over_r_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = grad_over_r_5_27, .n = 1, .c_lo = grad_over_r_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = grad_over_r_5_28, .n = 1, .c_lo = grad_over_r_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = grad_over_r_5_29, .n = 1, .c_lo = grad_over_r_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = grad_over_r_5_30, .n = 1, .c_lo = grad_over_r_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = grad_over_r_5_31, .n = 1, .c_lo = grad_over_r_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = grad_over_r_5_32, .n = 1, .c_lo = grad_over_r_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = grad_over_r_5_33, .n = 1, .c_lo = grad_over_r_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = grad_over_r_5_34, .n = 1, .c_lo = grad_over_r_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = grad_over_r_5_35, .n = 1, .c_lo = grad_over_r_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = grad_over_r_5_36, .n = 1, .c_lo = grad_over_r_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = grad_over_r_5_37, .n = 1, .c_lo = grad_over_r_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = grad_over_r_5_38, .n = 1, .c_lo = grad_over_r_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = grad_over_r_5_39, .n = 1, .c_lo = grad_over_r_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = grad_over_r_5_40, .n = 1, .c_lo = grad_over_r_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = grad_over_r_5_41, .n = 1, .c_lo = grad_over_r_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = grad_over_r_5_42, .n = 1, .c_lo = grad_over_r_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = grad_over_r_5_43, .n = 1, .c_lo = grad_over_r_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = grad_over_r_5_44, .n = 1, .c_lo = grad_over_r_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = grad_over_r_5_45, .n = 1, .c_lo = grad_over_r_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = grad_over_r_5_46, .n = 1, .c_lo = grad_over_r_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = grad_over_r_5_47, .n = 1, .c_lo = grad_over_r_5_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = grad_over_r_5_48, .n = 1, .c_lo = grad_over_r_5_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = grad_over_r_5_49, .n = 1, .c_lo = grad_over_r_5_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 57, .low = 0, .c = grad_over_r_5_50, .n = 1, .c_lo = grad_over_r_5_50_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 58, .low = 0, .c = grad_over_r_5_51, .n = 1, .c_lo = grad_over_r_5_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 59, .low = 0, .c = grad_over_r_5_52, .n = 1, .c_lo = grad_over_r_5_52_lo},
 };
 inline constexpr table::Piece grad_over_r[] = {
-    {0x0p+0, 0x1p-3, grad_over_r_0, 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.2e-21 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, grad_over_r_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, grad_over_r_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 5.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, grad_over_r_3, 1},  // [23/64, 39/64), S^15 times Taylor about 8/17 up to (r-c)^62, truncation < 6.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, grad_over_r_4, 1},  // [39/64, 25/32), S^15 times Taylor about 20/29 up to (r-c)^72, truncation < 9.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, grad_over_r_5, 53},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^119, truncation < 1.3e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^22, truncation < 4.2e-21 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = grad_over_r_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^41, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = grad_over_r_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 5.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = grad_over_r_3, .nterms = 1},  // [23/64, 39/64), S^15 times Taylor about 8/17 up to (r-c)^62, truncation < 6.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = grad_over_r_4, .nterms = 1},  // [39/64, 25/32), S^15 times Taylor about 20/29 up to (r-c)^72, truncation < 9.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = grad_over_r_5, .nterms = 53},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^119, truncation < 1.3e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double hess_radial_0_0[] = {
     0x1.000a5f2bdb959p+12,  // 12870 * pi^-1
@@ -3790,8 +3790,8 @@ inline constexpr double hess_radial_0_1_lo[] = {
     0x1.37f769e903adfp-38, -0x1.7a0abb9cbb66ap-37, -0x1.7a0abb9cbb66ap-39,
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-4, 0, 0, hess_radial_0_0, 8, 0, 0, hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-4, 0, 2, hess_radial_0_1, 3, 0, 0, hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 0, .c = hess_radial_0_0, .n = 8, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-4, .edge_power = 0, .low = 2, .c = hess_radial_0_1, .n = 3, .c_lo = hess_radial_0_1_lo},
 };
 inline constexpr double hess_radial_1_0[] = {
     0x1.8e7c88344d981p+11,  // 1516031982393003403614/91774307799765625 * pi^-1 + (-114940961323491303/55410902822500 * pi^-1) * log(23)
@@ -3847,7 +3847,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.baae6e30cf357p+67, 0x1.8d3b890e3ad2bp+71, -0x1.7eeeb84a1027ap+74,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.c8p-4, 0, 0, hess_radial_1_0, 39, 0x1.63807ba71fe11p-4, 0x1.8e01ee9c7f846p-58, hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.1c79c64f7e826p+11,  // 779603371276308579/32057708828125 * pi^-1 + (-403926317938143/60343922500 * pi^-1) * log(13)
@@ -3903,7 +3903,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.54d30d80f53c6p+40, 0x1.c91769a9eeaccp+41, -0x1.5e401cf9c0c4ep+42,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-3, 0, 0, hess_radial_2_0, 39, 0x1.3939393939394p-3, -0x1.b1b1b1b1b1b1bp-57, hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.376b40fb3f2bp+10,  // 16291644914754594/377094453125 * pi^-1 + (-4384585852416/232058125 * pi^-1) * log(8)
@@ -3959,7 +3959,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.fe9c0db30e019p+14, 0x1.3a48ca8efe7c4p+18, -0x1.5ebb01120e33ap+19,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.4p-2, 0, 0, hess_radial_3_0, 39, 0x1.f81f81f81f82p-3, -0x1.f81f81f81f82p-57, hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.891bc4d693a4bp+8,  // 435660147945/4826809 * pi^-1 + (-82149865875/1485172 * pi^-1) * log(5)
@@ -4023,7 +4023,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.ca94b3a8bf32dp+5,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1p-1, 0, 0, hess_radial_4_0, 45, 0x1.89d89d89d89d9p-2, -0x1.89d89d89d89d9p-56, hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.0498adc825a7fp+9,  // 258597251859375/67108864 * pi^-1 + (-941141373046875/268435456 * pi^-1) * log(3)
@@ -4114,7 +4114,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     0x1.9a9a7ba786888p-10, 0x1.945dab231e73p-10, 0x1.e18db89e3ddd6p-9,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {table::Basis::sqrt_power, 13, table::Var::shifted, 0x1.7p-1, 0, 0, hess_radial_5_0, 67, 0x1.3333333333333p-1, 0x1.999999999999ap-56, hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 67, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.5c7c9e39578bep+0,  // 3501932894100437940/11047398519097 * pi^-1 + (-243366546879831375/605336905156 * pi^-1) * log(11/5)
@@ -4159,7 +4159,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.71e28f4de1ab8p-23, 0x1.15b4865f26cdap-21,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, hess_radial_6_0, 30, 0x1.81c0e070381c1p-1, -0x1.f8fc7e3f1f8fcp-57, hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.3193d66ed2bfap+7,  // 480 * pi^-1
@@ -4468,68 +4468,68 @@ inline constexpr double hess_radial_7_50_lo[] = {
     0x1.f9c0389414facp-52,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 6, 0, hess_radial_7_0, 1, 0, 0, hess_radial_7_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 7, 0, hess_radial_7_1, 1, 0, 0, hess_radial_7_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, 0, hess_radial_7_2, 1, 0, 0, hess_radial_7_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, 0, hess_radial_7_3, 1, 0, 0, hess_radial_7_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, hess_radial_7_4, 1, 0, 0, hess_radial_7_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, hess_radial_7_5, 1, 0, 0, hess_radial_7_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, hess_radial_7_6, 1, 0, 0, hess_radial_7_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, hess_radial_7_7, 1, 0, 0, hess_radial_7_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, hess_radial_7_8, 1, 0, 0, hess_radial_7_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, hess_radial_7_9, 1, 0, 0, hess_radial_7_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, hess_radial_7_10, 1, 0, 0, hess_radial_7_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, hess_radial_7_11, 1, 0, 0, hess_radial_7_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, hess_radial_7_12, 1, 0, 0, hess_radial_7_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, hess_radial_7_13, 1, 0, 0, hess_radial_7_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, hess_radial_7_14, 1, 0, 0, hess_radial_7_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, hess_radial_7_15, 1, 0, 0, hess_radial_7_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, hess_radial_7_16, 1, 0, 0, hess_radial_7_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, hess_radial_7_17, 1, 0, 0, hess_radial_7_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, hess_radial_7_18, 1, 0, 0, hess_radial_7_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, hess_radial_7_19, 1, 0, 0, hess_radial_7_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, hess_radial_7_20, 1, 0, 0, hess_radial_7_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, hess_radial_7_21, 1, 0, 0, hess_radial_7_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, hess_radial_7_22, 1, 0, 0, hess_radial_7_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, hess_radial_7_23, 1, 0, 0, hess_radial_7_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, hess_radial_7_24, 1, 0, 0, hess_radial_7_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, hess_radial_7_25, 1, 0, 0, hess_radial_7_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, hess_radial_7_26, 1, 0, 0, hess_radial_7_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, hess_radial_7_27, 1, 0, 0, hess_radial_7_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, hess_radial_7_28, 1, 0, 0, hess_radial_7_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, hess_radial_7_29, 1, 0, 0, hess_radial_7_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, hess_radial_7_30, 1, 0, 0, hess_radial_7_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, hess_radial_7_31, 1, 0, 0, hess_radial_7_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, hess_radial_7_32, 1, 0, 0, hess_radial_7_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, hess_radial_7_33, 1, 0, 0, hess_radial_7_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, hess_radial_7_34, 1, 0, 0, hess_radial_7_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, hess_radial_7_35, 1, 0, 0, hess_radial_7_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, hess_radial_7_36, 1, 0, 0, hess_radial_7_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, hess_radial_7_37, 1, 0, 0, hess_radial_7_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, hess_radial_7_38, 1, 0, 0, hess_radial_7_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, hess_radial_7_39, 1, 0, 0, hess_radial_7_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, hess_radial_7_40, 1, 0, 0, hess_radial_7_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, hess_radial_7_41, 1, 0, 0, hess_radial_7_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, hess_radial_7_42, 1, 0, 0, hess_radial_7_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, hess_radial_7_43, 1, 0, 0, hess_radial_7_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, hess_radial_7_44, 1, 0, 0, hess_radial_7_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, hess_radial_7_45, 1, 0, 0, hess_radial_7_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, hess_radial_7_46, 1, 0, 0, hess_radial_7_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, 0, hess_radial_7_47, 1, 0, 0, hess_radial_7_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, 0, hess_radial_7_48, 1, 0, 0, hess_radial_7_48_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 55, 0, hess_radial_7_49, 1, 0, 0, hess_radial_7_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 56, 0, hess_radial_7_50, 1, 0, 0, hess_radial_7_50_lo, 0x0p+0},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_7_0, .n = 1, .c_lo = hess_radial_7_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_7_1, .n = 1, .c_lo = hess_radial_7_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_7_2, .n = 1, .c_lo = hess_radial_7_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_7_3, .n = 1, .c_lo = hess_radial_7_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_7_4, .n = 1, .c_lo = hess_radial_7_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = hess_radial_7_5, .n = 1, .c_lo = hess_radial_7_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = hess_radial_7_6, .n = 1, .c_lo = hess_radial_7_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = hess_radial_7_7, .n = 1, .c_lo = hess_radial_7_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = hess_radial_7_8, .n = 1, .c_lo = hess_radial_7_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = hess_radial_7_9, .n = 1, .c_lo = hess_radial_7_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = hess_radial_7_10, .n = 1, .c_lo = hess_radial_7_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = hess_radial_7_11, .n = 1, .c_lo = hess_radial_7_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = hess_radial_7_12, .n = 1, .c_lo = hess_radial_7_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = hess_radial_7_13, .n = 1, .c_lo = hess_radial_7_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = hess_radial_7_14, .n = 1, .c_lo = hess_radial_7_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = hess_radial_7_15, .n = 1, .c_lo = hess_radial_7_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = hess_radial_7_16, .n = 1, .c_lo = hess_radial_7_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = hess_radial_7_17, .n = 1, .c_lo = hess_radial_7_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = hess_radial_7_18, .n = 1, .c_lo = hess_radial_7_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = hess_radial_7_19, .n = 1, .c_lo = hess_radial_7_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = hess_radial_7_20, .n = 1, .c_lo = hess_radial_7_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = hess_radial_7_21, .n = 1, .c_lo = hess_radial_7_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = hess_radial_7_22, .n = 1, .c_lo = hess_radial_7_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = hess_radial_7_23, .n = 1, .c_lo = hess_radial_7_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = hess_radial_7_24, .n = 1, .c_lo = hess_radial_7_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = hess_radial_7_25, .n = 1, .c_lo = hess_radial_7_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = hess_radial_7_26, .n = 1, .c_lo = hess_radial_7_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = hess_radial_7_27, .n = 1, .c_lo = hess_radial_7_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = hess_radial_7_28, .n = 1, .c_lo = hess_radial_7_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = hess_radial_7_29, .n = 1, .c_lo = hess_radial_7_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = hess_radial_7_30, .n = 1, .c_lo = hess_radial_7_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = hess_radial_7_31, .n = 1, .c_lo = hess_radial_7_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = hess_radial_7_32, .n = 1, .c_lo = hess_radial_7_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = hess_radial_7_33, .n = 1, .c_lo = hess_radial_7_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = hess_radial_7_34, .n = 1, .c_lo = hess_radial_7_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = hess_radial_7_35, .n = 1, .c_lo = hess_radial_7_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = hess_radial_7_36, .n = 1, .c_lo = hess_radial_7_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = hess_radial_7_37, .n = 1, .c_lo = hess_radial_7_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = hess_radial_7_38, .n = 1, .c_lo = hess_radial_7_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = hess_radial_7_39, .n = 1, .c_lo = hess_radial_7_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = hess_radial_7_40, .n = 1, .c_lo = hess_radial_7_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = hess_radial_7_41, .n = 1, .c_lo = hess_radial_7_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = hess_radial_7_42, .n = 1, .c_lo = hess_radial_7_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = hess_radial_7_43, .n = 1, .c_lo = hess_radial_7_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = hess_radial_7_44, .n = 1, .c_lo = hess_radial_7_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = hess_radial_7_45, .n = 1, .c_lo = hess_radial_7_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = hess_radial_7_46, .n = 1, .c_lo = hess_radial_7_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = 0, .c = hess_radial_7_47, .n = 1, .c_lo = hess_radial_7_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = 0, .c = hess_radial_7_48, .n = 1, .c_lo = hess_radial_7_48_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 55, .low = 0, .c = hess_radial_7_49, .n = 1, .c_lo = hess_radial_7_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 56, .low = 0, .c = hess_radial_7_50, .n = 1, .c_lo = hess_radial_7_50_lo},
 };
 inline constexpr table::Piece hess_radial[] = {
-    {0x0p+0, 0x1p-4, hess_radial_0, 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.6e-19 relative (series.hpp)
-    {0x1p-4, 0x1.c8p-4, hess_radial_1, 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.c8p-4, 0x1.9p-3, hess_radial_2, 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 9.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-3, 0x1.4p-2, hess_radial_3, 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.4p-2, 0x1p-1, hess_radial_4, 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^44, truncation < 7.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1p-1, 0x1.7p-1, hess_radial_5, 1},  // [1/2, 23/32), S^13 times Taylor about 3/5 up to (r-c)^66, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-1, 0x1.9p-1, hess_radial_6, 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^29, truncation < 2.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, hess_radial_7, 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.9e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, nullptr, 0},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-4, .terms = hess_radial_0, .nterms = 2},  // [0, 1/16), series at 0 up to r^14, truncation < 2.6e-19 relative (series.hpp)
+    {.lo = 0x1p-4, .hi = 0x1.c8p-4, .terms = hess_radial_1, .nterms = 1},  // [1/16, 57/512), Taylor about 23/265 up to (r-c)^38, truncation < 5.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.c8p-4, .hi = 0x1.9p-3, .terms = hess_radial_2, .nterms = 1},  // [57/512, 25/128), Taylor about 13/85 up to (r-c)^38, truncation < 9.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-3, .hi = 0x1.4p-2, .terms = hess_radial_3, .nterms = 1},  // [25/128, 5/16), Taylor about 16/65 up to (r-c)^38, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.4p-2, .hi = 0x1p-1, .terms = hess_radial_4, .nterms = 1},  // [5/16, 1/2), Taylor about 5/13 up to (r-c)^44, truncation < 7.7e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1p-1, .hi = 0x1.7p-1, .terms = hess_radial_5, .nterms = 1},  // [1/2, 23/32), S^13 times Taylor about 3/5 up to (r-c)^66, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-1, .hi = 0x1.9p-1, .terms = hess_radial_6, .nterms = 1},  // [23/32, 25/32), Taylor about 55/73 up to (r-c)^29, truncation < 2.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = hess_radial_7, .nterms = 51},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^113, truncation < 1.9e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = nullptr, .nterms = 0},  // [1, inf)
 };
 inline constexpr double potential_0_0[] = {
     -0x1.ffd83f04bbcecp-3,  // -815663/720720 * pi^-1 + 1/2 * pi^-1 * log(2)
@@ -4566,8 +4566,8 @@ inline constexpr double potential_0_1_lo[] = {
     0x1.9ff48d36af929p-49, -0x1.3357d5b767c4ap-51, -0x1.955cf730e048fp-52,
 };
 inline constexpr table::Term potential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-2, 0, 0, potential_0_0, 17, 0, 0, potential_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-2, 0, 8, potential_0_1, 3, 0, 0, potential_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_0_0, .n = 17, .c_lo = potential_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = 8, .c = potential_0_1, .n = 3, .c_lo = potential_0_1_lo},
 };
 inline constexpr double potential_1_0[] = {
     -0x1.5b9bc1d42706ep-3,  // -4133945566124418819461015/5015577465057546240735024 * pi^-1 + (6275234889913783249/13165904011680070562 * pi^-1) * log(6) + (1/2 * pi^-1) * log(12/37)
@@ -4624,7 +4624,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.01beb86409cc3p-33, 0x1.14d5ed47a21fcp-32, -0x1.8304d29ed9397p-31, -0x1.d87e241c3168p-29,
 };
 inline constexpr table::Term potential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.a8p-2, 0, 0, potential_1_0, 40, 0x1.4c1bacf914c1cp-2, -0x1.4c1bacf914c1cp-56, potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.9e9204c5e00e3p-4,  // 425202889520485922995764585/417004138360513482914703568 * pi^-1 + (-798859592307385011311/982517808513452309282 * pi^-1) * log(7/2) + (1/2 * pi^-1) * log(28/53)
@@ -4684,7 +4684,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.898153acc0984p-50, 0x1.780e22b491487p-51,
 };
 inline constexpr table::Term potential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.5p-1, 0, 0, potential_2_0, 42, 0x1.0e7d95bc609a9p-1, 0x1.cfb2b78c13522p-58, potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.a4d0f79ed81e9p-5,  // 374738284686303923394287815/23664129043211276062899456 * pi^-1 + (-6771380300042154942907/362306338002400297984 * pi^-1) * log(7/3) + (1/2 * pi^-1) * log(21/29)
@@ -4740,7 +4740,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.eb5a6d8e5b94p-41, 0x1.bd1a1d402b801p-39, -0x1.407b75f010913p-39,
 };
 inline constexpr table::Term potential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, potential_3_0, 39, 0x1.72c234f72c235p-1, -0x1.1a7b9611a7b96p-58, potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5313,101 +5313,101 @@ inline constexpr double potential_4_94_lo[] = {
     0x1.3f35729984077p-64,
 };
 inline constexpr table::Term potential_4[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 1, 0, potential_4_0, 1, 0, 0, potential_4_0_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 2, 0, potential_4_1, 1, 0, 0, potential_4_1_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 3, 0, potential_4_2, 1, 0, 0, potential_4_2_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 4, 0, potential_4_3, 1, 0, 0, potential_4_3_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 5, 0, potential_4_4, 1, 0, 0, potential_4_4_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 6, 0, potential_4_5, 1, 0, 0, potential_4_5_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 7, 0, potential_4_6, 1, 0, 0, potential_4_6_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 8, 0, potential_4_7, 1, 0, 0, potential_4_7_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 9, 0, potential_4_8, 1, 0, 0, potential_4_8_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 10, 0, potential_4_9, 1, 0, 0, potential_4_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, 0, potential_4_10, 1, 0, 0, potential_4_10_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 11, 0, potential_4_11, 1, 0, 0, potential_4_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, 0, potential_4_12, 1, 0, 0, potential_4_12_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 12, 0, potential_4_13, 1, 0, 0, potential_4_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, 0, potential_4_14, 1, 0, 0, potential_4_14_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 13, 0, potential_4_15, 1, 0, 0, potential_4_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, 0, potential_4_16, 1, 0, 0, potential_4_16_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 14, 0, potential_4_17, 1, 0, 0, potential_4_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, 0, potential_4_18, 1, 0, 0, potential_4_18_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 15, 0, potential_4_19, 1, 0, 0, potential_4_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, 0, potential_4_20, 1, 0, 0, potential_4_20_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 16, 0, potential_4_21, 1, 0, 0, potential_4_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, 0, potential_4_22, 1, 0, 0, potential_4_22_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 17, 0, potential_4_23, 1, 0, 0, potential_4_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, 0, potential_4_24, 1, 0, 0, potential_4_24_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 18, 0, potential_4_25, 1, 0, 0, potential_4_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, 0, potential_4_26, 1, 0, 0, potential_4_26_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 19, 0, potential_4_27, 1, 0, 0, potential_4_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, 0, potential_4_28, 1, 0, 0, potential_4_28_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 20, 0, potential_4_29, 1, 0, 0, potential_4_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, 0, potential_4_30, 1, 0, 0, potential_4_30_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 21, 0, potential_4_31, 1, 0, 0, potential_4_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, 0, potential_4_32, 1, 0, 0, potential_4_32_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 22, 0, potential_4_33, 1, 0, 0, potential_4_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, 0, potential_4_34, 1, 0, 0, potential_4_34_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 23, 0, potential_4_35, 1, 0, 0, potential_4_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, 0, potential_4_36, 1, 0, 0, potential_4_36_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 24, 0, potential_4_37, 1, 0, 0, potential_4_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, 0, potential_4_38, 1, 0, 0, potential_4_38_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 25, 0, potential_4_39, 1, 0, 0, potential_4_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, 0, potential_4_40, 1, 0, 0, potential_4_40_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 26, 0, potential_4_41, 1, 0, 0, potential_4_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, 0, potential_4_42, 1, 0, 0, potential_4_42_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 27, 0, potential_4_43, 1, 0, 0, potential_4_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, 0, potential_4_44, 1, 0, 0, potential_4_44_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 28, 0, potential_4_45, 1, 0, 0, potential_4_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, 0, potential_4_46, 1, 0, 0, potential_4_46_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 29, 0, potential_4_47, 1, 0, 0, potential_4_47_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, 0, potential_4_48, 1, 0, 0, potential_4_48_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 30, 0, potential_4_49, 1, 0, 0, potential_4_49_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, 0, potential_4_50, 1, 0, 0, potential_4_50_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 31, 0, potential_4_51, 1, 0, 0, potential_4_51_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, 0, potential_4_52, 1, 0, 0, potential_4_52_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 32, 0, potential_4_53, 1, 0, 0, potential_4_53_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, 0, potential_4_54, 1, 0, 0, potential_4_54_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 33, 0, potential_4_55, 1, 0, 0, potential_4_55_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, 0, potential_4_56, 1, 0, 0, potential_4_56_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 34, 0, potential_4_57, 1, 0, 0, potential_4_57_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, 0, potential_4_58, 1, 0, 0, potential_4_58_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 35, 0, potential_4_59, 1, 0, 0, potential_4_59_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, 0, potential_4_60, 1, 0, 0, potential_4_60_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 36, 0, potential_4_61, 1, 0, 0, potential_4_61_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, 0, potential_4_62, 1, 0, 0, potential_4_62_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 37, 0, potential_4_63, 1, 0, 0, potential_4_63_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, 0, potential_4_64, 1, 0, 0, potential_4_64_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 38, 0, potential_4_65, 1, 0, 0, potential_4_65_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, 0, potential_4_66, 1, 0, 0, potential_4_66_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 39, 0, potential_4_67, 1, 0, 0, potential_4_67_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, 0, potential_4_68, 1, 0, 0, potential_4_68_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 40, 0, potential_4_69, 1, 0, 0, potential_4_69_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, 0, potential_4_70, 1, 0, 0, potential_4_70_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 41, 0, potential_4_71, 1, 0, 0, potential_4_71_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, 0, potential_4_72, 1, 0, 0, potential_4_72_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 42, 0, potential_4_73, 1, 0, 0, potential_4_73_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, 0, potential_4_74, 1, 0, 0, potential_4_74_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 43, 0, potential_4_75, 1, 0, 0, potential_4_75_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, 0, potential_4_76, 1, 0, 0, potential_4_76_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 44, 0, potential_4_77, 1, 0, 0, potential_4_77_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, 0, potential_4_78, 1, 0, 0, potential_4_78_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 45, 0, potential_4_79, 1, 0, 0, potential_4_79_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, 0, potential_4_80, 1, 0, 0, potential_4_80_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 46, 0, potential_4_81, 1, 0, 0, potential_4_81_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, 0, potential_4_82, 1, 0, 0, potential_4_82_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 47, 0, potential_4_83, 1, 0, 0, potential_4_83_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, 0, potential_4_84, 1, 0, 0, potential_4_84_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 48, 0, potential_4_85, 1, 0, 0, potential_4_85_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, 0, potential_4_86, 1, 0, 0, potential_4_86_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 49, 0, potential_4_87, 1, 0, 0, potential_4_87_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, 0, potential_4_88, 1, 0, 0, potential_4_88_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 50, 0, potential_4_89, 1, 0, 0, potential_4_89_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, 0, potential_4_90, 1, 0, 0, potential_4_90_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 51, 0, potential_4_91, 1, 0, 0, potential_4_91_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, 0, potential_4_92, 1, 0, 0, potential_4_92_lo, 0x0p+0},
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 52, 0, potential_4_93, 1, 0, 0, potential_4_93_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, 0, potential_4_94, 1, 0, 0, potential_4_94_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 1, .low = 0, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 2, .low = 0, .c = potential_4_1, .n = 1, .c_lo = potential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = potential_4_2, .n = 1, .c_lo = potential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_4_3, .n = 1, .c_lo = potential_4_3_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_4, .n = 1, .c_lo = potential_4_4_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_5, .n = 1, .c_lo = potential_4_5_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_6, .n = 1, .c_lo = potential_4_6_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_7, .n = 1, .c_lo = potential_4_7_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_4_8, .n = 1, .c_lo = potential_4_8_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_4_9, .n = 1, .c_lo = potential_4_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_4_10, .n = 1, .c_lo = potential_4_10_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_11, .n = 1, .c_lo = potential_4_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_12, .n = 1, .c_lo = potential_4_12_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_4_13, .n = 1, .c_lo = potential_4_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_4_14, .n = 1, .c_lo = potential_4_14_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_4_15, .n = 1, .c_lo = potential_4_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = 0, .c = potential_4_16, .n = 1, .c_lo = potential_4_16_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = potential_4_17, .n = 1, .c_lo = potential_4_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = 0, .c = potential_4_18, .n = 1, .c_lo = potential_4_18_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = potential_4_19, .n = 1, .c_lo = potential_4_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = 0, .c = potential_4_20, .n = 1, .c_lo = potential_4_20_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = potential_4_21, .n = 1, .c_lo = potential_4_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = 0, .c = potential_4_22, .n = 1, .c_lo = potential_4_22_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = potential_4_23, .n = 1, .c_lo = potential_4_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = 0, .c = potential_4_24, .n = 1, .c_lo = potential_4_24_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = potential_4_25, .n = 1, .c_lo = potential_4_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = 0, .c = potential_4_26, .n = 1, .c_lo = potential_4_26_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = potential_4_27, .n = 1, .c_lo = potential_4_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = 0, .c = potential_4_28, .n = 1, .c_lo = potential_4_28_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = potential_4_29, .n = 1, .c_lo = potential_4_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = 0, .c = potential_4_30, .n = 1, .c_lo = potential_4_30_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = potential_4_31, .n = 1, .c_lo = potential_4_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = 0, .c = potential_4_32, .n = 1, .c_lo = potential_4_32_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = potential_4_33, .n = 1, .c_lo = potential_4_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = 0, .c = potential_4_34, .n = 1, .c_lo = potential_4_34_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = potential_4_35, .n = 1, .c_lo = potential_4_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = 0, .c = potential_4_36, .n = 1, .c_lo = potential_4_36_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = potential_4_37, .n = 1, .c_lo = potential_4_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = 0, .c = potential_4_38, .n = 1, .c_lo = potential_4_38_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = potential_4_39, .n = 1, .c_lo = potential_4_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = 0, .c = potential_4_40, .n = 1, .c_lo = potential_4_40_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = potential_4_41, .n = 1, .c_lo = potential_4_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = 0, .c = potential_4_42, .n = 1, .c_lo = potential_4_42_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = potential_4_43, .n = 1, .c_lo = potential_4_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = 0, .c = potential_4_44, .n = 1, .c_lo = potential_4_44_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = potential_4_45, .n = 1, .c_lo = potential_4_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = 0, .c = potential_4_46, .n = 1, .c_lo = potential_4_46_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = potential_4_47, .n = 1, .c_lo = potential_4_47_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = 0, .c = potential_4_48, .n = 1, .c_lo = potential_4_48_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = potential_4_49, .n = 1, .c_lo = potential_4_49_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = 0, .c = potential_4_50, .n = 1, .c_lo = potential_4_50_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = potential_4_51, .n = 1, .c_lo = potential_4_51_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = 0, .c = potential_4_52, .n = 1, .c_lo = potential_4_52_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = potential_4_53, .n = 1, .c_lo = potential_4_53_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = 0, .c = potential_4_54, .n = 1, .c_lo = potential_4_54_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = potential_4_55, .n = 1, .c_lo = potential_4_55_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = 0, .c = potential_4_56, .n = 1, .c_lo = potential_4_56_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = potential_4_57, .n = 1, .c_lo = potential_4_57_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = 0, .c = potential_4_58, .n = 1, .c_lo = potential_4_58_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = potential_4_59, .n = 1, .c_lo = potential_4_59_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = 0, .c = potential_4_60, .n = 1, .c_lo = potential_4_60_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = potential_4_61, .n = 1, .c_lo = potential_4_61_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = 0, .c = potential_4_62, .n = 1, .c_lo = potential_4_62_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = potential_4_63, .n = 1, .c_lo = potential_4_63_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = 0, .c = potential_4_64, .n = 1, .c_lo = potential_4_64_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = potential_4_65, .n = 1, .c_lo = potential_4_65_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = 0, .c = potential_4_66, .n = 1, .c_lo = potential_4_66_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = potential_4_67, .n = 1, .c_lo = potential_4_67_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = 0, .c = potential_4_68, .n = 1, .c_lo = potential_4_68_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = potential_4_69, .n = 1, .c_lo = potential_4_69_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = 0, .c = potential_4_70, .n = 1, .c_lo = potential_4_70_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = potential_4_71, .n = 1, .c_lo = potential_4_71_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = 0, .c = potential_4_72, .n = 1, .c_lo = potential_4_72_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = potential_4_73, .n = 1, .c_lo = potential_4_73_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = 0, .c = potential_4_74, .n = 1, .c_lo = potential_4_74_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = potential_4_75, .n = 1, .c_lo = potential_4_75_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = 0, .c = potential_4_76, .n = 1, .c_lo = potential_4_76_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = potential_4_77, .n = 1, .c_lo = potential_4_77_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = 0, .c = potential_4_78, .n = 1, .c_lo = potential_4_78_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = potential_4_79, .n = 1, .c_lo = potential_4_79_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = 0, .c = potential_4_80, .n = 1, .c_lo = potential_4_80_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = potential_4_81, .n = 1, .c_lo = potential_4_81_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = 0, .c = potential_4_82, .n = 1, .c_lo = potential_4_82_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = potential_4_83, .n = 1, .c_lo = potential_4_83_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = 0, .c = potential_4_84, .n = 1, .c_lo = potential_4_84_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = potential_4_85, .n = 1, .c_lo = potential_4_85_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = 0, .c = potential_4_86, .n = 1, .c_lo = potential_4_86_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = potential_4_87, .n = 1, .c_lo = potential_4_87_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = 0, .c = potential_4_88, .n = 1, .c_lo = potential_4_88_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = potential_4_89, .n = 1, .c_lo = potential_4_89_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = 0, .c = potential_4_90, .n = 1, .c_lo = potential_4_90_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = potential_4_91, .n = 1, .c_lo = potential_4_91_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = 0, .c = potential_4_92, .n = 1, .c_lo = potential_4_92_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = potential_4_93, .n = 1, .c_lo = potential_4_93_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = 0, .c = potential_4_94, .n = 1, .c_lo = potential_4_94_lo},
 };
 inline constexpr double potential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5416,15 +5416,15 @@ inline constexpr double potential_5_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term potential_5[] = {
-    {table::Basis::log, 0, table::Var::r2, table::infinity, 0, 0, potential_5_0, 1, 0, 0, potential_5_0_lo, 0x0p+0},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = 0, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
 };
 inline constexpr table::Piece potential[] = {
-    {0x0p+0, 0x1p-2, potential_0, 2},  // [0, 1/4), series at 0 up to r^32, truncation < 3.0e-20 relative (series.hpp)
-    {0x1p-2, 0x1.a8p-2, potential_1, 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^39, truncation < 8.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.a8p-2, 0x1.5p-1, potential_2, 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^41, truncation < 9.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.5p-1, 0x1.9p-1, potential_3, 1},  // [21/32, 25/32), Taylor about 21/29 up to (r-c)^38, truncation < 6.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, potential_4, 95},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^105, truncation < 1.7e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, potential_5, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-2, .terms = potential_0, .nterms = 2},  // [0, 1/4), series at 0 up to r^32, truncation < 3.0e-20 relative (series.hpp)
+    {.lo = 0x1p-2, .hi = 0x1.a8p-2, .terms = potential_1, .nterms = 1},  // [1/4, 53/128), Taylor about 12/37 up to (r-c)^39, truncation < 8.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.a8p-2, .hi = 0x1.5p-1, .terms = potential_2, .nterms = 1},  // [53/128, 21/32), Taylor about 28/53 up to (r-c)^41, truncation < 9.6e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.5p-1, .hi = 0x1.9p-1, .terms = potential_3, .nterms = 1},  // [21/32, 25/32), Taylor about 21/29 up to (r-c)^38, truncation < 6.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = potential_4, .nterms = 95},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^105, truncation < 1.7e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_5, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_0_0[] = {
     0x1.08d575933f2eap+1,  // 13/2 * pi^-1
@@ -5453,8 +5453,8 @@ inline constexpr double dpotential_0_1_lo[] = {
     0x1.9ff48d36af929p-46, 0x1.9ff48d36af929p-46, 0x1.9ff48d36af929p-49,
 };
 inline constexpr table::Term dpotential_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 1, dpotential_0_0, 11, 0, 0, dpotential_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 7, dpotential_0_1, 3, 0, 0, dpotential_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 1, .c = dpotential_0_0, .n = 11, .c_lo = dpotential_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 7, .c = dpotential_0_1, .n = 3, .c_lo = dpotential_0_1_lo},
 };
 inline constexpr double dpotential_1_0[] = {
     0x1.256eeffec3cbdp-2,  // 1891680294822617478501831601/2073133495344545162109375000 * pi^-1 + (-586482176242447220736/119145603180720986328125 * pi^-1) * log(12)
@@ -5515,7 +5515,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.6798b734b85a6p+11, 0x1.c565a8c03be5ap+11, -0x1.9d7b7b82ad652p+11,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dpotential_1_0, 43, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 43, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.7249412e7e6ccp-2,  // 20492838388878081151/13351440429687500000 * pi^-1 + (-25020850985817687/122070312500000000 * pi^-1) * log(7)
@@ -5575,7 +5575,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.f77a266d09dafp-14, -0x1.877ad337623d8p-17,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dpotential_2_0, 42, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.47fe78cd80e84p-2,  // 61754925811640881/4660977897838088 * pi^-1 + (-302672694804480/34271896307633 * pi^-1) * log(4)
@@ -5640,7 +5640,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.b1d571ccbaaa9p-39, 0x1.40b17464cf394p-39,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, dpotential_3_0, 46, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.d83eea0ef2054p-3,  // 255917238577168242166/1769073916027345205 * pi^-1 + (-1916540425800000000/12200509765705829 * pi^-1) * log(5/2)
@@ -5706,7 +5706,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.d0d6d4634f241p-29, 0x1.2bef571c04021p-28, -0x1.8fd6fcb62f6efp-26,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, dpotential_4_0, 47, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 47, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5985,52 +5985,52 @@ inline constexpr double dpotential_5_45_lo[] = {
     -0x1.94cc5b720f709p-71,
 };
 inline constexpr table::Term dpotential_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -1, dpotential_5_0, 1, 0, 0, dpotential_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -1, dpotential_5_1, 1, 0, 0, dpotential_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -1, dpotential_5_2, 1, 0, 0, dpotential_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -1, dpotential_5_3, 1, 0, 0, dpotential_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -1, dpotential_5_4, 1, 0, 0, dpotential_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -1, dpotential_5_5, 1, 0, 0, dpotential_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -1, dpotential_5_6, 1, 0, 0, dpotential_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -1, dpotential_5_7, 1, 0, 0, dpotential_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -1, dpotential_5_8, 1, 0, 0, dpotential_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -1, dpotential_5_9, 1, 0, 0, dpotential_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -1, dpotential_5_10, 1, 0, 0, dpotential_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -1, dpotential_5_11, 1, 0, 0, dpotential_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -1, dpotential_5_12, 1, 0, 0, dpotential_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -1, dpotential_5_13, 1, 0, 0, dpotential_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -1, dpotential_5_14, 1, 0, 0, dpotential_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -1, dpotential_5_15, 1, 0, 0, dpotential_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -1, dpotential_5_16, 1, 0, 0, dpotential_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -1, dpotential_5_17, 1, 0, 0, dpotential_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -1, dpotential_5_18, 1, 0, 0, dpotential_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -1, dpotential_5_19, 1, 0, 0, dpotential_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -1, dpotential_5_20, 1, 0, 0, dpotential_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -1, dpotential_5_21, 1, 0, 0, dpotential_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -1, dpotential_5_22, 1, 0, 0, dpotential_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -1, dpotential_5_23, 1, 0, 0, dpotential_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -1, dpotential_5_24, 1, 0, 0, dpotential_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -1, dpotential_5_25, 1, 0, 0, dpotential_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -1, dpotential_5_26, 1, 0, 0, dpotential_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -1, dpotential_5_27, 1, 0, 0, dpotential_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -1, dpotential_5_28, 1, 0, 0, dpotential_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -1, dpotential_5_29, 1, 0, 0, dpotential_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -1, dpotential_5_30, 1, 0, 0, dpotential_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -1, dpotential_5_31, 1, 0, 0, dpotential_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -1, dpotential_5_32, 1, 0, 0, dpotential_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -1, dpotential_5_33, 1, 0, 0, dpotential_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -1, dpotential_5_34, 1, 0, 0, dpotential_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -1, dpotential_5_35, 1, 0, 0, dpotential_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -1, dpotential_5_36, 1, 0, 0, dpotential_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -1, dpotential_5_37, 1, 0, 0, dpotential_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -1, dpotential_5_38, 1, 0, 0, dpotential_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -1, dpotential_5_39, 1, 0, 0, dpotential_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -1, dpotential_5_40, 1, 0, 0, dpotential_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -1, dpotential_5_41, 1, 0, 0, dpotential_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -1, dpotential_5_42, 1, 0, 0, dpotential_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -1, dpotential_5_43, 1, 0, 0, dpotential_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -1, dpotential_5_44, 1, 0, 0, dpotential_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -1, dpotential_5_45, 1, 0, 0, dpotential_5_45_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_5_1, .n = 1, .c_lo = dpotential_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_5_2, .n = 1, .c_lo = dpotential_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -1, .c = dpotential_5_3, .n = 1, .c_lo = dpotential_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -1, .c = dpotential_5_4, .n = 1, .c_lo = dpotential_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -1, .c = dpotential_5_5, .n = 1, .c_lo = dpotential_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -1, .c = dpotential_5_6, .n = 1, .c_lo = dpotential_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -1, .c = dpotential_5_7, .n = 1, .c_lo = dpotential_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -1, .c = dpotential_5_8, .n = 1, .c_lo = dpotential_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -1, .c = dpotential_5_9, .n = 1, .c_lo = dpotential_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -1, .c = dpotential_5_10, .n = 1, .c_lo = dpotential_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -1, .c = dpotential_5_11, .n = 1, .c_lo = dpotential_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -1, .c = dpotential_5_12, .n = 1, .c_lo = dpotential_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -1, .c = dpotential_5_13, .n = 1, .c_lo = dpotential_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -1, .c = dpotential_5_14, .n = 1, .c_lo = dpotential_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -1, .c = dpotential_5_15, .n = 1, .c_lo = dpotential_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -1, .c = dpotential_5_16, .n = 1, .c_lo = dpotential_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -1, .c = dpotential_5_17, .n = 1, .c_lo = dpotential_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -1, .c = dpotential_5_18, .n = 1, .c_lo = dpotential_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -1, .c = dpotential_5_19, .n = 1, .c_lo = dpotential_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -1, .c = dpotential_5_20, .n = 1, .c_lo = dpotential_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -1, .c = dpotential_5_21, .n = 1, .c_lo = dpotential_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -1, .c = dpotential_5_22, .n = 1, .c_lo = dpotential_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -1, .c = dpotential_5_23, .n = 1, .c_lo = dpotential_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -1, .c = dpotential_5_24, .n = 1, .c_lo = dpotential_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -1, .c = dpotential_5_25, .n = 1, .c_lo = dpotential_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -1, .c = dpotential_5_26, .n = 1, .c_lo = dpotential_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -1, .c = dpotential_5_27, .n = 1, .c_lo = dpotential_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -1, .c = dpotential_5_28, .n = 1, .c_lo = dpotential_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -1, .c = dpotential_5_29, .n = 1, .c_lo = dpotential_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -1, .c = dpotential_5_30, .n = 1, .c_lo = dpotential_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -1, .c = dpotential_5_31, .n = 1, .c_lo = dpotential_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -1, .c = dpotential_5_32, .n = 1, .c_lo = dpotential_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -1, .c = dpotential_5_33, .n = 1, .c_lo = dpotential_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -1, .c = dpotential_5_34, .n = 1, .c_lo = dpotential_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -1, .c = dpotential_5_35, .n = 1, .c_lo = dpotential_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -1, .c = dpotential_5_36, .n = 1, .c_lo = dpotential_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -1, .c = dpotential_5_37, .n = 1, .c_lo = dpotential_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -1, .c = dpotential_5_38, .n = 1, .c_lo = dpotential_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -1, .c = dpotential_5_39, .n = 1, .c_lo = dpotential_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -1, .c = dpotential_5_40, .n = 1, .c_lo = dpotential_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -1, .c = dpotential_5_41, .n = 1, .c_lo = dpotential_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -1, .c = dpotential_5_42, .n = 1, .c_lo = dpotential_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -1, .c = dpotential_5_43, .n = 1, .c_lo = dpotential_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -1, .c = dpotential_5_44, .n = 1, .c_lo = dpotential_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -1, .c = dpotential_5_45, .n = 1, .c_lo = dpotential_5_45_lo},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6039,16 +6039,16 @@ inline constexpr double dpotential_6_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -1, dpotential_6_0, 1, 0, 0, dpotential_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -1, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
 };
 inline constexpr table::Piece dpotential[] = {
-    {0x0p+0, 0x1p-3, dpotential_0, 2},  // [0, 1/8), series at 0 up to r^21, truncation < 2.0e-19 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dpotential_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^42, truncation < 6.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dpotential_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dpotential_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, dpotential_4, 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^46, truncation < 5.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, dpotential_5, 46},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^107, truncation < 1.2e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, dpotential_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^21, truncation < 2.0e-19 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dpotential_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^42, truncation < 6.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dpotential_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^41, truncation < 4.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dpotential_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 1.1e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = dpotential_4, .nterms = 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^46, truncation < 5.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = dpotential_5, .nterms = 46},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^107, truncation < 1.2e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double dpotential_over_r_0_0[] = {
     0x1.08d575933f2eap+1,  // 13/2 * pi^-1
@@ -6077,8 +6077,8 @@ inline constexpr double dpotential_over_r_0_1_lo[] = {
     0x1.9ff48d36af929p-46, 0x1.9ff48d36af929p-46, 0x1.9ff48d36af929p-49,
 };
 inline constexpr table::Term dpotential_over_r_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, dpotential_over_r_0_0, 11, 0, 0, dpotential_over_r_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 6, dpotential_over_r_0_1, 3, 0, 0, dpotential_over_r_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_0_0, .n = 11, .c_lo = dpotential_over_r_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 6, .c = dpotential_over_r_0_1, .n = 3, .c_lo = dpotential_over_r_0_1_lo},
 };
 inline constexpr double dpotential_over_r_1_0[] = {
     0x1.bb34e528cd114p+0,  // 1891680294822617478501831601/343139337160476440625000000 * pi^-1 + (-24436757343435300864/821693815039455078125 * pi^-1) * log(12)
@@ -6142,7 +6142,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.d4ec7529fa1dap+23,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, dpotential_over_r_1_0, 45, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 45, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.4a9cd5a05e97fp+0,  // 20492838388878081151/3738403320312500000 * pi^-1 + (-3574407283688241/4882812500000000 * pi^-1) * log(7)
@@ -6203,7 +6203,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.e1d52a2aba1fep-12, 0x1.2c93d683b9653p-9, 0x1.d9b960e7b5602p-10,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, dpotential_over_r_2_0, 43, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.5c7e605a58f6dp-1,  // 61754925811640881/2193401363688512 * pi^-1 + (-37834086850560/2015993900449 * pi^-1) * log(4)
@@ -6268,7 +6268,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.eed80b3786a6fp-32, 0x1.338fb4b15c9bfp-33,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, dpotential_over_r_3_0, 46, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.5660d017a2aa3p-2,  // 127958619288584121083/610025488285291450 * pi^-1 + (-95827021290000000/420707233300201 * pi^-1) * log(5/2)
@@ -6333,7 +6333,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.00dce05df1274p-29, -0x1.896f35e9a279ep-27,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, dpotential_over_r_4_0, 46, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6612,52 +6612,52 @@ inline constexpr double dpotential_over_r_5_45_lo[] = {
     -0x1.94cc5b720f709p-71,
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -2, dpotential_over_r_5_0, 1, 0, 0, dpotential_over_r_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -2, dpotential_over_r_5_1, 1, 0, 0, dpotential_over_r_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -2, dpotential_over_r_5_2, 1, 0, 0, dpotential_over_r_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -2, dpotential_over_r_5_3, 1, 0, 0, dpotential_over_r_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -2, dpotential_over_r_5_4, 1, 0, 0, dpotential_over_r_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -2, dpotential_over_r_5_5, 1, 0, 0, dpotential_over_r_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -2, dpotential_over_r_5_6, 1, 0, 0, dpotential_over_r_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -2, dpotential_over_r_5_7, 1, 0, 0, dpotential_over_r_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -2, dpotential_over_r_5_8, 1, 0, 0, dpotential_over_r_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -2, dpotential_over_r_5_9, 1, 0, 0, dpotential_over_r_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -2, dpotential_over_r_5_10, 1, 0, 0, dpotential_over_r_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -2, dpotential_over_r_5_11, 1, 0, 0, dpotential_over_r_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -2, dpotential_over_r_5_12, 1, 0, 0, dpotential_over_r_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -2, dpotential_over_r_5_13, 1, 0, 0, dpotential_over_r_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -2, dpotential_over_r_5_14, 1, 0, 0, dpotential_over_r_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -2, dpotential_over_r_5_15, 1, 0, 0, dpotential_over_r_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -2, dpotential_over_r_5_16, 1, 0, 0, dpotential_over_r_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -2, dpotential_over_r_5_17, 1, 0, 0, dpotential_over_r_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -2, dpotential_over_r_5_18, 1, 0, 0, dpotential_over_r_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -2, dpotential_over_r_5_19, 1, 0, 0, dpotential_over_r_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -2, dpotential_over_r_5_20, 1, 0, 0, dpotential_over_r_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -2, dpotential_over_r_5_21, 1, 0, 0, dpotential_over_r_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -2, dpotential_over_r_5_22, 1, 0, 0, dpotential_over_r_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -2, dpotential_over_r_5_23, 1, 0, 0, dpotential_over_r_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -2, dpotential_over_r_5_24, 1, 0, 0, dpotential_over_r_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -2, dpotential_over_r_5_25, 1, 0, 0, dpotential_over_r_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -2, dpotential_over_r_5_26, 1, 0, 0, dpotential_over_r_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -2, dpotential_over_r_5_27, 1, 0, 0, dpotential_over_r_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -2, dpotential_over_r_5_28, 1, 0, 0, dpotential_over_r_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -2, dpotential_over_r_5_29, 1, 0, 0, dpotential_over_r_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -2, dpotential_over_r_5_30, 1, 0, 0, dpotential_over_r_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -2, dpotential_over_r_5_31, 1, 0, 0, dpotential_over_r_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -2, dpotential_over_r_5_32, 1, 0, 0, dpotential_over_r_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -2, dpotential_over_r_5_33, 1, 0, 0, dpotential_over_r_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -2, dpotential_over_r_5_34, 1, 0, 0, dpotential_over_r_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -2, dpotential_over_r_5_35, 1, 0, 0, dpotential_over_r_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -2, dpotential_over_r_5_36, 1, 0, 0, dpotential_over_r_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -2, dpotential_over_r_5_37, 1, 0, 0, dpotential_over_r_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -2, dpotential_over_r_5_38, 1, 0, 0, dpotential_over_r_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -2, dpotential_over_r_5_39, 1, 0, 0, dpotential_over_r_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -2, dpotential_over_r_5_40, 1, 0, 0, dpotential_over_r_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -2, dpotential_over_r_5_41, 1, 0, 0, dpotential_over_r_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -2, dpotential_over_r_5_42, 1, 0, 0, dpotential_over_r_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -2, dpotential_over_r_5_43, 1, 0, 0, dpotential_over_r_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -2, dpotential_over_r_5_44, 1, 0, 0, dpotential_over_r_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -2, dpotential_over_r_5_45, 1, 0, 0, dpotential_over_r_5_45_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_5_1, .n = 1, .c_lo = dpotential_over_r_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -2, .c = dpotential_over_r_5_2, .n = 1, .c_lo = dpotential_over_r_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -2, .c = dpotential_over_r_5_3, .n = 1, .c_lo = dpotential_over_r_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -2, .c = dpotential_over_r_5_4, .n = 1, .c_lo = dpotential_over_r_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -2, .c = dpotential_over_r_5_5, .n = 1, .c_lo = dpotential_over_r_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -2, .c = dpotential_over_r_5_6, .n = 1, .c_lo = dpotential_over_r_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -2, .c = dpotential_over_r_5_7, .n = 1, .c_lo = dpotential_over_r_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -2, .c = dpotential_over_r_5_8, .n = 1, .c_lo = dpotential_over_r_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -2, .c = dpotential_over_r_5_9, .n = 1, .c_lo = dpotential_over_r_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -2, .c = dpotential_over_r_5_10, .n = 1, .c_lo = dpotential_over_r_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -2, .c = dpotential_over_r_5_11, .n = 1, .c_lo = dpotential_over_r_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -2, .c = dpotential_over_r_5_12, .n = 1, .c_lo = dpotential_over_r_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -2, .c = dpotential_over_r_5_13, .n = 1, .c_lo = dpotential_over_r_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -2, .c = dpotential_over_r_5_14, .n = 1, .c_lo = dpotential_over_r_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -2, .c = dpotential_over_r_5_15, .n = 1, .c_lo = dpotential_over_r_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -2, .c = dpotential_over_r_5_16, .n = 1, .c_lo = dpotential_over_r_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -2, .c = dpotential_over_r_5_17, .n = 1, .c_lo = dpotential_over_r_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -2, .c = dpotential_over_r_5_18, .n = 1, .c_lo = dpotential_over_r_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -2, .c = dpotential_over_r_5_19, .n = 1, .c_lo = dpotential_over_r_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -2, .c = dpotential_over_r_5_20, .n = 1, .c_lo = dpotential_over_r_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -2, .c = dpotential_over_r_5_21, .n = 1, .c_lo = dpotential_over_r_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -2, .c = dpotential_over_r_5_22, .n = 1, .c_lo = dpotential_over_r_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -2, .c = dpotential_over_r_5_23, .n = 1, .c_lo = dpotential_over_r_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -2, .c = dpotential_over_r_5_24, .n = 1, .c_lo = dpotential_over_r_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -2, .c = dpotential_over_r_5_25, .n = 1, .c_lo = dpotential_over_r_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -2, .c = dpotential_over_r_5_26, .n = 1, .c_lo = dpotential_over_r_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -2, .c = dpotential_over_r_5_27, .n = 1, .c_lo = dpotential_over_r_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -2, .c = dpotential_over_r_5_28, .n = 1, .c_lo = dpotential_over_r_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -2, .c = dpotential_over_r_5_29, .n = 1, .c_lo = dpotential_over_r_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -2, .c = dpotential_over_r_5_30, .n = 1, .c_lo = dpotential_over_r_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -2, .c = dpotential_over_r_5_31, .n = 1, .c_lo = dpotential_over_r_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -2, .c = dpotential_over_r_5_32, .n = 1, .c_lo = dpotential_over_r_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -2, .c = dpotential_over_r_5_33, .n = 1, .c_lo = dpotential_over_r_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -2, .c = dpotential_over_r_5_34, .n = 1, .c_lo = dpotential_over_r_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -2, .c = dpotential_over_r_5_35, .n = 1, .c_lo = dpotential_over_r_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -2, .c = dpotential_over_r_5_36, .n = 1, .c_lo = dpotential_over_r_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -2, .c = dpotential_over_r_5_37, .n = 1, .c_lo = dpotential_over_r_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -2, .c = dpotential_over_r_5_38, .n = 1, .c_lo = dpotential_over_r_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -2, .c = dpotential_over_r_5_39, .n = 1, .c_lo = dpotential_over_r_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -2, .c = dpotential_over_r_5_40, .n = 1, .c_lo = dpotential_over_r_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -2, .c = dpotential_over_r_5_41, .n = 1, .c_lo = dpotential_over_r_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -2, .c = dpotential_over_r_5_42, .n = 1, .c_lo = dpotential_over_r_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -2, .c = dpotential_over_r_5_43, .n = 1, .c_lo = dpotential_over_r_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -2, .c = dpotential_over_r_5_44, .n = 1, .c_lo = dpotential_over_r_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -2, .c = dpotential_over_r_5_45, .n = 1, .c_lo = dpotential_over_r_5_45_lo},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6666,16 +6666,16 @@ inline constexpr double dpotential_over_r_6_0_lo[] = {
     -0x1.6b01ec5417056p-57,
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -2, dpotential_over_r_6_0, 1, 0, 0, dpotential_over_r_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -2, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo},
 };
 inline constexpr table::Piece dpotential_over_r[] = {
-    {0x0p+0, 0x1p-3, dpotential_over_r_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 2.0e-19 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, dpotential_over_r_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^44, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, dpotential_over_r_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^42, truncation < 6.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, dpotential_over_r_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 4.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, dpotential_over_r_4, 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^45, truncation < 6.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, dpotential_over_r_5, 46},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^107, truncation < 1.2e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, dpotential_over_r_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = dpotential_over_r_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 2.0e-19 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = dpotential_over_r_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^44, truncation < 1.0e-19 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = dpotential_over_r_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^42, truncation < 6.3e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = dpotential_over_r_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^45, truncation < 4.2e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = dpotential_over_r_4, .nterms = 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^45, truncation < 6.9e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = dpotential_over_r_5, .nterms = 46},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^107, truncation < 1.2e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = dpotential_over_r_6, .nterms = 1},  // [1, inf)
 };
 inline constexpr double potential_hess_radial_0_0[] = {
     -0x1.c72ee21514982p+4,  // -715/8 * pi^-1
@@ -6704,8 +6704,8 @@ inline constexpr double potential_hess_radial_0_1_lo[] = {
     0x1.37f769e903adfp-43, 0x1.9ff48d36af929p-43, -0x1.f80e4f7ba488dp-46,
 };
 inline constexpr table::Term potential_hess_radial_0[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p-3, 0, 0, potential_hess_radial_0_0, 11, 0, 0, potential_hess_radial_0_0_lo, 0x0p+0},
-    {table::Basis::log, 0, table::Var::r2, 0x1p-3, 0, 4, potential_hess_radial_0_1, 3, 0, 0, potential_hess_radial_0_1_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_0_0, .n = 11, .c_lo = potential_hess_radial_0_0_lo},
+    {.basis = table::Basis::log, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-3, .edge_power = 0, .low = 4, .c = potential_hess_radial_0_1, .n = 3, .c_lo = potential_hess_radial_0_1_lo},
 };
 inline constexpr double potential_hess_radial_1_0[] = {
     -0x1.571a5922a58c3p+4,  // -239896716800888421821426257/4700315296181556000000000 * pi^-1 + (-51365480372414208/7816350202515625 * pi^-1) * log(12)
@@ -6777,7 +6777,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.49922f4056d03p+48, -0x1.51e284d8ac8fbp+48, -0x1.6e5daa54ace61p+53, 0x1.4d5797ba97e37p+55,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.b8p-3, 0, 0, potential_hess_radial_1_0, 52, 0x1.52fab4152fab4p-3, 0x1.52fab4152fab4p-59, potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 52, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.b9f053442a9dep+3,  // 10012114054905166643/146545410156250000 * pi^-1 + (-44848926331209/781250000000 * pi^-1) * log(7)
@@ -6844,7 +6844,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.8fdbbf6e2bac2p+6, -0x1.8952375a08a2cp+10, -0x1.00fd685ba2a78p+7, 0x1.87643fe6d1242p+10,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.7p-2, 0, 0, potential_hess_radial_2_0, 48, 0x1.1eb851eb851ecp-2, -0x1.eb851eb851eb8p-56, potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 48, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.44525cbb27ce6p+2,  // 178191917645417519/242867971065856 * pi^-1 + (-3772040912640/6975757441 * pi^-1) * log(4)
@@ -6913,7 +6913,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     -0x1.86801ebb24df2p-18,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.38p-1, 0, 0, potential_hess_radial_3_0, 49, 0x1.e1e1e1e1e1e1ep-2, 0x1.e1e1e1e1e1e1ep-58, potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.6538f15c7c7f8p+0,  // 213185485551292489121/72535729879345000 * pi^-1 + (-1606954699350000/500246412961 * pi^-1) * log(5/2)
@@ -6978,7 +6978,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.7880c11df5a79p-23, 0x1.87880a2f50b3p-21,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {table::Basis::one, 0, table::Var::shifted, 0x1.9p-1, 0, 0, potential_hess_radial_4_0, 46, 0x1.611a7b9611a7cp-1, -0x1.a7b9611a7b961p-55, potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -7269,54 +7269,54 @@ inline constexpr double potential_hess_radial_5_47_lo[] = {
     -0x1.4dec29fce4414p-68,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {table::Basis::one, 0, table::Var::r2, 0x1p+0, 0, -4, potential_hess_radial_5_0, 1, 0, 0, potential_hess_radial_5_0_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 8, -4, potential_hess_radial_5_1, 1, 0, 0, potential_hess_radial_5_1_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 9, -4, potential_hess_radial_5_2, 1, 0, 0, potential_hess_radial_5_2_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 10, -4, potential_hess_radial_5_3, 1, 0, 0, potential_hess_radial_5_3_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 11, -4, potential_hess_radial_5_4, 1, 0, 0, potential_hess_radial_5_4_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 12, -4, potential_hess_radial_5_5, 1, 0, 0, potential_hess_radial_5_5_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 13, -4, potential_hess_radial_5_6, 1, 0, 0, potential_hess_radial_5_6_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 14, -4, potential_hess_radial_5_7, 1, 0, 0, potential_hess_radial_5_7_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 15, -4, potential_hess_radial_5_8, 1, 0, 0, potential_hess_radial_5_8_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 16, -4, potential_hess_radial_5_9, 1, 0, 0, potential_hess_radial_5_9_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 17, -4, potential_hess_radial_5_10, 1, 0, 0, potential_hess_radial_5_10_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 18, -4, potential_hess_radial_5_11, 1, 0, 0, potential_hess_radial_5_11_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 19, -4, potential_hess_radial_5_12, 1, 0, 0, potential_hess_radial_5_12_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 20, -4, potential_hess_radial_5_13, 1, 0, 0, potential_hess_radial_5_13_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 21, -4, potential_hess_radial_5_14, 1, 0, 0, potential_hess_radial_5_14_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 22, -4, potential_hess_radial_5_15, 1, 0, 0, potential_hess_radial_5_15_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 23, -4, potential_hess_radial_5_16, 1, 0, 0, potential_hess_radial_5_16_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 24, -4, potential_hess_radial_5_17, 1, 0, 0, potential_hess_radial_5_17_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 25, -4, potential_hess_radial_5_18, 1, 0, 0, potential_hess_radial_5_18_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 26, -4, potential_hess_radial_5_19, 1, 0, 0, potential_hess_radial_5_19_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 27, -4, potential_hess_radial_5_20, 1, 0, 0, potential_hess_radial_5_20_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 28, -4, potential_hess_radial_5_21, 1, 0, 0, potential_hess_radial_5_21_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 29, -4, potential_hess_radial_5_22, 1, 0, 0, potential_hess_radial_5_22_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 30, -4, potential_hess_radial_5_23, 1, 0, 0, potential_hess_radial_5_23_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 31, -4, potential_hess_radial_5_24, 1, 0, 0, potential_hess_radial_5_24_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 32, -4, potential_hess_radial_5_25, 1, 0, 0, potential_hess_radial_5_25_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 33, -4, potential_hess_radial_5_26, 1, 0, 0, potential_hess_radial_5_26_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 34, -4, potential_hess_radial_5_27, 1, 0, 0, potential_hess_radial_5_27_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 35, -4, potential_hess_radial_5_28, 1, 0, 0, potential_hess_radial_5_28_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 36, -4, potential_hess_radial_5_29, 1, 0, 0, potential_hess_radial_5_29_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 37, -4, potential_hess_radial_5_30, 1, 0, 0, potential_hess_radial_5_30_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 38, -4, potential_hess_radial_5_31, 1, 0, 0, potential_hess_radial_5_31_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 39, -4, potential_hess_radial_5_32, 1, 0, 0, potential_hess_radial_5_32_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 40, -4, potential_hess_radial_5_33, 1, 0, 0, potential_hess_radial_5_33_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 41, -4, potential_hess_radial_5_34, 1, 0, 0, potential_hess_radial_5_34_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 42, -4, potential_hess_radial_5_35, 1, 0, 0, potential_hess_radial_5_35_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 43, -4, potential_hess_radial_5_36, 1, 0, 0, potential_hess_radial_5_36_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 44, -4, potential_hess_radial_5_37, 1, 0, 0, potential_hess_radial_5_37_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 45, -4, potential_hess_radial_5_38, 1, 0, 0, potential_hess_radial_5_38_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 46, -4, potential_hess_radial_5_39, 1, 0, 0, potential_hess_radial_5_39_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 47, -4, potential_hess_radial_5_40, 1, 0, 0, potential_hess_radial_5_40_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 48, -4, potential_hess_radial_5_41, 1, 0, 0, potential_hess_radial_5_41_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 49, -4, potential_hess_radial_5_42, 1, 0, 0, potential_hess_radial_5_42_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 50, -4, potential_hess_radial_5_43, 1, 0, 0, potential_hess_radial_5_43_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 51, -4, potential_hess_radial_5_44, 1, 0, 0, potential_hess_radial_5_44_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 52, -4, potential_hess_radial_5_45, 1, 0, 0, potential_hess_radial_5_45_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 53, -4, potential_hess_radial_5_46, 1, 0, 0, potential_hess_radial_5_46_lo, 0x0p+0},
-    {table::Basis::sqrt_power, 1, table::Var::r2, 0x1p+0, 54, -4, potential_hess_radial_5_47, 1, 0, 0, potential_hess_radial_5_47_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 8, .low = -4, .c = potential_hess_radial_5_1, .n = 1, .c_lo = potential_hess_radial_5_1_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 9, .low = -4, .c = potential_hess_radial_5_2, .n = 1, .c_lo = potential_hess_radial_5_2_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 10, .low = -4, .c = potential_hess_radial_5_3, .n = 1, .c_lo = potential_hess_radial_5_3_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 11, .low = -4, .c = potential_hess_radial_5_4, .n = 1, .c_lo = potential_hess_radial_5_4_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 12, .low = -4, .c = potential_hess_radial_5_5, .n = 1, .c_lo = potential_hess_radial_5_5_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 13, .low = -4, .c = potential_hess_radial_5_6, .n = 1, .c_lo = potential_hess_radial_5_6_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 14, .low = -4, .c = potential_hess_radial_5_7, .n = 1, .c_lo = potential_hess_radial_5_7_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 15, .low = -4, .c = potential_hess_radial_5_8, .n = 1, .c_lo = potential_hess_radial_5_8_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 16, .low = -4, .c = potential_hess_radial_5_9, .n = 1, .c_lo = potential_hess_radial_5_9_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 17, .low = -4, .c = potential_hess_radial_5_10, .n = 1, .c_lo = potential_hess_radial_5_10_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 18, .low = -4, .c = potential_hess_radial_5_11, .n = 1, .c_lo = potential_hess_radial_5_11_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 19, .low = -4, .c = potential_hess_radial_5_12, .n = 1, .c_lo = potential_hess_radial_5_12_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 20, .low = -4, .c = potential_hess_radial_5_13, .n = 1, .c_lo = potential_hess_radial_5_13_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 21, .low = -4, .c = potential_hess_radial_5_14, .n = 1, .c_lo = potential_hess_radial_5_14_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 22, .low = -4, .c = potential_hess_radial_5_15, .n = 1, .c_lo = potential_hess_radial_5_15_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 23, .low = -4, .c = potential_hess_radial_5_16, .n = 1, .c_lo = potential_hess_radial_5_16_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 24, .low = -4, .c = potential_hess_radial_5_17, .n = 1, .c_lo = potential_hess_radial_5_17_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 25, .low = -4, .c = potential_hess_radial_5_18, .n = 1, .c_lo = potential_hess_radial_5_18_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 26, .low = -4, .c = potential_hess_radial_5_19, .n = 1, .c_lo = potential_hess_radial_5_19_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 27, .low = -4, .c = potential_hess_radial_5_20, .n = 1, .c_lo = potential_hess_radial_5_20_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 28, .low = -4, .c = potential_hess_radial_5_21, .n = 1, .c_lo = potential_hess_radial_5_21_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 29, .low = -4, .c = potential_hess_radial_5_22, .n = 1, .c_lo = potential_hess_radial_5_22_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 30, .low = -4, .c = potential_hess_radial_5_23, .n = 1, .c_lo = potential_hess_radial_5_23_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 31, .low = -4, .c = potential_hess_radial_5_24, .n = 1, .c_lo = potential_hess_radial_5_24_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 32, .low = -4, .c = potential_hess_radial_5_25, .n = 1, .c_lo = potential_hess_radial_5_25_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 33, .low = -4, .c = potential_hess_radial_5_26, .n = 1, .c_lo = potential_hess_radial_5_26_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 34, .low = -4, .c = potential_hess_radial_5_27, .n = 1, .c_lo = potential_hess_radial_5_27_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 35, .low = -4, .c = potential_hess_radial_5_28, .n = 1, .c_lo = potential_hess_radial_5_28_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 36, .low = -4, .c = potential_hess_radial_5_29, .n = 1, .c_lo = potential_hess_radial_5_29_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 37, .low = -4, .c = potential_hess_radial_5_30, .n = 1, .c_lo = potential_hess_radial_5_30_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 38, .low = -4, .c = potential_hess_radial_5_31, .n = 1, .c_lo = potential_hess_radial_5_31_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 39, .low = -4, .c = potential_hess_radial_5_32, .n = 1, .c_lo = potential_hess_radial_5_32_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 40, .low = -4, .c = potential_hess_radial_5_33, .n = 1, .c_lo = potential_hess_radial_5_33_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 41, .low = -4, .c = potential_hess_radial_5_34, .n = 1, .c_lo = potential_hess_radial_5_34_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 42, .low = -4, .c = potential_hess_radial_5_35, .n = 1, .c_lo = potential_hess_radial_5_35_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 43, .low = -4, .c = potential_hess_radial_5_36, .n = 1, .c_lo = potential_hess_radial_5_36_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 44, .low = -4, .c = potential_hess_radial_5_37, .n = 1, .c_lo = potential_hess_radial_5_37_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 45, .low = -4, .c = potential_hess_radial_5_38, .n = 1, .c_lo = potential_hess_radial_5_38_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 46, .low = -4, .c = potential_hess_radial_5_39, .n = 1, .c_lo = potential_hess_radial_5_39_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 47, .low = -4, .c = potential_hess_radial_5_40, .n = 1, .c_lo = potential_hess_radial_5_40_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 48, .low = -4, .c = potential_hess_radial_5_41, .n = 1, .c_lo = potential_hess_radial_5_41_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 49, .low = -4, .c = potential_hess_radial_5_42, .n = 1, .c_lo = potential_hess_radial_5_42_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 50, .low = -4, .c = potential_hess_radial_5_43, .n = 1, .c_lo = potential_hess_radial_5_43_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 51, .low = -4, .c = potential_hess_radial_5_44, .n = 1, .c_lo = potential_hess_radial_5_44_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 52, .low = -4, .c = potential_hess_radial_5_45, .n = 1, .c_lo = potential_hess_radial_5_45_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 53, .low = -4, .c = potential_hess_radial_5_46, .n = 1, .c_lo = potential_hess_radial_5_46_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 1, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 54, .low = -4, .c = potential_hess_radial_5_47, .n = 1, .c_lo = potential_hess_radial_5_47_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -7325,32 +7325,39 @@ inline constexpr double potential_hess_radial_6_0_lo[] = {
     0x1.6b01ec5417056p-56,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {table::Basis::one, 0, table::Var::r2, table::infinity, 0, -4, potential_hess_radial_6_0, 1, 0, 0, potential_hess_radial_6_0_lo, 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = table::infinity, .edge_power = 0, .low = -4, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo},
 };
 inline constexpr table::Piece potential_hess_radial[] = {
-    {0x0p+0, 0x1p-3, potential_hess_radial_0, 2},  // [0, 1/8), series at 0 up to r^20, truncation < 1.0e-19 relative (series.hpp)
-    {0x1p-3, 0x1.b8p-3, potential_hess_radial_1, 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^51, truncation < 8.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.b8p-3, 0x1.7p-2, potential_hess_radial_2, 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^47, truncation < 8.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.7p-2, 0x1.38p-1, potential_hess_radial_3, 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^48, truncation < 6.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.38p-1, 0x1.9p-1, potential_hess_radial_4, 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^45, truncation < 7.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
-    {0x1.9p-1, 0x1p+0, potential_hess_radial_5, 48},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 1.8e-19 of its leading term (edge_series.hpp)
-    {0x1p+0, table::infinity, potential_hess_radial_6, 1},  // [1, inf)
+    {.lo = 0x0p+0, .hi = 0x1p-3, .terms = potential_hess_radial_0, .nterms = 2},  // [0, 1/8), series at 0 up to r^20, truncation < 1.0e-19 relative (series.hpp)
+    {.lo = 0x1p-3, .hi = 0x1.b8p-3, .terms = potential_hess_radial_1, .nterms = 1},  // [1/8, 55/256), Taylor about 24/145 up to (r-c)^51, truncation < 8.1e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.b8p-3, .hi = 0x1.7p-2, .terms = potential_hess_radial_2, .nterms = 1},  // [55/256, 23/64), Taylor about 7/25 up to (r-c)^47, truncation < 8.5e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.7p-2, .hi = 0x1.38p-1, .terms = potential_hess_radial_3, .nterms = 1},  // [23/64, 39/64), Taylor about 8/17 up to (r-c)^48, truncation < 6.4e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.38p-1, .hi = 0x1.9p-1, .terms = potential_hess_radial_4, .nterms = 1},  // [39/64, 25/32), Taylor about 20/29 up to (r-c)^45, truncation < 7.8e-20 of min max(|f|, |r f'|) (centred_series.hpp)
+    {.lo = 0x1.9p-1, .hi = 0x1p+0, .terms = potential_hess_radial_5, .nterms = 48},  // [25/32, 1), series at the edge in S = sqrt(1-r^2) up to S^109, truncation < 1.8e-19 of its leading term (edge_series.hpp)
+    {.lo = 0x1p+0, .hi = table::infinity, .terms = potential_hess_radial_6, .nterms = 1},  // [1, inf)
 };
 }  // namespace detail_wendland_missing_k_2_l_2_D2
 inline constexpr table::Kernel wendland_missing_k_2_l_2_D2 = {
-    "wendland-missing:k=2,l=2", 2, 0x1p+0, 8, 2, 1,
-    0x1.c012268cc045cp+14, "90090 * pi^-1", true,
-    {
-        {detail_wendland_missing_k_2_l_2_D2::value, 8},
-        {detail_wendland_missing_k_2_l_2_D2::dr, 7},
-        {detail_wendland_missing_k_2_l_2_D2::d2r, 9},
-        {detail_wendland_missing_k_2_l_2_D2::laplacian, 9},
-        {detail_wendland_missing_k_2_l_2_D2::grad_over_r, 7},
-        {detail_wendland_missing_k_2_l_2_D2::hess_radial, 9},
-        {detail_wendland_missing_k_2_l_2_D2::potential, 6},
-        {detail_wendland_missing_k_2_l_2_D2::dpotential, 7},
-        {detail_wendland_missing_k_2_l_2_D2::dpotential_over_r, 7},
-        {detail_wendland_missing_k_2_l_2_D2::potential_hess_radial, 7},
+    .spec = "wendland-missing:k=2,l=2",
+    .dim = 2,
+    .support = 0x1p+0,
+    .smoothness = 8,
+    .order = 2,
+    .parity = 1,
+    .normalisation = 0x1.c012268cc045cp+14,  // 90090 * pi^-1
+    .normalisation_exact = "90090 * pi^-1",
+    .has_potential = true,
+    .quantities = {
+        {.pieces = detail_wendland_missing_k_2_l_2_D2::value, .npieces = 8},  // value
+        {.pieces = detail_wendland_missing_k_2_l_2_D2::dr, .npieces = 7},  // dr
+        {.pieces = detail_wendland_missing_k_2_l_2_D2::d2r, .npieces = 9},  // d2r
+        {.pieces = detail_wendland_missing_k_2_l_2_D2::laplacian, .npieces = 9},  // laplacian
+        {.pieces = detail_wendland_missing_k_2_l_2_D2::grad_over_r, .npieces = 7},  // grad_over_r
+        {.pieces = detail_wendland_missing_k_2_l_2_D2::hess_radial, .npieces = 9},  // hess_radial
+        {.pieces = detail_wendland_missing_k_2_l_2_D2::potential, .npieces = 6},  // potential
+        {.pieces = detail_wendland_missing_k_2_l_2_D2::dpotential, .npieces = 7},  // dpotential
+        {.pieces = detail_wendland_missing_k_2_l_2_D2::dpotential_over_r, .npieces = 7},  // dpotential_over_r
+        {.pieces = detail_wendland_missing_k_2_l_2_D2::potential_hess_radial, .npieces = 7},  // potential_hess_radial
     }};
 
 }  // namespace mollify::tables
