@@ -18,7 +18,7 @@
 //   poisson_bench [benchmark flags] [--md=FILE]   (cmake --build build --target bench-poisson)
 #include <mollify/detail/parallel.hpp>
 #include <mollify/poisson.hpp>
-#include <mollify/tables/anderson.hpp>
+#include <mollify/tables/mollifier/M_4_D3.hpp>
 
 #include "report.hpp"
 

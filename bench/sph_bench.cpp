@@ -29,8 +29,9 @@
 #include <mollify/detail/parallel.hpp>
 #include <mollify/sph/euler.hpp>
 #include <mollify/static_kernel.hpp>
-#include <mollify/tables/combo.hpp>
-#include <mollify/tables/wendland.hpp>
+#include <mollify/tables/combo/m_3_base_wendland_k_3_D1.hpp>
+#include <mollify/tables/wendland/k_2_D1.hpp>
+#include <mollify/tables/wendland/k_2_D3.hpp>
 
 #include "report.hpp"
 

@@ -10,12 +10,15 @@
 #include "exact.hpp"
 #include "laurent.hpp"
 
+#include <mollify/table.hpp>
+
 #include <map>
 #include <string>
 
 namespace mollify::gen {
 
-enum class Basis { one, sqrt_power, arcsech, log, arcsin };
+// The basis functions are the tables' (one definition, table.hpp).
+using Basis = mollify::table::Basis;
 
 struct TermKey {
     Basis basis = Basis::one;

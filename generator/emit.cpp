@@ -33,11 +33,14 @@ std::string banner(const std::string& command, const std::string& comment) {
            " DO NOT EDIT: regenerate with that command; a test fails on any difference.\n";
 }
 
-std::string identifier(const std::string& spec, int dim) {
-    std::string id;
-    for (char c : spec) id += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-    return id + "_D" + std::to_string(dim);
+// `text` with every character but letters and digits written '_'.
+std::string sanitized(const std::string& text) {
+    std::string out;
+    for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+    return out;
 }
+
+std::string identifier(const std::string& spec, int dim) { return sanitized(spec) + "_D" + std::to_string(dim); }
 
 const char* basis_name(Basis b) {
     switch (b) {
@@ -577,7 +580,7 @@ public:
     // `parts`: for a combination, its terms' quantities w_j f_j (else empty).
     std::string quantity(const std::string& name, const Radial* f, bool potential_like,
                          const std::vector<Radial>& parts) {
-        if (!f) return "{nullptr, 0}";
+        if (!f) return "{.pieces = nullptr, .npieces = 0}";
         std::vector<std::string> pieces;
         std::vector<EmittedPiece> emitted =
             parts.empty() ? emitted_pieces(*f, potential_like) : combination_pieces(*f, parts, potential_like);
@@ -602,20 +605,16 @@ public:
                 const std::string lo_name = coefficients(cname, c, c_lo, exact);
                 if (term.centre) {
                     const double centre = round_to_double(*term.centre);
-                    term_exprs.push_back("{table::Basis::one, 0, table::Var::shifted, " + hi_text + ", 0, " +
-                                         std::to_string(term.low) + ", " + cname + ", " +
-                                         std::to_string(term.c.size()) + ", " + hex_literal(centre) + ", " +
-                                         hex_literal(low_part(*term.centre, centre)) + ", " + lo_name + "}");
+                    term_exprs.push_back(term_text("one", 0, "shifted", hi_text, 0, term.low, cname, term.c.size(),
+                                                   centre, low_part(*term.centre, centre), lo_name, 0.0));
                     continue;
                 }
                 const std::optional<Q> edge = term.edge ? term.edge : hi;
                 const double edge_hi = edge ? round_to_double(*edge) : 0;
-                term_exprs.push_back("{table::Basis::" + std::string(basis_name(term.basis)) + ", " +
-                                     std::to_string(term.s_power) + ", table::Var::" + (term.square ? "r2" : "r") +
-                                     ", " + (edge ? hex_literal(edge_hi) : hi_text) + ", " +
-                                     std::to_string(term.edge_power) + ", " + std::to_string(term.low) + ", " +
-                                     cname + ", " + std::to_string(term.c.size()) + ", 0, 0, " + lo_name + ", " +
-                                     hex_literal(edge ? low_part(*edge, edge_hi) : 0.0) + "}");
+                term_exprs.push_back(term_text(basis_name(term.basis), term.s_power, term.square ? "r2" : "r",
+                                               edge ? hex_literal(edge_hi) : hi_text, term.edge_power, term.low, cname,
+                                               term.c.size(), 0.0, 0.0, lo_name,
+                                               edge ? low_part(*edge, edge_hi) : 0.0));
             }
             std::string terms_ref = "nullptr";
             if (!term_exprs.empty()) {
@@ -624,14 +623,15 @@ public:
                 body_ += "};\n";
                 terms_ref = terms_name;
             }
-            pieces.push_back("{" + hex_literal(round_to_double(lo)) + ", " + hi_text + ", " + terms_ref + ", " +
-                             std::to_string(term_exprs.size()) + "},  // [" + q_comment(lo) + ", " +
+            pieces.push_back("{.lo = " + hex_literal(round_to_double(lo)) + ", .hi = " + hi_text + ", .terms = " +
+                             terms_ref + ", .nterms = " + std::to_string(term_exprs.size()) + "},  // [" +
+                             q_comment(lo) + ", " +
                              (hi ? q_comment(*hi) : std::string("inf")) + ")" + (note.empty() ? "" : ", " + note));
         }
         body_ += "inline constexpr table::Piece " + name + "[] = {\n";
         for (const auto& p : pieces) body_ += "    " + p + "\n";
         body_ += "};\n";
-        return "{detail_" + id_ + "::" + name + ", " + std::to_string(pieces.size()) + "}";
+        return "{.pieces = detail_" + id_ + "::" + name + ", .npieces = " + std::to_string(pieces.size()) + "}";
     }
 
     std::string body() const { return body_; }
@@ -649,9 +649,24 @@ private:
         }
         const std::string lo_name = coefficients(cname, a, a_lo, exact);
         const double centre = round_to_double(p.centre), centre_lo = low_part(p.centre, centre);
-        const std::string basis = p.s_power ? "sqrt_power, " + std::to_string(p.s_power) : std::string("one, 0");
-        return "{table::Basis::" + basis + ", table::Var::shifted, " + hi_text + ", 0, " + std::to_string(p.low) + ", " + cname + ", " +
-               std::to_string(a.size()) + ", " + hex_literal(centre) + ", " + hex_literal(centre_lo) + ", " + lo_name + "}";
+        return term_text(p.s_power ? "sqrt_power" : "one", p.s_power, "shifted", hi_text, 0, p.low, cname, a.size(),
+                         centre, centre_lo, lo_name, 0.0);
+    }
+
+    // A table::Term initialiser, its members named in declaration order;
+    // the defaulted ones (centre, centre_lo, c_lo, edge_lo) are written only
+    // where they differ from their default, a +0.0 double or nullptr.
+    static std::string term_text(const std::string& basis, int s_power, const std::string& var,
+                                 const std::string& edge, int edge_power, int low, const std::string& c, std::size_t n,
+                                 double centre, double centre_lo, const std::string& c_lo, double edge_lo) {
+        auto optional = [](const char* member, double x) {
+            return std::signbit(x) || x != 0 ? std::string(", .") + member + " = " + hex_literal(x) : std::string();
+        };
+        return "{.basis = table::Basis::" + basis + ", .s_power = " + std::to_string(s_power) +
+               ", .var = table::Var::" + var + ", .edge = " + edge + ", .edge_power = " + std::to_string(edge_power) +
+               ", .low = " + std::to_string(low) + ", .c = " + c + ", .n = " + std::to_string(n) +
+               optional("centre", centre) + optional("centre_lo", centre_lo) +
+               (c_lo == "nullptr" ? std::string() : ", .c_lo = " + c_lo) + optional("edge_lo", edge_lo) + "}";
     }
 
     // A term's coefficients (correctly rounded, the exact value beside each)
@@ -728,8 +743,9 @@ KernelText render_kernel(const CatalogueEntry& e, std::vector<std::string>& fail
     HeaderWriter w(id);
     std::vector<std::string> quantities;
     json qjson = json::object();
-    for (const std::string& name : quantity_names()) {
-        const bool potential_like = name.find("potential") != std::string::npos;
+    for (int i = 0; i < table::quantity_count; ++i) {
+        const std::string name = table::quantity_names[i];
+        const bool potential_like = table::is_potential(static_cast<table::QuantityId>(i));
         const Radial* f = (potential_like && !k.claims.no_potential.empty()) ? nullptr : &quantity(k, q, name);
         std::vector<Radial> parts;
         if (f)
@@ -743,11 +759,16 @@ KernelText render_kernel(const CatalogueEntry& e, std::vector<std::string>& fail
     cpp << "\n// " << spec << " in D = " << k.dim << ": " << k.source << "\n";
     cpp << "namespace detail_" << id << " {\n" << w.body() << "}  // namespace detail_" << id << "\n";
     cpp << "inline constexpr table::Kernel " << id << " = {\n";
-    cpp << "    \"" << spec << "\", " << k.dim << ", 0x1p+0, " << k.claims.smoothness << ", " << k.claims.order << ", "
-        << k.W.parity << ",\n";
-    cpp << "    " << hex_literal(round_to_double(k.normalisation)) << ", \"" << k.normalisation.to_string() << "\", "
-        << (k.claims.no_potential.empty() ? "true" : "false") << ",\n    {\n";
-    for (const auto& s : quantities) cpp << "        " << s << ",\n";
+    cpp << "    .spec = \"" << spec << "\",\n    .dim = " << k.dim << ",\n    .support = 0x1p+0,\n";
+    cpp << "    .smoothness = " << k.claims.smoothness << ",\n    .order = " << k.claims.order
+        << ",\n    .parity = " << k.W.parity << ",\n";
+    cpp << "    .normalisation = " << hex_literal(round_to_double(k.normalisation)) << ",  // "
+        << k.normalisation.to_string() << "\n";
+    cpp << "    .normalisation_exact = \"" << k.normalisation.to_string() << "\",\n";
+    cpp << "    .has_potential = " << (k.claims.no_potential.empty() ? "true" : "false") << ",\n";
+    cpp << "    .quantities = {\n";
+    for (std::size_t i = 0; i < quantities.size(); ++i)
+        cpp << "        " << quantities[i] << ",  // " << table::quantity_names[i] << "\n";
     cpp << "    }};\n";
     out.cpp = cpp.str();
 
@@ -785,14 +806,51 @@ KernelText render_kernel(const CatalogueEntry& e, std::vector<std::string>& fail
     return out;
 }
 
-std::string family_file(Family f) {
-    switch (f) {
-        case Family::mollifier: return "anderson";
-        case Family::wendland:
-        case Family::wendland_missing: return "wendland";
-        case Family::combo: return "combo";
-        default: return "classic";
-    }
+// The header of one kernel in one dimension, relative to generated/:
+// mollify/tables/<family>/<parameters>_D<dim>.hpp, the family and the
+// parameters being the two sides of the canonical spec's first ':' with
+// every character but letters and digits written '_'
+// (wendland:k=2,l=1 -> wendland/k_2_l_1_D3.hpp, wendland-missing:k=1 ->
+// wendland_missing/k_1_D3.hpp, combo:m=3,base=wendland:k=2 ->
+// combo/m_3_base_wendland_k_2_D3.hpp); a kernel without parameters
+// (poly6, box-d1) goes to classic/<name>_D<dim>.hpp. Its symbol,
+// identifier(spec, dim), is <family>_<parameters>_D<dim> (or
+// <name>_D<dim>), so two kernels share a path only if they share a symbol.
+std::string kernel_header(const std::string& spec, int dim) {
+    const std::size_t colon = spec.find(':');
+    const std::string family = colon == std::string::npos ? "classic" : spec.substr(0, colon);
+    const std::string rest = colon == std::string::npos ? spec : spec.substr(colon + 1);
+    return "mollify/tables/" + sanitized(family) + "/" + identifier(rest, dim) + ".hpp";
+}
+
+std::string kernel_file(const std::string& command, const std::string& text) {
+    return banner(command, "//") +
+           "// Each coefficient is correctly rounded, its exact value beside it; NAME_lo[k] is\n"
+           "// the rounding error (exact - NAME[k]), correctly rounded (table.hpp: Term::c_lo).\n"
+           "#pragma once\n\n#include <mollify/table.hpp>\n\nnamespace mollify::tables {\n" +
+           text + "\n}  // namespace mollify::tables\n";
+}
+
+// The list of every emitted kernel, declared without any table: a program
+// that iterates it links the compiled generated/src/catalogue.cpp (the
+// mollify library) instead of compiling every table itself.
+std::string catalogue_header(const std::string& command) {
+    return banner(command, "//") +
+           "#pragma once\n\n#include <mollify/table.hpp>\n\n#include <span>\n\nnamespace mollify::tables {\n\n"
+           "// Every emitted kernel, in catalogue order (generated/src/catalogue.cpp).\n"
+           "extern const std::span<const table::Kernel* const> all_kernels;\n\n}  // namespace mollify::tables\n";
+}
+
+std::string catalogue_source(const std::string& command, const std::vector<std::string>& headers,
+                             const std::vector<std::string>& ids) {
+    std::string out = banner(command, "//") + "#include <mollify/tables/catalogue.hpp>\n\n";
+    for (const std::string& h : headers) out += "#include <" + h + ">\n";
+    out += "\nnamespace mollify::tables {\n\nnamespace {\n\nconstexpr const table::Kernel* kernels[] = {\n";
+    for (const std::string& id : ids) out += "    &" + id + ",\n";
+    out += "};\n\n}  // namespace\n\n"
+           "constinit const std::span<const table::Kernel* const> all_kernels{kernels};\n\n"
+           "}  // namespace mollify::tables\n";
+    return out;
 }
 
 }  // namespace
@@ -822,35 +880,22 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
         if (!e.empty()) fail(e);
 
     EmitResult result;
-    std::map<std::string, std::string> bodies;
-    std::map<std::string, std::vector<std::string>> ids;
+    std::vector<std::string> headers, ids;  // catalogue order
     json kernels = json::array();
     for (std::size_t i = 0; i < entries.size(); ++i) {
-        const std::string file = family_file(entries[i].spec.family);
-        bodies[file] += texts[i].cpp;
-        ids[file].push_back(texts[i].meta["identifier"]);
+        const std::string spec = texts[i].meta["spec"], id = texts[i].meta["identifier"];
+        const std::string header = kernel_header(spec, entries[i].dim);
+        if (result.files.count(header)) fail("internal: two kernels emitted to " + header + " (" + spec + ")");
+        result.files[header] = kernel_file(command, texts[i].cpp);
+        headers.push_back(header);
+        ids.push_back(id);
         kernels.push_back(texts[i].meta);
         result.certificates += counts[i];
         for (auto& f : failures[i]) result.failed_certificates.push_back(f);
     }
     result.kernels = static_cast<int>(entries.size());
-
-    std::string index = banner(command, "//") + "#pragma once\n\n";
-    for (const char* family : {"anderson", "wendland", "combo", "classic"}) {
-        std::string h = banner(command, "//") +
-                        "// Each coefficient is correctly rounded, its exact value beside it; NAME_lo[k] is\n"
-                        "// the rounding error (exact - NAME[k]), correctly rounded (table.hpp: Term::c_lo).\n"
-                        "#pragma once\n\n#include <mollify/table.hpp>\n\nnamespace mollify::tables {\n";
-        h += bodies[family];
-        h += "\n}  // namespace mollify::tables\n";
-        result.files[std::string("mollify/tables/") + family + ".hpp"] = h;
-        index += std::string("#include <mollify/tables/") + family + ".hpp>\n";
-    }
-    index += "\nnamespace mollify::tables {\n\n// Every emitted kernel, in catalogue order.\ninline constexpr const table::Kernel* all_kernels[] = {\n";
-    for (const char* family : {"anderson", "wendland", "combo", "classic"})
-        for (const auto& id : ids[family]) index += "    &" + id + ",\n";
-    index += "};\n\n}  // namespace mollify::tables\n";
-    result.files["mollify/tables/catalogue.hpp"] = index;
+    result.files["mollify/tables/catalogue.hpp"] = catalogue_header(command);
+    result.files["src/catalogue.cpp"] = catalogue_source(command, headers, ids);
 
     json doc = {{"generated_by", std::string("mollify-gen ") + generator_version},
                 {"command", command},
@@ -860,10 +905,25 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
     return result;
 }
 
+namespace {
+
+// Whether `path` holds exactly `text`: such a file is left alone, so that
+// regenerating unchanged tables keeps their timestamps and rebuilds nothing.
+bool holds(const std::filesystem::path& path, const std::string& text) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec) || std::filesystem::file_size(path, ec) != text.size() || ec)
+        return false;
+    std::ifstream f(path, std::ios::binary);
+    std::string old(text.size(), '\0');
+    return f.read(old.data(), static_cast<std::streamsize>(old.size())) && old == text;
+}
+
+}  // namespace
+
 void write_files(const std::filesystem::path& out, const EmitResult& result) {
-    // Every file goes to a temporary beside its target first; only when all
-    // are written are they renamed into place, so a failure leaves the old
-    // tables intact.
+    // Every changed file goes to a temporary beside its target first; only
+    // when all are written are they renamed into place, so a failure leaves
+    // the old tables intact.
     std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;
     auto discard = [&] {
         for (const auto& [tmp, target] : staged) std::filesystem::remove(tmp);
@@ -871,6 +931,7 @@ void write_files(const std::filesystem::path& out, const EmitResult& result) {
     try {
         for (const auto& [rel, text] : result.files) {
             const std::filesystem::path target = out / rel;
+            if (holds(target, text)) continue;
             std::filesystem::create_directories(target.parent_path());
             const std::filesystem::path tmp = target.string() + ".tmp." + std::to_string(::getpid());
             staged.emplace_back(tmp, target);

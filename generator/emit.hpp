@@ -1,7 +1,10 @@
-// Emission, the last step of the pipeline: C++ headers of constexpr tables
-// (one per table family, FFTW-genfft style, plus an index) and
-// catalogue.json with every exact value as "p/q" strings. Pure text
-// generation over the exact kernels; files are written atomically.
+// Emission, the last step of the pipeline: one C++ header of constexpr
+// tables per kernel and dimension (mollify/tables/<family>/<parameters>_D<d>.hpp,
+// the rule in emit.cpp's kernel_header), the list of them all
+// (mollify/tables/catalogue.hpp declares it, src/catalogue.cpp defines it,
+// compiled once into the mollify library) and catalogue.json with every
+// exact value as "p/q" strings. Pure text generation over the exact
+// kernels; changed files are written atomically, unchanged ones left alone.
 #pragma once
 
 #include "catalogue.hpp"
@@ -24,7 +27,9 @@ struct EmitResult {
 // names the content, never the output directory.
 EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const std::string& command);
 
-// Writes every file (temporary file, then rename); creates directories.
+// Writes every file whose content differs from the one at its place
+// (temporary file, then rename; unchanged files keep their timestamps);
+// creates directories.
 void write_files(const std::filesystem::path& out, const EmitResult& result);
 
 }  // namespace mollify::gen

@@ -3,6 +3,8 @@
 #include "error.hpp"
 #include "potential.hpp"
 
+#include <iterator>
+
 namespace mollify::gen {
 
 namespace {
@@ -40,9 +42,7 @@ Quantities derive_quantities(const Kernel& k) {
 }
 
 const std::vector<std::string>& quantity_names() {
-    static const std::vector<std::string> names = {
-        "value",     "dr",        "d2r",        "laplacian",         "grad_over_r",
-        "hess_radial", "potential", "dpotential", "dpotential_over_r", "potential_hess_radial"};
+    static const std::vector<std::string> names(std::begin(table::quantity_names), std::end(table::quantity_names));
     return names;
 }
 

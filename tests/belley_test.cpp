@@ -4,8 +4,12 @@
 #include "studies/estimate.hpp"
 #include <mollify/dynamic_kernel.hpp>
 #include <mollify/static_kernel.hpp>
-#include <mollify/tables/classic.hpp>
-#include <mollify/tables/wendland.hpp>
+#include <mollify/tables/classic/box_D1.hpp>
+#include <mollify/tables/classic/box_d1_D1.hpp>
+#include <mollify/tables/classic/box_d2_D1.hpp>
+#include <mollify/tables/classic/poly6_D1.hpp>
+#include <mollify/tables/classic/poly6_D2.hpp>
+#include <mollify/tables/wendland/k_2_D1.hpp>
 
 #include <gtest/gtest.h>
 

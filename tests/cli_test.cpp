@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -33,6 +34,13 @@ std::vector<std::string> lines(const std::string& s) {
     std::istringstream in(s);
     for (std::string l; std::getline(in, l);) v.push_back(l);
     return v;
+}
+
+std::vector<std::string> lines_matching(const std::string& text, const std::regex& re) {
+    std::vector<std::string> out;
+    for (const std::string& l : lines(text))
+        if (std::regex_match(l, re)) out.push_back(l);
+    return out;
 }
 
 std::vector<fs::path> tree(const fs::path& root) {
@@ -134,10 +142,85 @@ TEST(Cli, EmitOnlyNamesItsCommandInTheBanner) {
     const fs::path out = scratch("only");
     const Outcome r = run("emit --out " + out.string() + " --only wendland:l=1,k=2");
     ASSERT_EQ(r.status, 0) << r.err;
-    const std::string h = slurp(out / "mollify/tables/wendland.hpp");
+    const std::string h = slurp(out / "mollify/tables/wendland/k_2_l_1_D3.hpp");
     EXPECT_NE(h.find("with: mollify-gen emit --only wendland:k=2,l=1\n"), std::string::npos);
     EXPECT_NE(h.find("wendland_k_2_l_1_D3"), std::string::npos);
     EXPECT_EQ(h.find(out.string()), std::string::npos);  // no paths in generated files
+    fs::remove_all(out);
+}
+
+// One header per kernel and dimension, named by the rule of emit.cpp's
+// kernel_header, each including only table.hpp; the list of all kernels
+// declared in catalogue.hpp (no table) and defined in src/catalogue.cpp.
+TEST(Cli, EmitWritesOneHeaderPerKernelAndDimension) {
+    const fs::path out = scratch("per-kernel");
+    const Outcome r = run("emit --out " + out.string() +
+                          " --only wendland:k=2 --only wendland-missing:k=1 --only combo:m=3,base=wendland:k=2"
+                          " --only mollifier:M=4,order=4 --only box-d1");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::vector<fs::path> want = {
+        "catalogue.json",
+        "mollify/tables/catalogue.hpp",
+        "mollify/tables/classic/box_d1_D1.hpp",
+        "mollify/tables/combo/m_3_base_wendland_k_2_D1.hpp",
+        "mollify/tables/combo/m_3_base_wendland_k_2_D2.hpp",
+        "mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp",
+        "mollify/tables/mollifier/M_4_order_4_D1.hpp",
+        "mollify/tables/mollifier/M_4_order_4_D2.hpp",
+        "mollify/tables/mollifier/M_4_order_4_D3.hpp",
+        "mollify/tables/wendland/k_2_D1.hpp",
+        "mollify/tables/wendland/k_2_D2.hpp",
+        "mollify/tables/wendland/k_2_D3.hpp",
+        "mollify/tables/wendland_missing/k_1_D1.hpp",
+        "mollify/tables/wendland_missing/k_1_D2.hpp",
+        "mollify/tables/wendland_missing/k_1_D3.hpp",
+        "src/catalogue.cpp",
+    };
+    EXPECT_EQ(tree(out), want);
+    const std::string h = slurp(out / "mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp");
+    EXPECT_NE(h.find("inline constexpr table::Kernel combo_m_3_base_wendland_k_2_D3 = {"), std::string::npos);
+    EXPECT_EQ(lines_matching(h, std::regex("^#include .*")), std::vector<std::string>{"#include <mollify/table.hpp>"});
+    const std::string index = slurp(out / "mollify/tables/catalogue.hpp");
+    EXPECT_EQ(lines_matching(index, std::regex("^#include <mollify/.*")),
+              std::vector<std::string>{"#include <mollify/table.hpp>"});
+    EXPECT_NE(index.find("extern const std::span<const table::Kernel* const> all_kernels;"), std::string::npos);
+    const std::string source = slurp(out / "src/catalogue.cpp");
+    EXPECT_EQ(lines_matching(source, std::regex("^#include <mollify/tables/.*")).size(), want.size() - 2);
+    // Catalogue order: the --only order, dimensions 1..3.
+    const auto first = source.find("&wendland_k_2_D1,"), last = source.find("&box_d1_D1,");
+    EXPECT_NE(first, std::string::npos);
+    EXPECT_NE(last, std::string::npos);
+    EXPECT_LT(first, last);
+    fs::remove_all(out);
+}
+
+// Regenerating leaves unchanged files alone (their timestamps too, so that
+// a build after `mollify-gen emit` rebuilds nothing) and rewrites a changed
+// or missing one.
+TEST(Cli, EmitRewritesOnlyChangedFiles) {
+    const fs::path out = scratch("unchanged");
+    const std::string emit = "emit --out " + out.string() + " --only wendland:k=1";
+    ASSERT_EQ(run(emit).status, 0);
+    const auto files = tree(out);
+    ASSERT_FALSE(files.empty());
+    // An old timestamp, far from any the emit could write (file systems
+    // with coarse timestamps could not tell two close ones apart).
+    const auto old = fs::file_time_type::clock::now() - std::chrono::hours(24 * 365);
+    for (const auto& f : files) fs::last_write_time(out / f, old);
+    const fs::path changed = out / "mollify/tables/wendland/k_1_D2.hpp", removed = out / "src/catalogue.cpp";
+    const std::string want_changed = slurp(changed), want_removed = slurp(removed);
+    { std::ofstream(changed, std::ios::app) << "// edited\n"; }
+    fs::last_write_time(changed, old);
+    fs::remove(removed);
+    ASSERT_EQ(run(emit).status, 0);
+    EXPECT_EQ(tree(out), files);  // no temporary files left behind
+    for (const auto& f : files) {
+        if (out / f == changed || out / f == removed) continue;
+        EXPECT_TRUE(fs::last_write_time(out / f) == old) << f << " was rewritten with the same content";
+    }
+    EXPECT_EQ(slurp(changed), want_changed);
+    EXPECT_TRUE(fs::last_write_time(changed) != old);
+    EXPECT_EQ(slurp(removed), want_removed);
     fs::remove_all(out);
 }
 
@@ -158,7 +241,7 @@ TEST(Cli, EveryFamilyEmitsDeterministicallyUnderSanitizers) {
     ASSERT_EQ(r.status, 0) << r.err;
     ASSERT_EQ(run("emit --out " + b.string() + only).status, 0);
     const auto files = tree(a);
-    EXPECT_EQ(files.size(), 6u);
+    EXPECT_EQ(files.size(), 34u);  // 31 kernel headers (viscosity: D = 2, 3; box-d1, box-d2: D = 1), the two catalogue files, catalogue.json
     EXPECT_EQ(files, tree(b));
     for (const auto& f : files) EXPECT_TRUE(slurp(a / f) == slurp(b / f)) << f << " differs between two runs";
     fs::remove_all(a);

@@ -3,7 +3,16 @@
 // at r = 0, the vector forms are the radial ones times x, and bad input is
 // an Error naming the value, never a NaN. No GMP here: this is what users link.
 #include <mollify/kernel.hpp>
-#include <mollify/tables/catalogue.hpp>  // the static forms below name tables directly
+#include <mollify/tables/catalogue.hpp>
+#include <mollify/tables/classic/box_d1_D1.hpp>
+#include <mollify/tables/combo/m_3_base_wendland_k_3_l_1_D1.hpp>
+#include <mollify/tables/mollifier/M_4_order_4_D3.hpp>
+#include <mollify/tables/wendland/k_0_D1.hpp>
+#include <mollify/tables/wendland/k_1_D2.hpp>
+#include <mollify/tables/wendland/k_2_D3.hpp>
+#include <mollify/tables/wendland/k_2_l_1_D3.hpp>
+#include <mollify/tables/wendland/k_4_l_4_D3.hpp>
+#include <mollify/tables/wendland_missing/k_1_l_1_D2.hpp>
 
 #include <gtest/gtest.h>
 

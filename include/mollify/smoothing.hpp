@@ -17,9 +17,7 @@ namespace mollify {
 
 using QuantityId = table::QuantityId;
 
-inline constexpr const char* quantity_names[table::quantity_count] = {
-    "value",     "dr",         "d2r",               "laplacian", "grad_over_r", "hess_radial",
-    "potential", "dpotential", "dpotential_over_r", "potential_hess_radial"};
+using table::quantity_names;
 
 namespace detail {
 

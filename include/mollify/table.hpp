@@ -82,6 +82,17 @@ enum class QuantityId : int {
 };
 inline constexpr int quantity_count = 10;
 
+// The names of the quantities in QuantityId order (scene files, the
+// generator's command line, catalogue.json).
+inline constexpr const char* quantity_names[quantity_count] = {
+    "value",     "dr",         "d2r",               "laplacian", "grad_over_r", "hess_radial",
+    "potential", "dpotential", "dpotential_over_r", "potential_hess_radial"};
+
+// The potential phi (Delta phi = W) and its derivatives: absent where a
+// kernel has no potential (Kernel::has_potential), and not vanishing at the
+// support edge (the Green's function outside it).
+constexpr bool is_potential(QuantityId q) { return q >= QuantityId::potential; }
+
 struct Kernel {
     const char* spec;  // canonical kernel spec, e.g. "wendland:k=2,l=1"
     int dim;

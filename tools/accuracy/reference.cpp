@@ -522,7 +522,7 @@ Reference::Reference(const std::string& spec, int dim) : impl_(std::make_unique<
     const gen::Quantities qs = gen::derive_quantities(impl_->kernel);
     for (int i = 0; i < table::quantity_count; ++i) {
         const std::string& name = gen::quantity_names()[static_cast<std::size_t>(i)];
-        if (!impl_->kernel.claims.no_potential.empty() && name.find("potential") != std::string::npos) continue;
+        if (!impl_->kernel.claims.no_potential.empty() && table::is_potential(static_cast<table::QuantityId>(i))) continue;
         const gen::Radial& f = gen::quantity(impl_->kernel, qs, name);
         make_form(impl_->forms[static_cast<std::size_t>(i)], f, static_cast<QuantityId>(i), dim);
         make_form(impl_->slopes[static_cast<std::size_t>(i)], f.derivative().times(gen::Laurent::monomial(gen::Q(1), 1)),
