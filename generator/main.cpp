@@ -8,6 +8,8 @@
 #include "rounding.hpp"
 #include "vandermonde.hpp"
 
+#include <mollify/data_dir.hpp>
+
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -131,7 +133,7 @@ int main(int argc, char** argv) {
     weights->add_option("--radii", radii, "distinct positive radii, e.g. 1/3,2/3,1")->required()->delimiter(',');
 
     auto* errata = app.add_subcommand("errata", "compare the transcribed seed tables with the exact values");
-    std::string transcriptions = MOLLIFY_TRANSCRIPTIONS_DIR;
+    std::string transcriptions = mollify::data_dir("transcriptions", MOLLIFY_TRANSCRIPTIONS_DIR);
     errata->add_option("--transcriptions", transcriptions, "folder of transcribed tables")->capture_default_str();
 
     auto* certify_cmd = app.add_subcommand("certify", "print the exact certificates of kernels");
