@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# The installed package as a user gets it: `cmake --install` of this build
+# into a prefix inside the build folder, moved elsewhere (relocatable: no
+# path of the install step may be used), then
+#   - the installed mollify-gen finds its data beside itself (errata),
+#   - examples/consumer configured with find_package(mollify) against the
+#     prefix, built and run,
+#   - examples/consumer/pkg_config.cpp compiled with `pkg-config --cflags
+#     --libs mollify`, run,
+# and every program's W(1/2) of wendland:k=2 in 3D compared with the exact
+# value printed by the *installed* `mollify-gen value`.
+#
+# usage: install_test.sh BUILD_DIR SOURCE_DIR ULP_DISTANCE CXX [PROGRAM...]
+# PROGRAMs: static_kernel runtime_kernel exact_value pkg_config (default: all).
+set -euo pipefail
+
+build=$1 source=$2 ulp_distance=$3 cxx=$4
+shift 4
+programs=("$@")
+[ ${#programs[@]} -gt 0 ] || programs=(static_kernel exact_value pkg_config runtime_kernel)
+
+# The runtime is within 0.55 ulp of the exact values (tests/accuracy_test);
+# here one ulp: this test checks that the installed headers, tables and
+# library compute this kernel (a wrong table or kernel is off by far more),
+# not the accuracy suite's bound.
+bound=1
+
+fail() { echo "install_test: $*" >&2; exit 1; }
+
+work=$build/install_test
+rm -rf "$work"
+mkdir -p "$work"
+cmake --install "$build" --prefix "$work/staging" > "$work/install.log"
+mv "$work/staging" "$work/prefix"
+prefix=$(realpath "$work/prefix")
+gen=$prefix/bin/mollify-gen
+
+if grep -rq --include='*.cmake' --include='*.pc' -e "$source" -e "$work/staging" "$prefix/lib"; then
+    fail "the installed package names the source or the install folder: $(grep -rl -e "$source" -e "$work/staging" "$prefix/lib")"
+fi
+
+# mollify-gen reads <prefix>/share/mollify/transcriptions, found from its own path.
+"$gen" errata --help | grep -q -- "$prefix/share/mollify/transcriptions" ||
+    fail "installed mollify-gen errata does not default to $prefix/share/mollify/transcriptions"
+errata=$("$gen" errata | tail -n 1)
+[[ $errata =~ ^checked\ [1-9][0-9]*\ entries ]] || fail "installed mollify-gen errata: '$errata'"
+echo "installed mollify-gen errata: $errata"
+
+exact=$("$gen" value wendland:k=2 --dim 3 --r 1/2 --digits 40)
+echo "installed mollify-gen value wendland:k=2 --dim 3 --r 1/2: $exact"
+
+check() {  # NAME VALUE
+    "$ulp_distance" "$exact" "$2" "$bound" || fail "$1 printed $2, more than $bound ulp from $exact"
+}
+
+configured=0
+for program in "${programs[@]}"; do
+    case $program in
+    static_kernel | runtime_kernel | exact_value)
+        if [ $configured = 0 ]; then
+            cmake -S "$source/examples/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$prefix" \
+                -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release > "$work/consumer.log" ||
+                fail "configuring examples/consumer against $prefix failed: $(cat "$work/consumer.log")"
+            configured=1
+        fi
+        cmake --build "$work/consumer" --target "$program" > "$work/$program.log" 2>&1 ||
+            fail "building $program against $prefix failed: $(tail -n 30 "$work/$program.log")"
+        value=$("$work/consumer/$program")
+        echo "$program: $value"
+        if [ "$program" = exact_value ]; then
+            [ "$value" = "$exact" ] || fail "exact_value printed $value, mollify-gen value $exact"
+        else
+            check "$program" "$value"
+        fi
+        ;;
+    pkg_config)
+        flags=$(PKG_CONFIG_PATH="$prefix/lib/pkgconfig" pkg-config --cflags --libs mollify) ||
+            fail "pkg-config --cflags --libs mollify failed"
+        "$cxx" -std=c++20 -O2 -Wall -Wextra -Werror "$source/examples/consumer/pkg_config.cpp" -o "$work/pkg_config" \
+            $flags || fail "compiling pkg_config.cpp with '$flags' failed"
+        PKG_CONFIG_PATH="$prefix/lib/pkgconfig" pkg-config --exists mollify-exact ||
+            fail "pkg-config mollify-exact is not usable"
+        read -r spec value < <("$work/pkg_config")
+        echo "pkg_config: $spec $value"
+        [ "$spec" = "wendland:k=2" ] || fail "pkg_config printed the spec $spec"
+        check pkg_config "$value"
+        ;;
+    *) fail "unknown program $program (static_kernel runtime_kernel exact_value pkg_config)" ;;
+    esac
+done
+echo "install_test: ok (${programs[*]})"
