@@ -24,14 +24,15 @@ install(EXPORT mollifyTargets NAMESPACE mollify:: DESTINATION ${MOLLIFY_INSTALL_
 # The commands, and what they read at run time (mollify::data_dir finds
 # <bin>/../share/mollify/NAME): mollify-gen errata the transcriptions,
 # mollify run/list the scenes, mollify report the checked-in generated/ to
-# compare a fresh emit with. The mollify command (target mollify-cli) is
+# compare a fresh emit with (below). The mollify command (target mollify-cli) is
 # OPTIONAL: installed when built.
 install(TARGETS mollify-gen RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS mollify-cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} OPTIONAL)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/generator/transcriptions ${PROJECT_SOURCE_DIR}/scenes
         DESTINATION ${MOLLIFY_INSTALL_DATADIR})
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/generated/ DESTINATION ${MOLLIFY_INSTALL_DATADIR}/generated
-        PATTERN src EXCLUDE)
+# All of generated/ (what `mollify-gen emit` writes) as checked in, for
+# `mollify report` to compare a fresh emit with.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/generated/ DESTINATION ${MOLLIFY_INSTALL_DATADIR}/generated)
 
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/mollifyConfig.cmake.in
   ${PROJECT_BINARY_DIR}/mollifyConfig.cmake INSTALL_DESTINATION ${MOLLIFY_INSTALL_CMAKEDIR})
