@@ -12,6 +12,7 @@
 #
 # usage: install_test.sh BUILD_DIR SOURCE_DIR ULP_DISTANCE CXX [PROGRAM...]
 # PROGRAMs: static_kernel runtime_kernel exact_value pkg_config (default: all).
+# Environment: CMAKE (default cmake).
 set -euo pipefail
 
 build=$1 source=$2 ulp_distance=$3 cxx=$4
@@ -26,12 +27,13 @@ programs=("$@")
 # kernel, the accuracy suite how well.
 bound=1
 
+cmake=${CMAKE:-cmake}
 fail() { echo "install_test: $*" >&2; exit 1; }
 
 work=$build/install_test
 rm -rf "$work"
 mkdir -p "$work"
-cmake --install "$build" --prefix "$work/staging" > "$work/install.log"
+"$cmake" --install "$build" --prefix "$work/staging" > "$work/install.log"
 mv "$work/staging" "$work/prefix"
 prefix=$(realpath "$work/prefix")
 gen=$prefix/bin/mollify-gen
@@ -59,12 +61,12 @@ for program in "${programs[@]}"; do
     case $program in
     static_kernel | runtime_kernel | exact_value)
         if [ $configured = 0 ]; then
-            cmake -S "$source/examples/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$prefix" \
+            "$cmake" -S "$source/examples/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$prefix" \
                 -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release > "$work/consumer.log" ||
                 fail "configuring examples/consumer against $prefix failed: $(cat "$work/consumer.log")"
             configured=1
         fi
-        cmake --build "$work/consumer" --target "$program" > "$work/$program.log" 2>&1 ||
+        "$cmake" --build "$work/consumer" --target "$program" > "$work/$program.log" 2>&1 ||
             fail "building $program against $prefix failed: $(tail -n 30 "$work/$program.log")"
         value=$("$work/consumer/$program")
         echo "$program: $value"
