@@ -16,9 +16,7 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/mollify ${PROJECT_SOURCE_DIR}/ge
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/generator/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/mollify/exact
         FILES_MATCHING PATTERN "*.hpp" PATTERN transcriptions EXCLUDE)
 
-install(TARGETS mollify mollify_exact EXPORT mollifyTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(TARGETS mollify mollify_exact EXPORT mollifyTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(EXPORT mollifyTargets NAMESPACE mollify:: DESTINATION ${MOLLIFY_INSTALL_CMAKEDIR})
 
 # The commands, and what they read at run time (mollify::data_dir finds
@@ -40,7 +38,6 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/mollifyConfig.cmake.in
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/mollifyConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/mollifyConfig.cmake ${PROJECT_BINARY_DIR}/mollifyConfigVersion.cmake
-              ${PROJECT_SOURCE_DIR}/cmake/mollify_imported.cmake
         DESTINATION ${MOLLIFY_INSTALL_CMAKEDIR})
 
 # pkg-config: prefix relative to the .pc file's folder (${pcfiledir}), so the
