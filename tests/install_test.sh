@@ -6,7 +6,7 @@
 #   - examples/consumer configured with find_package(mollify) against the
 #     prefix, built and run,
 #   - examples/consumer/pkg_config.cpp compiled with `pkg-config --cflags
-#     --libs mollify`, run,
+#     --libs mollify` and exact_value.cpp with mollify-exact, run,
 # and every program's W(1/2) of wendland:k=2 in 3D compared with the exact
 # value printed by the *installed* `mollify-gen value`.
 #
@@ -81,12 +81,17 @@ for program in "${programs[@]}"; do
             fail "pkg-config --cflags --libs mollify failed"
         "$cxx" -std=c++20 -O2 -Wall -Wextra -Werror "$source/examples/consumer/pkg_config.cpp" -o "$work/pkg_config" \
             $flags || fail "compiling pkg_config.cpp with '$flags' failed"
-        PKG_CONFIG_PATH="$prefix/lib/pkgconfig" pkg-config --exists mollify-exact ||
-            fail "pkg-config mollify-exact is not usable"
         read -r spec value < <("$work/pkg_config")
         echo "pkg_config: $spec $value"
         [ "$spec" = "wendland:k=2" ] || fail "pkg_config printed the spec $spec"
         check pkg_config "$value"
+        flags=$(PKG_CONFIG_PATH="$prefix/lib/pkgconfig" pkg-config --cflags --libs mollify-exact) ||
+            fail "pkg-config --cflags --libs mollify-exact failed"
+        "$cxx" -std=c++20 -O2 -Wall -Wextra -Werror "$source/examples/consumer/exact_value.cpp" \
+            -o "$work/pkg_config_exact" $flags || fail "compiling exact_value.cpp with '$flags' failed"
+        value=$("$work/pkg_config_exact")
+        echo "pkg_config (mollify-exact): $value"
+        [ "$value" = "$exact" ] || fail "exact_value built with pkg-config printed $value, mollify-gen value $exact"
         ;;
     *) fail "unknown program $program (static_kernel runtime_kernel exact_value pkg_config)" ;;
     esac
