@@ -2,13 +2,12 @@
 // Bad arguments: a message naming the bad value, exit status 2, nothing written.
 #include "catalogue.hpp"
 #include "certificate.hpp"
+#include "data_dir.hpp"
 #include "emit.hpp"
 #include "errata.hpp"
 #include "error.hpp"
 #include "rounding.hpp"
 #include "vandermonde.hpp"
-
-#include <mollify/data_dir.hpp>
 
 #include <CLI/CLI.hpp>
 

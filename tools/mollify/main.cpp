@@ -4,12 +4,12 @@
 //   mollify report [--out DIR]           the verification report (report.hpp)
 // Exit status: 0 success, 1 a mollify::Error (bad scene, failed run; message on
 // stderr as "mollify: error: ..."), 2 command-line misuse.
+#include "data_dir.hpp"
 #include "experiment.hpp"
 #include "output.hpp"
 #include "report.hpp"
 #include "scene.hpp"
 
-#include <mollify/data_dir.hpp>
 #include <mollify/error.hpp>
 
 #include <CLI/CLI.hpp>

@@ -1,8 +1,8 @@
 #include "report.hpp"
 
+#include "data_dir.hpp"
 #include "experiment.hpp"
 
-#include <mollify/data_dir.hpp>
 #include <mollify/error.hpp>
 
 #include <algorithm>

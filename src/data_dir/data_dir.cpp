@@ -1,7 +1,7 @@
-// mollify::data_dir (include/mollify/data_dir.hpp). MOLLIFY_BIN_TO_DATA is
+// mollify::data_dir (data_dir.hpp). MOLLIFY_BIN_TO_DATA is
 // the installed layout's path from the executables' folder to mollify's data
 // folder (CMAKE_INSTALL_BINDIR to CMAKE_INSTALL_DATADIR/mollify).
-#include <mollify/data_dir.hpp>
+#include "data_dir.hpp"
 
 #include <filesystem>
 #include <system_error>

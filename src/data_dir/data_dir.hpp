@@ -1,5 +1,7 @@
-// Where an executable finds mollify's data files (the transcribed seed
-// tables, the scenes, the checked-in tables): an installed executable in
+// Where mollify's commands (mollify-gen, mollify) find their data files
+// (the transcribed seed tables, the scenes, the checked-in tables); library
+// mollify_data_dir, linked by the commands only (the generator builds
+// without libmollify, and no library user needs it). An installed executable in
 // <prefix>/bin reads <prefix>/share/mollify/NAME, found from its own path
 // (/proc/self/exe), so an installed tree works wherever it is moved and
 // after the source tree is gone; an executable in the build tree has no such
