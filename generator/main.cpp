@@ -2,6 +2,7 @@
 // Bad arguments: a message naming the bad value, exit status 2, nothing written.
 #include "catalogue.hpp"
 #include "certificate.hpp"
+#include "data_dir.hpp"
 #include "emit.hpp"
 #include "errata.hpp"
 #include "error.hpp"
@@ -131,7 +132,7 @@ int main(int argc, char** argv) {
     weights->add_option("--radii", radii, "distinct positive radii, e.g. 1/3,2/3,1")->required()->delimiter(',');
 
     auto* errata = app.add_subcommand("errata", "compare the transcribed seed tables with the exact values");
-    std::string transcriptions = MOLLIFY_TRANSCRIPTIONS_DIR;
+    std::string transcriptions = mollify::data_dir("transcriptions", MOLLIFY_TRANSCRIPTIONS_DIR);
     errata->add_option("--transcriptions", transcriptions, "folder of transcribed tables")->capture_default_str();
 
     auto* certify_cmd = app.add_subcommand("certify", "print the exact certificates of kernels");

@@ -15,6 +15,8 @@ packages=(
   libtomlplusplus-dev       # scene files (toml++, tools/mollify)
   gnuplot-nox               # the PNG plots of `mollify run`
   libfftw3-dev              # FFTs (issue 5)
+  time                      # /usr/bin/time: bench/compile_cost.sh (time and max RSS of a compile)
+  pkgconf                   # pkg-config: tests/install_test.sh builds a program with mollify.pc
 )
 
 missing=()

@@ -4,6 +4,7 @@
 //   mollify report [--out DIR]           the verification report (report.hpp)
 // Exit status: 0 success, 1 a mollify::Error (bad scene, failed run; message on
 // stderr as "mollify: error: ..."), 2 command-line misuse.
+#include "data_dir.hpp"
 #include "experiment.hpp"
 #include "output.hpp"
 #include "report.hpp"
@@ -45,11 +46,11 @@ int run_scene(const std::string& file, const std::string& out_option) {
     return 0;
 }
 
-// scenes/ in the working directory, else the source tree's.
+// scenes/ in the working directory, else the installed or the source tree's.
 fs::path default_scene_dir() {
     std::error_code ec;
     if (fs::is_directory("scenes", ec)) return "scenes";
-    return MOLLIFY_SCENES_DIR;
+    return mollify::data_dir("scenes", MOLLIFY_SCENES_DIR);
 }
 
 int run_list(const std::string& dir_option) {

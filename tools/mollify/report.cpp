@@ -1,5 +1,6 @@
 #include "report.hpp"
 
+#include "data_dir.hpp"
 #include "experiment.hpp"
 
 #include <mollify/error.hpp>
@@ -116,7 +117,7 @@ Scene report_scene(const ReportContext& ctx, std::string_view name) {
     if (!ctx.scenes.empty()) return Scene::load(ctx.scenes / std::string(name));
     for (const auto& [file, text] : embedded_scenes)
         if (file == name)  // origin in the source tree: relative paths in the scene (printed tables) resolve there
-            return Scene::parse(text, (fs::path(MOLLIFY_SCENES_DIR) / std::string(name)).string());
+            return Scene::parse(text, (fs::path(mollify::data_dir("scenes", MOLLIFY_SCENES_DIR)) / std::string(name)).string());
     fail("scene " + std::string(name) + " is not compiled in (scenes/)");
 }
 
@@ -170,7 +171,7 @@ int run_report(const ReportOptions& options) {
     if (chosen.empty())
         for (const Section& s : sections) chosen.push_back(&s);
 
-    const ReportContext ctx{own_folder(), fs::path(MOLLIFY_GENERATED_DIR), options.scenes};
+    const ReportContext ctx{own_folder(), fs::path(mollify::data_dir("generated", MOLLIFY_GENERATED_DIR)), options.scenes};
     const auto start = std::chrono::steady_clock::now();
     Output report(options.out);
     // Run order: a section after the one it reads; the index keeps the order of `sections`.
