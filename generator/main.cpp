@@ -45,7 +45,7 @@ int run_value(const std::string& spec_text, int dim, const std::string& r_text, 
     const Q r = parse_rational(r_text, "--r");
     if (r < 0) fail("--r " + r_text + " must be >= 0 (a radial distance)");
     if (digits < 1 || digits > 100000) fail("--digits " + std::to_string(digits) + " is outside 1..100000");
-    const Kernel k = make_kernel(parse_spec(spec_text), dim);
+    const ExactKernel k = make_kernel(parse_spec(spec_text), dim);
     const Quantities q = derive_quantities(k);
     const Radial& f = quantity(k, q, name);
     const ClosedForm& form = f.form_at(r);
@@ -89,7 +89,7 @@ int run_certify(const std::vector<std::string>& specs, const std::vector<int>& d
     int failed = 0;
     for (const Spec& s : parse_specs(specs))
         for (int dim : dims) {
-            const Kernel k = make_kernel(s, dim);
+            const ExactKernel k = make_kernel(s, dim);
             for (const Certificate& c : certify(k, derive_quantities(k))) {
                 std::cout << (c.passed ? "ok    " : "FAIL  ") << spec_string(s) << " D=" << dim << "  " << c.what
                           << "  [" << c.detail << "]\n";

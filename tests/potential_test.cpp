@@ -18,7 +18,7 @@
 namespace mollify::gen {
 namespace {
 
-Kernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
+ExactKernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
 
 Z choose(int n, int k) {
     Z b = 1;
@@ -101,7 +101,7 @@ TEST(Potential, AndersonInnerPotential) {
     for (int D = 2; D <= 3; ++D)
         for (int M = 1; M <= 9; ++M) {
             SCOPED_TRACE("M = " + std::to_string(M) + ", D = " + std::to_string(D));
-            const Kernel k = kernel("mollifier:M=" + std::to_string(M), D);
+            const ExactKernel k = kernel("mollifier:M=" + std::to_string(M), D);
             const Radial phi = potential(k.W, D);
             ASSERT_EQ(phi.pieces.size(), 1u);
             const Laurent v = anderson_series(M, D);
@@ -167,7 +167,7 @@ TEST(Potential, AndersonAppendixB) {
 TEST(Potential, CatalogueLaplacianAndContinuity) {
     int checked = 0;
     for (const CatalogueEntry& e : expand_dimensions(default_specs())) {
-        const Kernel k = make_kernel(e.spec, e.dim);
+        const ExactKernel k = make_kernel(e.spec, e.dim);
         if (!k.claims.no_potential.empty()) continue;
         const std::string what = spec_string(e.spec) + " in D = " + std::to_string(e.dim);
         const Radial phi = potential(k.W, e.dim);
@@ -192,7 +192,7 @@ TEST(Potential, MissingWendland) {
         for (int k = 0; k <= 2; ++k)
             for (int l = 0; l <= 2; ++l) {
                 const std::string spec = "wendland-missing:k=" + std::to_string(k) + ",l=" + std::to_string(l);
-                const Kernel K = kernel(spec, D);
+                const ExactKernel K = kernel(spec, D);
                 if (!K.claims.no_potential.empty()) continue;
                 const std::string what = spec + " in D = " + std::to_string(D);
                 const Radial phi = potential(K.W, D);
@@ -205,7 +205,7 @@ TEST(Potential, MissingWendland) {
             }
     if (checked == 0) GTEST_SKIP() << "missing Wendland potentials are not implemented";
     // A perturbed mass is detected here too.
-    const Kernel K = kernel("wendland-missing:k=1,l=1", 3);
+    const ExactKernel K = kernel("wendland-missing:k=1,l=1", 3);
     if (K.claims.no_potential.empty()) {
         const Radial phi = potential(K.W * Exact(Q(1001, 1000)), 3);
         EXPECT_NE(value_at(phi.pieces[0].derivative(), Q(1)), green_slope_at_one(3));
@@ -264,7 +264,7 @@ TEST(Potential, MissingWendlandValueAtZero) {
         for (int k = 0; k <= 2; ++k)
             for (int l = 0; l <= 2; ++l) {
                 const std::string spec = "wendland-missing:k=" + std::to_string(k) + ",l=" + std::to_string(l);
-                const Kernel K = kernel(spec, D);
+                const ExactKernel K = kernel(spec, D);
                 if (!K.claims.no_potential.empty()) GTEST_SKIP() << "missing Wendland potentials are not implemented";
                 const Poly g = wendland_inner((D + 1) / 2 + k + 1 + l, k);
                 Exact want;
@@ -352,7 +352,7 @@ TEST(Potential, PerturbedKernelBreaksSlopeContinuity) {
     for (const char* spec : {"mollifier:M=4", "wendland:k=2", "cubic-spline"})
         for (int D = 1; D <= 3; ++D) {
             const std::string what = std::string(spec) + " in D = " + std::to_string(D);
-            const Kernel k = kernel(spec, D);
+            const ExactKernel k = kernel(spec, D);
             const Radial W = k.W + Radial::single(ClosedForm(Laurent(Q(1, 1000))));
             const Radial phi = potential(W, D);
             EXPECT_TRUE(radial_laplacian(phi, D) == W) << what;
