@@ -24,11 +24,13 @@ std::vector<Spec> parse_specs(const std::vector<std::string>& texts) {
     return specs;
 }
 
-int run_emit(const std::string& out, const std::vector<std::string>& only) {
-    std::string command = "mollify-gen emit";
+int run_emit(const std::string& out, const std::vector<std::string>& only, const std::string& format) {
+    if (format != "cpp" && format != "data") fail("--format " + format + " is neither cpp nor data");
+    std::string command = "mollify-gen emit" + (format == "cpp" ? std::string() : " --format " + format);
     std::vector<Spec> specs = only.empty() ? default_specs() : parse_specs(only);
     for (const Spec& s : specs) command += only.empty() ? "" : " --only " + spec_string(s);
-    const EmitResult r = render_catalogue(expand_dimensions(specs), command);
+    const EmitResult r = render_catalogue(expand_dimensions(specs), command,
+                                          format == "cpp" ? EmitFormat::cpp : EmitFormat::data);
     if (!r.failed_certificates.empty()) {
         for (const auto& f : r.failed_certificates) std::cerr << "certificate failed: " << f << "\n";
         std::cerr << r.failed_certificates.size() << " certificates failed; nothing written\n";
@@ -111,6 +113,9 @@ int main(int argc, char** argv) {
     std::vector<std::string> only;
     emit->add_option("--out", out, "output folder")->capture_default_str();
     emit->add_option("--only", only, "emit only these kernel specs (all dimensions)");
+    std::string format = "cpp";
+    emit->add_option("--format", format, "cpp: C++ headers and catalogue.json; data: table files (write_data.cpp)")
+        ->capture_default_str();
 
     auto* value = app.add_subcommand("value", "one exact value, correctly rounded to --digits significant digits");
     std::string spec_text, r_text, name = "value";
@@ -162,7 +167,7 @@ int main(int argc, char** argv) {
         return bad_input;
     }
     try {
-        if (*emit) return run_emit(out, only);
+        if (*emit) return run_emit(out, only, format);
         if (*value) return run_value(spec_text, dim, r_text, name, digits, exact);
         if (*weights) return run_weights(radii);
         if (*errata) return run_errata(transcriptions);

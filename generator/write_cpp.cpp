@@ -1,7 +1,5 @@
 #include "write_cpp.hpp"
 
-#include "emit_checks.hpp"
-#include "emit_plan.hpp"
 #include "rounding.hpp"
 
 #include <algorithm>
@@ -13,48 +11,23 @@ namespace mollify::gen {
 
 namespace {
 
+// A table::Term initialiser's doubles: table::infinity by name.
+std::string double_text(double x) { return std::isinf(x) ? "table::infinity" : hex_literal(x); }
+
 class HeaderWriter {
 public:
     explicit HeaderWriter(std::string id) : id_(std::move(id)) {}
 
-    // Returns the C++ expression of the Quantity.
-    // `parts`: for a combination, its terms' quantities w_j f_j (else empty).
-    std::string quantity(const std::string& name, const Radial* f, bool potential_like,
-                         const std::vector<Radial>& parts) {
-        if (!f) return "{.pieces = nullptr, .npieces = 0}";
+    // Writes a quantity's arrays; returns the C++ expression of its table::Quantity.
+    std::string quantity(const std::string& name, const std::optional<std::vector<RoundedPiece>>& q) {
+        if (!q) return "{.pieces = nullptr, .npieces = 0}";
         std::vector<std::string> pieces;
-        const std::vector<EmittedPiece> emitted = plan_quantity(*f, potential_like, parts);
-        check_emitted(*f, emitted);
-        for (std::size_t i = 0; i < emitted.size(); ++i) {
-            const auto& [lo, hi, terms, note, series, centred] = emitted[i];
+        for (std::size_t i = 0; i < q->size(); ++i) {
+            const RoundedPiece& p = (*q)[i];
             const std::string terms_name = name + "_" + std::to_string(i);
-            const std::string hi_text = hi ? hex_literal(round_to_double(*hi)) : "table::infinity";
             std::vector<std::string> term_exprs;
-            if (centred) term_exprs.push_back(centred_term(terms_name + "_0", *centred, hi_text));
-            for (std::size_t t = 0; t < terms.size(); ++t) {
-                const std::string cname = terms_name + "_" + std::to_string(t);
-                const auto& term = terms[t];
-                std::vector<double> c, c_lo;
-                std::vector<std::string> exact;
-                for (const Exact& x : term.c) {
-                    c.push_back(round_to_double(x));
-                    c_lo.push_back(low_part(x, c.back()));
-                    exact.push_back(x.to_string());
-                }
-                const std::string lo_name = coefficients(cname, c, c_lo, exact);
-                if (term.centre) {
-                    const double centre = round_to_double(*term.centre);
-                    term_exprs.push_back(term_text("one", 0, "shifted", hi_text, 0, term.low, cname, term.c.size(),
-                                                   centre, low_part(*term.centre, centre), lo_name, 0.0));
-                    continue;
-                }
-                const std::optional<Q> edge = term.edge ? term.edge : hi;
-                const double edge_hi = edge ? round_to_double(*edge) : 0;
-                term_exprs.push_back(term_text(table::basis_name(term.basis), term.s_power, term.square ? "r2" : "r",
-                                               edge ? hex_literal(edge_hi) : hi_text, term.edge_power, term.low, cname,
-                                               term.c.size(), 0.0, 0.0, lo_name,
-                                               edge ? low_part(*edge, edge_hi) : 0.0));
-            }
+            for (std::size_t t = 0; t < p.terms.size(); ++t)
+                term_exprs.push_back(term(terms_name + "_" + std::to_string(t), p.terms[t]));
             std::string terms_ref = "nullptr";
             if (!term_exprs.empty()) {
                 body_ += "inline constexpr table::Term " + terms_name + "[] = {\n";
@@ -62,10 +35,8 @@ public:
                 body_ += "};\n";
                 terms_ref = terms_name;
             }
-            pieces.push_back("{.lo = " + hex_literal(round_to_double(lo)) + ", .hi = " + hi_text + ", .terms = " +
-                             terms_ref + ", .nterms = " + std::to_string(term_exprs.size()) + "},  // [" +
-                             short_string(lo) + ", " +
-                             (hi ? short_string(*hi) : std::string("inf")) + ")" + (note.empty() ? "" : ", " + note));
+            pieces.push_back("{.lo = " + hex_literal(p.lo) + ", .hi = " + double_text(p.hi) + ", .terms = " + terms_ref +
+                             ", .nterms = " + std::to_string(term_exprs.size()) + "},  // " + p.note);
         }
         body_ += "inline constexpr table::Piece " + name + "[] = {\n";
         for (const auto& p : pieces) body_ += "    " + p + "\n";
@@ -76,51 +47,34 @@ public:
     std::string body() const { return body_; }
 
 private:
-    // The one term of a Taylor piece: sum_k a_k v^k, v = r - centre
-    // (table::Var::shifted), the centre as a double and its rounding error.
-    std::string centred_term(const std::string& cname, const CentredPiece& p, const std::string& hi_text) {
-        const std::vector<double> a = rounded(p);
-        std::vector<double> a_lo;
-        std::vector<std::string> exact;
-        for (std::size_t k = 0; k < a.size(); ++k) {
-            a_lo.push_back(centred_low_part(p, k, a[k]));
-            exact.push_back(p.a[k].to_string(p.centre));
-        }
-        const std::string lo_name = coefficients(cname, a, a_lo, exact);
-        const double centre = round_to_double(p.centre), centre_lo = low_part(p.centre, centre);
-        return term_text(p.s_power ? "sqrt_power" : "one", p.s_power, "shifted", hi_text, 0, p.low, cname, a.size(),
-                         centre, centre_lo, lo_name, 0.0);
-    }
-
     // A table::Term initialiser, its members named in declaration order;
     // the defaulted ones (centre, centre_lo, c_lo, edge_lo) are written only
     // where they differ from their default, a +0.0 double or nullptr.
-    static std::string term_text(const std::string& basis, int s_power, const std::string& var,
-                                 const std::string& edge, int edge_power, int low, const std::string& c, std::size_t n,
-                                 double centre, double centre_lo, const std::string& c_lo, double edge_lo) {
+    std::string term(const std::string& cname, const RoundedTerm& t) {
+        const std::string c_lo = coefficients(cname, t);
         auto optional = [](const char* member, double x) {
             return std::signbit(x) || x != 0 ? std::string(", .") + member + " = " + hex_literal(x) : std::string();
         };
-        return "{.basis = table::Basis::" + basis + ", .s_power = " + std::to_string(s_power) +
-               ", .var = table::Var::" + var + ", .edge = " + edge + ", .edge_power = " + std::to_string(edge_power) +
-               ", .low = " + std::to_string(low) + ", .c = " + c + ", .n = " + std::to_string(n) +
-               optional("centre", centre) + optional("centre_lo", centre_lo) +
-               (c_lo == "nullptr" ? std::string() : ", .c_lo = " + c_lo) + optional("edge_lo", edge_lo) + "}";
+        return std::string("{.basis = table::Basis::") + table::basis_name(t.basis) +
+               ", .s_power = " + std::to_string(t.s_power) + ", .var = table::Var::" + table::var_name(t.var) +
+               ", .edge = " + double_text(t.edge) + ", .edge_power = " + std::to_string(t.edge_power) +
+               ", .low = " + std::to_string(t.low) + ", .c = " + cname + ", .n = " + std::to_string(t.c.size()) +
+               optional("centre", t.centre) + optional("centre_lo", t.centre_lo) +
+               (c_lo == "nullptr" ? std::string() : ", .c_lo = " + c_lo) + optional("edge_lo", t.edge_lo) + "}";
     }
 
     // A term's coefficients (correctly rounded, the exact value beside each)
     // and their low parts c - round(c), correctly rounded: the double-double
     // coefficients of Precision::accurate (table::Term::c_lo).
     // Returns the name of the low parts' array, "nullptr" where c is exact.
-    std::string coefficients(const std::string& name, const std::vector<double>& c, const std::vector<double>& c_lo,
-                             const std::vector<std::string>& exact) {
+    std::string coefficients(const std::string& name, const RoundedTerm& t) {
         body_ += "inline constexpr double " + name + "[] = {\n";
-        for (std::size_t k = 0; k < c.size(); ++k) body_ += "    " + hex_literal(c[k]) + ",  // " + exact[k] + "\n";
+        for (std::size_t k = 0; k < t.c.size(); ++k) body_ += "    " + hex_literal(t.c[k]) + ",  // " + t.exact[k] + "\n";
         body_ += "};\n";
-        if (std::all_of(c_lo.begin(), c_lo.end(), [](double x) { return x == 0; })) return "nullptr";
+        if (t.c_lo.empty()) return "nullptr";
         body_ += "inline constexpr double " + name + "_lo[] = {";
-        for (std::size_t k = 0; k < c_lo.size(); ++k)
-            body_ += std::string(k % 4 == 0 ? "\n    " : " ") + hex_literal(c_lo[k]) + ",";
+        for (std::size_t k = 0; k < t.c_lo.size(); ++k)
+            body_ += std::string(k % 4 == 0 ? "\n    " : " ") + hex_literal(t.c_lo[k]) + ",";
         body_ += "\n};\n";
         return name + "_lo";
     }
@@ -138,13 +92,12 @@ std::string sanitized(const std::string& text) {
 
 }  // namespace
 
-std::string kernel_cpp(const KernelFacts& f) {
+std::string kernel_cpp(const KernelFacts& f, const std::vector<std::optional<std::vector<RoundedPiece>>>& tables) {
     const ExactKernel& k = f.kernel;
     HeaderWriter w(f.id);
     std::vector<std::string> quantities;
     for (int i = 0; i < table::quantity_count; ++i)
-        quantities.push_back(w.quantity(table::quantity_names[i], quantity_of(f, i),
-                                        table::is_potential(static_cast<table::QuantityId>(i)), parts_of(f, i)));
+        quantities.push_back(w.quantity(table::quantity_names[i], tables[static_cast<std::size_t>(i)]));
     std::ostringstream cpp;
     cpp << "\n// " << f.spec << " in D = " << k.dim << ": " << k.source << "\n";
     cpp << "namespace detail_" << f.id << " {\n" << w.body() << "}  // namespace detail_" << f.id << "\n";

@@ -6,6 +6,9 @@
 #pragma once
 
 #include "emit_metadata.hpp"
+#include "emit_round.hpp"
+
+#include <optional>
 
 #include <string>
 #include <vector>
@@ -13,9 +16,9 @@
 namespace mollify::gen {
 
 // The tables of one kernel: namespace detail_<id> with its arrays, then
-// `inline constexpr table::Kernel <id>`. Plans every quantity
-// (emit_plan.hpp) and checks it (emit_checks.hpp) on the way.
-std::string kernel_cpp(const KernelFacts& k);
+// `inline constexpr table::Kernel <id>`. `tables`: the ten quantities
+// (emit_round.hpp) in table::QuantityId order.
+std::string kernel_cpp(const KernelFacts& k, const std::vector<std::optional<std::vector<RoundedPiece>>>& tables);
 
 // The header of kernel `spec` in dimension `dim`, relative to generated/.
 std::string kernel_header(const std::string& spec, int dim);

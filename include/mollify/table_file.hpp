@@ -1,0 +1,36 @@
+// Tables loaded at run time: a table file written by
+// `mollify-gen emit --format data` (format: generator/write_data.cpp) read
+// into an object that owns every array and exposes it as the same
+// table::Kernel the compiled headers define, so anything that evaluates a
+// compiled table evaluates a loaded one. No GMP, no generator.
+#pragma once
+
+#include <mollify/table.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace mollify {
+
+class TableFile {
+public:
+    // Throws Error naming the file, the line and the bad value.
+    static TableFile load(const std::filesystem::path& path);
+    // The text of a table file; `origin` names it in messages.
+    static TableFile parse(const std::string& text, const std::string& origin);
+
+    const table::Kernel& kernel() const;
+
+    TableFile(TableFile&&) noexcept;
+    TableFile& operator=(TableFile&&) noexcept;
+    ~TableFile();
+
+    struct Storage;  // opaque: the arrays, strings and the table::Kernel pointing into them
+
+private:
+    explicit TableFile(std::unique_ptr<Storage> s);
+    std::unique_ptr<Storage> s_;  // behind a pointer: table::Kernel points into it, moves keep it in place
+};
+
+}  // namespace mollify

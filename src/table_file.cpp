@@ -1,0 +1,234 @@
+#include <mollify/table_file.hpp>
+
+#include <mollify/error.hpp>
+
+#include <cerrno>
+#include <cstdlib>
+#include <deque>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+namespace mollify {
+
+struct TableFile::Storage {
+    std::string spec, normalisation_exact;
+    // deques: elements stay in place while more are appended, so the
+    // pointers in `kernel` stay valid.
+    std::deque<std::vector<double>> doubles;
+    std::deque<std::vector<table::Term>> terms;
+    std::deque<std::vector<table::Piece>> pieces;
+    table::Kernel kernel{};
+};
+
+namespace {
+
+// The file's lines, one at a time, split into fields; every error names the
+// origin and the line.
+class Reader {
+public:
+    Reader(const std::string& text, std::string origin) : in_(text), origin_(std::move(origin)) {}
+
+    [[noreturn]] void bad(const std::string& what) const {
+        fail(origin_ + ":" + std::to_string(line_number_) + ": " + what);
+    }
+
+    // The next line, which must start with `key`; returns the rest.
+    std::string line(const std::string& key) {
+        if (!std::getline(in_, current_)) {
+            ++line_number_;
+            bad("the file ends where '" + key + "' was expected");
+        }
+        ++line_number_;
+        if (current_ != key && current_.compare(0, key.size() + 1, key + " ") != 0)
+            bad("'" + current_ + "' is not a '" + key + "' line");
+        const std::string rest = current_.size() > key.size() ? current_.substr(key.size() + 1) : std::string();
+        fields_.clear();
+        std::istringstream f(rest);
+        for (std::string s; f >> s;) fields_.push_back(s);
+        next_ = 0;
+        return rest;
+    }
+
+    // The fields of the current line, one after the other.
+    std::string field(const char* what) {
+        if (next_ >= fields_.size()) bad("'" + current_ + "' misses " + what);
+        return fields_[next_++];
+    }
+    int integer(const char* what) {
+        const std::string s = field(what);
+        char* end = nullptr;
+        errno = 0;
+        const long v = std::strtol(s.c_str(), &end, 10);
+        if (s.empty() || *end != '\0' || errno != 0 || v < -1000000 || v > 1000000)
+            bad(std::string(what) + " '" + s + "' is not an integer");
+        return static_cast<int>(v);
+    }
+    // Hex-floats as written (strtod reads them exactly), "inf" for infinity.
+    double number(const char* what) {
+        const std::string s = field(what);
+        char* end = nullptr;
+        const double v = std::strtod(s.c_str(), &end);
+        if (s.empty() || *end != '\0' || s.find_first_of("xXi") == std::string::npos)
+            bad(std::string(what) + " '" + s + "' is not a hex-float double");
+        return v;
+    }
+    // The next field without taking it ("" at the end of the line).
+    std::string peek() const { return next_ < fields_.size() ? fields_[next_] : std::string(); }
+    void done() {
+        if (next_ != fields_.size()) bad("'" + current_ + "' has more fields than expected");
+    }
+    bool at_end() {
+        std::string rest;
+        return !(in_ >> rest);
+    }
+
+private:
+    std::istringstream in_;
+    std::string origin_, current_;
+    std::vector<std::string> fields_;
+    std::size_t next_ = 0;
+    int line_number_ = 0;
+};
+
+table::Basis basis(Reader& r) {
+    const std::string name = r.field("basis");
+    for (table::Basis b : {table::Basis::one, table::Basis::sqrt_power, table::Basis::arcsech, table::Basis::log,
+                           table::Basis::arcsin})
+        if (name == table::basis_name(b)) return b;
+    r.bad("basis '" + name + "' is not one of one, sqrt_power, arcsech, log, arcsin");
+}
+
+table::Var var(Reader& r) {
+    const std::string name = r.field("var");
+    for (table::Var v : {table::Var::r, table::Var::r2, table::Var::shifted})
+        if (name == table::var_name(v)) return v;
+    r.bad("var '" + name + "' is not one of r, r2, shifted");
+}
+
+const double* stored(TableFile::Storage& s, std::vector<double> v) {
+    s.doubles.push_back(std::move(v));
+    return s.doubles.back().data();
+}
+
+table::Term term(Reader& r, TableFile::Storage& s) {
+    r.line("term");
+    table::Term t{};
+    t.basis = basis(r);
+    t.s_power = r.integer("s_power");
+    t.var = var(r);
+    t.edge = r.number("edge");
+    t.edge_lo = r.number("edge_lo");
+    t.edge_power = r.integer("edge_power");
+    t.low = r.integer("low");
+    t.centre = r.number("centre");
+    t.centre_lo = r.number("centre_lo");
+    t.n = r.integer("n");
+    if (t.n < 1 || t.n > 10000) r.bad("n = " + std::to_string(t.n) + " is outside 1..10000");
+    std::vector<double> c;
+    for (int k = 0; k < t.n; ++k) c.push_back(r.number("a coefficient c_k"));
+    t.c = stored(s, std::move(c));
+    if (r.peek() == "-") {
+        r.field("the low parts");
+    } else {
+        std::vector<double> lo;
+        for (int k = 0; k < t.n; ++k) lo.push_back(r.number("a low part c_lo_k (or '-')"));
+        t.c_lo = stored(s, std::move(lo));
+    }
+    r.done();
+    return t;
+}
+
+table::Quantity quantity(Reader& r, TableFile::Storage& s, int index) {
+    r.line("quantity");
+    const std::string name = r.field("the quantity's name");
+    if (name != table::quantity_names[index])
+        r.bad("quantity '" + name + "' where '" + table::quantity_names[index] + "' was expected (table::QuantityId order)");
+    const int npieces = r.integer("npieces");
+    if (npieces < 0 || npieces > 100000) r.bad("npieces = " + std::to_string(npieces) + " is outside 0..100000");
+    r.done();
+    if (npieces == 0) return {nullptr, 0};
+    std::vector<table::Piece> pieces;
+    for (int p = 0; p < npieces; ++p) {
+        r.line("piece");
+        table::Piece piece{};
+        piece.lo = r.number("lo");
+        piece.hi = r.number("hi");
+        piece.nterms = r.integer("nterms");
+        if (piece.nterms < 0 || piece.nterms > 100000) r.bad("nterms = " + std::to_string(piece.nterms) + " is outside 0..100000");
+        r.done();
+        std::vector<table::Term> terms;
+        for (int t = 0; t < piece.nterms; ++t) terms.push_back(term(r, s));
+        if (!terms.empty()) {
+            s.terms.push_back(std::move(terms));
+            piece.terms = s.terms.back().data();
+        }
+        pieces.push_back(piece);
+    }
+    s.pieces.push_back(std::move(pieces));
+    return {s.pieces.back().data(), npieces};
+}
+
+int single_integer(Reader& r, const char* key) {
+    r.line(key);
+    const int v = r.integer(key);
+    r.done();
+    return v;
+}
+
+double single_number(Reader& r, const char* key) {
+    r.line(key);
+    const double v = r.number(key);
+    r.done();
+    return v;
+}
+
+}  // namespace
+
+TableFile::TableFile(std::unique_ptr<Storage> s) : s_(std::move(s)) {}
+TableFile::TableFile(TableFile&&) noexcept = default;
+TableFile& TableFile::operator=(TableFile&&) noexcept = default;
+TableFile::~TableFile() = default;
+
+const table::Kernel& TableFile::kernel() const { return s_->kernel; }
+
+TableFile TableFile::parse(const std::string& text, const std::string& origin) {
+    auto s = std::make_unique<Storage>();
+    Reader r(text, origin);
+    r.line("mollify-table");
+    const std::string version = r.field("the format version");
+    if (version != "1") r.bad("format version '" + version + "' is not 1 (a newer mollify-gen wrote it?)");
+    r.done();
+    r.line("generator");
+    s->spec = r.line("spec");
+    if (s->spec.empty() || s->spec.find(' ') != std::string::npos) r.bad("spec '" + s->spec + "' is not a kernel spec");
+    table::Kernel& k = s->kernel;
+    k.spec = s->spec.c_str();
+    k.dim = single_integer(r, "dim");
+    if (k.dim < 1 || k.dim > 3) r.bad("dimension " + std::to_string(k.dim) + " is outside 1..3");
+    k.support = single_number(r, "support");
+    k.smoothness = single_integer(r, "smoothness");
+    k.order = single_integer(r, "order");
+    k.parity = single_integer(r, "parity");
+    k.normalisation = single_number(r, "normalisation");
+    s->normalisation_exact = r.line("normalisation_exact");
+    k.normalisation_exact = s->normalisation_exact.c_str();
+    const int has_potential = single_integer(r, "has_potential");
+    if (has_potential != 0 && has_potential != 1) r.bad("has_potential " + std::to_string(has_potential) + " is not 0 or 1");
+    k.has_potential = has_potential == 1;
+    for (int i = 0; i < table::quantity_count; ++i) k.quantities[i] = quantity(r, *s, i);
+    r.line("end");
+    r.done();
+    if (!r.at_end()) r.bad("text after 'end'");
+    return TableFile(std::move(s));
+}
+
+TableFile TableFile::load(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail("cannot read the table file " + path.string());
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse(text.str(), path.string());
+}
+
+}  // namespace mollify
