@@ -36,6 +36,7 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
 // Writes every file whose content differs from the one at its place
 // (temporary file, then rename; unchanged files keep their timestamps);
 // creates directories.
-void write_files(const std::filesystem::path& out, const EmitResult& result);
+// Returns how many files it wrote.
+std::size_t write_files(const std::filesystem::path& out, const EmitResult& result);
 
 }  // namespace mollify::gen

@@ -29,11 +29,13 @@ std::vector<Radial> parts_of(const KernelFacts& k, int i) {
     return parts;
 }
 
-std::string identifier(const std::string& spec, int dim) {
-    std::string id;
-    for (char c : spec) id += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-    return id + "_D" + std::to_string(dim);
+std::string sanitized(const std::string& text) {
+    std::string out;
+    for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+    return out;
 }
+
+std::string identifier(const std::string& spec, int dim) { return sanitized(spec) + "_D" + std::to_string(dim); }
 
 std::string generator_version() { return MOLLIFY_GENERATOR_VERSION; }
 

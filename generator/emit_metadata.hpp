@@ -32,8 +32,9 @@ const Radial* quantity_of(const KernelFacts& k, int i);
 // for other kernels.
 std::vector<Radial> parts_of(const KernelFacts& k, int i);
 
-// The C++ symbol of a kernel: its canonical spec with every character but
-// letters and digits written '_', then _D<dim>.
+// `text` with every character but letters and digits written '_'.
+std::string sanitized(const std::string& text);
+// The C++ symbol of a kernel: sanitized(spec)_D<dim>.
 std::string identifier(const std::string& spec, int dim);
 
 // The banner of every generated file, its lines starting with `comment`:

@@ -36,8 +36,9 @@ int run_emit(const std::string& out, const std::vector<std::string>& only, const
         std::cerr << r.failed_certificates.size() << " certificates failed; nothing written\n";
         return 1;
     }
-    write_files(out, r);
-    std::cout << "wrote " << r.files.size() << " files to " << out << ": " << r.kernels << " kernels, "
+    const std::size_t written = write_files(out, r);
+    std::cout << "wrote " << written << " of " << r.files.size() << " files to " << out << " (the others unchanged): "
+              << r.kernels << " kernels, "
               << r.certificates << " certificates, all exact\n";
     return 0;
 }

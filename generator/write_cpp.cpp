@@ -3,7 +3,6 @@
 #include "rounding.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <sstream>
 
@@ -82,13 +81,6 @@ private:
     std::string id_;
     std::string body_;
 };
-
-// `text` with every character but letters and digits written '_'.
-std::string sanitized(const std::string& text) {
-    std::string out;
-    for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-    return out;
-}
 
 }  // namespace
 

@@ -22,7 +22,7 @@ bool holds(const std::filesystem::path& path, const std::string& text) {
 
 }  // namespace
 
-void write_files(const std::filesystem::path& out, const EmitResult& result) {
+std::size_t write_files(const std::filesystem::path& out, const EmitResult& result) {
     // Every changed file goes to a temporary beside its target first; only
     // when all are written are they renamed into place, so a failure leaves
     // the old tables intact.
@@ -49,6 +49,7 @@ void write_files(const std::filesystem::path& out, const EmitResult& result) {
         throw;
     }
     for (const auto& [tmp, target] : staged) std::filesystem::rename(tmp, target);
+    return staged.size();
 }
 
 }  // namespace mollify::gen
