@@ -44,7 +44,7 @@ void continuity(std::vector<Certificate>& out, const Radial& f, int up_to, const
 
 }  // namespace
 
-std::vector<Certificate> certify(const Kernel& k, const Quantities& q) {
+std::vector<Certificate> certify(const ExactKernel& k, const Quantities& q) {
     std::vector<Certificate> out;
     switch (k.normalised_by) {
         case Normalisation::unit_mass: out.push_back(equal("unit mass", radial_moment(k, 0), Exact(Q(1)))); break;

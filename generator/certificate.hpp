@@ -18,6 +18,6 @@ struct Certificate {
     std::string detail;  // the exact values compared
 };
 
-std::vector<Certificate> certify(const Kernel& k, const Quantities& q);
+std::vector<Certificate> certify(const ExactKernel& k, const Quantities& q);
 
 }  // namespace mollify::gen

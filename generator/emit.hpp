@@ -3,8 +3,9 @@
 // the rule in emit.cpp's kernel_header), the list of them all
 // (mollify/tables/catalogue.hpp declares it, src/catalogue.cpp defines it,
 // compiled once into the mollify library) and catalogue.json with every
-// exact value as "p/q" strings. Pure text generation over the exact
-// kernels; changed files are written atomically, unchanged ones left alone.
+// exact value as "p/q" strings; or, with EmitFormat::data, one table file
+// per kernel and dimension (write_data.cpp). Pure text generation over the
+// exact kernels; changed files are written atomically, unchanged ones left alone.
 #pragma once
 
 #include "catalogue.hpp"
@@ -23,13 +24,19 @@ struct EmitResult {
     std::vector<std::string> failed_certificates;
 };
 
+// cpp: the C++ headers, the catalogue's list and catalogue.json (generated/);
+// data: one table file per kernel and dimension (write_data.cpp), nothing else.
+enum class EmitFormat { cpp, data };
+
 // `command` is printed in every banner ("mollify-gen emit --only ..."): it
 // names the content, never the output directory.
-EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const std::string& command);
+EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const std::string& command,
+                            EmitFormat format = EmitFormat::cpp);
 
 // Writes every file whose content differs from the one at its place
 // (temporary file, then rename; unchanged files keep their timestamps);
 // creates directories.
-void write_files(const std::filesystem::path& out, const EmitResult& result);
+// Returns how many files it wrote.
+std::size_t write_files(const std::filesystem::path& out, const EmitResult& result);
 
 }  // namespace mollify::gen

@@ -41,7 +41,7 @@ void Checker::anderson_sigma(const Entry& e) { scalar(e, table1_sigma(e.param("D
 void Checker::anderson_c0(const Entry& e) {
     const int D = e.param("D");
     const std::string spec = mollifier_spec(e.param("M"));
-    const Kernel& k = kernel(spec, D);
+    const ExactKernel& k = kernel(spec, D);
     const Quantities& qs = quantities(spec, D);
     if (!qs.potential) fail("internal: no potential for " + spec);
     // phi = normalisation * v_N + const inside, v_N(1) = 0, c0 = v_N(0).
@@ -88,7 +88,7 @@ void Checker::anderson_sigma_formula(const Entry& e) {
 
 void Checker::anderson_second_moment(const Entry& e) {
     const int D = e.param("D");
-    const Kernel& k = kernel(mollifier_spec(e.param("M")), D);
+    const ExactKernel& k = kernel(mollifier_spec(e.param("M")), D);
     // int B x_i^2 = int B |x|^2 / D, delta = 1
     const Q m2 = rational_or_fail(radial_moment(k, 2) * Q(1, D), "second moment");
     const Q printed = e.rational(e.printed(), "value", "printed");
@@ -232,7 +232,7 @@ const ClosedForm& single_piece(const Radial& f, const char* what, const std::str
 }
 
 // B_delta(r) = delta^-D B(r/delta); B as a polynomial in u = 1 - s^2.
-void check_kernel_formula(const PrintedFormula& f, const Kernel& k, const std::string& spec) {
+void check_kernel_formula(const PrintedFormula& f, const ExactKernel& k, const std::string& spec) {
     Laurent p;
     Atom factor;
     if (!single_piece(k.W, "kernel", spec).single_polynomial(&p, &factor)) fail("internal: kernel is not a polynomial");
@@ -314,7 +314,7 @@ void check_hessian_formula(const PrintedFormula& f, const Quantities& qs, const 
 void Checker::anderson_formula(const Entry& e) {
     const int D = e.param("D"), M = e.param("M"), order = e.param("order");
     const std::string spec = mollifier_spec(M, order);
-    const Kernel& k = kernel(spec, D);
+    const ExactKernel& k = kernel(spec, D);
     const PrintedFormula f = read_formula(e, D, [this, D, M] { return table1_sigma(D, M); });
     if (e.quantity == "anderson.kernel") {
         check_kernel_formula(f, k, spec);

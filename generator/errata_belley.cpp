@@ -143,7 +143,7 @@ void compare_support(const Entry& e, const std::string& support) {
 void Checker::classic_kernel(const Entry& e) {
     const std::string name = e.param_text("kernel");
     const int D = e.param("D");
-    const Kernel& k = kernel(name, D);
+    const ExactKernel& k = kernel(name, D);
     const PrintedClassic printed = read_classic(e);
     Laurent shape;
     Atom factor;
@@ -167,7 +167,7 @@ void Checker::classic_kernel(const Entry& e) {
 namespace {
 
 // 0 for W itself, 1 and 2 for the kernels of the first and second derivative.
-int derivative_order(const Kernel& k) {
+int derivative_order(const ExactKernel& k) {
     switch (k.normalised_by) {
         case Normalisation::unit_mass: return 0;
         case Normalisation::first_derivative: return 1;
@@ -193,7 +193,7 @@ void add_term(Bivariate& poly, const std::pair<int, int>& key, const Q& c) {
 
 // K_h(y) = h^(-1-p) W(y/h): int y^m K_h = h^(m-p) mu_m, mu_m = int_R s^m W.
 // int x^n K_h(x0 - x) dx = sum_m C(n,m) (-1)^m x0^(n-m) h^(m-p) mu_m.
-Bivariate exact_moment(const Kernel& k, const std::string& name, int n) {
+Bivariate exact_moment(const ExactKernel& k, const std::string& name, int n) {
     const int p = derivative_order(k);
     Bivariate exact;
     for (int m = 0; m <= n; ++m) {
@@ -266,7 +266,7 @@ void Checker::belley_moment(const Entry& e) {
 void Checker::belley_kernel_value(const Entry& e) {
     const std::string name = e.param_text("kernel");
     e.param_text("piece");
-    const Kernel& k = kernel(name, 1);
+    const ExactKernel& k = kernel(name, 1);
     const int exact_hp = -1 - derivative_order(k);
     const json& pr = e.printed();
     const Q value = e.rational(pr, "value", "printed");

@@ -211,7 +211,7 @@ void compare_proportional(const Entry& e, const std::vector<Proportional>& items
 // ---------------------------------------------------------------------------
 // Checker: the exact side
 
-const Kernel& Checker::kernel(const std::string& spec, int dim) {
+const ExactKernel& Checker::kernel(const std::string& spec, int dim) {
     const auto key = std::make_pair(spec, dim);
     auto it = kernels_.find(key);
     if (it == kernels_.end()) it = kernels_.emplace(key, make_kernel(parse_spec(spec), dim)).first;

@@ -160,7 +160,7 @@ public:
     void check(const Entry& e);
 
 private:
-    const Kernel& kernel(const std::string& spec, int dim);
+    const ExactKernel& kernel(const std::string& spec, int dim);
     const Quantities& quantities(const std::string& spec, int dim);
 
     // A printed rational against an exact one.
@@ -189,7 +189,7 @@ private:
     void belley_moment(const Entry& e);
     void belley_kernel_value(const Entry& e);
 
-    std::map<std::pair<std::string, int>, Kernel> kernels_;
+    std::map<std::pair<std::string, int>, ExactKernel> kernels_;
     std::map<std::pair<std::string, int>, Quantities> quantities_;
 };
 

@@ -316,7 +316,7 @@ void Checker::wendland_combo(const Entry& e) {
     if (m < 2 || m % 2 != 0 || m / 2 > max_combo_m) e.bad("params.m (the moment order) must be even and at least 2");
     const int K = m / 2;
     const std::string base = "wendland:k=" + std::to_string(k) + ",l=" + std::to_string(l);
-    const Kernel& combo = kernel("combo:m=" + std::to_string(K) + ",base=" + base, d);
+    const ExactKernel& combo = kernel("combo:m=" + std::to_string(K) + ",base=" + base, d);
     const ComboMembers members{kernel(base, d).shape, d, K};
     const std::vector<ComboTerm> terms = read_combo_terms(e);
     const Radial printed = printed_combination(terms);

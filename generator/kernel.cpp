@@ -16,23 +16,24 @@ Exact unit_mass_normalisation(const Radial& shape, int dim) {
     return (sphere_measure(dim) * radial_integral(shape, dim - 1)).inverse();
 }
 
-void finish(Kernel& k) { k.W = k.shape * k.normalisation; }
+void finish(ExactKernel& k) { k.W = k.shape * k.normalisation; }
 
-Kernel mollifier(const Spec& s, int dim) {
-    Kernel k;
+ExactKernel mollifier(const Spec& s, int dim) {
+    ExactKernel k;
     const ExponentMethod e = exponent_method(s.M, s.order, dim);
     Laurent shape;
     for (std::size_t j = 0; j < e.alpha.size(); ++j) shape += one_minus_r2_power(s.M + static_cast<int>(j)) * e.alpha[j];
     k.shape = Radial::single(shape);
     k.normalisation = e.normalisation;
+    k.alpha = e.alpha;
     k.claims.smoothness = s.M - 1;
     k.claims.order = s.order;
     k.source = s.order == 2 ? "Anderson 2014, eq. (3)" : "Anderson 2014, eqs. (11)-(12), exponent method";
     return k;
 }
 
-Kernel wendland(const Spec& s, int dim) {
-    Kernel k;
+ExactKernel wendland(const Spec& s, int dim) {
+    ExactKernel k;
     k.shape = Radial::single(wendland_shape(dim, s.k, s.l));
     k.normalisation = unit_mass_normalisation(k.shape, dim);
     k.claims.smoothness = wendland_edge_power(dim, s.k, s.l) - 1;  // Franz Cor. 4.37
@@ -40,8 +41,8 @@ Kernel wendland(const Spec& s, int dim) {
     return k;
 }
 
-Kernel missing_wendland(const Spec& s, int dim) {
-    Kernel k;
+ExactKernel missing_wendland(const Spec& s, int dim) {
+    ExactKernel k;
     k.shape = Radial::single(missing_wendland_shape(dim, s.k, s.l));
     k.normalisation = unit_mass_normalisation(k.shape, dim);
     // psi ~ (1-r)^(mu+l+k+1/2) at the edge, mu = floor((d+1)/2) + k + 1.
@@ -50,8 +51,8 @@ Kernel missing_wendland(const Spec& s, int dim) {
     return k;
 }
 
-Kernel classic(const Spec& s, int dim) {
-    Kernel k;
+ExactKernel classic(const Spec& s, int dim) {
+    ExactKernel k;
     k.shape = classic_shape(s.family);
     switch (s.family) {
         case Family::poly6: k.claims.smoothness = 2; k.source = "Mueller et al. 2003 (seed 002 eq. (6))"; break;
@@ -91,14 +92,15 @@ Kernel classic(const Spec& s, int dim) {
     return k;
 }
 
-Kernel combo(const Spec& s, int dim) {
-    const Kernel base = make_kernel(*s.base, dim);
+ExactKernel combo(const Spec& s, int dim) {
+    ExactKernel k;
+    k.base = std::make_shared<const ExactKernel>(make_kernel(*s.base, dim));
+    const ExactKernel& base = *k.base;
     const std::vector<Q> a = radii(s);
-    const std::vector<Q> w = vandermonde_weights(a);
-    Kernel k;
+    k.weights = vandermonde_weights(a);
     k.shape.breaks = {Q(0), Q(1)};
     k.shape.pieces = {ClosedForm()};
-    for (std::size_t j = 0; j < w.size(); ++j) k.shape = k.shape + base.shape.scaled(a[j], dim) * Exact(w[j]);
+    for (std::size_t j = 0; j < a.size(); ++j) k.shape = k.shape + base.shape.scaled(a[j], dim) * Exact(k.weights[j]);
     k.normalisation = base.normalisation;
     k.claims.smoothness = base.claims.smoothness;
     const int m = static_cast<int>(s.radii.size());
@@ -110,9 +112,9 @@ Kernel combo(const Spec& s, int dim) {
 
 }  // namespace
 
-Kernel make_kernel(const Spec& spec, int dim) {
+ExactKernel make_kernel(const Spec& spec, int dim) {
     if (dim < 1 || dim > 3) fail("dimension " + std::to_string(dim) + " is outside 1..3");
-    Kernel k;
+    ExactKernel k;
     switch (spec.family) {
         case Family::mollifier: k = mollifier(spec, dim); break;
         case Family::wendland: k = wendland(spec, dim); break;
@@ -126,22 +128,21 @@ Kernel make_kernel(const Spec& spec, int dim) {
     return k;
 }
 
-std::vector<ComboTerm> combo_terms(const Kernel& k) {
+std::vector<ComboTerm> combo_terms(const ExactKernel& k) {
     if (k.spec.family != Family::combo) return {};
-    const Kernel base = make_kernel(*k.spec.base, k.dim);
+    const ExactKernel& base = *k.base;
     const std::vector<Q> a = radii(k.spec);
-    const std::vector<Q> w = vandermonde_weights(a);
     std::vector<ComboTerm> out;
     for (std::size_t j = 0; j < a.size(); ++j) {
-        Kernel psi = base;
+        ExactKernel psi = base;
         psi.shape = base.shape.scaled(a[j], k.dim);
         psi.W = base.W.scaled(a[j], k.dim);
-        out.push_back({w[j], std::move(psi)});
+        out.push_back({k.weights[j], std::move(psi)});
     }
     return out;
 }
 
-Exact radial_moment(const Kernel& k, int p) {
+Exact radial_moment(const ExactKernel& k, int p) {
     return sphere_measure(k.dim) * radial_integral(k.W, k.dim - 1 + p);
 }
 

@@ -6,6 +6,7 @@
 #include "radial.hpp"
 #include "spec.hpp"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,7 @@ struct Claims {
     std::string no_potential;  // why there is no Poisson potential; empty if there is one
 };
 
-struct Kernel {
+struct ExactKernel {
     Spec spec;
     int dim = 3;
     Radial shape;
@@ -32,21 +33,25 @@ struct Kernel {
     Normalisation normalised_by = Normalisation::unit_mass;
     Claims claims;
     std::string source;  // where the definition comes from
+    // Computed once here, read by combo_terms and the writers:
+    std::vector<Q> alpha;    // a mollifier's alpha_j, B = normalisation * sum_j alpha_j (1-r^2)^(M+j) (Anderson (12))
+    std::vector<Q> weights;  // a combination's w_j of W = sum_j w_j psi_{a_j} (Franz (4.17), Prop. 4.24)
+    std::shared_ptr<const ExactKernel> base;  // a combination's psi, unit mass, support 1
 };
 
 // Throws Error for a dimension outside 1..3 or a kernel not defined in it.
-Kernel make_kernel(const Spec& spec, int dim);
+ExactKernel make_kernel(const Spec& spec, int dim);
 
 // The terms of a combination W = sum_j w_j psi_{a_j} (Franz (4.17)):
 // psi_{a_j} = a_j^-D psi(r/a_j), the base kernel (unit mass) scaled to
 // support a_j, with its weight w_j (Prop. 4.24). Empty for other families.
 struct ComboTerm {
     Q weight;
-    Kernel kernel;
+    ExactKernel kernel;
 };
-std::vector<ComboTerm> combo_terms(const Kernel& k);
+std::vector<ComboTerm> combo_terms(const ExactKernel& k);
 
 // int_{R^D} |x|^p W dx (radial moment), exactly; p = 0 is the mass.
-Exact radial_moment(const Kernel& k, int p);
+Exact radial_moment(const ExactKernel& k, int p);
 
 }  // namespace mollify::gen

@@ -25,18 +25,21 @@ std::vector<Spec> parse_specs(const std::vector<std::string>& texts) {
     return specs;
 }
 
-int run_emit(const std::string& out, const std::vector<std::string>& only) {
-    std::string command = "mollify-gen emit";
+int run_emit(const std::string& out, const std::vector<std::string>& only, const std::string& format) {
+    if (format != "cpp" && format != "data") fail("--format " + format + " is neither cpp nor data");
+    std::string command = "mollify-gen emit" + (format == "cpp" ? std::string() : " --format " + format);
     std::vector<Spec> specs = only.empty() ? default_specs() : parse_specs(only);
     for (const Spec& s : specs) command += only.empty() ? "" : " --only " + spec_string(s);
-    const EmitResult r = render_catalogue(expand_dimensions(specs), command);
+    const EmitResult r = render_catalogue(expand_dimensions(specs), command,
+                                          format == "cpp" ? EmitFormat::cpp : EmitFormat::data);
     if (!r.failed_certificates.empty()) {
         for (const auto& f : r.failed_certificates) std::cerr << "certificate failed: " << f << "\n";
         std::cerr << r.failed_certificates.size() << " certificates failed; nothing written\n";
         return 1;
     }
-    write_files(out, r);
-    std::cout << "wrote " << r.files.size() << " files to " << out << ": " << r.kernels << " kernels, "
+    const std::size_t written = write_files(out, r);
+    std::cout << "wrote " << written << " of " << r.files.size() << " files to " << out << " (the others unchanged): "
+              << r.kernels << " kernels, "
               << r.certificates << " certificates, all exact\n";
     return 0;
 }
@@ -46,7 +49,7 @@ int run_value(const std::string& spec_text, int dim, const std::string& r_text, 
     const Q r = parse_rational(r_text, "--r");
     if (r < 0) fail("--r " + r_text + " must be >= 0 (a radial distance)");
     if (digits < 1 || digits > 100000) fail("--digits " + std::to_string(digits) + " is outside 1..100000");
-    const Kernel k = make_kernel(parse_spec(spec_text), dim);
+    const ExactKernel k = make_kernel(parse_spec(spec_text), dim);
     const Quantities q = derive_quantities(k);
     const Radial& f = quantity(k, q, name);
     const ClosedForm& form = f.form_at(r);
@@ -90,7 +93,7 @@ int run_certify(const std::vector<std::string>& specs, const std::vector<int>& d
     int failed = 0;
     for (const Spec& s : parse_specs(specs))
         for (int dim : dims) {
-            const Kernel k = make_kernel(s, dim);
+            const ExactKernel k = make_kernel(s, dim);
             for (const Certificate& c : certify(k, derive_quantities(k))) {
                 std::cout << (c.passed ? "ok    " : "FAIL  ") << spec_string(s) << " D=" << dim << "  " << c.what
                           << "  [" << c.detail << "]\n";
@@ -112,6 +115,9 @@ int main(int argc, char** argv) {
     std::vector<std::string> only;
     emit->add_option("--out", out, "output folder")->capture_default_str();
     emit->add_option("--only", only, "emit only these kernel specs (all dimensions)");
+    std::string format = "cpp";
+    emit->add_option("--format", format, "cpp: C++ headers and catalogue.json; data: table files (write_data.cpp)")
+        ->capture_default_str();
 
     auto* value = app.add_subcommand("value", "one exact value, correctly rounded to --digits significant digits");
     std::string spec_text, r_text, name = "value";
@@ -163,7 +169,7 @@ int main(int argc, char** argv) {
         return bad_input;
     }
     try {
-        if (*emit) return run_emit(out, only);
+        if (*emit) return run_emit(out, only, format);
         if (*value) return run_value(spec_text, dim, r_text, name, digits, exact);
         if (*weights) return run_weights(radii);
         if (*errata) return run_errata(transcriptions);

@@ -24,7 +24,7 @@ Radial hessian_radial(const Radial& d1, const Radial& d2) {
 
 }  // namespace
 
-Quantities derive_quantities(const Kernel& k) {
+Quantities derive_quantities(const ExactKernel& k) {
     Quantities q;
     q.value = k.W;
     q.dr = k.W.derivative();
@@ -46,7 +46,7 @@ const std::vector<std::string>& quantity_names() {
     return names;
 }
 
-const Radial& quantity(const Kernel& k, const Quantities& q, const std::string& name) {
+const Radial& quantity(const ExactKernel& k, const Quantities& q, const std::string& name) {
     if (name == "value") return q.value;
     if (name == "dr") return q.dr;
     if (name == "d2r") return q.d2r;

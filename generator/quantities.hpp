@@ -19,10 +19,10 @@ struct Quantities {
     std::optional<Radial> potential, dpotential, dpotential_over_r, potential_hess_radial;
 };
 
-Quantities derive_quantities(const Kernel& k);
+Quantities derive_quantities(const ExactKernel& k);
 
 // Named access for the CLI and the emitters: "value", "dr", ... , "potential".
 const std::vector<std::string>& quantity_names();
-const Radial& quantity(const Kernel& k, const Quantities& q, const std::string& name);
+const Radial& quantity(const ExactKernel& k, const Quantities& q, const std::string& name);
 
 }  // namespace mollify::gen

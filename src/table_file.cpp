@@ -1,290 +1,234 @@
-// Tables as data (include/mollify/table_file.hpp): the writer and the reader
-// of the text format, and the storage a table read at run time points into.
-#include <mollify/error.hpp>
-#include <mollify/smoothing.hpp>
 #include <mollify/table_file.hpp>
 
-#include <charconv>
-#include <cstdio>
+#include <mollify/error.hpp>
+
+#include <cerrno>
+#include <cstdlib>
 #include <deque>
 #include <fstream>
-#include <iterator>
 #include <sstream>
-#include <string>
-#include <system_error>
-#include <unistd.h>
 #include <vector>
 
 namespace mollify {
 
-namespace {
-
-constexpr std::string_view magic = "mollify-table 1";
-
-// %a: the shortest exact hexadecimal form ("0x1.8p+0"); strtod reads it back
-// exactly.
-std::string hex(double x) {
-    if (x == table::infinity) return "inf";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%a", x);
-    return buf;
-}
-
-template <class Names, class E>
-const char* enum_name(const Names& names, E e) {
-    return names[static_cast<int>(e)];
-}
-
-void write_term(std::string& out, const table::Term& t, int q, int p, int ti, const CoefficientNote& note) {
-    out += "term " + std::string(enum_name(table::basis_names, t.basis)) + " " + std::to_string(t.s_power) + " " +
-           enum_name(table::var_names, t.var) + " " + hex(t.edge) + " " + hex(t.edge_lo) + " " +
-           std::to_string(t.edge_power) + " " + std::to_string(t.low) + " " + hex(t.centre) + " " + hex(t.centre_lo) +
-           " " + std::to_string(t.n) + "\n";
-    for (int k = 0; k < t.n; ++k) {
-        out += "c " + hex(t.c[k]) + " " + hex(t.c_lo ? t.c_lo[k] : 0.0);
-        const std::string text = note ? note(q, p, ti, k) : std::string();
-        if (!text.empty()) out += "  # " + text;
-        out += "\n";
-    }
-}
-
-// The storage of a table read from text: the table::Kernel points into it.
-struct OwnedTable {
-    table::Kernel kernel{};
+struct TableFile::Storage {
     std::string spec, normalisation_exact;
-    std::deque<std::vector<double>> numbers;  // coefficient arrays (a deque: no reallocation moves them)
+    // deques: elements stay in place while more are appended, so the
+    // pointers in `kernel` stay valid.
+    std::deque<std::vector<double>> doubles;
     std::deque<std::vector<table::Term>> terms;
     std::deque<std::vector<table::Piece>> pieces;
+    table::Kernel kernel{};
 };
 
-// Reads one line at a time, splitting it into whitespace-separated fields
-// (a comment dropped); errors name the origin and the line.
-class Lines {
-public:
-    Lines(std::string_view text, std::string_view origin) : text_(text), origin_(origin) {}
+namespace {
 
-    // The next non-empty line's fields; empty at the end of the text.
-    std::vector<std::string_view> next() {
-        while (pos_ < text_.size()) {
-            const std::size_t end = std::min(text_.find('\n', pos_), text_.size());
-            std::string_view line = text_.substr(pos_, end - pos_);
-            pos_ = end + 1;
-            ++number_;
-            line_ = line;
-            if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
-            std::vector<std::string_view> fields;
-            std::size_t i = 0;
-            while (i < line.size()) {
-                while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-                const std::size_t start = i;
-                while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
-                if (i > start) fields.push_back(line.substr(start, i - start));
-            }
-            if (!fields.empty()) return fields;
-        }
-        return {};
+// The file's lines, one at a time, split into fields; every error names the
+// origin and the line.
+class Reader {
+public:
+    Reader(const std::string& text, std::string origin) : in_(text), origin_(std::move(origin)) {}
+
+    [[noreturn]] void bad(const std::string& what) const {
+        fail(origin_ + ":" + std::to_string(line_number_) + ": " + what);
     }
 
-    // The whole current line after its first `skip` fields (a free text).
-    std::string_view rest_of_line(std::string_view after) const {
-        const std::size_t at = line_.find(after);
-        std::string_view rest = line_.substr(at + after.size());
-        while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
-        while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\r')) rest.remove_suffix(1);
+    // The next line, which must start with `key`; returns the rest.
+    std::string line(const std::string& key) {
+        if (!std::getline(in_, current_)) {
+            ++line_number_;
+            bad("the file ends where '" + key + "' was expected");
+        }
+        ++line_number_;
+        if (current_ != key && current_.compare(0, key.size() + 1, key + " ") != 0)
+            bad("'" + current_ + "' is not a '" + key + "' line");
+        const std::string rest = current_.size() > key.size() ? current_.substr(key.size() + 1) : std::string();
+        fields_.clear();
+        std::istringstream f(rest);
+        for (std::string s; f >> s;) fields_.push_back(s);
+        next_ = 0;
         return rest;
     }
 
-    [[noreturn]] void bad(const std::string& what) const {
-        fail(std::string(origin_) + ":" + std::to_string(number_) + ": " + what);
+    // The fields of the current line, one after the other.
+    std::string field(const char* what) {
+        if (next_ >= fields_.size()) bad("'" + current_ + "' misses " + what);
+        return fields_[next_++];
     }
-
-    std::vector<std::string_view> expect(std::string_view keyword, std::size_t fields) {
-        std::vector<std::string_view> f = next();
-        if (f.empty()) bad("unexpected end of table, expected '" + std::string(keyword) + "'");
-        if (f[0] != keyword) bad("expected '" + std::string(keyword) + "', found '" + std::string(f[0]) + "'");
-        if (f.size() < fields)
-            bad("'" + std::string(keyword) + "' needs " + std::to_string(fields - 1) + " fields, has " +
-                std::to_string(f.size() - 1));
-        return f;
-    }
-
-    double real(std::string_view field, std::string_view what) const {
-        if (field == "inf") return table::infinity;
-        const std::string s(field);
+    int integer(const char* what) {
+        const std::string s = field(what);
         char* end = nullptr;
-        const double x = std::strtod(s.c_str(), &end);
-        if (s.empty() || end != s.c_str() + s.size()) bad(std::string(what) + " '" + s + "' is not a number");
-        return x;
+        errno = 0;
+        const long v = std::strtol(s.c_str(), &end, 10);
+        if (s.empty() || *end != '\0' || errno != 0 || v < -1000000 || v > 1000000)
+            bad(std::string(what) + " '" + s + "' is not an integer");
+        return static_cast<int>(v);
     }
-
-    int integer(std::string_view field, std::string_view what, int lo, int hi) const {
-        int v = 0;
-        const auto [p, ec] = std::from_chars(field.data(), field.data() + field.size(), v);
-        if (ec != std::errc() || p != field.data() + field.size() || v < lo || v > hi)
-            bad(std::string(what) + " '" + std::string(field) + "' is not an integer in " + std::to_string(lo) + ".." +
-                std::to_string(hi));
+    // Hex-floats as written (strtod reads them exactly), "inf" for infinity.
+    double number(const char* what) {
+        const std::string s = field(what);
+        char* end = nullptr;
+        const double v = std::strtod(s.c_str(), &end);
+        if (s.empty() || *end != '\0' || s.find_first_of("xXi") == std::string::npos)
+            bad(std::string(what) + " '" + s + "' is not a hex-float double");
         return v;
     }
-
-    template <class E, std::size_t N>
-    E name_of(std::string_view field, const char* const (&names)[N], std::string_view what) const {
-        for (std::size_t i = 0; i < N; ++i)
-            if (field == names[i]) return static_cast<E>(i);
-        bad("unknown " + std::string(what) + " '" + std::string(field) + "'");
+    // The next field without taking it ("" at the end of the line).
+    std::string peek() const { return next_ < fields_.size() ? fields_[next_] : std::string(); }
+    void done() {
+        if (next_ != fields_.size()) bad("'" + current_ + "' has more fields than expected");
     }
-
-    // The value of `key` at fields[i] (fields[i - 1] must be the key).
-    std::string_view keyed(const std::vector<std::string_view>& f, std::size_t i, std::string_view key) const {
-        if (i >= f.size() || f[i - 1] != key) bad("expected '" + std::string(key) + "' at field " + std::to_string(i));
-        return f[i];
+    bool at_end() {
+        std::string rest;
+        return !(in_ >> rest);
     }
 
 private:
-    std::string_view text_, origin_, line_;
-    std::size_t pos_ = 0;
-    int number_ = 0;
+    std::istringstream in_;
+    std::string origin_, current_;
+    std::vector<std::string> fields_;
+    std::size_t next_ = 0;
+    int line_number_ = 0;
 };
 
-// Sanity of what the evaluator relies on: pieces ordered, the last reaching
-// to infinity, terms well formed.
-void check_piece(const Lines& in, const table::Piece& piece, double previous_hi) {
-    if (!(piece.lo == previous_hi) || !(piece.lo < piece.hi)) in.bad("piece bounds out of order");
+table::Basis basis(Reader& r) {
+    const std::string name = r.field("basis");
+    for (table::Basis b : {table::Basis::one, table::Basis::sqrt_power, table::Basis::arcsech, table::Basis::log,
+                           table::Basis::arcsin})
+        if (name == table::basis_name(b)) return b;
+    r.bad("basis '" + name + "' is not one of one, sqrt_power, arcsech, log, arcsin");
 }
 
-table::Term read_term(Lines& in, OwnedTable& owned) {
-    const auto f = in.expect("term", 11);
+table::Var var(Reader& r) {
+    const std::string name = r.field("var");
+    for (table::Var v : {table::Var::r, table::Var::r2, table::Var::shifted})
+        if (name == table::var_name(v)) return v;
+    r.bad("var '" + name + "' is not one of r, r2, shifted");
+}
+
+const double* stored(TableFile::Storage& s, std::vector<double> v) {
+    s.doubles.push_back(std::move(v));
+    return s.doubles.back().data();
+}
+
+table::Term term(Reader& r, TableFile::Storage& s) {
+    r.line("term");
     table::Term t{};
-    t.basis = in.name_of<table::Basis>(f[1], table::basis_names, "basis");
-    t.s_power = in.integer(f[2], "s_power", -1000, 1000);
-    t.var = in.name_of<table::Var>(f[3], table::var_names, "variable");
-    t.edge = in.real(f[4], "edge");
-    t.edge_lo = in.real(f[5], "edge_lo");
-    t.edge_power = in.integer(f[6], "edge_power", -1000, 1000);
-    t.low = in.integer(f[7], "low", -1000, 1000);
-    t.centre = in.real(f[8], "centre");
-    t.centre_lo = in.real(f[9], "centre_lo");
-    t.n = in.integer(f[10], "coefficient count", 1, 100000);
-    std::vector<double> c, lo;
-    bool exact = true;
-    for (int k = 0; k < t.n; ++k) {
-        const auto cf = in.expect("c", 3);
-        c.push_back(in.real(cf[1], "coefficient"));
-        lo.push_back(in.real(cf[2], "low part"));
-        exact = exact && lo.back() == 0;
+    t.basis = basis(r);
+    t.s_power = r.integer("s_power");
+    t.var = var(r);
+    t.edge = r.number("edge");
+    t.edge_lo = r.number("edge_lo");
+    t.edge_power = r.integer("edge_power");
+    t.low = r.integer("low");
+    t.centre = r.number("centre");
+    t.centre_lo = r.number("centre_lo");
+    t.n = r.integer("n");
+    if (t.n < 1 || t.n > 10000) r.bad("n = " + std::to_string(t.n) + " is outside 1..10000");
+    std::vector<double> c;
+    for (int k = 0; k < t.n; ++k) c.push_back(r.number("a coefficient c_k"));
+    t.c = stored(s, std::move(c));
+    if (r.peek() == "-") {
+        r.field("the low parts");
+    } else {
+        std::vector<double> lo;
+        for (int k = 0; k < t.n; ++k) lo.push_back(r.number("a low part c_lo_k (or '-')"));
+        t.c_lo = stored(s, std::move(lo));
     }
-    t.c = owned.numbers.emplace_back(std::move(c)).data();
-    t.c_lo = exact ? nullptr : owned.numbers.emplace_back(std::move(lo)).data();
+    r.done();
     return t;
 }
 
-table::Quantity read_quantity(Lines& in, OwnedTable& owned, int q) {
-    const auto f = in.expect("quantity", 4);
-    if (f[1] != quantity_names[q])
-        in.bad("expected quantity '" + std::string(quantity_names[q]) + "', found '" + std::string(f[1]) + "'");
-    const int npieces = in.integer(in.keyed(f, 3, "pieces"), "piece count", 0, 100000);
+table::Quantity quantity(Reader& r, TableFile::Storage& s, int index) {
+    r.line("quantity");
+    const std::string name = r.field("the quantity's name");
+    if (name != table::quantity_names[index])
+        r.bad("quantity '" + name + "' where '" + table::quantity_names[index] + "' was expected (table::QuantityId order)");
+    const int npieces = r.integer("npieces");
+    if (npieces < 0 || npieces > 100000) r.bad("npieces = " + std::to_string(npieces) + " is outside 0..100000");
+    r.done();
+    if (npieces == 0) return {nullptr, 0};
     std::vector<table::Piece> pieces;
-    double hi = 0;
     for (int p = 0; p < npieces; ++p) {
-        const auto pf = in.expect("piece", 5);
-        table::Piece piece{in.real(pf[1], "piece lo"), in.real(pf[2], "piece hi"), nullptr,
-                           in.integer(in.keyed(pf, 4, "terms"), "term count", 0, 100000)};
-        check_piece(in, piece, hi);
-        hi = piece.hi;
+        r.line("piece");
+        table::Piece piece{};
+        piece.lo = r.number("lo");
+        piece.hi = r.number("hi");
+        piece.nterms = r.integer("nterms");
+        if (piece.nterms < 0 || piece.nterms > 100000) r.bad("nterms = " + std::to_string(piece.nterms) + " is outside 0..100000");
+        r.done();
         std::vector<table::Term> terms;
-        for (int t = 0; t < piece.nterms; ++t) terms.push_back(read_term(in, owned));
-        if (!terms.empty()) piece.terms = owned.terms.emplace_back(std::move(terms)).data();
+        for (int t = 0; t < piece.nterms; ++t) terms.push_back(term(r, s));
+        if (!terms.empty()) {
+            s.terms.push_back(std::move(terms));
+            piece.terms = s.terms.back().data();
+        }
         pieces.push_back(piece);
     }
-    if (npieces > 0 && hi != table::infinity) in.bad("the last piece of " + std::string(quantity_names[q]) + " must reach inf");
-    const table::Piece* data = pieces.empty() ? nullptr : owned.pieces.emplace_back(std::move(pieces)).data();
-    return {data, npieces};
+    s.pieces.push_back(std::move(pieces));
+    return {s.pieces.back().data(), npieces};
+}
+
+int single_integer(Reader& r, const char* key) {
+    r.line(key);
+    const int v = r.integer(key);
+    r.done();
+    return v;
+}
+
+double single_number(Reader& r, const char* key) {
+    r.line(key);
+    const double v = r.number(key);
+    r.done();
+    return v;
 }
 
 }  // namespace
 
-std::string write_table(const table::Kernel& k, std::string_view banner, const CoefficientNote& note) {
-    std::string out;
-    out += magic;
-    out += "\n";
-    std::size_t start = 0;
-    while (start < banner.size()) {
-        const std::size_t end = std::min(banner.find('\n', start), banner.size());
-        out += "# " + std::string(banner.substr(start, end - start)) + "\n";
-        start = end + 1;
-    }
-    out += "kernel " + std::string(k.spec) + " dim " + std::to_string(k.dim) + " support " + hex(k.support) +
-           " smoothness " + std::to_string(k.smoothness) + " order " + std::to_string(k.order) + " parity " +
-           std::to_string(k.parity) + " has_potential " + (k.has_potential ? "1" : "0") + "\n";
-    out += "normalisation " + hex(k.normalisation) + " " + k.normalisation_exact + "\n";
-    for (int q = 0; q < table::quantity_count; ++q) {
-        const table::Quantity& quantity = k.quantities[q];
-        out += "quantity " + std::string(quantity_names[q]) + " pieces " + std::to_string(quantity.npieces) + "\n";
-        for (int p = 0; p < quantity.npieces; ++p) {
-            const table::Piece& piece = quantity.pieces[p];
-            out += "piece " + hex(piece.lo) + " " + hex(piece.hi) + " terms " + std::to_string(piece.nterms) + "\n";
-            for (int t = 0; t < piece.nterms; ++t) write_term(out, piece.terms[t], q, p, t, note);
-        }
-    }
-    out += "end\n";
-    return out;
+TableFile::TableFile(std::unique_ptr<Storage> s) : s_(std::move(s)) {}
+TableFile::TableFile(TableFile&&) noexcept = default;
+TableFile& TableFile::operator=(TableFile&&) noexcept = default;
+TableFile::~TableFile() = default;
+
+const table::Kernel& TableFile::kernel() const { return s_->kernel; }
+
+TableFile TableFile::parse(const std::string& text, const std::string& origin) {
+    auto s = std::make_unique<Storage>();
+    Reader r(text, origin);
+    r.line("mollify-table");
+    const std::string version = r.field("the format version");
+    if (version != "1") r.bad("format version '" + version + "' is not 1 (a newer mollify-gen wrote it?)");
+    r.done();
+    r.line("generator");
+    s->spec = r.line("spec");
+    if (s->spec.empty() || s->spec.find(' ') != std::string::npos) r.bad("spec '" + s->spec + "' is not a kernel spec");
+    table::Kernel& k = s->kernel;
+    k.spec = s->spec.c_str();
+    k.dim = single_integer(r, "dim");
+    if (k.dim < 1 || k.dim > 3) r.bad("dimension " + std::to_string(k.dim) + " is outside 1..3");
+    k.support = single_number(r, "support");
+    k.smoothness = single_integer(r, "smoothness");
+    k.order = single_integer(r, "order");
+    k.parity = single_integer(r, "parity");
+    k.normalisation = single_number(r, "normalisation");
+    s->normalisation_exact = r.line("normalisation_exact");
+    k.normalisation_exact = s->normalisation_exact.c_str();
+    const int has_potential = single_integer(r, "has_potential");
+    if (has_potential != 0 && has_potential != 1) r.bad("has_potential " + std::to_string(has_potential) + " is not 0 or 1");
+    k.has_potential = has_potential == 1;
+    for (int i = 0; i < table::quantity_count; ++i) k.quantities[i] = quantity(r, *s, i);
+    r.line("end");
+    r.done();
+    if (!r.at_end()) r.bad("text after 'end'");
+    return TableFile(std::move(s));
 }
 
-std::shared_ptr<const table::Kernel> read_table(std::string_view text, std::string_view origin) {
-    Lines in(text, origin);
-    const auto head = in.next();
-    if (head.size() != 2 || head[0] != "mollify-table" || head[1] != "1")
-        in.bad("not a mollify table (expected the first line '" + std::string(magic) + "')");
-    auto owned = std::make_shared<OwnedTable>();
-    table::Kernel& k = owned->kernel;
-    const auto f = in.expect("kernel", 14);
-    owned->spec = std::string(f[1]);
-    k.spec = owned->spec.c_str();
-    k.dim = in.integer(in.keyed(f, 3, "dim"), "dimension", 1, 3);
-    k.support = in.real(in.keyed(f, 5, "support"), "support");
-    if (k.support != 1.0) in.bad("support " + std::string(f[5]) + " is not 1 (tables are emitted with support 1)");
-    k.smoothness = in.integer(in.keyed(f, 7, "smoothness"), "smoothness", -1, 1000);
-    k.order = in.integer(in.keyed(f, 9, "order"), "order", 0, 1000);
-    k.parity = in.integer(in.keyed(f, 11, "parity"), "parity", -1, 1);
-    k.has_potential = in.integer(in.keyed(f, 13, "has_potential"), "has_potential", 0, 1) == 1;
-    const auto n = in.expect("normalisation", 2);
-    k.normalisation = in.real(n[1], "normalisation");
-    owned->normalisation_exact = std::string(in.rest_of_line(n[1]));
-    k.normalisation_exact = owned->normalisation_exact.c_str();
-    for (int q = 0; q < table::quantity_count; ++q) k.quantities[q] = read_quantity(in, *owned, q);
-    in.expect("end", 1);
-    if (!in.next().empty()) in.bad("text after 'end'");
-    if (k.quantities[0].npieces == 0) in.bad("the table has no value");
-    return {owned, &owned->kernel};
-}
-
-std::shared_ptr<const table::Kernel> read_table_file(const std::filesystem::path& path) {
+TableFile TableFile::load(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) fail("cannot read table file '" + path.string() + "'");
-    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    return read_table(text, path.string());
-}
-
-void write_file_atomically(const std::filesystem::path& path, std::string_view text) {
-    const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-    std::filesystem::create_directories(dir);
-    std::string temp = (dir / ("." + path.filename().string() + ".tmp-XXXXXX")).string();
-    const int fd = ::mkstemp(temp.data());
-    if (fd < 0) fail("cannot create a temporary file beside '" + path.string() + "'");
-    ::close(fd);
-    {
-        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-        out.write(text.data(), static_cast<std::streamsize>(text.size()));
-        if (!out.flush()) {
-            std::filesystem::remove(temp);
-            fail("cannot write '" + temp + "'");
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(temp, path, ec);
-    if (ec) {
-        std::filesystem::remove(temp);
-        fail("cannot rename '" + temp + "' to '" + path.string() + "': " + ec.message());
-    }
+    if (!in) fail("cannot read the table file " + path.string());
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse(text.str(), path.string());
 }
 
 }  // namespace mollify

@@ -135,7 +135,7 @@ TEST(Anderson, TheoremOneDeterminesTheMollifier) {
     for (int D = 1; D <= 3; ++D)
         for (int M = 1; M <= 9; ++M) {
             const Poly c = theorem_one(M, D, M - 1);
-            const Kernel k = kernel(mollifier(M), D);
+            const ExactKernel k = kernel(mollifier(M), D);
             // W = omega_D^-1 sum_k c'_k r^(2k), as an exact radial function.
             const Radial expected = Radial::single(ClosedForm(to_laurent(c))) * omega(D).inverse();
             EXPECT_TRUE(k.W == expected) << "D = " << D << ", M = " << M;
@@ -157,7 +157,7 @@ TEST(Anderson, TheoremOneDeterminesTheMollifier) {
 // different solution (Lemma 1: conditions (17) are what force (1-r^2)^M).
 TEST(Anderson, TheoremOneDetectsAWrongSystem) {
     for (int M = 2; M <= 9; ++M) {
-        const Kernel k = kernel(mollifier(M), 3);
+        const ExactKernel k = kernel(mollifier(M), 3);
         const Radial wrong_dim = Radial::single(ClosedForm(to_laurent(theorem_one(M, 2, M - 1)))) * omega(3).inverse();
         EXPECT_FALSE(k.W == wrong_dim) << "M = " << M;
         const Radial wrong_q = Radial::single(ClosedForm(to_laurent(theorem_one(M, 3, M)))) * omega(3).inverse();
@@ -170,7 +170,7 @@ TEST(Anderson, TheoremOneDetectsAWrongSystem) {
 TEST(Anderson, NormalisationSigma) {
     for (int M = 1; M <= 9; ++M) {
         for (int D = 1; D <= 3; ++D) {
-            const Kernel k = kernel(mollifier(M), D);
+            const ExactKernel k = kernel(mollifier(M), D);
             EXPECT_EQ(k.W.at(Q(0)) * omega(D), Exact(sigma(M, D))) << "D = " << D << ", M = " << M;
             EXPECT_EQ(k.normalisation, Exact::pi_power(sigma(M, D) / omega_rational(D), -omega_pi(D)));
             // Cross-check of the Beta closed form by direct integration here.
@@ -213,7 +213,7 @@ TEST(Anderson, SecondMoments) {
 void check_exponent_method(int M, int order, int D) {
     const std::string what = mollifier(M, order) + " in D = " + std::to_string(D);
     SCOPED_TRACE(what);
-    const Kernel k = kernel(mollifier(M, order), D);
+    const ExactKernel k = kernel(mollifier(M, order), D);
     const int K = order / 2;
     int e = 0;
     const Poly w = polynomial_of(k.W, &e);
@@ -311,8 +311,8 @@ Radial appendix_b(const Q& gamma, int D, const Q& alpha1) {
 }
 
 TEST(Anderson, AppendixBFourthOrderM4) {
-    const Kernel k2 = kernel("mollifier:M=4,order=4", 2);
-    const Kernel k3 = kernel("mollifier:M=4,order=4", 3);
+    const ExactKernel k2 = kernel("mollifier:M=4,order=4", 2);
+    const ExactKernel k3 = kernel("mollifier:M=4,order=4", 3);
     EXPECT_TRUE(k2.W == appendix_b(Q(-60), 2, Q(-7, 5)));
     EXPECT_TRUE(k3.W == appendix_b(Q(-45045, 256), 3, Q(-3, 2)));
     // Perturbed prefactor or coefficient: must not match.

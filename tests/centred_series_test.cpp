@@ -52,7 +52,7 @@ TEST(CentredSeries, TruncatedSeriesOfMissingWendlandQuantitiesIsWithinItsProvenT
     int checked = 0;
     for (const CatalogueEntry& e : expand_dimensions(default_specs())) {
         if (e.spec.family != Family::wendland_missing || spec_string(e.spec) != "wendland-missing:k=2,l=2") continue;
-        const Kernel k = make_kernel(e.spec, e.dim);
+        const ExactKernel k = make_kernel(e.spec, e.dim);
         const Quantities qs = derive_quantities(k);
         for (const std::string& name : quantity_names()) {
             const ClosedForm& f = quantity(k, qs, name).pieces.front();

@@ -24,9 +24,9 @@
 namespace mollify::gen {
 namespace {
 
-Kernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
+ExactKernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
 
-std::vector<Certificate> certificates(const Kernel& k) { return certify(k, derive_quantities(k)); }
+std::vector<Certificate> certificates(const ExactKernel& k) { return certify(k, derive_quantities(k)); }
 
 // Names (and details) of the failed certificates, "" when all pass.
 std::string failures(const std::vector<Certificate>& cs) {
@@ -47,7 +47,7 @@ bool has(const std::vector<Certificate>& cs, const std::string& what) {
 // How many certificates a kernel must get: normalisation (1, or 2 for
 // box-d2), one per vanishing moment, one for the exact order, (s+1) per
 // breakpoint for C^s continuity, and for a potential 1 + 2 per breakpoint.
-std::size_t expected_count(const Kernel& k) {
+std::size_t expected_count(const ExactKernel& k) {
     std::size_t n = k.normalised_by == Normalisation::second_derivative ? 2 : 1;
     if (k.normalised_by == Normalisation::unit_mass) n += static_cast<std::size_t>(k.claims.order / 2 - 1) + 1;
     const std::size_t breaks = k.W.breaks.size() - 1;
@@ -60,7 +60,7 @@ TEST(Certificate, WholeCataloguePasses) {
     const std::vector<CatalogueEntry> entries = expand_dimensions(default_specs());
     EXPECT_GT(entries.size(), 200u);
     for (const CatalogueEntry& e : entries) {
-        const Kernel k = make_kernel(e.spec, e.dim);
+        const ExactKernel k = make_kernel(e.spec, e.dim);
         const std::vector<Certificate> cs = certificates(k);
         const std::string what = spec_string(e.spec) + " in D = " + std::to_string(e.dim);
         EXPECT_EQ(failures(cs), "") << what;
@@ -84,7 +84,7 @@ TEST(Certificate, MissingWendlandPasses) {
     for (const char* spec : {"wendland-missing:k=1,l=1", "wendland-missing:k=2,l=2", "wendland-missing:k=0",
                              "wendland-missing:k=3,l=1"})
         for (int D = 1; D <= 3; ++D) {
-            const Kernel k = kernel(spec, D);
+            const ExactKernel k = kernel(spec, D);
             const std::vector<Certificate> cs = certificates(k);
             EXPECT_EQ(failures(cs), "") << spec << " in D = " << D;
             EXPECT_EQ(cs.size(), expected_count(k)) << spec << " in D = " << D;
@@ -102,7 +102,7 @@ TEST(Certificate, PerturbedMassFails) {
     for (const char* spec : {"mollifier:M=9,order=6", "wendland:k=4,l=4", "combo:m=3,base=mollifier:M=9", "poly6",
                              "cubic-spline", "wendland-missing:k=1,l=1"})
         for (int D = 1; D <= 3; ++D) {
-            Kernel k = kernel(spec, D);
+            ExactKernel k = kernel(spec, D);
             k.W = k.shape * (k.normalisation * (Q(1) + eps));
             const std::vector<Certificate> cs = certificates(k);
             EXPECT_TRUE(failed(cs, "unit mass")) << spec << " in D = " << D << ": " << failures(cs);
@@ -112,7 +112,7 @@ TEST(Certificate, PerturbedMassFails) {
             }
         }
     // Adding 10^-6 (1-r^2)^9 to a kernel: the same.
-    Kernel k = kernel("mollifier:M=9", 3);
+    ExactKernel k = kernel("mollifier:M=9", 3);
     Laurent bump(Q(1));
     for (int i = 0; i < 9; ++i) bump = bump * (Laurent(Q(1)) - Laurent::monomial(Q(1), 2));
     k.W = k.W + Radial::single(ClosedForm(bump * Q(1, 1000000)));
@@ -121,16 +121,16 @@ TEST(Certificate, PerturbedMassFails) {
 
 // Belley's kernels: a perturbed normalisation fails their own certificates.
 TEST(Certificate, PerturbedBelleyNormalisationFails) {
-    Kernel d1 = kernel("box-d1", 1);
+    ExactKernel d1 = kernel("box-d1", 1);
     d1.W = d1.shape * (d1.normalisation * Q(999, 1000));
     EXPECT_TRUE(failed(certificates(d1), "int x W dx = -1 (f * W ~ f')"));
-    Kernel d2 = kernel("box-d2", 1);
+    ExactKernel d2 = kernel("box-d2", 1);
     d2.W = d2.shape * (d2.normalisation * Q(1001, 1000));
     const std::vector<Certificate> c2 = certificates(d2);
     EXPECT_TRUE(failed(c2, "int x^2 W dx = 2 (f * W ~ f'')"));
     EXPECT_FALSE(failed(c2, "zero mass"));
     // Unbalanced pieces break the zero mass.
-    Kernel d3 = kernel("box-d2", 1);
+    ExactKernel d3 = kernel("box-d2", 1);
     d3.W.pieces[1] = d3.W.pieces[1] * Q(2);
     EXPECT_TRUE(failed(certificates(d3), "zero mass"));
 }
@@ -142,8 +142,8 @@ TEST(Certificate, PerturbedComboWeightFailsAMoment) {
     for (const char* base : {"wendland:k=2,l=1", "mollifier:M=9"})
         for (int D = 1; D <= 3; ++D) {
             const std::string spec = std::string("combo:m=3,base=") + base;
-            Kernel k = kernel(spec, D);
-            const Kernel b = kernel(base, D);
+            ExactKernel k = kernel(spec, D);
+            const ExactKernel b = kernel(base, D);
             const std::vector<Q> radii = equidistant_radii(3);
             auto build = [&](const std::vector<Q>& w) {
                 Radial shape;
@@ -181,7 +181,7 @@ TEST(Certificate, OverclaimedSmoothnessFails) {
         {"wendland-missing:k=2,l=2", 2, "W^(9) continuous at r = 1"},  // ~ (1-r)^(1+4+2+1+1/2): C^8
     };
     for (const Case& c : cases) {
-        Kernel k = kernel(c.spec, c.D);
+        ExactKernel k = kernel(c.spec, c.D);
         ASSERT_EQ(failures(certificates(k)), "") << c.spec;
         k.claims.smoothness += 1;
         const std::vector<Certificate> cs = certificates(k);
@@ -191,19 +191,19 @@ TEST(Certificate, OverclaimedSmoothnessFails) {
 
 // Over- and under-claimed order.
 TEST(Certificate, MisclaimedOrderFails) {
-    Kernel k = kernel("mollifier:M=9,order=6", 3);
+    ExactKernel k = kernel("mollifier:M=9,order=6", 3);
     k.claims.order = 8;
     EXPECT_TRUE(failed(certificates(k), "moment |x|^6 = 0"));
     k.claims.order = 4;
     EXPECT_TRUE(failed(certificates(k), "moment |x|^4 != 0 (order exactly 4)"));
-    Kernel c = kernel("combo:m=3,base=wendland:k=3,l=2", 2);
+    ExactKernel c = kernel("combo:m=3,base=wendland:k=3,l=2", 2);
     c.claims.order += 2;
     EXPECT_TRUE(failed(certificates(c), "moment |x|^6 = 0"));
 }
 
 // Delta phi = W fails when the potential does not belong to the kernel.
 TEST(Certificate, ForeignPotentialFails) {
-    const Kernel k = kernel("wendland:k=2", 3);
+    const ExactKernel k = kernel("wendland:k=2", 3);
     Quantities q = derive_quantities(k);
     q.potential = derive_quantities(kernel("wendland:k=1", 3)).potential;
     EXPECT_TRUE(failed(certify(k, q), "Delta phi = W identically"));

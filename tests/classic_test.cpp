@@ -21,7 +21,7 @@
 namespace mollify::gen {
 namespace {
 
-Kernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
+ExactKernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
 
 Exact pi_power(long long p, long long q, int e) { return Exact::pi_power(Q(p, q), e); }
 
@@ -103,7 +103,7 @@ TEST(Classic, NormalisationsDerivedHere) {
 
 TEST(Classic, GeneratorNormalisations) {
     for (const auto& e : expected) {
-        const Kernel k = kernel(e.spec, e.D);
+        const ExactKernel k = kernel(e.spec, e.D);
         EXPECT_EQ(k.normalisation, e.N) << e.spec << " in D = " << e.D << ": " << k.normalisation.to_string();
         EXPECT_EQ(radial_moment(k, 0), Exact(Q(1))) << e.spec << " in D = " << e.D;
         // W = N * shape, with the shape's value at 0 (finite except viscosity).
@@ -164,7 +164,7 @@ TEST(Classic, Claims) {
 // h = 1, W(x) = -sign(x), and (17) at x_0 = 0 reads int x delta'(-x) dx = 1, i.e.
 // int x W(x) dx = -1 (f * W ~ f'). By hand: int_{-1}^1 x (-sign x) dx = -2 int_0^1 x = -1.
 TEST(Classic, BelleyFirstDerivative) {
-    const Kernel k = kernel("box-d1", 1);
+    const ExactKernel k = kernel("box-d1", 1);
     EXPECT_EQ(k.normalised_by, Normalisation::first_derivative);
     EXPECT_EQ(k.W.parity, -1);
     EXPECT_EQ(k.W.at(Q(1, 2)), Exact(Q(-1)));
@@ -178,7 +178,7 @@ TEST(Classic, BelleyFirstDerivative) {
 // Belley (20): delta'' = 4/h^3 for h/2 < |x| < h, -4/h^3 for |x| < h/2. With h = 1:
 // mass 2 (-4 * 1/2 + 4 * 1/2) = 0 and int x^2 W = 2 (-4/24 + 4 (1/3 - 1/24)) = 2 (-1/6 + 7/6) = 2.
 TEST(Classic, BelleySecondDerivative) {
-    const Kernel k = kernel("box-d2", 1);
+    const ExactKernel k = kernel("box-d2", 1);
     EXPECT_EQ(k.normalised_by, Normalisation::second_derivative);
     EXPECT_EQ(k.normalisation, Exact(Q(4)));
     EXPECT_EQ(k.W.breaks, (std::vector<Q>{Q(0), Q(1, 2), Q(1)}));

@@ -121,6 +121,7 @@ TEST(Cli, BadArgumentsExitWithStatus2NamingTheValue) {
         {"weights --radii 0,1", "radius 0"},
         {"value wendland:k=2 --r 0", "--dim"},
         {"frobnicate", "frobnicate"},
+        {"emit --format xml --out /nonexistent/mollify-cli-test", "--format xml"},
     };
     for (const auto& [args, named] : cases) {
         const Outcome r = run(args);

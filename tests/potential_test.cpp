@@ -20,7 +20,7 @@
 namespace mollify::gen {
 namespace {
 
-Kernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
+ExactKernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
 
 // Which kernels must have a Poisson potential, by a rule on the kernel's
 // normalisation, not on the generator's no_potential claim: phi equals the Green's function outside the support, so
@@ -110,7 +110,7 @@ TEST(Potential, AndersonInnerPotential) {
     for (int D = 2; D <= 3; ++D)
         for (int M = 1; M <= 9; ++M) {
             SCOPED_TRACE("M = " + std::to_string(M) + ", D = " + std::to_string(D));
-            const Kernel k = kernel("mollifier:M=" + std::to_string(M), D);
+            const ExactKernel k = kernel("mollifier:M=" + std::to_string(M), D);
             const Radial phi = potential(k.W, D);
             ASSERT_EQ(phi.pieces.size(), 1u);
             const Laurent v = anderson_series(M, D);
@@ -177,7 +177,7 @@ TEST(Potential, CatalogueLaplacianAndContinuity) {
     int checked = 0;
     std::vector<std::string> without;
     for (const CatalogueEntry& e : expand_dimensions(default_specs())) {
-        const Kernel k = make_kernel(e.spec, e.dim);
+        const ExactKernel k = make_kernel(e.spec, e.dim);
         const std::string what = spec_string(e.spec) + " in D = " + std::to_string(e.dim);
         ASSERT_EQ(k.claims.no_potential.empty(), expects_potential(k))
             << what << (expects_potential(k) ? ": unit mass but no potential: " + k.claims.no_potential
@@ -202,7 +202,7 @@ TEST(Potential, CatalogueLaplacianAndContinuity) {
 // A kernel without a potential says why when the potential is asked for.
 TEST(Potential, ZeroMassKernelsNameWhyThereIsNone) {
     for (const char* spec : {"box-d1", "box-d2"}) {
-        const Kernel k = kernel(spec, 1);
+        const ExactKernel k = kernel(spec, 1);
         const Quantities q = derive_quantities(k);
         EXPECT_FALSE(q.potential.has_value()) << spec;
         try {
@@ -226,7 +226,7 @@ TEST(Potential, MissingWendland) {
         for (int k = 0; k <= 2; ++k)
             for (int l = 0; l <= 2; ++l) {
                 const std::string spec = "wendland-missing:k=" + std::to_string(k) + ",l=" + std::to_string(l);
-                const Kernel K = kernel(spec, D);
+                const ExactKernel K = kernel(spec, D);
                 const std::string what = spec + " in D = " + std::to_string(D);
                 ASSERT_TRUE(expects_potential(K)) << what;
                 ASSERT_EQ(K.claims.no_potential, "") << what;
@@ -240,7 +240,7 @@ TEST(Potential, MissingWendland) {
             }
     EXPECT_EQ(checked, 3 * 3 * 3);
     // A perturbed mass is detected here too.
-    const Kernel K = kernel("wendland-missing:k=1,l=1", 3);
+    const ExactKernel K = kernel("wendland-missing:k=1,l=1", 3);
     const Radial phi = potential(K.W * Exact(Q(1001, 1000)), 3);
     EXPECT_NE(value_at(phi.pieces[0].derivative(), Q(1)), green_slope_at_one(3));
 }
@@ -297,7 +297,7 @@ TEST(Potential, MissingWendlandValueAtZero) {
         for (int k = 0; k <= 2; ++k)
             for (int l = 0; l <= 2; ++l) {
                 const std::string spec = "wendland-missing:k=" + std::to_string(k) + ",l=" + std::to_string(l);
-                const Kernel K = kernel(spec, D);
+                const ExactKernel K = kernel(spec, D);
                 ASSERT_EQ(K.claims.no_potential, "") << spec << " in D = " << D << " has unit mass";
                 const Poly g = wendland_inner((D + 1) / 2 + k + 1 + l, k);
                 Exact want;
@@ -385,7 +385,7 @@ TEST(Potential, PerturbedKernelBreaksSlopeContinuity) {
     for (const char* spec : {"mollifier:M=4", "wendland:k=2", "cubic-spline"})
         for (int D = 1; D <= 3; ++D) {
             const std::string what = std::string(spec) + " in D = " + std::to_string(D);
-            const Kernel k = kernel(spec, D);
+            const ExactKernel k = kernel(spec, D);
             const Radial W = k.W + Radial::single(ClosedForm(Laurent(Q(1, 1000))));
             const Radial phi = potential(W, D);
             EXPECT_TRUE(radial_laplacian(phi, D) == W) << what;

@@ -14,7 +14,7 @@ namespace mollify::gen::reference {
 
 using Poly = std::vector<Q>;  // c[i] multiplies r^i
 
-inline Kernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
+inline ExactKernel kernel(const std::string& spec, int dim) { return make_kernel(parse_spec(spec), dim); }
 
 // omega_D = omega_rational(D) * pi^omega_pi(D): 2, 2 pi, 4 pi.
 inline Q omega_rational(int D) { return D == 3 ? Q(4) : Q(2); }

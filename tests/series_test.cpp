@@ -69,7 +69,7 @@ template <class F>
 void for_each_missing_wendland_quantity(F fn) {
     for (const CatalogueEntry& e : expand_dimensions(default_specs())) {
         if (e.spec.family != Family::wendland_missing) continue;
-        const Kernel k = make_kernel(e.spec, e.dim);
+        const ExactKernel k = make_kernel(e.spec, e.dim);
         const Quantities q = derive_quantities(k);
         for (const std::string& name : quantity_names()) fn(quantity(k, q, name).pieces.front(), e, name);
     }

@@ -50,7 +50,7 @@ std::optional<double> exact_double(const Radial& f, const Q& r) {
 TEST(Tables, EveryKernelMatchesItsExactValues) {
     int checked = 0;
     for (const table::Kernel* t : mollify::tables::all_kernels) {
-        const Kernel k = make_kernel(parse_spec(t->spec), t->dim);
+        const ExactKernel k = make_kernel(parse_spec(t->spec), t->dim);
         const Quantities q = derive_quantities(k);
         EXPECT_EQ(t->normalisation, round_to_double(k.normalisation)) << t->spec;
         EXPECT_EQ(std::string(t->normalisation_exact), k.normalisation.to_string()) << t->spec;
@@ -122,7 +122,7 @@ TEST(Tables, SeriesPiecesAreAccurateToAFewUlp) {
     int checked = 0;
     for (const table::Kernel* t : mollify::tables::all_kernels) {
         if (std::string(t->spec).rfind("wendland-missing:", 0) != 0) continue;
-        const Kernel k = make_kernel(parse_spec(t->spec), t->dim);
+        const ExactKernel k = make_kernel(parse_spec(t->spec), t->dim);
         const Quantities q = derive_quantities(k);
         for (int i = 0; i < table::quantity_count; ++i) {
             const Radial& f = quantity(k, q, quantity_names()[static_cast<std::size_t>(i)]);
@@ -146,7 +146,7 @@ TEST(Tables, TwoDimensionalPotentialsKeepRelativeAccuracyAtTheEdge) {
     int checked = 0;
     for (const table::Kernel* t : mollify::tables::all_kernels) {
         if (t->dim != 2 || !t->has_potential || std::string(t->spec).rfind("wendland-missing:", 0) == 0) continue;
-        const Kernel k = make_kernel(parse_spec(t->spec), t->dim);
+        const ExactKernel k = make_kernel(parse_spec(t->spec), t->dim);
         const Quantities q = derive_quantities(k);
         const int i = static_cast<int>(table::QuantityId::potential);
         const Radial& f = quantity(k, q, "potential");
@@ -250,7 +250,7 @@ TEST(Tables, CombinationsKeepTheAccuracyOfTheirTerms) {
     for (const table::Kernel* t : mollify::tables::all_kernels) {
         const Spec spec = parse_spec(t->spec);
         if (spec.family != Family::combo) continue;
-        const Kernel k = make_kernel(spec, t->dim);
+        const ExactKernel k = make_kernel(spec, t->dim);
         const Quantities q = derive_quantities(k);
         const std::vector<ComboTerm> terms = combo_terms(k);
         for (const char* name : {"value", "grad_over_r"}) {

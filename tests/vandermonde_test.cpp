@@ -186,7 +186,7 @@ TEST(Vandermonde, ComboTermsSumToTheCombination) {
     for (const char* text : {"combo:m=3,base=wendland:k=2,l=1", "combo:radii=1/4;3/5;1,base=mollifier:M=4",
                              "combo:m=2,base=cubic-spline"})
         for (int dim = 1; dim <= 3; ++dim) {
-            const Kernel k = make_kernel(parse_spec(text), dim);
+            const ExactKernel k = make_kernel(parse_spec(text), dim);
             const std::vector<ComboTerm> terms = combo_terms(k);
             ASSERT_EQ(terms.size(), k.spec.radii.size());
             Radial W = k.W * Exact(Q(0)), phi = *derive_quantities(k).potential * Exact(Q(0));

@@ -140,7 +140,7 @@ TEST(Wendland, UnitMassValueAtZeroMatchesLiterature) {
         const Poly psi = own_wendland(D, k, 0);
         EXPECT_EQ(Exact::pi_power(at(psi, Q(0)) / (omega_rational(D) * integral01(psi, D - 1)), -omega_pi(D)), want)
             << "own integration, D = " << D << ", k = " << k;
-        const Kernel K = kernel("wendland:k=" + std::to_string(k), D);
+        const ExactKernel K = kernel("wendland:k=" + std::to_string(k), D);
         EXPECT_EQ(K.W.at(Q(0)), want) << "D = " << D << ", k = " << k << ": " << K.W.at(Q(0)).to_string();
         EXPECT_EQ(radial_moment(K, 0), Exact(Q(1)));
     }
@@ -404,7 +404,7 @@ TEST(WendlandMissing, NormalisationByFubini) {
                 const Exact want = D == 1 ? Exact::pi_power(Q(1) / G, -1)
                                  : D == 2 ? Exact::pi_power(Q(1) / (2 * G), -1)
                                           : Exact::pi_power(Q(1) / G, -2);
-                const Kernel K = kernel("wendland-missing:k=" + std::to_string(k) + ",l=" + std::to_string(l), D);
+                const ExactKernel K = kernel("wendland-missing:k=" + std::to_string(k) + ",l=" + std::to_string(l), D);
                 EXPECT_EQ(K.normalisation, want) << "D = " << D << ", k = " << k << ", l = " << l << ": "
                                                  << K.normalisation.to_string() << " vs " << want.to_string();
                 EXPECT_EQ(radial_moment(K, 0), Exact(Q(1)));

@@ -34,11 +34,28 @@ enum class Basis : unsigned char {
     arcsin,      // arcsin r
 };
 
+// Their names in C++ and in catalogue.json.
+constexpr const char* basis_name(Basis b) {
+    switch (b) {
+        case Basis::one: return "one";
+        case Basis::sqrt_power: return "sqrt_power";
+        case Basis::arcsech: return "arcsech";
+        case Basis::log: return "log";
+        case Basis::arcsin: return "arcsin";
+    }
+    return "?";
+}
+
 enum class Var : unsigned char { r, r2, shifted };
 
-// The enumerators' names, in order (the data format, table_file.hpp).
-inline constexpr const char* basis_names[] = {"one", "sqrt_power", "arcsech", "log", "arcsin"};
-inline constexpr const char* var_names[] = {"r", "r2", "shifted"};
+constexpr const char* var_name(Var v) {
+    switch (v) {
+        case Var::r: return "r";
+        case Var::r2: return "r2";
+        case Var::shifted: return "shifted";
+    }
+    return "?";
+}
 
 struct Term {
     Basis basis;

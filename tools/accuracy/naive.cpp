@@ -114,7 +114,7 @@ NaivePieceData naive_piece(const ClosedForm& f, const Q& lo, const Q& hi) {
     return d;
 }
 
-gen::Radial radial_quantity(const gen::Kernel& k, QuantityId q) {
+gen::Radial radial_quantity(const gen::ExactKernel& k, QuantityId q) {
     if (q == QuantityId::value) return k.W;
     if (q == QuantityId::grad_over_r) return k.W.derivative().times(Laurent::monomial(Q(1), -1));
     fail(std::string("naive forms exist for value and grad_over_r only, not ") + quantity_names[static_cast<int>(q)]);
@@ -123,7 +123,7 @@ gen::Radial radial_quantity(const gen::Kernel& k, QuantityId q) {
 }  // namespace
 
 NaivePolynomial naive_polynomial(const std::string& spec, int dim, QuantityId q) {
-    const gen::Kernel k = gen::make_kernel(parse_spec(spec), dim);
+    const gen::ExactKernel k = gen::make_kernel(parse_spec(spec), dim);
     const gen::Radial f = radial_quantity(k, q);
     NaivePolynomial out;
     out.scale_power = detail::scale_power(q, dim);

@@ -448,7 +448,7 @@ void check_arguments(mpfr_srcptr r, mpfr_srcptr h) {
 
 struct Reference::Impl {
     int dim = 0;
-    gen::Kernel kernel;
+    gen::ExactKernel kernel;
     std::array<Form, table::quantity_count> forms;
     std::array<Form, table::quantity_count> slopes;  // r d/dr of each
     std::array<std::once_flag, level_count> built;

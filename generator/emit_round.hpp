@@ -1,0 +1,42 @@
+// The tables of one quantity as the runtime holds them: the planned pieces
+// (emit_plan.hpp), checked (emit_checks.hpp), every number rounded to the
+// nearest double with its rounding error (table.hpp's Term::c_lo, edge_lo,
+// centre_lo) and the exact values kept for the writers' comments. What the
+// C++ writer and the data writer both write.
+#pragma once
+
+#include "radial.hpp"
+
+#include <mollify/table.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mollify::gen {
+
+struct RoundedTerm {
+    table::Basis basis;
+    int s_power;
+    table::Var var;
+    double edge, edge_lo;  // the piece's hi (edge_lo 0) where edge_power = 0
+    int edge_power;
+    int low;
+    std::vector<double> c;
+    std::vector<double> c_lo;         // empty where every low part is 0 (table::Term::c_lo = nullptr)
+    std::vector<std::string> exact;   // c's exact values, for comments
+    double centre = 0, centre_lo = 0;  // table::Var::shifted
+};
+
+struct RoundedPiece {
+    double lo, hi;  // hi: table::infinity for the exterior
+    std::vector<RoundedTerm> terms;
+    std::string note;  // "[lo, hi) exactly, how the piece is written"
+};
+
+// nullopt where the quantity is absent (a potential of a kernel without one).
+// `parts`: a combination's terms' quantities w_j f_j (else empty).
+std::optional<std::vector<RoundedPiece>> rounded_quantity(const Radial* f, bool potential_like,
+                                                          const std::vector<Radial>& parts);
+
+}  // namespace mollify::gen
