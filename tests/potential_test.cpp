@@ -27,7 +27,7 @@ ExactKernel kernel(const std::string& spec, int dim) { return make_kernel(parse_
 // Gauss's law omega_D phi'(1) = int W needs unit mass. The kernels normalised
 // otherwise (Belley's derivative estimators box-d1, box-d2: zero mass) have
 // none; every unit-mass kernel must have one.
-bool expects_potential(const Kernel& k) { return k.normalised_by == Normalisation::unit_mass; }
+bool expects_potential(const ExactKernel& k) { return k.normalised_by == Normalisation::unit_mass; }
 
 Z choose(int n, int k) {
     Z b = 1;
