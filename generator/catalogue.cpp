@@ -28,14 +28,17 @@ std::vector<Spec> default_specs() {
     return specs;
 }
 
+bool defined_in(const Spec& s, int dim) {
+    if (dim < 1 || dim > 3) return false;
+    return !((s.family == Family::viscosity && dim == 1) ||
+             ((s.family == Family::box_d1 || s.family == Family::box_d2) && dim != 1));
+}
+
 std::vector<CatalogueEntry> expand_dimensions(const std::vector<Spec>& specs) {
     std::vector<CatalogueEntry> out;
     for (const Spec& s : specs)
-        for (int dim = 1; dim <= 3; ++dim) {
-            const bool defined = !((s.family == Family::viscosity && dim == 1) ||
-                                   ((s.family == Family::box_d1 || s.family == Family::box_d2) && dim != 1));
-            if (defined) out.push_back({s, dim});
-        }
+        for (int dim = 1; dim <= 3; ++dim)
+            if (defined_in(s, dim)) out.push_back({s, dim});
     return out;
 }
 
