@@ -214,8 +214,7 @@ void register_kernel(const char* label) {
     using W = mollify::StaticKernel<K>;  // Precision::accurate, the default
     using F = mollify::StaticKernel<K, mollify::Precision::fast>;
     static_assert(W::dim == 3);
-    static constexpr mollify::detail::KernelOps ops = mollify::detail::ops_of<K>();
-    const mollify::Kernel runtime(ops);  // what mollify::kernel(K.spec, 3) returns, without instantiating all tables
+    const mollify::Kernel runtime(K);  // what mollify::kernel(K.spec, 3) returns: the data-driven form
     const std::string spec = K.spec;
     const NaiveOf<K, QuantityId::value> nw = tight<NaiveOf<K, QuantityId::value>>(spec, QuantityId::value);
     const NaiveOf<K, QuantityId::grad_over_r> ng = tight<NaiveOf<K, QuantityId::grad_over_r>>(spec, QuantityId::grad_over_r);

@@ -1,0 +1,303 @@
+// The data-driven evaluator: any table evaluated from its plan (plan.hpp)
+// with the operations of detail/evaluate.hpp in the same order (the same
+// compensated Horner, double-double factors, edge series, Taylor pieces,
+// Green's-function exterior), so that its results are StaticKernel's bit
+// for bit on the same instruction set. Compiled once per instruction set
+// (CMake: generic x86-64 and x86-64-v3), each copy in its own inline
+// namespace (detail/isa.hpp).
+#include "evaluator.hpp"
+
+#include <mollify/static_kernel.hpp>
+
+namespace mollify::detail {
+inline namespace MOLLIFY_ISA {
+namespace {
+
+// ipow<N> with N at run time: the same binary-powering tree, so the same
+// roundings.
+double ipow_rt(double x, int n) {
+    if (n < 0) return 1.0 / ipow_rt(x, -n);
+    if (n == 0) return 1.0;
+    if (n == 1) return x;
+    const double half = ipow_rt(x, n / 2);
+    if (n % 2 == 0) return half * half;
+    return half * half * x;
+}
+
+DoubleDouble ipow_rt(const DoubleDouble& x, int n) {
+    if (n < 0) return ipow_rt(reciprocal(x), -n);
+    if (n == 0) return {1.0, 0.0};
+    if (n == 1) return x;
+    const DoubleDouble half = ipow_rt(x, n / 2);
+    if (n % 2 == 0) return half * half;
+    return half * half * x;
+}
+
+double basis_of(table::Basis b, const Scaled& a) {
+    switch (b) {
+        case table::Basis::arcsech: return basis<table::Basis::arcsech>(a);
+        case table::Basis::log: return basis<table::Basis::log>(a);
+        case table::Basis::arcsin: return basis<table::Basis::arcsin>(a);
+        default: return 1.0;  // never called for one, sqrt_power
+    }
+}
+
+// with_basis
+double with_basis(const TermPlan& t, const Scaled& a, double x) {
+    if (t.basis == table::Basis::log || t.basis == table::Basis::arcsech) {
+        // r^low log r -> 0 as r -> 0 for low > 0: the limit, not 0 * inf.
+        if (t.low > 0) return a.q == 0 ? 0.0 : x * basis_of(t.basis, a);
+        return x * basis_of(t.basis, a);
+    }
+    if (t.basis == table::Basis::arcsin) return x * basis_of(t.basis, a);
+    return x;
+}
+
+double horner(const double* c, int n, double v) {
+    double sum = c[n - 1];
+    for (int k = n - 2; k >= 0; --k) sum = mul_add(sum, v, c[k]);
+    return sum;
+}
+
+// compensated_horner over run-time coefficients.
+DoubleDouble compensated_horner(const double* c, const double* lo, int n, bool exact, double v, double dv) {
+    if (n == 1) return {c[0], lo[0]};
+    double sum = c[n - 1], error = lo[n - 1], slope = 0;
+    for (int k = n - 2; k >= 0; --k) {
+        slope = mul_add(slope, v, sum);
+        const DoubleDouble product = two_product(sum, v);
+        const DoubleDouble s = two_sum(product.hi, c[k]);
+        sum = s.hi;
+        if (exact) error = mul_add(error, v, product.lo + s.lo);
+        else error = mul_add(error, v, (product.lo + s.lo) + lo[k]);
+    }
+    return {sum, mul_add(slope, dv, error)};
+}
+
+// ---- Precision::fast ----
+
+double distance_to_edge(const TermPlan& t, const Scaled& a) {
+    const bool support_edge = t.edge == 1.0;
+    const double to_edge = support_edge ? a.e : mul_add(t.edge, a.h, -a.r) * a.inv_h;
+    return t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q);
+}
+
+double polynomial(const TermPlan& t, const Scaled& a) {
+    const double v = t.var == table::Var::r    ? a.q
+                     : t.var == table::Var::r2 ? a.q * a.q
+                                               : shifted(a, t.centre, t.centre_lo);
+    return horner(t.c, t.n, v);
+}
+
+double fast_term(const TermPlan& t, const Scaled& a) {
+    double x = polynomial(t, a);
+    if (t.low != 0) x *= ipow_rt(a.q, t.low);
+    if (t.edge_power != 0) x *= ipow_rt(distance_to_edge(t, a), t.edge_power);
+    if (t.basis == table::Basis::sqrt_power) x *= ipow_rt(std::sqrt(a.e * (1 + a.q)), t.s_power);
+    return with_basis(t, a, x);
+}
+
+double fast_piece(const PiecePlan& p, const Scaled& a) {
+    double sum = 0.0;
+    for (const TermPlan& t : p.terms) sum = sum + fast_term(t, a);
+    return sum;
+}
+
+// ---- Precision::accurate ----
+
+DoubleDouble distance_to_edge_dd(const TermPlan& t, const Scaled& a) {
+    DoubleDouble d = a.ee;
+    if (t.edge != 1.0) {
+        const DoubleDouble ah = two_product(t.edge, a.h);
+        const DoubleDouble s = two_sum(ah.hi, -a.r);
+        d = over_h({s.hi, s.lo + mul_add(t.edge_lo, a.h, ah.lo)}, a.h, a.inv_h);
+    }
+    if (t.var == table::Var::r) return d;
+    const DoubleDouble edge_plus_q = plus(t.edge, a.qq);
+    return d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + t.edge_lo};
+}
+
+DoubleDouble factor_dd(const TermPlan& t, const Scaled& a) {
+    DoubleDouble f{1.0, 0.0};
+    bool one = true;
+    auto times_f = [&](const DoubleDouble& g) {
+        f = one ? g : f * g;
+        one = false;
+    };
+    if (t.edge_power != 0) times_f(ipow_rt(distance_to_edge_dd(t, a), t.edge_power));
+    if (t.low != 0) times_f(ipow_rt(a.qq, t.low));
+    if (t.basis == table::Basis::sqrt_power) {
+        const DoubleDouble s2 = a.ee * plus(1.0, a.qq);  // S^2 = (1 - q)(1 + q)
+        if (t.s_power % 2 == 0) times_f(ipow_rt(s2, t.s_power / 2));
+        else times_f(ipow_rt(sqrt(s2), t.s_power));
+    }
+    return f;
+}
+
+DoubleDouble accurate_polynomial(const TermPlan& t, const Scaled& a) {
+    if (t.n == 1) return {t.c[0], t.c_lo[0]};
+    if (t.var == table::Var::shifted) {
+        const DoubleDouble v = shifted_dd(a, t.centre, t.centre_lo);
+        return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, v.hi, v.lo);
+    }
+    if (t.var == table::Var::r) return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.q, a.dq);
+    return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.q * a.q, a.dq2);
+}
+
+DoubleDouble accurate_term(const TermPlan& t, const Scaled& a, const DoubleDouble& factor) {
+    const DoubleDouble x = accurate_polynomial(t, a);
+    if (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power) return factor * x;
+    return {with_basis(t, a, rounded(factor * x)), 0.0};
+}
+
+double accurate_series(const PiecePlan& p, const Scaled& a) {
+    const TermPlan& first = p.terms.front();
+    const DoubleDouble d = distance_to_edge_dd(first, a);
+    const DoubleDouble w = fast_two_sum(d.hi, d.lo);
+    const DoubleDouble sum = compensated_horner(p.series_c.data(), p.series_lo.data(), static_cast<int>(p.series_c.size()),
+                                                p.series_exact, w.hi, w.lo);
+    const DoubleDouble x = factor_dd(first, a) * sum * a.scale;
+    return with_basis(first, a, rounded(x));
+}
+
+double accurate_piece(const PiecePlan& p, const Scaled& a) {
+    if (p.edge_series) return accurate_series(p, a);
+    if (p.terms.size() == 1) {
+        const TermPlan& t = p.terms.front();
+        DoubleDouble factor{1.0, 0.0};
+        if (t.has_factor) factor = factor_dd(t, a);
+        return rounded(accurate_term(t, a, factor) * a.scale);
+    }
+    DoubleDouble sum{0.0, 0.0}, previous{1.0, 0.0};
+    for (const TermPlan& t : p.terms) {
+        DoubleDouble factor{1.0, 0.0};
+        if (t.continues) factor = previous * ipow_rt(distance_to_edge_dd(t, a), t.step);
+        else if (t.has_factor) factor = factor_dd(t, a);
+        const DoubleDouble x = accurate_term(t, a, factor);
+        sum = sum + x;
+        previous = factor;
+    }
+    return rounded(sum * a.scale);
+}
+
+// ---- a quantity at one radius (StaticKernel::emitted) ----
+
+// The inner piece of q (inside<K, Q, Pr>): the highest whose lower end q
+// is not below.
+const PiecePlan& inner_piece(const QuantityPlan& qp, double q) {
+    std::size_t p = qp.inner.size() - 1;
+    while (p > 0 && q < qp.inner[p].lo) --p;
+    return qp.inner[p];
+}
+
+double green_term(const TermPlan& t, double r) {
+    const double v = t.var == table::Var::r ? r : r * r;
+    double x = horner(t.c, t.n, v);
+    if (t.low != 0) x *= ipow_rt(r, t.low);
+    if (t.basis == table::Basis::log) x *= std::log(r);
+    return x;
+}
+
+double outside(const QuantityPlan& qp, double r) {
+    double sum = 0.0;
+    for (const TermPlan& t : qp.exterior.terms) sum = sum + green_term(t, r);
+    return sum;
+}
+
+template <Precision Pr>
+double radial(const QuantityPlan& qp, QuantityId q, double r, const Smoothing& s, int dim) {
+    double in;
+    if constexpr (Pr == Precision::accurate) {
+        Scaled a = scaled_accurate(r, s.h(), s.inverse());
+        a.scale = {s.scale(q), s.scale_lo(q)};
+        in = accurate_piece(inner_piece(qp, a.q), a);
+    } else {
+        const Scaled a{r * s.inverse(), edge_distance(s.h() - r, s), r, s.h(), s.inverse()};
+        in = fast_piece(inner_piece(qp, a.q), a) * s.scale(q);
+    }
+    if (q == QuantityId::potential && dim == 2) in = mul_add(qp.log_coefficient, s.log_h(), in);
+    if (qp.zero_outside) return select(r <= s.h(), in, 0.0);
+    return r <= s.h() ? in : outside(qp, r);
+}
+
+template <Precision Pr>
+void evaluate_batch(const Plan& plan, QuantityId q, const double* __restrict r, double* __restrict out, std::size_t n,
+                    const Smoothing& smoothing) {
+    const Smoothing s = smoothing;
+    const QuantityPlan& qp = plan.quantities[static_cast<std::size_t>(q)];
+    const int dim = plan.table->dim;
+    for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
+}
+
+void evaluate(const Plan& plan, Precision pr, QuantityId q, const double* r, double* out, std::size_t n,
+              const Smoothing& s) {
+    if (pr == Precision::accurate) evaluate_batch<Precision::accurate>(plan, q, r, out, n, s);
+    else evaluate_batch<Precision::fast>(plan, q, r, out, n, s);
+}
+
+// ---- W and grad W at displacements (StaticKernel::pairs_unchecked) ----
+
+template <Precision Pr>
+void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoothing& smoothing, double* __restrict w,
+                 const std::span<double>* grad, std::size_t n) {
+    const Smoothing s = smoothing;
+    const int dim = plan.table->dim;
+    const QuantityPlan& value = plan.quantities[static_cast<std::size_t>(QuantityId::value)];
+    const QuantityPlan& over_r = plan.quantities[static_cast<std::size_t>(QuantityId::grad_over_r)];
+    const QuantityPlan& dr = plan.quantities[static_cast<std::size_t>(QuantityId::dr)];
+    const bool cusp = over_r.singular_at_origin;
+    if (dim == 1 || plan.odd || cusp) {
+        for (std::size_t i = 0; i < n; ++i) {
+            double xi[3] = {x[0][i], dim > 1 ? x[1][i] : 0.0, dim > 2 ? x[2][i] : 0.0};
+            double r;
+            if (dim == 1) {
+                r = std::abs(xi[0]);
+            } else {
+                double sq = xi[0] * xi[0];
+                for (int c = 1; c < dim; ++c) sq = mul_add(xi[c], xi[c], sq);
+                r = std::sqrt(sq);
+            }
+            double wi = radial<Pr>(value, QuantityId::value, r, s, dim);
+            if (plan.odd) wi = xi[0] < 0 ? -wi : wi;
+            w[i] = wi;
+            if (plan.odd) xi[0] = std::abs(xi[0]);  // oriented: W'(x) = f'(|x|)
+            if (cusp) {
+                if (!(r > 0)) {
+                    for (int c = 0; c < dim; ++c) grad[c][i] = 0.0;
+                    continue;
+                }
+                const double d = radial<Pr>(dr, QuantityId::dr, r, s, dim);
+                for (int c = 0; c < dim; ++c) grad[c][i] = d * (xi[c] / r);
+            } else {
+                const double g = radial<Pr>(over_r, QuantityId::grad_over_r, r, s, dim);
+                for (int c = 0; c < dim; ++c) grad[c][i] = g * xi[c];
+            }
+        }
+        return;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const double a = x[0][i], b = x[1][i];
+        double sq = mul_add(b, b, a * a);
+        if (dim == 3) sq = mul_add(x[2][i], x[2][i], sq);
+        const double r = std::sqrt(sq);
+        w[i] = radial<Pr>(value, QuantityId::value, r, s, dim);
+        const double g = radial<Pr>(over_r, QuantityId::grad_over_r, r, s, dim);
+        for (int c = 0; c < dim; ++c) grad[c][i] = g * x[c][i];
+    }
+}
+
+void pairs(const Plan& plan, Precision pr, const std::span<const double>* x, const Smoothing& s, double* w,
+           const std::span<double>* grad, std::size_t n) {
+    if (pr == Precision::accurate) pairs_batch<Precision::accurate>(plan, x, s, w, grad, n);
+    else pairs_batch<Precision::fast>(plan, x, s, w, grad, n);
+}
+
+}  // namespace
+
+#define MOLLIFY_STRINGIFY2(x) #x
+#define MOLLIFY_STRINGIFY(x) MOLLIFY_STRINGIFY2(x)
+extern const Evaluator isa_evaluator;
+const Evaluator isa_evaluator{MOLLIFY_STRINGIFY(MOLLIFY_ISA), &evaluate, &pairs};
+
+}  // namespace MOLLIFY_ISA
+}  // namespace mollify::detail
