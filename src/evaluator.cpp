@@ -9,6 +9,9 @@
 
 #include <mollify/static_kernel.hpp>
 
+#include <algorithm>
+#include <bit>
+
 namespace mollify::detail {
 inline namespace MOLLIFY_ISA {
 namespace {
@@ -220,13 +223,332 @@ double radial(const QuantityPlan& qp, QuantityId q, double r, const Smoothing& s
     return r <= s.h() ? in : outside(qp, r);
 }
 
+
+// ---- blocks of points: quantities whose inner pieces are all polynomial ----
+// (polynomial_inside: the static form evaluates every piece and selects,
+// branch-free). Terms and coefficients are looped outside, the B points of
+// a block inside, each operation the same as the scalar path's for each
+// point (so the results are the same bits), in loops the compiler
+// vectorises with the coefficient broadcast.
+
+constexpr std::size_t B = 8;
+
+struct DDs {
+    double hi[B], lo[B];
+};
+
+// ipow_rt on a block: the binary-powering tree of ipow<N> walked from the
+// top bit down (x^(2m+b) = (x^m)^2 x^b), the same products in the same order.
+void ipow_block(const double* x, int n, double* out) {
+    if (n < 0) {
+        ipow_block(x, -n, out);
+        for (std::size_t i = 0; i < B; ++i) out[i] = 1.0 / out[i];
+        return;
+    }
+    if (n == 0) {
+        for (std::size_t i = 0; i < B; ++i) out[i] = 1.0;
+        return;
+    }
+    for (std::size_t i = 0; i < B; ++i) out[i] = x[i];
+    for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
+        for (std::size_t i = 0; i < B; ++i) out[i] = out[i] * out[i];
+        if ((n >> bit) & 1)
+            for (std::size_t i = 0; i < B; ++i) out[i] = out[i] * x[i];
+    }
+}
+
+void ipow_block(const DDs& x, int n, DDs& out) {
+    if (n < 0) {
+        DDs inv;
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble y = reciprocal({x.hi[i], x.lo[i]});
+            inv.hi[i] = y.hi;
+            inv.lo[i] = y.lo;
+        }
+        ipow_block(inv, -n, out);
+        return;
+    }
+    if (n == 0) {
+        for (std::size_t i = 0; i < B; ++i) out.hi[i] = 1.0, out.lo[i] = 0.0;
+        return;
+    }
+    out = x;
+    for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
+        const bool times_x = (n >> bit) & 1;
+        for (std::size_t i = 0; i < B; ++i) {
+            DoubleDouble y = DoubleDouble{out.hi[i], out.lo[i]} * DoubleDouble{out.hi[i], out.lo[i]};
+            if (times_x) y = y * DoubleDouble{x.hi[i], x.lo[i]};
+            out.hi[i] = y.hi;
+            out.lo[i] = y.lo;
+        }
+    }
+}
+
+void horner_block(const double* c, int n, const double* v, double* out) {
+    for (std::size_t i = 0; i < B; ++i) out[i] = c[n - 1];
+    for (int k = n - 2; k >= 0; --k) {
+        const double ck = c[k];
+        for (std::size_t i = 0; i < B; ++i) out[i] = mul_add(out[i], v[i], ck);
+    }
+}
+
+struct FastBlock {
+    double q[B], e[B], r[B];
+    double h, inv_h;
+};
+
+void fast_term_block(const TermPlan& t, const FastBlock& a, double* x) {
+    double v[B], p[B];
+    for (std::size_t i = 0; i < B; ++i)
+        v[i] = t.var == table::Var::r    ? a.q[i]
+               : t.var == table::Var::r2 ? a.q[i] * a.q[i]
+                                         : mul_add(-t.centre, a.h, a.r[i]) * a.inv_h - t.centre_lo;
+    horner_block(t.c, t.n, v, x);
+    if (t.low != 0) {
+        ipow_block(a.q, t.low, p);
+        for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+    }
+    if (t.edge_power != 0) {
+        const bool support_edge = t.edge == 1.0;
+        for (std::size_t i = 0; i < B; ++i) {
+            const double to_edge = support_edge ? a.e[i] : mul_add(t.edge, a.h, -a.r[i]) * a.inv_h;
+            v[i] = t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q[i]);
+        }
+        ipow_block(v, t.edge_power, p);
+        for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+    }
+    if (t.basis == table::Basis::sqrt_power) {
+        for (std::size_t i = 0; i < B; ++i) v[i] = std::sqrt(a.e[i] * (1 + a.q[i]));
+        ipow_block(v, t.s_power, p);
+        for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+    }
+}
+
+void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
+    double x[B];
+    for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0;
+    for (const TermPlan& t : p.terms) {
+        fast_term_block(t, a, x);
+        for (std::size_t i = 0; i < B; ++i) sum[i] = sum[i] + x[i];
+    }
+}
+
+struct AccurateBlock {
+    double q[B], e[B], r[B], dq[B], dq2[B];
+    DDs qq, ee;
+    double h, inv_h;
+    DoubleDouble scale;
+};
+
+void distance_to_edge_block(const TermPlan& t, const AccurateBlock& a, DDs& out) {
+    for (std::size_t i = 0; i < B; ++i) {
+        DoubleDouble d{a.ee.hi[i], a.ee.lo[i]};
+        if (t.edge != 1.0) {
+            const DoubleDouble ah = two_product(t.edge, a.h);
+            const DoubleDouble s = two_sum(ah.hi, -a.r[i]);
+            d = over_h({s.hi, s.lo + mul_add(t.edge_lo, a.h, ah.lo)}, a.h, a.inv_h);
+        }
+        if (t.var != table::Var::r) {
+            const DoubleDouble edge_plus_q = plus(t.edge, {a.qq.hi[i], a.qq.lo[i]});
+            d = d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + t.edge_lo};
+        }
+        out.hi[i] = d.hi;
+        out.lo[i] = d.lo;
+    }
+}
+
+void times_block(DDs& f, const DDs& g) {
+    for (std::size_t i = 0; i < B; ++i) {
+        const DoubleDouble y = DoubleDouble{f.hi[i], f.lo[i]} * DoubleDouble{g.hi[i], g.lo[i]};
+        f.hi[i] = y.hi;
+        f.lo[i] = y.lo;
+    }
+}
+
+void factor_block(const TermPlan& t, const AccurateBlock& a, DDs& f) {
+    bool one = true;
+    DDs g, p;
+    auto times_f = [&](const DDs& x) {
+        if (one) f = x;
+        else times_block(f, x);
+        one = false;
+    };
+    for (std::size_t i = 0; i < B; ++i) f.hi[i] = 1.0, f.lo[i] = 0.0;
+    if (t.edge_power != 0) {
+        distance_to_edge_block(t, a, g);
+        ipow_block(g, t.edge_power, p);
+        times_f(p);
+    }
+    if (t.low != 0) {
+        ipow_block(a.qq, t.low, p);
+        times_f(p);
+    }
+    if (t.basis == table::Basis::sqrt_power) {
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble s2 = DoubleDouble{a.ee.hi[i], a.ee.lo[i]} * plus(1.0, {a.qq.hi[i], a.qq.lo[i]});
+            const DoubleDouble x = t.s_power % 2 == 0 ? s2 : sqrt(s2);
+            g.hi[i] = x.hi;
+            g.lo[i] = x.lo;
+        }
+        ipow_block(g, t.s_power % 2 == 0 ? t.s_power / 2 : t.s_power, p);
+        times_f(p);
+    }
+}
+
+void compensated_horner_block(const double* c, const double* lo, int n, bool exact, const double* v, const double* dv,
+                              DDs& out) {
+    if (n == 1) {
+        for (std::size_t i = 0; i < B; ++i) out.hi[i] = c[0], out.lo[i] = lo[0];
+        return;
+    }
+    double sum[B], error[B], slope[B];
+    for (std::size_t i = 0; i < B; ++i) sum[i] = c[n - 1], error[i] = lo[n - 1], slope[i] = 0;
+    for (int k = n - 2; k >= 0; --k) {
+        const double ck = c[k], lk = lo[k];
+        for (std::size_t i = 0; i < B; ++i) {
+            slope[i] = mul_add(slope[i], v[i], sum[i]);
+            const DoubleDouble product = two_product(sum[i], v[i]);
+            const DoubleDouble s = two_sum(product.hi, ck);
+            sum[i] = s.hi;
+            error[i] = exact ? mul_add(error[i], v[i], product.lo + s.lo) : mul_add(error[i], v[i], (product.lo + s.lo) + lk);
+        }
+    }
+    for (std::size_t i = 0; i < B; ++i) out.hi[i] = sum[i], out.lo[i] = mul_add(slope[i], dv[i], error[i]);
+}
+
+void accurate_polynomial_block(const TermPlan& t, const AccurateBlock& a, DDs& out) {
+    double v[B], dv[B];
+    for (std::size_t i = 0; i < B; ++i) {
+        if (t.var == table::Var::shifted) {
+            Scaled s{};
+            s.r = a.r[i], s.h = a.h, s.inv_h = a.inv_h;
+            const DoubleDouble w = shifted_dd(s, t.centre, t.centre_lo);
+            v[i] = w.hi, dv[i] = w.lo;
+        } else if (t.var == table::Var::r) {
+            v[i] = a.q[i], dv[i] = a.dq[i];
+        } else {
+            v[i] = a.q[i] * a.q[i], dv[i] = a.dq2[i];
+        }
+    }
+    compensated_horner_block(t.c, t.c_lo.data(), t.n, t.exact, v, dv, out);
+}
+
+// accurate_piece for pieces of Basis::one terms.
+void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* out) {
+    DDs factor, x, d, previous, sum;
+    if (p.edge_series) {
+        const TermPlan& first = p.terms.front();
+        distance_to_edge_block(first, a, d);
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble w = fast_two_sum(d.hi[i], d.lo[i]);
+            d.hi[i] = w.hi, d.lo[i] = w.lo;
+        }
+        compensated_horner_block(p.series_c.data(), p.series_lo.data(), static_cast<int>(p.series_c.size()),
+                                 p.series_exact, d.hi, d.lo, sum);
+        factor_block(first, a, factor);
+        for (std::size_t i = 0; i < B; ++i)
+            out[i] = rounded(DoubleDouble{factor.hi[i], factor.lo[i]} * DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
+        return;
+    }
+    for (std::size_t i = 0; i < B; ++i) sum.hi[i] = 0.0, sum.lo[i] = 0.0, previous.hi[i] = 1.0, previous.lo[i] = 0.0;
+    const bool single = p.terms.size() == 1;
+    for (const TermPlan& t : p.terms) {
+        if (t.continues) {
+            distance_to_edge_block(t, a, d);
+            ipow_block(d, t.step, factor);
+            for (std::size_t i = 0; i < B; ++i) {
+                const DoubleDouble y = DoubleDouble{previous.hi[i], previous.lo[i]} * DoubleDouble{factor.hi[i], factor.lo[i]};
+                factor.hi[i] = y.hi, factor.lo[i] = y.lo;
+            }
+        } else if (t.has_factor) {
+            factor_block(t, a, factor);
+        } else {
+            for (std::size_t i = 0; i < B; ++i) factor.hi[i] = 1.0, factor.lo[i] = 0.0;
+        }
+        accurate_polynomial_block(t, a, x);
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble term = DoubleDouble{factor.hi[i], factor.lo[i]} * DoubleDouble{x.hi[i], x.lo[i]};
+            if (single) {
+                out[i] = rounded(term * a.scale);
+            } else {
+                const DoubleDouble s = DoubleDouble{sum.hi[i], sum.lo[i]} + term;
+                sum.hi[i] = s.hi, sum.lo[i] = s.lo;
+            }
+        }
+        previous = factor;
+    }
+    if (!single)
+        for (std::size_t i = 0; i < B; ++i) out[i] = rounded(DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
+}
+
+// A polynomial_inside quantity at B radii (StaticKernel::emitted).
+template <Precision Pr>
+void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double* out, const Smoothing& s, int dim) {
+    double in[B], piece[B];
+    if constexpr (Pr == Precision::accurate) {
+        AccurateBlock a;
+        a.h = s.h(), a.inv_h = s.inverse(), a.scale = {s.scale(q), s.scale_lo(q)};
+        for (std::size_t i = 0; i < B; ++i) {
+            const Scaled x = scaled_accurate(r[i], a.h, a.inv_h);
+            a.q[i] = x.q, a.e[i] = x.e, a.r[i] = r[i], a.dq[i] = x.dq, a.dq2[i] = x.dq2;
+            a.qq.hi[i] = x.qq.hi, a.qq.lo[i] = x.qq.lo, a.ee.hi[i] = x.ee.hi, a.ee.lo[i] = x.ee.lo;
+        }
+        for (std::size_t p = 0; p < qp.inner.size(); ++p) {
+            accurate_piece_block(qp.inner[p], a, p == 0 ? in : piece);
+            if (p > 0)
+                for (std::size_t i = 0; i < B; ++i) in[i] = select(a.q[i] < qp.inner[p].lo, in[i], piece[i]);
+        }
+    } else {
+        FastBlock a;
+        a.h = s.h(), a.inv_h = s.inverse();
+        for (std::size_t i = 0; i < B; ++i) {
+            a.q[i] = r[i] * s.inverse();
+            a.e[i] = edge_distance(s.h() - r[i], s);
+            a.r[i] = r[i];
+        }
+        for (std::size_t p = 0; p < qp.inner.size(); ++p) {
+            fast_piece_block(qp.inner[p], a, p == 0 ? in : piece);
+            if (p > 0)
+                for (std::size_t i = 0; i < B; ++i) in[i] = select(a.q[i] < qp.inner[p].lo, in[i], piece[i]);
+        }
+        const double scale = s.scale(q);
+        for (std::size_t i = 0; i < B; ++i) in[i] = in[i] * scale;
+    }
+    if (q == QuantityId::potential && dim == 2)
+        for (std::size_t i = 0; i < B; ++i) in[i] = mul_add(qp.log_coefficient, s.log_h(), in[i]);
+    if (qp.zero_outside) {
+        for (std::size_t i = 0; i < B; ++i) out[i] = select(r[i] <= s.h(), in[i], 0.0);
+    } else {
+        for (std::size_t i = 0; i < B; ++i) out[i] = r[i] <= s.h() ? in[i] : outside(qp, r[i]);
+    }
+}
+
+// f_h at n radii: polynomial quantities by blocks (the last one padded
+// with r = 0), the others point by point.
+template <Precision Pr>
+void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s,
+                  int dim) {
+    if (!qp.polynomial_inside) {
+        for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
+        return;
+    }
+    std::size_t i = 0;
+    for (; i + B <= n; i += B) radial_block<Pr>(qp, q, r + i, out + i, s, dim);
+    if (i < n) {
+        double rb[B] = {}, ob[B];
+        for (std::size_t j = i; j < n; ++j) rb[j - i] = r[j];
+        radial_block<Pr>(qp, q, rb, ob, s, dim);
+        for (std::size_t j = i; j < n; ++j) out[j] = ob[j - i];
+    }
+}
+
 template <Precision Pr>
 void evaluate_batch(const Plan& plan, QuantityId q, const double* __restrict r, double* __restrict out, std::size_t n,
                     const Smoothing& smoothing) {
     const Smoothing s = smoothing;
     const QuantityPlan& qp = plan.quantities[static_cast<std::size_t>(q)];
     const int dim = plan.table->dim;
-    for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
+    radial_batch<Pr>(qp, q, r, out, n, s, dim);
 }
 
 void evaluate(const Plan& plan, Precision pr, QuantityId q, const double* r, double* out, std::size_t n,
@@ -275,14 +597,19 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         }
         return;
     }
-    for (std::size_t i = 0; i < n; ++i) {
-        const double a = x[0][i], b = x[1][i];
-        double sq = mul_add(b, b, a * a);
-        if (dim == 3) sq = mul_add(x[2][i], x[2][i], sq);
-        const double r = std::sqrt(sq);
-        w[i] = radial<Pr>(value, QuantityId::value, r, s, dim);
-        const double g = radial<Pr>(over_r, QuantityId::grad_over_r, r, s, dim);
-        for (int c = 0; c < dim; ++c) grad[c][i] = g * x[c][i];
+    double r[B], g[B];
+    for (std::size_t start = 0; start < n; start += B) {
+        const std::size_t m = std::min(B, n - start);
+        for (std::size_t i = 0; i < m; ++i) {
+            const double a = x[0][start + i], b = x[1][start + i];
+            double sq = mul_add(b, b, a * a);
+            if (dim == 3) sq = mul_add(x[2][start + i], x[2][start + i], sq);
+            r[i] = std::sqrt(sq);
+        }
+        radial_batch<Pr>(value, QuantityId::value, r, w + start, m, s, dim);
+        radial_batch<Pr>(over_r, QuantityId::grad_over_r, r, g, m, s, dim);
+        for (int c = 0; c < dim; ++c)
+            for (std::size_t i = 0; i < m; ++i) grad[c][start + i] = g[i] * x[c][start + i];
     }
 }
 
