@@ -339,32 +339,38 @@ void register_forms(const char* label) {
         auto reg = [&](const std::string& name, auto fn) { benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMicrosecond); };
         reg("W/" + base + "static" + suffix, [n, none](benchmark::State& st) {
             Data& d = data(n);
-            timed(st, n, 0, none, [&] { W::template evaluate<QuantityId::value>(d.r, W::smoothing(h), d.w); });
+            const Smoothing s = W::smoothing(h);
+            timed(st, n, 0, none, [&] { W::template evaluate<QuantityId::value>(d.r, s, d.w); });
         });
         reg("W/" + base + "static-fast" + suffix, [n, none](benchmark::State& st) {
             Data& d = data(n);
-            timed(st, n, 0, none, [&] { F::template evaluate<QuantityId::value>(d.r, F::smoothing(h), d.w); });
+            const Smoothing s = F::smoothing(h);
+            timed(st, n, 0, none, [&] { F::template evaluate<QuantityId::value>(d.r, s, d.w); });
         });
         for (const mollify::Precision pr : {mollify::Precision::accurate, mollify::Precision::fast}) {
             const std::string form = pr == mollify::Precision::fast ? "runtime-fast" : "runtime";
             reg("W/" + base + form + suffix, [n, none, k = runtime.with(pr)](benchmark::State& st) {
                 Data& d = data(n);
-                timed(st, n, 0, none, [&] { k.evaluate(QuantityId::value, d.r, k.smoothing(h), d.w); });
+                const Smoothing s = k.smoothing(h);
+                timed(st, n, 0, none, [&] { k.evaluate(QuantityId::value, d.r, s, d.w); });
             });
             reg("W+gradW/" + base + form + suffix, [n, none, k = runtime.with(pr)](benchmark::State& st) {
                 Data& d = data(n);
                 const std::span<const double> x[3] = {d.x[0], d.x[1], d.x[2]};
                 const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
-                timed(st, n, 0, none, [&] { k.pairs(x, k.smoothing(h), d.w, g); });
+                const Smoothing s = k.smoothing(h);
+                timed(st, n, 0, none, [&] { k.pairs(x, s, d.w, g); });
             });
         }
         reg("W+gradW/" + base + "static-unchecked" + suffix, [n, none](benchmark::State& st) {
             Data& d = data(n);
-            timed(st, n, 0, none, [&] { W::pairs_unchecked(d.points(), W::smoothing(h), d.w.data(), d.grad(), n); });
+            const Smoothing s = W::smoothing(h);
+            timed(st, n, 0, none, [&] { W::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
         });
         reg("W+gradW/" + base + "static-fast-unchecked" + suffix, [n, none](benchmark::State& st) {
             Data& d = data(n);
-            timed(st, n, 0, none, [&] { F::pairs_unchecked(d.points(), F::smoothing(h), d.w.data(), d.grad(), n); });
+            const Smoothing s = F::smoothing(h);
+            timed(st, n, 0, none, [&] { F::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
         });
     }
 }

@@ -10,6 +10,7 @@
 #include <mollify/static_kernel.hpp>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 
 namespace mollify::detail {
@@ -231,15 +232,99 @@ double radial(const QuantityPlan& qp, QuantityId q, double r, const Smoothing& s
 // point (so the results are the same bits), in loops the compiler
 // vectorises with the coefficient broadcast.
 
-constexpr std::size_t B = 8;
+constexpr std::size_t B = 32;
 
 struct DDs {
     double hi[B], lo[B];
 };
 
+// Shape-specialised loops: the exponent or the polynomial length a
+// template argument (up to these sizes; longer ones take the general loops
+// below), the coefficients read from the table and broadcast, the sums in
+// registers. detail::ipow<N> is the tree ipow_rt walks, so the results are
+// the same bits.
+constexpr int fixed_power = 16;
+constexpr int fixed_length = 24;
+
+template <int N>
+void ipow_fixed(const double* x, double* out) {
+    for (std::size_t i = 0; i < B; ++i) out[i] = ipow<N>(x[i]);
+}
+
+template <int N>
+void ipow_fixed_dd(const DDs& x, DDs& out) {
+    for (std::size_t i = 0; i < B; ++i) {
+        const DoubleDouble y = ipow<N>(DoubleDouble{x.hi[i], x.lo[i]});
+        out.hi[i] = y.hi;
+        out.lo[i] = y.lo;
+    }
+}
+
+template <int N>
+void horner_fixed(const double* c, const double* v, double* out) {
+    double k[N];
+    for (int j = 0; j < N; ++j) k[j] = c[j];
+    for (std::size_t i = 0; i < B; ++i) {
+        double sum = k[N - 1];
+        for (int j = N - 2; j >= 0; --j) sum = mul_add(sum, v[i], k[j]);
+        out[i] = sum;
+    }
+}
+
+template <int N, bool Exact>
+void compensated_fixed(const double* c, const double* lo, const double* v, const double* dv, DDs& out) {
+    double k[N], l[N];
+    for (int j = 0; j < N; ++j) k[j] = c[j], l[j] = lo[j];
+    for (std::size_t i = 0; i < B; ++i) {
+        double sum = k[N - 1], error = l[N - 1], slope = 0;
+        for (int j = N - 2; j >= 0; --j) {
+            slope = mul_add(slope, v[i], sum);
+            const DoubleDouble product = two_product(sum, v[i]);
+            const DoubleDouble s = two_sum(product.hi, k[j]);
+            sum = s.hi;
+            if constexpr (Exact) error = mul_add(error, v[i], product.lo + s.lo);
+            else error = mul_add(error, v[i], (product.lo + s.lo) + l[j]);
+        }
+        out.hi[i] = sum;
+        out.lo[i] = mul_add(slope, dv[i], error);
+    }
+}
+
+using IpowFixed = void (*)(const double*, double*);
+using IpowFixedDD = void (*)(const DDs&, DDs&);
+using HornerFixed = void (*)(const double*, const double*, double*);
+using CompensatedFixed = void (*)(const double*, const double*, const double*, const double*, DDs&);
+
+template <int... I>
+constexpr std::array<IpowFixed, sizeof...(I)> ipow_table(std::integer_sequence<int, I...>) {
+    return {&ipow_fixed<I - fixed_power>...};
+}
+template <int... I>
+constexpr std::array<IpowFixedDD, sizeof...(I)> ipow_dd_table(std::integer_sequence<int, I...>) {
+    return {&ipow_fixed_dd<I - fixed_power>...};
+}
+template <int... I>
+constexpr std::array<HornerFixed, sizeof...(I)> horner_table(std::integer_sequence<int, I...>) {
+    return {&horner_fixed<I + 1>...};
+}
+template <bool Exact, int... I>
+constexpr std::array<CompensatedFixed, sizeof...(I)> compensated_table(std::integer_sequence<int, I...>) {
+    return {&compensated_fixed<I + 2, Exact>...};
+}
+
+constexpr auto ipow_fixed_of = ipow_table(std::make_integer_sequence<int, 2 * fixed_power + 1>{});
+constexpr auto ipow_fixed_dd_of = ipow_dd_table(std::make_integer_sequence<int, 2 * fixed_power + 1>{});
+constexpr auto horner_fixed_of = horner_table(std::make_integer_sequence<int, fixed_length>{});
+constexpr auto compensated_exact_of = compensated_table<true>(std::make_integer_sequence<int, fixed_length - 1>{});
+constexpr auto compensated_inexact_of = compensated_table<false>(std::make_integer_sequence<int, fixed_length - 1>{});
+
 // ipow_rt on a block: the binary-powering tree of ipow<N> walked from the
 // top bit down (x^(2m+b) = (x^m)^2 x^b), the same products in the same order.
 void ipow_block(const double* x, int n, double* out) {
+    if (n >= -fixed_power && n <= fixed_power) {
+        ipow_fixed_of[static_cast<std::size_t>(n + fixed_power)](x, out);
+        return;
+    }
     if (n < 0) {
         ipow_block(x, -n, out);
         for (std::size_t i = 0; i < B; ++i) out[i] = 1.0 / out[i];
@@ -258,6 +343,10 @@ void ipow_block(const double* x, int n, double* out) {
 }
 
 void ipow_block(const DDs& x, int n, DDs& out) {
+    if (n >= -fixed_power && n <= fixed_power) {
+        ipow_fixed_dd_of[static_cast<std::size_t>(n + fixed_power)](x, out);
+        return;
+    }
     if (n < 0) {
         DDs inv;
         for (std::size_t i = 0; i < B; ++i) {
@@ -285,6 +374,10 @@ void ipow_block(const DDs& x, int n, DDs& out) {
 }
 
 void horner_block(const double* c, int n, const double* v, double* out) {
+    if (n <= fixed_length) {
+        horner_fixed_of[static_cast<std::size_t>(n - 1)](c, v, out);
+        return;
+    }
     for (std::size_t i = 0; i < B; ++i) out[i] = c[n - 1];
     for (int k = n - 2; k >= 0; --k) {
         const double ck = c[k];
@@ -399,6 +492,10 @@ void compensated_horner_block(const double* c, const double* lo, int n, bool exa
                               DDs& out) {
     if (n == 1) {
         for (std::size_t i = 0; i < B; ++i) out.hi[i] = c[0], out.lo[i] = lo[0];
+        return;
+    }
+    if (n <= fixed_length) {
+        (exact ? compensated_exact_of : compensated_inexact_of)[static_cast<std::size_t>(n - 2)](c, lo, v, dv, out);
         return;
     }
     double sum[B], error[B], slope[B];

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -274,4 +275,34 @@ TEST(Runtime, AccurateAndFastPrecisionsAgreeAndStayFinite) {
         EXPECT_TRUE(std::isfinite(W::radial<QuantityId::hess_radial>(r * 1e-40, tiny))) << "r/h = " << r;
         EXPECT_TRUE(std::isfinite(W::radial<QuantityId::value>(r * 1e-40, tiny))) << "r/h = " << r;
     }
+}
+
+// A table given at run time (here a copy of a catalogue table, owned by the
+// kernel) is evaluated like the catalogue's own: the same plan, the same
+// bits; a null table is an error.
+TEST(Runtime, KernelOfATableLoadedAtRunTime) {
+    const auto owned = std::make_shared<const mollify::table::Kernel>(tables::combo_m_3_base_wendland_k_2_D3);
+    const mollify::Kernel loaded = mollify::kernel(owned);
+    const mollify::Kernel named = mollify::kernel("combo:m=3,base=wendland:k=2", 3);
+    EXPECT_EQ(&loaded.table(), owned.get());
+    EXPECT_EQ(loaded.spec(), named.spec());
+    const auto r = radii(500, 11);
+    for (const QuantityId q : {QuantityId::value, QuantityId::grad_over_r, QuantityId::potential}) {
+        std::vector<double> a(r.size()), b(r.size());
+        loaded.evaluate(q, r, 0.7, a);
+        named.evaluate(q, r, 0.7, b);
+        for (std::size_t i = 0; i < r.size(); ++i) ASSERT_EQ(a[i], b[i]) << "r = " << r[i];
+    }
+    expect_error([] { mollify::kernel(std::shared_ptr<const mollify::table::Kernel>{}); }, "null table");
+}
+
+// The instruction set in use is one of the two compiled in, and can be
+// switched back and forth.
+TEST(Runtime, InstructionSetIsChosenAndCanBeForced) {
+    const std::string chosen(mollify::isa());
+    EXPECT_TRUE(chosen == "generic" || chosen == "x86-64-v3") << chosen;
+    mollify::use_isa("generic");
+    EXPECT_EQ(mollify::isa(), "generic");
+    mollify::use_isa(chosen);
+    EXPECT_EQ(mollify::isa(), chosen);
 }
