@@ -290,6 +290,67 @@ void compensated_fixed(const double* c, const double* lo, const double* v, const
     }
 }
 
+// x[i] *= ipow<N>(base[i]), in one pass.
+template <int N>
+void times_ipow_fixed(const double* base, double* x) {
+    for (std::size_t i = 0; i < B; ++i) x[i] *= ipow<N>(base[i]);
+}
+
+// x[i] *= ipow<N>(distance to the term's edge), in one pass (fast_term's
+// edge factor, distance_to_edge).
+template <int N, bool VarR, bool SupportEdge>
+void times_edge_fixed(const double* q, const double* e, const double* r, double edge, double h, double inv_h, double* x) {
+    for (std::size_t i = 0; i < B; ++i) {
+        const double to_edge = SupportEdge ? e[i] : mul_add(edge, h, -r[i]) * inv_h;
+        const double d = VarR ? to_edge : to_edge * (edge + q[i]);
+        x[i] *= ipow<N>(d);
+    }
+}
+
+// Horner's rule in v = q or q^2 from q, in one pass.
+template <int N, bool VarR>
+void horner_q_fixed(const double* c, const double* q, double* out) {
+    double k[N];
+    for (int j = 0; j < N; ++j) k[j] = c[j];
+    for (std::size_t i = 0; i < B; ++i) {
+        const double v = VarR ? q[i] : q[i] * q[i];
+        double sum = k[N - 1];
+        for (int j = N - 2; j >= 0; --j) sum = mul_add(sum, v, k[j]);
+        out[i] = sum;
+    }
+}
+
+using TimesIpow = void (*)(const double*, double*);
+using TimesEdge = void (*)(const double*, const double*, const double*, double, double, double, double*);
+using HornerQ = void (*)(const double*, const double*, double*);
+
+template <int... I>
+constexpr std::array<TimesIpow, sizeof...(I)> times_ipow_table(std::integer_sequence<int, I...>) {
+    return {&times_ipow_fixed<I - fixed_power>...};
+}
+template <bool VarR, bool SupportEdge, int... I>
+constexpr std::array<TimesEdge, sizeof...(I)> times_edge_table(std::integer_sequence<int, I...>) {
+    return {&times_edge_fixed<I - fixed_power, VarR, SupportEdge>...};
+}
+template <bool VarR, int... I>
+constexpr std::array<HornerQ, sizeof...(I)> horner_q_table(std::integer_sequence<int, I...>) {
+    return {&horner_q_fixed<I + 1, VarR>...};
+}
+
+constexpr auto powers = std::make_integer_sequence<int, 2 * fixed_power + 1>{};
+constexpr auto times_ipow_of = times_ipow_table(powers);
+// [var == r][edge == 1]
+constexpr std::array<std::array<decltype(times_edge_table<true, true>(powers)), 2>, 2> times_edge_of = {{
+    {times_edge_table<false, false>(powers), times_edge_table<false, true>(powers)},
+    {times_edge_table<true, false>(powers), times_edge_table<true, true>(powers)},
+}};
+constexpr std::array<decltype(horner_q_table<true>(std::make_integer_sequence<int, fixed_length>{})), 2> horner_q_of = {
+    horner_q_table<false>(std::make_integer_sequence<int, fixed_length>{}),
+    horner_q_table<true>(std::make_integer_sequence<int, fixed_length>{})};
+
+bool fixed(int n) { return n >= -fixed_power && n <= fixed_power; }
+std::size_t power_index(int n) { return static_cast<std::size_t>(n + fixed_power); }
+
 using IpowFixed = void (*)(const double*, double*);
 using IpowFixedDD = void (*)(const DDs&, DDs&);
 using HornerFixed = void (*)(const double*, const double*, double*);
@@ -392,23 +453,36 @@ struct FastBlock {
 
 void fast_term_block(const TermPlan& t, const FastBlock& a, double* x) {
     double v[B], p[B];
-    for (std::size_t i = 0; i < B; ++i)
-        v[i] = t.var == table::Var::r    ? a.q[i]
-               : t.var == table::Var::r2 ? a.q[i] * a.q[i]
-                                         : mul_add(-t.centre, a.h, a.r[i]) * a.inv_h - t.centre_lo;
-    horner_block(t.c, t.n, v, x);
+    if (t.var != table::Var::shifted && t.n <= fixed_length) {
+        horner_q_of[t.var == table::Var::r][static_cast<std::size_t>(t.n - 1)](t.c, a.q, x);
+    } else {
+        for (std::size_t i = 0; i < B; ++i)
+            v[i] = t.var == table::Var::r    ? a.q[i]
+                   : t.var == table::Var::r2 ? a.q[i] * a.q[i]
+                                             : mul_add(-t.centre, a.h, a.r[i]) * a.inv_h - t.centre_lo;
+        horner_block(t.c, t.n, v, x);
+    }
     if (t.low != 0) {
-        ipow_block(a.q, t.low, p);
-        for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+        if (fixed(t.low)) {
+            times_ipow_of[power_index(t.low)](a.q, x);
+        } else {
+            ipow_block(a.q, t.low, p);
+            for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+        }
     }
     if (t.edge_power != 0) {
         const bool support_edge = t.edge == 1.0;
-        for (std::size_t i = 0; i < B; ++i) {
-            const double to_edge = support_edge ? a.e[i] : mul_add(t.edge, a.h, -a.r[i]) * a.inv_h;
-            v[i] = t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q[i]);
+        if (fixed(t.edge_power)) {
+            times_edge_of[t.var == table::Var::r][support_edge][power_index(t.edge_power)](a.q, a.e, a.r, t.edge, a.h,
+                                                                                             a.inv_h, x);
+        } else {
+            for (std::size_t i = 0; i < B; ++i) {
+                const double to_edge = support_edge ? a.e[i] : mul_add(t.edge, a.h, -a.r[i]) * a.inv_h;
+                v[i] = t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q[i]);
+            }
+            ipow_block(v, t.edge_power, p);
+            for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
         }
-        ipow_block(v, t.edge_power, p);
-        for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
     }
     if (t.basis == table::Basis::sqrt_power) {
         for (std::size_t i = 0; i < B; ++i) v[i] = std::sqrt(a.e[i] * (1 + a.q[i]));
