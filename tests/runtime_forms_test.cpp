@@ -149,7 +149,12 @@ std::vector<double> hard_q(const table::Kernel& k) {
         }
     std::mt19937_64 rng(18);
     std::uniform_real_distribution<double> u(0, 1.25);
-    for (int i = 0; i < 1500; ++i) q.push_back(u(rng));
+#ifdef MOLLIFY_SANITIZED_BUILD
+    constexpr int uniform = 150;
+#else
+    constexpr int uniform = 1500;
+#endif
+    for (int i = 0; i < uniform; ++i) q.push_back(u(rng));
     std::sort(q.begin(), q.end());
     q.erase(std::unique(q.begin(), q.end()), q.end());
     return q;
