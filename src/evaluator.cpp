@@ -17,24 +17,28 @@ namespace mollify::detail {
 inline namespace MOLLIFY_ISA {
 namespace {
 
-// ipow<N> with N at run time: the same binary-powering tree, so the same
-// roundings.
-double ipow_rt(double x, int n) {
+// ipow<N> with N at run time: the same binary-powering tree (x^(2m+b) =
+// (x^m)^2 x^b, walked from the top bit down), so the same roundings.
+inline double ipow_rt(double x, int n) {
     if (n < 0) return 1.0 / ipow_rt(x, -n);
     if (n == 0) return 1.0;
-    if (n == 1) return x;
-    const double half = ipow_rt(x, n / 2);
-    if (n % 2 == 0) return half * half;
-    return half * half * x;
+    double out = x;
+    for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
+        out = out * out;
+        if ((n >> bit) & 1) out = out * x;
+    }
+    return out;
 }
 
-DoubleDouble ipow_rt(const DoubleDouble& x, int n) {
+inline DoubleDouble ipow_rt(const DoubleDouble& x, int n) {
     if (n < 0) return ipow_rt(reciprocal(x), -n);
     if (n == 0) return {1.0, 0.0};
-    if (n == 1) return x;
-    const DoubleDouble half = ipow_rt(x, n / 2);
-    if (n % 2 == 0) return half * half;
-    return half * half * x;
+    DoubleDouble out = x;
+    for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
+        out = out * out;
+        if ((n >> bit) & 1) out = out * x;
+    }
+    return out;
 }
 
 double basis_of(table::Basis b, const Scaled& a) {
@@ -93,17 +97,19 @@ double polynomial(const TermPlan& t, const Scaled& a) {
     return horner(t.c, t.n, v);
 }
 
-double fast_term(const TermPlan& t, const Scaled& a) {
+// S = sqrt(1 - q^2) is computed once per point (the same bits for every term).
+double fast_term(const TermPlan& t, const Scaled& a, double S) {
     double x = polynomial(t, a);
     if (t.low != 0) x *= ipow_rt(a.q, t.low);
     if (t.edge_power != 0) x *= ipow_rt(distance_to_edge(t, a), t.edge_power);
-    if (t.basis == table::Basis::sqrt_power) x *= ipow_rt(std::sqrt(a.e * (1 + a.q)), t.s_power);
+    if (t.basis == table::Basis::sqrt_power) x *= ipow_rt(S, t.s_power);
     return with_basis(t, a, x);
 }
 
 double fast_piece(const PiecePlan& p, const Scaled& a) {
+    const double S = std::sqrt(a.e * (1 + a.q));
     double sum = 0.0;
-    for (const TermPlan& t : p.terms) sum = sum + fast_term(t, a);
+    for (const TermPlan& t : p.terms) sum = sum + fast_term(t, a, S);
     return sum;
 }
 
