@@ -15,6 +15,7 @@
 #include "accuracy/measure.hpp"
 
 #include <mollify/kernel.hpp>
+#include <mollify/tables/catalogue.hpp>
 
 #include "report.hpp"
 
@@ -214,8 +215,7 @@ void register_kernel(const char* label) {
     using W = mollify::StaticKernel<K>;  // Precision::accurate, the default
     using F = mollify::StaticKernel<K, mollify::Precision::fast>;
     static_assert(W::dim == 3);
-    static constexpr mollify::detail::KernelOps ops = mollify::detail::ops_of<K>();
-    const mollify::Kernel runtime(ops);  // what mollify::kernel(K.spec, 3) returns, without instantiating all tables
+    const mollify::Kernel runtime(K);  // what mollify::kernel(K.spec, 3) returns: the data-driven form
     const std::string spec = K.spec;
     const NaiveOf<K, QuantityId::value> nw = tight<NaiveOf<K, QuantityId::value>>(spec, QuantityId::value);
     const NaiveOf<K, QuantityId::grad_over_r> ng = tight<NaiveOf<K, QuantityId::grad_over_r>>(spec, QuantityId::grad_over_r);
@@ -262,6 +262,12 @@ void register_kernel(const char* label) {
             const Smoothing s = runtime.smoothing(h);
             timed(st, n, vb, e, [&] { runtime.evaluate(QuantityId::value, d.r, s, d.w); });
         });
+        reg("W/" + base + "runtime-fast" + suffix, [n, vb, fast = runtime.with(mollify::Precision::fast),
+                                                 e = value_only[4]](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = fast.smoothing(h);
+            timed(st, n, vb, e, [&] { fast.evaluate(QuantityId::value, d.r, s, d.w); });
+        });
         reg("W/" + base + "expanded" + suffix, [n, vb, nw, e = value_only[2]](benchmark::State& st) {
             Data& d = data(n);
             timed(st, n, vb, e, [&] { naive_values<acc::Form::expanded>(nw, d.r.data(), d.w.data(), n); });
@@ -292,6 +298,14 @@ void register_kernel(const char* label) {
             const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
             timed(st, n, pb, e_runtime, [&] { runtime.pairs(x, s, d.w, g); });
         });
+        reg("W+gradW/" + base + "runtime-fast" + suffix, [n, pb, fast = runtime.with(mollify::Precision::fast),
+                                                       e_fast](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = fast.smoothing(h);
+            const std::span<const double> x[3] = {d.x[0], d.x[1], d.x[2]};
+            const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
+            timed(st, n, pb, e_fast, [&] { fast.pairs(x, s, d.w, g); });
+        });
         reg("W+gradW/" + base + "expanded" + suffix, [n, pb, nw, ng, e_expanded](benchmark::State& st) {
             Data& d = data(n);
             timed(st, n, pb, e_expanded, [&] {
@@ -309,6 +323,56 @@ void register_kernel(const char* label) {
     }
     std::cerr << label << ": mollify's factored form, W + grad W in 3D: " << pair_products(K)
               << " multiplies/FMAs per evaluation (bound " << pb << " cycles), W alone " << value_products(K) << "\n";
+}
+
+// The compile-time and run-time forms only, both precisions (kernels with
+// no naive polynomial form: the missing Wendland functions' sqrt pieces).
+template <const Kernel& K>
+void register_forms(const char* label) {
+    using W = mollify::StaticKernel<K>;
+    using F = mollify::StaticKernel<K, mollify::Precision::fast>;
+    const mollify::Kernel runtime(K);
+    const std::string base = std::string(label) + "/";
+    const Errors none{-1, -1};
+    for (const std::size_t n : sizes) {
+        const std::string suffix = "/" + std::to_string(n);
+        auto reg = [&](const std::string& name, auto fn) { benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMicrosecond); };
+        reg("W/" + base + "static" + suffix, [n, none](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = W::smoothing(h);
+            timed(st, n, 0, none, [&] { W::template evaluate<QuantityId::value>(d.r, s, d.w); });
+        });
+        reg("W/" + base + "static-fast" + suffix, [n, none](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = F::smoothing(h);
+            timed(st, n, 0, none, [&] { F::template evaluate<QuantityId::value>(d.r, s, d.w); });
+        });
+        for (const mollify::Precision pr : {mollify::Precision::accurate, mollify::Precision::fast}) {
+            const std::string form = pr == mollify::Precision::fast ? "runtime-fast" : "runtime";
+            reg("W/" + base + form + suffix, [n, none, k = runtime.with(pr)](benchmark::State& st) {
+                Data& d = data(n);
+                const Smoothing s = k.smoothing(h);
+                timed(st, n, 0, none, [&] { k.evaluate(QuantityId::value, d.r, s, d.w); });
+            });
+            reg("W+gradW/" + base + form + suffix, [n, none, k = runtime.with(pr)](benchmark::State& st) {
+                Data& d = data(n);
+                const std::span<const double> x[3] = {d.x[0], d.x[1], d.x[2]};
+                const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
+                const Smoothing s = k.smoothing(h);
+                timed(st, n, 0, none, [&] { k.pairs(x, s, d.w, g); });
+            });
+        }
+        reg("W+gradW/" + base + "static-unchecked" + suffix, [n, none](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = W::smoothing(h);
+            timed(st, n, 0, none, [&] { W::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
+        });
+        reg("W+gradW/" + base + "static-fast-unchecked" + suffix, [n, none](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = F::smoothing(h);
+            timed(st, n, 0, none, [&] { F::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
+        });
+    }
 }
 
 // ---- Markdown ----
@@ -354,6 +418,7 @@ int main(int argc, char** argv) {
     register_kernel<tables::combo_m_3_base_wendland_k_2_D3>("combo:m=3,base=wendland:k=2");
     register_kernel<tables::cubic_spline_D3>("cubic-spline");
     register_kernel<tables::poly6_D3>("poly6");
+    register_forms<tables::wendland_missing_k_1_D3>("wendland-missing:k=1");
     Collector collector;
     benchmark::RunSpecifiedBenchmarks(&collector);
     if (!md.empty()) write_markdown(md, collector.runs());

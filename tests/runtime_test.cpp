@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -64,26 +65,12 @@ bool value_is_singular_at_origin(const mollify::table::Kernel& k) {
 
 }  // namespace
 
-TEST(Runtime, CompileTimeAndRunTimeFormsAgreeBitForBit) {
-    using W = mollify::StaticKernel<tables::wendland_k_2_l_1_D3>;
-    const mollify::Kernel k = mollify::kernel("wendland:l=1,k=2", 3);
-    EXPECT_EQ(&k.table(), &tables::wendland_k_2_l_1_D3);
-    const auto r = radii(1000, 1);
-    std::vector<double> a(r.size()), b(r.size());
-    for (const double h : {1.0, 0.37, 3e-7, 2.5e6}) {
-        std::vector<double> rh(r);
-        for (double& x : rh) x *= h;
-        W::evaluate<QuantityId::value>(rh, W::smoothing(h), a);
-        k.evaluate(QuantityId::value, rh, h, b);
-        for (std::size_t i = 0; i < r.size(); ++i) ASSERT_EQ(a[i], b[i]) << "r = " << rh[i] << ", h = " << h;
-        for (std::size_t i = 0; i < r.size(); ++i) ASSERT_EQ(a[i], W::value(rh[i], h)) << rh[i];
-    }
-}
-
-// Both precisions are compiled into the registry: kernel(spec, dim, fast)
-// is StaticKernel<table, fast> bit for bit, and with() switches the
-// precision of the same kernel.
+// Both precisions run from one plan: kernel(spec, dim, fast) is
+// StaticKernel<table, fast> bit for bit on the instruction set this test is
+// compiled for, and with() switches the precision of the same kernel.
+// (Every path against StaticKernel: runtime_forms_test.)
 TEST(Runtime, RunTimeFastIsCompileTimeFast) {
+    mollify::use_isa("generic");
     using F = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_l_1_D1, mollify::Precision::fast>;
     using A = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_l_1_D1>;
     const mollify::Kernel fast = mollify::kernel("combo:m=3,base=wendland:k=3,l=1", 1, mollify::Precision::fast);
@@ -105,7 +92,7 @@ TEST(Runtime, RunTimeFastIsCompileTimeFast) {
             differ = differ || b[i] != c[i];
         }
     }
-    EXPECT_TRUE(differ) << "fast and accurate gave the same bits everywhere: the registry did not switch";
+    EXPECT_TRUE(differ) << "fast and accurate gave the same bits everywhere: with() did not switch";
     // The pair batch (the SPH path) of both precisions, against the scalar forms.
     std::vector<double> x(r), w(r.size()), g(r.size());
     const std::span<const double> in[] = {x};
@@ -118,6 +105,7 @@ TEST(Runtime, RunTimeFastIsCompileTimeFast) {
     }
     expect_error([] { mollify::kernel("wendland:k=2", 3, static_cast<mollify::Precision>(7)); }, "precision 7");
     expect_error([] { mollify::precision("exact"); }, "'exact'");
+    expect_error([] { mollify::use_isa("sse9"); }, "'sse9'");
     EXPECT_EQ(mollify::precision("fast"), mollify::Precision::fast);
     EXPECT_EQ(mollify::name(mollify::Precision::accurate), "accurate");
 }
@@ -210,6 +198,7 @@ TEST(Runtime, TwoDimensionalPotentialCarriesLogH) {
 }
 
 TEST(Runtime, BatchPairsMatchTheScalarPair) {
+    mollify::use_isa("generic");  // the instruction set of the static form here
     const mollify::Kernel k = mollify::kernel("wendland:k=2", 3);
     using W = mollify::StaticKernel<tables::wendland_k_2_D3>;
     const std::size_t n = 257;
@@ -295,4 +284,34 @@ TEST(Runtime, AccurateAndFastPrecisionsAgreeAndStayFinite) {
         EXPECT_TRUE(std::isfinite(W::radial<QuantityId::hess_radial>(r * 1e-40, tiny))) << "r/h = " << r;
         EXPECT_TRUE(std::isfinite(W::radial<QuantityId::value>(r * 1e-40, tiny))) << "r/h = " << r;
     }
+}
+
+// A table given at run time (here a copy of a catalogue table, owned by the
+// kernel) is evaluated like the catalogue's own: the same plan, the same
+// bits; a null table is an error.
+TEST(Runtime, KernelOfATableLoadedAtRunTime) {
+    const auto owned = std::make_shared<const mollify::table::Kernel>(tables::combo_m_3_base_wendland_k_2_D3);
+    const mollify::Kernel loaded = mollify::kernel(owned);
+    const mollify::Kernel named = mollify::kernel("combo:m=3,base=wendland:k=2", 3);
+    EXPECT_EQ(&loaded.table(), owned.get());
+    EXPECT_EQ(loaded.spec(), named.spec());
+    const auto r = radii(500, 11);
+    for (const QuantityId q : {QuantityId::value, QuantityId::grad_over_r, QuantityId::potential}) {
+        std::vector<double> a(r.size()), b(r.size());
+        loaded.evaluate(q, r, 0.7, a);
+        named.evaluate(q, r, 0.7, b);
+        for (std::size_t i = 0; i < r.size(); ++i) ASSERT_EQ(a[i], b[i]) << "r = " << r[i];
+    }
+    expect_error([] { mollify::kernel(std::shared_ptr<const mollify::table::Kernel>{}); }, "null table");
+}
+
+// The instruction set in use is one of the two compiled in, and can be
+// switched back and forth.
+TEST(Runtime, InstructionSetIsChosenAndCanBeForced) {
+    const std::string chosen(mollify::isa());
+    EXPECT_TRUE(chosen == "generic" || chosen == "x86-64-v3") << chosen;
+    mollify::use_isa("generic");
+    EXPECT_EQ(mollify::isa(), "generic");
+    mollify::use_isa(chosen);
+    EXPECT_EQ(mollify::isa(), chosen);
 }

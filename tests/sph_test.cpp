@@ -3,6 +3,7 @@
 // convergence rates on a short eps sweep of Franz's torus case, the
 // time-step check, and bad input.
 #include <mollify/kernel.hpp>
+#include <mollify/tables/catalogue.hpp>
 #include <mollify/sph.hpp>
 #include "studies/convergence.hpp"
 #include "studies/franz_cases.hpp"

@@ -19,6 +19,7 @@
 // `realisations` independent point sets (seeded); their min and max show
 // how much the random points alone move each entry.
 #include "experiment.hpp"
+#include <mollify/exact.hpp>
 #include <mollify/kernel.hpp>
 #include "output.hpp"
 #include "scene.hpp"
@@ -236,11 +237,11 @@ void run_belley(const Scene& scene, Output& out) {
     // --- the estimates: the paper's, then each extra kernel's ---
     std::vector<EstimateSpec> estimates = paper_estimates();
     std::map<std::string, Kernel> kernels;
-    for (const char* k : {"poly6", "box", "box-d1", "box-d2"}) kernels.emplace(k, mollify::kernel(k, 1));
+    for (const char* k : {"poly6", "box", "box-d1", "box-d2"}) kernels.emplace(k, mollify::exact::kernel(k, 1));
     std::vector<std::string> extra_names;
     for (const std::string& spec : extras) {
         try {
-            const Kernel k = mollify::kernel(spec, 1);
+            const Kernel k = mollify::exact::kernel(spec, 1);
             const std::string name(k.spec());
             if (kernels.count(name)) scene.reject("belley.extra_kernels", "kernel " + name + " is named twice");
             if (sph::detail::piecewise_constant(k.table()))

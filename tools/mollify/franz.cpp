@@ -5,6 +5,7 @@
 // 2m; errors Q_kin, Q_pot at t_end, rates by least squares over eps, beside
 // the thesis' printed rates.
 #include "experiment.hpp"
+#include <mollify/exact.hpp>
 #include <mollify/kernel.hpp>
 
 #include <mollify/sph.hpp>
@@ -278,7 +279,7 @@ void run_franz(const Scene& scene, Output& out) {
     const Settings s = read(scene);
     const auto printed = printed_rates(scene, s);
     std::vector<Kernel> kernels;
-    for (const KernelChoice& k : s.kernels) kernels.push_back(mollify::kernel(k.spec, 1, s.precision));  // all checked before any run
+    for (const KernelChoice& k : s.kernels) kernels.push_back(mollify::exact::kernel(k.spec, 1, s.precision));  // all checked before any run
 
     // Runs, cheapest first within each kernel (largest eps first).
     std::vector<std::vector<Run>> runs(s.kernels.size());

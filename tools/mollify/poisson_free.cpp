@@ -13,6 +13,7 @@
 #include "experiment.hpp"
 
 #include <mollify/detail/parallel.hpp>
+#include <mollify/exact.hpp>
 #include <mollify/kernel.hpp>
 #include <mollify/poisson.hpp>
 
@@ -97,7 +98,7 @@ void run(const Scene& scene, Output& out) {
     for (const long p : orders) poisson::check_order(static_cast<int>(p));
     std::vector<Kernel> kernels;
     for (const std::string& s : specs) {
-        kernels.push_back(mollify::kernel(s, D));
+        kernels.push_back(mollify::exact::kernel(s, D));
         if (!kernels.back().has_potential()) scene.reject("poisson_free.kernels", s + " has no potential in D = " + std::to_string(D));
     }
     const poisson::TreeOptions knob = poisson::for_relative_error(target, D);

@@ -8,6 +8,7 @@
 // pic.csv, pic.png, summary.md.
 #include "experiment.hpp"
 
+#include <mollify/exact.hpp>
 #include <mollify/kernel.hpp>
 #include <mollify/poisson.hpp>
 
@@ -124,7 +125,7 @@ void pic(const Scene& scene, Output& out, std::string& md) {
     std::vector<Kernel> kernels;
     for (const std::string& s : specs) {
         try {
-            kernels.push_back(mollify::kernel(s, D));
+            kernels.push_back(mollify::exact::kernel(s, D));
         } catch (const Error& e) {
             scene.reject("poisson_periodic.kernels", e.what());
         }

@@ -4,6 +4,7 @@
 #include "report.hpp"
 
 #include <mollify/error.hpp>
+#include <mollify/exact.hpp>
 #include <mollify/kernel.hpp>
 
 #include <algorithm>
@@ -23,7 +24,7 @@ void shapes(Output& out, SectionResult& r) {
     Table t{{"kernel", "q", "W", "dW/dq", "phi"}, {}};
     std::string blocks;  // gnuplot: one block per kernel, "q W/W(0) phi"
     for (const char* spec : shown) {
-        const Kernel k = mollify::kernel(spec, 3);
+        const Kernel k = mollify::exact::kernel(spec, 3);
         const double w0 = k.value(0.0, 1.0);
         for (int i = 0; i < samples; ++i) {
             const double q = 1.5 * i / (samples - 1);

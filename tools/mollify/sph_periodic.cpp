@@ -7,6 +7,7 @@
 // particles of the slab around z = 1/2). Energy (Franz 2.18/3.7) and
 // momentum are recorded at every snapshot.
 #include "experiment.hpp"
+#include <mollify/exact.hpp>
 #include <mollify/kernel.hpp>
 
 #include <mollify/sph.hpp>
@@ -72,7 +73,7 @@ void run(const Scene& scene, Output& out) {
     const sph::Integrator method = sph::integrator(scene.string("sph_periodic.integrator", "leapfrog"));
 
     const Precision precision = scene_precision(scene, "sph_periodic.precision");
-    const Kernel kernel = mollify::kernel(spec, D, precision);
+    const Kernel kernel = mollify::exact::kernel(spec, D, precision);
     Setup<D> s = lattice<D>(n, amplitude, width, drift);
     const auto domain = sph::Domain<D>::periodic(1.0);
     sph::BarotropicEuler<D, Kernel> system(kernel, eps, domain, s.mass);

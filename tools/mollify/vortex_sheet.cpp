@@ -7,6 +7,7 @@
 #include "experiment.hpp"
 
 #include <mollify/detail/parallel.hpp>
+#include <mollify/exact.hpp>
 #include <mollify/kernel.hpp>
 #include <mollify/vortex.hpp>
 
@@ -103,7 +104,7 @@ void run_vortex_sheet(const Scene& scene, Output& out) {
         if (h > 0.5) scene.reject("vortex_sheet.support", format(h) + " exceeds 1/2, half the period");
         for (const std::string& spec : specs) {
             try {
-                blobs.push_back(make_blob(spec + ", h = " + format(h, 3), vortex::CompactBlob(mollify::kernel(spec, 2), h)));
+                blobs.push_back(make_blob(spec + ", h = " + format(h, 3), vortex::CompactBlob(mollify::exact::kernel(spec, 2), h)));
             } catch (const Error& e) {
                 scene.reject("vortex_sheet.kernels", e.what());
             }

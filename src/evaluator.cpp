@@ -1,0 +1,848 @@
+// The data-driven evaluator: any table evaluated from its plan (plan.hpp)
+// with the operations of detail/evaluate.hpp in the same order (the same
+// compensated Horner, double-double factors, edge series, Taylor pieces,
+// Green's-function exterior), so that its results are StaticKernel's bit
+// for bit on the same instruction set. Compiled once per instruction set
+// (CMake: generic x86-64 and x86-64-v3), each copy in its own inline
+// namespace (detail/isa.hpp).
+#include "evaluator.hpp"
+
+#include <mollify/static_kernel.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstdint>
+
+namespace mollify::detail {
+inline namespace MOLLIFY_ISA {
+namespace {
+
+// ipow<N> with N at run time: the same binary-powering tree (x^(2m+b) =
+// (x^m)^2 x^b, walked from the top bit down), so the same roundings.
+inline double ipow_rt(double x, int n) {
+    if (n < 0) return 1.0 / ipow_rt(x, -n);
+    if (n == 0) return 1.0;
+    double out = x;
+    for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
+        out = out * out;
+        if ((n >> bit) & 1) out = out * x;
+    }
+    return out;
+}
+
+inline DoubleDouble ipow_rt(const DoubleDouble& x, int n) {
+    if (n < 0) return ipow_rt(reciprocal(x), -n);
+    if (n == 0) return {1.0, 0.0};
+    DoubleDouble out = x;
+    for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
+        out = out * out;
+        if ((n >> bit) & 1) out = out * x;
+    }
+    return out;
+}
+
+double basis_of(table::Basis b, const Scaled& a) {
+    switch (b) {
+        case table::Basis::arcsech: return basis<table::Basis::arcsech>(a);
+        case table::Basis::log: return basis<table::Basis::log>(a);
+        case table::Basis::arcsin: return basis<table::Basis::arcsin>(a);
+        default: return 1.0;  // never called for one, sqrt_power
+    }
+}
+
+// with_basis
+double with_basis(const TermPlan& t, const Scaled& a, double x) {
+    if (t.basis == table::Basis::log || t.basis == table::Basis::arcsech) {
+        // r^low log r -> 0 as r -> 0 for low > 0: the limit, not 0 * inf.
+        if (t.low > 0) return a.q == 0 ? 0.0 : x * basis_of(t.basis, a);
+        return x * basis_of(t.basis, a);
+    }
+    if (t.basis == table::Basis::arcsin) return x * basis_of(t.basis, a);
+    return x;
+}
+
+double horner(const double* c, int n, double v) {
+    double sum = c[n - 1];
+    for (int k = n - 2; k >= 0; --k) sum = mul_add(sum, v, c[k]);
+    return sum;
+}
+
+// compensated_horner over run-time coefficients.
+DoubleDouble compensated_horner(const double* c, const double* lo, int n, bool exact, double v, double dv) {
+    if (n == 1) return {c[0], lo[0]};
+    double sum = c[n - 1], error = lo[n - 1], slope = 0;
+    for (int k = n - 2; k >= 0; --k) {
+        slope = mul_add(slope, v, sum);
+        const DoubleDouble product = two_product(sum, v);
+        const DoubleDouble s = two_sum(product.hi, c[k]);
+        sum = s.hi;
+        if (exact) error = mul_add(error, v, product.lo + s.lo);
+        else error = mul_add(error, v, (product.lo + s.lo) + lo[k]);
+    }
+    return {sum, mul_add(slope, dv, error)};
+}
+
+// ---- Precision::fast ----
+
+double distance_to_edge(const TermPlan& t, const Scaled& a) {
+    const bool support_edge = t.edge == 1.0;
+    const double to_edge = support_edge ? a.e : mul_add(t.edge, a.h, -a.r) * a.inv_h;
+    return t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q);
+}
+
+double polynomial(const TermPlan& t, const Scaled& a) {
+    const double v = t.var == table::Var::r    ? a.q
+                     : t.var == table::Var::r2 ? a.q * a.q
+                                               : shifted(a, t.centre, t.centre_lo);
+    return horner(t.c, t.n, v);
+}
+
+// The powers x^n of one base, each by the tree of ipow<N> (x^n = (x^(n/2))^2
+// x^(n mod 2)) with its subtrees remembered: a piece's edge series
+// (~50 terms (1 - q^2)^j) then costs ~50 products instead of ~400, as the
+// static form's common subexpressions do, with the same bits.
+class Powers {
+public:
+    static constexpr int size = 256;
+    void reset(double base) {
+        base_ = base;
+        ++generation_;
+    }
+    double operator()(int n) {
+        if (n < 0) return 1.0 / (*this)(-n);
+        if (n == 0) return 1.0;
+        if (n == 1) return base_;
+        if (n >= size) return ipow_rt(base_, n);
+        if (stamp_[n] == generation_) return value_[n];
+        const double half = (*this)(n / 2);
+        double out = half * half;
+        if (n % 2) out = out * base_;
+        stamp_[n] = generation_;
+        value_[n] = out;
+        return out;
+    }
+
+private:
+    double base_ = 0;
+    std::uint64_t generation_ = 1;  // 64 bits: never wraps, so a stale stamp never matches
+    std::uint64_t stamp_[size]{};
+    double value_[size];
+};
+
+// S = sqrt(1 - q^2) is computed once per point (the same bits for every
+// term); the powers of the edge distance and of S are remembered while
+// consecutive terms share them.
+double fast_piece(const PiecePlan& p, const Scaled& a) {
+    thread_local Powers edge_powers, s_powers;
+    const double S = std::sqrt(a.e * (1 + a.q));
+    s_powers.reset(S);
+    const TermPlan* previous = nullptr;
+    double sum = 0.0;
+    for (const TermPlan& t : p.terms) {
+        double x = polynomial(t, a);
+        if (t.low != 0) x *= ipow_rt(a.q, t.low);
+        if (t.edge_power != 0) {
+            if (!previous || previous->edge != t.edge || previous->var != t.var || previous->edge_power == 0)
+                edge_powers.reset(distance_to_edge(t, a));
+            x *= edge_powers(t.edge_power);
+        }
+        if (t.basis == table::Basis::sqrt_power) x *= s_powers(t.s_power);
+        sum = sum + with_basis(t, a, x);
+        previous = &t;
+    }
+    return sum;
+}
+
+// ---- Precision::accurate ----
+
+DoubleDouble distance_to_edge_dd(const TermPlan& t, const Scaled& a) {
+    DoubleDouble d = a.ee;
+    if (t.edge != 1.0) {
+        const DoubleDouble ah = two_product(t.edge, a.h);
+        const DoubleDouble s = two_sum(ah.hi, -a.r);
+        d = over_h({s.hi, s.lo + mul_add(t.edge_lo, a.h, ah.lo)}, a.h, a.inv_h);
+    }
+    if (t.var == table::Var::r) return d;
+    const DoubleDouble edge_plus_q = plus(t.edge, a.qq);
+    return d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + t.edge_lo};
+}
+
+DoubleDouble factor_dd(const TermPlan& t, const Scaled& a) {
+    DoubleDouble f{1.0, 0.0};
+    bool one = true;
+    auto times_f = [&](const DoubleDouble& g) {
+        f = one ? g : f * g;
+        one = false;
+    };
+    if (t.edge_power != 0) times_f(ipow_rt(distance_to_edge_dd(t, a), t.edge_power));
+    if (t.low != 0) times_f(ipow_rt(a.qq, t.low));
+    if (t.basis == table::Basis::sqrt_power) {
+        const DoubleDouble s2 = a.ee * plus(1.0, a.qq);  // S^2 = (1 - q)(1 + q)
+        if (t.s_power % 2 == 0) times_f(ipow_rt(s2, t.s_power / 2));
+        else times_f(ipow_rt(sqrt(s2), t.s_power));
+    }
+    return f;
+}
+
+DoubleDouble accurate_polynomial(const TermPlan& t, const Scaled& a) {
+    if (t.n == 1) return {t.c[0], t.c_lo[0]};
+    if (t.var == table::Var::shifted) {
+        const DoubleDouble v = shifted_dd(a, t.centre, t.centre_lo);
+        return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, v.hi, v.lo);
+    }
+    if (t.var == table::Var::r) return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.q, a.dq);
+    return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.q * a.q, a.dq2);
+}
+
+DoubleDouble accurate_term(const TermPlan& t, const Scaled& a, const DoubleDouble& factor) {
+    const DoubleDouble x = accurate_polynomial(t, a);
+    if (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power) return factor * x;
+    return {with_basis(t, a, rounded(factor * x)), 0.0};
+}
+
+double accurate_series(const PiecePlan& p, const Scaled& a) {
+    const TermPlan& first = p.terms.front();
+    const DoubleDouble d = distance_to_edge_dd(first, a);
+    const DoubleDouble w = fast_two_sum(d.hi, d.lo);
+    const DoubleDouble sum = compensated_horner(p.series_c.data(), p.series_lo.data(), static_cast<int>(p.series_c.size()),
+                                                p.series_exact, w.hi, w.lo);
+    const DoubleDouble x = factor_dd(first, a) * sum * a.scale;
+    return with_basis(first, a, rounded(x));
+}
+
+double accurate_piece(const PiecePlan& p, const Scaled& a) {
+    if (p.edge_series) return accurate_series(p, a);
+    if (p.terms.size() == 1) {
+        const TermPlan& t = p.terms.front();
+        DoubleDouble factor{1.0, 0.0};
+        if (t.has_factor) factor = factor_dd(t, a);
+        return rounded(accurate_term(t, a, factor) * a.scale);
+    }
+    DoubleDouble sum{0.0, 0.0}, previous{1.0, 0.0};
+    for (const TermPlan& t : p.terms) {
+        DoubleDouble factor{1.0, 0.0};
+        if (t.continues) factor = previous * ipow_rt(distance_to_edge_dd(t, a), t.step);
+        else if (t.has_factor) factor = factor_dd(t, a);
+        const DoubleDouble x = accurate_term(t, a, factor);
+        sum = sum + x;
+        previous = factor;
+    }
+    return rounded(sum * a.scale);
+}
+
+// ---- a quantity at one radius (StaticKernel::emitted) ----
+
+// The inner piece of q (inside<K, Q, Pr>): the highest whose lower end q
+// is not below.
+const PiecePlan& inner_piece(const QuantityPlan& qp, double q) {
+    std::size_t p = qp.inner.size() - 1;
+    while (p > 0 && q < qp.inner[p].lo) --p;
+    return qp.inner[p];
+}
+
+double green_term(const TermPlan& t, double r) {
+    const double v = t.var == table::Var::r ? r : r * r;
+    double x = horner(t.c, t.n, v);
+    if (t.low != 0) x *= ipow_rt(r, t.low);
+    if (t.basis == table::Basis::log) x *= std::log(r);
+    return x;
+}
+
+double outside(const QuantityPlan& qp, double r) {
+    double sum = 0.0;
+    for (const TermPlan& t : qp.exterior.terms) sum = sum + green_term(t, r);
+    return sum;
+}
+
+template <Precision Pr>
+double radial(const QuantityPlan& qp, QuantityId q, double r, const Smoothing& s, int dim) {
+    double in;
+    if constexpr (Pr == Precision::accurate) {
+        Scaled a = scaled_accurate(r, s.h(), s.inverse());
+        a.scale = {s.scale(q), s.scale_lo(q)};
+        in = accurate_piece(inner_piece(qp, a.q), a);
+    } else {
+        const Scaled a{r * s.inverse(), edge_distance(s.h() - r, s), r, s.h(), s.inverse()};
+        in = fast_piece(inner_piece(qp, a.q), a) * s.scale(q);
+    }
+    if (q == QuantityId::potential && dim == 2) in = mul_add(qp.log_coefficient, s.log_h(), in);
+    if (qp.zero_outside) return select(r <= s.h(), in, 0.0);
+    return r <= s.h() ? in : outside(qp, r);
+}
+
+
+// ---- blocks of points: quantities whose inner pieces are all polynomial ----
+// (polynomial_inside: the static form evaluates every piece and selects,
+// branch-free). Terms and coefficients are looped outside, the B points of
+// a block inside, each operation the same as the scalar path's for each
+// point (so the results are the same bits), in loops the compiler
+// vectorises with the coefficient broadcast.
+
+constexpr std::size_t B = 32;
+
+struct DDs {
+    double hi[B], lo[B];
+};
+
+// Shape-specialised loops: the exponent or the polynomial length a
+// template argument (up to these sizes; longer ones take the general loops
+// below), the coefficients read from the table and broadcast, the sums in
+// registers. detail::ipow<N> is the tree ipow_rt walks, so the results are
+// the same bits.
+constexpr int fixed_power = 16;
+constexpr int fixed_length = 24;
+
+template <int N>
+void ipow_fixed(const double* x, double* out) {
+    for (std::size_t i = 0; i < B; ++i) out[i] = ipow<N>(x[i]);
+}
+
+template <int N>
+void ipow_fixed_dd(const DDs& x, DDs& out) {
+    for (std::size_t i = 0; i < B; ++i) {
+        const DoubleDouble y = ipow<N>(DoubleDouble{x.hi[i], x.lo[i]});
+        out.hi[i] = y.hi;
+        out.lo[i] = y.lo;
+    }
+}
+
+template <int N>
+void horner_fixed(const double* c, const double* v, double* out) {
+    double k[N];
+    for (int j = 0; j < N; ++j) k[j] = c[j];
+    for (std::size_t i = 0; i < B; ++i) {
+        double sum = k[N - 1];
+        for (int j = N - 2; j >= 0; --j) sum = mul_add(sum, v[i], k[j]);
+        out[i] = sum;
+    }
+}
+
+template <int N, bool Exact>
+void compensated_fixed(const double* c, const double* lo, const double* v, const double* dv, DDs& out) {
+    double k[N], l[N];
+    for (int j = 0; j < N; ++j) k[j] = c[j], l[j] = lo[j];
+    for (std::size_t i = 0; i < B; ++i) {
+        double sum = k[N - 1], error = l[N - 1], slope = 0;
+        for (int j = N - 2; j >= 0; --j) {
+            slope = mul_add(slope, v[i], sum);
+            const DoubleDouble product = two_product(sum, v[i]);
+            const DoubleDouble s = two_sum(product.hi, k[j]);
+            sum = s.hi;
+            if constexpr (Exact) error = mul_add(error, v[i], product.lo + s.lo);
+            else error = mul_add(error, v[i], (product.lo + s.lo) + l[j]);
+        }
+        out.hi[i] = sum;
+        out.lo[i] = mul_add(slope, dv[i], error);
+    }
+}
+
+// x[i] *= ipow<N>(base[i]), in one pass.
+template <int N>
+void times_ipow_fixed(const double* base, double* x) {
+    for (std::size_t i = 0; i < B; ++i) x[i] *= ipow<N>(base[i]);
+}
+
+// x[i] *= ipow<N>(distance to the term's edge), in one pass (fast_term's
+// edge factor, distance_to_edge).
+template <int N, bool VarR, bool SupportEdge>
+void times_edge_fixed(const double* q, const double* e, const double* r, double edge, double h, double inv_h, double* x) {
+    for (std::size_t i = 0; i < B; ++i) {
+        const double to_edge = SupportEdge ? e[i] : mul_add(edge, h, -r[i]) * inv_h;
+        const double d = VarR ? to_edge : to_edge * (edge + q[i]);
+        x[i] *= ipow<N>(d);
+    }
+}
+
+// Horner's rule in v = q or q^2 from q, in one pass.
+template <int N, bool VarR>
+void horner_q_fixed(const double* c, const double* q, double* out) {
+    double k[N];
+    for (int j = 0; j < N; ++j) k[j] = c[j];
+    for (std::size_t i = 0; i < B; ++i) {
+        const double v = VarR ? q[i] : q[i] * q[i];
+        double sum = k[N - 1];
+        for (int j = N - 2; j >= 0; --j) sum = mul_add(sum, v, k[j]);
+        out[i] = sum;
+    }
+}
+
+using TimesIpow = void (*)(const double*, double*);
+using TimesEdge = void (*)(const double*, const double*, const double*, double, double, double, double*);
+using HornerQ = void (*)(const double*, const double*, double*);
+
+template <int... I>
+constexpr std::array<TimesIpow, sizeof...(I)> times_ipow_table(std::integer_sequence<int, I...>) {
+    return {&times_ipow_fixed<I - fixed_power>...};
+}
+template <bool VarR, bool SupportEdge, int... I>
+constexpr std::array<TimesEdge, sizeof...(I)> times_edge_table(std::integer_sequence<int, I...>) {
+    return {&times_edge_fixed<I - fixed_power, VarR, SupportEdge>...};
+}
+template <bool VarR, int... I>
+constexpr std::array<HornerQ, sizeof...(I)> horner_q_table(std::integer_sequence<int, I...>) {
+    return {&horner_q_fixed<I + 1, VarR>...};
+}
+
+constexpr auto powers = std::make_integer_sequence<int, 2 * fixed_power + 1>{};
+constexpr auto times_ipow_of = times_ipow_table(powers);
+// [var == r][edge == 1]
+constexpr std::array<std::array<decltype(times_edge_table<true, true>(powers)), 2>, 2> times_edge_of = {{
+    {times_edge_table<false, false>(powers), times_edge_table<false, true>(powers)},
+    {times_edge_table<true, false>(powers), times_edge_table<true, true>(powers)},
+}};
+constexpr std::array<decltype(horner_q_table<true>(std::make_integer_sequence<int, fixed_length>{})), 2> horner_q_of = {
+    horner_q_table<false>(std::make_integer_sequence<int, fixed_length>{}),
+    horner_q_table<true>(std::make_integer_sequence<int, fixed_length>{})};
+
+bool fixed(int n) { return n >= -fixed_power && n <= fixed_power; }
+std::size_t power_index(int n) { return static_cast<std::size_t>(n + fixed_power); }
+
+using IpowFixed = void (*)(const double*, double*);
+using IpowFixedDD = void (*)(const DDs&, DDs&);
+using HornerFixed = void (*)(const double*, const double*, double*);
+using CompensatedFixed = void (*)(const double*, const double*, const double*, const double*, DDs&);
+
+template <int... I>
+constexpr std::array<IpowFixed, sizeof...(I)> ipow_table(std::integer_sequence<int, I...>) {
+    return {&ipow_fixed<I - fixed_power>...};
+}
+template <int... I>
+constexpr std::array<IpowFixedDD, sizeof...(I)> ipow_dd_table(std::integer_sequence<int, I...>) {
+    return {&ipow_fixed_dd<I - fixed_power>...};
+}
+template <int... I>
+constexpr std::array<HornerFixed, sizeof...(I)> horner_table(std::integer_sequence<int, I...>) {
+    return {&horner_fixed<I + 1>...};
+}
+template <bool Exact, int... I>
+constexpr std::array<CompensatedFixed, sizeof...(I)> compensated_table(std::integer_sequence<int, I...>) {
+    return {&compensated_fixed<I + 2, Exact>...};
+}
+
+constexpr auto ipow_fixed_of = ipow_table(std::make_integer_sequence<int, 2 * fixed_power + 1>{});
+constexpr auto ipow_fixed_dd_of = ipow_dd_table(std::make_integer_sequence<int, 2 * fixed_power + 1>{});
+constexpr auto horner_fixed_of = horner_table(std::make_integer_sequence<int, fixed_length>{});
+constexpr auto compensated_exact_of = compensated_table<true>(std::make_integer_sequence<int, fixed_length - 1>{});
+constexpr auto compensated_inexact_of = compensated_table<false>(std::make_integer_sequence<int, fixed_length - 1>{});
+
+// ipow_rt on a block: the binary-powering tree of ipow<N> walked from the
+// top bit down (x^(2m+b) = (x^m)^2 x^b), the same products in the same order.
+void ipow_block(const double* x, int n, double* out) {
+    if (n >= -fixed_power && n <= fixed_power) {
+        ipow_fixed_of[static_cast<std::size_t>(n + fixed_power)](x, out);
+        return;
+    }
+    if (n < 0) {
+        ipow_block(x, -n, out);
+        for (std::size_t i = 0; i < B; ++i) out[i] = 1.0 / out[i];
+        return;
+    }
+    if (n == 0) {
+        for (std::size_t i = 0; i < B; ++i) out[i] = 1.0;
+        return;
+    }
+    for (std::size_t i = 0; i < B; ++i) out[i] = x[i];
+    for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
+        for (std::size_t i = 0; i < B; ++i) out[i] = out[i] * out[i];
+        if ((n >> bit) & 1)
+            for (std::size_t i = 0; i < B; ++i) out[i] = out[i] * x[i];
+    }
+}
+
+void ipow_block(const DDs& x, int n, DDs& out) {
+    if (n >= -fixed_power && n <= fixed_power) {
+        ipow_fixed_dd_of[static_cast<std::size_t>(n + fixed_power)](x, out);
+        return;
+    }
+    if (n < 0) {
+        DDs inv;
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble y = reciprocal({x.hi[i], x.lo[i]});
+            inv.hi[i] = y.hi;
+            inv.lo[i] = y.lo;
+        }
+        ipow_block(inv, -n, out);
+        return;
+    }
+    if (n == 0) {
+        for (std::size_t i = 0; i < B; ++i) out.hi[i] = 1.0, out.lo[i] = 0.0;
+        return;
+    }
+    out = x;
+    for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
+        const bool times_x = (n >> bit) & 1;
+        for (std::size_t i = 0; i < B; ++i) {
+            DoubleDouble y = DoubleDouble{out.hi[i], out.lo[i]} * DoubleDouble{out.hi[i], out.lo[i]};
+            if (times_x) y = y * DoubleDouble{x.hi[i], x.lo[i]};
+            out.hi[i] = y.hi;
+            out.lo[i] = y.lo;
+        }
+    }
+}
+
+void horner_block(const double* c, int n, const double* v, double* out) {
+    if (n <= fixed_length) {
+        horner_fixed_of[static_cast<std::size_t>(n - 1)](c, v, out);
+        return;
+    }
+    for (std::size_t i = 0; i < B; ++i) out[i] = c[n - 1];
+    for (int k = n - 2; k >= 0; --k) {
+        const double ck = c[k];
+        for (std::size_t i = 0; i < B; ++i) out[i] = mul_add(out[i], v[i], ck);
+    }
+}
+
+struct FastBlock {
+    double q[B], e[B], r[B];
+    double h, inv_h;
+};
+
+void fast_term_block(const TermPlan& t, const FastBlock& a, double* x) {
+    double v[B], p[B];
+    if (t.var != table::Var::shifted && t.n <= fixed_length) {
+        horner_q_of[t.var == table::Var::r][static_cast<std::size_t>(t.n - 1)](t.c, a.q, x);
+    } else {
+        for (std::size_t i = 0; i < B; ++i)
+            v[i] = t.var == table::Var::r    ? a.q[i]
+                   : t.var == table::Var::r2 ? a.q[i] * a.q[i]
+                                             : mul_add(-t.centre, a.h, a.r[i]) * a.inv_h - t.centre_lo;
+        horner_block(t.c, t.n, v, x);
+    }
+    if (t.low != 0) {
+        if (fixed(t.low)) {
+            times_ipow_of[power_index(t.low)](a.q, x);
+        } else {
+            ipow_block(a.q, t.low, p);
+            for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+        }
+    }
+    if (t.edge_power != 0) {
+        const bool support_edge = t.edge == 1.0;
+        if (fixed(t.edge_power)) {
+            times_edge_of[t.var == table::Var::r][support_edge][power_index(t.edge_power)](a.q, a.e, a.r, t.edge, a.h,
+                                                                                             a.inv_h, x);
+        } else {
+            for (std::size_t i = 0; i < B; ++i) {
+                const double to_edge = support_edge ? a.e[i] : mul_add(t.edge, a.h, -a.r[i]) * a.inv_h;
+                v[i] = t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q[i]);
+            }
+            ipow_block(v, t.edge_power, p);
+            for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+        }
+    }
+    if (t.basis == table::Basis::sqrt_power) {
+        for (std::size_t i = 0; i < B; ++i) v[i] = std::sqrt(a.e[i] * (1 + a.q[i]));
+        ipow_block(v, t.s_power, p);
+        for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+    }
+}
+
+void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
+    double x[B];
+    for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0;
+    for (const TermPlan& t : p.terms) {
+        fast_term_block(t, a, x);
+        for (std::size_t i = 0; i < B; ++i) sum[i] = sum[i] + x[i];
+    }
+}
+
+struct AccurateBlock {
+    double q[B], e[B], r[B], dq[B], dq2[B];
+    DDs qq, ee;
+    double h, inv_h;
+    DoubleDouble scale;
+};
+
+void distance_to_edge_block(const TermPlan& t, const AccurateBlock& a, DDs& out) {
+    for (std::size_t i = 0; i < B; ++i) {
+        DoubleDouble d{a.ee.hi[i], a.ee.lo[i]};
+        if (t.edge != 1.0) {
+            const DoubleDouble ah = two_product(t.edge, a.h);
+            const DoubleDouble s = two_sum(ah.hi, -a.r[i]);
+            d = over_h({s.hi, s.lo + mul_add(t.edge_lo, a.h, ah.lo)}, a.h, a.inv_h);
+        }
+        if (t.var != table::Var::r) {
+            const DoubleDouble edge_plus_q = plus(t.edge, {a.qq.hi[i], a.qq.lo[i]});
+            d = d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + t.edge_lo};
+        }
+        out.hi[i] = d.hi;
+        out.lo[i] = d.lo;
+    }
+}
+
+void times_block(DDs& f, const DDs& g) {
+    for (std::size_t i = 0; i < B; ++i) {
+        const DoubleDouble y = DoubleDouble{f.hi[i], f.lo[i]} * DoubleDouble{g.hi[i], g.lo[i]};
+        f.hi[i] = y.hi;
+        f.lo[i] = y.lo;
+    }
+}
+
+void factor_block(const TermPlan& t, const AccurateBlock& a, DDs& f) {
+    bool one = true;
+    DDs g, p;
+    auto times_f = [&](const DDs& x) {
+        if (one) f = x;
+        else times_block(f, x);
+        one = false;
+    };
+    for (std::size_t i = 0; i < B; ++i) f.hi[i] = 1.0, f.lo[i] = 0.0;
+    if (t.edge_power != 0) {
+        distance_to_edge_block(t, a, g);
+        ipow_block(g, t.edge_power, p);
+        times_f(p);
+    }
+    if (t.low != 0) {
+        ipow_block(a.qq, t.low, p);
+        times_f(p);
+    }
+    if (t.basis == table::Basis::sqrt_power) {
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble s2 = DoubleDouble{a.ee.hi[i], a.ee.lo[i]} * plus(1.0, {a.qq.hi[i], a.qq.lo[i]});
+            const DoubleDouble x = t.s_power % 2 == 0 ? s2 : sqrt(s2);
+            g.hi[i] = x.hi;
+            g.lo[i] = x.lo;
+        }
+        ipow_block(g, t.s_power % 2 == 0 ? t.s_power / 2 : t.s_power, p);
+        times_f(p);
+    }
+}
+
+void compensated_horner_block(const double* c, const double* lo, int n, bool exact, const double* v, const double* dv,
+                              DDs& out) {
+    if (n == 1) {
+        for (std::size_t i = 0; i < B; ++i) out.hi[i] = c[0], out.lo[i] = lo[0];
+        return;
+    }
+    if (n <= fixed_length) {
+        (exact ? compensated_exact_of : compensated_inexact_of)[static_cast<std::size_t>(n - 2)](c, lo, v, dv, out);
+        return;
+    }
+    double sum[B], error[B], slope[B];
+    for (std::size_t i = 0; i < B; ++i) sum[i] = c[n - 1], error[i] = lo[n - 1], slope[i] = 0;
+    for (int k = n - 2; k >= 0; --k) {
+        const double ck = c[k], lk = lo[k];
+        for (std::size_t i = 0; i < B; ++i) {
+            slope[i] = mul_add(slope[i], v[i], sum[i]);
+            const DoubleDouble product = two_product(sum[i], v[i]);
+            const DoubleDouble s = two_sum(product.hi, ck);
+            sum[i] = s.hi;
+            error[i] = exact ? mul_add(error[i], v[i], product.lo + s.lo) : mul_add(error[i], v[i], (product.lo + s.lo) + lk);
+        }
+    }
+    for (std::size_t i = 0; i < B; ++i) out.hi[i] = sum[i], out.lo[i] = mul_add(slope[i], dv[i], error[i]);
+}
+
+void accurate_polynomial_block(const TermPlan& t, const AccurateBlock& a, DDs& out) {
+    double v[B], dv[B];
+    for (std::size_t i = 0; i < B; ++i) {
+        if (t.var == table::Var::shifted) {
+            Scaled s{};
+            s.r = a.r[i], s.h = a.h, s.inv_h = a.inv_h;
+            const DoubleDouble w = shifted_dd(s, t.centre, t.centre_lo);
+            v[i] = w.hi, dv[i] = w.lo;
+        } else if (t.var == table::Var::r) {
+            v[i] = a.q[i], dv[i] = a.dq[i];
+        } else {
+            v[i] = a.q[i] * a.q[i], dv[i] = a.dq2[i];
+        }
+    }
+    compensated_horner_block(t.c, t.c_lo.data(), t.n, t.exact, v, dv, out);
+}
+
+// accurate_piece for pieces of Basis::one terms.
+void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* out) {
+    DDs factor, x, d, previous, sum;
+    if (p.edge_series) {
+        const TermPlan& first = p.terms.front();
+        distance_to_edge_block(first, a, d);
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble w = fast_two_sum(d.hi[i], d.lo[i]);
+            d.hi[i] = w.hi, d.lo[i] = w.lo;
+        }
+        compensated_horner_block(p.series_c.data(), p.series_lo.data(), static_cast<int>(p.series_c.size()),
+                                 p.series_exact, d.hi, d.lo, sum);
+        factor_block(first, a, factor);
+        for (std::size_t i = 0; i < B; ++i)
+            out[i] = rounded(DoubleDouble{factor.hi[i], factor.lo[i]} * DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
+        return;
+    }
+    for (std::size_t i = 0; i < B; ++i) sum.hi[i] = 0.0, sum.lo[i] = 0.0, previous.hi[i] = 1.0, previous.lo[i] = 0.0;
+    const bool single = p.terms.size() == 1;
+    for (const TermPlan& t : p.terms) {
+        if (t.continues) {
+            distance_to_edge_block(t, a, d);
+            ipow_block(d, t.step, factor);
+            for (std::size_t i = 0; i < B; ++i) {
+                const DoubleDouble y = DoubleDouble{previous.hi[i], previous.lo[i]} * DoubleDouble{factor.hi[i], factor.lo[i]};
+                factor.hi[i] = y.hi, factor.lo[i] = y.lo;
+            }
+        } else if (t.has_factor) {
+            factor_block(t, a, factor);
+        } else {
+            for (std::size_t i = 0; i < B; ++i) factor.hi[i] = 1.0, factor.lo[i] = 0.0;
+        }
+        accurate_polynomial_block(t, a, x);
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble term = DoubleDouble{factor.hi[i], factor.lo[i]} * DoubleDouble{x.hi[i], x.lo[i]};
+            if (single) {
+                out[i] = rounded(term * a.scale);
+            } else {
+                const DoubleDouble s = DoubleDouble{sum.hi[i], sum.lo[i]} + term;
+                sum.hi[i] = s.hi, sum.lo[i] = s.lo;
+            }
+        }
+        previous = factor;
+    }
+    if (!single)
+        for (std::size_t i = 0; i < B; ++i) out[i] = rounded(DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
+}
+
+// A polynomial_inside quantity at B radii (StaticKernel::emitted).
+template <Precision Pr>
+void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double* out, const Smoothing& s, int dim) {
+    double in[B], piece[B];
+    if constexpr (Pr == Precision::accurate) {
+        AccurateBlock a;
+        a.h = s.h(), a.inv_h = s.inverse(), a.scale = {s.scale(q), s.scale_lo(q)};
+        for (std::size_t i = 0; i < B; ++i) {
+            const Scaled x = scaled_accurate(r[i], a.h, a.inv_h);
+            a.q[i] = x.q, a.e[i] = x.e, a.r[i] = r[i], a.dq[i] = x.dq, a.dq2[i] = x.dq2;
+            a.qq.hi[i] = x.qq.hi, a.qq.lo[i] = x.qq.lo, a.ee.hi[i] = x.ee.hi, a.ee.lo[i] = x.ee.lo;
+        }
+        for (std::size_t p = 0; p < qp.inner.size(); ++p) {
+            accurate_piece_block(qp.inner[p], a, p == 0 ? in : piece);
+            if (p > 0)
+                for (std::size_t i = 0; i < B; ++i) in[i] = select(a.q[i] < qp.inner[p].lo, in[i], piece[i]);
+        }
+    } else {
+        FastBlock a;
+        a.h = s.h(), a.inv_h = s.inverse();
+        for (std::size_t i = 0; i < B; ++i) {
+            a.q[i] = r[i] * s.inverse();
+            a.e[i] = edge_distance(s.h() - r[i], s);
+            a.r[i] = r[i];
+        }
+        for (std::size_t p = 0; p < qp.inner.size(); ++p) {
+            fast_piece_block(qp.inner[p], a, p == 0 ? in : piece);
+            if (p > 0)
+                for (std::size_t i = 0; i < B; ++i) in[i] = select(a.q[i] < qp.inner[p].lo, in[i], piece[i]);
+        }
+        const double scale = s.scale(q);
+        for (std::size_t i = 0; i < B; ++i) in[i] = in[i] * scale;
+    }
+    if (q == QuantityId::potential && dim == 2)
+        for (std::size_t i = 0; i < B; ++i) in[i] = mul_add(qp.log_coefficient, s.log_h(), in[i]);
+    if (qp.zero_outside) {
+        for (std::size_t i = 0; i < B; ++i) out[i] = select(r[i] <= s.h(), in[i], 0.0);
+    } else {
+        for (std::size_t i = 0; i < B; ++i) out[i] = r[i] <= s.h() ? in[i] : outside(qp, r[i]);
+    }
+}
+
+// f_h at n radii: polynomial quantities by blocks (the last one padded
+// with r = 0), the others point by point.
+template <Precision Pr>
+void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s,
+                  int dim) {
+    if (!qp.polynomial_inside) {
+        for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
+        return;
+    }
+    std::size_t i = 0;
+    for (; i + B <= n; i += B) radial_block<Pr>(qp, q, r + i, out + i, s, dim);
+    if (i < n) {
+        double rb[B] = {}, ob[B];
+        for (std::size_t j = i; j < n; ++j) rb[j - i] = r[j];
+        radial_block<Pr>(qp, q, rb, ob, s, dim);
+        for (std::size_t j = i; j < n; ++j) out[j] = ob[j - i];
+    }
+}
+
+template <Precision Pr>
+void evaluate_batch(const Plan& plan, QuantityId q, const double* __restrict r, double* __restrict out, std::size_t n,
+                    const Smoothing& smoothing) {
+    const Smoothing s = smoothing;
+    const QuantityPlan& qp = plan.quantities[static_cast<std::size_t>(q)];
+    const int dim = plan.table->dim;
+    radial_batch<Pr>(qp, q, r, out, n, s, dim);
+}
+
+void evaluate(const Plan& plan, Precision pr, QuantityId q, const double* r, double* out, std::size_t n,
+              const Smoothing& s) {
+    if (pr == Precision::accurate) evaluate_batch<Precision::accurate>(plan, q, r, out, n, s);
+    else evaluate_batch<Precision::fast>(plan, q, r, out, n, s);
+}
+
+// ---- W and grad W at displacements (StaticKernel::pairs_unchecked) ----
+
+template <Precision Pr>
+void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoothing& smoothing, double* __restrict w,
+                 const std::span<double>* grad, std::size_t n) {
+    const Smoothing s = smoothing;
+    const int dim = plan.table->dim;
+    const QuantityPlan& value = plan.quantities[static_cast<std::size_t>(QuantityId::value)];
+    const QuantityPlan& over_r = plan.quantities[static_cast<std::size_t>(QuantityId::grad_over_r)];
+    const QuantityPlan& dr = plan.quantities[static_cast<std::size_t>(QuantityId::dr)];
+    const bool cusp = over_r.singular_at_origin;
+    if (dim == 1 || plan.odd || cusp) {
+        for (std::size_t i = 0; i < n; ++i) {
+            double xi[3] = {x[0][i], dim > 1 ? x[1][i] : 0.0, dim > 2 ? x[2][i] : 0.0};
+            double r;
+            if (dim == 1) {
+                r = std::abs(xi[0]);
+            } else {
+                double sq = xi[0] * xi[0];
+                for (int c = 1; c < dim; ++c) sq = mul_add(xi[c], xi[c], sq);
+                r = std::sqrt(sq);
+            }
+            double wi = radial<Pr>(value, QuantityId::value, r, s, dim);
+            if (plan.odd) wi = xi[0] < 0 ? -wi : wi;
+            w[i] = wi;
+            if (plan.odd) xi[0] = std::abs(xi[0]);  // oriented: W'(x) = f'(|x|)
+            if (cusp) {
+                if (!(r > 0)) {
+                    for (int c = 0; c < dim; ++c) grad[c][i] = 0.0;
+                    continue;
+                }
+                const double d = radial<Pr>(dr, QuantityId::dr, r, s, dim);
+                for (int c = 0; c < dim; ++c) grad[c][i] = d * (xi[c] / r);
+            } else {
+                const double g = radial<Pr>(over_r, QuantityId::grad_over_r, r, s, dim);
+                for (int c = 0; c < dim; ++c) grad[c][i] = g * xi[c];
+            }
+        }
+        return;
+    }
+    double r[B], g[B];
+    for (std::size_t start = 0; start < n; start += B) {
+        const std::size_t m = std::min(B, n - start);
+        for (std::size_t i = 0; i < m; ++i) {
+            const double a = x[0][start + i], b = x[1][start + i];
+            double sq = mul_add(b, b, a * a);
+            if (dim == 3) sq = mul_add(x[2][start + i], x[2][start + i], sq);
+            r[i] = std::sqrt(sq);
+        }
+        radial_batch<Pr>(value, QuantityId::value, r, w + start, m, s, dim);
+        radial_batch<Pr>(over_r, QuantityId::grad_over_r, r, g, m, s, dim);
+        for (int c = 0; c < dim; ++c)
+            for (std::size_t i = 0; i < m; ++i) grad[c][start + i] = g[i] * x[c][start + i];
+    }
+}
+
+void pairs(const Plan& plan, Precision pr, const std::span<const double>* x, const Smoothing& s, double* w,
+           const std::span<double>* grad, std::size_t n) {
+    if (pr == Precision::accurate) pairs_batch<Precision::accurate>(plan, x, s, w, grad, n);
+    else pairs_batch<Precision::fast>(plan, x, s, w, grad, n);
+}
+
+}  // namespace
+
+#define MOLLIFY_STRINGIFY2(x) #x
+#define MOLLIFY_STRINGIFY(x) MOLLIFY_STRINGIFY2(x)
+extern const Evaluator isa_evaluator;
+const Evaluator isa_evaluator{MOLLIFY_STRINGIFY(MOLLIFY_ISA), &evaluate, &pairs};
+
+}  // namespace MOLLIFY_ISA
+}  // namespace mollify::detail

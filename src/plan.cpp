@@ -1,0 +1,118 @@
+// The plan of a table: the compile-time predicates of detail/evaluate.hpp
+// (continues_series, edge_series, has_factor, polynomial_inside,
+// singular_at_origin, zero_outside, log_coefficient) computed once from
+// the table data.
+#include "plan.hpp"
+
+#include <mollify/error.hpp>
+#include <mollify/smoothing.hpp>
+
+#include <string>
+
+namespace mollify::detail {
+namespace {
+
+[[noreturn]] void bad_table(const table::Kernel& k, int q, int p, int t, const std::string& why) {
+    fail("kernel " + std::string(k.spec) + " in D = " + std::to_string(k.dim) + ": " + quantity_names[q] + ", piece " +
+         std::to_string(p) + ", term " + std::to_string(t) + ": " + why);
+}
+
+// continues_series<K, Q, P, T>: the same factor as the previous term but
+// for a higher power of the same edge distance.
+bool continues(const table::Term& s, const table::Term& t) {
+    return s.basis == t.basis && s.s_power == t.s_power && s.var == t.var && s.var != table::Var::shifted &&
+           s.edge == t.edge && s.low == t.low && s.edge_power > 0 && t.edge_power > s.edge_power;
+}
+
+TermPlan term_plan(const table::Term& t, const table::Term* previous) {
+    TermPlan p{t.basis, t.s_power, t.var, t.edge, t.edge_lo, t.edge_power, t.low, t.c, {}, t.n, t.centre,
+               t.centre_lo, true, false, false, 0};
+    p.c_lo.assign(static_cast<std::size_t>(t.n), 0.0);
+    for (int k = 0; k < t.n; ++k) {
+        p.c_lo[static_cast<std::size_t>(k)] = t.c_lo ? t.c_lo[k] : 0.0;
+        p.exact = p.exact && p.c_lo[static_cast<std::size_t>(k)] == 0;
+    }
+    p.has_factor = t.edge_power != 0 || t.low != 0 || t.basis == table::Basis::sqrt_power;
+    p.continues = previous && continues(*previous, t);
+    p.step = p.continues ? t.edge_power - previous->edge_power : 0;
+    return p;
+}
+
+// is_edge_series: more than two terms, each a constant times the previous
+// term's factor and one more power of the edge distance.
+bool is_edge_series(const table::Piece& piece) {
+    if (piece.nterms <= 2) return false;
+    for (int t = 0; t < piece.nterms; ++t) {
+        const table::Term& term = piece.terms[t];
+        if (term.n != 1) return false;
+        if (t > 0 && !(continues(piece.terms[t - 1], term) && term.edge_power == piece.terms[t - 1].edge_power + 1))
+            return false;
+    }
+    return true;
+}
+
+PiecePlan piece_plan(const table::Kernel& k, int q, int p, bool exterior) {
+    const table::Piece& piece = k.quantities[q].pieces[p];
+    PiecePlan out{piece.lo, piece.hi, {}, false, {}, {}, true};
+    for (int t = 0; t < piece.nterms; ++t) {
+        const table::Term& term = piece.terms[t];
+        if (term.n < 1) bad_table(k, q, p, t, "a polynomial of " + std::to_string(term.n) + " coefficients");
+        if (term.var == table::Var::shifted && term.edge_power != 0)
+            bad_table(k, q, p, t, "a Taylor piece with an edge factor");
+        if (exterior && (term.edge_power != 0 || term.var == table::Var::shifted ||
+                         (term.basis != table::Basis::one && term.basis != table::Basis::log)))
+            bad_table(k, q, p, t, "the exterior is not a Green's function in r");
+        out.terms.push_back(term_plan(term, t > 0 ? &piece.terms[t - 1] : nullptr));
+    }
+    out.edge_series = !exterior && is_edge_series(piece);
+    if (out.edge_series)
+        for (const TermPlan& t : out.terms) {
+            out.series_c.push_back(t.c[0]);
+            out.series_lo.push_back(t.c_lo[0]);
+            out.series_exact = out.series_exact && t.c_lo[0] == 0;
+        }
+    return out;
+}
+
+bool singular_at_origin(const PiecePlan& first) {
+    for (const TermPlan& t : first.terms) {
+        if (t.low < 0) return true;
+        if ((t.basis == table::Basis::log || t.basis == table::Basis::arcsech) && t.low <= 0) return true;
+    }
+    return false;
+}
+
+QuantityPlan quantity_plan(const table::Kernel& k, int q) {
+    QuantityPlan out;
+    const table::Quantity& quantity = k.quantities[q];
+    if (quantity.npieces == 0) return out;
+    if (quantity.npieces < 2) fail("kernel " + std::string(k.spec) + ": " + quantity_names[q] + " has no inner piece");
+    out.present = true;
+    for (int p = 0; p + 1 < quantity.npieces; ++p) out.inner.push_back(piece_plan(k, q, p, false));
+    out.exterior = piece_plan(k, q, quantity.npieces - 1, true);
+    for (const PiecePlan& piece : out.inner)
+        for (const TermPlan& t : piece.terms) out.polynomial_inside = out.polynomial_inside && t.basis == table::Basis::one;
+    out.zero_outside = out.exterior.terms.empty();
+    out.singular_at_origin = singular_at_origin(out.inner.front());
+    for (const TermPlan& t : out.exterior.terms)
+        if (t.basis == table::Basis::log) {
+            out.log_coefficient = t.c[0];
+            break;
+        }
+    return out;
+}
+
+}  // namespace
+
+std::shared_ptr<const Plan> make_plan(const table::Kernel& k, std::shared_ptr<const table::Kernel> owner) {
+    if (k.support != 1.0) fail("kernel " + std::string(k.spec) + " has support " + show(k.support) + ", not 1");
+    if (k.dim < 1 || k.dim > 3) fail("kernel " + std::string(k.spec) + " has dimension " + std::to_string(k.dim));
+    auto plan = std::make_shared<Plan>();
+    plan->table = &k;
+    plan->owner = std::move(owner);
+    plan->odd = k.parity < 0;
+    for (int q = 0; q < table::quantity_count; ++q) plan->quantities[static_cast<std::size_t>(q)] = quantity_plan(k, q);
+    return plan;
+}
+
+}  // namespace mollify::detail

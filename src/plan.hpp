@@ -1,0 +1,64 @@
+// The plan of a kernel: what detail/evaluate.hpp derives from a table at
+// compile time (which terms continue an edge series, which pieces are one
+// series, which factors exist, whether every low part is 0), derived once
+// at run time when a Kernel is made, so that the evaluator's loops read
+// flags and coefficients instead of being instantiated per table.
+#pragma once
+
+#include <mollify/table.hpp>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+namespace mollify::detail {
+
+struct TermPlan {
+    table::Basis basis;
+    int s_power;
+    table::Var var;
+    double edge, edge_lo;
+    int edge_power;
+    int low;
+    const double* c;  // the table's coefficients, n of them
+    std::vector<double> c_lo;  // their low parts (0 where the table has none)
+    int n;
+    double centre, centre_lo;
+    bool exact;          // every c_lo is 0 (Coefficients::exact)
+    bool has_factor;     // an edge power, a power of r or S^m (has_factor)
+    bool continues;      // continues the previous term's edge series (continues_series)
+    int step;            // edge_power minus the previous term's, where it continues
+};
+
+struct PiecePlan {
+    double lo, hi;
+    std::vector<TermPlan> terms;
+    // One series sum_j c_j F w^j (edge_series): its coefficients c_j as in
+    // series_coefficients.
+    bool edge_series = false;
+    std::vector<double> series_c, series_lo;
+    bool series_exact = true;
+};
+
+struct QuantityPlan {
+    bool present = false;  // the table has pieces for it
+    std::vector<PiecePlan> inner;  // [0, support]
+    PiecePlan exterior;            // (support, inf): nothing, or the Green's function
+    bool polynomial_inside = true;  // every inner term has Basis::one: pieces selected branch-free
+    bool zero_outside = true;
+    bool singular_at_origin = false;
+    double log_coefficient = 0;  // 2D potentials: c of c log r outside
+};
+
+struct Plan {
+    const table::Kernel* table;
+    std::shared_ptr<const table::Kernel> owner;  // tables loaded at run time; null for the compiled-in ones
+    std::array<QuantityPlan, table::quantity_count> quantities;
+    bool odd;
+};
+
+// The plan of a table (checked: a term shape the evaluator cannot evaluate
+// fails, naming the kernel).
+std::shared_ptr<const Plan> make_plan(const table::Kernel& k, std::shared_ptr<const table::Kernel> owner);
+
+}  // namespace mollify::detail

@@ -1,0 +1,291 @@
+// The run-time form (mollify::kernel: a plan of the table evaluated by
+// libmollify's data-driven loops) against the compile-time form
+// (StaticKernel: the table a template argument, unrolled) on the tables
+// below, every quantity, both precisions, the batch and the pair loop, at
+// the hard points: near 0 (down to subnormal r/h), at and within ulps of
+// the support edge, within ulps of every breakpoint and combination radius,
+// beyond the support, at h from 1e-30 to 1e30.
+//
+// On the instruction set this test is compiled for (generic x86-64) the two
+// must agree bit for bit: the evaluator performs the same operations in the
+// same order. The x86-64-v3 copy (FMA) rounds differently; it is held to
+// the accuracy suite's reasoning instead (see v3_bound).
+//
+// Instantiating StaticKernel for all 256 catalogue tables is the deleted
+// registry's cost (22 minutes of compile); the tables below are a cover of
+// every evaluation path the catalogue takes (tests/shape_features.hpp,
+// chosen greedily), and CoverEveryPathOfTheCatalogue fails if a table of the
+// catalogue takes a path none of them takes.
+#include "shape_features.hpp"
+
+#include <mollify/kernel.hpp>
+#include <mollify/tables/catalogue.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
+#include <set>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace {
+
+namespace tables = mollify::tables;
+namespace table = mollify::table;
+using mollify::Precision;
+using mollify::QuantityId;
+using mollify::Smoothing;
+
+using StaticBatch = void (*)(Precision, QuantityId, const double*, double*, std::size_t, const Smoothing&);
+using StaticPairs = void (*)(Precision, const std::span<const double>*, const Smoothing&, double*,
+                             const std::span<double>*, std::size_t);
+
+struct Case {
+    const table::Kernel* table;
+    StaticBatch batch;
+    StaticPairs pairs;
+};
+
+template <const table::Kernel& K, Precision Pr, std::size_t... Q>
+void batch_of(QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s, std::index_sequence<Q...>) {
+    auto one = [&]<std::size_t I>(std::integral_constant<std::size_t, I>) {
+        if constexpr (K.quantities[I].npieces > 0)
+            if (static_cast<std::size_t>(q) == I)
+                mollify::StaticKernel<K, Pr>::template evaluate_unchecked<static_cast<QuantityId>(I)>(r, out, n, s);
+    };
+    (one(std::integral_constant<std::size_t, Q>{}), ...);
+}
+
+template <const table::Kernel& K>
+void batch(Precision pr, QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s) {
+    constexpr auto all = std::make_index_sequence<table::quantity_count>{};
+    if (pr == Precision::accurate) batch_of<K, Precision::accurate>(q, r, out, n, s, all);
+    else batch_of<K, Precision::fast>(q, r, out, n, s, all);
+}
+
+template <const table::Kernel& K, Precision Pr>
+void pairs_of(const std::span<const double>* x, const Smoothing& s, double* w, const std::span<double>* g, std::size_t n) {
+    constexpr int D = K.dim;
+    mollify::Points<D> in;
+    mollify::PointsOut<D> out;
+    for (int c = 0; c < D; ++c) {
+        in[static_cast<std::size_t>(c)] = x[c];
+        out[static_cast<std::size_t>(c)] = g[c];
+    }
+    mollify::StaticKernel<K, Pr>::pairs_unchecked(in, s, w, out, n);
+}
+
+template <const table::Kernel& K>
+void pairs(Precision pr, const std::span<const double>* x, const Smoothing& s, double* w, const std::span<double>* g,
+           std::size_t n) {
+    if (pr == Precision::accurate) pairs_of<K, Precision::accurate>(x, s, w, g, n);
+    else pairs_of<K, Precision::fast>(x, s, w, g, n);
+}
+
+template <const table::Kernel& K>
+Case case_of() {
+    return {&K, &batch<K>, &pairs<K>};
+}
+
+// The greedy cover printed by the features of every catalogue table.
+const std::vector<Case>& cases() {
+    static const std::vector<Case> all = {
+        case_of<tables::combo_m_3_base_wendland_k_1_l_1_D1>(),
+        case_of<tables::combo_m_3_base_mollifier_M_4_D2>(),
+        case_of<tables::wendland_missing_k_1_D3>(),
+        case_of<tables::mollifier_M_1_order_6_D1>(),
+        case_of<tables::combo_m_2_base_wendland_k_1_D2>(),
+        case_of<tables::mollifier_M_1_D2>(),
+        case_of<tables::combo_m_2_base_mollifier_M_4_D1>(),
+        case_of<tables::wendland_k_0_D1>(),
+        case_of<tables::wendland_k_0_D2>(),
+        case_of<tables::combo_m_3_base_wendland_k_2_D1>(),
+        case_of<tables::mollifier_M_1_order_4_D2>(),
+        case_of<tables::mollifier_M_1_D1>(),
+        case_of<tables::mollifier_M_2_order_4_D1>(),
+        case_of<tables::mollifier_M_2_order_4_D2>(),
+        case_of<tables::wendland_k_0_D3>(),
+        case_of<tables::wendland_k_0_l_1_D1>(),
+        case_of<tables::wendland_k_2_D1>(),
+        case_of<tables::wendland_missing_k_1_D1>(),
+        case_of<tables::wendland_missing_k_2_l_1_D2>(),
+        case_of<tables::box_d1_D1>(),
+        // The benchmark kernels, in 3D.
+        case_of<tables::wendland_k_2_D3>(),
+        case_of<tables::combo_m_3_base_wendland_k_2_D3>(),
+    };
+    return all;
+}
+
+// r/h at the hard points of a table: near 0, at the edge, around every
+// breakpoint and combination radius, beyond, and uniform in [0, 1.25].
+std::vector<double> hard_q(const table::Kernel& k) {
+    std::vector<double> q = {0.0, 4.9e-324, 1e-310, 1e-300, 1e-160, 1e-20, 1e-8, 1e-3, 0.5, 1.0, 1.5, 3.0, 1e3};
+    auto around = [&](double x) {
+        double up = x, down = x;
+        for (int i = 0; i < 3; ++i) {
+            up = std::nextafter(up, 2.0);
+            down = std::nextafter(down, 0.0);
+            q.push_back(up);
+            q.push_back(down);
+        }
+        q.push_back(x);
+    };
+    around(1.0);
+    for (const double e : {1e-15, 1e-12, 1e-9, 1e-6}) q.push_back(1 - e);
+    for (int qi = 0; qi < table::quantity_count; ++qi)
+        for (int p = 0; p < k.quantities[qi].npieces; ++p) {
+            const table::Piece& piece = k.quantities[qi].pieces[p];
+            if (piece.lo > 0 && piece.lo <= 1) around(piece.lo);
+            for (int t = 0; t < piece.nterms; ++t)
+                if (piece.terms[t].edge > 0 && piece.terms[t].edge <= 1) around(piece.terms[t].edge);
+        }
+    std::mt19937_64 rng(18);
+    std::uniform_real_distribution<double> u(0, 1.25);
+#ifdef MOLLIFY_SANITIZED_BUILD
+    constexpr int uniform = 150;
+#else
+    constexpr int uniform = 1500;
+#endif
+    for (int i = 0; i < uniform; ++i) q.push_back(u(rng));
+    std::sort(q.begin(), q.end());
+    q.erase(std::unique(q.begin(), q.end()), q.end());
+    return q;
+}
+
+constexpr double smoothing_lengths[] = {1.0, 0.37, 3e-7, 2.5e6, 1e-30, 1e30};
+
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+// |a - b| in ulps of max(|a|, |b|, floor).
+double ulps(double a, double b, double floor) {
+    if (!std::isfinite(a) || !std::isfinite(b)) return a == b || (std::isnan(a) && std::isnan(b)) ? 0 : INFINITY;
+    const double m = std::max({std::abs(a), std::abs(b), floor});
+    if (m == 0) return 0;
+    return std::abs(a - b) / (std::ldexp(1.0, std::ilogb(m) - 52));
+}
+
+// x86-64-v3 against generic: each rounds differently (fused products), so
+// they agree to the sum of their errors against the exact value. The
+// accuracy suite bounds Precision::accurate by 4 ulp (values) and 8
+// (potentials); the difference then stays within 16, in ulps of the value
+// (values tinier than 2^-40 of the largest |f_h| of the sample in ulps of
+// that floor). Precision::fast rounds every term and multiplies the
+// half-ulp rounding of q and 1 - q by the edge powers (up to ~25 ulp each,
+// precision.hpp); near a root of f the terms cancel, so its error is ulps
+// of the terms, not of f: measured in ulps of the sample's max |f_h|, 64.
+// Near a breakpoint the rounded q may choose the neighbouring piece (both
+// exact there) and the second derivatives of combinations jump by up to
+// ~125 ulp (accuracy_test's kink bound of 256): 512 for those.
+double v3_bound(const table::Kernel& k, QuantityId q, Precision pr) {
+    const bool kink = q == QuantityId::d2r || q == QuantityId::laplacian || q == QuantityId::hess_radial ||
+                      q == QuantityId::potential_hess_radial;
+    if (kink && std::string(k.spec).rfind("combo", 0) == 0) return 512;
+    return pr == Precision::accurate ? 16 : 64;
+}
+
+struct Isa {
+    const char* name;
+    bool bit_for_bit;
+};
+
+std::vector<Isa> isas() {
+    std::vector<Isa> out = {{"generic", true}};
+    try {
+        mollify::use_isa("x86-64-v3");
+        out.push_back({"x86-64-v3", false});
+    } catch (const mollify::Error&) {
+        // This CPU has no AVX2 + FMA: only the generic copy runs here.
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST(Runtime, CoverEveryPathOfTheCatalogue) {
+    std::set<std::string> covered;
+    for (const Case& c : cases())
+        for (const std::string& f : mollify::testing::features(*c.table)) covered.insert(f);
+    for (const table::Kernel* k : tables::all_kernels)
+        for (const std::string& f : mollify::testing::features(*k))
+            EXPECT_TRUE(covered.count(f)) << k->spec << " D" << k->dim << " takes a path no compared table takes: " << f;
+}
+
+TEST(Runtime, CompileTimeAndRunTimeFormsAgreeBitForBit) {
+    for (const Isa& isa : isas()) {
+        mollify::use_isa(isa.name);
+        ASSERT_EQ(mollify::isa(), isa.name);
+        double worst = 0;
+        for (const Case& c : cases()) {
+            const table::Kernel& k = *c.table;
+            const std::vector<double> q = hard_q(k);
+            for (const Precision pr : {Precision::accurate, Precision::fast}) {
+                const mollify::Kernel runtime = mollify::kernel(k, pr);
+                ASSERT_EQ(&runtime.table(), &k);
+                for (const double h : smoothing_lengths) {
+                    const Smoothing s(h, k.dim);
+                    std::vector<double> r(q.size()), a(q.size()), b(q.size());
+                    for (std::size_t i = 0; i < q.size(); ++i) r[i] = q[i] * h;
+                    for (int qi = 0; qi < table::quantity_count; ++qi) {
+                        if (k.quantities[qi].npieces == 0) continue;
+                        const auto id = static_cast<QuantityId>(qi);
+                        c.batch(pr, id, r.data(), a.data(), r.size(), s);
+                        runtime.evaluate(id, r, s, b);
+                        double floor = 0;
+                        for (const double x : a)
+                            if (std::isfinite(x)) floor = std::max(floor, std::abs(x));
+                        if (pr == Precision::accurate) floor *= 0x1p-40;
+                        for (std::size_t i = 0; i < r.size(); ++i) {
+                            const std::string where = std::string(isa.name) + " " + k.spec + " D" + std::to_string(k.dim) +
+                                                      " " + mollify::quantity_names[qi] + " " +
+                                                      std::string(mollify::name(pr)) + " r/h = " +
+                                                      mollify::detail::show(q[i]) + " h = " + mollify::detail::show(h);
+                            if (isa.bit_for_bit) {
+                                ASSERT_TRUE(same_bits(a[i], b[i])) << where << ": static " << a[i] << " run-time " << b[i];
+                            } else {
+                                const double e = ulps(a[i], b[i], floor);
+                                worst = std::max(worst, e);
+                                ASSERT_LE(e, v3_bound(k, id, pr)) << where << ": static " << a[i] << " run-time " << b[i];
+                            }
+                        }
+                    }
+                    // The pair loop at displacements along a diagonal and at random.
+                    const std::size_t n = q.size();
+                    std::vector<std::vector<double>> x(3, std::vector<double>(n)), ga(3, std::vector<double>(n)),
+                        gb(3, std::vector<double>(n));
+                    std::vector<double> wa(n), wb(n);
+                    std::mt19937_64 rng(7);
+                    std::uniform_real_distribution<double> u(-1, 1);
+                    for (std::size_t i = 0; i < n; ++i)
+                        for (int d = 0; d < k.dim; ++d)
+                            x[static_cast<std::size_t>(d)][i] =
+                                (i % 2 ? q[i] / std::sqrt(static_cast<double>(k.dim)) * (d == 0 ? -1 : 1) : 1.25 * u(rng)) * h;
+                    const std::span<const double> in[] = {x[0], x[1], x[2]};
+                    const std::span<double> out_a[] = {ga[0], ga[1], ga[2]}, out_b[] = {gb[0], gb[1], gb[2]};
+                    const auto dim = static_cast<std::size_t>(k.dim);
+                    c.pairs(pr, in, s, wa.data(), out_a, n);
+                    runtime.pairs(std::span(in, dim), s, wb, std::span(out_b, dim));
+                    for (std::size_t i = 0; i < n; ++i) {
+                        const std::string where = std::string(isa.name) + " pairs " + k.spec + " D" + std::to_string(k.dim) +
+                                                  " " + std::string(mollify::name(pr)) + " h = " + mollify::detail::show(h) +
+                                                  " point " + std::to_string(i);
+                        if (isa.bit_for_bit) {
+                            ASSERT_TRUE(same_bits(wa[i], wb[i])) << where << ": W " << wa[i] << " against " << wb[i];
+                            for (std::size_t d = 0; d < dim; ++d)
+                                ASSERT_TRUE(same_bits(ga[d][i], gb[d][i])) << where << ": grad " << ga[d][i] << " against " << gb[d][i];
+                        }
+                    }
+                }
+            }
+        }
+        if (!isa.bit_for_bit) std::printf("[forms] %s against generic StaticKernel: max %.3g ulp\n", isa.name, worst);
+    }
+    mollify::use_isa("generic");
+}
