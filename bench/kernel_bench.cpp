@@ -15,7 +15,14 @@
 #include "accuracy/measure.hpp"
 
 #include <mollify/kernel.hpp>
-#include <mollify/tables/catalogue.hpp>
+#include <mollify/tables/classic/cubic_spline_D3.hpp>
+#include <mollify/tables/classic/poly6_D3.hpp>
+#include <mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp>
+#include <mollify/tables/mollifier/M_4_D3.hpp>
+#include <mollify/tables/mollifier/M_9_order_6_D3.hpp>
+#include <mollify/tables/wendland/k_2_D3.hpp>
+#include <mollify/tables/wendland/k_4_l_4_D3.hpp>
+#include <mollify/tables/wendland_missing/k_1_D3.hpp>
 
 #include "report.hpp"
 

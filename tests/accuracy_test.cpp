@@ -20,6 +20,10 @@
 
 #include <mollify/kernel.hpp>
 #include <mollify/tables/catalogue.hpp>
+#include <mollify/tables/mollifier/M_4_D2.hpp>
+#include <mollify/tables/mollifier/M_9_D3.hpp>
+#include <mollify/tables/wendland/k_2_D3.hpp>
+#include <mollify/tables/wendland/k_4_l_4_D2.hpp>
 
 #include <gtest/gtest.h>
 

@@ -25,5 +25,6 @@ void run_sph_periodic(const Scene&, Output&) { not_linked("sph-periodic"); }
 void run_poisson_free(const Scene&, Output&) { not_linked("poisson-free"); }
 void run_poisson_periodic(const Scene&, Output&) { not_linked("poisson-periodic"); }
 void run_vortex_sheet(const Scene&, Output&) { not_linked("vortex-sheet"); }
+void run_kernel_values(const Scene&, Output&) { not_linked("kernel-values"); }
 
 }  // namespace mollify::app

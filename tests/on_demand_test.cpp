@@ -5,8 +5,10 @@
 // dimension and generator version, and a damaged cache file is regenerated,
 // never trusted; bad specs fail naming the value before any work.
 #include <mollify/exact.hpp>
+#include <mollify/table_file.hpp>
 #include <mollify/tables/catalogue.hpp>
 
+#include "emit_metadata.hpp"
 #include "kernel.hpp"
 #include "quantities.hpp"
 #include "rounding.hpp"

@@ -20,6 +20,28 @@
 
 #include <mollify/kernel.hpp>
 #include <mollify/tables/catalogue.hpp>
+#include <mollify/tables/classic/box_d1_D1.hpp>
+#include <mollify/tables/combo/m_2_base_mollifier_M_4_D1.hpp>
+#include <mollify/tables/combo/m_2_base_wendland_k_1_D2.hpp>
+#include <mollify/tables/combo/m_3_base_mollifier_M_4_D2.hpp>
+#include <mollify/tables/combo/m_3_base_wendland_k_1_l_1_D1.hpp>
+#include <mollify/tables/combo/m_3_base_wendland_k_2_D1.hpp>
+#include <mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp>
+#include <mollify/tables/mollifier/M_1_D1.hpp>
+#include <mollify/tables/mollifier/M_1_D2.hpp>
+#include <mollify/tables/mollifier/M_1_order_4_D2.hpp>
+#include <mollify/tables/mollifier/M_1_order_6_D1.hpp>
+#include <mollify/tables/mollifier/M_2_order_4_D1.hpp>
+#include <mollify/tables/mollifier/M_2_order_4_D2.hpp>
+#include <mollify/tables/wendland/k_0_D1.hpp>
+#include <mollify/tables/wendland/k_0_D2.hpp>
+#include <mollify/tables/wendland/k_0_D3.hpp>
+#include <mollify/tables/wendland/k_0_l_1_D1.hpp>
+#include <mollify/tables/wendland/k_2_D1.hpp>
+#include <mollify/tables/wendland/k_2_D3.hpp>
+#include <mollify/tables/wendland_missing/k_1_D1.hpp>
+#include <mollify/tables/wendland_missing/k_1_D3.hpp>
+#include <mollify/tables/wendland_missing/k_2_l_1_D2.hpp>
 
 #include <gtest/gtest.h>
 

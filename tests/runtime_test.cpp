@@ -4,6 +4,7 @@
 // an Error naming the value, never a NaN. No GMP here: this is what users link.
 #include <mollify/kernel.hpp>
 #include <mollify/tables/catalogue.hpp>
+#include <mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp>
 #include <mollify/tables/classic/box_d1_D1.hpp>
 #include <mollify/tables/combo/m_3_base_wendland_k_3_l_1_D1.hpp>
 #include <mollify/tables/mollifier/M_4_order_4_D3.hpp>

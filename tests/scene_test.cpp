@@ -213,7 +213,7 @@ TEST(Experiments, Registry) {
         EXPECT_NE(e.run, nullptr);
     }
     EXPECT_EQ(names, (std::vector<std::string>{"franz", "belley", "sph-periodic", "poisson-free", "poisson-periodic",
-                                              "vortex-sheet"}));
+                                              "vortex-sheet", "kernel-values"}));
 }
 
 TEST(Table, CsvQuotingAndMarkdown) {

@@ -3,7 +3,10 @@
 // convergence rates on a short eps sweep of Franz's torus case, the
 // time-step check, and bad input.
 #include <mollify/kernel.hpp>
-#include <mollify/tables/catalogue.hpp>
+#include <mollify/tables/combo/m_3_base_wendland_k_3_D1.hpp>
+#include <mollify/tables/wendland/k_1_D1.hpp>
+#include <mollify/tables/wendland/k_2_D1.hpp>
+#include <mollify/tables/wendland/k_2_D2.hpp>
 #include <mollify/sph.hpp>
 #include "studies/convergence.hpp"
 #include "studies/franz_cases.hpp"

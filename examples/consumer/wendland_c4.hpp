@@ -4,6 +4,6 @@
 #pragma once
 
 #include <mollify/static_kernel.hpp>
-#include <mollify/tables/wendland.hpp>
+#include <mollify/tables/wendland/k_2_D3.hpp>
 
 using WendlandC4 = mollify::StaticKernel<mollify::tables::wendland_k_2_D3>;

@@ -39,7 +39,7 @@ std::span<const Experiment> experiments();
 const Experiment& find_experiment(const Scene& scene);
 
 // Defined one per file: franz.cpp, belley.cpp, sph_periodic.cpp,
-// poisson_free.cpp, poisson_periodic.cpp, vortex_sheet.cpp, all compiled into
+// poisson_free.cpp, poisson_periodic.cpp, vortex_sheet.cpp, kernel_values.cpp, all compiled into
 // the mollify command. Tests that link mollify_app without the experiments
 // link test doubles of them instead (tests/experiment_doubles.cpp).
 void run_franz(const Scene&, Output&);
@@ -48,5 +48,6 @@ void run_sph_periodic(const Scene&, Output&);
 void run_poisson_free(const Scene&, Output&);
 void run_poisson_periodic(const Scene&, Output&);
 void run_vortex_sheet(const Scene&, Output&);
+void run_kernel_values(const Scene&, Output&);
 
 }  // namespace mollify::app

@@ -19,6 +19,8 @@ constexpr std::array registry = {
                run_poisson_periodic},
     Experiment{"vortex-sheet", "2D vortex blobs: periodic vortex sheet roll-up, algebraic and compact mollifiers",
                run_vortex_sheet},
+    Experiment{"kernel-values", "any kernel of the grammar tabulated at given radii (generated exactly where not compiled in)",
+               run_kernel_values},
 };
 
 }  // namespace
