@@ -107,7 +107,8 @@ Kernel kernel(std::string_view spec, int dim, Precision precision) {
     }
     if (other_dim)
         fail("kernel " + key + " is not defined in D = " + std::to_string(dim) + " (its tables exist for other dimensions)");
-    fail("kernel " + key + " is not in the emitted tables; emit it with: mollify-gen emit --only '" + key + "'");
+    fail("kernel " + key + " is not compiled into libmollify: generate it at run time with mollify::exact::kernel (link "
+         "mollify::exact), or as a table file with: mollify-gen emit --format data --only '" + key + "'");
 }
 
 Kernel kernel(const table::Kernel& table, Precision precision) { return Kernel(table, precision); }
