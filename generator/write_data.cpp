@@ -65,7 +65,7 @@ std::string kernel_data(const KernelFacts& f, const std::vector<std::optional<st
     out += "parity " + std::to_string(k.W.parity) + "\n";
     out += "normalisation " + hex(round_to_double(k.normalisation)) + "\n";
     out += "normalisation_exact " + k.normalisation.to_string() + "\n";
-    out += std::string("has_potential ") + (k.claims.no_potential.empty() ? "1" : "0") + "\n";
+    out += k.claims.no_potential.empty() ? "has_potential 1\n" : "has_potential 0\n";
     for (int i = 0; i < table::quantity_count; ++i) {
         const auto& q = tables[static_cast<std::size_t>(i)];
         out += std::string("quantity ") + table::quantity_names[i] + " " + std::to_string(q ? q->size() : 0) + "\n";
