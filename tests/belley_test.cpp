@@ -1,6 +1,7 @@
 // Belley's estimators (tools/studies/studies/estimate.hpp): exactness where
 // his reproducing conditions say so, convergence in h, the binary-searched
 // support, compile-time = run-time kernels, bad input.
+#include <mollify/detail/show.hpp>
 #include "studies/estimate.hpp"
 #include <mollify/dynamic_kernel.hpp>
 #include <mollify/static_kernel.hpp>

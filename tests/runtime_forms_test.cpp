@@ -16,6 +16,7 @@
 // every evaluation path the catalogue takes (tests/shape_features.hpp,
 // chosen greedily), and CoverEveryPathOfTheCatalogue fails if a table of the
 // catalogue takes a path none of them takes.
+#include <mollify/detail/show.hpp>
 #include "shape_features.hpp"
 
 #include <mollify/kernel.hpp>

@@ -23,8 +23,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <string>
-
 
 namespace mollify {
 
@@ -63,8 +61,7 @@ MOLLIFY_INLINE double edge_distance(double h_minus_r, const Smoothing& s) {
 }
 
 inline void check_sizes(std::size_t in, std::size_t out, const char* what) {
-    if (in != out)
-        fail(std::string(what) + ": " + std::to_string(in) + " inputs but room for " + std::to_string(out) + " outputs");
+    if (in != out) fail_sizes(in, out, what);
 }
 
 template <int D>
@@ -121,7 +118,7 @@ public:
     MOLLIFY_INLINE static double radial(double r, const Smoothing& s) {
         constexpr int q = static_cast<int>(Q);
         if constexpr (K.quantities[q].npieces == 0) {
-            fail(std::string("kernel ") + K.spec + " has no " + quantity_names[q] + " in D = " + std::to_string(dim));
+            detail::fail_missing_quantity(K.spec, q, dim);
         } else {
             return emitted<Q>(r, s);
         }
@@ -255,16 +252,14 @@ public:
     }
 
     static void require_dim(const Smoothing& s) {
-        if (s.dim() != dim)
-            fail("a smoothing length made for D = " + std::to_string(s.dim()) + " used with " + K.spec + " in D = " +
-                 std::to_string(dim));
+        if (s.dim() != dim) detail::fail_smoothing_dimension(s.dim(), K.spec, dim);
     }
 
 private:
     template <QuantityId Q>
     static void require_potential() {
         constexpr bool needs = static_cast<int>(Q) >= static_cast<int>(QuantityId::potential);
-        if constexpr (needs && !has_potential) fail(std::string("kernel ") + K.spec + " has no potential in D = " + std::to_string(dim));
+        if constexpr (needs && !has_potential) detail::fail_no_potential(K.spec, dim);
     }
 
     MOLLIFY_INLINE static double norm(const Vector<dim>& x) {

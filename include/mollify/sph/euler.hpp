@@ -10,6 +10,8 @@
 // indirect call per particle and sweep.
 #pragma once
 
+#include <mollify/detail/show.hpp>
+#include <mollify/error.hpp>
 #include <mollify/detail/parallel.hpp>
 #include <mollify/smoothing.hpp>
 #include <mollify/sph/domain.hpp>

@@ -25,6 +25,7 @@
 // (q read from the table: parity and mass, see box_order).
 #pragma once
 
+#include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
 #include <mollify/table.hpp>
