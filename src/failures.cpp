@@ -43,4 +43,9 @@ void fail_smoothing_dimension(int smoothing_dim, const char* spec, int dim) {
          std::to_string(dim));
 }
 
+void fail_quantity(int quantity) {
+    fail("quantity number " + std::to_string(quantity) + " is not one of the " + std::to_string(table::quantity_count) +
+         " in the tables");
+}
+
 }  // namespace mollify::detail

@@ -1,7 +1,6 @@
 // Belley's estimators (tools/studies/studies/estimate.hpp): exactness where
 // his reproducing conditions say so, convergence in h, the binary-searched
 // support, compile-time = run-time kernels, bad input.
-#include <mollify/detail/show.hpp>
 #include "studies/estimate.hpp"
 #include <mollify/dynamic_kernel.hpp>
 #include <mollify/static_kernel.hpp>
@@ -10,6 +9,7 @@
 #include <mollify/tables/classic/box_d2_D1.hpp>
 #include <mollify/tables/classic/poly6_D1.hpp>
 #include <mollify/tables/classic/poly6_D2.hpp>
+#include <mollify/detail/show.hpp>
 #include <mollify/tables/wendland/k_2_D1.hpp>
 
 #include <gtest/gtest.h>

@@ -16,7 +16,6 @@
 // every evaluation path the catalogue takes (tests/shape_features.hpp,
 // chosen greedily), and CoverEveryPathOfTheCatalogue fails if a table of the
 // catalogue takes a path none of them takes.
-#include <mollify/detail/show.hpp>
 #include "shape_features.hpp"
 
 #include <mollify/kernel.hpp>
@@ -42,6 +41,7 @@
 #include <mollify/tables/wendland/k_2_D3.hpp>
 #include <mollify/tables/wendland_missing/k_1_D1.hpp>
 #include <mollify/tables/wendland_missing/k_1_D3.hpp>
+#include <mollify/detail/show.hpp>
 #include <mollify/tables/wendland_missing/k_2_l_1_D2.hpp>
 
 #include <gtest/gtest.h>

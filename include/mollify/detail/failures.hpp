@@ -17,5 +17,6 @@ namespace mollify::detail {
 [[noreturn]] void fail_missing_quantity(const char* spec, int quantity, int dim);
 [[noreturn]] void fail_no_potential(const char* spec, int dim);
 [[noreturn]] void fail_smoothing_dimension(int smoothing_dim, const char* spec, int dim);
+[[noreturn]] void fail_quantity(int quantity);
 
 }  // namespace mollify::detail
