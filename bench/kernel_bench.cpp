@@ -221,7 +221,7 @@ template <const Kernel& K>
 void register_kernel(const char* label) {
     using W = mollify::StaticKernel<K>;  // Precision::accurate, the default
     using F = mollify::StaticKernel<K, mollify::Precision::fast>;
-    static_assert(W::dim == 3);
+    static_assert(W::dimension == 3);
     const mollify::Kernel runtime(K);  // what mollify::kernel(K.spec, 3) returns: the data-driven form
     const std::string spec = K.spec;
     const NaiveOf<K, QuantityId::value> nw = tight<NaiveOf<K, QuantityId::value>>(spec, QuantityId::value);

@@ -4,6 +4,7 @@
 // the table data.
 #include "plan.hpp"
 
+#include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
 

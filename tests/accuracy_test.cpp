@@ -398,7 +398,7 @@ double error(double y, const Real& exact, const Real& slope, double r) {
 template <const table::Kernel& K, mollify::Precision Pr = mollify::Precision::accurate>
 void check_vector_forms(double h, unsigned seed) {
     using W = mollify::StaticKernel<K, Pr>;
-    constexpr int D = W::dim;
+    constexpr int D = W::dimension;
     const acc::Reference ref(K.spec, D);
     const mollify::Smoothing s = W::smoothing(h);
     std::mt19937_64 rng(seed);

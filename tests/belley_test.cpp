@@ -9,6 +9,7 @@
 #include <mollify/tables/classic/box_d2_D1.hpp>
 #include <mollify/tables/classic/poly6_D1.hpp>
 #include <mollify/tables/classic/poly6_D2.hpp>
+#include <mollify/detail/show.hpp>
 #include <mollify/tables/wendland/k_2_D1.hpp>
 
 #include <gtest/gtest.h>

@@ -41,6 +41,7 @@
 #include <mollify/tables/wendland/k_2_D3.hpp>
 #include <mollify/tables/wendland_missing/k_1_D1.hpp>
 #include <mollify/tables/wendland_missing/k_1_D3.hpp>
+#include <mollify/detail/show.hpp>
 #include <mollify/tables/wendland_missing/k_2_l_1_D2.hpp>
 
 #include <gtest/gtest.h>

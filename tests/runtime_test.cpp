@@ -21,6 +21,7 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -109,6 +110,79 @@ TEST(Runtime, RunTimeFastIsCompileTimeFast) {
     expect_error([] { mollify::use_isa("sse9"); }, "'sse9'");
     EXPECT_EQ(mollify::precision("fast"), mollify::Precision::fast);
     EXPECT_EQ(mollify::name(mollify::Precision::accurate), "accurate");
+}
+
+namespace {
+
+// What a solver sees of a kernel through mollify::RadialKernel alone: the
+// same code for either form, so that the forms can be compared bit for bit.
+struct Seen {
+    int dim;
+    std::string spec;
+    bool has_potential;
+    std::string table_spec;
+    std::vector<double> batches, pairs;
+    double scalar, value;
+};
+
+template <mollify::RadialKernel K>
+Seen through_the_concept(const K& k, const std::vector<double>& r) {
+    Seen seen{k.dim(), std::string(k.spec()), k.has_potential(), k.table().spec, {}, {}, 0, 0};
+    std::vector<double> out(r.size());
+    for (const double h : {1.0, 0.37, 2.5e6})
+        for (const QuantityId q : {QuantityId::value, QuantityId::dr, QuantityId::d2r}) {
+            std::vector<double> rh(r);
+            for (double& x : rh) x *= h;
+            k.evaluate(q, rh, k.smoothing(h), out);
+            seen.batches.insert(seen.batches.end(), out.begin(), out.end());
+        }
+    std::vector<double> w(r.size()), g(r.size());
+    const std::span<const double> x[] = {r};
+    const std::span<double> grad[] = {g};
+    k.pairs(x, k.smoothing(0.5), w, grad);
+    seen.pairs = w;
+    seen.pairs.insert(seen.pairs.end(), g.begin(), g.end());
+    seen.scalar = k(QuantityId::dr, 0.3, 0.9);
+    seen.value = k.value(0.3, 0.9);
+    return seen;
+}
+
+}  // namespace
+
+// StaticKernel and the run-time Kernel have one member API (issue 18): a
+// function template written against the concept takes either and, on the
+// instruction set this test is compiled for, gets the same bits; the
+// quantity chosen at run time is the compile-time one.
+TEST(Runtime, StaticAndRunTimeKernelsShareOneApi) {
+    mollify::use_isa("generic");
+    using W = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_l_1_D1, mollify::Precision::fast>;
+    static_assert(mollify::RadialKernel<W>);
+    static_assert(mollify::RadialKernel<mollify::StaticKernel<tables::wendland_k_2_D3>>);
+    static_assert(W::dim() == W::dimension && W::dim() == 1);
+    const mollify::Kernel k = mollify::kernel("combo:m=3,base=wendland:k=3,l=1", 1, mollify::Precision::fast);
+    const auto r = radii(500, 5);
+    const Seen a = through_the_concept(W{}, r), b = through_the_concept(k, r);
+    EXPECT_EQ(a.dim, 1);
+    EXPECT_EQ(a.dim, b.dim);
+    EXPECT_EQ(a.spec, "combo:m=3,base=wendland:k=3,l=1");
+    EXPECT_EQ(a.spec, b.spec);
+    EXPECT_EQ(a.table_spec, a.spec);
+    EXPECT_EQ(a.has_potential, b.has_potential);
+    ASSERT_EQ(a.batches.size(), b.batches.size());
+    for (std::size_t i = 0; i < a.batches.size(); ++i) ASSERT_EQ(a.batches[i], b.batches[i]) << "entry " << i;
+    ASSERT_EQ(a.pairs.size(), b.pairs.size());
+    for (std::size_t i = 0; i < a.pairs.size(); ++i) ASSERT_EQ(a.pairs[i], b.pairs[i]) << "entry " << i;
+    EXPECT_EQ(a.scalar, b.scalar);
+    EXPECT_EQ(a.value, b.value);
+    // The run-time choice of quantity is the template's, bit for bit.
+    std::vector<double> fixed(r.size()), chosen(r.size());
+    W::evaluate<QuantityId::d2r>(r, W::smoothing(0.7), fixed);
+    W::evaluate(QuantityId::d2r, r, W::smoothing(0.7), chosen);
+    for (std::size_t i = 0; i < r.size(); ++i) ASSERT_EQ(fixed[i], chosen[i]) << "r = " << r[i];
+    EXPECT_EQ(W{}(QuantityId::value, 0.3, 0.9), W::value(0.3, 0.9));
+    expect_error([&] { W::evaluate(static_cast<QuantityId>(12), r, W::smoothing(1), chosen); }, "quantity number 12");
+    const std::span<const double> two[] = {r, r};
+    expect_error([&] { W::pairs(two, W::smoothing(1), fixed, {}); }, "2 inputs");
 }
 
 TEST(Runtime, EveryEmittedKernelIsReachableByItsSpec) {

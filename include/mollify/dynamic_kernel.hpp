@@ -10,6 +10,7 @@
 //   const mollify::Kernel f = w.with(mollify::Precision::fast);  // or kernel(spec, 3, Precision::fast)
 #pragma once
 
+#include <mollify/kernel_concept.hpp>
 #include <mollify/spec.hpp>
 #include <mollify/static_kernel.hpp>
 
@@ -66,6 +67,8 @@ private:
     std::shared_ptr<const detail::Plan> plan_;
     Precision precision_;
 };
+
+static_assert(RadialKernel<Kernel>);
 
 // The kernel of a spec (any spelling of the grammar, include/mollify/spec.hpp)
 // in dimension dim, from the catalogue compiled into libmollify.

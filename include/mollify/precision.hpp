@@ -2,9 +2,6 @@
 // against error, made per kernel type (StaticKernel<table, Precision>).
 #pragma once
 
-#include <mollify/error.hpp>
-
-#include <string>
 #include <string_view>
 
 namespace mollify {
@@ -24,13 +21,9 @@ enum class Precision {
     fast,
 };
 
-// Names as in scene files and on command lines: "accurate", "fast".
-inline std::string_view name(Precision p) { return p == Precision::fast ? "fast" : "accurate"; }
-
-inline Precision precision(std::string_view name) {
-    if (name == "accurate") return Precision::accurate;
-    if (name == "fast") return Precision::fast;
-    fail("unknown precision '" + std::string(name) + "' (accurate or fast)");
-}
+// Names as in scene files and on command lines: "accurate", "fast"
+// (src/precision.cpp; an unknown name fails naming it).
+std::string_view name(Precision p);
+Precision precision(std::string_view name);
 
 }  // namespace mollify

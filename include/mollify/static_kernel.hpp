@@ -3,7 +3,7 @@
 // constant (fully inlinable; batch loops vectorise).
 //
 //   using W = mollify::StaticKernel<mollify::tables::wendland_k_2_D3>;
-//   const mollify::Smoothing s(h, W::dim);      // checks h once
+//   const mollify::Smoothing s(h, W::dimension);  // checks h once
 //   double w = W::radial<mollify::QuantityId::value>(r, s);
 //   auto [w, grad] = W::pair({dx, dy, dz}, s);  // W_h and grad W_h at x_i - x_j
 //
@@ -23,8 +23,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <string>
-
+#include <string_view>
 
 namespace mollify {
 
@@ -63,8 +62,7 @@ MOLLIFY_INLINE double edge_distance(double h_minus_r, const Smoothing& s) {
 }
 
 inline void check_sizes(std::size_t in, std::size_t out, const char* what) {
-    if (in != out)
-        fail(std::string(what) + ": " + std::to_string(in) + " inputs but room for " + std::to_string(out) + " outputs");
+    if (in != out) fail_sizes(in, out, what);
 }
 
 template <int D>
@@ -108,20 +106,24 @@ class StaticKernel {
     static_assert(K.dim >= 1 && K.dim <= 3);
 
 public:
-    static constexpr int dim = K.dim;
-    static constexpr const table::Kernel& table = K;
-    static constexpr bool has_potential = K.has_potential;
+    static constexpr int dimension = K.dim;
     static constexpr bool odd = K.parity < 0;  // Belley's first-derivative kernel in 1D
     static constexpr Precision precision = Pr;
 
-    static Smoothing smoothing(double h) { return Smoothing(h, dim); }
+    // The member API both kernel forms share (mollify::RadialKernel,
+    // kernel_concept.hpp): static here, callable on an object as on the type.
+    static constexpr int dim() { return K.dim; }
+    static constexpr std::string_view spec() { return K.spec; }
+    static constexpr const table::Kernel& table() { return K; }
+    static constexpr bool has_potential() { return K.has_potential; }
+    static Smoothing smoothing(double h) { return Smoothing(h, dimension); }
 
     // f_h(r) for a radius r >= 0, unchecked (the hot path): r finite >= 0 and s made for this dimension.
     template <QuantityId Q>
     MOLLIFY_INLINE static double radial(double r, const Smoothing& s) {
         constexpr int q = static_cast<int>(Q);
         if constexpr (K.quantities[q].npieces == 0) {
-            fail(std::string("kernel ") + K.spec + " has no " + quantity_names[q] + " in D = " + std::to_string(dim));
+            detail::fail_missing_quantity(K.spec, q, dimension);
         } else {
             return emitted<Q>(r, s);
         }
@@ -139,7 +141,7 @@ private:
         } else {
             in = detail::inside<K, q, Pr>(a) * s.scale(Q);
         }
-        if constexpr (Q == QuantityId::potential && dim == 2) in = detail::mul_add(detail::log_coefficient<K, q>, s.log_h(), in);
+        if constexpr (Q == QuantityId::potential && dimension == 2) in = detail::mul_add(detail::log_coefficient<K, q>, s.log_h(), in);
         if constexpr (detail::zero_outside<K, q>) {
             return detail::select(r <= s.h(), in, 0.0);
         } else {
@@ -166,7 +168,7 @@ public:
     static double potential(double r, double h) { return radial<QuantityId::potential>(r, h); }
 
     // Vector forms at a displacement x (unchecked with a Smoothing, checked with h).
-    MOLLIFY_INLINE static double value(const Vector<dim>& x, const Smoothing& s) {
+    MOLLIFY_INLINE static double value(const Vector<dimension>& x, const Smoothing& s) {
         const double w = radial<QuantityId::value>(norm(x), s);
         if constexpr (odd) return x[0] < 0 ? -w : w;
         return w;
@@ -174,11 +176,11 @@ public:
 
     // grad W_h = (W_h'/r) x, from the emitted W'/r: finite at r = 0, where
     // W'(r)/r -> W''(0), never 0 * inf.
-    MOLLIFY_INLINE static Vector<dim> gradient(const Vector<dim>& x, const Smoothing& s) {
+    MOLLIFY_INLINE static Vector<dimension> gradient(const Vector<dimension>& x, const Smoothing& s) {
         return gradient_at(x, norm(x), s);
     }
 
-    MOLLIFY_INLINE static Pair<dim> pair(const Vector<dim>& x, const Smoothing& s) {
+    MOLLIFY_INLINE static Pair<dimension> pair(const Vector<dimension>& x, const Smoothing& s) {
         const double r = norm(x);
         double w = radial<QuantityId::value>(r, s);
         if constexpr (odd) w = x[0] < 0 ? -w : w;
@@ -186,39 +188,39 @@ public:
     }
 
     // Hessian = (W'/r) I + ((W'' - W'/r)/r^2) x x^T, both parts emitted exactly.
-    static Matrix<dim> hessian(const Vector<dim>& x, const Smoothing& s) {
+    static Matrix<dimension> hessian(const Vector<dimension>& x, const Smoothing& s) {
         return hessian_of<QuantityId::grad_over_r, QuantityId::hess_radial, QuantityId::d2r>(x, s);
     }
 
-    MOLLIFY_INLINE static double laplacian(const Vector<dim>& x, const Smoothing& s) {
+    MOLLIFY_INLINE static double laplacian(const Vector<dimension>& x, const Smoothing& s) {
         const double l = radial<QuantityId::laplacian>(norm(x), s);
         if constexpr (odd) return x[0] < 0 ? -l : l;
         return l;
     }
 
-    MOLLIFY_INLINE static double potential(const Vector<dim>& x, const Smoothing& s) {
+    MOLLIFY_INLINE static double potential(const Vector<dimension>& x, const Smoothing& s) {
         require_potential<QuantityId::potential>();
         return radial<QuantityId::potential>(norm(x), s);
     }
 
     // grad phi_h = (phi_h'/r) x; the field of a unit charge is its negative.
-    MOLLIFY_INLINE static Vector<dim> potential_gradient(const Vector<dim>& x, const Smoothing& s) {
+    MOLLIFY_INLINE static Vector<dimension> potential_gradient(const Vector<dimension>& x, const Smoothing& s) {
         require_potential<QuantityId::dpotential_over_r>();
         return times(radial<QuantityId::dpotential_over_r>(norm(x), s), x);
     }
 
-    static Matrix<dim> potential_hessian(const Vector<dim>& x, const Smoothing& s) {
+    static Matrix<dimension> potential_hessian(const Vector<dimension>& x, const Smoothing& s) {
         require_potential<QuantityId::dpotential_over_r>();
         return hessian_of<QuantityId::dpotential_over_r, QuantityId::potential_hess_radial, QuantityId::potential_hess_radial>(x, s);
     }
 
     // Checked vector forms.
-    static double value(const Vector<dim>& x, double h) { return value(checked(x), smoothing(h)); }
-    static Vector<dim> gradient(const Vector<dim>& x, double h) { return gradient(checked(x), smoothing(h)); }
-    static Pair<dim> pair(const Vector<dim>& x, double h) { return pair(checked(x), smoothing(h)); }
-    static Matrix<dim> hessian(const Vector<dim>& x, double h) { return hessian(checked(x), smoothing(h)); }
-    static double potential(const Vector<dim>& x, double h) { return potential(checked(x), smoothing(h)); }
-    static Vector<dim> potential_gradient(const Vector<dim>& x, double h) {
+    static double value(const Vector<dimension>& x, double h) { return value(checked(x), smoothing(h)); }
+    static Vector<dimension> gradient(const Vector<dimension>& x, double h) { return gradient(checked(x), smoothing(h)); }
+    static Pair<dimension> pair(const Vector<dimension>& x, double h) { return pair(checked(x), smoothing(h)); }
+    static Matrix<dimension> hessian(const Vector<dimension>& x, double h) { return hessian(checked(x), smoothing(h)); }
+    static double potential(const Vector<dimension>& x, double h) { return potential(checked(x), smoothing(h)); }
+    static Vector<dimension> potential_gradient(const Vector<dimension>& x, double h) {
         return potential_gradient(checked(x), smoothing(h));
     }
 
@@ -233,6 +235,19 @@ public:
         evaluate_unchecked<Q>(r.data(), out.data(), r.size(), s);
     }
 
+    // The quantity chosen at run time (the shared API): one branch per
+    // batch, then the loop of evaluate<Q>.
+    static void evaluate(QuantityId q, std::span<const double> r, const Smoothing& s, std::span<double> out) {
+        evaluate_indexed<0>(q, r, s, out);
+    }
+
+    // f_h at one radius, checked, as mollify::Kernel's operator().
+    double operator()(QuantityId q, double r, double h) const {
+        double out = 0;
+        evaluate(q, std::span<const double>(&r, 1), smoothing(h), std::span<double>(&out, 1));
+        return out;
+    }
+
     // The batch loop: restrict pointers and a local copy of the smoothing, so
     // the compiler knows the output aliases nothing it reads (else no SIMD).
     template <QuantityId Q>
@@ -243,43 +258,66 @@ public:
     }
 
     // W_h and grad W_h at n displacements x_i - x_j (structure of arrays).
-    static void pairs(const Points<dim>& x, const Smoothing& s, std::span<double> w, const PointsOut<dim>& grad) {
+    static void pairs(const Points<dimension>& x, const Smoothing& s, std::span<double> w, const PointsOut<dimension>& grad) {
         require_dim(s);
-        const std::size_t n = detail::check_points<dim>(x);
+        const std::size_t n = detail::check_points<dimension>(x);
         detail::check_sizes(n, w.size(), "pairs (values)");
-        for (int c = 0; c < dim; ++c) {
+        for (int c = 0; c < dimension; ++c) {
             detail::check_sizes(n, grad[c].size(), "pairs (gradient)");
             detail::check_coordinates(x[c], c);
         }
         pairs_unchecked(x, s, w.data(), grad, n);
     }
 
+    // The shared API's form: x and grad hold dim() spans.
+    static void pairs(std::span<const std::span<const double>> x, const Smoothing& s, std::span<double> w,
+                      std::span<const std::span<double>> grad) {
+        detail::check_sizes(x.size(), static_cast<std::size_t>(dimension), "pairs (components of x)");
+        detail::check_sizes(grad.size(), static_cast<std::size_t>(dimension), "pairs (components of grad)");
+        Points<dimension> xs;
+        PointsOut<dimension> gs;
+        for (int c = 0; c < dimension; ++c) {
+            xs[c] = x[c];
+            gs[c] = grad[c];
+        }
+        pairs(xs, s, w, gs);
+    }
+
     static void require_dim(const Smoothing& s) {
-        if (s.dim() != dim)
-            fail("a smoothing length made for D = " + std::to_string(s.dim()) + " used with " + K.spec + " in D = " +
-                 std::to_string(dim));
+        if (s.dim() != dimension) detail::fail_smoothing_dimension(s.dim(), K.spec, dimension);
     }
 
 private:
+    template <int I>
+    static void evaluate_indexed(QuantityId q, std::span<const double> r, const Smoothing& s, std::span<double> out) {
+        if constexpr (I == table::quantity_count) {
+            detail::fail_quantity(static_cast<int>(q));
+        } else if (static_cast<int>(q) == I) {
+            evaluate<static_cast<QuantityId>(I)>(r, s, out);
+        } else {
+            evaluate_indexed<I + 1>(q, r, s, out);
+        }
+    }
+
     template <QuantityId Q>
     static void require_potential() {
         constexpr bool needs = static_cast<int>(Q) >= static_cast<int>(QuantityId::potential);
-        if constexpr (needs && !has_potential) fail(std::string("kernel ") + K.spec + " has no potential in D = " + std::to_string(dim));
+        if constexpr (needs && !K.has_potential) detail::fail_no_potential(K.spec, dimension);
     }
 
-    MOLLIFY_INLINE static double norm(const Vector<dim>& x) {
-        if constexpr (dim == 1) {
+    MOLLIFY_INLINE static double norm(const Vector<dimension>& x) {
+        if constexpr (dimension == 1) {
             return std::abs(x[0]);
         } else {
             double s = x[0] * x[0];
-            for (int c = 1; c < dim; ++c) s = detail::mul_add(x[c], x[c], s);
+            for (int c = 1; c < dimension; ++c) s = detail::mul_add(x[c], x[c], s);
             return std::sqrt(s);
         }
     }
 
     // The 1D odd kernel W(x) = sign(x) f(|x|) has W'(x) = f'(|x|): its
     // gradient is (f'/r)|x|.
-    MOLLIFY_INLINE static Vector<dim> oriented(const Vector<dim>& x) {
+    MOLLIFY_INLINE static Vector<dimension> oriented(const Vector<dimension>& x) {
         if constexpr (odd) return {std::abs(x[0])};
         return x;
     }
@@ -287,11 +325,11 @@ private:
     // A kernel with a cusp at 0 (W'(0) != 0) has W'/r ~ W'(0)/r: its gradient
     // is W'(r) x/r, and 0 at x = 0, the symmetric value an SPH self-term needs
     // (inf * 0 there was SPlisHSPlasH's NaN).
-    MOLLIFY_INLINE static Vector<dim> gradient_at(const Vector<dim>& x, double r, const Smoothing& s) {
+    MOLLIFY_INLINE static Vector<dimension> gradient_at(const Vector<dimension>& x, double r, const Smoothing& s) {
         constexpr int g = static_cast<int>(QuantityId::grad_over_r);
         if constexpr (detail::singular_at_origin<K, g>) {
-            if (!(r > 0)) return Vector<dim>{};
-            Vector<dim> unit = oriented(x);
+            if (!(r > 0)) return Vector<dimension>{};
+            Vector<dimension> unit = oriented(x);
             for (double& c : unit) c /= r;
             return times(radial<QuantityId::dr>(r, s), unit);
         } else {
@@ -299,29 +337,29 @@ private:
         }
     }
 
-    MOLLIFY_INLINE static Vector<dim> times(double a, const Vector<dim>& x) {
-        Vector<dim> y;
-        for (int c = 0; c < dim; ++c) y[c] = a * x[c];
+    MOLLIFY_INLINE static Vector<dimension> times(double a, const Vector<dimension>& x) {
+        Vector<dimension> y;
+        for (int c = 0; c < dimension; ++c) y[c] = a * x[c];
         return y;
     }
 
     template <QuantityId OverR, QuantityId Radial, QuantityId Second>
-    static Matrix<dim> hessian_of(const Vector<dim>& x, const Smoothing& s) {
-        Matrix<dim> m{};
-        if constexpr (dim == 1 && Second != Radial) {
+    static Matrix<dimension> hessian_of(const Vector<dimension>& x, const Smoothing& s) {
+        Matrix<dimension> m{};
+        if constexpr (dimension == 1 && Second != Radial) {
             const double d2 = radial<Second>(std::abs(x[0]), s);  // f'' itself: no r^2 (f''-f'/r)/r^2 + f'/r detour
             m[0][0] = odd && x[0] < 0 ? -d2 : d2;
             return m;
         }
         const double r = norm(x);
         const double over_r = radial<OverR>(r, s), rad = radial<Radial>(r, s);
-        for (int i = 0; i < dim; ++i)
-            for (int j = 0; j < dim; ++j) m[i][j] = rad * x[i] * x[j] + (i == j ? over_r : 0.0);
+        for (int i = 0; i < dimension; ++i)
+            for (int j = 0; j < dimension; ++j) m[i][j] = rad * x[i] * x[j] + (i == j ? over_r : 0.0);
         return m;
     }
 
-    static const Vector<dim>& checked(const Vector<dim>& x) {
-        for (int c = 0; c < dim; ++c) detail::check_coordinate(x[c], c);
+    static const Vector<dimension>& checked(const Vector<dimension>& x) {
+        for (int c = 0; c < dimension; ++c) detail::check_coordinate(x[c], c);
         return x;
     }
 
@@ -329,19 +367,19 @@ public:
     // The pair loop without checks, for solvers that checked their state.
     // Written on scalars with restrict pointers and a local smoothing, so the
     // compiler sees no aliasing and no aggregates, and vectorises it.
-    MOLLIFY_FLATTEN static void pairs_unchecked(const Points<dim>& x, const Smoothing& smoothing, double* __restrict w,
-                                const PointsOut<dim>& grad, std::size_t n) {
+    MOLLIFY_FLATTEN static void pairs_unchecked(const Points<dimension>& x, const Smoothing& smoothing, double* __restrict w,
+                                const PointsOut<dimension>& grad, std::size_t n) {
         const Smoothing s = smoothing;
         constexpr bool cusp = detail::singular_at_origin<K, static_cast<int>(QuantityId::grad_over_r)>;
-        if constexpr (dim == 1 || odd || cusp) {
+        if constexpr (dimension == 1 || odd || cusp) {
             for (std::size_t i = 0; i < n; ++i) {
-                Vector<dim> xi;
-                for (int c = 0; c < dim; ++c) xi[c] = x[c][i];
-                const Pair<dim> p = pair(xi, s);
+                Vector<dimension> xi;
+                for (int c = 0; c < dimension; ++c) xi[c] = x[c][i];
+                const Pair<dimension> p = pair(xi, s);
                 w[i] = p.value;
-                for (int c = 0; c < dim; ++c) grad[c][i] = p.gradient[c];
+                for (int c = 0; c < dimension; ++c) grad[c][i] = p.gradient[c];
             }
-        } else if constexpr (dim == 2) {
+        } else if constexpr (dimension == 2) {
             pairs_2d(x[0].data(), x[1].data(), w, grad[0].data(), grad[1].data(), n, s);
         } else {
             pairs_3d(x[0].data(), x[1].data(), x[2].data(), w, grad[0].data(), grad[1].data(), grad[2].data(), n, s);

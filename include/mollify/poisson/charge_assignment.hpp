@@ -12,6 +12,8 @@
 // its quadrature error.
 #pragma once
 
+#include <mollify/detail/show.hpp>
+#include <mollify/error.hpp>
 #include <mollify/dynamic_kernel.hpp>
 #include <mollify/poisson/periodic.hpp>
 #include <mollify/static_kernel.hpp>

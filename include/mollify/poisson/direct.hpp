@@ -19,7 +19,7 @@
 namespace mollify::poisson {
 
 // phi and E = -grad phi at the targets (any points: sources or others).
-template <int D, class K>
+template <int D, RadialKernel K>
 Field<D> direct(const K& kernel, const Sources<D>& sources, const Points<D>& targets) {
     detail::check_kernel(kernel, D);
     detail::check_sources(sources);
@@ -42,7 +42,7 @@ Field<D> direct(const K& kernel, const Sources<D>& sources, const Points<D>& tar
 }
 
 // Targets = sources (each source feels its own smoothed charge exactly).
-template <int D, class K>
+template <int D, RadialKernel K>
 Field<D> direct(const K& kernel, const Sources<D>& sources) {
     return direct<D>(kernel, sources, sources.x);
 }

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <mollify/dynamic_kernel.hpp>
+#include <mollify/kernel_concept.hpp>
 #include <mollify/poisson/sources.hpp>
 #include <mollify/smoothing.hpp>
 #include <mollify/static_kernel.hpp>
@@ -29,7 +30,6 @@
 #include <cstddef>
 #include <numbers>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #if defined(_OPENMP)
@@ -42,38 +42,23 @@
 namespace mollify::poisson {
 namespace detail {
 
-// The kernel's dimension and potential, for a run-time Kernel or a StaticKernel type.
-template <class K>
-int kernel_dim(const K& k) {
-    if constexpr (std::is_same_v<K, Kernel>) return k.dim(); else return K::dim;
-}
-
-template <class K>
+// Either kernel form (mollify::RadialKernel): made for the sources'
+// dimension and with a potential, else a mollify::Error naming both.
+template <RadialKernel K>
 void check_kernel(const K& k, int dim) {
-    std::string spec;
-    bool potential;
-    if constexpr (std::is_same_v<K, Kernel>) {
-        spec = std::string(k.spec());
-        potential = k.has_potential();
-    } else {
-        spec = K::table.spec;
-        potential = K::has_potential;
-    }
-    if (kernel_dim(k) != dim)
-        fail("kernel " + spec + " is made for D = " + std::to_string(kernel_dim(k)) + ", the sources live in D = " +
+    const std::string spec(k.spec());
+    if (k.dim() != dim)
+        fail("kernel " + spec + " is made for D = " + std::to_string(k.dim()) + ", the sources live in D = " +
              std::to_string(dim));
-    if (!potential) fail("kernel " + spec + " has no potential in D = " + std::to_string(dim) + " (the Poisson solvers need one)");
+    if (!k.has_potential())
+        fail("kernel " + spec + " has no potential in D = " + std::to_string(dim) + " (the Poisson solvers need one)");
 }
 
-// One batch of f_s(r) for the potential quantities (unchecked for a
-// StaticKernel; the run-time Kernel checks its radii in one cheap pass).
-template <QuantityId Q, class K>
+// One batch of f_s(r) for the potential quantities (the radii are checked
+// in one cheap pass, as any caller's).
+template <QuantityId Q, RadialKernel K>
 void batch(const K& k, const double* r, double* out, std::size_t n, const Smoothing& s) {
-    if constexpr (std::is_same_v<K, Kernel>) {
-        k.evaluate(Q, std::span<const double>(r, n), s, std::span<double>(out, n));
-    } else {
-        K::template evaluate_unchecked<Q>(r, out, n, s);
-    }
+    k.evaluate(Q, std::span<const double>(r, n), s, std::span<double>(out, n));
 }
 
 inline constexpr double inv_2pi = 0.5 * std::numbers::inv_pi;  // the 2D Green's function log(r)/(2 pi)
@@ -139,7 +124,7 @@ inline void green(const double* r, double* pot, double* g, std::size_t n) {
 
 // Adds sum over sources [begin, end) of q_j phi_j and of -q_j grad phi_j at
 // the target xt to phi and E.
-template <int D, class K>
+template <int D, RadialKernel K>
 void add_exact(const K& kernel, const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t begin,
                std::size_t end, double& phi, std::array<double, D>& e) {
     alignas(64) double d[D][block], r[block], pot[block], g[block], near_r[block], near_pot[block], near_g[block];
@@ -259,7 +244,7 @@ inline void add_green_mutual(const double* x, const double* y, const double* z, 
 
 // add_within: the pairs of sources [begin, end) within their support
 // (r^2 < delta_j^2), with the exact mollified kernel (as add_exact).
-template <int D, class K>
+template <int D, RadialKernel K>
 void add_within(const K& kernel, const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t begin,
                 std::size_t end, double& phi, std::array<double, D>& e) {
     alignas(64) double r2[block], near_r[block], near_pot[block], near_g[block];

@@ -16,6 +16,8 @@
 // the neutralising uniform background rho_bar of the notes.
 #pragma once
 
+#include <mollify/detail/show.hpp>
+#include <mollify/error.hpp>
 #include <mollify/poisson/fft.hpp>
 #include <mollify/poisson/periodic_grid.hpp>
 

@@ -10,6 +10,8 @@
 //                       convolution, summed by FFT (O(N log N), the same sum).
 #pragma once
 
+#include <mollify/detail/show.hpp>
+#include <mollify/error.hpp>
 #include <mollify/poisson/fft.hpp>
 
 #include <cmath>

@@ -17,6 +17,7 @@
 // psi = -phi with q_j = Gamma_j; see biot_savart().
 #pragma once
 
+#include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
 #include <mollify/static_kernel.hpp>

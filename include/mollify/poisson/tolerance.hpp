@@ -20,6 +20,7 @@
 // tests/poisson_free_test.cpp (AccuracyKnob) checks the achieved error.
 #pragma once
 
+#include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/poisson/multipole.hpp>
 #include <mollify/smoothing.hpp>

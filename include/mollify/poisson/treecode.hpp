@@ -65,7 +65,7 @@
 
 namespace mollify::poisson {
 
-template <int D, class K>
+template <int D, RadialKernel K>
 class Treecode {
 public:
     Treecode(const K& kernel, const Sources<D>& sources, const TreeOptions& options)
@@ -525,7 +525,7 @@ private:
 };
 
 // One call: build the tree for the sources and evaluate at the targets.
-template <int D, class K>
+template <int D, RadialKernel K>
 Field<D> treecode(const K& kernel, const Sources<D>& sources, const Points<D>& targets, const TreeOptions& options) {
     return Treecode<D, K>(kernel, sources, options).evaluate(targets);
 }

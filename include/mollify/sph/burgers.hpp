@@ -8,6 +8,7 @@
 // [x - t sup|f|, x + t sup|f|], to 1e-14.
 #pragma once
 
+#include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
 

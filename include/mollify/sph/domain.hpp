@@ -3,6 +3,7 @@
 // T^D of Franz §3.5), whose displacements are taken by the minimum image.
 #pragma once
 
+#include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
 

@@ -11,6 +11,9 @@
 #pragma once
 
 #include <mollify/detail/parallel.hpp>
+#include <mollify/detail/show.hpp>
+#include <mollify/error.hpp>
+#include <mollify/kernel_concept.hpp>
 #include <mollify/smoothing.hpp>
 #include <mollify/sph/domain.hpp>
 #include <mollify/sph/neighbours.hpp>
@@ -41,7 +44,7 @@ struct State {
     std::size_t size() const { return x[0].size(); }
 };
 
-template <int D, class Kernel, class NeighbourSearch = Search<D>>
+template <int D, RadialKernel Kernel, class NeighbourSearch = Search<D>>
 class BarotropicEuler {
 public:
     BarotropicEuler(Kernel kernel, double eps, Domain<D> domain, std::vector<double> mass)

@@ -9,6 +9,8 @@
 // periodic box).
 #pragma once
 
+#include <mollify/detail/show.hpp>
+#include <mollify/error.hpp>
 #include <mollify/sph/domain.hpp>
 #include <mollify/static_kernel.hpp>  // mollify::Vector
 

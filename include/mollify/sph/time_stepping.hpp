@@ -5,6 +5,8 @@
 // wrapped back into it after every stage.
 #pragma once
 
+#include <mollify/detail/show.hpp>
+#include <mollify/error.hpp>
 #include <mollify/sph/euler.hpp>
 
 #include <algorithm>

@@ -16,6 +16,7 @@
 // when it lies inside the support (the only image that can, for h <= 1/2).
 #pragma once
 
+#include <mollify/detail/show.hpp>
 #include <mollify/dynamic_kernel.hpp>
 #include <mollify/error.hpp>
 #include <mollify/vortex/periodic_point_vortex.hpp>

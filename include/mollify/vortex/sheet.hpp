@@ -4,6 +4,7 @@
 // (blob.hpp); direct O(N^2) summation, OpenMP over targets; classical RK4.
 #pragma once
 
+#include <mollify/detail/show.hpp>
 #include <mollify/detail/parallel.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>

@@ -3,6 +3,7 @@
 // QR solve of the 2-column system.
 #pragma once
 
+#include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
 

@@ -25,7 +25,9 @@
 // (q read from the table: parity and mass, see box_order).
 #pragma once
 
+#include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
+#include <mollify/kernel_concept.hpp>
 #include <mollify/smoothing.hpp>
 #include <mollify/table.hpp>
 
@@ -161,32 +163,6 @@ private:
 namespace detail {
 
 using mollify::detail::show;
-
-// The runtime's two kernel forms behind one call: a mollify::Kernel has
-// table() and evaluate(q, r, s, out); a StaticKernel<T> has the static
-// member table and evaluate<Q>(r, s, out).
-template <class K>
-const table::Kernel& table_of(const K& k) {
-    if constexpr (requires { k.table(); }) {
-        return k.table();
-    } else {
-        return K::table;
-    }
-}
-
-template <class K>
-void evaluate(const K& k, QuantityId q, std::span<const double> r, const Smoothing& s, std::span<double> out) {
-    if constexpr (requires { k.evaluate(q, r, s, out); }) {
-        k.evaluate(q, r, s, out);
-    } else {
-        switch (q) {
-            case QuantityId::value: K::template evaluate<QuantityId::value>(r, s, out); return;
-            case QuantityId::dr: K::template evaluate<QuantityId::dr>(r, s, out); return;
-            case QuantityId::d2r: K::template evaluate<QuantityId::d2r>(r, s, out); return;
-            default: fail("Belley's estimates use value, dr or d2r only");
-        }
-    }
-}
 
 // A piecewise-constant kernel (Belley's box family): every piece of W' has
 // no term.
@@ -330,12 +306,12 @@ inline void add_simpson(const Samples& x, double a, double b, double c, Weights&
 //   c_{k+1}): f * K = sum_k d_k int_{x0-rho_k}^{x0+rho_k}; for box-d2 this
 //   is Belley's 4/h^3 S(h) - 8/h^3 S(h/2). Odd (box-d1): sign(x0 - t), i.e.
 //   1/h^2 (int_{x0}^{x0+h} - int_{x0-h}^{x0}), his T'_{h,delta}.
-template <class K>
+template <RadialKernel K>
 class Estimator {
 public:
     Estimator(const K& kernel, Rule rule, int derivative, const Samples& samples, double h)
         : kernel_(kernel), rule_(rule), q_(derivative), x_(&samples), s_(h, 1), h_(h) {
-        const table::Kernel& t = detail::table_of(kernel);
+        const table::Kernel& t = kernel.table();
         if (t.dim != 1) fail("Belley's estimates are 1D; kernel " + std::string(t.spec) + " is D = " + std::to_string(t.dim));
         if (derivative < 0 || derivative > 2)
             fail("derivative order " + std::to_string(derivative) + " is not 0, 1 or 2");
@@ -397,7 +373,7 @@ private:
     void kernel_at(std::span<const double> u, std::span<double> out) const {
         radii_.resize(u.size());
         for (std::size_t k = 0; k < u.size(); ++k) radii_[k] = std::abs(u[k]);
-        detail::evaluate(kernel_, quantity(), radii_, s_, out);
+        kernel_.evaluate(quantity(), radii_, s_, out);
         if (q_ == 1)
             for (std::size_t k = 0; k < u.size(); ++k) out[k] = u[k] > 0 ? out[k] : u[k] < 0 ? -out[k] : 0.0;
     }
@@ -411,7 +387,7 @@ private:
             r.resize(hi - lo);
             w.resize(hi - lo);
             for (std::size_t k = lo; k < hi; ++k) r[k - lo] = std::abs(x[j] - x[k]);
-            detail::evaluate(kernel_, QuantityId::value, r, s_, w);
+            kernel_.evaluate(QuantityId::value, r, s_, w);
             double sum = 0;
             for (const double v : w) sum += v;  // m_k = 1
             rho_[j] = sum;  // > 0: x_j itself contributes W_h(0) > 0
@@ -504,7 +480,7 @@ private:
         const int inner = v.npieces - 1;  // the last piece is the exterior
         std::vector<double> mid(static_cast<std::size_t>(inner)), c(static_cast<std::size_t>(inner));
         for (int p = 0; p < inner; ++p) mid[p] = h_ * 0.5 * (v.pieces[p].lo + v.pieces[p].hi);
-        detail::evaluate(kernel_, QuantityId::value, mid, s_, c);
+        kernel_.evaluate(QuantityId::value, mid, s_, c);
         const double to_belley = std::pow(h_, -q_);
         steps_.clear();
         for (int p = 0; p < inner; ++p) {

@@ -13,6 +13,8 @@
 // (4 - 2 sqrt 3) = (sqrt 3 - 1)^2 in place of (4 - sqrt 3).
 #pragma once
 
+#include <mollify/detail/show.hpp>
+#include <mollify/error.hpp>
 #include <mollify/sph/burgers.hpp>
 #include <mollify/sph/domain.hpp>
 #include <mollify/sph/euler.hpp>
