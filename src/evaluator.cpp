@@ -374,7 +374,7 @@ void horner_q_fixed(const double* c, const double* q, double* out) {
 // in the same order as the scalar path, so the same bits.
 template <int N, int P, bool VarR, bool SupportEdge>
 void add_term_fixed(const double* c, const double* q, const double* e, const double* r, double edge, double h,
-                    double inv_h, double* sum) {
+                    double inv_h, bool first, double* sum) {
     double k[N];
     for (int j = 0; j < N; ++j) k[j] = c[j];
     for (std::size_t i = 0; i < B; ++i) {
@@ -386,13 +386,13 @@ void add_term_fixed(const double* c, const double* q, const double* e, const dou
             const double d = VarR ? to_edge : to_edge * (edge + q[i]);
             x *= ipow<P>(d);
         }
-        sum[i] = sum[i] + x;
+        sum[i] = (first ? 0.0 : sum[i]) + x;  // the first term: 0 + x, as fast_piece's fold
     }
 }
 
 constexpr int fused_length = 5;
 constexpr int fused_power = 12;
-using AddTerm = void (*)(const double*, const double*, const double*, const double*, double, double, double, double*);
+using AddTerm = void (*)(const double*, const double*, const double*, const double*, double, double, double, bool, double*);
 
 template <bool VarR, bool SupportEdge, int... I>
 constexpr std::array<AddTerm, sizeof...(I)> add_term_table(std::integer_sequence<int, I...>) {
@@ -639,21 +639,33 @@ void fast_term_block(const TermPlan& t, const TermPlan* previous, const FastBloc
         for (std::size_t i = 0; i < B; ++i) x[i] = with_basis(t, Scaled{a.q[i], a.e[i], a.r[i], a.h, a.inv_h}, x[i]);
 }
 
-void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
+SharedPowers& shared_powers() {
     thread_local SharedPowers shared;
-    shared.edge_valid = shared.s_valid = false;
+    return shared;
+}
+
+void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
+    SharedPowers* shared = nullptr;  // only where a term is not fused (the buffers are 40 kB)
     double x[B];
-    for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0;
+    if (p.terms.empty())
+        for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0;
     const TermPlan* previous = nullptr;
     for (const TermPlan& t : p.terms) {
         if (fused(t)) {
             add_term_of[t.var == table::Var::r][t.edge == 1.0][static_cast<std::size_t>((t.n - 1) * (fused_power + 1) +
                                                                                        t.edge_power)](
-                t.c, a.q, a.e, a.r, t.edge, a.h, a.inv_h, sum);
-            shared.edge_valid = false;
+                t.c, a.q, a.e, a.r, t.edge, a.h, a.inv_h, !previous, sum);
+            if (shared) shared->edge_valid = false;
         } else {
-            fast_term_block(t, previous, a, shared, x);
-            for (std::size_t i = 0; i < B; ++i) sum[i] = sum[i] + x[i];
+            if (!shared) {
+                shared = &shared_powers();
+                shared->edge_valid = shared->s_valid = false;
+            }
+            fast_term_block(t, previous, a, *shared, x);
+            if (!previous)
+                for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0 + x[i];
+            else
+                for (std::size_t i = 0; i < B; ++i) sum[i] = sum[i] + x[i];
         }
         previous = &t;
     }
@@ -842,6 +854,11 @@ void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double*
                 for (std::size_t i = 0; i < B; ++i) in[i] = select(a.q[i] < qp.inner[p].lo, in[i], piece[i]);
         }
         const double scale = s.scale(q);
+        if (qp.zero_outside && !(q == QuantityId::potential && dim == 2)) {
+            // The scale and the selection in one pass.
+            for (std::size_t i = 0; i < B; ++i) out[i] = select(r[i] <= s.h(), in[i] * scale, 0.0);
+            return;
+        }
         for (std::size_t i = 0; i < B; ++i) in[i] = in[i] * scale;
     }
     if (q == QuantityId::potential && dim == 2)
@@ -1015,7 +1032,7 @@ void pairs(const Plan& plan, Precision pr, const std::span<const double>* x, con
 #define MOLLIFY_STRINGIFY2(x) #x
 #define MOLLIFY_STRINGIFY(x) MOLLIFY_STRINGIFY2(x)
 extern const Evaluator isa_evaluator;
-const Evaluator isa_evaluator{MOLLIFY_STRINGIFY(MOLLIFY_ISA), &evaluate, &pairs};
+const Evaluator isa_evaluator{MOLLIFY_STRINGIFY(MOLLIFY_ISA), &evaluate, &pairs, &check_radii, &check_coordinates};
 
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::detail
