@@ -823,6 +823,19 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
         for (std::size_t i = 0; i < B; ++i) out[i] = rounded(DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
 }
 
+// Precision::fast, a polynomial_inside quantity that is 0 outside, at the
+// B points of a (StaticKernel::emitted): every piece, the selection, the
+// scale, 0 beyond h.
+void fast_zero_outside_block(const QuantityPlan& qp, const FastBlock& a, double scale, double* out) {
+    double in[B], piece[B];
+    for (std::size_t p = 0; p < qp.inner.size(); ++p) {
+        fast_piece_block(qp.inner[p], a, p == 0 ? in : piece);
+        if (p > 0)
+            for (std::size_t i = 0; i < B; ++i) in[i] = select(a.q[i] < qp.inner[p].lo, in[i], piece[i]);
+    }
+    for (std::size_t i = 0; i < B; ++i) out[i] = select(a.r[i] <= a.h, in[i] * scale, 0.0);
+}
+
 // A polynomial_inside quantity at B radii (StaticKernel::emitted).
 template <Precision Pr>
 void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double* out, const Smoothing& s, int dim) {
@@ -1003,6 +1016,48 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         radial_batch<Pr>(over_r, QuantityId::grad_over_r, radii.data(), over.data(), n, s, dim);
         for (int c = 0; c < dim; ++c)
             for (std::size_t i = 0; i < n; ++i) grad[c][i] = over[i] * x[c][i];
+        return;
+    }
+    if (Pr == Precision::fast && value.zero_outside && over_r.zero_outside) {
+        // Both quantities from one block of q and e (radial_block's first
+        // pass done once), the last block padded with r = 0.
+        FastBlock a;
+        a.h = s.h(), a.inv_h = s.inverse();
+        const double value_scale = s.scale(QuantityId::value), over_r_scale = s.scale(QuantityId::grad_over_r);
+        double wb[B], g[B], pad[3][B];
+        for (std::size_t start = 0; start < n; start += B) {
+            const std::size_t m = std::min(B, n - start);
+            const double* c[3] = {nullptr, nullptr, nullptr};
+            for (int d = 0; d < dim; ++d) c[d] = x[d].data() + start;
+            if (m < B)  // the last block padded with x = 0
+                for (int d = 0; d < dim; ++d) {
+                    for (std::size_t i = 0; i < B; ++i) pad[d][i] = i < m ? c[d][i] : 0.0;
+                    c[d] = pad[d];
+                }
+            const double* __restrict x0 = c[0];
+            const double* __restrict x1 = c[1];
+            if (dim == 3) {
+                const double* __restrict x2 = c[2];
+                for (std::size_t i = 0; i < B; ++i)
+                    a.r[i] = std::sqrt(mul_add(x2[i], x2[i], mul_add(x1[i], x1[i], x0[i] * x0[i])));
+            } else {
+                for (std::size_t i = 0; i < B; ++i) a.r[i] = std::sqrt(mul_add(x1[i], x1[i], x0[i] * x0[i]));
+            }
+            for (std::size_t i = 0; i < B; ++i) {
+                a.q[i] = a.r[i] * s.inverse();
+                a.e[i] = edge_distance(s.h() - a.r[i], s);
+            }
+            // Straight into w where the block is whole (a copy compiles to rep movs).
+            fast_zero_outside_block(value, a, value_scale, m == B ? w + start : wb);
+            fast_zero_outside_block(over_r, a, over_r_scale, g);
+            if (m < B)
+                for (std::size_t i = 0; i < m; ++i) w[start + i] = wb[i];
+            for (int d = 0; d < dim; ++d) {
+                const double* __restrict xd = c[d];
+                double* __restrict gd = grad[d].data() + start;
+                for (std::size_t i = 0; i < m; ++i) gd[i] = g[i] * xd[i];
+            }
+        }
         return;
     }
     double r[B], g[B];
