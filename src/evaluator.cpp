@@ -13,6 +13,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <vector>
 
 namespace mollify::detail {
 inline namespace MOLLIFY_ISA {
@@ -367,6 +368,48 @@ void horner_q_fixed(const double* c, const double* q, double* out) {
     }
 }
 
+// One whole polynomial term added to a block's sum in one pass (fast_term
+// for Basis::one, low = 0): Horner's rule in v = q or q^2, times
+// ipow<P>(distance to the edge), the sum in registers. The same operations
+// in the same order as the scalar path, so the same bits.
+template <int N, int P, bool VarR, bool SupportEdge>
+void add_term_fixed(const double* c, const double* q, const double* e, const double* r, double edge, double h,
+                    double inv_h, bool first, double* sum) {
+    double k[N];
+    for (int j = 0; j < N; ++j) k[j] = c[j];
+    for (std::size_t i = 0; i < B; ++i) {
+        const double v = VarR ? q[i] : q[i] * q[i];
+        double x = k[N - 1];
+        for (int j = N - 2; j >= 0; --j) x = mul_add(x, v, k[j]);
+        if constexpr (P != 0) {
+            const double to_edge = SupportEdge ? e[i] : mul_add(edge, h, -r[i]) * inv_h;
+            const double d = VarR ? to_edge : to_edge * (edge + q[i]);
+            x *= ipow<P>(d);
+        }
+        sum[i] = (first ? 0.0 : sum[i]) + x;  // the first term: 0 + x, as fast_piece's fold
+    }
+}
+
+constexpr int fused_length = 5;
+constexpr int fused_power = 12;
+using AddTerm = void (*)(const double*, const double*, const double*, const double*, double, double, double, bool, double*);
+
+template <bool VarR, bool SupportEdge, int... I>
+constexpr std::array<AddTerm, sizeof...(I)> add_term_table(std::integer_sequence<int, I...>) {
+    return {&add_term_fixed<I / (fused_power + 1) + 1, I % (fused_power + 1), VarR, SupportEdge>...};
+}
+constexpr auto fused_shapes = std::make_integer_sequence<int, fused_length * (fused_power + 1)>{};
+// [var == r][edge == 1][(n - 1) (fused_power + 1) + edge_power]
+constexpr std::array<std::array<decltype(add_term_table<true, true>(fused_shapes)), 2>, 2> add_term_of = {{
+    {add_term_table<false, false>(fused_shapes), add_term_table<false, true>(fused_shapes)},
+    {add_term_table<true, false>(fused_shapes), add_term_table<true, true>(fused_shapes)},
+}};
+
+bool fused(const TermPlan& t) {
+    return t.basis == table::Basis::one && t.low == 0 && t.var != table::Var::shifted && t.n <= fused_length &&
+           t.edge_power >= 0 && t.edge_power <= fused_power;
+}
+
 using TimesIpow = void (*)(const double*, double*);
 using TimesEdge = void (*)(const double*, const double*, const double*, double, double, double, double*);
 using HornerQ = void (*)(const double*, const double*, double*);
@@ -498,7 +541,57 @@ struct FastBlock {
     double h, inv_h;
 };
 
-void fast_term_block(const TermPlan& t, const FastBlock& a, double* x) {
+// The powers x^n of B bases (BlockPowers), each by the tree of ipow<N>
+// with its subtrees remembered, as Powers does for one point: a piece's
+// edge series (~50 terms S (1 - q^2)^j) then costs ~50 products per point.
+class BlockPowers {
+public:
+    static constexpr int size = 80;
+    void reset(const double* base) {
+        for (std::size_t i = 0; i < B; ++i) base_[i] = base[i];
+        ++generation_;
+    }
+    // x^n for 1 <= n < size.
+    const double* operator()(int n) {
+        if (n == 1) return base_;
+        if (stamp_[n] == generation_) return value_[n];
+        const double* half = (*this)(n / 2);
+        double* out = value_[n];
+        if (n % 2)
+            for (std::size_t i = 0; i < B; ++i) out[i] = half[i] * half[i] * base_[i];
+        else
+            for (std::size_t i = 0; i < B; ++i) out[i] = half[i] * half[i];
+        stamp_[n] = generation_;
+        return out;
+    }
+    static bool remembers(int n) { return n >= 1 && n < size; }
+
+private:
+    double base_[B];
+    std::uint64_t generation_ = 1;  // 64 bits: never wraps, so a stale stamp never matches
+    std::uint64_t stamp_[size]{};
+    double value_[size][B];
+};
+
+// The powers a piece's terms share (fast_piece: the edge powers while
+// consecutive terms have the same edge, S^m for the whole piece).
+struct SharedPowers {
+    BlockPowers edge, s;
+    bool edge_valid = false, s_valid = false;
+};
+
+void times_power(BlockPowers& powers, const double* base, int n, double* x) {
+    double p[B];
+    if (BlockPowers::remembers(n)) {
+        const double* y = powers(n);
+        for (std::size_t i = 0; i < B; ++i) x[i] *= y[i];
+        return;
+    }
+    ipow_block(base, n, p);
+    for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+}
+
+void fast_term_block(const TermPlan& t, const TermPlan* previous, const FastBlock& a, SharedPowers& shared, double* x) {
     double v[B], p[B];
     if (t.var != table::Var::shifted && t.n <= fixed_length) {
         horner_q_of[t.var == table::Var::r][static_cast<std::size_t>(t.n - 1)](t.c, a.q, x);
@@ -517,9 +610,13 @@ void fast_term_block(const TermPlan& t, const FastBlock& a, double* x) {
             for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
         }
     }
+    const bool shares_edge =
+        previous && previous->edge == t.edge && previous->var == t.var && previous->edge_power != 0;
+    if (!shares_edge) shared.edge_valid = false;
     if (t.edge_power != 0) {
         const bool support_edge = t.edge == 1.0;
-        if (fixed(t.edge_power)) {
+        // A lone power by its own unrolled tree; a series' powers remembered.
+        if (fixed(t.edge_power) && !t.continues) {
             times_edge_of[t.var == table::Var::r][support_edge][power_index(t.edge_power)](a.q, a.e, a.r, t.edge, a.h,
                                                                                              a.inv_h, x);
         } else {
@@ -527,23 +624,50 @@ void fast_term_block(const TermPlan& t, const FastBlock& a, double* x) {
                 const double to_edge = support_edge ? a.e[i] : mul_add(t.edge, a.h, -a.r[i]) * a.inv_h;
                 v[i] = t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q[i]);
             }
-            ipow_block(v, t.edge_power, p);
-            for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+            if (!shared.edge_valid) shared.edge.reset(v);
+            shared.edge_valid = true;
+            times_power(shared.edge, v, t.edge_power, x);
         }
     }
     if (t.basis == table::Basis::sqrt_power) {
         for (std::size_t i = 0; i < B; ++i) v[i] = std::sqrt(a.e[i] * (1 + a.q[i]));
-        ipow_block(v, t.s_power, p);
-        for (std::size_t i = 0; i < B; ++i) x[i] *= p[i];
+        if (!shared.s_valid) shared.s.reset(v);
+        shared.s_valid = true;
+        times_power(shared.s, v, t.s_power, x);
     }
+    if (t.basis == table::Basis::log || t.basis == table::Basis::arcsech || t.basis == table::Basis::arcsin)
+        for (std::size_t i = 0; i < B; ++i) x[i] = with_basis(t, Scaled{a.q[i], a.e[i], a.r[i], a.h, a.inv_h}, x[i]);
+}
+
+SharedPowers& shared_powers() {
+    thread_local SharedPowers shared;
+    return shared;
 }
 
 void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
+    SharedPowers* shared = nullptr;  // only where a term is not fused (the buffers are 40 kB)
     double x[B];
-    for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0;
+    if (p.terms.empty())
+        for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0;
+    const TermPlan* previous = nullptr;
     for (const TermPlan& t : p.terms) {
-        fast_term_block(t, a, x);
-        for (std::size_t i = 0; i < B; ++i) sum[i] = sum[i] + x[i];
+        if (fused(t)) {
+            add_term_of[t.var == table::Var::r][t.edge == 1.0][static_cast<std::size_t>((t.n - 1) * (fused_power + 1) +
+                                                                                       t.edge_power)](
+                t.c, a.q, a.e, a.r, t.edge, a.h, a.inv_h, !previous, sum);
+            if (shared) shared->edge_valid = false;
+        } else {
+            if (!shared) {
+                shared = &shared_powers();
+                shared->edge_valid = shared->s_valid = false;
+            }
+            fast_term_block(t, previous, a, *shared, x);
+            if (!previous)
+                for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0 + x[i];
+            else
+                for (std::size_t i = 0; i < B; ++i) sum[i] = sum[i] + x[i];
+        }
+        previous = &t;
     }
 }
 
@@ -699,6 +823,19 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
         for (std::size_t i = 0; i < B; ++i) out[i] = rounded(DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
 }
 
+// Precision::fast, a polynomial_inside quantity that is 0 outside, at the
+// B points of a (StaticKernel::emitted): every piece, the selection, the
+// scale, 0 beyond h.
+void fast_zero_outside_block(const QuantityPlan& qp, const FastBlock& a, double scale, double* out) {
+    double in[B], piece[B];
+    for (std::size_t p = 0; p < qp.inner.size(); ++p) {
+        fast_piece_block(qp.inner[p], a, p == 0 ? in : piece);
+        if (p > 0)
+            for (std::size_t i = 0; i < B; ++i) in[i] = select(a.q[i] < qp.inner[p].lo, in[i], piece[i]);
+    }
+    for (std::size_t i = 0; i < B; ++i) out[i] = select(a.r[i] <= a.h, in[i] * scale, 0.0);
+}
+
 // A polynomial_inside quantity at B radii (StaticKernel::emitted).
 template <Precision Pr>
 void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double* out, const Smoothing& s, int dim) {
@@ -730,6 +867,11 @@ void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double*
                 for (std::size_t i = 0; i < B; ++i) in[i] = select(a.q[i] < qp.inner[p].lo, in[i], piece[i]);
         }
         const double scale = s.scale(q);
+        if (qp.zero_outside && !(q == QuantityId::potential && dim == 2)) {
+            // The scale and the selection in one pass.
+            for (std::size_t i = 0; i < B; ++i) out[i] = select(r[i] <= s.h(), in[i] * scale, 0.0);
+            return;
+        }
         for (std::size_t i = 0; i < B; ++i) in[i] = in[i] * scale;
     }
     if (q == QuantityId::potential && dim == 2)
@@ -743,9 +885,54 @@ void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double*
 
 // f_h at n radii: polynomial quantities by blocks (the last one padded
 // with r = 0), the others point by point.
+// Precision::fast for a quantity with pieces chosen by branches (sqrt,
+// log): the points sorted into their pieces first (inner_piece), then each
+// piece evaluated on blocks of its own points (the last one padded with a
+// copy of its first point), so every block loop runs one piece's terms
+// for B points; each point gets radial<fast>'s operations, so its bits.
+void radial_by_piece(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n,
+                     const Smoothing& s, int dim) {
+    thread_local std::vector<std::vector<std::size_t>> members;
+    members.resize(qp.inner.size());
+    for (auto& m : members) m.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+        const double qi = r[i] * s.inverse();
+        std::size_t p = qp.inner.size() - 1;
+        while (p > 0 && qi < qp.inner[p].lo) --p;
+        members[p].push_back(i);
+    }
+    const double scale = s.scale(q);
+    FastBlock a;
+    a.h = s.h(), a.inv_h = s.inverse();
+    double in[B];
+    for (std::size_t p = 0; p < qp.inner.size(); ++p) {
+        const std::vector<std::size_t>& m = members[p];
+        for (std::size_t start = 0; start < m.size(); start += B) {
+            const std::size_t count = std::min(B, m.size() - start);
+            for (std::size_t i = 0; i < B; ++i) {
+                const double ri = r[m[start + (i < count ? i : 0)]];
+                a.q[i] = ri * s.inverse();
+                a.e[i] = edge_distance(s.h() - ri, s);
+                a.r[i] = ri;
+            }
+            fast_piece_block(qp.inner[p], a, in);
+            for (std::size_t i = 0; i < count; ++i) {
+                double v = in[i] * scale;
+                if (q == QuantityId::potential && dim == 2) v = mul_add(qp.log_coefficient, s.log_h(), v);
+                const double ri = a.r[i];
+                out[m[start + i]] = qp.zero_outside ? select(ri <= s.h(), v, 0.0) : ri <= s.h() ? v : outside(qp, ri);
+            }
+        }
+    }
+}
+
 template <Precision Pr>
 void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s,
                   int dim) {
+    if (Pr == Precision::fast && !qp.polynomial_inside) {
+        radial_by_piece(qp, q, r, out, n, s, dim);
+        return;
+    }
     if (!qp.polynomial_inside) {
         for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
         return;
@@ -815,6 +1002,64 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         }
         return;
     }
+    if (Pr == Precision::fast && !(value.polynomial_inside && over_r.polynomial_inside)) {
+        // Whole batches, so that radial_by_piece fills its blocks.
+        thread_local std::vector<double> radii, over;
+        radii.resize(n);
+        over.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            double sq = mul_add(x[1][i], x[1][i], x[0][i] * x[0][i]);
+            if (dim == 3) sq = mul_add(x[2][i], x[2][i], sq);
+            radii[i] = std::sqrt(sq);
+        }
+        radial_batch<Pr>(value, QuantityId::value, radii.data(), w, n, s, dim);
+        radial_batch<Pr>(over_r, QuantityId::grad_over_r, radii.data(), over.data(), n, s, dim);
+        for (int c = 0; c < dim; ++c)
+            for (std::size_t i = 0; i < n; ++i) grad[c][i] = over[i] * x[c][i];
+        return;
+    }
+    if (Pr == Precision::fast && value.zero_outside && over_r.zero_outside) {
+        // Both quantities from one block of q and e (radial_block's first
+        // pass done once), the last block padded with r = 0.
+        FastBlock a;
+        a.h = s.h(), a.inv_h = s.inverse();
+        const double value_scale = s.scale(QuantityId::value), over_r_scale = s.scale(QuantityId::grad_over_r);
+        double wb[B], g[B], pad[3][B];
+        for (std::size_t start = 0; start < n; start += B) {
+            const std::size_t m = std::min(B, n - start);
+            const double* c[3] = {nullptr, nullptr, nullptr};
+            for (int d = 0; d < dim; ++d) c[d] = x[d].data() + start;
+            if (m < B)  // the last block padded with x = 0
+                for (int d = 0; d < dim; ++d) {
+                    for (std::size_t i = 0; i < B; ++i) pad[d][i] = i < m ? c[d][i] : 0.0;
+                    c[d] = pad[d];
+                }
+            const double* __restrict x0 = c[0];
+            const double* __restrict x1 = c[1];
+            if (dim == 3) {
+                const double* __restrict x2 = c[2];
+                for (std::size_t i = 0; i < B; ++i)
+                    a.r[i] = std::sqrt(mul_add(x2[i], x2[i], mul_add(x1[i], x1[i], x0[i] * x0[i])));
+            } else {
+                for (std::size_t i = 0; i < B; ++i) a.r[i] = std::sqrt(mul_add(x1[i], x1[i], x0[i] * x0[i]));
+            }
+            for (std::size_t i = 0; i < B; ++i) {
+                a.q[i] = a.r[i] * s.inverse();
+                a.e[i] = edge_distance(s.h() - a.r[i], s);
+            }
+            // Straight into w where the block is whole (a copy compiles to rep movs).
+            fast_zero_outside_block(value, a, value_scale, m == B ? w + start : wb);
+            fast_zero_outside_block(over_r, a, over_r_scale, g);
+            if (m < B)
+                for (std::size_t i = 0; i < m; ++i) w[start + i] = wb[i];
+            for (int d = 0; d < dim; ++d) {
+                const double* __restrict xd = c[d];
+                double* __restrict gd = grad[d].data() + start;
+                for (std::size_t i = 0; i < m; ++i) gd[i] = g[i] * xd[i];
+            }
+        }
+        return;
+    }
     double r[B], g[B];
     for (std::size_t start = 0; start < n; start += B) {
         const std::size_t m = std::min(B, n - start);
@@ -842,7 +1087,7 @@ void pairs(const Plan& plan, Precision pr, const std::span<const double>* x, con
 #define MOLLIFY_STRINGIFY2(x) #x
 #define MOLLIFY_STRINGIFY(x) MOLLIFY_STRINGIFY2(x)
 extern const Evaluator isa_evaluator;
-const Evaluator isa_evaluator{MOLLIFY_STRINGIFY(MOLLIFY_ISA), &evaluate, &pairs};
+const Evaluator isa_evaluator{MOLLIFY_STRINGIFY(MOLLIFY_ISA), &evaluate, &pairs, &check_radii, &check_coordinates};
 
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::detail

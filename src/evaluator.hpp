@@ -23,6 +23,11 @@ struct Evaluator {
     // W_h and grad W_h at n displacements (x and grad: dim spans of n).
     void (*pairs)(const Plan& plan, Precision pr, const std::span<const double>* x, const Smoothing& s, double* w,
                   const std::span<double>* grad, std::size_t n);
+    // The public API's checks of its inputs (fail naming a bad value), in
+    // this instruction set's vector loops: at -O2 for generic x86-64 they
+    // cost as much as a fast batch.
+    void (*check_radii)(std::span<const double> r);
+    void (*check_coordinates)(std::span<const double> x, int component);
 };
 
 // The evaluator in use: x86-64-v3 (AVX2 + FMA) where the CPU has it, else
