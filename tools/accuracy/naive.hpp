@@ -22,6 +22,7 @@
 // kernel; shorter pieces are zero-padded at the top (exact: 0 v + c = c).
 #pragma once
 
+#include <mollify/error.hpp>
 #include <mollify/detail/evaluate.hpp>
 #include <mollify/smoothing.hpp>
 
