@@ -122,7 +122,10 @@ inline DoubleDouble ipow(const DoubleDouble& x) {
 // hi + lo rounded; where hi overflowed (lo is then inf - inf), hi itself:
 // +-inf, never NaN.
 inline double rounded(const DoubleDouble& x) {
-    return std::abs(x.hi) <= 0x1.fffffffffffffp+1023 ? x.hi + x.lo : x.hi;
+    // select, not ?: GCC keeps the ternary a branch, and a branch in the
+    // body stops a batch loop's vectorisation (measured: W of Wendland C4
+    // accurate 15.5 against 3.7 ns per point).
+    return select(std::abs(x.hi) <= 0x1.fffffffffffffp+1023, x.hi + x.lo, x.hi);
 }
 
 }  // namespace MOLLIFY_ISA
