@@ -230,39 +230,45 @@ TEST(Cli, EmitRewritesOnlyChangedFiles) {
 // Under ASan + UBSan the whole catalogue takes ~2.5 minutes at -O0 (a tenth
 // of CI): one kernel of every family instead, through every stage of the
 // generator (closed forms, missing Wendland series, Vandermonde weights,
-// potentials, every certificate, emission), twice, byte for byte equal.
+// potentials, every certificate, emission), byte for byte the checked-in
+// headers (written by an earlier, unsanitized run: so also deterministic).
 // Freshness of the whole catalogue is the optimised build's test below.
-TEST(Cli, EveryFamilyEmitsDeterministicallyUnderSanitizers) {
-    const fs::path a = scratch("families-a"), b = scratch("families-b");
+TEST(Cli, EveryFamilyEmitsAsCheckedInUnderSanitizers) {
+    const fs::path a = scratch("families");
     const std::string only =
         " --only mollifier:M=4 --only mollifier:M=4,order=4 --only wendland:k=2,l=1 --only wendland-missing:k=1,l=1"
         " --only combo:m=3,base=wendland:k=2 --only poly6 --only spiky --only viscosity --only cubic-spline"
         " --only box --only box-d1 --only box-d2";
     const Outcome r = run("emit --out " + a.string() + only);
     ASSERT_EQ(r.status, 0) << r.err;
-    ASSERT_EQ(run("emit --out " + b.string() + only).status, 0);
     const auto files = tree(a);
     EXPECT_EQ(files.size(), 34u);  // 31 kernel headers (viscosity: D = 2, 3; box-d1, box-d2: D = 1), the two catalogue files, catalogue.json
-    EXPECT_EQ(files, tree(b));
-    for (const auto& f : files) EXPECT_TRUE(slurp(a / f) == slurp(b / f)) << f << " differs between two runs";
+    const fs::path checked_in = MOLLIFY_GENERATED_DIR;
+    int headers = 0;
+    for (const auto& f : files) {
+        if (f.extension() != ".hpp" || f.filename() == "catalogue.hpp") continue;  // the catalogue lists only these kernels
+        ++headers;
+        EXPECT_TRUE(slurp(a / f) == slurp(checked_in / f)) << f << " differs from generated/" << f.string();
+    }
+    EXPECT_EQ(headers, 31);
     fs::remove_all(a);
-    fs::remove_all(b);
 }
 #else
+// One emit, compared byte for byte with generated/: the checked-in files
+// were written by an earlier run of the same generator, so equality also
+// shows the output does not depend on the run (thread scheduling, addresses);
+// a second emit here would cost a whole catalogue (~50 s in CI) to show it
+// again.
 TEST(Cli, GeneratedTablesAreFreshAndDeterministic) {
-    const fs::path a = scratch("fresh-a"), b = scratch("fresh-b");
+    const fs::path a = scratch("fresh");
     ASSERT_EQ(run("emit --out " + a.string()).status, 0);
-    ASSERT_EQ(run("emit --out " + b.string()).status, 0);
     const fs::path checked_in = MOLLIFY_GENERATED_DIR;
     const auto files = tree(a);
     EXPECT_EQ(files, tree(checked_in)) << "generated/ holds files mollify-gen emit does not write, or misses some";
-    EXPECT_EQ(files, tree(b));
-    for (const auto& f : files) {
-        EXPECT_TRUE(slurp(a / f) == slurp(b / f)) << f << " differs between two runs";
+    for (const auto& f : files)
         EXPECT_TRUE(slurp(a / f) == slurp(checked_in / f))
-            << "generated/" << f.string() << " is stale: run `mollify-gen emit --out generated` and commit";
-    }
+            << "generated/" << f.string() << " is stale (or the emit is not deterministic): run `mollify-gen emit --out "
+               "generated` twice, compare, and commit";
     fs::remove_all(a);
-    fs::remove_all(b);
 }
 #endif
