@@ -109,7 +109,10 @@ int print_softening(const ExactKernel& k) {
         else std::cout << "jumps by " << (*j.right - *j.left).to_string() << "\n";
     }
     std::cout << "smooth " << name << "  phi is C^" << s.guaranteed << " by the kernel's smoothness; phi^(0.."
-              << s.continuous_at_edge << ") continuous with the Green's function at the edge\n";
+              << s.continuous_at_edge << ") continuous with the Green's function at the edge; phi^(0.."
+              << finite_at_origin(softening_derivatives(k)) << ") finite at r = 0";
+    if (k.dim == 3) std::cout << "; D_soft_1.." << finite_at_origin(swift_d_soft(k)) + 1 << " finite at u = 0";
+    std::cout << "\n";
     return failed;
 }
 

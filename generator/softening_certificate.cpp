@@ -24,6 +24,15 @@ std::string text(const std::optional<Exact>& v) { return v ? v->to_string() : "i
 
 }  // namespace
 
+int finite_at_origin(const std::vector<Radial>& f) {
+    int n = -1;
+    for (const Radial& g : f) {
+        if (!limit(g.pieces.front(), Q(0))) break;
+        ++n;
+    }
+    return n;
+}
+
 std::string join_name(const Join& j) {
     return "phi^(" + std::to_string(j.order) + ") at r = " + short_string(j.at) +
            (j.edge ? " (support edge, against the Green's function)" : "");

@@ -31,6 +31,12 @@ struct SofteningSmoothness {
     std::vector<Join> joins;   // orders 0..6 by breakpoint, the edge last
 };
 
+// The highest i such that f[0..i] all have a finite limit at r = 0, -1 if
+// f[0] has none: kernels with odd powers of r at the origin (a cusp, e.g.
+// wendland:k=0, spiky) have high derivatives of phi, or SWIFT's D_soft_n,
+// that blow up there, which a writer must know.
+int finite_at_origin(const std::vector<Radial>& f);
+
 // From softening_derivatives(k) (all seven).
 SofteningSmoothness softening_smoothness(const ExactKernel& k, const std::vector<Radial>& derivatives);
 
