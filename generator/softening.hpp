@@ -7,9 +7,11 @@
 //   (1/r outside the support), which are both
 //     SWIFT's D_soft_{n+1}(u), n = 0..5 (../shared/peers.md, SWIFT: D_soft_1 =
 //       -W with W = 4 pi phi its potential kernel, and D_soft_{n+1} = D_soft_n'
-//       - (n-1) D_soft_n / u), and
-//     GADGET-4's g-factors fac_n, n = 0..5 (gravtree.h, struct gfactors: g,
-//       g', g'' - g'/r, g''' - 3 g''/r + 3 g'/r^2, ...).
+//       - (n-1) D_soft_n / u; SWIFT src/kernel_gravity.h and
+//       src/gravity_derivatives.h at 8a8f0d794430), and
+//     GADGET-4's g-factors fac_n, n = 0..5 (src/gravtree/gravtree.h, struct
+//       gfactors, in weiguangcui/Gadget4: g, g', g'' - g'/r,
+//       g''' - 3 g''/r + 3 g'/r^2, ...).
 //
 // Why one E_n serves both. T_n = ((1/r) d/dr)^n g is the radial factor of the
 // n-th Cartesian derivative tensor of g(|x|): d_i g = T_1 x_i, d_i T_n =

@@ -61,13 +61,32 @@ SofteningSmoothness softening_smoothness(const ExactKernel& k, const std::vector
     return s;
 }
 
-std::vector<Certificate> softening_certificates(const ExactKernel& k) {
-    const SofteningSmoothness s = softening_smoothness(k, softening_derivatives(k));
+namespace {
+
+std::vector<Certificate> certificates(const SofteningSmoothness& s) {
     std::vector<Certificate> out;
     for (const Join& j : s.joins)
         if (j.order <= s.guaranteed)
             out.push_back({join_name(j) + " continuous", j.continuous(), text(j.left) + " vs " + text(j.right)});
     return out;
+}
+
+}  // namespace
+
+std::vector<Certificate> softening_certificates(const ExactKernel& k) {
+    return certificates(softening_smoothness(k, softening_derivatives(k)));
+}
+
+Softening certified_softening(const ExactKernel& k) {
+    Softening s;
+    s.derivatives = softening_derivatives(k);
+    s.smoothness = softening_smoothness(k, s.derivatives);
+    for (const Certificate& c : certificates(s.smoothness))
+        if (!c.passed)
+            fail("kernel " + spec_string(k.spec) + " in D = " + std::to_string(k.dim) + ": certificate failed: " +
+                 c.what + " [" + c.detail + "]");
+    if (k.dim == 3) s.multipole = multipole_factors(k, max_softening_order - 1);
+    return s;
 }
 
 }  // namespace mollify::gen

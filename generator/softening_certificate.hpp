@@ -43,6 +43,18 @@ SofteningSmoothness softening_smoothness(const ExactKernel& k, const std::vector
 // The joins of order <= guaranteed, each a certificate that must pass.
 std::vector<Certificate> softening_certificates(const ExactKernel& k);
 
+// What a target writer (Phantom's kernel_softening, SWIFT's kernel_gravity.h,
+// GADGET-4's g-factors) takes: phi^(0..6), in 3D the multipole factors
+// E_0..E_5 (= D_soft_1..6 = fac0..5; empty in 1D and 2D), and the measured
+// smoothness; Error naming the first failed certificate, never an
+// uncertified form.
+struct Softening {
+    std::vector<Radial> derivatives;
+    std::vector<Radial> multipole;
+    SofteningSmoothness smoothness;
+};
+Softening certified_softening(const ExactKernel& k);
+
 // "phi^(3) at r = 1 (edge)": the join's name for people.
 std::string join_name(const Join& j);
 

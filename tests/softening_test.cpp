@@ -428,6 +428,23 @@ TEST(Softening, GadgetFactorsAreTheExpandedDerivativeForms) {
     }
 }
 
+TEST(Softening, CertifiedBundleForTheWriters) {
+    for (const Case& c : polynomial_cases()) {
+        SCOPED_TRACE(name(c));
+        const ExactKernel k = kernel(c);
+        const Softening s = certified_softening(k);
+        ASSERT_EQ(s.derivatives.size(), 7u);
+        EXPECT_TRUE(s.derivatives[6] == softening_derivatives(k)[6]);
+        if (c.dim == 3) {
+            ASSERT_EQ(s.multipole.size(), 6u);
+            for (int n = 0; n < 6; ++n) EXPECT_TRUE(s.multipole[n] == swift_d_soft(k)[n]);
+        } else {
+            EXPECT_TRUE(s.multipole.empty());
+        }
+        EXPECT_EQ(s.smoothness.guaranteed, std::min(k.claims.smoothness + 2, 6));
+    }
+}
+
 // ------------------------------------------------------------- (5) errors
 std::string error_of(const std::function<void()>& f) {
     try {
