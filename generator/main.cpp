@@ -95,12 +95,13 @@ int run_errata(const std::string& dir) {
 // guaranteed order do (continuous, a jump, or infinite), stated.
 int print_softening(const ExactKernel& k) {
     const std::string name = spec_string(k.spec) + " D=" + std::to_string(k.dim);
+    const std::vector<Radial> derivatives = softening_derivatives(k);
+    const SofteningSmoothness s = softening_smoothness(k, derivatives);
     int failed = 0;
-    for (const Certificate& c : softening_certificates(k)) {
+    for (const Certificate& c : softening_certificates(s)) {
         std::cout << (c.passed ? "ok    " : "FAIL  ") << name << "  " << c.what << "  [" << c.detail << "]\n";
         failed += !c.passed;
     }
-    const SofteningSmoothness s = softening_smoothness(k, softening_derivatives(k));
     for (const Join& j : s.joins) {
         if (j.order <= s.guaranteed) continue;
         std::cout << "note  " << name << "  " << join_name(j) << ": ";
@@ -110,7 +111,7 @@ int print_softening(const ExactKernel& k) {
     }
     std::cout << "smooth " << name << "  phi is C^" << s.guaranteed << " by the kernel's smoothness; phi^(0.."
               << s.continuous_at_edge << ") continuous with the Green's function at the edge; phi^(0.."
-              << finite_at_origin(softening_derivatives(k)) << ") finite at r = 0";
+              << finite_at_origin(derivatives) << ") finite at r = 0";
     if (k.dim == 3) std::cout << "; D_soft_1.." << finite_at_origin(swift_d_soft(k)) + 1 << " finite at u = 0";
     std::cout << "\n";
     return failed;

@@ -61,9 +61,7 @@ SofteningSmoothness softening_smoothness(const ExactKernel& k, const std::vector
     return s;
 }
 
-namespace {
-
-std::vector<Certificate> certificates(const SofteningSmoothness& s) {
+std::vector<Certificate> softening_certificates(const SofteningSmoothness& s) {
     std::vector<Certificate> out;
     for (const Join& j : s.joins)
         if (j.order <= s.guaranteed)
@@ -71,17 +69,15 @@ std::vector<Certificate> certificates(const SofteningSmoothness& s) {
     return out;
 }
 
-}  // namespace
-
 std::vector<Certificate> softening_certificates(const ExactKernel& k) {
-    return certificates(softening_smoothness(k, softening_derivatives(k)));
+    return softening_certificates(softening_smoothness(k, softening_derivatives(k)));
 }
 
 Softening certified_softening(const ExactKernel& k) {
     Softening s;
     s.derivatives = softening_derivatives(k);
     s.smoothness = softening_smoothness(k, s.derivatives);
-    for (const Certificate& c : certificates(s.smoothness))
+    for (const Certificate& c : softening_certificates(s.smoothness))
         if (!c.passed)
             fail("kernel " + spec_string(k.spec) + " in D = " + std::to_string(k.dim) + ": certificate failed: " +
                  c.what + " [" + c.detail + "]");

@@ -41,6 +41,7 @@ int finite_at_origin(const std::vector<Radial>& f);
 SofteningSmoothness softening_smoothness(const ExactKernel& k, const std::vector<Radial>& derivatives);
 
 // The joins of order <= guaranteed, each a certificate that must pass.
+std::vector<Certificate> softening_certificates(const SofteningSmoothness& s);
 std::vector<Certificate> softening_certificates(const ExactKernel& k);
 
 // What a target writer (Phantom's kernel_softening, SWIFT's kernel_gravity.h,

@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -117,7 +118,10 @@ Exact green_derivative_at_one(int dim, int n) {
 
 std::vector<Case> certificate_cases() {
     std::vector<Case> cases = polynomial_cases();
-    for (int dim = 1; dim <= 3; ++dim) cases.push_back({"wendland-missing:k=1,l=1", dim});  // S, arcsech, arcsin
+    for (int dim = 1; dim <= 3; ++dim) {
+        cases.push_back({"wendland-missing:k=1,l=1", dim});  // S, arcsech, arcsin
+        cases.push_back({"wendland-missing:k=0", dim});      // W^(s+1) infinite at the edge
+    }
     cases.push_back({"wendland:k=0", 3});
     cases.push_back({"poly6", 3});
     return cases;
@@ -146,11 +150,21 @@ TEST(Softening, CertificateAtTheEdgeAgainstTheGreensFunction) {
     }
 }
 
+// The one-sided limit, nullopt where infinite (a negative power of S at r = 1).
+std::optional<Exact> limit(const ClosedForm& f, const Q& r) {
+    try {
+        return value_at(f, r);
+    } catch (const Error&) {
+        return std::nullopt;
+    }
+}
+
 // Delta phi = W: phi'' = W - (D-1) phi'/r, so where phi^(0..n+1) are
-// continuous, the jump of phi^(n+2) is the jump of W^(n). The first jump of
-// phi at each breakpoint is therefore two orders above W's, by the same amount.
+// continuous, the jump of phi^(n+2) is the jump of W^(n) (infinite where
+// W^(n) is). The first jump of phi at each breakpoint is therefore two
+// orders above W's, by the same amount.
 TEST(Softening, FirstJumpOfPhiIsTwoOrdersAboveTheKernels) {
-    int jumps_seen = 0;
+    int jumps_seen = 0, infinite_seen = 0;
     for (const Case& c : certificate_cases()) {
         SCOPED_TRACE(name(c));
         const ExactKernel k = kernel(c);
@@ -159,8 +173,8 @@ TEST(Softening, FirstJumpOfPhiIsTwoOrdersAboveTheKernels) {
         for (int n = 0; n + 2 <= 6; ++n, w = w.derivative())
             for (std::size_t i = 1; i < w.breaks.size(); ++i) {
                 const Q& b = w.breaks[i];
-                const Exact w_jump = value_at(i + 1 < w.breaks.size() ? w.pieces[i] : w.outside, b) -
-                                     value_at(w.pieces[i - 1], b);
+                const auto w_left = limit(w.pieces[i - 1], b);
+                const auto w_right = limit(i + 1 < w.breaks.size() ? w.pieces[i] : w.outside, b);
                 auto join = [&](int order) {
                     for (const Join& j : s.joins)
                         if (j.order == order && j.at == b) return j;
@@ -171,12 +185,19 @@ TEST(Softening, FirstJumpOfPhiIsTwoOrdersAboveTheKernels) {
                 for (int m = 0; m <= n + 1; ++m) lower_continuous = lower_continuous && join(m).continuous();
                 if (!lower_continuous) continue;
                 const Join j = join(n + 2);
+                if (!w_left || !w_right) {
+                    EXPECT_FALSE(j.left && j.right) << join_name(j) << " is finite where W^(" << n << ") is not";
+                    ++infinite_seen;
+                    continue;
+                }
                 ASSERT_TRUE(j.left && j.right) << join_name(j);
+                const Exact w_jump = *w_right - *w_left;
                 EXPECT_EQ(*j.right - *j.left, w_jump) << join_name(j);
                 jumps_seen += !w_jump.is_zero();
             }
     }
     EXPECT_GT(jumps_seen, 5);  // the test saw real jumps, not only continuity
+    EXPECT_GE(infinite_seen, 3);  // and wendland-missing:k=0's infinite ones, in each dimension
 }
 
 TEST(Softening, StatedSmoothnessOfWendlandC2AndTheCubicSpline) {
@@ -191,6 +212,14 @@ TEST(Softening, StatedSmoothnessOfWendlandC2AndTheCubicSpline) {
     int jumps = 0;
     for (const Join& j : cs.joins) jumps += j.order == 5 && !j.continuous();
     EXPECT_EQ(jumps, 2);
+    // wendland-missing:k=0 in 3D, (1-r)^(7/2) at the edge: phi C^5, phi^(6) infinite there.
+    const SofteningSmoothness m = softening_smoothness(kernel({"wendland-missing:k=0", 3}),
+                                                       softening_derivatives(kernel({"wendland-missing:k=0", 3})));
+    EXPECT_EQ(m.guaranteed, 5);
+    EXPECT_EQ(m.continuous_at_edge, 5);
+    ASSERT_EQ(m.joins.back().order, 6);
+    EXPECT_FALSE(m.joins.back().left.has_value());
+    EXPECT_TRUE(m.joins.back().right.has_value());
 }
 
 // ---------------------------------------------------------------- (3) MPFR
