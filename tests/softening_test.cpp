@@ -281,11 +281,14 @@ Real w_derivative(const std::vector<Piece>& W, int i, const Real& t) {
 
 using Integrand = std::function<Real(const Piece&, const Real&)>;
 
-// Romberg quadrature: column j is exact for polynomials of degree <= 2j+1
-// (every kernel here has degree < 24 after the factor t^(D-1)), and for the
-// 2D phi(r) integrand t W(t) log t converges like h^(2j).
-Real romberg(const Integrand& f, const Piece& p, const Real& a, const Real& b) {
-    constexpr int levels = 13;
+// Romberg quadrature: with L levels the last column is exact for polynomials
+// of degree <= 2L - 1 (polynomial_levels: degree <= 17, asserted per kernel
+// below), and for the 2D phi(r) integrand t W(t) log t converges like h^(2L).
+constexpr int polynomial_levels = 9;
+constexpr int log_levels = 13;
+constexpr int max_exact_degree = 2 * polynomial_levels - 1;
+
+Real romberg(const Integrand& f, const Piece& p, const Real& a, const Real& b, int levels) {
     std::vector<std::vector<Real>> R(levels, std::vector<Real>(levels, Real(0, digits10)));
     Real h = b - a;
     R[0][0] = h * (f(p, a) + f(p, b)) / 2;
@@ -304,11 +307,12 @@ Real romberg(const Integrand& f, const Piece& p, const Real& a, const Real& b) {
 }
 
 // int over [lo, hi] of f, split at the kernel's breakpoints.
-Real integral(const std::vector<Piece>& W, const Integrand& f, const Real& lo, const Real& hi) {
+Real integral(const std::vector<Piece>& W, const Integrand& f, const Real& lo, const Real& hi,
+              int levels = polynomial_levels) {
     Real s(0, digits10);
     for (const Piece& p : W) {
         const Real a = std::max(real(p.a), lo), b = std::min(real(p.b), hi);
-        if (a < b) s += romberg(f, p, a, b);
+        if (a < b) s += romberg(f, p, a, b, levels);
     }
     return s;
 }
@@ -339,7 +343,9 @@ Real reference(const std::vector<Piece>& W, int dim, int n, const Q& rq, const R
             return one - s;
         };
         const Real inner = M * kappa(r);
-        const Real outer = integral(W, [&](const Piece& p, const Real& t) { return density(dim, p, t) * kappa(t); }, r, one);
+        const Real outer = integral(
+            W, [&](const Piece& p, const Real& t) { return density(dim, p, t) * kappa(t); }, r, one,
+            dim == 2 ? log_levels : polynomial_levels);
         const Real g1 = dim == 3 ? -one / (4 * pi_at(bits)) : dim == 2 ? Real(0, digits10) : one / 2;
         return g1 - inner - outer;
     }
@@ -366,6 +372,10 @@ TEST(Softening, DerivativesAgainstMpfrFromGausssLaw) {
         const ExactKernel k = kernel(c);
         const std::vector<Radial> d = softening_derivatives(k);
         const std::vector<Piece> W = mpfr_pieces(k.W);
+        // Romberg is exact for t^(D-1) W(t) and for t^(D-1) W(t) kappa(t) in 1D and 3D (kappa
+        // of degree 1 and -1/0): degree <= m + D.
+        for (const Piece& p : W)
+            for (const auto& [m, coefficient] : p.terms) ASSERT_LE(m + c.dim, max_exact_degree);
         for (const Q& r : sample_points(d[0])) {
             const Real M = enclosed(W, c.dim, r);
             for (int n = 0; n <= 6; ++n) {
