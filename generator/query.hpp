@@ -18,10 +18,13 @@ struct OrderedFamily {
     std::vector<Radial> (*up_to)(const ExactKernel&, int max_order);
 };
 
+// Names without an order beyond the tabulated ones: dphidh (softening.hpp).
+const std::vector<std::string>& softening_names();
+
 // softening:n (d^n phi/dr^n), d_soft:n (SWIFT), gfactor:n (GADGET-4).
 const std::vector<OrderedFamily>& ordered_families();
 
-// "value|dr|...|softening:0..6|d_soft:1..6|gfactor:0..5", for help and errors.
+// "value|dr|...|dphidh|softening:0..6|d_soft:1..6|gfactor:0..5", for help and errors.
 std::string query_names();
 
 // The named quantity of k, exactly. Error naming the name, the order or the

@@ -49,6 +49,15 @@ std::vector<Radial> multipole_factors(const ExactKernel& k, int max_order) {
     return e;
 }
 
+Radial softening_h_derivative(const ExactKernel& k) {
+    if (k.dim != 3)
+        fail(where(k) + ": dphidh is defined for 3D gravity (phi_h = phi(r/h)/h); D = " + std::to_string(k.dim));
+    const Radial phi = poisson_potential(k);
+    Radial d = (phi + phi.derivative().times(Laurent::monomial(Q(1), 1))) * Exact(Q(-1));
+    d.parity = 1;
+    return d;
+}
+
 std::vector<Radial> swift_d_soft(const ExactKernel& k, int max_order) {
     check_order("D_soft", max_order, 1, max_d_soft);
     return multipole_factors(k, max_order - 1);

@@ -52,6 +52,12 @@ Radial softened_inverse_distance(const ExactKernel& k);
 // E_0..E_max_order of g (see above); the exterior is (-1)^n (2n-1)!! / r^(n+1).
 std::vector<Radial> multipole_factors(const ExactKernel& k, int max_order);
 
+// d/dh of the softened potential phi_h(r) = phi(r/h)/h at h = 1, as a function
+// of q = r/h: -(phi + q phi') (the h^-2 factored out), zero outside the support
+// (the Green's function does not depend on h). Phantom's dphidh (peers.md:
+// dphidh = -phi - q dphi/dq), in mollify's scaling (support 1); 3D only.
+Radial softening_h_derivative(const ExactKernel& k);
+
 // SWIFT: element n-1 is D_soft_n(u), n = 1..max_order (<= 6).
 std::vector<Radial> swift_d_soft(const ExactKernel& k, int max_order = max_d_soft);
 

@@ -484,6 +484,25 @@ TEST(Softening, CertifiedBundleForTheWriters) {
     }
 }
 
+// Phantom's dphidh (peers.md: -phi - q dphi/dq) is d/dh of phi_h = phi(r/h)/h
+// at h = 1. Independent check: Delta phi_h = W_h = W(r/h)/h^3, so
+// Delta (d phi_h/dh) = d W_h/dh = -(3 W + r W') at h = 1; with the exterior 0
+// (the Green's function does not depend on h) that determines it. Phantom's own
+// relation dphidh0 = dphidh(0) = -phi(0) too.
+TEST(Softening, PhantomDphidh) {
+    for (const std::string& spec : three_d_kernels) {
+        SCOPED_TRACE(spec);
+        const ExactKernel k = kernel({spec, 3});
+        const Radial d = softening_h_derivative(k);
+        EXPECT_TRUE(d.outside.is_zero());
+        const Radial dW_dh = (k.W * Exact(Q(3)) + k.W.derivative().times(Laurent::monomial(Q(1), 1))) * Exact(Q(-1));
+        EXPECT_TRUE(radial_laplacian(d, 3) == dW_dh);
+        const Radial phi = potential(k.W, 3);
+        EXPECT_EQ(value_at(d.pieces.front(), Q(0)), -value_at(phi.pieces.front(), Q(0)));
+        EXPECT_TRUE(query(k, "dphidh") == d);
+    }
+}
+
 // ------------------------------------------------------------- (5) errors
 std::string error_of(const std::function<void()>& f) {
     try {
@@ -507,6 +526,7 @@ TEST(Softening, BadOrdersAreNamed) {
     EXPECT_NE(error_of([&] { query(k, "softening:"); }).find("order '' is not an integer"), std::string::npos);
     EXPECT_NE(error_of([&] { query(k, "smoothing:2"); }).find("unknown quantity 'smoothing:2'"), std::string::npos);
     EXPECT_NE(error_of([&] { swift_d_soft(kernel({"wendland:k=2", 2})); }).find("D = 2"), std::string::npos);
+    EXPECT_NE(error_of([&] { softening_h_derivative(kernel({"wendland:k=2", 2})); }).find("D = 2"), std::string::npos);
     EXPECT_NE(error_of([&] { softening_derivatives(kernel({"box-d1", 1})); }).find("no Poisson potential"),
               std::string::npos);
 }
