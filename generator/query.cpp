@@ -18,15 +18,17 @@ const std::vector<OrderedFamily>& ordered_families() {
     return families;
 }
 
-const std::vector<std::string>& softening_names() {
-    static const std::vector<std::string> names{"dphidh"};
-    return names;
+const std::vector<NamedQuantity>& softening_quantities() {
+    static const std::vector<NamedQuantity> named{
+        {"dphidh", "d/dh of phi(r/h)/h at h = 1, Phantom's dphidh (softening.hpp)", softening_h_derivative},
+    };
+    return named;
 }
 
 std::string query_names() {
     std::string s;
     for (const auto& n : quantity_names()) s += (s.empty() ? "" : "|") + n;
-    for (const auto& n : softening_names()) s += "|" + n;
+    for (const auto& q : softening_quantities()) s += "|" + q.name;
     for (const auto& f : ordered_families())
         s += "|" + f.name + ":" + std::to_string(f.low) + ".." + std::to_string(f.high);
     return s;
@@ -37,7 +39,8 @@ Radial query(const ExactKernel& k, const std::string& name) {
     if (colon == std::string::npos) {
         for (const auto& n : quantity_names())
             if (n == name) return quantity(k, derive_quantities(k), name);
-        if (name == softening_names().front()) return softening_h_derivative(k);
+        for (const auto& q : softening_quantities())
+            if (q.name == name) return q.of(k);
         fail("unknown quantity '" + name + "' (known: " + query_names() + ")");
     }
     const std::string family = name.substr(0, colon), digits = name.substr(colon + 1);

@@ -19,7 +19,12 @@ struct OrderedFamily {
 };
 
 // Names without an order beyond the tabulated ones: dphidh (softening.hpp).
-const std::vector<std::string>& softening_names();
+struct NamedQuantity {
+    std::string name;
+    std::string meaning;
+    Radial (*of)(const ExactKernel&);
+};
+const std::vector<NamedQuantity>& softening_quantities();
 
 // softening:n (d^n phi/dr^n), d_soft:n (SWIFT), gfactor:n (GADGET-4).
 const std::vector<OrderedFamily>& ordered_families();
