@@ -15,6 +15,14 @@
 
 namespace mollify::gen {
 
+Tables rounded_tables(const KernelFacts& f) {
+    Tables tables;
+    for (int i = 0; i < table::quantity_count; ++i)
+        tables.push_back(rounded_quantity(quantity_of(f, i), table::is_potential(static_cast<table::QuantityId>(i)),
+                                          parts_of(f, i)));
+    return tables;
+}
+
 namespace {
 
 // What one kernel contributes to the output.
@@ -24,14 +32,6 @@ struct KernelOutput {
     std::vector<std::string> failures;  // failed certificates
     int certificates = 0;
 };
-
-Tables rounded_tables(const KernelFacts& f) {
-    Tables tables;
-    for (int i = 0; i < table::quantity_count; ++i)
-        tables.push_back(rounded_quantity(quantity_of(f, i), table::is_potential(static_cast<table::QuantityId>(i)),
-                                          parts_of(f, i)));
-    return tables;
-}
 
 void count_certificates(const KernelFacts& f, int dim, int& certificates, std::vector<std::string>& failures) {
     for (const Certificate& c : f.certificates) {

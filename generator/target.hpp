@@ -22,6 +22,10 @@ namespace mollify::gen {
 // (nullopt: a potential the kernel does not have).
 using Tables = std::vector<std::optional<std::vector<RoundedPiece>>>;
 
+// The planned, checked and rounded tables of a kernel (emit.cpp), as every
+// writer gets them.
+Tables rounded_tables(const KernelFacts& f);
+
 // What a writer gets for one kernel in one dimension.
 struct TargetKernel {
     const KernelFacts& facts;
