@@ -63,16 +63,17 @@ constexpr Case cases[] = {
 // max(|f_h(r)|, |r f_h'(r)|) (+ |c log h| inside for a 2D potential), the
 // error an exact evaluator makes when handed r/h with one ulp of relative
 // error (tests/accuracy_test.cpp, "intrinsic"). The files evaluate as the
-// runtime's Precision::fast does (README, "Runtime accuracy": fast reached
-// 24.9 ulp for values and gradients, 33 for the missing Wendland functions,
-// 58 intrinsic for mollifiers of order 4 and 6 near their roots), plus the
-// rounding of pow(h, p) (glibc: < 1 ulp) and, in Fortran and NumPy, no FMA
-// in (a h - r)/h and (r - c h)/h. 64 covers all of it with the margin the
-// three languages' libm differences need; a wrong coefficient, piece or
+// runtime's Precision::fast does, whose plain-double Horner and edge powers
+// reach 24.9 ulp for values and gradients of the polynomial families
+// (README, "Runtime accuracy", history), plus the rounding of pow(h, p)
+// (< 1 ulp) and, in Fortran and NumPy, no FMA in (a h - r)/h and (r - c h)/h.
+// Measured here: <= 21.2 (C, wendland:k=4,l=4 D2 W at r/h = 0.1), Fortran
+// 17.2, Python 17.2; missing Wendland <= 4.4. A wrong coefficient, piece or
 // scale is off by far more (a wrong sign near the edge: ~1e15 ulp).
-constexpr double function_bound = 64;
-// Tiny values (|exact| < 1e-10 of max |f_h|, where the intrinsic scale is
-// itself tiny: W's root at the edge), in ulps of max |f_h|.
+constexpr double function_bound = 32;
+// Tiny values (|exact| < 1e-10 of max |f_h|, where the intrinsic scale may
+// itself be tiny: W's root at the edge) pass within 1 ulp of max |f_h| or
+// within the function bound in intrinsic ulps; else they count as others.
 constexpr double tiny_fraction = 1e-10;
 constexpr double tiny_bound = 1;
 
@@ -167,10 +168,12 @@ std::string fortran_driver(const std::vector<Emitted>& kernels, std::size_t n) {
         std::string module = kernels[j].code->prefix;
         for (char& c : module) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
         const std::string k = "k" + std::to_string(j) + "_";
-        s += "  use " + module + ", only: " + k + "normalisation => normalisation, " + k + "c => c\n";
-        for (const gen::CodeQuantity& q : kernels[j].code->quantities)
-            s += "  use " + module + ", only: " + k + q.name + " => kernel_" + q.name + ", " + k + q.name + "_h => kernel_" +
-                 q.name + "_h\n";
+        s += "  use " + module + ", only: " + k + "normalisation => normalisation\n";
+        s += "  use " + module + ", only: " + k + "c => c\n";
+        for (const gen::CodeQuantity& q : kernels[j].code->quantities) {
+            s += "  use " + module + ", only: " + k + q.name + " => kernel_" + q.name + "\n";
+            s += "  use " + module + ", only: " + k + q.name + "_h => kernel_" + q.name + "_h\n";
+        }
     }
     s += "  implicit none\n  integer, parameter :: n = " + std::to_string(n) + "\n";
     s += "  real(c_double) :: p(2, n)\n  integer :: i, u, v\n";
@@ -321,17 +324,24 @@ protected:
                     const Real x = ref.value(q.id, pt.r, pt.h);
                     // max |f_h| over the support, for the tiny values
                     const double max = ref.max_abs(q.id) * std::pow(pt.h, p) + std::abs(log_coefficient * std::log(pt.h));
+                    auto intrinsic = [&] {
+                        double e = acc::ulp_error(y, x);
+                        if (e > 1 || !std::isfinite(y)) {
+                            Real s = boost::multiprecision::abs(ref.slope(q.id, pt.r, pt.h));
+                            if (pt.r <= pt.h) s += Real(std::abs(log_coefficient * std::log(pt.h)), 30);
+                            e = std::min(e, error_in_ulps_of(y, x, s));
+                        }
+                        return e;
+                    };
                     if (boost::multiprecision::abs(x) < tiny_fraction * max) {
+                        // A tiny value near a root of f (W'' of the cubic at q = 1/3) passes by either metric.
                         const double e = acc::scaled_error(y, x, max);
-                        if (!(e <= tiny.ulps)) tiny = {e, pt};
-                        continue;
+                        if (e <= tiny_bound || intrinsic() <= function_bound) {
+                            if (!(e <= tiny.ulps)) tiny = {e, pt};
+                            continue;
+                        }
                     }
-                    double e = acc::ulp_error(y, x);
-                    if (e > 1 || !std::isfinite(y)) {
-                        Real s = boost::multiprecision::abs(ref.slope(q.id, pt.r, pt.h));
-                        if (pt.r <= pt.h) s += Real(std::abs(log_coefficient * std::log(pt.h)), 30);
-                        e = std::min(e, error_in_ulps_of(y, x, s));
-                    }
+                    const double e = intrinsic();
                     if (!(e <= worst.ulps)) worst = {e, pt};
                 }
                 std::printf("%-8s %-30s D%d %-22s max %8.3g intrinsic ulp at r=%.17g h=%.3g (%s); tiny %.3g ulp of max\n",
@@ -339,8 +349,6 @@ protected:
                             worst.at.why, tiny.ulps);
                 EXPECT_LE(worst.ulps, function_bound) << language << " " << k.spec << " D" << k.dim << " " << q.name
                                                       << " at r = " << worst.at.r << ", h = " << worst.at.h;
-                EXPECT_LE(tiny.ulps, tiny_bound) << language << " " << k.spec << " D" << k.dim << " " << q.name
-                                                 << " (tiny) at r = " << tiny.at.r << ", h = " << tiny.at.h;
             }
         }
         EXPECT_EQ(at, got.size()) << language << ": output of unexpected length";
@@ -354,36 +362,40 @@ std::vector<Emitted>* Targets::kernels_ = nullptr;
 std::vector<acc::Point>* Targets::points_ = nullptr;
 
 TEST_F(Targets, CHeadersCompileAndAgreeWithTheExactValues) {
-    emit("c");
+    ASSERT_NO_FATAL_FAILURE(emit("c"));
     // Every emitted header alone, then the driver with all of them.
     for (const auto& f : fs::directory_iterator(work_dir() / "c"))
-        run_in_work_dir("gcc", "echo '#include \"" + f.path().string() +
-                                   "\"' | gcc -std=c99 -Wall -Wextra -Werror -pedantic -x c -fsyntax-only -");
+        ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gcc", "echo '#include \"" + f.path().string() +
+                                                           "\"' | gcc -std=c99 -Wall -Wextra -Werror -pedantic -x c -fsyntax-only -"));
     write_text(work_dir() / "driver.c", c_driver(*kernels_, points_->size()));
-    run_in_work_dir("gcc", "gcc -std=c99 -O2 -Wall -Wextra -Werror -pedantic -I. driver.c -o c_driver -lm");
-    run_in_work_dir("C driver", "./c_driver");
+    ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gcc", "gcc -std=c99 -O2 -Wall -Wextra -Werror -pedantic -I. driver.c -o c_driver -lm"));
+    ASSERT_NO_FATAL_FAILURE(run_in_work_dir("C driver", "./c_driver"));
     check_functions("c", read_doubles(work_dir() / "c.bin"));
 }
 
 TEST_F(Targets, FortranModulesCompileAndAgreeWithTheExactValues) {
-    emit("fortran");
+    ASSERT_NO_FATAL_FAILURE(emit("fortran"));
+    // Every emitted module checked; those the driver uses compiled.
+    for (const auto& f : fs::directory_iterator(work_dir() / "fortran"))
+        ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gfortran", "gfortran -std=f2008 -Wall -Werror -fsyntax-only '" + f.path().string() + "'"));
     std::string objects;
-    for (const auto& f : fs::directory_iterator(work_dir() / "fortran")) {
-        run_in_work_dir("gfortran", "gfortran -std=f2008 -Wall -Werror -O2 -c '" + f.path().string() + "' -o '" +
-                                        f.path().stem().string() + ".o'");
-        objects += " '" + f.path().stem().string() + ".o'";
+    for (const Emitted& k : *kernels_) {
+        ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gfortran", "gfortran -std=f2008 -Wall -Werror -O2 -c fortran/" +
+                                                                k.code->prefix + ".f90 -o " + k.code->prefix + ".o"));
+        objects += " " + k.code->prefix + ".o";
     }
     write_text(work_dir() / "driver.f90", fortran_driver(*kernels_, points_->size()));
-    run_in_work_dir("gfortran", "gfortran -std=f2008 -Wall -Werror -O2 driver.f90" + objects + " -o fortran_driver");
-    run_in_work_dir("Fortran driver", "./fortran_driver");
+    ASSERT_NO_FATAL_FAILURE(
+        run_in_work_dir("gfortran", "gfortran -std=f2008 -Wall -Werror -O2 driver.f90" + objects + " -o fortran_driver"));
+    ASSERT_NO_FATAL_FAILURE(run_in_work_dir("Fortran driver", "./fortran_driver"));
     check_functions("fortran", read_doubles(work_dir() / "fortran.bin"));
 }
 
 TEST_F(Targets, PythonModulesImportAndAgreeWithTheExactValues) {
-    emit("python");
+    ASSERT_NO_FATAL_FAILURE(emit("python"));
     write_text(work_dir() / "driver.py", python_driver(*kernels_));
     // Debian's python3 (with python3-numpy), not whatever python3 is first on PATH.
-    run_in_work_dir("python", "/usr/bin/python3 driver.py");
+    ASSERT_NO_FATAL_FAILURE(run_in_work_dir("python", "/usr/bin/python3 driver.py"));
     check_functions("python", read_doubles(work_dir() / "python.bin"));
 }
 
