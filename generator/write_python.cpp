@@ -126,13 +126,19 @@ std::string python_string(const std::string& s) {
     return out + "\"";
 }
 
-// A Fraction where the exact value is rational, else the closed form as text.
+std::string fraction(const Q& q) { return "Fraction(" + numerator(q).str() + ", " + denominator(q).str() + ")"; }
+
+// A Fraction where the exact value is rational; a sum q pi^e log p as the
+// tuple of its terms (Fraction(q), e, p) (p = 1: no logarithm); else (a
+// Taylor coefficient with arcsech, arcsin or square roots of its centre)
+// the closed form as text.
 std::string exact_attribute(const CodeConstant& c) {
-    if (c.exact_value && c.exact_value->is_rational()) {
-        const Q q = c.exact_value->rational();
-        return "Fraction(" + numerator(q).str() + ", " + denominator(q).str() + ")";
-    }
-    return python_string(c.exact);
+    if (!c.exact_value) return python_string(c.exact);
+    if (c.exact_value->is_rational()) return fraction(c.exact_value->rational());
+    std::string out = "(";
+    for (const auto& [atom, q] : c.exact_value->terms())
+        out += "(" + fraction(q) + ", " + std::to_string(atom.pi_power) + ", " + std::to_string(atom.log_of) + "), ";
+    return out + ")";
 }
 
 std::string quantity_code(const CodeQuantity& q, const Syntax& s) {
@@ -168,7 +174,9 @@ TargetFiles write_python(const TargetKernel& tk, const std::string& command) {
     out += "mollify's convention: support radius h (q = r/h <= 1), W_h(r) = h^-" + std::to_string(k.dim) +
            " W(r/h), unit mass;\n" + tk.convention.potential.description +
            ".\n<quantity>(r) is h = 1, <quantity>_h(r, h) any h (NumPy broadcasting). Evaluated as mollify's\n"
-           "Precision::fast. Each constant is correctly rounded, its exact value beside it and in C_EXACT.\n\"\"\"\n";
+           "Precision::fast. Each constant is correctly rounded, its exact value beside it and in C_EXACT:\n"
+           "a Fraction where rational, a tuple of terms (Fraction(q), e, p) for a sum of q pi^e log(p)\n"
+           "(p = 1: no logarithm), else the closed form as text.\n\"\"\"\n";
     out += "from fractions import Fraction\n\nimport numpy as np\n\n";
     out += "SPEC = " + python_string(k.spec) + "\nDIM = " + std::to_string(k.dim) + "\n";
     out += "NORMALISATION = float.fromhex(\"" + hex_literal(k.normalisation.value) + "\")  # " + k.normalisation.exact + "\n";
@@ -177,7 +185,7 @@ TargetFiles write_python(const TargetKernel& tk, const std::string& command) {
     for (std::size_t i = 0; i < k.constants.size(); ++i)
         out += "    float.fromhex(\"" + hex_literal(k.constants[i].value) + "\"),  # [" + std::to_string(i) + "] " +
                k.constants[i].exact + "\n";
-    out += "])\n# Their exact values: a Fraction where rational, else the closed form as text.\nC_EXACT = (\n";
+    out += "])\n# Their exact values (see above).\nC_EXACT = (\n";
     for (std::size_t i = 0; i < k.constants.size(); ++i) out += "    " + exact_attribute(k.constants[i]) + ",\n";
     out += ")\n" + std::string(python_helpers);
     std::string names;

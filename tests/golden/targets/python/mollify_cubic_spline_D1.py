@@ -5,7 +5,9 @@
 mollify's convention: support radius h (q = r/h <= 1), W_h(r) = h^-1 W(r/h), unit mass;
 Delta phi = W; the free-space Green's function outside the support (3D -1/(4 pi r), 2D log(r)/(2 pi), 1D r/2); 2D inside: phi(r/h) + log(h)/(2 pi).
 <quantity>(r) is h = 1, <quantity>_h(r, h) any h (NumPy broadcasting). Evaluated as mollify's
-Precision::fast. Each constant is correctly rounded, its exact value beside it and in C_EXACT.
+Precision::fast. Each constant is correctly rounded, its exact value beside it and in C_EXACT:
+a Fraction where rational, a tuple of terms (Fraction(q), e, p) for a sum of q pi^e log(p)
+(p = 1: no logarithm), else the closed form as text.
 """
 from fractions import Fraction
 
@@ -72,7 +74,7 @@ C = np.array([
     float.fromhex("0x1p+1"),  # [51] 2
     float.fromhex("-0x1p-1"),  # [52] -1/2
 ])
-# Their exact values: a Fraction where rational, else the closed form as text.
+# Their exact values (see above).
 C_EXACT = (
     Fraction(4, 3),
     Fraction(0, 1),

@@ -5,7 +5,9 @@
 mollify's convention: support radius h (q = r/h <= 1), W_h(r) = h^-3 W(r/h), unit mass;
 Delta phi = W; the free-space Green's function outside the support (3D -1/(4 pi r), 2D log(r)/(2 pi), 1D r/2); 2D inside: phi(r/h) + log(h)/(2 pi).
 <quantity>(r) is h = 1, <quantity>_h(r, h) any h (NumPy broadcasting). Evaluated as mollify's
-Precision::fast. Each constant is correctly rounded, its exact value beside it and in C_EXACT.
+Precision::fast. Each constant is correctly rounded, its exact value beside it and in C_EXACT:
+a Fraction where rational, a tuple of terms (Fraction(q), e, p) for a sum of q pi^e log(p)
+(p = 1: no logarithm), else the closed form as text.
 """
 from fractions import Fraction
 
@@ -14,7 +16,7 @@ import numpy as np
 SPEC = "cubic-spline"
 DIM = 3
 NORMALISATION = float.fromhex("0x1.45f306dc9c883p+1")  # 8 * pi^-1
-NORMALISATION_EXACT = "8 * pi^-1"
+NORMALISATION_EXACT = ((Fraction(8, 1), -1, 1), )
 
 # The coefficients of every piece, in order (quantity, piece, term, power).
 C = np.array([
@@ -79,68 +81,68 @@ C = np.array([
     float.fromhex("0x1.45f306dc9c883p+1"),  # [58] 8 * pi^-1
     float.fromhex("-0x1.e8ec8a4aeacc4p-3"),  # [59] -3/4 * pi^-1
 ])
-# Their exact values: a Fraction where rational, else the closed form as text.
+# Their exact values (see above).
 C_EXACT = (
-    "8 * pi^-1",
+    ((Fraction(8, 1), -1, 1), ),
     Fraction(0, 1),
-    "-48 * pi^-1",
-    "48 * pi^-1",
-    "16 * pi^-1",
-    "-96 * pi^-1",
-    "144 * pi^-1",
-    "-48 * pi^-1",
-    "-96 * pi^-1",
-    "288 * pi^-1",
-    "96 * pi^-1",
-    "-576 * pi^-1",
-    "-96 * pi^-1",
-    "192 * pi^-1",
-    "-96 * pi^-1",
-    "144 * pi^-1",
-    "-48 * pi^-1",
-    "144 * pi^-1",
-    "48 * pi^-1",
-    "-1199/1920 * pi^-1",
-    "263/480 * pi^-1",
-    "41/60 * pi^-1",
-    "-7/5 * pi^-1",
-    "-2/5 * pi^-1",
-    "8/5 * pi^-1",
-    "-1/4 * pi^-1",
-    "4/15 * pi^-1",
-    "8/15 * pi^-1",
-    "-1/4 * pi^-1",
-    "8/3 * pi^-1",
+    ((Fraction(-48, 1), -1, 1), ),
+    ((Fraction(48, 1), -1, 1), ),
+    ((Fraction(16, 1), -1, 1), ),
+    ((Fraction(-96, 1), -1, 1), ),
+    ((Fraction(144, 1), -1, 1), ),
+    ((Fraction(-48, 1), -1, 1), ),
+    ((Fraction(-96, 1), -1, 1), ),
+    ((Fraction(288, 1), -1, 1), ),
+    ((Fraction(96, 1), -1, 1), ),
+    ((Fraction(-576, 1), -1, 1), ),
+    ((Fraction(-96, 1), -1, 1), ),
+    ((Fraction(192, 1), -1, 1), ),
+    ((Fraction(-96, 1), -1, 1), ),
+    ((Fraction(144, 1), -1, 1), ),
+    ((Fraction(-48, 1), -1, 1), ),
+    ((Fraction(144, 1), -1, 1), ),
+    ((Fraction(48, 1), -1, 1), ),
+    ((Fraction(-1199, 1920), -1, 1), ),
+    ((Fraction(263, 480), -1, 1), ),
+    ((Fraction(41, 60), -1, 1), ),
+    ((Fraction(-7, 5), -1, 1), ),
+    ((Fraction(-2, 5), -1, 1), ),
+    ((Fraction(8, 5), -1, 1), ),
+    ((Fraction(-1, 4), -1, 1), ),
+    ((Fraction(4, 15), -1, 1), ),
+    ((Fraction(8, 15), -1, 1), ),
+    ((Fraction(-1, 4), -1, 1), ),
+    ((Fraction(8, 3), -1, 1), ),
     Fraction(0, 1),
-    "-48/5 * pi^-1",
-    "8 * pi^-1",
-    "1669/2560 * pi^-1",
-    "73/240 * pi^-1",
-    "-81/20 * pi^-1",
-    "12/5 * pi^-1",
-    "8 * pi^-1",
-    "1/4 * pi^-1",
-    "-4/15 * pi^-1",
-    "-16/15 * pi^-1",
-    "-8/3 * pi^-1",
-    "1/4 * pi^-1",
-    "263/120 * pi^-1",
-    "-33/10 * pi^-1",
-    "-18/5 * pi^-1",
-    "8 * pi^-1",
-    "1/4 * pi^-1",
-    "-4/15 * pi^-1",
-    "-16/15 * pi^-1",
-    "-8/3 * pi^-1",
-    "1/4 * pi^-1",
-    "-66/5 * pi^-1",
-    "24 * pi^-1",
-    "-3/4 * pi^-1",
-    "4/5 * pi^-1",
-    "12/5 * pi^-1",
-    "24/5 * pi^-1",
-    "8 * pi^-1",
-    "-3/4 * pi^-1",
+    ((Fraction(-48, 5), -1, 1), ),
+    ((Fraction(8, 1), -1, 1), ),
+    ((Fraction(1669, 2560), -1, 1), ),
+    ((Fraction(73, 240), -1, 1), ),
+    ((Fraction(-81, 20), -1, 1), ),
+    ((Fraction(12, 5), -1, 1), ),
+    ((Fraction(8, 1), -1, 1), ),
+    ((Fraction(1, 4), -1, 1), ),
+    ((Fraction(-4, 15), -1, 1), ),
+    ((Fraction(-16, 15), -1, 1), ),
+    ((Fraction(-8, 3), -1, 1), ),
+    ((Fraction(1, 4), -1, 1), ),
+    ((Fraction(263, 120), -1, 1), ),
+    ((Fraction(-33, 10), -1, 1), ),
+    ((Fraction(-18, 5), -1, 1), ),
+    ((Fraction(8, 1), -1, 1), ),
+    ((Fraction(1, 4), -1, 1), ),
+    ((Fraction(-4, 15), -1, 1), ),
+    ((Fraction(-16, 15), -1, 1), ),
+    ((Fraction(-8, 3), -1, 1), ),
+    ((Fraction(1, 4), -1, 1), ),
+    ((Fraction(-66, 5), -1, 1), ),
+    ((Fraction(24, 1), -1, 1), ),
+    ((Fraction(-3, 4), -1, 1), ),
+    ((Fraction(4, 5), -1, 1), ),
+    ((Fraction(12, 5), -1, 1), ),
+    ((Fraction(24, 5), -1, 1), ),
+    ((Fraction(8, 1), -1, 1), ),
+    ((Fraction(-3, 4), -1, 1), ),
 )
 
 
