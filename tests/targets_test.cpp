@@ -438,7 +438,7 @@ TEST(TargetsCommandLine, BadTargetsAreErrorsNamingTheValue) {
 // ---------------------------------------------------------------------------
 // Conventions as data.
 
-TEST(Conventions, EveryTargetIsDescribedOnce) {
+TEST(TargetsConventions, EveryTargetIsDescribedOnce) {
     std::set<std::string> names;
     for (const gen::Convention& c : gen::conventions()) EXPECT_TRUE(names.insert(c.target).second) << c.target;
     for (const char* t : {"cpp", "c", "fortran", "python", "phantom", "swift", "gadget4"}) EXPECT_TRUE(names.count(t)) << t;
@@ -449,7 +449,7 @@ TEST(Conventions, EveryTargetIsDescribedOnce) {
 }
 
 // Correctly rounded square roots, decided exactly: against MPFR at 300 bits.
-TEST(Conventions, SquareRootsAreCorrectlyRounded) {
+TEST(TargetsConventions, SquareRootsAreCorrectlyRounded) {
     for (const gen::Q& x : {gen::Q(2), gen::Q(3) / gen::Q(7), gen::Q(1) / gen::Q(1000003), gen::Q(4), gen::Q(9) / gen::Q(16),
                             gen::Q(123456789) / gen::Q(1000)}) {
         Real y(0, 300);
@@ -464,7 +464,7 @@ TEST(Conventions, SquareRootsAreCorrectlyRounded) {
 // SWIFT's gamma = H/(2 sigma) (Dehnen & Aly 2012, table 1; SWIFT's
 // kernel_hydro.h prints 6 digits: ../shared/peers.md), and Phantom's hfact
 // rule reproducing its stock C2, C4, C6 defaults to the digit they give.
-TEST(Conventions, SwiftGammaAndPhantomHfactFromTheExactSecondMoment) {
+TEST(TargetsConventions, SwiftGammaAndPhantomHfactFromTheExactSecondMoment) {
     auto gamma = [](const char* spec, int dim) {
         return gen::swift_gamma(gen::make_kernel(mollify::parse_spec(spec), dim)).value;
     };
