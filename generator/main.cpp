@@ -2,6 +2,7 @@
 // Bad arguments: a message naming the bad value, exit status 2, nothing written.
 #include "catalogue.hpp"
 #include "certificate.hpp"
+#include "conventions.hpp"
 #include "data_dir.hpp"
 #include "emit.hpp"
 #include "errata.hpp"
@@ -10,10 +11,12 @@
 #include "rounding.hpp"
 #include "softening.hpp"
 #include "softening_certificate.hpp"
+#include "target.hpp"
 #include "vandermonde.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <iostream>
 
 using namespace mollify::gen;
@@ -28,13 +31,25 @@ std::vector<Spec> parse_specs(const std::vector<std::string>& texts) {
     return specs;
 }
 
-int run_emit(const std::string& out, const std::vector<std::string>& only, const std::string& format) {
+int run_emit(const std::string& out, const std::vector<std::string>& only, const std::string& format,
+             const std::string& target_name) {
     if (format != "cpp" && format != "data") fail("--format " + format + " is neither cpp nor data");
-    std::string command = "mollify-gen emit" + (format == "cpp" ? std::string() : " --format " + format);
+    if (target_name != "cpp") {
+        target(target_name);  // Error naming an unknown one
+        if (format != "cpp") fail("--format " + format + " is for --target cpp only (not " + target_name + ")");
+    }
+    std::string command = "mollify-gen emit" + (target_name == "cpp" ? std::string() : " --target " + target_name) +
+                          (format == "cpp" ? std::string() : " --format " + format);
     std::vector<Spec> specs = only.empty() ? default_specs() : parse_specs(only);
     for (const Spec& s : specs) command += only.empty() ? "" : " --only " + spec_string(s);
-    const EmitResult r = render_catalogue(expand_dimensions(specs), command,
-                                          format == "cpp" ? EmitFormat::cpp : EmitFormat::data);
+    std::vector<CatalogueEntry> entries = expand_dimensions(specs);
+    if (target_name != "cpp") {  // the dimensions the target takes (Phantom: 3D)
+        const std::vector<int>& dims = convention(target_name).dims;
+        std::erase_if(entries, [&](const CatalogueEntry& e) { return std::find(dims.begin(), dims.end(), e.dim) == dims.end(); });
+    }
+    const EmitResult r = target_name == "cpp" ? render_catalogue(entries, command,
+                                                                 format == "cpp" ? EmitFormat::cpp : EmitFormat::data)
+                                              : render_target(entries, command, target_name);
     if (!r.failed_certificates.empty()) {
         for (const auto& f : r.failed_certificates) std::cerr << "certificate failed: " << f << "\n";
         std::cerr << r.failed_certificates.size() << " certificates failed; nothing written\n";
@@ -150,6 +165,10 @@ int main(int argc, char** argv) {
     std::string format = "cpp";
     emit->add_option("--format", format, "cpp: C++ headers and catalogue.json; data: table files (write_data.cpp)")
         ->capture_default_str();
+    std::string target_name = "cpp";
+    emit->add_option("--target", target_name,
+                     "cpp: mollify's tables; c, fortran, python: kernel files in mollify's convention (target.hpp)")
+        ->capture_default_str();
 
     auto* value = app.add_subcommand("value", "one exact value, correctly rounded to --digits significant digits");
     std::string spec_text, r_text, name = "value";
@@ -202,7 +221,7 @@ int main(int argc, char** argv) {
         return bad_input;
     }
     try {
-        if (*emit) return run_emit(out, only, format);
+        if (*emit) return run_emit(out, only, format, target_name);
         if (*value) return run_value(spec_text, dim, r_text, name, digits, exact);
         if (*weights) return run_weights(radii);
         if (*errata) return run_errata(transcriptions);
