@@ -3,6 +3,7 @@
 #include "emit_metadata.hpp"
 #include "error.hpp"
 #include "emit_round.hpp"
+#include "target.hpp"
 #include "write_cpp.hpp"
 #include "write_data.hpp"
 #include "write_json.hpp"
@@ -14,6 +15,14 @@
 
 namespace mollify::gen {
 
+Tables rounded_tables(const KernelFacts& f) {
+    Tables tables;
+    for (int i = 0; i < table::quantity_count; ++i)
+        tables.push_back(rounded_quantity(quantity_of(f, i), table::is_potential(static_cast<table::QuantityId>(i)),
+                                          parts_of(f, i)));
+    return tables;
+}
+
 namespace {
 
 // What one kernel contributes to the output.
@@ -24,28 +33,17 @@ struct KernelOutput {
     int certificates = 0;
 };
 
-KernelOutput render_kernel(const CatalogueEntry& e, EmitFormat format) {
-    const KernelFacts f = kernel_facts(e);
-    std::vector<std::optional<std::vector<RoundedPiece>>> tables;
-    for (int i = 0; i < table::quantity_count; ++i)
-        tables.push_back(rounded_quantity(quantity_of(f, i), table::is_potential(static_cast<table::QuantityId>(i)),
-                                          parts_of(f, i)));
-    KernelOutput out = format == EmitFormat::cpp
-                           ? KernelOutput{kernel_header(f.spec, e.dim), f.id, kernel_cpp(f, tables), kernel_json(f), {}, 0}
-                           : KernelOutput{kernel_data_path(f.spec, e.dim), f.id, kernel_data(f, tables), {}, {}, 0};
+void count_certificates(const KernelFacts& f, int dim, int& certificates, std::vector<std::string>& failures) {
     for (const Certificate& c : f.certificates) {
-        ++out.certificates;
-        if (!c.passed) out.failures.push_back(f.spec + " D=" + std::to_string(e.dim) + ": " + c.what + " (" + c.detail + ")");
+        ++certificates;
+        if (!c.passed) failures.push_back(f.spec + " D=" + std::to_string(dim) + ": " + c.what + " (" + c.detail + ")");
     }
-    return out;
 }
 
-}  // namespace
-
-EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const std::string& command, EmitFormat format) {
-    // Kernels are independent: render them on every core, then assemble in
-    // catalogue order so the output does not depend on scheduling.
-    std::vector<KernelOutput> outputs(entries.size());
+// f(entry i, i) for every entry, on every core; the first error (in
+// catalogue order) rethrown naming its kernel.
+template <class F>
+void for_each_kernel(const std::vector<CatalogueEntry>& entries, F f) {
     std::vector<std::string> errors(entries.size());
     const unsigned workers = std::max(1u, std::thread::hardware_concurrency());
     std::vector<std::thread> pool;
@@ -53,7 +51,7 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
         pool.emplace_back([&, w] {
             for (std::size_t i = w; i < entries.size(); i += workers) {
                 try {
-                    outputs[i] = render_kernel(entries[i], format);
+                    f(entries[i], i);
                 } catch (const std::exception& ex) {
                     errors[i] = spec_string(entries[i].spec) + " D=" + std::to_string(entries[i].dim) + ": " + ex.what();
                 }
@@ -63,6 +61,25 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
     for (auto& t : pool) t.join();
     for (const auto& e : errors)
         if (!e.empty()) fail(e);
+}
+
+KernelOutput render_kernel(const CatalogueEntry& e, EmitFormat format) {
+    const KernelFacts f = kernel_facts(e);
+    const Tables tables = rounded_tables(f);
+    KernelOutput out = format == EmitFormat::cpp
+                           ? KernelOutput{kernel_header(f.spec, e.dim), f.id, kernel_cpp(f, tables), kernel_json(f), {}, 0}
+                           : KernelOutput{kernel_data_path(f.spec, e.dim), f.id, kernel_data(f, tables), {}, {}, 0};
+    count_certificates(f, e.dim, out.certificates, out.failures);
+    return out;
+}
+
+}  // namespace
+
+EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const std::string& command, EmitFormat format) {
+    // Kernels are independent: render them on every core, then assemble in
+    // catalogue order so the output does not depend on scheduling.
+    std::vector<KernelOutput> outputs(entries.size());
+    for_each_kernel(entries, [&](const CatalogueEntry& e, std::size_t i) { outputs[i] = render_kernel(e, format); });
 
     EmitResult result;
     std::vector<std::string> headers, ids;  // catalogue order
@@ -81,6 +98,35 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
     result.files["mollify/tables/catalogue.hpp"] = catalogue_header(command);
     result.files["src/catalogue.cpp"] = catalogue_source(command, headers, ids);
     result.files["catalogue.json"] = catalogue_json(command, kernels);
+    return result;
+}
+
+EmitResult render_target(const std::vector<CatalogueEntry>& entries, const std::string& command,
+                         const std::string& name) {
+    const Target& t = target(name);
+    const Convention& c = convention(name);
+    for (const CatalogueEntry& e : entries)
+        if (std::find(c.dims.begin(), c.dims.end(), e.dim) == c.dims.end())
+            fail("--target " + name + " takes no kernel in D = " + std::to_string(e.dim) + " (" + spec_string(e.spec) + ")");
+    std::vector<TargetFiles> files(entries.size());
+    std::vector<int> certificates(entries.size());
+    std::vector<std::vector<std::string>> failures(entries.size());
+    for_each_kernel(entries, [&](const CatalogueEntry& e, std::size_t i) {
+        const KernelFacts f = kernel_facts(e);
+        const Tables tables = rounded_tables(f);
+        files[i] = t.write({f, tables, c}, command);
+        count_certificates(f, e.dim, certificates[i], failures[i]);
+    });
+    EmitResult result;
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        for (auto& [path, text] : files[i]) {
+            if (result.files.count(path)) fail("internal: two kernels emitted to " + path);
+            result.files[path] = std::move(text);
+        }
+        result.certificates += certificates[i];
+        for (auto& f : failures[i]) result.failed_certificates.push_back(f);
+    }
+    result.kernels = static_cast<int>(entries.size());
     return result;
 }
 

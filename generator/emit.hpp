@@ -33,6 +33,12 @@ enum class EmitFormat { cpp, data };
 EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const std::string& command,
                             EmitFormat format = EmitFormat::cpp);
 
+// --target NAME (target.hpp; not cpp): each kernel's files as the target's
+// writer makes them, for its convention (conventions.hpp); Error for a
+// dimension the target does not take.
+EmitResult render_target(const std::vector<CatalogueEntry>& entries, const std::string& command,
+                         const std::string& target);
+
 // Writes every file whose content differs from the one at its place
 // (temporary file, then rename; unchanged files keep their timestamps);
 // creates directories.

@@ -30,6 +30,7 @@ RoundedTerm centred_term(const CentredPiece& p, double hi) {
         a_lo.push_back(centred_low_part(p, k, a[k]));
         exact.push_back(p.a[k].to_string(p.centre));
     }
+    t.exact_value.assign(a.size(), std::nullopt);
     set_coefficients(t, a, std::move(a_lo), std::move(exact));
     t.centre = round_to_double(p.centre);
     t.centre_lo = low_part(p.centre, t.centre);
@@ -46,6 +47,7 @@ RoundedTerm rounded_term(const EmittedTerm& term, const std::optional<Q>& hi, do
     }
     RoundedTerm t{term.basis, term.s_power, table::Var::r, hi_double, 0, term.edge_power, term.low, {}, {}, {}};
     set_coefficients(t, std::move(c), std::move(c_lo), std::move(exact));
+    t.exact_value.assign(term.c.begin(), term.c.end());
     if (term.centre) {  // a Taylor polynomial of a polynomial piece: basis 1
         t.basis = table::Basis::one;
         t.s_power = 0;

@@ -26,6 +26,9 @@ struct RoundedTerm {
     std::vector<double> c_lo;         // empty where every low part is 0 (table::Term::c_lo = nullptr)
     std::vector<std::string> exact;   // c's exact values, for comments
     double centre = 0, centre_lo = 0;  // table::Var::shifted
+    // c's exact values where they are constants q pi^e log p (nullopt for a
+    // Taylor piece's coefficients): for writers that keep them (--target python).
+    std::vector<std::optional<Exact>> exact_value{};
 };
 
 struct RoundedPiece {

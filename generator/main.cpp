@@ -2,15 +2,21 @@
 // Bad arguments: a message naming the bad value, exit status 2, nothing written.
 #include "catalogue.hpp"
 #include "certificate.hpp"
+#include "conventions.hpp"
 #include "data_dir.hpp"
 #include "emit.hpp"
 #include "errata.hpp"
 #include "error.hpp"
+#include "query.hpp"
 #include "rounding.hpp"
+#include "softening.hpp"
+#include "softening_certificate.hpp"
+#include "target.hpp"
 #include "vandermonde.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <iostream>
 
 using namespace mollify::gen;
@@ -25,13 +31,25 @@ std::vector<Spec> parse_specs(const std::vector<std::string>& texts) {
     return specs;
 }
 
-int run_emit(const std::string& out, const std::vector<std::string>& only, const std::string& format) {
+int run_emit(const std::string& out, const std::vector<std::string>& only, const std::string& format,
+             const std::string& target_name) {
     if (format != "cpp" && format != "data") fail("--format " + format + " is neither cpp nor data");
-    std::string command = "mollify-gen emit" + (format == "cpp" ? std::string() : " --format " + format);
+    if (target_name != "cpp") {
+        target(target_name);  // Error naming an unknown one
+        if (format != "cpp") fail("--format " + format + " is for --target cpp only (not " + target_name + ")");
+    }
+    std::string command = "mollify-gen emit" + (target_name == "cpp" ? std::string() : " --target " + target_name) +
+                          (format == "cpp" ? std::string() : " --format " + format);
     std::vector<Spec> specs = only.empty() ? default_specs() : parse_specs(only);
     for (const Spec& s : specs) command += only.empty() ? "" : " --only " + spec_string(s);
-    const EmitResult r = render_catalogue(expand_dimensions(specs), command,
-                                          format == "cpp" ? EmitFormat::cpp : EmitFormat::data);
+    std::vector<CatalogueEntry> entries = expand_dimensions(specs);
+    if (target_name != "cpp") {  // the dimensions the target takes (Phantom: 3D)
+        const std::vector<int>& dims = convention(target_name).dims;
+        std::erase_if(entries, [&](const CatalogueEntry& e) { return std::find(dims.begin(), dims.end(), e.dim) == dims.end(); });
+    }
+    const EmitResult r = target_name == "cpp" ? render_catalogue(entries, command,
+                                                                 format == "cpp" ? EmitFormat::cpp : EmitFormat::data)
+                                              : render_target(entries, command, target_name);
     if (!r.failed_certificates.empty()) {
         for (const auto& f : r.failed_certificates) std::cerr << "certificate failed: " << f << "\n";
         std::cerr << r.failed_certificates.size() << " certificates failed; nothing written\n";
@@ -50,8 +68,7 @@ int run_value(const std::string& spec_text, int dim, const std::string& r_text, 
     if (r < 0) fail("--r " + r_text + " must be >= 0 (a radial distance)");
     if (digits < 1 || digits > 100000) fail("--digits " + std::to_string(digits) + " is outside 1..100000");
     const ExactKernel k = make_kernel(parse_spec(spec_text), dim);
-    const Quantities q = derive_quantities(k);
-    const Radial& f = quantity(k, q, name);
+    const Radial f = query(k, name);
     const ClosedForm& form = f.form_at(r);
     const std::string where = name + " of " + spec_string(k.spec) + " in D = " + std::to_string(dim);
     if (form.is_elementary() || r == 0 || r == 1) {  // exact: rational r, or a limit at 0 and 1
@@ -89,11 +106,41 @@ int run_errata(const std::string& dir) {
     return 0;
 }
 
-int run_certify(const std::vector<std::string>& specs, const std::vector<int>& dims) {
+// The softening derivatives' certificates, then what the joins above the
+// guaranteed order do (continuous, a jump, or infinite), stated.
+int print_softening(const ExactKernel& k) {
+    const std::string name = spec_string(k.spec) + " D=" + std::to_string(k.dim);
+    const std::vector<Radial> derivatives = softening_derivatives(k);
+    const SofteningSmoothness s = softening_smoothness(k, derivatives);
+    int failed = 0;
+    for (const Certificate& c : softening_certificates(s)) {
+        std::cout << (c.passed ? "ok    " : "FAIL  ") << name << "  " << c.what << "  [" << c.detail << "]\n";
+        failed += !c.passed;
+    }
+    for (const Join& j : s.joins) {
+        if (j.order <= s.guaranteed) continue;
+        std::cout << "note  " << name << "  " << join_name(j) << ": ";
+        if (j.continuous()) std::cout << "continuous (above the guaranteed order " << s.guaranteed << ")\n";
+        else if (!j.left || !j.right) std::cout << "infinite one-sided limit\n";
+        else std::cout << "jumps by " << (*j.right - *j.left).to_string() << "\n";
+    }
+    std::cout << "smooth " << name << "  phi is C^" << s.guaranteed << " by the kernel's smoothness; phi^(0.."
+              << s.continuous_at_edge << ") continuous with the Green's function at the edge; phi^(0.."
+              << finite_at_origin(derivatives) << ") finite at r = 0";
+    if (k.dim == 3) std::cout << "; D_soft_1.." << finite_at_origin(swift_d_soft(k)) + 1 << " finite at u = 0";
+    std::cout << "\n";
+    return failed;
+}
+
+int run_certify(const std::vector<std::string>& specs, const std::vector<int>& dims, bool softening) {
     int failed = 0;
     for (const Spec& s : parse_specs(specs))
         for (int dim : dims) {
             const ExactKernel k = make_kernel(s, dim);
+            if (softening) {
+                failed += print_softening(k);
+                continue;
+            }
             for (const Certificate& c : certify(k, derive_quantities(k))) {
                 std::cout << (c.passed ? "ok    " : "FAIL  ") << spec_string(s) << " D=" << dim << "  " << c.what
                           << "  [" << c.detail << "]\n";
@@ -118,6 +165,10 @@ int main(int argc, char** argv) {
     std::string format = "cpp";
     emit->add_option("--format", format, "cpp: C++ headers and catalogue.json; data: table files (write_data.cpp)")
         ->capture_default_str();
+    std::string target_name = "cpp";
+    emit->add_option("--target", target_name,
+                     "cpp: mollify's tables; c, fortran, python: kernel files in mollify's convention (target.hpp)")
+        ->capture_default_str();
 
     auto* value = app.add_subcommand("value", "one exact value, correctly rounded to --digits significant digits");
     std::string spec_text, r_text, name = "value";
@@ -126,10 +177,7 @@ int main(int argc, char** argv) {
     value->add_option("spec", spec_text, "kernel spec, e.g. wendland:k=2,l=1")->required();
     value->add_option("--dim", dim, "dimension 1..3")->required();
     value->add_option("--r", r_text, "radius r/h: p/q or a decimal")->required();
-    value->add_option("--quantity", name,
-                      "value|dr|d2r|laplacian|grad_over_r|hess_radial|potential|dpotential|dpotential_over_r|"
-                      "potential_hess_radial")
-        ->capture_default_str();
+    value->add_option("--quantity", name, query_names())->capture_default_str();
     value->add_option("--digits", digits, "significant digits")->capture_default_str();
     value->add_flag("--exact", exact, "also print the exact closed form");
 
@@ -146,6 +194,10 @@ int main(int argc, char** argv) {
     std::vector<int> certify_dims = {1, 2, 3};
     certify_cmd->add_option("specs", certify_specs, "kernel specs")->required();
     certify_cmd->add_option("--dim", certify_dims, "dimensions")->delimiter(',');
+    bool certify_softening = false;
+    certify_cmd->add_flag("--softening", certify_softening,
+                          "the softening derivatives phi^(0..6): continuity across breakpoints and with the Green's "
+                          "function at the edge");
 
     if (argc > 1 && argv[1][0] != '-') {
         const std::string command = argv[1];
@@ -169,11 +221,11 @@ int main(int argc, char** argv) {
         return bad_input;
     }
     try {
-        if (*emit) return run_emit(out, only, format);
+        if (*emit) return run_emit(out, only, format, target_name);
         if (*value) return run_value(spec_text, dim, r_text, name, digits, exact);
         if (*weights) return run_weights(radii);
         if (*errata) return run_errata(transcriptions);
-        if (*certify_cmd) return run_certify(certify_specs, certify_dims);
+        if (*certify_cmd) return run_certify(certify_specs, certify_dims, certify_softening);
     } catch (const Error& e) {
         std::cerr << "mollify-gen: " << e.what() << "\n";
         return bad_input;

@@ -17,6 +17,8 @@ packages=(
   libfftw3-dev              # FFTs (issue 5)
   time                      # /usr/bin/time: bench/compile_cost.sh (time and max RSS of a compile)
   pkgconf                   # pkg-config: tests/install_test.sh builds a program with mollify.pc
+  gcc gfortran              # issue 19: targets_test compiles the emitted C header and Fortran module
+  python3 python3-numpy     # issue 19: targets_test imports the emitted Python module (Debian's /usr/bin/python3)
 )
 
 missing=()

@@ -1,0 +1,129 @@
+#include "target_code.hpp"
+
+#include "error.hpp"
+#include "rounding.hpp"
+
+#include <mollify/smoothing.hpp>
+
+#include <cctype>
+
+namespace mollify::gen {
+
+namespace {
+
+CodePiece code_piece(const RoundedPiece& p, std::vector<CodeConstant>& constants) {
+    CodePiece out{p.lo, p.hi, p.note, {}};
+    for (const RoundedTerm& t : p.terms) {
+        out.terms.push_back({&t, constants.size()});
+        for (std::size_t k = 0; k < t.c.size(); ++k)
+            constants.push_back({t.c[k], t.exact[k], k < t.exact_value.size() ? t.exact_value[k] : std::nullopt});
+    }
+    return out;
+}
+
+// The coefficient of log r in a 2D potential's Green's function (evaluate.hpp's log_coefficient).
+std::optional<std::size_t> log_coefficient(const CodePiece& exterior) {
+    for (const CodeTerm& t : exterior.terms)
+        if (t.term->basis == table::Basis::log) return t.first;
+    return std::nullopt;
+}
+
+std::string times(const std::string& a, const std::string& b) { return a + " * " + b; }
+
+}  // namespace
+
+CodeKernel code_kernel(const TargetKernel& k) {
+    const ExactKernel& kernel = k.facts.kernel;
+    const double norm = round_to_double(kernel.normalisation);
+    CodeKernel out{k.facts.spec, kernel.dim, "mollify_" + k.facts.id, {norm, kernel.normalisation.to_string(), kernel.normalisation}, {}, {}};
+    for (int i = 0; i < table::quantity_count; ++i) {
+        const auto& rounded = k.tables[static_cast<std::size_t>(i)];
+        if (!rounded) continue;
+        if (rounded->empty()) fail("internal: quantity " + std::string(table::quantity_names[i]) + " without pieces");
+        const auto id = static_cast<table::QuantityId>(i);
+        CodeQuantity q{id, table::quantity_names[i], detail::scale_power(id, kernel.dim), {}, {}, std::nullopt};
+        for (std::size_t p = 0; p + 1 < rounded->size(); ++p) q.inside.push_back(code_piece((*rounded)[p], out.constants));
+        q.exterior = code_piece(rounded->back(), out.constants);
+        if (id == table::QuantityId::potential && kernel.dim == 2) {
+            q.log_h_coefficient = log_coefficient(q.exterior);
+            if (!q.log_h_coefficient) fail("internal: a 2D potential without log r outside (" + k.facts.spec + ")");
+        }
+        out.quantities.push_back(std::move(q));
+    }
+    return out;
+}
+
+std::string inside_term(const Syntax& s, const CodeTerm& ct) {
+    const RoundedTerm& t = *ct.term;
+    std::string v;
+    switch (t.var) {
+        case table::Var::r: v = "q"; break;
+        case table::Var::r2: v = "q * q"; break;
+        case table::Var::shifted: v = s.call("shifted", {"r", "h", s.literal(t.centre), s.literal(t.centre_lo)}); break;
+    }
+    std::string x = s.horner(ct.first, t.c.size(), v);
+    if (t.low != 0) x = times(x, s.power("q", t.low));
+    if (t.edge_power != 0) {
+        std::string d = t.edge == 1.0 ? std::string("e") : s.call("to_edge", {"r", "h", s.literal(t.edge)});
+        if (t.var == table::Var::r2) d = "(" + d + " * (" + s.literal(t.edge) + " + q))";
+        x = times(x, s.power(d, t.edge_power));
+    }
+    if (t.basis == table::Basis::sqrt_power) x = times(x, s.power(s.call("sqrt_s", {"q", "e"}), t.s_power));
+    switch (t.basis) {
+        case table::Basis::one:
+        case table::Basis::sqrt_power: return x;
+        case table::Basis::arcsech:
+            return t.low > 0 ? s.call("times_arcsech", {x, "q", "e"}) : times(x, s.call("arcsech", {"q", "e"}));
+        case table::Basis::log: return t.low > 0 ? s.call("times_log", {x, "q", "e"}) : times(x, s.call("log_q", {"q", "e"}));
+        case table::Basis::arcsin: return times(x, s.call("arcsin", {"q", "e"}));
+    }
+    fail("internal: unknown basis");
+}
+
+std::string exterior_term(const Syntax& s, const CodeTerm& ct) {
+    const RoundedTerm& t = *ct.term;
+    if (t.edge_power != 0 || t.var == table::Var::shifted || (t.basis != table::Basis::one && t.basis != table::Basis::log))
+        fail("internal: the exterior of a potential is a Green's function in r");
+    std::string x = s.horner(ct.first, t.c.size(), t.var == table::Var::r ? std::string("r") : std::string("r * r"));
+    if (t.low != 0) x = times(x, s.power("r", t.low));
+    if (t.basis == table::Basis::log) x = times(x, s.log + "(r)");
+    return x;
+}
+
+std::string piece_sum(const Syntax& s, const CodePiece& p, bool exterior) {
+    if (p.terms.empty()) return s.literal(0.0);
+    std::string out;
+    for (const CodeTerm& t : p.terms) {
+        const std::string x = exterior ? exterior_term(s, t) : inside_term(s, t);
+        out += out.empty() ? x : "\n        + " + x;
+    }
+    return out;
+}
+
+bool uses(const std::string& code, const std::string& name) {
+    auto identifier_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (std::size_t i = code.find(name); i != std::string::npos; i = code.find(name, i + 1)) {
+        const bool starts = i == 0 || !identifier_char(code[i - 1]);
+        const bool ends = i + name.size() == code.size() || !identifier_char(code[i + name.size()]);
+        if (starts && ends) return true;
+    }
+    return false;
+}
+
+std::string quantity_description(table::QuantityId q) {
+    switch (q) {
+        case table::QuantityId::value: return "W";
+        case table::QuantityId::dr: return "W' = dW/dr";
+        case table::QuantityId::d2r: return "W''";
+        case table::QuantityId::laplacian: return "Laplacian W'' + (D-1) W'/r";
+        case table::QuantityId::grad_over_r: return "W'/r (grad W = (W'/r) x, finite at r = 0)";
+        case table::QuantityId::hess_radial: return "(W'' - W'/r)/r^2 (Hessian = this x x^T + (W'/r) I)";
+        case table::QuantityId::potential: return "phi, Delta phi = W, the Green's function outside the support";
+        case table::QuantityId::dpotential: return "phi' = dphi/dr";
+        case table::QuantityId::dpotential_over_r: return "phi'/r (grad phi = (phi'/r) x)";
+        case table::QuantityId::potential_hess_radial: return "(phi'' - phi'/r)/r^2";
+    }
+    return "?";
+}
+
+}  // namespace mollify::gen

@@ -1,0 +1,486 @@
+// `mollify-gen emit --target c|fortran|python` (issue 19, item 4): the files
+// compile with Debian's toolchains (gcc -std=c99 -pedantic, gfortran
+// -std=f2008, /usr/bin/python3 with NumPy), and a driver per language,
+// written here, evaluates every emitted function at the hard points (near 0,
+// near the support edge on both sides, the kernel's own breakpoints and their
+// neighbouring doubles, h from 1e-8 to 1e8, r/h up to 1e6) and dumps the
+// results and the constants as raw doubles; this test compares them with
+// the exact values (tools/accuracy's MPFR reference, >= 200 bits).
+// A missing tool fails the test (never a skip). Also: conventions as data
+// (SWIFT's gamma, Phantom's hfact), bad --target arguments, and the golden
+// files of tests/golden/targets (a writer change that alters output is seen).
+#include "accuracy/accuracy.hpp"
+#include "command.hpp"
+
+#include <catalogue.hpp>
+#include <conventions.hpp>
+#include <emit_metadata.hpp>
+#include <rounding.hpp>
+#include <target.hpp>
+#include <target_code.hpp>
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace acc = mollify::accuracy;
+namespace gen = mollify::gen;
+using mollify::QuantityId;
+using mollify::testing::run_command;
+using mollify::testing::slurp;
+using Real = acc::Real;
+
+// The kernels the drivers evaluate: every piece shape of the tables
+// (Wendland's (1 - q)^n p(q), a 2D potential with log r, the missing
+// Wendland functions' S, arcsech, arcsin and Taylor pieces, a mollifier's
+// (1 - q^2)^M, a combination's inner edges a_j, the cubic spline's inner
+// breakpoint, a 1D kernel).
+struct Case {
+    const char* spec;
+    int dim;
+};
+constexpr Case cases[] = {
+    {"wendland:k=2", 3},         {"wendland:k=4,l=4", 2},           {"wendland-missing:k=1", 3},
+    {"mollifier:M=4", 2},        {"combo:m=3,base=wendland:k=2", 3}, {"cubic-spline", 1},
+    {"cubic-spline", 2},
+};
+
+// Error bounds for the functions, in intrinsic ulps: |y - f_h(r)| in ulps of
+// max(|f_h(r)|, |r f_h'(r)|) (+ |c log h| inside for a 2D potential), the
+// error an exact evaluator makes when handed r/h with one ulp of relative
+// error (tests/accuracy_test.cpp, "intrinsic"). The files evaluate as the
+// runtime's Precision::fast does, whose plain-double Horner and edge powers
+// reach 24.9 ulp for values and gradients of the polynomial families
+// (README, "Runtime accuracy", history), plus the rounding of pow(h, p)
+// (< 1 ulp) and, in Fortran and NumPy, no FMA in (a h - r)/h and (r - c h)/h.
+// Measured here: <= 21.2 (C, wendland:k=4,l=4 D2 W at r/h = 0.1), Fortran
+// 17.2, Python 17.2; missing Wendland <= 4.4. A wrong coefficient, piece or
+// scale is off by far more (a wrong sign near the edge: ~1e15 ulp).
+constexpr double function_bound = 32;
+// Tiny values (|exact| < 1e-10 of max |f_h|, where the intrinsic scale may
+// itself be tiny: W's root at the edge) pass within 1 ulp of max |f_h| or
+// within the function bound in intrinsic ulps; else they count as others.
+constexpr double tiny_fraction = 1e-10;
+constexpr double tiny_bound = 1;
+
+fs::path work_dir() { return fs::path(MOLLIFY_TARGETS_WORK_DIR); }
+
+std::string specs_arguments() {
+    std::set<std::string> specs;
+    for (const Case& c : cases) specs.insert(c.spec);
+    std::string out;
+    for (const std::string& s : specs) out += " --only '" + s + "'";
+    return out;
+}
+
+// The kernel as the writers see it.
+struct Emitted {
+    std::string spec;
+    int dim;
+    std::unique_ptr<gen::KernelFacts> facts;
+    gen::Tables tables;
+    std::unique_ptr<gen::CodeKernel> code;
+};
+
+std::vector<Emitted> emitted_kernels() {
+    std::vector<Emitted> out;
+    for (const Case& c : cases) {
+        Emitted e{c.spec, c.dim, std::make_unique<gen::KernelFacts>(gen::kernel_facts({mollify::parse_spec(c.spec), c.dim})),
+                  {}, {}};
+        e.tables = gen::rounded_tables(*e.facts);
+        e.code = std::make_unique<gen::CodeKernel>(gen::code_kernel({*e.facts, e.tables, gen::convention("c")}));
+        out.push_back(std::move(e));
+    }
+    return out;
+}
+
+// The hard points, and each kernel's own piece bounds with their
+// neighbouring doubles at h = 1 and h = 3.
+std::vector<acc::Point> points(const std::vector<Emitted>& kernels) {
+    std::vector<acc::Point> out = acc::hard_points(200, 19);
+    std::set<double> bounds;
+    for (const Emitted& k : kernels)
+        for (const gen::CodeQuantity& q : k.code->quantities)
+            for (const gen::CodePiece& p : q.inside) bounds.insert(p.lo);
+    for (double b : bounds)
+        for (double r : {std::nextafter(b, 0.0), b, std::nextafter(b, 2.0)})
+            for (double h : {1.0, 3.0}) out.push_back({r * h, h, "piece bound"});
+    return out;
+}
+
+void write_points(const fs::path& file, const std::vector<acc::Point>& pts) {
+    std::ofstream f(file, std::ios::binary);
+    for (const acc::Point& p : pts) {
+        f.write(reinterpret_cast<const char*>(&p.r), sizeof p.r);
+        f.write(reinterpret_cast<const char*>(&p.h), sizeof p.h);
+    }
+}
+
+std::vector<double> read_doubles(const fs::path& file) {
+    const std::string bytes = slurp(file);
+    std::vector<double> out(bytes.size() / sizeof(double));
+    std::memcpy(out.data(), bytes.data(), out.size() * sizeof(double));
+    return out;
+}
+
+// ---------------------------------------------------------------------------
+// The drivers: for each kernel, its normalisation, its constants, then for
+// each quantity and point f_h(r, h) and (h = 1 ? f(r) : f_h(r, h)).
+
+std::string c_driver(const std::vector<Emitted>& kernels, std::size_t n) {
+    std::string s = "#include <stdio.h>\n";
+    for (const Emitted& k : kernels) s += "#include \"c/" + k.code->prefix + ".h\"\n";
+    s += "enum { n = " + std::to_string(n) + " };\nstatic double p[2 * n];\n";
+    s += "static void put(FILE *f, double x) { fwrite(&x, sizeof x, 1, f); }\n";
+    s += "int main(void) {\n    FILE *in = fopen(\"points.bin\", \"rb\"), *out = fopen(\"c.bin\", \"wb\");\n    int i;\n";
+    s += "    if (!in || !out || fread(p, sizeof(double), 2 * n, in) != (size_t)(2 * n)) return 1;\n";
+    for (const Emitted& k : kernels) {
+        const std::string& P = k.code->prefix;
+        s += "    put(out, " + P + "_normalisation);\n";
+        s += "    fwrite(" + P + "_c, sizeof(double), sizeof " + P + "_c / sizeof " + P + "_c[0], out);\n";
+        for (const gen::CodeQuantity& q : k.code->quantities) {
+            const std::string f = P + "_" + q.name;
+            s += "    for (i = 0; i < n; ++i) {\n        put(out, " + f + "_h(p[2 * i], p[2 * i + 1]));\n";
+            s += "        put(out, p[2 * i + 1] == 1.0 ? " + f + "(p[2 * i]) : " + f + "_h(p[2 * i], p[2 * i + 1]));\n    }\n";
+        }
+    }
+    s += "    fclose(out);\n    fclose(in);\n    return 0;\n}\n";
+    return s;
+}
+
+std::string fortran_driver(const std::vector<Emitted>& kernels, std::size_t n) {
+    std::string s = "program driver\n  use, intrinsic :: iso_c_binding, only: c_double\n";
+    for (std::size_t j = 0; j < kernels.size(); ++j) {
+        std::string module = kernels[j].code->prefix;
+        for (char& c : module) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        const std::string k = "k" + std::to_string(j) + "_";
+        s += "  use " + module + ", only: " + k + "normalisation => normalisation\n";
+        s += "  use " + module + ", only: " + k + "c => c\n";
+        for (const gen::CodeQuantity& q : kernels[j].code->quantities) {
+            s += "  use " + module + ", only: " + k + q.name + " => kernel_" + q.name + "\n";
+            s += "  use " + module + ", only: " + k + q.name + "_h => kernel_" + q.name + "_h\n";
+        }
+    }
+    s += "  implicit none\n  integer, parameter :: n = " + std::to_string(n) + "\n";
+    s += "  real(c_double) :: p(2, n)\n  integer :: i, u, v\n";
+    s += "  open(newunit=u, file='points.bin', access='stream', form='unformatted', status='old')\n  read(u) p\n  close(u)\n";
+    s += "  open(newunit=v, file='fortran.bin', access='stream', form='unformatted', status='replace')\n";
+    for (std::size_t j = 0; j < kernels.size(); ++j) {
+        const std::string k = "k" + std::to_string(j) + "_";
+        s += "  write(v) " + k + "normalisation\n  write(v) " + k + "c\n";
+        for (const gen::CodeQuantity& q : kernels[j].code->quantities) {
+            const std::string f = k + q.name;
+            s += "  do i = 1, n\n    write(v) " + f + "_h(p(1, i), p(2, i))\n";
+            s += "    if (p(2, i) == 1.0_c_double) then\n      write(v) " + f + "(p(1, i))\n    else\n      write(v) " + f +
+                 "_h(p(1, i), p(2, i))\n    end if\n  end do\n";
+        }
+    }
+    s += "  close(v)\nend program driver\n";
+    return s;
+}
+
+std::string python_driver(const std::vector<Emitted>& kernels) {
+    std::string s = "import sys\nfrom fractions import Fraction\n\nimport numpy as np\n\nsys.path.insert(0, 'python')\n";
+    for (std::size_t j = 0; j < kernels.size(); ++j) s += "import " + kernels[j].code->prefix + " as k" + std::to_string(j) + "\n";
+    s += R"(
+p = np.fromfile('points.bin', dtype='<f8').reshape(-1, 2)
+r, h = p[:, 0].copy(), p[:, 1].copy()
+chunks = []
+
+
+def check(m, quantities):
+    # the exact rational constants: float(Fraction) is correctly rounded
+    for i, (c, x) in enumerate(zip(m.C, m.C_EXACT)):
+        if isinstance(x, Fraction) and float(x) != c:
+            sys.exit(f'{m.SPEC} D{m.DIM}: C[{i}] = {c!r} is not float({x})')
+    if len(m.C) != len(m.C_EXACT):
+        sys.exit(f'{m.SPEC}: {len(m.C)} constants, {len(m.C_EXACT)} exact values')
+    if tuple(m.QUANTITIES) != tuple(quantities):
+        sys.exit(f'{m.SPEC}: quantities {m.QUANTITIES}')
+    for bad in ((-1.0, 1.0), (float('nan'), 1.0), (0.5, 0.0), (0.5, float('inf'))):
+        try:
+            m.value_h(*bad)
+            sys.exit(f'{m.SPEC}: value_h{bad} raised nothing')
+        except ValueError as e:
+            if repr(bad[0] if bad[0] != 0.5 else bad[1]) not in str(e):
+                sys.exit(f'{m.SPEC}: value_h{bad}: the message {e} does not name the value')
+    if not isinstance(m.value(0.5), np.floating):
+        sys.exit(f'{m.SPEC}: value(0.5) is not a scalar')
+    chunks.append(np.array([m.NORMALISATION]))
+    chunks.append(m.C)
+    for name in quantities:
+        y = getattr(m, name + '_h')(r, h)
+        y1 = np.where(h == 1.0, getattr(m, name)(r), y)
+        chunks.append(np.column_stack([y, y1]).ravel())
+
+
+)";
+    for (std::size_t j = 0; j < kernels.size(); ++j) {
+        s += "check(k" + std::to_string(j) + ", (";
+        for (const gen::CodeQuantity& q : kernels[j].code->quantities) s += "'" + q.name + "', ";
+        s += "))\n";
+    }
+    s += "np.concatenate(chunks).astype('<f8').tofile('python.bin')\n";
+    return s;
+}
+
+void write_text(const fs::path& file, const std::string& text) {
+    std::ofstream f(file, std::ios::binary);
+    f << text;
+}
+
+// Runs a shell command in the work folder; its output on failure.
+void run_in_work_dir(const std::string& what, const std::string& command) {
+    const auto r = run_command("cd '" + work_dir().string() + "' && " + command, work_dir() / "capture");
+    ASSERT_EQ(r.status, 0) << what << ": " << command << "\n" << r.out << r.err;
+}
+
+// ---------------------------------------------------------------------------
+// The comparison with the exact values.
+
+// |y - x| in ulps of the scale s >= |x| (ulp as in accuracy::ulp_error).
+double error_in_ulps_of(double y, const Real& x, const Real& s) {
+    if (!std::isfinite(y)) return acc::ulp_error(y, x);
+    Real m = boost::multiprecision::abs(x) > s ? Real(boost::multiprecision::abs(x)) : s;
+    if (m == 0) return acc::ulp_error(y, x);
+    const Real d = boost::multiprecision::abs(Real(y, 1200) - x);
+    const long e = std::max(static_cast<long>(mpfr_get_exp(m.backend().data())) - 53, -1074L);
+    Real u(0, 64);
+    mpfr_set_ui_2exp(u.backend().data(), 1, e, MPFR_RNDN);
+    return static_cast<double>(d / u);
+}
+
+struct Worst {
+    double ulps = 0;
+    acc::Point at{0, 0, ""};
+};
+
+// The constants a language dumped against the generator's: bitwise the
+// correctly rounded ones, and within half an ulp of their exact values.
+void check_constants(const std::string& language, const Emitted& k, const std::vector<double>& got, std::size_t& at) {
+    ASSERT_LE(at + 1 + k.code->constants.size(), got.size()) << language << ": output too short";
+    EXPECT_EQ(got[at], gen::round_to_double(k.facts->kernel.normalisation)) << language << " " << k.spec << " normalisation";
+    EXPECT_LE(acc::ulp_error(got[at], k.facts->kernel.normalisation.evaluate(300).first), 0.5);
+    ++at;
+    for (std::size_t i = 0; i < k.code->constants.size(); ++i, ++at) {
+        const gen::CodeConstant& c = k.code->constants[i];
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(got[at]), std::bit_cast<std::uint64_t>(c.value))
+            << language << " " << k.spec << " D" << k.dim << " constant " << i << " (" << c.exact << ")";
+        if (c.exact_value) {
+            EXPECT_LE(acc::ulp_error(got[at], c.exact_value->evaluate(300).first), 0.5) << c.exact;
+        }
+    }
+}
+
+class Targets : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        fs::remove_all(work_dir());
+        fs::create_directories(work_dir());
+        kernels_ = new std::vector<Emitted>(emitted_kernels());
+        points_ = new std::vector<acc::Point>(points(*kernels_));
+        write_points(work_dir() / "points.bin", *points_);
+    }
+    static void TearDownTestSuite() {
+        delete kernels_;
+        delete points_;
+    }
+
+    static void emit(const std::string& target) {
+        run_in_work_dir("emit", std::string("'") + MOLLIFY_GEN + "' emit --target " + target + specs_arguments() + " --out .");
+    }
+
+    // Every function at every point against the exact value.
+    static void check_functions(const std::string& language, const std::vector<double>& got) {
+        std::size_t at = 0;
+        const std::size_t n = points_->size();
+        for (const Emitted& k : *kernels_) {
+            check_constants(language, k, got, at);
+            const acc::Reference ref(k.spec, k.dim);
+            for (const gen::CodeQuantity& q : k.code->quantities) {
+                ASSERT_LE(at + 2 * n, got.size()) << language << ": output too short";
+                const int p = mollify::detail::scale_power(q.id, k.dim);
+                const double log_coefficient = q.log_h_coefficient ? k.code->constants[*q.log_h_coefficient].value : 0;
+                Worst worst, tiny;
+                for (std::size_t i = 0; i < n; ++i, at += 2) {
+                    const acc::Point& pt = (*points_)[i];
+                    const double y = got[at], y1 = got[at + 1];
+                    EXPECT_EQ(std::bit_cast<std::uint64_t>(y), std::bit_cast<std::uint64_t>(y1))
+                        << language << " " << k.spec << " " << q.name << "(r) is not " << q.name << "_h(r, 1) at r = " << pt.r;
+                    const Real x = ref.value(q.id, pt.r, pt.h);
+                    // max |f_h| over the support, for the tiny values
+                    const double max = ref.max_abs(q.id) * std::pow(pt.h, p) + std::abs(log_coefficient * std::log(pt.h));
+                    auto intrinsic = [&] {
+                        double e = acc::ulp_error(y, x);
+                        if (e > 1 || !std::isfinite(y)) {
+                            Real s = boost::multiprecision::abs(ref.slope(q.id, pt.r, pt.h));
+                            if (pt.r <= pt.h) s += Real(std::abs(log_coefficient * std::log(pt.h)), 30);
+                            e = std::min(e, error_in_ulps_of(y, x, s));
+                        }
+                        return e;
+                    };
+                    if (boost::multiprecision::abs(x) < tiny_fraction * max) {
+                        // A tiny value near a root of f (W'' of the cubic at q = 1/3) passes by either metric.
+                        const double e = acc::scaled_error(y, x, max);
+                        if (e <= tiny_bound || intrinsic() <= function_bound) {
+                            if (!(e <= tiny.ulps)) tiny = {e, pt};
+                            continue;
+                        }
+                    }
+                    const double e = intrinsic();
+                    if (!(e <= worst.ulps)) worst = {e, pt};
+                }
+                std::printf("%-8s %-30s D%d %-22s max %8.3g intrinsic ulp at r=%.17g h=%.3g (%s); tiny %.3g ulp of max\n",
+                            language.c_str(), k.spec.c_str(), k.dim, q.name.c_str(), worst.ulps, worst.at.r, worst.at.h,
+                            worst.at.why, tiny.ulps);
+                EXPECT_LE(worst.ulps, function_bound) << language << " " << k.spec << " D" << k.dim << " " << q.name
+                                                      << " at r = " << worst.at.r << ", h = " << worst.at.h;
+            }
+        }
+        EXPECT_EQ(at, got.size()) << language << ": output of unexpected length";
+    }
+
+    static std::vector<Emitted>* kernels_;
+    static std::vector<acc::Point>* points_;
+};
+
+std::vector<Emitted>* Targets::kernels_ = nullptr;
+std::vector<acc::Point>* Targets::points_ = nullptr;
+
+TEST_F(Targets, CHeadersCompileAndAgreeWithTheExactValues) {
+    ASSERT_NO_FATAL_FAILURE(emit("c"));
+    // Every emitted header alone, then the driver with all of them.
+    for (const auto& f : fs::directory_iterator(work_dir() / "c"))
+        ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gcc", "echo '#include \"" + f.path().string() +
+                                                           "\"' | gcc -std=c99 -Wall -Wextra -Werror -pedantic -x c -fsyntax-only -"));
+    write_text(work_dir() / "driver.c", c_driver(*kernels_, points_->size()));
+    ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gcc", "gcc -std=c99 -O2 -Wall -Wextra -Werror -pedantic -I. driver.c -o c_driver -lm"));
+    ASSERT_NO_FATAL_FAILURE(run_in_work_dir("C driver", "./c_driver"));
+    check_functions("c", read_doubles(work_dir() / "c.bin"));
+}
+
+TEST_F(Targets, FortranModulesCompileAndAgreeWithTheExactValues) {
+    ASSERT_NO_FATAL_FAILURE(emit("fortran"));
+    // Every emitted module checked; those the driver uses compiled.
+    for (const auto& f : fs::directory_iterator(work_dir() / "fortran"))
+        ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gfortran", "gfortran -std=f2008 -Wall -Werror -fsyntax-only '" + f.path().string() + "'"));
+    std::string objects;
+    for (const Emitted& k : *kernels_) {
+        ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gfortran", "gfortran -std=f2008 -Wall -Werror -O2 -c fortran/" +
+                                                                k.code->prefix + ".f90 -o " + k.code->prefix + ".o"));
+        objects += " " + k.code->prefix + ".o";
+    }
+    write_text(work_dir() / "driver.f90", fortran_driver(*kernels_, points_->size()));
+    ASSERT_NO_FATAL_FAILURE(
+        run_in_work_dir("gfortran", "gfortran -std=f2008 -Wall -Werror -O2 driver.f90" + objects + " -o fortran_driver"));
+    ASSERT_NO_FATAL_FAILURE(run_in_work_dir("Fortran driver", "./fortran_driver"));
+    check_functions("fortran", read_doubles(work_dir() / "fortran.bin"));
+}
+
+TEST_F(Targets, PythonModulesImportAndAgreeWithTheExactValues) {
+    ASSERT_NO_FATAL_FAILURE(emit("python"));
+    write_text(work_dir() / "driver.py", python_driver(*kernels_));
+    // Debian's python3 (with python3-numpy), not whatever python3 is first on PATH.
+    ASSERT_NO_FATAL_FAILURE(run_in_work_dir("python", "/usr/bin/python3 driver.py"));
+    check_functions("python", read_doubles(work_dir() / "python.bin"));
+}
+
+// The files of tests/golden/targets, regenerated: any change of a writer's
+// output shows here (regenerate them with the command in their banners,
+// --out tests/golden/targets, after checking the change).
+TEST(TargetsGolden, RegeneratedFilesEqualTheGoldenOnes) {
+    const fs::path golden = MOLLIFY_TARGETS_GOLDEN_DIR, out = work_dir().string() + "_golden";
+    fs::remove_all(out);
+    fs::create_directories(out);
+    int files = 0;
+    for (const char* target : {"c", "fortran", "python"}) {
+        const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target " + target +
+                                       " --only cubic-spline --only combo:m=2,base=wendland:k=1 --out '" + out.string() + "'",
+                                   out / "capture");
+        ASSERT_EQ(r.status, 0) << r.err;
+        for (const auto& f : fs::recursive_directory_iterator(golden / target)) {
+            if (!f.is_regular_file()) continue;
+            ++files;
+            EXPECT_EQ(slurp(out / fs::relative(f.path(), golden)), slurp(f.path())) << f.path();
+        }
+    }
+    EXPECT_EQ(files, 3 * 6);
+}
+
+TEST(TargetsCommandLine, BadTargetsAreErrorsNamingTheValue) {
+    const fs::path out = work_dir().string() + "_bad";
+    auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target cobol --only cubic-spline --out '" + out.string() + "'",
+                         work_dir().string() + "_capture");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("--target cobol is not a target (cpp, c, fortran, python"), std::string::npos) << r.err;
+    r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target c --format data --only cubic-spline --out '" +
+                        out.string() + "'",
+                    work_dir().string() + "_capture");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("--format data is for --target cpp only"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+// ---------------------------------------------------------------------------
+// Conventions as data.
+
+TEST(TargetsConventions, EveryTargetIsDescribedOnce) {
+    std::set<std::string> names;
+    for (const gen::Convention& c : gen::conventions()) EXPECT_TRUE(names.insert(c.target).second) << c.target;
+    for (const char* t : {"cpp", "c", "fortran", "python", "phantom", "swift", "gadget4"}) EXPECT_TRUE(names.count(t)) << t;
+    EXPECT_THROW(gen::convention("cobol"), mollify::Error);
+    // Phantom's potential is -1/q outside: 4 pi times mollify's -1/(4 pi r).
+    EXPECT_EQ(gen::potential_scale(gen::convention("phantom")).to_string(), "4 * pi^1");
+    EXPECT_EQ(gen::potential_scale(gen::convention("c")).to_string(), "1");
+}
+
+// Correctly rounded square roots, decided exactly: against MPFR at 300 bits.
+TEST(TargetsConventions, SquareRootsAreCorrectlyRounded) {
+    for (const gen::Q& x : {gen::Q(2), gen::Q(3) / gen::Q(7), gen::Q(1) / gen::Q(1000003), gen::Q(4), gen::Q(9) / gen::Q(16),
+                            gen::Q(123456789) / gen::Q(1000)}) {
+        Real y(0, 300);
+        mpfr_set_q(y.backend().data(), x.backend().data(), MPFR_RNDN);
+        y = sqrt(y);
+        EXPECT_LE(acc::ulp_error(gen::sqrt_to_double(x), y), 0.5) << x;
+        EXPECT_EQ(gen::sqrt_to_float(x), static_cast<float>(static_cast<double>(y))) << x;  // double rounding is exact here
+    }
+    EXPECT_THROW(gen::sqrt_to_double(gen::Q(-1)), mollify::Error);
+}
+
+// SWIFT's gamma = H/(2 sigma) (Dehnen & Aly 2012, table 1; SWIFT's
+// kernel_hydro.h prints 6 digits: ../shared/peers.md), and Phantom's hfact
+// rule reproducing its stock C2, C4, C6 defaults to the digit they give.
+TEST(TargetsConventions, SwiftGammaAndPhantomHfactFromTheExactSecondMoment) {
+    auto gamma = [](const char* spec, int dim) {
+        return gen::swift_gamma(gen::make_kernel(mollify::parse_spec(spec), dim)).value;
+    };
+    EXPECT_NEAR(gamma("cubic-spline", 3), 1.825742, 5e-7);
+    EXPECT_NEAR(gamma("cubic-spline", 2), 1.778002, 5e-7);
+    EXPECT_NEAR(gamma("cubic-spline", 1), 1.732051, 5e-7);
+    EXPECT_NEAR(gamma("wendland:k=1", 3), 1.936492, 5e-7);
+    EXPECT_NEAR(gamma("wendland:k=2", 3), 2.207940, 5e-7);
+    EXPECT_NEAR(gamma("wendland:k=3", 3), 2.449490, 5e-7);
+    const auto cubic = gen::make_kernel(mollify::parse_spec("cubic-spline"), 3);
+    EXPECT_EQ(gen::swift_gamma(cubic).square, gen::Q(10) / gen::Q(3));  // gamma^2 = 1/(4 sigma^2), sigma^2 = 3/40
+    auto hfact = [](const char* spec) { return gen::phantom_hfact(gen::make_kernel(mollify::parse_spec(spec), 3)).value; };
+    EXPECT_EQ(hfact("cubic-spline"), 1.2);
+    EXPECT_NEAR(hfact("wendland:k=1"), 1.3, 0.05);
+    EXPECT_NEAR(hfact("wendland:k=2"), 1.5, 0.05);
+    EXPECT_NEAR(hfact("wendland:k=3"), 1.6, 0.05);
+}
+
+}  // namespace
