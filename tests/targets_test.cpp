@@ -250,9 +250,12 @@ void write_text(const fs::path& file, const std::string& text) {
     f << text;
 }
 
-// Runs a shell command in the work folder; its output on failure.
+// Each language's test works in a folder of its own (ctest runs them in parallel).
+fs::path language_dir;
+
+// Runs a shell command in the language's folder; its output on failure.
 void run_in_work_dir(const std::string& what, const std::string& command) {
-    const auto r = run_command("cd '" + work_dir().string() + "' && " + command, work_dir() / "capture");
+    const auto r = run_command("cd '" + language_dir.string() + "' && " + command, language_dir / "capture");
     ASSERT_EQ(r.status, 0) << what << ": " << command << "\n" << r.out << r.err;
 }
 
@@ -295,12 +298,22 @@ void check_constants(const std::string& language, const Emitted& k, const std::v
 
 class Targets : public ::testing::Test {
 protected:
+    // Nothing here may throw: gtest reports a failed SetUpTestSuite as a
+    // skipped test, which ctest counts as passed.
     static void SetUpTestSuite() {
-        fs::remove_all(work_dir());
-        fs::create_directories(work_dir());
         kernels_ = new std::vector<Emitted>(emitted_kernels());
         points_ = new std::vector<acc::Point>(points(*kernels_));
-        write_points(work_dir() / "points.bin", *points_);
+    }
+
+    // The language's folder, emptied, with the points.
+    static void prepare(const std::string& language) {
+        language_dir = work_dir() / language;
+        std::error_code ec;
+        fs::remove_all(language_dir, ec);
+        ASSERT_FALSE(ec) << language_dir << ": " << ec.message();
+        fs::create_directories(language_dir, ec);
+        ASSERT_FALSE(ec) << language_dir << ": " << ec.message();
+        write_points(language_dir / "points.bin", *points_);
     }
     static void TearDownTestSuite() {
         delete kernels_;
@@ -369,16 +382,17 @@ std::vector<Emitted>* Targets::kernels_ = nullptr;
 std::vector<acc::Point>* Targets::points_ = nullptr;
 
 TEST_F(Targets, CHeadersCompileAndAgreeWithTheExactValues) {
+    ASSERT_NO_FATAL_FAILURE(prepare("c"));
     ASSERT_NO_FATAL_FAILURE(emit("c"));
     // Every emitted header alone, then the driver with all of them.
-    for (const auto& f : fs::directory_iterator(work_dir() / "c"))
+    for (const auto& f : fs::directory_iterator(language_dir / "c"))
         ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gcc", "echo '#include \"" + f.path().string() +
                                                            "\"' | gcc -std=c99 -Wall -Wextra -Werror -pedantic -x c -fsyntax-only -"));
-    write_text(work_dir() / "driver.c", c_driver(*kernels_, points_->size()));
+    write_text(language_dir / "driver.c", c_driver(*kernels_, points_->size()));
     ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gcc", "gcc -std=c99 -O2 -Wall -Wextra -Werror -pedantic -I. driver.c -o c_driver -lm"));
     ASSERT_NO_FATAL_FAILURE(run_in_work_dir("C driver", "./c_driver"));
     static std::vector<double> got;  // static: EXPECT_NONFATAL_FAILURE's statement sees no locals
-    got = read_doubles(work_dir() / "c.bin");
+    got = read_doubles(language_dir / "c.bin");
     check_functions("c", got);
     // The comparison can fail: W of the first kernel at one point inside the
     // support, 1e-12 too large (~4500 ulp), is caught.
@@ -392,9 +406,10 @@ TEST_F(Targets, CHeadersCompileAndAgreeWithTheExactValues) {
 }
 
 TEST_F(Targets, FortranModulesCompileAndAgreeWithTheExactValues) {
+    ASSERT_NO_FATAL_FAILURE(prepare("fortran"));
     ASSERT_NO_FATAL_FAILURE(emit("fortran"));
     // Every emitted module checked; those the driver uses compiled.
-    for (const auto& f : fs::directory_iterator(work_dir() / "fortran"))
+    for (const auto& f : fs::directory_iterator(language_dir / "fortran"))
         ASSERT_NO_FATAL_FAILURE(run_in_work_dir("gfortran", "gfortran -std=f2008 -Wall -Werror -fsyntax-only '" + f.path().string() + "'"));
     std::string objects;
     for (const Emitted& k : *kernels_) {
@@ -402,19 +417,20 @@ TEST_F(Targets, FortranModulesCompileAndAgreeWithTheExactValues) {
                                                                 k.code->prefix + ".f90 -o " + k.code->prefix + ".o"));
         objects += " " + k.code->prefix + ".o";
     }
-    write_text(work_dir() / "driver.f90", fortran_driver(*kernels_, points_->size()));
+    write_text(language_dir / "driver.f90", fortran_driver(*kernels_, points_->size()));
     ASSERT_NO_FATAL_FAILURE(
         run_in_work_dir("gfortran", "gfortran -std=f2008 -Wall -Werror -O2 driver.f90" + objects + " -o fortran_driver"));
     ASSERT_NO_FATAL_FAILURE(run_in_work_dir("Fortran driver", "./fortran_driver"));
-    check_functions("fortran", read_doubles(work_dir() / "fortran.bin"));
+    check_functions("fortran", read_doubles(language_dir / "fortran.bin"));
 }
 
 TEST_F(Targets, PythonModulesImportAndAgreeWithTheExactValues) {
+    ASSERT_NO_FATAL_FAILURE(prepare("python"));
     ASSERT_NO_FATAL_FAILURE(emit("python"));
-    write_text(work_dir() / "driver.py", python_driver(*kernels_));
+    write_text(language_dir / "driver.py", python_driver(*kernels_));
     // Debian's python3 (with python3-numpy), not whatever python3 is first on PATH.
     ASSERT_NO_FATAL_FAILURE(run_in_work_dir("python", "/usr/bin/python3 driver.py"));
-    check_functions("python", read_doubles(work_dir() / "python.bin"));
+    check_functions("python", read_doubles(language_dir / "python.bin"));
 }
 
 // The files of tests/golden/targets, regenerated: any change of a writer's
