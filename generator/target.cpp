@@ -11,6 +11,7 @@ const std::vector<Target>& targets() {
         {"c", write_c},
         {"fortran", write_fortran},
         {"python", write_python},
+        {"phantom", write_phantom},
     };
     return all;
 }

@@ -1,0 +1,233 @@
+// `mollify-gen emit --target phantom` (issue 19, item 1): Phantom's
+// `module kernel` compiles with gfortran as Phantom builds it
+// (-fdefault-real-8, after a stub `physcon`), and a driver written here
+// evaluates every public procedure at the hard points (0, near 0, the
+// breakpoints and their neighbours, near radkern on both sides, outside)
+// and writes the bits; this test compares them with the exact values
+// (MPFR, 256 bits, from mollify's certified quantities of the unit-support
+// kernel: W = cnormk w(q)/h^3 = W_1(q/2)/(2h)^3, phi = 4 pi phi_1(q/2)/2) and
+// checks Phantom's own consistency rules (test_kernel.f90's and more: wab0 =
+// w(0), gradh0 = -3 w(0), get_kernel = wkern/grkern bitwise, dphidh = -phi -
+// q dphi/dq, finite differences) and the normalisation 4 pi cnormk int w q^2
+// = 1 exactly, which Phantom's own test does not check. (Finite differences
+// of w and phi are subsumed: grkern and fsoft are compared with the exact
+// derivatives.) A missing gfortran
+// fails. Also: D != 3 and a kernel without a potential give clear errors.
+#include "command.hpp"
+
+#include <catalogue.hpp>
+#include <conventions.hpp>
+#include <emit_metadata.hpp>
+#include <radial.hpp>
+#include <error.hpp>
+#include <rounding.hpp>
+#include <target.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace gen = mollify::gen;
+using mollify::testing::run_command;
+using mollify::testing::slurp;
+
+// Wendland C2, C4, C6, the cubic spline (an inner breakpoint), a kernel
+// Phantom does not have, and a missing Wendland function (sqrt, arcsech
+// and Taylor pieces in its potential).
+const char* const specs[] = {"wendland:k=1", "wendland:k=2", "wendland:k=3", "cubic-spline", "wendland:k=2,l=1",
+                             "wendland-missing:k=1"};
+
+// The procedures' error bound, in ulps of max(|exact|, |q f'(q)|) (the error
+// an exact evaluator makes from the rounding of q): the tables are the
+// runtime's Precision::fast form, whose Horner and edge powers reach 24.9 ulp
+// (README, "Runtime accuracy"); the exact power-of-two scalings add nothing.
+// A wrong coefficient, scale or piece is off by far more.
+constexpr double bound_ulps = 32;
+
+fs::path work_dir() { return fs::path(MOLLIFY_PEERS_WORK_DIR); }
+
+void run_in(const fs::path& dir, const std::string& what, const std::string& command) {
+    const auto r = run_command("cd '" + dir.string() + "' && " + command, dir / "capture");
+    ASSERT_EQ(r.status, 0) << what << " failed (a missing tool fails this test): " << command << "\n" << r.out << r.err;
+}
+
+std::vector<double> read_doubles(const fs::path& file) {
+    const std::string bytes = slurp(file);
+    std::vector<double> out(bytes.size() / sizeof(double));
+    std::memcpy(out.data(), bytes.data(), out.size() * sizeof(double));
+    return out;
+}
+
+// The q at which the driver evaluates (Phantom's scaling: support 2).
+std::vector<double> points() {
+    std::vector<double> q = {0.0, 1e-300, 1e-12, 1e-6, 1e-3, 0.1, 0.5, 1.0, 1.5, 1.9, 1.999, 2.0, 2.5, 10.0, 1e6};
+    for (double b : {1.0, 2.0}) {  // the cubic's breakpoint, radkern
+        double lo = b, hi = b;
+        for (int i = 0; i < 3; ++i) q.push_back(lo = std::nextafter(lo, 0.0)), q.push_back(hi = std::nextafter(hi, 4.0));
+    }
+    for (int i = 1; i < 64; ++i) q.push_back(2.0 * i / 64 + 1e-3);
+    return q;
+}
+
+// What the driver writes per point.
+constexpr const char* columns[] = {"wkern", "grkern", "potensoft", "fsoft", "dphidh", "gsoft", "wkern_drag"};
+constexpr int ncol = 7;
+
+std::string driver(std::size_t n) {
+    std::ostringstream s;
+    s << "program driver\n use kernel\n implicit none\n integer, parameter :: n = " << n << "\n"
+      << " real :: p(n), w, g, w1, g1, d, phi, f, gs\n integer :: i, u, v\n"
+      << " open(newunit=u, file='points.bin', access='stream', form='unformatted', status='old')\n read(u) p\n close(u)\n"
+      << " open(newunit=v, file='phantom.bin', access='stream', form='unformatted', status='replace')\n"
+      << " write(v) radkern, radkern2, cnormk, wab0, gradh0, dphidh0, cnormk_drag, hfact_default, av_factor\n"
+      << " do i = 1, n\n  call get_kernel(p(i)**2, p(i), w, g)\n  call get_kernel_grav1(p(i)**2, p(i), w1, g1, d)\n"
+      << "  call kernel_softening(p(i)**2, p(i), phi, f)\n  call kernel_grad_soft(p(i)**2, p(i), gs)\n"
+      << "  ! Phantom's test_kernel: the subroutines and functions agree exactly\n"
+      << "  if (w /= wkern(p(i)**2, p(i)) .or. g /= grkern(p(i)**2, p(i)) .or. w1 /= w .or. g1 /= g) stop 3\n"
+      << "  write(v) w, g, phi, f, d, gs, wkern_drag(p(i)**2, p(i))\n end do\n close(v)\n"
+      << " write(*,'(a)') kernelname\nend program driver\n";
+    return s.str();
+}
+
+// The exact value of a unit-support quantity at x, times c, to 256 bits.
+double exact_at(const gen::Radial& f, double x, const gen::Exact& c) {
+    const gen::Real xr(x, 256);
+    return static_cast<double>(f.evaluate(xr, 256).first * gen::Real(gen::round_to_double(c), 256));
+}
+
+double ulps_off(double y, double exact, double scale) {
+    const double s = std::max(std::fabs(exact), scale);
+    if (s == 0) return y == 0 ? 0 : INFINITY;
+    return std::fabs(y - exact) / (std::nextafter(s, INFINITY) - s);
+}
+
+struct PhantomFixture : ::testing::Test {
+    static void SetUpTestSuite() {
+        fs::remove_all(work_dir());
+        fs::create_directories(work_dir());
+        std::string only;
+        for (const char* s : specs) only += std::string(" --only '") + s + "'";
+        const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target phantom" + only + " --out '" +
+                                       work_dir().string() + "'",
+                                   work_dir() / "capture");
+        ASSERT_EQ(r.status, 0) << r.out << r.err;
+    }
+};
+
+// -fdefault-real-8 as Phantom's build; a physcon providing pi as the stock files' `use physcon, only:pi`.
+void compile_and_run(const fs::path& dir, const fs::path& module, std::size_t n) {
+    std::ofstream(dir / "physcon.f90") << "module physcon\n implicit none\n real, parameter :: pi = 4.*atan(1.)\nend module physcon\n";
+    std::ofstream(dir / "driver.f90") << driver(n);
+    const std::string fc = "gfortran -std=f2008 -fdefault-real-8 -fdefault-double-8 -Wall -Wextra -Werror -Wno-unused-dummy-argument -O2";
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "gfortran", fc + " -c physcon.f90 '" + module.string() + "' -o kernel.o"));
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "gfortran", fc + " driver.f90 kernel.o -o driver"));
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "driver", "./driver"));
+}
+
+TEST_F(PhantomFixture, EveryProcedureMatchesTheExactKernelAndPhantomsRules) {
+    const std::vector<double> q = points();
+    for (const char* spec : specs) {
+        SCOPED_TRACE(spec);
+        const gen::KernelFacts facts = gen::kernel_facts({mollify::parse_spec(spec), 3});
+        const fs::path dir = work_dir() / facts.id;
+        fs::create_directories(dir);
+        {
+            std::ofstream f(dir / "points.bin", std::ios::binary);
+            f.write(reinterpret_cast<const char*>(q.data()), static_cast<std::streamsize>(q.size() * sizeof(double)));
+        }
+        const fs::path module = work_dir() / "phantom" / ("kernel_" + facts.id + ".f90");
+        ASSERT_TRUE(fs::exists(module)) << module;
+        ASSERT_NO_FATAL_FAILURE(compile_and_run(dir, module, q.size()));
+        const std::vector<double> d = read_doubles(dir / "phantom.bin");
+        ASSERT_EQ(d.size(), 9 + q.size() * ncol);
+
+        // Constants, against their exact values (0.5 ulp: correctly rounded).
+        const gen::ExactKernel& k = facts.kernel;
+        const gen::Radial& W1 = facts.quantities.value;
+        const double radkern = d[0], cnormk = d[2], wab0 = d[3], gradh0 = d[4], dphidh0 = d[5];
+        EXPECT_EQ(radkern, 2.0);
+        EXPECT_EQ(d[1], 4.0);
+        // cnormk w(q) = W_1(q/2)/8 with w(0) = s(0) = W_1(0)/N: cnormk = N/8, and 4 pi cnormk int_0^2 w q^2 dq = 1.
+        const gen::Exact cnormk_exact = k.normalisation * mollify::Q(1, 8);
+        EXPECT_EQ(cnormk, gen::round_to_double(cnormk_exact));
+        const gen::Exact mass = gen::sphere_measure(3) * gen::Exact(mollify::Q(8)) * gen::radial_integral(k.shape, 2) * cnormk_exact;
+        EXPECT_TRUE(mass == gen::Exact(mollify::Q(1))) << mass.to_string();
+        EXPECT_EQ(wab0, gen::round_to_double(k.shape.at(mollify::Q(0))));
+        EXPECT_EQ(gradh0, gen::round_to_double(k.shape.at(mollify::Q(0)) * mollify::Q(-3)));
+        // hfact_default: conventions' phantom_hfact (its rule tested in targets_test); cubic: exactly 1.2's double.
+        EXPECT_EQ(d[7], gen::phantom_hfact(k).value);
+        if (std::string(spec) == "cubic-spline") {
+            EXPECT_EQ(d[7], 1.2);
+            EXPECT_EQ(cnormk, 1 / M_PI);  // Phantom's stock cubic cnormk = 1/pi
+            EXPECT_EQ(d[8], 124.0 / 105.0);  // its av_factor 124/105, one rounding either way
+        }
+        if (std::string(spec) == "wendland:k=1") {
+            EXPECT_EQ(cnormk, 1.3125 / M_PI);  // stock C2: 1.3125/pi (21/(16 pi)), one rounding either way
+            EXPECT_EQ(d[6], 105.0 / (64.0 * M_PI));
+            EXPECT_EQ(d[8], 10.0 / 9.0);
+            EXPECT_EQ(dphidh0, 1.5);
+        }
+
+        // Exact references (unit support, x = q/2).
+        const gen::Radial& phi1 = *facts.quantities.potential;
+        const gen::Radial dphi1 = phi1.derivative(), d2phi1 = dphi1.derivative(), dW1 = W1.derivative();
+        const gen::Exact invN = k.normalisation.inverse(), pi4 = gen::sphere_measure(3);
+        double worst = 0;
+        std::string worst_at;
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            const double x = q[i] / 2;
+            const double* y = &d[9 + i * ncol];
+            const double w = exact_at(W1, x, invN), dw = exact_at(dW1, x, invN * mollify::Q(1, 2));
+            const double phi = exact_at(phi1, x, pi4 * mollify::Q(1, 2)), f = exact_at(dphi1, x, pi4 * mollify::Q(1, 4));
+            const double f2 = exact_at(d2phi1, x, pi4 * mollify::Q(1, 8));
+            const double exact[ncol] = {w, dw, phi, f, -phi - q[i] * f, q[i] * f2 - f, q[i] * q[i] * w};
+            const double scale[ncol] = {std::fabs(q[i] * dw), std::fabs(q[i] * f2 * q[i]) + std::fabs(dw), std::fabs(q[i] * f),
+                                        std::fabs(q[i] * f2), std::fabs(phi) + std::fabs(q[i] * f),
+                                        std::fabs(f) + std::fabs(q[i] * f2), std::fabs(q[i] * q[i] * dw) + std::fabs(q[i] * w)};
+            for (int c = 0; c < ncol; ++c) {
+                if (q[i] == 0 && (c == 5)) continue;  // gsoft's reference q phi'' - phi' is exact at 0 below
+                const double u = ulps_off(y[c], exact[c], scale[c]);
+                if (u > worst) worst = u, worst_at = std::string(columns[c]) + " at q = " + std::to_string(q[i]);
+                EXPECT_LE(u, bound_ulps) << columns[c] << " at q = " << q[i] << ": " << y[c] << " vs " << exact[c];
+            }
+            // Outside the support: W = 0 and Phantom's exterior forms.
+            if (q[i] > 2) {
+                EXPECT_EQ(y[0], 0.0);
+                EXPECT_EQ(y[1], 0.0);
+                EXPECT_LE(ulps_off(y[2], -1 / q[i], 0), 2);
+                EXPECT_LE(ulps_off(y[3], 1 / (q[i] * q[i]), 0), 2);
+                EXPECT_EQ(y[4], 0.0);
+            }
+            // Phantom's rule dphidh = -phi - q dphi/dq from the module's own values (their rounding: 4 ulp of the scale).
+            EXPECT_LE(ulps_off(y[4], -y[2] - q[i] * y[3], std::fabs(y[2]) + std::fabs(q[i] * y[3])), 2 * bound_ulps);
+        }
+        std::printf("%s: worst %.2f ulp (%s)\n", spec, worst, worst_at.c_str());
+        // wab0 = w(0) exactly (the function at 0 is the constant term), dphidh0 = dphidh(0).
+        EXPECT_EQ(d[9 + 0], wab0);
+        EXPECT_EQ(d[9 + 4], dphidh0);
+    }
+}
+
+TEST(PhantomErrors, PhantomIsThreeDimensional) {
+    const gen::KernelFacts f = gen::kernel_facts({mollify::parse_spec("cubic-spline"), 2});
+    const gen::Tables tables = gen::rounded_tables(f);
+    try {
+        gen::write_phantom({f, tables, gen::convention("phantom")}, "test");
+        FAIL() << "a 2D kernel was written for Phantom";
+    } catch (const gen::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("3D only"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("D = 2"), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
