@@ -6,8 +6,8 @@
 // The kernel. mollify's kernel W_1 (unit mass, support 1) scaled to support
 // H = radkern h is W = W_1(q/radkern) / (radkern h)^3, so Phantom's
 // cnormk w(q) = W_1(q/radkern) / radkern^3. With W_1 = N s (s the kernel's
-// unnormalised shape, N its normalisation): w(q) = s(q/radkern) and
-// cnormk = N / radkern^3, which is Phantom's own split (the cubic spline
+// unnormalised shape, N its normalisation): w(q) = s(q/radkern)/s(0) and
+// cnormk = N s(0) / radkern^3 (w(0) = 1; s as it is where s(0) is not a nonzero rational), which is Phantom's own split (the cubic spline
 // gives its w and cnormk = 1/pi; Wendland C2 its (1 - q/2)^4 (2q + 1) and
 // 21/(16 pi)). radkern = 2 for every kernel (the convention's support_in_h,
 // Phantom's choice for the cubic and Wendland kernels): a power of two, so
@@ -48,11 +48,20 @@ struct UnitFunction {
 
 Radial x_times(const Radial& f, const Q& c, int power) { return f.times(Laurent::monomial(c, power)); }
 
+// Phantom's split of W into cnormk w: w(0) = 1 (its stock kernels), where
+// the shape's value at 0 is a nonzero rational; else the shape as it is.
+Q shape_scale(const ExactKernel& k) {
+    if (!k.shape.form_at(Q(0)).is_elementary()) return Q(1);
+    const Exact s0 = k.shape.at(Q(0));
+    return s0.is_rational() && s0.rational() != 0 ? Q(1) / s0.rational() : Q(1);
+}
+Radial phantom_shape(const ExactKernel& k) { return k.shape * Exact(shape_scale(k)); }
+
 std::vector<UnitFunction> unit_functions(const KernelFacts& facts) {
     const ExactKernel& k = facts.kernel;
     const Radial* phi1 = quantity_of(facts, static_cast<int>(table::QuantityId::potential));
     if (!phi1) fail("--target phantom: " + facts.spec + " has no Poisson potential (Phantom's kernel_softening needs one)");
-    const Radial& s = k.shape;
+    const Radial s = phantom_shape(k);
     const Radial G = *phi1 * sphere_measure(3);
     const Radial dG = G.derivative();
     return {
@@ -66,12 +75,39 @@ std::vector<UnitFunction> unit_functions(const KernelFacts& facts) {
     };
 }
 
-std::string exact_string(const Exact& x) { return x.to_string(); }
+// A constant and its exact value for the comment: f(0) where f's piece at 0
+// is elementary; else (a missing Wendland function's S, arcsech) its value
+// to 256 bits (MPFR), correctly rounded but for a tie no 256-bit value hides.
+struct Constant {
+    double value;
+    std::string exact;
+};
+
+Constant constant(const Exact& x) { return {round_to_double(x), x.to_string()}; }
+
+Constant at_zero(const Radial& f, const Q& scale) {
+    if (f.form_at(Q(0)).is_elementary()) return constant(f.at(Q(0)) * scale);
+    Real c(0, 256);
+    mpfr_set_q(c.backend().data(), scale.backend().data(), MPFR_RNDN);
+    const Real y = f.evaluate(Real(0, 256), 256).first * c;
+    return {static_cast<double>(y), y.str(40) + " (MPFR, 256 bits)"};
+}
+
+// a/b exactly where both are rational; else (pi and logs: the missing
+// Wendland functions) to 256 bits.
+Constant ratio(const Exact& a, const Exact& b) {
+    if (b.is_zero()) fail("--target phantom: a zero denominator (" + a.to_string() + " / 0)");
+    if (a.is_rational() && b.is_rational()) return constant(Exact(a.rational() / b.rational()));
+    if (b.terms().size() == 1 && b.terms().begin()->first.log_of == 1) return constant(a * b.inverse());
+    const Real y = a.evaluate(256).first / b.evaluate(256).first;
+    return {static_cast<double>(y), "(" + a.to_string() + ") / (" + b.to_string() + ") = " + y.str(40) + " (MPFR, 256 bits)"};
+}
 
 // A real parameter: its bits, the exact value beside it.
-std::string parameter(const std::string& name, const Exact& x) {
-    return " real, parameter, public :: " + name + " = " + boz(round_to_double(x)) + "  ! " + exact_string(x) + "\n";
+std::string parameter(const std::string& name, const Constant& c) {
+    return " real, parameter, public :: " + name + " = " + boz(c.value) + "  ! " + c.exact + "\n";
 }
+std::string parameter(const std::string& name, const Exact& x) { return parameter(name, constant(x)); }
 
 // One private function of x in the runtime's fast form (write_fortran.cpp's pieces).
 std::string unit_function(const UnitFunction& u, const CodeQuantity& q, const Syntax& s) {
@@ -175,17 +211,20 @@ TargetFiles write_phantom(const TargetKernel& tk, const std::string& command) {
         body += unit_function(functions[i], code_quantity(functions[i].name, rounded[i], constants), s);
 
     // Exact constants (file comment above).
-    const Radial& w = k.shape;
+    const Radial w = phantom_shape(k);
     const Exact four_pi = sphere_measure(3);
-    const Exact r3 = Exact(radkern * radkern * radkern), r5 = Exact(radkern * radkern * radkern * radkern * radkern);
-    const Exact cnormk = (four_pi * r3 * radial_integral(w, 2)).inverse();
-    const Exact cnormk_drag = (four_pi * r5 * radial_integral(w, 4)).inverse();
-    const Exact wab0 = w.at(Q(0));
-    const Exact dphidh0 = functions[5].f.at(Q(0));
+    const Exact r5 = Exact(radkern * radkern * radkern * radkern * radkern);
+    const Exact cnormk = k.normalisation * (Q(1) / (radkern * radkern * radkern * shape_scale(k)));  // = 1/(4 pi int_0^2 w q^2 dq)
+    const Exact m4 = radial_integral(w, 4);  // the 3D second moment / 4 pi
+    if (m4.is_zero() || (m4.is_rational() && m4.rational() < 0))
+        fail("--target phantom: " + facts.spec + " has second moment " + m4.to_string() +
+             " <= 0 (a higher-order kernel): Phantom's cnormk_drag (the double hump q^2 w) and hfact_default need a "
+             "positive one");
+    const Constant cnormk_drag = ratio(Exact(Q(1)), four_pi * r5 * radial_integral(w, 4));
+    const Constant wab0 = at_zero(w, Q(1)), gradh0 = at_zero(w, Q(-3));
+    const Constant dphidh0 = at_zero(functions[5].f, Q(1));
     const Exact av_num = radial_integral(w.derivative(), 4), av_den = radial_integral(w.derivative(), 3);
-    if (!av_num.is_rational() || !av_den.is_rational() || av_den.rational() == 0)
-        fail("--target phantom: av_factor of " + facts.spec + " is not a ratio of rationals");
-    const Exact av_factor = Exact(radkern * av_num.rational() / av_den.rational());
+    const Constant av_factor = ratio(av_num * radkern, av_den);
     const DerivedConstant hfact = phantom_hfact(k);
 
     std::string name = facts.spec;
@@ -193,8 +232,8 @@ TargetFiles write_phantom(const TargetKernel& tk, const std::string& command) {
     out += "!\n! Phantom's kernel module (src/main/kernel_<NAME>.f90, KERNEL=<NAME>) for " + facts.spec + ":\n! " +
            k.source + "\n";
     out += "! q = r/h, support radkern h, W = cnormk w(q)/h^3, |grad W| = cnormk grkern/h^4 (3D only).\n"
-           "! w(q) = s(q/radkern), s the kernel's shape on support 1; cnormk = N/radkern^3 (N: s's unit-mass\n"
-           "! normalisation). radkern = 2 for every kernel (Phantom's choice for the cubic and Wendland kernels):\n"
+           "! w(q) = s(q/radkern)/s(0), s the kernel's shape on support 1; cnormk = N s(0)/radkern^3 (N: s's\n"
+           "! unit-mass normalisation). radkern = 2 for every kernel (Phantom's choice for the cubic and Wendland kernels):\n"
            "! a power of two, so q/radkern is exact. phi is the kernel's exact Poisson potential (mollify's, times\n"
            "! 4 pi, scaled to support radkern): phi = -1/q outside, dphidh = -phi - q dphi/dq.\n"
            "! hfact_default: " + hfact.rule + ";\n!   hfact_default^2 = " + short_string(hfact.square) + " exactly.\n"
@@ -204,7 +243,7 @@ TargetFiles write_phantom(const TargetKernel& tk, const std::string& command) {
     out += "module kernel\n use, intrinsic :: iso_c_binding, only: c_double\n implicit none\n private\n";
     out += " character(len=*), parameter, public :: kernelname = '" + name + "'\n";
     out += parameter("radkern", Exact(radkern)) + parameter("radkern2", Exact(radkern * radkern));
-    out += parameter("cnormk", cnormk) + parameter("wab0", wab0) + parameter("gradh0", wab0 * Q(-3));
+    out += parameter("cnormk", cnormk) + parameter("wab0", wab0) + parameter("gradh0", gradh0);
     out += parameter("dphidh0", dphidh0) + parameter("cnormk_drag", cnormk_drag);
     out += " real, parameter, public :: hfact_default = " + boz(hfact.value) + "  ! sqrt(" + short_string(hfact.square) + ")\n";
     out += parameter("av_factor", av_factor);
