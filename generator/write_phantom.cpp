@@ -33,6 +33,7 @@
 #include "rounding.hpp"
 
 #include <cctype>
+#include <cmath>
 
 namespace mollify::gen {
 
@@ -76,8 +77,8 @@ std::vector<UnitFunction> unit_functions(const KernelFacts& facts) {
 }
 
 // A constant and its exact value for the comment: f(0) where f's piece at 0
-// is elementary; else (a missing Wendland function's S, arcsech) its value
-// to 256 bits (MPFR), correctly rounded but for a tie no 256-bit value hides.
+// is elementary; else (a missing Wendland function's S, arcsech) its limit
+// by MPFR (below), correctly rounded but for a tie that precision cannot see.
 struct Constant {
     double value;
     std::string exact;
@@ -87,10 +88,13 @@ Constant constant(const Exact& x) { return {round_to_double(x), x.to_string()}; 
 
 Constant at_zero(const Radial& f, const Q& scale) {
     if (f.form_at(Q(0)).is_elementary()) return constant(f.at(Q(0)) * scale);
-    Real c(0, 256);
+    // S, arcsech and log are singular at 0 (0 * inf): the limit, from
+    // x = 2^-600, where the pieces' x^2 log x terms are far below a double's rounding.
+    constexpr unsigned bits = 1024;
+    Real c(0, bits);
     mpfr_set_q(c.backend().data(), scale.backend().data(), MPFR_RNDN);
-    const Real y = f.evaluate(Real(0, 256), 256).first * c;
-    return {static_cast<double>(y), y.str(40) + " (MPFR, 256 bits)"};
+    const Real y = f.evaluate(Real(std::ldexp(1.0, -600), bits), bits).first * c;
+    return {static_cast<double>(y), y.str(40) + " (the limit at 0; MPFR at 2^-600, 1024 bits)"};
 }
 
 // a/b exactly where both are rational; else (pi and logs: the missing
