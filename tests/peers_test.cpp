@@ -247,4 +247,35 @@ TEST(PhantomErrors, PhantomIsThreeDimensional) {
     }
 }
 
+// A higher-order kernel (zero second moment) has no double hump norm nor hfact: a clear error.
+TEST(PhantomErrors, HigherOrderKernelsNameTheirSecondMoment) {
+    const fs::path out = work_dir().string() + "_combo";
+    const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target phantom --only combo:m=2,base=wendland:k=1 --out '" +
+                                   out.string() + "'",
+                               work_dir().string() + "_combo_capture");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("combo:m=2,base=wendland:k=1"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("second moment"), std::string::npos) << r.err;
+}
+
+// The files of tests/golden/peers, regenerated: any change of the writer's
+// output shows here (regenerate with the command in their banners,
+// --out tests/golden/peers, after checking the change).
+TEST(PeersGolden, RegeneratedFilesEqualTheGoldenOnes) {
+    const fs::path golden = MOLLIFY_PEERS_GOLDEN_DIR, out = work_dir().string() + "_golden";
+    fs::remove_all(out);
+    fs::create_directories(out);
+    int files = 0;
+    const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target phantom --only cubic-spline --only wendland:k=1 --out '" +
+                                   out.string() + "'",
+                               out / "capture");
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (const auto& f : fs::recursive_directory_iterator(golden / "phantom")) {
+        if (!f.is_regular_file()) continue;
+        ++files;
+        EXPECT_EQ(slurp(out / fs::relative(f.path(), golden)), slurp(f.path())) << f.path();
+    }
+    EXPECT_EQ(files, 2);
+}
+
 }  // namespace
