@@ -18,6 +18,7 @@
 #include "error.hpp"
 #include "rounding.hpp"
 #include "softening.hpp"
+#include "softening_certificate.hpp"
 
 namespace mollify::gen {
 
@@ -81,9 +82,11 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     rounded.push_back(round_or_fail(k.shape.derivative(), false, dparts, "w'"));
     names.push_back({prefix + "_dw", "w'(u) = dw/du"});
     const bool gravity = k.dim == 3 && quantity_of(facts, static_cast<int>(table::QuantityId::potential)) != nullptr;
+    int finite = -1;  // fac0..fac<finite> have finite limits at r = 0
     if (gravity) {
         const std::vector<Radial> g = gadget_gfactors(k, max_gfactor);
-        for (std::size_t n = 0; n < g.size(); ++n) {
+        finite = finite_at_origin(g);
+        for (std::size_t n = 0; static_cast<int>(n) <= finite; ++n) {
             rounded.push_back(round_or_fail(g[n], true, {}, "fac" + std::to_string(n)));
             names.push_back({prefix + "_fac" + std::to_string(n), "E_" + std::to_string(n) + "(u), fac" + std::to_string(n) +
                                                                        " at h = 1 (softening.hpp; 1/r-like outside)"});
@@ -103,7 +106,7 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
            " * dwk = NORM hinv4 w'(u) (hinv3 = H^-D, hinv4 = H^-(D+1), kernel_hinv); mode -1: wk only,\n"
            " * 0: both, 1: dwk only. w is the kernel's shape on support 1, NORM its exact unit-mass\n"
            " * normalisation. Evaluated as mollify's Precision::fast (factored at the edge).\n";
-    if (gravity)
+    if (gravity && finite >= 0)
         out += " * Softening (3D): " + prefix + "_gfactors(r, h, fac) gives fac[n] = h^-(n+1) E_n(r/h), n = 0..5,\n"
                " * E_0 = g the softened 1/r (-4 pi phi, phi the kernel's exact Poisson potential), E_1 = g',\n"
                " * E_2 = g'' - g'/r, E_(n+1) = E_n' - n E_n/r (GADGET-4's gfactors fac0..fac5; 1/r, -1/r^2,\n"
@@ -120,10 +123,15 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     out += "\nstatic inline void kernel_main(double u, double hinv3, double hinv4, double *wk, double *dwk, int mode)\n{\n"
            "    if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * " + prefix + "_w(u);\n"
            "    if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * " + prefix + "_dw(u);\n}\n";
-    if (gravity) {
-        out += "\nstatic inline void " + prefix + "_gfactors(double r, double h, double fac[6])\n{\n"
-               "    const double u = r / h, hinv = 1 / h;\n";
-        for (int n = 0; n <= max_gfactor; ++n)
+    if (gravity && finite >= 0) {
+        if (finite < max_gfactor)
+            out += "\n/* fac" + std::to_string(finite + 1) + " and higher have no finite limit at r = 0 for " +
+                   facts.spec + " (odd powers or logarithms\n   of r at the origin): not given, and a higher MULTIPOLE_ORDER is an error. */\n"
+                   "#if defined(MULTIPOLE_ORDER) && MULTIPOLE_ORDER > " + std::to_string(finite) + "\n#error \"" + facts.spec +
+                   ": the g-factors beyond fac" + std::to_string(finite) + " blow up at r = 0\"\n#endif\n";
+        out += "\n/* fac[0.." + std::to_string(finite) + "] */\nstatic inline void " + prefix +
+               "_gfactors(double r, double h, double fac[6])\n{\n    const double u = r / h, hinv = 1 / h;\n";
+        for (int n = 0; n <= finite; ++n)
             out += "    fac[" + std::to_string(n) + "] = " + prefix + "_fac" + std::to_string(n) + "(u) * pow(hinv, " +
                    std::to_string(n + 1) + ");\n";
         out += "}\n";

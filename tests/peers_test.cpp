@@ -21,6 +21,8 @@
 #include <radial.hpp>
 #include <error.hpp>
 #include <rounding.hpp>
+#include <softening.hpp>
+#include <softening_certificate.hpp>
 #include <target.hpp>
 
 #include <gtest/gtest.h>
@@ -99,15 +101,21 @@ std::string driver(std::size_t n) {
     return s.str();
 }
 
-// The exact value of a unit-support quantity at x, times c: MPFR at 2048
+// The exact value of a unit-support quantity at x, times c: MPFR at 2048 (8192 below 1e-3)
 // bits (the pieces are evaluated expanded, and W's root of order up to 9 at
 // the edge cancels ~9 x 53 bits at x = 1 - 2^-53).
 double exact_at(const gen::Radial& f, double x, const gen::Exact& c) {
-    constexpr unsigned bits = 2048;
+    const unsigned bits = x < 1e-3 ? 8192 : 2048;  // tiny x: E_n's r^-n terms cancel (2^-600: ~3000 bits)
     // x = 0: the limit (S, arcsech, log are 0 * inf there), from 2^-600 (x^2 log x far below a double's ulp)
     const bool limit = x == 0 && !f.form_at(gen::Q(0)).is_elementary();
     const gen::Real xr(limit ? std::ldexp(1.0, -600) : x, bits);
     return static_cast<double>(f.evaluate(xr, bits).first * c.evaluate(bits).first);
+}
+
+std::string hex_literal_for_test(double x) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%a", x);
+    return buf;
 }
 
 double ulps_off(double y, double exact, double scale) {
@@ -247,6 +255,92 @@ TEST(PhantomErrors, PhantomIsThreeDimensional) {
     }
 }
 
+// --target gadget4: each header compiles with g++ -Wall -Wextra -Werror in
+// its dimension (ONEDIMS, TWODIMS, 3D); a driver evaluates kernel_main
+// (modes -1, 0, 1) with hinv3 = hinv4 = 1 at the hard points and, in 3D, the
+// g-factors at h = 1 and h = 1e-3 (fac_n = h^-(n+1) E_n(r/h)); compared with
+// MPFR: wk = W, dwk = W' (mollify's certified quantities), fac0 = -4 pi phi,
+// fac1 = -4 pi phi', fac2 = -4 pi r^2 (phi'' - phi'/r)/r^2 (the potential's
+// own quantities), fac3..5 = softening.hpp's E_n (tested there against the
+// recursion and GADGET-4's expanded forms). Bound: 32 ulp of max(|exact|,
+// |u f'(u)|) as for Phantom (the Precision::fast form), plus pow(h, -(n+1)).
+TEST(Gadget4, KernelMainAndGfactorsMatchTheExactValues) {
+    const fs::path dir = work_dir().string() + "_gadget4";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const char* const g4specs[] = {"cubic-spline", "wendland:k=1", "combo:m=2,base=wendland:k=1", "wendland-missing:k=1"};
+    std::string only;
+    for (const char* sp : g4specs) only += std::string(" --only '") + sp + "'";
+    const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target gadget4" + only + " --out '" + dir.string() + "'",
+                               dir / "capture");
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::vector<double> u = {0.0, 1e-300, 1e-12, 1e-6, 1e-3, 0.1, 0.25, 0.5, 0.75, 0.9, 0.999, 1.0, 1.5, 10.0};
+    for (double b : {0.5, 1.0}) {
+        double lo = b, hi = b;
+        for (int i = 0; i < 3; ++i) u.push_back(lo = std::nextafter(lo, 0.0)), u.push_back(hi = std::nextafter(hi, 4.0));
+    }
+    for (int i = 1; i < 40; ++i) u.push_back(i / 40.0 + 1e-4);
+    for (const char* spec : g4specs)
+        for (int dim = 1; dim <= 3; ++dim) {
+            SCOPED_TRACE(std::string(spec) + " D=" + std::to_string(dim));
+            const gen::KernelFacts facts = gen::kernel_facts({mollify::parse_spec(spec), dim});
+            const bool gravity = dim == 3 && facts.quantities.potential.has_value();
+            std::ostringstream d;
+            d << "#include <cstdio>\n#include \"gadget4/" << facts.id << ".h\"\nint main() {\n  const double u[] = {";
+            for (double x : u) d << hex_literal_for_test(x) << ", ";
+            d << "};\n  for (double x : u) {\n    double w = -1, dw = -1, w1 = -1, dw1 = -1;\n"
+              << "    kernel_main(x, 1, 1, &w, &dw, COMPUTE_WK_AND_DWK);\n    kernel_main(x, 1, 1, &w1, &dw, COMPUTE_DWK);\n"
+              << "    kernel_main(x, 1, 1, &w, &dw1, COMPUTE_WK);\n    if (w1 != -1 || dw1 != -1) return 3;\n"
+              << "    std::fwrite(&w, 8, 1, stdout);\n    std::fwrite(&dw, 8, 1, stdout);\n";
+            if (gravity)
+                d << "    double fac[6];\n    mollify_g4_" << facts.id << "_gfactors(x, 1.0, fac);\n    std::fwrite(fac, 8, 6, stdout);\n"
+                  << "    mollify_g4_" << facts.id << "_gfactors(x * 1e-3, 1e-3, fac);\n    std::fwrite(fac, 8, 6, stdout);\n";
+            d << "  }\n}\n";
+            std::ofstream(dir / (facts.id + ".cpp")) << d.str();
+            const std::string flags = dim == 1 ? " -DONEDIMS" : dim == 2 ? " -DTWODIMS" : "";
+            ASSERT_NO_FATAL_FAILURE(run_in(dir, "g++", "g++ -std=c++17 -O2 -Wall -Wextra -Werror" + flags + " " + facts.id +
+                                                           ".cpp -o " + facts.id));
+            ASSERT_NO_FATAL_FAILURE(run_in(dir, facts.id, "(./" + facts.id + " > " + facts.id + ".bin)"));
+            const std::vector<double> y = read_doubles(dir / (facts.id + ".bin"));
+            const std::size_t per = gravity ? 14 : 2;
+            ASSERT_EQ(y.size(), u.size() * per);
+            const gen::Exact one(gen::Q(1));
+            const gen::Radial& W = facts.quantities.value;
+            const gen::Radial dW = W.derivative(), d2W = dW.derivative();
+            std::vector<gen::Radial> fac;
+            int finite = -1;
+            if (gravity) fac = gen::gadget_gfactors(facts.kernel, gen::max_gfactor), finite = gen::finite_at_origin(fac);
+            double worst = 0;
+            for (std::size_t i = 0; i < u.size(); ++i) {
+                const double* v = &y[i * per];
+                const double x = u[i];
+                auto check = [&](double got, double exact, double scale, const std::string& what, double bound) {
+                    if (x == 0 && std::fabs(exact) < 1e-150) exact = 0;
+                    const double e = ulps_off(got, exact, scale);
+                    worst = std::max(worst, e);
+                    EXPECT_LE(e, bound) << what << " at u = " << x << ": " << got << " vs " << exact;
+                };
+                check(v[0], exact_at(W, x, one), std::fabs(x * exact_at(dW, x, one)), "wk", bound_ulps);
+                check(v[1], exact_at(dW, x, one), std::fabs(x * exact_at(d2W, x, one)), "dwk", bound_ulps);
+                if (!gravity) continue;
+                const gen::Exact m4pi = gen::sphere_measure(3) * gen::Q(-1);
+                const gen::Radial& phi = *facts.quantities.potential;
+                const gen::Radial& dphi = *facts.quantities.dpotential;
+                const double refs[3] = {exact_at(phi, x, m4pi), exact_at(dphi, x, m4pi),
+                                        x * x * exact_at(*facts.quantities.potential_hess_radial, x, m4pi)};
+                for (int n = 0; n <= finite; ++n) {
+                    const double exact = n < 3 && x > 1e-100 ? refs[n] : exact_at(fac[n], x, one);
+                    const double scale = std::fabs(x * exact_at(fac[n].derivative(), x, one));
+                    check(v[2 + n], exact, scale, "fac" + std::to_string(n), bound_ulps);
+                    // h = 1e-3: h^-(n+1) times the same E_n, r/h rounded once, pow: 2 more ulp
+                    const double hp = std::pow(1e3, n + 1);
+                    check(v[8 + n], exact * hp, scale * hp, "fac" + std::to_string(n) + " at h = 1e-3", bound_ulps + 2);
+                }
+            }
+            std::printf("%s D=%d: worst %.2f ulp\n", spec, dim, worst);
+        }
+}
+
 // A higher-order kernel (zero second moment) has no double hump norm nor hfact: a clear error.
 TEST(PhantomErrors, HigherOrderKernelsNameTheirSecondMoment) {
     const fs::path out = work_dir().string() + "_combo";
@@ -270,12 +364,17 @@ TEST(PeersGolden, RegeneratedFilesEqualTheGoldenOnes) {
                                    out.string() + "'",
                                out / "capture");
     ASSERT_EQ(r.status, 0) << r.err;
-    for (const auto& f : fs::recursive_directory_iterator(golden / "phantom")) {
-        if (!f.is_regular_file()) continue;
-        ++files;
-        EXPECT_EQ(slurp(out / fs::relative(f.path(), golden)), slurp(f.path())) << f.path();
-    }
-    EXPECT_EQ(files, 2);
+    const auto g = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target gadget4 --only cubic-spline --only wendland:k=1 --out '" +
+                                   out.string() + "'",
+                               out / "capture");
+    ASSERT_EQ(g.status, 0) << g.err;
+    for (const char* target : {"phantom", "gadget4"})
+        for (const auto& f : fs::recursive_directory_iterator(golden / target)) {
+            if (!f.is_regular_file()) continue;
+            ++files;
+            EXPECT_EQ(slurp(out / fs::relative(f.path(), golden)), slurp(f.path())) << f.path();
+        }
+    EXPECT_EQ(files, 2 + 6);
 }
 
 }  // namespace
