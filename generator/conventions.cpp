@@ -172,6 +172,21 @@ DerivedConstant phantom_hfact(const ExactKernel& k) {
                 short_string(s) + " (cubic " + short_string(sc) + ")"};
 }
 
+Exact separate_normalisation(const Convention& c, const ExactKernel& k) {
+    if (c.normalisation != NormalisationRule::separate_constant)
+        fail("--target " + c.target + " folds the normalisation into its tables");
+    Exact w0;
+    try {
+        w0 = value_at(k.W.pieces.front(), Q(0));
+    } catch (const Error& e) {
+        fail("--target " + c.target + ": W(0) of " + spec_string(k.spec) + " is not finite (" + e.what() + ")");
+    }
+    if (w0.is_zero())
+        fail("--target " + c.target + ": W(0) = 0 for " + spec_string(k.spec) + ", no constant in front of w/w(0)");
+    if (c.support == SupportRule::twice_sigma) return w0;
+    return w0 * pow(c.support_in_h, -k.dim);
+}
+
 Exact potential_scale(const Convention& c) {
     return c.potential.green_coefficient_3d * mollify_green_3d().inverse();
 }

@@ -94,6 +94,15 @@ DerivedConstant swift_gamma(const ExactKernel& k);
 // the stock C2 1.27, C4 1.45, C6 1.61 against Phantom's rounded 1.3, 1.5,
 // 1.6): hfact = 1.2 (radkern_cubic sigma_cubic) / (radkern sigma).
 DerivedConstant phantom_hfact(const ExactKernel& k);
+// NormalisationRule::separate_constant: the constant C of W = C w(x) h^-D
+// with w the kernel scaled to w(0) = 1 (the stock forms of Phantom and
+// GADGET-4: (1 - q/2)^4 (2q + 1), 1 + 6 (u - 1) u^2, ...), exactly:
+// fixed_multiple and support, x = r/H, H = support_in_h h, so C = W(0) /
+// support_in_h^D with W mollify's kernel on support 1 (Phantom's cnormk:
+// 1/pi for the cubic, 21/(16 pi) for Wendland C2; GADGET-4's NORM 8/pi);
+// twice_sigma, W(u) = C gamma^-D w(u/gamma) (SWIFT): C = W(0). Error for a
+// kernel with W(0) = 0 or singular there.
+Exact separate_normalisation(const Convention& c, const ExactKernel& k);
 // The target's potential over mollify's: c_target / c_mollify (3D), exact.
 Exact potential_scale(const Convention& c);
 

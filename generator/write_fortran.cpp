@@ -189,6 +189,20 @@ std::string lower(std::string s) {
     return s;
 }
 
+// The module's name: the prefix in lower case; beyond Fortran's 63
+// characters (F2008 3.2.2; long radii lists of combinations) its first 54
+// and 8 hex digits of the FNV-1a hash of the whole, so distinct kernels keep
+// distinct modules.
+std::string module_name(const std::string& prefix) {
+    const std::string name = lower(prefix);
+    if (name.size() <= 63) return name;
+    std::uint32_t hash = 2166136261u;
+    for (char c : name) hash = (hash ^ static_cast<unsigned char>(c)) * 16777619u;
+    char tail[16];
+    std::snprintf(tail, sizeof tail, "_%08x", static_cast<unsigned>(hash));
+    return name.substr(0, 54) + tail;
+}
+
 std::string function(const CodeKernel& k, const CodeQuantity& q, const Syntax& s) {
     const std::string name = "kernel_" + q.name;
     std::string out = "\n  ! " + quantity_description(q.id) + ": f_h(r) = h^(" + std::to_string(q.scale_power) +
@@ -225,9 +239,7 @@ std::string function(const CodeKernel& k, const CodeQuantity& q, const Syntax& s
 
 TargetFiles write_fortran(const TargetKernel& tk, const std::string& command) {
     const CodeKernel k = code_kernel(tk);
-    const std::string module = lower(k.prefix);
-    if (module.size() > 63)
-        fail("--target fortran: the module name " + module + " of " + k.spec + " is longer than Fortran's 63 characters");
+    const std::string module = module_name(k.prefix);
     Literals literals;
     const Syntax s = fortran_syntax(literals);
     std::string functions, names;
