@@ -7,8 +7,9 @@
 // gadget_gfactors: g = -4 pi phi the softened 1/r, E_n = r^n ((1/r) d/dr)^n g;
 // fac_n(r) = h^-(n+1) E_n(r/h), h the softening support).
 //
-// w is the kernel's shape s on support 1 and NORM its exact unit-mass
-// normalisation N (W = N s): mollify's tables of s, s' and E_n, evaluated
+// w is the kernel's shape s on support 1 scaled to w(0) = 1 (GADGET-4's
+// stock form) and NORM = N s(0) (conventions.hpp's separate_normalisation;
+// s and N where s(0) is not a nonzero rational): mollify's tables of s, s' and E_n, evaluated
 // as mollify's Precision::fast (factored at the edge).
 #include "c_code.hpp"
 #include "target.hpp"
@@ -69,17 +70,27 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     const std::string prefix = "mollify_g4_" + facts.id;
     const Syntax s = c_syntax(prefix);
 
-    // A combination's shape term by term (its inner edges factored): W's parts over N.
-    const Exact inv_norm = k.normalisation.inverse();
+    // w = s/s(0) (GADGET-4's stock w(0) = 1) and NORM the convention's
+    // separate_normalisation where s(0) is a nonzero rational; else w = s, NORM = N.
+    Q s0(1);
+    bool unit = false;
+    if (k.shape.form_at(Q(0)).is_elementary()) {
+        const Exact v = k.shape.at(Q(0));
+        if (v.is_rational() && v.rational() != 0) s0 = v.rational(), unit = true;
+    }
+    const Exact norm = unit ? separate_normalisation(tk.convention, k) : k.normalisation;
+    const Radial w = k.shape * Exact(Q(1) / s0);
+    // A combination's shape term by term (its inner edges factored): W's parts over NORM.
+    const Exact inv_norm = norm.inverse();
     std::vector<Radial> parts = parts_of(facts, static_cast<int>(table::QuantityId::value)), dparts;
     for (Radial& p : parts) p = p * inv_norm;
     for (const Radial& p : parts) dparts.push_back(p.derivative());
 
     std::vector<std::vector<RoundedPiece>> rounded;
     std::vector<std::pair<std::string, std::string>> names;  // function, meaning
-    rounded.push_back(round_or_fail(k.shape, false, parts, "w"));
+    rounded.push_back(round_or_fail(w, false, parts, "w"));
     names.push_back({prefix + "_w", "w(u), W = NORM w(u) H^-D"});
-    rounded.push_back(round_or_fail(k.shape.derivative(), false, dparts, "w'"));
+    rounded.push_back(round_or_fail(w.derivative(), false, dparts, "w'"));
     names.push_back({prefix + "_dw", "w'(u) = dw/du"});
     const bool gravity = k.dim == 3 && quantity_of(facts, static_cast<int>(table::QuantityId::potential)) != nullptr;
     int finite = -1;  // fac0..fac<finite> have finite limits at r = 0
@@ -104,8 +115,8 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
            ":\n * " + k.source + "\n"
            " * GADGET-4's convention: Hsml = H the support, u = r/H in [0, 1); wk = NORM hinv3 w(u),\n"
            " * dwk = NORM hinv4 w'(u) (hinv3 = H^-D, hinv4 = H^-(D+1), kernel_hinv); mode -1: wk only,\n"
-           " * 0: both, 1: dwk only. w is the kernel's shape on support 1, NORM its exact unit-mass\n"
-           " * normalisation. Evaluated as mollify's Precision::fast (factored at the edge).\n";
+           " * 0: both, 1: dwk only. w is the kernel's shape on support 1 with w(0) = 1, NORM the\n"
+           " * exact constant making W unit-mass. Evaluated as mollify's Precision::fast (factored at the edge).\n";
     if (gravity && finite >= 0)
         out += " * Softening (3D): " + prefix + "_gfactors(r, h, fac) gives fac[n] = h^-(n+1) E_n(r/h), n = 0..5,\n"
                " * E_0 = g the softened 1/r (-4 pi phi, phi the kernel's exact Poisson potential), E_1 = g',\n"
@@ -114,7 +125,7 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     out += " * Each constant is correctly rounded, its exact value beside it.\n */\n";
     out += "#ifndef " + guard + "\n#define " + guard + "\n\n#if !(" + dim_macro + ")\n#error \"" + facts.spec +
            " was generated for D = " + std::to_string(k.dim) + "\"\n#endif\n\n#include <math.h>\n\n" + c_helpers + "\n";
-    out += "#define NORM " + hex_literal(round_to_double(k.normalisation)) + " /* " + comment_text(k.normalisation.to_string()) + " */\n";
+    out += "#define NORM " + hex_literal(round_to_double(norm)) + " /* " + comment_text(norm.to_string()) + " */\n";
     out += "#ifndef COMPUTE_WK\n#define COMPUTE_WK -1\n#define COMPUTE_WK_AND_DWK 0\n#define COMPUTE_DWK 1\n#endif\n";
     out += "static const double " + prefix + "_c[" + std::to_string(constants.size()) + "] = {\n";
     for (std::size_t i = 0; i < constants.size(); ++i)

@@ -218,7 +218,11 @@ TargetFiles write_phantom(const TargetKernel& tk, const std::string& command) {
     const Radial w = phantom_shape(k);
     const Exact four_pi = sphere_measure(3);
     const Exact r5 = Exact(radkern * radkern * radkern * radkern * radkern);
-    const Exact cnormk = k.normalisation * (Q(1) / (radkern * radkern * radkern * shape_scale(k)));  // = 1/(4 pi int_0^2 w q^2 dq)
+    // = 1/(4 pi int_0^2 w q^2 dq); with w(0) = 1 the convention's separate_normalisation (conventions.hpp)
+    const bool unit = k.shape.form_at(Q(0)).is_elementary() && k.shape.at(Q(0)).is_rational() &&
+                      k.shape.at(Q(0)).rational() != 0;
+    const Exact cnormk = unit ? separate_normalisation(tk.convention, k)
+                             : k.normalisation * (Q(1) / (radkern * radkern * radkern));
     const Exact m4 = radial_integral(w, 4);  // the 3D second moment / 4 pi
     if (m4.is_zero() || (m4.is_rational() && m4.rational() < 0))
         fail("--target phantom: " + facts.spec + " has second moment " + m4.to_string() +

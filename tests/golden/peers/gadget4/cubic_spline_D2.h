@@ -6,8 +6,8 @@
  * Monaghan & Lattanzio 1985 (M4), support radius 1
  * GADGET-4's convention: Hsml = H the support, u = r/H in [0, 1); wk = NORM hinv3 w(u),
  * dwk = NORM hinv4 w'(u) (hinv3 = H^-D, hinv4 = H^-(D+1), kernel_hinv); mode -1: wk only,
- * 0: both, 1: dwk only. w is the kernel's shape on support 1, NORM its exact unit-mass
- * normalisation. Evaluated as mollify's Precision::fast (factored at the edge).
+ * 0: both, 1: dwk only. w is the kernel's shape on support 1 with w(0) = 1, NORM the
+ * exact constant making W unit-mass. Evaluated as mollify's Precision::fast (factored at the edge).
  * Each constant is correctly rounded, its exact value beside it.
  */
 #ifndef MOLLIFY_G4_cubic_spline_D2_H

@@ -6,8 +6,8 @@
  * Franz 2019, Lemma 4.36 / Cor. 4.39 (psi_{d,k,l}, d = D)
  * GADGET-4's convention: Hsml = H the support, u = r/H in [0, 1); wk = NORM hinv3 w(u),
  * dwk = NORM hinv4 w'(u) (hinv3 = H^-D, hinv4 = H^-(D+1), kernel_hinv); mode -1: wk only,
- * 0: both, 1: dwk only. w is the kernel's shape on support 1, NORM its exact unit-mass
- * normalisation. Evaluated as mollify's Precision::fast (factored at the edge).
+ * 0: both, 1: dwk only. w is the kernel's shape on support 1 with w(0) = 1, NORM the
+ * exact constant making W unit-mass. Evaluated as mollify's Precision::fast (factored at the edge).
  * Each constant is correctly rounded, its exact value beside it.
  */
 #ifndef MOLLIFY_G4_wendland_k_1_D2_H
@@ -63,16 +63,16 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
 
-#define NORM 0x1.6481cf814b34fp+5 /* 140 * pi^-1 */
+#define NORM 0x1.1d34a60108f72p+1 /* 7 * pi^-1 */
 #ifndef COMPUTE_WK
 #define COMPUTE_WK -1
 #define COMPUTE_WK_AND_DWK 0
 #define COMPUTE_DWK 1
 #endif
 static const double mollify_g4_wendland_k_1_D2_c[3] = {
-    0x1.999999999999ap-5, /* [0] 1/20 */
-    0x1.999999999999ap-3, /* [1] 1/5 */
-    -0x1p+0, /* [2] -1 */
+    0x1p+0, /* [0] 1 */
+    0x1p+2, /* [1] 4 */
+    -0x1.4p+4, /* [2] -20 */
 };
 
 /* w(u), W = NORM w(u) H^-D */

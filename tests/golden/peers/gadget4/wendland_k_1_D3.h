@@ -6,8 +6,8 @@
  * Franz 2019, Lemma 4.36 / Cor. 4.39 (psi_{d,k,l}, d = D)
  * GADGET-4's convention: Hsml = H the support, u = r/H in [0, 1); wk = NORM hinv3 w(u),
  * dwk = NORM hinv4 w'(u) (hinv3 = H^-D, hinv4 = H^-(D+1), kernel_hinv); mode -1: wk only,
- * 0: both, 1: dwk only. w is the kernel's shape on support 1, NORM its exact unit-mass
- * normalisation. Evaluated as mollify's Precision::fast (factored at the edge).
+ * 0: both, 1: dwk only. w is the kernel's shape on support 1 with w(0) = 1, NORM the
+ * exact constant making W unit-mass. Evaluated as mollify's Precision::fast (factored at the edge).
  * Softening (3D): mollify_g4_wendland_k_1_D3_gfactors(r, h, fac) gives fac[n] = h^-(n+1) E_n(r/h), n = 0..5,
  * E_0 = g the softened 1/r (-4 pi phi, phi the kernel's exact Poisson potential), E_1 = g',
  * E_2 = g'' - g'/r, E_(n+1) = E_n' - n E_n/r (GADGET-4's gfactors fac0..fac5; 1/r, -1/r^2,
@@ -67,16 +67,16 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
 
-#define NORM 0x1.0b615ba0f867bp+6 /* 210 * pi^-1 */
+#define NORM 0x1.abcef9018d72bp+1 /* 21/2 * pi^-1 */
 #ifndef COMPUTE_WK
 #define COMPUTE_WK -1
 #define COMPUTE_WK_AND_DWK 0
 #define COMPUTE_DWK 1
 #endif
 static const double mollify_g4_wendland_k_1_D3_c[92] = {
-    0x1.999999999999ap-5, /* [0] 1/20 */
-    0x1.999999999999ap-3, /* [1] 1/5 */
-    -0x1p+0, /* [2] -1 */
+    0x1p+0, /* [0] 1 */
+    0x1p+2, /* [1] 4 */
+    -0x1.4p+4, /* [2] -20 */
     0x1.4f72p+1, /* [3] 42937/16384 */
     -0x1.5368p+1, /* [4] -10861/4096 */
     -0x1.576p+1, /* [5] -2747/1024 */
