@@ -75,8 +75,11 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     Q s0(1);
     bool unit = false;
     if (k.shape.form_at(Q(0)).is_elementary()) {
-        const Exact v = k.shape.at(Q(0));
-        if (v.is_rational() && v.rational() != 0) s0 = v.rational(), unit = true;
+        try {
+            const Exact v = k.shape.at(Q(0));
+            if (v.is_rational() && v.rational() != 0) s0 = v.rational(), unit = true;
+        } catch (const Error&) {  // singular at 0 (the viscosity kernel's 1/r): w = s, NORM = N
+        }
     }
     const Exact norm = unit ? separate_normalisation(tk.convention, k) : k.normalisation;
     const Radial w = k.shape * Exact(Q(1) / s0);

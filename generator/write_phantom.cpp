@@ -34,6 +34,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <optional>
 
 namespace mollify::gen {
 
@@ -51,10 +52,18 @@ Radial x_times(const Radial& f, const Q& c, int power) { return f.times(Laurent:
 
 // Phantom's split of W into cnormk w: w(0) = 1 (its stock kernels), where
 // the shape's value at 0 is a nonzero rational; else the shape as it is.
+std::optional<Q> rational_at_zero(const ExactKernel& k) {
+    if (!k.shape.form_at(Q(0)).is_elementary()) return std::nullopt;
+    try {
+        const Exact s0 = k.shape.at(Q(0));
+        if (s0.is_rational() && s0.rational() != 0) return s0.rational();
+    } catch (const Error&) {  // singular at 0 (the viscosity kernel's 1/r)
+    }
+    return std::nullopt;
+}
 Q shape_scale(const ExactKernel& k) {
-    if (!k.shape.form_at(Q(0)).is_elementary()) return Q(1);
-    const Exact s0 = k.shape.at(Q(0));
-    return s0.is_rational() && s0.rational() != 0 ? Q(1) / s0.rational() : Q(1);
+    const std::optional<Q> s0 = rational_at_zero(k);
+    return s0 ? Q(1) / *s0 : Q(1);
 }
 Radial phantom_shape(const ExactKernel& k) { return k.shape * Exact(shape_scale(k)); }
 
@@ -219,8 +228,7 @@ TargetFiles write_phantom(const TargetKernel& tk, const std::string& command) {
     const Exact four_pi = sphere_measure(3);
     const Exact r5 = Exact(radkern * radkern * radkern * radkern * radkern);
     // = 1/(4 pi int_0^2 w q^2 dq); with w(0) = 1 the convention's separate_normalisation (conventions.hpp)
-    const bool unit = k.shape.form_at(Q(0)).is_elementary() && k.shape.at(Q(0)).is_rational() &&
-                      k.shape.at(Q(0)).rational() != 0;
+    const bool unit = rational_at_zero(k).has_value();
     const Exact cnormk = unit ? separate_normalisation(tk.convention, k)
                              : k.normalisation * (Q(1) / (radkern * radkern * radkern));
     const Exact m4 = radial_integral(w, 4);  // the 3D second moment / 4 pi
