@@ -11,6 +11,8 @@ const std::vector<Target>& targets() {
         {"c", write_c},
         {"fortran", write_fortran},
         {"python", write_python},
+        {"phantom", write_phantom},
+        {"gadget4", write_gadget4},
     };
     return all;
 }

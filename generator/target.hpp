@@ -49,5 +49,7 @@ const Target& target(const std::string& name);
 TargetFiles write_c(const TargetKernel& k, const std::string& command);
 TargetFiles write_fortran(const TargetKernel& k, const std::string& command);
 TargetFiles write_python(const TargetKernel& k, const std::string& command);
+TargetFiles write_phantom(const TargetKernel& k, const std::string& command);
+TargetFiles write_gadget4(const TargetKernel& k, const std::string& command);
 
 }  // namespace mollify::gen

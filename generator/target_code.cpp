@@ -53,6 +53,15 @@ CodeKernel code_kernel(const TargetKernel& k) {
     return out;
 }
 
+CodeQuantity code_quantity(const std::string& name, const std::vector<RoundedPiece>& rounded,
+                           std::vector<CodeConstant>& constants) {
+    if (rounded.empty()) fail("internal: " + name + " without pieces");
+    CodeQuantity q{table::QuantityId::value, name, 0, {}, {}, std::nullopt};
+    for (std::size_t p = 0; p + 1 < rounded.size(); ++p) q.inside.push_back(code_piece(rounded[p], constants));
+    q.exterior = code_piece(rounded.back(), constants);
+    return q;
+}
+
 std::string inside_term(const Syntax& s, const CodeTerm& ct) {
     const RoundedTerm& t = *ct.term;
     std::string v;

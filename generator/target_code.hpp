@@ -60,6 +60,12 @@ struct CodeKernel {
 
 CodeKernel code_kernel(const TargetKernel& k);
 
+// A function of a target's own (a writer rounds a Radial it derives with
+// rounded_quantity), as a CodeQuantity named `name` (id and scale unused),
+// its coefficients appended to `constants`. `rounded` must outlive it.
+CodeQuantity code_quantity(const std::string& name, const std::vector<RoundedPiece>& rounded,
+                           std::vector<CodeConstant>& constants);
+
 // How a language spells what the term expressions need.
 struct Syntax {
     std::function<std::string(std::size_t)> constant;  // constant i of the flat array

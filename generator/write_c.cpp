@@ -4,6 +4,7 @@
 // quantity in mollify's convention (conventions.hpp, "c"): <prefix>_<q>(r)
 // for h = 1 and <prefix>_<q>_h(r, h) = h^p f(r/h), evaluated in the
 // runtime's Precision::fast form (target_code.hpp).
+#include "c_code.hpp"
 #include "target.hpp"
 #include "target_code.hpp"
 
@@ -13,10 +14,8 @@
 
 namespace mollify::gen {
 
-namespace {
-
 // Shared by every header: defined once per translation unit.
-const char* c_helpers = R"(#ifndef MOLLIFY_C_HELPERS_1
+const char* const c_helpers = R"(#ifndef MOLLIFY_C_HELPERS_1
 #define MOLLIFY_C_HELPERS_1
 /* The evaluation helpers of mollify's Precision::fast form
    (include/mollify/detail/evaluate.hpp), shared by every kernel header. */
@@ -79,6 +78,8 @@ Syntax c_syntax(const std::string& prefix) {
     s.log = "log";
     return s;
 }
+
+namespace {
 
 // Exact values in C comments ("*/" never ends one early).
 std::string comment_text(std::string s) {

@@ -7,6 +7,7 @@
 // (target_code.hpp). Fortran 2008 has no fused multiply-add: the distances
 // (a h - r)/h and (r - c h)/h round c h first (as the runtime does without
 // an FMA: an absolute error <= c 2^-53, the size of the rounding of q).
+#include "fortran_code.hpp"
 #include "target.hpp"
 #include "target_code.hpp"
 
@@ -21,8 +22,6 @@
 
 namespace mollify::gen {
 
-namespace {
-
 // The bits of a double as a Fortran constant: real(z'...', c_double) is the
 // double with exactly these bits (F2008 13.7.138).
 std::string boz(double x) {
@@ -35,12 +34,6 @@ std::string boz(double x) {
 // The evaluation helpers of mollify's Precision::fast form
 // (include/mollify/detail/evaluate.hpp); a module contains those it uses
 // (gfortran -Wall warns of unused private procedures).
-struct Helper {
-    const char* name;
-    std::vector<std::string> uses;  // helpers it calls (c_log1p: the interface to C's log1p)
-    const char* code;
-};
-
 const std::vector<Helper>& fortran_helpers() {
     static const std::vector<Helper> all = {
         {"horner", {}, R"(
@@ -151,17 +144,13 @@ std::string used_helpers(const std::string& functions, bool& log1p) {
     return out;
 }
 
-// Piece bounds, edges and centres: the module's array b, so that no line is long.
-struct Literals {
-    std::vector<double> values;
-    std::string operator()(double x) {
-        if (x == 0 && !std::signbit(x)) return "0.0_c_double";
-        for (std::size_t i = 0; i < values.size(); ++i)
-            if (std::bit_cast<std::uint64_t>(values[i]) == std::bit_cast<std::uint64_t>(x)) return "b(" + std::to_string(i) + ")";
-        values.push_back(x);
-        return "b(" + std::to_string(values.size() - 1) + ")";
-    }
-};
+std::string Literals::operator()(double x) {
+    if (x == 0 && !std::signbit(x)) return "0.0_c_double";
+    for (std::size_t i = 0; i < values.size(); ++i)
+        if (std::bit_cast<std::uint64_t>(values[i]) == std::bit_cast<std::uint64_t>(x)) return "b(" + std::to_string(i) + ")";
+    values.push_back(x);
+    return "b(" + std::to_string(values.size() - 1) + ")";
+}
 
 Syntax fortran_syntax(Literals& literals) {
     Syntax s;
@@ -192,6 +181,8 @@ std::string continued(const std::string& text) {
     }
     return out;
 }
+
+namespace {
 
 std::string lower(std::string s) {
     for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -1,0 +1,16 @@
+// What the C-speaking writers share (write_c.cpp defines it; write_gadget4.cpp
+// uses it): the Precision::fast helpers as static inline C functions
+// (valid C99 and C++) and the Syntax of target_code.hpp for C, the
+// coefficients read from the array <prefix>_c.
+#pragma once
+
+#include "target_code.hpp"
+
+#include <string>
+
+namespace mollify::gen {
+
+extern const char* const c_helpers;
+Syntax c_syntax(const std::string& prefix);
+
+}  // namespace mollify::gen

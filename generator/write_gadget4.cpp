@@ -1,0 +1,157 @@
+// --target gadget4: the per-kernel part of GADGET-4's src/sph/kernel.h
+// (../shared/peers.md, "GADGET-4": Hsml = H the support, u = r/H in [0, 1),
+// wk = NORM hinv3 w(u), dwk = NORM hinv4 w'(u), mode -1/0/1 = W only / both /
+// dW only, hinv3 = H^-D, hinv4 = H^-(D+1)), one header per dimension
+// (ONEDIMS, TWODIMS or 3D, as GADGET-4's Config.sh), and in 3D the
+// softening g-factors fac0..fac5 of its multipole tree (softening.hpp's
+// gadget_gfactors: g = -4 pi phi the softened 1/r, E_n = r^n ((1/r) d/dr)^n g;
+// fac_n(r) = h^-(n+1) E_n(r/h), h the softening support).
+//
+// w is the kernel's shape s on support 1 scaled to w(0) = 1 (GADGET-4's
+// stock form) and NORM = N s(0) (conventions.hpp's separate_normalisation;
+// s and N where s(0) is not a nonzero rational): mollify's tables of s, s' and E_n, evaluated
+// as mollify's Precision::fast (factored at the edge).
+#include "c_code.hpp"
+#include "target.hpp"
+#include "target_code.hpp"
+
+#include "emit_round.hpp"
+#include "error.hpp"
+#include "rounding.hpp"
+#include "softening.hpp"
+#include "softening_certificate.hpp"
+
+namespace mollify::gen {
+
+namespace {
+
+std::string comment_text(std::string s) {
+    for (std::size_t i = s.find("*/"); i != std::string::npos; i = s.find("*/", i)) s.insert(i + 1, " ");
+    return s;
+}
+
+// A function of u on [0, 1] (and outside: the exterior pieces, at r = u).
+std::string unit_function(const std::string& name, const std::string& meaning, const CodeQuantity& q, const Syntax& s) {
+    std::string out = "\n/* " + meaning + " */\nstatic inline double " + name + "(double q) {\n";
+    std::string body;
+    for (std::size_t p = 0; p < q.inside.size(); ++p) {
+        const CodePiece& piece = q.inside[p];
+        const bool last = p + 1 == q.inside.size();
+        body += "    /* " + comment_text(piece.note) + " */\n";
+        if (q.inside.size() > 1)
+            body += std::string("    ") + (p == 0 ? "" : last ? "else" : "else ") +
+                    (last ? std::string() : "if (q < " + hex_literal(q.inside[p + 1].lo) + ")") + "\n";
+        body += "        y = " + piece_sum(s, piece, false) + ";\n";
+    }
+    const std::string outside = piece_sum(s, q.exterior, true);
+    const bool r_used = uses(body, "r") || uses(outside, "r"), h_used = uses(body, "h"), e_used = uses(body, "e");
+    out += "    double y;\n";
+    if (r_used) out += "    const double r = q;\n";
+    if (h_used) out += "    const double h = 1.0;\n";
+    out += "    if (q > 1) return " + outside + ";\n";
+    out += "    {\n";
+    if (e_used) out += "    const double e = 1 - q;\n";
+    out += body + "    }\n    return y;\n}\n";
+    return out;
+}
+
+std::vector<RoundedPiece> round_or_fail(const Radial& f, bool potential_like, const std::vector<Radial>& parts,
+                                        const std::string& what) {
+    auto r = rounded_quantity(&f, potential_like, parts);
+    if (!r) fail("internal: --target gadget4: " + what + " did not round");
+    return std::move(*r);
+}
+
+}  // namespace
+
+TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
+    const KernelFacts& facts = tk.facts;
+    const ExactKernel& k = facts.kernel;
+    const std::string prefix = "mollify_g4_" + facts.id;
+    const Syntax s = c_syntax(prefix);
+
+    // w = s/s(0) (GADGET-4's stock w(0) = 1) and NORM the convention's
+    // separate_normalisation where s(0) is a nonzero rational; else w = s, NORM = N.
+    Q s0(1);
+    bool unit = false;
+    if (k.shape.form_at(Q(0)).is_elementary()) {
+        try {
+            const Exact v = k.shape.at(Q(0));
+            if (v.is_rational() && v.rational() != 0) s0 = v.rational(), unit = true;
+        } catch (const Error&) {  // singular at 0 (the viscosity kernel's 1/r): w = s, NORM = N
+        }
+    }
+    const Exact norm = unit ? separate_normalisation(tk.convention, k) : k.normalisation;
+    const Radial w = k.shape * Exact(Q(1) / s0);
+    // A combination's shape term by term (its inner edges factored): W's parts over NORM.
+    const Exact inv_norm = norm.inverse();
+    std::vector<Radial> parts = parts_of(facts, static_cast<int>(table::QuantityId::value)), dparts;
+    for (Radial& p : parts) p = p * inv_norm;
+    for (const Radial& p : parts) dparts.push_back(p.derivative());
+
+    std::vector<std::vector<RoundedPiece>> rounded;
+    std::vector<std::pair<std::string, std::string>> names;  // function, meaning
+    rounded.push_back(round_or_fail(w, false, parts, "w"));
+    names.push_back({prefix + "_w", "w(u), W = NORM w(u) H^-D"});
+    rounded.push_back(round_or_fail(w.derivative(), false, dparts, "w'"));
+    names.push_back({prefix + "_dw", "w'(u) = dw/du"});
+    const bool gravity = k.dim == 3 && quantity_of(facts, static_cast<int>(table::QuantityId::potential)) != nullptr;
+    int finite = -1;  // fac0..fac<finite> have finite limits at r = 0
+    if (gravity) {
+        const std::vector<Radial> g = gadget_gfactors(k, max_gfactor);
+        finite = finite_at_origin(g);
+        for (std::size_t n = 0; static_cast<int>(n) <= finite; ++n) {
+            rounded.push_back(round_or_fail(g[n], true, {}, "fac" + std::to_string(n)));
+            names.push_back({prefix + "_fac" + std::to_string(n), "E_" + std::to_string(n) + "(u), fac" + std::to_string(n) +
+                                                                       " at h = 1 (softening.hpp; 1/r-like outside)"});
+        }
+    }
+    std::vector<CodeConstant> constants;
+    std::string functions;
+    for (std::size_t i = 0; i < rounded.size(); ++i)
+        functions += unit_function(names[i].first, names[i].second, code_quantity(names[i].first, rounded[i], constants), s);
+
+    const std::string dim_macro = k.dim == 1 ? "defined(ONEDIMS)" : k.dim == 2 ? "defined(TWODIMS)" : "!defined(ONEDIMS) && !defined(TWODIMS)";
+    const std::string guard = "MOLLIFY_G4_" + facts.id + "_H";
+    std::string out = "/*\n" + banner(command, " *");
+    out += " *\n * GADGET-4's per-kernel part of src/sph/kernel.h for " + facts.spec + " in D = " + std::to_string(k.dim) +
+           ":\n * " + k.source + "\n"
+           " * GADGET-4's convention: Hsml = H the support, u = r/H in [0, 1); wk = NORM hinv3 w(u),\n"
+           " * dwk = NORM hinv4 w'(u) (hinv3 = H^-D, hinv4 = H^-(D+1), kernel_hinv); mode -1: wk only,\n"
+           " * 0: both, 1: dwk only. w is the kernel's shape on support 1 with w(0) = 1, NORM the\n"
+           " * exact constant making W unit-mass. Evaluated as mollify's Precision::fast (factored at the edge).\n";
+    if (gravity && finite >= 0)
+        out += " * Softening (3D): " + prefix + "_gfactors(r, h, fac) gives fac[n] = h^-(n+1) E_n(r/h), n = 0..5,\n"
+               " * E_0 = g the softened 1/r (-4 pi phi, phi the kernel's exact Poisson potential), E_1 = g',\n"
+               " * E_2 = g'' - g'/r, E_(n+1) = E_n' - n E_n/r (GADGET-4's gfactors fac0..fac5; 1/r, -1/r^2,\n"
+               " * 3/r^3, ... outside the support h).\n";
+    out += " * Each constant is correctly rounded, its exact value beside it.\n */\n";
+    out += "#ifndef " + guard + "\n#define " + guard + "\n\n#if !(" + dim_macro + ")\n#error \"" + facts.spec +
+           " was generated for D = " + std::to_string(k.dim) + "\"\n#endif\n\n#include <math.h>\n\n" + c_helpers + "\n";
+    out += "#define NORM " + hex_literal(round_to_double(norm)) + " /* " + comment_text(norm.to_string()) + " */\n";
+    out += "#ifndef COMPUTE_WK\n#define COMPUTE_WK -1\n#define COMPUTE_WK_AND_DWK 0\n#define COMPUTE_DWK 1\n#endif\n";
+    out += "static const double " + prefix + "_c[" + std::to_string(constants.size()) + "] = {\n";
+    for (std::size_t i = 0; i < constants.size(); ++i)
+        out += "    " + hex_literal(constants[i].value) + ", /* [" + std::to_string(i) + "] " + comment_text(constants[i].exact) + " */\n";
+    out += "};\n" + functions;
+    out += "\nstatic inline void kernel_main(double u, double hinv3, double hinv4, double *wk, double *dwk, int mode)\n{\n"
+           "    if (mode <= COMPUTE_WK_AND_DWK) *wk = NORM * hinv3 * " + prefix + "_w(u);\n"
+           "    if (mode >= COMPUTE_WK_AND_DWK) *dwk = NORM * hinv4 * " + prefix + "_dw(u);\n}\n";
+    if (gravity && finite >= 0) {
+        if (finite < max_gfactor)
+            out += "\n/* fac" + std::to_string(finite + 1) + " and higher have no finite limit at r = 0 for " +
+                   facts.spec + " (odd powers or logarithms\n   of r at the origin): not given, and a higher MULTIPOLE_ORDER is an error. */\n"
+                   "#if defined(MULTIPOLE_ORDER) && MULTIPOLE_ORDER > " + std::to_string(finite) + "\n#error \"" + facts.spec +
+                   ": the g-factors beyond fac" + std::to_string(finite) + " blow up at r = 0\"\n#endif\n";
+        out += "\n/* fac[0.." + std::to_string(finite) + "] */\nstatic inline void " + prefix +
+               "_gfactors(double r, double h, double fac[6])\n{\n    const double u = r / h, hinv = 1 / h;\n";
+        for (int n = 0; n <= finite; ++n)
+            out += "    fac[" + std::to_string(n) + "] = " + prefix + "_fac" + std::to_string(n) + "(u) * pow(hinv, " +
+                   std::to_string(n + 1) + ");\n";
+        out += "}\n";
+    }
+    out += "\n#endif\n";
+    return {{"gadget4/" + facts.id + ".h", out}};
+}
+
+}  // namespace mollify::gen
