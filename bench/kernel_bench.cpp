@@ -293,6 +293,11 @@ void register_kernel(const char* label) {
             const Smoothing s = W::smoothing(h);
             timed(st, n, pb, e_static, [&] { W::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
         });
+        reg("W+gradW/" + base + "static-fast" + suffix, [n, pb, e_fast](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = F::smoothing(h);
+            timed(st, n, pb, e_fast, [&] { F::pairs(d.points(), s, d.w, d.grad()); });
+        });
         reg("W+gradW/" + base + "static-fast-unchecked" + suffix, [n, pb, e_fast](benchmark::State& st) {
             Data& d = data(n);
             const Smoothing s = F::smoothing(h);
@@ -369,6 +374,17 @@ void register_forms(const char* label) {
                 timed(st, n, 0, none, [&] { k.pairs(x, s, d.w, g); });
             });
         }
+        // Checked, as the run-time form's pairs are.
+        reg("W+gradW/" + base + "static" + suffix, [n, none](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = W::smoothing(h);
+            timed(st, n, 0, none, [&] { W::pairs(d.points(), s, d.w, d.grad()); });
+        });
+        reg("W+gradW/" + base + "static-fast" + suffix, [n, none](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = F::smoothing(h);
+            timed(st, n, 0, none, [&] { F::pairs(d.points(), s, d.w, d.grad()); });
+        });
         reg("W+gradW/" + base + "static-unchecked" + suffix, [n, none](benchmark::State& st) {
             Data& d = data(n);
             const Smoothing s = W::smoothing(h);
