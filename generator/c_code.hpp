@@ -13,4 +13,11 @@ namespace mollify::gen {
 extern const char* const c_helpers;
 Syntax c_syntax(const std::string& prefix);
 
+// Exact values in C comments ("*/" never ends one early).
+std::string comment_text(std::string s);
+
+// A quantity's inside pieces as C: an if/else chain on q (a piece from its
+// lower bound on), each assigning `target`; every line after `indent`.
+std::string c_piece_chain(const CodeQuantity& q, const Syntax& s, const std::string& indent, const std::string& target);
+
 }  // namespace mollify::gen

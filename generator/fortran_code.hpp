@@ -38,4 +38,9 @@ Syntax fortran_syntax(Literals& literals);
 // A sum of terms over several lines, continued with '&'.
 std::string continued(const std::string& text);
 
+// A quantity's inside pieces as Fortran: an if/else if chain on q (a piece
+// from its lower bound on), each assigning y; lines after `indent`, the
+// assignments after `indent` + `inner`.
+std::string fortran_piece_chain(const CodeQuantity& q, const Syntax& s, const std::string& indent, const std::string& inner);
+
 }  // namespace mollify::gen

@@ -79,13 +79,26 @@ Syntax c_syntax(const std::string& prefix) {
     return s;
 }
 
-namespace {
-
-// Exact values in C comments ("*/" never ends one early).
 std::string comment_text(std::string s) {
     for (std::size_t i = s.find("*/"); i != std::string::npos; i = s.find("*/", i)) s.insert(i + 1, " ");
     return s;
 }
+
+std::string c_piece_chain(const CodeQuantity& q, const Syntax& s, const std::string& indent, const std::string& target) {
+    std::string body;
+    for (std::size_t p = 0; p < q.inside.size(); ++p) {
+        const CodePiece& piece = q.inside[p];
+        const bool last = p + 1 == q.inside.size();
+        body += indent + "/* " + comment_text(piece.note) + " */\n";
+        if (q.inside.size() > 1)
+            body += indent + (p == 0 ? "" : last ? "else" : "else ") +
+                    (last ? std::string() : "if (q < " + hex_literal(q.inside[p + 1].lo) + ")") + "\n";
+        body += indent + "    " + target + " = " + piece_sum(s, piece, false) + ";\n";
+    }
+    return body;
+}
+
+namespace {
 
 std::string upper(std::string s) {
     for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -99,16 +112,7 @@ std::string function(const CodeKernel& k, const CodeQuantity& q, const Syntax& s
     out += "static inline double " + name + "_h(double r, double h) {\n";
     out += "    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */\n";
     out += "    if (r > h) return " + piece_sum(s, q.exterior, true) + ";\n";
-    std::string body;
-    for (std::size_t p = 0; p < q.inside.size(); ++p) {
-        const CodePiece& piece = q.inside[p];
-        const bool last = p + 1 == q.inside.size();
-        body += "        /* " + comment_text(piece.note) + " */\n";
-        if (q.inside.size() > 1)
-            body += std::string("        ") + (p == 0 ? "" : last ? "else" : "else ") +
-                   (last ? std::string() : "if (q < " + hex_literal(q.inside[p + 1].lo) + ")") + "\n";
-        body += "            x = " + piece_sum(s, piece, false) + ";\n";
-    }
+    const std::string body = c_piece_chain(q, s, "        ", "x");
     out += "    {\n";
     if (uses(body, "q")) out += "        const double q = r / h;\n";
     if (uses(body, "e")) out += "        const double e = (h - r) / h;\n";

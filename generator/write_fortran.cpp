@@ -182,6 +182,21 @@ std::string continued(const std::string& text) {
     return out;
 }
 
+std::string fortran_piece_chain(const CodeQuantity& q, const Syntax& s, const std::string& indent, const std::string& inner) {
+    std::string body;
+    for (std::size_t p = 0; p < q.inside.size(); ++p) {
+        const CodePiece& piece = q.inside[p];
+        const bool last = p + 1 == q.inside.size();
+        body += indent + "! " + piece.note + "\n";
+        if (q.inside.size() > 1)
+            body += indent + (last ? std::string("else\n")
+                                   : std::string(p == 0 ? "if" : "else if") + " (q < " + s.literal(q.inside[p + 1].lo) + ") then\n");
+        body += indent + inner + "y = " + continued(piece_sum(s, piece, false)) + "\n";
+    }
+    if (q.inside.size() > 1) body += indent + "end if\n";
+    return body;
+}
+
 namespace {
 
 std::string lower(std::string s) {
@@ -212,17 +227,7 @@ std::string function(const CodeKernel& k, const CodeQuantity& q, const Syntax& s
     out += "    if (.not. (r >= 0.0_c_double) .or. .not. (h > 0.0_c_double) .or. .not. ieee_is_finite(h)) then\n";
     out += "      y = ieee_value(y, ieee_quiet_nan)  ! r >= 0 and a finite h > 0\n      return\n    end if\n";
     out += "    if (r > h) then\n      y = " + continued(piece_sum(s, q.exterior, true)) + "\n      return\n    end if\n";
-    std::string body;
-    for (std::size_t p = 0; p < q.inside.size(); ++p) {
-        const CodePiece& piece = q.inside[p];
-        const bool last = p + 1 == q.inside.size();
-        body += "    ! " + piece.note + "\n";
-        if (q.inside.size() > 1)
-            body += last ? "    else\n"
-                        : std::string(p == 0 ? "    if" : "    else if") + " (q < " + s.literal(q.inside[p + 1].lo) + ") then\n";
-        body += "      y = " + continued(piece_sum(s, piece, false)) + "\n";
-    }
-    if (q.inside.size() > 1) body += "    end if\n";
+    const std::string body = fortran_piece_chain(q, s, "    ", "  ");
     const bool q_used = uses(body, "q"), e_used = uses(body, "e");
     out.replace(out.find("@E@"), 3, std::string(q_used ? ", q" : "") + (e_used ? ", e" : ""));
     out += std::string(q_used ? "    q = r / h\n" : "") + (e_used ? "    e = (h - r) / h\n" : "") + body;

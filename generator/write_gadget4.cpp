@@ -25,24 +25,10 @@ namespace mollify::gen {
 
 namespace {
 
-std::string comment_text(std::string s) {
-    for (std::size_t i = s.find("*/"); i != std::string::npos; i = s.find("*/", i)) s.insert(i + 1, " ");
-    return s;
-}
-
 // A function of u on [0, 1] (and outside: the exterior pieces, at r = u).
 std::string unit_function(const std::string& name, const std::string& meaning, const CodeQuantity& q, const Syntax& s) {
     std::string out = "\n/* " + meaning + " */\nstatic inline double " + name + "(double q) {\n";
-    std::string body;
-    for (std::size_t p = 0; p < q.inside.size(); ++p) {
-        const CodePiece& piece = q.inside[p];
-        const bool last = p + 1 == q.inside.size();
-        body += "    /* " + comment_text(piece.note) + " */\n";
-        if (q.inside.size() > 1)
-            body += std::string("    ") + (p == 0 ? "" : last ? "else" : "else ") +
-                    (last ? std::string() : "if (q < " + hex_literal(q.inside[p + 1].lo) + ")") + "\n";
-        body += "        y = " + piece_sum(s, piece, false) + ";\n";
-    }
+    const std::string body = c_piece_chain(q, s, "    ", "y");
     const std::string outside = piece_sum(s, q.exterior, true);
     const bool r_used = uses(body, "r") || uses(outside, "r"), h_used = uses(body, "h"), e_used = uses(body, "e");
     out += "    double y;\n";

@@ -127,16 +127,7 @@ std::string unit_function(const UnitFunction& u, const CodeQuantity& q, const Sy
     const std::string name = "u_" + u.name;
     std::string out = "\n ! " + u.meaning + ", x = q/radkern\n";
     out += " pure function " + name + "(q) result(y)\n  real(c_double), intent(in) :: q\n  real(c_double) :: y@E@\n";
-    std::string body;
-    for (std::size_t p = 0; p < q.inside.size(); ++p) {
-        const CodePiece& piece = q.inside[p];
-        const bool last = p + 1 == q.inside.size();
-        body += "  ! " + piece.note + "\n";
-        if (q.inside.size() > 1)
-            body += last ? "  else\n" : std::string(p == 0 ? "  if" : "  else if") + " (q < " + s.literal(q.inside[p + 1].lo) + ") then\n";
-        body += "   y = " + continued(piece_sum(s, piece, false)) + "\n";
-    }
-    if (q.inside.size() > 1) body += "  end if\n";
+    const std::string body = fortran_piece_chain(q, s, "  ", " ");
     const std::string outside = piece_sum(s, q.exterior, true);
     const bool r_used = uses(body, "r") || uses(outside, "r"), h_used = uses(body, "h"), e_used = uses(body, "e");
     out.replace(out.find("@E@"), 3, std::string(r_used ? ", r" : "") + (h_used ? ", h" : "") + (e_used ? ", e" : ""));

@@ -360,6 +360,13 @@ protected:
                     EXPECT_EQ(std::bit_cast<std::uint64_t>(y), std::bit_cast<std::uint64_t>(y1))
                         << language << " " << k.spec << " " << q.name << "(r) is not " << q.name << "_h(r, 1) at r = " << pt.r;
                     const Real& x = exact[i];
+                    // Singular at r = 0 (hess_radial of a 2D combination): the exact
+                    // value is +-inf there, and so must the file's be.
+                    if (boost::multiprecision::isinf(x)) {
+                        EXPECT_EQ(y, static_cast<double>(x))
+                            << language << " " << k.spec << " " << q.name << " at r = " << pt.r << ", h = " << pt.h;
+                        continue;
+                    }
                     // max |f_h| over the support, for the tiny values
                     const double max = ref.max_abs(q.id) * std::pow(pt.h, p) + std::abs(log_coefficient * std::log(pt.h));
                     auto intrinsic = [&] {
