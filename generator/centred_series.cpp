@@ -249,8 +249,9 @@ Q intrinsic_scale(const ClosedForm& f, const Q& lo, const Q& hi) {
     for (int i = 0; i <= 256; ++i) {
         const Q x = lo + (hi - lo) * ratio(i, 256);
         const Real r = real(x, 200);
-        const Real s = boost::multiprecision::max(boost::multiprecision::abs(f.evaluate(r, 200).first),
-                                                  boost::multiprecision::abs(r * df.evaluate(r, 200).first));
+        PointValues at(r, 200);
+        const Real s = boost::multiprecision::max(boost::multiprecision::abs(f.evaluate(at).first),
+                                                  boost::multiprecision::abs(r * df.evaluate(at).first));
         if (i == 0 || s < m) m = s;
     }
     return rational(m);

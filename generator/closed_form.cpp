@@ -3,6 +3,9 @@
 #include "error.hpp"
 #include "series.hpp"
 
+#include <map>
+#include <optional>
+
 namespace mollify::gen {
 
 namespace {
@@ -259,28 +262,63 @@ Exact ClosedForm::at(const Q& r) const {
     return v;
 }
 
+PointValues::PointValues(const Real& r, unsigned bits)
+    : digits10_(bits * 30103 / 100000 + 2), pi_(pi_at(bits)), r_(r, digits10_),
+      s_(boost::multiprecision::sqrt(Real(1, digits10_) - r_ * r_)) {}
+
+const Real& PointValues::power_of_r(int n) {
+    auto it = r_powers_.find(n);
+    if (it == r_powers_.end()) it = r_powers_.emplace(n, boost::multiprecision::pow(r_, n)).first;
+    return it->second;
+}
+
+const Real& PointValues::pi_power(int e) {
+    auto it = pi_powers_.find(e);
+    if (it == pi_powers_.end()) it = pi_powers_.emplace(e, boost::multiprecision::pow(pi_, e)).first;
+    return it->second;
+}
+
+const Real& PointValues::log_of(int p) {
+    auto it = logs_.find(p);
+    if (it == logs_.end()) it = logs_.emplace(p, boost::multiprecision::log(Real(p, digits10_))).first;
+    return it->second;
+}
+
+const Real& PointValues::basis(Basis b, int s_power) {
+    const std::pair key{b, b == Basis::sqrt_power ? s_power : 0};
+    auto it = bases_.find(key);
+    if (it != bases_.end()) return it->second;
+    Real v;
+    switch (b) {
+        case Basis::one: v = Real(1, digits10_); break;
+        case Basis::sqrt_power: v = boost::multiprecision::pow(s_, s_power); break;
+        case Basis::arcsech: v = boost::multiprecision::log((Real(1, digits10_) + s_) / r_); break;
+        case Basis::log: v = boost::multiprecision::log(r_); break;
+        case Basis::arcsin: v = boost::multiprecision::asin(r_); break;
+    }
+    return bases_.emplace(key, std::move(v)).first->second;
+}
+
 std::pair<Real, Real> ClosedForm::evaluate(const Real& r, unsigned bits) const {
-    const unsigned digits10 = bits * 30103 / 100000 + 2;
+    PointValues at(r, bits);
+    return evaluate(at);
+}
+
+// Each monomial c r^n times its term's factor and basis, multiplied in that
+// order; the magnitude is the sum of the monomials' sizes.
+std::pair<Real, Real> ClosedForm::evaluate(PointValues& at) const {
+    const unsigned digits10 = at.digits10();
     Real sum(0, digits10), magnitude(0, digits10);
-    const Real pi = pi_at(bits);
-    Real rr(r, digits10);
-    Real s = boost::multiprecision::sqrt(Real(1, digits10) - rr * rr);
     for (const auto& [k, p] : terms_) {
         for (int n = p.low(); n <= p.high(); ++n) {
             const Q c = p.coefficient(n);
             if (c == 0) continue;
             Real t(0, digits10);
             mpfr_set_q(t.backend().data(), c.backend().data(), MPFR_RNDN);
-            if (k.factor.pi_power != 0) t *= boost::multiprecision::pow(pi, k.factor.pi_power);
-            if (k.factor.log_of != 1) t *= boost::multiprecision::log(Real(k.factor.log_of, digits10));
-            if (n != 0) t *= boost::multiprecision::pow(rr, n);
-            switch (k.basis) {
-                case Basis::one: break;
-                case Basis::sqrt_power: t *= boost::multiprecision::pow(s, k.s_power); break;
-                case Basis::arcsech: t *= boost::multiprecision::log((Real(1, digits10) + s) / rr); break;
-                case Basis::log: t *= boost::multiprecision::log(rr); break;
-                case Basis::arcsin: t *= boost::multiprecision::asin(rr); break;
-            }
+            if (k.factor.pi_power != 0) t *= at.pi_power(k.factor.pi_power);
+            if (k.factor.log_of != 1) t *= at.log_of(k.factor.log_of);
+            if (n != 0) t *= at.power_of_r(n);
+            if (k.basis != Basis::one) t *= at.basis(k.basis, k.s_power);
             sum += t;
             magnitude += boost::multiprecision::abs(t);
         }

@@ -27,6 +27,26 @@ struct TermKey {
     auto operator<=>(const TermKey&) const = default;
 };
 
+// The values at one r > 0 that closed forms' terms multiply (r^n, S^j,
+// arcsech r, log r, arcsin r, pi^e, log p), each computed on first use and
+// kept: f and f' evaluated at the same point share them (MPFR's log and
+// asin at 200 bits were most of `mollify-gen emit`'s time).
+class PointValues {
+public:
+    PointValues(const Real& r, unsigned bits);
+    unsigned digits10() const { return digits10_; }
+    const Real& power_of_r(int n);
+    const Real& basis(Basis b, int s_power);
+    const Real& pi_power(int e);
+    const Real& log_of(int p);
+
+private:
+    unsigned digits10_;
+    Real pi_, r_, s_;
+    std::map<int, Real> r_powers_, pi_powers_, logs_;
+    std::map<std::pair<Basis, int>, Real> bases_;
+};
+
 class ClosedForm {
 public:
     ClosedForm() = default;
@@ -59,6 +79,7 @@ public:
     Exact at(const Q& r) const;
     // Value at r in MPFR, and the sum of |terms| (error bound scale).
     std::pair<Real, Real> evaluate(const Real& r, unsigned bits) const;
+    std::pair<Real, Real> evaluate(PointValues& at) const;
     // Exact closed form at rational r for people, any basis.
     std::string to_string_at(const Q& r) const;
 

@@ -58,9 +58,10 @@ void check_centred(const ClosedForm& f, const CentredPiece& p) {
         for (std::size_t k = a.size(); k-- > 0;) sum = sum * v + Real(a[k], 70);
         sum *= boost::multiprecision::pow(r, p.low) *
                boost::multiprecision::pow(boost::multiprecision::sqrt(1 - r * r), p.s_power);
-        const Real exact = f.evaluate(r, 200).first;
+        PointValues at(r, 200);
+        const Real exact = f.evaluate(at).first;
         const Real scale = boost::multiprecision::max(boost::multiprecision::abs(exact),
-                                                      boost::multiprecision::abs(r * df.evaluate(r, 200).first));
+                                                      boost::multiprecision::abs(r * df.evaluate(at).first));
         const double error = static_cast<double>(boost::multiprecision::abs(sum - exact) / scale);
         if (!(error <= centred_certificate_bound))
             fail("internal: the Taylor piece about " + short_string(p.centre) + " misses the closed form at r = " +
