@@ -1,7 +1,7 @@
 // The run-time form (mollify::kernel: a plan of the table evaluated by
 // libmollify's data-driven loops) against the compile-time form
 // (StaticKernel: the table a template argument, unrolled) on the tables
-// below, every quantity, both precisions, the batch and the pair loop, at
+// of runtime_forms/cases_*.cpp, every quantity, both precisions, the batch and the pair loop, at
 // the hard points: near 0 (down to subnormal r/h), at and within ulps of
 // the support edge, within ulps of every breakpoint and combination radius,
 // beyond the support, at h from 1e-30 to 1e30.
@@ -12,37 +12,16 @@
 // the accuracy suite's reasoning instead (see v3_bound).
 //
 // Instantiating StaticKernel for all 256 catalogue tables is the deleted
-// registry's cost (22 minutes of compile); the tables below are a cover of
+// registry's cost (22 minutes of compile); the tables compared are a cover of
 // every evaluation path the catalogue takes (tests/shape_features.hpp,
 // chosen greedily), and CoverEveryPathOfTheCatalogue fails if a table of the
 // catalogue takes a path none of them takes.
+#include "runtime_forms/static_case.hpp"
 #include "shape_features.hpp"
 
 #include <mollify/kernel.hpp>
 #include <mollify/tables/catalogue.hpp>
-#include <mollify/tables/classic/box_d1_D1.hpp>
-#include <mollify/tables/combo/m_2_base_mollifier_M_4_D1.hpp>
-#include <mollify/tables/combo/m_2_base_wendland_k_1_D2.hpp>
-#include <mollify/tables/combo/m_3_base_mollifier_M_4_D2.hpp>
-#include <mollify/tables/combo/m_3_base_wendland_k_1_l_1_D1.hpp>
-#include <mollify/tables/combo/m_3_base_wendland_k_2_D1.hpp>
-#include <mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp>
-#include <mollify/tables/mollifier/M_1_D1.hpp>
-#include <mollify/tables/mollifier/M_1_D2.hpp>
-#include <mollify/tables/mollifier/M_1_order_4_D2.hpp>
-#include <mollify/tables/mollifier/M_1_order_6_D1.hpp>
-#include <mollify/tables/mollifier/M_2_order_4_D1.hpp>
-#include <mollify/tables/mollifier/M_2_order_4_D2.hpp>
-#include <mollify/tables/wendland/k_0_D1.hpp>
-#include <mollify/tables/wendland/k_0_D2.hpp>
-#include <mollify/tables/wendland/k_0_D3.hpp>
-#include <mollify/tables/wendland/k_0_l_1_D1.hpp>
-#include <mollify/tables/wendland/k_2_D1.hpp>
-#include <mollify/tables/wendland/k_2_D3.hpp>
-#include <mollify/tables/wendland_missing/k_1_D1.hpp>
-#include <mollify/tables/wendland_missing/k_1_D3.hpp>
 #include <mollify/detail/show.hpp>
-#include <mollify/tables/wendland_missing/k_2_l_1_D2.hpp>
 
 #include <gtest/gtest.h>
 
@@ -66,84 +45,19 @@ using mollify::Precision;
 using mollify::QuantityId;
 using mollify::Smoothing;
 
-using StaticBatch = void (*)(Precision, QuantityId, const double*, double*, std::size_t, const Smoothing&);
-using StaticPairs = void (*)(Precision, const std::span<const double>*, const Smoothing&, double*,
-                             const std::span<double>*, std::size_t);
+using mollify::testing::Case;
 
-struct Case {
-    const table::Kernel* table;
-    StaticBatch batch;
-    StaticPairs pairs;
-};
-
-template <const table::Kernel& K, Precision Pr, std::size_t... Q>
-void batch_of(QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s, std::index_sequence<Q...>) {
-    auto one = [&]<std::size_t I>(std::integral_constant<std::size_t, I>) {
-        if constexpr (K.quantities[I].npieces > 0)
-            if (static_cast<std::size_t>(q) == I)
-                mollify::StaticKernel<K, Pr>::template evaluate_unchecked<static_cast<QuantityId>(I)>(r, out, n, s);
-    };
-    (one(std::integral_constant<std::size_t, Q>{}), ...);
-}
-
-template <const table::Kernel& K>
-void batch(Precision pr, QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s) {
-    constexpr auto all = std::make_index_sequence<table::quantity_count>{};
-    if (pr == Precision::accurate) batch_of<K, Precision::accurate>(q, r, out, n, s, all);
-    else batch_of<K, Precision::fast>(q, r, out, n, s, all);
-}
-
-template <const table::Kernel& K, Precision Pr>
-void pairs_of(const std::span<const double>* x, const Smoothing& s, double* w, const std::span<double>* g, std::size_t n) {
-    constexpr int D = K.dim;
-    mollify::Points<D> in;
-    mollify::PointsOut<D> out;
-    for (int c = 0; c < D; ++c) {
-        in[static_cast<std::size_t>(c)] = x[c];
-        out[static_cast<std::size_t>(c)] = g[c];
-    }
-    mollify::StaticKernel<K, Pr>::pairs_unchecked(in, s, w, out, n);
-}
-
-template <const table::Kernel& K>
-void pairs(Precision pr, const std::span<const double>* x, const Smoothing& s, double* w, const std::span<double>* g,
-           std::size_t n) {
-    if (pr == Precision::accurate) pairs_of<K, Precision::accurate>(x, s, w, g, n);
-    else pairs_of<K, Precision::fast>(x, s, w, g, n);
-}
-
-template <const table::Kernel& K>
-Case case_of() {
-    return {&K, &batch<K>, &pairs<K>};
-}
-
-// The greedy cover printed by the features of every catalogue table.
+// The greedy cover printed by the features of every catalogue table; the
+// issue's benchmark kernels (Wendland C4 and combo:m=3,base=wendland:k=2 in
+// 3D) among them.
 const std::vector<Case>& cases() {
-    static const std::vector<Case> all = {
-        case_of<tables::combo_m_3_base_wendland_k_1_l_1_D1>(),
-        case_of<tables::combo_m_3_base_mollifier_M_4_D2>(),
-        case_of<tables::wendland_missing_k_1_D3>(),
-        case_of<tables::mollifier_M_1_order_6_D1>(),
-        case_of<tables::combo_m_2_base_wendland_k_1_D2>(),
-        case_of<tables::mollifier_M_1_D2>(),
-        case_of<tables::combo_m_2_base_mollifier_M_4_D1>(),
-        case_of<tables::wendland_k_0_D1>(),
-        case_of<tables::wendland_k_0_D2>(),
-        case_of<tables::combo_m_3_base_wendland_k_2_D1>(),
-        case_of<tables::mollifier_M_1_order_4_D2>(),
-        case_of<tables::mollifier_M_1_D1>(),
-        case_of<tables::mollifier_M_2_order_4_D1>(),
-        case_of<tables::mollifier_M_2_order_4_D2>(),
-        case_of<tables::wendland_k_0_D3>(),
-        case_of<tables::wendland_k_0_l_1_D1>(),
-        case_of<tables::wendland_k_2_D1>(),
-        case_of<tables::wendland_missing_k_1_D1>(),
-        case_of<tables::wendland_missing_k_2_l_1_D2>(),
-        case_of<tables::box_d1_D1>(),
-        // The benchmark kernels, in 3D.
-        case_of<tables::wendland_k_2_D3>(),
-        case_of<tables::combo_m_3_base_wendland_k_2_D3>(),
-    };
+    static const std::vector<Case> all = [] {
+        std::vector<Case> out;
+        for (auto part : {mollify::testing::cases_1, mollify::testing::cases_2, mollify::testing::cases_3,
+                          mollify::testing::cases_4})
+            for (const Case& c : part()) out.push_back(c);
+        return out;
+    }();
     return all;
 }
 
