@@ -1,10 +1,10 @@
 // The run-time form (mollify::kernel: a plan of the table evaluated by
 // libmollify's data-driven loops) against the compile-time form
 // (StaticKernel: the table a template argument, unrolled) on the tables
-// of runtime_forms/cases_*.cpp, every quantity, both precisions, the batch and the pair loop, at
-// the hard points: near 0 (down to subnormal r/h), at and within ulps of
-// the support edge, within ulps of every breakpoint and combination radius,
-// beyond the support, at h from 1e-30 to 1e30.
+// of runtime_forms/cases_*.cpp, every quantity, both precisions, the batch
+// and the pair loop, at the hard points: near 0 (down to subnormal r/h), at
+// and within ulps of the support edge, within ulps of every breakpoint and
+// combination radius, beyond the support, at h from 1e-30 to 1e30.
 //
 // On the instruction set this test is compiled for (generic x86-64) the two
 // must agree bit for bit: the evaluator performs the same operations in the
