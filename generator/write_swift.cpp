@@ -187,12 +187,30 @@ SignCheck check_signs(const KernelFacts& facts, bool allow) {
                        "and dW <= 0, fails for such a kernel)."};
 }
 
+// SWIFT's h = 2 sigma needs a positive second moment. A higher-order kernel
+// (a combination W = sum_j w_j psi_(a_j), Franz (4.17), moments r^2.. zero)
+// has none; it takes its base kernel psi's gamma (both have support 1: the
+// combination resolves as its base does), written with --allow-negative-lobes
+// only (such kernels are not non-negative); any other kernel without one is
+// an Error naming it.
+DerivedConstant gamma_of(const ExactKernel& k) {
+    if (variance(k) > 0) return swift_gamma(k);
+    if (!k.base)
+        fail("--target swift: kernel " + spec_string(k.spec) + " in D = " + std::to_string(k.dim) +
+             " has second moment 0 (a higher-order kernel): SWIFT's h = 2 sigma, kernel_gamma = H/(2 sigma) is undefined "
+             "and it has no base kernel to take gamma from");
+    DerivedConstant g = swift_gamma(*k.base);
+    g.rule = "the kernel's second moment is 0 (a higher-order combination), so gamma is its base kernel " +
+             spec_string(k.base->spec) + "'s: " + g.rule;
+    return g;
+}
+
 std::string hydro_file(const TargetKernel& tk, const std::string& command) {
     const KernelFacts& facts = tk.facts;
     const ExactKernel& k = facts.kernel;
     const int d = k.dim;
     const SignCheck signs = check_signs(facts, tk.allow_negative_lobes);
-    const DerivedConstant gamma = swift_gamma(k);
+    const DerivedConstant gamma = gamma_of(k);
     const Q g2 = gamma.square;
     const Exact C = separate_normalisation(tk.convention, k);
     const std::string prefix = "mollify_swift_" + facts.id;
@@ -315,6 +333,9 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
 
     // H = -W_pot(0) eps: the potential at 0 equal to Plummer's
     const Exact plummer = value_at(fs[0].f.pieces.front(), Q(0)) * Exact(Q(-1));
+    if (!(plummer.evaluate(64).first > 0))
+        fail("--target swift: kernel " + facts.spec + ": W_pot(0) = " + (plummer * Exact(Q(-1))).to_string() +
+             " >= 0, no Plummer-equivalent softening");
     const SwiftConstant p{plummer, Q(1)};
     SwiftConstant p_inv{plummer.is_rational() ? Exact(Q(1) / plummer.rational()) : plummer.inverse(), Q(1)};
 
