@@ -352,7 +352,8 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
     if (orders < 6)
         out += " * D_soft_" + std::to_string(orders + 1) + " and higher are not given: certified_softening certifies phi^(0.." +
                std::to_string(soft.smoothness.guaranteed) + ") for this kernel and E_0..E_" + std::to_string(finite) +
-               " are finite at u = 0;\n * SELF_GRAVITY_MULTIPOLE_ORDER > " + std::to_string(orders - 1) + " is an #error.\n";
+               " are finite at u = 0;\n * SWIFT's M2P needs D_soft_(order+2), its M2L D_soft_(order+1) (src/gravity_derivatives.h), so\n"
+               " * SELF_GRAVITY_MULTIPOLE_ORDER > " + std::to_string(orders - 2) + " is an #error.\n";
     out += " * Evaluated in double as mollify's Precision::fast (factored at the edge), rounded once to float.\n"
            " * Each constant is correctly rounded, its exact value beside it.\n */\n";
     out += "#ifndef SWIFT_KERNEL_GRAVITY_H\n#define SWIFT_KERNEL_GRAVITY_H\n\n#include <math.h>\n\n";
@@ -361,7 +362,7 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
     out += "#ifdef GADGET2_SOFTENING_CORRECTION\n#error \"mollify's kernel_gravity.h replaces both of SWIFT's softening "
            "shapes: undefine GADGET2_SOFTENING_CORRECTION\"\n#endif\n";
     if (orders < 6)
-        out += "#if defined(SELF_GRAVITY_MULTIPOLE_ORDER) && SELF_GRAVITY_MULTIPOLE_ORDER > " + std::to_string(orders - 1) +
+        out += "#if defined(SELF_GRAVITY_MULTIPOLE_ORDER) && SELF_GRAVITY_MULTIPOLE_ORDER > " + std::to_string(orders - 2) +
                "\n#error \"" + facts.spec + ": D_soft_" + std::to_string(orders + 1) + " and higher are not certified\"\n#endif\n";
     out += "\n#define kernel_gravity_softening_plummer_equivalent " + hex_literal(p.to_double()) + " /* " +
            comment_text(p.text()) + " */\n";

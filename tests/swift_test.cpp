@@ -53,7 +53,8 @@ const char* const lobed_spec = "combo:m=2,base=wendland:k=1";
 
 fs::path work_dir() { return fs::path(MOLLIFY_SWIFT_WORK_DIR); }
 
-// SWIFT's CFLAGS' warnings (peers.md), as its build compiles src/ (gnu99).
+// SWIFT's CFLAGS' warnings (configure.ac: -Wall -Wextra -Wno-unused-parameter -Wshadow -Werror,
+// -Wstrict-prototypes; C99 or later), here stricter: unused parameters too.
 const std::string cc = "gcc -std=gnu99 -O2 -Wall -Wextra -Wshadow -Wstrict-prototypes -Werror -DMOLLIFY_SWIFT_STANDALONE";
 
 void run_in(const fs::path& dir, const std::string& what, const std::string& command) {
@@ -229,7 +230,16 @@ void check_kernel(const fs::path& root, const std::string& spec, int dim, bool c
     std::vector<float> gf = hydro_points(k.W.breaks, 1.0);
     const std::vector<double> gd = double_points(gf, k.W.breaks, 1.0);
     std::ofstream(dir / "driver.c") << driver(uf, ud, gf, gd, orders);
-    ASSERT_NO_FATAL_FAILURE(run_in(dir, "gcc", cc + " -DHYDRO_DIMENSION_" + std::to_string(dim) + "D driver.c -o driver -lm"));
+    // SWIFT's M2P needs D_soft_(order+2): the largest multipole order the file allows, and one more is an #error
+    const std::string order = gravity ? " -DSELF_GRAVITY_MULTIPOLE_ORDER=" + std::to_string(std::min(orders - 2, 5)) : "";
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "gcc", cc + " -DHYDRO_DIMENSION_" + std::to_string(dim) + "D" + order + " driver.c -o driver -lm"));
+    if (gravity && orders < 6) {
+        const auto r = run_command("cd '" + dir.string() + "' && " + cc + " -DHYDRO_DIMENSION_3D -DSELF_GRAVITY_MULTIPOLE_ORDER=" +
+                                       std::to_string(orders - 1) + " -c driver.c -o too_high.o",
+                                   dir / "capture");
+        EXPECT_NE(r.status, 0) << "SELF_GRAVITY_MULTIPOLE_ORDER = " << orders - 1 << " needs D_soft_" << orders + 1;
+        EXPECT_NE(r.err.find("D_soft_" + std::to_string(orders + 1) + " and higher are not certified"), std::string::npos) << r.err;
+    }
     ASSERT_NO_FATAL_FAILURE(run_in(dir, "driver", "(./driver > names.txt)"));
     EXPECT_EQ(slurp(dir / "names.txt"), "mollify " + facts.spec + "\n" + (gravity ? "mollify " + facts.spec + "\n" : ""));
 

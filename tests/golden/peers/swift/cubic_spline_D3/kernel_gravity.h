@@ -13,7 +13,8 @@
  * -m W_pot(0)/H, equal to Plummer's -m/eps (SWIFT's rule for Wendland C2: H = 3 eps), so the factor
  * is -W_pot(0) = 14/5 exactly.
  * D_soft_6 and higher are not given: certified_softening certifies phi^(0..4) for this kernel and E_0..E_5 are finite at u = 0;
- * SELF_GRAVITY_MULTIPOLE_ORDER > 4 is an #error.
+ * SWIFT's M2P needs D_soft_(order+2), its M2L D_soft_(order+1) (src/gravity_derivatives.h), so
+ * SELF_GRAVITY_MULTIPOLE_ORDER > 3 is an #error.
  * Evaluated in double as mollify's Precision::fast (factored at the edge), rounded once to float.
  * Each constant is correctly rounded, its exact value beside it.
  */
@@ -28,7 +29,7 @@
 #ifdef GADGET2_SOFTENING_CORRECTION
 #error "mollify's kernel_gravity.h replaces both of SWIFT's softening shapes: undefine GADGET2_SOFTENING_CORRECTION"
 #endif
-#if defined(SELF_GRAVITY_MULTIPOLE_ORDER) && SELF_GRAVITY_MULTIPOLE_ORDER > 4
+#if defined(SELF_GRAVITY_MULTIPOLE_ORDER) && SELF_GRAVITY_MULTIPOLE_ORDER > 3
 #error "cubic-spline: D_soft_6 and higher are not certified"
 #endif
 
