@@ -33,9 +33,9 @@
 #include "softening.hpp"
 #include "softening_certificate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 
 namespace mollify::gen {
 
@@ -115,9 +115,9 @@ float to_float(const Q& q) {
     return mpfr_get_flt(r.backend().data(), MPFR_RNDN);
 }
 
-// One float operation, rounded once (a double holds a float product or sum
-// of floats exactly... to 2^-48, and rounding it again to float is the
-// correct rounding: 53 >= 2 * 24 + 2), whatever the compiler's FMA contraction.
+// One float operation rounded once to float, whatever the compiler's FMA
+// contraction: the operation in double, then to float (a double rounding that
+// is the correct one for + and *, since 53 >= 2 * 24 + 2; Figueroa 1995).
 float f_mul(float a, float b) { return static_cast<float>(static_cast<double>(a) * static_cast<double>(b)); }
 float f_add(float a, float b) { return static_cast<float>(static_cast<double>(a) + static_cast<double>(b)); }
 
@@ -356,7 +356,8 @@ std::string gravity_file(const TargetKernel& tk, const std::string& command) {
                " * SELF_GRAVITY_MULTIPOLE_ORDER > " + std::to_string(orders - 2) + " is an #error.\n";
     out += " * Evaluated in double as mollify's Precision::fast (factored at the edge), rounded once to float.\n"
            " * Each constant is correctly rounded, its exact value beside it.\n */\n";
-    out += "#ifndef SWIFT_KERNEL_GRAVITY_H\n#define SWIFT_KERNEL_GRAVITY_H\n\n#include <math.h>\n\n";
+    out += "#ifndef SWIFT_KERNEL_GRAVITY_H\n#define SWIFT_KERNEL_GRAVITY_H\n\n#include <math.h>\n"
+           "#ifndef MOLLIFY_SWIFT_STANDALONE\n/* as SWIFT's stock kernel_gravity.h */\n#include \"inline.h\"\n#include \"minmax.h\"\n#endif\n\n";
     out += "#if defined(HYDRO_DIMENSION_1D) || defined(HYDRO_DIMENSION_2D)\n#error \"SWIFT's gravity is 3D: "
            "this file is for 3D\"\n#endif\n";
     out += "#ifdef GADGET2_SOFTENING_CORRECTION\n#error \"mollify's kernel_gravity.h replaces both of SWIFT's softening "

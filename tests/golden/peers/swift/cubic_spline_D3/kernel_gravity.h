@@ -22,6 +22,11 @@
 #define SWIFT_KERNEL_GRAVITY_H
 
 #include <math.h>
+#ifndef MOLLIFY_SWIFT_STANDALONE
+/* as SWIFT's stock kernel_gravity.h */
+#include "inline.h"
+#include "minmax.h"
+#endif
 
 #if defined(HYDRO_DIMENSION_1D) || defined(HYDRO_DIMENSION_2D)
 #error "SWIFT's gravity is 3D: this file is for 3D"
