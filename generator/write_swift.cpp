@@ -209,6 +209,9 @@ std::string hydro_file(const TargetKernel& tk, const std::string& command) {
     const KernelFacts& facts = tk.facts;
     const ExactKernel& k = facts.kernel;
     const int d = k.dim;
+    if (k.normalised_by != Normalisation::unit_mass)
+        fail("--target swift: kernel " + facts.spec + " in D = " + std::to_string(d) +
+             " is not a unit-mass kernel (a derivative kernel, Belley): SWIFT's kernel_hydro.h needs a density kernel");
     const SignCheck signs = check_signs(facts, tk.allow_negative_lobes);
     const DerivedConstant gamma = gamma_of(k);
     const Q g2 = gamma.square;

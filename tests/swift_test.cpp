@@ -426,6 +426,27 @@ TEST(SwiftErrors, GravityIsThreeDimensional) {
     }
 }
 
+// Belley's derivative kernels (zero mass or odd) are no density kernels; a
+// higher-order kernel that is no combination has no gamma.
+TEST(SwiftErrors, KernelsSwiftCannotTakeAreNamedWithTheReason) {
+    auto error_of = [](const char* spec, int dim) {
+        const gen::KernelFacts f = gen::kernel_facts({mollify::parse_spec(spec), dim});
+        const gen::Tables tables = gen::rounded_tables(f);
+        try {
+            gen::write_swift({f, tables, gen::convention("swift"), true}, "test");
+        } catch (const gen::Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    const std::string d2 = error_of("box-d2", 1);
+    EXPECT_NE(d2.find("box-d2"), std::string::npos) << d2;
+    EXPECT_NE(d2.find("not a unit-mass kernel"), std::string::npos) << d2;
+    const std::string m = error_of("mollifier:M=2,order=4", 3);
+    EXPECT_NE(m.find("mollifier:M=2,order=4"), std::string::npos) << m;
+    EXPECT_NE(m.find("second moment 0"), std::string::npos) << m;
+}
+
 // tests/golden/peers/swift regenerated: any change of the writer's output
 // shows here (regenerate with the command in their banners, --out
 // tests/golden/peers, after checking the change).
