@@ -102,7 +102,7 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
 }
 
 EmitResult render_target(const std::vector<CatalogueEntry>& entries, const std::string& command,
-                         const std::string& name) {
+                         const std::string& name, bool allow_negative_lobes) {
     const Target& t = target(name);
     const Convention& c = convention(name);
     for (const CatalogueEntry& e : entries)
@@ -114,7 +114,7 @@ EmitResult render_target(const std::vector<CatalogueEntry>& entries, const std::
     for_each_kernel(entries, [&](const CatalogueEntry& e, std::size_t i) {
         const KernelFacts f = kernel_facts(e);
         const Tables tables = rounded_tables(f);
-        files[i] = t.write({f, tables, c}, command);
+        files[i] = t.write({f, tables, c, allow_negative_lobes}, command);
         count_certificates(f, e.dim, certificates[i], failures[i]);
     });
     EmitResult result;

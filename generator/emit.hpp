@@ -37,7 +37,7 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
 // writer makes them, for its convention (conventions.hpp); Error for a
 // dimension the target does not take.
 EmitResult render_target(const std::vector<CatalogueEntry>& entries, const std::string& command,
-                         const std::string& target);
+                         const std::string& target, bool allow_negative_lobes = false);
 
 // Writes every file whose content differs from the one at its place
 // (temporary file, then rename; unchanged files keep their timestamps);

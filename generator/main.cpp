@@ -32,24 +32,34 @@ std::vector<Spec> parse_specs(const std::vector<std::string>& texts) {
 }
 
 int run_emit(const std::string& out, const std::vector<std::string>& only, const std::string& format,
-             const std::string& target_name) {
+             const std::string& target_name, const std::vector<int>& only_dims, bool allow_negative_lobes) {
     if (format != "cpp" && format != "data") fail("--format " + format + " is neither cpp nor data");
     if (target_name != "cpp") {
         target(target_name);  // Error naming an unknown one
         if (format != "cpp") fail("--format " + format + " is for --target cpp only (not " + target_name + ")");
     }
+    if (allow_negative_lobes && target_name != "swift")
+        fail("--allow-negative-lobes is for --target swift (whose kernel_deval clamps the sign), not " + target_name);
+    for (int d : only_dims)
+        if (d < 1 || d > 3) fail("--dim " + std::to_string(d) + " is outside 1..3");
     std::string command = "mollify-gen emit" + (target_name == "cpp" ? std::string() : " --target " + target_name) +
-                          (format == "cpp" ? std::string() : " --format " + format);
+                          (format == "cpp" ? std::string() : " --format " + format) +
+                          (allow_negative_lobes ? " --allow-negative-lobes" : "");
     std::vector<Spec> specs = only.empty() ? default_specs() : parse_specs(only);
     for (const Spec& s : specs) command += only.empty() ? "" : " --only " + spec_string(s);
+    for (int d : only_dims) command += " --dim " + std::to_string(d);
     std::vector<CatalogueEntry> entries = expand_dimensions(specs);
+    if (!only_dims.empty())  // --dim: only these dimensions
+        std::erase_if(entries, [&](const CatalogueEntry& e) {
+            return std::find(only_dims.begin(), only_dims.end(), e.dim) == only_dims.end();
+        });
     if (target_name != "cpp") {  // the dimensions the target takes (Phantom: 3D)
         const std::vector<int>& dims = convention(target_name).dims;
         std::erase_if(entries, [&](const CatalogueEntry& e) { return std::find(dims.begin(), dims.end(), e.dim) == dims.end(); });
     }
     const EmitResult r = target_name == "cpp" ? render_catalogue(entries, command,
                                                                  format == "cpp" ? EmitFormat::cpp : EmitFormat::data)
-                                              : render_target(entries, command, target_name);
+                                              : render_target(entries, command, target_name, allow_negative_lobes);
     if (!r.failed_certificates.empty()) {
         for (const auto& f : r.failed_certificates) std::cerr << "certificate failed: " << f << "\n";
         std::cerr << r.failed_certificates.size() << " certificates failed; nothing written\n";
@@ -167,8 +177,14 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     std::string target_name = "cpp";
     emit->add_option("--target", target_name,
-                     "cpp: mollify's tables; c, fortran, python: kernel files in mollify's convention (target.hpp)")
+                     "cpp: mollify's tables; c, fortran, python: kernel files in mollify's convention; phantom, swift, "
+                     "gadget4: drop-in kernel files for those codes (target.hpp)")
         ->capture_default_str();
+    std::vector<int> emit_dims;
+    emit->add_option("--dim", emit_dims, "only these dimensions (1..3; default: every one the kernel and target have)");
+    bool allow_negative_lobes = false;
+    emit->add_flag("--allow-negative-lobes", allow_negative_lobes,
+                   "--target swift: write kernels not proved W >= 0, W' <= 0 without SWIFT's sign clamps");
 
     auto* value = app.add_subcommand("value", "one exact value, correctly rounded to --digits significant digits");
     std::string spec_text, r_text, name = "value";
@@ -221,7 +237,7 @@ int main(int argc, char** argv) {
         return bad_input;
     }
     try {
-        if (*emit) return run_emit(out, only, format, target_name);
+        if (*emit) return run_emit(out, only, format, target_name, emit_dims, allow_negative_lobes);
         if (*value) return run_value(spec_text, dim, r_text, name, digits, exact);
         if (*weights) return run_weights(radii);
         if (*errata) return run_errata(transcriptions);

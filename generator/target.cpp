@@ -12,6 +12,7 @@ const std::vector<Target>& targets() {
         {"fortran", write_fortran},
         {"python", write_python},
         {"phantom", write_phantom},
+        {"swift", write_swift},
         {"gadget4", write_gadget4},
     };
     return all;

@@ -1,6 +1,6 @@
 // The --target machinery of `mollify-gen emit` (issue 19): one writer per
 // target, each in its own file (write_c.cpp, write_fortran.cpp,
-// write_python.cpp; phantom, swift, gadget4 to come), all fed the same
+// write_python.cpp, write_phantom.cpp, write_swift.cpp, write_gadget4.cpp), all fed the same
 // planned and rounded tables (emit_plan, emit_round) and the target's
 // convention (conventions.hpp). A new target is a writer function and one
 // line in target.cpp's list.
@@ -31,6 +31,9 @@ struct TargetKernel {
     const KernelFacts& facts;
     const Tables& tables;
     const Convention& convention;
+    // --allow-negative-lobes: a target that clamps the kernel's sign (SWIFT)
+    // writes a kernel it cannot prove W >= 0, W' <= 0 for, without the clamps.
+    bool allow_negative_lobes = false;
 };
 
 // Paths relative to --out -> contents, each beginning with banner(command, ...).
@@ -51,5 +54,9 @@ TargetFiles write_fortran(const TargetKernel& k, const std::string& command);
 TargetFiles write_python(const TargetKernel& k, const std::string& command);
 TargetFiles write_phantom(const TargetKernel& k, const std::string& command);
 TargetFiles write_gadget4(const TargetKernel& k, const std::string& command);
+TargetFiles write_swift(const TargetKernel& k, const std::string& command);
+// SWIFT's kernel_gravity.h alone; Error in D != 3 or for a kernel without a
+// Poisson potential (write_swift then writes kernel_hydro.h alone).
+TargetFiles write_swift_gravity(const TargetKernel& k, const std::string& command);
 
 }  // namespace mollify::gen

@@ -98,6 +98,21 @@ std::string c_piece_chain(const CodeQuantity& q, const Syntax& s, const std::str
     return body;
 }
 
+std::string c_unit_function(const std::string& name, const std::string& meaning, const CodeQuantity& q, const Syntax& s) {
+    std::string out = "\n/* " + meaning + " */\nstatic inline double " + name + "(double q) {\n";
+    const std::string body = c_piece_chain(q, s, "    ", "y");
+    const std::string outside = piece_sum(s, q.exterior, true);
+    const bool r_used = uses(body, "r") || uses(outside, "r"), h_used = uses(body, "h"), e_used = uses(body, "e");
+    out += "    double y;\n";
+    if (r_used) out += "    const double r = q;\n";
+    if (h_used) out += "    const double h = 1.0;\n";
+    out += "    if (q > 1) return " + outside + ";\n";
+    out += "    {\n";
+    if (e_used) out += "    const double e = 1 - q;\n";
+    out += body + "    }\n    return y;\n}\n";
+    return out;
+}
+
 namespace {
 
 std::string upper(std::string s) {

@@ -25,22 +25,6 @@ namespace mollify::gen {
 
 namespace {
 
-// A function of u on [0, 1] (and outside: the exterior pieces, at r = u).
-std::string unit_function(const std::string& name, const std::string& meaning, const CodeQuantity& q, const Syntax& s) {
-    std::string out = "\n/* " + meaning + " */\nstatic inline double " + name + "(double q) {\n";
-    const std::string body = c_piece_chain(q, s, "    ", "y");
-    const std::string outside = piece_sum(s, q.exterior, true);
-    const bool r_used = uses(body, "r") || uses(outside, "r"), h_used = uses(body, "h"), e_used = uses(body, "e");
-    out += "    double y;\n";
-    if (r_used) out += "    const double r = q;\n";
-    if (h_used) out += "    const double h = 1.0;\n";
-    out += "    if (q > 1) return " + outside + ";\n";
-    out += "    {\n";
-    if (e_used) out += "    const double e = 1 - q;\n";
-    out += body + "    }\n    return y;\n}\n";
-    return out;
-}
-
 std::vector<RoundedPiece> round_or_fail(const Radial& f, bool potential_like, const std::vector<Radial>& parts,
                                         const std::string& what) {
     auto r = rounded_quantity(&f, potential_like, parts);
@@ -95,7 +79,7 @@ TargetFiles write_gadget4(const TargetKernel& tk, const std::string& command) {
     std::vector<CodeConstant> constants;
     std::string functions;
     for (std::size_t i = 0; i < rounded.size(); ++i)
-        functions += unit_function(names[i].first, names[i].second, code_quantity(names[i].first, rounded[i], constants), s);
+        functions += c_unit_function(names[i].first, names[i].second, code_quantity(names[i].first, rounded[i], constants), s);
 
     const std::string dim_macro = k.dim == 1 ? "defined(ONEDIMS)" : k.dim == 2 ? "defined(TWODIMS)" : "!defined(ONEDIMS) && !defined(TWODIMS)";
     const std::string guard = "MOLLIFY_G4_" + facts.id + "_H";

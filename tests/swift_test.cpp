@@ -1,0 +1,470 @@
+// `mollify-gen emit --target swift` (issue 19, item 2): SWIFT's
+// kernel_hydro.h (D = 1, 2, 3) and kernel_gravity.h (3D) of Wendland C2,
+// C4, C6, the cubic spline and wendland:k=2,l=1 (which SWIFT does not have),
+// and of a kernel with negative lobes (combo:m=2,base=wendland:k=1) with
+// --allow-negative-lobes, compile with gcc and SWIFT's warning flags
+// (-std=gnu99 -Wall -Wextra -Wshadow -Wstrict-prototypes -Werror); a C
+// driver written here evaluates every function at the hard points (0 and
+// near it, every breakpoint x = b and the float neighbours of u = b gamma,
+// near the edge x -> 1 on both sides, outside) and this test compares with
+// MPFR (2048 bits; 8192 below 1e-3): W(u) = gamma^-D W_1(u/gamma), dW/du =
+// gamma^-(D+1) W_1'(u/gamma) with gamma = sqrt(gamma^2) from the exact
+// second moment; W_pot = 4 pi phi_1, W_f = 4 pi phi_1'/u, D_soft_n from
+// softening.hpp's swift_d_soft. SWIFT's own rules are checked (W >= 0,
+// dW <= 0 for the clamped kernels, kernel_eval = kernel_deval's W and
+// kernel_eval_dWdx its dW bit for bit, kernel_eval_double rounded to float
+// = kernel_eval), the stock values where SWIFT has the kernel (Wendland C2:
+// W_pot(0) = -3, W_f(0) = 14, H = 3 eps; kernel_gamma's printed decimals),
+// the error without the flag, and the files against tests/golden/peers/swift.
+// A missing gcc fails.
+#include "command.hpp"
+
+#include <catalogue.hpp>
+#include <conventions.hpp>
+#include <emit_metadata.hpp>
+#include <error.hpp>
+#include <radial.hpp>
+#include <rounding.hpp>
+#include <softening.hpp>
+#include <target.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace gen = mollify::gen;
+using gen::Real;
+using mollify::testing::run_command;
+using mollify::testing::slurp;
+
+const char* const clamped_specs[] = {"wendland:k=1", "wendland:k=2", "wendland:k=3", "cubic-spline", "wendland:k=2,l=1"};
+const char* const lobed_spec = "combo:m=2,base=wendland:k=1";
+
+fs::path work_dir() { return fs::path(MOLLIFY_SWIFT_WORK_DIR); }
+
+// SWIFT's CFLAGS' warnings (configure.ac: -Wall -Wextra -Wno-unused-parameter -Wshadow -Werror,
+// -Wstrict-prototypes; C99 or later), here stricter: unused parameters too.
+const std::string cc = "gcc -std=gnu99 -O2 -Wall -Wextra -Wshadow -Wstrict-prototypes -Werror -DMOLLIFY_SWIFT_STANDALONE";
+
+void run_in(const fs::path& dir, const std::string& what, const std::string& command) {
+    const auto r = run_command("cd '" + dir.string() + "' && " + command, dir / "capture");
+    ASSERT_EQ(r.status, 0) << what << " failed (a missing tool fails this test): " << command << "\n" << r.out << r.err;
+}
+
+template <class T>
+std::vector<T> read_binary(const fs::path& file) {
+    const std::string bytes = slurp(file);
+    std::vector<T> out(bytes.size() / sizeof(T));
+    std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+    return out;
+}
+
+std::string hex(double x) {
+    char b[48];
+    std::snprintf(b, sizeof b, "%a", x);
+    return b;
+}
+
+// The spacing of floats (doubles) at |v|, subnormals included.
+double float_ulp(double v) { return std::fabs(v) < FLT_MIN ? std::ldexp(1.0, -149) : std::ldexp(1.0, std::ilogb(v) - 23); }
+double double_ulp(double v) { return std::fabs(v) < DBL_MIN ? std::ldexp(1.0, -1074) : std::ldexp(1.0, std::ilogb(v) - 52); }
+
+// The float functions' bound: 1 float ulp of the exact value (correctly
+// rounded constants, a double evaluation, one rounding to float: 0.5 ulp
+// plus the double evaluation's error), where the double evaluation's own
+// error (the Precision::fast form, <= 32 double ulps of max(|f|, |u f'|),
+// README "Runtime accuracy") is allowed on top: it matters only within
+// ~2^-24 relative of an interior root of f (the D_soft_n, lobed kernels).
+double float_error(float y, double exact, double scale) {
+    const double slack = 64 * double_ulp(std::max(std::fabs(exact), scale));
+    return std::max(0.0, std::fabs(static_cast<double>(y) - exact) - slack) / float_ulp(exact);
+}
+// The double functions' bound: the Precision::fast form's 32 ulps of
+// max(|f|, |u f'|), plus 4 for x = u/gamma and the gamma^-D product.
+constexpr double double_bound = 36;
+double double_error(double y, double exact, double scale) {
+    return std::fabs(y - exact) / double_ulp(std::max(std::fabs(exact), scale));
+}
+
+unsigned bits_at(double x) { return x < 1e-3 ? 8192 : 2048; }
+// Real's constructor takes decimal digits.
+unsigned digits(unsigned bits) { return bits * 30103 / 100000 + 2; }
+Real real(double v, unsigned bits) { return Real(v, digits(bits)); }
+
+Real real(const gen::Q& q, unsigned bits) {
+    Real r(0, digits(bits));
+    mpfr_set_q(r.backend().data(), q.backend().data(), MPFR_RNDN);
+    return r;
+}
+float rn_float(const Real& x) { return mpfr_get_flt(x.backend().data(), MPFR_RNDN); }
+
+// f(x) * c at a real x.
+double at(const gen::Radial& f, const Real& x, const Real& c, unsigned bits) {
+    return static_cast<double>(f.evaluate(x, bits).first * c);
+}
+
+// Floats around u = b gamma for every breakpoint b, near 0 and outside, and a grid.
+std::vector<float> hydro_points(const std::vector<gen::Q>& breaks, double gamma) {
+    std::vector<float> u;
+    for (double x : {0.0, 1e-30, 1e-7, 1e-3, 0.1, 0.3, 0.7, 0.9, 0.99, 0.999, 1.5, 3.0}) u.push_back(static_cast<float>(x * gamma));
+    for (const gen::Q& b : breaks) {
+        const float c = static_cast<float>(static_cast<double>(b) * gamma);
+        u.push_back(c);
+        float lo = c, hi = c;
+        for (int i = 0; i < 3; ++i) {
+            hi = std::nextafter(hi, FLT_MAX), u.push_back(hi);
+            if (lo > 0) lo = std::nextafter(lo, 0.0f), u.push_back(lo);
+        }
+    }
+    for (int i = 1; i < 40; ++i) u.push_back(static_cast<float>((i / 40.0 + 1e-4) * gamma));
+    return u;
+}
+
+std::vector<double> double_points(const std::vector<float>& uf, const std::vector<gen::Q>& breaks, double gamma) {
+    std::vector<double> u(uf.begin(), uf.end());
+    for (const gen::Q& b : breaks) {
+        const double c = static_cast<double>(b) * gamma;
+        double lo = c, hi = c;
+        for (int i = 0; i < 2; ++i) {
+            u.push_back(hi = std::nextafter(hi, DBL_MAX));
+            if (lo > 0) u.push_back(lo = std::nextafter(lo, 0.0));
+        }
+    }
+    return u;
+}
+
+template <class T>
+std::string c_array(const char* type, const char* name, const std::vector<T>& v) {
+    std::string out = std::string("static const ") + type + " " + name + "[] = {";
+    for (T x : v) out += hex(static_cast<double>(x)) + (std::is_same_v<T, float> ? "f, " : ", ");
+    return out + "};\n";
+}
+
+int d_soft_orders(const std::string& header) {
+    int n = 0;
+    while (header.find("static inline float D_soft_" + std::to_string(n + 1) + "(") != std::string::npos) ++n;
+    return n;
+}
+
+std::string driver(const std::vector<float>& uf, const std::vector<double>& ud, const std::vector<float>& gf,
+                   const std::vector<double>& gd, int orders) {
+    std::ostringstream s;
+    s << "#include <stdio.h>\n#include \"kernel_hydro.h\"\n" << (orders ? "#include \"kernel_gravity.h\"\n" : "")
+      << c_array("float", "uf", uf) << c_array("double", "ud", ud);
+    if (orders) s << c_array("float", "gf", gf) << c_array("double", "gd", gd);
+    s << "int main(void) {\n  unsigned i;\n  FILE *o = fopen(\"hydro.bin\", \"wb\");\n"
+      << "  const float cf[10] = {kernel_gamma, kernel_gamma_inv, kernel_gamma2, kernel_gamma_dim, kernel_gamma_dim_plus_one,\n"
+      << "    kernel_gamma_inv_dim, kernel_gamma_inv_dim_plus_one, kernel_constant, kernel_root, kernel_norm};\n"
+      << "  if (!o) return 2;\n  fwrite(cf, sizeof(float), 10, o);\n"
+      << "  for (i = 0; i < sizeof uf / sizeof uf[0]; ++i) {\n    float v[4];\n"
+      << "    kernel_deval(uf[i], &v[0], &v[1]);\n    kernel_eval(uf[i], &v[2]);\n    kernel_eval_dWdx(uf[i], &v[3]);\n"
+      << "    fwrite(v, sizeof(float), 4, o);\n  }\n"
+      << "  for (i = 0; i < sizeof ud / sizeof ud[0]; ++i) {\n    double w;\n    kernel_eval_double(ud[i], &w);\n"
+      << "    fwrite(&w, sizeof(double), 1, o);\n  }\n  fclose(o);\n  printf(\"%s\\n\", kernel_name);\n";
+    if (orders) {
+        s << "  o = fopen(\"gravity.bin\", \"wb\");\n  if (!o) return 2;\n  {\n"
+          << "    const double c[2] = {kernel_gravity_softening_plummer_equivalent, kernel_gravity_softening_plummer_equivalent_inv};\n"
+          << "    fwrite(c, sizeof(double), 2, o);\n  }\n"
+          << "  for (i = 0; i < sizeof gf / sizeof gf[0]; ++i) {\n    float v[8];\n"
+          << "    v[0] = kernel_grav_pot_eval(gf[i]);\n    v[1] = kernel_grav_force_eval(gf[i]);\n";
+        for (int n = 1; n <= orders; ++n) s << "    v[" << n + 1 << "] = D_soft_" << n << "(gf[i]);\n";
+        s << "    fwrite(v, sizeof(float), " << orders + 2 << ", o);\n  }\n"
+          << "  for (i = 0; i < sizeof gd / sizeof gd[0]; ++i) {\n    double v[2];\n"
+          << "    kernel_grav_eval_pot_double(gd[i], &v[0]);\n    kernel_grav_eval_force_double(gd[i], &v[1]);\n"
+          << "    fwrite(v, sizeof(double), 2, o);\n  }\n  fclose(o);\n  printf(\"%s\\n\", kernel_gravity_softening_name);\n";
+    }
+    s << "  return 0;\n}\n";
+    return s.str();
+}
+
+void emit(const std::string& flags, const fs::path& out) {
+    const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target swift " + flags + " --out '" + out.string() + "'",
+                               out.string() + "_capture");
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+}
+
+// Emitted in the test itself (a failure in SetUpTestSuite reads as "skipped"
+// to ctest), each test in its own folder (ctest -j runs them at once).
+void fresh_emit(const std::string& flags, const fs::path& dir) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    ASSERT_NO_FATAL_FAILURE(emit(flags, dir));
+}
+
+// One kernel in one dimension: compile, run, compare. Returns the worst float error (ulps).
+void check_kernel(const fs::path& root, const std::string& spec, int dim, bool clamped) {
+    SCOPED_TRACE(spec + " D=" + std::to_string(dim));
+    Real::default_precision(digits(8192));  // every intermediate (1/gamma^D, x = u/gamma) at 8192 bits
+    const gen::KernelFacts facts = gen::kernel_facts({mollify::parse_spec(spec), dim});
+    const gen::ExactKernel& k = facts.kernel;
+    const fs::path dir = root / "swift" / facts.id;
+    ASSERT_TRUE(fs::exists(dir / "kernel_hydro.h")) << dir;
+    const bool gravity = dim == 3;
+    ASSERT_EQ(fs::exists(dir / "kernel_gravity.h"), gravity) << "kernel_gravity.h: 3D only, every 3D kernel here has a potential";
+    const int orders = gravity ? d_soft_orders(slurp(dir / "kernel_gravity.h")) : 0;
+    if (gravity) {
+        EXPECT_GE(orders, 1);
+    }
+    if (gravity && spec == "wendland:k=1") {
+        EXPECT_EQ(orders, 6);  // SWIFT's stock C2 has D_soft_1..6
+    }
+
+    // gamma^2 = 1/(4 sigma^2); a combination with sigma = 0 takes its base kernel's (write_swift.cpp)
+    const gen::Q g2 = gen::swift_gamma(gen::variance(k) > 0 ? k : *k.base).square;
+    const unsigned hi = 8192;
+    const Real gamma_hi = sqrt(real(g2, hi));
+    const double gamma = static_cast<double>(gamma_hi);
+    const std::vector<float> uf = hydro_points(k.W.breaks, gamma);
+    const std::vector<double> ud = double_points(uf, k.W.breaks, gamma);
+    std::vector<float> gf = hydro_points(k.W.breaks, 1.0);
+    const std::vector<double> gd = double_points(gf, k.W.breaks, 1.0);
+    std::ofstream(dir / "driver.c") << driver(uf, ud, gf, gd, orders);
+    // SWIFT's M2P needs D_soft_(order+2): the largest multipole order the file allows, and one more is an #error
+    const std::string order = gravity ? " -DSELF_GRAVITY_MULTIPOLE_ORDER=" + std::to_string(std::min(orders - 2, 5)) : "";
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "gcc", cc + " -DHYDRO_DIMENSION_" + std::to_string(dim) + "D" + order + " driver.c -o driver -lm"));
+    if (gravity && orders < 6) {
+        const auto r = run_command("cd '" + dir.string() + "' && " + cc + " -DHYDRO_DIMENSION_3D -DSELF_GRAVITY_MULTIPOLE_ORDER=" +
+                                       std::to_string(orders - 1) + " -c driver.c -o too_high.o",
+                                   dir / "capture");
+        EXPECT_NE(r.status, 0) << "SELF_GRAVITY_MULTIPOLE_ORDER = " << orders - 1 << " needs D_soft_" << orders + 1;
+        EXPECT_NE(r.err.find("D_soft_" + std::to_string(orders + 1) + " and higher are not certified"), std::string::npos) << r.err;
+    }
+    ASSERT_NO_FATAL_FAILURE(run_in(dir, "driver", "(./driver > names.txt)"));
+    EXPECT_EQ(slurp(dir / "names.txt"), "mollify " + facts.spec + "\n" + (gravity ? "mollify " + facts.spec + "\n" : ""));
+
+    // Constants: correctly rounded floats of the exact values.
+    const std::vector<float> h = read_binary<float>(dir / "hydro.bin");
+    ASSERT_EQ(h.size(), 10 + 4 * uf.size() + 2 * ud.size());
+    const Real C = static_cast<Real>(gen::separate_normalisation(gen::convention("swift"), k).evaluate(hi).first);
+    const Real gd_hi = pow(gamma_hi, dim), unit_ball = gen::sphere_measure(dim).evaluate(hi).first / real(dim, hi);
+    const Real exact_constants[10] = {gamma_hi,         1 / gamma_hi,          gamma_hi * gamma_hi, gd_hi,
+                                      gd_hi * gamma_hi, 1 / gd_hi,             1 / (gd_hi * gamma_hi), C,
+                                      C / gd_hi,        unit_ball * gd_hi};
+    for (int i = 0; i < 10; ++i) EXPECT_EQ(h[static_cast<std::size_t>(i)], rn_float(exact_constants[i])) << "constant " << i;
+    // SWIFT's printed kernel_gamma (6 decimals) where it has the kernel
+    const double swift_cubic_gamma[3] = {1.732051, 1.778002, 1.825742};
+    if (spec == "cubic-spline") {
+        EXPECT_NEAR(h[0], swift_cubic_gamma[dim - 1], 1e-6);
+    }
+    if (spec == "wendland:k=1" && dim > 1) {
+        EXPECT_NEAR(h[0], dim == 2 ? 1.897367 : 1.936492, 1e-6);
+    }
+    if (spec == "wendland:k=2" && dim > 1) {
+        // SWIFT's 2D C4 value 2.171239 is 1.6e-6 below the exact sqrt(33/7) = 2.17124059... (its last digit
+        // is wrong: 6.6 float ulps); 3D's 2.207940 is sqrt(39/8) to its 6 decimals
+        EXPECT_NEAR(h[0], dim == 2 ? 2.171239 : 2.207940, dim == 2 ? 2e-6 : 1e-6);
+        if (dim == 2) {
+            EXPECT_EQ(gen::swift_gamma(k).square, gen::Q(33, 7));
+        }
+    }
+    if (spec == "wendland:k=3" && dim > 1) {
+        EXPECT_NEAR(h[0], dim == 2 ? 2.415230 : 2.449490, 1e-6);
+    }
+
+    const gen::Radial& W1 = facts.quantities.value;
+    const gen::Radial dW1 = W1.derivative(), d2W1 = dW1.derivative();
+    double worst = 0, worst_double = 0;
+    bool negative_seen = false;
+    for (std::size_t i = 0; i < uf.size(); ++i) {
+        const float* v = &h[10 + 4 * i];
+        const unsigned b = bits_at(uf[i]);
+        const Real x = real(static_cast<double>(uf[i]), b) / gamma_hi;
+        const Real inv_d = 1 / pow(gamma_hi, dim), inv_d1 = inv_d / gamma_hi;
+        const double w = at(W1, x, inv_d, b), dw = at(dW1, x, inv_d1, b);
+        const double sw = std::fabs(at(dW1, x, x * inv_d, b)), sdw = std::fabs(at(d2W1, x, x * inv_d1, b));
+        const double ew = float_error(v[0], w, sw), edw = float_error(v[1], dw, sdw);
+        worst = std::max({worst, ew, edw});
+        EXPECT_LE(ew, 1) << "W at u = " << hex(uf[i]) << ": " << v[0] << " vs " << w;
+        EXPECT_LE(edw, 1) << "dW at u = " << hex(uf[i]) << ": " << v[1] << " vs " << dw;
+        // SWIFT's rules
+        EXPECT_EQ(std::memcmp(&v[0], &v[2], sizeof(float)), 0) << "kernel_eval != kernel_deval's W at u = " << hex(uf[i]);
+        EXPECT_EQ(std::memcmp(&v[1], &v[3], sizeof(float)), 0) << "kernel_eval_dWdx != kernel_deval's dW at u = " << hex(uf[i]);
+        if (clamped) {
+            EXPECT_GE(v[0], 0.0f) << "W < 0 at u = " << hex(uf[i]);
+            EXPECT_LE(v[1], 0.0f) << "dW > 0 at u = " << hex(uf[i]);
+        }
+        negative_seen = negative_seen || v[0] < 0 || v[1] > 0;
+        if (static_cast<double>(uf[i]) > gamma * (1 + 1e-6)) {
+            EXPECT_TRUE(v[0] == 0 && v[1] == 0) << "outside: u = " << uf[i];
+        }
+    }
+    EXPECT_EQ(negative_seen, !clamped) << "a lobed kernel's file keeps its negative values (no clamps)";
+    const double* wd = reinterpret_cast<const double*>(&h[10 + 4 * uf.size()]);
+    for (std::size_t i = 0; i < ud.size(); ++i) {
+        const unsigned b = bits_at(ud[i]);
+        const Real x = real(ud[i], b) / gamma_hi, inv_d = 1 / pow(gamma_hi, dim);
+        const double w = at(W1, x, inv_d, b), sw = std::fabs(at(dW1, x, x * inv_d, b));
+        const double e = double_error(wd[i], w, sw);
+        worst_double = std::max(worst_double, e);
+        EXPECT_LE(e, double_bound) << "kernel_eval_double at u = " << hex(ud[i]) << ": " << wd[i] << " vs " << w;
+        // kernel_eval_double consistent with kernel_eval: the same double, rounded
+        if (i < uf.size()) {
+            const float we = h[10 + 4 * i + 2];
+            EXPECT_EQ(clamped ? std::max(static_cast<float>(wd[i]), 0.0f) : static_cast<float>(wd[i]), we) << "u = " << hex(ud[i]);
+        }
+    }
+    std::printf("%s D=%d: kernel_hydro.h worst %.3f float ulp (beyond the double slack), kernel_eval_double %.2f ulp\n",
+                spec.c_str(), dim, worst, worst_double);
+    if (!gravity) return;
+
+    // Gravity: W_pot = 4 pi phi_1, W_f = 4 pi phi_1'/u, D_soft_n (softening.hpp), u = r/H.
+    const std::vector<float> gv = read_binary<float>(dir / "gravity.bin");
+    const std::size_t per = static_cast<std::size_t>(orders) + 2;
+    ASSERT_EQ(gv.size(), 4 + per * gf.size() + 4 * gd.size());
+    double consts[2];
+    std::memcpy(consts, gv.data(), sizeof consts);
+    const gen::Exact four_pi = gen::sphere_measure(3);
+    const gen::Radial pot = *facts.quantities.potential * four_pi, force = *facts.quantities.dpotential_over_r * four_pi;
+    const gen::Exact plummer = gen::value_at(pot.pieces.front(), gen::Q(0)) * gen::Exact(gen::Q(-1));
+    EXPECT_EQ(consts[0], gen::round_to_double(plummer));
+    EXPECT_EQ(consts[1], gen::round_to_double(plummer.inverse()));
+    if (spec == "wendland:k=1") {
+        EXPECT_EQ(consts[0], 3.0);  // SWIFT: H = 3 eps for Wendland C2
+    }
+    const std::vector<gen::Radial> dsoft = gen::swift_d_soft(k);
+    std::vector<const gen::Radial*> fs_ = {&pot, &force};
+    for (int n = 0; n < orders; ++n) fs_.push_back(&dsoft[static_cast<std::size_t>(n)]);
+    std::vector<gen::Radial> derivs;
+    for (const gen::Radial* f : fs_) derivs.push_back(f->derivative());
+    double gworst = 0;
+    for (std::size_t i = 0; i < gf.size(); ++i) {
+        const float* v = &gv[4 + per * i];
+        const unsigned b = bits_at(gf[i]);
+        const Real x = real(static_cast<double>(gf[i]), b), one = real(1.0, b);
+        for (std::size_t j = 0; j < per; ++j) {
+            const double e = at(*fs_[j], x, one, b), s = std::fabs(at(derivs[j], x, x, b));
+            const double err = float_error(v[j], e, s);
+            gworst = std::max(gworst, err);
+            EXPECT_LE(err, 1) << (j == 0 ? "pot" : j == 1 ? "force" : "D_soft_" + std::to_string(j - 1)) << " at u = "
+                              << hex(gf[i]) << ": " << v[j] << " vs " << e;
+        }
+        if (spec == "wendland:k=1" && gf[i] == 0) {  // SWIFT's stock values at 0
+            EXPECT_EQ(v[0], -3.0f);
+            EXPECT_EQ(v[1], 14.0f);
+            EXPECT_EQ(v[2], 3.0f);
+        }
+    }
+    const double* g2d = reinterpret_cast<const double*>(&gv[4 + per * gf.size()]);
+    for (std::size_t i = 0; i < gd.size(); ++i) {
+        const unsigned b = bits_at(gd[i]);
+        const Real x = real(gd[i], b), one = real(1.0, b);
+        for (std::size_t j = 0; j < 2; ++j) {
+            const double e = at(*fs_[j], x, one, b), s = std::fabs(at(derivs[j], x, x, b));
+            EXPECT_LE(double_error(g2d[2 * i + j], e, s), double_bound)
+                << (j ? "kernel_grav_eval_force_double" : "kernel_grav_eval_pot_double") << " at u = " << hex(gd[i]);
+        }
+    }
+    std::printf("%s: kernel_gravity.h (D_soft_1..%d) worst %.3f float ulp (beyond the double slack)\n", spec.c_str(), orders, gworst);
+}
+
+TEST(Swift, ClampedKernelsMatchTheExactKernelAndSwiftsRules) {
+    const fs::path root = work_dir() / "clamped";
+    std::string only;
+    for (const char* s : clamped_specs) only += std::string(" --only '") + s + "'";
+    ASSERT_NO_FATAL_FAILURE(fresh_emit(only, root));
+    for (const char* spec : clamped_specs)
+        for (int dim = 1; dim <= 3; ++dim) check_kernel(root, spec, dim, true);
+}
+
+// A combination (negative lobes, second moment 0: gamma is its base kernel's).
+TEST(Swift, NegativeLobesWithTheFlagKeepTheirValues) {
+    const fs::path root = work_dir() / "lobed";
+    ASSERT_NO_FATAL_FAILURE(fresh_emit(std::string("--allow-negative-lobes --only '") + lobed_spec + "'", root));
+    for (int dim = 1; dim <= 3; ++dim) check_kernel(root, lobed_spec, dim, false);
+    const std::string text = slurp(root / "swift" / "combo_m_2_base_wendland_k_1_D3" / "kernel_hydro.h");
+    EXPECT_NE(text.find("--allow-negative-lobes"), std::string::npos);
+    EXPECT_NE(text.find("DROPPED"), std::string::npos);
+    EXPECT_EQ(text.find("fmaxf"), std::string::npos);
+    EXPECT_NE(text.find("its base kernel wendland:k=1's"), std::string::npos);
+    const gen::KernelFacts base = gen::kernel_facts({mollify::parse_spec("wendland:k=1"), 3});
+    const gen::KernelFacts combo = gen::kernel_facts({mollify::parse_spec(lobed_spec), 3});
+    EXPECT_EQ(gen::variance(combo.kernel), 0);
+    EXPECT_GT(gen::variance(base.kernel), 0);
+}
+
+TEST(SwiftErrors, NegativeLobesWithoutTheFlagFailNamingKernelAndReason) {
+    const fs::path out = work_dir() / "errors";
+    fs::remove_all(out);
+    fs::create_directories(work_dir());
+    const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target swift --only '" + lobed_spec + "' --dim 2 --out '" +
+                                   out.string() + "'",
+                               out.string() + "_capture");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find(lobed_spec), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("W >= 0 fails at x = "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("clamps"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--allow-negative-lobes"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out / "swift"));
+    // the flag is SWIFT's only
+    const auto c = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target c --allow-negative-lobes --only cubic-spline --out '" +
+                                   out.string() + "'",
+                               out.string() + "_capture");
+    EXPECT_EQ(c.status, 2);
+    EXPECT_NE(c.err.find("--target swift"), std::string::npos) << c.err;
+}
+
+TEST(SwiftErrors, GravityIsThreeDimensional) {
+    const gen::KernelFacts f = gen::kernel_facts({mollify::parse_spec("wendland:k=1"), 2});
+    const gen::Tables tables = gen::rounded_tables(f);
+    try {
+        gen::write_swift_gravity({f, tables, gen::convention("swift")}, "test");
+        FAIL() << "a 2D kernel_gravity.h was written";
+    } catch (const gen::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("3D only"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("D = 2"), std::string::npos) << e.what();
+    }
+}
+
+// Belley's derivative kernels (zero mass or odd) are no density kernels; a
+// higher-order kernel that is no combination has no gamma.
+TEST(SwiftErrors, KernelsSwiftCannotTakeAreNamedWithTheReason) {
+    auto error_of = [](const char* spec, int dim) {
+        const gen::KernelFacts f = gen::kernel_facts({mollify::parse_spec(spec), dim});
+        const gen::Tables tables = gen::rounded_tables(f);
+        try {
+            gen::write_swift({f, tables, gen::convention("swift"), true}, "test");
+        } catch (const gen::Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    const std::string d2 = error_of("box-d2", 1);
+    EXPECT_NE(d2.find("box-d2"), std::string::npos) << d2;
+    EXPECT_NE(d2.find("not a unit-mass kernel"), std::string::npos) << d2;
+    const std::string m = error_of("mollifier:M=2,order=4", 3);
+    EXPECT_NE(m.find("mollifier:M=2,order=4"), std::string::npos) << m;
+    EXPECT_NE(m.find("second moment 0"), std::string::npos) << m;
+}
+
+// tests/golden/peers/swift regenerated: any change of the writer's output
+// shows here (regenerate with the command in their banners, --out
+// tests/golden/peers, after checking the change).
+TEST(SwiftGolden, RegeneratedFilesEqualTheGoldenOnes) {
+    const fs::path golden = fs::path(MOLLIFY_PEERS_GOLDEN_DIR), out = work_dir() / "golden";
+    fs::remove_all(out);
+    fs::create_directories(out);
+    ASSERT_NO_FATAL_FAILURE(emit("--only cubic-spline --only wendland:k=1 --dim 3", out));
+    int files = 0;
+    for (const auto& f : fs::recursive_directory_iterator(golden / "swift")) {
+        if (!f.is_regular_file()) continue;
+        ++files;
+        EXPECT_EQ(slurp(out / fs::relative(f.path(), golden)), slurp(f.path())) << f.path();
+    }
+    EXPECT_EQ(files, 4);
+    int emitted = 0;
+    for (const auto& f : fs::recursive_directory_iterator(out / "swift")) emitted += f.is_regular_file();
+    EXPECT_EQ(emitted, 4);
+}
+
+}  // namespace
