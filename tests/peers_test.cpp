@@ -14,6 +14,7 @@
 // derivatives.) A missing gfortran
 // fails. Also: D != 3 and a kernel without a potential give clear errors.
 #include "command.hpp"
+#include "sanitized.hpp"
 
 #include <catalogue.hpp>
 #include <conventions.hpp>
@@ -268,7 +269,10 @@ TEST(Gadget4, KernelMainAndGfactorsMatchTheExactValues) {
     const fs::path dir = work_dir().string() + "_gadget4";
     fs::remove_all(dir);
     fs::create_directories(dir);
-    const char* const g4specs[] = {"cubic-spline", "wendland:k=1", "combo:m=2,base=wendland:k=1", "wendland-missing:k=1"};
+    // Under the sanitizers without the missing Wendland function (sanitized.hpp):
+    // the Phantom test above takes it through the same shared C/Fortran pieces.
+    std::vector<const char*> g4specs = {"cubic-spline", "wendland:k=1", "combo:m=2,base=wendland:k=1"};
+    if (!mollify::testing::sanitized_build) g4specs.push_back("wendland-missing:k=1");
     std::string only;
     for (const char* sp : g4specs) only += std::string(" --only '") + sp + "'";
     const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target gadget4" + only + " --out '" + dir.string() + "'",

@@ -4,6 +4,7 @@
 // bit for bit, every field; bad files fail naming the file, the line and
 // the bad value.
 #include "command.hpp"
+#include "sanitized.hpp"
 #include "shape_features.hpp"
 
 #include <mollify/error.hpp>
@@ -101,11 +102,13 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 // quantity kind) any catalogue table takes: the writer and the reader have
 // one branch per such feature, so these exercise all of both. Chosen
 // greedily (most new features first); a third of the catalogue's emit time
-// is then spent, not all of it (under ASan: ~40 s instead of 277 s).
+// is then spent, not all of it (under ASan: ~40 s instead of 277 s). Under
+// the sanitizers, of the missing Wendland functions only one (sanitized.hpp).
 std::vector<std::string> specs_covering_the_catalogue() {
     std::map<std::string, std::set<std::string>> by_spec;
     std::set<std::string> wanted;
     for (const table::Kernel* k : mollify::tables::all_kernels) {
+        if (mollify::testing::left_to_optimised_build(k->spec)) continue;
         const std::set<std::string> f = mollify::testing::features(*k);
         by_spec[k->spec].insert(f.begin(), f.end());
         wanted.insert(f.begin(), f.end());
@@ -157,7 +160,8 @@ TEST(TableFile, KernelsOfEveryCataloguePathLoadBitForBitAsCompiled) {
     // The loaded files themselves (not only the compiled tables chosen) take every path of the catalogue.
     for (const table::Kernel* k : mollify::tables::all_kernels)
         for (const std::string& f : mollify::testing::features(*k))
-            EXPECT_TRUE(covered.count(f)) << "no loaded table takes the path of " << k->spec << " D" << k->dim << ": " << f;
+            if (!mollify::testing::left_to_optimised_build(k->spec))
+                EXPECT_TRUE(covered.count(f)) << "no loaded table takes the path of " << k->spec << " D" << k->dim << ": " << f;
     fs::remove_all(out);
 }
 

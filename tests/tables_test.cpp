@@ -6,6 +6,7 @@
 #include "kernel.hpp"
 #include "quantities.hpp"
 #include "rounding.hpp"
+#include "sanitized.hpp"
 
 #include <mollify/tables/catalogue.hpp>
 
@@ -122,6 +123,7 @@ TEST(Tables, SeriesPiecesAreAccurateToAFewUlp) {
     int checked = 0;
     for (const table::Kernel* t : mollify::tables::all_kernels) {
         if (std::string(t->spec).rfind("wendland-missing:", 0) != 0) continue;
+        if (mollify::testing::left_to_optimised_build(t->spec)) continue;
         const ExactKernel k = make_kernel(parse_spec(t->spec), t->dim);
         const Quantities q = derive_quantities(k);
         for (int i = 0; i < table::quantity_count; ++i) {
