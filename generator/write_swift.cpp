@@ -165,9 +165,14 @@ struct SignCheck {
 SignCheck check_signs(const KernelFacts& facts, bool allow) {
     const ExactKernel& k = facts.kernel;
     const SignFact w = non_negative(k.W), dw = non_negative(k.W.derivative() * Exact(Q(-1)));
+    bool polynomial = true;
+    for (const ClosedForm& p : k.W.pieces) polynomial = polynomial && p.has_only_basis_one();
     if (w.verdict == SignVerdict::proved && dw.verdict == SignVerdict::proved)
-        return {true, "W >= 0 and dW/du <= 0 on the whole support (proved exactly: Bernstein coefficients of every piece), "
-                      "so SWIFT's clamps max(W, 0), min(dW, 0) are kept and change nothing."};
+        return {true, std::string("W >= 0 and dW/du <= 0 on the whole support (proved exactly: ") +
+                          (polynomial ? "Bernstein coefficients of every piece"
+                                      : "the closed form's series at 0 and in S at the edge, with their truncation bounds, "
+                                        "under interval arithmetic with outward rounding (kernel_sign.cpp)") +
+                          "), so SWIFT's clamps max(W, 0), min(dW, 0) are kept and change nothing."};
     auto why = [](const SignFact& f, const std::string& what) {
         if (f.verdict == SignVerdict::disproved)
             return what + " fails at x = " + short_string(*f.witness) + " (exactly: " + f.reason + " times a positive constant)";

@@ -23,6 +23,7 @@
 #include <conventions.hpp>
 #include <emit_metadata.hpp>
 #include <error.hpp>
+#include <kernel_sign.hpp>
 #include <radial.hpp>
 #include <rounding.hpp>
 #include <softening.hpp>
@@ -50,6 +51,10 @@ using mollify::testing::slurp;
 
 const char* const clamped_specs[] = {"wendland:k=1", "wendland:k=2", "wendland:k=3", "cubic-spline", "wendland:k=2,l=1"};
 const char* const lobed_spec = "combo:m=2,base=wendland:k=1";
+// Franz's missing Wendland functions (closed forms in S, arcsech r): W >= 0
+// and W' <= 0 proved by kernel_sign's interval proof, no flag needed.
+const char* const missing_specs[] = {"wendland-missing:k=1",     "wendland-missing:k=2",     "wendland-missing:k=1,l=1",
+                                     "wendland-missing:k=1,l=2", "wendland-missing:k=2,l=1", "wendland-missing:k=2,l=2"};
 
 fs::path work_dir() { return fs::path(MOLLIFY_SWIFT_WORK_DIR); }
 
@@ -375,6 +380,58 @@ TEST(Swift, ClampedKernelsMatchTheExactKernelAndSwiftsRules) {
     ASSERT_NO_FATAL_FAILURE(fresh_emit(only, root));
     for (const char* spec : clamped_specs)
         for (int dim = 1; dim <= 3; ++dim) check_kernel(root, spec, dim, true);
+}
+
+// The six missing Wendland kernels in D = 1-3: W >= 0 and -W' >= 0 proved
+// (their single closed-form piece on [0, 1], kernel_sign.cpp's series at 0
+// and at the edge under interval arithmetic).
+TEST(SwiftSigns, MissingWendlandKernelsAreProvedNonNegativeAndDecreasing) {
+    for (const char* spec : missing_specs)
+        for (int dim = 1; dim <= 3; ++dim) {
+            SCOPED_TRACE(std::string(spec) + " D=" + std::to_string(dim));
+            const gen::KernelFacts f = gen::kernel_facts({mollify::parse_spec(spec), dim});
+            const gen::Radial& W = f.kernel.W;
+            ASSERT_EQ(W.pieces.size(), 1u);
+            EXPECT_FALSE(W.pieces.front().has_only_basis_one());
+            const gen::SignFact w = gen::non_negative(W), dw = gen::non_negative(W.derivative() * gen::Exact(gen::Q(-1)));
+            EXPECT_EQ(w.verdict, gen::SignVerdict::proved) << w.reason;
+            EXPECT_EQ(dw.verdict, gen::SignVerdict::proved) << dw.reason;
+        }
+}
+
+// The proof can fail: closed forms of the same kind that are negative
+// somewhere (in the middle, at the edge, near 0, by 2^-40 only) are not
+// proved, and the reason names the piece.
+TEST(SwiftSigns, NegativeClosedFormsAreNotProved) {
+    const gen::KernelFacts f = gen::kernel_facts({mollify::parse_spec("wendland-missing:k=1"), 3});
+    const gen::ClosedForm& w = f.kernel.W.pieces.front();
+    const gen::Exact w0 = gen::value_at(w, gen::Q(0));
+    const std::vector<std::pair<std::string, gen::ClosedForm>> negative = {
+        {"W (r - 1/2)", w * (gen::Laurent::monomial(gen::Q(1), 1) + gen::Laurent(gen::Q(-1, 2)))},
+        {"W - W(0)/1000", w - gen::ClosedForm::constant(w0 * gen::Q(1, 1000))},
+        {"W - W(0) (1 + 2^-40)", w - gen::ClosedForm::constant(w0 * (gen::Q(1) + pow(gen::Q(2), -40)))},
+        {"-W", w * gen::Q(-1)},
+    };
+    for (const auto& [name, g] : negative) {
+        const gen::SignFact s = gen::non_negative(gen::Radial::single(g));
+        EXPECT_NE(s.verdict, gen::SignVerdict::proved) << name;
+        EXPECT_NE(s.reason.find("piece [0, 1]"), std::string::npos) << name << ": " << s.reason;
+    }
+    // and one just above 0: W + W(0) 2^-40 stays proved
+    EXPECT_EQ(gen::non_negative(gen::Radial::single(w + gen::ClosedForm::constant(w0 * pow(gen::Q(2), -40)))).verdict,
+              gen::SignVerdict::proved);
+}
+
+// A missing Wendland kernel written without the flag: the clamps kept,
+// SWIFT's rules and the values at the hard points checked.
+TEST(Swift, MissingWendlandWithoutTheFlagKeepsTheClamps) {
+    const fs::path root = work_dir() / "missing";
+    const char* spec = "wendland-missing:k=1";
+    ASSERT_NO_FATAL_FAILURE(fresh_emit(std::string("--only '") + spec + "'", root));
+    for (int dim = 1; dim <= 3; ++dim) check_kernel(root, spec, dim, true);
+    const std::string text = slurp(root / "swift" / "wendland_missing_k_1_D3" / "kernel_hydro.h");
+    EXPECT_EQ(text.find("--allow-negative-lobes"), std::string::npos);
+    EXPECT_NE(text.find("fmaxf"), std::string::npos);
 }
 
 // A combination (negative lobes, second moment 0: gamma is its base kernel's).
