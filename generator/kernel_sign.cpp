@@ -54,8 +54,8 @@ SignFact prove(const Laurent& p, const Q& a, const Q& b, int depth) {
 // Interval arithmetic in MPFR with outward (directed) rounding: every
 // enclosure contains the exact real set, so a lower end >= 0 is a proof.
 
-constexpr unsigned interval_bits = 256;
-constexpr int max_intervals = 20000;  // sub-intervals per side, at most
+constexpr unsigned interval_bits = 160;
+constexpr int max_intervals = 4000;  // sub-intervals per side, at most
 
 struct Interval {
     Real lo, hi;
@@ -172,6 +172,80 @@ SignFact prove_by_intervals(const std::function<Interval(const Q&, const Q&)>& g
     return {SignVerdict::proved, std::nullopt, ""};
 }
 
+// The lower bounds below are sums of terms c r^k (log r)^[log] (at 0) or
+// c r^low S^k (at the edge). Their enclosure on [a, b] is the tighter of the
+// natural one (each term's) and the mean-value form g(m) + g'([a, b]) [a - m,
+// b - m], m the midpoint, whose overestimate shrinks with (b - a)^2 (the
+// series' terms cancel: the natural enclosure alone needs ~10^5 parts).
+struct ZeroTerm {
+    int k;
+    bool log_r;
+    Interval c;
+};
+struct EdgeTermI {
+    int low, k;  // r^low S^k, k >= -1 (S^-1 only in derivatives, off r = 1)
+    Interval c;
+};
+
+Interval term_on(const ZeroTerm& t, const Q& a, const Q& b) {
+    return t.c * (t.log_r ? power_log_on(a, b, t.k) : power_on(a, b, t.k));
+}
+
+Interval s_power_on(const Q& a, const Q& b, int k) {
+    if (k == 0) return point(Q(1));
+    const Interval S = s_on(a, b);
+    Interval x{fresh(), fresh()};
+    if (k > 0) {
+        mpfr_pow_si(x.lo.backend().data(), S.lo.backend().data(), k, MPFR_RNDD);
+        mpfr_pow_si(x.hi.backend().data(), S.hi.backend().data(), k, MPFR_RNDU);
+    } else {  // S.lo > 0 (b < 1)
+        mpfr_pow_si(x.lo.backend().data(), S.hi.backend().data(), k, MPFR_RNDD);
+        mpfr_pow_si(x.hi.backend().data(), S.lo.backend().data(), k, MPFR_RNDU);
+    }
+    return x;
+}
+
+Interval term_on(const EdgeTermI& t, const Q& a, const Q& b) { return t.c * power_on(a, b, t.low) * s_power_on(a, b, t.k); }
+
+template <class T>
+Interval sum_on(const std::vector<T>& terms, const Q& a, const Q& b) {
+    Interval s = point(Q(0));
+    for (const T& t : terms) s = s + term_on(t, a, b);
+    return s;
+}
+
+// d/dr c r^k = c k r^(k-1); d/dr c r^k log r = c k r^(k-1) log r + c r^(k-1).
+std::vector<ZeroTerm> derivative(const std::vector<ZeroTerm>& terms) {
+    std::vector<ZeroTerm> d;
+    for (const ZeroTerm& t : terms) {
+        if (t.k > 0) d.push_back({t.k - 1, t.log_r, t.c * point(Q(t.k))});
+        if (t.log_r) d.push_back({t.k - 1, false, t.c});
+    }
+    return d;
+}
+// d/dr c r^low S^k = c low r^(low-1) S^k - c k r^(low+1) S^(k-2) (S' = -r/S).
+std::vector<EdgeTermI> derivative(const std::vector<EdgeTermI>& terms) {
+    std::vector<EdgeTermI> d;
+    for (const EdgeTermI& t : terms) {
+        if (t.low != 0) d.push_back({t.low - 1, t.k, t.c * point(Q(t.low))});
+        if (t.k != 0) d.push_back({t.low + 1, t.k - 2, t.c * point(Q(-t.k))});
+    }
+    return d;
+}
+
+// The natural enclosure, narrowed by the mean-value form where g' is
+// bounded on [a, b] (`smooth`: not at r = 0 for log r, not at S = 0 for S^-1).
+template <class T>
+Interval enclosure_on(const std::vector<T>& g, const std::vector<T>& dg, const Q& a, const Q& b, bool smooth) {
+    Interval e = sum_on(g, a, b);
+    if (!smooth) return e;
+    const Q m = (a + b) / 2;
+    const Interval mv = sum_on(g, m, m) + sum_on(dg, a, b) * Interval{point(a - m).lo, point(b - m).hi};
+    if (mv.lo > e.lo) e.lo = mv.lo;
+    if (mv.hi < e.hi) e.hi = mv.hi;
+    return e;
+}
+
 // f >= 0 on [0, t] from f's series at 0 (series.hpp): f >= T - B (r/t)^(N+1)
 // with T = sum c_n r^n (+ d_n r^n log r); both sides over r^n0, n0 T's
 // lowest power (a term of T at r^n0 must not have log r: it would decide
@@ -180,23 +254,20 @@ SignFact near_zero(const ClosedForm& f, const Q& t, int order, int& budget) {
     const auto B = truncation_bound(f, order, t);
     if (!B) return {SignVerdict::unknown, std::nullopt, "no convergent series at 0 on [0, " + short_string(t) + "]"};
     std::map<std::pair<int, bool>, Exact> c;  // (n, times log r) -> coefficient
-    for (const auto& [k, p] : series_at_zero(f, order).terms())
+    const ClosedForm T = series_at_zero(f, order);
+    for (const auto& [k, p] : T.terms())
         for (int n = p.low(); n <= p.high(); ++n)
             if (p.coefficient(n) != 0) c[{n, k.basis == Basis::log}] += Exact::of(k.factor) * p.coefficient(n);
     std::erase_if(c, [](const auto& e) { return e.second.is_zero(); });
     if (c.empty()) return {SignVerdict::unknown, std::nullopt, "series at 0 is 0"};
     const int n0 = c.begin()->first.first;
     if (n0 < 0 || c.count({n0, true})) return {SignVerdict::unknown, std::nullopt, "series at 0 leads with r^n log r or r^-n"};
-    std::vector<std::tuple<int, bool, Interval>> terms;
-    for (const auto& [key, v] : c) terms.emplace_back(key.first - n0, key.second, enclose(v));
-    const int tail_power = order + 1 - n0;
-    const Interval tail = point(-*B / pow(t, order + 1));
-    auto g = [&](const Q& a, const Q& b) {
-        Interval s = power_on(a, b, tail_power) * tail;
-        for (const auto& [k, log_r, v] : terms) s = s + v * (log_r ? power_log_on(a, b, k) : power_on(a, b, k));
-        return s;
-    };
-    return prove_by_intervals(g, Q(0), t, budget, "series at 0 to r^" + std::to_string(order));
+    std::vector<ZeroTerm> g;
+    for (const auto& [key, v] : c) g.push_back({key.first - n0, key.second, enclose(v)});
+    g.push_back({order + 1 - n0, false, point(-*B / pow(t, order + 1))});
+    const std::vector<ZeroTerm> dg = derivative(g);
+    return prove_by_intervals([&](const Q& a, const Q& b) { return enclosure_on(g, dg, a, b, a > 0); }, Q(0), t, budget,
+                              "series at 0 to r^" + std::to_string(order));
 }
 
 // f >= 0 on [t, 1] from f's series in S at the edge (edge_series.hpp):
@@ -211,42 +282,30 @@ SignFact near_edge(const ClosedForm& f, const Q& t, int order, int& budget) {
     for (const EdgeTerm& e : *series) s0 = std::min(s0, e.s);
     // |lead(r)| = |a| r^low S^s0 for one of the terms at S^s0 (edge_series.cpp
     // picks it): bounded by the largest |c| there times r^min(low, 0) (r <= 1)
-    Interval lead = point(Q(0));
+    Real lead = fresh();
     int lead_low = 0;
     for (const EdgeTerm& e : *series)
         if (e.s == s0) {
             const Interval v = enclose(e.c);
             const Real m = max(abs(v.lo), abs(v.hi));
-            if (m > lead.hi) lead = {m, m};
+            if (m > lead) lead = m;
             lead_low = std::min(lead_low, e.low);
         }
-    std::vector<std::tuple<int, int, Interval>> terms;
-    for (const EdgeTerm& e : *series) terms.emplace_back(e.low, e.s - s0, enclose(e.c));
-    const Interval tail = point(-*beta) * lead;
-    auto g = [&](const Q& a, const Q& b) {
-        const Interval S = s_on(a, b);
-        Interval s = power_on(a, b, lead_low) * tail;
-        for (const auto& [low, k, v] : terms) {
-            Interval Sk = point(Q(1));
-            if (k > 0) {
-                Sk = S;
-                mpfr_pow_ui(Sk.lo.backend().data(), S.lo.backend().data(), static_cast<unsigned long>(k), MPFR_RNDD);
-                mpfr_pow_ui(Sk.hi.backend().data(), S.hi.backend().data(), static_cast<unsigned long>(k), MPFR_RNDU);
-            }
-            s = s + v * power_on(a, b, low) * Sk;
-        }
-        return s;
-    };
-    return prove_by_intervals(g, t, Q(1), budget, "series at the edge to S^" + std::to_string(order));
+    std::vector<EdgeTermI> g;
+    for (const EdgeTerm& e : *series) g.push_back({e.low, e.s - s0, enclose(e.c)});
+    g.push_back({lead_low, 0, point(-*beta) * Interval{lead, lead}});
+    const std::vector<EdgeTermI> dg = derivative(g);
+    return prove_by_intervals([&](const Q& a, const Q& b) { return enclosure_on(g, dg, a, b, b < 1); }, t, Q(1), budget,
+                              "series at the edge to S^" + std::to_string(order));
 }
 
 // A closed form on the whole support [0, 1]: its series at 0 on [0, t] and
 // in S on [t, 1], each at rising orders until proved.
 SignFact prove_closed_form(const ClosedForm& f) {
-    const Q t(5, 8);
+    const Q t(9, 16);
     SignFact last;
     for (auto side : {near_zero, near_edge}) {
-        for (int order : {40, 80, 120}) {
+        for (int order : {60, 120}) {
             int budget = max_intervals;
             last = side(f, t, order, budget);
             if (last.verdict == SignVerdict::proved) break;

@@ -51,7 +51,7 @@ std::optional<std::pair<Q, Q>> quotient_enclosure(const Exact& a, const Exact& b
     const auto [blo, bhi] = b.is_rational() ? std::pair{b.rational(), b.rational()} : enclosure(of(b), bits);
     if (blo <= 0 && bhi >= 0) return std::nullopt;
     Q lo = alo / blo, hi = lo;
-    for (const Q& q : {alo / bhi, ahi / blo, ahi / bhi}) {
+    for (const Q& q : {Q(alo / bhi), Q(ahi / blo), Q(ahi / bhi)}) {
         if (q < lo) lo = q;
         if (q > hi) hi = q;
     }

@@ -409,7 +409,7 @@ TEST(SwiftSigns, NegativeClosedFormsAreNotProved) {
     const std::vector<std::pair<std::string, gen::ClosedForm>> negative = {
         {"W (r - 1/2)", w * (gen::Laurent::monomial(gen::Q(1), 1) + gen::Laurent(gen::Q(-1, 2)))},
         {"W - W(0)/1000", w - gen::ClosedForm::constant(w0 * gen::Q(1, 1000))},
-        {"W - W(0) (1 + 2^-40)", w - gen::ClosedForm::constant(w0 * (gen::Q(1) + pow(gen::Q(2), -40)))},
+        {"W - W(0) (1 + 2^-40)", w - gen::ClosedForm::constant(w0 * (gen::Q(1) + gen::pow(gen::Q(2), -40)))},
         {"-W", w * gen::Q(-1)},
     };
     for (const auto& [name, g] : negative) {
@@ -417,9 +417,10 @@ TEST(SwiftSigns, NegativeClosedFormsAreNotProved) {
         EXPECT_NE(s.verdict, gen::SignVerdict::proved) << name;
         EXPECT_NE(s.reason.find("piece [0, 1]"), std::string::npos) << name << ": " << s.reason;
     }
-    // and one just above 0: W + W(0) 2^-40 stays proved
-    EXPECT_EQ(gen::non_negative(gen::Radial::single(w + gen::ClosedForm::constant(w0 * pow(gen::Q(2), -40)))).verdict,
-              gen::SignVerdict::proved);
+    // while the same kind of form that is positive is proved: W (r + 1/1000), 0 at r = 0 only
+    const gen::ClosedForm positive = w * (gen::Laurent::monomial(gen::Q(1), 1) + gen::Laurent(gen::Q(1, 1000)));
+    EXPECT_EQ(gen::non_negative(gen::Radial::single(positive)).verdict, gen::SignVerdict::proved);
+    EXPECT_EQ(gen::non_negative(gen::Radial::single(w * gen::Laurent::monomial(gen::Q(1), 1))).verdict, gen::SignVerdict::proved);
 }
 
 // A missing Wendland kernel written without the flag: the clamps kept,
