@@ -101,6 +101,24 @@ double round_to_double(const Evaluator& f) {
     fail("internal: could not round a value correctly (is it exactly zero or a rounding boundary?)");
 }
 
+float round_to_float(const Q& q) {
+    mpfr_t x;
+    mpfr_init2(x, 24);
+    mpfr_set_q(x, q.backend().data(), MPFR_RNDN);
+    const float f = mpfr_get_flt(x, MPFR_RNDN);  // exact: x already has 24 bits (normal floats)
+    mpfr_clear(x);
+    return f;
+}
+
+float round_to_float(const Evaluator& f) {
+    for (unsigned bits = start_bits; bits <= max_bits; bits *= 2) {
+        const auto [lo, hi] = enclosure(f, bits);
+        const float a = round_to_float(lo), b = round_to_float(hi);
+        if (a == b) return a;
+    }
+    fail("internal: could not round a value correctly to float (is it exactly zero or a rounding boundary?)");
+}
+
 double round_to_double(const Exact& x) {
     if (x.is_rational()) return round_to_double(x.rational());
     return round_to_double(of(x));

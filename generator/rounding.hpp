@@ -18,6 +18,9 @@ using Evaluator = std::function<std::pair<Real, Real>(unsigned bits)>;
 double round_to_double(const Q& q);
 double round_to_double(const Exact& x);
 double round_to_double(const Evaluator& f);
+// The same to float (SWIFT's single-precision constants).
+float round_to_float(const Q& q);
+float round_to_float(const Evaluator& f);
 // a/b for exact constants (pi and logarithms: Phantom's cnormk_drag and
 // av_factor of missing Wendland functions): Ziv's loop on the quotient of
 // a's and b's rigorous enclosures, the precision raised until both ends

@@ -94,3 +94,13 @@ TEST(Rounding, QuotientsNearATieAreDecidedOrRefused) {
     EXPECT_EQ(decimal_quotient(Exact::pi_power(Q(1), 1), Exact(Q(1)), 20), "3.1415926535897932385e+00");  // OEIS A000796
     EXPECT_THROW(round_quotient_to_double(pi, Exact()), Error);
 }
+
+// Floats (SWIFT's constants): ties to even, just above a tie up, pi by Ziv.
+TEST(Rounding, ToFloat) {
+    const Q tie = Q(1) + pow(Q(2), -24);  // halfway between 1 and 1 + 2^-23
+    EXPECT_EQ(round_to_float(tie), 1.0f);
+    EXPECT_EQ(round_to_float(tie + pow(Q(2), -300)), std::nextafter(1.0f, 2.0f));
+    EXPECT_EQ(round_to_float(Q(1) + 3 * pow(Q(2), -24)), 1.0f + 0x1p-22f);  // the tie above 1 + 2^-23 goes to even 1 + 2^-22
+    const Exact pi = Exact::pi_power(Q(1), 1);
+    EXPECT_EQ(round_to_float([&](unsigned bits) { return pi.evaluate(bits); }), 0x1.921fb6p+1f);  // pi = 0x1.921fb54442d18...p+1
+}
