@@ -421,11 +421,15 @@ TEST(SwiftSigns, NegativeClosedFormsAreNotProved) {
         {"W - W(0)/1000", w - gen::ClosedForm::constant(w0 * gen::Q(1, 1000))},
         {"W - W(0) (1 + 2^-40)", w - gen::ClosedForm::constant(w0 * (gen::Q(1) + gen::pow(gen::Q(2), -40)))},
         {"-W", w * gen::Q(-1)},
+        // negative only on (99/100, 1) (the series at the edge) and on [0, 1/100) (the series at 0)
+        {"W (99/100 - r)", w * (gen::Laurent::monomial(gen::Q(-1), 1) + gen::Laurent(gen::Q(99, 100)))},
+        {"W (r - 1/100)", w * (gen::Laurent::monomial(gen::Q(1), 1) + gen::Laurent(gen::Q(-1, 100)))},
     };
     for (const auto& [name, g] : negative) {
         const gen::SignFact s = gen::non_negative(gen::Radial::single(g));
         EXPECT_NE(s.verdict, gen::SignVerdict::proved) << name;
         EXPECT_NE(s.reason.find("piece [0, 1]"), std::string::npos) << name << ": " << s.reason;
+        std::printf("%s: %s\n", name.c_str(), s.reason.c_str());
     }
     // while the same kind of form that is positive is proved: W (r + 1/1000), 0 at r = 0 only
     const gen::ClosedForm positive = w * (gen::Laurent::monomial(gen::Q(1), 1) + gen::Laurent(gen::Q(1, 1000)));
