@@ -3,6 +3,7 @@
 #include "error.hpp"
 
 #include <cstdio>
+#include <optional>
 #include <utility>
 
 namespace mollify::gen {
@@ -44,7 +45,43 @@ Z round_half_even(const Q& x) {  // x >= 0
     return floor_part;
 }
 
+// [a/b] from a's and b's enclosures at `bits`; nullopt while b's contains 0.
+std::optional<std::pair<Q, Q>> quotient_enclosure(const Exact& a, const Exact& b, unsigned bits) {
+    const auto [alo, ahi] = a.is_rational() ? std::pair{a.rational(), a.rational()} : enclosure(of(a), bits);
+    const auto [blo, bhi] = b.is_rational() ? std::pair{b.rational(), b.rational()} : enclosure(of(b), bits);
+    if (blo <= 0 && bhi >= 0) return std::nullopt;
+    Q lo = alo / blo, hi = lo;
+    for (const Q& q : {Q(alo / bhi), Q(ahi / blo), Q(ahi / bhi)}) {
+        if (q < lo) lo = q;
+        if (q > hi) hi = q;
+    }
+    return std::pair{lo, hi};
+}
+
+// Both ends of a/b's enclosure mapped alike by `round`, at rising precision.
+template <class F>
+auto decide_quotient(const Exact& a, const Exact& b, F round, const std::string& what) {
+    if (b.is_zero()) fail("cannot round " + a.to_string() + " / 0");
+    if (a.is_rational() && b.is_rational()) return round(a.rational() / b.rational());
+    for (unsigned bits = start_bits; bits <= max_bits; bits *= 2) {
+        const auto e = quotient_enclosure(a, b, bits);
+        if (!e) continue;
+        auto x = round(e->first), y = round(e->second);
+        if (x == y) return x;
+    }
+    fail("could not round (" + a.to_string() + ") / (" + b.to_string() + ") correctly to " + what + " at " +
+         std::to_string(max_bits) + " bits (an exact tie or a value on a rounding boundary?)");
+}
+
 }  // namespace
+
+double round_quotient_to_double(const Exact& a, const Exact& b) {
+    return decide_quotient(a, b, [](const Q& q) { return round_to_double(q); }, "a double");
+}
+
+std::string decimal_quotient(const Exact& a, const Exact& b, int digits) {
+    return decide_quotient(a, b, [digits](const Q& q) { return decimal(q, digits); }, std::to_string(digits) + " digits");
+}
 
 double round_to_double(const Q& q) {
     mpfr_t x;
@@ -62,6 +99,24 @@ double round_to_double(const Evaluator& f) {
         if (a == b) return a;
     }
     fail("internal: could not round a value correctly (is it exactly zero or a rounding boundary?)");
+}
+
+float round_to_float(const Q& q) {
+    mpfr_t x;
+    mpfr_init2(x, 24);
+    mpfr_set_q(x, q.backend().data(), MPFR_RNDN);
+    const float f = mpfr_get_flt(x, MPFR_RNDN);  // exact: x already has 24 bits (normal floats)
+    mpfr_clear(x);
+    return f;
+}
+
+float round_to_float(const Evaluator& f) {
+    for (unsigned bits = start_bits; bits <= max_bits; bits *= 2) {
+        const auto [lo, hi] = enclosure(f, bits);
+        const float a = round_to_float(lo), b = round_to_float(hi);
+        if (a == b) return a;
+    }
+    fail("internal: could not round a value correctly to float (is it exactly zero or a rounding boundary?)");
 }
 
 double round_to_double(const Exact& x) {

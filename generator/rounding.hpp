@@ -18,6 +18,16 @@ using Evaluator = std::function<std::pair<Real, Real>(unsigned bits)>;
 double round_to_double(const Q& q);
 double round_to_double(const Exact& x);
 double round_to_double(const Evaluator& f);
+// The same to float (SWIFT's single-precision constants).
+float round_to_float(const Q& q);
+float round_to_float(const Evaluator& f);
+// a/b for exact constants (pi and logarithms: Phantom's cnormk_drag and
+// av_factor of missing Wendland functions): Ziv's loop on the quotient of
+// a's and b's rigorous enclosures, the precision raised until both ends
+// round alike; Error naming a and b when 2^16 bits do not decide it (an exact
+// tie or a value on a rounding boundary) or b's enclosure keeps 0.
+double round_quotient_to_double(const Exact& a, const Exact& b);
+std::string decimal_quotient(const Exact& a, const Exact& b, int digits);
 
 // The low part of a double-double x = hi + lo, hi = round_to_double(x): the
 // rounding error x - hi, itself correctly rounded (0 where x is hi). The

@@ -85,9 +85,9 @@ std::vector<UnitFunction> unit_functions(const KernelFacts& facts) {
     };
 }
 
-// A constant and its exact value for the comment: f(0) where f's piece at 0
-// is elementary; else (a missing Wendland function's S, arcsech) its limit
-// by MPFR (below), correctly rounded but for a tie that precision cannot see.
+// A constant and its exact value for the comment, correctly rounded
+// (rounding.hpp: exact for rationals, Ziv's loop with a rigorous error bound
+// for pi and logarithms, an Error where that cannot decide).
 struct Constant {
     double value;
     std::string exact;
@@ -95,25 +95,19 @@ struct Constant {
 
 Constant constant(const Exact& x) { return {round_to_double(x), x.to_string()}; }
 
-Constant at_zero(const Radial& f, const Q& scale) {
-    if (f.form_at(Q(0)).is_elementary()) return constant(f.at(Q(0)) * scale);
-    // S, arcsech and log are singular at 0 (0 * inf): the limit, from
-    // x = 2^-600, where the pieces' x^2 log x terms are far below a double's rounding.
-    constexpr unsigned bits = 1024;
-    Real c(0, bits);
-    mpfr_set_q(c.backend().data(), scale.backend().data(), MPFR_RNDN);
-    const Real y = f.evaluate(Real(std::ldexp(1.0, -600), bits), bits).first * c;
-    return {static_cast<double>(y), y.str(40) + " (the limit at 0; MPFR at 2^-600, 1024 bits)"};
-}
+// f(0) times scale; a missing Wendland function's S and arcsech are singular
+// at 0 (0 * inf), its value there the exact limit (series.hpp).
+Constant at_zero(const Radial& f, const Q& scale) { return constant(value_at(f.form_at(Q(0)), Q(0)) * scale); }
 
-// a/b exactly where both are rational; else (pi and logs: the missing
-// Wendland functions) to 256 bits.
+// a/b, correctly rounded: exact where both are rational or b is q pi^e;
+// else (a sum with logarithms: the missing Wendland functions) Ziv's loop
+// on the quotient's enclosure (rounding.hpp).
 Constant ratio(const Exact& a, const Exact& b) {
     if (b.is_zero()) fail("--target phantom: a zero denominator (" + a.to_string() + " / 0)");
     if (a.is_rational() && b.is_rational()) return constant(Exact(a.rational() / b.rational()));
     if (b.terms().size() == 1 && b.terms().begin()->first.log_of == 1) return constant(a * b.inverse());
-    const Real y = a.evaluate(256).first / b.evaluate(256).first;
-    return {static_cast<double>(y), "(" + a.to_string() + ") / (" + b.to_string() + ") = " + y.str(40) + " (MPFR, 256 bits)"};
+    return {round_quotient_to_double(a, b),
+            "(" + a.to_string() + ") / (" + b.to_string() + ") = " + decimal_quotient(a, b, 21) + " (correctly rounded)"};
 }
 
 // A real parameter: its bits, the exact value beside it.

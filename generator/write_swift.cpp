@@ -41,8 +41,6 @@ namespace mollify::gen {
 
 namespace {
 
-constexpr unsigned bits = 512;  // for constants with pi: irrational, so 512 bits decide their rounding
-
 // factor * sqrt(radicand), exactly (factor rational or q pi^e; radicand > 0 rational).
 struct SwiftConstant {
     Exact factor;
@@ -52,13 +50,17 @@ struct SwiftConstant {
         return (factor.is_rational() && factor.rational() == 1 ? std::string() : "(" + factor.to_string() + ") * ") +
                "sqrt(" + short_string(radicand) + ")";
     }
-    Real evaluated() const {
-        Real r(0, bits);
+    // Value and sum of |terms| at `b` bits (a rounding.hpp Evaluator: Ziv's loop).
+    std::pair<Real, Real> evaluated(unsigned b) const {
+        Real r(0, b);
         mpfr_set_q(r.backend().data(), radicand.backend().data(), MPFR_RNDN);
-        return factor.evaluate(bits).first * sqrt(r);
+        const Real s = sqrt(r);
+        auto [v, magnitude] = factor.evaluate(b);
+        return {v * s, magnitude * s};
     }
     // Correctly rounded: exact decisions where the value is a rational or its
-    // square root (conventions.hpp), MPFR at 512 bits where pi enters.
+    // square root (conventions.hpp), Ziv's loop with a rigorous error bound
+    // where pi enters (rounding.hpp).
     float to_float() const {
         if (factor.is_rational()) {
             const Q f = factor.rational();
@@ -66,7 +68,7 @@ struct SwiftConstant {
             const float m = sqrt_to_float(square);
             return f < 0 ? -m : m;
         }
-        return mpfr_get_flt(evaluated().backend().data(), MPFR_RNDN);
+        return round_to_float([this](unsigned b) { return evaluated(b); });
     }
     double to_double() const {
         if (factor.is_rational()) {
@@ -74,7 +76,7 @@ struct SwiftConstant {
             const double m = sqrt_to_double(f * f * radicand);
             return f < 0 ? -m : m;
         }
-        return mpfr_get_d(evaluated().backend().data(), MPFR_RNDN);
+        return round_to_double([this](unsigned b) { return evaluated(b); });
     }
 };
 
@@ -109,11 +111,7 @@ std::vector<RoundedPiece> round_or_fail(const Radial& f, bool potential_like, co
 
 // ---- SWIFT's expanded layout, measured (the comment in kernel_hydro.h) ----
 
-float to_float(const Q& q) {
-    Real r(0, bits);
-    mpfr_set_q(r.backend().data(), q.backend().data(), MPFR_RNDN);
-    return mpfr_get_flt(r.backend().data(), MPFR_RNDN);
-}
+float to_float(const Q& q) { return round_to_float(q); }
 
 // One float operation rounded once to float, whatever the compiler's FMA
 // contraction: the operation in double, then to float (a double rounding that
@@ -165,9 +163,14 @@ struct SignCheck {
 SignCheck check_signs(const KernelFacts& facts, bool allow) {
     const ExactKernel& k = facts.kernel;
     const SignFact w = non_negative(k.W), dw = non_negative(k.W.derivative() * Exact(Q(-1)));
+    bool polynomial = true;
+    for (const ClosedForm& p : k.W.pieces) polynomial = polynomial && p.has_only_basis_one();
     if (w.verdict == SignVerdict::proved && dw.verdict == SignVerdict::proved)
-        return {true, "W >= 0 and dW/du <= 0 on the whole support (proved exactly: Bernstein coefficients of every piece), "
-                      "so SWIFT's clamps max(W, 0), min(dW, 0) are kept and change nothing."};
+        return {true, std::string("W >= 0 and dW/du <= 0 on the whole support (proved exactly: ") +
+                          (polynomial ? "Bernstein coefficients of every piece"
+                                      : "the closed form's series at 0 and in S at the edge, with their truncation bounds, "
+                                        "under interval arithmetic with outward rounding (kernel_sign.cpp)") +
+                          "), so SWIFT's clamps max(W, 0), min(dW, 0) are kept and change nothing."};
     auto why = [](const SignFact& f, const std::string& what) {
         if (f.verdict == SignVerdict::disproved)
             return what + " fails at x = " + short_string(*f.witness) + " (exactly: " + f.reason + " times a positive constant)";

@@ -238,6 +238,12 @@ TEST_F(PhantomFixture, EveryProcedureMatchesTheExactKernelAndPhantomsRules) {
             EXPECT_LE(ulps_off(y[4], -y[2] - q[i] * y[3], std::fabs(y[2]) + std::fabs(q[i] * y[3])), 2 * bound_ulps);
         }
         std::printf("%s: worst %.2f ulp (%s)\n", spec, worst, worst_at.c_str());
+        // wab0 = w(0), gradh0 = -3 w(0), dphidh0 = -phi(0): the exact values (limits at 0 for the
+        // missing Wendland function's S and arcsech r) correctly rounded, bit for bit.
+        const gen::Exact w0 = gen::value_at(W1.form_at(gen::Q(0)), gen::Q(0)) * invN;
+        EXPECT_EQ(wab0, gen::round_to_double(w0)) << w0.to_string();
+        EXPECT_EQ(gradh0, gen::round_to_double(w0 * gen::Q(-3)));
+        EXPECT_EQ(dphidh0, gen::round_to_double(gen::value_at(phi1.form_at(gen::Q(0)), gen::Q(0)) * pi4 * gen::Q(-1, 2)));
         // wab0 = w(0) exactly (the function at 0 is the constant term), dphidh0 = dphidh(0).
         EXPECT_EQ(d[9 + 0], wab0);
         EXPECT_EQ(d[9 + 4], dphidh0);

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <string>
 
 using namespace mollify::gen;
 
@@ -66,4 +67,40 @@ TEST(Rounding, LowPartsOfDoubleDoubles) {
         return std::pair<Real, Real>(v, magnitude);
     };
     EXPECT_EQ(low_part(pi, M_PI), 0x1.1a62633145c07p-53);
+}
+
+// Quotients of exact constants (Phantom's cnormk_drag, av_factor): decided
+// where a fixed precision cannot see the side of the tie, refused on the tie.
+// q = pi (1 + 2^-53) +- 2^-400 log 2 over pi lies 2^-400 log(2)/pi from the
+// tie between 1 and 1 + 2^-52 (invisible at the first 256 bits).
+TEST(Rounding, QuotientsNearATieAreDecidedOrRefused) {
+    const Exact pi = Exact::pi_power(Q(1), 1), tiny = Exact::log_of(Q(2)) * pow(Q(2), -400);
+    const Exact tie = Exact::pi_power(Q(1) + pow(Q(2), -53), 1);
+    EXPECT_EQ(round_quotient_to_double(tie + tiny, pi), std::nextafter(1.0, 2.0));
+    EXPECT_EQ(round_quotient_to_double(tie - tiny, pi), 1.0);
+    // the same over pi + 1 (a denominator of two terms)
+    const Exact den = pi + Exact(Q(1));
+    EXPECT_EQ(round_quotient_to_double((tie + tiny) * Exact::pi_power(Q(1), -1) * den, den),
+              std::nextafter(1.0, 2.0));
+    try {
+        round_quotient_to_double(tie * Exact::log_of(Q(3)), pi * Exact::log_of(Q(3)));
+        FAIL() << "an exact tie was rounded";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("could not round"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("log(3)"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(round_quotient_to_double(Exact::log_of(Q(2)), Exact(Q(1))), M_LN2);
+    EXPECT_EQ(round_quotient_to_double(Exact(Q(1)), Exact::pi_power(Q(1), 1)), M_1_PI);
+    EXPECT_EQ(decimal_quotient(Exact::pi_power(Q(1), 1), Exact(Q(1)), 20), "3.1415926535897932385e+00");  // OEIS A000796
+    EXPECT_THROW(round_quotient_to_double(pi, Exact()), Error);
+}
+
+// Floats (SWIFT's constants): ties to even, just above a tie up, pi by Ziv.
+TEST(Rounding, ToFloat) {
+    const Q tie = Q(1) + pow(Q(2), -24);  // halfway between 1 and 1 + 2^-23
+    EXPECT_EQ(round_to_float(tie), 1.0f);
+    EXPECT_EQ(round_to_float(tie + pow(Q(2), -300)), std::nextafter(1.0f, 2.0f));
+    EXPECT_EQ(round_to_float(Q(1) + 3 * pow(Q(2), -24)), 1.0f + 0x1p-22f);  // the tie above 1 + 2^-23 goes to even 1 + 2^-22
+    const Exact pi = Exact::pi_power(Q(1), 1);
+    EXPECT_EQ(round_to_float([&](unsigned bits) { return pi.evaluate(bits); }), 0x1.921fb6p+1f);  // pi = 0x1.921fb54442d18...p+1
 }

@@ -16,6 +16,10 @@
 // = kernel_eval), the stock values where SWIFT has the kernel (Wendland C2:
 // W_pot(0) = -3, W_f(0) = 14, H = 3 eps; kernel_gamma's printed decimals),
 // the error without the flag, and the files against tests/golden/peers/swift.
+// The missing Wendland functions (closed forms): W >= 0, W' <= 0 proved
+// exactly for all six in D = 1-3, negative closed forms not proved, and
+// wendland-missing:k=1 emitted without the flag (clamps kept) and checked
+// as the others in 3D.
 // A missing gcc fails.
 #include "command.hpp"
 
@@ -23,6 +27,7 @@
 #include <conventions.hpp>
 #include <emit_metadata.hpp>
 #include <error.hpp>
+#include <kernel_sign.hpp>
 #include <radial.hpp>
 #include <rounding.hpp>
 #include <softening.hpp>
@@ -50,6 +55,10 @@ using mollify::testing::slurp;
 
 const char* const clamped_specs[] = {"wendland:k=1", "wendland:k=2", "wendland:k=3", "cubic-spline", "wendland:k=2,l=1"};
 const char* const lobed_spec = "combo:m=2,base=wendland:k=1";
+// Franz's missing Wendland functions (closed forms in S, arcsech r): W >= 0
+// and W' <= 0 proved by kernel_sign's interval proof, no flag needed.
+const char* const missing_specs[] = {"wendland-missing:k=1",     "wendland-missing:k=2",     "wendland-missing:k=1,l=1",
+                                     "wendland-missing:k=1,l=2", "wendland-missing:k=2,l=1", "wendland-missing:k=2,l=2"};
 
 fs::path work_dir() { return fs::path(MOLLIFY_SWIFT_WORK_DIR); }
 
@@ -109,9 +118,15 @@ Real real(const gen::Q& q, unsigned bits) {
 }
 float rn_float(const Real& x) { return mpfr_get_flt(x.backend().data(), MPFR_RNDN); }
 
-// f(x) * c at a real x.
+// f(x) * c at a real x; at x = 0 the exact limit (a missing Wendland
+// function's S, arcsech r, arcsin r are 0 * inf there in MPFR: NaN, which
+// float_error's max(0, NaN) would let pass).
 double at(const gen::Radial& f, const Real& x, const Real& c, unsigned bits) {
-    return static_cast<double>(f.evaluate(x, bits).first * c);
+    if (c == 0) return 0;
+    const double y = x == 0 ? static_cast<double>(gen::value_at(f.pieces.front(), gen::Q(0)).evaluate(bits).first * c)
+                            : static_cast<double>(f.evaluate(x, bits).first * c);
+    EXPECT_TRUE(std::isfinite(y)) << "reference at x = " << x;
+    return y;
 }
 
 // Floats around u = b gamma for every breakpoint b, near 0 and outside, and a grid.
@@ -375,6 +390,66 @@ TEST(Swift, ClampedKernelsMatchTheExactKernelAndSwiftsRules) {
     ASSERT_NO_FATAL_FAILURE(fresh_emit(only, root));
     for (const char* spec : clamped_specs)
         for (int dim = 1; dim <= 3; ++dim) check_kernel(root, spec, dim, true);
+}
+
+// The six missing Wendland kernels in D = 1-3: W >= 0 and -W' >= 0 proved
+// (their single closed-form piece on [0, 1], kernel_sign.cpp's series at 0
+// and at the edge under interval arithmetic).
+TEST(SwiftSigns, MissingWendlandKernelsAreProvedNonNegativeAndDecreasing) {
+    for (const char* spec : missing_specs)
+        for (int dim = 1; dim <= 3; ++dim) {
+            SCOPED_TRACE(std::string(spec) + " D=" + std::to_string(dim));
+            const gen::KernelFacts f = gen::kernel_facts({mollify::parse_spec(spec), dim});
+            const gen::Radial& W = f.kernel.W;
+            ASSERT_EQ(W.pieces.size(), 1u);
+            EXPECT_FALSE(W.pieces.front().has_only_basis_one());
+            const gen::SignFact w = gen::non_negative(W), dw = gen::non_negative(W.derivative() * gen::Exact(gen::Q(-1)));
+            EXPECT_EQ(w.verdict, gen::SignVerdict::proved) << w.reason;
+            EXPECT_EQ(dw.verdict, gen::SignVerdict::proved) << dw.reason;
+        }
+}
+
+// The proof can fail: closed forms of the same kind that are negative
+// somewhere (in the middle, at the edge, near 0, by 2^-40 only) are not
+// proved, and the reason names the piece.
+TEST(SwiftSigns, NegativeClosedFormsAreNotProved) {
+    const gen::KernelFacts f = gen::kernel_facts({mollify::parse_spec("wendland-missing:k=1"), 3});
+    const gen::ClosedForm& w = f.kernel.W.pieces.front();
+    const gen::Exact w0 = gen::value_at(w, gen::Q(0));
+    const std::vector<std::pair<std::string, gen::ClosedForm>> negative = {
+        {"W (r - 1/2)", w * (gen::Laurent::monomial(gen::Q(1), 1) + gen::Laurent(gen::Q(-1, 2)))},
+        {"W - W(0)/1000", w - gen::ClosedForm::constant(w0 * gen::Q(1, 1000))},
+        {"W - W(0) (1 + 2^-40)", w - gen::ClosedForm::constant(w0 * (gen::Q(1) + gen::pow(gen::Q(2), -40)))},
+        {"-W", w * gen::Q(-1)},
+        // negative only on (99/100, 1) (the series at the edge) and on [0, 1/100) (the series at 0)
+        {"W (99/100 - r)", w * (gen::Laurent::monomial(gen::Q(-1), 1) + gen::Laurent(gen::Q(99, 100)))},
+        {"W (r - 1/100)", w * (gen::Laurent::monomial(gen::Q(1), 1) + gen::Laurent(gen::Q(-1, 100)))},
+    };
+    for (const auto& [name, g] : negative) {
+        const gen::SignFact s = gen::non_negative(gen::Radial::single(g));
+        EXPECT_NE(s.verdict, gen::SignVerdict::proved) << name;
+        EXPECT_NE(s.reason.find("piece [0, 1]"), std::string::npos) << name << ": " << s.reason;
+        std::printf("%s: %s\n", name.c_str(), s.reason.c_str());
+    }
+    // while the same kind of form that is positive is proved: W (r + 1/1000), 0 at r = 0 only
+    const gen::ClosedForm positive = w * (gen::Laurent::monomial(gen::Q(1), 1) + gen::Laurent(gen::Q(1, 1000)));
+    EXPECT_EQ(gen::non_negative(gen::Radial::single(positive)).verdict, gen::SignVerdict::proved);
+    EXPECT_EQ(gen::non_negative(gen::Radial::single(w * gen::Laurent::monomial(gen::Q(1), 1))).verdict, gen::SignVerdict::proved);
+}
+
+// A missing Wendland kernel written without the flag: the clamps kept,
+// SWIFT's rules and the values at the hard points checked (its limits at
+// u = 0 included).
+TEST(Swift, MissingWendlandWithoutTheFlagKeepsTheClamps) {
+    const fs::path root = work_dir() / "missing";
+    const char* spec = "wendland-missing:k=1";
+    // 3D only (hydro and gravity; its 8192-bit references of the closed form
+    // cost ~4 s a dimension): D = 1, 2's proofs are in SwiftSigns above
+    ASSERT_NO_FATAL_FAILURE(fresh_emit(std::string("--dim 3 --only '") + spec + "'", root));
+    check_kernel(root, spec, 3, true);
+    const std::string text = slurp(root / "swift" / "wendland_missing_k_1_D3" / "kernel_hydro.h");
+    EXPECT_EQ(text.find("--allow-negative-lobes"), std::string::npos);
+    EXPECT_NE(text.find("fmaxf"), std::string::npos);
 }
 
 // A combination (negative lobes, second moment 0: gamma is its base kernel's).
