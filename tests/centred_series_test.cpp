@@ -84,5 +84,5 @@ TEST(CentredSeries, TruncatedSeriesOfMissingWendlandQuantitiesIsWithinItsProvenT
             }
         }
     }
-    EXPECT_GT(checked, 100);
+    EXPECT_GT(checked, mollify::testing::sanitized_build ? 100 / 3 : 100);  // D = 3 only, or D = 1..3
 }

@@ -125,18 +125,18 @@ double ulps_off(double y, double exact, double scale) {
     return std::fabs(y - exact) / (std::nextafter(s, INFINITY) - s);
 }
 
-struct PhantomFixture : ::testing::Test {
-    static void SetUpTestSuite() {
-        fs::remove_all(work_dir());
-        fs::create_directories(work_dir());
-        std::string only;
-        for (const char* s : specs) only += std::string(" --only '") + s + "'";
-        const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target phantom" + only + " --out '" +
-                                       work_dir().string() + "'",
-                                   work_dir() / "capture");
-        ASSERT_EQ(r.status, 0) << r.out << r.err;
-    }
-};
+// Emitted in the test itself: a failure in SetUpTestSuite reads as "skipped"
+// in ctest, not "failed".
+void emit_phantom_modules() {
+    fs::remove_all(work_dir());
+    fs::create_directories(work_dir());
+    std::string only;
+    for (const char* s : specs) only += std::string(" --only '") + s + "'";
+    const auto r = run_command(std::string("'") + MOLLIFY_GEN + "' emit --target phantom" + only + " --out '" +
+                                   work_dir().string() + "'",
+                               work_dir() / "capture");
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+}
 
 // -fdefault-real-8 as Phantom's build; a physcon providing pi as the stock files' `use physcon, only:pi`.
 void compile_and_run(const fs::path& dir, const fs::path& module, std::size_t n) {
@@ -149,7 +149,8 @@ void compile_and_run(const fs::path& dir, const fs::path& module, std::size_t n)
     ASSERT_NO_FATAL_FAILURE(run_in(dir, "driver", "./driver"));
 }
 
-TEST_F(PhantomFixture, EveryProcedureMatchesTheExactKernelAndPhantomsRules) {
+TEST(Phantom, EveryProcedureMatchesTheExactKernelAndPhantomsRules) {
+    ASSERT_NO_FATAL_FAILURE(emit_phantom_modules());
     const std::vector<double> q = points();
     for (const char* spec : specs) {
         SCOPED_TRACE(spec);

@@ -22,6 +22,7 @@
 // as the others in 3D.
 // A missing gcc fails.
 #include "command.hpp"
+#include "sanitized.hpp"
 
 #include <catalogue.hpp>
 #include <conventions.hpp>
@@ -69,6 +70,18 @@ const std::string cc = "gcc -std=gnu99 -O2 -Wall -Wextra -Wshadow -Wstrict-proto
 void run_in(const fs::path& dir, const std::string& what, const std::string& command) {
     const auto r = run_command("cd '" + dir.string() + "' && " + command, dir / "capture");
     ASSERT_EQ(r.status, 0) << what << " failed (a missing tool fails this test): " << command << "\n" << r.out << r.err;
+}
+
+// The doubles a driver wrote after its floats: copied out (a double at a
+// float's offset is misaligned; UBSan names it).
+std::vector<double> doubles_after(const std::vector<float>& v, std::size_t first, std::size_t n) {
+    std::vector<double> out(n);
+    if (first + 2 * n > v.size()) {
+        ADD_FAILURE() << "the driver wrote " << v.size() << " floats, not " << first + 2 * n;
+        return std::vector<double>(n, std::nan(""));
+    }
+    std::memcpy(out.data(), v.data() + first, n * sizeof(double));
+    return out;
 }
 
 template <class T>
@@ -315,7 +328,7 @@ void check_kernel(const fs::path& root, const std::string& spec, int dim, bool c
         }
     }
     EXPECT_EQ(negative_seen, !clamped) << "a lobed kernel's file keeps its negative values (no clamps)";
-    const double* wd = reinterpret_cast<const double*>(&h[10 + 4 * uf.size()]);
+    const std::vector<double> wd = doubles_after(h, 10 + 4 * uf.size(), ud.size());
     for (std::size_t i = 0; i < ud.size(); ++i) {
         const unsigned b = bits_at(ud[i]);
         const Real x = real(ud[i], b) / gamma_hi, inv_d = 1 / pow(gamma_hi, dim);
@@ -370,7 +383,7 @@ void check_kernel(const fs::path& root, const std::string& spec, int dim, bool c
             EXPECT_EQ(v[2], 3.0f);
         }
     }
-    const double* g2d = reinterpret_cast<const double*>(&gv[4 + per * gf.size()]);
+    const std::vector<double> g2d = doubles_after(gv, 4 + per * gf.size(), 2 * gd.size());
     for (std::size_t i = 0; i < gd.size(); ++i) {
         const unsigned b = bits_at(gd[i]);
         const Real x = real(gd[i], b), one = real(1.0, b);
@@ -398,6 +411,7 @@ TEST(Swift, ClampedKernelsMatchTheExactKernelAndSwiftsRules) {
 TEST(SwiftSigns, MissingWendlandKernelsAreProvedNonNegativeAndDecreasing) {
     for (const char* spec : missing_specs)
         for (int dim = 1; dim <= 3; ++dim) {
+            if (mollify::testing::left_to_optimised_build(spec)) continue;
             SCOPED_TRACE(std::string(spec) + " D=" + std::to_string(dim));
             const gen::KernelFacts f = gen::kernel_facts({mollify::parse_spec(spec), dim});
             const gen::Radial& W = f.kernel.W;

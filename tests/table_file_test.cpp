@@ -160,8 +160,9 @@ TEST(TableFile, KernelsOfEveryCataloguePathLoadBitForBitAsCompiled) {
     // The loaded files themselves (not only the compiled tables chosen) take every path of the catalogue.
     for (const table::Kernel* k : mollify::tables::all_kernels)
         for (const std::string& f : mollify::testing::features(*k))
-            if (!mollify::testing::left_to_optimised_build(k->spec))
+            if (!mollify::testing::left_to_optimised_build(k->spec)) {
                 EXPECT_TRUE(covered.count(f)) << "no loaded table takes the path of " << k->spec << " D" << k->dim << ": " << f;
+            }
     fs::remove_all(out);
 }
 

