@@ -92,13 +92,23 @@ double round_to_double(const Q& q) {
     return d;
 }
 
-double round_to_double(const Evaluator& f) {
+namespace {
+
+// Ziv's loop: both ends of f's enclosure mapped alike by `round`, at rising precision.
+template <class Round>
+auto ziv_round(const Evaluator& f, Round round, const std::string& to) {
     for (unsigned bits = start_bits; bits <= max_bits; bits *= 2) {
         const auto [lo, hi] = enclosure(f, bits);
-        const double a = round_to_double(lo), b = round_to_double(hi);
+        const auto a = round(lo), b = round(hi);
         if (a == b) return a;
     }
-    fail("internal: could not round a value correctly (is it exactly zero or a rounding boundary?)");
+    fail("internal: could not round a value correctly to " + to + " (is it exactly zero or a rounding boundary?)");
+}
+
+}  // namespace
+
+double round_to_double(const Evaluator& f) {
+    return ziv_round(f, [](const Q& q) { return round_to_double(q); }, "double");
 }
 
 float round_to_float(const Q& q) {
@@ -111,12 +121,7 @@ float round_to_float(const Q& q) {
 }
 
 float round_to_float(const Evaluator& f) {
-    for (unsigned bits = start_bits; bits <= max_bits; bits *= 2) {
-        const auto [lo, hi] = enclosure(f, bits);
-        const float a = round_to_float(lo), b = round_to_float(hi);
-        if (a == b) return a;
-    }
-    fail("internal: could not round a value correctly to float (is it exactly zero or a rounding boundary?)");
+    return ziv_round(f, [](const Q& q) { return round_to_float(q); }, "float");
 }
 
 double round_to_double(const Exact& x) {
