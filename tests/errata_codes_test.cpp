@@ -1,0 +1,277 @@
+// `mollify-gen errata --codes` against the transcribed constants of public
+// SPH and N-body codes (generator/transcriptions/codes/): every known wrong
+// constant must be found wrong with its diagnosis, every right one right;
+// deliberately wrong entries (another dimension's constant, a wrong sign, a
+// support convention) get their diagnosis; a malformed entry is an Error
+// naming file, entry and field. Schoenberg's M_4, built from its
+// definition, must be mollify's cubic spline exactly.
+#include "errata_codes.hpp"
+#include "error.hpp"
+#include "kernel.hpp"
+#include "schoenberg.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using mollify::gen::check_code_errata;
+using mollify::gen::CodeErrataReport;
+using mollify::gen::CodeVerdict;
+using mollify::gen::Q;
+
+const CodeErrataReport& report() {
+    static const CodeErrataReport r = check_code_errata(fs::path(MOLLIFY_TRANSCRIPTIONS_DIR) / "codes");
+    return r;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// The one verdict whose code and entry contain the given parts.
+const CodeVerdict& verdict(const std::string& code, const std::string& entry) {
+    const CodeVerdict* found = nullptr;
+    for (const auto& v : report().verdicts)
+        if (contains(v.code, code) && contains(v.entry, entry)) {
+            EXPECT_EQ(found, nullptr) << "two verdicts match " << code << " / " << entry;
+            found = &v;
+        }
+    if (!found) throw std::runtime_error("no verdict for " + code + " / " + entry);
+    return *found;
+}
+
+void expect_right(const std::string& code, const std::string& entry) {
+    const CodeVerdict& v = verdict(code, entry);
+    EXPECT_TRUE(v.right) << mollify::gen::format_line(v);
+    EXPECT_EQ(v.ratio.substr(0, 1), "1") << mollify::gen::format_line(v);
+}
+
+void expect_wrong(const std::string& code, const std::string& entry, const std::string& ratio,
+                  const std::string& diagnosis) {
+    const CodeVerdict& v = verdict(code, entry);
+    EXPECT_FALSE(v.right) << mollify::gen::format_line(v);
+    EXPECT_EQ(v.ratio, ratio) << mollify::gen::format_line(v);
+    EXPECT_TRUE(contains(v.diagnosis, diagnosis)) << mollify::gen::format_line(v);
+}
+
+// --- the published errata
+
+TEST(CodeErrata, PySPHQuintic3DBeforeTheFix) {
+    expect_wrong("PySPH", "QuinticSpline, D = 3, W (before the fix)", "360/359", "constant factor");
+    EXPECT_EQ(verdict("PySPH", "QuinticSpline, D = 3, W (before the fix)").exact, "1/120 * pi^-1");
+}
+
+TEST(CodeErrata, PySPHIssue421ProposalIsTheHalfLineConstant) {
+    expect_wrong("PySPH", "issue #421", "2", "half-line");
+    expect_right("PySPH", "QuinticSpline, D = 1, W");
+}
+
+TEST(CodeErrata, PySPHEveryShippedConstantRight) {
+    for (const char* e : {"CubicSpline, D = 1", "CubicSpline, D = 2", "CubicSpline, D = 3, W", "CubicSpline, D = 3, grad",
+                          "WendlandQuinticC2_1D", "WendlandQuintic (C2), D = 2", "WendlandQuintic (C2), D = 3",
+                          "WendlandQuinticC4_1D", "WendlandQuinticC4, D = 2", "WendlandQuinticC4, D = 3",
+                          "WendlandQuinticC6_1D", "WendlandQuinticC6, D = 2", "WendlandQuinticC6, D = 3",
+                          "QuinticSpline, D = 2", "QuinticSpline, D = 3, W"})
+        if (std::string(e) != "QuinticSpline, D = 3, W") expect_right("PySPH", e);
+    // "QuinticSpline, D = 3, W" also names the entry before the fix: the fixed one by its source.
+    const auto fixed = std::count_if(report().verdicts.begin(), report().verdicts.end(), [](const CodeVerdict& v) {
+        return contains(v.entry, "QuinticSpline, D = 3, W") && v.right && contains(v.source, "a57e6534");
+    });
+    EXPECT_EQ(fixed, 1);
+}
+
+TEST(CodeErrata, ChronoQuinticIs360Over359) {
+    expect_wrong("Chrono", "W3h_QuinticSpline", "360/359", "constant factor");
+    expect_wrong("Chrono", "GradW3h_QuinticSpline", "360/359", "constant factor");
+    // v8.0 printed decimals: read as 3/359 and -15/359.
+    expect_wrong("Chrono", "W3h_Quintic, D = 3, W (v8.0)", "360/359", "constant factor");
+    EXPECT_TRUE(contains(verdict("Chrono", "W3h_Quintic, D = 3, W (v8.0)").published, "reads 3/359 * pi^-1"));
+    expect_wrong("Chrono", "W3h_Quintic gradient", "360/359", "constant factor");
+    for (const char* e : {"W3h_CubicSpline", "GradW3h_CubicSpline", "W3h_Quadratic", "GradW3h_Quadratic",
+                          "W3h_Wendland", "GradW3h_Wendland"})
+        expect_right("Chrono", e);
+}
+
+TEST(CodeErrata, SynthesizerQuartic) {
+    expect_wrong("Synthesizer", "quartic (M5), D = 3, W (as added)", "70/239", "constant factor");
+    expect_right("Synthesizer", "quartic (M5), D = 3, W (fixed)");
+    EXPECT_EQ(verdict("Synthesizer", "(fixed)").exact, "25/32 * pi^-1");
+    expect_right("Synthesizer", "sph_anarchy");
+    expect_right("Synthesizer", "gadget_2");
+}
+
+TEST(CodeErrata, SPlisHSPlasHWendlandGradientMissingQ) {
+    expect_wrong("SPlisHSPlasH", "grad W (before PR #347)", "1 q^-1", "gradient off by q: a factor q missing");
+    expect_right("SPlisHSPlasH", "grad W (after PR #347)");
+    for (const char* e : {"CubicKernel, D = 3, W", "CubicKernel, D = 3, grad", "Poly6Kernel, D = 3, W",
+                          "Poly6Kernel, D = 3, grad", "SpikyKernel, D = 3, W", "SpikyKernel, D = 3, grad",
+                          "WendlandQuinticC2Kernel, D = 3, W", "CubicKernel2D", "WendlandQuinticC2Kernel2D, D = 2, W",
+                          "WendlandQuinticC2Kernel2D, D = 2, grad"})
+        expect_right("SPlisHSPlasH", e);
+}
+
+TEST(CodeErrata, NewtonPoly6WithSpikyGradient) {
+    const CodeVerdict& v = verdict("Newton", "kernel poly6");
+    EXPECT_FALSE(v.right);
+    EXPECT_TRUE(contains(v.diagnosis, "mismatched pair: the gradient is that of spiky,")) << v.diagnosis;
+    expect_right("Newton", "kernel_id 2");
+}
+
+TEST(CodeErrata, PynbodyIssue693Settled) {
+    // The code's gradient is exact; the issue's replacement has a factor q too many.
+    expect_right("pynbody", "cubicSpline_gradient");
+    expect_right("pynbody", "CubicSplineKernel::gradient");
+    expect_wrong("pynbody", "as issue #693 proposes", "1 q^1", "a factor q too many");
+    expect_right("pynbody", "cubicSpline, D = 3, W");
+}
+
+TEST(CodeErrata, PynbodyWendlandGradientLacks21Over16) {
+    expect_right("pynbody", "WendlandC2Kernel, D = 3, W");
+    expect_wrong("pynbody", "WendlandC2Kernel::gradient", "16/21", "constant factor");
+}
+
+TEST(CodeErrata, SupportConventions) {
+    expect_wrong("pynbody", "issue #889", "8", "support convention: a factor 2^3");
+    expect_wrong("MARTINI", "(before the fix)", "h^3", "support convention");
+    expect_right("MARTINI", "(fixed)");
+    for (const char* e : {"_WendlandC2Kernel", "_WendlandC6Kernel", "_CubicSplineKernel", "_QuarticSplineKernel"})
+        expect_right("MARTINI", e);
+}
+
+TEST(CodeErrata, TotalsArePinned) {
+    EXPECT_EQ(report().verdicts.size(), 65u);
+    EXPECT_EQ(report().wrong(), 14);
+}
+
+// --- deliberately wrong entries in a scratch folder
+
+class ScratchCodes : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("mollify_codes_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+                                            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    // One file "x.json" of code "X" with the entries given (JSON text).
+    void write(const std::string& entries) {
+        std::ofstream(dir_ / "x.json") << R"({"code": "X", "repository": "x/x", "entries": [)" << entries << "]}";
+    }
+
+    // An M6 entry (support 3) with the constant and dimension given.
+    static std::string quintic(const std::string& label, const std::string& constant, int pi, int dim,
+                               const std::string& extra = "") {
+        return R"({"entry": ")" + label + R"(", "quantity": "code.normalisation", "file": "k.c", "commit": "c0ffee",
+            "seen": true, "expression": "e", "says": "s",
+            "params": {"spec": "spline:n=6", "dim": )" + std::to_string(dim) + R"(, "support": "3"},
+            "printed": {"constant": ")" + constant + R"(", "pi_power": )" + std::to_string(pi) + R"(, "shape": [
+              {"coeff": "1", "factors": [["3", "-1", 5]], "to": "3"},
+              {"coeff": "-6", "factors": [["2", "-1", 5]], "to": "2"},
+              {"coeff": "15", "factors": [["1", "-1", 5]], "to": "1"}]})" + extra + "}";
+    }
+
+    std::string error_of(const std::string& entries) {
+        write(entries);
+        try {
+            check_code_errata(dir_);
+        } catch (const mollify::gen::Error& e) {
+            return e.what();
+        }
+        return "(no error)";
+    }
+
+    fs::path dir_;
+};
+
+TEST_F(ScratchCodes, EachDiagnosis) {
+    write(quintic("2D constant in 3D", "7/478", -1, 3) + "," + quintic("sign", "-1/120", -1, 3) + "," +
+          quintic("support", "1/15", -1, 3) + "," + quintic("pi", "1/120", 0, 3) + "," +
+          quintic("decimal right", "8.33333e-3", -1, 3) + "," + quintic("right", "1/120", 0, 1));
+    const CodeErrataReport r = check_code_errata(dir_);
+    ASSERT_EQ(r.verdicts.size(), 6u);
+    EXPECT_TRUE(contains(r.verdicts[0].diagnosis, "another dimension")) << r.verdicts[0].diagnosis;
+    EXPECT_TRUE(contains(r.verdicts[0].diagnosis, "D = 2")) << r.verdicts[0].diagnosis;
+    EXPECT_EQ(r.verdicts[1].diagnosis, "wrong sign");
+    EXPECT_EQ(r.verdicts[1].ratio, "-1");
+    EXPECT_TRUE(contains(r.verdicts[2].diagnosis, "support convention: a factor 2^3")) << r.verdicts[2].diagnosis;
+    EXPECT_EQ(r.verdicts[3].ratio, "1 pi^1");
+    EXPECT_TRUE(contains(r.verdicts[3].diagnosis, "pi^1")) << r.verdicts[3].diagnosis;
+    EXPECT_EQ(r.verdicts[4].diagnosis, "right (to the printed digits)");
+    EXPECT_TRUE(r.verdicts[4].right);
+    EXPECT_TRUE(r.verdicts[5].right);
+    EXPECT_EQ(r.wrong(), 4);
+}
+
+TEST_F(ScratchCodes, UnseenSourceIsListedNotChecked) {
+    write(R"({"entry": "u", "quantity": "code.normalisation", "issue": 1, "seen": false, "expression": "?", "says": "s"})");
+    const CodeErrataReport r = check_code_errata(dir_);
+    ASSERT_EQ(r.verdicts.size(), 1u);
+    EXPECT_EQ(r.verdicts[0].diagnosis, "not checked: the source was not seen");
+}
+
+TEST_F(ScratchCodes, MalformedEntriesNameFileEntryAndField) {
+    struct Case {
+        std::string entries, expected;
+    };
+    const std::vector<Case> cases = {
+        {quintic("a", "1/120", -1, 3).replace(quintic("a", "1/120", -1, 3).find("\"constant\""), 10, "\"konstant\""),
+         "x.json, entry 'a' (k.c @ c0ffee): missing field 'printed.constant'"},
+        {quintic("b", "1/1x0", -1, 3), "entry 'b'"},
+        {quintic("c", "1/120", -1, 4), "field 'params.dim' must be 1, 2 or 3, got 4"},
+        {R"({"entry": "d", "quantity": "code.weird", "file": "f", "seen": true, "expression": "e", "says": "s"})",
+         "x.json, entry 'd' (f): unknown quantity 'code.weird'"},
+        {R"({"entry": "e", "quantity": "code.normalisation", "seen": true, "expression": "e", "says": "s"})",
+         "entry 'e'"},
+        {R"({"quantity": "code.normalisation"})", "x.json, entry '#1' (?): missing string field 'entry'"},
+    };
+    for (const Case& c : cases) {
+        const std::string message = error_of(c.entries);
+        EXPECT_TRUE(contains(message, c.expected)) << message;
+    }
+    // A source is required.
+    EXPECT_TRUE(contains(error_of(cases[4].entries), "needs a source")) << error_of(cases[4].entries);
+    // The bad rational is named with its field.
+    EXPECT_TRUE(contains(error_of(cases[1].entries), "printed.constant")) << error_of(cases[1].entries);
+}
+
+TEST_F(ScratchCodes, ShapeSupportMustAgreeAndSpecMustExist) {
+    std::string e = quintic("s", "1/120", -1, 3);
+    e.replace(e.find(R"("support": "3")"), 14, R"("support": "2")");
+    EXPECT_TRUE(contains(error_of(e), "field 'printed.shape': support 3 disagrees with params.support 2")) << error_of(e);
+    std::string f = quintic("t", "1/120", -1, 3);
+    f.replace(f.find("spline:n=6"), 10, "splime:n=6");
+    EXPECT_TRUE(contains(error_of(f), "entry 't'") && contains(error_of(f), "field 'params.spec'")) << error_of(f);
+    std::string g = quintic("u", "1/120", -1, 3);
+    g.replace(g.find(R"(["3", "-1", 5])"), 14, R"(["3", "-1"])");
+    EXPECT_TRUE(contains(error_of(g), "field 'printed.shape[0].factors[0]' must be [a, b, n]")) << error_of(g);
+}
+
+TEST(Schoenberg, M4IsTheCubicSpline) {
+    for (int dim = 1; dim <= 3; ++dim) {
+        const auto cubic = mollify::gen::make_kernel(mollify::gen::parse_spec("cubic-spline"), dim);
+        const auto m4 = mollify::gen::schoenberg_shape(4);
+        const auto W = m4 * (mollify::gen::sphere_measure(dim) * mollify::gen::radial_integral(m4, dim - 1)).inverse();
+        for (const Q r : {Q(0), Q(1, 7), Q(1, 2), Q(2, 3), Q(99, 100), Q(1)})
+            EXPECT_TRUE(W.at(r) == cubic.W.at(r)) << "D = " << dim << ", r = " << r;
+    }
+    EXPECT_THROW(mollify::gen::schoenberg_shape(1), mollify::gen::Error);
+    EXPECT_THROW(mollify::gen::schoenberg_shape(13), mollify::gen::Error);
+}
+
+TEST(Schoenberg, M6In1DIsOneOver120WithSupport3) {
+    // Monaghan 2005 §4: W = w(q)/(120 h), w = (3-q)^5 - 6(2-q)^5 + 15(1-q)^5.
+    const auto m6 = mollify::gen::schoenberg_shape(6);
+    const auto mass = mollify::gen::Exact(Q(2)) * mollify::gen::radial_integral(m6, 0);  // support 1, even
+    // M_6 has unit mass on support 3 before rescaling: on support 1 the mass is 1/3.
+    EXPECT_TRUE(mass == mollify::gen::Exact(Q(1, 3))) << mass.to_string();
+    EXPECT_TRUE(m6.at(Q(0)) == mollify::gen::Exact(Q(66, 120))) << m6.at(Q(0)).to_string();
+}
+
+}  // namespace
