@@ -69,6 +69,13 @@ std::string ratio_string(const PiQ& c) {
     return s;
 }
 
+// "c q^k" for people: "360/359", "q^-1", "q", "16/21 q^2".
+std::string monomial_string(const PiQ& c, int k) {
+    if (k == 0) return ratio_string(c);
+    const std::string q = k == 1 ? "q" : "q^" + std::to_string(k);
+    return c == PiQ{Q(1), 0} ? q : ratio_string(c) + " " + q;
+}
+
 // The rational gamma with gamma^n = x (x > 0), if there is one.
 std::optional<Q> rational_root(const Q& x, int n) {
     if (x <= 0) return std::nullopt;
@@ -314,9 +321,9 @@ private:
     }
 
     std::string published_text(const Setting& s) const {
-        std::string t = exact_of(s.constant).to_string();
-        if (s.reading) t += " (the decimal " + s.constant_text + " reads " + exact_of({*s.reading, s.constant.pi}).to_string() + ")";
-        return t;
+        if (!s.reading) return exact_of(s.constant).to_string();
+        const std::string pi = s.constant.pi == 0 ? "" : " * pi^" + std::to_string(s.constant.pi);
+        return s.constant_text + pi + " (the decimal reads " + exact_of({*s.reading, s.constant.pi}).to_string() + ")";
     }
 
     // The candidate kernels c * K_cand matching `f` through `of`; "" if none.
@@ -390,7 +397,7 @@ private:
         const Radial Gs = shape_radial(s.shape, s.support) * exact_of(used);  // C pi^p G(R s)
         const Exact scale = Exact(Q(1) / pow(s.support, s.dim + 2));            // K'(s)/(R^(D+2) s)
         const Radial exact = unit_grad_over_r(s.spec, s.dim) * scale;
-        v.exact = "K'(s)/(R^" + std::to_string(s.dim + 2) + " s) of " + s.spec + " with s = q/" + short_string(s.support);
+        v.exact = "W'(q)/q of " + s.spec + " (support " + short_string(s.support) + " h, unit mass)";
         const auto m = monomial_ratio(Gs, exact);
         if (!m) {
             const std::string other = which_kernel(Gs, s.dim, s.spec, [&](const std::string& c) -> const Radial& {
@@ -404,7 +411,7 @@ private:
         }
         // c s^k = c R^-k q^k
         const PiQ c{m->c.q / pow(s.support, m->k), m->c.pi};
-        v.ratio = ratio_string(c) + (m->k == 0 ? "" : " q^" + std::to_string(m->k));
+        v.ratio = monomial_string(c, m->k);
         std::vector<std::string> why;
         if (m->k == -1) why.push_back("gradient off by q: a factor q missing (W'(q) divided by q twice)");
         else if (m->k == 1) why.push_back("gradient off by q: a factor q too many (dW/dq used where W'(q)/q belongs)");
