@@ -7,6 +7,7 @@
 // their ratio, when it is c s^k on every piece, is the diagnosis.
 #include "errata_codes.hpp"
 
+#include "conventions.hpp"
 #include "errata_checker.hpp"
 #include "error.hpp"
 #include "kernel.hpp"
@@ -15,6 +16,8 @@
 #include <gmp.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <deque>
 #include <fstream>
 #include <functional>
@@ -256,7 +259,8 @@ public:
         if (e.quantity == "code.normalisation") normalisation(e, v);
         else if (e.quantity == "code.gradient") gradient(e, v);
         else if (e.quantity == "code.h_power") h_power(e, v);
-        else e.bad("unknown quantity '" + e.quantity + "' (code.normalisation, code.gradient, code.h_power)");
+        else if (e.quantity == "code.gamma") gamma(e, v);
+        else e.bad("unknown quantity '" + e.quantity + "' (code.normalisation, code.gradient, code.h_power, code.gamma)");
         report_.verdicts.push_back(v);
     }
 
@@ -436,6 +440,65 @@ private:
         v.diagnosis = v.right ? "right"
                               : "support convention: W scaled by h^" + std::to_string(printed) + " instead of h^" +
                                     std::to_string(exact) + " (right only for h = 1)";
+    }
+
+    // SWIFT's kernel_gamma = H/h with h = 2 sigma (Dehnen & Aly 2012): gamma^2 =
+    // D / (4 int |x|^2 K d^D x), a rational; a printed decimal is right when
+    // gamma rounds to it: (x - u/2)^2 <= gamma^2 <= (x + u/2)^2, decided exactly.
+    void gamma(const Entry& e, CodeVerdict& v) {
+        const std::string spec = e.param_text("spec");
+        const int dim = e.param("dim");
+        if (dim < 1 || dim > 3) e.bad("field 'params.dim' must be 1, 2 or 3, got " + std::to_string(dim));
+        const Radial* K = nullptr;
+        try {
+            K = &unit_kernel(spec, dim);
+        } catch (const Error& ex) {
+            e.bad(std::string("field 'params.spec': ") + ex.what());
+        }
+        const auto m2 = single(sphere_measure(dim) * radial_integral(*K, dim + 1));
+        if (!m2 || m2->pi != 0 || m2->q <= 0) fail("internal: the second moment of " + spec + " is not a positive rational");
+        const Q g2 = Q(dim) / (Q(4) * m2->q);
+        const std::string text = e.text(e.printed(), "gamma", "printed");
+        const Q x = e.rational(e.printed(), "gamma", "printed");
+        const auto e_pos = text.find_first_of("eE");
+        const auto dot = text.substr(0, e_pos).find('.');
+        const int digits = dot == std::string::npos ? 0 : static_cast<int>(text.substr(0, e_pos).size() - dot - 1);
+        const int exponent = e_pos == std::string::npos ? 0 : std::stoi(text.substr(e_pos + 1));
+        const int places = digits - exponent;  // x * 10^places is an integer
+        const Q scale = pow(Q(10), places);
+        // N = round(gamma 10^places), decided exactly: (N - 1/2)^2 <= gamma^2 10^(2 places) < (N + 1/2)^2.
+        const Q target = g2 * scale * scale;
+        Z N(static_cast<long long>(std::llround(sqrt_to_double(g2) * std::pow(10.0, places))));
+        while (Q(N) - Q(1, 2) > 0 && (Q(N) - Q(1, 2)) * (Q(N) - Q(1, 2)) > target) --N;
+        while ((Q(N) + Q(1, 2)) * (Q(N) + Q(1, 2)) <= target) ++N;
+        const Q printed_units = x * scale;
+        if (!is_integer(printed_units)) fail("internal: a decimal's last digit");
+        const Z off = numerator(printed_units) - N;
+        auto decimal = [places](const Z& n) {  // n 10^-places with `places` decimals
+            std::string t = n.str();
+            if (places <= 0) return t + std::string(static_cast<std::size_t>(-places), '0');
+            if (t.size() <= static_cast<std::size_t>(places)) t.insert(0, static_cast<std::size_t>(places) + 1 - t.size(), '0');
+            t.insert(t.size() - static_cast<std::size_t>(places), ".");
+            return t;
+        };
+        char shown[64];
+        std::snprintf(shown, sizeof shown, "%.*f", std::max(places, 0) + 3, sqrt_to_double(g2));
+        v.published = text;
+        v.exact = "sqrt(" + short_string(g2) + ") = " + shown + "...";
+        v.right = off == 0;
+        if (v.right) {
+            v.ratio = "1 (to the printed digits)";
+            v.diagnosis = "right (to the printed digits)";
+            return;
+        }
+        std::snprintf(shown, sizeof shown, "%.9g", static_cast<double>(x) / sqrt_to_double(g2));
+        v.ratio = shown;
+        const Z units = off < 0 ? Z(-off) : off;
+        if (units <= 2)
+            v.diagnosis = "rounding: the exact gamma rounds to " + decimal(N) + ", the printed value is " + units.str() +
+                          " unit" + (units == 1 ? "" : "s") + " of its last digit off";
+        else
+            v.diagnosis = "support convention: gamma = H/h is not this kernel's (published/exact = " + std::string(shown) + ")";
     }
 
     CodeErrataReport& report_;

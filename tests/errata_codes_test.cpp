@@ -158,9 +158,39 @@ TEST(CodeErrata, SupportConventions) {
         expect_right("MARTINI", e);
 }
 
+TEST(CodeErrata, SwiftConstantsAndGammas) {
+    for (const char* e : {"Cubic spline (M4), D = 3, kernel_constant", "Cubic spline (M4), D = 2, kernel_constant",
+                          "Cubic spline (M4), D = 1, kernel_constant", "Quartic spline (M5), D = 3, kernel_constant",
+                          "Quartic spline (M5), D = 2, kernel_constant", "Quartic spline (M5), D = 1, kernel_constant",
+                          "Wendland C2, D = 1, kernel_constant", "Wendland C2, D = 2, kernel_constant",
+                          "Wendland C2, D = 3, kernel_constant", "Wendland C6, D = 2, kernel_constant",
+                          "Wendland C6, D = 3, kernel_constant"})
+        expect_right("SWIFT", e);
+    // Dehnen & Aly's table 1 as SWIFT prints it: four of the sixteen are not
+    // the exact gamma correctly rounded to six decimals.
+    const std::vector<std::pair<std::string, std::string>> off = {
+        {"Quintic spline (M6), D = 2", "rounds to 2.158130, the printed value is 1 unit"},
+        {"Quintic spline (M6), D = 1", "rounds to 2.121320, the printed value is 1 unit"},
+        {"Wendland C4, D = 2", "rounds to 2.171241, the printed value is 2 units"},
+        {"Wendland C6, D = 2", "rounds to 2.415229, the printed value is 1 unit"}};
+    int gammas = 0;
+    for (const auto& v : report().verdicts)
+        if (contains(v.code, "SWIFT") && contains(v.entry, "kernel_gamma")) {
+            ++gammas;
+            const auto it = std::find_if(off.begin(), off.end(), [&](const auto& o) { return contains(v.entry, o.first); });
+            if (it == off.end()) EXPECT_EQ(v.diagnosis, "right (to the printed digits)") << mollify::gen::format_line(v);
+            else EXPECT_TRUE(!v.right && contains(v.diagnosis, "rounding: the exact gamma " + it->second))
+                     << mollify::gen::format_line(v);
+        }
+    EXPECT_EQ(gammas, 16);
+    EXPECT_EQ(verdict("SWIFT", "Quintic spline (M6), D = 1, kernel_gamma").exact, "sqrt(9/2) = 2.121320344...");
+    EXPECT_EQ(verdict("SWIFT", "Quartic spline (M5), D = 3, kernel_gamma").exact, "sqrt(375/92) = 2.018932133...");
+    EXPECT_TRUE(verdict("MARTINI", "gamma = H/h quoted").right);
+}
+
 TEST(CodeErrata, TotalsArePinned) {
-    EXPECT_EQ(report().verdicts.size(), 75u);
-    EXPECT_EQ(report().wrong(), 15);
+    EXPECT_EQ(report().verdicts.size(), 103u);
+    EXPECT_EQ(report().wrong(), 19);
 }
 
 // --- deliberately wrong entries in a scratch folder
@@ -224,6 +254,22 @@ TEST_F(ScratchCodes, EachDiagnosis) {
     EXPECT_EQ(r.wrong(), 4);
 }
 
+TEST_F(ScratchCodes, GammaDecidedExactly) {
+    auto gamma = [](const std::string& label, const std::string& g) {
+        return R"({"entry": ")" + label + R"(", "quantity": "code.gamma", "file": "k.h", "seen": true,
+            "expression": "e", "says": "s", "params": {"spec": "spline:n=5", "dim": 3}, "printed": {"gamma": ")" + g + R"("}})";
+    };
+    write(gamma("a", "2.018932") + "," + gamma("b", "2.018933") + "," + gamma("c", "2.01893") + "," + gamma("d", "1.825742"));
+    const CodeErrataReport r = check_code_errata(dir_);
+    ASSERT_EQ(r.verdicts.size(), 4u);
+    EXPECT_TRUE(r.verdicts[0].right);
+    EXPECT_FALSE(r.verdicts[1].right);  // one unit in the last digit off
+    EXPECT_TRUE(contains(r.verdicts[1].diagnosis, "rounds to 2.018932")) << r.verdicts[1].diagnosis;
+    EXPECT_TRUE(r.verdicts[2].right);
+    EXPECT_FALSE(r.verdicts[3].right);  // the cubic's gamma for the quartic
+    EXPECT_TRUE(contains(r.verdicts[3].diagnosis, "support convention")) << r.verdicts[3].diagnosis;
+}
+
 TEST_F(ScratchCodes, UnseenSourceIsListedNotChecked) {
     write(R"({"entry": "u", "quantity": "code.normalisation", "issue": 1, "seen": false, "expression": "?", "says": "s"})");
     const CodeErrataReport r = check_code_errata(dir_);
@@ -273,7 +319,7 @@ TEST(Schoenberg, M4IsTheCubicSpline) {
         const auto cubic = mollify::gen::make_kernel(mollify::gen::parse_spec("cubic-spline"), dim);
         const auto m4 = mollify::gen::schoenberg_shape(4);
         const auto W = m4 * (mollify::gen::sphere_measure(dim) * mollify::gen::radial_integral(m4, dim - 1)).inverse();
-        for (const Q r : {Q(0), Q(1, 7), Q(1, 2), Q(2, 3), Q(99, 100), Q(1)})
+        for (const Q& r : {Q(0), Q(1, 7), Q(1, 2), Q(2, 3), Q(99, 100), Q(1)})
             EXPECT_TRUE(W.at(r) == cubic.W.at(r)) << "D = " << dim << ", r = " << r;
     }
     EXPECT_THROW(mollify::gen::schoenberg_shape(1), mollify::gen::Error);
