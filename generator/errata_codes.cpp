@@ -331,7 +331,7 @@ private:
     }
 
     // The candidate kernels c * K_cand matching `f` through `of`; "" if none.
-    std::string which_kernel(const Radial& f, int dim, const std::string& spec,
+    std::string which_kernel(const Radial& f, const std::string& spec,
                              const std::function<const Radial&(const std::string&)>& of) {
         for (const std::string& cand : candidate_specs()) {
             if (cand == spec) continue;
@@ -345,7 +345,6 @@ private:
             } catch (const Error&) {  // not defined in this dimension (viscosity in 1D)
             }
         }
-        (void)dim;
         return "";
     }
 
@@ -377,7 +376,7 @@ private:
         const auto m = monomial_ratio(K, ws);
         if (!m || m->k != 0) {
             const std::string other =
-                which_kernel(ws, s.dim, s.spec, [&](const std::string& c) -> const Radial& { return unit_kernel(c, s.dim); });
+                which_kernel(ws, s.spec, [&](const std::string& c) -> const Radial& { return unit_kernel(c, s.dim); });
             v.exact = "-";
             v.ratio = "-";
             v.diagnosis = "mismatched kernel: the printed shape is not " + s.spec +
@@ -404,7 +403,7 @@ private:
         v.exact = "W'(q)/q of " + s.spec + " (support " + short_string(s.support) + " h, unit mass)";
         const auto m = monomial_ratio(Gs, exact);
         if (!m) {
-            const std::string other = which_kernel(Gs, s.dim, s.spec, [&](const std::string& c) -> const Radial& {
+            const std::string other = which_kernel(Gs, s.spec, [&](const std::string& c) -> const Radial& {
                 const Radial& g = unit_grad_over_r(c, s.dim);
                 return scaled_.emplace_back(g * scale);
             });
@@ -544,7 +543,7 @@ std::string source_of(const Entry& e) {
     return errata::join(parts, ", ");
 }
 
-void run_file(CodeChecker& checker, const fs::path& path, CodeErrataReport& report) {
+void run_file(CodeChecker& checker, const fs::path& path) {
     const json doc = read_file(path);
     const std::string file = path.filename().string();
     const std::string code = doc["code"].get<std::string>() + " (" + doc["repository"].get<std::string>() + ")";
@@ -573,7 +572,6 @@ void run_file(CodeChecker& checker, const fs::path& path, CodeErrataReport& repo
             e.bad(message);
         }
     }
-    (void)report;
 }
 
 }  // namespace
@@ -586,7 +584,7 @@ CodeErrataReport check_code_errata(const std::filesystem::path& dir) {
     std::sort(files.begin(), files.end(), [](const fs::path& a, const fs::path& b) { return a.filename() < b.filename(); });
     CodeErrataReport report;
     CodeChecker checker(report);
-    for (const auto& f : files) run_file(checker, f, report);
+    for (const auto& f : files) run_file(checker, f);
     return report;
 }
 

@@ -258,6 +258,17 @@ TEST_F(ScratchCodes, EachDiagnosis) {
     EXPECT_EQ(r.wrong(), 4);
 }
 
+TEST_F(ScratchCodes, ShapeOfAnotherKernel) {
+    // spiky's (1 - q)^3 under the name poly6: which kernel it is, not a constant.
+    write(R"({"entry": "p", "quantity": "code.normalisation", "file": "k.c", "seen": true, "expression": "e",
+        "says": "s", "params": {"spec": "poly6", "dim": 3, "support": "1"},
+        "printed": {"constant": "315/64", "pi_power": -1, "shape": [{"coeff": "1", "factors": [["1", "-1", 3]], "to": "1"}]}})");
+    const CodeErrataReport r = check_code_errata(dir_);
+    ASSERT_EQ(r.verdicts.size(), 1u);
+    EXPECT_FALSE(r.verdicts[0].right);
+    EXPECT_EQ(r.verdicts[0].diagnosis, "mismatched kernel: the printed shape is not poly6; it is spiky (times 1/15 pi^1)");
+}
+
 TEST_F(ScratchCodes, GammaDecidedExactly) {
     auto gamma = [](const std::string& label, const std::string& g) {
         return R"({"entry": ")" + label + R"(", "quantity": "code.gamma", "file": "k.h", "seen": true,
