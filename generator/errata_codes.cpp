@@ -14,6 +14,7 @@
 #include "schoenberg.hpp"
 
 #include <gmp.h>
+#include <mpfr.h>
 
 #include <algorithm>
 #include <cmath>
@@ -118,6 +119,18 @@ std::optional<Q> decimal_reading(const std::string& text, const Q& value) {
     const Q simplest = simplest_between(a - half_unit, a + half_unit);
     if (simplest == a) return std::nullopt;
     return value < 0 ? -simplest : simplest;
+}
+
+// The unit of a printed decimal's last digit ("0.41778" -> 1/100000); nullopt
+// for "p/q" and integers.
+std::optional<Q> decimal_unit(const std::string& text) {
+    const auto e_pos = text.find_first_of("eE");
+    const std::string mantissa = text.substr(0, e_pos);
+    const auto dot = mantissa.find('.');
+    if (dot == std::string::npos && e_pos == std::string::npos) return std::nullopt;
+    const int exponent = e_pos == std::string::npos ? 0 : std::stoi(text.substr(e_pos + 1));
+    const int fraction_digits = dot == std::string::npos ? 0 : static_cast<int>(mantissa.size() - dot - 1);
+    return pow(Q(10), exponent - fraction_digits);
 }
 
 // ---------------------------------------------------------------------------
@@ -299,6 +312,7 @@ private:
         PiQ constant;
         std::optional<Q> reading;  // what a printed decimal stands for
         std::string constant_text;
+        bool folded = false;  // the decimal approximates constant * pi^pi_power (pi folded in)
     };
 
     Setting read_setting(const Entry& e) {
@@ -315,7 +329,10 @@ private:
         s.constant_text = e.text(printed, "constant", "printed");
         s.constant.q = e.rational(printed, "constant", "printed");
         s.constant.pi = e.integer(printed, "pi_power", "printed");
-        s.reading = decimal_reading(s.constant_text, s.constant.q);
+        s.folded = printed.contains("pi_folded") && e.boolean(printed, "pi_folded", "printed");
+        if (s.folded && !decimal_unit(s.constant_text))
+            e.bad("field 'printed.constant': pi_folded needs a decimal, got '" + s.constant_text + "'");
+        s.reading = s.folded ? std::nullopt : decimal_reading(s.constant_text, s.constant.q);
         try {
             (void)unit_kernel(s.spec, s.dim);
         } catch (const Error& ex) {
@@ -325,6 +342,7 @@ private:
     }
 
     std::string published_text(const Setting& s) const {
+        if (s.folded) return s.constant_text + " (pi folded in)";
         if (!s.reading) return exact_of(s.constant).to_string();
         const std::string pi = s.constant.pi == 0 ? "" : " * pi^" + std::to_string(s.constant.pi);
         return s.constant_text + pi + " (the decimal reads " + exact_of({*s.reading, s.constant.pi}).to_string() + ")";
@@ -368,6 +386,40 @@ private:
         return "constant factor: wrong normalisation, published/exact = " + ratio_string(rho);
     }
 
+    // A decimal x printed for the constant c pi^e: right when the exact value
+    // rounds to it, |x - c pi^e| <= half a unit of x's last digit, decided in
+    // MPFR at 320 bits (an error far below any printed digit; a value within
+    // 2^-250 of a rounding boundary is reported, not guessed).
+    void folded_verdict(const Setting& s, const PiQ& exact, CodeVerdict& v) {
+        const Q half = *decimal_unit(s.constant_text) / 2;
+        mpfr_t pi, ex, x, d, h;
+        for (mpfr_ptr m : {pi, ex, x, d, h}) mpfr_init2(m, 320);
+        mpfr_const_pi(pi, MPFR_RNDN);
+        mpfr_pow_si(ex, pi, exact.pi, MPFR_RNDN);
+        mpfr_mul_q(ex, ex, exact.q.backend().data(), MPFR_RNDN);
+        mpfr_set_q(x, s.constant.q.backend().data(), MPFR_RNDN);
+        mpfr_set_q(h, half.backend().data(), MPFR_RNDN);
+        mpfr_sub(d, x, ex, MPFR_RNDN);
+        mpfr_abs(d, d, MPFR_RNDN);
+        mpfr_sub(d, d, h, MPFR_RNDN);  // <= 0: right
+        const bool undecided = mpfr_zero_p(d) || mpfr_get_exp(d) < mpfr_get_exp(ex) - 250;
+        const bool right = mpfr_sgn(d) <= 0;
+        char shown[64];
+        std::snprintf(shown, sizeof shown, "%.9g", mpfr_get_d(x, MPFR_RNDN) / mpfr_get_d(ex, MPFR_RNDN));
+        const double exact_value = mpfr_get_d(ex, MPFR_RNDN);
+        for (mpfr_ptr m : {pi, ex, x, d, h}) mpfr_clear(m);
+        if (undecided) fail("internal: " + s.constant_text + " lies on a rounding boundary of " + exact_of(exact).to_string());
+        char value[64];
+        std::snprintf(value, sizeof value, "%.12g", exact_value);
+        v.exact = exact_of(exact).to_string() + " = " + value + "...";
+        if (v.published.empty()) v.published = s.constant_text + " (pi folded in)";
+        v.right = right;
+        v.ratio = right ? "1 (to the printed digits)" : shown;
+        v.diagnosis = right ? "right (to the printed digits)"
+                            : "constant factor: the decimal is not the exact constant rounded (published/exact = " +
+                                  std::string(shown) + ")";
+    }
+
     void normalisation(const Entry& e, CodeVerdict& v) {
         const Setting s = read_setting(e);
         v.published = published_text(s);
@@ -385,6 +437,7 @@ private:
         }
         const PiQ exact{m->c.q / pow(s.support, s.dim), m->c.pi};  // K(q/R)/R^D = lambda w(q)/R^D
         v.exact = exact_of(exact).to_string();
+        if (s.folded) return folded_verdict(s, exact, v);
         const PiQ used = s.reading ? PiQ{*s.reading, s.constant.pi} : s.constant;
         const PiQ rho{used.q / exact.q, used.pi - exact.pi};
         v.ratio = ratio_string(rho);
@@ -396,7 +449,7 @@ private:
     void gradient(const Entry& e, CodeVerdict& v) {
         const Setting s = read_setting(e);
         v.published = e.text(*e.object, "expression", "");
-        const PiQ used = s.reading ? PiQ{*s.reading, s.constant.pi} : s.constant;
+        const PiQ used = s.folded ? PiQ{Q(1), 0} : s.reading ? PiQ{*s.reading, s.constant.pi} : s.constant;
         const Radial Gs = shape_radial(s.shape, s.support) * exact_of(used);  // C pi^p G(R s)
         const Exact scale = Exact(Q(1) / pow(s.support, s.dim + 2));            // K'(s)/(R^(D+2) s)
         const Radial exact = unit_grad_over_r(s.spec, s.dim) * scale;
@@ -411,6 +464,10 @@ private:
             v.diagnosis = other.empty() ? "gradient differs from " + s.spec + "'s (no systematic cause found)"
                                         : "mismatched pair: the gradient is that of " + other + ", the kernel " + s.spec;
             return;
+        }
+        if (s.folded && m->k == 0) {  // G(R s) = c * exact: the constant must be 1/c
+            v.published = s.constant_text + " (pi folded in) with " + v.published;
+            return folded_verdict(s, PiQ{Q(1) / m->c.q, -m->c.pi}, v);
         }
         // c s^k = c R^-k q^k
         const PiQ c{m->c.q / pow(s.support, m->k), m->c.pi};

@@ -192,8 +192,16 @@ TEST(CodeErrata, SwiftConstantsAndGammas) {
     EXPECT_TRUE(verdict("MARTINI", "gamma = H/h quoted").right);
 }
 
+TEST(CodeErrata, DualSPHysicsDecimalsWithPiFoldedIn) {
+    for (const char* e : {"Wendland, D = 2, W", "Wendland, D = 3, W", "Wendland, D = 2, grad W", "Wendland, D = 3, grad W"}) {
+        const CodeVerdict& v = verdict("DualSPHysics", e);
+        EXPECT_EQ(v.diagnosis, "right (to the printed digits)") << mollify::gen::format_line(v);
+    }
+    EXPECT_EQ(verdict("DualSPHysics", "Wendland, D = 3, grad W").exact, "-105/16 * pi^-1 = -2.08890862808...");
+}
+
 TEST(CodeErrata, TotalsArePinned) {
-    EXPECT_EQ(report().verdicts.size(), 103u);
+    EXPECT_EQ(report().verdicts.size(), 107u);
     EXPECT_EQ(report().wrong(), 19);
 }
 
@@ -267,6 +275,24 @@ TEST_F(ScratchCodes, ShapeOfAnotherKernel) {
     ASSERT_EQ(r.verdicts.size(), 1u);
     EXPECT_FALSE(r.verdicts[0].right);
     EXPECT_EQ(r.verdicts[0].diagnosis, "mismatched kernel: the printed shape is not poly6; it is spiky (times 1/15 pi^1)");
+}
+
+TEST_F(ScratchCodes, FoldedDecimalsDecidedAgainstPi) {
+    // 1/(120 pi) = 0.00265258...: 0.0026526 rounds from it, 0.0026527 and 3/359's 0.00266 do not.
+    auto folded = [](const std::string& label, const std::string& c) {
+        std::string e = quintic(label, c, -1, 3);
+        const std::string key = R"("pi_power": -1)";
+        e.replace(e.find(key), key.size(), key + R"(, "pi_folded": true)");
+        return e;
+    };
+    write(folded("a", "0.0026526") + "," + folded("b", "0.0026527") + "," + folded("c", "0.00266"));
+    const CodeErrataReport r = check_code_errata(dir_);
+    ASSERT_EQ(r.verdicts.size(), 3u);
+    EXPECT_TRUE(r.verdicts[0].right) << mollify::gen::format_line(r.verdicts[0]);
+    EXPECT_FALSE(r.verdicts[1].right);
+    EXPECT_FALSE(r.verdicts[2].right);
+    EXPECT_TRUE(contains(r.verdicts[2].diagnosis, "not the exact constant rounded")) << r.verdicts[2].diagnosis;
+    EXPECT_TRUE(contains(error_of(folded("d", "1/377")), "pi_folded needs a decimal, got '1/377'")) << error_of(folded("d", "1/377"));
 }
 
 TEST_F(ScratchCodes, GammaDecidedExactly) {
