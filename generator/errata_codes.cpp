@@ -17,6 +17,7 @@
 #include <mpfr.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <deque>
@@ -103,14 +104,21 @@ Q simplest_between(const Q& lo, const Q& hi) {
     return Q(fl) + Q(1) / simplest_between(Q(1) / (hi - Q(fl)), Q(1) / (lo - Q(fl)));
 }
 
-// A printed decimal ("8.35655e-3") stands for every number that rounds to
-// it: half a unit of its last digit either side. Its simplest reading
-// (3/359) is what the author meant, when it differs from the decimal.
+// A printed decimal of five or more significant digits ("8.35655e-3") is a
+// rounded value: it stands for every number within half a unit of its last
+// digit, and its simplest reading (3/359) is what the author meant, when it
+// differs from the decimal. Shorter decimals (0.05, 1.3125) are taken as
+// exact: any short decimal has a simpler neighbour (1/19 beside 0.05).
 std::optional<Q> decimal_reading(const std::string& text, const Q& value) {
     const auto e_pos = text.find_first_of("eE");
     const std::string mantissa = text.substr(0, e_pos);
     const auto dot = mantissa.find('.');
     if (dot == std::string::npos && e_pos == std::string::npos) return std::nullopt;  // "p/q" or an integer
+    const auto first = mantissa.find_first_of("123456789");
+    int significant = 0;
+    for (std::size_t i = first; first != std::string::npos && i < mantissa.size(); ++i)
+        significant += std::isdigit(static_cast<unsigned char>(mantissa[i])) != 0;
+    if (significant < 5) return std::nullopt;
     int exponent = e_pos == std::string::npos ? 0 : std::stoi(text.substr(e_pos + 1));
     const int fraction_digits = dot == std::string::npos ? 0 : static_cast<int>(mantissa.size() - dot - 1);
     const Q half_unit = pow(Q(10), exponent - fraction_digits) / 2;
@@ -343,8 +351,9 @@ private:
 
     std::string published_text(const Setting& s) const {
         if (s.folded) return s.constant_text + " (pi folded in)";
-        if (!s.reading) return exact_of(s.constant).to_string();
+        if (!decimal_unit(s.constant_text)) return exact_of(s.constant).to_string();
         const std::string pi = s.constant.pi == 0 ? "" : " * pi^" + std::to_string(s.constant.pi);
+        if (!s.reading) return s.constant_text + pi;
         return s.constant_text + pi + " (the decimal reads " + exact_of({*s.reading, s.constant.pi}).to_string() + ")";
     }
 

@@ -200,8 +200,17 @@ TEST(CodeErrata, DualSPHysicsDecimalsWithPiFoldedIn) {
     EXPECT_EQ(verdict("DualSPHysics", "Wendland, D = 3, grad W").exact, "-105/16 * pi^-1 = -2.08890862808...");
 }
 
+TEST(CodeErrata, PhantomStockKernels) {
+    for (const char* e : {"kernel_cubic.f90", "kernel_quartic.f90", "kernel_quintic.f90", "kernel_WendlandC2.f90",
+                          "kernel_WendlandC4.f90", "kernel_WendlandC6.f90"})
+        expect_right("Phantom", e);
+    // A short decimal is exact: 0.05 is 1/20, not its simpler neighbour 1/19.
+    EXPECT_EQ(verdict("Phantom", "kernel_quartic.f90").published, "0.05 * pi^-1");
+    EXPECT_EQ(verdict("Phantom", "kernel_WendlandC2.f90").published, "1.3125 * pi^-1");
+}
+
 TEST(CodeErrata, TotalsArePinned) {
-    EXPECT_EQ(report().verdicts.size(), 107u);
+    EXPECT_EQ(report().verdicts.size(), 113u);
     EXPECT_EQ(report().wrong(), 19);
 }
 
