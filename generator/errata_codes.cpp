@@ -8,6 +8,7 @@
 #include "errata_codes.hpp"
 
 #include "conventions.hpp"
+#include "decimal.hpp"
 #include "errata_checker.hpp"
 #include "error.hpp"
 #include "kernel.hpp"
@@ -92,53 +93,6 @@ std::optional<Q> rational_root(const Q& x, int n) {
     const auto p = root(numerator(x)), q = root(denominator(x));
     if (!p || !q) return std::nullopt;
     return Q(*p) / Q(*q);
-}
-
-// The simplest rational in [lo, hi] (0 < lo <= hi): fewest digits, by
-// continued fractions.
-Q simplest_between(const Q& lo, const Q& hi) {
-    const Z fl = numerator(lo) / denominator(lo);  // floor, lo > 0
-    if (Q(fl) == lo) return lo;
-    const Z fh = numerator(hi) / denominator(hi);
-    if (fl < fh) return Q(fl + 1);
-    return Q(fl) + Q(1) / simplest_between(Q(1) / (hi - Q(fl)), Q(1) / (lo - Q(fl)));
-}
-
-// A printed decimal of five or more significant digits ("8.35655e-3") is a
-// rounded value: it stands for every number within half a unit of its last
-// digit, and its simplest reading (3/359) is what the author meant, when it
-// differs from the decimal. Shorter decimals (0.05, 1.3125) are taken as
-// exact: any short decimal has a simpler neighbour (1/19 beside 0.05).
-std::optional<Q> decimal_reading(const std::string& text, const Q& value) {
-    const auto e_pos = text.find_first_of("eE");
-    const std::string mantissa = text.substr(0, e_pos);
-    const auto dot = mantissa.find('.');
-    if (dot == std::string::npos && e_pos == std::string::npos) return std::nullopt;  // "p/q" or an integer
-    const auto first = mantissa.find_first_of("123456789");
-    int significant = 0;
-    for (std::size_t i = first; first != std::string::npos && i < mantissa.size(); ++i)
-        significant += std::isdigit(static_cast<unsigned char>(mantissa[i])) != 0;
-    if (significant < 5) return std::nullopt;
-    int exponent = e_pos == std::string::npos ? 0 : std::stoi(text.substr(e_pos + 1));
-    const int fraction_digits = dot == std::string::npos ? 0 : static_cast<int>(mantissa.size() - dot - 1);
-    const Q half_unit = pow(Q(10), exponent - fraction_digits) / 2;
-    const Q a = value < 0 ? -value : value;
-    if (a <= half_unit) return std::nullopt;
-    const Q simplest = simplest_between(a - half_unit, a + half_unit);
-    if (simplest == a) return std::nullopt;
-    return value < 0 ? -simplest : simplest;
-}
-
-// The unit of a printed decimal's last digit ("0.41778" -> 1/100000); nullopt
-// for "p/q" and integers.
-std::optional<Q> decimal_unit(const std::string& text) {
-    const auto e_pos = text.find_first_of("eE");
-    const std::string mantissa = text.substr(0, e_pos);
-    const auto dot = mantissa.find('.');
-    if (dot == std::string::npos && e_pos == std::string::npos) return std::nullopt;
-    const int exponent = e_pos == std::string::npos ? 0 : std::stoi(text.substr(e_pos + 1));
-    const int fraction_digits = dot == std::string::npos ? 0 : static_cast<int>(mantissa.size() - dot - 1);
-    return pow(Q(10), exponent - fraction_digits);
 }
 
 // ---------------------------------------------------------------------------
@@ -525,27 +479,13 @@ private:
         const Q g2 = Q(dim) / (Q(4) * m2->q);
         const std::string text = e.text(e.printed(), "gamma", "printed");
         const Q x = e.rational(e.printed(), "gamma", "printed");
-        const auto e_pos = text.find_first_of("eE");
-        const auto dot = text.substr(0, e_pos).find('.');
-        const int digits = dot == std::string::npos ? 0 : static_cast<int>(text.substr(0, e_pos).size() - dot - 1);
-        const int exponent = e_pos == std::string::npos ? 0 : std::stoi(text.substr(e_pos + 1));
-        const int places = digits - exponent;  // x * 10^places is an integer
-        const Q scale = pow(Q(10), places);
-        // N = round(gamma 10^places), decided exactly: (N - 1/2)^2 <= gamma^2 10^(2 places) < (N + 1/2)^2.
-        const Q target = g2 * scale * scale;
-        Z N(static_cast<long long>(std::llround(sqrt_to_double(g2) * std::pow(10.0, places))));
-        while (Q(N) - Q(1, 2) > 0 && (Q(N) - Q(1, 2)) * (Q(N) - Q(1, 2)) > target) --N;
-        while ((Q(N) + Q(1, 2)) * (Q(N) + Q(1, 2)) <= target) ++N;
-        const Q printed_units = x * scale;
+        const auto decimal_places_of_text = decimal_places(text);
+        if (!decimal_places_of_text) e.bad("field 'printed.gamma' must be a decimal, got '" + text + "'");
+        const int places = *decimal_places_of_text;  // x * 10^places is an integer
+        const Z N = rounded_sqrt(g2, places);
+        const Q printed_units = x * pow(Q(10), places);
         if (!is_integer(printed_units)) fail("internal: a decimal's last digit");
         const Z off = numerator(printed_units) - N;
-        auto decimal = [places](const Z& n) {  // n 10^-places with `places` decimals
-            std::string t = n.str();
-            if (places <= 0) return t + std::string(static_cast<std::size_t>(-places), '0');
-            if (t.size() <= static_cast<std::size_t>(places)) t.insert(0, static_cast<std::size_t>(places) + 1 - t.size(), '0');
-            t.insert(t.size() - static_cast<std::size_t>(places), ".");
-            return t;
-        };
         char shown[64];
         std::snprintf(shown, sizeof shown, "%.*f", std::max(places, 0) + 3, sqrt_to_double(g2));
         v.published = text;
@@ -560,7 +500,7 @@ private:
         v.ratio = shown;
         const Z units = off < 0 ? Z(-off) : off;
         if (units <= 2)
-            v.diagnosis = "rounding: the exact gamma rounds to " + decimal(N) + ", the printed value is " + units.str() +
+            v.diagnosis = "rounding: the exact gamma rounds to " + decimal_string(N, places) + ", the printed value is " + units.str() +
                           " unit" + (units == 1 ? "" : "s") + " of its last digit off";
         else
             v.diagnosis = "support convention: gamma = H/h is not this kernel's (published/exact = " + std::string(shown) + ")";
