@@ -5,6 +5,7 @@
 // support convention) get their diagnosis; a malformed entry is an Error
 // naming file, entry and field. Schoenberg's M_4, built from its
 // definition, must be mollify's cubic spline exactly.
+#include "decimal.hpp"
 #include "errata_codes.hpp"
 #include "error.hpp"
 #include "kernel.hpp"
@@ -393,6 +394,27 @@ TEST(Schoenberg, M6In1DIsOneOver120WithSupport3) {
     // M_6 has unit mass on support 3 before rescaling: on support 1 the mass is 1/3.
     EXPECT_TRUE(mass == mollify::gen::Exact(Q(1, 3))) << mass.to_string();
     EXPECT_TRUE(m6.at(Q(0)) == mollify::gen::Exact(Q(66, 120))) << m6.at(Q(0)).to_string();
+}
+
+TEST(Decimal, ReadingsAndRoundings) {
+    using mollify::gen::decimal_reading;
+    using mollify::gen::Z;
+    EXPECT_EQ(mollify::gen::simplest_between(Q(1, 3) - Q(1, 1000), Q(1, 3) + Q(1, 1000)), Q(1, 3));
+    EXPECT_EQ(decimal_reading("8.35655e-3", Q(835655, 100000000)), Q(3, 359));
+    EXPECT_EQ(decimal_reading("-4.178273e-2", -Q(4178273, 100000000)), -Q(15, 359));
+    EXPECT_FALSE(decimal_reading("0.05", Q(1, 20)));     // short: exact
+    EXPECT_FALSE(decimal_reading("1.3125", Q(21, 16)));  // its own simplest reading
+    EXPECT_FALSE(decimal_reading("3/359", Q(3, 359)));   // not a decimal
+    EXPECT_EQ(mollify::gen::decimal_places("8.35655e-3"), 8);
+    EXPECT_EQ(mollify::gen::decimal_places("2.5E+2"), -1);
+    EXPECT_EQ(*mollify::gen::decimal_unit("0.41778"), Q(1, 100000));
+    // round(sqrt(9/2) 10^6) = 2121320 (2121320.34...); a tie goes away from zero.
+    EXPECT_EQ(mollify::gen::rounded_sqrt(Q(9, 2), 6), Z(2121320));
+    EXPECT_EQ(mollify::gen::rounded_sqrt(Q(25, 4), 0), Z(3));
+    EXPECT_EQ(mollify::gen::rounded_sqrt(Q(0), 3), Z(0));
+    EXPECT_EQ(mollify::gen::decimal_string(Z(2121320), 6), "2.121320");
+    EXPECT_EQ(mollify::gen::decimal_string(Z(-5), 3), "-0.005");
+    EXPECT_EQ(mollify::gen::decimal_string(Z(25), -1), "250");
 }
 
 }  // namespace
