@@ -117,9 +117,10 @@ Diagnosis constant_diagnosis(const Setup& s, const std::vector<Compared>& pts, c
                              double c, bool floats, double bound) {
     const auto e = exact_factor(s, pts, idx, c, floats, bound);
     const std::string f = e ? pretty(*e) : number(c, 17);
-    if (e && *e == gen::Exact(gen::Q(-1)))
+    if ((e && *e == gen::Exact(gen::Q(-1))) || (!e && std::abs(c + 1) <= 0x1p-40))
         return {DiagnosisKind::wrong_sign, "wrong sign: got = -exact everywhere"};
-    std::string text = "constant factor: got = " + f + " x exact everywhere (relative " + number(c - 1, 3) + ")";
+    std::string text = "constant factor: got = " + f + " x exact everywhere" +
+                       (std::abs(c - 1) < 0.01 ? " (relative deviation " + number(c - 1, 3) + ")" : "");
     if (s.quantity == Quantity::value) text = "normalisation off by the factor " + f + normalisation_text(s, e);
     if (table::is_potential(s.id) && e) {
         for (const gen::Convention& other : gen::conventions()) {
@@ -131,7 +132,7 @@ Diagnosis constant_diagnosis(const Setup& s, const std::vector<Compared>& pts, c
         }
     }
     if (!e) text += " (not a small rational or pi multiple)";
-    return {c < 0 ? DiagnosisKind::wrong_sign : DiagnosisKind::constant_factor, text};
+    return {DiagnosisKind::constant_factor, text};
 }
 
 // The kernel with its support scaled by a: a^-? folded into c.
