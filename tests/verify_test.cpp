@@ -17,7 +17,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -100,14 +99,35 @@ TEST(Verify, ConstantOffByOneInAMillionIsAConstantFactor) {
 }
 
 // PySPH's 3D quintic spline normalisation 3/(359 pi) instead of 1/(120 pi)
-// (pypr/pysph, fixed in 4f733660; ../shared/peers.md): the ratio 360/359.
-// The quintic spline is not in mollify's grammar, so the published ratio is
-// applied to the cubic spline and must be recognised exactly.
+// (pypr/pysph, fixed in 4f733660; ../shared/peers.md). The exact constant
+// from the quintic spline's definition (Schoenberg's M6 as PySPH and Morris
+// 1996 write it: w(q) = (3 - q)^5 - 6 (2 - q)^5 + 15 (1 - q)^5, each term
+// where positive, support 3h): sigma = 1 / (4 pi int_0^3 q^2 w(q) dq).
+mollify::gen::Q quintic_spline_mass_over_4pi() {
+    using mollify::gen::Laurent;
+    using mollify::gen::Q;
+    const std::pair<int, int> terms[] = {{3, 1}, {2, -6}, {1, 15}};  // (a, c): c (a - q)^5 on [0, a)
+    Q integral = 0;
+    for (const auto& [a, c] : terms) {
+        const Laurent f = Laurent::binomial_power(Q(a), Q(-1), 5) * Laurent::monomial(Q(c), 2);
+        Q log_coefficient = 0;
+        const Laurent F = f.antiderivative(&log_coefficient);
+        integral += F(Q(a)) - F(Q(0));
+    }
+    return integral;
+}
+
+// The quintic spline is not in mollify's grammar, so the published ratio,
+// computed exactly, is applied to the cubic spline and must be recognised.
 TEST(Verify, PySphQuinticNormalisationIsRecognisedAsRational) {
+    using mollify::gen::Q;
+    const Q exact_sigma_times_pi = 1 / (4 * quintic_spline_mass_over_4pi());
+    EXPECT_EQ(exact_sigma_times_pi, Q(1, 120));  // the corrected constant 1/(120 pi)
+    const Q ratio = Q(3, 359) / exact_sigma_times_pi;  // PySPH's 3/(359 pi) over the exact one
+    EXPECT_EQ(ratio, Q(360, 359));
     const mollify::Kernel k = runtime("cubic-spline", 3);
-    const double pi = std::numbers::pi;
-    const double pysph = 3 / (359 * pi), exact = 1 / (120 * pi);
-    const v::Report r = v::verify([&](double x, double h) { return k.value(x, h) * (pysph / exact); }, "cubic-spline", 3,
+    const double factor = static_cast<double>(ratio);
+    const v::Report r = v::verify([&](double x, double h) { return k.value(x, h) * factor; }, "cubic-spline", 3,
                                   Quantity::value);
     expect_kind(r, DiagnosisKind::constant_factor, "360/359");
     EXPECT_NE(r.diagnosis->text.find("exact 8/pi h^-3"), std::string::npos) << r.to_string();
@@ -185,6 +205,16 @@ TEST(Verify, SinglePrecision) {
     };
     const v::Report r = v::verify(f, "wendland:k=1", 3, Quantity::value);
     expect_kind(r, DiagnosisKind::single_precision, "exactly floats");
+}
+
+TEST(Verify, SinglePrecisionInside) {
+    // w(q) in float, the scale h^-3 in double: the values are not floats.
+    const std::vector<double> c = expanded_coefficients("wendland:k=1", 3);
+    auto f = [&](double x, double h) {
+        return static_cast<double>(expanded<float>(c, static_cast<float>(x / h), 1.0f, 3)) / (h * h * h);
+    };
+    const v::Report r = v::verify(f, "wendland:k=1", 3, Quantity::value);
+    expect_kind(r, DiagnosisKind::single_precision, "part of the evaluation is in float");
 }
 
 TEST(Verify, NotFinite) {

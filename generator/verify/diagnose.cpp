@@ -245,6 +245,17 @@ std::optional<Diagnosis> transformations(const Setup& s, const std::vector<Compa
     }
 }
 
+// The residual of got = c exact (the fit of no transformation).
+double identity_residual(const std::vector<Compared>& pts, const std::vector<std::size_t>& idx) {
+    std::vector<double> got, y, m;
+    for (std::size_t i : idx) {
+        got.push_back(pts[i].got);
+        y.push_back(pts[i].exact_d);
+        m.push_back(pts[i].magnitude);
+    }
+    return fit(got, y, m).residual;
+}
+
 // Most nonzero values are exactly floats.
 bool values_are_floats(const std::vector<Compared>& pts, std::string* count) {
     std::size_t nonzero = 0, floats = 0;
@@ -294,15 +305,22 @@ std::optional<Diagnosis> diagnose(const Setup& s, const std::vector<Compared>& p
                                                             number(p.exact_d, 17) + ")"};
     const std::vector<std::size_t> idx = subset(points.size());
     if (auto d = transformations(s, points, idx, floats, bound)) return d;
-    if (floats && !s.single) {
-        std::vector<double> e;
-        for (const Compared& p : points) e.push_back(p.ulps);
-        const double median = percentile(e, 0.5);
+    std::vector<double> e;
+    for (const Compared& p : points) e.push_back(p.ulps);
+    const double median = percentile(e, 0.5);
+    const std::string size = number(median, 3) + " ulps (2^" + number(std::log2(std::max(median, 1.0)), 3) +
+                             "; half a float ulp is 2^28 double ulps)";
+    if (floats && !s.single)
         return Diagnosis{DiagnosisKind::single_precision,
-                         "single precision: " + count + " nonzero values are exactly floats, median error " + number(median, 3) +
-                             " ulps (2^" + number(std::log2(std::max(median, 1.0)), 3) +
-                             "; half a float ulp is 2^28 double ulps): evaluate in double, or verify with a float convention (swift)"};
-    }
+                         "single precision: " + count + " nonzero values are exactly floats, median error " + size +
+                             ": evaluate in double, or verify with a float convention (swift)"};
+    // Float arithmetic inside, a double result (e.g. w(q) in float times h^-D
+    // in double): errors of float rounding (2^-24 relative, 2^29 ulps) at
+    // most points, and the values within float rounding of the exact ones.
+    if (!s.single && median >= 0x1p20 && identity_residual(points, idx) <= 0x1p-19)
+        return Diagnosis{DiagnosisKind::single_precision,
+                         "single precision inside: median error " + size +
+                             " everywhere, the values within float rounding of the exact ones: part of the evaluation is in float"};
     if (auto d = edge(points, bound)) return d;
     const Compared* worst = &points.front();
     for (const Compared& p : points)
