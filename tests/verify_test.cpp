@@ -259,6 +259,14 @@ TEST(Verify, BadInputNamesTheValue) {
     const std::vector<double> two{1, 2};
     EXPECT_NE(message([&] { v::compare("cubic-spline", 3, Quantity::value, s, two); }).find("2 values for 1 samples"),
               std::string::npos);
+    const std::vector<v::Sample> negative{{1, 1}, {-1, 1}};
+    EXPECT_NE(message([&] { v::compare("cubic-spline", 3, Quantity::value, negative, two); }).find("sample 1 (r = -1"),
+              std::string::npos);
+    o.convention = "phantom";
+    EXPECT_NE(message([&] { v::samples("cubic-spline", 2, Quantity::value, o); }).find("D = 2"), std::string::npos);
+    o.convention = "cpp";
+    o.ulps = -1;
+    EXPECT_NE(message([&] { v::samples("cubic-spline", 3, Quantity::value, o); }).find("-1"), std::string::npos);
 }
 
 // The matcher, as a user writes it.
