@@ -185,6 +185,14 @@ TEST(Verify, GradientMissingAFactorQ) {
     expect_kind(r, DiagnosisKind::gradient_factor, "factor q missing");
 }
 
+TEST(Verify, GradientInQNotR) {
+    // Phantom's grkern is dW/dq: handed over as dW/dr it lacks 1/h.
+    const mollify::Kernel k = runtime("cubic-spline", 3);
+    const v::Report r = v::verify([&](double x, double h) { return k(mollify::QuantityId::dr, x, h) * h; }, "cubic-spline",
+                                  3, Quantity::dr);
+    expect_kind(r, DiagnosisKind::gradient_factor, "1/h missing");
+}
+
 TEST(Verify, KernelOfAnotherDimension) {
     const mollify::Kernel k2 = runtime("wendland:k=1", 2);
     const v::Report r = v::verify([&](double x, double h) { return k2.value(x, h); }, "wendland:k=1", 3, Quantity::value);

@@ -221,6 +221,8 @@ std::optional<Diagnosis> transformations(const Setup& s, const std::vector<Compa
             {"divided by q = r/H (a factor q missing)", [](const Compared& p) { return p.exact_d / p.q; }},
             {"times r (a factor r too many)", [](const Compared& p) { return p.exact_d * p.r; }},
             {"divided by r (a factor r missing: W'/r instead of W')", [](const Compared& p) { return p.exact_d / p.r; }},
+            {"times h (dW/dq, not dW/dr: the factor 1/h missing)", [](const Compared& p) { return p.exact_d * p.h; }},
+            {"divided by h (a factor 1/h too many)", [](const Compared& p) { return p.exact_d / p.h; }},
         };
         for (const auto& [what, f] : g) candidates.push_back({DiagnosisKind::gradient_factor, what, values(f), {}});
     }
