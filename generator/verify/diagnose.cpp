@@ -86,7 +86,10 @@ struct Candidate {
 // c recognised and checked: 95 % of the points within max(4 bound, 16) ulps of c exact.
 std::optional<gen::Exact> exact_factor(const Setup& s, const std::vector<Compared>& pts,
                                        const std::vector<std::size_t>& idx, double c, bool floats, double bound) {
-    const auto e = recognise(c, floats ? 1e-6 : 1e-12, floats ? 1000 : 100000);
+    // Float values give c to ~2^-24: denominators <= 100 (rationals p/q pi^k
+    // near 1 are ~3e-4 apart, so a match within 2^-21 is unlikely to be
+    // chance); doubles give c to ~2^-52, checked in ulps below.
+    const auto e = recognise(c, floats ? 0x1p-21 : 1e-13, floats ? 100 : 100000);
     if (!e) return std::nullopt;
     const Real v(e->evaluate(400).first, 100);
     std::vector<double> errors;
@@ -116,7 +119,7 @@ std::string normalisation_text(const Setup& s, const std::optional<gen::Exact>& 
 Diagnosis constant_diagnosis(const Setup& s, const std::vector<Compared>& pts, const std::vector<std::size_t>& idx,
                              double c, bool floats, double bound) {
     const auto e = exact_factor(s, pts, idx, c, floats, bound);
-    const std::string f = e ? pretty(*e) : number(c, 17);
+    const std::string f = e ? pretty(*e) : number(c, floats ? 8 : 17);
     if ((e && *e == gen::Exact(gen::Q(-1))) || (!e && std::abs(c + 1) <= 0x1p-40))
         return {DiagnosisKind::wrong_sign, "wrong sign: got = -exact everywhere"};
     std::string text = "constant factor: got = " + f + " x exact everywhere" +
@@ -329,7 +332,7 @@ std::optional<Diagnosis> diagnose(const Setup& s, const std::vector<Compared>& p
         if (p.ulps > worst->ulps) worst = &p;
     return Diagnosis{DiagnosisKind::unexplained, "no systematic pattern recognised (not a constant factor, support convention, "
                                                  "gradient factor, sign, dimension, float evaluation or edge cancellation); worst " +
-                                                     number(worst->ulps, 3) + " ulps at r = " + number(worst->r, 17) +
+                                                     number(worst->ulps, 3) + (s.single ? " float" : "") + " ulps at r = " + number(worst->r, 17) +
                                                      ", h = " + number(worst->h, 17)};
 }
 
