@@ -61,7 +61,7 @@ TEST(SamplesCsv, MalformedRowsNameFileLineColumnAndText) {
               "s.csv:2: this row has 4 fields, 3 expected (r, h, value): \"0.1,1,2,4\"");
     EXPECT_EQ(error_of("r,h,value\n\n0.1,,2\n"), "s.csv:3: column 2 (h): empty field, a number expected");
     EXPECT_EQ(error_of("r,h,value\n0.1;1;2\n"),
-              "s.csv:2: this row has 1 fields, 3 expected (r, h, value): \"0.1;1;2\"");
+              "s.csv:2: this row has 1 field, 3 expected (r, h, value): \"0.1;1;2\"");
     EXPECT_EQ(error_of("r,h,value\n1e999,1,2\n"), "s.csv:2: column 1 (r): \"1e999\" is out of the range of a double");
     EXPECT_EQ(error_of("r,h,value\n0.1,1,\x01\n"), "s.csv:2: column 3 (value): \"\\x01\" is not a number");
 }

@@ -118,7 +118,7 @@ SampleTable parse_samples_csv(std::string_view text, const std::string& origin) 
         }
         const auto fields = split(line);
         if (fields.size() != 3)
-            at.fail("this row has " + std::to_string(fields.size()) + " fields, 3 expected (r, h, value): " +
+            at.fail("this row has " + std::to_string(fields.size()) + (fields.size() == 1 ? " field" : " fields") + ", 3 expected (r, h, value): " +
                     shown(trim(line)));
         table.r.push_back(read_number(fields[index[0]], index[0], "r", at));
         table.h.push_back(read_number(fields[index[1]], index[1], "h", at));
