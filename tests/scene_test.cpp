@@ -182,6 +182,15 @@ TEST(Scene, WrongType) {
     EXPECT_ERROR(s.number("franz"), "test.toml:4", "franz", "got a table");
 }
 
+// Found by fuzz/fuzz_scene.cpp: toml++'s formatter is undefined behaviour
+// (UBSan) on floats below 0.1; the messages format values themselves.
+TEST(Scene, ArraysAndTablesOfSmallNumbersInMessages) {
+    const Scene s = scene("eps = [0.05, 1e-300, -0.001]\n[franz.sub]\nx = 0.01\ny = [true, 2]\n");
+    EXPECT_ERROR(s.number("franz.eps"), "franz.eps = [0.05, 1e-300, -0.001]", "expected a number, got an array");
+    EXPECT_ERROR(s.positive("franz.eps"), "franz.eps = [0.05, 1e-300, -0.001]");
+    EXPECT_ERROR(s.string("franz.sub.y"), "franz.sub.y = [true, 2]", "expected a string");
+}
+
 TEST(Scene, NonPositiveNumber) {
     const Scene s = Scene::parse(good, "good.toml");
     EXPECT_ERROR(s.positive("franz.zero"), "good.toml:16", "franz.zero = 0", "positive");

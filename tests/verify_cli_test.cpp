@@ -1,0 +1,187 @@
+// `mollify verify` as a user runs it (issue 20, item 4): mollify's own
+// Wendland k=2 (3D) kernel emitted as C (`mollify-gen emit --target c`) and
+// as Fortran (`--target fortran`, its bind(C) functions), compiled here into
+// shared libraries with Debian's gcc and gfortran, passes at <= 1 ulp through
+// --library and through a CSV written from the C library's values; wrong
+// libraries fail with exit 1 and a diagnosis; foreign code that crashes,
+// returns NaN, a missing symbol, a bad library path, a malformed CSV each
+// exit 2 with their message, and print no report.
+//
+// The bound: 1 ulp, the issue's "mollify's own kernels pass ... at <= 1 ulp"
+// (the emitted files evaluate as the runtime's Precision::fast, whose error
+// at Wendland k=2 is within that: tests/targets_test.cpp).
+#include "command.hpp"
+
+#include <gtest/gtest.h>
+
+#include <dlfcn.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+namespace fs = std::filesystem;
+using mollify::testing::Outcome;
+using mollify::testing::run_command;
+
+namespace {
+
+const fs::path work = MOLLIFY_VERIFY_WORK_DIR;
+const std::string kernel = "wendland:k=2";
+const std::string prefix = "mollify_wendland_k_2_D3";
+
+Outcome run(const std::string& arguments) {
+    return run_command("cd '" + work.string() + "' && '" MOLLIFY "' verify " + arguments, work / "out");
+}
+
+void shell(const std::string& what, const std::string& command) {
+    const auto r = run_command("cd '" + work.string() + "' && " + command, work / "sh");
+    ASSERT_EQ(r.status, 0) << what << " failed (installed? tools/install-deps.sh):\n" << command << "\n" << r.err;
+}
+
+// C wrappers around the emitted header: right, and wrong in the ways the
+// issue lists (a constant 1e-6 relative too large, support 2h: W_2h(r) =
+// W_h(r/2)/8 in 3D), and foreign code misbehaving at r > h/2.
+const std::string wrappers = R"(#include <math.h>
+#include "c/mollify_wendland_k_2_D3.h"
+double my_w(double r, double h) { return mollify_wendland_k_2_D3_value_h(r, h); }
+double my_dr(double r, double h) { return mollify_wendland_k_2_D3_dr_h(r, h); }
+double my_w_off(double r, double h) { return mollify_wendland_k_2_D3_value_h(r, h) * (1 + 1e-6); }
+double my_w_2h(double r, double h) { return mollify_wendland_k_2_D3_value_h(0.5 * r, h) * 0.125; }
+double my_w_crash(double r, double h) { if (r > 0.5 * h) { volatile int* p = 0; *p = 1; } return my_w(r, h); }
+double my_w_nan(double r, double h) { return r > 0.5 * h ? NAN : my_w(r, h); }
+)";
+
+class VerifyCli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        fs::remove_all(work);
+        fs::create_directories(work);
+        shell("mollify-gen emit", "'" MOLLIFY_GEN "' emit --target c --target fortran --only " + kernel +
+                                      " --dim 3 --out . > /dev/null");
+        std::ofstream(work / "mine.c") << wrappers;
+        shell("gcc", "gcc -std=c99 -O2 -shared -fPIC -Wall -Wextra -Werror -I. mine.c -o libmine.so -lm");
+        shell("gfortran", "gfortran -std=f2008 -O2 -shared -fPIC -Wall -Werror fortran/" + prefix +
+                              ".f90 -o libmine_fortran.so");
+    }
+};
+
+TEST_F(VerifyCli, OwnKernelAsCPassesWithinOneUlp) {
+    for (const auto& [symbol, quantity] : {std::pair{"my_w", "value"}, std::pair{"my_dr", "dr"}}) {
+        const auto r = run(kernel + " --dim 3 --library ./libmine.so --symbol " + symbol + " --quantity " + quantity +
+                           " --ulps 1");
+        EXPECT_EQ(r.status, 0) << symbol << "\n" << r.out << r.err;
+        EXPECT_NE(r.out.find("verdict: " + std::string(symbol) + " (./libmine.so) PASSES"), std::string::npos) << r.out;
+        EXPECT_EQ(r.err, "");
+    }
+}
+
+TEST_F(VerifyCli, OwnKernelAsFortranBindCPassesWithinOneUlp) {
+    const auto r = run(kernel + " --dim 3 --library libmine_fortran.so --symbol " + prefix + "_f90_value_h --ulps 1");
+    EXPECT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("PASSES"), std::string::npos) << r.out;
+}
+
+// The arguments from --write-arguments, the values from the C library
+// (dlopen here, as any other language would compute them), as CSV.
+TEST_F(VerifyCli, OwnKernelThroughCsvPassesWithinOneUlp) {
+    auto r = run(kernel + " --dim 3 --write-arguments args.csv");
+    ASSERT_EQ(r.status, 0) << r.err;
+    void* lib = ::dlopen((work / "libmine.so").c_str(), RTLD_NOW);
+    ASSERT_NE(lib, nullptr) << ::dlerror();
+    const auto w = reinterpret_cast<double (*)(double, double)>(::dlsym(lib, "my_w"));
+    ASSERT_NE(w, nullptr);
+    std::ifstream in(work / "args.csv");
+    std::string line;
+    std::getline(in, line);
+    ASSERT_EQ(line, "r,h");
+    std::ostringstream csv;
+    csv.precision(17);
+    csv << "r,h,value\n";
+    std::size_t rows = 0;
+    while (std::getline(in, line)) {
+        const auto comma = line.find(',');
+        const double rr = std::stod(line.substr(0, comma)), h = std::stod(line.substr(comma + 1));
+        csv << line << "," << w(rr, h) << "\n";
+        ++rows;
+    }
+    EXPECT_GT(rows, 10000u);  // the hard points and 10^4 uniform ones
+    std::ofstream(work / "samples.csv") << csv.str();
+    r = run(kernel + " --dim 3 --samples samples.csv --ulps 1");
+    EXPECT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("verdict: samples.csv PASSES"), std::string::npos) << r.out;
+}
+
+TEST_F(VerifyCli, WrongKernelsFailWithADiagnosis) {
+    auto r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_w_off");
+    EXPECT_EQ(r.status, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("FAILS"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("constant factor"), std::string::npos) << r.out;
+    r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_w_2h");
+    EXPECT_EQ(r.status, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("support convention"), std::string::npos) << r.out;
+}
+
+TEST_F(VerifyCli, ForeignFailuresExitTwoNamingTheArgument) {
+    auto r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_w_crash");
+    EXPECT_EQ(r.status, 2) << r.out << r.err;
+    EXPECT_EQ(r.out, "");  // nothing half-written
+    EXPECT_NE(r.err.find("mollify verify: error: my_w_crash crashed with SIGSEGV at r="), std::string::npos) << r.err;
+
+    r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_w_nan");
+    EXPECT_EQ(r.status, 2) << r.out << r.err;
+    EXPECT_EQ(r.out, "");
+    EXPECT_NE(r.err.find("my_w_nan returned nan at r="), std::string::npos) << r.err;
+
+    r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_kernel");
+    EXPECT_EQ(r.status, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("no symbol my_kernel in ./libmine.so: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("undefined symbol: my_kernel"), std::string::npos) << r.err;
+
+    r = run(kernel + " --dim 3 --library ./libabsent.so --symbol my_w");
+    EXPECT_EQ(r.status, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("cannot open library ./libabsent.so: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("No such file or directory"), std::string::npos) << r.err;
+}
+
+TEST_F(VerifyCli, BadInputExitsTwo) {
+    std::ofstream(work / "bad.csv") << "r,h,value\n0.1,0.5,3\n0.2,0.5,x3\n";
+    auto r = run(kernel + " --dim 3 --samples bad.csv");
+    EXPECT_EQ(r.status, 2) << r.out << r.err;
+    EXPECT_EQ(r.out, "");
+    EXPECT_NE(r.err.find("bad.csv:3: column 3 (value): \"x3\" is not a number"), std::string::npos) << r.err;
+
+    r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_w --quantity hessian");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("hessian"), std::string::npos) << r.err;
+
+    r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_w --convention nonsense");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("nonsense"), std::string::npos) << r.err;
+
+    r = run("wendland:k=99 --dim 3 --library ./libmine.so --symbol my_w");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("99"), std::string::npos) << r.err;
+
+    r = run(kernel + " --dim 3 --library ./libmine.so");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("--library needs --symbol"), std::string::npos) << r.err;
+
+    r = run(kernel + " --dim 3 --samples bad.csv --library ./libmine.so --symbol my_w");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("exactly one of"), std::string::npos) << r.err;
+
+    r = run(kernel + " --library ./libmine.so --symbol my_w");  // --dim missing: CLI11's error
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("--dim"), std::string::npos) << r.err;
+}
+
+TEST_F(VerifyCli, WriteArgumentsIsAtomicAndNamesBadPaths) {
+    const auto r = run(kernel + " --dim 3 --write-arguments no_such_dir/args.csv");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("no_such_dir/args.csv"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(work / "no_such_dir"));
+}
+
+}  // namespace
