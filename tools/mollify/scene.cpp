@@ -1,6 +1,7 @@
 // Scene files with toml++ (header-only, compiled in this translation unit
 // only). Every error is a mollify::Error "ORIGIN[:LINE]: KEY[ = VALUE]: WHY".
 #include "scene.hpp"
+#include "toml_guard.hpp"
 
 #include <mollify/error.hpp>
 
@@ -180,6 +181,7 @@ Scene Scene::parse(std::string_view text, std::string origin) {
     auto impl = std::make_unique<Impl>();
     impl->origin = std::move(origin);
     impl->text = std::string(text);
+    check_toml_characters(impl->text, impl->origin);  // before toml++ (toml_guard.hpp)
     try {
         impl->root = toml::parse(impl->text, impl->origin);
     } catch (const toml::parse_error& e) {
