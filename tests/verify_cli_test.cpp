@@ -58,7 +58,7 @@ protected:
     static void SetUpTestSuite() {
         fs::remove_all(work);
         fs::create_directories(work);
-        shell("mollify-gen emit", "'" MOLLIFY_GEN "' emit --target c --target fortran --only " + kernel +
+        shell("mollify-gen emit", "'" MOLLIFY_GEN "' emit --target c --target fortran --target python --only " + kernel +
                                       " --dim 3 --out . > /dev/null");
         std::ofstream(work / "mine.c") << wrappers;
         shell("gcc", "gcc -std=c99 -O2 -shared -fPIC -Wall -Wextra -Werror -I. mine.c -o libmine.so -lm");
@@ -111,6 +111,27 @@ TEST_F(VerifyCli, OwnKernelThroughCsvPassesWithinOneUlp) {
     r = run(kernel + " --dim 3 --samples samples.csv --ulps 1");
     EXPECT_EQ(r.status, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("verdict: samples.csv PASSES"), std::string::npos) << r.out;
+}
+
+// The README's Python example: Debian's python3 evaluates the arguments with
+// the emitted module (mollify-gen emit --target python) and writes repr()s.
+TEST_F(VerifyCli, OwnKernelFromPythonThroughCsvPassesWithinOneUlp) {
+    auto r = run(kernel + " --dim 3 --write-arguments py_args.csv");
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::ofstream(work / "write_samples.py") << R"(import csv, sys
+sys.path.insert(0, "python")
+import mollify_wendland_k_2_D3 as w
+with open("py_args.csv") as f, open("py_samples.csv", "w", newline="") as out:
+    rows = csv.writer(out)
+    rows.writerow(["r", "h", "value"])
+    for row in csv.DictReader(f):
+        r, h = float(row["r"]), float(row["h"])
+        rows.writerow([repr(r), repr(h), repr(float(w.value_h(r, h)))])
+)";
+    ASSERT_NO_FATAL_FAILURE(shell("python3", "/usr/bin/python3 write_samples.py"));
+    r = run(kernel + " --dim 3 --samples py_samples.csv --ulps 1");
+    EXPECT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("verdict: py_samples.csv PASSES"), std::string::npos) << r.out;
 }
 
 TEST_F(VerifyCli, WrongKernelsFailWithADiagnosis) {
