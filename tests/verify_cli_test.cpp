@@ -1,20 +1,26 @@
-// `mollify verify` as a user runs it (issue 20, item 4): mollify's own
-// Wendland k=2 (3D) kernel emitted as C (`mollify-gen emit --target c`) and
-// as Fortran (`--target fortran`, its bind(C) functions), compiled here into
-// shared libraries with Debian's gcc and gfortran, passes at <= 1 ulp through
-// --library and through a CSV written from the C library's values; wrong
-// libraries fail with exit 1 and a diagnosis; foreign code that crashes,
-// returns NaN, a missing symbol, a bad library path, a malformed CSV each
-// exit 2 with their message, and print no report.
-//
-// The bound: 1 ulp, the issue's "mollify's own kernels pass ... at <= 1 ulp"
-// (the emitted files evaluate as the runtime's Precision::fast, whose error
-// at Wendland k=2 is within that: tests/targets_test.cpp).
+// `mollify verify` as a user runs it (issue 20, item 4), through shared
+// libraries compiled here with Debian's g++, gcc and gfortran and CSV files:
+//   - mollify's own Wendland k=2 (3D) as a C-ABI function (extern "C" around
+//     StaticKernel, Precision::accurate) passes at <= 1 ulp (the issue's bound
+//     for mollify's own kernels) through --library and through a CSV of its
+//     values;
+//   - the same kernel emitted by `mollify-gen emit --target c|fortran|python`
+//     (the Fortran through its bind(C) functions, the Python module through
+//     a CSV written by Debian's python3) passes at 32 ulps: those files
+//     evaluate as Precision::fast, whose bound is tests/targets_test.cpp's
+//     function_bound (measured: W at most 10.2 ulps from C, 10.5 from Fortran,
+//     9.5 from Python; dW/dr 9.0 from C, 8.0 from Fortran);
+//   - wrong libraries (1e-6 relative off, support 2h) fail, exit 1, diagnosed;
+//   - crashing, NaN-returning functions, a missing symbol, a bad path, a
+//     malformed CSV, bad options: exit 2 with their message, no report.
 #include "command.hpp"
 
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
+
+#include <charconv>
+#include <tuple>
 
 #include <filesystem>
 #include <fstream>
@@ -53,34 +59,70 @@ double my_w_crash(double r, double h) { if (r > 0.5 * h) { volatile int* p = 0; 
 double my_w_nan(double r, double h) { return r > 0.5 * h ? NAN : my_w(r, h); }
 )";
 
+// mollify's own kernel as a C-ABI function: the compile-time form,
+// Precision::accurate (README, "Runtime").
+const std::string own_kernel = R"(#include <mollify/static_kernel.hpp>
+#include <mollify/tables/wendland/k_2_D3.hpp>
+using W = mollify::StaticKernel<mollify::tables::wendland_k_2_D3>;
+extern "C" double mollify_w(double r, double h) { return W::radial<mollify::QuantityId::value>(r, W::smoothing(h)); }
+extern "C" double mollify_dr(double r, double h) { return W::radial<mollify::QuantityId::dr>(r, W::smoothing(h)); }
+)";
+
+// The libraries, built once; in SetUp, not SetUpTestSuite, so that a missing
+// compiler fails every test (a failing SetUpTestSuite reads as skipped in ctest).
+void build_libraries() {
+    fs::remove_all(work);
+    fs::create_directories(work);
+    for (const char* target : {"c", "fortran", "python"})
+        ASSERT_NO_FATAL_FAILURE(shell("mollify-gen emit", "'" MOLLIFY_GEN "' emit --target " + std::string(target) +
+                                                              " --only " + kernel + " --dim 3 --out . > /dev/null"));
+    std::ofstream(work / "mine.c") << wrappers;
+    ASSERT_NO_FATAL_FAILURE(
+        shell("gcc", "gcc -std=c99 -O2 -shared -fPIC -Wall -Wextra -Werror -I. mine.c -o libmine.so -lm"));
+    std::ofstream(work / "own.cpp") << own_kernel;
+    const std::string src = MOLLIFY_SOURCE_DIR;
+    ASSERT_NO_FATAL_FAILURE(shell("g++", "g++ -std=c++20 -O2 -shared -fPIC -Wall -Wextra -Werror -Wl,--no-undefined -I'" +
+                                             src + "/include' -I'" + src + "/generated' own.cpp '" + src +
+                                             "/src/failures.cpp' '" + src + "/src/smoothing.cpp' '" + src +
+                                             "/src/precision.cpp' -o libown.so"));
+    ASSERT_NO_FATAL_FAILURE(shell("gfortran", "gfortran -std=f2008 -O2 -shared -fPIC -Wall -Werror fortran/" + prefix +
+                                                  ".f90 -o libmine_fortran.so"));
+}
+
+// The emitted files' bound (Precision::fast): tests/targets_test.cpp's function_bound.
+const std::string emitted_bound = "32";
+
 class VerifyCli : public ::testing::Test {
 protected:
-    static void SetUpTestSuite() {
-        fs::remove_all(work);
-        fs::create_directories(work);
-        shell("mollify-gen emit", "'" MOLLIFY_GEN "' emit --target c --target fortran --target python --only " + kernel +
-                                      " --dim 3 --out . > /dev/null");
-        std::ofstream(work / "mine.c") << wrappers;
-        shell("gcc", "gcc -std=c99 -O2 -shared -fPIC -Wall -Wextra -Werror -I. mine.c -o libmine.so -lm");
-        shell("gfortran", "gfortran -std=f2008 -O2 -shared -fPIC -Wall -Werror fortran/" + prefix +
-                              ".f90 -o libmine_fortran.so");
+    void SetUp() override {
+        static const bool built = [] {
+            build_libraries();
+            return !::testing::Test::HasFatalFailure();
+        }();
+        ASSERT_TRUE(built) << "building the test libraries failed (see the first test's output)";
     }
 };
 
-TEST_F(VerifyCli, OwnKernelAsCPassesWithinOneUlp) {
-    for (const auto& [symbol, quantity] : {std::pair{"my_w", "value"}, std::pair{"my_dr", "dr"}}) {
-        const auto r = run(kernel + " --dim 3 --library ./libmine.so --symbol " + symbol + " --quantity " + quantity +
+TEST_F(VerifyCli, OwnKernelPassesWithinOneUlp) {
+    for (const auto& [symbol, quantity] : {std::pair{"mollify_w", "value"}, std::pair{"mollify_dr", "dr"}}) {
+        const auto r = run(kernel + " --dim 3 --library ./libown.so --symbol " + symbol + " --quantity " + quantity +
                            " --ulps 1");
         EXPECT_EQ(r.status, 0) << symbol << "\n" << r.out << r.err;
-        EXPECT_NE(r.out.find("verdict: " + std::string(symbol) + " (./libmine.so) PASSES"), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find("verdict: " + std::string(symbol) + " (./libown.so) PASSES"), std::string::npos) << r.out;
         EXPECT_EQ(r.err, "");
     }
 }
 
-TEST_F(VerifyCli, OwnKernelAsFortranBindCPassesWithinOneUlp) {
-    const auto r = run(kernel + " --dim 3 --library libmine_fortran.so --symbol " + prefix + "_f90_value_h --ulps 1");
-    EXPECT_EQ(r.status, 0) << r.out << r.err;
-    EXPECT_NE(r.out.find("PASSES"), std::string::npos) << r.out;
+TEST_F(VerifyCli, EmittedCAndFortranBindCPassAtTheirBound) {
+    for (const auto& [lib, symbol, quantity] :
+         {std::tuple{"./libmine.so", std::string("my_w"), "value"}, std::tuple{"./libmine.so", std::string("my_dr"), "dr"},
+          std::tuple{"libmine_fortran.so", prefix + "_f90_value_h", "value"},
+          std::tuple{"libmine_fortran.so", prefix + "_f90_dr_h", "dr"}}) {
+        const auto r = run(kernel + " --dim 3 --library " + lib + " --symbol " + symbol + " --quantity " + quantity +
+                           " --ulps " + emitted_bound);
+        EXPECT_EQ(r.status, 0) << symbol << "\n" << r.out << r.err;
+        EXPECT_NE(r.out.find("PASSES"), std::string::npos) << r.out;
+    }
 }
 
 // The arguments from --write-arguments, the values from the C library
@@ -88,9 +130,9 @@ TEST_F(VerifyCli, OwnKernelAsFortranBindCPassesWithinOneUlp) {
 TEST_F(VerifyCli, OwnKernelThroughCsvPassesWithinOneUlp) {
     auto r = run(kernel + " --dim 3 --write-arguments args.csv");
     ASSERT_EQ(r.status, 0) << r.err;
-    void* lib = ::dlopen((work / "libmine.so").c_str(), RTLD_NOW);
+    void* lib = ::dlopen((work / "libown.so").c_str(), RTLD_NOW);
     ASSERT_NE(lib, nullptr) << ::dlerror();
-    const auto w = reinterpret_cast<double (*)(double, double)>(::dlsym(lib, "my_w"));
+    const auto w = reinterpret_cast<double (*)(double, double)>(::dlsym(lib, "mollify_w"));
     ASSERT_NE(w, nullptr);
     std::ifstream in(work / "args.csv");
     std::string line;
@@ -102,7 +144,9 @@ TEST_F(VerifyCli, OwnKernelThroughCsvPassesWithinOneUlp) {
     std::size_t rows = 0;
     while (std::getline(in, line)) {
         const auto comma = line.find(',');
-        const double rr = std::stod(line.substr(0, comma)), h = std::stod(line.substr(comma + 1));
+        double rr = 0, h = 0;  // from_chars: stod rejects subnormals (ERANGE), which the hard points have
+        std::from_chars(line.data(), line.data() + comma, rr);
+        std::from_chars(line.data() + comma + 1, line.data() + line.size(), h);
         csv << line << "," << w(rr, h) << "\n";
         ++rows;
     }
@@ -115,7 +159,7 @@ TEST_F(VerifyCli, OwnKernelThroughCsvPassesWithinOneUlp) {
 
 // The README's Python example: Debian's python3 evaluates the arguments with
 // the emitted module (mollify-gen emit --target python) and writes repr()s.
-TEST_F(VerifyCli, OwnKernelFromPythonThroughCsvPassesWithinOneUlp) {
+TEST_F(VerifyCli, EmittedPythonThroughCsvPassesAtItsBound) {
     auto r = run(kernel + " --dim 3 --write-arguments py_args.csv");
     ASSERT_EQ(r.status, 0) << r.err;
     std::ofstream(work / "write_samples.py") << R"(import csv, sys
@@ -129,7 +173,7 @@ with open("py_args.csv") as f, open("py_samples.csv", "w", newline="") as out:
         rows.writerow([repr(r), repr(h), repr(float(w.value_h(r, h)))])
 )";
     ASSERT_NO_FATAL_FAILURE(shell("python3", "/usr/bin/python3 write_samples.py"));
-    r = run(kernel + " --dim 3 --samples py_samples.csv --ulps 1");
+    r = run(kernel + " --dim 3 --samples py_samples.csv --ulps " + emitted_bound);
     EXPECT_EQ(r.status, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("verdict: py_samples.csv PASSES"), std::string::npos) << r.out;
 }
@@ -138,10 +182,10 @@ TEST_F(VerifyCli, WrongKernelsFailWithADiagnosis) {
     auto r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_w_off");
     EXPECT_EQ(r.status, 1) << r.out << r.err;
     EXPECT_NE(r.out.find("FAILS"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("constant factor"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("diagnosis (constant factor)"), std::string::npos) << r.out;
     r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_w_2h");
     EXPECT_EQ(r.status, 1) << r.out << r.err;
-    EXPECT_NE(r.out.find("support convention"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("diagnosis (support convention)"), std::string::npos) << r.out;
 }
 
 TEST_F(VerifyCli, ForeignFailuresExitTwoNamingTheArgument) {
