@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <vector>
@@ -20,7 +22,9 @@ using mollify::testing::run_command;
 
 namespace {
 
-const fs::path work = MOLLIFY_FOREIGN_WORK_DIR;
+// Each test process (ctest runs two at a time) builds its own libraries in
+// its own folder: no process dlopens a file another is writing.
+const fs::path work = fs::path(MOLLIFY_FOREIGN_WORK_DIR) / ("run-" + std::to_string(::getpid()));
 
 // Compiles `source` (named by its extension) into work/lib<name>.so.
 fs::path build_library(const std::string& name, const std::string& extension, const std::string& source,
@@ -63,10 +67,18 @@ end function fortran_w
 
 class ForeignFunctionTest : public ::testing::Test {
 protected:
-    static void SetUpTestSuite() {
-        c_lib = build_library("foreign_c", ".c", c_source, "gcc");
-        cpp_lib = build_library("foreign_cpp", ".cpp", cpp_source, "g++");
-        fortran_lib = build_library("foreign_f", ".f90", fortran_source, "gfortran");
+    // In SetUp, not SetUpTestSuite: a missing compiler fails each test
+    // (a failing SetUpTestSuite reads as skipped in ctest).
+    static void TearDownTestSuite() { fs::remove_all(work); }  // this process's folder
+    void SetUp() override {
+        static const bool built = [] {
+            fs::remove_all(work);
+            c_lib = build_library("foreign_c", ".c", c_source, "gcc");
+            cpp_lib = build_library("foreign_cpp", ".cpp", cpp_source, "g++");
+            fortran_lib = build_library("foreign_f", ".f90", fortran_source, "gfortran");
+            return !::testing::Test::HasFailure();
+        }();
+        ASSERT_TRUE(built) << "building the test libraries failed (see the first test's output)";
     }
     static inline fs::path c_lib, cpp_lib, fortran_lib;
 

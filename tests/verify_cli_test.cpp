@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
+#include <unistd.h>
 
 #include <charconv>
 #include <tuple>
@@ -33,7 +34,12 @@ using mollify::testing::run_command;
 
 namespace {
 
-const fs::path work = MOLLIFY_VERIFY_WORK_DIR;
+// ctest runs each test in its own process, two at a time: the libraries are
+// built once into a folder named by the test's and mollify-gen's build times
+// (built under a temporary name, renamed when complete: the first process to
+// finish wins), and every process works in a folder of its own.
+const fs::path root = MOLLIFY_VERIFY_WORK_DIR;
+fs::path work;  // root/run-<pid>, with copies of the libraries
 const std::string kernel = "wendland:k=2";
 const std::string prefix = "mollify_wendland_k_2_D3";
 
@@ -70,9 +76,8 @@ extern "C" double mollify_dr(double r, double h) { return W::radial<mollify::Qua
 
 // The libraries, built once; in SetUp, not SetUpTestSuite, so that a missing
 // compiler fails every test (a failing SetUpTestSuite reads as skipped in ctest).
+// Builds the libraries in `work` (a temporary folder).
 void build_libraries() {
-    fs::remove_all(work);
-    fs::create_directories(work);
     for (const char* target : {"c", "fortran", "python"})
         ASSERT_NO_FATAL_FAILURE(shell("mollify-gen emit", "'" MOLLIFY_GEN "' emit --target " + std::string(target) +
                                                               " --only " + kernel + " --dim 3 --out . > /dev/null"));
@@ -89,16 +94,38 @@ void build_libraries() {
                                                   ".f90 -o libmine_fortran.so"));
 }
 
+long long build_time(const fs::path& file) {
+    return static_cast<long long>(fs::last_write_time(file).time_since_epoch().count());
+}
+
+// The shared library folder, built if absent; then this process's folder with copies.
+bool prepare() {
+    const fs::path libs = root / ("libs-" + std::to_string(build_time("/proc/self/exe")) + "-" +
+                                  std::to_string(build_time(MOLLIFY_GEN)));
+    work = root / ("run-" + std::to_string(::getpid()));
+    fs::remove_all(work);
+    fs::create_directories(work);
+    if (!fs::exists(libs)) {
+        build_libraries();
+        if (::testing::Test::HasFatalFailure()) return false;
+        std::error_code ec;
+        fs::rename(work, libs, ec);  // fails if another process was first: its folder is as good
+        if (ec) fs::remove_all(work);
+        fs::create_directories(work);
+    }
+    for (const char* f : {"libmine.so", "libmine_fortran.so", "libown.so"}) fs::copy_file(libs / f, work / f);
+    fs::copy(libs / "python", work / "python", fs::copy_options::recursive);
+    return true;
+}
+
 // The emitted files' bound (Precision::fast): tests/targets_test.cpp's function_bound.
 const std::string emitted_bound = "32";
 
 class VerifyCli : public ::testing::Test {
 protected:
+    static void TearDownTestSuite() { fs::remove_all(work); }  // this process's folder
     void SetUp() override {
-        static const bool built = [] {
-            build_libraries();
-            return !::testing::Test::HasFatalFailure();
-        }();
+        static const bool built = prepare();
         ASSERT_TRUE(built) << "building the test libraries failed (see the first test's output)";
     }
 };
