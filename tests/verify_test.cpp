@@ -10,6 +10,7 @@
 #include <mollify/verify.hpp>
 
 #include "closed_form.hpp"
+#include "conventions.hpp"
 #include "verify/reference.hpp"
 
 #include <gtest/gtest-spi.h>
@@ -41,7 +42,9 @@ void expect_kind(const v::Report& r, DiagnosisKind kind, const std::string& text
     EXPECT_FALSE(r.passed()) << r.to_string();
     ASSERT_TRUE(r.diagnosis.has_value()) << r.to_string();
     EXPECT_EQ(v::name(r.diagnosis->kind), v::name(kind)) << r.to_string();
-    if (!text.empty()) EXPECT_NE(r.diagnosis->text.find(text), std::string::npos) << "wanted '" << text << "' in\n" << r.to_string();
+    if (!text.empty()) {
+        EXPECT_NE(r.diagnosis->text.find(text), std::string::npos) << "wanted '" << text << "' in\n" << r.to_string();
+    }
 }
 
 // W of a one-piece polynomial kernel as expanded monomials sum c_k q^k
@@ -74,13 +77,15 @@ TEST(Verify, OwnRuntimeKernelsPassWithinOneUlp) {
     const std::pair<const char*, int> kernels[] = {
         {"wendland:k=1", 3}, {"wendland:k=2", 3}, {"cubic-spline", 3}, {"combo:m=2,base=wendland:k=1", 3},
         {"mollifier:M=4", 3}, {"wendland:k=1", 2}, {"cubic-spline", 1}};
-    v::Options o;
-    o.ulps = 1;
     for (const auto& [spec, dim] : kernels) {
         const mollify::Kernel k = runtime(spec, dim);
         for (Quantity q : {Quantity::value, Quantity::dr, Quantity::potential, Quantity::force}) {
             if (!k.has_potential() && (q == Quantity::potential || q == Quantity::force)) continue;
             if (dim == 2 && q == Quantity::potential) continue;  // phi crosses 0: raw ulps not asserted (README)
+            // Potentials: 4 ulps (the runtime's potentials are within 3.39 raw
+            // ulps, README "Runtime accuracy"; its bound there is 8).
+            v::Options o;
+            o.ulps = q == Quantity::value || q == Quantity::dr ? 1 : 4;
             const v::Report r = v::verify(quantity_of(k, q), spec, dim, q, o);
             EXPECT_TRUE(r.passed()) << r.to_string();
             EXPECT_GT(r.points, 10000u);
@@ -156,7 +161,7 @@ TEST(Verify, SwiftGammaSupport) {
 TEST(Verify, GradientMissingAFactorQ) {
     // SPlisHSPlasH PR #347: the Wendland gradient missing a factor q.
     const mollify::Kernel k = runtime("wendland:k=1", 3);
-    const v::Report r = v::verify([&](double x, double h) { return k(mollify::QuantityId::dr, x, h) / (x / h); },
+    const v::Report r = v::verify([&](double x, double h) { return x == 0 ? 0.0 : k(mollify::QuantityId::dr, x, h) / (x / h); },
                                   "wendland:k=1", 3, Quantity::dr);
     expect_kind(r, DiagnosisKind::gradient_factor, "factor q missing");
 }
@@ -198,8 +203,8 @@ TEST(Verify, SamplesCoverTheHardPoints) {
         edge = edge || (p.h == 1 && p.r == std::nextafter(1.0, 0.0));
         outside = outside || (p.h == 1 && p.r == std::nextafter(1.0, 2.0));
         breakpoint = breakpoint || (p.h == 1 && p.r == 0.5);  // Monaghan's q = 1 at half the support
-        tiny_h = tiny_h || p.h <= 1e-100;
-        huge_h = huge_h || p.h >= 1e100;
+        tiny_h = tiny_h || p.h <= 1e-30;
+        huge_h = huge_h || p.h >= 1e30;
     }
     EXPECT_TRUE(zero && edge && outside && breakpoint && tiny_h && huge_h);
     EXPECT_EQ(s.size(), v::samples("cubic-spline", 3, Quantity::value).size());
@@ -219,7 +224,7 @@ TEST(Verify, BadInputNamesTheValue) {
     o.convention = "sphynx";
     EXPECT_NE(message([&] { v::samples("cubic-spline", 3, Quantity::value, o); }).find("sphynx"), std::string::npos);
     EXPECT_NE(message([] { v::parse_quantity("hessian"); }).find("hessian"), std::string::npos);
-    EXPECT_NE(message([] { v::samples("wendland:k=1", 1, Quantity::potential); }).find("potential"), std::string::npos);
+    EXPECT_NE(message([] { v::samples("box-d1", 1, Quantity::potential); }).find("no potential"), std::string::npos);
     EXPECT_NE(message([] { v::samples("wendlnd:k=1", 3, Quantity::value); }).find("wendlnd"), std::string::npos);
     const std::vector<v::Sample> s{{1, 1}};
     const std::vector<double> two{1, 2};

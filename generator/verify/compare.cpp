@@ -23,10 +23,11 @@ std::string argument(double r, double h) {
 Compared judge(const detail::Setup& s, std::size_t i, Sample a, double got) {
     if (!std::isfinite(a.r) || a.r < 0 || !std::isfinite(a.h) || a.h <= 0)
         fail("sample " + std::to_string(i) + " " + argument(a.r, a.h) + ": r must be finite and >= 0, h finite and > 0");
-    Compared c{a.r, a.h, got, detail::exact(s, a.r, a.h), 0, 0, 0, 0};
+    Compared c{a.r, a.h, got, detail::exact(s, a.r, a.h), 0, 0, 0, 0, 0};
     c.exact_d = static_cast<double>(c.exact);
     c.q = a.r / static_cast<double>(detail::support_of(s, a.h));
-    c.floor = 1e-10 * detail::magnitude(s, a.h);
+    c.magnitude = detail::magnitude(s, a.h);
+    c.floor = 1e-10 * c.magnitude;
     c.ulps = detail::ulps(got, c.exact, c.floor, s.single);
     return c;
 }

@@ -3,7 +3,7 @@
 // tiny values).
 #pragma once
 
-#include "verify/setup.hpp"
+#include "setup.hpp"
 
 #include <optional>
 #include <vector>
@@ -15,6 +15,7 @@ struct Compared {
     Real exact;      // in the convention's units
     double exact_d;  // rounded to double
     double q;        // r / H
+    double magnitude;  // max |value| over the support at this h
     double floor;    // values below it are measured in its ulps
     double ulps;
 };

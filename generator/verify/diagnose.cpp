@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <limits>
 
@@ -55,24 +56,20 @@ std::vector<std::size_t> subset(std::size_t n) {
     return out;
 }
 
-Fit fit(const std::vector<double>& got, const std::vector<double>& y) {
-    double scale = 0, ymax = 0;
-    for (std::size_t i = 0; i < got.size(); ++i) {
-        if (std::isfinite(got[i])) scale = std::max(scale, std::abs(got[i]));
-        if (std::isfinite(y[i])) ymax = std::max(ymax, std::abs(y[i]));
-    }
-    if (scale == 0) scale = ymax;
+// got ~ c y: c the median ratio where y is not tiny (>= 1e-3 of the
+// quantity's magnitude m at that h), the residuals |got - c y| / m.
+Fit fit(const std::vector<double>& got, const std::vector<double>& y, const std::vector<double>& m) {
     std::vector<double> ratios;
     for (std::size_t i = 0; i < got.size(); ++i)
-        if (std::isfinite(got[i]) && std::isfinite(y[i]) && std::abs(y[i]) >= 1e-3 * ymax && y[i] != 0)
+        if (std::isfinite(got[i]) && std::isfinite(y[i]) && std::abs(y[i]) >= 1e-3 * m[i] && y[i] != 0)
             ratios.push_back(got[i] / y[i]);
-    if (ratios.size() < 10 || scale == 0) return {};
+    if (ratios.size() < 10) return {};
     Fit f;
     f.c = percentile(ratios, 0.5);
     std::vector<double> residuals;
     for (std::size_t i = 0; i < got.size(); ++i) {
         if (!std::isfinite(got[i])) continue;
-        residuals.push_back(std::isfinite(y[i]) ? std::abs(got[i] - f.c * y[i]) / scale
+        residuals.push_back(std::isfinite(y[i]) ? std::abs(got[i] - f.c * y[i]) / m[i]
                                                 : std::numeric_limits<double>::infinity());
     }
     f.residual = percentile(residuals, 0.95);
@@ -120,9 +117,10 @@ Diagnosis constant_diagnosis(const Setup& s, const std::vector<Compared>& pts, c
                              double c, bool floats, double bound) {
     const auto e = exact_factor(s, pts, idx, c, floats, bound);
     const std::string f = e ? pretty(*e) : number(c, 17);
-    if (e && *e == gen::Exact(gen::Q(-1)))
+    if ((e && *e == gen::Exact(gen::Q(-1))) || (!e && std::abs(c + 1) <= 0x1p-40))
         return {DiagnosisKind::wrong_sign, "wrong sign: got = -exact everywhere"};
-    std::string text = "constant factor: got = " + f + " x exact everywhere (relative " + number(c - 1, 3) + ")";
+    std::string text = "constant factor: got = " + f + " x exact everywhere" +
+                       (std::abs(c - 1) < 0.01 ? " (relative deviation " + number(c - 1, 3) + ")" : "");
     if (s.quantity == Quantity::value) text = "normalisation off by the factor " + f + normalisation_text(s, e);
     if (table::is_potential(s.id) && e) {
         for (const gen::Convention& other : gen::conventions()) {
@@ -134,7 +132,7 @@ Diagnosis constant_diagnosis(const Setup& s, const std::vector<Compared>& pts, c
         }
     }
     if (!e) text += " (not a small rational or pi multiple)";
-    return {c < 0 ? DiagnosisKind::wrong_sign : DiagnosisKind::constant_factor, text};
+    return {DiagnosisKind::constant_factor, text};
 }
 
 // The kernel with its support scaled by a: a^-? folded into c.
@@ -169,12 +167,13 @@ std::string support_text(const Setup& s, const Scaling& sc, double c, const std:
 std::optional<Diagnosis> transformations(const Setup& s, const std::vector<Compared>& pts,
                                          const std::vector<std::size_t>& idx, bool floats, double bound) {
     const double tol = floats ? 0x1p-19 : 0x1p-34;
-    std::vector<double> got, identity;
+    std::vector<double> got, identity, m;
     for (std::size_t i : idx) {
         got.push_back(pts[i].got);
         identity.push_back(pts[i].exact_d);
+        m.push_back(pts[i].magnitude);
     }
-    const Fit id = fit(got, identity);
+    const Fit id = fit(got, identity, m);
     if (id.residual <= tol) {
         const double significant = std::max(bound, 1.0) * (floats ? 0x1p-22 : 0x1p-50);
         if (std::abs(id.c - 1) <= significant) return std::nullopt;  // rounding, not a factor
@@ -227,7 +226,7 @@ std::optional<Diagnosis> transformations(const Setup& s, const std::vector<Compa
     }
     const Candidate* best = nullptr;
     for (Candidate& c : candidates) {
-        c.fit = fit(got, c.y);
+        c.fit = fit(got, c.y, m);
         if (c.fit.residual <= tol && (!best || c.fit.residual < best->fit.residual)) best = &c;
     }
     if (!best) return std::nullopt;
@@ -258,25 +257,26 @@ bool values_are_floats(const std::vector<Compared>& pts, std::string* count) {
     return nonzero >= 10 && static_cast<double>(floats) >= 0.95 * static_cast<double>(nonzero);
 }
 
+// The error grows towards r = H: the worst inside lies within 0.1 H of the
+// edge and is 100 times the worst for r < H/2 (expanded monomials: the
+// terms of sum c_k q^k cancel to (1 - q)^n; at q = 1 - d they are O(1)
+// against a value O(d^n)).
 std::optional<Diagnosis> edge(const std::vector<Compared>& pts, double bound) {
-    double q_first = std::numeric_limits<double>::infinity(), inner = 0, worst = 0, worst_q = 0;
-    std::size_t failing = 0, near_edge = 0;
+    const double limits[] = {0.5, 0.9, 0.99, 0.999};
+    double below[4] = {0, 0, 0, 0}, worst = 0, worst_q = 0;
     for (const Compared& p : pts) {
-        if (p.q > 1) continue;
-        if (p.q < 0.5) inner = std::max(inner, p.ulps);
-        if (p.ulps <= bound) continue;
-        ++failing;
-        if (p.q >= 0.5) ++near_edge;
-        q_first = std::min(q_first, p.q);
+        if (p.q >= 1 || !std::isfinite(p.ulps)) continue;
+        for (int j = 0; j < 4; ++j)
+            if (p.q < limits[j]) below[j] = std::max(below[j], p.ulps);
         if (p.ulps > worst) worst = p.ulps, worst_q = p.q;
     }
-    if (failing == 0 || static_cast<double>(near_edge) < 0.95 * static_cast<double>(failing) || worst < 10 * std::max(inner, bound))
-        return std::nullopt;
-    const double distance = 1 - worst_q;
+    if (worst_q < 0.9 || worst < 100 * std::max(below[0], bound)) return std::nullopt;
+    std::string growth;
+    for (int j = 0; j < 4; ++j) growth += (j ? ", " : "") + number(below[j], 3) + " for r/H < " + number(limits[j], 3);
     return Diagnosis{DiagnosisKind::edge_cancellation,
-                     "error grows towards the support edge: <= " + number(inner, 3) + " ulps for r/H < 0.5, above the bound from r/H = " +
-                         number(q_first, 6) + ", worst " + number(worst, 3) + " ulps at r/H = 1 - " + number(distance, 3) +
-                         " (expanded monomials cancel there: keep the edge factor (1 - q)^n, or evaluate 1 - q first)"};
+                     "error grows towards the support edge (max ulps " + growth + "), worst " + number(worst, 3) +
+                         " ulps at r/H = 1 - " + number(1 - worst_q, 3) +
+                         ": expanded monomials cancel there; keep the edge factor (1 - q)^n, or evaluate 1 - q first"};
 }
 
 }  // namespace
@@ -285,13 +285,13 @@ std::optional<Diagnosis> diagnose(const Setup& s, const std::vector<Compared>& p
     double max = 0;
     for (const Compared& p : points) max = std::max(max, p.ulps);
     if (points.empty() || max <= bound) return std::nullopt;
+    std::string count;
+    const bool floats = values_are_floats(points, &count);
     for (const Compared& p : points)
-        if (!std::isfinite(p.got) && std::isfinite(p.exact_d))
+        if (!floats && !std::isfinite(p.got) && std::isfinite(p.exact_d))
             return Diagnosis{DiagnosisKind::not_finite, std::string(std::isnan(p.got) ? "NaN" : "infinity") + " at r = " +
                                                             number(p.r, 17) + ", h = " + number(p.h, 17) + " (exact " +
                                                             number(p.exact_d, 17) + ")"};
-    std::string count;
-    const bool floats = values_are_floats(points, &count);
     const std::vector<std::size_t> idx = subset(points.size());
     if (auto d = transformations(s, points, idx, floats, bound)) return d;
     if (floats && !s.single) {

@@ -7,6 +7,8 @@
 // then seeded uniform points.
 #include "verify/setup.hpp"
 
+#include <mollify/smoothing.hpp>
+
 #include <cmath>
 #include <limits>
 #include <random>
@@ -24,12 +26,19 @@ constexpr double sweep_h[] = {1e-300, 1e-200, 1e-100, 1e-30, 1e-10, 1e-3, 0.3, 1
 // r/H of the sweep (H the support radius).
 constexpr double sweep_q[] = {0, 1e-5, 0.1, 0.25, 1.0 / 3, 0.5, 2.0 / 3, 0.75, 0.9, 0.99, 1 - 0x1p-20, 1, 1.5};
 
-// The quantity at this h is a normal number of the convention's format, with
-// room for the shape (2^60 either side).
+// The quantity at this h is a normal number of the convention's format,
+// with room for the shape (2^16 either side), and so is every power h^p of
+// the kernel's quantities (smoothing.hpp, scale_power): mollify's runtime
+// refuses an h where one is not (detail/failures.hpp).
 bool representable(const Setup& s, double h) {
-    const double m = detail::magnitude(s, h);
     const int emax = s.single ? 127 : 1023, emin = s.single ? -126 : -1022;
-    return std::isfinite(m) && m > 0 && std::ilogb(m) < emax - 60 && std::ilogb(m) > emin + 60;
+    auto normal = [&](double m) { return std::isfinite(m) && m > 0 && std::ilogb(m) < emax - 16 && std::ilogb(m) > emin + 16; };
+    const double H = static_cast<double>(detail::support_of(s, h));
+    for (int i = 0; i < table::quantity_count; ++i) {
+        const int p = mollify::detail::scale_power(static_cast<table::QuantityId>(i), s.dim);
+        if (p != 0 && !normal(std::pow(H, p))) return false;
+    }
+    return normal(detail::magnitude(s, h));
 }
 
 double support_d(const Setup& s, double h) { return static_cast<double>(detail::support_of(s, h)); }
