@@ -213,6 +213,9 @@ TEST_F(VerifyCli, WrongKernelsFailWithADiagnosis) {
     r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_w_2h");
     EXPECT_EQ(r.status, 1) << r.out << r.err;
     EXPECT_NE(r.out.find("diagnosis (support convention)"), std::string::npos) << r.out;
+    // ... and is right in Phantom's convention (support 2h), as the diagnosis says.
+    r = run(kernel + " --dim 3 --library ./libmine.so --symbol my_w_2h --convention phantom --ulps " + emitted_bound);
+    EXPECT_EQ(r.status, 0) << r.out << r.err;
 }
 
 TEST_F(VerifyCli, ForeignFailuresExitTwoNamingTheArgument) {
