@@ -4,6 +4,7 @@
 
 #include <mollify/error.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -214,6 +215,7 @@ public:
     std::string where() const {
         if (!ready_) return "while loading " + f_.library.string();
         const std::size_t i = values_.size();
+        if (i == r_.size()) return "after its last argument";
         return "at r=" + shortest(r_[i]) + ", h=" + shortest(h_[i]);
     }
 
@@ -299,7 +301,8 @@ std::vector<double> evaluate_foreign(const ForeignFunction& f, std::span<const d
         session.consume(buffer);
     }
     const int status = process.reap();
-    if (!session.done() || !buffer.empty()) fail(f.symbol + " " + ending(status) + " " + session.where());
+    if (!session.done()) fail(f.symbol + " " + ending(status) + " " + session.where());
+    if (!buffer.empty()) fail("the child process evaluating " + f.symbol + " ended inside a record");
     return session.take();
 }
 
