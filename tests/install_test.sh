@@ -11,14 +11,14 @@
 # value printed by the *installed* `mollify-gen value`.
 #
 # usage: install_test.sh BUILD_DIR SOURCE_DIR ULP_DISTANCE CXX [PROGRAM...]
-# PROGRAMs: static_kernel runtime_kernel exact_value pkg_config (default: all).
+# PROGRAMs: static_kernel runtime_kernel exact_value pkg_config verify_kernel (default: all).
 # Environment: CMAKE (default cmake).
 set -euo pipefail
 
 build=$1 source=$2 ulp_distance=$3 cxx=$4
 shift 4
 programs=("$@")
-[ ${#programs[@]} -gt 0 ] || programs=(static_kernel exact_value pkg_config runtime_kernel)
+[ ${#programs[@]} -gt 0 ] || programs=(static_kernel exact_value pkg_config runtime_kernel verify_kernel)
 
 # One ulp: tests/accuracy_test measures <= 0.51 ulp for Wendland values
 # (bound 4, room for other compilers and FMA); 1 ulp is within that, above
@@ -59,7 +59,7 @@ check() {  # NAME VALUE
 configured=0
 for program in "${programs[@]}"; do
     case $program in
-    static_kernel | runtime_kernel | exact_value)
+    static_kernel | runtime_kernel | exact_value | verify_kernel)
         if [ $configured = 0 ]; then
             "$cmake" -S "$source/examples/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$prefix" \
                 -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release > "$work/consumer.log" ||
@@ -68,6 +68,12 @@ for program in "${programs[@]}"; do
         fi
         "$cmake" --build "$work/consumer" --target "$program" > "$work/$program.log" 2>&1 ||
             fail "building $program against $prefix failed: $(tail -n 30 "$work/$program.log")"
+        if [ "$program" = verify_kernel ]; then
+            report=$("$work/consumer/verify_kernel") || fail "verify_kernel failed: $report"
+            echo "$report"
+            grep -q ": PASSED" <<< "$report" || fail "verify_kernel printed no verdict: $report"
+            continue
+        fi
         value=$("$work/consumer/$program")
         echo "$program: $value"
         if [ "$program" = exact_value ]; then
@@ -93,7 +99,7 @@ for program in "${programs[@]}"; do
         echo "pkg_config (mollify-exact): $value"
         [ "$value" = "$exact" ] || fail "exact_value built with pkg-config printed $value, mollify-gen value $exact"
         ;;
-    *) fail "unknown program $program (static_kernel runtime_kernel exact_value pkg_config)" ;;
+    *) fail "unknown program $program (static_kernel runtime_kernel exact_value pkg_config verify_kernel)" ;;
     esac
 done
 echo "install_test: ok (${programs[*]})"
