@@ -206,6 +206,21 @@ TEST(Verify, ExpandedMonomialsCancelNearTheEdge) {
     expect_kind(r, DiagnosisKind::edge_cancellation, "towards the support edge");
 }
 
+// The textbook factored form (q = r/h rounded, then pow(1 - q, 6)): 1 - q
+// carries ulp(q)/(1 - q); the user's constant W(0) is mollify's, the shape
+// (1 - q)^6 (1 + 6q + 35q^2/3) Wendland's C4 as printed (Dehnen & Aly 2012).
+TEST(Verify, TextbookEdgeFactorLosesAccuracyNearTheEdge) {
+    const mollify::Kernel k = runtime("wendland:k=2", 3);
+    const double w0 = k.value(0, 1);
+    const v::Report r = v::verify(
+        [&](double x, double h) {
+            const double q = x / h;
+            return q >= 1 ? 0.0 : w0 * std::pow(1 - q, 6) * (1 + 6 * q + 35.0 / 3 * q * q) / (h * h * h);
+        },
+        "wendland:k=2", 3, Quantity::value);
+    expect_kind(r, DiagnosisKind::edge_cancellation, "or 1 - q is formed from a rounded q");
+}
+
 TEST(Verify, SinglePrecision) {
     const std::vector<double> c = expanded_coefficients("wendland:k=1", 3);
     auto f = [&](double x, double h) {
