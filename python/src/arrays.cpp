@@ -23,7 +23,7 @@ Broadcast broadcast(const py::object& a, const py::object& b) {
     const py::tuple both =
         np.attr("broadcast_arrays")(np.attr("asarray")(a, "float64"), np.attr("asarray")(b, "float64"));
     Broadcast out{contiguous(both[0]), contiguous(both[1]), {}};
-    out.shape = shape_of(out.a);
+    out.shape = shape_of(both[0].cast<py::array>());  // ascontiguousarray makes 0-d arrays 1-d
     return out;
 }
 
@@ -39,7 +39,7 @@ Displacements displacements(const py::object& x, const py::object& h, int dim) {
     const py::tuple both = np.attr("broadcast_arrays")(xs[py::make_tuple(py::ellipsis(), 0)], np.attr("asarray")(h, "float64"));
     Displacements out;
     out.h = contiguous(both[1]);
-    out.shape = shape_of(out.h);
+    out.shape = shape_of(both[1].cast<py::array>());
     // x broadcast to the joint shape too (h may have more points than x).
     std::vector<py::ssize_t> full = out.shape;
     full.push_back(dim);
@@ -60,7 +60,7 @@ py::array_t<double> empty(const std::vector<py::ssize_t>& shape, const std::vect
 
 py::object finish(py::array_t<double> a) {
     if (a.ndim() == 0) return py::float_(*a.data());
-    return std::move(a);
+    return a;
 }
 
 }  // namespace mollify::python

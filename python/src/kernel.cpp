@@ -122,11 +122,15 @@ py::object hessian(const Kernel& k, const py::object& x, const py::object& h, bo
                 at(k, of_potential ? QuantityId::dpotential_over_r : QuantityId::grad_over_r, r, d.h);
             const std::vector<double> rad =
                 at(k, of_potential ? QuantityId::potential_hess_radial : QuantityId::hess_radial, r, d.h);
+            // The upper triangle as StaticKernel forms it, mirrored: symmetric
+            // to the bit ((rad x_i) x_j and (rad x_j) x_i may round apart).
             for (std::size_t p = 0; p < n; ++p)
                 for (int i = 0; i < dim; ++i)
-                    for (int j = 0; j < dim; ++j)
-                        o[p * dd + static_cast<std::size_t>(i * dim + j)] =
-                            rad[p] * d.components[i][p] * d.components[j][p] + (i == j ? over_r[p] : 0.0);
+                    for (int j = i; j < dim; ++j) {
+                        const double v = rad[p] * d.components[i][p] * d.components[j][p] + (i == j ? over_r[p] : 0.0);
+                        o[p * dd + static_cast<std::size_t>(i * dim + j)] = v;
+                        o[p * dd + static_cast<std::size_t>(j * dim + i)] = v;
+                    }
         }
     }
     return finish(std::move(out));

@@ -46,7 +46,15 @@ def bound(spec, quantity):
 
 
 def exact_double(spec, dim, r, quantity, h):
-    v = mollify.exact.value(spec, dim, Fraction(r), quantity, h=Fraction(h))
+    """The exact value correctly rounded; infinity where the quantity is
+    singular (the Hessian part (W'' - W'/r)/r^2 at r = 0 of a kernel whose
+    third derivative at 0 is not 0), where the runtime returns infinity too."""
+    try:
+        v = mollify.exact.value(spec, dim, Fraction(r), quantity, h=Fraction(h))
+    except mollify.Error as e:
+        if "singular" not in str(e):
+            raise
+        return np.inf
     return float(v)
 
 
@@ -60,6 +68,9 @@ def test_every_quantity_at_the_hard_points(spec, dim, breaks):
         for q in quantities:
             got = getattr(k, q)(r, h)
             exact = np.array([exact_double(spec, dim, ri, q, h) for ri in r])
+            singular = np.isinf(exact)
+            assert np.all(np.isinf(got[singular])), f"{spec} D{dim} {q} h={h!r}: finite where singular"
+            got, exact, r = got[~singular], exact[~singular], r[~singular]
             scale = 1e-10 * np.max(np.abs(exact))
             err = ulps(got, exact, scale)
             worst = int(np.argmax(err))
@@ -125,7 +136,10 @@ def test_vector_forms_are_the_radial_quantities_times_x():
     r = np.sqrt(np.sum(x * x, axis=1))
     w, g = k.pair(x, h)
     assert w.shape == (50,) and g.shape == (50, 3)
-    assert np.array_equal(w, k.value(r, h)) or np.max(ulps(w, k.value(r, h))) <= 1  # |x| may round apart
+    # |x| is rounded here and in the runtime, perhaps differently (FMA):
+    # within 1 ulp of the radial value plus |W'| times 2 ulp of r.
+    slack = np.abs(k.dr(r, h)) * 2 * np.spacing(r) + np.spacing(np.abs(w))
+    assert np.all(np.abs(w - k.value(r, h)) <= slack)
     assert np.max(np.abs(g - k.grad_over_r(r, h)[:, None] * x)) <= 4e-16 * np.max(np.abs(g))
     assert np.array_equal(k.gradient(x, h), g)
     H = k.hessian(x, h)
