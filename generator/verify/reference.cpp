@@ -20,7 +20,7 @@
 // bits covering degrees up to ~1000 (Higham, Accuracy and Stability, 5.1:
 // Horner's error is gamma_2n sum |c_k| |x|^k). The precision is raised until
 // that bound is below 2^-201 |value|.
-#include "accuracy.hpp"
+#include "verify/reference.hpp"
 
 #include "closed_form.hpp"
 #include "kernel.hpp"
@@ -534,6 +534,8 @@ Reference::~Reference() = default;
 Reference::Reference(Reference&&) noexcept = default;
 
 int Reference::dim() const { return impl_->dim; }
+
+const gen::ExactKernel& Reference::kernel() const { return impl_->kernel; }
 
 bool Reference::has(QuantityId q) const {
     const int i = static_cast<int>(q);

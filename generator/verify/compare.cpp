@@ -1,0 +1,83 @@
+#include "verify/compared.hpp"
+#include "verify/ulps.hpp"
+
+#include "error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace mollify::verify {
+
+namespace {
+
+using detail::Compared;
+
+std::string argument(double r, double h) {
+    char b[96];
+    std::snprintf(b, sizeof b, "(r = %.17g, h = %.17g)", r, h);
+    return b;
+}
+
+Compared judge(const detail::Setup& s, std::size_t i, Sample a, double got) {
+    if (!std::isfinite(a.r) || a.r < 0 || !std::isfinite(a.h) || a.h <= 0)
+        fail("sample " + std::to_string(i) + " " + argument(a.r, a.h) + ": r must be finite and >= 0, h finite and > 0");
+    Compared c{a.r, a.h, got, detail::exact(s, a.r, a.h), 0, 0, 0, 0, 0};
+    c.exact_d = static_cast<double>(c.exact);
+    c.q = a.r / static_cast<double>(detail::support_of(s, a.h));
+    c.magnitude = detail::magnitude(s, a.h);
+    c.floor = 1e-10 * c.magnitude;
+    c.ulps = detail::ulps(got, c.exact, c.floor, s.single);
+    return c;
+}
+
+}  // namespace
+
+Report compare(std::string_view spec, int dim, Quantity quantity, std::span<const Sample> samples,
+               std::span<const double> values, const Options& options) {
+    if (samples.size() != values.size())
+        fail(std::to_string(values.size()) + " values for " + std::to_string(samples.size()) + " samples");
+    const detail::Setup s = detail::setup(spec, dim, quantity, options);
+    std::vector<Compared> points;
+    points.reserve(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) points.push_back(judge(s, i, samples[i], values[i]));
+
+    Report r;
+    r.spec = s.spec;
+    r.dim = dim;
+    r.quantity = quantity;
+    r.convention = s.convention->target;
+    r.bound = options.ulps;
+    r.float_ulps = s.single;
+    r.points = points.size();
+    double sum = 0;
+    std::size_t finite = 0;
+    for (const Compared& p : points) {
+        r.max_ulps = std::max(r.max_ulps, p.ulps);
+        if (std::isfinite(p.ulps)) sum += p.ulps * p.ulps, ++finite;
+    }
+    r.rms_ulps = finite ? std::sqrt(sum / static_cast<double>(finite)) : 0;
+    std::vector<std::size_t> order(points.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    const std::size_t shown = std::min<std::size_t>(5, order.size());
+    std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(shown), order.end(),
+                      [&](std::size_t a, std::size_t b) { return points[a].ulps > points[b].ulps; });
+    for (std::size_t k = 0; k < shown; ++k) {
+        const Compared& p = points[order[k]];
+        r.worst.push_back({p.r, p.h, p.got, p.exact_d, p.ulps});
+    }
+    r.diagnosis = detail::diagnose(s, points, options.ulps);
+    return r;
+}
+
+Report verify(const std::function<double(double r, double h)>& f, std::string_view spec, int dim, Quantity quantity,
+              const Options& options) {
+    const std::vector<Sample> at = samples(spec, dim, quantity, options);
+    std::vector<double> values;
+    values.reserve(at.size());
+    for (const Sample& a : at) values.push_back(f(a.r, a.h));
+    return compare(spec, dim, quantity, at, values, options);
+}
+
+}  // namespace mollify::verify

@@ -1,0 +1,257 @@
+// Verification must be able to fail (issue 20): kernels built wrong in each
+// way a published code got them wrong are caught with the right diagnosis,
+// and mollify's own run-time kernels pass at <= 1 ulp (they are within 0.51
+// ulp of the exact values, README "Runtime accuracy"; 1 leaves room for the
+// one rounding of the scale h^p). The wrong kernels are built from the
+// generator's exact polynomials (never typed coefficients) or from the
+// runtime's values.
+#include <mollify/exact.hpp>
+#include <mollify/testing.hpp>
+#include <mollify/verify.hpp>
+
+#include "closed_form.hpp"
+#include "conventions.hpp"
+#include "verify/reference.hpp"
+
+#include <gtest/gtest-spi.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace v = mollify::verify;
+using mollify::verify::DiagnosisKind;
+using mollify::verify::Quantity;
+
+mollify::Kernel runtime(const std::string& spec, int dim) { return mollify::exact::kernel(spec, dim); }
+
+// The runtime's quantity as a callable.
+std::function<double(double, double)> quantity_of(const mollify::Kernel& k, Quantity q) {
+    const mollify::QuantityId id = q == Quantity::value       ? mollify::QuantityId::value
+                                   : q == Quantity::dr        ? mollify::QuantityId::dr
+                                   : q == Quantity::potential ? mollify::QuantityId::potential
+                                                              : mollify::QuantityId::dpotential;
+    return [k, id](double r, double h) { return k(id, r, h); };
+}
+
+void expect_kind(const v::Report& r, DiagnosisKind kind, const std::string& text = "") {
+    EXPECT_FALSE(r.passed()) << r.to_string();
+    ASSERT_TRUE(r.diagnosis.has_value()) << r.to_string();
+    EXPECT_EQ(v::name(r.diagnosis->kind), v::name(kind)) << r.to_string();
+    if (!text.empty()) {
+        EXPECT_NE(r.diagnosis->text.find(text), std::string::npos) << "wanted '" << text << "' in\n" << r.to_string();
+    }
+}
+
+// W of a one-piece polynomial kernel as expanded monomials sum c_k q^k
+// (SWIFT's and many codes' form), coefficients the exact ones rounded.
+std::vector<double> expanded_coefficients(const std::string& spec, int dim) {
+    const mollify::accuracy::Reference ref(spec, dim);
+    mollify::gen::Laurent p;
+    mollify::gen::Atom factor;
+    EXPECT_EQ(ref.kernel().W.pieces.size(), 1u);
+    EXPECT_TRUE(ref.kernel().W.pieces.front().single_polynomial(&p, &factor));
+    std::vector<double> c;
+    for (int k = 0; k <= p.high(); ++k)
+        c.push_back(static_cast<double>(
+            (mollify::gen::Exact(p.coefficient(k)) * mollify::gen::Exact::of(factor)).evaluate(200).first));
+    return c;
+}
+
+template <class T>
+T expanded(const std::vector<double>& c, T r, T h, int dim) {
+    const T q = r / h;
+    if (q >= 1) return 0;
+    T s = 0;
+    for (std::size_t k = c.size(); k-- > 0;) s = s * q + static_cast<T>(c[k]);
+    T scale = 1;
+    for (int d = 0; d < dim; ++d) scale *= h;
+    return s / scale;
+}
+
+TEST(Verify, OwnRuntimeKernelsPassWithinOneUlp) {
+    const std::pair<const char*, int> kernels[] = {
+        {"wendland:k=1", 3}, {"wendland:k=2", 3}, {"cubic-spline", 3}, {"combo:m=2,base=wendland:k=1", 3},
+        {"mollifier:M=4", 3}, {"wendland:k=1", 2}, {"cubic-spline", 1}};
+    for (const auto& [spec, dim] : kernels) {
+        const mollify::Kernel k = runtime(spec, dim);
+        for (Quantity q : {Quantity::value, Quantity::dr, Quantity::potential, Quantity::force}) {
+            if (!k.has_potential() && (q == Quantity::potential || q == Quantity::force)) continue;
+            if (dim == 2 && q == Quantity::potential) continue;  // phi crosses 0: raw ulps not asserted (README)
+            // Potentials: 4 ulps (the runtime's potentials are within 3.39 raw
+            // ulps, README "Runtime accuracy"; its bound there is 8).
+            v::Options o;
+            o.ulps = q == Quantity::value || q == Quantity::dr ? 1 : 4;
+            const v::Report r = v::verify(quantity_of(k, q), spec, dim, q, o);
+            EXPECT_TRUE(r.passed()) << r.to_string();
+            EXPECT_GT(r.points, 10000u);
+        }
+    }
+}
+
+TEST(Verify, ConstantOffByOneInAMillionIsAConstantFactor) {
+    const mollify::Kernel k = runtime("wendland:k=1", 3);
+    const v::Report r = v::verify([&](double x, double h) { return k.value(x, h) * (1 + 1e-6); }, "wendland:k=1", 3,
+                                  Quantity::value);
+    expect_kind(r, DiagnosisKind::constant_factor, "normalisation off by the factor");
+}
+
+// PySPH's 3D quintic spline normalisation 3/(359 pi) instead of 1/(120 pi)
+// (pypr/pysph, fixed in 4f733660; ../shared/peers.md): the ratio 360/359.
+// The quintic spline is not in mollify's grammar, so the published ratio is
+// applied to the cubic spline and must be recognised exactly.
+TEST(Verify, PySphQuinticNormalisationIsRecognisedAsRational) {
+    const mollify::Kernel k = runtime("cubic-spline", 3);
+    const double pi = std::numbers::pi;
+    const double pysph = 3 / (359 * pi), exact = 1 / (120 * pi);
+    const v::Report r = v::verify([&](double x, double h) { return k.value(x, h) * (pysph / exact); }, "cubic-spline", 3,
+                                  Quantity::value);
+    expect_kind(r, DiagnosisKind::constant_factor, "360/359");
+    EXPECT_NE(r.diagnosis->text.find("exact 8/pi h^-3"), std::string::npos) << r.to_string();
+}
+
+TEST(Verify, PiMultipleIsRecognised) {
+    // mollify's phi against Phantom's convention (phi = -1/r outside): 1/(4 pi).
+    const mollify::Kernel k = runtime("wendland:k=1", 3);
+    v::Options o;
+    o.convention = "phantom";
+    const v::Report r = v::verify([&](double x, double h) { return k.potential(x, 2 * h); }, "wendland:k=1", 3,
+                                  Quantity::potential, o);
+    expect_kind(r, DiagnosisKind::constant_factor, "1/(4 pi)");
+}
+
+TEST(Verify, WrongSign) {
+    const mollify::Kernel k = runtime("cubic-spline", 2);
+    const v::Report r = v::verify([&](double x, double h) { return -k(mollify::QuantityId::dr, x, h); }, "cubic-spline",
+                                  2, Quantity::dr);
+    expect_kind(r, DiagnosisKind::wrong_sign);
+}
+
+TEST(Verify, FactorTwoSupport) {
+    // q = r/h on [0, 2) (Phantom's radkern 2) handed to a check of h = support.
+    const mollify::Kernel k = runtime("wendland:k=1", 3);
+    const v::Report r = v::verify([&](double x, double h) { return k.value(x, 2 * h); }, "wendland:k=1", 3,
+                                  Quantity::value);
+    expect_kind(r, DiagnosisKind::support_convention, "support 2 x H");
+    v::Options phantom;
+    phantom.convention = "phantom";
+    const v::Report ok = v::verify([&](double x, double h) { return k.value(x, 2 * h); }, "wendland:k=1", 3,
+                                   Quantity::value, phantom);
+    EXPECT_TRUE(ok.passed()) << ok.to_string();
+}
+
+TEST(Verify, SwiftGammaSupport) {
+    // h = 2 sigma, H = gamma h (SWIFT) checked as h = H: support gamma.
+    const mollify::Kernel k = runtime("cubic-spline", 3);
+    const mollify::accuracy::Reference ref("cubic-spline", 3);
+    const double gamma = mollify::gen::swift_gamma(ref.kernel()).value;
+    auto swift = [&](double x, double h) { return k.value(x, gamma * h); };
+    expect_kind(v::verify(swift, "cubic-spline", 3, Quantity::value), DiagnosisKind::support_convention, "kernel_gamma");
+    v::Options o;
+    o.convention = "swift";
+    const v::Report ok = v::verify(swift, "cubic-spline", 3, Quantity::value, o);
+    EXPECT_TRUE(ok.passed()) << ok.to_string();
+    EXPECT_TRUE(ok.float_ulps);
+}
+
+TEST(Verify, GradientMissingAFactorQ) {
+    // SPlisHSPlasH PR #347: the Wendland gradient missing a factor q.
+    const mollify::Kernel k = runtime("wendland:k=1", 3);
+    const v::Report r = v::verify([&](double x, double h) { return x == 0 ? 0.0 : k(mollify::QuantityId::dr, x, h) / (x / h); },
+                                  "wendland:k=1", 3, Quantity::dr);
+    expect_kind(r, DiagnosisKind::gradient_factor, "factor q missing");
+}
+
+TEST(Verify, KernelOfAnotherDimension) {
+    const mollify::Kernel k2 = runtime("wendland:k=1", 2);
+    const v::Report r = v::verify([&](double x, double h) { return k2.value(x, h); }, "wendland:k=1", 3, Quantity::value);
+    expect_kind(r, DiagnosisKind::other_dimension, "D = 2");
+}
+
+TEST(Verify, ExpandedMonomialsCancelNearTheEdge) {
+    const std::vector<double> c = expanded_coefficients("wendland:k=2", 3);
+    const v::Report r = v::verify([&](double x, double h) { return expanded<double>(c, x, h, 3); }, "wendland:k=2", 3,
+                                  Quantity::value);
+    expect_kind(r, DiagnosisKind::edge_cancellation, "towards the support edge");
+}
+
+TEST(Verify, SinglePrecision) {
+    const std::vector<double> c = expanded_coefficients("wendland:k=1", 3);
+    auto f = [&](double x, double h) {
+        return static_cast<double>(expanded<float>(c, static_cast<float>(x), static_cast<float>(h), 3));
+    };
+    const v::Report r = v::verify(f, "wendland:k=1", 3, Quantity::value);
+    expect_kind(r, DiagnosisKind::single_precision, "exactly floats");
+}
+
+TEST(Verify, NotFinite) {
+    const mollify::Kernel k = runtime("wendland:k=1", 3);
+    const v::Report r = v::verify([&](double x, double h) { return x == 0 ? std::nan("") : k.value(x, h); },
+                                  "wendland:k=1", 3, Quantity::value);
+    expect_kind(r, DiagnosisKind::not_finite, "NaN at r = 0");
+}
+
+TEST(Verify, SamplesCoverTheHardPoints) {
+    const std::vector<v::Sample> s = v::samples("cubic-spline", 3, Quantity::value);
+    bool zero = false, edge = false, outside = false, breakpoint = false, tiny_h = false, huge_h = false;
+    for (const v::Sample& p : s) {
+        zero = zero || p.r == 0;
+        edge = edge || (p.h == 1 && p.r == std::nextafter(1.0, 0.0));
+        outside = outside || (p.h == 1 && p.r == std::nextafter(1.0, 2.0));
+        breakpoint = breakpoint || (p.h == 1 && p.r == 0.5);  // Monaghan's q = 1 at half the support
+        tiny_h = tiny_h || p.h <= 1e-30;
+        huge_h = huge_h || p.h >= 1e30;
+    }
+    EXPECT_TRUE(zero && edge && outside && breakpoint && tiny_h && huge_h);
+    EXPECT_EQ(s.size(), v::samples("cubic-spline", 3, Quantity::value).size());
+    EXPECT_EQ(s.back().r, v::samples("cubic-spline", 3, Quantity::value).back().r);  // seeded: reproducible
+}
+
+TEST(Verify, BadInputNamesTheValue) {
+    auto message = [](auto&& f) {
+        try {
+            f();
+        } catch (const mollify::Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    v::Options o;
+    o.convention = "sphynx";
+    EXPECT_NE(message([&] { v::samples("cubic-spline", 3, Quantity::value, o); }).find("sphynx"), std::string::npos);
+    EXPECT_NE(message([] { v::parse_quantity("hessian"); }).find("hessian"), std::string::npos);
+    EXPECT_NE(message([] { v::samples("box-d1", 1, Quantity::potential); }).find("no potential"), std::string::npos);
+    EXPECT_NE(message([] { v::samples("wendlnd:k=1", 3, Quantity::value); }).find("wendlnd"), std::string::npos);
+    const std::vector<v::Sample> s{{1, 1}};
+    const std::vector<double> two{1, 2};
+    EXPECT_NE(message([&] { v::compare("cubic-spline", 3, Quantity::value, s, two); }).find("2 values for 1 samples"),
+              std::string::npos);
+}
+
+// The matcher, as a user writes it.
+double user_wendland_c2(double r, double h) { return runtime("wendland:k=1", 3).value(r, h); }
+double user_wrong_wendland_c2(double r, double h) { return 2 * runtime("wendland:k=1", 3).value(r, h); }
+
+TEST(VerifyMatcher, PassesForTheExactKernel) {
+    EXPECT_THAT(user_wendland_c2, mollify::testing::MatchesKernel("wendland:k=1", 3).WithinUlps(1));
+    const mollify::Kernel k = runtime("wendland:k=1", 3);
+    EXPECT_THAT([&](double r, double h) { return k(mollify::QuantityId::dr, r, h); },
+                mollify::testing::MatchesKernel("wendland:k=1", 3).Quantity("dr").Convention("gadget4"));
+}
+
+TEST(VerifyMatcher, FailureMessageIsTheDiagnosis) {
+    ::testing::StringMatchResultListener listener;
+    EXPECT_FALSE(::testing::ExplainMatchResult(mollify::testing::MatchesKernel("wendland:k=1", 3), user_wrong_wendland_c2,
+                                               &listener));
+    EXPECT_NE(listener.str().find("diagnosis (constant factor): normalisation off by the factor 2"), std::string::npos)
+        << listener.str();
+    EXPECT_NE(listener.str().find("worst:"), std::string::npos) << listener.str();
+    EXPECT_NONFATAL_FAILURE(EXPECT_THAT(user_wrong_wendland_c2, mollify::testing::MatchesKernel("wendland:k=1", 3)),
+                            "normalisation off by the factor 2");
+}
+
+}  // namespace
