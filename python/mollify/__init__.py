@@ -12,9 +12,10 @@ errors are mollify.Error, a ValueError carrying the library's message.
 
 from . import _core
 from . import exact
-from ._core import Error, Kernel, isa
+from ._core import Diagnosis, Error, Kernel, Report, isa
+from ._verify import compare, samples, verify
 
-__all__ = ["Error", "Kernel", "kernel", "exact", "isa"]
+__all__ = ["Error", "Kernel", "kernel", "exact", "isa", "verify", "samples", "compare", "Report", "Diagnosis"]
 
 
 def kernel(spec, dim, precision="accurate"):

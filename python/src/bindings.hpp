@@ -7,5 +7,6 @@ namespace mollify::python {
 
 void bind_kernel(pybind11::module_& m);  // mollify.kernel, mollify.Kernel (kernel.cpp)
 void bind_exact(pybind11::module_& m);   // exact values (exact.cpp)
+void bind_verify(pybind11::module_& m);  // mollify.verify's samples, compare, Report (verify.cpp)
 
 }  // namespace mollify::python

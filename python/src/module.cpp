@@ -10,4 +10,5 @@ PYBIND11_MODULE(_core, m) {
     pybind11::register_exception<mollify::Error>(m, "Error", PyExc_ValueError);
     mollify::python::bind_kernel(m);
     mollify::python::bind_exact(m);
+    mollify::python::bind_verify(m);
 }

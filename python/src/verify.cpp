@@ -5,6 +5,7 @@
 #include "arrays.hpp"
 #include "bindings.hpp"
 
+#include <mollify/error.hpp>
 #include <mollify/verify.hpp>
 
 #include <string>
