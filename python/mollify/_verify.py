@@ -47,8 +47,8 @@ def verify(f, spec, dim, quantity="value", convention="cpp", ulps=4, seed=1, uni
 
     quantity: "value" (W_h(r)), "dr" (dW_h/dr), "potential" (phi_h(r)) or
     "force" (dphi_h/dr), in the convention's units: "cpp" (mollify: h is the
-    support radius), "phantom", "swift", "gadget4" (their h and normalisation;
-    README "Verify your kernel"). f is called once on NumPy arrays of all the
+    support radius), "phantom", "swift", "gadget4" (their h and normalisation,
+    generator/conventions.*). f is called once on NumPy arrays of all the
     sample points when it takes arrays, else once per point.
 
     Returns a Report: .passed (max error within `ulps`), .max_ulps, .rms_ulps,

@@ -1,8 +1,9 @@
 """Exact values and any kernel of the grammar (mollify's exact generator: GMP, MPFR).
 
-    >>> mollify.exact.value("cubic-spline", 3, "1/2")         # Fraction(...) times nothing: rational
+    >>> mollify.exact.value("wendland:k=0", 1, "1/3")         # rational: a Fraction
+    Fraction(2, 3)
     >>> v = mollify.exact.value("wendland:k=2", 3, "1/3")     # a multiple of 1/pi: not a Fraction
-    >>> v.closed_form, float(v)                               # '... * pi^-1', correctly rounded
+    >>> v.closed_form, float(v)                               # ('12760/2187 * pi^-1', 1.8571715353018605)
 """
 
 import decimal as _decimal
