@@ -13,14 +13,14 @@
 # value printed by the *installed* `mollify-gen value`.
 #
 # usage: install_test.sh BUILD_DIR SOURCE_DIR ULP_DISTANCE CXX [PROGRAM...]
-# PROGRAMs: static_kernel runtime_kernel exact_value pkg_config python (default: all).
+# PROGRAMs: static_kernel runtime_kernel exact_value pkg_config verify_kernel python (default: all).
 # Environment: CMAKE (default cmake), PYTHON (default /usr/bin/python3: Debian's, with NumPy).
 set -euo pipefail
 
 build=$1 source=$2 ulp_distance=$3 cxx=$4
 shift 4
 programs=("$@")
-[ ${#programs[@]} -gt 0 ] || programs=(static_kernel exact_value pkg_config runtime_kernel python)
+[ ${#programs[@]} -gt 0 ] || programs=(static_kernel exact_value pkg_config runtime_kernel verify_kernel python)
 
 # One ulp: tests/accuracy_test measures <= 0.51 ulp for Wendland values
 # (bound 4, room for other compilers and FMA); 1 ulp is within that, above
@@ -61,7 +61,7 @@ check() {  # NAME VALUE
 configured=0
 for program in "${programs[@]}"; do
     case $program in
-    static_kernel | runtime_kernel | exact_value)
+    static_kernel | runtime_kernel | exact_value | verify_kernel)
         if [ $configured = 0 ]; then
             "$cmake" -S "$source/examples/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$prefix" \
                 -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release > "$work/consumer.log" ||
@@ -70,6 +70,12 @@ for program in "${programs[@]}"; do
         fi
         "$cmake" --build "$work/consumer" --target "$program" > "$work/$program.log" 2>&1 ||
             fail "building $program against $prefix failed: $(tail -n 30 "$work/$program.log")"
+        if [ "$program" = verify_kernel ]; then
+            report=$("$work/consumer/verify_kernel") || fail "verify_kernel failed: $report"
+            echo "$report"
+            grep -q ": PASSED" <<< "$report" || fail "verify_kernel printed no verdict: $report"
+            continue
+        fi
         value=$("$work/consumer/$program")
         echo "$program: $value"
         if [ "$program" = exact_value ]; then
@@ -98,17 +104,20 @@ for program in "${programs[@]}"; do
     python)
         python=${PYTHON:-/usr/bin/python3}
         site=$prefix/lib/python3/dist-packages
-        read -r where value exact_py < <(cd "$work" && PYTHONPATH="$site" "$python" -c '
+        read -r where value exact_py verdict < <(cd "$work" && PYTHONPATH="$site" "$python" -c '
 import mollify
-print(mollify.__file__, repr(mollify.kernel("wendland:k=2", 3).value(0.5, 1.0)),
-      mollify._core.exact_value("wendland:k=2", 3, "1/2", "value", "1").decimal(40))') ||
+w = mollify.kernel("wendland:k=2", 3)
+print(mollify.__file__, repr(w.value(0.5, 1.0)),
+      mollify._core.exact_value("wendland:k=2", 3, "1/2", "value", "1").decimal(40),
+      mollify.verify(w.value, "wendland:k=2", 3, uniform=100).passed)') ||
             fail "importing mollify from $site with $python failed"
-        echo "python ($where): $value $exact_py"
+        echo "python ($where): $value $exact_py verify passed: $verdict"
         [[ $where == "$site/mollify/"* ]] || fail "python imported mollify from $where, not from $site"
         check python "$value"
         [ "$exact_py" = "$exact" ] || fail "mollify.exact printed $exact_py, mollify-gen value $exact"
+        [ "$verdict" = True ] || fail "mollify.verify of mollify's own kernel did not pass"
         ;;
-    *) fail "unknown program $program (static_kernel runtime_kernel exact_value pkg_config python)" ;;
+    *) fail "unknown program $program (static_kernel runtime_kernel exact_value pkg_config verify_kernel python)" ;;
     esac
 done
 echo "install_test: ok (${programs[*]})"

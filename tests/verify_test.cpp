@@ -17,7 +17,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -76,12 +75,11 @@ T expanded(const std::vector<double>& c, T r, T h, int dim) {
 TEST(Verify, OwnRuntimeKernelsPassWithinOneUlp) {
     const std::pair<const char*, int> kernels[] = {
         {"wendland:k=1", 3}, {"wendland:k=2", 3}, {"cubic-spline", 3}, {"combo:m=2,base=wendland:k=1", 3},
-        {"mollifier:M=4", 3}, {"wendland:k=1", 2}, {"cubic-spline", 1}};
+        {"mollifier:M=4", 3}, {"wendland:k=1", 2}, {"mollifier:M=4", 2}, {"cubic-spline", 1}};
     for (const auto& [spec, dim] : kernels) {
         const mollify::Kernel k = runtime(spec, dim);
         for (Quantity q : {Quantity::value, Quantity::dr, Quantity::potential, Quantity::force}) {
             if (!k.has_potential() && (q == Quantity::potential || q == Quantity::force)) continue;
-            if (dim == 2 && q == Quantity::potential) continue;  // phi crosses 0: raw ulps not asserted (README)
             // Potentials: 4 ulps (the runtime's potentials are within 3.39 raw
             // ulps, README "Runtime accuracy"; its bound there is 8).
             v::Options o;
@@ -101,14 +99,35 @@ TEST(Verify, ConstantOffByOneInAMillionIsAConstantFactor) {
 }
 
 // PySPH's 3D quintic spline normalisation 3/(359 pi) instead of 1/(120 pi)
-// (pypr/pysph, fixed in 4f733660; ../shared/peers.md): the ratio 360/359.
-// The quintic spline is not in mollify's grammar, so the published ratio is
-// applied to the cubic spline and must be recognised exactly.
+// (pypr/pysph, fixed in 4f733660; ../shared/peers.md). The exact constant
+// from the quintic spline's definition (Schoenberg's M6 as PySPH and Morris
+// 1996 write it: w(q) = (3 - q)^5 - 6 (2 - q)^5 + 15 (1 - q)^5, each term
+// where positive, support 3h): sigma = 1 / (4 pi int_0^3 q^2 w(q) dq).
+mollify::gen::Q quintic_spline_mass_over_4pi() {
+    using mollify::gen::Laurent;
+    using mollify::gen::Q;
+    const std::pair<int, int> terms[] = {{3, 1}, {2, -6}, {1, 15}};  // (a, c): c (a - q)^5 on [0, a)
+    Q integral = 0;
+    for (const auto& [a, c] : terms) {
+        const Laurent f = Laurent::binomial_power(Q(a), Q(-1), 5) * Laurent::monomial(Q(c), 2);
+        Q log_coefficient = 0;
+        const Laurent F = f.antiderivative(&log_coefficient);
+        integral += F(Q(a)) - F(Q(0));
+    }
+    return integral;
+}
+
+// The quintic spline is not in mollify's grammar, so the published ratio,
+// computed exactly, is applied to the cubic spline and must be recognised.
 TEST(Verify, PySphQuinticNormalisationIsRecognisedAsRational) {
+    using mollify::gen::Q;
+    const Q exact_sigma_times_pi = 1 / (4 * quintic_spline_mass_over_4pi());
+    EXPECT_EQ(exact_sigma_times_pi, Q(1, 120));  // the corrected constant 1/(120 pi)
+    const Q ratio = Q(3, 359) / exact_sigma_times_pi;  // PySPH's 3/(359 pi) over the exact one
+    EXPECT_EQ(ratio, Q(360, 359));
     const mollify::Kernel k = runtime("cubic-spline", 3);
-    const double pi = std::numbers::pi;
-    const double pysph = 3 / (359 * pi), exact = 1 / (120 * pi);
-    const v::Report r = v::verify([&](double x, double h) { return k.value(x, h) * (pysph / exact); }, "cubic-spline", 3,
+    const double factor = static_cast<double>(ratio);
+    const v::Report r = v::verify([&](double x, double h) { return k.value(x, h) * factor; }, "cubic-spline", 3,
                                   Quantity::value);
     expect_kind(r, DiagnosisKind::constant_factor, "360/359");
     EXPECT_NE(r.diagnosis->text.find("exact 8/pi h^-3"), std::string::npos) << r.to_string();
@@ -166,6 +185,14 @@ TEST(Verify, GradientMissingAFactorQ) {
     expect_kind(r, DiagnosisKind::gradient_factor, "factor q missing");
 }
 
+TEST(Verify, GradientInQNotR) {
+    // Phantom's grkern is dW/dq: handed over as dW/dr it lacks 1/h.
+    const mollify::Kernel k = runtime("cubic-spline", 3);
+    const v::Report r = v::verify([&](double x, double h) { return k(mollify::QuantityId::dr, x, h) * h; }, "cubic-spline",
+                                  3, Quantity::dr);
+    expect_kind(r, DiagnosisKind::gradient_factor, "1/h missing");
+}
+
 TEST(Verify, KernelOfAnotherDimension) {
     const mollify::Kernel k2 = runtime("wendland:k=1", 2);
     const v::Report r = v::verify([&](double x, double h) { return k2.value(x, h); }, "wendland:k=1", 3, Quantity::value);
@@ -186,6 +213,16 @@ TEST(Verify, SinglePrecision) {
     };
     const v::Report r = v::verify(f, "wendland:k=1", 3, Quantity::value);
     expect_kind(r, DiagnosisKind::single_precision, "exactly floats");
+}
+
+TEST(Verify, SinglePrecisionInside) {
+    // w(q) in float, the scale h^-3 in double: the values are not floats.
+    const std::vector<double> c = expanded_coefficients("wendland:k=1", 3);
+    auto f = [&](double x, double h) {
+        return static_cast<double>(expanded<float>(c, static_cast<float>(x / h), 1.0f, 3)) / (h * h * h);
+    };
+    const v::Report r = v::verify(f, "wendland:k=1", 3, Quantity::value);
+    expect_kind(r, DiagnosisKind::single_precision, "part of the evaluation is in float");
 }
 
 TEST(Verify, NotFinite) {
@@ -230,6 +267,14 @@ TEST(Verify, BadInputNamesTheValue) {
     const std::vector<double> two{1, 2};
     EXPECT_NE(message([&] { v::compare("cubic-spline", 3, Quantity::value, s, two); }).find("2 values for 1 samples"),
               std::string::npos);
+    const std::vector<v::Sample> negative{{1, 1}, {-1, 1}};
+    EXPECT_NE(message([&] { v::compare("cubic-spline", 3, Quantity::value, negative, two); }).find("sample 1 (r = -1"),
+              std::string::npos);
+    o.convention = "phantom";
+    EXPECT_NE(message([&] { v::samples("cubic-spline", 2, Quantity::value, o); }).find("D = 2"), std::string::npos);
+    o.convention = "cpp";
+    o.ulps = -1;
+    EXPECT_NE(message([&] { v::samples("cubic-spline", 3, Quantity::value, o); }).find("-1"), std::string::npos);
 }
 
 // The matcher, as a user writes it.

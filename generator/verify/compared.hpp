@@ -3,7 +3,7 @@
 // tiny values).
 #pragma once
 
-#include "verify/setup.hpp"
+#include "setup.hpp"
 
 #include <optional>
 #include <vector>

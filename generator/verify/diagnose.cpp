@@ -86,7 +86,10 @@ struct Candidate {
 // c recognised and checked: 95 % of the points within max(4 bound, 16) ulps of c exact.
 std::optional<gen::Exact> exact_factor(const Setup& s, const std::vector<Compared>& pts,
                                        const std::vector<std::size_t>& idx, double c, bool floats, double bound) {
-    const auto e = recognise(c, floats ? 1e-6 : 1e-12, floats ? 1000 : 100000);
+    // Float values give c to ~2^-24: denominators <= 100 (rationals p/q pi^k
+    // near 1 are ~3e-4 apart, so a match within 2^-21 is unlikely to be
+    // chance); doubles give c to ~2^-52, checked in ulps below.
+    const auto e = recognise(c, floats ? 0x1p-21 : 1e-13, floats ? 100 : 100000);
     if (!e) return std::nullopt;
     const Real v(e->evaluate(400).first, 100);
     std::vector<double> errors;
@@ -116,10 +119,11 @@ std::string normalisation_text(const Setup& s, const std::optional<gen::Exact>& 
 Diagnosis constant_diagnosis(const Setup& s, const std::vector<Compared>& pts, const std::vector<std::size_t>& idx,
                              double c, bool floats, double bound) {
     const auto e = exact_factor(s, pts, idx, c, floats, bound);
-    const std::string f = e ? pretty(*e) : number(c, 17);
-    if (e && *e == gen::Exact(gen::Q(-1)))
+    const std::string f = e ? pretty(*e) : number(c, floats ? 8 : 17);
+    if ((e && *e == gen::Exact(gen::Q(-1))) || (!e && std::abs(c + 1) <= 0x1p-40))
         return {DiagnosisKind::wrong_sign, "wrong sign: got = -exact everywhere"};
-    std::string text = "constant factor: got = " + f + " x exact everywhere (relative " + number(c - 1, 3) + ")";
+    std::string text = "constant factor: got = " + f + " x exact everywhere" +
+                       (std::abs(c - 1) < 0.01 ? " (relative deviation " + number(c - 1, 3) + ")" : "");
     if (s.quantity == Quantity::value) text = "normalisation off by the factor " + f + normalisation_text(s, e);
     if (table::is_potential(s.id) && e) {
         for (const gen::Convention& other : gen::conventions()) {
@@ -131,7 +135,7 @@ Diagnosis constant_diagnosis(const Setup& s, const std::vector<Compared>& pts, c
         }
     }
     if (!e) text += " (not a small rational or pi multiple)";
-    return {c < 0 ? DiagnosisKind::wrong_sign : DiagnosisKind::constant_factor, text};
+    return {DiagnosisKind::constant_factor, text};
 }
 
 // The kernel with its support scaled by a: a^-? folded into c.
@@ -220,6 +224,8 @@ std::optional<Diagnosis> transformations(const Setup& s, const std::vector<Compa
             {"divided by q = r/H (a factor q missing)", [](const Compared& p) { return p.exact_d / p.q; }},
             {"times r (a factor r too many)", [](const Compared& p) { return p.exact_d * p.r; }},
             {"divided by r (a factor r missing: W'/r instead of W')", [](const Compared& p) { return p.exact_d / p.r; }},
+            {"times h (dW/dq, not dW/dr: the factor 1/h missing)", [](const Compared& p) { return p.exact_d * p.h; }},
+            {"divided by h (a factor 1/h too many)", [](const Compared& p) { return p.exact_d / p.h; }},
         };
         for (const auto& [what, f] : g) candidates.push_back({DiagnosisKind::gradient_factor, what, values(f), {}});
     }
@@ -242,6 +248,17 @@ std::optional<Diagnosis> transformations(const Setup& s, const std::vector<Compa
             return Diagnosis{best->kind, "gradient off by a factor: got = dW/dr " + best->what +
                                              (factor == "1" ? "" : ", times " + factor)};
     }
+}
+
+// The residual of got = c exact (the fit of no transformation).
+double identity_residual(const std::vector<Compared>& pts, const std::vector<std::size_t>& idx) {
+    std::vector<double> got, y, m;
+    for (std::size_t i : idx) {
+        got.push_back(pts[i].got);
+        y.push_back(pts[i].exact_d);
+        m.push_back(pts[i].magnitude);
+    }
+    return fit(got, y, m).residual;
 }
 
 // Most nonzero values are exactly floats.
@@ -293,22 +310,29 @@ std::optional<Diagnosis> diagnose(const Setup& s, const std::vector<Compared>& p
                                                             number(p.exact_d, 17) + ")"};
     const std::vector<std::size_t> idx = subset(points.size());
     if (auto d = transformations(s, points, idx, floats, bound)) return d;
-    if (floats && !s.single) {
-        std::vector<double> e;
-        for (const Compared& p : points) e.push_back(p.ulps);
-        const double median = percentile(e, 0.5);
+    std::vector<double> e;
+    for (const Compared& p : points) e.push_back(p.ulps);
+    const double median = percentile(e, 0.5);
+    const std::string size = number(median, 3) + " ulps (2^" + number(std::log2(std::max(median, 1.0)), 3) +
+                             "; half a float ulp is 2^28 double ulps)";
+    if (floats && !s.single)
         return Diagnosis{DiagnosisKind::single_precision,
-                         "single precision: " + count + " nonzero values are exactly floats, median error " + number(median, 3) +
-                             " ulps (2^" + number(std::log2(std::max(median, 1.0)), 3) +
-                             "; half a float ulp is 2^28 double ulps): evaluate in double, or verify with a float convention (swift)"};
-    }
+                         "single precision: " + count + " nonzero values are exactly floats, median error " + size +
+                             ": evaluate in double, or verify with a float convention (swift)"};
+    // Float arithmetic inside, a double result (e.g. w(q) in float times h^-D
+    // in double): errors of float rounding (2^-24 relative, 2^29 ulps) at
+    // most points, and the values within float rounding of the exact ones.
+    if (!s.single && median >= 0x1p20 && identity_residual(points, idx) <= 0x1p-19)
+        return Diagnosis{DiagnosisKind::single_precision,
+                         "single precision inside: median error " + size +
+                             " everywhere, the values within float rounding of the exact ones: part of the evaluation is in float"};
     if (auto d = edge(points, bound)) return d;
     const Compared* worst = &points.front();
     for (const Compared& p : points)
         if (p.ulps > worst->ulps) worst = &p;
     return Diagnosis{DiagnosisKind::unexplained, "no systematic pattern recognised (not a constant factor, support convention, "
                                                  "gradient factor, sign, dimension, float evaluation or edge cancellation); worst " +
-                                                     number(worst->ulps, 3) + " ulps at r = " + number(worst->r, 17) +
+                                                     number(worst->ulps, 3) + (s.single ? " float" : "") + " ulps at r = " + number(worst->r, 17) +
                                                      ", h = " + number(worst->h, 17)};
 }
 

@@ -4,7 +4,7 @@
 // normalisation 3/(359 pi) against the exact 1/(120 pi): the ratio 360/359.
 #pragma once
 
-#include "exact.hpp"
+#include "../exact.hpp"
 
 #include <optional>
 #include <string>

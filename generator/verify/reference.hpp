@@ -4,7 +4,7 @@
 // the exact library mollify::exact.
 #pragma once
 
-#include "kernel.hpp"
+#include "../kernel.hpp"
 
 #include <mollify/kernel.hpp>
 

@@ -3,8 +3,8 @@
 // f_H(r) (generator/conventions.hpp): H = s h, value = c f_H(r).
 #pragma once
 
-#include "conventions.hpp"
-#include "verify/reference.hpp"
+#include "../conventions.hpp"
+#include "reference.hpp"
 
 #include <mollify/table.hpp>
 #include <mollify/verify.hpp>

@@ -5,7 +5,7 @@
 // in ulps of the floor, as mollify's own accuracy suite measures.
 #pragma once
 
-#include "verify/reference.hpp"
+#include "reference.hpp"
 
 namespace mollify::verify::detail {
 
