@@ -8,7 +8,7 @@
 #   - examples/consumer/pkg_config.cpp compiled with `pkg-config --cflags
 #     --libs mollify` and exact_value.cpp with mollify-exact, run,
 #   - the Python package imported from <prefix>/lib/python3/dist-packages
-#     (not from the build), its kernel and its exact value,
+#     (not from the build): its kernel, its exact value, mollify.verify,
 # and every program's W(1/2) of wendland:k=2 in 3D compared with the exact
 # value printed by the *installed* `mollify-gen value`.
 #
