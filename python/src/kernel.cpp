@@ -60,15 +60,15 @@ py::tuple pair(const Kernel& k, const py::object& x, const py::object& h) {
     return py::make_tuple(finish(std::move(w)), finish(std::move(grad)));
 }
 
-// |x| as StaticKernel::norm forms it; coordinates checked first (named as
-// the runtime names them).
+// |x| as StaticKernel::norm forms it; coordinates checked as the runtime
+// checks them (its message).
 std::vector<double> norms(const Displacements& d) {
     std::vector<double> r(d.size());
     for (std::size_t i = 0; i < d.size(); ++i) {
         double s = 0;
         for (std::size_t c = 0; c < d.components.size(); ++c) {
             const double v = d.components[c][i];
-            if (!std::isfinite(v)) fail("coordinate " + std::to_string(c) + " is " + std::to_string(v) + " (must be finite)");
+            detail::check_coordinate(v, static_cast<int>(c));
             s = c == 0 ? v * v : std::fma(v, v, s);
         }
         r[i] = d.components.size() == 1 ? std::abs(d.components[0][i]) : std::sqrt(s);

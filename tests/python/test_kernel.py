@@ -184,6 +184,7 @@ def test_one_dimensional_displacements_and_the_cusp():
     (lambda: mollify.kernel("box-d1", 1).potential(0.5, 1.0), "box-d1"),
     (lambda: mollify.kernel("wendland:k=2", 3).gradient(np.zeros((4, 2)), 1.0), "(4, 2)"),
     (lambda: mollify.kernel("wendland:k=2", 3).gradient([0.0, float("inf"), 0.0], 1.0), "inf"),
+    (lambda: mollify.kernel("wendland:k=2", 3).hessian([0.0, float("nan"), 0.0], 1.0), "x[1] = nan"),
 ])
 def test_errors_name_the_bad_value(call, named):
     with pytest.raises(mollify.Error) as e:
