@@ -11,30 +11,6 @@ namespace mollify::gen {
 
 namespace {
 
-Q central(int k) {  // c_k = (2k)! / (4^k k!^2)
-    return Q(factorial(static_cast<unsigned>(2 * k)), factorial(static_cast<unsigned>(k)) *
-                                                          factorial(static_cast<unsigned>(k))) / pow(Q(4), k);
-}
-
-Q to_q(const Real& x) {
-    Q q;
-    mpfr_get_q(q.backend().data(), x.backend().data());
-    return q;
-}
-
-// Rigorous rational bounds of |x| for an exact constant: Exact::evaluate
-// returns the value and the sum of |terms| m at 200 bits; the rounding error
-// is below m 2^-190, the slack allowed here.
-Q abs_hi(const Exact& x) {
-    const auto [v, m] = x.evaluate(200);
-    return to_q(abs(v)) + to_q(m) / pow(Q(2), 190);
-}
-Q abs_lo(const Exact& x) {
-    const auto [v, m] = x.evaluate(200);
-    const Q lo = to_q(abs(v)) - to_q(m) / pow(Q(2), 190);
-    return lo > 0 ? lo : Q(0);
-}
-
 // sqrt(x) rounded up (MPFR RNDU), as a rational: an upper bound.
 Q sqrt_hi(const Q& x) {
     mpfr_t s;
@@ -58,7 +34,7 @@ Q coefficient(Basis b, int i) {
     switch (b) {
         case Basis::arcsech: return ratio(1, 2 * i + 1);
         case Basis::log: return ratio(-1, 2 * i);
-        default: return -central(i) / Q(2 * i + 1);
+        default: return -central_binomial_ratio(i) / Q(2 * i + 1);
     }
 }
 
@@ -150,10 +126,10 @@ std::optional<Q> bound_with_lead(const ClosedForm& f, int order, const Q& r1, co
         int i = start(k.basis);
         while (2 * t + power(k.basis, i) <= order) ++i;
         auto it = factors.find(k.factor);
-        if (it == factors.end()) it = factors.emplace(k.factor, abs_hi(Exact::of(k.factor))).first;
+        if (it == factors.end()) it = factors.emplace(k.factor, abs_upper_bound(Exact::of(k.factor))).first;
         K[low] += abs(bt) * it->second * abs(coefficient(k.basis, i)) * pow(s1, 2 * t + power(k.basis, i) - order - 1);
     });
-    const Q a = abs_lo(lead.c);
+    const Q a = abs_lower_bound(lead.c);
     if (a == 0) return std::nullopt;
     Q beta = 0;
     for (const auto& [low, k] : K) {

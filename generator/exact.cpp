@@ -2,6 +2,10 @@
 
 #include "error.hpp"
 
+#include <mpfr.h>
+
+#include <algorithm>
+
 namespace mollify::gen {
 
 namespace {
@@ -145,6 +149,45 @@ std::string Exact::to_string() const {
         if (a.log_of != 1) s += " * log(" + std::to_string(a.log_of) + ")";
     }
     return s;
+}
+
+// pi^e log p at 200 bits (MPFR's pi, log and pow_si correctly rounded)
+// carries a relative error below (|e| + 3) 2^-200 < 2^-150, the slack added here.
+std::pair<Q, Q> interval(const Atom& a) {
+    mpfr_t pi, v, l;
+    mpfr_inits2(200, pi, v, l, static_cast<mpfr_ptr>(nullptr));
+    mpfr_const_pi(pi, MPFR_RNDN);
+    mpfr_pow_si(v, pi, a.pi_power, MPFR_RNDN);
+    if (a.log_of != 1) {
+        mpfr_set_si(l, static_cast<long>(a.log_of), MPFR_RNDN);
+        mpfr_log(l, l, MPFR_RNDN);
+        mpfr_mul(v, v, l, MPFR_RNDN);
+    }
+    Q q;
+    mpfr_get_q(q.backend().data(), v);
+    mpfr_clears(pi, v, l, static_cast<mpfr_ptr>(nullptr));
+    const Q slack = abs(q) / pow(Q(2), 150);
+    return {q - slack, q + slack};
+}
+
+std::pair<Q, Q> interval(const Exact& x) {
+    Q lo = 0, hi = 0;
+    for (const auto& [atom, q] : x.terms()) {
+        const auto [a, b] = interval(atom);
+        lo += q > 0 ? q * a : q * b;
+        hi += q > 0 ? q * b : q * a;
+    }
+    return {lo, hi};
+}
+
+Q abs_upper_bound(const Exact& x) {
+    const auto [lo, hi] = interval(x);
+    return std::max(abs(lo), abs(hi));
+}
+
+Q abs_lower_bound(const Exact& x) {
+    const auto [lo, hi] = interval(x);
+    return lo > 0 ? lo : hi < 0 ? -hi : Q(0);
 }
 
 }  // namespace mollify::gen

@@ -57,4 +57,12 @@ private:
 
 Real pi_at(unsigned bits);
 
+// Rigorous rational bounds of an exact constant: lo <= x <= hi (MPFR's pi,
+// log and pow_si correctly rounded at 200 bits, widened by 2^-150 relative
+// per atom), and of |x|: abs_lower_bound(x) <= |x| <= abs_upper_bound(x).
+std::pair<Q, Q> interval(const Atom& a);
+std::pair<Q, Q> interval(const Exact& x);
+Q abs_upper_bound(const Exact& x);
+Q abs_lower_bound(const Exact& x);
+
 }  // namespace mollify::gen

@@ -6,6 +6,7 @@
 #include "data_dir.hpp"
 #include "emit.hpp"
 #include "errata.hpp"
+#include "errata_codes.hpp"
 #include "error.hpp"
 #include "query.hpp"
 #include "rounding.hpp"
@@ -17,6 +18,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 
 using namespace mollify::gen;
@@ -92,7 +94,18 @@ int run_weights(const std::vector<std::string>& radii_text) {
     return 0;
 }
 
-int run_errata(const std::string& dir) {
+// The published codes' constants (transcriptions/codes/): every entry,
+// right ones included, then the counts.
+int run_code_errata(const std::string& dir) {
+    const CodeErrataReport report = check_code_errata(std::filesystem::path(dir) / "codes");
+    for (const auto& v : report.verdicts) std::cout << format_line(v) << "\n";
+    std::cout << "checked " << report.verdicts.size() << " published constants of codes, " << report.wrong()
+              << " wrong\n";
+    return 0;
+}
+
+int run_errata(const std::string& dir, bool codes) {
+    if (codes) return run_code_errata(dir);
     const ErrataReport report = check_errata(dir);
     for (const auto& d : report.discrepancies) std::cout << format_line(d) << "\n";
     std::cout << "checked " << report.checked << " entries, " << report.discrepancies.size() << " discrepancies\n";
@@ -187,6 +200,9 @@ int main(int argc, char** argv) {
     auto* errata = app.add_subcommand("errata", "compare the transcribed seed tables with the exact values");
     std::string transcriptions = mollify::data_dir("transcriptions", MOLLIFY_TRANSCRIPTIONS_DIR);
     errata->add_option("--transcriptions", transcriptions, "folder of transcribed tables")->capture_default_str();
+    bool errata_codes = false;
+    errata->add_flag("--codes", errata_codes,
+                     "the published constants of SPH and N-body codes (DIR/codes/*.json) instead of the seed documents");
 
     auto* certify_cmd = app.add_subcommand("certify", "print the exact certificates of kernels");
     std::vector<std::string> certify_specs;
@@ -223,7 +239,7 @@ int main(int argc, char** argv) {
         if (*emit) return run_emit(out, only, format, target_name, emit_dims, allow_negative_lobes);
         if (*value) return run_value(spec_text, dim, r_text, name, digits, exact);
         if (*weights) return run_weights(radii);
-        if (*errata) return run_errata(transcriptions);
+        if (*errata) return run_errata(transcriptions, errata_codes);
         if (*certify_cmd) return run_certify(certify_specs, certify_dims, certify_softening);
     } catch (const Error& e) {
         std::cerr << "mollify-gen: " << e.what() << "\n";

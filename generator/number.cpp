@@ -78,6 +78,11 @@ Z binomial(unsigned n, unsigned k) {
     return b;
 }
 
+Q central_binomial_ratio(int k) {
+    return Q(factorial(static_cast<unsigned>(2 * k)), factorial(static_cast<unsigned>(k)) * factorial(static_cast<unsigned>(k))) /
+           pow(Q(4), k);
+}
+
 Q binomial(const Q& a, int k) {
     if (k < 0) return 0;
     Q b = 1;

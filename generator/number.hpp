@@ -30,6 +30,9 @@ Z factorial(unsigned n);
 Z binomial(unsigned n, unsigned k);
 // Generalised binomial (a choose k) for rational a, k >= 0 (Franz Thm. 4.38).
 Q binomial(const Q& a, int k);
+// c_k = (2k)! / (4^k k!^2), the coefficients of 1/sqrt(1 - x) = sum c_k x^k
+// (the series of arcsin and arcsech at 0 and of S^j at the edge).
+Q central_binomial_ratio(int k);
 
 inline bool is_integer(const Q& q) { return denominator(q) == 1; }
 

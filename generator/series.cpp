@@ -11,54 +11,9 @@ namespace mollify::gen {
 
 namespace {
 
-Q central(int k) {  // c_k = (2k)! / (4^k k!^2)
-    return Q(factorial(static_cast<unsigned>(2 * k)), factorial(static_cast<unsigned>(k)) *
-                                                          factorial(static_cast<unsigned>(k))) / pow(Q(4), k);
-}
-
 int floor_half(int a) { return a >= 0 ? a / 2 : -((1 - a) / 2); }
 
-// Rigorous rational bounds [lo, hi] of exact constants. MPFR's pi, log and
-// pow_si are correctly rounded at 200 bits; pi^e log p then carries a
-// relative error below (|e| + 3) 2^-200 < 2^-150, the slack added here.
 using Interval = std::pair<Q, Q>;
-
-Interval atom_interval(const Atom& a) {
-    mpfr_t pi, v, l;
-    mpfr_inits2(200, pi, v, l, static_cast<mpfr_ptr>(nullptr));
-    mpfr_const_pi(pi, MPFR_RNDN);
-    mpfr_pow_si(v, pi, a.pi_power, MPFR_RNDN);
-    if (a.log_of != 1) {
-        mpfr_set_si(l, static_cast<long>(a.log_of), MPFR_RNDN);
-        mpfr_log(l, l, MPFR_RNDN);
-        mpfr_mul(v, v, l, MPFR_RNDN);
-    }
-    Q q;
-    mpfr_get_q(q.backend().data(), v);
-    mpfr_clears(pi, v, l, static_cast<mpfr_ptr>(nullptr));
-    const Q slack = abs(q) / pow(Q(2), 150);
-    return {q - slack, q + slack};
-}
-
-Interval interval(const Exact& x) {
-    Q lo = 0, hi = 0;
-    for (const auto& [atom, q] : x.terms()) {
-        const auto [a, b] = atom_interval(atom);
-        lo += q > 0 ? q * a : q * b;
-        hi += q > 0 ? q * b : q * a;
-    }
-    return {lo, hi};
-}
-
-Q abs_hi(const Exact& x) {
-    const auto [lo, hi] = interval(x);
-    return std::max(abs(lo), abs(hi));
-}
-
-Q abs_lo(const Exact& x) {
-    const auto [lo, hi] = interval(x);
-    return lo > 0 ? lo : hi < 0 ? -hi : Q(0);
-}
 
 // A basis function's power series r^off sum_i a_i x^i (x = r^2, the
 // log 2 - log r of arcsech apart): the tail after index I is at most
@@ -76,9 +31,9 @@ Tail basis_tail(const TermKey& k, int I) {
             return {abs(binomial(ratio(k.s_power, 2), I + 1)), std::max(Q(1), (half_j + I + 1) / Q(I + 2)), 0};
         }
         case Basis::arcsech:  // a_i = c_i/(2i): ratio (2i+1)/(2i+2) * i/(i+1) < 1
-            return {central(I + 1) / Q(2 * (I + 1)), Q(1), 0};
+            return {central_binomial_ratio(I + 1) / Q(2 * (I + 1)), Q(1), 0};
         case Basis::arcsin:  // a_i = c_i/(2i+1): ratio (2i+1)^2/((2i+2)(2i+3)) < 1
-            return {central(I + 1) / Q(2 * I + 3), Q(1), 1};
+            return {central_binomial_ratio(I + 1) / Q(2 * I + 3), Q(1), 1};
         default: fail("internal: no tail for an exact basis");
     }
 }
@@ -108,11 +63,11 @@ Q sup_power_log(int d, const Q& r0, const Interval& log0) {
 // r^p |log r|: the leading coefficient minus every other term's supremum
 // relative to g (each ratio increases with r, so its supremum is at r0).
 Q leading_lower_bound(const Split& t, int p, bool log_lead, const Q& r0, const Interval& log0) {
-    Q ell = abs_lo(log_lead ? t.logs.at(p) : t.plain.at(p));
+    Q ell = abs_lower_bound(log_lead ? t.logs.at(p) : t.plain.at(p));
     for (const auto& [n, c] : t.plain)
-        if (log_lead || n != p) ell -= abs_hi(c) * (log_lead ? pow(r0, n - p) / log0.first : pow(r0, n - p));
+        if (log_lead || n != p) ell -= abs_upper_bound(c) * (log_lead ? pow(r0, n - p) / log0.first : pow(r0, n - p));
     for (const auto& [n, c] : t.logs)
-        if (!log_lead || n != p) ell -= abs_hi(c) * (log_lead ? pow(r0, n - p) : sup_power_log(n - p, r0, log0));
+        if (!log_lead || n != p) ell -= abs_upper_bound(c) * (log_lead ? pow(r0, n - p) : sup_power_log(n - p, r0, log0));
     return ell;
 }
 
@@ -245,7 +200,7 @@ std::optional<Q> truncation_bound(const ClosedForm& f, int order, const Q& r0) {
     Q B = 0;
     for (const auto& [k, p] : f.terms()) {
         if (k.basis == Basis::one || k.basis == Basis::log) continue;  // kept exactly
-        const Q factor = abs_hi(Exact::of(k.factor));
+        const Q factor = abs_upper_bound(Exact::of(k.factor));
         for (int n = p.low(); n <= p.high(); ++n) {
             const Q c = p.coefficient(n);
             if (c == 0) continue;
@@ -273,7 +228,7 @@ std::optional<Q> relative_truncation_bound(const ClosedForm& f, int order, int m
         if (!s->empty()) p = std::min(p, s->begin()->first);
     if (p == std::numeric_limits<int>::max() || p > order) return std::nullopt;
     const bool log_lead = t.logs.count(p) > 0;
-    const auto [l2lo, l2hi] = atom_interval(Atom{0, 2});
+    const auto [l2lo, l2hi] = interval(Atom{0, 2});
     const Interval log0{l2lo * m, l2hi * m};  // |log r0| = m log 2
     const Q ell = leading_lower_bound(t, p, log_lead, r0, log0);
     const Q beta = *B / (pow(r0, p) * (log_lead ? log0.first : Q(1)));

@@ -120,7 +120,7 @@ std::string upper(std::string s) {
     return s;
 }
 
-std::string function(const CodeKernel& k, const CodeQuantity& q, const Syntax& s) {
+std::string c_function(const CodeKernel& k, const CodeQuantity& q, const Syntax& s) {
     const std::string name = k.prefix + "_" + q.name;
     std::string out = "\n/* " + quantity_description(q.id) + ": f_h(r) = h^(" + std::to_string(q.scale_power) +
                       ") f(r/h)" + (q.log_h_coefficient ? " + log(h)/(2 pi)" : "") + " */\n";
@@ -162,7 +162,7 @@ TargetFiles write_c(const TargetKernel& tk, const std::string& command) {
     for (std::size_t i = 0; i < k.constants.size(); ++i)
         out += "    " + hex_literal(k.constants[i].value) + ", /* [" + std::to_string(i) + "] " + comment_text(k.constants[i].exact) + " */\n";
     out += "};\n";
-    for (const CodeQuantity& q : k.quantities) out += function(k, q, s);
+    for (const CodeQuantity& q : k.quantities) out += c_function(k, q, s);
     out += "\n#endif\n";
     return {{"c/" + k.prefix + ".h", out}};
 }

@@ -218,7 +218,7 @@ std::string module_name(const std::string& prefix) {
     return name.substr(0, 54) + tail;
 }
 
-std::string function(const CodeKernel& k, const CodeQuantity& q, const Syntax& s) {
+std::string fortran_function(const CodeKernel& k, const CodeQuantity& q, const Syntax& s) {
     const std::string name = "kernel_" + q.name;
     std::string out = "\n  ! " + quantity_description(q.id) + ": f_h(r) = h^(" + std::to_string(q.scale_power) +
                       ") f(r/h)" + (q.log_h_coefficient ? " + log(h)/(2 pi)" : "") + "\n";
@@ -249,7 +249,7 @@ TargetFiles write_fortran(const TargetKernel& tk, const std::string& command) {
     const Syntax s = fortran_syntax(literals);
     std::string functions, names;
     for (const CodeQuantity& q : k.quantities) {
-        functions += function(k, q, s);
+        functions += fortran_function(k, q, s);
         names += "  public :: kernel_" + q.name + ", kernel_" + q.name + "_h\n";
     }
     std::string out = banner(command, "!");

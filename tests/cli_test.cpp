@@ -108,6 +108,28 @@ TEST(Cli, Errata) {
             << l[i];
 }
 
+TEST(Cli, ErrataOfCodes) {
+    const Outcome r = run("errata --codes");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto l = lines(r.out);
+    ASSERT_FALSE(l.empty());
+    EXPECT_TRUE(std::regex_match(l.back(), std::regex("checked [0-9]+ published constants of codes, [0-9]+ wrong"))) << l.back();
+    for (std::size_t i = 0; i + 1 < l.size(); ++i)
+        EXPECT_TRUE(std::regex_search(
+            l[i], std::regex("^[^|]+ \\| [^|]+ \\| [^|]+ \\| published: .* \\| exact: .* \\| published/exact: .* \\| .+$")))
+            << l[i];
+    // A malformed transcription: exit 2, the file, entry and field named.
+    const fs::path dir = scratch("codes");
+    fs::create_directories(dir / "codes");
+    std::ofstream(dir / "codes" / "bad.json")
+        << R"({"code": "X", "repository": "x/x", "entries": [{"entry": "e1", "quantity": "code.normalisation",)"
+           R"( "file": "k.c", "seen": true, "expression": "e", "says": "s", "params": {"spec": "poly6", "dim": 3}}]})";
+    const Outcome bad = run("errata --codes --transcriptions " + dir.string());
+    EXPECT_EQ(bad.status, 2);
+    EXPECT_TRUE(bad.err.find("bad.json, entry 'e1' (k.c): missing field 'params.support'") != std::string::npos) << bad.err;
+    fs::remove_all(dir);
+}
+
 TEST(Cli, BadArgumentsExitWithStatus2NamingTheValue) {
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"value gaussian --dim 3 --r 0", "gaussian"},

@@ -50,6 +50,9 @@ fi
 errata=$("$gen" errata | tail -n 1)
 [[ $errata =~ ^checked\ [1-9][0-9]*\ entries ]] || fail "installed mollify-gen errata: '$errata'"
 echo "installed mollify-gen errata: $errata"
+codes=$("$gen" errata --codes | tail -n 1)
+[[ $codes =~ ^checked\ [1-9][0-9]*\ published\ constants ]] || fail "installed mollify-gen errata --codes: '$codes'"
+echo "installed mollify-gen errata --codes: $codes"
 
 exact=$("$gen" value wendland:k=2 --dim 3 --r 1/2 --digits 40)
 echo "installed mollify-gen value wendland:k=2 --dim 3 --r 1/2: $exact"

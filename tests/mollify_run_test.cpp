@@ -124,6 +124,8 @@ TEST(MollifyReport, SectionsPassOrFailIndependently) {
     EXPECT_EQ(checks, passed) << index;
     EXPECT_NE(index.find("byte for byte"), std::string::npos) << index;
     EXPECT_TRUE(fs::exists(w.dir / "rep" / "exactness" / "errata.csv"));
+    EXPECT_TRUE(fs::exists(w.dir / "rep" / "exactness" / "code_errata.csv"));
+    EXPECT_NE(index.find("### Errata in published codes"), std::string::npos) << index;
     EXPECT_NE(r.err.find("exactness passed"), std::string::npos) << r.err;  // progress, per section
     EXPECT_NE(r.err.find("studies FAILED"), std::string::npos) << r.err;
     for (const std::string& e : w.entries()) EXPECT_EQ(e.find(".tmp-"), std::string::npos) << e;

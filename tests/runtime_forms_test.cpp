@@ -53,8 +53,12 @@ using mollify::testing::Case;
 const std::vector<Case>& cases() {
     static const std::vector<Case> all = [] {
         std::vector<Case> out;
+#ifdef MOLLIFY_RUNTIME_FORMS_FIRST_PART_ONLY  // the sanitizer build (tests/CMakeLists.txt)
+        for (auto part : {mollify::testing::cases_1})
+#else
         for (auto part : {mollify::testing::cases_1, mollify::testing::cases_2, mollify::testing::cases_3,
                           mollify::testing::cases_4})
+#endif
             for (const Case& c : part()) out.push_back(c);
         return out;
     }();
@@ -146,6 +150,7 @@ std::vector<Isa> isas() {
 
 }  // namespace
 
+#ifndef MOLLIFY_RUNTIME_FORMS_FIRST_PART_ONLY  // the cover is that of all four parts
 TEST(Runtime, CoverEveryPathOfTheCatalogue) {
     std::set<std::string> covered;
     for (const Case& c : cases())
@@ -154,6 +159,7 @@ TEST(Runtime, CoverEveryPathOfTheCatalogue) {
         for (const std::string& f : mollify::testing::features(*k))
             EXPECT_TRUE(covered.count(f)) << k->spec << " D" << k->dim << " takes a path no compared table takes: " << f;
 }
+#endif
 
 TEST(Runtime, CompileTimeAndRunTimeFormsAgreeBitForBit) {
     for (const Isa& isa : isas()) {

@@ -182,6 +182,29 @@ TEST(Scene, WrongType) {
     EXPECT_ERROR(s.number("franz"), "test.toml:4", "franz", "got a table");
 }
 
+// Found by fuzz/fuzz_scene.cpp: toml++'s formatter is undefined behaviour
+// (UBSan) on floats below 0.1; the messages format values themselves.
+TEST(Scene, ArraysAndTablesOfSmallNumbersInMessages) {
+    const Scene s = scene("eps = [0.05, 1e-300, -0.001]\n[franz.sub]\nx = 0.01\ny = [true, 2]\n");
+    EXPECT_ERROR(s.number("franz.eps"), "franz.eps = [0.05, 1e-300, -0.001]", "expected a number, got an array");
+    EXPECT_ERROR(s.positive("franz.eps"), "franz.eps = [0.05, 1e-300, -0.001]");
+    EXPECT_ERROR(s.string("franz.sub.y"), "franz.sub.y = [true, 2]", "expected a string");
+}
+
+// Found by fuzz/fuzz_scene.cpp: toml++ 3.3.0 is undefined behaviour when it
+// classifies U+00A1..U+0499 as whitespace or not (keys, between tokens);
+// non-ASCII text stays allowed in comments and string values.
+TEST(Scene, NonAsciiOutsideStringValuesNamedBeforeToml) {
+    EXPECT_NO_THROW(scene("# ε² § comment\nt = \"Franz §6.2.2, h = ε²/10\"\nu = 'ü'\nv = [\"é\", { w = \"ß\" }]\n"
+                          "m = \"\"\"\nα\\\"β\n\"\"\"\nl = \'\'\'\nγ\'\'\'\n"));
+    EXPECT_ERROR(scene("t = 1§\n"), "test.toml:5", "non-ASCII character outside a string or comment");
+    EXPECT_ERROR(scene("§t = 1\n"), "test.toml:5", "non-ASCII character outside a string or comment");
+    EXPECT_ERROR(scene("\"ключ\" = 1\n"), "test.toml:5", "non-ASCII character in a key");
+    EXPECT_ERROR(scene("v = { \"é\" = 1 }\n"), "test.toml:5", "non-ASCII character in a key");
+    EXPECT_ERROR(scene("a = 1\n[\"ü\"]\n"), "test.toml:6", "non-ASCII character in a key");
+    EXPECT_ERROR(scene("m = \"\"\"x\\\n  ¡\"\"\"\n"), "test.toml:6", "line-ending backslash");
+}
+
 TEST(Scene, NonPositiveNumber) {
     const Scene s = Scene::parse(good, "good.toml");
     EXPECT_ERROR(s.positive("franz.zero"), "good.toml:16", "franz.zero = 0", "positive");

@@ -260,6 +260,8 @@ TEST(Verify, BadInputNamesTheValue) {
     v::Options o;
     o.convention = "sphynx";
     EXPECT_NE(message([&] { v::samples("cubic-spline", 3, Quantity::value, o); }).find("sphynx"), std::string::npos);
+    o.convention = "mollify";
+    EXPECT_EQ(v::samples("cubic-spline", 3, Quantity::value, o).size(), v::samples("cubic-spline", 3, Quantity::value).size());
     EXPECT_NE(message([] { v::parse_quantity("hessian"); }).find("hessian"), std::string::npos);
     EXPECT_NE(message([] { v::samples("box-d1", 1, Quantity::potential); }).find("no potential"), std::string::npos);
     EXPECT_NE(message([] { v::samples("wendlnd:k=1", 3, Quantity::value); }).find("wendlnd"), std::string::npos);

@@ -45,7 +45,7 @@ struct Sample {
 
 struct Options {
     // How (r, h) and the returned value relate to mollify's kernel
-    // (generator/conventions.*): "cpp" (mollify: h = support radius H),
+    // (generator/conventions.*): "cpp" or "mollify" (h = support radius H),
     // "phantom" (H = radkern h, phi = -1/r outside), "swift" (h = 2 sigma,
     // H = gamma h; errors in float ulps), "gadget4" (h = Hsml = H, g = -phi),
     // "c", "fortran", "python" (as cpp).

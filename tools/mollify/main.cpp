@@ -2,6 +2,8 @@
 //   mollify run SCENE.toml [--out DIR]   run a scene, write its output folder atomically
 //   mollify list [DIR]                   the experiments, and the scenes in DIR (default scenes/)
 //   mollify report [--out DIR]           the verification report (report.hpp)
+//   mollify verify SPEC --dim D ...      someone's kernel against the exact one (verify_command.hpp;
+//                                        its own exit status: 0 within the bound, 1 outside, 2 bad input)
 // Exit status: 0 success, 1 a mollify::Error (bad scene, failed run; message on
 // stderr as "mollify: error: ..."), 2 command-line misuse.
 #include "data_dir.hpp"
@@ -9,6 +11,7 @@
 #include "output.hpp"
 #include "report.hpp"
 #include "scene.hpp"
+#include "verify_command.hpp"
 
 #include <mollify/error.hpp>
 
@@ -117,6 +120,9 @@ int main(int argc, char** argv) {
     report->add_option("--only", report_options.only,
                        "sections to run: exactness, accuracy, speed, studies, figures (default: all)");
 
+    VerifyOptions verify_options;
+    auto* verify = add_verify_command(app, verify_options);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -127,6 +133,7 @@ int main(int argc, char** argv) {
         std::cerr << "mollify: " << e.what() << "\n" << "run 'mollify --help' for usage\n";
         return bad_usage;
     }
+    if (*verify) return run_verify(verify_options);
     try {
         if (*run) return run_scene(scene_file, out);
         if (*list) return run_list(scene_dir);

@@ -37,7 +37,30 @@ void check_name(const std::string& name) {
     if (!ok) fail("output file name '" + name + "' must be a relative path without '.' or '..' components");
 }
 
-// Writes `content` to `file` atomically: a temporary file beside it, fsync, rename.
+std::string csv_field(const std::string& f) {
+    if (f.find_first_of(",\"\r\n") == std::string::npos) return f;
+    std::string q = "\"";
+    for (char c : f) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+}
+
+std::string markdown_cell(const std::string& f) {
+    std::string m;
+    for (char c : f) {
+        if (c == '|') m += "\\|";
+        else if (c == '\n' || c == '\r') m += ' ';
+        else m += c;
+    }
+    return m;
+}
+
+std::string trim(std::string s) {
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+    return s;
+}
+
+}  // namespace
+
 void write_atomically(const fs::path& file, std::string_view content) {
     std::string tmp = file.string() + ".tmp-XXXXXX";
     const int fd = ::mkstemp(tmp.data());
@@ -67,29 +90,6 @@ void write_atomically(const fs::path& file, std::string_view content) {
     }
 }
 
-std::string csv_field(const std::string& f) {
-    if (f.find_first_of(",\"\r\n") == std::string::npos) return f;
-    std::string q = "\"";
-    for (char c : f) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-}
-
-std::string markdown_cell(const std::string& f) {
-    std::string m;
-    for (char c : f) {
-        if (c == '|') m += "\\|";
-        else if (c == '\n' || c == '\r') m += ' ';
-        else m += c;
-    }
-    return m;
-}
-
-std::string trim(std::string s) {
-    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-    return s;
-}
-
-}  // namespace
 
 // ---------------------------------------------------------------- Table
 

@@ -27,6 +27,10 @@ struct Table {
 // visible, never silently formatted as numbers).
 std::string format(double x, int digits = 4);
 
+// Writes `content` to `file` atomically: a temporary file beside it, fsync,
+// rename (a failure leaves no file and names the cause).
+void write_atomically(const std::filesystem::path& file, std::string_view content);
+
 class Output {
 public:
     explicit Output(std::filesystem::path destination);

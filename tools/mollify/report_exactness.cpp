@@ -1,6 +1,7 @@
 // Report section 1: the default catalogue generated anew by mollify-gen (every
 // certificate checked in exact arithmetic), compared with the checked-in
-// generated/, and the errata of the seed documents (mollify-gen errata).
+// generated/, the errata of the seed documents (mollify-gen errata) and of
+// published codes (mollify-gen errata --codes).
 #include "process.hpp"
 #include "report.hpp"
 
@@ -96,6 +97,45 @@ std::string errata(const std::string& text, Output& out) {
     return md + head.markdown();
 }
 
+// mollify-gen errata --codes prints "code | source | entry | published: .. |
+// exact: .. | published/exact: .. | diagnosis" per transcribed constant and a
+// last line "checked N published constants of codes, M wrong".
+std::string code_errata(const std::string& text, Output& out) {
+    std::istringstream in(text);
+    std::string line, last;
+    Table all{{"code", "source", "entry", "published", "exact", "published/exact", "diagnosis"}, {}};
+    Table wrong{all.columns, {}};
+    std::map<std::string, std::pair<int, int>> per_code;  // right, wrong
+    auto strip = [](const std::string& field, const std::string& label) {
+        return field.rfind(label, 0) == 0 ? field.substr(label.size()) : field;
+    };
+    while (std::getline(in, line)) {
+        std::vector<std::string> f;
+        std::size_t at = 0;
+        for (std::size_t bar; (bar = line.find(" | ", at)) != std::string::npos; at = bar + 3) f.push_back(line.substr(at, bar - at));
+        f.push_back(line.substr(at));
+        if (f.size() != 7) {
+            if (!line.empty()) last = line;
+            continue;
+        }
+        f[3] = strip(f[3], "published: ");
+        f[4] = strip(f[4], "exact: ");
+        f[5] = strip(f[5], "published/exact: ");
+        const bool right = f[6].rfind("right", 0) == 0 || f[6].rfind("not checked", 0) == 0;
+        (right ? per_code[f[0]].first : per_code[f[0]].second) += 1;
+        all.add(f);
+        if (!right) wrong.add(f);
+    }
+    out.csv("code_errata.csv", all);
+    Table counts{{"code", "constants right", "wrong"}, {}};
+    for (const auto& [code, n] : per_code) counts.add({code, std::to_string(n.first), std::to_string(n.second)});
+    return "`mollify-gen errata --codes`: " + last +
+           " (kernel constants of public SPH and N-body codes transcribed as published, with repository, file and "
+           "commit or issue, in `generator/transcriptions/codes/`; each compared with the exact value in the code's "
+           "own convention). Per code:\n\n" + counts.markdown() + "\nThe wrong ones, with the diagnosis from the exact ratio:\n\n" +
+           wrong.markdown() + "\nEvery entry, right ones included: [exactness/code_errata.csv](exactness/code_errata.csv).\n";
+}
+
 }  // namespace
 
 void report_exactness(const ReportContext& ctx, Output& out, SectionResult& r) {
@@ -125,6 +165,10 @@ void report_exactness(const ReportContext& ctx, Output& out, SectionResult& r) {
     const ProcessResult e = run_process(gen, {"errata"});
     if (!e.ok()) fail("mollify-gen errata failed (exit status " + std::to_string(e.exit_status) + "): " + e.err);
     r.markdown += "\n### Errata of the seed documents\n\n" + errata(e.out, out);
+
+    const ProcessResult c = run_process(gen, {"errata", "--codes"});
+    if (!c.ok()) fail("mollify-gen errata --codes failed (exit status " + std::to_string(c.exit_status) + "): " + c.err);
+    r.markdown += "\n### Errata in published codes\n\n" + code_errata(c.out, out);
 }
 
 }  // namespace mollify::app

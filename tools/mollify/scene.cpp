@@ -1,6 +1,7 @@
 // Scene files with toml++ (header-only, compiled in this translation unit
 // only). Every error is a mollify::Error "ORIGIN[:LINE]: KEY[ = VALUE]: WHY".
 #include "scene.hpp"
+#include "toml_guard.hpp"
 
 #include <mollify/error.hpp>
 
@@ -48,22 +49,41 @@ std::string type_name(toml::node_type t) {
     }
 }
 
+// The value as TOML text, written here for arrays and tables too: toml++'s
+// formatter (3.x) converts log10 of a float below 0.1 to an unsigned integer,
+// undefined behaviour that UBSan reports (found by fuzz/fuzz_scene.cpp with
+// epsilon = [0.05, ...] where a number was expected).
+std::string toml_text(const toml::node& n) {
+    if (const auto* str = n.as_string()) {  // as written in a scene: "..."
+        std::string v = "\"";
+        for (char c : str->get()) v += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
+        return v + "\"";
+    }
+    if (const auto* x = n.as_floating_point()) {  // shortest round trip: 0.7, not 0.69999999999999996
+        char buf[64];
+        return std::string(buf, std::to_chars(buf, buf + sizeof buf, x->get()).ptr);
+    }
+    if (const auto* i = n.as_integer()) return std::to_string(i->get());
+    if (const auto* b = n.as_boolean()) return b->get() ? "true" : "false";
+    if (const auto* a = n.as_array()) {
+        std::string v = "[";
+        for (std::size_t k = 0; k < a->size() && v.size() < 80; ++k) v += (k ? ", " : "") + toml_text(*a->get(k));
+        return v + "]";
+    }
+    if (const auto* t = n.as_table()) {
+        std::string v = "{";
+        for (auto it = t->begin(); it != t->end() && v.size() < 80; ++it)
+            v += (it == t->begin() ? " " : ", ") + std::string(it->first.str()) + " = " + toml_text(it->second);
+        return v + " }";
+    }
+    std::ostringstream s;  // a date or time: no floating point in its formatting
+    s << toml::node_view<const toml::node>{&n};
+    return s.str();
+}
+
 // The value as TOML text, shortened: for messages only.
 std::string show(const toml::node& n) {
-    std::string v;
-    if (const auto* str = n.as_string()) {  // as written in a scene: "..."
-        v = "\"";
-        for (char c : str->get()) v += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
-        v += "\"";
-    } else if (const auto* x = n.as_floating_point()) {  // shortest round trip: 0.7, not 0.69999999999999996
-        char buf[64];
-        const auto end = std::to_chars(buf, buf + sizeof buf, x->get()).ptr;
-        v.assign(buf, end);
-    } else {
-        std::ostringstream s;
-        s << toml::node_view<const toml::node>{&n};
-        v = s.str();
-    }
+    std::string v = toml_text(n);
     std::replace(v.begin(), v.end(), '\n', ' ');
     if (v.size() > 60) v = v.substr(0, 57) + "...";
     return v;
@@ -161,6 +181,7 @@ Scene Scene::parse(std::string_view text, std::string origin) {
     auto impl = std::make_unique<Impl>();
     impl->origin = std::move(origin);
     impl->text = std::string(text);
+    check_toml_characters(impl->text, impl->origin);  // before toml++ (toml_guard.hpp)
     try {
         impl->root = toml::parse(impl->text, impl->origin);
     } catch (const toml::parse_error& e) {
