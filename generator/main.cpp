@@ -80,27 +80,10 @@ int run_value(const std::string& spec_text, int dim, const std::string& r_text, 
     if (r < 0) fail("--r " + r_text + " must be >= 0 (a radial distance)");
     if (digits < 1 || digits > 100000) fail("--digits " + std::to_string(digits) + " is outside 1..100000");
     const ExactKernel k = make_kernel(parse_spec(spec_text), dim);
-    const Radial f = query(k, name);
-    const ClosedForm& form = f.form_at(r);
     const std::string where = name + " of " + spec_string(k.spec) + " in D = " + std::to_string(dim);
-    if (form.is_elementary() || r == 0 || r == 1) {  // exact: rational r, or a limit at 0 and 1
-        Exact v;
-        try {
-            v = value_at(form, r);
-        } catch (const Error&) {
-            fail(where + " is singular at r = " + short_string(r));
-        }
-        std::cout << decimal(v, digits) << "\n";
-        if (exact) std::cout << v.to_string() << "\n";
-    } else {
-        const Evaluator ev = [&](unsigned bits) {
-            Real rr(0, bits * 30103 / 100000 + 2);
-            mpfr_set_q(rr.backend().data(), r.backend().data(), MPFR_RNDN);
-            return form.evaluate(rr, bits);
-        };
-        std::cout << decimal(ev, digits) << "\n";
-        if (exact) std::cout << form.to_string_at(r) << "\n";
-    }
+    const ExactValue v = exact_value(query(k, name), r, Q(1), Scaling{}, where);
+    std::cout << (v.exact ? decimal(*v.exact, digits) : decimal(v.evaluate, digits)) << "\n";
+    if (exact) std::cout << v.closed_form << "\n";
     return 0;
 }
 

@@ -4,7 +4,10 @@
 #include "quantities.hpp"
 #include "softening.hpp"
 
+#include <mollify/smoothing.hpp>
+
 #include <charconv>
+#include <memory>
 
 namespace mollify::gen {
 
@@ -51,6 +54,64 @@ Radial query(const ExactKernel& k, const std::string& name) {
     for (const auto& f : ordered_families())
         if (f.name == family) return f.up_to(k, n).back();
     fail("unknown quantity '" + name + "' (known: " + query_names() + ")");
+}
+
+Scaling scaling(const std::string& name, int dim) {
+    for (int q = 0; q < table::quantity_count; ++q)
+        if (name == table::quantity_names[q]) {
+            const auto id = static_cast<table::QuantityId>(q);
+            return {detail::scale_power(id, dim), dim == 2 && id == table::QuantityId::potential};
+        }
+    fail("quantity '" + name + "' has no scaling in h (only the tabulated ones have: value, dr, ..., potential_hess_radial)");
+}
+
+namespace {
+
+Real real_of(const Q& q, unsigned bits) {
+    Real x(0, bits * 30103 / 100000 + 2);
+    mpfr_set_q(x.backend().data(), q.backend().data(), MPFR_RNDN);
+    return x;
+}
+
+}  // namespace
+
+ExactValue exact_value(const Radial& f, const Q& r, const Q& h, const Scaling& s, const std::string& where) {
+    if (r < 0) fail(where + ": r = " + short_string(r) + " must be >= 0 (a radial distance)");
+    if (h <= 0) fail(where + ": h = " + short_string(h) + " must be > 0");
+    const Q u = r / h;
+    const auto form = std::make_shared<const ClosedForm>(f.form_at(u));
+    const Q factor = pow(h, s.power);
+    // log(h)/(2 pi): the 2D potential's constant (Scaling).
+    const Exact shift = s.log_h && h != 1 ? Exact::pi_power(Q(1) / 2, -1) * Exact::log_of(h) : Exact();
+    ExactValue v;
+    if (form->is_elementary() || u == 0 || u == 1) {  // exact: rational r, or a limit at 0 and 1
+        try {
+            v.exact = value_at(*form, u) * factor + shift;
+        } catch (const Error&) {
+            fail(where + " is singular at r = " + short_string(u));
+        }
+        v.closed_form = v.exact->to_string();
+        v.evaluate = [e = *v.exact](unsigned bits) { return e.evaluate(bits); };
+        return v;
+    }
+    v.closed_form = form->to_string_at(u);
+    if (factor != 1) v.closed_form = short_string(factor) + " * (" + v.closed_form + ")";
+    if (!shift.is_zero()) v.closed_form += " + " + shift.to_string();
+    v.evaluate = [form, u, factor, shift](unsigned bits) {
+        auto [x, scale] = form->evaluate(real_of(u, bits), bits);
+        if (factor != 1) {
+            const Real c = real_of(factor, bits);
+            x *= c;
+            scale *= abs(c);
+        }
+        if (!shift.is_zero()) {
+            const auto [y, t] = shift.evaluate(bits);
+            x += y;
+            scale += t;
+        }
+        return std::pair<Real, Real>(x, scale);
+    };
+    return v;
 }
 
 }  // namespace mollify::gen

@@ -4,7 +4,9 @@
 #pragma once
 
 #include "kernel.hpp"
+#include "rounding.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,5 +37,29 @@ std::string query_names();
 // The named quantity of k, exactly. Error naming the name, the order or the
 // kernel when it is unknown, out of range or undefined for k.
 Radial query(const ExactKernel& k, const std::string& name);
+
+// How a tabulated quantity scales with h (mollify's runtime, smoothing.hpp):
+// f_h(r) = h^power f(r/h), plus log(h)/(2 pi) for the 2D potential, which
+// keeps it the Green's function log(r)/(2 pi) outside the support. Error
+// naming a quantity that has no h (the softening families, dphidh).
+struct Scaling {
+    int power = 0;
+    bool log_h = false;
+};
+Scaling scaling(const std::string& name, int dim);
+
+// One value of a quantity f (`mollify-gen value`, the Python package's
+// mollify.exact.value): exact where it is a constant of exact.hpp's form (an
+// elementary piece at rational r, or a limit at 0 or 1), else the closed
+// form at r; an enclosure at any precision either way, for correct rounding.
+struct ExactValue {
+    std::optional<Exact> exact;
+    std::string closed_form;  // for people: Exact::to_string or the closed form at r
+    Evaluator evaluate;       // value and error scale at `bits` (rounding.hpp)
+};
+
+// f_h(r) for rational r >= 0 and h > 0 (h = 1: f(r) itself, any quantity).
+// Error naming `where` and r where f is singular there.
+ExactValue exact_value(const Radial& f, const Q& r, const Q& h, const Scaling& s, const std::string& where);
 
 }  // namespace mollify::gen

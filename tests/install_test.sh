@@ -7,18 +7,20 @@
 #     prefix, built and run,
 #   - examples/consumer/pkg_config.cpp compiled with `pkg-config --cflags
 #     --libs mollify` and exact_value.cpp with mollify-exact, run,
+#   - the Python package imported from <prefix>/lib/python3/dist-packages
+#     (not from the build): its kernel, its exact value, mollify.verify,
 # and every program's W(1/2) of wendland:k=2 in 3D compared with the exact
 # value printed by the *installed* `mollify-gen value`.
 #
 # usage: install_test.sh BUILD_DIR SOURCE_DIR ULP_DISTANCE CXX [PROGRAM...]
-# PROGRAMs: static_kernel runtime_kernel exact_value pkg_config verify_kernel (default: all).
-# Environment: CMAKE (default cmake).
+# PROGRAMs: static_kernel runtime_kernel exact_value pkg_config verify_kernel python (default: all).
+# Environment: CMAKE (default cmake), PYTHON (default /usr/bin/python3: Debian's, with NumPy).
 set -euo pipefail
 
 build=$1 source=$2 ulp_distance=$3 cxx=$4
 shift 4
 programs=("$@")
-[ ${#programs[@]} -gt 0 ] || programs=(static_kernel exact_value pkg_config runtime_kernel verify_kernel)
+[ ${#programs[@]} -gt 0 ] || programs=(static_kernel exact_value pkg_config runtime_kernel verify_kernel python)
 
 # One ulp: tests/accuracy_test measures <= 0.51 ulp for Wendland values
 # (bound 4, room for other compilers and FMA); 1 ulp is within that, above
@@ -102,7 +104,23 @@ for program in "${programs[@]}"; do
         echo "pkg_config (mollify-exact): $value"
         [ "$value" = "$exact" ] || fail "exact_value built with pkg-config printed $value, mollify-gen value $exact"
         ;;
-    *) fail "unknown program $program (static_kernel runtime_kernel exact_value pkg_config verify_kernel)" ;;
+    python)
+        python=${PYTHON:-/usr/bin/python3}
+        site=$prefix/lib/python3/dist-packages
+        read -r where value exact_py verdict < <(cd "$work" && PYTHONPATH="$site" "$python" -c '
+import mollify
+w = mollify.kernel("wendland:k=2", 3)
+print(mollify.__file__, repr(w.value(0.5, 1.0)),
+      mollify._core.exact_value("wendland:k=2", 3, "1/2", "value", "1").decimal(40),
+      mollify.verify(w.value, "wendland:k=2", 3, uniform=100).passed)') ||
+            fail "importing mollify from $site with $python failed"
+        echo "python ($where): $value $exact_py verify passed: $verdict"
+        [[ $where == "$site/mollify/"* ]] || fail "python imported mollify from $where, not from $site"
+        check python "$value"
+        [ "$exact_py" = "$exact" ] || fail "mollify.exact printed $exact_py, mollify-gen value $exact"
+        [ "$verdict" = True ] || fail "mollify.verify of mollify's own kernel did not pass"
+        ;;
+    *) fail "unknown program $program (static_kernel runtime_kernel exact_value pkg_config verify_kernel python)" ;;
     esac
 done
 echo "install_test: ok (${programs[*]})"

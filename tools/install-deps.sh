@@ -19,6 +19,8 @@ packages=(
   pkgconf                   # pkg-config: tests/install_test.sh builds a program with mollify.pc
   gcc gfortran              # issue 19: targets_test compiles the emitted C header and Fortran module
   python3 python3-numpy     # issue 19: targets_test imports the emitted Python module (Debian's /usr/bin/python3)
+  python3-dev pybind11-dev  # issue 20: the Python package `mollify` (python/), a pybind11 extension module
+  python3-pytest            # issue 20: its tests (tests/python/, python3 -m pytest under ctest)
   clang libclang-rt-14-dev  # issue 20: the libFuzzer harnesses (fuzz/, -DMOLLIFY_FUZZ=ON; libclang_rt.fuzzer)
   libomp-dev                # issue 20: OpenMP for clang (the fuzz build configures the whole tree with clang)
 )
