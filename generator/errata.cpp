@@ -73,25 +73,6 @@ std::string document_label(const std::string& citation, const std::string& seed)
     return errata::join({author, year_in(citation)}, " ") + " (seed " + seed_number + ")";
 }
 
-// The transcription in `path`, its top level checked: strings "document"
-// and "seed", array "entries".
-json read_transcription(const fs::path& path) {
-    const std::string file = path.filename().string();
-    std::ifstream in(path);
-    if (!in) fail(file + ": cannot be read");
-    json doc;
-    try {
-        doc = json::parse(in);
-    } catch (const json::exception& ex) {
-        fail(file + ": not valid JSON (" + ex.what() + ")");
-    }
-    if (!doc.is_object()) fail(file + ": the top level must be an object");
-    for (const char* key : {"document", "seed"})
-        if (!doc.contains(key) || !doc[key].is_string()) fail(file + ": missing string field '" + key + "'");
-    if (!doc.contains("entries") || !doc["entries"].is_array()) fail(file + ": missing array field 'entries'");
-    return doc;
-}
-
 // Entry number `index` (from 1) of a file; until its own label and place are
 // read, errors name it "#index" at "?".
 Entry entry_of(const json& obj, std::size_t index, const std::string& file, const std::string& document,
@@ -127,7 +108,7 @@ void check_entry(Checker& checker, const Entry& e) {
 }
 
 void run_file(Checker& checker, const fs::path& path, ErrataReport& report) {
-    const json doc = read_transcription(path);
+    const json doc = errata::read_transcription(path, {"document", "seed"});
     const std::string file = path.filename().string();
     const std::string document = document_label(doc["document"].get<std::string>(), doc["seed"].get<std::string>());
     std::size_t index = 0;

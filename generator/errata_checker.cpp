@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <fstream>
 
 namespace mollify::gen::errata {
 
@@ -65,6 +66,23 @@ std::optional<Q> common_factor(const std::vector<std::pair<Exact, Exact>>& pairs
 
 // ---------------------------------------------------------------------------
 // Values spelled for people
+
+json read_transcription(const std::filesystem::path& path, std::initializer_list<const char*> string_fields) {
+    const std::string file = path.filename().string();
+    std::ifstream in(path);
+    if (!in) fail(file + ": cannot be read");
+    json doc;
+    try {
+        doc = json::parse(in);
+    } catch (const json::exception& ex) {
+        fail(file + ": not valid JSON (" + ex.what() + ")");
+    }
+    if (!doc.is_object()) fail(file + ": the top level must be an object");
+    for (const char* key : string_fields)
+        if (!doc.contains(key) || !doc[key].is_string()) fail(file + ": missing string field '" + key + "'");
+    if (!doc.contains("entries") || !doc["entries"].is_array()) fail(file + ": missing array field 'entries'");
+    return doc;
+}
 
 namespace {
 

@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <filesystem>
+#include <initializer_list>
 #include <map>
 #include <optional>
 #include <set>
@@ -26,6 +28,11 @@ using nlohmann::json;
 
 // Coefficients of a polynomial in one variable, each an exact constant.
 using Coefficients = std::map<int, Exact>;
+
+// A transcription file (JSON) read and its top level checked: an object
+// with the given string fields and an array "entries"; else an Error naming
+// the file and the field.
+json read_transcription(const std::filesystem::path& path, std::initializer_list<const char*> string_fields);
 
 // ---------------------------------------------------------------------------
 // Exact helpers

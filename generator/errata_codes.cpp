@@ -514,23 +514,6 @@ private:
 // ---------------------------------------------------------------------------
 // Files
 
-json read_file(const fs::path& path) {
-    const std::string file = path.filename().string();
-    std::ifstream in(path);
-    if (!in) fail(file + ": cannot be read");
-    json doc;
-    try {
-        doc = json::parse(in);
-    } catch (const json::exception& ex) {
-        fail(file + ": not valid JSON (" + ex.what() + ")");
-    }
-    if (!doc.is_object()) fail(file + ": the top level must be an object");
-    for (const char* key : {"code", "repository"})
-        if (!doc.contains(key) || !doc[key].is_string()) fail(file + ": missing string field '" + key + "'");
-    if (!doc.contains("entries") || !doc["entries"].is_array()) fail(file + ": missing array field 'entries'");
-    return doc;
-}
-
 // "file @ commit", "issue #421", "PR #1144, file @ commit", ...
 std::string source_of(const Entry& e) {
     const json& o = *e.object;
@@ -550,7 +533,7 @@ std::string source_of(const Entry& e) {
 }
 
 void run_file(CodeChecker& checker, const fs::path& path) {
-    const json doc = read_file(path);
+    const json doc = errata::read_transcription(path, {"code", "repository"});
     const std::string file = path.filename().string();
     const std::string code = doc["code"].get<std::string>() + " (" + doc["repository"].get<std::string>() + ")";
     std::size_t index = 0;
