@@ -4,6 +4,7 @@
 #include "error.hpp"
 #include "emit_round.hpp"
 #include "target.hpp"
+#include "term_shapes.hpp"
 #include "write_cpp.hpp"
 #include "write_data.hpp"
 #include "write_json.hpp"
@@ -31,6 +32,7 @@ struct KernelOutput {
     nlohmann::ordered_json json;
     std::vector<std::string> failures;  // failed certificates
     int certificates = 0;
+    TermShapes shapes;  // C++ only: its terms' shapes for the evaluator's fused loops
 };
 
 void count_certificates(const KernelFacts& f, int dim, int& certificates, std::vector<std::string>& failures) {
@@ -67,9 +69,10 @@ KernelOutput render_kernel(const CatalogueEntry& e, EmitFormat format) {
     const KernelFacts f = kernel_facts(e);
     const Tables tables = rounded_tables(f);
     KernelOutput out = format == EmitFormat::cpp
-                           ? KernelOutput{kernel_header(f.spec, e.dim), f.id, kernel_cpp(f, tables), kernel_json(f), {}, 0}
-                           : KernelOutput{kernel_data_path(f.spec, e.dim), f.id, kernel_data(f, tables), {}, {}, 0};
+                           ? KernelOutput{kernel_header(f.spec, e.dim), f.id, kernel_cpp(f, tables), kernel_json(f), {}, 0, {}}
+                           : KernelOutput{kernel_data_path(f.spec, e.dim), f.id, kernel_data(f, tables), {}, {}, 0, {}};
     count_certificates(f, e.dim, out.certificates, out.failures);
+    if (format == EmitFormat::cpp) add_term_shapes(tables, out.shapes);
     return out;
 }
 
@@ -84,7 +87,10 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
     EmitResult result;
     std::vector<std::string> headers, ids;  // catalogue order
     std::vector<nlohmann::ordered_json> kernels;
+    TermShapes shapes;
     for (KernelOutput& k : outputs) {
+        shapes.terms.insert(k.shapes.terms.begin(), k.shapes.terms.end());
+        shapes.whole.insert(k.shapes.whole.begin(), k.shapes.whole.end());
         if (result.files.count(k.path)) fail("internal: two kernels emitted to " + k.path + " (" + k.id + ")");
         result.files[k.path] = format == EmitFormat::cpp ? kernel_file(command, k.text) : k.text;
         headers.push_back(k.path);
@@ -97,6 +103,7 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
     if (format == EmitFormat::data) return result;
     result.files["mollify/tables/catalogue.hpp"] = catalogue_header(command);
     result.files["src/catalogue.cpp"] = catalogue_source(command, headers, ids);
+    result.files["src/term_shapes.def"] = term_shapes_source(command, shapes);
     result.files["catalogue.json"] = catalogue_json(command, kernels);
     return result;
 }

@@ -6,6 +6,7 @@
 // (CMake: generic x86-64 and x86-64-v3), each copy in its own inline
 // namespace (detail/isa.hpp).
 #include "evaluator.hpp"
+#include "term_shapes.hpp"
 
 #include <mollify/static_kernel.hpp>
 
@@ -280,7 +281,7 @@ double radial(const QuantityPlan& qp, QuantityId q, double r, const Smoothing& s
 // point (so the results are the same bits), in loops the compiler
 // vectorises with the coefficient broadcast.
 
-constexpr std::size_t B = 32;
+constexpr std::size_t B = 64;
 
 struct DDs {
     double hi[B], lo[B];
@@ -368,25 +369,49 @@ void horner_q_fixed(const double* c, const double* q, double* out) {
     }
 }
 
+// fast_term for Basis::one, low = 0 at one point: Horner's rule in v = q
+// or q^2, times ipow<P>(distance to the edge).
+template <int N, int P, bool VarR, bool SupportEdge>
+MOLLIFY_INLINE double fast_term_at(const double* k, double q, double e, double r, double edge, double h, double inv_h) {
+    const double v = VarR ? q : q * q;
+    double x = k[N - 1];
+    for (int j = N - 2; j >= 0; --j) x = mul_add(x, v, k[j]);
+    if constexpr (P != 0) {
+        const double to_edge = SupportEdge ? e : mul_add(edge, h, -r) * inv_h;
+        const double d = VarR ? to_edge : to_edge * (edge + q);
+        x *= ipow<P>(d);
+    }
+    return x;
+}
+
 // One whole polynomial term added to a block's sum in one pass (fast_term
-// for Basis::one, low = 0): Horner's rule in v = q or q^2, times
-// ipow<P>(distance to the edge), the sum in registers. The same operations
-// in the same order as the scalar path, so the same bits.
+// for Basis::one, low = 0), the sum in registers. The same operations in
+// the same order as the scalar path, so the same bits.
 template <int N, int P, bool VarR, bool SupportEdge>
 void add_term_fixed(const double* c, const double* q, const double* e, const double* r, double edge, double h,
                     double inv_h, bool first, double* sum) {
     double k[N];
     for (int j = 0; j < N; ++j) k[j] = c[j];
-    for (std::size_t i = 0; i < B; ++i) {
-        const double v = VarR ? q[i] : q[i] * q[i];
-        double x = k[N - 1];
-        for (int j = N - 2; j >= 0; --j) x = mul_add(x, v, k[j]);
-        if constexpr (P != 0) {
-            const double to_edge = SupportEdge ? e[i] : mul_add(edge, h, -r[i]) * inv_h;
-            const double d = VarR ? to_edge : to_edge * (edge + q[i]);
-            x *= ipow<P>(d);
-        }
-        sum[i] = (first ? 0.0 : sum[i]) + x;  // the first term: 0 + x, as fast_piece's fold
+    if (first)  // the first term: 0 + x, as fast_piece's fold
+        for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0 + fast_term_at<N, P, VarR, SupportEdge>(k, q[i], e[i], r[i], edge, h, inv_h);
+    else
+        for (std::size_t i = 0; i < B; ++i) sum[i] = sum[i] + fast_term_at<N, P, VarR, SupportEdge>(k, q[i], e[i], r[i], edge, h, inv_h);
+}
+
+// A whole quantity that is one term (one piece, 0 outside: Wendland's W
+// and W'/r) at n radii in one pass from r, as StaticKernel::emitted's loop:
+// q, e, the term, the scale, 0 beyond h.
+template <int N, int P, bool VarR, bool SupportEdge>
+MOLLIFY_FLATTEN void fast_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out, std::size_t n,
+                                      const Smoothing& smoothing, double scale) {
+    const Smoothing s = smoothing;
+    double k[N];
+    for (int j = 0; j < N; ++j) k[j] = t.c[j];
+    const double h = s.h(), inv_h = s.inverse(), edge = t.edge;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double q = r[i] * inv_h, e = edge_distance(h - r[i], s);
+        const double x = fast_term_at<N, P, VarR, SupportEdge>(k, q, e, r[i], edge, h, inv_h);
+        out[i] = select(r[i] <= h, (0.0 + x) * scale, 0.0);
     }
 }
 
@@ -644,6 +669,58 @@ SharedPowers& shared_powers() {
     return shared;
 }
 
+// A term c (distance to the edge)^P S^m, n = 1 (the missing Wendland
+// functions' edge series, ~50 terms a piece), in one pass from the
+// remembered powers: fast_term_block's products in its order (c, times the
+// edge power, times S^m; BlockPowers' tree is ipow<N>'s), added to the sum.
+bool series_term(const TermPlan& t) {
+    return t.n == 1 && t.low == 0 && t.var != table::Var::shifted &&
+           (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power) &&
+           (t.edge_power == 0 || BlockPowers::remembers(t.edge_power)) &&
+           (t.basis != table::Basis::sqrt_power || BlockPowers::remembers(t.s_power));
+}
+
+void add_series_term(const TermPlan& t, const TermPlan* previous, const FastBlock& a, SharedPowers& shared, double* sum) {
+    double v[B];
+    const bool shares_edge =
+        previous && previous->edge == t.edge && previous->var == t.var && previous->edge_power != 0;
+    if (!shares_edge) shared.edge_valid = false;
+    const double* ep = nullptr;
+    const double* sp = nullptr;
+    if (t.edge_power != 0) {
+        if (!shared.edge_valid) {
+            const bool support_edge = t.edge == 1.0;
+            for (std::size_t i = 0; i < B; ++i) {
+                const double to_edge = support_edge ? a.e[i] : mul_add(t.edge, a.h, -a.r[i]) * a.inv_h;
+                v[i] = t.var == table::Var::r ? to_edge : to_edge * (t.edge + a.q[i]);
+            }
+            shared.edge.reset(v);
+            shared.edge_valid = true;
+        }
+        ep = shared.edge(t.edge_power);
+    }
+    if (t.basis == table::Basis::sqrt_power) {
+        if (!shared.s_valid) {
+            for (std::size_t i = 0; i < B; ++i) v[i] = std::sqrt(a.e[i] * (1 + a.q[i]));
+            shared.s.reset(v);
+            shared.s_valid = true;
+        }
+        sp = shared.s(t.s_power);
+    }
+    const double c = t.c[0];
+    const bool first = !previous;
+    auto add = [&](auto term) {
+        if (first)
+            for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0 + term(i);
+        else
+            for (std::size_t i = 0; i < B; ++i) sum[i] = sum[i] + term(i);
+    };
+    if (ep && sp) add([&](std::size_t i) { return c * ep[i] * sp[i]; });
+    else if (ep) add([&](std::size_t i) { return c * ep[i]; });
+    else if (sp) add([&](std::size_t i) { return c * sp[i]; });
+    else add([&](std::size_t) { return c; });
+}
+
 void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
     SharedPowers* shared = nullptr;  // only where a term is not fused (the buffers are 40 kB)
     double x[B];
@@ -660,6 +737,11 @@ void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
             if (!shared) {
                 shared = &shared_powers();
                 shared->edge_valid = shared->s_valid = false;
+            }
+            if (series_term(t)) {
+                add_series_term(t, previous, a, *shared, sum);
+                previous = &t;
+                continue;
             }
             fast_term_block(t, previous, a, *shared, x);
             if (!previous)
@@ -775,6 +857,138 @@ void accurate_polynomial_block(const TermPlan& t, const AccurateBlock& a, DDs& o
     compensated_horner_block(t.c, t.c_lo.data(), t.n, t.exact, v, dv, out);
 }
 
+// How a fused term's value joins its piece: the piece's only term, rounded
+// once after the scale; the first of several (0 + term, as the generic
+// loop's sum starts at 0); a later one, added to the sum.
+enum class Fold { single, first, add };
+
+// One term of accurate_piece_block at one point (Basis::one, low = 0, not
+// continuing a series, Horner length N, edge power P): the distance to the
+// edge and its power in double-double, compensated Horner, the product;
+// the same operations in the same order as the generic loops, so the same
+// bits. (ah: edge times h as a two-product, the same for every point.)
+template <int N, int P, bool VarR, bool SupportEdge, bool Exact>
+MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, double edge, double edge_lo,
+                                             const DoubleDouble& ah, double h, double inv_h, double q, double dq,
+                                             double dq2, double r, const DoubleDouble& qq, const DoubleDouble& ee) {
+    DoubleDouble factor{1.0, 0.0};
+    if constexpr (P != 0) {
+        DoubleDouble d = ee;
+        if constexpr (!SupportEdge) {
+            const DoubleDouble s = two_sum(ah.hi, -r);
+            d = over_h({s.hi, s.lo + mul_add(edge_lo, h, ah.lo)}, h, inv_h);
+        }
+        if constexpr (!VarR) {
+            const DoubleDouble edge_plus_q = plus(edge, qq);
+            d = d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + edge_lo};
+        }
+        factor = ipow<P>(d);
+    }
+    DoubleDouble x{k[0], l[0]};
+    if constexpr (N > 1) {
+        const double v = VarR ? q : q * q, dv = VarR ? dq : dq2;
+        double s = k[N - 1], error = l[N - 1], slope = 0;
+        for (int j = N - 2; j >= 0; --j) {
+            slope = mul_add(slope, v, s);
+            const DoubleDouble product = two_product(s, v);
+            const DoubleDouble ps = two_sum(product.hi, k[j]);
+            s = ps.hi;
+            if constexpr (Exact) error = mul_add(error, v, product.lo + ps.lo);
+            else error = mul_add(error, v, (product.lo + ps.lo) + l[j]);
+        }
+        x = {s, mul_add(slope, dv, error)};
+    }
+    return factor * x;
+}
+
+// The same term on a block in one pass, folded into its piece: one pass
+// instead of five (the double-double block arrays between the passes cost
+// more than the arithmetic: kernel_bench, README).
+template <int N, int P, bool VarR, bool SupportEdge, bool Exact>
+MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock& a, Fold fold, DDs& sum, double* out) {
+    double k[N], l[N];
+    for (int j = 0; j < N; ++j) k[j] = t.c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
+    const double edge = t.edge, edge_lo = t.edge_lo, h = a.h, inv_h = a.inv_h;
+    const DoubleDouble ah = two_product(edge, h);
+    auto term = [&](std::size_t i) {
+        return accurate_term_at<N, P, VarR, SupportEdge, Exact>(k, l, edge, edge_lo, ah, h, inv_h, a.q[i], a.dq[i], a.dq2[i],
+                                                                a.r[i], {a.qq.hi[i], a.qq.lo[i]}, {a.ee.hi[i], a.ee.lo[i]});
+    };
+    if (fold == Fold::single) {
+        const DoubleDouble scale = a.scale;
+        for (std::size_t i = 0; i < B; ++i) out[i] = rounded(term(i) * scale);
+    } else if (fold == Fold::first) {
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble y = DoubleDouble{0.0, 0.0} + term(i);
+            sum.hi[i] = y.hi, sum.lo[i] = y.lo;
+        }
+    } else {
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble y = DoubleDouble{sum.hi[i], sum.lo[i]} + term(i);
+            sum.hi[i] = y.hi, sum.lo[i] = y.lo;
+        }
+    }
+}
+
+// A whole quantity that is one term (fast_whole_fixed) in one pass from r.
+template <int N, int P, bool VarR, bool SupportEdge, bool Exact>
+MOLLIFY_FLATTEN void accurate_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out,
+                                          std::size_t n, double h, double inv_h, DoubleDouble scale) {
+    double k[N], l[N];
+    for (int j = 0; j < N; ++j) k[j] = t.c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
+    const double edge = t.edge, edge_lo = t.edge_lo;
+    const DoubleDouble ah = two_product(edge, h);
+    for (std::size_t i = 0; i < n; ++i) {
+        const AccurateRadius x = accurate_radius(r[i], h, inv_h);
+        const DoubleDouble y = accurate_term_at<N, P, VarR, SupportEdge, Exact>(
+            k, l, edge, edge_lo, ah, h, inv_h, x.q, x.dq, x.dq2, r[i], {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
+        out[i] = select(r[i] <= h, rounded(y * scale), 0.0);
+    }
+}
+
+// The fused loops of the listed shapes (term_shapes.hpp), compiled where
+// the target fuses multiply-add: without an FMA every two_product is
+// Veltkamp's split, and the generic-x86-64 copy of the library (for CPUs
+// older than Haswell) keeps the general loops rather than double its
+// compile time.
+constexpr bool fused_loops = MOLLIFY_HAS_FMA;
+
+using AccurateTerm = void (*)(const TermPlan&, const AccurateBlock&, Fold, DDs&, double*);
+using AccurateWhole = void (*)(const TermPlan&, const double*, double*, std::size_t, double, double, DoubleDouble);
+using FastWhole = void (*)(const TermPlan&, const double*, double*, std::size_t, const Smoothing&, double);
+
+template <const TermShape& S>
+constexpr AccurateTerm accurate_term_loop = &accurate_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact>;
+template <const TermShape& S>
+constexpr AccurateWhole accurate_whole_loop = &accurate_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact>;
+template <const TermShape& S>
+constexpr FastWhole fast_whole_loop = &fast_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge>;
+
+template <std::size_t... I>
+constexpr std::array<AccurateTerm, sizeof...(I)> accurate_term_loops(std::index_sequence<I...>) {
+    if constexpr (fused_loops) return {accurate_term_loop<term_shapes[I]>...};
+    else return {};
+}
+template <std::size_t... I>
+constexpr std::array<AccurateWhole, sizeof...(I)> accurate_whole_loops(std::index_sequence<I...>) {
+    if constexpr (fused_loops) return {accurate_whole_loop<whole_shapes[I]>...};
+    else return {};
+}
+template <std::size_t... I>
+constexpr std::array<FastWhole, sizeof...(I)> fast_whole_loops(std::index_sequence<I...>) {
+    if constexpr (fused_loops) return {fast_whole_loop<whole_shapes[I]>...};
+    else return {};
+}
+constexpr auto accurate_term_of = accurate_term_loops(std::make_index_sequence<term_shape_count>{});
+constexpr auto accurate_whole_of = accurate_whole_loops(std::make_index_sequence<whole_shape_count>{});
+constexpr auto fast_whole_of = fast_whole_loops(std::make_index_sequence<whole_shape_count>{});
+
+bool fused_accurate(const TermPlan& t) { return fused_loops && t.shape >= 0; }
+
+void accurate_term_block(const TermPlan& t, const AccurateBlock& a, Fold fold, DDs& sum, double* out) {
+    accurate_term_of[static_cast<std::size_t>(t.shape)](t, a, fold, sum, out);
+}
+
 // accurate_piece for pieces of Basis::one terms.
 void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* out) {
     DDs factor, x, d, previous, sum;
@@ -792,8 +1006,18 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
             out[i] = rounded(DoubleDouble{factor.hi[i], factor.lo[i]} * DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
         return;
     }
-    for (std::size_t i = 0; i < B; ++i) sum.hi[i] = 0.0, sum.lo[i] = 0.0, previous.hi[i] = 1.0, previous.lo[i] = 0.0;
     const bool single = p.terms.size() == 1;
+    if (!p.terms.empty() && std::all_of(p.terms.begin(), p.terms.end(), fused_accurate)) {
+        if (single) {
+            accurate_term_block(p.terms.front(), a, Fold::single, sum, out);
+            return;
+        }
+        for (std::size_t t = 0; t < p.terms.size(); ++t)
+            accurate_term_block(p.terms[t], a, t == 0 ? Fold::first : Fold::add, sum, out);
+        for (std::size_t i = 0; i < B; ++i) out[i] = rounded(DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
+        return;
+    }
+    for (std::size_t i = 0; i < B; ++i) sum.hi[i] = 0.0, sum.lo[i] = 0.0, previous.hi[i] = 1.0, previous.lo[i] = 0.0;
     for (const TermPlan& t : p.terms) {
         if (t.continues) {
             distance_to_edge_block(t, a, d);
@@ -823,6 +1047,15 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
         for (std::size_t i = 0; i < B; ++i) out[i] = rounded(DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
 }
 
+// scaled_accurate at the B radii r (a.h, a.inv_h set).
+void fill(AccurateBlock& a, const double* r) {
+    for (std::size_t i = 0; i < B; ++i) {
+        const AccurateRadius x = accurate_radius(r[i], a.h, a.inv_h);
+        a.q[i] = x.q, a.e[i] = x.ee_hi + x.ee_lo, a.r[i] = r[i], a.dq[i] = x.dq, a.dq2[i] = x.dq2;
+        a.qq.hi[i] = x.qq_hi, a.qq.lo[i] = x.qq_lo, a.ee.hi[i] = x.ee_hi, a.ee.lo[i] = x.ee_lo;
+    }
+}
+
 // Precision::fast, a polynomial_inside quantity that is 0 outside, at the
 // B points of a (StaticKernel::emitted): every piece, the selection, the
 // scale, 0 beyond h.
@@ -843,11 +1076,7 @@ void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double*
     if constexpr (Pr == Precision::accurate) {
         AccurateBlock a;
         a.h = s.h(), a.inv_h = s.inverse(), a.scale = {s.scale(q), s.scale_lo(q)};
-        for (std::size_t i = 0; i < B; ++i) {
-            const Scaled x = scaled_accurate(r[i], a.h, a.inv_h);
-            a.q[i] = x.q, a.e[i] = x.e, a.r[i] = r[i], a.dq[i] = x.dq, a.dq2[i] = x.dq2;
-            a.qq.hi[i] = x.qq.hi, a.qq.lo[i] = x.qq.lo, a.ee.hi[i] = x.ee.hi, a.ee.lo[i] = x.ee.lo;
-        }
+        fill(a, r);
         for (std::size_t p = 0; p < qp.inner.size(); ++p) {
             accurate_piece_block(qp.inner[p], a, p == 0 ? in : piece);
             if (p > 0)
@@ -890,51 +1119,84 @@ void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double*
 // piece evaluated on blocks of its own points (the last one padded with a
 // copy of its first point), so every block loop runs one piece's terms
 // for B points; each point gets radial<fast>'s operations, so its bits.
+template <Precision Pr>
 void radial_by_piece(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n,
                      const Smoothing& s, int dim) {
     thread_local std::vector<std::vector<std::size_t>> members;
     members.resize(qp.inner.size());
     for (auto& m : members) m.clear();
     for (std::size_t i = 0; i < n; ++i) {
-        const double qi = r[i] * s.inverse();
+        // The q each path selects its piece by: r/h rounded (radial<fast>),
+        // or the rounded double-double quotient (scaled_accurate).
+        const double qi = Pr == Precision::accurate ? accurate_radius(r[i], s.h(), s.inverse()).q : r[i] * s.inverse();
         std::size_t p = qp.inner.size() - 1;
         while (p > 0 && qi < qp.inner[p].lo) --p;
         members[p].push_back(i);
     }
     const double scale = s.scale(q);
     FastBlock a;
-    a.h = s.h(), a.inv_h = s.inverse();
-    double in[B];
+    AccurateBlock aa;
+    a.h = aa.h = s.h(), a.inv_h = aa.inv_h = s.inverse();
+    aa.scale = {s.scale(q), s.scale_lo(q)};
+    double in[B], rb[B];
     for (std::size_t p = 0; p < qp.inner.size(); ++p) {
         const std::vector<std::size_t>& m = members[p];
         for (std::size_t start = 0; start < m.size(); start += B) {
             const std::size_t count = std::min(B, m.size() - start);
-            for (std::size_t i = 0; i < B; ++i) {
-                const double ri = r[m[start + (i < count ? i : 0)]];
-                a.q[i] = ri * s.inverse();
-                a.e[i] = edge_distance(s.h() - ri, s);
-                a.r[i] = ri;
+            for (std::size_t i = 0; i < B; ++i) rb[i] = r[m[start + (i < count ? i : 0)]];
+            if constexpr (Pr == Precision::accurate) {
+                fill(aa, rb);
+                accurate_piece_block(qp.inner[p], aa, in);
+            } else {
+                for (std::size_t i = 0; i < B; ++i) {
+                    a.q[i] = rb[i] * s.inverse();
+                    a.e[i] = edge_distance(s.h() - rb[i], s);
+                    a.r[i] = rb[i];
+                }
+                fast_piece_block(qp.inner[p], a, in);
             }
-            fast_piece_block(qp.inner[p], a, in);
             for (std::size_t i = 0; i < count; ++i) {
-                double v = in[i] * scale;
+                double v = Pr == Precision::accurate ? in[i] : in[i] * scale;
                 if (q == QuantityId::potential && dim == 2) v = mul_add(qp.log_coefficient, s.log_h(), v);
-                const double ri = a.r[i];
+                const double ri = rb[i];
                 out[m[start + i]] = qp.zero_outside ? select(ri <= s.h(), v, 0.0) : ri <= s.h() ? v : outside(qp, ri);
             }
         }
     }
 }
 
+// Is the quantity one fused term inside the support and 0 outside (then
+// evaluated in one pass from r)?
+bool whole(const QuantityPlan& qp, QuantityId q, int dim) {
+    return fused_loops && qp.whole >= 0 && !(q == QuantityId::potential && dim == 2);
+}
+
 template <Precision Pr>
 void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s,
                   int dim) {
     if (Pr == Precision::fast && !qp.polynomial_inside) {
-        radial_by_piece(qp, q, r, out, n, s, dim);
+        radial_by_piece<Pr>(qp, q, r, out, n, s, dim);
         return;
     }
     if (!qp.polynomial_inside) {
         for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
+        return;
+    }
+    if (whole(qp, q, dim)) {
+        const TermPlan& t = qp.inner.front().terms.front();
+        const auto shape = static_cast<std::size_t>(qp.whole);
+        if constexpr (Pr == Precision::accurate)
+            accurate_whole_of[shape](t, r, out, n, s.h(), s.inverse(), {s.scale(q), s.scale_lo(q)});
+        else
+            fast_whole_of[shape](t, r, out, n, s, s.scale(q));
+        return;
+    }
+    if (Pr == Precision::accurate && qp.inner.size() > 1) {
+        // Each point through its own piece only: the static form evaluates
+        // every piece and selects (a combination of m radii: m pieces of
+        // up to m terms); sorting the points by piece first costs less
+        // than a piece's double-double terms.
+        radial_by_piece<Pr>(qp, q, r, out, n, s, dim);
         return;
     }
     std::size_t i = 0;
@@ -963,6 +1225,24 @@ void evaluate(const Plan& plan, Precision pr, QuantityId q, const double* r, dou
 }
 
 // ---- W and grad W at displacements (StaticKernel::pairs_unchecked) ----
+
+// |x| at m points from `start` (dim 2 or 3), on raw restrict pointers so
+// that the loop vectorises.
+void radii(const std::span<const double>* x, int dim, std::size_t start, std::size_t m, double* __restrict r) {
+    const double* __restrict x0 = x[0].data() + start;
+    const double* __restrict x1 = x[1].data() + start;
+    if (dim == 3) {
+        const double* __restrict x2 = x[2].data() + start;
+        for (std::size_t i = 0; i < m; ++i) r[i] = std::sqrt(mul_add(x2[i], x2[i], mul_add(x1[i], x1[i], x0[i] * x0[i])));
+    } else {
+        for (std::size_t i = 0; i < m; ++i) r[i] = std::sqrt(mul_add(x1[i], x1[i], x0[i] * x0[i]));
+    }
+}
+
+// out = g x componentwise.
+void times(const double* __restrict g, const double* __restrict x, double* __restrict out, std::size_t m) {
+    for (std::size_t i = 0; i < m; ++i) out[i] = g[i] * x[i];
+}
 
 template <Precision Pr>
 void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoothing& smoothing, double* __restrict w,
@@ -1018,7 +1298,8 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
             for (std::size_t i = 0; i < n; ++i) grad[c][i] = over[i] * x[c][i];
         return;
     }
-    if (Pr == Precision::fast && value.zero_outside && over_r.zero_outside) {
+    if (Pr == Precision::fast && value.zero_outside && over_r.zero_outside &&
+        !(whole(value, QuantityId::value, dim) && whole(over_r, QuantityId::grad_over_r, dim))) {
         // Both quantities from one block of q and e (radial_block's first
         // pass done once), the last block padded with r = 0.
         FastBlock a;
@@ -1060,19 +1341,16 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         }
         return;
     }
-    double r[B], g[B];
-    for (std::size_t start = 0; start < n; start += B) {
-        const std::size_t m = std::min(B, n - start);
-        for (std::size_t i = 0; i < m; ++i) {
-            const double a = x[0][start + i], b = x[1][start + i];
-            double sq = mul_add(b, b, a * a);
-            if (dim == 3) sq = mul_add(x[2][start + i], x[2][start + i], sq);
-            r[i] = std::sqrt(sq);
-        }
+    // Chunks of 8 blocks: a quantity evaluated in one pass from r
+    // (whole) then pays its dispatch once per 256 points, not per 32.
+    constexpr std::size_t chunk = 8 * B;
+    double r[chunk], g[chunk];
+    for (std::size_t start = 0; start < n; start += chunk) {
+        const std::size_t m = std::min(chunk, n - start);
+        radii(x, dim, start, m, r);
         radial_batch<Pr>(value, QuantityId::value, r, w + start, m, s, dim);
         radial_batch<Pr>(over_r, QuantityId::grad_over_r, r, g, m, s, dim);
-        for (int c = 0; c < dim; ++c)
-            for (std::size_t i = 0; i < m; ++i) grad[c][start + i] = g[i] * x[c][start + i];
+        for (int c = 0; c < dim; ++c) times(g, x[c].data() + start, grad[c].data() + start, m);
     }
 }
 

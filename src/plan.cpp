@@ -3,11 +3,14 @@
 // singular_at_origin, zero_outside, log_coefficient) computed once from
 // the table data.
 #include "plan.hpp"
+#include "term_shapes.hpp"
 
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
 
+#include <iterator>
+#include <span>
 #include <string>
 
 namespace mollify::detail {
@@ -25,6 +28,20 @@ bool continues(const table::Term& s, const table::Term& t) {
            s.edge == t.edge && s.low == t.low && s.edge_power > 0 && t.edge_power > s.edge_power;
 }
 
+// A term the fused loops can take (Basis::one, no power of q, no Taylor
+// variable, not continuing a series): its index in `shapes`, or -1.
+int shape_index(const TermPlan& t, std::span<const TermShape> shapes) {
+    if (t.basis != table::Basis::one || t.low != 0 || t.var == table::Var::shifted || t.edge_power < 0 || t.continues)
+        return -1;
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+        const TermShape& s = shapes[i];
+        if (s.var_r == (t.var == table::Var::r) && s.support_edge == (t.edge == 1.0) && s.exact == t.exact && s.n == t.n &&
+            s.edge_power == t.edge_power)
+            return static_cast<int>(i);
+    }
+    return -1;
+}
+
 TermPlan term_plan(const table::Term& t, const table::Term* previous) {
     TermPlan p{t.basis, t.s_power, t.var, t.edge, t.edge_lo, t.edge_power, t.low, t.c, {}, t.n, t.centre,
                t.centre_lo, true, false, false, 0};
@@ -36,6 +53,7 @@ TermPlan term_plan(const table::Term& t, const table::Term* previous) {
     p.has_factor = t.edge_power != 0 || t.low != 0 || t.basis == table::Basis::sqrt_power;
     p.continues = previous && continues(*previous, t);
     p.step = p.continues ? t.edge_power - previous->edge_power : 0;
+    p.shape = shape_index(p, {term_shapes, term_shape_count});
     return p;
 }
 
@@ -95,6 +113,8 @@ QuantityPlan quantity_plan(const table::Kernel& k, int q) {
         for (const TermPlan& t : piece.terms) out.polynomial_inside = out.polynomial_inside && t.basis == table::Basis::one;
     out.zero_outside = out.exterior.terms.empty();
     out.singular_at_origin = singular_at_origin(out.inner.front());
+    if (out.inner.size() == 1 && out.inner.front().terms.size() == 1 && !out.inner.front().edge_series && out.zero_outside)
+        out.whole = shape_index(out.inner.front().terms.front(), {whole_shapes, whole_shape_count});
     for (const TermPlan& t : out.exterior.terms)
         if (t.basis == table::Basis::log) {
             out.log_coefficient = t.c[0];

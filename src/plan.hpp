@@ -28,6 +28,7 @@ struct TermPlan {
     bool has_factor;     // an edge power, a power of r or S^m (has_factor)
     bool continues;      // continues the previous term's edge series (continues_series)
     int step;            // edge_power minus the previous term's, where it continues
+    int shape = -1;      // its index in term_shapes (a fused loop), or -1
 };
 
 struct PiecePlan {
@@ -48,6 +49,7 @@ struct QuantityPlan {
     bool zero_outside = true;
     bool singular_at_origin = false;
     double log_coefficient = 0;  // 2D potentials: c of c log r outside
+    int whole = -1;  // one fused term, 0 outside: its index in whole_shapes, or -1
 };
 
 struct Plan {

@@ -69,12 +69,23 @@ inline DoubleDouble over_h(const DoubleDouble& x, double h, double inv_h) {
 // q = r/h and e = (h - r)/h in double-double, for r <= h: h - r is exact as
 // a fast two-sum (|h| >= |r|), then divided by h with its residual. Outside
 // the support (r > h) the numbers are meaningless and are never selected.
-inline Scaled scaled_accurate(double r, double h, double inv_h) {
+// (AccurateRadius: the numbers alone, which a batch loop keeps in registers;
+// GCC does not scalarise the whole Scaled there.)
+struct AccurateRadius {
+    double qq_hi, qq_lo, ee_hi, ee_lo, q, dq, dq2;
+};
+
+inline AccurateRadius accurate_radius(double r, double h, double inv_h) {
     const DoubleDouble q = over_h({r, 0.0}, h, inv_h);
     const DoubleDouble e = over_h(fast_two_sum(h, -r), h, inv_h);
     const DoubleDouble q1 = fast_two_sum(q.hi, q.lo);  // q1.hi: q rounded, q1.lo: its error
     const DoubleDouble square = two_product(q1.hi, q1.hi);
-    return {q1.hi, e.hi + e.lo, r, h, inv_h, q, e, {1.0, 0.0}, q1.lo, mul_add(2 * q1.hi, q1.lo, square.lo)};
+    return {q.hi, q.lo, e.hi, e.lo, q1.hi, q1.lo, mul_add(2 * q1.hi, q1.lo, square.lo)};
+}
+
+inline Scaled scaled_accurate(double r, double h, double inv_h) {
+    const AccurateRadius x = accurate_radius(r, h, inv_h);
+    return {x.q, x.ee_hi + x.ee_lo, r, h, inv_h, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo}, {1.0, 0.0}, x.dq, x.dq2};
 }
 
 template <const table::Kernel& K, int Q>

@@ -1,0 +1,42 @@
+// The shapes of the catalogue's polynomial terms for which the run-time
+// evaluator compiles a fused loop (src/evaluator.cpp): a loop specialised on
+// a shape — Horner length n, edge power, variable q or q^2, the support edge
+// or an interior one, coefficients with or without low parts — reads any
+// table's coefficients of that shape. Instantiating only the shapes that
+// occur (in W and W'/r, the SPH pair loop's quantities) keeps the compiled
+// library small; a kernel with another shape (one made at run time, say)
+// takes the evaluator's general loops, with the same bits.
+#pragma once
+
+#include "target.hpp"
+
+#include <compare>
+#include <set>
+#include <string>
+
+namespace mollify::gen {
+
+struct TermShape {
+    bool var_r;         // table::Var::r (else r2)
+    bool support_edge;  // edge == 1 (else an interior edge, a combination's radius)
+    bool exact;         // every low part c_lo is 0
+    int n;              // Horner length
+    int edge_power;
+    auto operator<=>(const TermShape&) const = default;
+};
+
+struct TermShapes {
+    std::set<TermShape> terms;  // every fusable term of W and W'/r
+    std::set<TermShape> whole;  // those that are a whole quantity: one piece, one term, 0 outside
+};
+
+// The fusable terms of one kernel's W and W'/r (Basis::one, no power of q,
+// no Taylor variable, a non-negative edge power), added to `out`.
+void add_term_shapes(const Tables& tables, TermShapes& out);
+
+// generated/src/term_shapes.def: the shapes as X-macro lines
+// MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) and
+// MOLLIFY_WHOLE_SHAPE(...) for the evaluator to instantiate.
+std::string term_shapes_source(const std::string& command, const TermShapes& shapes);
+
+}  // namespace mollify::gen

@@ -1,0 +1,43 @@
+// The term shapes the evaluator compiles fused loops for: those of the
+// catalogue's W and W'/r, listed by the generator (generated/src/
+// term_shapes.def, generator/term_shapes.hpp). A plan records each term's
+// index in the list (make_plan); src/evaluator.cpp instantiates one loop per
+// entry. Terms of other shapes take the general loops, with the same bits.
+#pragma once
+
+#include <mollify/table.hpp>
+
+#include <cstddef>
+#include <iterator>
+
+namespace mollify::detail {
+
+struct TermShape {
+    bool var_r, support_edge, exact;
+    int n, edge_power;
+};
+
+inline constexpr TermShape term_shapes[] = {
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) {var_r, support_edge, exact, n, edge_power},
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
+#include <src/term_shapes.def>
+#undef MOLLIFY_TERM_SHAPE
+#undef MOLLIFY_WHOLE_SHAPE
+    {},  // an end that matches no term (n = 0), so that an empty list is still an array
+};
+
+// The shapes that are a whole quantity (one inner piece of one term, 0
+// outside): evaluated in one pass from r.
+inline constexpr TermShape whole_shapes[] = {
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power) {var_r, support_edge, exact, n, edge_power},
+#include <src/term_shapes.def>
+#undef MOLLIFY_TERM_SHAPE
+#undef MOLLIFY_WHOLE_SHAPE
+    {},  // an end that matches no term (n = 0), so that an empty list is still an array
+};
+
+inline constexpr std::size_t term_shape_count = std::size(term_shapes) - 1;
+inline constexpr std::size_t whole_shape_count = std::size(whole_shapes) - 1;
+
+}  // namespace mollify::detail
