@@ -326,6 +326,31 @@ std::pair<Real, Real> ClosedForm::evaluate(PointValues& at) const {
     return {sum, magnitude};
 }
 
+PreparedForm::PreparedForm(const ClosedForm& f, unsigned bits) : digits10_(bits * 30103 / 100000 + 2) {
+    for (const auto& [k, p] : f.terms())
+        for (int n = p.low(); n <= p.high(); ++n) {
+            const Q c = p.coefficient(n);
+            if (c == 0) continue;
+            monomials_.push_back({k, n, Real(0, digits10_)});
+            mpfr_set_q(monomials_.back().c.backend().data(), c.backend().data(), MPFR_RNDN);
+        }
+}
+
+Real PreparedForm::value(PointValues& at) const {
+    if (at.digits10() != digits10_) fail("internal: a prepared closed form evaluated at another precision");
+    Real sum(0, digits10_);
+    for (const Monomial& m : monomials_) {
+        Real t(0, digits10_);
+        mpfr_set(t.backend().data(), m.c.backend().data(), MPFR_RNDN);
+        if (m.key.factor.pi_power != 0) t *= at.pi_power(m.key.factor.pi_power);
+        if (m.key.factor.log_of != 1) t *= at.log_of(m.key.factor.log_of);
+        if (m.n != 0) t *= at.power_of_r(m.n);
+        if (m.key.basis != Basis::one) t *= at.basis(m.key.basis, m.key.s_power);
+        sum += t;
+    }
+    return sum;
+}
+
 std::string ClosedForm::to_string_at(const Q& r) const {
     if (is_elementary()) return at(r).to_string();
     std::string s;

@@ -14,6 +14,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 namespace mollify::gen {
 
@@ -87,6 +88,25 @@ public:
 
 private:
     std::map<TermKey, Laurent> terms_;
+};
+
+// A closed form's monomials with their rational coefficients converted to
+// MPFR once, for evaluation at many points at one precision: the operations
+// of ClosedForm::evaluate in its order (the same values), without converting
+// every coefficient again at every point (a sampled scale takes 257 points).
+class PreparedForm {
+public:
+    PreparedForm(const ClosedForm& f, unsigned bits);
+    Real value(PointValues& at) const;  // ClosedForm::evaluate(at).first
+
+private:
+    struct Monomial {
+        TermKey key;
+        int n;
+        Real c;
+    };
+    unsigned digits10_;
+    std::vector<Monomial> monomials_;
 };
 
 // Value at rational r including the endpoints r = 0 and r = 1 of the

@@ -161,6 +161,7 @@ std::vector<EmittedPiece> middle_pieces(const ClosedForm& form, const Q& lo, con
     if (hi >= 1) fail("internal: a sqrt/arcsech/arcsin closed form without its edge series");
     std::vector<EmittedPiece> out;
     for (CentredPiece& p : centred_pieces(form, lo, hi)) {
+        p.a_double = rounded(p);
         const std::string note = (p.low ? "r^" + std::to_string(p.low) + " " : std::string()) +
                                  (p.s_power ? "S^" + std::to_string(p.s_power) + " " : std::string()) +
                                  (p.low || p.s_power ? "times " : "") + "Taylor about " +
@@ -425,8 +426,10 @@ std::vector<EmittedPiece> plan_quantity(const Radial& f, bool potential_like, co
     return potential_like ? recentred(f, emitted) : emitted;
 }
 
-// The emitted (rounded) Taylor coefficients of a centred piece.
+// The emitted (rounded) Taylor coefficients of a centred piece (kept in the
+// piece by middle_pieces: Ziv's loop per coefficient, once).
 std::vector<double> rounded(const CentredPiece& p) {
+    if (p.a_double.size() == p.a.size()) return p.a_double;
     std::vector<double> out;
     for (const CentredValue& a : p.a) out.push_back(round_to_double([&](unsigned bits) { return a.evaluate(p.centre, bits); }));
     return out;
