@@ -323,7 +323,7 @@ Q intrinsic_scale(const PreparedForm& pf, const PreparedForm& pdf, const Q& lo, 
     for (int i = 0; i <= 256; ++i) {
         const Q x = lo + (hi - lo) * ratio(i, 256);
         const Real r = real(x, 200);
-        PointValues at(r, 200);
+        PointValues at(x, 200);
         Real v = pf.value(at);
         const Real s = boost::multiprecision::max(boost::multiprecision::abs(v), boost::multiprecision::abs(r * pdf.value(at)));
         if (i == 0 || s < m) m = s;

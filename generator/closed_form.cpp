@@ -4,7 +4,9 @@
 #include "series.hpp"
 
 #include <map>
+#include <mutex>
 #include <optional>
+#include <tuple>
 
 namespace mollify::gen {
 
@@ -266,6 +268,50 @@ PointValues::PointValues(const Real& r, unsigned bits)
     : digits10_(bits * 30103 / 100000 + 2), pi_(pi_at(bits)), r_(r, digits10_),
       s_(boost::multiprecision::sqrt(Real(1, digits10_) - r_ * r_)) {}
 
+namespace {
+
+Real rounded_real(const Q& x, unsigned digits10) {
+    Real r(0, digits10);
+    mpfr_set_q(r.backend().data(), x.backend().data(), MPFR_RNDN);
+    return r;
+}
+
+// Basis function values at rational points, (r, digits10, basis, power of
+// S) -> value, shared by the threads for the whole run: the pieces of a
+// kernel's quantities in its three dimensions lie on a few common grids, and
+// MPFR's log, asin and powers at 200 bits there were a seventh of `emit`.
+// Map nodes do not move, so a returned reference stays valid.
+class BasisTable {
+public:
+    using Key = std::tuple<Q, unsigned, Basis, int>;
+    template <class Compute>
+    const Real& get(const Key& key, Compute compute) {
+        {
+            std::lock_guard lock(mutex_);
+            auto it = values_.find(key);
+            if (it != values_.end()) return it->second;
+        }
+        Real v = compute();
+        std::lock_guard lock(mutex_);
+        return values_.try_emplace(key, std::move(v)).first->second;
+    }
+
+private:
+    std::mutex mutex_;
+    std::map<Key, Real> values_;
+};
+
+BasisTable& basis_table() {
+    static BasisTable table;
+    return table;
+}
+
+}  // namespace
+
+PointValues::PointValues(const Q& r, unsigned bits) : PointValues(rounded_real(r, bits * 30103 / 100000 + 2), bits) {
+    exact_r_ = r;
+}
+
 const Real& PointValues::power_of_r(int n) {
     auto it = r_powers_.find(n);
     if (it == r_powers_.end()) it = r_powers_.emplace(n, boost::multiprecision::pow(r_, n)).first;
@@ -288,15 +334,20 @@ const Real& PointValues::basis(Basis b, int s_power) {
     const std::pair key{b, b == Basis::sqrt_power ? s_power : 0};
     auto it = bases_.find(key);
     if (it != bases_.end()) return it->second;
-    Real v;
-    switch (b) {
-        case Basis::one: v = Real(1, digits10_); break;
-        case Basis::sqrt_power: v = boost::multiprecision::pow(s_, s_power); break;
-        case Basis::arcsech: v = boost::multiprecision::log((Real(1, digits10_) + s_) / r_); break;
-        case Basis::log: v = boost::multiprecision::log(r_); break;
-        case Basis::arcsin: v = boost::multiprecision::asin(r_); break;
-    }
-    return bases_.emplace(key, std::move(v)).first->second;
+    auto compute = [&] {
+        Real v;
+        switch (b) {
+            case Basis::one: v = Real(1, digits10_); break;
+            case Basis::sqrt_power: v = boost::multiprecision::pow(s_, s_power); break;
+            case Basis::arcsech: v = boost::multiprecision::log((Real(1, digits10_) + s_) / r_); break;
+            case Basis::log: v = boost::multiprecision::log(r_); break;
+            case Basis::arcsin: v = boost::multiprecision::asin(r_); break;
+        }
+        return v;
+    };
+    if (exact_r_ && b != Basis::one)
+        return bases_.emplace(key, basis_table().get({*exact_r_, digits10_, b, key.second}, compute)).first->second;
+    return bases_.emplace(key, compute()).first->second;
 }
 
 std::pair<Real, Real> ClosedForm::evaluate(const Real& r, unsigned bits) const {
@@ -327,26 +378,29 @@ std::pair<Real, Real> ClosedForm::evaluate(PointValues& at) const {
 }
 
 PreparedForm::PreparedForm(const ClosedForm& f, unsigned bits) : digits10_(bits * 30103 / 100000 + 2) {
-    for (const auto& [k, p] : f.terms())
+    for (const auto& [k, p] : f.terms()) {
+        Term t{k, p.low(), {}};
         for (int n = p.low(); n <= p.high(); ++n) {
-            const Q c = p.coefficient(n);
-            if (c == 0) continue;
-            monomials_.push_back({k, n, Real(0, digits10_)});
-            mpfr_set_q(monomials_.back().c.backend().data(), c.backend().data(), MPFR_RNDN);
+            t.c.emplace_back(0, digits10_);
+            mpfr_set_q(t.c.back().backend().data(), p.coefficient(n).backend().data(), MPFR_RNDN);
         }
+        terms_.push_back(std::move(t));
+    }
 }
 
 Real PreparedForm::value(PointValues& at) const {
     if (at.digits10() != digits10_) fail("internal: a prepared closed form evaluated at another precision");
-    Real sum(0, digits10_);
-    for (const Monomial& m : monomials_) {
-        Real t(0, digits10_);
-        mpfr_set(t.backend().data(), m.c.backend().data(), MPFR_RNDN);
-        if (m.key.factor.pi_power != 0) t *= at.pi_power(m.key.factor.pi_power);
-        if (m.key.factor.log_of != 1) t *= at.log_of(m.key.factor.log_of);
-        if (m.n != 0) t *= at.power_of_r(m.n);
-        if (m.key.basis != Basis::one) t *= at.basis(m.key.basis, m.key.s_power);
-        sum += t;
+    Real sum(0, digits10_), h(0, digits10_);
+    mpfr_ptr s = sum.backend().data(), x = h.backend().data();
+    mpfr_srcptr r = at.power_of_r(1).backend().data();
+    for (const Term& t : terms_) {
+        mpfr_set(x, t.c.back().backend().data(), MPFR_RNDN);
+        for (std::size_t i = t.c.size() - 1; i-- > 0;) mpfr_fma(x, x, r, t.c[i].backend().data(), MPFR_RNDN);
+        if (t.low != 0) mpfr_mul(x, x, at.power_of_r(t.low).backend().data(), MPFR_RNDN);
+        if (t.key.factor.pi_power != 0) mpfr_mul(x, x, at.pi_power(t.key.factor.pi_power).backend().data(), MPFR_RNDN);
+        if (t.key.factor.log_of != 1) mpfr_mul(x, x, at.log_of(t.key.factor.log_of).backend().data(), MPFR_RNDN);
+        if (t.key.basis != Basis::one) mpfr_mul(x, x, at.basis(t.key.basis, t.key.s_power).backend().data(), MPFR_RNDN);
+        mpfr_add(s, s, x, MPFR_RNDN);
     }
     return sum;
 }
