@@ -54,13 +54,19 @@ void check_centred(const ClosedForm& f, const CentredPiece& p) {
         mpfr_set_q(x.backend().data(), q.backend().data(), MPFR_RNDN);
         return x;
     };
+    Real sum(0, 70), t(0, 70);  // the emitted polynomial by Horner's rule (70 digits, raw MPFR: no temporaries)
+    mpfr_ptr y = sum.backend().data(), z = t.backend().data();
     for (int i = 0; i <= 128; ++i) {
         const Q x = p.lo + (p.hi - p.lo) * ratio(i, 128);
         const Real r = real(x), v = real(x - p.centre);
-        Real sum(0, 70);
-        for (std::size_t k = a.size(); k-- > 0;) sum = sum * v + Real(a[k], 70);
-        sum *= boost::multiprecision::pow(r, p.low) *
-               boost::multiprecision::pow(boost::multiprecision::sqrt(1 - r * r), p.s_power);
+        mpfr_set_d(y, a.back(), MPFR_RNDN);
+        for (std::size_t k = a.size() - 1; k-- > 0;) {
+            mpfr_set_d(z, a[k], MPFR_RNDN);
+            mpfr_fma(y, y, v.backend().data(), z, MPFR_RNDN);
+        }
+        if (p.low != 0 || p.s_power != 0)
+            sum *= boost::multiprecision::pow(r, p.low) *
+                   boost::multiprecision::pow(boost::multiprecision::sqrt(1 - r * r), p.s_power);
         auto sample = [&]() -> std::pair<Real, Real> {
             PointValues at(r, 200);
             Real value = f.evaluate(at).first;
