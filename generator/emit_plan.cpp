@@ -346,15 +346,20 @@ private:
 // max over 33 points of sum |terms| / max(|f|, |r f'|), the scale of the
 // runtime's intrinsic error (an exact evaluator given r with one ulp of
 // relative error misses f by |r f'| ulp).
+// `scales` keeps max(|f|, |r f'|) per point: the candidate forms of a
+// piece, and its halves, are measured at the same points.
 double worst_condition(const std::vector<EmittedTerm>& terms, const ClosedForm& form, const ClosedForm& derivative,
-                       const Q& lo, const Q& hi) {
+                       const Q& lo, const Q& hi, std::map<Q, double>& scales) {
     const Magnitude magnitude(terms);
     double worst = 0;
     for (int i = 0; i <= 32; ++i) {
         const Q r = lo + (hi - lo) * ratio(i, 32);
         if (r == 0) continue;
         const double x = static_cast<double>(r);
-        const double scale = std::max(std::abs(round_to_double(form.at(r))), x * std::abs(round_to_double(derivative.at(r))));
+        auto [it, inserted] = scales.try_emplace(r, 0.0);
+        if (inserted)
+            it->second = std::max(std::abs(round_to_double(form.at(r))), x * std::abs(round_to_double(derivative.at(r))));
+        const double scale = it->second;
         if (scale == 0) continue;
         worst = std::max(worst, magnitude(x) / scale);
     }
@@ -377,15 +382,15 @@ struct SubPiece {
 };
 
 void recentre(const EmittedPiece& piece, const ClosedForm& form, const ClosedForm& derivative, const Q& lo,
-              const Q& hi, int depth, std::vector<SubPiece>& out) {
-    const double plain = worst_condition(piece.terms, form, derivative, lo, hi);
+              const Q& hi, int depth, std::vector<SubPiece>& out, std::map<Q, double>& scales) {
+    const double plain = worst_condition(piece.terms, form, derivative, lo, hi, scales);
     if (plain <= recentre_condition) {
         out.push_back({{lo, hi, piece.terms, piece.note}, true});
         return;
     }
     const Q c = (lo + hi) / 2;
     std::vector<EmittedTerm> taylor = centred_terms(form, c);
-    const double centred = worst_condition(taylor, form, derivative, lo, hi);
+    const double centred = worst_condition(taylor, form, derivative, lo, hi, scales);
     if (centred <= recentre_condition || depth == 6) {
         if (centred < plain)
             out.push_back({{lo, hi, std::move(taylor), "Taylor polynomial about " + short_string(c)}, false});
@@ -393,8 +398,8 @@ void recentre(const EmittedPiece& piece, const ClosedForm& form, const ClosedFor
             out.push_back({{lo, hi, piece.terms, piece.note}, true});
         return;
     }
-    recentre(piece, form, derivative, lo, c, depth + 1, out);
-    recentre(piece, form, derivative, c, hi, depth + 1, out);
+    recentre(piece, form, derivative, lo, c, depth + 1, out, scales);
+    recentre(piece, form, derivative, c, hi, depth + 1, out, scales);
 }
 
 std::vector<EmittedPiece> recentred(const Radial& f, const std::vector<EmittedPiece>& pieces) {
@@ -406,7 +411,8 @@ std::vector<EmittedPiece> recentred(const Radial& f, const std::vector<EmittedPi
             continue;
         }
         std::vector<SubPiece> sub;
-        recentre(p, *form, form->derivative(), p.lo, *p.hi, 0, sub);
+        std::map<Q, double> scales;
+        recentre(p, *form, form->derivative(), p.lo, *p.hi, 0, sub, scales);
         for (std::size_t i = 0; i < sub.size(); ++i) {
             if (i > 0 && sub[i].own && sub[i - 1].own) {  // neighbours in the piece's own form: one piece
                 out.back().hi = sub[i].piece.hi;
