@@ -348,9 +348,8 @@ private:
 // relative error misses f by |r f'| ulp).
 // `scales` keeps max(|f|, |r f'|) per point: the candidate forms of a
 // piece, and its halves, are measured at the same points.
-double worst_condition(const std::vector<EmittedTerm>& terms, const ClosedForm& form, const ClosedForm& derivative,
+double worst_condition(const Magnitude& magnitude, const ClosedForm& form, const ClosedForm& derivative,
                        const Q& lo, const Q& hi, std::map<Q, double>& scales) {
-    const Magnitude magnitude(terms);
     double worst = 0;
     for (int i = 0; i <= 32; ++i) {
         const Q r = lo + (hi - lo) * ratio(i, 32);
@@ -381,16 +380,16 @@ struct SubPiece {
     bool own;
 };
 
-void recentre(const EmittedPiece& piece, const ClosedForm& form, const ClosedForm& derivative, const Q& lo,
-              const Q& hi, int depth, std::vector<SubPiece>& out, std::map<Q, double>& scales) {
-    const double plain = worst_condition(piece.terms, form, derivative, lo, hi, scales);
+void recentre(const EmittedPiece& piece, const Magnitude& own, const ClosedForm& form, const ClosedForm& derivative,
+              const Q& lo, const Q& hi, int depth, std::vector<SubPiece>& out, std::map<Q, double>& scales) {
+    const double plain = worst_condition(own, form, derivative, lo, hi, scales);
     if (plain <= recentre_condition) {
         out.push_back({{lo, hi, piece.terms, piece.note}, true});
         return;
     }
     const Q c = (lo + hi) / 2;
     std::vector<EmittedTerm> taylor = centred_terms(form, c);
-    const double centred = worst_condition(taylor, form, derivative, lo, hi, scales);
+    const double centred = worst_condition(Magnitude(taylor), form, derivative, lo, hi, scales);
     if (centred <= recentre_condition || depth == 6) {
         if (centred < plain)
             out.push_back({{lo, hi, std::move(taylor), "Taylor polynomial about " + short_string(c)}, false});
@@ -398,8 +397,8 @@ void recentre(const EmittedPiece& piece, const ClosedForm& form, const ClosedFor
             out.push_back({{lo, hi, piece.terms, piece.note}, true});
         return;
     }
-    recentre(piece, form, derivative, lo, c, depth + 1, out, scales);
-    recentre(piece, form, derivative, c, hi, depth + 1, out, scales);
+    recentre(piece, own, form, derivative, lo, c, depth + 1, out, scales);
+    recentre(piece, own, form, derivative, c, hi, depth + 1, out, scales);
 }
 
 std::vector<EmittedPiece> recentred(const Radial& f, const std::vector<EmittedPiece>& pieces) {
@@ -412,7 +411,7 @@ std::vector<EmittedPiece> recentred(const Radial& f, const std::vector<EmittedPi
         }
         std::vector<SubPiece> sub;
         std::map<Q, double> scales;
-        recentre(p, *form, form->derivative(), p.lo, *p.hi, 0, sub, scales);
+        recentre(p, Magnitude(p.terms), *form, form->derivative(), p.lo, *p.hi, 0, sub, scales);
         for (std::size_t i = 0; i < sub.size(); ++i) {
             if (i > 0 && sub[i].own && sub[i - 1].own) {  // neighbours in the piece's own form: one piece
                 out.back().hi = sub[i].piece.hi;
