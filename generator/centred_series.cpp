@@ -278,7 +278,29 @@ constexpr unsigned bound_bits = 128;
 // pi/2; |arcsin z| = |int_0^z dt/sqrt(1 - t^2)| <= |z| / sqrt(1 - c - R)
 // (on the segment |1 - t| >= 1 - Re t, |1 + t| >= 1). MPFR at 128 bits; the
 // factor 1.01 covers its rounding.
-Real circle_bound(const ClosedForm& f, const Q& c, const Real& R) {
+// f's terms as circle_bound reads them, converted to MPFR once per closed
+// form (not at every radius of every piece): |c_k| and the size of the
+// constant factor.
+struct CircleTerms {
+    struct Term {
+        TermKey key;
+        std::vector<std::pair<int, Real>> abs_c;  // k, |c_k| (c_k != 0)
+        Real factor;  // |pi^e log p| + its evaluation's magnitude 2^-100
+    };
+    std::vector<Term> terms;
+    explicit CircleTerms(const ClosedForm& f) {
+        for (const auto& [key, p] : f.terms()) {
+            Term t{key, {}, Real()};
+            for (int k = p.low(); k <= p.high(); ++k)
+                if (p.coefficient(k) != 0) t.abs_c.emplace_back(k, boost::multiprecision::abs(real(p.coefficient(k), bound_bits)));
+            const auto [factor, magnitude] = Exact::of(key.factor).evaluate(bound_bits);
+            t.factor = boost::multiprecision::abs(factor) + magnitude / boost::multiprecision::pow(Real(2), 100);
+            terms.push_back(std::move(t));
+        }
+    }
+};
+
+Real circle_bound(const CircleTerms& f, const Q& c, const Real& R) {
     using boost::multiprecision::abs;
     using boost::multiprecision::log;
     using boost::multiprecision::max;
@@ -292,20 +314,18 @@ Real circle_bound(const ClosedForm& f, const Q& c, const Real& R) {
     const Real log_max = max(abs(log(zmax)), abs(log(zmin))) + pi / 2;
     const Real arcsin_max = zmax / sqrt(one - zmax);
     Real M = real(Q(0), bound_bits);
-    for (const auto& [key, p] : f.terms()) {
+    for (const CircleTerms::Term& t : f.terms) {
         Real poly = real(Q(0), bound_bits);
-        for (int k = p.low(); k <= p.high(); ++k)
-            if (p.coefficient(k) != 0) poly += abs(real(p.coefficient(k), bound_bits)) * pow(k >= 0 ? zmax : zmin, k);
+        for (const auto& [k, a] : t.abs_c) poly += a * pow(k >= 0 ? zmax : zmin, k);
         Real basis = one;
-        switch (key.basis) {
+        switch (t.key.basis) {
             case Basis::one: break;
-            case Basis::sqrt_power: basis = pow(key.s_power > 0 ? gmax : gmin, Real(key.s_power) / 2); break;
+            case Basis::sqrt_power: basis = pow(t.key.s_power > 0 ? gmax : gmin, Real(t.key.s_power) / 2); break;
             case Basis::arcsech: basis = arcsech_max; break;
             case Basis::log: basis = log_max; break;
             case Basis::arcsin: basis = arcsin_max; break;
         }
-        const auto [factor, magnitude] = Exact::of(key.factor).evaluate(bound_bits);
-        M += (abs(factor) + magnitude / pow(Real(2), 100)) * poly * basis;
+        M += t.factor * poly * basis;
     }
     return M * Real(101) / 100;
 }
@@ -360,14 +380,18 @@ constexpr int max_order = 200;
 // radii R = f min(c, 1 - c); the tail bound with it.
 // With m > 0 the series is that of f S^-m: M times max |S^-m| on the circle,
 // ((1 - c - R)(1 + c - R))^(-m/2).
-std::pair<int, Q> order_for(const ClosedForm& f, int m, const Q& c, const Q& d, const Q& target) {
+// `bounds` keeps circle_bound per radius (tenth) for the other m.
+std::pair<int, Q> order_for(const CircleTerms& f, int m, const Q& c, const Q& d, const Q& target,
+                            std::map<int, Real>& bounds) {
     const Q rho = std::min<Q>(c, Q(1 - c));
     std::optional<std::pair<int, Q>> best;
     for (int tenth = 5; tenth <= 19; ++tenth) {
         const Q R = rho * ratio(tenth, 20);
         if (R <= d * Q(21, 20)) continue;
         const Real Rr = real(R, bound_bits), cc = real(c, bound_bits);
-        const Real M = circle_bound(f, c, Rr) * boost::multiprecision::pow((1 - cc - Rr) * (1 + cc - Rr), Real(-m) / 2) *
+        auto it = bounds.find(tenth);
+        if (it == bounds.end()) it = bounds.emplace(tenth, circle_bound(f, c, Rr)).first;
+        const Real M = it->second * boost::multiprecision::pow((1 - cc - Rr) * (1 + cc - Rr), Real(-m) / 2) *
                        Real(101) / 100;
         const Real x = real(d / R, bound_bits), t = real(target, bound_bits);
         // n + 1 >= log(M / ((1 - x) t)) / log(1/x)
@@ -462,6 +486,7 @@ std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const
     int K = 0;  // the most negative power of r in f
     for (const auto& [key, p] : f.terms()) K = std::max(K, -p.low());
     const PreparedForm pf(f, 200), pdf(f.derivative(), 200);  // f and f' at 200 bits (intrinsic_scale)
+    const CircleTerms f_terms(f), fK_terms(f * Laurent::monomial(Q(1), K));  // f and f r^K (order_for)
     std::vector<CentredPiece> out;
     for (Q x = lo; x < hi;) {
         const Q ideal = std::min<Q>(Q(x / (1 - kappa)), Q((x + kappa) / (1 + kappa)));
@@ -492,9 +517,10 @@ std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const
         std::vector<Variant> variants;
         for (const int k : {0, K}) {
             if (k == K && k == 0 && !variants.empty()) break;
-            const ClosedForm g = k == 0 ? f : f * Laurent::monomial(Q(1), k);
-            const auto plain = order_for(g, 0, c, d, target * pow(x, k));
-            const auto factored = m > 0 ? order_for(g, m, c, d, target * pow(x, k)) : plain;
+            const CircleTerms& g = k == 0 ? f_terms : fK_terms;
+            std::map<int, Real> bounds;
+            const auto plain = order_for(g, 0, c, d, target * pow(x, k), bounds);
+            const auto factored = m > 0 ? order_for(g, m, c, d, target * pow(x, k), bounds) : plain;
             for (const int j : {0, m}) {
                 const auto& order = j == 0 ? plain : factored;
                 if (order.first > max_order || (j == m && j == 0 && !variants.empty() && variants.back().k == k)) continue;
