@@ -276,29 +276,41 @@ Real rounded_real(const Q& x, unsigned digits10) {
     return r;
 }
 
-// Basis function values at rational points, (r, digits10, basis, power of
-// S) -> value, shared by the threads for the whole run: the pieces of a
-// kernel's quantities in its three dimensions lie on a few common grids, and
-// MPFR's log, asin and powers at 200 bits there were a seventh of `emit`.
-// Map nodes do not move, so a returned reference stays valid.
+// Basis function values at rational points, r -> (basis, power of S) ->
+// value at one precision, shared by the threads for the whole run: the
+// pieces of a kernel's quantities in its three dimensions lie on a few common
+// grids, and MPFR's log, asin and powers at 200 bits there were a seventh of
+// `emit`. Map nodes do not move, so a returned reference stays valid.
+}  // namespace
+
+struct PointValues::Shared {
+    std::map<std::pair<Basis, int>, Real> values;
+};
+
+namespace {
+
 class BasisTable {
 public:
-    using Key = std::tuple<Q, unsigned, Basis, int>;
+    using Point = PointValues::Shared;
+    Point& point(const Q& r, unsigned digits10) {
+        std::lock_guard lock(mutex_);
+        return points_[{digits10, r}];
+    }
     template <class Compute>
-    const Real& get(const Key& key, Compute compute) {
+    const Real& get(Point& p, std::pair<Basis, int> key, Compute compute) {
         {
             std::lock_guard lock(mutex_);
-            auto it = values_.find(key);
-            if (it != values_.end()) return it->second;
+            auto it = p.values.find(key);
+            if (it != p.values.end()) return it->second;
         }
         Real v = compute();
         std::lock_guard lock(mutex_);
-        return values_.try_emplace(key, std::move(v)).first->second;
+        return p.values.try_emplace(key, std::move(v)).first->second;
     }
 
 private:
     std::mutex mutex_;
-    std::map<Key, Real> values_;
+    std::map<std::pair<unsigned, Q>, Point> points_;
 };
 
 BasisTable& basis_table() {
@@ -309,7 +321,7 @@ BasisTable& basis_table() {
 }  // namespace
 
 PointValues::PointValues(const Q& r, unsigned bits) : PointValues(rounded_real(r, bits * 30103 / 100000 + 2), bits) {
-    exact_r_ = r;
+    shared_ = &basis_table().point(r, digits10_);
 }
 
 const Real& PointValues::power_of_r(int n) {
@@ -345,8 +357,7 @@ const Real& PointValues::basis(Basis b, int s_power) {
         }
         return v;
     };
-    if (exact_r_ && b != Basis::one)
-        return bases_.emplace(key, basis_table().get({*exact_r_, digits10_, b, key.second}, compute)).first->second;
+    if (shared_ && b != Basis::one) return basis_table().get(*shared_, key, compute);
     return bases_.emplace(key, compute()).first->second;
 }
 

@@ -13,7 +13,6 @@
 #include <mollify/table.hpp>
 
 #include <map>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,13 +45,14 @@ public:
     const Real& basis(Basis b, int s_power);
     const Real& pi_power(int e);
     const Real& log_of(int p);
+    struct Shared;  // the run's table entry of a rational r (closed_form.cpp)
 
 private:
     unsigned digits10_;
     Real pi_, r_, s_;
     std::map<int, Real> r_powers_, pi_powers_, logs_;
     std::map<std::pair<Basis, int>, Real> bases_;
-    std::optional<Q> exact_r_;
+    Shared* shared_ = nullptr;
 };
 
 class ClosedForm {
