@@ -314,13 +314,25 @@ Real circle_bound(const CircleTerms& f, const Q& c, const Real& R) {
     const Real log_max = max(abs(log(zmax)), abs(log(zmin))) + pi / 2;
     const Real arcsin_max = zmax / sqrt(one - zmax);
     Real M = real(Q(0), bound_bits);
+    std::map<int, Real> powers, s_powers;  // zmax^k or zmin^k, and the S^j bound: once per radius
+    auto power = [&](int k) -> const Real& {
+        auto it = powers.find(k);
+        if (it == powers.end()) it = powers.emplace(k, pow(k >= 0 ? zmax : zmin, k)).first;
+        return it->second;
+    };
     for (const CircleTerms::Term& t : f.terms) {
         Real poly = real(Q(0), bound_bits);
-        for (const auto& [k, a] : t.abs_c) poly += a * pow(k >= 0 ? zmax : zmin, k);
+        for (const auto& [k, a] : t.abs_c) poly += a * power(k);
         Real basis = one;
         switch (t.key.basis) {
             case Basis::one: break;
-            case Basis::sqrt_power: basis = pow(t.key.s_power > 0 ? gmax : gmin, Real(t.key.s_power) / 2); break;
+            case Basis::sqrt_power: {
+                auto it = s_powers.find(t.key.s_power);
+                if (it == s_powers.end())
+                    it = s_powers.emplace(t.key.s_power, pow(t.key.s_power > 0 ? gmax : gmin, Real(t.key.s_power) / 2)).first;
+                basis = it->second;
+                break;
+            }
             case Basis::arcsech: basis = arcsech_max; break;
             case Basis::log: basis = log_max; break;
             case Basis::arcsin: basis = arcsin_max; break;

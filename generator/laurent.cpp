@@ -50,18 +50,24 @@ void Laurent::trim() {
     }
     std::size_t last = c_.size();
     while (c_[last - 1] == 0) --last;
-    c_ = std::vector<Q>(c_.begin() + static_cast<long>(first), c_.begin() + static_cast<long>(last));
+    c_.erase(c_.begin() + static_cast<long>(last), c_.end());
+    c_.erase(c_.begin(), c_.begin() + static_cast<long>(first));
     low_ += static_cast<int>(first);
 }
 
 Laurent& Laurent::operator+=(const Laurent& o) {
     if (o.is_zero()) return *this;
     if (is_zero()) return *this = o;
-    const int lo = std::min(low_, o.low_), hi = std::max(high(), o.high());
-    std::vector<Q> sum(static_cast<std::size_t>(hi - lo + 1));
-    for (int n = lo; n <= hi; ++n) sum[static_cast<std::size_t>(n - lo)] = coefficient(n) + o.coefficient(n);
-    low_ = lo;
-    c_ = std::move(sum);
+    // In place: widened where o reaches beyond, o's nonzero coefficients
+    // added (summing a polynomial monomial by monomial stays linear).
+    const int hi = std::max(high(), o.high());
+    if (o.low_ < low_) {
+        c_.insert(c_.begin(), static_cast<std::size_t>(low_ - o.low_), Q(0));
+        low_ = o.low_;
+    }
+    c_.resize(static_cast<std::size_t>(hi - low_ + 1));
+    for (std::size_t i = 0; i < o.c_.size(); ++i)
+        if (o.c_[i] != 0) c_[static_cast<std::size_t>(o.low_ - low_) + i] += o.c_[i];
     trim();
     return *this;
 }
