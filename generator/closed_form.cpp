@@ -264,9 +264,14 @@ Exact ClosedForm::at(const Q& r) const {
     return v;
 }
 
-PointValues::PointValues(const Real& r, unsigned bits)
-    : digits10_(bits * 30103 / 100000 + 2), pi_(pi_at(bits)), r_(r, digits10_),
-      s_(boost::multiprecision::sqrt(Real(1, digits10_) - r_ * r_)) {}
+PointValues::PointValues(const Real& r, unsigned bits) : bits_(bits), digits10_(bits * 30103 / 100000 + 2), r_(r, digits10_) {}
+
+// S = sqrt(1 - r^2) on first use (where every basis value comes from the
+// run's table, never).
+const Real& PointValues::S() {
+    if (!s_) s_.emplace(boost::multiprecision::sqrt(Real(1, digits10_) - r_ * r_));
+    return *s_;
+}
 
 namespace {
 
@@ -330,9 +335,11 @@ const Real& PointValues::power_of_r(int n) {
     return it->second;
 }
 
+// pi^e does not depend on r: kept per thread for each (bits, e).
 const Real& PointValues::pi_power(int e) {
-    auto it = pi_powers_.find(e);
-    if (it == pi_powers_.end()) it = pi_powers_.emplace(e, boost::multiprecision::pow(pi_, e)).first;
+    thread_local std::map<std::pair<unsigned, int>, Real> powers;
+    auto it = powers.find({bits_, e});
+    if (it == powers.end()) it = powers.emplace(std::pair{bits_, e}, boost::multiprecision::pow(pi_at(bits_), e)).first;
     return it->second;
 }
 
@@ -350,8 +357,8 @@ const Real& PointValues::basis(Basis b, int s_power) {
         Real v;
         switch (b) {
             case Basis::one: v = Real(1, digits10_); break;
-            case Basis::sqrt_power: v = boost::multiprecision::pow(s_, s_power); break;
-            case Basis::arcsech: v = boost::multiprecision::log((Real(1, digits10_) + s_) / r_); break;
+            case Basis::sqrt_power: v = boost::multiprecision::pow(S(), s_power); break;
+            case Basis::arcsech: v = boost::multiprecision::log((Real(1, digits10_) + S()) / r_); break;
             case Basis::log: v = boost::multiprecision::log(r_); break;
             case Basis::arcsin: v = boost::multiprecision::asin(r_); break;
         }

@@ -13,6 +13,7 @@
 #include <mollify/table.hpp>
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,9 +49,11 @@ public:
     struct Shared;  // the run's table entry of a rational r (closed_form.cpp)
 
 private:
-    unsigned digits10_;
-    Real pi_, r_, s_;
-    std::map<int, Real> r_powers_, pi_powers_, logs_;
+    const Real& S();
+    unsigned bits_, digits10_;
+    Real r_;
+    std::optional<Real> s_;
+    std::map<int, Real> r_powers_, logs_;
     std::map<std::pair<Basis, int>, Real> bases_;
     Shared* shared_ = nullptr;
 };
