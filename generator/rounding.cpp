@@ -2,6 +2,7 @@
 
 #include "error.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <utility>
@@ -133,8 +134,36 @@ float round_to_float(const Evaluator& f) {
     return ziv_round(f, [](const Q& q) { return round_to_float(q); }, "float");
 }
 
+namespace {
+
+// q pi^e (e != 0, the kernels' normalisations) when 128 bits decide it: q,
+// pi and the power each rounded once, the product once, so the relative
+// error is below (|e| + 4) 2^-128; where that interval rounds to one double
+// (mpfr_can_round, the value being irrational: no ties), that double is the
+// correctly rounded one, as Ziv's loop would find. nullopt otherwise (and
+// outside the normal doubles), for the loop.
+std::optional<double> single_pi_term(const Exact& x) {
+    if (x.terms().size() != 1) return std::nullopt;
+    const auto& [atom, q] = *x.terms().begin();
+    if (atom.log_of != 1 || atom.pi_power == 0 || std::abs(atom.pi_power) > 64) return std::nullopt;
+    mpfr_t v, pi;
+    mpfr_inits2(128, v, pi, static_cast<mpfr_ptr>(nullptr));
+    mpfr_const_pi(pi, MPFR_RNDN);
+    mpfr_pow_si(pi, pi, atom.pi_power, MPFR_RNDN);
+    mpfr_set_q(v, q.backend().data(), MPFR_RNDN);
+    mpfr_mul(v, v, pi, MPFR_RNDN);
+    std::optional<double> out;
+    const long e = mpfr_get_exp(v);
+    if (e > -1000 && e < 1000 && mpfr_can_round(v, 128 - 8, MPFR_RNDN, MPFR_RNDZ, 53 + 1)) out = mpfr_get_d(v, MPFR_RNDN);
+    mpfr_clears(v, pi, static_cast<mpfr_ptr>(nullptr));
+    return out;
+}
+
+}  // namespace
+
 double round_to_double(const Exact& x) {
     if (x.is_rational()) return round_to_double(x.rational());
+    if (const auto d = single_pi_term(x)) return *d;
     return round_to_double(of(x));
 }
 
