@@ -169,8 +169,38 @@ double round_to_double(const Exact& x) {
 
 double low_part(const Q& q, double hi) { return round_to_double(q - Q(hi)); }
 
+namespace {
+
+// x - hi for x = q pi^e (as single_pi_term) when 256 bits decide it: x's
+// relative error is below (|e| + 4) 2^-256, the subtraction of hi (within
+// half an ulp of x) exact, so the difference is off by at most
+// 2^(E(x) - 249); where that rounds to one double, it is the low part.
+std::optional<double> single_pi_low_part(const Exact& x, double hi) {
+    if (x.terms().size() != 1 || hi == 0) return std::nullopt;
+    const auto& [atom, q] = *x.terms().begin();
+    if (atom.log_of != 1 || atom.pi_power == 0 || std::abs(atom.pi_power) > 64) return std::nullopt;
+    mpfr_t v, pi;
+    mpfr_inits2(256, v, pi, static_cast<mpfr_ptr>(nullptr));
+    mpfr_const_pi(pi, MPFR_RNDN);
+    mpfr_pow_si(pi, pi, atom.pi_power, MPFR_RNDN);
+    mpfr_set_q(v, q.backend().data(), MPFR_RNDN);
+    mpfr_mul(v, v, pi, MPFR_RNDN);
+    const long ex = mpfr_get_exp(v);
+    std::optional<double> out;
+    if (mpfr_sub_d(v, v, hi, MPFR_RNDN) == 0 && !mpfr_zero_p(v)) {
+        const long ed = mpfr_get_exp(v), err = 249 - (ex - ed);
+        if (ex > -900 && ex < 1000 && ed > -1000 && err > 60 && mpfr_can_round(v, err, MPFR_RNDN, MPFR_RNDZ, 53 + 1))
+            out = mpfr_get_d(v, MPFR_RNDN);
+    }
+    mpfr_clears(v, pi, static_cast<mpfr_ptr>(nullptr));
+    return out;
+}
+
+}  // namespace
+
 double low_part(const Exact& x, double hi) {
     if (x.is_rational()) return low_part(x.rational(), hi);
+    if (const auto d = single_pi_low_part(x, hi)) return *d;
     return round_to_double(of(x - Exact(Q(hi))));
 }
 
