@@ -330,6 +330,7 @@ PointValues::PointValues(const Q& r, unsigned bits) : PointValues(rounded_real(r
 }
 
 const Real& PointValues::power_of_r(int n) {
+    if (n == 1) return r_;  // pow(r, 1) = r exactly
     auto it = r_powers_.find(n);
     if (it == r_powers_.end()) it = r_powers_.emplace(n, boost::multiprecision::pow(r_, n)).first;
     return it->second;
