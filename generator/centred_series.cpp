@@ -81,17 +81,27 @@ Series power_of_r(int k, const Q& c, int order) {
 // S^j = g^(j/2), g = 1 - r^2 = S(c)^2 - 2c v - v^2, by J.C.P. Miller's
 // recurrence for powers of a series: from g h' = (j/2) g' h,
 // k g_0 h_k = sum_{i=1}^{min(k,2)} ((j/2 + 1) i - k) g_i h_(k-i).
-Series power_of_S(int j, const Q& c, const Q& s, int order) {
+// Continues `h` (its first terms, if any, already those of S^j) to order.
+void extend_power_of_S(Series& h, int j, const Q& c, const Q& s, int order) {
     const Q g[3] = {s * s, Q(-2) * c, Q(-1)};
     const Q alpha = ratio(j, 2);
-    Series h(static_cast<std::size_t>(order) + 1, Q(0));
-    h[0] = j >= 0 ? pow(s, j) : Q(1) / pow(s, -j);
-    for (int k = 1; k <= order; ++k) {
+    if (h.empty()) h.push_back(j >= 0 ? pow(s, j) : Q(1) / pow(s, -j));
+    for (int k = static_cast<int>(h.size()); k <= order; ++k) {
         Q sum = 0;
         for (int i = 1; i <= std::min(k, 2); ++i) sum += ((alpha + 1) * Q(i) - Q(k)) * g[i] * h[static_cast<std::size_t>(k - i)];
-        h[static_cast<std::size_t>(k)] = sum / (Q(k) * g[0]);
+        h.push_back(sum / (Q(k) * g[0]));
     }
-    return h;
+}
+
+// The first order + 1 terms of S^j about c (s = S(c)), kept per thread and
+// centre: the pieces of every quantity and dimension of a kernel share their
+// centres, and the recurrence's rationals grow with k (their gcds were a
+// tenth of a missing Wendland function's emit).
+Series power_of_S(int j, const Q& c, const Q& s, int order) {
+    thread_local std::map<std::pair<int, Q>, Series> cache;
+    Series& h = cache[{j, c}];
+    if (static_cast<int>(h.size()) <= order) extend_power_of_S(h, j, c, s, order);
+    return Series(h.begin(), h.begin() + order + 1);
 }
 
 // sqrt(x) for a rational square, else Error.
