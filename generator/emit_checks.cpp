@@ -54,15 +54,22 @@ void check_centred(const ClosedForm& f, const CentredPiece& p) {
         mpfr_set_q(x.backend().data(), q.backend().data(), MPFR_RNDN);
         return x;
     };
-    Real sum(0, 70), t(0, 70);  // the emitted polynomial by Horner's rule (70 digits, raw MPFR: no temporaries)
-    mpfr_ptr y = sum.backend().data(), z = t.backend().data();
+    // The emitted polynomial by Horner's rule at 70 digits (raw MPFR, no
+    // temporaries; the doubles converted once, exactly, at 53 bits).
+    std::vector<Real> coefficients(a.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        mpfr_set_prec(coefficients[k].backend().data(), 53);
+        mpfr_set_d(coefficients[k].backend().data(), a[k], MPFR_RNDN);
+    }
+    Real sum(0, 70);
+    mpfr_ptr y = sum.backend().data();
     for (int i = 0; i <= 128; ++i) {
         const Q x = p.lo + (p.hi - p.lo) * ratio(i, 128);
         const Real r = real(x), v = real(x - p.centre);
-        mpfr_set_d(y, a.back(), MPFR_RNDN);
+        mpfr_set(y, coefficients.back().backend().data(), MPFR_RNDN);
         for (std::size_t k = a.size() - 1; k-- > 0;) {
-            mpfr_set_d(z, a[k], MPFR_RNDN);
-            mpfr_fma(y, y, v.backend().data(), z, MPFR_RNDN);
+            mpfr_mul(y, y, v.backend().data(), MPFR_RNDN);
+            mpfr_add(y, y, coefficients[k].backend().data(), MPFR_RNDN);
         }
         if (p.low != 0 || p.s_power != 0)
             sum *= boost::multiprecision::pow(r, p.low) *
