@@ -17,11 +17,44 @@ namespace {
 
 using Series = std::vector<Q>;  // coefficients of v^0 .. v^n, v = r - c
 
+// A rational series over one common denominator, its numerators integers:
+// a product of two then multiplies and adds integers only and reduces each
+// coefficient once (GMP's rationals spend most of their time in the gcds of
+// every addition and multiplication; exact either way, the same result).
+struct Scaled {
+    std::vector<Z> num;
+    Z den;
+};
+
+Scaled scaled(const Series& s, std::size_t n) {
+    Scaled out{{}, Z(1)};
+    for (std::size_t i = 0; i < n; ++i)
+        mpz_lcm(out.den.backend().data(), out.den.backend().data(), mpq_denref(s[i].backend().data()));
+    out.num.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        Z m;
+        mpz_divexact(m.backend().data(), out.den.backend().data(), mpq_denref(s[i].backend().data()));
+        mpz_mul(m.backend().data(), m.backend().data(), mpq_numref(s[i].backend().data()));
+        out.num.push_back(std::move(m));
+    }
+    return out;
+}
+
+// The first a.size() coefficients of a b (b at least as long as a).
 Series product(const Series& a, const Series& b) {
-    Series out(a.size(), Q(0));
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        if (a[i] == 0) continue;
-        for (std::size_t j = 0; i + j < out.size(); ++j) out[i + j] += a[i] * b[j];
+    const std::size_t n = a.size();
+    const Scaled x = scaled(a, n), y = scaled(b, n);
+    Z den = x.den * y.den, sum;
+    Series out(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        mpz_set_ui(sum.backend().data(), 0);
+        for (std::size_t i = 0; i <= k; ++i)
+            if (mpz_sgn(x.num[i].backend().data()) != 0)
+                mpz_addmul(sum.backend().data(), x.num[i].backend().data(), y.num[k - i].backend().data());
+        mpq_ptr q = out[k].backend().data();
+        mpz_set(mpq_numref(q), sum.backend().data());
+        mpz_set(mpq_denref(q), den.backend().data());
+        mpq_canonicalize(q);
     }
     return out;
 }
@@ -48,17 +81,27 @@ Series power_of_r(int k, const Q& c, int order) {
 // S^j = g^(j/2), g = 1 - r^2 = S(c)^2 - 2c v - v^2, by J.C.P. Miller's
 // recurrence for powers of a series: from g h' = (j/2) g' h,
 // k g_0 h_k = sum_{i=1}^{min(k,2)} ((j/2 + 1) i - k) g_i h_(k-i).
-Series power_of_S(int j, const Q& c, const Q& s, int order) {
+// Continues `h` (its first terms, if any, already those of S^j) to order.
+void extend_power_of_S(Series& h, int j, const Q& c, const Q& s, int order) {
     const Q g[3] = {s * s, Q(-2) * c, Q(-1)};
     const Q alpha = ratio(j, 2);
-    Series h(static_cast<std::size_t>(order) + 1, Q(0));
-    h[0] = j >= 0 ? pow(s, j) : Q(1) / pow(s, -j);
-    for (int k = 1; k <= order; ++k) {
+    if (h.empty()) h.push_back(j >= 0 ? pow(s, j) : Q(1) / pow(s, -j));
+    for (int k = static_cast<int>(h.size()); k <= order; ++k) {
         Q sum = 0;
         for (int i = 1; i <= std::min(k, 2); ++i) sum += ((alpha + 1) * Q(i) - Q(k)) * g[i] * h[static_cast<std::size_t>(k - i)];
-        h[static_cast<std::size_t>(k)] = sum / (Q(k) * g[0]);
+        h.push_back(sum / (Q(k) * g[0]));
     }
-    return h;
+}
+
+// The first order + 1 terms of S^j about c (s = S(c)), kept per thread and
+// centre: the pieces of every quantity and dimension of a kernel share their
+// centres, and the recurrence's rationals grow with k (their gcds were a
+// tenth of a missing Wendland function's emit).
+Series power_of_S(int j, const Q& c, const Q& s, int order) {
+    thread_local std::map<std::pair<int, Q>, Series> cache;
+    Series& h = cache[{j, c}];
+    if (static_cast<int>(h.size()) <= order) extend_power_of_S(h, j, c, s, order);
+    return Series(h.begin(), h.begin() + order + 1);
 }
 
 // sqrt(x) for a rational square, else Error.
@@ -91,9 +134,8 @@ Q rational(const Real& x) {
 struct Constants {
     Real arcsech, arcsin, log;
 };
-Constants constants(const Q& c, unsigned bits) {
+void compute_constants(const Q& c, unsigned bits, Constants& k) {
     const Q s = rational_sqrt(Q(1) - c * c), argument = (1 + s) / c;  // arcsech c = log((1 + S(c))/c)
-    Constants k{real(Q(0), bits), real(Q(0), bits), real(Q(0), bits)};
     for (Real* x : {&k.arcsech, &k.arcsin, &k.log}) mpfr_set_prec(x->backend().data(), bits);
     mpfr_t y;
     mpfr_init2(y, bits + 8);
@@ -103,13 +145,23 @@ Constants constants(const Q& c, unsigned bits) {
     mpfr_asin(k.arcsin.backend().data(), y, MPFR_RNDN);
     mpfr_log(k.log.backend().data(), y, MPFR_RNDN);
     mpfr_clear(y);
-    return k;
+}
+// Kept per thread for each (c, bits): every coefficient of a piece is
+// evaluated about the same centre at the same few precisions (the choice of
+// form, Ziv's rounding, the low parts), and MPFR's log and asin of c were a
+// tenth of `mollify-gen emit` when computed per coefficient. Filled in place
+// (not copied: a copied Real may take the thread's default precision).
+const Constants& constants(const Q& c, unsigned bits) {
+    thread_local std::map<std::pair<Q, unsigned>, Constants> cache;
+    auto [it, inserted] = cache.try_emplace(std::pair{c, bits});
+    if (inserted) compute_constants(c, bits, it->second);
+    return it->second;
 }
 
 }  // namespace
 
 std::pair<Real, Real> CentredValue::evaluate(const Q& c, unsigned bits) const {
-    const Constants k = constants(c, bits + 16);
+    const Constants& k = constants(c, bits + 16);
     std::pair<Real, Real> out = one.evaluate(bits);
     mpfr_ptr sum = out.first.backend().data(), magnitude = out.second.backend().data();
     mpfr_t t;
@@ -154,11 +206,19 @@ std::vector<CentredValue> taylor_at_centre(const ClosedForm& f, const Q& c, int 
         return it->second;
     };
     const Series inverse_r = power_of_r(-1, c, order);
-    std::map<int, Series> powers;  // r^k, k -> series
-    auto r_power = [&](int k) -> const Series& {
+    std::map<int, Scaled> powers;  // r^k, k -> series
+    auto r_power = [&](int k) -> const Scaled& {
         auto it = powers.find(k);
-        if (it == powers.end()) it = powers.emplace(k, power_of_r(k, c, order)).first;
+        if (it == powers.end()) it = powers.emplace(k, scaled(power_of_r(k, c, order), n)).first;
         return it->second;
+    };
+    // The antiderivatives of arcsech', arcsin', log' (once, not per term).
+    std::map<Basis, Series> integrals;
+    auto integral_of = [&](Basis b) -> const Series& {
+        auto it = integrals.find(b);
+        if (it != integrals.end()) return it->second;
+        Series d = b == Basis::arcsech ? product(inverse_r, S_power(-1)) : b == Basis::arcsin ? S_power(-1) : inverse_r;
+        return integrals.emplace(b, integral(d)).first->second;
     };
     std::vector<CentredValue> out(n);
     auto add = [&](Exact CentredValue::*slot, const Exact& factor, const Series& x) {
@@ -166,12 +226,33 @@ std::vector<CentredValue> taylor_at_centre(const ClosedForm& f, const Q& c, int 
             if (x[k] != 0) out[k].*slot += factor * x[k];
     };
     for (const auto& [key, p] : f.terms()) {
-        Series P(n, Q(0));
+        // P = sum_k p_k r^k over the common denominator of the p_k r^k.
+        std::vector<std::pair<Z, const Scaled*>> parts;  // p_k's numerator times den / (its den r^k's den)
+        Z den = 1;
         for (int k = p.low(); k <= p.high(); ++k) {
             const Q pk = p.coefficient(k);
             if (pk == 0) continue;
-            const Series& rk = r_power(k);
-            for (std::size_t j = 0; j < n; ++j) P[j] += pk * rk[j];
+            const Scaled& rk = r_power(k);
+            parts.emplace_back(Z(denominator(pk) * rk.den), &rk);
+            mpz_lcm(den.backend().data(), den.backend().data(), parts.back().first.backend().data());
+        }
+        std::size_t i = 0;
+        for (int k = p.low(); k <= p.high(); ++k) {
+            const Q pk = p.coefficient(k);
+            if (pk == 0) continue;
+            Z& m = parts[i++].first;
+            mpz_divexact(m.backend().data(), den.backend().data(), m.backend().data());
+            m *= numerator(pk);
+        }
+        Series P(n);
+        Z sum;
+        for (std::size_t j = 0; j < n; ++j) {
+            mpz_set_ui(sum.backend().data(), 0);
+            for (const auto& [m, rk] : parts) mpz_addmul(sum.backend().data(), m.backend().data(), rk->num[j].backend().data());
+            mpq_ptr q = P[j].backend().data();
+            mpz_set(mpq_numref(q), sum.backend().data());
+            mpz_set(mpq_denref(q), den.backend().data());
+            mpq_canonicalize(q);
         }
         const Exact factor = Exact::of(key.factor);
         switch (key.basis) {
@@ -179,15 +260,15 @@ std::vector<CentredValue> taylor_at_centre(const ClosedForm& f, const Q& c, int 
             case Basis::sqrt_power: add(&CentredValue::one, factor, product(P, S_power(key.s_power))); break;
             case Basis::arcsech:  // arcsech' = -1/(r S)
                 add(&CentredValue::arcsech, factor, P);
-                add(&CentredValue::one, factor * Q(-1), product(P, integral(product(inverse_r, S_power(-1)))));
+                add(&CentredValue::one, factor * Q(-1), product(P, integral_of(Basis::arcsech)));
                 break;
             case Basis::arcsin:  // arcsin' = 1/S
                 add(&CentredValue::arcsin, factor, P);
-                add(&CentredValue::one, factor, product(P, integral(S_power(-1))));
+                add(&CentredValue::one, factor, product(P, integral_of(Basis::arcsin)));
                 break;
             case Basis::log:  // log' = 1/r
                 add(&CentredValue::log, factor, P);
-                add(&CentredValue::one, factor, product(P, integral(inverse_r)));
+                add(&CentredValue::one, factor, product(P, integral_of(Basis::log)));
                 break;
         }
     }
@@ -207,7 +288,29 @@ constexpr unsigned bound_bits = 128;
 // pi/2; |arcsin z| = |int_0^z dt/sqrt(1 - t^2)| <= |z| / sqrt(1 - c - R)
 // (on the segment |1 - t| >= 1 - Re t, |1 + t| >= 1). MPFR at 128 bits; the
 // factor 1.01 covers its rounding.
-Real circle_bound(const ClosedForm& f, const Q& c, const Real& R) {
+// f's terms as circle_bound reads them, converted to MPFR once per closed
+// form (not at every radius of every piece): |c_k| and the size of the
+// constant factor.
+struct CircleTerms {
+    struct Term {
+        TermKey key;
+        std::vector<std::pair<int, Real>> abs_c;  // k, |c_k| (c_k != 0)
+        Real factor;  // |pi^e log p| + its evaluation's magnitude 2^-100
+    };
+    std::vector<Term> terms;
+    explicit CircleTerms(const ClosedForm& f) {
+        for (const auto& [key, p] : f.terms()) {
+            Term t{key, {}, Real()};
+            for (int k = p.low(); k <= p.high(); ++k)
+                if (p.coefficient(k) != 0) t.abs_c.emplace_back(k, boost::multiprecision::abs(real(p.coefficient(k), bound_bits)));
+            const auto [factor, magnitude] = Exact::of(key.factor).evaluate(bound_bits);
+            t.factor = boost::multiprecision::abs(factor) + magnitude / boost::multiprecision::pow(Real(2), 100);
+            terms.push_back(std::move(t));
+        }
+    }
+};
+
+Real circle_bound(const CircleTerms& f, const Q& c, const Real& R) {
     using boost::multiprecision::abs;
     using boost::multiprecision::log;
     using boost::multiprecision::max;
@@ -221,20 +324,30 @@ Real circle_bound(const ClosedForm& f, const Q& c, const Real& R) {
     const Real log_max = max(abs(log(zmax)), abs(log(zmin))) + pi / 2;
     const Real arcsin_max = zmax / sqrt(one - zmax);
     Real M = real(Q(0), bound_bits);
-    for (const auto& [key, p] : f.terms()) {
+    std::map<int, Real> powers, s_powers;  // zmax^k or zmin^k, and the S^j bound: once per radius
+    auto power = [&](int k) -> const Real& {
+        auto it = powers.find(k);
+        if (it == powers.end()) it = powers.emplace(k, pow(k >= 0 ? zmax : zmin, k)).first;
+        return it->second;
+    };
+    for (const CircleTerms::Term& t : f.terms) {
         Real poly = real(Q(0), bound_bits);
-        for (int k = p.low(); k <= p.high(); ++k)
-            if (p.coefficient(k) != 0) poly += abs(real(p.coefficient(k), bound_bits)) * pow(k >= 0 ? zmax : zmin, k);
+        for (const auto& [k, a] : t.abs_c) poly += a * power(k);
         Real basis = one;
-        switch (key.basis) {
+        switch (t.key.basis) {
             case Basis::one: break;
-            case Basis::sqrt_power: basis = pow(key.s_power > 0 ? gmax : gmin, Real(key.s_power) / 2); break;
+            case Basis::sqrt_power: {
+                auto it = s_powers.find(t.key.s_power);
+                if (it == s_powers.end())
+                    it = s_powers.emplace(t.key.s_power, pow(t.key.s_power > 0 ? gmax : gmin, Real(t.key.s_power) / 2)).first;
+                basis = it->second;
+                break;
+            }
             case Basis::arcsech: basis = arcsech_max; break;
             case Basis::log: basis = log_max; break;
             case Basis::arcsin: basis = arcsin_max; break;
         }
-        const auto [factor, magnitude] = Exact::of(key.factor).evaluate(bound_bits);
-        M += (abs(factor) + magnitude / pow(Real(2), 100)) * poly * basis;
+        M += t.factor * poly * basis;
     }
     return M * Real(101) / 100;
 }
@@ -242,17 +355,21 @@ Real circle_bound(const ClosedForm& f, const Q& c, const Real& R) {
 // min over 257 points of [lo, hi] of max(|f(r)|, |r f'(r)|) at 200 bits:
 // the size of f there in the sense of an exact evaluator that is handed r
 // with a relative error of half an ulp (sampled, not proven; the truncation
-// is then made 2^-61 of it, a factor 2 of room).
-Q intrinsic_scale(const ClosedForm& f, const Q& lo, const Q& hi) {
-    const ClosedForm df = f.derivative();
+// is then made 2^-61 of it, a factor 2 of room). Every other sample, f and
+// max(|f|, |r f'|), into `samples` (the check of the emitted piece reuses
+// them, emit_checks.cpp).
+Q intrinsic_scale(const PreparedForm& pf, const PreparedForm& pdf, const Q& lo, const Q& hi,
+                  std::vector<std::pair<Real, Real>>& samples) {
     Real m;
+    samples.clear();
     for (int i = 0; i <= 256; ++i) {
         const Q x = lo + (hi - lo) * ratio(i, 256);
         const Real r = real(x, 200);
-        PointValues at(r, 200);
-        const Real s = boost::multiprecision::max(boost::multiprecision::abs(f.evaluate(at).first),
-                                                  boost::multiprecision::abs(r * df.evaluate(at).first));
+        PointValues at(x, 200);
+        Real v = pf.value(at);
+        const Real s = boost::multiprecision::max(boost::multiprecision::abs(v), boost::multiprecision::abs(r * pdf.value(at)));
         if (i == 0 || s < m) m = s;
+        if (i % 2 == 0) samples.emplace_back(std::move(v), s);
     }
     return rational(m);
 }
@@ -285,14 +402,18 @@ constexpr int max_order = 200;
 // radii R = f min(c, 1 - c); the tail bound with it.
 // With m > 0 the series is that of f S^-m: M times max |S^-m| on the circle,
 // ((1 - c - R)(1 + c - R))^(-m/2).
-std::pair<int, Q> order_for(const ClosedForm& f, int m, const Q& c, const Q& d, const Q& target) {
+// `bounds` keeps circle_bound per radius (tenth) for the other m.
+std::pair<int, Q> order_for(const CircleTerms& f, int m, const Q& c, const Q& d, const Q& target,
+                            std::map<int, Real>& bounds) {
     const Q rho = std::min<Q>(c, Q(1 - c));
     std::optional<std::pair<int, Q>> best;
     for (int tenth = 5; tenth <= 19; ++tenth) {
         const Q R = rho * ratio(tenth, 20);
         if (R <= d * Q(21, 20)) continue;
         const Real Rr = real(R, bound_bits), cc = real(c, bound_bits);
-        const Real M = circle_bound(f, c, Rr) * boost::multiprecision::pow((1 - cc - Rr) * (1 + cc - Rr), Real(-m) / 2) *
+        auto it = bounds.find(tenth);
+        if (it == bounds.end()) it = bounds.emplace(tenth, circle_bound(f, c, Rr)).first;
+        const Real M = it->second * boost::multiprecision::pow((1 - cc - Rr) * (1 + cc - Rr), Real(-m) / 2) *
                        Real(101) / 100;
         const Real x = real(d / R, bound_bits), t = real(target, bound_bits);
         // n + 1 >= log(M / ((1 - x) t)) / log(1/x)
@@ -323,20 +444,38 @@ int edge_power_of_S(const ClosedForm& f) {
     return m == std::numeric_limits<int>::max() ? 0 : m;
 }
 
+// The coefficients of a w (the first a.size() of them), w a rational series:
+// per slot and constant pi^e log p, a product of rational series.
+std::vector<CentredValue> times_series(const std::vector<CentredValue>& a, const Series& w) {
+    std::vector<CentredValue> out(a.size());
+    for (Exact CentredValue::*slot : {&CentredValue::one, &CentredValue::arcsech, &CentredValue::arcsin, &CentredValue::log}) {
+        std::map<Atom, Series> parts;
+        for (std::size_t i = 0; i < a.size(); ++i)
+            for (const auto& [atom, q] : (a[i].*slot).terms()) {
+                Series& s = parts[atom];
+                if (s.empty()) s.assign(a.size(), Q(0));
+                s[i] = q;
+            }
+        for (const auto& [atom, s] : parts) {
+            const Series y = product(s, w);
+            const Exact unit = Exact::of(atom);
+            for (std::size_t k = 0; k < y.size(); ++k)
+                if (y[k] != 0) out[k].*slot += unit * y[k];
+        }
+    }
+    return out;
+}
+
 // The coefficients of a S^-m, from those of a.
 std::vector<CentredValue> times_power_of_S(const std::vector<CentredValue>& a, int m, const Q& c) {
     if (m == 0) return a;
-    const Series s = power_of_S(-m, c, rational_sqrt(Q(1) - c * c), static_cast<int>(a.size()) - 1);
-    std::vector<CentredValue> out(a.size());
-    for (std::size_t k = 0; k < a.size(); ++k)
-        for (std::size_t i = 0; i <= k; ++i) {
-            const Q& w = s[k - i];
-            out[k].one += a[i].one * w;
-            out[k].arcsech += a[i].arcsech * w;
-            out[k].arcsin += a[i].arcsin * w;
-            out[k].log += a[i].log * w;
-        }
-    return out;
+    return times_series(a, power_of_S(-m, c, rational_sqrt(Q(1) - c * c), static_cast<int>(a.size()) - 1));
+}
+
+// The coefficients of a r^k (k >= 0: (c + v)^k, k + 1 terms).
+std::vector<CentredValue> times_power_of_r(const std::vector<CentredValue>& a, int k, const Q& c) {
+    if (k == 0) return a;
+    return times_series(a, power_of_r(k, c, static_cast<int>(a.size()) - 1));
 }
 
 // The rounding error of a piece's double evaluation, in ulps of f (a
@@ -368,6 +507,8 @@ std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const
     const int m = edge_power_of_S(f);
     int K = 0;  // the most negative power of r in f
     for (const auto& [key, p] : f.terms()) K = std::max(K, -p.low());
+    const PreparedForm pf(f, 200), pdf(f.derivative(), 200);  // f and f' at 200 bits (intrinsic_scale)
+    const CircleTerms f_terms(f), fK_terms(f * Laurent::monomial(Q(1), K));  // f and f r^K (order_for)
     std::vector<CentredPiece> out;
     for (Q x = lo; x < hi;) {
         const Q ideal = std::min<Q>(Q(x / (1 - kappa)), Q((x + kappa) / (1 + kappa)));
@@ -380,28 +521,47 @@ std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const
         Q y = Q(static_cast<long long>(std::floor(static_cast<double>((c + reach) * grid))), grid);
         if (y >= hi || hi - y < reach / 4) y = hi;
         const Q d = std::max<Q>(Q(c - x), Q(y - c));
-        const Q scale = intrinsic_scale(f, x, y);
+        std::vector<std::pair<Real, Real>> samples;
+        const Q scale = intrinsic_scale(pf, pdf, x, y, samples);
         if (scale == 0) fail("internal: the quantity and its derivative vanish on [" + short_string(x) + ", " + short_string(y) + "]");
         // f = r^-k S^j g: the series of g = r^k S^-j f, with k = 0 or K
         // (without f's negative powers, which cancel near 0) and j = 0 or m;
         // |f - r^-k S^j T_g| <= x^-k |g - T_g| (S <= 1 on [x, y]). Of the
         // variants, the one with the smallest expected rounding error.
         const Q target = scale / pow(Q(2), 61);
+        // The variants' orders first; then f's series once, to the highest
+        // of them, times S^-m once; g's is that times r^k, a polynomial
+        // (exact: the same coefficients as g's own series).
+        struct Variant {
+            int k, j;
+            std::pair<int, Q> order;
+        };
+        std::vector<Variant> variants;
+        for (const int k : {0, K}) {
+            if (k == K && k == 0 && !variants.empty()) break;
+            const CircleTerms& g = k == 0 ? f_terms : fK_terms;
+            std::map<int, Real> bounds;
+            const auto plain = order_for(g, 0, c, d, target * pow(x, k), bounds);
+            const auto factored = m > 0 ? order_for(g, m, c, d, target * pow(x, k), bounds) : plain;
+            for (const int j : {0, m}) {
+                const auto& order = j == 0 ? plain : factored;
+                if (order.first > max_order || (j == m && j == 0 && !variants.empty() && variants.back().k == k)) continue;
+                variants.push_back({k, j, order});
+            }
+        }
+        int most = 0;
+        for (const Variant& v : variants) most = std::max(most, v.order.first);
         std::optional<CentredPiece> best;
         double best_error = 0;
-        for (const int k : {0, K}) {
-            if (k == K && k == 0 && best) break;
-            const ClosedForm g = k == 0 ? f : f * Laurent::monomial(Q(1), k);
-            const auto plain = order_for(g, 0, c, d, target * pow(x, k));
-            const auto factored = m > 0 ? order_for(g, m, c, d, target * pow(x, k)) : plain;
-            const int most = std::max(plain.first <= max_order ? plain.first : 0, factored.first <= max_order ? factored.first : 0);
-            if (most == 0) continue;
-            const std::vector<CentredValue> a = taylor_at_centre(g, c, most);
-            for (const int j : {0, m}) {
-                const auto& [order, tail] = j == 0 ? plain : factored;
-                if (order > max_order || (j == m && j == 0 && best)) continue;
-                std::vector<CentredValue> b = times_power_of_S(std::vector<CentredValue>(a.begin(), a.begin() + order + 1), j, c);
-                CentredPiece piece{x, y, c, -k, j, std::move(b), tail / pow(x, k), scale};
+        if (!variants.empty()) {
+            const std::vector<CentredValue> a = taylor_at_centre(f, c, most);
+            const std::vector<CentredValue> aS = m > 0 ? times_power_of_S(a, m, c) : a;
+            for (const Variant& v : variants) {
+                const std::vector<CentredValue>& base = v.j == 0 ? a : aS;
+                const int order = v.order.first;
+                std::vector<CentredValue> b =
+                    times_power_of_r(std::vector<CentredValue>(base.begin(), base.begin() + order + 1), v.k, c);
+                CentredPiece piece{x, y, c, -v.k, v.j, std::move(b), v.order.second / pow(x, v.k), scale, {}, {}};
                 const double e = expected_error(piece);
                 if (!best || e < best_error) {
                     best_error = e;
@@ -410,6 +570,8 @@ std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const
             }
         }
         if (!best) fail("internal: no Taylor order <= " + std::to_string(max_order) + " about " + short_string(c));
+        best->sampled = f;
+        best->samples = std::move(samples);
         out.push_back(std::move(*best));
         x = y;
     }

@@ -40,6 +40,15 @@ struct CentredPiece {
     std::vector<CentredValue> a;
     Q tail;   // rigorous: |f - sum| <= tail on [lo, hi]
     Q scale;  // min over 257 sample points of max(|f|, |r f'|): the bound's reference
+    // f's samples behind `scale`, kept for the check of the emitted piece
+    // (emit_checks.cpp), which compares with f at every other one of them:
+    // the closed form sampled, and at lo + (hi - lo) i/128, i = 0 .. 128,
+    // f and max(|f|, |r f'|) in MPFR at 200 bits.
+    ClosedForm sampled;
+    std::vector<std::pair<Real, Real>> samples;
+    // a_k correctly rounded to double (emit_plan.hpp's rounded), once per
+    // piece: the check and the writer emit the same doubles.
+    std::vector<double> a_double{};
 };
 
 // The Taylor coefficients a_0 .. a_order of f about a Pythagorean centre c.

@@ -4,7 +4,9 @@
 #include "series.hpp"
 
 #include <map>
+#include <mutex>
 #include <optional>
+#include <tuple>
 
 namespace mollify::gen {
 
@@ -262,19 +264,83 @@ Exact ClosedForm::at(const Q& r) const {
     return v;
 }
 
-PointValues::PointValues(const Real& r, unsigned bits)
-    : digits10_(bits * 30103 / 100000 + 2), pi_(pi_at(bits)), r_(r, digits10_),
-      s_(boost::multiprecision::sqrt(Real(1, digits10_) - r_ * r_)) {}
+PointValues::PointValues(const Real& r, unsigned bits) : bits_(bits), digits10_(bits * 30103 / 100000 + 2), r_(r, digits10_) {}
+
+// S = sqrt(1 - r^2) on first use (where every basis value comes from the
+// run's table, never).
+const Real& PointValues::S() {
+    if (!s_) s_.emplace(boost::multiprecision::sqrt(Real(1, digits10_) - r_ * r_));
+    return *s_;
+}
+
+namespace {
+
+Real rounded_real(const Q& x, unsigned digits10) {
+    Real r(0, digits10);
+    mpfr_set_q(r.backend().data(), x.backend().data(), MPFR_RNDN);
+    return r;
+}
+
+// Basis function values at rational points, r -> (basis, power of S) ->
+// value at one precision, shared by the threads for the whole run: the
+// pieces of a kernel's quantities in its three dimensions lie on a few common
+// grids, and MPFR's log, asin and powers at 200 bits there were a seventh of
+// `emit`. Map nodes do not move, so a returned reference stays valid.
+}  // namespace
+
+struct PointValues::Shared {
+    std::map<std::pair<Basis, int>, Real> values;
+};
+
+namespace {
+
+class BasisTable {
+public:
+    using Point = PointValues::Shared;
+    Point& point(const Q& r, unsigned digits10) {
+        std::lock_guard lock(mutex_);
+        return points_[{digits10, r}];
+    }
+    template <class Compute>
+    const Real& get(Point& p, std::pair<Basis, int> key, Compute compute) {
+        {
+            std::lock_guard lock(mutex_);
+            auto it = p.values.find(key);
+            if (it != p.values.end()) return it->second;
+        }
+        Real v = compute();
+        std::lock_guard lock(mutex_);
+        return p.values.try_emplace(key, std::move(v)).first->second;
+    }
+
+private:
+    std::mutex mutex_;
+    std::map<std::pair<unsigned, Q>, Point> points_;
+};
+
+BasisTable& basis_table() {
+    static BasisTable table;
+    return table;
+}
+
+}  // namespace
+
+PointValues::PointValues(const Q& r, unsigned bits) : PointValues(rounded_real(r, bits * 30103 / 100000 + 2), bits) {
+    shared_ = &basis_table().point(r, digits10_);
+}
 
 const Real& PointValues::power_of_r(int n) {
+    if (n == 1) return r_;  // pow(r, 1) = r exactly
     auto it = r_powers_.find(n);
     if (it == r_powers_.end()) it = r_powers_.emplace(n, boost::multiprecision::pow(r_, n)).first;
     return it->second;
 }
 
+// pi^e does not depend on r: kept per thread for each (bits, e).
 const Real& PointValues::pi_power(int e) {
-    auto it = pi_powers_.find(e);
-    if (it == pi_powers_.end()) it = pi_powers_.emplace(e, boost::multiprecision::pow(pi_, e)).first;
+    thread_local std::map<std::pair<unsigned, int>, Real> powers;
+    auto it = powers.find({bits_, e});
+    if (it == powers.end()) it = powers.emplace(std::pair{bits_, e}, boost::multiprecision::pow(pi_at(bits_), e)).first;
     return it->second;
 }
 
@@ -288,15 +354,19 @@ const Real& PointValues::basis(Basis b, int s_power) {
     const std::pair key{b, b == Basis::sqrt_power ? s_power : 0};
     auto it = bases_.find(key);
     if (it != bases_.end()) return it->second;
-    Real v;
-    switch (b) {
-        case Basis::one: v = Real(1, digits10_); break;
-        case Basis::sqrt_power: v = boost::multiprecision::pow(s_, s_power); break;
-        case Basis::arcsech: v = boost::multiprecision::log((Real(1, digits10_) + s_) / r_); break;
-        case Basis::log: v = boost::multiprecision::log(r_); break;
-        case Basis::arcsin: v = boost::multiprecision::asin(r_); break;
-    }
-    return bases_.emplace(key, std::move(v)).first->second;
+    auto compute = [&] {
+        Real v;
+        switch (b) {
+            case Basis::one: v = Real(1, digits10_); break;
+            case Basis::sqrt_power: v = boost::multiprecision::pow(S(), s_power); break;
+            case Basis::arcsech: v = boost::multiprecision::log((Real(1, digits10_) + S()) / r_); break;
+            case Basis::log: v = boost::multiprecision::log(r_); break;
+            case Basis::arcsin: v = boost::multiprecision::asin(r_); break;
+        }
+        return v;
+    };
+    if (shared_ && b != Basis::one) return basis_table().get(*shared_, key, compute);
+    return bases_.emplace(key, compute()).first->second;
 }
 
 std::pair<Real, Real> ClosedForm::evaluate(const Real& r, unsigned bits) const {
@@ -324,6 +394,34 @@ std::pair<Real, Real> ClosedForm::evaluate(PointValues& at) const {
         }
     }
     return {sum, magnitude};
+}
+
+PreparedForm::PreparedForm(const ClosedForm& f, unsigned bits) : digits10_(bits * 30103 / 100000 + 2) {
+    for (const auto& [k, p] : f.terms()) {
+        Term t{k, p.low(), {}};
+        for (int n = p.low(); n <= p.high(); ++n) {
+            t.c.emplace_back(0, digits10_);
+            mpfr_set_q(t.c.back().backend().data(), p.coefficient(n).backend().data(), MPFR_RNDN);
+        }
+        terms_.push_back(std::move(t));
+    }
+}
+
+Real PreparedForm::value(PointValues& at) const {
+    if (at.digits10() != digits10_) fail("internal: a prepared closed form evaluated at another precision");
+    Real sum(0, digits10_), h(0, digits10_);
+    mpfr_ptr s = sum.backend().data(), x = h.backend().data();
+    mpfr_srcptr r = at.power_of_r(1).backend().data();
+    for (const Term& t : terms_) {
+        mpfr_set(x, t.c.back().backend().data(), MPFR_RNDN);
+        for (std::size_t i = t.c.size() - 1; i-- > 0;) mpfr_fma(x, x, r, t.c[i].backend().data(), MPFR_RNDN);
+        if (t.low != 0) mpfr_mul(x, x, at.power_of_r(t.low).backend().data(), MPFR_RNDN);
+        if (t.key.factor.pi_power != 0) mpfr_mul(x, x, at.pi_power(t.key.factor.pi_power).backend().data(), MPFR_RNDN);
+        if (t.key.factor.log_of != 1) mpfr_mul(x, x, at.log_of(t.key.factor.log_of).backend().data(), MPFR_RNDN);
+        if (t.key.basis != Basis::one) mpfr_mul(x, x, at.basis(t.key.basis, t.key.s_power).backend().data(), MPFR_RNDN);
+        mpfr_add(s, s, x, MPFR_RNDN);
+    }
+    return sum;
 }
 
 std::string ClosedForm::to_string_at(const Q& r) const {

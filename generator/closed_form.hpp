@@ -13,7 +13,9 @@
 #include <mollify/table.hpp>
 
 #include <map>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace mollify::gen {
 
@@ -34,17 +36,26 @@ struct TermKey {
 class PointValues {
 public:
     PointValues(const Real& r, unsigned bits);
+    // At a rational r (rounded to `bits`, as Real(r) would be): the basis
+    // functions there are then taken from, or added to, one table per run
+    // (closed_form.cpp), since the Taylor pieces of every quantity and
+    // dimension of a missing Wendland function sample the same points.
+    PointValues(const Q& r, unsigned bits);
     unsigned digits10() const { return digits10_; }
     const Real& power_of_r(int n);
     const Real& basis(Basis b, int s_power);
     const Real& pi_power(int e);
     const Real& log_of(int p);
+    struct Shared;  // the run's table entry of a rational r (closed_form.cpp)
 
 private:
-    unsigned digits10_;
-    Real pi_, r_, s_;
-    std::map<int, Real> r_powers_, pi_powers_, logs_;
+    const Real& S();
+    unsigned bits_, digits10_;
+    Real r_;
+    std::optional<Real> s_;
+    std::map<int, Real> r_powers_, logs_;
     std::map<std::pair<Basis, int>, Real> bases_;
+    Shared* shared_ = nullptr;
 };
 
 class ClosedForm {
@@ -87,6 +98,27 @@ public:
 
 private:
     std::map<TermKey, Laurent> terms_;
+};
+
+// A closed form prepared for evaluation at many points at one precision
+// (a sampled scale takes 257): its rational coefficients converted to MPFR
+// once, each term's Laurent polynomial by Horner's rule, r^low times
+// sum c_n r^(n-low), then times its constant and basis function. Not the
+// same rounding as ClosedForm::evaluate's monomials: both are within a few
+// ulps of the working precision of the sum of |terms|.
+class PreparedForm {
+public:
+    PreparedForm(const ClosedForm& f, unsigned bits);
+    Real value(PointValues& at) const;
+
+private:
+    struct Term {
+        TermKey key;
+        int low;
+        std::vector<Real> c;  // c_low .. c_high
+    };
+    unsigned digits10_;
+    std::vector<Term> terms_;
 };
 
 // Value at rational r including the endpoints r = 0 and r = 1 of the

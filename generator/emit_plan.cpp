@@ -161,6 +161,7 @@ std::vector<EmittedPiece> middle_pieces(const ClosedForm& form, const Q& lo, con
     if (hi >= 1) fail("internal: a sqrt/arcsech/arcsin closed form without its edge series");
     std::vector<EmittedPiece> out;
     for (CentredPiece& p : centred_pieces(form, lo, hi)) {
+        p.a_double = rounded(p);
         const std::string note = (p.low ? "r^" + std::to_string(p.low) + " " : std::string()) +
                                  (p.s_power ? "S^" + std::to_string(p.s_power) + " " : std::string()) +
                                  (p.low || p.s_power ? "times " : "") + "Taylor about " +
@@ -345,15 +346,19 @@ private:
 // max over 33 points of sum |terms| / max(|f|, |r f'|), the scale of the
 // runtime's intrinsic error (an exact evaluator given r with one ulp of
 // relative error misses f by |r f'| ulp).
-double worst_condition(const std::vector<EmittedTerm>& terms, const ClosedForm& form, const ClosedForm& derivative,
-                       const Q& lo, const Q& hi) {
-    const Magnitude magnitude(terms);
+// `scales` keeps max(|f|, |r f'|) per point: the candidate forms of a
+// piece, and its halves, are measured at the same points.
+double worst_condition(const Magnitude& magnitude, const ClosedForm& form, const ClosedForm& derivative,
+                       const Q& lo, const Q& hi, std::map<Q, double>& scales) {
     double worst = 0;
     for (int i = 0; i <= 32; ++i) {
         const Q r = lo + (hi - lo) * ratio(i, 32);
         if (r == 0) continue;
         const double x = static_cast<double>(r);
-        const double scale = std::max(std::abs(round_to_double(form.at(r))), x * std::abs(round_to_double(derivative.at(r))));
+        auto [it, inserted] = scales.try_emplace(r, 0.0);
+        if (inserted)
+            it->second = std::max(std::abs(round_to_double(form.at(r))), x * std::abs(round_to_double(derivative.at(r))));
+        const double scale = it->second;
         if (scale == 0) continue;
         worst = std::max(worst, magnitude(x) / scale);
     }
@@ -375,16 +380,16 @@ struct SubPiece {
     bool own;
 };
 
-void recentre(const EmittedPiece& piece, const ClosedForm& form, const ClosedForm& derivative, const Q& lo,
-              const Q& hi, int depth, std::vector<SubPiece>& out) {
-    const double plain = worst_condition(piece.terms, form, derivative, lo, hi);
+void recentre(const EmittedPiece& piece, const Magnitude& own, const ClosedForm& form, const ClosedForm& derivative,
+              const Q& lo, const Q& hi, int depth, std::vector<SubPiece>& out, std::map<Q, double>& scales) {
+    const double plain = worst_condition(own, form, derivative, lo, hi, scales);
     if (plain <= recentre_condition) {
         out.push_back({{lo, hi, piece.terms, piece.note}, true});
         return;
     }
     const Q c = (lo + hi) / 2;
     std::vector<EmittedTerm> taylor = centred_terms(form, c);
-    const double centred = worst_condition(taylor, form, derivative, lo, hi);
+    const double centred = worst_condition(Magnitude(taylor), form, derivative, lo, hi, scales);
     if (centred <= recentre_condition || depth == 6) {
         if (centred < plain)
             out.push_back({{lo, hi, std::move(taylor), "Taylor polynomial about " + short_string(c)}, false});
@@ -392,8 +397,8 @@ void recentre(const EmittedPiece& piece, const ClosedForm& form, const ClosedFor
             out.push_back({{lo, hi, piece.terms, piece.note}, true});
         return;
     }
-    recentre(piece, form, derivative, lo, c, depth + 1, out);
-    recentre(piece, form, derivative, c, hi, depth + 1, out);
+    recentre(piece, own, form, derivative, lo, c, depth + 1, out, scales);
+    recentre(piece, own, form, derivative, c, hi, depth + 1, out, scales);
 }
 
 std::vector<EmittedPiece> recentred(const Radial& f, const std::vector<EmittedPiece>& pieces) {
@@ -405,7 +410,8 @@ std::vector<EmittedPiece> recentred(const Radial& f, const std::vector<EmittedPi
             continue;
         }
         std::vector<SubPiece> sub;
-        recentre(p, *form, form->derivative(), p.lo, *p.hi, 0, sub);
+        std::map<Q, double> scales;
+        recentre(p, Magnitude(p.terms), *form, form->derivative(), p.lo, *p.hi, 0, sub, scales);
         for (std::size_t i = 0; i < sub.size(); ++i) {
             if (i > 0 && sub[i].own && sub[i - 1].own) {  // neighbours in the piece's own form: one piece
                 out.back().hi = sub[i].piece.hi;
@@ -425,8 +431,10 @@ std::vector<EmittedPiece> plan_quantity(const Radial& f, bool potential_like, co
     return potential_like ? recentred(f, emitted) : emitted;
 }
 
-// The emitted (rounded) Taylor coefficients of a centred piece.
+// The emitted (rounded) Taylor coefficients of a centred piece (kept in the
+// piece by middle_pieces: Ziv's loop per coefficient, once).
 std::vector<double> rounded(const CentredPiece& p) {
+    if (p.a_double.size() == p.a.size()) return p.a_double;
     std::vector<double> out;
     for (const CentredValue& a : p.a) out.push_back(round_to_double([&](unsigned bits) { return a.evaluate(p.centre, bits); }));
     return out;

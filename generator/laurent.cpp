@@ -50,18 +50,24 @@ void Laurent::trim() {
     }
     std::size_t last = c_.size();
     while (c_[last - 1] == 0) --last;
-    c_ = std::vector<Q>(c_.begin() + static_cast<long>(first), c_.begin() + static_cast<long>(last));
+    c_.erase(c_.begin() + static_cast<long>(last), c_.end());
+    c_.erase(c_.begin(), c_.begin() + static_cast<long>(first));
     low_ += static_cast<int>(first);
 }
 
 Laurent& Laurent::operator+=(const Laurent& o) {
     if (o.is_zero()) return *this;
     if (is_zero()) return *this = o;
-    const int lo = std::min(low_, o.low_), hi = std::max(high(), o.high());
-    std::vector<Q> sum(static_cast<std::size_t>(hi - lo + 1));
-    for (int n = lo; n <= hi; ++n) sum[static_cast<std::size_t>(n - lo)] = coefficient(n) + o.coefficient(n);
-    low_ = lo;
-    c_ = std::move(sum);
+    // In place: widened where o reaches beyond, o's nonzero coefficients
+    // added (summing a polynomial monomial by monomial stays linear).
+    const int hi = std::max(high(), o.high());
+    if (o.low_ < low_) {
+        c_.insert(c_.begin(), static_cast<std::size_t>(low_ - o.low_), Q(0));
+        low_ = o.low_;
+    }
+    c_.resize(static_cast<std::size_t>(hi - low_ + 1));
+    for (std::size_t i = 0; i < o.c_.size(); ++i)
+        if (o.c_[i] != 0) c_[static_cast<std::size_t>(o.low_ - low_) + i] += o.c_[i];
     trim();
     return *this;
 }
@@ -130,9 +136,29 @@ Q Laurent::operator()(const Q& r) const {
         if (low_ < 0) fail("internal: Laurent polynomial with negative powers evaluated at r = 0");
         return coefficient(0);
     }
-    Q acc = 0;  // Horner from the top, then the r^low factor
-    for (std::size_t i = c_.size(); i-- > 0;) acc = acc * r + c_[i];
-    return acc * pow(r, low_);
+    // Horner from the top over the integers, then the r^low factor: with
+    // r = a/b and D the common denominator of the c_i,
+    // D b^d sum_i c_i r^i = sum_i (D c_i) a^i b^(d-i), reduced once (GMP's
+    // rationals would take gcds at every step; the same value).
+    mpz_srcptr a = mpq_numref(r.backend().data()), b = mpq_denref(r.backend().data());
+    Z D = 1, acc, term, b_power = 1;
+    for (const Q& c : c_) mpz_lcm(D.backend().data(), D.backend().data(), mpq_denref(c.backend().data()));
+    auto scaled = [&](const Q& c, Z& out) {  // D c
+        mpz_divexact(out.backend().data(), D.backend().data(), mpq_denref(c.backend().data()));
+        mpz_mul(out.backend().data(), out.backend().data(), mpq_numref(c.backend().data()));
+    };
+    scaled(c_.back(), acc);
+    for (std::size_t i = c_.size() - 1; i-- > 0;) {
+        mpz_mul(b_power.backend().data(), b_power.backend().data(), b);
+        scaled(c_[i], term);
+        mpz_mul(acc.backend().data(), acc.backend().data(), a);
+        mpz_addmul(acc.backend().data(), term.backend().data(), b_power.backend().data());
+    }
+    Q value;
+    mpz_set(mpq_numref(value.backend().data()), acc.backend().data());
+    mpz_mul(mpq_denref(value.backend().data()), D.backend().data(), b_power.backend().data());
+    mpq_canonicalize(value.backend().data());
+    return low_ == 0 ? value : Q(value * pow(r, low_));
 }
 
 std::optional<Laurent> Laurent::divided_by_linear_power(const Q& a, int n) const {
@@ -178,12 +204,16 @@ int Laurent::multiplicity_of_root(const Q& a) const {
 
 std::vector<Q> Laurent::taylor_at(const Q& a) const {
     if (!is_polynomial()) fail("internal: Taylor form of a Laurent polynomial");
-    // p(r) = p(a - t): substitute r = a - t.
-    Laurent t_poly;
-    for (int n = 0; n <= high() && !is_zero(); ++n)
-        t_poly += binomial_power(a, Q(-1), n) * coefficient(n);
-    std::vector<Q> out;
-    for (int k = 0; k <= t_poly.high() && !t_poly.is_zero(); ++k) out.push_back(t_poly.coefficient(k));
+    // p(r) = p(a - t): the coefficients of p(a + t) by repeated synthetic
+    // division (the Taylor shift, O(d^2)), then t -> -t.
+    if (is_zero()) return {};
+    const int d = high();
+    std::vector<Q> out(static_cast<std::size_t>(d) + 1);
+    for (int n = 0; n <= d; ++n) out[static_cast<std::size_t>(n)] = coefficient(n);
+    for (int i = 0; i < d; ++i)
+        for (int j = d - 1; j >= i; --j) out[static_cast<std::size_t>(j)] += a * out[static_cast<std::size_t>(j) + 1];
+    for (std::size_t k = 1; k < out.size(); k += 2) out[k] = -out[k];
+    while (!out.empty() && out.back() == 0) out.pop_back();
     return out;
 }
 

@@ -57,11 +57,11 @@ Q pow(const Q& base, int exponent) {
         if (base == 0) fail("division by zero in a power");
         return pow(Q(1) / base, -exponent);
     }
-    Q result = 1, b = base;
-    for (unsigned e = static_cast<unsigned>(exponent); e != 0; e >>= 1) {
-        if (e & 1u) result *= b;
-        b *= b;
-    }
+    // (a/b)^n = a^n / b^n, already in lowest terms (a and b coprime): two
+    // integer powers, no gcd (squaring rationals took a gcd per step).
+    Q result;
+    mpz_pow_ui(mpq_numref(result.backend().data()), mpq_numref(base.backend().data()), static_cast<unsigned long>(exponent));
+    mpz_pow_ui(mpq_denref(result.backend().data()), mpq_denref(base.backend().data()), static_cast<unsigned long>(exponent));
     return result;
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace mollify::gen {
 
@@ -98,7 +99,18 @@ struct Candidate {
     double score;  // the series' condition number at the seam r0
 };
 
-std::optional<Candidate> series_for_radius(const ClosedForm& f, int m) {
+// series_at_zero(f, order), each order computed once per zero_series (the
+// radii 2^-1 .. 2^-8 and the proof ask for the same few orders again).
+using SeriesByOrder = std::map<int, ClosedForm>;
+const ClosedForm& series_of(const ClosedForm& f, int order, SeriesByOrder& memo) {
+    auto it = memo.find(order);
+    if (it == memo.end()) it = memo.emplace(order, series_at_zero(f, order)).first;
+    return it->second;
+}
+
+std::optional<Q> relative_bound(const ClosedForm& f, const ClosedForm& series, int order, int m);
+
+std::optional<Candidate> series_for_radius(const ClosedForm& f, int m, SeriesByOrder& memo) {
     const Q r0 = Q(1) / pow(Q(2), m), target = Q(1) / pow(Q(2), 60);
     Real r(0, 70);
     mpfr_set_q(r.backend().data(), r0.backend().data(), MPFR_RNDN);
@@ -118,13 +130,13 @@ std::optional<Candidate> series_for_radius(const ClosedForm& f, int m) {
         (small(mid) ? order : lo) = mid;
     }
     for (int tries = 0; tries < 2 && order <= max_order; ++tries, order += 2) {
-        const auto rel = relative_truncation_bound(f, order, m);
+        const ClosedForm& s = series_of(f, order, memo);
+        const auto rel = relative_bound(f, s, order, m);
         if (!rel || *rel > target) continue;
-        ClosedForm s = series_at_zero(f, order);
         // The next piece is a Taylor piece about a centre (centred_series.hpp),
         // not the cancelling closed form: only the series' own condition counts.
         const double score = condition(s, r0);
-        return Candidate{ZeroSeries{m, order, std::move(s), *rel}, score};
+        return Candidate{ZeroSeries{m, order, s, *rel}, score};
     }
     return std::nullopt;
 }
@@ -195,12 +207,25 @@ Exact limit_at_zero(const ClosedForm& f) {
 // |c| r^(n + 2(I+1) + off) first / (1 - rho r^2) (basis_tail), with
 // n + 2(I+1) + off > order: divided by (r/r0)^(order+1) it increases with r,
 // so its value at r0 bounds it on (0, r0].
+namespace {
+
+// abs_upper_bound(pi^e log p) once per thread (the bisections over the
+// order ask for the same few constants hundreds of times).
+const Q& factor_bound(const Atom& a) {
+    thread_local std::map<Atom, Q> bounds;
+    auto it = bounds.find(a);
+    if (it == bounds.end()) it = bounds.emplace(a, abs_upper_bound(Exact::of(a))).first;
+    return it->second;
+}
+
+}  // namespace
+
 std::optional<Q> truncation_bound(const ClosedForm& f, int order, const Q& r0) {
     const Q x0 = r0 * r0;
     Q B = 0;
     for (const auto& [k, p] : f.terms()) {
         if (k.basis == Basis::one || k.basis == Basis::log) continue;  // kept exactly
-        const Q factor = abs_upper_bound(Exact::of(k.factor));
+        const Q& factor = factor_bound(k.factor);
         for (int n = p.low(); n <= p.high(); ++n) {
             const Q c = p.coefficient(n);
             if (c == 0) continue;
@@ -219,10 +244,17 @@ std::optional<Q> truncation_bound(const ClosedForm& f, int order, const Q& r0) {
 // (leading_lower_bound) and beta = B / g(r0) >= |f - T| / g (B (r/r0)^(order+1)
 // / g(r) increases with r as order + 1 > p). So |f - T| / |f| <= beta / (ell - beta).
 std::optional<Q> relative_truncation_bound(const ClosedForm& f, int order, int m) {
+    return relative_bound(f, series_at_zero(f, order), order, m);
+}
+
+namespace {
+
+// relative_truncation_bound with T = series_at_zero(f, order) given.
+std::optional<Q> relative_bound(const ClosedForm& f, const ClosedForm& series, int order, int m) {
     const Q r0 = Q(1) / pow(Q(2), m);
     const auto B = truncation_bound(f, order, r0);
     if (!B) return std::nullopt;
-    const Split t = split(series_at_zero(f, order));
+    const Split t = split(series);
     int p = std::numeric_limits<int>::max();
     for (const auto* s : {&t.plain, &t.logs})
         if (!s->empty()) p = std::min(p, s->begin()->first);
@@ -236,13 +268,16 @@ std::optional<Q> relative_truncation_bound(const ClosedForm& f, int order, int m
     return beta / (ell - beta);
 }
 
+}  // namespace
+
 // The seam r0 should be where the series does not cancel: of the provable
 // radii the largest whose condition number is within 2 (or 1.25 times the
 // best seam's).
 std::optional<ZeroSeries> zero_series(const ClosedForm& f) {
     std::vector<Candidate> candidates;
+    SeriesByOrder memo;
     for (int m = 1; m <= 8; ++m)
-        if (auto c = series_for_radius(f, m)) {
+        if (auto c = series_for_radius(f, m, memo)) {
             if (c->score <= 2) return std::move(c->z);  // the largest such r0: done
             candidates.push_back(std::move(*c));
         }
