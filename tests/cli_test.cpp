@@ -202,10 +202,17 @@ TEST(Cli, EmitWritesOneHeaderPerKernelAndDimension) {
         "mollify/tables/wendland_missing/k_1_D2.hpp",
         "mollify/tables/wendland_missing/k_1_D3.hpp",
         "src/catalogue.cpp",
+        "src/term_shapes.def",
     };
     if (mollify::testing::sanitized_build)
         std::erase_if(want, [](const fs::path& p) { return p.string().find("wendland_missing") != std::string::npos; });
     EXPECT_EQ(tree(out), want);
+    // The fused loops' shapes of these kernels: W of Wendland C4 (with low
+    // parts: h^-3 scaled) is one term (1 - q)^6 p(q), p of degree 2, a whole
+    // quantity; the combination's W has terms at the interior edges a_j.
+    const std::string shapes = slurp(out / "src/term_shapes.def");
+    EXPECT_NE(shapes.find("MOLLIFY_WHOLE_SHAPE(true, true, false, 3, 6)\n"), std::string::npos) << shapes;
+    EXPECT_NE(shapes.find("MOLLIFY_TERM_SHAPE(true, false, false, 3, 6)\n"), std::string::npos) << shapes;
     const std::string h = slurp(out / "mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp");
     EXPECT_NE(h.find("inline constexpr table::Kernel combo_m_3_base_wendland_k_2_D3 = {"), std::string::npos);
     EXPECT_EQ(lines_matching(h, std::regex("^#include .*")), std::vector<std::string>{"#include <mollify/table.hpp>"});
@@ -214,7 +221,7 @@ TEST(Cli, EmitWritesOneHeaderPerKernelAndDimension) {
               std::vector<std::string>{"#include <mollify/table.hpp>"});
     EXPECT_NE(index.find("extern const std::span<const table::Kernel* const> all_kernels;"), std::string::npos);
     const std::string source = slurp(out / "src/catalogue.cpp");
-    EXPECT_EQ(lines_matching(source, std::regex("^#include <mollify/tables/.*")).size(), want.size() - 2);
+    EXPECT_EQ(lines_matching(source, std::regex("^#include <mollify/tables/.*")).size(), want.size() - 3);  // not catalogue.json, catalogue.hpp, term_shapes.def
     // Catalogue order: the --only order, dimensions 1..3.
     const auto first = source.find("&wendland_k_2_D1,"), last = source.find("&box_d1_D1,");
     EXPECT_NE(first, std::string::npos);
