@@ -48,15 +48,15 @@ namespace gen = mollify::gen;
 
 namespace {
 
-// Working precisions: 256 * 2^i bits. Beyond the last, a value still below
-// its error bound is 0 within 2^(margin - 32768) * sum |terms|.
-constexpr int level_count = 8;
-constexpr long first_bits = 256;
+// Working precisions: 64 bits, for the 24-bit scales (max_abs, slope), then
+// 256 * 2^i bits, where the >= 200-bit values start. Beyond the last, a
+// value still below its error bound is 0 within 2^(margin - 32768) * sum |terms|.
+constexpr int level_count = 9;
 constexpr double margin_bits = 20;
 constexpr double wanted_bits = 201;  // 200 correct bits after rounding to the output
 constexpr long output_bits = 320;
 
-long level_bits(int level) { return first_bits << level; }
+long level_bits(int level) { return level == 0 ? 64 : 256L << (level - 1); }
 
 // An array of MPFR numbers of one precision (raw mpfr_t: Boost's value
 // type allocates on every temporary).
@@ -620,7 +620,9 @@ struct Reference::Impl {
     // Ziv's loop; out gets the value (0 when it stays below its bound at
     // the largest precision: |f| < 2^(margin - 32768) sum |terms|).
     void value(const Form& f, mpfr_srcptr r, mpfr_srcptr h, mpfr_ptr out, double wanted = wanted_bits) {
-        int level = 0;
+        // The first precision that can give `wanted` bits when no term cancels.
+        int level = level_for(wanted + margin_bits + 8);
+        if (level < 0) level = level_count - 1;
         for (;;) {
             ensure(level);
             Scratch& w = scratch(level);
