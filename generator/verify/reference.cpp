@@ -16,9 +16,9 @@
 // sum of |terms| is smaller, which is the one with the smaller error bound.
 //
 // Error bound (Ziv): every term is a product of O(degree) correctly rounded
-// MPFR operations on q, e and the exact coefficients (integer powers of q,
-// S and h by repeated squaring: O(log n) such operations each), and q, e, S = sqrt(e
-// (1 + q)), arcsech q = log1p((e + S)/q), log q = log1p(-e), arcsin q =
+// MPFR operations on q, e and the exact coefficients (an integer power x^n,
+// formed by products from x or 1/x, counts as |n| of them), and q, e,
+// S = sqrt(e (1 + q)), arcsech q = log1p((e + S)/q), log q = log1p(-e), arcsin q =
 // atan2(q, S) all have relative condition numbers O(1) in q and e, so the
 // error of the sum is below 2^(margin - P) * sum |terms|, with margin = 20
 // bits covering degrees up to ~1000 (Higham, Accuracy and Stability, 5.1:
