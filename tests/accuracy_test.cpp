@@ -28,6 +28,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -255,20 +256,38 @@ double scale_at(const acc::Reference& ref, QuantityId q, double h) {
 // ---------------------------------------------------------------------------
 // The run-time batch API against the reference, one kernel and quantity.
 
-// The runtime at every point, through Kernel::evaluate, one batch per h.
-std::vector<double> runtime_values(const mollify::Kernel& k, QuantityId q, const std::vector<acc::Point>& pts) {
+// The points grouped by h: one batch (and one Smoothing) per h.
+struct Batch {
+    mollify::Smoothing s;
+    std::vector<double> r;
+    std::vector<std::size_t> at;  // the points' indices
+};
+
+std::vector<Batch> batches(const mollify::Kernel& k, const std::vector<acc::Point>& pts) {
     std::vector<std::size_t> order(pts.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return pts[a].h < pts[b].h; });
-    std::vector<double> y(pts.size());
+    std::vector<Batch> out;
     for (std::size_t i = 0; i < order.size();) {
+        Batch b{k.smoothing(pts[order[i]].h), {}, {}};
         std::size_t j = i;
-        std::vector<double> r, out;
-        while (j < order.size() && pts[order[j]].h == pts[order[i]].h) r.push_back(pts[order[j++]].r);
-        out.resize(r.size());
-        k.evaluate(q, r, pts[order[i]].h, out);
-        for (std::size_t m = i; m < j; ++m) y[order[m]] = out[m - i];
+        for (; j < order.size() && pts[order[j]].h == pts[order[i]].h; ++j) {
+            b.r.push_back(pts[order[j]].r);
+            b.at.push_back(order[j]);
+        }
+        out.push_back(std::move(b));
         i = j;
+    }
+    return out;
+}
+
+// The runtime at every point, through Kernel::evaluate, one batch per h.
+std::vector<double> runtime_values(const mollify::Kernel& k, QuantityId q, const std::vector<Batch>& bs, std::size_t n) {
+    std::vector<double> y(n), out;
+    for (const Batch& b : bs) {
+        out.resize(b.r.size());
+        k.evaluate(q, b.r, b.s, out);
+        for (std::size_t m = 0; m < b.at.size(); ++m) y[b.at[m]] = out[m];
     }
     return y;
 }
@@ -279,26 +298,50 @@ std::vector<double> runtime_values(const mollify::Kernel& k, QuantityId q, const
 // are counted, not measured (a documented limit of the runtime).
 bool unscaled_overflows(const Real& exact, QuantityId q, int dim, const acc::Point& p) {
     if (p.r > p.h) return false;
-    const Real scale = boost::multiprecision::pow(Real(p.h, 40), mollify::detail::scale_power(q, dim));
+    // |exact| < 2^e and h^-p <= 2^(-p log2 h + 1): far from DBL_MAX ~ 2^1024
+    // the exact comparison below cannot hold (most points; it costs a division).
+    const int power = mollify::detail::scale_power(q, dim);
+    if (mpfr_zero_p(exact.backend().data()) ||
+        (mpfr_number_p(exact.backend().data()) &&
+         static_cast<double>(mpfr_get_exp(exact.backend().data())) - power * std::log2(p.h) < 1000))
+        return false;
+    const Real scale = boost::multiprecision::pow(Real(p.h, 40), power);
     return boost::multiprecision::abs(exact / scale) > Real(std::numeric_limits<double>::max());
 }
 
-Measured measure_kernel(const table::Kernel& t, const acc::Reference& ref, QuantityId q) {
+using PerQuantity = std::array<Measured, table::quantity_count>;
+
+// Every quantity of one kernel: the runtime's values first, then the exact
+// ones point by point (all quantities at a point in turn: the reference
+// shares the point's bases among them).
+PerQuantity measure_kernel(const table::Kernel& t, const acc::Reference& ref) {
     const mollify::Kernel k = mollify::kernel(t.spec, t.dim);
     const auto& pts = points();
-    const std::vector<double> y = runtime_values(k, q, pts);
-    const std::string who = std::string(t.spec) + " D" + std::to_string(t.dim);
-    Measured m;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-        const Real exact = ref.value(q, pts[i].r, pts[i].h);
-        if (unscaled_overflows(exact, q, t.dim, pts[i])) {
-            ++m.overflow;
-            continue;
-        }
-        const double u = acc::ulp_error(y[i], exact);
-        add(m, y[i], exact, scale_at(ref, q, pts[i].h), u, intrinsic_error(y[i], exact, u, ref, q, pts[i]), pts[i], who);
+    const std::vector<Batch> bs = batches(k, pts);
+    std::vector<QuantityId> qs;
+    std::array<std::vector<double>, table::quantity_count> y;
+    for (int qi = 0; qi < table::quantity_count; ++qi) {
+        const auto q = static_cast<QuantityId>(qi);
+        if (!ref.has(q)) continue;
+        qs.push_back(q);
+        y[static_cast<std::size_t>(qi)] = runtime_values(k, q, bs, pts.size());
     }
-    return m;
+    const std::string who = std::string(t.spec) + " D" + std::to_string(t.dim);
+    ref.find_all_maxima();
+    PerQuantity out;
+    for (std::size_t i = 0; i < pts.size(); ++i)
+        for (const QuantityId q : qs) {
+            const double yi = y[static_cast<std::size_t>(q)][i];
+            Measured& m = out[static_cast<std::size_t>(q)];
+            const Real exact = ref.value(q, pts[i].r, pts[i].h);
+            if (unscaled_overflows(exact, q, t.dim, pts[i])) {
+                ++m.overflow;
+                continue;
+            }
+            const double u = acc::ulp_error(yi, exact);
+            add(m, yi, exact, scale_at(ref, q, pts[i].h), u, intrinsic_error(yi, exact, u, ref, q, pts[i]), pts[i], who);
+        }
+    return out;
 }
 
 // Every kernel of one family and dimension.
@@ -309,10 +352,11 @@ void check_family(Family family, int dim) {
         if (t->dim != dim || family_of(t->spec) != family) continue;
         ++kernels;
         const acc::Reference ref(t->spec, t->dim);
+        const PerQuantity measured = measure_kernel(*t, ref);
         for (int qi = 0; qi < table::quantity_count; ++qi) {
             const auto q = static_cast<QuantityId>(qi);
             if (!ref.has(q)) continue;
-            const Measured m = measure_kernel(*t, ref, q);
+            const Measured& m = measured[static_cast<std::size_t>(qi)];
             const Bound b = bound(family, q, dim);
             EXPECT_LE(m.max_intrinsic, b.intrinsic) << t->spec << " D" << dim << " " << mollify::quantity_names[qi] << ": "
                                              << describe(m);

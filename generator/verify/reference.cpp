@@ -4,7 +4,10 @@
 // Speed matters (the accuracy test asks for ~25 million values), so the
 // closed forms are compiled once into arrays of MPFR coefficients per
 // working precision, and a point is evaluated with raw mpfr_t and
-// per-thread temporaries. Each term c * r^low * P(r) * basis(r) of a piece
+// per-thread temporaries; what depends on the point alone (q, 1 - q, S,
+// the logarithms and arctangents of the bases, powers of q, S and h) is
+// kept until the next point, so the quantities of one kernel at one point
+// share it. Each term c * r^low * P(r) * basis(r) of a piece
 // keeps two exact forms of P: in powers of q = r/h, and in powers of the
 // distance to the piece's upper breakpoint, e = hi - q (exact Taylor
 // coefficients). Near the support edge the first cancels like (1 - q)^n
@@ -13,8 +16,9 @@
 // sum of |terms| is smaller, which is the one with the smaller error bound.
 //
 // Error bound (Ziv): every term is a product of O(degree) correctly rounded
-// MPFR operations on q, e and the exact coefficients, and q, e, S = sqrt(e
-// (1 + q)), arcsech q = log1p((e + S)/q), log q = log1p(-e), arcsin q =
+// MPFR operations on q, e and the exact coefficients (an integer power x^n,
+// formed by products from x or 1/x, counts as |n| of them), and q, e,
+// S = sqrt(e (1 + q)), arcsech q = log1p((e + S)/q), log q = log1p(-e), arcsin q =
 // atan2(q, S) all have relative condition numbers O(1) in q and e, so the
 // error of the sum is below 2^(margin - P) * sum |terms|, with margin = 20
 // bits covering degrees up to ~1000 (Higham, Accuracy and Stability, 5.1:
@@ -34,6 +38,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <optional>
 
@@ -43,15 +48,15 @@ namespace gen = mollify::gen;
 
 namespace {
 
-// Working precisions: 256 * 2^i bits. Beyond the last, a value still below
-// its error bound is 0 within 2^(margin - 32768) * sum |terms|.
-constexpr int level_count = 8;
-constexpr long first_bits = 256;
+// Working precisions: 64 bits, for the 24-bit scales (max_abs, slope), then
+// 256 * 2^i bits, where the >= 200-bit values start. Beyond the last, a
+// value still below its error bound is 0 within 2^(margin - 32768) * sum |terms|.
+constexpr int level_count = 9;
 constexpr double margin_bits = 20;
 constexpr double wanted_bits = 201;  // 200 correct bits after rounding to the output
 constexpr long output_bits = 320;
 
-long level_bits(int level) { return first_bits << level; }
+long level_bits(int level) { return level == 0 ? 64 : 256L << (level - 1); }
 
 // An array of MPFR numbers of one precision (raw mpfr_t: Boost's value
 // type allocates on every temporary).
@@ -136,7 +141,7 @@ struct Form {
     bool singular_at_zero = false;
     std::array<std::unique_ptr<MpArray>, level_count> log_coefficient_at;
     mutable std::once_flag max_once;
-    mutable double max_abs = 0;
+    mutable double max_abs = 0;  // Reference::max_abs
 };
 
 double to_double_abs(const gen::Q& c, const gen::Atom& a) {
@@ -238,11 +243,44 @@ void build_form(Form& form, int level) {
     form.log_coefficient_at[static_cast<std::size_t>(level)] = std::move(c);
 }
 
-// Per-thread temporaries of one precision.
-struct Scratch {
-    explicit Scratch(long bits) : v(count, bits) {}
-    enum : std::size_t { q, e1, ehi, acc, term, pw, s, basis, scale, tmp, tmp2, count };
+// Per-thread temporaries of one precision, and what depends only on the
+// point: q, e1 = 1 - q, S and the bases, powers of q, S and h. Every
+// quantity of a kernel (and its slope) at one point shares them, so a
+// caller that asks for all quantities at a point before moving on computes
+// each logarithm, arctangent and square root once, not once per quantity.
+class Scratch {
+public:
+    enum : std::size_t { q, e1, ehi, acc, term, s, tmp, tmp2, log_h_at, arcsech_at, log_at, arcsin_at, near_zero, zero, count };
+    static constexpr long max_power = 40;  // cached powers x^n, |n| <= max_power
+
+    explicit Scratch(long bits)
+        : v(count, bits), key_(2, 64), q_powers_(2 * max_power + 1, bits), s_powers_(2 * max_power + 1, bits),
+          h_powers_(2 * max_power + 1, bits) {
+        mpfr_set_zero(v[zero], 1);
+    }
+
     MpArray v;
+
+    // Makes (r, h) the cached point: inside the support q = r/h and
+    // e1 = 1 - r/h (from the exact h - r); outside q = r, e1 = 1 - r (the
+    // exterior form is in r itself).
+    void at(mpfr_srcptr r, mpfr_srcptr h, bool outside);
+
+    mpfr_srcptr s_value();                    // S = sqrt((1 - q)(1 + q)) from e1
+    mpfr_srcptr basis(gen::Basis b, int s_power);  // not Basis::one
+    mpfr_srcptr q_power(long n) { return power(q_powers_, have_q_, v[q], n); }
+    mpfr_srcptr h_power(long n) { return power(h_powers_, have_h_, key_[1], n); }
+    mpfr_srcptr log_h();
+
+private:
+    using Have = std::array<bool, 2 * max_power + 1>;
+    mpfr_srcptr power(MpArray& cache, Have& have, mpfr_srcptr x, long n);
+
+    MpArray key_;  // r, h of the cached point
+    bool valid_ = false, outside_ = false;
+    bool have_s_ = false, have_log_h_ = false, have_arcsech_ = false, have_log_ = false, have_arcsin_ = false;
+    Have have_q_{}, have_s_powers_{}, have_h_{};
+    MpArray q_powers_, s_powers_, h_powers_;
 };
 
 Scratch& scratch(int level) {
@@ -250,6 +288,99 @@ Scratch& scratch(int level) {
     auto& p = s[static_cast<std::size_t>(level)];
     if (!p) p = std::make_unique<Scratch>(level_bits(level));
     return *p;
+}
+
+void edge_distance(mpfr_ptr out, mpfr_srcptr r, mpfr_srcptr h, long num, long den);
+
+void Scratch::at(mpfr_srcptr r, mpfr_srcptr h, bool outside) {
+    if (valid_ && outside_ == outside && mpfr_equal_p(key_[0], r) && mpfr_equal_p(key_[1], h)) return;
+    for (std::size_t i : {std::size_t{0}, std::size_t{1}}) {
+        mpfr_srcptr x = i == 0 ? r : h;
+        if (mpfr_get_prec(key_[i]) < mpfr_get_prec(x)) mpfr_set_prec(key_[i], mpfr_get_prec(x));
+        mpfr_set(key_[i], x, MPFR_RNDN);  // exact
+    }
+    valid_ = true;
+    outside_ = outside;
+    have_s_ = have_log_h_ = have_arcsech_ = have_log_ = have_arcsin_ = false;
+    have_q_.fill(false);
+    have_s_powers_.fill(false);
+    have_h_.fill(false);
+    if (outside) {
+        mpfr_set(v[q], r, MPFR_RNDN);
+        mpfr_ui_sub(v[e1], 1, r, MPFR_RNDN);  // for log r near 1
+    } else {
+        mpfr_div(v[q], r, h, MPFR_RNDN);
+        edge_distance(v[e1], r, h, 1, 1);
+    }
+}
+
+mpfr_srcptr Scratch::s_value() {
+    if (!have_s_) {
+        // S = sqrt((1 - q)(1 + q)) from e1: accurate where q is within an ulp of 1.
+        mpfr_add_ui(v[tmp2], v[q], 1, MPFR_RNDN);
+        mpfr_mul(v[s], v[tmp2], v[e1], MPFR_RNDN);
+        mpfr_sqrt(v[s], v[s], MPFR_RNDN);
+        have_s_ = true;
+    }
+    return v[s];
+}
+
+// x^n, n != 0, from x^(n -+ 1): |n| roundings (n < 0: one division for
+// 1/x, then products), which the margin covers as it covers Horner's; a
+// point's powers of h for the quantities' scalings are then one product each.
+mpfr_srcptr Scratch::power(MpArray& cache, Have& have, mpfr_srcptr x, long n) {
+    if (n == 0 || n < -max_power || n > max_power)
+        fail("internal: power " + std::to_string(n) + " outside the reference's cache");
+    const auto i = static_cast<std::size_t>(n + max_power);
+    if (!have[i]) {
+        if (n == 1) mpfr_set(cache[i], x, MPFR_RNDN);
+        else if (n == -1) mpfr_ui_div(cache[i], 1, x, MPFR_RNDN);
+        else if (n > 1) mpfr_mul(cache[i], power(cache, have, x, n - 1), x, MPFR_RNDN);
+        else mpfr_mul(cache[i], power(cache, have, x, n + 1), power(cache, have, x, -1), MPFR_RNDN);
+        have[i] = true;
+    }
+    return cache[i];
+}
+
+mpfr_srcptr Scratch::log_h() {
+    if (!have_log_h_) {
+        mpfr_log(v[log_h_at], key_[1], MPFR_RNDN);
+        have_log_h_ = true;
+    }
+    return v[log_h_at];
+}
+
+mpfr_srcptr Scratch::basis(gen::Basis b, int s_power) {
+    switch (b) {
+        case gen::Basis::one: break;
+        case gen::Basis::sqrt_power: return power(s_powers_, have_s_powers_, s_value(), s_power);
+        case gen::Basis::arcsech:  // log1p((e + S)/q)
+            if (!have_arcsech_) {
+                mpfr_add(v[arcsech_at], v[e1], s_value(), MPFR_RNDN);
+                mpfr_div(v[arcsech_at], v[arcsech_at], v[q], MPFR_RNDN);
+                mpfr_log1p(v[arcsech_at], v[arcsech_at], MPFR_RNDN);
+                have_arcsech_ = true;
+            }
+            return v[arcsech_at];
+        case gen::Basis::log:
+            if (!have_log_) {
+                if (mpfr_cmp_d(v[q], 0.5) < 0) {
+                    mpfr_log(v[log_at], v[q], MPFR_RNDN);
+                } else {
+                    mpfr_neg(v[log_at], v[e1], MPFR_RNDN);
+                    mpfr_log1p(v[log_at], v[log_at], MPFR_RNDN);
+                }
+                have_log_ = true;
+            }
+            return v[log_at];
+        case gen::Basis::arcsin:
+            if (!have_arcsin_) {
+                mpfr_atan2(v[arcsin_at], v[q], s_value(), MPFR_RNDN);
+                have_arcsin_ = true;
+            }
+            return v[arcsin_at];
+    }
+    fail("internal: the basis 1 has no value to cache");
 }
 
 // Two per-thread numbers wide enough for the exact products of r and h
@@ -306,29 +437,6 @@ void horner(mpfr_ptr out, const MpArray& c, mpfr_srcptr v) {
     }
 }
 
-// The basis function at the point, from q and e1 = 1 - q.
-void basis_value(mpfr_ptr out, const Term& t, Scratch& w) {
-    mpfr_ptr s = w.v[Scratch::s];
-    switch (t.basis) {
-        case gen::Basis::one: mpfr_set_ui(out, 1, MPFR_RNDN); return;
-        case gen::Basis::sqrt_power: mpfr_pow_si(out, s, t.s_power, MPFR_RNDN); return;
-        case gen::Basis::arcsech:  // log1p((e + S)/q)
-            mpfr_add(out, w.v[Scratch::e1], s, MPFR_RNDN);
-            mpfr_div(out, out, w.v[Scratch::q], MPFR_RNDN);
-            mpfr_log1p(out, out, MPFR_RNDN);
-            return;
-        case gen::Basis::log:
-            if (mpfr_cmp_d(w.v[Scratch::q], 0.5) < 0) {
-                mpfr_log(out, w.v[Scratch::q], MPFR_RNDN);
-            } else {
-                mpfr_neg(out, w.v[Scratch::e1], MPFR_RNDN);
-                mpfr_log1p(out, out, MPFR_RNDN);
-            }
-            return;
-        case gen::Basis::arcsin: mpfr_atan2(out, w.v[Scratch::q], s, MPFR_RNDN); return;
-    }
-}
-
 // acc += the piece at the point (q, e1, ehi in the scratch); returns log2 sum |terms|.
 double add_piece(const Piece& p, int level, Scratch& w) {
     const auto L = static_cast<std::size_t>(level);
@@ -342,14 +450,13 @@ double add_piece(const Piece& p, int level, Scratch& w) {
         horner(w.v[Scratch::term], *(edge ? t.in_edge : t.in_q).at[L], w.v[edge ? Scratch::ehi : Scratch::q]);
         double log2_m = std::log2(edge ? me : mq);
         if (t.low != 0) {
-            mpfr_pow_si(w.v[Scratch::pw], w.v[Scratch::q], t.low, MPFR_RNDN);
-            mpfr_mul(w.v[Scratch::term], w.v[Scratch::term], w.v[Scratch::pw], MPFR_RNDN);
+            mpfr_mul(w.v[Scratch::term], w.v[Scratch::term], w.q_power(t.low), MPFR_RNDN);
             log2_m += t.low * log2_q;
         }
         if (t.basis != gen::Basis::one) {
-            basis_value(w.v[Scratch::basis], t, w);
-            mpfr_mul(w.v[Scratch::term], w.v[Scratch::term], w.v[Scratch::basis], MPFR_RNDN);
-            log2_m += log2_abs(w.v[Scratch::basis]);
+            mpfr_srcptr b = w.basis(t.basis, t.s_power);
+            mpfr_mul(w.v[Scratch::term], w.v[Scratch::term], b, MPFR_RNDN);
+            log2_m += log2_abs(b);
         }
         // The double magnitude can underflow where MPFR does not.
         log2_m = std::max(log2_m, log2_abs(w.v[Scratch::term]));
@@ -367,13 +474,15 @@ std::size_t piece_index(const Form& f, mpfr_srcptr r, mpfr_srcptr h) {
 
 // f(r/h) -> h^p f(r/h) (+ c log h for a 2D potential), as the runtime scales;
 // returns log2 of the updated sum of |terms|.
-double scale_by_h(const Form& f, mpfr_srcptr h, int level, Scratch& w, double log2_m) {
-    mpfr_pow_si(w.v[Scratch::scale], h, f.power, MPFR_RNDN);
-    mpfr_mul(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::scale], MPFR_RNDN);
-    log2_m += log2_abs(w.v[Scratch::scale]);
+// h is the cached point's (Scratch::at).
+double scale_by_h(const Form& f, int level, Scratch& w, double log2_m) {
+    if (f.power != 0) {
+        mpfr_srcptr scale = w.h_power(f.power);
+        mpfr_mul(w.v[Scratch::acc], w.v[Scratch::acc], scale, MPFR_RNDN);
+        log2_m += log2_abs(scale);
+    }
     if (!f.log_coefficient.is_zero()) {
-        mpfr_log(w.v[Scratch::tmp], h, MPFR_RNDN);
-        mpfr_mul(w.v[Scratch::tmp], w.v[Scratch::tmp], (*f.log_coefficient_at[static_cast<std::size_t>(level)])[0],
+        mpfr_mul(w.v[Scratch::tmp], w.log_h(), (*f.log_coefficient_at[static_cast<std::size_t>(level)])[0],
                  MPFR_RNDN);
         mpfr_add(w.v[Scratch::acc], w.v[Scratch::acc], w.v[Scratch::tmp], MPFR_RNDN);
         log2_m = log2_sum(log2_m, log2_abs(w.v[Scratch::tmp]));
@@ -384,25 +493,19 @@ double scale_by_h(const Form& f, mpfr_srcptr h, int level, Scratch& w, double lo
 // One attempt at `level`: acc = f_h(r); returns log2 of the error bound.
 double attempt_inside(const Form& f, mpfr_srcptr r, mpfr_srcptr h, int level, Scratch& w) {
     const Piece& p = f.pieces[piece_index(f, r, h)];
-    mpfr_div(w.v[Scratch::q], r, h, MPFR_RNDN);
-    edge_distance(w.v[Scratch::e1], r, h, 1, 1);
+    w.at(r, h, false);
     if (p.hi_num == p.hi_den) mpfr_set(w.v[Scratch::ehi], w.v[Scratch::e1], MPFR_RNDN);
     else edge_distance(w.v[Scratch::ehi], r, h, p.hi_num, p.hi_den);
-    // S = sqrt((1 - q)(1 + q)) from e1: accurate where q is within an ulp of 1.
-    mpfr_add_ui(w.v[Scratch::tmp], w.v[Scratch::q], 1, MPFR_RNDN);
-    mpfr_mul(w.v[Scratch::s], w.v[Scratch::tmp], w.v[Scratch::e1], MPFR_RNDN);
-    mpfr_sqrt(w.v[Scratch::s], w.v[Scratch::s], MPFR_RNDN);
     mpfr_set_zero(w.v[Scratch::acc], 1);
     double log2_m = add_piece(p, level, w);
-    log2_m = scale_by_h(f, h, level, w, log2_m);
+    log2_m = scale_by_h(f, level, w, log2_m);
     return log2_m + margin_bits - static_cast<double>(level_bits(level));
 }
 
 // Outside: the exterior form at r itself (no h: the Green's function is the
 // same for every h, as in the runtime).
-double attempt_outside(const Form& f, mpfr_srcptr r, int level, Scratch& w) {
-    mpfr_set(w.v[Scratch::q], r, MPFR_RNDN);
-    mpfr_ui_sub(w.v[Scratch::e1], 1, r, MPFR_RNDN);  // for log r near 1
+double attempt_outside(const Form& f, mpfr_srcptr r, mpfr_srcptr h, int level, Scratch& w) {
+    w.at(r, h, true);
     mpfr_set(w.v[Scratch::ehi], w.v[Scratch::e1], MPFR_RNDN);
     mpfr_set_zero(w.v[Scratch::acc], 1);
     if (f.outside.terms.empty()) return -std::numeric_limits<double>::infinity();
@@ -415,16 +518,17 @@ double attempt_at_zero(const Form& f, mpfr_srcptr h, int level, Scratch& w) {
     const long bits = level_bits(level);
     if (f.singular_at_zero) {
         // The sign of the singularity: the form just right of 0.
-        mpfr_set_ui_2exp(w.v[Scratch::tmp2], 1, -100000, MPFR_RNDN);
-        mpfr_mul(w.v[Scratch::tmp2], w.v[Scratch::tmp2], h, MPFR_RNDN);
-        attempt_inside(f, w.v[Scratch::tmp2], h, level, w);
+        mpfr_set_ui_2exp(w.v[Scratch::near_zero], 1, -100000, MPFR_RNDN);
+        mpfr_mul(w.v[Scratch::near_zero], w.v[Scratch::near_zero], h, MPFR_RNDN);
+        attempt_inside(f, w.v[Scratch::near_zero], h, level, w);
         mpfr_set_inf(w.v[Scratch::acc], mpfr_sgn(w.v[Scratch::acc]));
         return -std::numeric_limits<double>::infinity();
     }
     const auto [v, m] = f.at_zero->evaluate(static_cast<unsigned>(bits));
+    w.at(w.v[Scratch::zero], h, false);  // the point r = 0, whose h scales
     mpfr_set(w.v[Scratch::acc], v.backend().data(), MPFR_RNDN);
     double log2_m = log2_abs(m.backend().data());
-    log2_m = scale_by_h(f, h, level, w, log2_m);
+    log2_m = scale_by_h(f, level, w, log2_m);
     return log2_m + margin_bits - static_cast<double>(bits);
 }
 
@@ -452,6 +556,41 @@ struct Reference::Impl {
     std::array<Form, table::quantity_count> forms;
     std::array<Form, table::quantity_count> slopes;  // r d/dr of each
     std::array<std::once_flag, level_count> built;
+    std::once_flag all_maxima_once;
+
+    // The grid of Reference::max_abs for one form.
+    static std::vector<double> max_grid(const Form& f) {
+        std::vector<double> grid;
+        constexpr int cells = 2048;
+        for (int i = f.singular_at_zero ? 1 : 0; i <= cells; ++i) grid.push_back(static_cast<double>(i) / cells);
+        for (const Piece& p : f.pieces)
+            for (double x : {static_cast<double>(p.lo), static_cast<double>(p.hi)})
+                for (double y : {std::nextafter(x, 0.0), x, std::nextafter(x, 2.0)})
+                    if (y >= (f.singular_at_zero ? 1.0 / cells : 0.0) && y <= 1) grid.push_back(y);
+        return grid;
+    }
+
+    // max_abs of the forms given, point by point over the union of their
+    // grids, so that at each point they share its bases (Scratch).
+    std::vector<double> find_maxima(const std::vector<const Form*>& fs) {
+        std::map<double, std::vector<std::size_t>> sampled;  // point -> the forms sampled there
+        for (std::size_t i = 0; i < fs.size(); ++i)
+            for (double r : max_grid(*fs[i])) sampled[r].push_back(i);
+        std::vector<double> out(fs.size(), 0.0);
+        // 24 correct bits are plenty for a scale.
+        mpfr_t rr, one, v;
+        mpfr_inits2(64, rr, one, v, static_cast<mpfr_ptr>(nullptr));
+        mpfr_set_ui(one, 1, MPFR_RNDN);
+        for (const auto& [r, at] : sampled) {
+            mpfr_set_d(rr, r, MPFR_RNDN);
+            for (std::size_t i : at) {
+                value(*fs[i], rr, one, v, 24);
+                out[i] = std::max(out[i], std::abs(mpfr_get_d(v, MPFR_RNDN)));
+            }
+        }
+        mpfr_clears(rr, one, v, static_cast<mpfr_ptr>(nullptr));
+        return out;
+    }
 
     void ensure(int level) {
         std::call_once(built[static_cast<std::size_t>(level)], [&] {
@@ -462,36 +601,28 @@ struct Reference::Impl {
     }
 
     double attempt(const Form& f, mpfr_srcptr r, mpfr_srcptr h, int level, Scratch& w) {
-        if (compare_scaled(r, h, 1, 1) > 0) return attempt_outside(f, r, level, w);
+        if (compare_scaled(r, h, 1, 1) > 0) return attempt_outside(f, r, h, level, w);
         if (mpfr_zero_p(r) && (f.at_zero || f.singular_at_zero)) return attempt_at_zero(f, h, level, w);
         return attempt_inside(f, r, h, level, w);
     }
 
     // The form at double r and h (exact), `wanted` correct bits, in a number of `bits`.
     Real at(const Form& f, double r, double h, long bits, double wanted) {
-        mpfr_t rr, hh;
-        mpfr_init2(rr, 53);
-        mpfr_init2(hh, 53);
-        mpfr_set_d(rr, r, MPFR_RNDN);
-        mpfr_set_d(hh, h, MPFR_RNDN);
+        thread_local MpArray rh(2, 53);
+        mpfr_set_d(rh[0], r, MPFR_RNDN);
+        mpfr_set_d(rh[1], h, MPFR_RNDN);
+        check_arguments(rh[0], rh[1]);
         Real out(0, static_cast<unsigned>(bits * 30103 / 100000 + 2));
-        try {
-            check_arguments(rr, hh);
-            value(f, rr, hh, out.backend().data(), wanted);
-        } catch (...) {
-            mpfr_clear(rr);
-            mpfr_clear(hh);
-            throw;
-        }
-        mpfr_clear(rr);
-        mpfr_clear(hh);
+        value(f, rh[0], rh[1], out.backend().data(), wanted);
         return out;
     }
 
     // Ziv's loop; out gets the value (0 when it stays below its bound at
     // the largest precision: |f| < 2^(margin - 32768) sum |terms|).
     void value(const Form& f, mpfr_srcptr r, mpfr_srcptr h, mpfr_ptr out, double wanted = wanted_bits) {
-        int level = 0;
+        // The first precision that can give `wanted` bits when no term cancels.
+        int level = level_for(wanted + margin_bits + 8);
+        if (level < 0) level = level_count - 1;
         for (;;) {
             ensure(level);
             Scratch& w = scratch(level);
@@ -579,28 +710,18 @@ Real Reference::slope(QuantityId q, double r, double h) const {
 double Reference::max_abs(QuantityId q) const {
     require(*this, q);
     const Form& f = impl_->forms[static_cast<std::size_t>(q)];
-    std::call_once(f.max_once, [&] {
-        std::vector<double> grid;
-        constexpr int cells = 2048;
-        for (int i = f.singular_at_zero ? 1 : 0; i <= cells; ++i) grid.push_back(static_cast<double>(i) / cells);
-        for (const Piece& p : f.pieces)
-            for (double x : {static_cast<double>(p.lo), static_cast<double>(p.hi)})
-                for (double y : {std::nextafter(x, 0.0), x, std::nextafter(x, 2.0)})
-                    if (y >= (f.singular_at_zero ? 1.0 / cells : 0.0) && y <= 1) grid.push_back(y);
-        // 24 correct bits are plenty for a scale.
-        double m = 0;
-        mpfr_t rr, one, v;
-        mpfr_inits2(64, rr, one, v, static_cast<mpfr_ptr>(nullptr));
-        mpfr_set_ui(one, 1, MPFR_RNDN);
-        for (double r : grid) {
-            mpfr_set_d(rr, r, MPFR_RNDN);
-            impl_->value(f, rr, one, v, 24);
-            m = std::max(m, std::abs(mpfr_get_d(v, MPFR_RNDN)));
-        }
-        mpfr_clears(rr, one, v, static_cast<mpfr_ptr>(nullptr));
-        f.max_abs = m;
-    });
+    std::call_once(f.max_once, [&] { f.max_abs = impl_->find_maxima({&f}).front(); });
     return f.max_abs;
+}
+
+void Reference::find_all_maxima() const {
+    std::call_once(impl_->all_maxima_once, [&] {
+        std::vector<const Form*> fs;
+        for (const Form& f : impl_->forms)
+            if (f.present) fs.push_back(&f);
+        const std::vector<double> m = impl_->find_maxima(fs);
+        for (std::size_t i = 0; i < fs.size(); ++i) std::call_once(fs[i]->max_once, [&] { fs[i]->max_abs = m[i]; });
+    });
 }
 
 // SLEEF's countULP (sleef/src/libm-tester/testerutil.c): ulp(x) = 2^(e-52)
@@ -620,17 +741,14 @@ double ulp_error(double y, const Real& x) {
         extra = 1;
     }
     if (mpfr_zero_p(c) && y == 0) return extra;
-    mpfr_t d, u;
+    mpfr_t d;
     mpfr_init2(d, std::max<long>(mpfr_get_prec(c), 64) + 1100);
-    mpfr_init2(u, 64);
     const long e = mpfr_zero_p(c) ? -100000 : mpfr_get_exp(c);  // 2^(e-1) <= |x| < 2^e
-    mpfr_set_ui_2exp(u, 1, std::max(e - 53, -1074L), MPFR_RNDN);
     mpfr_set_d(d, y, MPFR_RNDN);
     mpfr_sub(d, d, c, MPFR_RNDN);
-    mpfr_div(d, d, u, MPFR_RNDN);
+    mpfr_mul_2si(d, d, -std::max(e - 53, -1074L), MPFR_RNDN);  // / ulp(x), exact
     const double out = std::abs(mpfr_get_d(d, MPFR_RNDN)) + extra;
     mpfr_clear(d);
-    mpfr_clear(u);
     return out;
 }
 
@@ -640,12 +758,11 @@ double scaled_error(double y, const Real& x, double scale) {
     if (std::isinf(y)) return std::numeric_limits<double>::infinity();
     int e = 0;
     std::frexp(scale, &e);  // 2^(e-1) <= scale < 2^e
-    const double ulp = std::ldexp(1.0, std::max(e - 53, -1074));
     mpfr_t d;
     mpfr_init2(d, std::max<long>(mpfr_get_prec(x.backend().data()), 64) + 1100);
     mpfr_set_d(d, y, MPFR_RNDN);
     mpfr_sub(d, d, x.backend().data(), MPFR_RNDN);
-    mpfr_div_d(d, d, ulp, MPFR_RNDN);
+    mpfr_mul_2si(d, d, -std::max(e - 53, -1074), MPFR_RNDN);  // / ulp(scale), exact
     const double out = std::abs(mpfr_get_d(d, MPFR_RNDN));
     mpfr_clear(d);
     return out;
