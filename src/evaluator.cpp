@@ -1165,6 +1165,17 @@ void radial_by_piece(const QuantityPlan& qp, QuantityId q, const double* r, doub
     }
 }
 
+// Are the inner pieces worth sorting the points into (Precision::accurate)?
+// Evaluating every piece costs all their terms, by piece one piece's terms
+// and the sort: kernel_bench measured the sort a loss for the cubic spline
+// (two pieces of one term each, 2.5x the static form) and a gain for
+// combinations (pieces of 1 to m terms).
+bool by_piece(const QuantityPlan& qp) {
+    std::size_t terms = 0;
+    for (const PiecePlan& p : qp.inner) terms += p.terms.size();
+    return qp.inner.size() > 1 && terms >= 2 * qp.inner.size();
+}
+
 // Is the quantity one fused term inside the support and 0 outside (then
 // evaluated in one pass from r)?
 bool whole(const QuantityPlan& qp, QuantityId q, int dim) {
@@ -1191,7 +1202,7 @@ void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
             fast_whole_of[shape](t, r, out, n, s, s.scale(q));
         return;
     }
-    if (Pr == Precision::accurate && qp.inner.size() > 1) {
+    if (Pr == Precision::accurate && by_piece(qp)) {
         // Each point through its own piece only: the static form evaluates
         // every piece and selects (a combination of m radii: m pieces of
         // up to m terms); sorting the points by piece first costs less
