@@ -14,11 +14,14 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace mollify::detail {
 inline namespace MOLLIFY_ISA {
 namespace {
+
+constexpr double infinity = std::numeric_limits<double>::infinity();
 
 // ipow<N> with N at run time: the same binary-powering tree (x^(2m+b) =
 // (x^m)^2 x^b, walked from the top bit down), so the same roundings.
@@ -287,6 +290,12 @@ struct DDs {
     double hi[B], lo[B];
 };
 
+// What a sum starts from (fast_piece's fold: 0 + the first term), read
+// rather than written: GCC makes a zeroing loop `rep stos`, 70 % of a
+// combination's piece loop.
+constexpr double zeros[B] = {};
+constexpr DDs zero_dds = {};
+
 // Shape-specialised loops: the exponent or the polynomial length a
 // template argument (up to these sizes; longer ones take the general loops
 // below), the coefficients read from the table and broadcast, the sums in
@@ -387,15 +396,22 @@ MOLLIFY_INLINE double fast_term_at(const double* k, double q, double e, double r
 // One whole polynomial term added to a block's sum in one pass (fast_term
 // for Basis::one, low = 0), the sum in registers. The same operations in
 // the same order as the scalar path, so the same bits.
+// sum = from + term (from: the sum so far, or zeros for the first term,
+// fast_piece's fold 0 + term). A term shared by several pieces
+// (QuantityPlan::shared_terms) is added only where lo <= q < hi, +0
+// elsewhere, which changes no sum (a sum from +0 is never -0 in
+// round-to-nearest).
 template <int N, int P, bool VarR, bool SupportEdge>
 void add_term_fixed(const double* c, const double* q, const double* e, const double* r, double edge, double h,
-                    double inv_h, bool first, double* sum) {
+                    double inv_h, double lo, double hi, const double* from, double* sum) {
     double k[N];
     for (int j = 0; j < N; ++j) k[j] = c[j];
-    if (first)  // the first term: 0 + x, as fast_piece's fold
-        for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0 + fast_term_at<N, P, VarR, SupportEdge>(k, q[i], e[i], r[i], edge, h, inv_h);
+    if (lo == -infinity && hi == infinity)
+        for (std::size_t i = 0; i < B; ++i) sum[i] = from[i] + fast_term_at<N, P, VarR, SupportEdge>(k, q[i], e[i], r[i], edge, h, inv_h);
     else
-        for (std::size_t i = 0; i < B; ++i) sum[i] = sum[i] + fast_term_at<N, P, VarR, SupportEdge>(k, q[i], e[i], r[i], edge, h, inv_h);
+        for (std::size_t i = 0; i < B; ++i)
+            sum[i] = from[i] + select((q[i] >= lo) & (q[i] < hi),
+                                      fast_term_at<N, P, VarR, SupportEdge>(k, q[i], e[i], r[i], edge, h, inv_h), 0.0);
 }
 
 // A whole quantity that is one term (one piece, 0 outside: Wendland's W
@@ -417,7 +433,8 @@ MOLLIFY_FLATTEN void fast_whole_fixed(const TermPlan& t, const double* __restric
 
 constexpr int fused_length = 5;
 constexpr int fused_power = 12;
-using AddTerm = void (*)(const double*, const double*, const double*, const double*, double, double, double, bool, double*);
+using AddTerm = void (*)(const double*, const double*, const double*, const double*, double, double, double, double, double,
+                         const double*, double*);
 
 template <bool VarR, bool SupportEdge, int... I>
 constexpr std::array<AddTerm, sizeof...(I)> add_term_table(std::integer_sequence<int, I...>) {
@@ -721,6 +738,13 @@ void add_series_term(const TermPlan& t, const TermPlan* previous, const FastBloc
     else add([&](std::size_t) { return c; });
 }
 
+// sum = from + a fused term where lo <= q < hi (add_term_fixed).
+void add_fused_term(const TermPlan& t, const FastBlock& a, double lo, double hi, const double* from, double* sum) {
+    add_term_of[t.var == table::Var::r][t.edge == 1.0][static_cast<std::size_t>((t.n - 1) * (fused_power + 1) +
+                                                                               t.edge_power)](
+        t.c, a.q, a.e, a.r, t.edge, a.h, a.inv_h, lo, hi, from, sum);
+}
+
 void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
     SharedPowers* shared = nullptr;  // only where a term is not fused (the buffers are 40 kB)
     double x[B];
@@ -728,10 +752,9 @@ void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
         for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0;
     const TermPlan* previous = nullptr;
     for (const TermPlan& t : p.terms) {
+        const double* from = previous ? sum : zeros;
         if (fused(t)) {
-            add_term_of[t.var == table::Var::r][t.edge == 1.0][static_cast<std::size_t>((t.n - 1) * (fused_power + 1) +
-                                                                                       t.edge_power)](
-                t.c, a.q, a.e, a.r, t.edge, a.h, a.inv_h, !previous, sum);
+            add_fused_term(t, a, -infinity, infinity, from, sum);
             if (shared) shared->edge_valid = false;
         } else {
             if (!shared) {
@@ -744,14 +767,12 @@ void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
                 continue;
             }
             fast_term_block(t, previous, a, *shared, x);
-            if (!previous)
-                for (std::size_t i = 0; i < B; ++i) sum[i] = 0.0 + x[i];
-            else
-                for (std::size_t i = 0; i < B; ++i) sum[i] = sum[i] + x[i];
+            for (std::size_t i = 0; i < B; ++i) sum[i] = from[i] + x[i];
         }
         previous = &t;
     }
 }
+
 
 struct AccurateBlock {
     double q[B], e[B], r[B], dq[B], dq2[B];
@@ -858,9 +879,9 @@ void accurate_polynomial_block(const TermPlan& t, const AccurateBlock& a, DDs& o
 }
 
 // How a fused term's value joins its piece: the piece's only term, rounded
-// once after the scale; the first of several (0 + term, as the generic
-// loop's sum starts at 0); a later one, added to the sum.
-enum class Fold { single, first, add };
+// once after the scale; or one of several, added to the sum so far (to
+// zero_dds for the first: 0 + term, as the generic loop's sum starts at 0).
+enum class Fold { single, add };
 
 // One term of accurate_piece_block at one point (Basis::one, low = 0, not
 // continuing a series, Horner length N, edge power P): the distance to the
@@ -905,7 +926,8 @@ MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, d
 // instead of five (the double-double block arrays between the passes cost
 // more than the arithmetic: kernel_bench, README).
 template <int N, int P, bool VarR, bool SupportEdge, bool Exact>
-MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock& a, Fold fold, DDs& sum, double* out) {
+MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock& a, Fold fold, const DDs& from, DDs& sum,
+                                         double* out) {
     double k[N], l[N];
     for (int j = 0; j < N; ++j) k[j] = t.c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
     const double edge = t.edge, edge_lo = t.edge_lo, h = a.h, inv_h = a.inv_h;
@@ -917,14 +939,9 @@ MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock&
     if (fold == Fold::single) {
         const DoubleDouble scale = a.scale;
         for (std::size_t i = 0; i < B; ++i) out[i] = rounded(term(i) * scale);
-    } else if (fold == Fold::first) {
-        for (std::size_t i = 0; i < B; ++i) {
-            const DoubleDouble y = DoubleDouble{0.0, 0.0} + term(i);
-            sum.hi[i] = y.hi, sum.lo[i] = y.lo;
-        }
     } else {
         for (std::size_t i = 0; i < B; ++i) {
-            const DoubleDouble y = DoubleDouble{sum.hi[i], sum.lo[i]} + term(i);
+            const DoubleDouble y = DoubleDouble{from.hi[i], from.lo[i]} + term(i);
             sum.hi[i] = y.hi, sum.lo[i] = y.lo;
         }
     }
@@ -953,7 +970,7 @@ MOLLIFY_FLATTEN void accurate_whole_fixed(const TermPlan& t, const double* __res
 // compile time.
 constexpr bool fused_loops = MOLLIFY_HAS_FMA;
 
-using AccurateTerm = void (*)(const TermPlan&, const AccurateBlock&, Fold, DDs&, double*);
+using AccurateTerm = void (*)(const TermPlan&, const AccurateBlock&, Fold, const DDs&, DDs&, double*);
 using AccurateWhole = void (*)(const TermPlan&, const double*, double*, std::size_t, double, double, DoubleDouble);
 using FastWhole = void (*)(const TermPlan&, const double*, double*, std::size_t, const Smoothing&, double);
 
@@ -985,8 +1002,8 @@ constexpr auto fast_whole_of = fast_whole_loops(std::make_index_sequence<whole_s
 
 bool fused_accurate(const TermPlan& t) { return fused_loops && t.shape >= 0; }
 
-void accurate_term_block(const TermPlan& t, const AccurateBlock& a, Fold fold, DDs& sum, double* out) {
-    accurate_term_of[static_cast<std::size_t>(t.shape)](t, a, fold, sum, out);
+void accurate_term_block(const TermPlan& t, const AccurateBlock& a, Fold fold, const DDs& from, DDs& sum, double* out) {
+    accurate_term_of[static_cast<std::size_t>(t.shape)](t, a, fold, from, sum, out);
 }
 
 // accurate_piece for pieces of Basis::one terms.
@@ -1009,11 +1026,11 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
     const bool single = p.terms.size() == 1;
     if (!p.terms.empty() && std::all_of(p.terms.begin(), p.terms.end(), fused_accurate)) {
         if (single) {
-            accurate_term_block(p.terms.front(), a, Fold::single, sum, out);
+            accurate_term_block(p.terms.front(), a, Fold::single, zero_dds, sum, out);
             return;
         }
         for (std::size_t t = 0; t < p.terms.size(); ++t)
-            accurate_term_block(p.terms[t], a, t == 0 ? Fold::first : Fold::add, sum, out);
+            accurate_term_block(p.terms[t], a, Fold::add, t == 0 ? zero_dds : sum, sum, out);
         for (std::size_t i = 0; i < B; ++i) out[i] = rounded(DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
         return;
     }
@@ -1056,16 +1073,50 @@ void fill(AccurateBlock& a, const double* r) {
     }
 }
 
-// Precision::fast, a polynomial_inside quantity that is 0 outside, at the
-// B points of a (StaticKernel::emitted): every piece, the selection, the
-// scale, 0 beyond h.
-void fast_zero_outside_block(const QuantityPlan& qp, const FastBlock& a, double scale, double* out) {
-    double in[B], piece[B];
+// Precision::fast, the inner pieces of a quantity whose pieces share terms
+// (QuantityPlan::shared_terms: a combination of m radii), at the B points
+// of a: each distinct term once, added where its pieces reach and +0
+// elsewhere, which changes no sum: the bits of the pieces evaluated and
+// selected, for m instead of m(m+1)/2 terms. (The static form gets there
+// by the compiler's common subexpressions.)
+void shared_terms_block(const QuantityPlan& qp, const FastBlock& a, double* sum) {
+    double x[B];
+    const double* from = zeros;
+    for (const QuantityPlan::SharedTerm& m : qp.shared_terms) {
+        const TermPlan& t = qp.inner[m.piece].terms[m.term];
+        if (fused(t)) {
+            add_fused_term(t, a, m.lo, m.hi, from, sum);
+        } else {
+            SharedPowers& shared = shared_powers();
+            shared.edge_valid = shared.s_valid = false;
+            fast_term_block(t, nullptr, a, shared, x);
+            for (std::size_t i = 0; i < B; ++i) sum[i] = from[i] + select((a.q[i] >= m.lo) & (a.q[i] < m.hi), x[i], 0.0);
+        }
+        from = sum;
+    }
+}
+
+// Precision::fast, the inner pieces at the B points of a: every piece and
+// the selection, or the shared terms once each.
+void fast_inner_block(const QuantityPlan& qp, const FastBlock& a, double* in) {
+    if (fused_loops && !qp.shared_terms.empty()) {
+        shared_terms_block(qp, a, in);
+        return;
+    }
+    double piece[B];
     for (std::size_t p = 0; p < qp.inner.size(); ++p) {
         fast_piece_block(qp.inner[p], a, p == 0 ? in : piece);
         if (p > 0)
             for (std::size_t i = 0; i < B; ++i) in[i] = select(a.q[i] < qp.inner[p].lo, in[i], piece[i]);
     }
+}
+
+// Precision::fast, a polynomial_inside quantity that is 0 outside, at the
+// B points of a (StaticKernel::emitted): every piece, the selection, the
+// scale, 0 beyond h.
+void fast_zero_outside_block(const QuantityPlan& qp, const FastBlock& a, double scale, double* out) {
+    double in[B];
+    fast_inner_block(qp, a, in);
     for (std::size_t i = 0; i < B; ++i) out[i] = select(a.r[i] <= a.h, in[i] * scale, 0.0);
 }
 
@@ -1090,11 +1141,7 @@ void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double*
             a.e[i] = edge_distance(s.h() - r[i], s);
             a.r[i] = r[i];
         }
-        for (std::size_t p = 0; p < qp.inner.size(); ++p) {
-            fast_piece_block(qp.inner[p], a, p == 0 ? in : piece);
-            if (p > 0)
-                for (std::size_t i = 0; i < B; ++i) in[i] = select(a.q[i] < qp.inner[p].lo, in[i], piece[i]);
-        }
+        fast_inner_block(qp, a, in);
         const double scale = s.scale(q);
         if (qp.zero_outside && !(q == QuantityId::potential && dim == 2)) {
             // The scale and the selection in one pass.

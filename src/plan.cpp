@@ -9,7 +9,9 @@
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
 
+#include <algorithm>
 #include <iterator>
+#include <limits>
 #include <span>
 #include <string>
 
@@ -101,6 +103,53 @@ bool singular_at_origin(const PiecePlan& first) {
     return false;
 }
 
+bool same_term(const TermPlan& a, const TermPlan& b) {
+    if (a.basis != b.basis || a.s_power != b.s_power || a.var != b.var || a.edge != b.edge || a.edge_lo != b.edge_lo ||
+        a.edge_power != b.edge_power || a.low != b.low || a.n != b.n || a.centre != b.centre ||
+        a.centre_lo != b.centre_lo || a.continues || b.continues)
+        return false;
+    return std::equal(a.c, a.c + a.n, b.c) && a.c_lo == b.c_lo;
+}
+
+// The distinct terms of the inner pieces, each with the run of pieces that
+// holds it, in an order that every piece's terms follow (then the sum of the
+// terms each masked to its run adds, at every q, the terms of q's piece in
+// their order, plus zeros: the same bits). Empty where a term's pieces are
+// not one run, a piece's terms are out of that order, a piece is a series
+// or nothing is shared.
+std::vector<QuantityPlan::SharedTerm> shared_terms_of(const std::vector<PiecePlan>& inner) {
+    struct Distinct {
+        std::size_t piece, term, first, last;
+    };
+    std::vector<Distinct> distinct;
+    std::size_t terms = 0;
+    for (std::size_t p = 0; p < inner.size(); ++p) {
+        if (inner[p].edge_series || (p > 0 && !(inner[p].lo > inner[p - 1].lo))) return {};
+        std::size_t previous = 0;  // one past the distinct index of the piece's previous term
+        for (std::size_t t = 0; t < inner[p].terms.size(); ++t, ++terms) {
+            const TermPlan& term = inner[p].terms[t];
+            if (term.continues) return {};
+            std::size_t d = 0;
+            while (d < distinct.size() && !same_term(inner[distinct[d].piece].terms[distinct[d].term], term)) ++d;
+            if (d == distinct.size()) {
+                distinct.push_back({p, t, p, p});
+            } else {
+                if (distinct[d].last + 1 != p) return {};  // its pieces are not one run
+                distinct[d].last = p;
+            }
+            if (d < previous) return {};
+            previous = d + 1;
+        }
+    }
+    if (distinct.size() == terms || inner.size() < 2) return {};
+    std::vector<QuantityPlan::SharedTerm> out;
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    for (const Distinct& d : distinct)
+        out.push_back({d.piece, d.term, d.first == 0 ? -inf : inner[d.first].lo,
+                       d.last + 1 == inner.size() ? inf : inner[d.last + 1].lo});
+    return out;
+}
+
 QuantityPlan quantity_plan(const table::Kernel& k, int q) {
     QuantityPlan out;
     const table::Quantity& quantity = k.quantities[q];
@@ -115,6 +164,7 @@ QuantityPlan quantity_plan(const table::Kernel& k, int q) {
     out.singular_at_origin = singular_at_origin(out.inner.front());
     if (out.inner.size() == 1 && out.inner.front().terms.size() == 1 && !out.inner.front().edge_series && out.zero_outside)
         out.whole = shape_index(out.inner.front().terms.front(), {whole_shapes, whole_shape_count});
+    if (out.polynomial_inside && out.zero_outside) out.shared_terms = shared_terms_of(out.inner);
     for (const TermPlan& t : out.exterior.terms)
         if (t.basis == table::Basis::log) {
             out.log_coefficient = t.c[0];

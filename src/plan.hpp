@@ -50,6 +50,17 @@ struct QuantityPlan {
     bool singular_at_origin = false;
     double log_coefficient = 0;  // 2D potentials: c of c log r outside
     int whole = -1;  // one fused term, 0 outside: its index in whole_shapes, or -1
+    // Pieces that share terms (a combination of m radii: piece p holds the
+    // terms of the radii beyond it, m(m+1)/2 in all, m distinct): each
+    // distinct term once, as inner[piece].terms[term], held by the pieces
+    // whose q lie in [lo, hi), in an order every piece's terms keep
+    // (shared_terms_of). Empty where the pieces share no term or do not
+    // nest so.
+    struct SharedTerm {
+        std::size_t piece, term;
+        double lo, hi;
+    };
+    std::vector<SharedTerm> shared_terms;
 };
 
 struct Plan {

@@ -53,12 +53,8 @@ using mollify::testing::Case;
 const std::vector<Case>& cases() {
     static const std::vector<Case> all = [] {
         std::vector<Case> out;
-#ifdef MOLLIFY_RUNTIME_FORMS_FIRST_PART_ONLY  // the sanitizer build (tests/CMakeLists.txt)
-        for (auto part : {mollify::testing::cases_1})
-#else
         for (auto part : {mollify::testing::cases_1, mollify::testing::cases_2, mollify::testing::cases_3,
                           mollify::testing::cases_4})
-#endif
             for (const Case& c : part()) out.push_back(c);
         return out;
     }();
@@ -90,11 +86,7 @@ std::vector<double> hard_q(const table::Kernel& k) {
         }
     std::mt19937_64 rng(18);
     std::uniform_real_distribution<double> u(0, 1.25);
-#ifdef MOLLIFY_SANITIZED_BUILD
-    constexpr int uniform = 150;
-#else
     constexpr int uniform = 1500;
-#endif
     for (int i = 0; i < uniform; ++i) q.push_back(u(rng));
     std::sort(q.begin(), q.end());
     q.erase(std::unique(q.begin(), q.end()), q.end());
@@ -150,7 +142,6 @@ std::vector<Isa> isas() {
 
 }  // namespace
 
-#ifndef MOLLIFY_RUNTIME_FORMS_FIRST_PART_ONLY  // the cover is that of all four parts
 TEST(Runtime, CoverEveryPathOfTheCatalogue) {
     std::set<std::string> covered;
     for (const Case& c : cases())
@@ -159,7 +150,6 @@ TEST(Runtime, CoverEveryPathOfTheCatalogue) {
         for (const std::string& f : mollify::testing::features(*k))
             EXPECT_TRUE(covered.count(f)) << k->spec << " D" << k->dim << " takes a path no compared table takes: " << f;
 }
-#endif
 
 TEST(Runtime, CompileTimeAndRunTimeFormsAgreeBitForBit) {
     for (const Isa& isa : isas()) {

@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -76,7 +77,12 @@ TEST(Verify, OwnRuntimeKernelsPassWithinOneUlp) {
     const std::pair<const char*, int> kernels[] = {
         {"wendland:k=1", 3}, {"wendland:k=2", 3}, {"cubic-spline", 3}, {"combo:m=2,base=wendland:k=1", 3},
         {"mollifier:M=4", 3}, {"wendland:k=1", 2}, {"mollifier:M=4", 2}, {"cubic-spline", 1}};
-    for (const auto& [spec, dim] : kernels) {
+#ifdef MOLLIFY_SANITIZED_BUILD  // the memory of verify is the same for every kernel: two (18 s for all eight)
+    const std::span<const std::pair<const char*, int>> checked(kernels, 2);
+#else
+    const std::span<const std::pair<const char*, int>> checked(kernels);
+#endif
+    for (const auto& [spec, dim] : checked) {
         const mollify::Kernel k = runtime(spec, dim);
         for (Quantity q : {Quantity::value, Quantity::dr, Quantity::potential, Quantity::force}) {
             if (!k.has_potential() && (q == Quantity::potential || q == Quantity::force)) continue;
