@@ -93,6 +93,22 @@ private:
     struct Scratch {
         Field<D> dx, grad;
         std::vector<double> w, m;
+        PairBatch<D> batch;
+        std::vector<double> sum_rho;  // in slot order; empty: not used this sweep
+        Field<D> sum_grad;
+
+        void reserve(std::size_t k) {  // grows to the largest batch, then stays
+            if (w.size() >= k) return;
+            w.resize(k);
+            for (int c = 0; c < D; ++c) {
+                grad[c].resize(k);
+                dx[c].resize(k);
+            }
+        }
+        void clear_sums(std::size_t n) {
+            sum_rho.assign(n, 0.0);
+            for (auto& c : sum_grad) c.assign(n, 0.0);
+        }
     };
 
     void sweep(const Field<D>& x, Field<D>* a, std::vector<double>* rho) {
@@ -104,6 +120,16 @@ private:
         if (a)
             for (auto& c : *a) c.resize(n);
         if (rho) rho->resize(n);
+        if constexpr (requires(PairBatch<D>& b) { search_.half_pairs(std::size_t{}, b, [](PairBatch<D>&) {}); })
+            sweep_cells(a, rho);
+        else
+            sweep_particles(a, rho);
+    }
+
+    // Particle by particle: each particle's neighbours gathered, one kernel
+    // call on them, the sums (SortedSweep, AllPairs).
+    void sweep_particles(Field<D>* a, std::vector<double>* rho) {
+        const std::size_t n = size();
         std::size_t met = 0;
         const long count = static_cast<long>(n);
         // Positions were checked by the search's update, so the kernel sees
@@ -135,6 +161,84 @@ private:
         met_last_ = met;
     }
 
+    // Cell by cell on the search's sorted copy, Newton's third law: each
+    // pair {a, b} once, W(x_a - x_b) = W(x_b - x_a) and grad W odd, so one
+    // kernel evaluation updates both (Franz 2.15, 3.5). Each thread sums
+    // into its own arrays in slot order (no races), added up and permuted
+    // back to the caller's indices at the end. The self term m_a W(0) once.
+    void sweep_cells(Field<D>* a, std::vector<double>* rho) {
+        const std::size_t n = size(), cells = search_.cells();
+        const std::vector<std::size_t>& member = search_.members();
+        mass_sorted_.resize(n);
+        for (std::size_t s = 0; s < n; ++s) mass_sorted_[s] = mass_[member[s]];
+        // W(0), grad W(0): one kernel call on the zero displacement.
+        Scratch& s0 = scratch_[0];
+        s0.reserve(1);
+        for (int c = 0; c < D; ++c) s0.dx[c][0] = 0.0;
+        kernel_.pairs(points(s0.dx, 1), smoothing_, std::span<double>(s0.w.data(), 1), outputs(s0.grad, 1));
+        const double w0 = s0.w[0];
+        std::array<double, D> g0;
+        for (int c = 0; c < D; ++c) g0[c] = s0.grad[c][0];
+        std::size_t met = 0;
+        const long count = static_cast<long>(cells);
+        [[maybe_unused]] const bool parallel = met_last_ > 50000;
+        [[maybe_unused]] const int threads = parallel ? mollify::detail::thread_count() : 1;
+        MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(dynamic, 16) reduction(+ : met))
+        for (long lc = 0; lc < count; ++lc) {
+            Scratch& s = scratch_[static_cast<std::size_t>(mollify::detail::thread_index())];
+            if (s.sum_rho.size() != n) s.clear_sums(n);  // first cell of this thread in this sweep
+            search_.half_pairs(static_cast<std::size_t>(lc), s.batch, [&](PairBatch<D>& b) {
+                met += 2 * b.size;
+                accumulate(b, s);
+            });
+        }
+        // Threads that took no cell left their sums at size 0.
+        const int used = static_cast<int>(scratch_.size());
+        MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(static))
+        for (long ls = 0; ls < static_cast<long>(n); ++ls) {
+            const auto sl = static_cast<std::size_t>(ls);
+            const std::size_t i = member[sl];
+            double r = mass_sorted_[sl] * w0;
+            std::array<double, D> g;
+            for (int c = 0; c < D; ++c) g[c] = mass_sorted_[sl] * g0[c];
+            for (int t = 0; t < used; ++t) {
+                const Scratch& st = scratch_[static_cast<std::size_t>(t)];
+                if (st.sum_rho.size() != n) continue;
+                r += st.sum_rho[sl];
+                for (int c = 0; c < D; ++c) g[c] += st.sum_grad[c][sl];
+            }
+            if (rho) (*rho)[i] = r;
+            if (a)
+                for (int c = 0; c < D; ++c) (*a)[c][i] = -g[c];
+        }
+        for (auto& st : scratch_) st.sum_rho.clear();  // marks the sums stale for the next sweep
+        met += n;
+        interactions_.fetch_add(met, std::memory_order_relaxed);
+        met_last_ = met;
+    }
+
+    // rho_a += m_b W, rho_b += m_a W; grad_a += m_b grad W, grad_b -= m_a grad W.
+    void accumulate(const PairBatch<D>& b, Scratch& s) const {
+        const std::size_t k = b.size;
+        s.reserve(k);
+        std::array<std::span<const double>, D> d;
+        for (int c = 0; c < D; ++c) d[c] = std::span<const double>(b.d[c].data(), k);
+        kernel_.pairs(d, smoothing_, std::span<double>(s.w.data(), k), outputs(s.grad, k));
+        const double* m = mass_sorted_.data();
+        double* rho = s.sum_rho.data();
+        for (std::size_t q = 0; q < k; ++q) {
+            const std::size_t i = b.a[q], j = b.b[q];
+            const double w = s.w[q];
+            rho[i] += m[j] * w;
+            rho[j] += m[i] * w;
+            for (int c = 0; c < D; ++c) {
+                const double g = s.grad[c][q];
+                s.sum_grad[c][i] += m[j] * g;
+                s.sum_grad[c][j] -= m[i] * g;
+            }
+        }
+    }
+
     void gather(std::size_t i, Scratch& s) const {
         for (int c = 0; c < D; ++c) s.dx[c].clear();
         s.m.clear();
@@ -164,7 +268,7 @@ private:
     Smoothing smoothing_;
     Domain<D> domain_;
     NeighbourSearch search_;
-    std::vector<double> mass_;
+    std::vector<double> mass_, mass_sorted_;  // mass_sorted_: in the search's slot order
     std::vector<Scratch> scratch_;
     std::atomic<std::size_t> interactions_{0};
     std::size_t met_last_ = 0;  // interactions of the last sweep: the work estimate

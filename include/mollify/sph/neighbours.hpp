@@ -67,6 +67,63 @@ struct Reach {
 
 }  // namespace detail
 
+// Pairs of particles found near each other, by slot in a CellList's sorted
+// copy, with their displacements x_a - x_b (structure of arrays, the form
+// kernel.pairs takes); y and slot hold a home cell's candidates.
+template <int D>
+struct PairBatch {
+    // Pairs per kernel call: enough to amortise the call, few enough to
+    // stay in L1 with the kernel's outputs.
+    static constexpr std::size_t capacity = 512;
+    std::array<std::vector<double>, D> d;
+    std::vector<std::size_t> a, b;
+    std::size_t size = 0;
+    std::array<std::vector<double>, D> y;
+    std::vector<std::size_t> slot;
+
+    void reserve(std::size_t n) {
+        if (a.size() >= n) return;
+        for (auto& c : d) c.resize(n);
+        a.resize(n);
+        b.resize(n);
+    }
+};
+
+namespace detail {
+
+// Appends the pairs (a, j), a < j < nc, of candidates within eps to the
+// batch, branch-free (every candidate is written, the end advances only
+// past those within eps); returns the new size.
+template <int D, bool minimum_image>
+std::size_t near_pairs(PairBatch<D>& b, std::size_t a, std::size_t nc, double eps, const Domain<D>& domain) {
+    const double eps2 = eps * eps;
+    std::size_t k = b.size;
+    std::array<double, D> xa;
+    std::array<const double*, D> y;
+    std::array<double*, D> d;
+    for (int c = 0; c < D; ++c) {
+        xa[c] = b.y[c][a];
+        y[c] = b.y[c].data();
+        d[c] = b.d[c].data();
+    }
+    const std::size_t* slot = b.slot.data();
+    std::size_t* to = b.b.data();
+    for (std::size_t j = a + 1; j < nc; ++j) {
+        double r2 = 0;
+        for (int c = 0; c < D; ++c) {
+            const double dc = minimum_image ? domain.displacement(xa[c], y[c][j]) : xa[c] - y[c][j];
+            d[c][k] = dc;
+            r2 += dc * dc;
+        }
+        to[k] = slot[j];
+        k += r2 <= eps2 ? 1 : 0;
+    }
+    std::fill(b.a.begin() + static_cast<std::ptrdiff_t>(b.size), b.a.begin() + static_cast<std::ptrdiff_t>(k), slot[a]);
+    return k;
+}
+
+}  // namespace detail
+
 // 1D: the particles sorted by position. The order is kept between updates
 // and repaired by insertion sort, O(N) when particles barely reorder (the
 // usual case from one time step to the next).
@@ -158,6 +215,9 @@ public:
 
     CellList(Domain<D> domain, double eps) : reach_(domain, eps) {}
 
+    // A stable counting sort by cell that starts from the last update's
+    // order: particles that stayed in their cells keep their slots, so the
+    // sorted copy is written almost in sequence when particles barely move.
     void update(const Positions<D>& x) {
         detail::check_positions<D>(x, reach_.domain);
         const std::size_t n = x[0].size();
@@ -173,16 +233,53 @@ public:
             ++start_[k + 1];
         }
         std::partial_sum(start_.begin(), start_.end(), start_.begin());
-        std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
+        fill_.assign(start_.begin(), start_.end() - 1);
+        if (members_.size() != n) {
+            members_.resize(n);
+            std::iota(members_.begin(), members_.end(), std::size_t{0});
+        }
+        previous_.swap(members_);
         members_.resize(n);
         slot_.resize(n);
         for (int c = 0; c < D; ++c) sorted_[c].resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::size_t slot = fill[cell_of_[i]]++;
+        for (std::size_t p = 0; p < n; ++p) {
+            const std::size_t i = previous_[p];
+            const std::size_t slot = fill_[cell_of_[i]]++;
             members_[slot] = i;
             slot_[i] = slot;
             for (int c = 0; c < D; ++c) sorted_[c][slot] = x[c][i];
         }
+    }
+
+    // The sorted copy: slot s holds particle members()[s]; the particles of
+    // a cell occupy consecutive slots, cells in row-major order (axis 0 fastest).
+    std::size_t cells() const { return start_.empty() ? 0 : start_.size() - 1; }
+    const std::vector<std::size_t>& members() const { return members_; }
+
+    // Each unordered pair {a, b}, a != b, |x_a - x_b| <= eps, exactly once
+    // over all home cells: a in the home cell, b later in the home cell or
+    // in a neighbouring cell of larger index (Newton's third law: the caller
+    // updates both). The pairs go into the batch as slots and displacements
+    // x_a - x_b (minimum image), and flush(batch) is called whenever it
+    // fills and at the end; the batch is left empty.
+    template <class Flush>
+    void half_pairs(std::size_t home, PairBatch<D>& b, Flush&& flush) const {
+        gather_candidates(home, b);
+        const std::size_t nh = start_[home + 1] - start_[home], nc = b.slot.size();
+        const std::size_t cap = std::max<std::size_t>(nc, PairBatch<D>::capacity);
+        b.reserve(cap);
+        for (std::size_t a = 0; a < nh; ++a) {
+            if (b.size + nc - a > cap) {
+                flush(b);
+                b.size = 0;
+            }
+            if (aliased_)
+                b.size = detail::near_pairs<D, true>(b, a, nc, reach_.eps, reach_.domain);
+            else
+                b.size = detail::near_pairs<D, false>(b, a, nc, reach_.eps, reach_.domain);
+        }
+        if (b.size) flush(b);
+        b.size = 0;
     }
 
     template <class F>
@@ -241,6 +338,59 @@ public:
     }
 
 private:
+    // The candidates of a home cell, into b.y and b.slot: its own particles
+    // first, then those of each distinct neighbouring cell of larger index,
+    // as the images nearest the home cell (shifted by +-L across a periodic
+    // side). With fewer than 3 cells on a periodic side no single image
+    // serves the whole cell: positions unshifted, minimum image per pair.
+    void gather_candidates(std::size_t home, PairBatch<D>& b) const {
+        for (int c = 0; c < D; ++c) b.y[c].clear();
+        b.slot.clear();
+        append_cell(home, Vector<D>{}, b);
+        std::array<long, D> at;
+        std::size_t k = home;
+        for (int c = 0; c < D; ++c) {
+            at[c] = static_cast<long>(k % static_cast<std::size_t>(count_[c]));
+            k /= static_cast<std::size_t>(count_[c]);
+        }
+        std::array<std::size_t, 27> seen{};
+        int nseen = 0;
+        std::array<int, D> off;
+        off.fill(-1);
+        const bool periodic = reach_.domain.is_periodic();
+        const double L = reach_.domain.length();
+        for (;;) {
+            bool inside = true;
+            std::size_t cell = 0;
+            Vector<D> shift{};
+            for (int c = D - 1; c >= 0; --c) {
+                long v = at[c] + off[c];
+                if (v < 0 || v >= count_[c]) {
+                    inside = inside && periodic;
+                    if (!aliased_) shift[c] = v < 0 ? -L : L;
+                    v = (v + count_[c]) % count_[c];
+                }
+                cell = cell * static_cast<std::size_t>(count_[c]) + static_cast<std::size_t>(v);
+            }
+            if (inside && cell > home && aliased_) {
+                inside = std::find(seen.begin(), seen.begin() + nseen, cell) == seen.begin() + nseen;
+                if (inside) seen[static_cast<std::size_t>(nseen++)] = cell;
+            }
+            if (inside && cell > home) append_cell(cell, shift, b);
+            int c = 0;
+            while (c < D && off[c] == 1) off[c++] = -1;
+            if (c == D) break;
+            ++off[c];
+        }
+    }
+
+    void append_cell(std::size_t cell, const Vector<D>& shift, PairBatch<D>& b) const {
+        const std::size_t lo = start_[cell], hi = start_[cell + 1];
+        for (int c = 0; c < D; ++c)
+            for (std::size_t s = lo; s < hi; ++s) b.y[c].push_back(sorted_[c][s] + shift[c]);
+        for (std::size_t s = lo; s < hi; ++s) b.slot.push_back(s);
+    }
+
     // Cells of side >= eps, at most ~N of them in all (a sparse open domain
     // must not allocate a huge empty grid).
     void layout(const Positions<D>& x, std::size_t n) {
@@ -259,6 +409,8 @@ private:
             side_[c] = reach_.domain.is_periodic() ? reach_.domain.length() / static_cast<double>(count_[c])
                                              : std::max((hi - lo) / static_cast<double>(count_[c]), reach_.eps);
         }
+        aliased_ = false;
+        for (int c = 0; c < D; ++c) aliased_ = aliased_ || (reach_.domain.is_periodic() && count_[c] < 3);
     }
 
     std::size_t coordinate(double v, int c) const {
@@ -269,7 +421,8 @@ private:
     detail::Reach<D> reach_;
     std::array<double, D> origin_{}, side_{};
     std::array<long, D> count_{};
-    std::vector<std::size_t> start_, cell_of_, members_, slot_;  // slot_ inverts members_
+    bool aliased_ = false;  // a periodic side of fewer than 3 cells
+    std::vector<std::size_t> start_, fill_, cell_of_, members_, previous_, slot_;  // slot_ inverts members_
     std::array<std::vector<double>, D> sorted_;
 };
 
