@@ -226,16 +226,28 @@ private:
         kernel_.pairs(d, smoothing_, std::span<double>(s.w.data(), k), outputs(s.grad, k));
         const double* m = mass_sorted_.data();
         double* rho = s.sum_rho.data();
-        for (std::size_t q = 0; q < k; ++q) {
-            const std::size_t i = b.a[q], j = b.b[q];
-            const double w = s.w[q];
-            rho[i] += m[j] * w;
-            rho[j] += m[i] * w;
-            for (int c = 0; c < D; ++c) {
-                const double g = s.grad[c][q];
-                s.sum_grad[c][i] += m[j] * g;
-                s.sum_grad[c][j] -= m[i] * g;
+        std::array<double*, D> grad;
+        for (int c = 0; c < D; ++c) grad[c] = s.sum_grad[c].data();
+        // The pairs come grouped by a: a's sums in registers, b's scattered
+        // (distinct within a group, so no chain through memory).
+        for (std::size_t q = 0; q < k;) {
+            const std::size_t i = b.a[q];
+            const double mi = m[i];
+            double ri = 0;
+            std::array<double, D> gi{};
+            for (; q < k && b.a[q] == i; ++q) {
+                const std::size_t j = b.b[q];
+                const double w = s.w[q], mj = m[j];
+                ri += mj * w;
+                rho[j] += mi * w;
+                for (int c = 0; c < D; ++c) {
+                    const double g = s.grad[c][q];
+                    gi[c] += mj * g;
+                    grad[c][j] -= mi * g;
+                }
             }
+            rho[i] += ri;
+            for (int c = 0; c < D; ++c) grad[c][i] += gi[c];
         }
     }
 
