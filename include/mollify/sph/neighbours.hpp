@@ -74,16 +74,17 @@ struct Reach {
 template <int D>
 struct PairBatch {
     // Pairs per kernel call: enough to amortise the call, few enough to
-    // stay in L1 with the kernel's outputs.
-    static constexpr std::size_t capacity = 512;
+    // stay in L1 with the kernel's outputs; and squared distances per block
+    // of home particles.
+    static constexpr std::size_t capacity = 1024, block = 1024;
     std::array<std::vector<double>, D> d;
     std::vector<std::size_t> a, b;
     std::size_t size = 0;
     std::array<std::vector<double>, D> y;  // candidates: positions (images), slots
     std::vector<std::size_t> slot;
     std::size_t candidates = 0;
-    std::vector<double> r2;  // per candidate
-    std::vector<std::size_t> near;
+    std::vector<double> r2;  // per home particle of a block and candidate
+    std::vector<std::size_t> near, row_end;
 
     void reserve(std::size_t n) {
         if (a.size() >= n) return;
@@ -95,50 +96,62 @@ struct PairBatch {
 
 namespace detail {
 
-// Appends the pairs (a, j), a < j < nc, of candidates within eps to the
-// batch; returns the new size. Three passes, so that the costly one runs
-// in SIMD: the squared distances to all candidates (vectorised), the
-// indices of those within eps compacted branch-free, and the displacements
+// Appends the pairs (a, j), a0 <= a < a1, a < j < nc, of candidates within
+// eps to the batch; returns the new size. Three passes, so that the costly
+// one runs in SIMD: the squared distances of the block's rows (vectorised),
+// the indices of those within eps compacted branch-free (rows apart, so the
+// loads do not wait on the wide stores just made), and the displacements
 // of those (~1 in 7 candidates in 3D) stored.
 template <int D, bool minimum_image>
-std::size_t near_pairs(PairBatch<D>& b, std::size_t a, std::size_t nc, double eps, const Domain<D>& domain) {
+std::size_t near_pairs(PairBatch<D>& b, std::size_t a0, std::size_t a1, std::size_t nc, double eps,
+                       const Domain<D>& domain) {
     const double eps2 = eps * eps;
-    std::array<double, D> xa;
     std::array<const double*, D> y;
-    for (int c = 0; c < D; ++c) {
-        xa[c] = b.y[c][a];
-        y[c] = b.y[c].data();
-    }
+    for (int c = 0; c < D; ++c) y[c] = b.y[c].data();
     double* __restrict r2 = b.r2.data();
     const double L = domain.length(), inverse = domain.is_periodic() ? 1 / domain.length() : 0.0;
-    MOLLIFY_SIMD
-    for (std::size_t j = a + 1; j < nc; ++j) {
-        double s = 0;
-        for (int c = 0; c < D; ++c) {
-            double dc = xa[c] - y[c][j];
-            if constexpr (minimum_image) dc -= L * std::nearbyint(dc * inverse);
-            s += dc * dc;
+    for (std::size_t a = a0; a < a1; ++a) {
+        std::array<double, D> xa;
+        for (int c = 0; c < D; ++c) xa[c] = y[c][a];
+        double* __restrict row = r2 + (a - a0) * nc;
+        MOLLIFY_SIMD
+        for (std::size_t j = a + 1; j < nc; ++j) {
+            double s = 0;
+            for (int c = 0; c < D; ++c) {
+                double dc = xa[c] - y[c][j];
+                if constexpr (minimum_image) dc -= L * std::nearbyint(dc * inverse);
+                s += dc * dc;
+            }
+            row[j] = s;
         }
-        r2[j] = s;
     }
     std::size_t* __restrict near = b.near.data();
     std::size_t m = 0;
-    for (std::size_t j = a + 1; j < nc; ++j) {
-        near[m] = j;
-        m += r2[j] <= eps2 ? 1 : 0;
-    }
-    const std::size_t k = b.size;
-    for (std::size_t q = 0; q < m; ++q) {
-        const std::size_t j = near[q];
-        for (int c = 0; c < D; ++c) {
-            double dc = xa[c] - y[c][j];
-            if constexpr (minimum_image) dc -= L * std::nearbyint(dc * inverse);
-            b.d[c][k + q] = dc;
+    for (std::size_t a = a0; a < a1; ++a) {
+        const double* row = r2 + (a - a0) * nc;
+        for (std::size_t j = a + 1; j < nc; ++j) {
+            near[m] = j;
+            m += row[j] <= eps2 ? 1 : 0;
         }
-        b.a[k + q] = b.slot[a];
-        b.b[k + q] = b.slot[j];
+        b.row_end[a - a0] = m;
     }
-    return k + m;
+    std::size_t k = b.size, q = 0;
+    for (std::size_t a = a0; a < a1; ++a) {
+        std::array<double, D> xa;
+        for (int c = 0; c < D; ++c) xa[c] = y[c][a];
+        const std::size_t sa = b.slot[a];
+        for (; q < b.row_end[a - a0]; ++q, ++k) {
+            const std::size_t j = near[q];
+            for (int c = 0; c < D; ++c) {
+                double dc = xa[c] - y[c][j];
+                if constexpr (minimum_image) dc -= L * std::nearbyint(dc * inverse);
+                b.d[c][k] = dc;
+            }
+            b.a[k] = sa;
+            b.b[k] = b.slot[j];
+        }
+    }
+    return k;
 }
 
 }  // namespace detail
@@ -285,17 +298,24 @@ public:
     void half_pairs(std::size_t home, PairBatch<D>& b, Flush&& flush) const {
         gather_candidates(home, b);
         const std::size_t nh = start_[home + 1] - start_[home], nc = b.candidates;
-        const std::size_t cap = std::max<std::size_t>(nc, PairBatch<D>::capacity);
+        const std::size_t rows = std::max<std::size_t>(1, PairBatch<D>::block / std::max<std::size_t>(nc, 1));
+        const std::size_t cap = std::max(rows * nc, PairBatch<D>::capacity);
         b.reserve(cap);
-        for (std::size_t a = 0; a < nh; ++a) {
-            if (b.size + nc - a > cap) {
+        if (b.r2.size() < rows * nc) {
+            b.r2.resize(rows * nc);
+            b.near.resize(rows * nc);
+        }
+        if (b.row_end.size() < rows) b.row_end.resize(rows);
+        for (std::size_t a0 = 0; a0 < nh; a0 += rows) {
+            const std::size_t a1 = std::min(nh, a0 + rows);
+            if (b.size + (a1 - a0) * nc > cap) {
                 flush(b);
                 b.size = 0;
             }
             if (aliased_)
-                b.size = detail::near_pairs<D, true>(b, a, nc, reach_.eps, reach_.domain);
+                b.size = detail::near_pairs<D, true>(b, a0, a1, nc, reach_.eps, reach_.domain);
             else
-                b.size = detail::near_pairs<D, false>(b, a, nc, reach_.eps, reach_.domain);
+                b.size = detail::near_pairs<D, false>(b, a0, a1, nc, reach_.eps, reach_.domain);
         }
         if (b.size) flush(b);
         b.size = 0;
@@ -411,16 +431,23 @@ private:
             b.near.resize(total);
         }
         b.candidates = total;
+        // Cells adjacent along axis 0 with the same shift are one run of slots.
         std::size_t at_slot = 0;
-        for (int q = 0; q < cells; ++q) {
-            const std::size_t lo = start_[cell[static_cast<std::size_t>(q)]], hi = start_[cell[static_cast<std::size_t>(q)] + 1];
+        for (int q = 0; q < cells;) {
+            const auto uq = static_cast<std::size_t>(q);
+            const std::size_t lo = start_[cell[uq]];
+            std::size_t hi = start_[cell[uq] + 1];
+            for (++q; q < cells && cell[static_cast<std::size_t>(q)] == cell[static_cast<std::size_t>(q) - 1] + 1 &&
+                      shift[static_cast<std::size_t>(q)] == shift[uq];
+                 ++q)
+                hi = start_[cell[static_cast<std::size_t>(q)] + 1];
             for (int c = 0; c < D; ++c) {
-                const double* from = sorted_[c].data();
+                const double* from = sorted_[c].data() + lo;
                 double* to = b.y[c].data() + at_slot;
-                const double s = shift[static_cast<std::size_t>(q)][c];
-                for (std::size_t t = lo; t < hi; ++t) to[t - lo] = from[t] + s;
+                const double s = shift[uq][c];
+                for (std::size_t t = 0; t < hi - lo; ++t) to[t] = from[t] + s;
             }
-            for (std::size_t t = lo; t < hi; ++t) b.slot[at_slot + t - lo] = t;
+            for (std::size_t t = 0; t < hi - lo; ++t) b.slot[at_slot + t] = lo + t;
             at_slot += hi - lo;
         }
     }
