@@ -13,6 +13,7 @@
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/sph/domain.hpp>
+#include <mollify/sph/pair_batch.hpp>
 #include <mollify/static_kernel.hpp>  // mollify::Vector
 
 #include <algorithm>
@@ -65,94 +66,6 @@ struct Reach {
     Domain<D> domain;
     double eps;
 };
-
-}  // namespace detail
-
-// Pairs of particles found near each other, by slot in a CellList's sorted
-// copy, with their displacements x_a - x_b (structure of arrays, the form
-// kernel.pairs takes); y and slot hold a home cell's candidates.
-template <int D>
-struct PairBatch {
-    // Pairs per kernel call: enough to amortise the call, few enough to
-    // stay in L1 with the kernel's outputs; and squared distances per block
-    // of home particles.
-    static constexpr std::size_t capacity = 1024, block = 1024;
-    std::array<std::vector<double>, D> d;
-    std::vector<std::size_t> a, b;
-    std::size_t size = 0;
-    std::array<std::vector<double>, D> y;  // candidates: positions (images), slots
-    std::vector<std::size_t> slot;
-    std::size_t candidates = 0;
-    std::vector<double> r2;  // per home particle of a block and candidate
-    std::vector<std::size_t> near, row_end;
-
-    void reserve(std::size_t n) {
-        if (a.size() >= n) return;
-        for (auto& c : d) c.resize(n);
-        a.resize(n);
-        b.resize(n);
-    }
-};
-
-namespace detail {
-
-// Appends the pairs (a, j), a0 <= a < a1, a < j < nc, of candidates within
-// eps to the batch; returns the new size. Three passes, so that the costly
-// one runs in SIMD: the squared distances of the block's rows (vectorised),
-// the indices of those within eps compacted branch-free (rows apart, so the
-// loads do not wait on the wide stores just made), and the displacements
-// of those (~1 in 7 candidates in 3D) stored.
-template <int D, bool minimum_image>
-std::size_t near_pairs(PairBatch<D>& b, std::size_t a0, std::size_t a1, std::size_t nc, double eps,
-                       const Domain<D>& domain) {
-    const double eps2 = eps * eps;
-    std::array<const double*, D> y;
-    for (int c = 0; c < D; ++c) y[c] = b.y[c].data();
-    double* __restrict r2 = b.r2.data();
-    const double L = domain.length(), inverse = domain.is_periodic() ? 1 / domain.length() : 0.0;
-    for (std::size_t a = a0; a < a1; ++a) {
-        std::array<double, D> xa;
-        for (int c = 0; c < D; ++c) xa[c] = y[c][a];
-        double* __restrict row = r2 + (a - a0) * nc;
-        MOLLIFY_SIMD
-        for (std::size_t j = a + 1; j < nc; ++j) {
-            double s = 0;
-            for (int c = 0; c < D; ++c) {
-                double dc = xa[c] - y[c][j];
-                if constexpr (minimum_image) dc -= L * std::nearbyint(dc * inverse);
-                s += dc * dc;
-            }
-            row[j] = s;
-        }
-    }
-    std::size_t* __restrict near = b.near.data();
-    std::size_t m = 0;
-    for (std::size_t a = a0; a < a1; ++a) {
-        const double* row = r2 + (a - a0) * nc;
-        for (std::size_t j = a + 1; j < nc; ++j) {
-            near[m] = j;
-            m += row[j] <= eps2 ? 1 : 0;
-        }
-        b.row_end[a - a0] = m;
-    }
-    std::size_t k = b.size, q = 0;
-    for (std::size_t a = a0; a < a1; ++a) {
-        std::array<double, D> xa;
-        for (int c = 0; c < D; ++c) xa[c] = y[c][a];
-        const std::size_t sa = b.slot[a];
-        for (; q < b.row_end[a - a0]; ++q, ++k) {
-            const std::size_t j = near[q];
-            for (int c = 0; c < D; ++c) {
-                double dc = xa[c] - y[c][j];
-                if constexpr (minimum_image) dc -= L * std::nearbyint(dc * inverse);
-                b.d[c][k] = dc;
-            }
-            b.a[k] = sa;
-            b.b[k] = b.slot[j];
-        }
-    }
-    return k;
-}
 
 }  // namespace detail
 
@@ -273,7 +186,7 @@ public:
         previous_.swap(members_);
         members_.resize(n);
         slot_.resize(n);
-        for (int c = 0; c < D; ++c) sorted_[c].resize(n);
+        for (int c = 0; c < D; ++c) sorted_[c].assign(n + 4, 0.0);  // 4 more: the SIMD loads past a run
         for (std::size_t p = 0; p < n; ++p) {
             const std::size_t i = previous_[p];
             const std::size_t slot = fill_[cell_of_[i]]++;
@@ -296,6 +209,14 @@ public:
     // fills and at the end; the batch is left empty.
     template <class Flush>
     void half_pairs(std::size_t home, PairBatch<D>& b, Flush&& flush) const {
+        if (aliased_)
+            half_pairs_aliased(home, b, flush);
+        else
+            half_pairs_runs(home, b, flush);
+    }
+
+    template <class Flush>
+    void half_pairs_aliased(std::size_t home, PairBatch<D>& b, Flush& flush) const {
         gather_candidates(home, b);
         const std::size_t nh = start_[home + 1] - start_[home], nc = b.candidates;
         const std::size_t rows = std::max<std::size_t>(1, PairBatch<D>::block / std::max<std::size_t>(nc, 1));
@@ -312,10 +233,93 @@ public:
                 flush(b);
                 b.size = 0;
             }
-            if (aliased_)
-                b.size = detail::near_pairs<D, true>(b, a0, a1, nc, reach_.eps, reach_.domain);
-            else
-                b.size = detail::near_pairs<D, false>(b, a0, a1, nc, reach_.eps, reach_.domain);
+            b.size = detail::near_pairs<D, true>(b, a0, a1, nc, reach_.eps, reach_.domain);
+        }
+        if (b.size) flush(b);
+        b.size = 0;
+    }
+
+    // Without aliasing each pair of neighbouring cells is met once from the
+    // cell it lies at a positive offset of (the first non-zero offset, from
+    // the last axis down, is +1): the home cell with the next along axis 0,
+    // then the rows of 3 cells along axis 0 at positive offsets on the
+    // other axes (4 rows in 3D). Consecutive cells of a row with the same
+    // image shift are one run of slots; the home particles' own run starts
+    // after each one (the triangle of the home cell).
+    template <class Flush>
+    void half_pairs_runs(std::size_t home, PairBatch<D>& b, Flush& flush) const {
+        std::array<detail::Run<D>, 2 * 9> runs;
+        std::size_t nruns = 0, total = 0;
+        std::array<long, D> at;
+        std::size_t k = home;
+        for (int c = 0; c < D; ++c) {
+            at[c] = static_cast<long>(k % static_cast<std::size_t>(count_[c]));
+            k /= static_cast<std::size_t>(count_[c]);
+        }
+        const bool periodic = reach_.domain.is_periodic();
+        const double L = reach_.domain.length();
+        std::array<int, D> off;  // off[0] unused: the row runs along axis 0
+        off.fill(-1);
+        off[0] = 0;
+        for (;;) {
+            bool positive = false, zero = true, inside = true;
+            for (int c = D - 1; c >= 1 && zero; --c)
+                if (off[c] != 0) {
+                    positive = off[c] > 0;
+                    zero = false;
+                }
+            std::size_t row = 0;  // the row's cell at axis-0 coordinate 0
+            std::array<double, D> shift{};
+            for (int c = D - 1; c >= 1; --c) {
+                long v = at[c] + off[c];
+                if (v < 0 || v >= count_[c]) {
+                    inside = inside && periodic;
+                    shift[static_cast<std::size_t>(c)] = v < 0 ? -L : L;
+                    v = (v + count_[c]) % count_[c];
+                }
+                row = row * static_cast<std::size_t>(count_[c]) + static_cast<std::size_t>(v);
+            }
+            row *= static_cast<std::size_t>(count_[0]);
+            if (inside && (zero || positive)) {
+                for (long dx = zero ? 0 : -1; dx <= 1; ++dx) {
+                    long v = at[0] + dx;
+                    double sx = 0;
+                    if (v < 0 || v >= count_[0]) {
+                        if (!periodic) continue;
+                        sx = v < 0 ? -L : L;
+                        v = (v + count_[0]) % count_[0];
+                    }
+                    const std::size_t cell = row + static_cast<std::size_t>(v);
+                    shift[0] = sx;
+                    if (nruns > 0 && runs[nruns - 1].hi == start_[cell] && runs[nruns - 1].shift == shift) {
+                        runs[nruns - 1].hi = start_[cell + 1];
+                    } else {
+                        runs[nruns++] = {start_[cell], start_[cell + 1], shift};
+                    }
+                    total += start_[cell + 1] - start_[cell];
+                }
+            }
+            int c = 1;
+            while (c < D && off[c] == 1) off[c++] = -1;
+            if (c == D) break;
+            ++off[c];
+        }
+        const std::size_t cap = std::max(total, PairBatch<D>::capacity);
+        b.reserve(cap + 4);
+        std::array<const double*, D> x;
+        for (int c = 0; c < D; ++c) x[static_cast<std::size_t>(c)] = sorted_[c].data();
+        const double eps2 = reach_.eps * reach_.eps;
+        for (std::size_t a = start_[home]; a < start_[home + 1]; ++a) {
+            if (b.size + total > cap) {
+                flush(b);
+                b.size = 0;
+            }
+            for (std::size_t r = 0; r < nruns; ++r) {
+                std::array<double, D> xs;
+                for (int c = 0; c < D; ++c)
+                    xs[static_cast<std::size_t>(c)] = sorted_[c][a] - runs[r].shift[static_cast<std::size_t>(c)];
+                b.size = detail::append_near<D>(b, b.size, a, xs, x, r == 0 ? a + 1 : runs[r].lo, runs[r].hi, eps2);
+            }
         }
         if (b.size) flush(b);
         b.size = 0;

@@ -1,0 +1,195 @@
+// Pairs of particles within the support radius eps of each other, found
+// in a cell list's sorted copy and collected in batches for one kernel call
+// each (CellList::half_pairs, BarotropicEuler's cell sweep): the batch, and
+// the loops that fill it. The home particle's candidates are runs of
+// consecutive slots, each with one image shift; the loop over a run tests
+// four candidates at a time with AVX2 where the compiler targets it and
+// appends those within eps by a left-packing permutation (no branch per
+// candidate), a scalar branch-free loop elsewhere.
+#pragma once
+
+#include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD
+#include <mollify/sph/domain.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
+namespace mollify::sph {
+
+// Pairs of particles found near each other, by slot in a CellList's sorted
+// copy, with their displacements x_a - x_b (structure of arrays, the form
+// kernel.pairs takes); y and slot hold a home cell's candidates.
+template <int D>
+struct PairBatch {
+    // Pairs per kernel call: enough to amortise the call, few enough to
+    // stay in L1 with the kernel's outputs; and squared distances per block
+    // of home particles.
+    static constexpr std::size_t capacity = 1024, block = 1024;
+    std::array<std::vector<double>, D> d;
+    std::vector<std::size_t> a, b;
+    std::size_t size = 0;
+    std::array<std::vector<double>, D> y;  // candidates: positions (images), slots
+    std::vector<std::size_t> slot;
+    std::size_t candidates = 0;
+    std::vector<double> r2;  // per home particle of a block and candidate
+    std::vector<std::size_t> near, row_end;
+
+    void reserve(std::size_t n) {
+        if (a.size() >= n) return;
+        for (auto& c : d) c.resize(n);
+        a.resize(n);
+        b.resize(n);
+    }
+};
+
+namespace detail {
+
+// A run of consecutive slots [lo, hi) whose images lie at x + shift.
+template <int D>
+struct Run {
+    std::size_t lo, hi;
+    std::array<double, D> shift;
+};
+
+#if defined(__AVX2__)
+// For each 4-bit mask, the permutation of 32-bit lanes that moves the
+// selected 64-bit lanes to the front, in order.
+struct LeftPack {
+    alignas(32) std::array<std::array<std::int32_t, 8>, 16> index{};
+    constexpr LeftPack() {
+        for (int m = 0; m < 16; ++m) {
+            int t = 0;
+            for (int l = 0; l < 4; ++l)
+                if (m & (1 << l)) {
+                    index[static_cast<std::size_t>(m)][static_cast<std::size_t>(2 * t)] = 2 * l;
+                    index[static_cast<std::size_t>(m)][static_cast<std::size_t>(2 * t + 1)] = 2 * l + 1;
+                    ++t;
+                }
+        }
+    }
+};
+inline constexpr LeftPack left_pack{};
+#endif
+
+// Appends the pairs (sa, j), j in [lo, hi), with |xs - x_j| <= eps (xs: the
+// home particle's position less the run's shift, x the sorted copy, padded
+// by 4 entries) to the batch from position k, which has room for hi - lo + 4
+// more; returns the new size.
+template <int D>
+std::size_t append_near(PairBatch<D>& b, std::size_t k, std::size_t sa, const std::array<double, D>& xs,
+                        const std::array<const double*, D>& x, std::size_t lo, std::size_t hi, double eps2) {
+    std::array<double*, D> d;
+    for (int c = 0; c < D; ++c) d[c] = b.d[c].data();
+    std::size_t* to = b.b.data();
+    const std::size_t k0 = k;
+#if defined(__AVX2__)
+    __m256d xv[D];
+    for (int c = 0; c < D; ++c) xv[static_cast<std::size_t>(c)] = _mm256_set1_pd(xs[static_cast<std::size_t>(c)]);
+    const __m256d e2 = _mm256_set1_pd(eps2);
+    __m256i j = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(lo)), _mm256_setr_epi64x(0, 1, 2, 3));
+    const __m256i four = _mm256_set1_epi64x(4);
+    for (std::size_t s = lo; s < hi; s += 4) {
+        __m256d dv[D];
+        __m256d r2 = _mm256_setzero_pd();
+        for (int c = 0; c < D; ++c) {
+            const auto uc = static_cast<std::size_t>(c);
+            dv[uc] = _mm256_sub_pd(xv[uc], _mm256_loadu_pd(x[uc] + s));
+            r2 = _mm256_fmadd_pd(dv[uc], dv[uc], r2);
+        }
+        int mask = _mm256_movemask_pd(_mm256_cmp_pd(r2, e2, _CMP_LE_OQ));
+        if (hi - s < 4) mask &= (1 << (hi - s)) - 1;  // lanes past the run
+        const __m256i perm =
+            _mm256_load_si256(reinterpret_cast<const __m256i*>(left_pack.index[static_cast<std::size_t>(mask)].data()));
+        for (int c = 0; c < D; ++c) {
+            const auto uc = static_cast<std::size_t>(c);
+            _mm256_storeu_pd(d[uc] + k, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dv[uc]), perm)));
+        }
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(to + k), _mm256_permutevar8x32_epi32(j, perm));
+        k += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(mask)));
+        j = _mm256_add_epi64(j, four);
+    }
+#else
+    for (std::size_t s = lo; s < hi; ++s) {
+        double r2 = 0;
+        for (int c = 0; c < D; ++c) {
+            const double dc = xs[static_cast<std::size_t>(c)] - x[static_cast<std::size_t>(c)][s];
+            d[c][k] = dc;
+            r2 += dc * dc;
+        }
+        to[k] = s;
+        k += r2 <= eps2 ? 1 : 0;
+    }
+#endif
+    std::fill(b.a.begin() + static_cast<std::ptrdiff_t>(k0), b.a.begin() + static_cast<std::ptrdiff_t>(k), sa);
+    return k;
+}
+
+// Appends the pairs (a, j), a0 <= a < a1, a < j < nc, of candidates within
+// eps to the batch; returns the new size. Three passes, so that the costly
+// one runs in SIMD: the squared distances of the block's rows (vectorised),
+// the indices of those within eps compacted branch-free (rows apart, so the
+// loads do not wait on the wide stores just made), and the displacements
+// of those (~1 in 7 candidates in 3D) stored.
+template <int D, bool minimum_image>
+std::size_t near_pairs(PairBatch<D>& b, std::size_t a0, std::size_t a1, std::size_t nc, double eps,
+                       const Domain<D>& domain) {
+    const double eps2 = eps * eps;
+    std::array<const double*, D> y;
+    for (int c = 0; c < D; ++c) y[c] = b.y[c].data();
+    double* __restrict r2 = b.r2.data();
+    const double L = domain.length(), inverse = domain.is_periodic() ? 1 / domain.length() : 0.0;
+    for (std::size_t a = a0; a < a1; ++a) {
+        std::array<double, D> xa;
+        for (int c = 0; c < D; ++c) xa[c] = y[c][a];
+        double* __restrict row = r2 + (a - a0) * nc;
+        MOLLIFY_SIMD
+        for (std::size_t j = a + 1; j < nc; ++j) {
+            double s = 0;
+            for (int c = 0; c < D; ++c) {
+                double dc = xa[c] - y[c][j];
+                if constexpr (minimum_image) dc -= L * std::nearbyint(dc * inverse);
+                s += dc * dc;
+            }
+            row[j] = s;
+        }
+    }
+    std::size_t* __restrict near = b.near.data();
+    std::size_t m = 0;
+    for (std::size_t a = a0; a < a1; ++a) {
+        const double* row = r2 + (a - a0) * nc;
+        for (std::size_t j = a + 1; j < nc; ++j) {
+            near[m] = j;
+            m += row[j] <= eps2 ? 1 : 0;
+        }
+        b.row_end[a - a0] = m;
+    }
+    std::size_t k = b.size, q = 0;
+    for (std::size_t a = a0; a < a1; ++a) {
+        std::array<double, D> xa;
+        for (int c = 0; c < D; ++c) xa[c] = y[c][a];
+        const std::size_t sa = b.slot[a];
+        for (; q < b.row_end[a - a0]; ++q, ++k) {
+            const std::size_t j = near[q];
+            for (int c = 0; c < D; ++c) {
+                double dc = xa[c] - y[c][j];
+                if constexpr (minimum_image) dc -= L * std::nearbyint(dc * inverse);
+                b.d[c][k] = dc;
+            }
+            b.a[k] = sa;
+            b.b[k] = b.slot[j];
+        }
+    }
+    return k;
+}
+
+}  // namespace detail
+
+}  // namespace mollify::sph
