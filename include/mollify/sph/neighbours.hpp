@@ -309,17 +309,23 @@ public:
         std::array<const double*, D> x;
         for (int c = 0; c < D; ++c) x[static_cast<std::size_t>(c)] = sorted_[c].data();
         const double eps2 = reach_.eps * reach_.eps;
+        std::array<double*, D> d;
+        for (int c = 0; c < D; ++c) d[static_cast<std::size_t>(c)] = b.d[c].data();
+        std::size_t* to = b.b.data();
         for (std::size_t a = start_[home]; a < start_[home + 1]; ++a) {
             if (b.size + total > cap) {
                 flush(b);
                 b.size = 0;
             }
+            std::size_t k = b.size;
             for (std::size_t r = 0; r < nruns; ++r) {
                 std::array<double, D> xs;
                 for (int c = 0; c < D; ++c)
-                    xs[static_cast<std::size_t>(c)] = sorted_[c][a] - runs[r].shift[static_cast<std::size_t>(c)];
-                b.size = detail::append_near<D>(b, b.size, a, xs, x, r == 0 ? a + 1 : runs[r].lo, runs[r].hi, eps2);
+                    xs[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(c)][a] - runs[r].shift[static_cast<std::size_t>(c)];
+                k = detail::append_near<D>(d, to, k, xs, x, r == 0 ? a + 1 : runs[r].lo, runs[r].hi, eps2);
             }
+            std::fill(b.a.data() + b.size, b.a.data() + k, a);
+            b.size = k;
         }
         if (b.size) flush(b);
         b.size = 0;

@@ -79,17 +79,16 @@ struct LeftPack {
 inline constexpr LeftPack left_pack{};
 #endif
 
-// Appends the pairs (sa, j), j in [lo, hi), with |xs - x_j| <= eps (xs: the
-// home particle's position less the run's shift, x the sorted copy, padded
-// by 4 entries) to the batch from position k, which has room for hi - lo + 4
-// more; returns the new size.
+// Appends the slots j in [lo, hi) with |xs - x_j| <= eps (xs: the home
+// particle's position less the run's shift, x the sorted copy, padded by 4
+// entries) and the displacements xs - x_j to the batch's arrays d and to
+// from position k, which have room for hi - lo + 4 more; returns the new
+// size. Called per home particle and run: inlined, no set-up of its own.
 template <int D>
-std::size_t append_near(PairBatch<D>& b, std::size_t k, std::size_t sa, const std::array<double, D>& xs,
-                        const std::array<const double*, D>& x, std::size_t lo, std::size_t hi, double eps2) {
-    std::array<double*, D> d;
-    for (int c = 0; c < D; ++c) d[c] = b.d[c].data();
-    std::size_t* to = b.b.data();
-    const std::size_t k0 = k;
+[[gnu::always_inline]] inline std::size_t append_near(const std::array<double*, D>& d, std::size_t* to, std::size_t k,
+                                                      const std::array<double, D>& xs,
+                                                      const std::array<const double*, D>& x, std::size_t lo,
+                                                      std::size_t hi, double eps2) {
 #if defined(__AVX2__)
     __m256d xv[D];
     for (int c = 0; c < D; ++c) xv[static_cast<std::size_t>(c)] = _mm256_set1_pd(xs[static_cast<std::size_t>(c)]);
@@ -128,7 +127,6 @@ std::size_t append_near(PairBatch<D>& b, std::size_t k, std::size_t sa, const st
         k += r2 <= eps2 ? 1 : 0;
     }
 #endif
-    std::fill(b.a.begin() + static_cast<std::ptrdiff_t>(k0), b.a.begin() + static_cast<std::ptrdiff_t>(k), sa);
     return k;
 }
 
