@@ -94,8 +94,9 @@ private:
         Field<D> dx, grad;
         std::vector<double> w, m;
         PairBatch<D> batch;
-        std::vector<double> sum_rho;  // in slot order; empty: not used this sweep
-        Field<D> sum_grad;
+        // Per slot rho, grad_0 .. grad_{D-1} side by side (one cache line per
+        // neighbour updated); empty: not used in this sweep.
+        std::vector<double> sums;
 
         void reserve(std::size_t k) {  // grows to the largest batch, then stays
             if (w.size() >= k) return;
@@ -106,8 +107,7 @@ private:
             }
         }
         void clear_sums(std::size_t n) {
-            sum_rho.assign(n, 0.0);
-            for (auto& c : sum_grad) c.assign(n, 0.0);
+            sums.assign((D + 1) * n, 0.0);
         }
     };
 
@@ -186,7 +186,7 @@ private:
         MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(dynamic, 16) reduction(+ : met))
         for (long lc = 0; lc < count; ++lc) {
             Scratch& s = scratch_[static_cast<std::size_t>(mollify::detail::thread_index())];
-            if (s.sum_rho.size() != n) s.clear_sums(n);  // first cell of this thread in this sweep
+            if (s.sums.size() != (D + 1) * n) s.clear_sums(n);  // first cell of this thread in this sweep
             search_.half_pairs(static_cast<std::size_t>(lc), s.batch, [&](PairBatch<D>& b) {
                 met += 2 * b.size;
                 accumulate(b, s);
@@ -203,15 +203,15 @@ private:
             for (int c = 0; c < D; ++c) g[c] = mass_sorted_[sl] * g0[c];
             for (int t = 0; t < used; ++t) {
                 const Scratch& st = scratch_[static_cast<std::size_t>(t)];
-                if (st.sum_rho.size() != n) continue;
-                r += st.sum_rho[sl];
-                for (int c = 0; c < D; ++c) g[c] += st.sum_grad[c][sl];
+                if (st.sums.size() != (D + 1) * n) continue;
+                r += st.sums[(D + 1) * sl];
+                for (int c = 0; c < D; ++c) g[c] += st.sums[(D + 1) * sl + 1 + static_cast<std::size_t>(c)];
             }
             if (rho) (*rho)[i] = r;
             if (a)
                 for (int c = 0; c < D; ++c) (*a)[c][i] = -g[c];
         }
-        for (auto& st : scratch_) st.sum_rho.clear();  // marks the sums stale for the next sweep
+        for (auto& st : scratch_) st.sums.clear();  // marks the sums stale for the next sweep
         met += n;
         interactions_.fetch_add(met, std::memory_order_relaxed);
         met_last_ = met;
@@ -224,30 +224,35 @@ private:
         std::array<std::span<const double>, D> d;
         for (int c = 0; c < D; ++c) d[c] = std::span<const double>(b.d[c].data(), k);
         kernel_.pairs(d, smoothing_, std::span<double>(s.w.data(), k), outputs(s.grad, k));
-        const double* m = mass_sorted_.data();
-        double* rho = s.sum_rho.data();
-        std::array<double*, D> grad;
-        for (int c = 0; c < D; ++c) grad[c] = s.sum_grad[c].data();
+        const double* __restrict m = mass_sorted_.data();
+        double* __restrict sum = s.sums.data();
+        const double* __restrict w = s.w.data();
+        const std::size_t* __restrict pa = b.a.data();
+        const std::size_t* __restrict pb = b.b.data();
+        std::array<const double*, D> grad;
+        for (int c = 0; c < D; ++c) grad[c] = s.grad[c].data();
         // The pairs come grouped by a: a's sums in registers, b's scattered
         // (distinct within a group, so no chain through memory).
+        constexpr std::size_t stride = D + 1;
         for (std::size_t q = 0; q < k;) {
-            const std::size_t i = b.a[q];
+            const std::size_t i = pa[q];
             const double mi = m[i];
             double ri = 0;
             std::array<double, D> gi{};
-            for (; q < k && b.a[q] == i; ++q) {
-                const std::size_t j = b.b[q];
-                const double w = s.w[q], mj = m[j];
-                ri += mj * w;
-                rho[j] += mi * w;
+            for (; q < k && pa[q] == i; ++q) {
+                double* __restrict to = sum + stride * pb[q];
+                const double wq = w[q], mj = m[pb[q]];
+                ri += mj * wq;
+                to[0] += mi * wq;
                 for (int c = 0; c < D; ++c) {
-                    const double g = s.grad[c][q];
+                    const double g = grad[c][q];
                     gi[c] += mj * g;
-                    grad[c][j] -= mi * g;
+                    to[1 + c] -= mi * g;
                 }
             }
-            rho[i] += ri;
-            for (int c = 0; c < D; ++c) grad[c][i] += gi[c];
+            double* __restrict to = sum + stride * i;
+            to[0] += ri;
+            for (int c = 0; c < D; ++c) to[1 + c] += gi[c];
         }
     }
 
