@@ -304,27 +304,47 @@ public:
             if (c == D) break;
             ++off[c];
         }
+        // The runs copied, shifted, into one contiguous candidate list (the
+        // home cell first): one loop per home particle, not one per run
+        // (each loop's exit is a mispredicted branch and a drained pipeline).
+        if (b.slot.size() < total + 4) {
+            for (auto& c : b.y) c.resize(total + 4);
+            b.slot.resize(total + 4);
+        }
+        std::size_t at_slot = 0;
+        for (std::size_t r = 0; r < nruns; ++r) {
+            const std::size_t lo = runs[r].lo, len = runs[r].hi - runs[r].lo;
+            for (int c = 0; c < D; ++c) {
+                const double* __restrict from = sorted_[c].data() + lo;
+                double* __restrict to = b.y[c].data() + at_slot;
+                const double sh = runs[r].shift[static_cast<std::size_t>(c)];
+                for (std::size_t t = 0; t < len; ++t) to[t] = from[t] + sh;
+            }
+            for (std::size_t t = 0; t < len; ++t) b.slot[at_slot + t] = lo + t;
+            at_slot += len;
+        }
         const std::size_t cap = std::max(total, PairBatch<D>::capacity);
         b.reserve(cap + 4);
-        std::array<const double*, D> x;
-        for (int c = 0; c < D; ++c) x[static_cast<std::size_t>(c)] = sorted_[c].data();
-        const double eps2 = reach_.eps * reach_.eps;
+        std::array<const double*, D> y;
         std::array<double*, D> d;
-        for (int c = 0; c < D; ++c) d[static_cast<std::size_t>(c)] = b.d[c].data();
+        for (int c = 0; c < D; ++c) {
+            y[static_cast<std::size_t>(c)] = b.y[c].data();
+            d[static_cast<std::size_t>(c)] = b.d[c].data();
+        }
         std::size_t* to = b.b.data();
-        for (std::size_t a = start_[home]; a < start_[home + 1]; ++a) {
+        const std::size_t* slot = b.slot.data();
+        const double eps2 = reach_.eps * reach_.eps;
+        const std::size_t nh = start_[home + 1] - start_[home];
+        for (std::size_t a = 0; a < nh; ++a) {
             if (b.size + total > cap) {
                 flush(b);
                 b.size = 0;
             }
-            std::size_t k = b.size;
-            for (std::size_t r = 0; r < nruns; ++r) {
-                std::array<double, D> xs;
-                for (int c = 0; c < D; ++c)
-                    xs[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(c)][a] - runs[r].shift[static_cast<std::size_t>(c)];
-                k = detail::append_near<D>(d, to, k, xs, x, r == 0 ? a + 1 : runs[r].lo, runs[r].hi, eps2);
-            }
-            std::fill(b.a.data() + b.size, b.a.data() + k, a);
+            std::array<double, D> xa;
+            for (int c = 0; c < D; ++c) xa[static_cast<std::size_t>(c)] = y[static_cast<std::size_t>(c)][a];
+            const std::size_t k = detail::append_near<D>(d, to, b.size, xa, y, a + 1, total, eps2);
+            for (std::size_t q = b.size; q < k; ++q) to[q] = slot[to[q]];
+            std::fill(b.a.data() + b.size, b.a.data() + k, slot[a]);
             b.size = k;
         }
         if (b.size) flush(b);
