@@ -166,6 +166,8 @@ public:
     void update(const Positions<D>& x) {
         detail::check_positions<D>(x, reach_.domain);
         const std::size_t n = x[0].size();
+        // half_pairs numbers a cell's candidates in 32 bits.
+        if (n > std::size_t{1} << 31) fail("CellList: " + std::to_string(n) + " particles (at most 2^31)");
         layout(x, n);
         std::size_t cells = 1;
         for (int c = 0; c < D; ++c) cells *= static_cast<std::size_t>(count_[c]);
@@ -331,7 +333,8 @@ public:
             y[static_cast<std::size_t>(c)] = b.y[c].data();
             d[static_cast<std::size_t>(c)] = b.d[c].data();
         }
-        std::size_t* to = b.b.data();
+        if (b.close.size() < total + 4) b.close.resize(total + 4);
+        std::uint32_t* close = b.close.data();
         const std::size_t* slot = b.slot.data();
         const double eps2 = reach_.eps * reach_.eps;
         const std::size_t nh = start_[home + 1] - start_[home];
@@ -342,10 +345,15 @@ public:
             }
             std::array<double, D> xa;
             for (int c = 0; c < D; ++c) xa[static_cast<std::size_t>(c)] = y[static_cast<std::size_t>(c)][a];
-            const std::size_t k = detail::append_near<D>(d, to, b.size, xa, y, a + 1, total, eps2);
-            for (std::size_t q = b.size; q < k; ++q) to[q] = slot[to[q]];
-            std::fill(b.a.data() + b.size, b.a.data() + k, slot[a]);
-            b.size = k;
+            const std::size_t m = detail::append_near<D>(close, 0, xa, y, a + 1, total, eps2);
+            const std::size_t k = b.size, sa = slot[a];
+            for (std::size_t q = 0; q < m; ++q) {
+                const std::size_t j = close[q];
+                for (int c = 0; c < D; ++c) d[static_cast<std::size_t>(c)][k + q] = xa[static_cast<std::size_t>(c)] - y[static_cast<std::size_t>(c)][j];
+                b.a[k + q] = sa;
+                b.b[k + q] = slot[j];
+            }
+            b.size = k + m;
         }
         if (b.size) flush(b);
         b.size = 0;

@@ -41,6 +41,7 @@ struct PairBatch {
     std::size_t candidates = 0;
     std::vector<double> r2;  // per home particle of a block and candidate
     std::vector<std::size_t> near, row_end;
+    std::vector<std::uint32_t> close;  // candidates within eps of one home particle
 
     void reserve(std::size_t n) {
         if (a.size() >= n) return;
@@ -60,70 +61,55 @@ struct Run {
 };
 
 #if defined(__AVX2__)
-// For each 4-bit mask, the permutation of 32-bit lanes that moves the
-// selected 64-bit lanes to the front, in order.
+// For each 4-bit mask, the positions of its set bits, in order (the rest 0):
+// the lane offsets of the candidates within eps, left-packed.
 struct LeftPack {
-    alignas(32) std::array<std::array<std::int32_t, 8>, 16> index{};
+    alignas(16) std::array<std::array<std::int32_t, 4>, 16> lanes{};
     constexpr LeftPack() {
         for (int m = 0; m < 16; ++m) {
             int t = 0;
             for (int l = 0; l < 4; ++l)
-                if (m & (1 << l)) {
-                    index[static_cast<std::size_t>(m)][static_cast<std::size_t>(2 * t)] = 2 * l;
-                    index[static_cast<std::size_t>(m)][static_cast<std::size_t>(2 * t + 1)] = 2 * l + 1;
-                    ++t;
-                }
+                if (m & (1 << l)) lanes[static_cast<std::size_t>(m)][static_cast<std::size_t>(t++)] = l;
         }
     }
 };
 inline constexpr LeftPack left_pack{};
 #endif
 
-// Appends the slots j in [lo, hi) with |xs - x_j| <= eps (xs: the home
-// particle's position less the run's shift, x the sorted copy, padded by 4
-// entries) and the displacements xs - x_j to the batch's arrays d and to
-// from position k, which have room for hi - lo + 4 more; returns the new
-// size. Called per home particle and run: inlined, no set-up of its own.
+// Appends the indices j in [lo, hi) with |xa - y_j| <= eps (y padded by 4
+// entries) to near from position k, which has room for hi - lo + 4 more;
+// returns the new size. Only indices: the displacements of the few within
+// eps (~1 in 7 candidates in 3D) are computed afterwards.
 template <int D>
-[[gnu::always_inline]] inline std::size_t append_near(const std::array<double*, D>& d, std::size_t* to, std::size_t k,
-                                                      const std::array<double, D>& xs,
-                                                      const std::array<const double*, D>& x, std::size_t lo,
+[[gnu::always_inline]] inline std::size_t append_near(std::uint32_t* near, std::size_t k, const std::array<double, D>& xa,
+                                                      const std::array<const double*, D>& y, std::size_t lo,
                                                       std::size_t hi, double eps2) {
 #if defined(__AVX2__)
     __m256d xv[D];
-    for (int c = 0; c < D; ++c) xv[static_cast<std::size_t>(c)] = _mm256_set1_pd(xs[static_cast<std::size_t>(c)]);
+    for (int c = 0; c < D; ++c) xv[c] = _mm256_set1_pd(xa[static_cast<std::size_t>(c)]);
     const __m256d e2 = _mm256_set1_pd(eps2);
-    __m256i j = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(lo)), _mm256_setr_epi64x(0, 1, 2, 3));
-    const __m256i four = _mm256_set1_epi64x(4);
     for (std::size_t s = lo; s < hi; s += 4) {
-        __m256d dv[D];
         __m256d r2 = _mm256_setzero_pd();
         for (int c = 0; c < D; ++c) {
-            const auto uc = static_cast<std::size_t>(c);
-            dv[uc] = _mm256_sub_pd(xv[uc], _mm256_loadu_pd(x[uc] + s));
-            r2 = _mm256_fmadd_pd(dv[uc], dv[uc], r2);
+            const __m256d dc = _mm256_sub_pd(xv[c], _mm256_loadu_pd(y[static_cast<std::size_t>(c)] + s));
+            r2 = _mm256_fmadd_pd(dc, dc, r2);
         }
         int mask = _mm256_movemask_pd(_mm256_cmp_pd(r2, e2, _CMP_LE_OQ));
         if (hi - s < 4) mask &= (1 << (hi - s)) - 1;  // lanes past the run
-        const __m256i perm =
-            _mm256_load_si256(reinterpret_cast<const __m256i*>(left_pack.index[static_cast<std::size_t>(mask)].data()));
-        for (int c = 0; c < D; ++c) {
-            const auto uc = static_cast<std::size_t>(c);
-            _mm256_storeu_pd(d[uc] + k, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(dv[uc]), perm)));
-        }
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(to + k), _mm256_permutevar8x32_epi32(j, perm));
+        const __m128i lanes =
+            _mm_load_si128(reinterpret_cast<const __m128i*>(left_pack.lanes[static_cast<std::size_t>(mask)].data()));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(near + k),
+                         _mm_add_epi32(lanes, _mm_set1_epi32(static_cast<std::int32_t>(s))));
         k += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(mask)));
-        j = _mm256_add_epi64(j, four);
     }
 #else
     for (std::size_t s = lo; s < hi; ++s) {
         double r2 = 0;
         for (int c = 0; c < D; ++c) {
-            const double dc = xs[static_cast<std::size_t>(c)] - x[static_cast<std::size_t>(c)][s];
-            d[c][k] = dc;
+            const double dc = xa[static_cast<std::size_t>(c)] - y[static_cast<std::size_t>(c)][s];
             r2 += dc * dc;
         }
-        to[k] = s;
+        near[k] = static_cast<std::uint32_t>(s);
         k += r2 <= eps2 ? 1 : 0;
     }
 #endif
