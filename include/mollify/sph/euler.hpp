@@ -223,7 +223,13 @@ private:
         s.reserve(k);
         std::array<std::span<const double>, D> d;
         for (int c = 0; c < D; ++c) d[c] = std::span<const double>(b.d[c].data(), k);
-        kernel_.pairs(d, smoothing_, std::span<double>(s.w.data(), k), outputs(s.grad, k));
+        // Displacements of checked positions are finite and the kernel's
+        // dimension was checked by the constructor: a kernel that offers
+        // the loop without its checks (StaticKernel) is called so.
+        if constexpr (requires { Kernel::pairs_unchecked(d, smoothing_, s.w.data(), outputs(s.grad, k), k); })
+            Kernel::pairs_unchecked(d, smoothing_, s.w.data(), outputs(s.grad, k), k);
+        else
+            kernel_.pairs(d, smoothing_, std::span<double>(s.w.data(), k), outputs(s.grad, k));
         const double* __restrict m = mass_sorted_.data();
         double* __restrict sum = s.sums.data();
         const double* __restrict w = s.w.data();
