@@ -17,6 +17,14 @@
 // arithmetic), which leaves the search, gather and accumulation: the
 // kernel's share of a sweep is the difference.
 //
+// Interactions: ordered pairs (i, j) with |x_i - x_j| <= eps, i = j
+// included, the same count for every search. The 3D CellList sweep
+// (BarotropicEuler's cell-by-cell path, Newton's third law) evaluates the
+// kernel once per unordered pair {i, j}, i != j, and updates both
+// particles: it counts that pair twice, as AllPairs and SortedSweep (which
+// evaluate it once from each side) do; i = i once (W(0), one evaluation per
+// sweep). So in 3D the kernel is called on about half the interactions.
+//
 // Counters, with as many OpenMP threads as the environment allows (bench-sph
 // runs one), from the process's CPU time with one thread (one core's work,
 // whatever else the shared machine runs), from wall time with several:
@@ -226,7 +234,11 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         << "One `BarotropicEuler::acceleration` sweep (neighbour update + gather + kernel pairs + accumulation) on the\n"
         << "periodic unit box; particles on the lattice of spacing dx, jittered by +-" << jitter
         << " dx (seeded), masses dx^d; eps = 20 dx (d = 1), 2 dx (d = 3).\n"
-        << "inter/s = particle–neighbour pairs met per second (i = j included); neighbours/particle measured.\n\n"
+        << "inter/s = particle–neighbour pairs met per second (ordered pairs (i, j) within eps, i = j included); "
+        << "neighbours/particle measured.\n"
+        << "d = 3, CellList: the cell-by-cell sweep with Newton's third law, one kernel evaluation per unordered pair "
+        << "{i, j} (counted as the two interactions (i, j) and (j, i), as AllPairs counts them), particles sorted by cell "
+        << "and the order kept between sweeps. Kernels in `Precision::fast` unless marked (accurate).\n\n"
         << "Load (`uptime`), shared machine:\n\n- before: `" << load_before << "`\n- after: `" << load_after << "`\n\n"
         << "| d | search | kernel | N | neighbours/particle | interactions/s | ns/particle | ms/sweep | wall |\n"
         << "|--:|---|---|--:|--:|--:|--:|--:|--:|\n";
