@@ -18,6 +18,7 @@
 #include <mollify/sph/domain.hpp>
 #include <mollify/sph/neighbours.hpp>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cstddef>
@@ -182,7 +183,9 @@ private:
         std::size_t met = 0;
         const long count = static_cast<long>(cells);
         [[maybe_unused]] const bool parallel = met_last_ > 50000;
-        [[maybe_unused]] const int threads = parallel ? mollify::detail::thread_count() : 1;
+        // No more threads than scratch spaces (the count may have changed since construction).
+        [[maybe_unused]] const int threads =
+            parallel ? std::min(mollify::detail::thread_count(), static_cast<int>(scratch_.size())) : 1;
         MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(dynamic, 16) reduction(+ : met))
         for (long lc = 0; lc < count; ++lc) {
             Scratch& s = scratch_[static_cast<std::size_t>(mollify::detail::thread_index())];

@@ -6,7 +6,8 @@
 // baseline the benchmarks compare against. All three visit, for particle i,
 // every j with |x_i - x_j| <= eps (i itself included, at displacement 0)
 // exactly once, with the displacement x_i - x_j (minimum image in a
-// periodic box).
+// periodic box). CellList also hands out each unordered pair {i, j}, i != j,
+// once, cell by cell (half_pairs), for sweeps that use Newton's third law.
 #pragma once
 
 #include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD

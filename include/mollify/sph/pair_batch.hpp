@@ -1,11 +1,12 @@
 // Pairs of particles within the support radius eps of each other, found
 // in a cell list's sorted copy and collected in batches for one kernel call
 // each (CellList::half_pairs, BarotropicEuler's cell sweep): the batch, and
-// the loops that fill it. The home particle's candidates are runs of
-// consecutive slots, each with one image shift; the loop over a run tests
-// four candidates at a time with AVX2 where the compiler targets it and
-// appends those within eps by a left-packing permutation (no branch per
-// candidate), a scalar branch-free loop elsewhere.
+// the loops that fill it. A home cell's candidates are one contiguous list
+// (its own particles first, then the neighbouring cells' as images); each
+// home particle tests them four at a time with AVX2 where the compiler
+// targets it, the indices of those within eps left-packed by a table of
+// the 16 masks (no branch per candidate), a scalar branch-free loop
+// elsewhere.
 #pragma once
 
 #include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD
@@ -36,12 +37,14 @@ struct PairBatch {
     std::array<std::vector<double>, D> d;
     std::vector<std::size_t> a, b;
     std::size_t size = 0;
-    std::array<std::vector<double>, D> y;  // candidates: positions (images), slots
+    std::array<std::vector<double>, D> y;  // a home cell's candidates: positions (images), slots
     std::vector<std::size_t> slot;
+    std::vector<std::uint32_t> close;  // the candidates within eps of one home particle
+    // The aliased case (fewer than 3 cells on a periodic side, near_pairs):
+    // squared distances per home particle of a block and candidate.
     std::size_t candidates = 0;
-    std::vector<double> r2;  // per home particle of a block and candidate
+    std::vector<double> r2;
     std::vector<std::size_t> near, row_end;
-    std::vector<std::uint32_t> close;  // candidates within eps of one home particle
 
     void reserve(std::size_t n) {
         if (a.size() >= n) return;
