@@ -96,7 +96,7 @@ private:
         std::vector<double> w, m;
         PairBatch<D> batch;
         // Per slot rho, grad_0 .. grad_{D-1} side by side (one cache line per
-        // neighbour updated); empty: not used in this sweep.
+        // neighbour updated); zero between sweeps.
         std::vector<double> sums;
 
         void reserve(std::size_t k) {  // grows to the largest batch, then stays
@@ -106,9 +106,6 @@ private:
                 grad[c].resize(k);
                 dx[c].resize(k);
             }
-        }
-        void clear_sums(std::size_t n) {
-            sums.assign((D + 1) * n, 0.0);
         }
     };
 
@@ -180,6 +177,9 @@ private:
         const double w0 = s0.w[0];
         std::array<double, D> g0;
         for (int c = 0; c < D; ++c) g0[c] = s0.grad[c][0];
+        // Zero sums, kept so between sweeps: the reduction below clears what it reads.
+        for (auto& st : scratch_)
+            if (st.sums.size() != (D + 1) * n) st.sums.assign((D + 1) * n, 0.0);
         std::size_t met = 0;
         const long count = static_cast<long>(cells);
         [[maybe_unused]] const bool parallel = met_last_ > 50000;
@@ -189,13 +189,11 @@ private:
         MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(dynamic, 16) reduction(+ : met))
         for (long lc = 0; lc < count; ++lc) {
             Scratch& s = scratch_[static_cast<std::size_t>(mollify::detail::thread_index())];
-            if (s.sums.size() != (D + 1) * n) s.clear_sums(n);  // first cell of this thread in this sweep
             search_.half_pairs(static_cast<std::size_t>(lc), s.batch, [&](PairBatch<D>& b) {
                 met += 2 * b.size;
                 accumulate(b, s);
             });
         }
-        // Threads that took no cell left their sums at size 0.
         const int used = static_cast<int>(scratch_.size());
         MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(static))
         for (long ls = 0; ls < static_cast<long>(n); ++ls) {
@@ -205,16 +203,15 @@ private:
             std::array<double, D> g;
             for (int c = 0; c < D; ++c) g[c] = mass_sorted_[sl] * g0[c];
             for (int t = 0; t < used; ++t) {
-                const Scratch& st = scratch_[static_cast<std::size_t>(t)];
-                if (st.sums.size() != (D + 1) * n) continue;
-                r += st.sums[(D + 1) * sl];
-                for (int c = 0; c < D; ++c) g[c] += st.sums[(D + 1) * sl + 1 + static_cast<std::size_t>(c)];
+                double* sum = scratch_[static_cast<std::size_t>(t)].sums.data() + (D + 1) * sl;
+                r += sum[0];
+                for (int c = 0; c < D; ++c) g[c] += sum[1 + c];
+                std::fill(sum, sum + D + 1, 0.0);
             }
             if (rho) (*rho)[i] = r;
             if (a)
                 for (int c = 0; c < D; ++c) (*a)[c][i] = -g[c];
         }
-        for (auto& st : scratch_) st.sums.clear();  // marks the sums stale for the next sweep
         met += n;
         interactions_.fetch_add(met, std::memory_order_relaxed);
         met_last_ = met;
