@@ -189,7 +189,7 @@ public:
         previous_.swap(members_);
         members_.resize(n);
         slot_.resize(n);
-        for (int c = 0; c < D; ++c) sorted_[c].assign(n + 4, 0.0);  // 4 more: the SIMD loads past a run
+        for (int c = 0; c < D; ++c) sorted_[c].resize(n);
         for (std::size_t p = 0; p < n; ++p) {
             const std::size_t i = previous_[p];
             const std::size_t slot = fill_[cell_of_[i]]++;
