@@ -182,6 +182,9 @@ TEST(Neighbours, CellPairsAliasedAndCrowded) {
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.3125, dyadic_lattice<3>(8));  // 3 cells per side
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.375, dyadic_lattice<3>(8));   // 2 cells per side
     expect_half_pairs_as_all_pairs<2>(Domain<2>::periodic(1.0), 0.45, random_points<2>(100, 0, 1, 6));
+    // In R^3 one or two cells per side (no images, nothing aliases).
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.1, random_points<3>(60, 0, 0.15, 16));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.1, random_points<3>(200, 0, 0.25, 17));
     Field<3> clump = random_points<3>(700, 0.5, 0.52, 9);
     for (int c = 0; c < 3; ++c) clump[c].push_back(0.9);  // one far particle: the cells span the box
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.05, clump);

@@ -416,17 +416,15 @@ public:
     }
 
 private:
-    // The candidates of a home cell, into b.y and b.slot: its own particles
-    // first, then those of each distinct neighbouring cell of larger index,
-    // as the images nearest the home cell (shifted by +-L across a periodic
-    // side). With fewer than 3 cells on a periodic side no single image
-    // serves the whole cell: positions unshifted, minimum image per pair.
+    // The aliased case's candidates of a home cell, into b.y and b.slot: its
+    // own particles first, then those of each distinct neighbouring cell of
+    // larger index. With fewer than 3 cells on a periodic side no single
+    // image serves a whole cell: positions unshifted, minimum image per pair
+    // (near_pairs).
     void gather_candidates(std::size_t home, PairBatch<D>& b) const {
         std::array<std::size_t, 27> cell{};
-        std::array<Vector<D>, 27> shift{};
-        int cells = 0;
+        std::size_t cells = 1;
         cell[0] = home;
-        cells = 1;
         std::array<long, D> at;
         std::size_t k = home;
         for (int c = 0; c < D; ++c) {
@@ -436,58 +434,38 @@ private:
         std::array<int, D> off;
         off.fill(-1);
         const bool periodic = reach_.domain.is_periodic();
-        const double L = reach_.domain.length();
         for (;;) {
             bool inside = true;
             std::size_t g = 0;
-            Vector<D> sh{};
             for (int c = D - 1; c >= 0; --c) {
                 long v = at[c] + off[c];
                 if (v < 0 || v >= count_[c]) {
                     inside = inside && periodic;
-                    if (!aliased_) sh[c] = v < 0 ? -L : L;
                     v = (v + count_[c]) % count_[c];
                 }
                 g = g * static_cast<std::size_t>(count_[c]) + static_cast<std::size_t>(v);
             }
-            if (inside && g > home && aliased_)
-                inside = std::find(cell.begin() + 1, cell.begin() + cells, g) == cell.begin() + cells;
-            if (inside && g > home) {
-                cell[static_cast<std::size_t>(cells)] = g;
-                shift[static_cast<std::size_t>(cells++)] = sh;
-            }
+            if (inside && g > home && std::find(cell.begin() + 1, cell.begin() + cells, g) == cell.begin() + cells)
+                cell[cells++] = g;
             int c = 0;
             while (c < D && off[c] == 1) off[c++] = -1;
             if (c == D) break;
             ++off[c];
         }
         std::size_t total = 0;
-        for (int q = 0; q < cells; ++q) total += start_[cell[static_cast<std::size_t>(q)] + 1] - start_[cell[static_cast<std::size_t>(q)]];
+        for (std::size_t q = 0; q < cells; ++q) total += start_[cell[q] + 1] - start_[cell[q]];
         if (b.slot.size() < total) {
             for (auto& c : b.y) c.resize(total);
             b.slot.resize(total);
-            b.r2.resize(total);
-            b.near.resize(total);
         }
         b.candidates = total;
-        // Cells adjacent along axis 0 with the same shift are one run of slots.
         std::size_t at_slot = 0;
-        for (int q = 0; q < cells;) {
-            const auto uq = static_cast<std::size_t>(q);
-            const std::size_t lo = start_[cell[uq]];
-            std::size_t hi = start_[cell[uq] + 1];
-            for (++q; q < cells && cell[static_cast<std::size_t>(q)] == cell[static_cast<std::size_t>(q) - 1] + 1 &&
-                      shift[static_cast<std::size_t>(q)] == shift[uq];
-                 ++q)
-                hi = start_[cell[static_cast<std::size_t>(q)] + 1];
-            for (int c = 0; c < D; ++c) {
-                const double* from = sorted_[c].data() + lo;
-                double* to = b.y[c].data() + at_slot;
-                const double s = shift[uq][c];
-                for (std::size_t t = 0; t < hi - lo; ++t) to[t] = from[t] + s;
-            }
-            for (std::size_t t = 0; t < hi - lo; ++t) b.slot[at_slot + t] = lo + t;
-            at_slot += hi - lo;
+        for (std::size_t q = 0; q < cells; ++q) {
+            const std::size_t lo = start_[cell[q]], hi = start_[cell[q] + 1];
+            for (int c = 0; c < D; ++c) std::copy(sorted_[c].begin() + static_cast<std::ptrdiff_t>(lo),
+                                                  sorted_[c].begin() + static_cast<std::ptrdiff_t>(hi),
+                                                  b.y[c].begin() + static_cast<std::ptrdiff_t>(at_slot));
+            for (std::size_t t = lo; t < hi; ++t) b.slot[at_slot++] = t;
         }
     }
 
