@@ -168,7 +168,10 @@ private:
         const std::size_t n = size(), cells = search_.cells();
         const std::vector<std::size_t>& member = search_.members();
         mass_sorted_.resize(n);
-        for (std::size_t s = 0; s < n; ++s) mass_sorted_[s] = mass_[member[s]];
+        [[maybe_unused]] const bool parallel = met_last_ > 50000;
+        MOLLIFY_PARALLEL_FOR(if(parallel) schedule(static))
+        for (long ls = 0; ls < static_cast<long>(n); ++ls)
+            mass_sorted_[static_cast<std::size_t>(ls)] = mass_[member[static_cast<std::size_t>(ls)]];
         // W(0), grad W(0): one kernel call on the zero displacement.
         Scratch& s0 = scratch_[0];
         s0.reserve(1);
@@ -182,7 +185,6 @@ private:
             if (st.sums.size() != (D + 1) * n) st.sums.assign((D + 1) * n, 0.0);
         std::size_t met = 0;
         const long count = static_cast<long>(cells);
-        [[maybe_unused]] const bool parallel = met_last_ > 50000;
         // No more threads than scratch spaces (the count may have changed since construction).
         [[maybe_unused]] const int threads =
             parallel ? std::min(mollify::detail::thread_count(), static_cast<int>(scratch_.size())) : 1;

@@ -174,12 +174,17 @@ public:
         for (int c = 0; c < D; ++c) cells *= static_cast<std::size_t>(count_[c]);
         start_.assign(cells + 1, 0);
         cell_of_.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
+        // The cells in parallel (a sweep's serial part limits its threads'
+        // speed-up), the counting and the stable scatter in order.
+        const long count = static_cast<long>(n);
+        MOLLIFY_PARALLEL_FOR(if(n > 50000) schedule(static))
+        for (long li = 0; li < count; ++li) {
+            const auto i = static_cast<std::size_t>(li);
             std::size_t k = 0;
             for (int c = D - 1; c >= 0; --c) k = k * static_cast<std::size_t>(count_[c]) + coordinate(x[c][i], c);
             cell_of_[i] = k;
-            ++start_[k + 1];
         }
+        for (std::size_t i = 0; i < n; ++i) ++start_[cell_of_[i] + 1];
         std::partial_sum(start_.begin(), start_.end(), start_.begin());
         fill_.assign(start_.begin(), start_.end() - 1);
         if (members_.size() != n) {
