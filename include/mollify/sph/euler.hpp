@@ -5,9 +5,12 @@
 //   du_j/dt = -grad rho(x_j) = -sum_k m_k grad Phi_eps(x_j - x_k),      (3.5)
 //   rho(x)  = sum_k m_k Phi_eps(x - x_k).                               (2.15)
 // The kernel is a parameter: any type with the runtime's batch pair API
-// (StaticKernel<table> or a run-time mollify::Kernel): one call per particle
-// on the displacements to all its neighbours, so a run-time kernel costs one
-// indirect call per particle and sweep.
+// (StaticKernel<table> or a run-time mollify::Kernel). With a search that
+// visits particle by particle (SortedSweep, AllPairs) one call per particle
+// on the displacements to all its neighbours; with a CellList one call per
+// batch of up to ~1,000 pairs found cell by cell, each pair evaluated once
+// for both particles (Newton's third law), so a run-time kernel costs one
+// indirect call per particle or per batch and sweep.
 #pragma once
 
 #include <mollify/detail/parallel.hpp>
