@@ -92,22 +92,29 @@ template <int D>
     for (int c = 0; c < D; ++c) xv[c] = _mm256_set1_pd(xa[static_cast<std::size_t>(c)]);
     const __m256d e2 = _mm256_set1_pd(eps2);
     // Full vectors, then the last partial one with its lanes past hi masked.
-    const auto block = [&](std::size_t s, int valid) {
-        __m256d r2 = _mm256_setzero_pd();
-        for (int c = 0; c < D; ++c) {
-            const __m256d dc = _mm256_sub_pd(xv[c], _mm256_loadu_pd(y[static_cast<std::size_t>(c)] + s));
+    // The indices: the 4 lanes' base s kept broadcast, advanced by 4.
+    const auto near_mask = [&](std::size_t s) {
+        __m256d dc = _mm256_sub_pd(xv[0], _mm256_loadu_pd(y[0] + s));
+        __m256d r2 = _mm256_mul_pd(dc, dc);
+        for (int c = 1; c < D; ++c) {
+            dc = _mm256_sub_pd(xv[c], _mm256_loadu_pd(y[static_cast<std::size_t>(c)] + s));
             r2 = _mm256_fmadd_pd(dc, dc, r2);
         }
-        const int mask = _mm256_movemask_pd(_mm256_cmp_pd(r2, e2, _CMP_LE_OQ)) & valid;
-        const __m128i lanes =
-            _mm_load_si128(reinterpret_cast<const __m128i*>(left_pack.lanes[static_cast<std::size_t>(mask)].data()));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(near + k),
-                         _mm_add_epi32(lanes, _mm_set1_epi32(static_cast<std::int32_t>(s))));
-        k += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(mask)));
+        return static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(r2, e2, _CMP_LE_OQ)));
     };
+    const auto pack = [&](unsigned mask, __m128i at) {
+        const __m128i lanes = _mm_load_si128(reinterpret_cast<const __m128i*>(left_pack.lanes[mask].data()));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(near + k), _mm_add_epi32(lanes, at));
+        k += static_cast<std::size_t>(__builtin_popcount(mask));
+    };
+    __m128i at = _mm_set1_epi32(static_cast<std::int32_t>(lo));
+    const __m128i four = _mm_set1_epi32(4);
     std::size_t s = lo;
-    for (; s + 4 <= hi; s += 4) block(s, 15);
-    if (s < hi) block(s, (1 << (hi - s)) - 1);
+    for (; s + 4 <= hi; s += 4) {
+        pack(near_mask(s), at);
+        at = _mm_add_epi32(at, four);
+    }
+    if (s < hi) pack(near_mask(s) & ((1u << (hi - s)) - 1), at);
 #else
     for (std::size_t s = lo; s < hi; ++s) {
         double r2 = 0;
