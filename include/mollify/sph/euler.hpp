@@ -5,9 +5,12 @@
 //   du_j/dt = -grad rho(x_j) = -sum_k m_k grad Phi_eps(x_j - x_k),      (3.5)
 //   rho(x)  = sum_k m_k Phi_eps(x - x_k).                               (2.15)
 // The kernel is a parameter: any type with the runtime's batch pair API
-// (StaticKernel<table> or a run-time mollify::Kernel): one call per particle
-// on the displacements to all its neighbours, so a run-time kernel costs one
-// indirect call per particle and sweep.
+// (StaticKernel<table> or a run-time mollify::Kernel). With a search that
+// visits particle by particle (SortedSweep, AllPairs) one call per particle
+// on the displacements to all its neighbours; with a CellList one call per
+// batch of up to ~1,000 pairs found cell by cell, each pair evaluated once
+// for both particles (Newton's third law), so a run-time kernel costs one
+// indirect call per particle or per batch and sweep.
 #pragma once
 
 #include <mollify/detail/parallel.hpp>
@@ -18,6 +21,7 @@
 #include <mollify/sph/domain.hpp>
 #include <mollify/sph/neighbours.hpp>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cstddef>
@@ -93,6 +97,19 @@ private:
     struct Scratch {
         Field<D> dx, grad;
         std::vector<double> w, m;
+        PairBatch<D> batch;
+        // Per slot rho, grad_0 .. grad_{D-1} side by side (one cache line per
+        // neighbour updated); zero between sweeps.
+        std::vector<double> sums;
+
+        void reserve(std::size_t k) {  // grows to the largest batch, then stays
+            if (w.size() >= k) return;
+            w.resize(k);
+            for (int c = 0; c < D; ++c) {
+                grad[c].resize(k);
+                dx[c].resize(k);
+            }
+        }
     };
 
     void sweep(const Field<D>& x, Field<D>* a, std::vector<double>* rho) {
@@ -104,6 +121,16 @@ private:
         if (a)
             for (auto& c : *a) c.resize(n);
         if (rho) rho->resize(n);
+        if constexpr (requires(PairBatch<D>& b) { search_.half_pairs(std::size_t{}, b, [](PairBatch<D>&) {}); })
+            sweep_cells(a, rho);
+        else
+            sweep_particles(a, rho);
+    }
+
+    // Particle by particle: each particle's neighbours gathered, one kernel
+    // call on them, the sums (SortedSweep, AllPairs).
+    void sweep_particles(Field<D>* a, std::vector<double>* rho) {
+        const std::size_t n = size();
         std::size_t met = 0;
         const long count = static_cast<long>(n);
         // Positions were checked by the search's update, so the kernel sees
@@ -135,6 +162,111 @@ private:
         met_last_ = met;
     }
 
+    // Cell by cell on the search's sorted copy, Newton's third law: each
+    // pair {a, b} once, W(x_a - x_b) = W(x_b - x_a) and grad W odd, so one
+    // kernel evaluation updates both (Franz 2.15, 3.5). Each thread sums
+    // into its own arrays in slot order (no races), added up and permuted
+    // back to the caller's indices at the end. The self term m_a W(0) once.
+    void sweep_cells(Field<D>* a, std::vector<double>* rho) {
+        const std::size_t n = size(), cells = search_.cells();
+        const std::vector<std::size_t>& member = search_.members();
+        mass_sorted_.resize(n);
+        [[maybe_unused]] const bool parallel = met_last_ > 50000;
+        MOLLIFY_PARALLEL_FOR(if(parallel) schedule(static))
+        for (long ls = 0; ls < static_cast<long>(n); ++ls)
+            mass_sorted_[static_cast<std::size_t>(ls)] = mass_[member[static_cast<std::size_t>(ls)]];
+        // W(0), grad W(0): one kernel call on the zero displacement.
+        Scratch& s0 = scratch_[0];
+        s0.reserve(1);
+        for (int c = 0; c < D; ++c) s0.dx[c][0] = 0.0;
+        kernel_.pairs(points(s0.dx, 1), smoothing_, std::span<double>(s0.w.data(), 1), outputs(s0.grad, 1));
+        const double w0 = s0.w[0];
+        std::array<double, D> g0;
+        for (int c = 0; c < D; ++c) g0[c] = s0.grad[c][0];
+        // Zero sums, kept so between sweeps: the reduction below clears what it reads.
+        for (auto& st : scratch_)
+            if (st.sums.size() != (D + 1) * n) st.sums.assign((D + 1) * n, 0.0);
+        std::size_t met = 0;
+        const long count = static_cast<long>(cells);
+        // No more threads than scratch spaces (the count may have changed since construction).
+        [[maybe_unused]] const int threads =
+            parallel ? std::min(mollify::detail::thread_count(), static_cast<int>(scratch_.size())) : 1;
+        MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(dynamic, 16) reduction(+ : met))
+        for (long lc = 0; lc < count; ++lc) {
+            Scratch& s = scratch_[static_cast<std::size_t>(mollify::detail::thread_index())];
+            search_.half_pairs(static_cast<std::size_t>(lc), s.batch, [&](PairBatch<D>& b) {
+                met += 2 * b.size;
+                accumulate(b, s);
+            });
+        }
+        const int used = static_cast<int>(scratch_.size());
+        MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(static))
+        for (long ls = 0; ls < static_cast<long>(n); ++ls) {
+            const auto sl = static_cast<std::size_t>(ls);
+            const std::size_t i = member[sl];
+            double r = mass_sorted_[sl] * w0;
+            std::array<double, D> g;
+            for (int c = 0; c < D; ++c) g[c] = mass_sorted_[sl] * g0[c];
+            for (int t = 0; t < used; ++t) {
+                double* sum = scratch_[static_cast<std::size_t>(t)].sums.data() + (D + 1) * sl;
+                r += sum[0];
+                for (int c = 0; c < D; ++c) g[c] += sum[1 + c];
+                std::fill(sum, sum + D + 1, 0.0);
+            }
+            if (rho) (*rho)[i] = r;
+            if (a)
+                for (int c = 0; c < D; ++c) (*a)[c][i] = -g[c];
+        }
+        met += n;
+        interactions_.fetch_add(met, std::memory_order_relaxed);
+        met_last_ = met;
+    }
+
+    // rho_a += m_b W, rho_b += m_a W; grad_a += m_b grad W, grad_b -= m_a grad W.
+    void accumulate(const PairBatch<D>& b, Scratch& s) const {
+        const std::size_t k = b.size;
+        s.reserve(k);
+        std::array<std::span<const double>, D> d;
+        for (int c = 0; c < D; ++c) d[c] = std::span<const double>(b.d[c].data(), k);
+        // Displacements of checked positions are finite and the kernel's
+        // dimension was checked by the constructor: a kernel that offers
+        // the loop without its checks (StaticKernel) is called so.
+        if constexpr (requires { Kernel::pairs_unchecked(d, smoothing_, s.w.data(), outputs(s.grad, k), k); })
+            Kernel::pairs_unchecked(d, smoothing_, s.w.data(), outputs(s.grad, k), k);
+        else
+            kernel_.pairs(d, smoothing_, std::span<double>(s.w.data(), k), outputs(s.grad, k));
+        const double* __restrict m = mass_sorted_.data();
+        double* __restrict sum = s.sums.data();
+        const double* __restrict w = s.w.data();
+        const std::size_t* __restrict pa = b.a.data();
+        const std::size_t* __restrict pb = b.b.data();
+        std::array<const double*, D> grad;
+        for (int c = 0; c < D; ++c) grad[c] = s.grad[c].data();
+        // The pairs come grouped by a: a's sums in registers, b's scattered
+        // (distinct within a group, so no chain through memory).
+        constexpr std::size_t stride = D + 1;
+        for (std::size_t q = 0; q < k;) {
+            const std::size_t i = pa[q];
+            const double mi = m[i];
+            double ri = 0;
+            std::array<double, D> gi{};
+            for (; q < k && pa[q] == i; ++q) {
+                double* __restrict to = sum + stride * pb[q];
+                const double wq = w[q], mj = m[pb[q]];
+                ri += mj * wq;
+                to[0] += mi * wq;
+                for (int c = 0; c < D; ++c) {
+                    const double g = grad[c][q];
+                    gi[c] += mj * g;
+                    to[1 + c] -= mi * g;
+                }
+            }
+            double* __restrict to = sum + stride * i;
+            to[0] += ri;
+            for (int c = 0; c < D; ++c) to[1 + c] += gi[c];
+        }
+    }
+
     void gather(std::size_t i, Scratch& s) const {
         for (int c = 0; c < D; ++c) s.dx[c].clear();
         s.m.clear();
@@ -164,7 +296,7 @@ private:
     Smoothing smoothing_;
     Domain<D> domain_;
     NeighbourSearch search_;
-    std::vector<double> mass_;
+    std::vector<double> mass_, mass_sorted_;  // mass_sorted_: in the search's slot order
     std::vector<Scratch> scratch_;
     std::atomic<std::size_t> interactions_{0};
     std::size_t met_last_ = 0;  // interactions of the last sweep: the work estimate

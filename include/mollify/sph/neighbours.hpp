@@ -6,12 +6,15 @@
 // baseline the benchmarks compare against. All three visit, for particle i,
 // every j with |x_i - x_j| <= eps (i itself included, at displacement 0)
 // exactly once, with the displacement x_i - x_j (minimum image in a
-// periodic box).
+// periodic box). CellList also hands out each unordered pair {i, j}, i != j,
+// once, cell by cell (half_pairs), for sweeps that use Newton's third law.
 #pragma once
 
+#include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/sph/domain.hpp>
+#include <mollify/sph/pair_batch.hpp>
 #include <mollify/static_kernel.hpp>  // mollify::Vector
 
 #include <algorithm>
@@ -158,31 +161,208 @@ public:
 
     CellList(Domain<D> domain, double eps) : reach_(domain, eps) {}
 
+    // A stable counting sort by cell that starts from the last update's
+    // order: particles that stayed in their cells keep their slots, so the
+    // sorted copy is written almost in sequence when particles barely move.
     void update(const Positions<D>& x) {
         detail::check_positions<D>(x, reach_.domain);
         const std::size_t n = x[0].size();
+        // half_pairs numbers a cell's candidates in 32 bits.
+        if (n > std::size_t{1} << 31) fail("CellList: " + std::to_string(n) + " particles (at most 2^31)");
         layout(x, n);
         std::size_t cells = 1;
         for (int c = 0; c < D; ++c) cells *= static_cast<std::size_t>(count_[c]);
         start_.assign(cells + 1, 0);
         cell_of_.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
+        // The cells in parallel (a sweep's serial part limits its threads'
+        // speed-up), the counting and the stable scatter in order.
+        const long count = static_cast<long>(n);
+        MOLLIFY_PARALLEL_FOR(if(n > 50000) schedule(static))
+        for (long li = 0; li < count; ++li) {
+            const auto i = static_cast<std::size_t>(li);
             std::size_t k = 0;
             for (int c = D - 1; c >= 0; --c) k = k * static_cast<std::size_t>(count_[c]) + coordinate(x[c][i], c);
             cell_of_[i] = k;
-            ++start_[k + 1];
         }
+        for (std::size_t i = 0; i < n; ++i) ++start_[cell_of_[i] + 1];
         std::partial_sum(start_.begin(), start_.end(), start_.begin());
-        std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
+        fill_.assign(start_.begin(), start_.end() - 1);
+        if (members_.size() != n) {
+            members_.resize(n);
+            std::iota(members_.begin(), members_.end(), std::size_t{0});
+        }
+        previous_.swap(members_);
         members_.resize(n);
         slot_.resize(n);
         for (int c = 0; c < D; ++c) sorted_[c].resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::size_t slot = fill[cell_of_[i]]++;
+        for (std::size_t p = 0; p < n; ++p) {
+            const std::size_t i = previous_[p];
+            const std::size_t slot = fill_[cell_of_[i]]++;
             members_[slot] = i;
             slot_[i] = slot;
             for (int c = 0; c < D; ++c) sorted_[c][slot] = x[c][i];
         }
+    }
+
+    // The sorted copy: slot s holds particle members()[s]; the particles of
+    // a cell occupy consecutive slots, cells in row-major order (axis 0 fastest).
+    std::size_t cells() const { return start_.empty() ? 0 : start_.size() - 1; }
+    const std::vector<std::size_t>& members() const { return members_; }
+
+    // Each unordered pair {a, b}, a != b, |x_a - x_b| <= eps, exactly once
+    // over all home cells: a in the home cell, b later in the home cell or
+    // in a neighbouring cell of larger index (Newton's third law: the caller
+    // updates both). The pairs go into the batch as slots and displacements
+    // x_a - x_b (minimum image), and flush(batch) is called whenever it
+    // fills and at the end; the batch is left empty.
+    template <class Flush>
+    void half_pairs(std::size_t home, PairBatch<D>& b, Flush&& flush) const {
+        if (aliased_)
+            half_pairs_aliased(home, b, flush);
+        else
+            half_pairs_runs(home, b, flush);
+    }
+
+    template <class Flush>
+    void half_pairs_aliased(std::size_t home, PairBatch<D>& b, Flush& flush) const {
+        gather_candidates(home, b);
+        const std::size_t nh = start_[home + 1] - start_[home], nc = b.candidates;
+        const std::size_t rows = std::max<std::size_t>(1, PairBatch<D>::block / std::max<std::size_t>(nc, 1));
+        const std::size_t cap = std::max(rows * nc, PairBatch<D>::capacity);
+        b.reserve(cap);
+        if (b.r2.size() < rows * nc) {
+            b.r2.resize(rows * nc);
+            b.near.resize(rows * nc);
+        }
+        if (b.row_end.size() < rows) b.row_end.resize(rows);
+        for (std::size_t a0 = 0; a0 < nh; a0 += rows) {
+            const std::size_t a1 = std::min(nh, a0 + rows);
+            if (b.size + (a1 - a0) * nc > cap) {
+                flush(b);
+                b.size = 0;
+            }
+            b.size = detail::near_pairs<D, true>(b, a0, a1, nc, reach_.eps, reach_.domain);
+        }
+        if (b.size) flush(b);
+        b.size = 0;
+    }
+
+    // Without aliasing each pair of neighbouring cells is met once from the
+    // cell it lies at a positive offset of (the first non-zero offset, from
+    // the last axis down, is +1): the home cell with the next along axis 0,
+    // then the rows of 3 cells along axis 0 at positive offsets on the
+    // other axes (4 rows in 3D). Consecutive cells of a row with the same
+    // image shift are one run of slots; the home particles' own run starts
+    // after each one (the triangle of the home cell).
+    template <class Flush>
+    void half_pairs_runs(std::size_t home, PairBatch<D>& b, Flush& flush) const {
+        std::array<detail::Run<D>, 2 * 9> runs;
+        std::size_t nruns = 0, total = 0;
+        std::array<long, D> at;
+        std::size_t k = home;
+        for (int c = 0; c < D; ++c) {
+            at[c] = static_cast<long>(k % static_cast<std::size_t>(count_[c]));
+            k /= static_cast<std::size_t>(count_[c]);
+        }
+        const bool periodic = reach_.domain.is_periodic();
+        const double L = reach_.domain.length();
+        std::array<int, D> off;  // off[0] unused: the row runs along axis 0
+        off.fill(-1);
+        off[0] = 0;
+        for (;;) {
+            bool positive = false, zero = true, inside = true;
+            for (int c = D - 1; c >= 1 && zero; --c)
+                if (off[c] != 0) {
+                    positive = off[c] > 0;
+                    zero = false;
+                }
+            std::size_t row = 0;  // the row's cell at axis-0 coordinate 0
+            std::array<double, D> shift{};
+            for (int c = D - 1; c >= 1; --c) {
+                long v = at[c] + off[c];
+                if (v < 0 || v >= count_[c]) {
+                    inside = inside && periodic;
+                    shift[static_cast<std::size_t>(c)] = v < 0 ? -L : L;
+                    v = (v + count_[c]) % count_[c];
+                }
+                row = row * static_cast<std::size_t>(count_[c]) + static_cast<std::size_t>(v);
+            }
+            row *= static_cast<std::size_t>(count_[0]);
+            if (inside && (zero || positive)) {
+                for (long dx = zero ? 0 : -1; dx <= 1; ++dx) {
+                    long v = at[0] + dx;
+                    double sx = 0;
+                    if (v < 0 || v >= count_[0]) {
+                        if (!periodic) continue;
+                        sx = v < 0 ? -L : L;
+                        v = (v + count_[0]) % count_[0];
+                    }
+                    const std::size_t cell = row + static_cast<std::size_t>(v);
+                    shift[0] = sx;
+                    if (nruns > 0 && runs[nruns - 1].hi == start_[cell] && runs[nruns - 1].shift == shift) {
+                        runs[nruns - 1].hi = start_[cell + 1];
+                    } else {
+                        runs[nruns++] = {start_[cell], start_[cell + 1], shift};
+                    }
+                    total += start_[cell + 1] - start_[cell];
+                }
+            }
+            int c = 1;
+            while (c < D && off[c] == 1) off[c++] = -1;
+            if (c == D) break;
+            ++off[c];
+        }
+        // The runs copied, shifted, into one contiguous candidate list (the
+        // home cell first): one loop per home particle, not one per run
+        // (each loop's exit is a mispredicted branch and a drained pipeline).
+        if (b.slot.size() < total + 4) {
+            for (auto& c : b.y) c.resize(total + 4);
+            b.slot.resize(total + 4);
+        }
+        std::size_t at_slot = 0;
+        for (std::size_t r = 0; r < nruns; ++r) {
+            const std::size_t lo = runs[r].lo, len = runs[r].hi - runs[r].lo;
+            for (int c = 0; c < D; ++c) {
+                const double* __restrict from = sorted_[c].data() + lo;
+                double* __restrict to = b.y[c].data() + at_slot;
+                const double sh = runs[r].shift[static_cast<std::size_t>(c)];
+                for (std::size_t t = 0; t < len; ++t) to[t] = from[t] + sh;
+            }
+            for (std::size_t t = 0; t < len; ++t) b.slot[at_slot + t] = lo + t;
+            at_slot += len;
+        }
+        const std::size_t cap = std::max(total, PairBatch<D>::capacity);
+        b.reserve(cap + 4);
+        std::array<const double*, D> y;
+        std::array<double*, D> d;
+        for (int c = 0; c < D; ++c) {
+            y[static_cast<std::size_t>(c)] = b.y[c].data();
+            d[static_cast<std::size_t>(c)] = b.d[c].data();
+        }
+        if (b.close.size() < total + 4) b.close.resize(total + 4);
+        std::uint32_t* close = b.close.data();
+        const std::size_t* slot = b.slot.data();
+        const double eps2 = reach_.eps * reach_.eps;
+        const std::size_t nh = start_[home + 1] - start_[home];
+        for (std::size_t a = 0; a < nh; ++a) {
+            if (b.size + total > cap) {
+                flush(b);
+                b.size = 0;
+            }
+            std::array<double, D> xa;
+            for (int c = 0; c < D; ++c) xa[static_cast<std::size_t>(c)] = y[static_cast<std::size_t>(c)][a];
+            const std::size_t m = detail::append_near<D>(close, 0, xa, y, a + 1, total, eps2);
+            const std::size_t k = b.size, sa = slot[a];
+            for (std::size_t q = 0; q < m; ++q) {
+                const std::size_t j = close[q];
+                for (int c = 0; c < D; ++c) d[static_cast<std::size_t>(c)][k + q] = xa[static_cast<std::size_t>(c)] - y[static_cast<std::size_t>(c)][j];
+                b.a[k + q] = sa;
+                b.b[k + q] = slot[j];
+            }
+            b.size = k + m;
+        }
+        if (b.size) flush(b);
+        b.size = 0;
     }
 
     template <class F>
@@ -241,6 +421,59 @@ public:
     }
 
 private:
+    // The aliased case's candidates of a home cell, into b.y and b.slot: its
+    // own particles first, then those of each distinct neighbouring cell of
+    // larger index. With fewer than 3 cells on a periodic side no single
+    // image serves a whole cell: positions unshifted, minimum image per pair
+    // (near_pairs).
+    void gather_candidates(std::size_t home, PairBatch<D>& b) const {
+        std::array<std::size_t, 27> cell{};
+        std::size_t cells = 1;
+        cell[0] = home;
+        std::array<long, D> at;
+        std::size_t k = home;
+        for (int c = 0; c < D; ++c) {
+            at[c] = static_cast<long>(k % static_cast<std::size_t>(count_[c]));
+            k /= static_cast<std::size_t>(count_[c]);
+        }
+        std::array<int, D> off;
+        off.fill(-1);
+        const bool periodic = reach_.domain.is_periodic();
+        for (;;) {
+            bool inside = true;
+            std::size_t g = 0;
+            for (int c = D - 1; c >= 0; --c) {
+                long v = at[c] + off[c];
+                if (v < 0 || v >= count_[c]) {
+                    inside = inside && periodic;
+                    v = (v + count_[c]) % count_[c];
+                }
+                g = g * static_cast<std::size_t>(count_[c]) + static_cast<std::size_t>(v);
+            }
+            if (inside && g > home && std::find(cell.begin() + 1, cell.begin() + cells, g) == cell.begin() + cells)
+                cell[cells++] = g;
+            int c = 0;
+            while (c < D && off[c] == 1) off[c++] = -1;
+            if (c == D) break;
+            ++off[c];
+        }
+        std::size_t total = 0;
+        for (std::size_t q = 0; q < cells; ++q) total += start_[cell[q] + 1] - start_[cell[q]];
+        if (b.slot.size() < total) {
+            for (auto& c : b.y) c.resize(total);
+            b.slot.resize(total);
+        }
+        b.candidates = total;
+        std::size_t at_slot = 0;
+        for (std::size_t q = 0; q < cells; ++q) {
+            const std::size_t lo = start_[cell[q]], hi = start_[cell[q] + 1];
+            for (int c = 0; c < D; ++c) std::copy(sorted_[c].begin() + static_cast<std::ptrdiff_t>(lo),
+                                                  sorted_[c].begin() + static_cast<std::ptrdiff_t>(hi),
+                                                  b.y[c].begin() + static_cast<std::ptrdiff_t>(at_slot));
+            for (std::size_t t = lo; t < hi; ++t) b.slot[at_slot++] = t;
+        }
+    }
+
     // Cells of side >= eps, at most ~N of them in all (a sparse open domain
     // must not allocate a huge empty grid).
     void layout(const Positions<D>& x, std::size_t n) {
@@ -259,6 +492,8 @@ private:
             side_[c] = reach_.domain.is_periodic() ? reach_.domain.length() / static_cast<double>(count_[c])
                                              : std::max((hi - lo) / static_cast<double>(count_[c]), reach_.eps);
         }
+        aliased_ = false;
+        for (int c = 0; c < D; ++c) aliased_ = aliased_ || (reach_.domain.is_periodic() && count_[c] < 3);
     }
 
     std::size_t coordinate(double v, int c) const {
@@ -269,7 +504,8 @@ private:
     detail::Reach<D> reach_;
     std::array<double, D> origin_{}, side_{};
     std::array<long, D> count_{};
-    std::vector<std::size_t> start_, cell_of_, members_, slot_;  // slot_ inverts members_
+    bool aliased_ = false;  // a periodic side of fewer than 3 cells
+    std::vector<std::size_t> start_, fill_, cell_of_, members_, previous_, slot_;  // slot_ inverts members_
     std::array<std::vector<double>, D> sorted_;
 };
 

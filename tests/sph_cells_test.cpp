@@ -1,0 +1,263 @@
+// The cell-by-cell SPH sweep (CellList::half_pairs, BarotropicEuler's
+// Newton's-third-law path) against the O(N^2) baseline AllPairs: every pair
+// within eps exactly once, on random and lattice particles, in a periodic
+// box and in R^D, with fewer than 3 cells per side (aliasing), pairs at
+// exactly eps and particles on cell boundaries, coincident particles, a
+// crowded cell; densities and accelerations against the particle sweep.
+// Built twice (tests/CMakeLists.txt): for the default target and for
+// x86-64-v3, where the pair test runs its AVX2 form (pair_batch.hpp).
+#include <mollify/sph.hpp>
+#include <mollify/tables/wendland/k_2_D2.hpp>
+#include <mollify/tables/wendland/k_2_D3.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+
+namespace {
+
+using namespace mollify;
+using namespace mollify::sph;
+
+constexpr Precision fast = Precision::fast;  // as the scenes run SPH
+using Wendland2D = StaticKernel<tables::wendland_k_2_D2, fast>;
+using Wendland3D = StaticKernel<tables::wendland_k_2_D3, fast>;
+
+template <int D>
+Field<D> random_points(std::size_t n, double lo, double hi, unsigned seed) {
+    std::mt19937_64 g(seed);
+    std::uniform_real_distribution<double> u(lo, hi);
+    Field<D> x;
+    for (int c = 0; c < D; ++c)
+        for (std::size_t i = 0; i < n; ++i) x[c].push_back(u(g));
+    return x;
+}
+
+#if defined(MOLLIFY_EXPECT_AVX2)
+// The v3 build must exercise the AVX2 pair test, not the scalar fallback.
+static_assert(MOLLIFY_EXPECT_AVX2 == 1);
+#if !defined(__AVX2__)
+#error "sph_cells_v3_test is built without AVX2: the SIMD pair test would go untested"
+#endif
+TEST(NeighboursV3, CpuHasAvx2) {
+    // A CPU without AVX2 cannot run this build's tests: a failure, not a skip.
+    ASSERT_TRUE(__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"));
+}
+#endif
+
+// The unordered pairs {i, j}, i < j, with x_i - x_j: from CellList's
+// half_pairs (each must come once) and from AllPairs.
+template <int D>
+using PairSet = std::map<std::pair<std::size_t, std::size_t>, std::array<double, D>>;
+
+template <int D>
+PairSet<D> half_pairs_of(const CellList<D>& s) {
+    PairSet<D> out;
+    PairBatch<D> batch;
+    for (std::size_t cell = 0; cell < s.cells(); ++cell)
+        s.half_pairs(cell, batch, [&](const PairBatch<D>& b) {
+            for (std::size_t q = 0; q < b.size; ++q) {
+                std::size_t i = s.members()[b.a[q]], j = s.members()[b.b[q]];
+                std::array<double, D> d;
+                for (int c = 0; c < D; ++c) d[c] = b.d[c][q];
+                EXPECT_NE(i, j) << "a particle paired with itself";
+                if (i > j) {
+                    std::swap(i, j);
+                    for (auto& v : d) v = -v;
+                }
+                EXPECT_TRUE(out.emplace(std::pair{i, j}, d).second) << "pair " << i << ", " << j << " met twice";
+            }
+        });
+    return out;
+}
+
+template <int D>
+void expect_half_pairs_as_all_pairs(const Domain<D>& dom, double eps, const Field<D>& x) {
+    CellList<D> fast(dom, eps);
+    AllPairs<D> slow(dom, eps);
+    fast.update(view<D>(x));
+    slow.update(view<D>(x));
+    // Twice: the second update starts from the first one's order.
+    for (int round = 0; round < 2; ++round) {
+        const PairSet<D> a = half_pairs_of(fast);
+        PairSet<D> b;
+        for (std::size_t i = 0; i < x[0].size(); ++i)
+            slow.visit(i, [&](std::size_t j, const Vector<D>& d) {
+                if (j > i) b.emplace(std::pair{i, j}, std::array<double, D>(d));
+            });
+        ASSERT_EQ(a.size(), b.size());
+        ASSERT_GT(b.size(), 0u) << "no pairs at all: the comparison checked nothing";
+        auto ia = a.begin();
+        for (auto ib = b.begin(); ib != b.end(); ++ia, ++ib) {
+            ASSERT_EQ(ia->first, ib->first);
+            // Equal to rounding: the cell path shifts the neighbour by L
+            // where the minimum image subtracts L from the difference.
+            for (int c = 0; c < D; ++c) EXPECT_NEAR(ia->second[c], ib->second[c], 1e-15);
+        }
+        fast.update(view<D>(x));
+    }
+}
+
+// A cubic lattice of spacing 1/16 in [0, 1)^D with eps = 2/16 (dyadic: every
+// distance, cell boundary and image shift exact): neighbours at exactly
+// eps, particles exactly on cell boundaries (cells of side 1/8), and a few
+// coincident particles.
+template <int D>
+Field<D> dyadic_lattice(int side) {
+    Field<D> x;
+    int total = 1;
+    for (int c = 0; c < D; ++c) total *= side;
+    for (int i = 0; i < total; ++i) {
+        int k = i;
+        for (int c = 0; c < D; ++c) {
+            x[c].push_back((k % side) / static_cast<double>(side));
+            k /= side;
+        }
+    }
+    for (int i : {0, 5, 5, 77})
+        for (int c = 0; c < D; ++c) x[c].push_back(x[c][static_cast<std::size_t>(i)]);
+    return x;
+}
+
+// Random points on the grid of spacing 2^-20 (dyadic, so that both paths
+// compute identical displacements), with coincident ones.
+template <int D>
+Field<D> dyadic_random(std::size_t n, double lo, double hi, unsigned seed) {
+    Field<D> x = random_points<D>(n, lo, hi, seed);
+    for (auto& c : x)
+        for (auto& v : c) v = std::ldexp(std::floor(std::ldexp(v, 20)), -20);
+    for (int c = 0; c < D; ++c) {
+        x[c].push_back(x[c][3]);
+        x[c].push_back(x[c][3]);
+    }
+    return x;
+}
+
+TEST(Neighbours, CellPairsEqualAllPairs) {
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(2.0), 0.3, random_points<3>(800, 0, 2, 4));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.3, random_points<3>(800, -1, 1, 5));
+    expect_half_pairs_as_all_pairs<2>(Domain<2>::periodic(1.0), 0.07, random_points<2>(600, 0, 1, 2));
+    expect_half_pairs_as_all_pairs<2>(Domain<2>::whole_space(), 0.07, random_points<2>(600, -3, 5, 3));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.125, dyadic_lattice<3>(16));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.125, dyadic_lattice<3>(16));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.125, dyadic_random<3>(3000, 0, 1, 7));
+}
+
+// The order kept from the last update and repaired: particles moved by up
+// to a third of eps (some across cell boundaries and the periodic box).
+TEST(Neighbours, CellPairsAfterMotion) {
+    const Domain<3> box = Domain<3>::periodic(1.0);
+    const double eps = 0.1;
+    Field<3> x = random_points<3>(2000, 0, 1, 14), moved = x;
+    std::mt19937_64 g(15);
+    std::uniform_real_distribution<double> u(-eps / 3, eps / 3);
+    for (auto& c : moved)
+        for (auto& v : c) v = box.wrap(v + u(g));
+    CellList<3> fast(box, eps);
+    AllPairs<3> slow(box, eps);
+    fast.update(view<3>(x));
+    fast.update(view<3>(moved));
+    slow.update(view<3>(moved));
+    const PairSet<3> a = half_pairs_of(fast);
+    std::size_t pairs = 0;
+    for (std::size_t i = 0; i < moved[0].size(); ++i)
+        slow.visit(i, [&](std::size_t j, const Vector<3>&) {
+            if (j > i) {
+                ++pairs;
+                EXPECT_EQ(a.count(std::pair{i, j}), 1u) << "pair " << i << ", " << j;
+            }
+        });
+    EXPECT_EQ(a.size(), pairs);
+    EXPECT_GT(pairs, 0u);
+}
+
+// Fewer than 3 cells on a periodic side (2 cells: offsets -1 and +1 are one
+// cell; exactly 3: the smallest count without aliasing), and a clump of
+// many particles in one cell (batches flushed mid-cell).
+TEST(Neighbours, CellPairsAliasedAndCrowded) {
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.45, random_points<3>(300, 0, 1, 8));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.3125, dyadic_lattice<3>(8));  // 3 cells per side
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.375, dyadic_lattice<3>(8));   // 2 cells per side
+    expect_half_pairs_as_all_pairs<2>(Domain<2>::periodic(1.0), 0.45, random_points<2>(100, 0, 1, 6));
+    // In R^3 one or two cells per side (no images, nothing aliases).
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.1, random_points<3>(60, 0, 0.15, 16));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.1, random_points<3>(200, 0, 0.25, 17));
+    Field<3> clump = random_points<3>(700, 0.5, 0.52, 9);
+    for (int c = 0; c < 3; ++c) clump[c].push_back(0.9);  // one far particle: the cells span the box
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.05, clump);
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.05, clump);
+}
+
+// The cell sweep (Newton's third law, sums in slot order) against the
+// particle sweep over AllPairs. Dyadic positions: both paths evaluate the
+// kernel at the same displacements (or their negatives, where W is even and
+// grad W odd bit for bit), so they differ only in the order of summation:
+// each sum of k terms t_q is within (k - 1) u sum |t_q| of the exact one
+// (u = 2^-53, recursive summation), so the two within 2 k u sum |t_q|.
+template <int D, class Kernel>
+void expect_sweep_as_all_pairs(const Domain<D>& dom, double eps, const Field<D>& x) {
+    const std::size_t n = x[0].size();
+    std::vector<double> mass(n);
+    for (std::size_t i = 0; i < n; ++i) mass[i] = 1.0 + 0.5 * std::sin(static_cast<double>(i));
+    BarotropicEuler<D, Kernel, CellList<D>> cells(Kernel{}, eps, dom, mass);
+    BarotropicEuler<D, Kernel, AllPairs<D>> all(Kernel{}, eps, dom, mass);
+    Field<D> a_cells, a_all;
+    std::vector<double> rho_cells, rho_all;
+    // Twice: the second sweep runs threaded (when OpenMP has threads) once
+    // the first has measured the work, and starts from the kept order.
+    cells.acceleration(x, a_cells, &rho_cells);
+    cells.acceleration(x, a_cells, &rho_cells);
+    all.acceleration(x, a_all, &rho_all);
+    all.acceleration(x, a_all, &rho_all);
+    EXPECT_EQ(cells.interactions(), all.interactions());
+    AllPairs<D> search(dom, eps);
+    search.update(view<D>(x));
+    const double u = std::ldexp(1.0, -53);
+    const Smoothing h(eps, D);
+    for (std::size_t i = 0; i < n; ++i) {
+        Field<D> d, g;
+        std::vector<double> m;
+        search.visit(i, [&](std::size_t j, const Vector<D>& dj) {
+            for (int c = 0; c < D; ++c) d[c].push_back(dj[c]);
+            m.push_back(mass[j]);
+        });
+        const std::size_t k = m.size();
+        std::vector<double> w(k);
+        std::array<std::span<double>, D> gs;
+        for (int c = 0; c < D; ++c) {
+            g[c].resize(k);
+            gs[c] = g[c];
+        }
+        Kernel{}.pairs(view<D>(d), h, w, gs);
+        double scale_rho = 0;
+        std::array<double, D> scale_a{};
+        for (std::size_t q = 0; q < k; ++q) {
+            scale_rho += std::abs(m[q] * w[q]);
+            for (int c = 0; c < D; ++c) scale_a[c] += std::abs(m[q] * g[c][q]);
+        }
+        const double bound = 2 * static_cast<double>(k) * u;
+        EXPECT_NEAR(rho_cells[i], rho_all[i], bound * scale_rho) << "particle " << i;
+        for (int c = 0; c < D; ++c)
+            EXPECT_NEAR(a_cells[c][i], a_all[c][i], bound * scale_a[c]) << "particle " << i << ", component " << c;
+    }
+    // The comparison sees forces: not all zero (a lattice's are, by symmetry).
+    double largest = 0;
+    for (int c = 0; c < D; ++c)
+        for (double v : a_all[c]) largest = std::max(largest, std::abs(v));
+    EXPECT_GT(largest, 0.0);
+}
+
+TEST(Euler, CellSweepEqualsAllPairs) {
+    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.125, dyadic_random<3>(3000, 0, 1, 10));
+    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::whole_space(), 0.125, dyadic_random<3>(3000, -0.5, 0.5, 11));
+    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.375, dyadic_random<3>(400, 0, 1, 12));  // aliased
+    Field<3> lattice = dyadic_lattice<3>(16);
+    lattice[0][100] = 0.5 + 1.0 / 64;  // one particle off its site: non-zero forces
+    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.125, lattice);
+    expect_sweep_as_all_pairs<2, Wendland2D>(Domain<2>::periodic(1.0), 0.0625, dyadic_random<2>(2000, 0, 1, 13));
+}
+
+}  // namespace
