@@ -101,6 +101,17 @@ void expect_half_pairs_as_all_pairs(const Domain<D>& dom, double eps, const Fiel
     }
 }
 
+// Under the sanitizers (-O0 + ASan) the all-pairs baselines cost ~40x the
+// release build's (190 s of CI for these tests): a quarter of the random
+// particles and a lattice of side 8 there, the same cases.
+#ifdef MOLLIFY_SANITIZED_BUILD
+constexpr std::size_t fewer = 4;
+constexpr int lattice_side = 8;
+#else
+constexpr std::size_t fewer = 1;
+constexpr int lattice_side = 16;
+#endif
+
 // A cubic lattice of spacing 1/16 in [0, 1)^D with eps = 2/16 (dyadic: every
 // distance, cell boundary and image shift exact): neighbours at exactly
 // eps, particles exactly on cell boundaries (cells of side 1/8), and a few
@@ -137,13 +148,13 @@ Field<D> dyadic_random(std::size_t n, double lo, double hi, unsigned seed) {
 }
 
 TEST(Neighbours, CellPairsEqualAllPairs) {
-    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(2.0), 0.3, random_points<3>(800, 0, 2, 4));
-    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.3, random_points<3>(800, -1, 1, 5));
-    expect_half_pairs_as_all_pairs<2>(Domain<2>::periodic(1.0), 0.07, random_points<2>(600, 0, 1, 2));
-    expect_half_pairs_as_all_pairs<2>(Domain<2>::whole_space(), 0.07, random_points<2>(600, -3, 5, 3));
-    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.125, dyadic_lattice<3>(16));
-    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.125, dyadic_lattice<3>(16));
-    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.125, dyadic_random<3>(3000, 0, 1, 7));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(2.0), 0.3, random_points<3>(800 / fewer, 0, 2, 4));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.3, random_points<3>(800 / fewer, -1, 1, 5));
+    expect_half_pairs_as_all_pairs<2>(Domain<2>::periodic(1.0), 0.07, random_points<2>(600 / fewer, 0, 1, 2));
+    expect_half_pairs_as_all_pairs<2>(Domain<2>::whole_space(), 0.07, random_points<2>(600 / fewer, -3, 5, 3));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.125, dyadic_lattice<3>(lattice_side));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.125, dyadic_lattice<3>(lattice_side));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.125, dyadic_random<3>(3000 / fewer, 0, 1, 7));
 }
 
 // The order kept from the last update and repaired: particles moved by up
@@ -151,7 +162,7 @@ TEST(Neighbours, CellPairsEqualAllPairs) {
 TEST(Neighbours, CellPairsAfterMotion) {
     const Domain<3> box = Domain<3>::periodic(1.0);
     const double eps = 0.1;
-    Field<3> x = random_points<3>(2000, 0, 1, 14), moved = x;
+    Field<3> x = random_points<3>(2000 / fewer, 0, 1, 14), moved = x;
     std::mt19937_64 g(15);
     std::uniform_real_distribution<double> u(-eps / 3, eps / 3);
     for (auto& c : moved)
@@ -178,14 +189,14 @@ TEST(Neighbours, CellPairsAfterMotion) {
 // cell; exactly 3: the smallest count without aliasing), and a clump of
 // many particles in one cell (batches flushed mid-cell).
 TEST(Neighbours, CellPairsAliasedAndCrowded) {
-    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.45, random_points<3>(300, 0, 1, 8));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.45, random_points<3>(300 / fewer, 0, 1, 8));
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.3125, dyadic_lattice<3>(8));  // 3 cells per side
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.375, dyadic_lattice<3>(8));   // 2 cells per side
-    expect_half_pairs_as_all_pairs<2>(Domain<2>::periodic(1.0), 0.45, random_points<2>(100, 0, 1, 6));
+    expect_half_pairs_as_all_pairs<2>(Domain<2>::periodic(1.0), 0.45, random_points<2>(100 / fewer, 0, 1, 6));
     // In R^3 one or two cells per side (no images, nothing aliases).
-    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.1, random_points<3>(60, 0, 0.15, 16));
-    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.1, random_points<3>(200, 0, 0.25, 17));
-    Field<3> clump = random_points<3>(700, 0.5, 0.52, 9);
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.1, random_points<3>(60 / fewer, 0, 0.15, 16));
+    expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.1, random_points<3>(200 / fewer, 0, 0.25, 17));
+    Field<3> clump = random_points<3>(700 / fewer, 0.5, 0.52, 9);
     for (int c = 0; c < 3; ++c) clump[c].push_back(0.9);  // one far particle: the cells span the box
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.05, clump);
     expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.05, clump);
@@ -251,13 +262,13 @@ void expect_sweep_as_all_pairs(const Domain<D>& dom, double eps, const Field<D>&
 }
 
 TEST(Euler, CellSweepEqualsAllPairs) {
-    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.125, dyadic_random<3>(3000, 0, 1, 10));
-    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::whole_space(), 0.125, dyadic_random<3>(3000, -0.5, 0.5, 11));
-    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.375, dyadic_random<3>(400, 0, 1, 12));  // aliased
-    Field<3> lattice = dyadic_lattice<3>(16);
+    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.125, dyadic_random<3>(3000 / fewer, 0, 1, 10));
+    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::whole_space(), 0.125, dyadic_random<3>(3000 / fewer, -0.5, 0.5, 11));
+    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.375, dyadic_random<3>(400 / fewer, 0, 1, 12));  // aliased
+    Field<3> lattice = dyadic_lattice<3>(lattice_side);
     lattice[0][100] = 0.5 + 1.0 / 64;  // one particle off its site: non-zero forces
     expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.125, lattice);
-    expect_sweep_as_all_pairs<2, Wendland2D>(Domain<2>::periodic(1.0), 0.0625, dyadic_random<2>(2000, 0, 1, 13));
+    expect_sweep_as_all_pairs<2, Wendland2D>(Domain<2>::periodic(1.0), 0.0625, dyadic_random<2>(2000 / fewer, 0, 1, 13));
 }
 
 }  // namespace
