@@ -9,6 +9,7 @@
 #include <mollify/sph.hpp>
 #include <mollify/tables/wendland/k_2_D2.hpp>
 #include <mollify/tables/wendland/k_2_D3.hpp>
+#include "sph_points.hpp"
 
 #include <gtest/gtest.h>
 
@@ -26,15 +27,7 @@ constexpr Precision fast = Precision::fast;  // as the scenes run SPH
 using Wendland2D = StaticKernel<tables::wendland_k_2_D2, fast>;
 using Wendland3D = StaticKernel<tables::wendland_k_2_D3, fast>;
 
-template <int D>
-Field<D> random_points(std::size_t n, double lo, double hi, unsigned seed) {
-    std::mt19937_64 g(seed);
-    std::uniform_real_distribution<double> u(lo, hi);
-    Field<D> x;
-    for (int c = 0; c < D; ++c)
-        for (std::size_t i = 0; i < n; ++i) x[c].push_back(u(g));
-    return x;
-}
+using mollify::testing::random_points;
 
 #if defined(MOLLIFY_EXPECT_AVX2)
 // The v3 build must exercise the AVX2 pair test, not the scalar fallback.

@@ -10,6 +10,7 @@
 #include <mollify/sph.hpp>
 #include "studies/convergence.hpp"
 #include "studies/franz_cases.hpp"
+#include "sph_points.hpp"
 
 #include <gtest/gtest.h>
 
@@ -72,15 +73,7 @@ void expect_same_as_all_pairs(const Domain<D>& dom, double eps, const Field<D>& 
     EXPECT_GT(pairs, 0u) << "no neighbours at all: the comparison checked nothing";
 }
 
-template <int D>
-Field<D> random_points(std::size_t n, double lo, double hi, unsigned seed) {
-    std::mt19937_64 g(seed);
-    std::uniform_real_distribution<double> u(lo, hi);
-    Field<D> x;
-    for (int c = 0; c < D; ++c)
-        for (std::size_t i = 0; i < n; ++i) x[c].push_back(u(g));
-    return x;
-}
+using mollify::testing::random_points;
 
 TEST(Neighbours, SortedSweepEqualsAllPairs) {
     auto x = random_points<1>(400, 0, 1, 1);
