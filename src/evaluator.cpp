@@ -394,13 +394,12 @@ MOLLIFY_INLINE double fast_term_at(const double* k, double q, double e, double r
 }
 
 // One whole polynomial term added to a block's sum in one pass (fast_term
-// for Basis::one, low = 0), the sum in registers. The same operations in
-// the same order as the scalar path, so the same bits.
-// sum = from + term (from: the sum so far, or zeros for the first term,
-// fast_piece's fold 0 + term). A term shared by several pieces
-// (QuantityPlan::shared_terms) is added only where lo <= q < hi, +0
-// elsewhere, which changes no sum (a sum from +0 is never -0 in
-// round-to-nearest).
+// for Basis::one, low = 0), the sum in registers: sum = from + term, from
+// the sum so far or zeros for the first term (fast_piece's fold 0 + term).
+// The same operations in the same order as the scalar path, so the same
+// bits. A term shared by several pieces (QuantityPlan::shared_terms) is
+// added only where lo <= q < hi, +0 elsewhere, which changes no sum (a sum
+// from +0 is never -0 in round-to-nearest).
 template <int N, int P, bool VarR, bool SupportEdge>
 void add_term_fixed(const double* c, const double* q, const double* e, const double* r, double edge, double h,
                     double inv_h, double lo, double hi, const double* from, double* sum) {
@@ -772,7 +771,6 @@ void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
         previous = &t;
     }
 }
-
 
 struct AccurateBlock {
     double q[B], e[B], r[B], dq[B], dq2[B];
