@@ -17,17 +17,17 @@ namespace mollify::detail {
 // The batch loops of one instruction set.
 struct Evaluator {
     const char* isa;
-    // f_h at n radii (unchecked: r finite >= 0, s made for the plan's dimension, q present).
+    // f_h at n radii (s made for the plan's dimension, q present), and W_h
+    // and grad W_h at n displacements (x and grad: dim spans of n). Both
+    // check their inputs (fail naming a bad r or coordinate) a chunk at a
+    // time, each chunk evaluated while it is still in cache: a separate
+    // check pass over a batch larger than the caches read it from memory
+    // twice (kernel_bench, 10^6 points). On failure, the outputs of the
+    // chunks before the bad value are written, the rest untouched.
     void (*evaluate)(const Plan& plan, Precision pr, QuantityId q, const double* r, double* out, std::size_t n,
                      const Smoothing& s);
-    // W_h and grad W_h at n displacements (x and grad: dim spans of n).
     void (*pairs)(const Plan& plan, Precision pr, const std::span<const double>* x, const Smoothing& s, double* w,
                   const std::span<double>* grad, std::size_t n);
-    // The public API's checks of its inputs (fail naming a bad value), in
-    // this instruction set's vector loops: at -O2 for generic x86-64 they
-    // cost as much as a fast batch.
-    void (*check_radii)(std::span<const double> r);
-    void (*check_coordinates)(std::span<const double> x, int component);
 };
 
 // The evaluator in use: x86-64-v3 (AVX2 + FMA) where the CPU has it, else

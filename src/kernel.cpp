@@ -73,7 +73,6 @@ void Kernel::require(QuantityId q, const Smoothing& s) const {
 void Kernel::evaluate(QuantityId q, std::span<const double> r, const Smoothing& s, std::span<double> out) const {
     require(q, s);
     detail::check_sizes(r.size(), out.size(), "evaluate");
-    detail::evaluator().check_radii(r);
     detail::evaluator().evaluate(*plan_, precision_, q, r.data(), out.data(), r.size(), s);
 }
 
@@ -89,7 +88,6 @@ void Kernel::pairs(std::span<const std::span<const double>> x, const Smoothing& 
     for (std::size_t c = 0; c < d; ++c) {
         detail::check_sizes(n, x[c].size(), "pairs: point components");
         detail::check_sizes(n, grad[c].size(), "pairs (gradient)");
-        detail::evaluator().check_coordinates(x[c], static_cast<int>(c));
     }
     detail::evaluator().pairs(*plan_, precision_, x.data(), s, w.data(), grad.data(), n);
 }
