@@ -15,6 +15,7 @@ packages=(
   libtomlplusplus-dev       # scene files (toml++, tools/mollify)
   gnuplot-nox               # the PNG plots of `mollify run`
   libfftw3-dev              # FFTs (issue 5)
+  lld                       # the linker (CMakeLists.txt: a fresh build's links 25 s -> 8 s)
   time                      # /usr/bin/time: bench/compile_cost.sh (time and max RSS of a compile)
   pkgconf                   # pkg-config: tests/install_test.sh builds a program with mollify.pc
   gcc gfortran              # issue 19: targets_test compiles the emitted C header and Fortran module
