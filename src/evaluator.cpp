@@ -1231,9 +1231,20 @@ bool whole(const QuantityPlan& qp, QuantityId q, int dim) {
     return fused_loops && qp.whole >= 0 && !(q == QuantityId::potential && dim == 2);
 }
 
+// Up to this many points (a batch, or a batch's last partial block) go
+// through the scalar path, the same operations and so the same bits, not
+// through a block of B mostly padded points: a caller with one point per
+// smoothing length (tests/accuracy_test's log-uniform h) paid a whole
+// block per point.
+constexpr std::size_t few_points = 8;
+
 template <Precision Pr>
 void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s,
                   int dim) {
+    if (n <= few_points) {
+        for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
+        return;
+    }
     if (Pr == Precision::fast && !qp.polynomial_inside) {
         radial_by_piece<Pr>(qp, q, r, out, n, s, dim);
         return;
@@ -1261,7 +1272,9 @@ void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
     }
     std::size_t i = 0;
     for (; i + B <= n; i += B) radial_block<Pr>(qp, q, r + i, out + i, s, dim);
-    if (i < n) {
+    if (n - i <= few_points) {
+        for (; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
+    } else {
         double rb[B] = {}, ob[B];
         for (std::size_t j = i; j < n; ++j) rb[j - i] = r[j];
         radial_block<Pr>(qp, q, rb, ob, s, dim);
