@@ -40,7 +40,8 @@ const Experiment& find_experiment(const Scene& scene);
 
 // Defined one per file: franz.cpp, belley.cpp, sph_periodic.cpp,
 // poisson_free.cpp, poisson_periodic.cpp, vortex_sheet.cpp, kernel_values.cpp, all compiled into
-// the mollify command. Tests that link mollify_app without the experiments
+// the mollify command (franz and belley only with MOLLIFY_STUDIES=ON; else
+// studies_left_out.cpp). Tests that link mollify_app without the experiments
 // link test doubles of them instead (tests/experiment_doubles.cpp).
 void run_franz(const Scene&, Output&);
 void run_belley(const Scene&, Output&);
