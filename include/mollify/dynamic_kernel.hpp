@@ -42,7 +42,9 @@ public:
     bool has_potential() const;
     Smoothing smoothing(double h) const { return Smoothing(h, dim()); }
 
-    // f_h at n radii (checked: finite r >= 0; h checked by Smoothing).
+    // f_h at n radii (checked: finite r >= 0; h checked by Smoothing). The
+    // radii are checked a chunk at a time as they are evaluated: on a bad
+    // one, an Error naming it, and out holds the values of the chunks before.
     void evaluate(QuantityId q, std::span<const double> r, const Smoothing& s, std::span<double> out) const;
     void evaluate(QuantityId q, std::span<const double> r, double h, std::span<double> out) const {
         evaluate(q, r, smoothing(h), out);
@@ -56,7 +58,8 @@ public:
     double value(double r, double h) const { return (*this)(QuantityId::value, r, h); }
     double potential(double r, double h) const { return (*this)(QuantityId::potential, r, h); }
 
-    // W_h and grad W_h at n displacements; x and grad hold dim() spans.
+    // W_h and grad W_h at n displacements; x and grad hold dim() spans
+    // (checked as evaluate's radii: finite, chunk by chunk).
     void pairs(std::span<const std::span<const double>> x, const Smoothing& s, std::span<double> w,
                std::span<const std::span<double>> grad) const;
 
