@@ -1231,6 +1231,18 @@ bool whole(const QuantityPlan& qp, QuantityId q, int dim) {
     return fused_loops && qp.whole >= 0 && !(q == QuantityId::potential && dim == 2);
 }
 
+// Does radial_batch sort the points into their pieces (radial_by_piece)?
+// Precision::fast where the pieces are chosen by branches (sqrt, log): the
+// blocks then run one piece's terms. Precision::accurate where the pieces
+// are polynomial, not one fused term, and worth it (by_piece): each point
+// through its own piece only, where the static form evaluates every piece
+// and selects (a combination of m radii: m pieces of up to m terms);
+// sorting costs less than a piece's double-double terms.
+bool sorted_by_piece(const QuantityPlan& qp, QuantityId q, int dim, Precision pr) {
+    if (pr == Precision::fast) return !qp.polynomial_inside;
+    return qp.polynomial_inside && !whole(qp, q, dim) && by_piece(qp);
+}
+
 // Up to this many points (a batch, or a batch's last partial block) go
 // through the scalar path, the same operations and so the same bits, not
 // through a block of B mostly padded points: a caller with one point per
@@ -1245,7 +1257,7 @@ void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
         for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
         return;
     }
-    if (Pr == Precision::fast && !qp.polynomial_inside) {
+    if (sorted_by_piece(qp, q, dim, Pr)) {
         radial_by_piece<Pr>(qp, q, r, out, n, s, dim);
         return;
     }
@@ -1260,14 +1272,6 @@ void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
             accurate_whole_of[shape](t, r, out, n, s.h(), s.inverse(), {s.scale(q), s.scale_lo(q)});
         else
             fast_whole_of[shape](t, r, out, n, s, s.scale(q));
-        return;
-    }
-    if (Pr == Precision::accurate && by_piece(qp)) {
-        // Each point through its own piece only: the static form evaluates
-        // every piece and selects (a combination of m radii: m pieces of
-        // up to m terms); sorting the points by piece first costs less
-        // than a piece's double-double terms.
-        radial_by_piece<Pr>(qp, q, r, out, n, s, dim);
         return;
     }
     std::size_t i = 0;
@@ -1295,14 +1299,13 @@ void evaluate_batch(const Plan& plan, QuantityId q, const double* __restrict r, 
 // next chunk's radii, prefetched while this one is evaluated, are in L1
 // when it is checked; more where the points are sorted into their pieces
 // (radial_by_piece pads each piece's last block of every chunk).
-std::size_t radii_chunk(const QuantityPlan& qp, Precision pr) {
-    const bool sorted = pr == Precision::fast ? !qp.polynomial_inside : by_piece(qp);
-    return sorted ? 64 * B : 8 * B;
+std::size_t radii_chunk(const QuantityPlan& qp, QuantityId q, int dim, Precision pr) {
+    return sorted_by_piece(qp, q, dim, pr) ? 64 * B : 8 * B;
 }
 
 void evaluate(const Plan& plan, Precision pr, QuantityId q, const double* r, double* out, std::size_t n,
               const Smoothing& s) {
-    const std::size_t chunk = radii_chunk(plan.quantities[static_cast<std::size_t>(q)], pr);
+    const std::size_t chunk = radii_chunk(plan.quantities[static_cast<std::size_t>(q)], q, plan.table->dim, pr);
     for (std::size_t start = 0; start < n; start += chunk) {
         const std::size_t m = std::min(chunk, n - start);
         const std::size_t ahead = std::min(chunk, n - start - m);
@@ -1331,6 +1334,14 @@ void radii(const std::span<const double>* x, int dim, std::size_t start, std::si
 // out = g x componentwise.
 void times(const double* __restrict g, const double* __restrict x, double* __restrict out, std::size_t m) {
     for (std::size_t i = 0; i < m; ++i) out[i] = g[i] * x[i];
+}
+
+// Does pairs_batch take W and W'/r by radial_batch on whole batches, so
+// that radial_by_piece fills its blocks (Precision::fast, pieces chosen by
+// branches)?
+bool pairs_by_piece(const Plan& plan, Precision pr) {
+    return pr == Precision::fast && !(plan.quantities[static_cast<std::size_t>(QuantityId::value)].polynomial_inside &&
+                                      plan.quantities[static_cast<std::size_t>(QuantityId::grad_over_r)].polynomial_inside);
 }
 
 template <Precision Pr>
@@ -1371,8 +1382,7 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         }
         return;
     }
-    if (Pr == Precision::fast && !(value.polynomial_inside && over_r.polynomial_inside)) {
-        // Whole batches, so that radial_by_piece fills its blocks.
+    if (pairs_by_piece(plan, Pr)) {
         thread_local std::vector<double> radii, over;
         radii.resize(n);
         over.resize(n);
@@ -1446,11 +1456,7 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
 // Displacements per checked chunk (Evaluator::pairs): x in L2 when
 // pairs_batch reads it; more where it sorts the points into pieces. (A
 // prefetch of the next chunk, as in evaluate, measured no gain here.)
-std::size_t pairs_chunk(const Plan& plan, Precision pr) {
-    const bool sorted = pr == Precision::fast && !(plan.quantities[static_cast<std::size_t>(QuantityId::value)].polynomial_inside &&
-                                                   plan.quantities[static_cast<std::size_t>(QuantityId::grad_over_r)].polynomial_inside);
-    return sorted ? 64 * B : 32 * B;
-}
+std::size_t pairs_chunk(const Plan& plan, Precision pr) { return pairs_by_piece(plan, pr) ? 64 * B : 32 * B; }
 
 void pairs(const Plan& plan, Precision pr, const std::span<const double>* x, const Smoothing& s, double* w,
            const std::span<double>* grad, std::size_t n) {

@@ -9,6 +9,7 @@
 #include <mollify/sph.hpp>
 #include <mollify/tables/wendland/k_2_D2.hpp>
 #include <mollify/tables/wendland/k_2_D3.hpp>
+#include "sanitized.hpp"
 #include "sph_points.hpp"
 
 #include <gtest/gtest.h>
@@ -97,13 +98,8 @@ void expect_half_pairs_as_all_pairs(const Domain<D>& dom, double eps, const Fiel
 // Under the sanitizers (-O0 + ASan) the all-pairs baselines cost ~40x the
 // release build's (190 s of CI for these tests): a quarter of the random
 // particles and a lattice of side 8 there, the same cases.
-#ifdef MOLLIFY_SANITIZED_BUILD
-constexpr std::size_t fewer = 4;
-constexpr int lattice_side = 8;
-#else
-constexpr std::size_t fewer = 1;
-constexpr int lattice_side = 16;
-#endif
+constexpr std::size_t fewer = mollify::testing::sanitized_build ? 4 : 1;
+constexpr int lattice_side = mollify::testing::sanitized_build ? 8 : 16;
 
 // A cubic lattice of spacing 1/16 in [0, 1)^D with eps = 2/16 (dyadic: every
 // distance, cell boundary and image shift exact): neighbours at exactly
