@@ -430,25 +430,32 @@ MOLLIFY_FLATTEN void fast_whole_fixed(const TermPlan& t, const double* __restric
     }
 }
 
+// The fast fused loops: for the catalogue's shapes (term_shapes.hpp) of
+// up to fused_length coefficients and edge powers up to fused_power, in
+// both instruction sets (longer or other terms take fast_term_block, with
+// the same bits). Listed shapes only: the 260 loops of every length and
+// power were a third of the evaluator's compile time.
 constexpr int fused_length = 5;
 constexpr int fused_power = 12;
 using AddTerm = void (*)(const double*, const double*, const double*, const double*, double, double, double, double, double,
                          const double*, double*);
 
-template <bool VarR, bool SupportEdge, int... I>
-constexpr std::array<AddTerm, sizeof...(I)> add_term_table(std::integer_sequence<int, I...>) {
-    return {&add_term_fixed<I / (fused_power + 1) + 1, I % (fused_power + 1), VarR, SupportEdge>...};
+template <const TermShape& S>
+constexpr AddTerm add_term_loop() {
+    if constexpr (S.n <= fused_length && S.edge_power <= fused_power)
+        return &add_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge>;
+    else
+        return nullptr;
 }
-constexpr auto fused_shapes = std::make_integer_sequence<int, fused_length * (fused_power + 1)>{};
-// [var == r][edge == 1][(n - 1) (fused_power + 1) + edge_power]
-constexpr std::array<std::array<decltype(add_term_table<true, true>(fused_shapes)), 2>, 2> add_term_of = {{
-    {add_term_table<false, false>(fused_shapes), add_term_table<false, true>(fused_shapes)},
-    {add_term_table<true, false>(fused_shapes), add_term_table<true, true>(fused_shapes)},
-}};
+template <std::size_t... I>
+constexpr std::array<AddTerm, sizeof...(I)> add_term_loops(std::index_sequence<I...>) {
+    return {add_term_loop<term_shapes[I]>()...};
+}
+// [TermPlan::fast_shape]
+constexpr auto add_term_of = add_term_loops(std::make_index_sequence<term_shape_count>{});
 
 bool fused(const TermPlan& t) {
-    return t.basis == table::Basis::one && t.low == 0 && t.var != table::Var::shifted && t.n <= fused_length &&
-           t.edge_power >= 0 && t.edge_power <= fused_power;
+    return t.fast_shape >= 0 && add_term_of[static_cast<std::size_t>(t.fast_shape)] != nullptr;
 }
 
 using TimesIpow = void (*)(const double*, double*);
@@ -739,8 +746,7 @@ void add_series_term(const TermPlan& t, const TermPlan* previous, const FastBloc
 
 // sum = from + a fused term where lo <= q < hi (add_term_fixed).
 void add_fused_term(const TermPlan& t, const FastBlock& a, double lo, double hi, const double* from, double* sum) {
-    add_term_of[t.var == table::Var::r][t.edge == 1.0][static_cast<std::size_t>((t.n - 1) * (fused_power + 1) +
-                                                                               t.edge_power)](
+    add_term_of[static_cast<std::size_t>(t.fast_shape)](
         t.c, a.q, a.e, a.r, t.edge, a.h, a.inv_h, lo, hi, from, sum);
 }
 

@@ -44,6 +44,20 @@ int shape_index(const TermPlan& t, std::span<const TermShape> shapes) {
     return -1;
 }
 
+// The term's shape for Precision::fast's fused loops (add_term_fixed),
+// which read no low parts and do not continue a series: its first index
+// in term_shapes, or -1.
+int fast_shape_index(const TermPlan& t) {
+    if (t.basis != table::Basis::one || t.low != 0 || t.var == table::Var::shifted || t.edge_power < 0) return -1;
+    for (std::size_t i = 0; i < term_shape_count; ++i) {
+        const TermShape& s = term_shapes[i];
+        if (s.var_r == (t.var == table::Var::r) && s.support_edge == (t.edge == 1.0) && s.n == t.n &&
+            s.edge_power == t.edge_power)
+            return static_cast<int>(i);
+    }
+    return -1;
+}
+
 TermPlan term_plan(const table::Term& t, const table::Term* previous) {
     TermPlan p{t.basis, t.s_power, t.var, t.edge, t.edge_lo, t.edge_power, t.low, t.c, {}, t.n, t.centre,
                t.centre_lo, true, false, false, 0};
@@ -56,6 +70,7 @@ TermPlan term_plan(const table::Term& t, const table::Term* previous) {
     p.continues = previous && continues(*previous, t);
     p.step = p.continues ? t.edge_power - previous->edge_power : 0;
     p.shape = shape_index(p, {term_shapes, term_shape_count});
+    p.fast_shape = fast_shape_index(p);
     return p;
 }
 

@@ -29,6 +29,10 @@ struct TermPlan {
     bool continues;      // continues the previous term's edge series (continues_series)
     int step;            // edge_power minus the previous term's, where it continues
     int shape = -1;      // its index in term_shapes (a fused loop), or -1
+    // The first entry of term_shapes with its fast loop's shape (variable,
+    // edge, length, edge power; Precision::fast reads no low parts and
+    // fuses continuing terms too), or -1.
+    int fast_shape = -1;
 };
 
 struct PiecePlan {
