@@ -93,7 +93,7 @@ KernelOutput render_kernel(const CatalogueEntry& e, EmitFormat format) {
                            ? KernelOutput{kernel_header(f.spec, e.dim), f.id, kernel_cpp(f, tables), kernel_json(f), {}, 0, {}}
                            : KernelOutput{kernel_data_path(f.spec, e.dim), f.id, kernel_data(f, tables), {}, {}, 0, {}};
     count_certificates(f, e.dim, out.certificates, out.failures);
-    if (format == EmitFormat::cpp) add_term_shapes(tables, out.shapes);
+    if (format == EmitFormat::cpp) add_term_shapes(tables, e.dim, out.shapes);
     return out;
 }
 
@@ -112,6 +112,7 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
     for (KernelOutput& k : outputs) {
         shapes.terms.insert(k.shapes.terms.begin(), k.shapes.terms.end());
         shapes.whole.insert(k.shapes.whole.begin(), k.shapes.whole.end());
+        shapes.whole_pairs.insert(k.shapes.whole_pairs.begin(), k.shapes.whole_pairs.end());
         if (result.files.count(k.path)) fail("internal: two kernels emitted to " + k.path + " (" + k.id + ")");
         result.files[k.path] = format == EmitFormat::cpp ? kernel_file(command, k.text) : k.text;
         headers.push_back(k.path);

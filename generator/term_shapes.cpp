@@ -1,6 +1,7 @@
 #include "term_shapes.hpp"
 
 #include <algorithm>
+#include <optional>
 
 namespace mollify::gen {
 namespace {
@@ -14,40 +15,54 @@ TermShape shape_of(const RoundedTerm& t) {
     return {t.var == table::Var::r, t.edge == 1.0, exact, static_cast<int>(t.c.size()), t.edge_power};
 }
 
-void add_quantity(const std::vector<RoundedPiece>& pieces, TermShapes& out) {
-    if (pieces.empty()) return;
+// Adds the quantity's fusable terms to `out`; returns its shape where it is
+// a whole quantity (one inner piece of one fusable term, 0 outside).
+std::optional<TermShape> add_quantity(const std::vector<RoundedPiece>& pieces, TermShapes& out) {
+    if (pieces.empty()) return std::nullopt;
     const std::size_t inner = pieces.size() - 1;  // the last piece is the exterior
     for (std::size_t p = 0; p < inner; ++p)
         for (const RoundedTerm& t : pieces[p].terms)
             if (fusable(t)) out.terms.insert(shape_of(t));
     const bool whole = inner == 1 && pieces.front().terms.size() == 1 && pieces.back().terms.empty();
-    if (whole && fusable(pieces.front().terms.front())) out.whole.insert(shape_of(pieces.front().terms.front()));
+    if (!whole || !fusable(pieces.front().terms.front())) return std::nullopt;
+    const TermShape shape = shape_of(pieces.front().terms.front());
+    out.whole.insert(shape);
+    return shape;
 }
 
-std::string line(const char* macro, const TermShape& s) {
+std::string shape_arguments(const TermShape& s) {
     auto b = [](bool x) { return x ? std::string("true") : std::string("false"); };
-    return std::string(macro) + "(" + b(s.var_r) + ", " + b(s.support_edge) + ", " + b(s.exact) + ", " +
-           std::to_string(s.n) + ", " + std::to_string(s.edge_power) + ")\n";
+    return b(s.var_r) + ", " + b(s.support_edge) + ", " + b(s.exact) + ", " + std::to_string(s.n) + ", " +
+           std::to_string(s.edge_power);
 }
+
+std::string line(const char* macro, const TermShape& s) { return std::string(macro) + "(" + shape_arguments(s) + ")\n"; }
 
 }  // namespace
 
-void add_term_shapes(const Tables& tables, TermShapes& out) {
+void add_term_shapes(const Tables& tables, int dim, TermShapes& out) {
+    std::optional<TermShape> whole[2];
     for (const table::QuantityId q : {table::QuantityId::value, table::QuantityId::grad_over_r}) {
         const auto& pieces = tables[static_cast<std::size_t>(q)];
-        if (pieces) add_quantity(*pieces, out);
+        if (pieces) whole[q == table::QuantityId::grad_over_r] = add_quantity(*pieces, out);
     }
+    // In 1D the pair loop is scalar (the sign of x), as StaticKernel's.
+    if (dim >= 2 && whole[0] && whole[1]) out.whole_pairs.insert({*whole[0], *whole[1]});
 }
 
 std::string term_shapes_source(const std::string& command, const TermShapes& shapes) {
     std::string out = banner(command, "//") +
                       "// The shapes of the catalogue's fusable terms of W and W'/r (generator/term_shapes.hpp):\n"
                       "// MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) for every such term,\n"
-                      "// MOLLIFY_WHOLE_SHAPE(...) for those that are a whole quantity (one piece, one term).\n"
-                      "// The includer defines both macros.\n\n";
+                      "// MOLLIFY_WHOLE_SHAPE(...) for those that are a whole quantity (one piece, one term),\n"
+                      "// MOLLIFY_WHOLE_PAIR(W's shape..., W'/r's shape...) for the kernels (D >= 2) whose W and W'/r both are.\n"
+                      "// The includer defines the three macros.\n\n";
     for (const TermShape& s : shapes.terms) out += line("MOLLIFY_TERM_SHAPE", s);
     out += "\n";
     for (const TermShape& s : shapes.whole) out += line("MOLLIFY_WHOLE_SHAPE", s);
+    out += "\n";
+    for (const WholePair& p : shapes.whole_pairs)
+        out += "MOLLIFY_WHOLE_PAIR(" + shape_arguments(p.value) + ", " + shape_arguments(p.over_r) + ")\n";
     return out;
 }
 

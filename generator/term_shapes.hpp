@@ -25,18 +25,28 @@ struct TermShape {
     auto operator<=>(const TermShape&) const = default;
 };
 
+// W's and W'/r's shapes of a kernel (D >= 2) whose W and W'/r are both
+// whole: the SPH pair loop in one pass (StaticKernel::pairs_unchecked's).
+struct WholePair {
+    TermShape value, over_r;
+    auto operator<=>(const WholePair&) const = default;
+};
+
 struct TermShapes {
     std::set<TermShape> terms;  // every fusable term of W and W'/r
     std::set<TermShape> whole;  // those that are a whole quantity: one piece, one term, 0 outside
+    std::set<WholePair> whole_pairs;
 };
 
 // The fusable terms of one kernel's W and W'/r (Basis::one, no power of q,
-// no Taylor variable, a non-negative edge power), added to `out`.
-void add_term_shapes(const Tables& tables, TermShapes& out);
+// no Taylor variable, a non-negative edge power), added to `out`; its
+// WholePair where there is one.
+void add_term_shapes(const Tables& tables, int dim, TermShapes& out);
 
 // generated/src/term_shapes.def: the shapes as X-macro lines
 // MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) and
-// MOLLIFY_WHOLE_SHAPE(...) for the evaluator to instantiate.
+// MOLLIFY_WHOLE_SHAPE(...), MOLLIFY_WHOLE_PAIR(...) for the evaluator to
+// instantiate.
 std::string term_shapes_source(const std::string& command, const TermShapes& shapes);
 
 }  // namespace mollify::gen

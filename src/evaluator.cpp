@@ -417,17 +417,21 @@ void add_term_fixed(const double* c, const double* q, const double* e, const dou
 // and W'/r) at n radii in one pass from r, as StaticKernel::emitted's loop:
 // q, e, the term, the scale, 0 beyond h.
 template <int N, int P, bool VarR, bool SupportEdge>
+MOLLIFY_INLINE double fast_whole_at(const double* k, double r, double edge, double h, double inv_h, const Smoothing& s,
+                                    double scale) {
+    const double q = r * inv_h, e = edge_distance(h - r, s);
+    const double x = fast_term_at<N, P, VarR, SupportEdge>(k, q, e, r, edge, h, inv_h);
+    return select(r <= h, (0.0 + x) * scale, 0.0);
+}
+
+template <int N, int P, bool VarR, bool SupportEdge>
 MOLLIFY_FLATTEN void fast_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out, std::size_t n,
                                       const Smoothing& smoothing, double scale) {
     const Smoothing s = smoothing;
     double k[N];
     for (int j = 0; j < N; ++j) k[j] = t.c[j];
     const double h = s.h(), inv_h = s.inverse(), edge = t.edge;
-    for (std::size_t i = 0; i < n; ++i) {
-        const double q = r[i] * inv_h, e = edge_distance(h - r[i], s);
-        const double x = fast_term_at<N, P, VarR, SupportEdge>(k, q, e, r[i], edge, h, inv_h);
-        out[i] = select(r[i] <= h, (0.0 + x) * scale, 0.0);
-    }
+    for (std::size_t i = 0; i < n; ++i) out[i] = fast_whole_at<N, P, VarR, SupportEdge>(k, r[i], edge, h, inv_h, s, scale);
 }
 
 // The fast fused loops: for the catalogue's shapes (term_shapes.hpp) of
@@ -951,6 +955,15 @@ MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock&
     }
 }
 
+// A whole quantity that is one term at one radius (x: its accurate_radius).
+template <int N, int P, bool VarR, bool SupportEdge, bool Exact>
+MOLLIFY_INLINE double accurate_whole_at(const double* k, const double* l, double edge, double edge_lo, const DoubleDouble& ah,
+                                        double h, double inv_h, double r, const AccurateRadius& x, const DoubleDouble& scale) {
+    const DoubleDouble y = accurate_term_at<N, P, VarR, SupportEdge, Exact>(
+        k, l, edge, edge_lo, ah, h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
+    return select(r <= h, rounded(y * scale), 0.0);
+}
+
 // A whole quantity that is one term (fast_whole_fixed) in one pass from r.
 template <int N, int P, bool VarR, bool SupportEdge, bool Exact>
 MOLLIFY_FLATTEN void accurate_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out,
@@ -959,12 +972,9 @@ MOLLIFY_FLATTEN void accurate_whole_fixed(const TermPlan& t, const double* __res
     for (int j = 0; j < N; ++j) k[j] = t.c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
     const double edge = t.edge, edge_lo = t.edge_lo;
     const DoubleDouble ah = two_product(edge, h);
-    for (std::size_t i = 0; i < n; ++i) {
-        const AccurateRadius x = accurate_radius(r[i], h, inv_h);
-        const DoubleDouble y = accurate_term_at<N, P, VarR, SupportEdge, Exact>(
-            k, l, edge, edge_lo, ah, h, inv_h, x.q, x.dq, x.dq2, r[i], {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
-        out[i] = select(r[i] <= h, rounded(y * scale), 0.0);
-    }
+    for (std::size_t i = 0; i < n; ++i)
+        out[i] = accurate_whole_at<N, P, VarR, SupportEdge, Exact>(k, l, edge, edge_lo, ah, h, inv_h, r[i],
+                                                                   accurate_radius(r[i], h, inv_h), scale);
 }
 
 // The fused loops of the listed shapes (term_shapes.hpp), compiled where
@@ -1003,6 +1013,65 @@ constexpr std::array<FastWhole, sizeof...(I)> fast_whole_loops(std::index_sequen
 constexpr auto accurate_term_of = accurate_term_loops(std::make_index_sequence<term_shape_count>{});
 constexpr auto accurate_whole_of = accurate_whole_loops(std::make_index_sequence<whole_shape_count>{});
 constexpr auto fast_whole_of = fast_whole_loops(std::make_index_sequence<whole_shape_count>{});
+
+// W and grad W at displacements for a kernel whose W and W'/r are both one
+// fused term, 0 outside (Plan::whole_pair), in one pass, as
+// StaticKernel::pairs_3d: r, W, W'/r, grad W = (W'/r) x, each quantity as
+// its whole loop computes it (accurate: one accurate_radius for both), so
+// the same bits. Raw restrict pointers as parameters: the loop vectorises.
+// (The fast precision reads no low parts: Exact false, one loop per shape.)
+// 2D takes it with x2 = 0 (pairs_batch).
+template <Precision Pr, int VN, int VP, bool VR, bool VE, bool VX, int GN, int GP, bool GR, bool GE, bool GX>
+MOLLIFY_FLATTEN void whole_pairs_fixed(const TermPlan& v, const TermPlan& g, const double* __restrict x0,
+                                       const double* __restrict x1, const double* __restrict x2, double* __restrict w,
+                                       double* __restrict g0, double* __restrict g1, double* __restrict g2, std::size_t n,
+                                       const Smoothing& smoothing) {
+    const Smoothing s = smoothing;
+    const double h = s.h(), inv_h = s.inverse(), v_edge = v.edge, g_edge = g.edge;
+    double vk[VN], vl[VN], gk[GN], gl[GN];
+    for (int j = 0; j < VN; ++j) vk[j] = v.c[j], vl[j] = v.c_lo[static_cast<std::size_t>(j)];
+    for (int j = 0; j < GN; ++j) gk[j] = g.c[j], gl[j] = g.c_lo[static_cast<std::size_t>(j)];
+    const double v_scale = s.scale(QuantityId::value), g_scale = s.scale(QuantityId::grad_over_r);
+    const DoubleDouble v_scale_dd{v_scale, s.scale_lo(QuantityId::value)},
+        g_scale_dd{g_scale, s.scale_lo(QuantityId::grad_over_r)};
+    const DoubleDouble v_ah = two_product(v_edge, h), g_ah = two_product(g_edge, h);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double a = x0[i], b = x1[i];
+        const double r = std::sqrt(mul_add(x2[i], x2[i], mul_add(b, b, a * a)));
+        double wi, gi;
+        if constexpr (Pr == Precision::fast) {
+            wi = fast_whole_at<VN, VP, VR, VE>(vk, r, v_edge, h, inv_h, s, v_scale);
+            gi = fast_whole_at<GN, GP, GR, GE>(gk, r, g_edge, h, inv_h, s, g_scale);
+        } else {
+            const AccurateRadius x = accurate_radius(r, h, inv_h);
+            wi = accurate_whole_at<VN, VP, VR, VE, VX>(vk, vl, v_edge, v.edge_lo, v_ah, h, inv_h, r, x, v_scale_dd);
+            gi = accurate_whole_at<GN, GP, GR, GE, GX>(gk, gl, g_edge, g.edge_lo, g_ah, h, inv_h, r, x, g_scale_dd);
+        }
+        w[i] = wi;
+        g0[i] = gi * a;
+        g1[i] = gi * b;
+        g2[i] = gi * x2[i];
+    }
+}
+
+using WholePairs = void (*)(const TermPlan&, const TermPlan&, const double*, const double*, const double*, double*, double*,
+                            double*, double*, std::size_t, const Smoothing&);
+
+template <Precision Pr, const WholePair& S>
+constexpr WholePairs whole_pairs_loop() {
+    constexpr bool fast = Pr == Precision::fast;
+    constexpr TermShape V = S.value, G = S.over_r;
+    return &whole_pairs_fixed<Pr, V.n, V.edge_power, V.var_r, V.support_edge, V.exact && !fast, G.n, G.edge_power,
+                              G.var_r, G.support_edge, G.exact && !fast>;
+}
+template <Precision Pr, std::size_t... I>
+constexpr std::array<WholePairs, sizeof...(I)> whole_pairs_loops(std::index_sequence<I...>) {
+    if constexpr (fused_loops) return {whole_pairs_loop<Pr, whole_pairs[I]>()...};
+    else return {};
+}
+// [Plan::whole_pair]
+template <Precision Pr>
+constexpr auto whole_pairs_of = whole_pairs_loops<Pr>(std::make_index_sequence<whole_pair_count>{});
 
 bool fused_accurate(const TermPlan& t) { return fused_loops && t.shape >= 0; }
 
@@ -1386,6 +1455,25 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
                 for (int c = 0; c < dim; ++c) grad[c][i] = g * xi[c];
             }
         }
+        return;
+    }
+    if (fused_loops && plan.whole_pair >= 0) {
+        // W and W'/r in one pass (whole_pairs_fixed), as the static form.
+        const WholePairs loop = whole_pairs_of<Pr>[static_cast<std::size_t>(plan.whole_pair)];
+        const TermPlan& v = value.inner.front().terms.front();
+        const TermPlan& g = over_r.inner.front().terms.front();
+        if (dim == 3) {
+            loop(v, g, x[0].data(), x[1].data(), x[2].data(), w, grad[0].data(), grad[1].data(), grad[2].data(), n, s);
+            return;
+        }
+        // 2D through the same loop, x2 = 0: fma(0, 0, y) = y, the same r, and
+        // half the instantiations; its gradient component dropped.
+        constexpr std::size_t chunk = 8 * B;
+        static constexpr double no_x2[chunk] = {};
+        double dropped[chunk];
+        for (std::size_t start = 0; start < n; start += chunk)
+            loop(v, g, x[0].data() + start, x[1].data() + start, no_x2, w + start, grad[0].data() + start,
+                 grad[1].data() + start, dropped, std::min(chunk, n - start), s);
         return;
     }
     if (pairs_by_piece(plan, Pr)) {

@@ -188,6 +188,23 @@ QuantityPlan quantity_plan(const table::Kernel& k, int q) {
     return out;
 }
 
+// The index in whole_pairs of a kernel in D dimensions with W's and W'/r's
+// whole shapes (indices in whole_shapes), or -1 (always in 1D, whose pair
+// loop is scalar).
+int whole_pair_index(int dim, int value, int over_r) {
+    if (dim < 2 || value < 0 || over_r < 0) return -1;
+    const TermShape& v = whole_shapes[static_cast<std::size_t>(value)];
+    const TermShape& g = whole_shapes[static_cast<std::size_t>(over_r)];
+    auto same = [](const TermShape& a, const TermShape& b) {
+        return a.var_r == b.var_r && a.support_edge == b.support_edge && a.exact == b.exact && a.n == b.n &&
+               a.edge_power == b.edge_power;
+    };
+    for (std::size_t i = 0; i < whole_pair_count; ++i)
+        if (same(whole_pairs[i].value, v) && same(whole_pairs[i].over_r, g))
+            return static_cast<int>(i);
+    return -1;
+}
+
 }  // namespace
 
 std::shared_ptr<const Plan> make_plan(const table::Kernel& k, std::shared_ptr<const table::Kernel> owner) {
@@ -198,6 +215,8 @@ std::shared_ptr<const Plan> make_plan(const table::Kernel& k, std::shared_ptr<co
     plan->owner = std::move(owner);
     plan->odd = k.parity < 0;
     for (int q = 0; q < table::quantity_count; ++q) plan->quantities[static_cast<std::size_t>(q)] = quantity_plan(k, q);
+    plan->whole_pair = whole_pair_index(k.dim, plan->quantities[static_cast<std::size_t>(table::QuantityId::value)].whole,
+                                        plan->quantities[static_cast<std::size_t>(table::QuantityId::grad_over_r)].whole);
     return plan;
 }
 

@@ -72,6 +72,7 @@ struct Plan {
     std::shared_ptr<const table::Kernel> owner;  // tables loaded at run time; null for the compiled-in ones
     std::array<QuantityPlan, table::quantity_count> quantities;
     bool odd;
+    int whole_pair = -1;  // W and W'/r both whole: their index in whole_pairs, or -1
 };
 
 // The plan of a table (checked: a term shape the evaluator cannot evaluate

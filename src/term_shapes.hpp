@@ -20,9 +20,11 @@ struct TermShape {
 inline constexpr TermShape term_shapes[] = {
 #define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) {var_r, support_edge, exact, n, edge_power},
 #define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_WHOLE_PAIR(...)
 #include <src/term_shapes.def>
 #undef MOLLIFY_TERM_SHAPE
 #undef MOLLIFY_WHOLE_SHAPE
+#undef MOLLIFY_WHOLE_PAIR
     {},  // an end that matches no term (n = 0), so that an empty list is still an array
 };
 
@@ -31,13 +33,33 @@ inline constexpr TermShape term_shapes[] = {
 inline constexpr TermShape whole_shapes[] = {
 #define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
 #define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power) {var_r, support_edge, exact, n, edge_power},
+#define MOLLIFY_WHOLE_PAIR(...)
 #include <src/term_shapes.def>
 #undef MOLLIFY_TERM_SHAPE
 #undef MOLLIFY_WHOLE_SHAPE
+#undef MOLLIFY_WHOLE_PAIR
     {},  // an end that matches no term (n = 0), so that an empty list is still an array
+};
+
+// The kernels' (W, W'/r) where both are whole (D = 2, 3): the pair loop
+// (W and grad W at displacements) in one pass.
+struct WholePair {
+    TermShape value, over_r;
+};
+inline constexpr WholePair whole_pairs[] = {
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_WHOLE_PAIR(var_r, support_edge, exact, n, edge_power, g_var_r, g_support_edge, g_exact, g_n, g_edge_power) \
+    {{var_r, support_edge, exact, n, edge_power}, {g_var_r, g_support_edge, g_exact, g_n, g_edge_power}},
+#include <src/term_shapes.def>
+#undef MOLLIFY_TERM_SHAPE
+#undef MOLLIFY_WHOLE_SHAPE
+#undef MOLLIFY_WHOLE_PAIR
+    {},  // an end that matches no kernel
 };
 
 inline constexpr std::size_t term_shape_count = std::size(term_shapes) - 1;
 inline constexpr std::size_t whole_shape_count = std::size(whole_shapes) - 1;
+inline constexpr std::size_t whole_pair_count = std::size(whole_pairs) - 1;
 
 }  // namespace mollify::detail
