@@ -1239,10 +1239,10 @@ void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double*
 // piece evaluated on blocks of its own points (the last one padded with a
 // copy of its first point), so every block loop runs one piece's terms
 // for B points; each point gets radial<fast>'s operations, so its bits.
+// The indices of the n points in each inner piece.
 template <Precision Pr>
-void radial_by_piece(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n,
-                     const Smoothing& s, int dim) {
-    thread_local std::vector<std::vector<std::size_t>> members;
+void sort_into_pieces(const QuantityPlan& qp, const double* r, std::size_t n, const Smoothing& s,
+                      std::vector<std::vector<std::size_t>>& members) {
     members.resize(qp.inner.size());
     for (auto& m : members) m.clear();
     for (std::size_t i = 0; i < n; ++i) {
@@ -1257,6 +1257,13 @@ void radial_by_piece(const QuantityPlan& qp, QuantityId q, const double* r, doub
         for (std::size_t k = 1; k < qp.inner.size(); ++k) p += qi >= qp.inner[k].lo;
         members[p].push_back(i);
     }
+}
+
+template <Precision Pr>
+void radial_by_piece(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n,
+                     const Smoothing& s, int dim) {
+    thread_local std::vector<std::vector<std::size_t>> members;
+    sort_into_pieces<Pr>(qp, r, n, s, members);
     const double scale = s.scale(q);
     FastBlock a;
     AccurateBlock aa;
@@ -1419,6 +1426,53 @@ bool pairs_by_piece(const Plan& plan, Precision pr) {
                                       plan.quantities[static_cast<std::size_t>(QuantityId::grad_over_r)].polynomial_inside);
 }
 
+// Precision::accurate: do W and W'/r sort the points into the same pieces
+// (a combination's), both 0 outside?
+bool accurate_pairs_by_piece(const QuantityPlan& value, const QuantityPlan& over_r, int dim) {
+    if (!sorted_by_piece(value, QuantityId::value, dim, Precision::accurate) ||
+        !sorted_by_piece(over_r, QuantityId::grad_over_r, dim, Precision::accurate) || !value.zero_outside ||
+        !over_r.zero_outside || value.inner.size() != over_r.inner.size())
+        return false;
+    for (std::size_t k = 0; k < value.inner.size(); ++k)
+        if (value.inner[k].lo != over_r.inner[k].lo) return false;
+    return true;
+}
+
+// W and grad W at the m displacements from `start` (radii r) for such a
+// kernel: one sort, each block filled once for both quantities, the
+// gradient written from the block; radial_by_piece's operations for each
+// quantity, so its bits.
+void accurate_pairs_block_by_piece(const QuantityPlan& value, const QuantityPlan& over_r, const std::span<const double>* x,
+                                   int dim, std::size_t start, std::size_t m, const double* r, const Smoothing& s,
+                                   double* w, const std::span<double>* grad) {
+    thread_local std::vector<std::vector<std::size_t>> members;
+    sort_into_pieces<Precision::accurate>(value, r, m, s, members);
+    AccurateBlock a;
+    a.h = s.h(), a.inv_h = s.inverse();
+    const DoubleDouble value_scale{s.scale(QuantityId::value), s.scale_lo(QuantityId::value)},
+        over_r_scale{s.scale(QuantityId::grad_over_r), s.scale_lo(QuantityId::grad_over_r)};
+    double wb[B], gb[B], rb[B];
+    for (std::size_t p = 0; p < value.inner.size(); ++p) {
+        const std::vector<std::size_t>& in = members[p];
+        for (std::size_t first = 0; first < in.size(); first += B) {
+            const std::size_t count = std::min(B, in.size() - first);
+            for (std::size_t i = 0; i < B; ++i) rb[i] = r[in[first + (i < count ? i : 0)]];
+            fill(a, rb);
+            a.scale = value_scale;
+            accurate_piece_block(value.inner[p], a, wb);
+            a.scale = over_r_scale;
+            accurate_piece_block(over_r.inner[p], a, gb);
+            for (std::size_t i = 0; i < count; ++i) {
+                const std::size_t j = start + in[first + i];
+                const bool inside = rb[i] <= s.h();
+                w[j] = select(inside, wb[i], 0.0);
+                const double g = select(inside, gb[i], 0.0);
+                for (int c = 0; c < dim; ++c) grad[c][j] = g * x[c][j];
+            }
+        }
+    }
+}
+
 template <Precision Pr>
 void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoothing& smoothing, double* __restrict w,
                  const std::span<double>* grad, std::size_t n) {
@@ -1538,9 +1592,14 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     // (whole) then pays its dispatch once per 256 points, not per 32.
     constexpr std::size_t chunk = 8 * B;
     double r[chunk], g[chunk];
+    const bool one_sort = Pr == Precision::accurate && accurate_pairs_by_piece(value, over_r, dim);
     for (std::size_t start = 0; start < n; start += chunk) {
         const std::size_t m = std::min(chunk, n - start);
         radii(x, dim, start, m, r);
+        if (one_sort) {
+            accurate_pairs_block_by_piece(value, over_r, x, dim, start, m, r, s, w, grad);
+            continue;
+        }
         radial_batch<Pr>(value, QuantityId::value, r, w + start, m, s, dim);
         radial_batch<Pr>(over_r, QuantityId::grad_over_r, r, g, m, s, dim);
         for (int c = 0; c < dim; ++c) times(g, x[c].data() + start, grad[c].data() + start, m);
