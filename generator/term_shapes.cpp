@@ -15,6 +15,33 @@ TermShape shape_of(const RoundedTerm& t) {
     return {t.var == table::Var::r, t.edge == 1.0, exact, static_cast<int>(t.c.size()), t.edge_power};
 }
 
+// A combination's pieces (QuantityPlan::shared_terms): 0 outside, piece p
+// holding the last terms of piece 0, every term fusable. Its shapes
+// (piece 0's, in order; `exact` false: the fast precision reads no low
+// parts) added to out.shared.
+void add_shared(const std::vector<RoundedPiece>& pieces, TermShapes& out) {
+    const std::size_t inner = pieces.size() - 1;
+    if (inner < 2 || !pieces.back().terms.empty()) return;
+    const std::vector<RoundedTerm>& all = pieces.front().terms;
+    if (all.size() < 2 || all.size() > max_shared_terms) return;
+    std::vector<TermShape> shapes;
+    for (const RoundedTerm& t : all) {
+        if (!fusable(t)) return;
+        TermShape s = shape_of(t);
+        s.exact = false;
+        shapes.push_back(s);
+    }
+    for (std::size_t p = 1; p < inner; ++p) {
+        const std::vector<RoundedTerm>& terms = pieces[p].terms;
+        if (terms.empty() || terms.size() >= all.size()) return;
+        for (std::size_t t = 0; t < terms.size(); ++t) {
+            const std::size_t in_all = all.size() - terms.size() + t;
+            if (!fusable(terms[t]) || terms[t].c != all[in_all].c || terms[t].edge != all[in_all].edge) return;
+        }
+    }
+    out.shared.insert(shapes);
+}
+
 // Adds the quantity's fusable terms to `out`; returns its shape where it is
 // a whole quantity (one inner piece of one fusable term, 0 outside).
 std::optional<TermShape> add_quantity(const std::vector<RoundedPiece>& pieces, TermShapes& out) {
@@ -23,6 +50,7 @@ std::optional<TermShape> add_quantity(const std::vector<RoundedPiece>& pieces, T
     for (std::size_t p = 0; p < inner; ++p)
         for (const RoundedTerm& t : pieces[p].terms)
             if (fusable(t)) out.terms.insert(shape_of(t));
+    add_shared(pieces, out);
     const bool whole = inner == 1 && pieces.front().terms.size() == 1 && pieces.back().terms.empty();
     if (!whole || !fusable(pieces.front().terms.front())) return std::nullopt;
     const TermShape shape = shape_of(pieces.front().terms.front());
@@ -56,10 +84,17 @@ std::string term_shapes_source(const std::string& command, const TermShapes& sha
                       "// MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) for every such term,\n"
                       "// MOLLIFY_WHOLE_SHAPE(...) for those that are a whole quantity (one piece, one term),\n"
                       "// MOLLIFY_WHOLE_PAIR(W's shape..., W'/r's shape...) for the kernels (D >= 2) whose W and W'/r both are.\n"
-                      "// The includer defines the three macros.\n\n";
+                      "// MOLLIFY_SHARED_TERMS(m, {shape}...) for a combination's m distinct terms (fast: exact false).\n"
+                      "// The includer defines the four macros.\n\n";
     for (const TermShape& s : shapes.terms) out += line("MOLLIFY_TERM_SHAPE", s);
     out += "\n";
     for (const TermShape& s : shapes.whole) out += line("MOLLIFY_WHOLE_SHAPE", s);
+    out += "\n";
+    for (const std::vector<TermShape>& terms : shapes.shared) {
+        out += "MOLLIFY_SHARED_TERMS(" + std::to_string(terms.size());
+        for (const TermShape& t : terms) out += ", {" + shape_arguments(t) + "}";
+        out += ")\n";
+    }
     out += "\n";
     for (const WholePair& p : shapes.whole_pairs)
         out += "MOLLIFY_WHOLE_PAIR(" + shape_arguments(p.value) + ", " + shape_arguments(p.over_r) + ")\n";

@@ -13,6 +13,7 @@
 #include <compare>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace mollify::gen {
 
@@ -32,10 +33,16 @@ struct WholePair {
     auto operator<=>(const WholePair&) const = default;
 };
 
+// The most terms a combination's fused loop takes (src/evaluator.cpp).
+inline constexpr std::size_t max_shared_terms = 4;
+
 struct TermShapes {
     std::set<TermShape> terms;  // every fusable term of W and W'/r
     std::set<TermShape> whole;  // those that are a whole quantity: one piece, one term, 0 outside
     std::set<WholePair> whole_pairs;
+    // A combination's distinct terms (its innermost piece's, which the
+    // outer pieces' terms end), for the fast precision: one pass for all.
+    std::set<std::vector<TermShape>> shared;
 };
 
 // The fusable terms of one kernel's W and W'/r (Basis::one, no power of q,

@@ -1146,6 +1146,48 @@ void fill(AccurateBlock& a, const double* r) {
     }
 }
 
+// Precision::fast, a combination's distinct terms (QuantityPlan::
+// shared_terms) of the listed shapes (shared_shapes) in one pass: each point's
+// sum of the terms whose pieces hold it, in registers; shared_terms_block's
+// operations in its order (0 + the first, +0 where a term's pieces end), so
+// its bits, without its pass per term over the block.
+template <const SharedShapes& S, std::size_t... J>
+MOLLIFY_FLATTEN void shared_fused_block(const QuantityPlan& qp, const FastBlock& a, double* sum, std::index_sequence<J...>) {
+    constexpr std::size_t m = sizeof...(J);
+    constexpr int longest = std::max({S.terms[J].n...});
+    const TermPlan* t[m] = {&qp.inner[qp.shared_terms[J].piece].terms[qp.shared_terms[J].term]...};
+    double k[m][longest], lo[m], hi[m], edge[m];
+    auto copy = [&]<std::size_t j>(std::integral_constant<std::size_t, j>) {
+        for (int c = 0; c < S.terms[j].n; ++c) k[j][c] = t[j]->c[c];
+        lo[j] = qp.shared_terms[j].lo, hi[j] = qp.shared_terms[j].hi, edge[j] = t[j]->edge;
+    };
+    (copy(std::integral_constant<std::size_t, J>{}), ...);
+    const double h = a.h, inv_h = a.inv_h;
+    for (std::size_t i = 0; i < B; ++i) {
+        const double q = a.q[i], e = a.e[i], r = a.r[i];
+        double x = 0.0;
+        ((x = x + select((q >= lo[J]) & (q < hi[J]),
+                         fast_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge>(
+                             k[J], q, e, r, edge[J], h, inv_h),
+                         0.0)),
+         ...);
+        sum[i] = x;
+    }
+}
+
+using SharedFused = void (*)(const QuantityPlan&, const FastBlock&, double*);
+
+template <const SharedShapes& S>
+void shared_fused_loop(const QuantityPlan& qp, const FastBlock& a, double* sum) {
+    shared_fused_block<S>(qp, a, sum, std::make_index_sequence<S.m>{});
+}
+template <std::size_t... I>
+constexpr std::array<SharedFused, sizeof...(I)> shared_fused_loops(std::index_sequence<I...>) {
+    return {&shared_fused_loop<shared_shapes[I]>...};
+}
+// [QuantityPlan::shared_fused], in both instruction sets (few, short loops)
+constexpr auto shared_fused_of = shared_fused_loops(std::make_index_sequence<shared_shapes_count>{});
+
 // Precision::fast, the inner pieces of a quantity whose pieces share terms
 // (QuantityPlan::shared_terms: a combination of m radii), at the B points
 // of a: each distinct term once, added where its pieces reach and +0
@@ -1172,6 +1214,10 @@ void shared_terms_block(const QuantityPlan& qp, const FastBlock& a, double* sum)
 // Precision::fast, the inner pieces at the B points of a: every piece and
 // the selection, or the shared terms once each.
 void fast_inner_block(const QuantityPlan& qp, const FastBlock& a, double* in) {
+    if (qp.shared_fused >= 0) {
+        shared_fused_of[static_cast<std::size_t>(qp.shared_fused)](qp, a, in);
+        return;
+    }
     if (fused_loops && !qp.shared_terms.empty()) {
         shared_terms_block(qp, a, in);
         return;

@@ -165,6 +165,26 @@ std::vector<QuantityPlan::SharedTerm> shared_terms_of(const std::vector<PiecePla
     return out;
 }
 
+// The index in shared_shapes of the quantity's shared terms' shapes (the
+// fast precision's: low parts not read), or -1.
+int shared_shapes_index(const QuantityPlan& qp) {
+    const std::size_t m = qp.shared_terms.size();
+    if (m == 0 || m > max_shared_terms) return -1;
+    for (std::size_t i = 0; i < shared_shapes_count; ++i) {
+        const SharedShapes& s = shared_shapes[i];
+        bool same = s.m == m;
+        for (std::size_t j = 0; same && j < m; ++j) {
+            const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
+            const TermShape& u = s.terms[j];
+            same = t.basis == table::Basis::one && t.low == 0 && t.var != table::Var::shifted && !t.continues &&
+                   u.var_r == (t.var == table::Var::r) && u.support_edge == (t.edge == 1.0) && u.n == t.n &&
+                   u.edge_power == t.edge_power;
+        }
+        if (same) return static_cast<int>(i);
+    }
+    return -1;
+}
+
 QuantityPlan quantity_plan(const table::Kernel& k, int q) {
     QuantityPlan out;
     const table::Quantity& quantity = k.quantities[q];
@@ -180,6 +200,7 @@ QuantityPlan quantity_plan(const table::Kernel& k, int q) {
     if (out.inner.size() == 1 && out.inner.front().terms.size() == 1 && !out.inner.front().edge_series && out.zero_outside)
         out.whole = shape_index(out.inner.front().terms.front(), {whole_shapes, whole_shape_count});
     if (out.polynomial_inside && out.zero_outside) out.shared_terms = shared_terms_of(out.inner);
+    out.shared_fused = shared_shapes_index(out);
     for (const TermPlan& t : out.exterior.terms)
         if (t.basis == table::Basis::log) {
             out.log_coefficient = t.c[0];

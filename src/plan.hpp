@@ -65,6 +65,7 @@ struct QuantityPlan {
         double lo, hi;
     };
     std::vector<SharedTerm> shared_terms;
+    int shared_fused = -1;  // the shared terms' shapes: their index in shared_shapes, or -1
 };
 
 struct Plan {

@@ -21,10 +21,12 @@ inline constexpr TermShape term_shapes[] = {
 #define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) {var_r, support_edge, exact, n, edge_power},
 #define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
 #define MOLLIFY_WHOLE_PAIR(...)
+#define MOLLIFY_SHARED_TERMS(...)
 #include <src/term_shapes.def>
 #undef MOLLIFY_TERM_SHAPE
 #undef MOLLIFY_WHOLE_SHAPE
 #undef MOLLIFY_WHOLE_PAIR
+#undef MOLLIFY_SHARED_TERMS
     {},  // an end that matches no term (n = 0), so that an empty list is still an array
 };
 
@@ -34,10 +36,12 @@ inline constexpr TermShape whole_shapes[] = {
 #define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
 #define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power) {var_r, support_edge, exact, n, edge_power},
 #define MOLLIFY_WHOLE_PAIR(...)
+#define MOLLIFY_SHARED_TERMS(...)
 #include <src/term_shapes.def>
 #undef MOLLIFY_TERM_SHAPE
 #undef MOLLIFY_WHOLE_SHAPE
 #undef MOLLIFY_WHOLE_PAIR
+#undef MOLLIFY_SHARED_TERMS
     {},  // an end that matches no term (n = 0), so that an empty list is still an array
 };
 
@@ -51,15 +55,38 @@ inline constexpr WholePair whole_pairs[] = {
 #define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
 #define MOLLIFY_WHOLE_PAIR(var_r, support_edge, exact, n, edge_power, g_var_r, g_support_edge, g_exact, g_n, g_edge_power) \
     {{var_r, support_edge, exact, n, edge_power}, {g_var_r, g_support_edge, g_exact, g_n, g_edge_power}},
+#define MOLLIFY_SHARED_TERMS(...)
 #include <src/term_shapes.def>
 #undef MOLLIFY_TERM_SHAPE
 #undef MOLLIFY_WHOLE_SHAPE
 #undef MOLLIFY_WHOLE_PAIR
+#undef MOLLIFY_SHARED_TERMS
     {},  // an end that matches no kernel
+};
+
+// A combination's m distinct terms (QuantityPlan::shared_terms) in order,
+// for the fast precision (exact false): all m in one pass.
+inline constexpr std::size_t max_shared_terms = 4;
+struct SharedShapes {
+    std::size_t m;
+    TermShape terms[max_shared_terms];
+};
+inline constexpr SharedShapes shared_shapes[] = {
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_WHOLE_PAIR(...)
+#define MOLLIFY_SHARED_TERMS(m, ...) {m, {__VA_ARGS__}},
+#include <src/term_shapes.def>
+#undef MOLLIFY_TERM_SHAPE
+#undef MOLLIFY_WHOLE_SHAPE
+#undef MOLLIFY_WHOLE_PAIR
+#undef MOLLIFY_SHARED_TERMS
+    {},  // an end that matches no quantity (m = 0)
 };
 
 inline constexpr std::size_t term_shape_count = std::size(term_shapes) - 1;
 inline constexpr std::size_t whole_shape_count = std::size(whole_shapes) - 1;
 inline constexpr std::size_t whole_pair_count = std::size(whole_pairs) - 1;
+inline constexpr std::size_t shared_shapes_count = std::size(shared_shapes) - 1;
 
 }  // namespace mollify::detail
