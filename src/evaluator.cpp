@@ -414,8 +414,8 @@ void add_term_fixed(const double* c, const double* q, const double* e, const dou
 }
 
 // A whole quantity that is one term (one piece, 0 outside: Wendland's W
-// and W'/r) at n radii in one pass from r, as StaticKernel::emitted's loop:
-// q, e, the term, the scale, 0 beyond h.
+// and W'/r) at one radius, as StaticKernel::emitted's loop: q, e, the
+// term, the scale, 0 beyond h.
 template <int N, int P, bool VarR, bool SupportEdge>
 MOLLIFY_INLINE double fast_whole_at(const double* k, double r, double edge, double h, double inv_h, const Smoothing& s,
                                     double scale) {
@@ -424,6 +424,7 @@ MOLLIFY_INLINE double fast_whole_at(const double* k, double r, double edge, doub
     return select(r <= h, (0.0 + x) * scale, 0.0);
 }
 
+// ... at n radii in one pass from r.
 template <int N, int P, bool VarR, bool SupportEdge>
 MOLLIFY_FLATTEN void fast_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out, std::size_t n,
                                       const Smoothing& smoothing, double scale) {
@@ -1147,46 +1148,79 @@ void fill(AccurateBlock& a, const double* r) {
 }
 
 // Precision::fast, a combination's distinct terms (QuantityPlan::
-// shared_terms) of the listed shapes (shared_shapes) in one pass: each point's
-// sum of the terms whose pieces hold it, in registers; shared_terms_block's
-// operations in its order (0 + the first, +0 where a term's pieces end), so
-// its bits, without its pass per term over the block.
-template <const SharedShapes& S, std::size_t... J>
-MOLLIFY_FLATTEN void shared_fused_block(const QuantityPlan& qp, const FastBlock& a, double* sum, std::index_sequence<J...>) {
-    constexpr std::size_t m = sizeof...(J);
-    constexpr int longest = std::max({S.terms[J].n...});
-    const TermPlan* t[m] = {&qp.inner[qp.shared_terms[J].piece].terms[qp.shared_terms[J].term]...};
+// shared_terms) of the listed shapes (shared_shapes), their coefficients,
+// ranges and edges read once into registers.
+template <const SharedShapes& S>
+struct SharedTerms {
+    static constexpr std::size_t m = S.m;
+    static constexpr int longest = [] {
+        int n = 1;
+        for (std::size_t j = 0; j < S.m; ++j) n = std::max(n, S.terms[j].n);
+        return n;
+    }();
     double k[m][longest], lo[m], hi[m], edge[m];
-    auto copy = [&]<std::size_t j>(std::integral_constant<std::size_t, j>) {
-        for (int c = 0; c < S.terms[j].n; ++c) k[j][c] = t[j]->c[c];
-        lo[j] = qp.shared_terms[j].lo, hi[j] = qp.shared_terms[j].hi, edge[j] = t[j]->edge;
-    };
-    (copy(std::integral_constant<std::size_t, J>{}), ...);
-    const double h = a.h, inv_h = a.inv_h;
-    for (std::size_t i = 0; i < B; ++i) {
-        const double q = a.q[i], e = a.e[i], r = a.r[i];
+
+    explicit SharedTerms(const QuantityPlan& qp) { read(qp, std::make_index_sequence<m>{}); }
+
+    template <std::size_t... J>
+    MOLLIFY_INLINE void read(const QuantityPlan& qp, std::index_sequence<J...>) {
+        auto one = [&]<std::size_t j>(std::integral_constant<std::size_t, j>) {
+            const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
+            for (int c = 0; c < S.terms[j].n; ++c) k[j][c] = t.c[c];
+            lo[j] = qp.shared_terms[j].lo, hi[j] = qp.shared_terms[j].hi, edge[j] = t.edge;
+        };
+        (one(std::integral_constant<std::size_t, J>{}), ...);
+    }
+
+    // The sum at one point: shared_terms_block's operations in its order (0
+    // + the first, +0 where a term's pieces end), so its bits, in registers.
+    template <std::size_t... J>
+    MOLLIFY_INLINE double sum(double q, double e, double r, double h, double inv_h, std::index_sequence<J...>) const {
         double x = 0.0;
         ((x = x + select((q >= lo[J]) & (q < hi[J]),
                          fast_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge>(
                              k[J], q, e, r, edge[J], h, inv_h),
                          0.0)),
          ...);
-        sum[i] = x;
+        return x;
+    }
+};
+
+// All terms at the B points of a in one pass, not one pass per term.
+template <const SharedShapes& S>
+MOLLIFY_FLATTEN void shared_fused_loop(const QuantityPlan& qp, const FastBlock& a, double* sum) {
+    const SharedTerms<S> t(qp);
+    for (std::size_t i = 0; i < B; ++i) sum[i] = t.sum(a.q[i], a.e[i], a.r[i], a.h, a.inv_h, std::make_index_sequence<S.m>{});
+}
+
+// A quantity of shared terms, 0 outside, at n radii in one pass from r:
+// radial_block's q, e, sum, scale and 0 beyond h for each point.
+template <const SharedShapes& S>
+MOLLIFY_FLATTEN void shared_whole_loop(const QuantityPlan& qp, const double* __restrict r, double* __restrict out,
+                                       std::size_t n, const Smoothing& smoothing, double scale) {
+    const Smoothing s = smoothing;
+    const SharedTerms<S> t(qp);
+    const double h = s.h(), inv_h = s.inverse();
+    for (std::size_t i = 0; i < n; ++i) {
+        const double x = t.sum(r[i] * inv_h, edge_distance(h - r[i], s), r[i], h, inv_h, std::make_index_sequence<S.m>{});
+        out[i] = select(r[i] <= h, x * scale, 0.0);
     }
 }
 
 using SharedFused = void (*)(const QuantityPlan&, const FastBlock&, double*);
+using SharedWhole = void (*)(const QuantityPlan&, const double*, double*, std::size_t, const Smoothing&, double);
 
-template <const SharedShapes& S>
-void shared_fused_loop(const QuantityPlan& qp, const FastBlock& a, double* sum) {
-    shared_fused_block<S>(qp, a, sum, std::make_index_sequence<S.m>{});
-}
 template <std::size_t... I>
 constexpr std::array<SharedFused, sizeof...(I)> shared_fused_loops(std::index_sequence<I...>) {
     return {&shared_fused_loop<shared_shapes[I]>...};
 }
+template <std::size_t... I>
+constexpr std::array<SharedWhole, sizeof...(I)> shared_whole_loops(std::index_sequence<I...>) {
+    return {&shared_whole_loop<shared_shapes[I]>...};
+}
 // [QuantityPlan::shared_fused], in both instruction sets (few, short loops)
 constexpr auto shared_fused_of = shared_fused_loops(std::make_index_sequence<shared_shapes_count>{});
+constexpr auto shared_whole_of = shared_whole_loops(std::make_index_sequence<shared_shapes_count>{});
 
 // Precision::fast, the inner pieces of a quantity whose pieces share terms
 // (QuantityPlan::shared_terms: a combination of m radii), at the B points
@@ -1278,13 +1312,6 @@ void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double*
     }
 }
 
-// f_h at n radii: polynomial quantities by blocks (the last one padded
-// with r = 0), the others point by point.
-// Precision::fast for a quantity with pieces chosen by branches (sqrt,
-// log): the points sorted into their pieces first (inner_piece), then each
-// piece evaluated on blocks of its own points (the last one padded with a
-// copy of its first point), so every block loop runs one piece's terms
-// for B points; each point gets radial<fast>'s operations, so its bits.
 // The indices of the n points in each inner piece.
 template <Precision Pr>
 void sort_into_pieces(const QuantityPlan& qp, const double* r, std::size_t n, const Smoothing& s,
@@ -1305,6 +1332,13 @@ void sort_into_pieces(const QuantityPlan& qp, const double* r, std::size_t n, co
     }
 }
 
+// f_h at n radii: polynomial quantities by blocks (the last one padded
+// with r = 0), the others point by point.
+// Precision::fast for a quantity with pieces chosen by branches (sqrt,
+// log): the points sorted into their pieces first (inner_piece), then each
+// piece evaluated on blocks of its own points (the last one padded with a
+// copy of its first point), so every block loop runs one piece's terms
+// for B points; each point gets radial<fast>'s operations, so its bits.
 template <Precision Pr>
 void radial_by_piece(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n,
                      const Smoothing& s, int dim) {
@@ -1400,6 +1434,10 @@ void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
             accurate_whole_of[shape](t, r, out, n, s.h(), s.inverse(), {s.scale(q), s.scale_lo(q)});
         else
             fast_whole_of[shape](t, r, out, n, s, s.scale(q));
+        return;
+    }
+    if (Pr == Precision::fast && qp.shared_fused >= 0 && qp.zero_outside && !(q == QuantityId::potential && dim == 2)) {
+        shared_whole_of[static_cast<std::size_t>(qp.shared_fused)](qp, r, out, n, s, s.scale(q));
         return;
     }
     std::size_t i = 0;
@@ -1591,8 +1629,11 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
             for (std::size_t i = 0; i < n; ++i) grad[c][i] = over[i] * x[c][i];
         return;
     }
-    if (Pr == Precision::fast && value.zero_outside && over_r.zero_outside &&
-        !(whole(value, QuantityId::value, dim) && whole(over_r, QuantityId::grad_over_r, dim))) {
+    // (Both quantities one pass from r each, whole or a combination's shared
+    // terms: the chunks below.)
+    const bool from_r = (whole(value, QuantityId::value, dim) || value.shared_fused >= 0) &&
+                        (whole(over_r, QuantityId::grad_over_r, dim) || over_r.shared_fused >= 0);
+    if (Pr == Precision::fast && value.zero_outside && over_r.zero_outside && !from_r) {
         // Both quantities from one block of q and e (radial_block's first
         // pass done once), the last block padded with r = 0.
         FastBlock a;
