@@ -33,7 +33,8 @@ struct WholePair {
     auto operator<=>(const WholePair&) const = default;
 };
 
-// The most terms a combination's fused loop takes (src/evaluator.cpp).
+// The most terms a combination's fused loop takes (src/evaluator.cpp; the
+// same number as src/term_shapes.hpp's, which reads the list this writes).
 inline constexpr std::size_t max_shared_terms = 4;
 
 struct TermShapes {
@@ -47,13 +48,13 @@ struct TermShapes {
 
 // The fusable terms of one kernel's W and W'/r (Basis::one, no power of q,
 // no Taylor variable, a non-negative edge power), added to `out`; its
-// WholePair where there is one.
+// WholePair and its combination's shared terms where it has them.
 void add_term_shapes(const Tables& tables, int dim, TermShapes& out);
 
 // generated/src/term_shapes.def: the shapes as X-macro lines
 // MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) and
-// MOLLIFY_WHOLE_SHAPE(...), MOLLIFY_WHOLE_PAIR(...) for the evaluator to
-// instantiate.
+// MOLLIFY_WHOLE_SHAPE(...), MOLLIFY_SHARED_TERMS(...), MOLLIFY_WHOLE_PAIR(...)
+// for the evaluator to instantiate.
 std::string term_shapes_source(const std::string& command, const TermShapes& shapes);
 
 }  // namespace mollify::gen

@@ -45,8 +45,9 @@ int shape_index(const TermPlan& t, std::span<const TermShape> shapes) {
 }
 
 // The term's shape for Precision::fast's fused loops (add_term_fixed),
-// which read no low parts and do not continue a series: its first index
-// in term_shapes, or -1.
+// which read no low parts and take a term continuing a series as any
+// other (its edge power computed whole): its first index in term_shapes,
+// or -1.
 int fast_shape_index(const TermPlan& t) {
     if (t.basis != table::Basis::one || t.low != 0 || t.var == table::Var::shifted || t.edge_power < 0) return -1;
     for (std::size_t i = 0; i < term_shape_count; ++i) {

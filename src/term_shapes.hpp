@@ -65,7 +65,8 @@ inline constexpr WholePair whole_pairs[] = {
 };
 
 // A combination's m distinct terms (QuantityPlan::shared_terms) in order,
-// for the fast precision (exact false): all m in one pass.
+// for the fast precision (exact false): all m in one pass. (The generator
+// lists none longer: generator/term_shapes.hpp's max_shared_terms.)
 inline constexpr std::size_t max_shared_terms = 4;
 struct SharedShapes {
     std::size_t m;
