@@ -1186,13 +1186,6 @@ struct SharedTerms {
     }
 };
 
-// All terms at the B points of a in one pass, not one pass per term.
-template <const SharedShapes& S>
-MOLLIFY_FLATTEN void shared_fused_loop(const QuantityPlan& qp, const FastBlock& a, double* sum) {
-    const SharedTerms<S> t(qp);
-    for (std::size_t i = 0; i < B; ++i) sum[i] = t.sum(a.q[i], a.e[i], a.r[i], a.h, a.inv_h, std::make_index_sequence<S.m>{});
-}
-
 // A quantity of shared terms, 0 outside, at n radii in one pass from r:
 // radial_block's q, e, sum, scale and 0 beyond h for each point.
 template <const SharedShapes& S>
@@ -1207,19 +1200,13 @@ MOLLIFY_FLATTEN void shared_whole_loop(const QuantityPlan& qp, const double* __r
     }
 }
 
-using SharedFused = void (*)(const QuantityPlan&, const FastBlock&, double*);
 using SharedWhole = void (*)(const QuantityPlan&, const double*, double*, std::size_t, const Smoothing&, double);
 
-template <std::size_t... I>
-constexpr std::array<SharedFused, sizeof...(I)> shared_fused_loops(std::index_sequence<I...>) {
-    return {&shared_fused_loop<shared_shapes[I]>...};
-}
 template <std::size_t... I>
 constexpr std::array<SharedWhole, sizeof...(I)> shared_whole_loops(std::index_sequence<I...>) {
     return {&shared_whole_loop<shared_shapes[I]>...};
 }
 // [QuantityPlan::shared_fused], in both instruction sets (few, short loops)
-constexpr auto shared_fused_of = shared_fused_loops(std::make_index_sequence<shared_shapes_count>{});
 constexpr auto shared_whole_of = shared_whole_loops(std::make_index_sequence<shared_shapes_count>{});
 
 // Precision::fast, the inner pieces of a quantity whose pieces share terms
@@ -1248,10 +1235,6 @@ void shared_terms_block(const QuantityPlan& qp, const FastBlock& a, double* sum)
 // Precision::fast, the inner pieces at the B points of a: every piece and
 // the selection, or the shared terms once each.
 void fast_inner_block(const QuantityPlan& qp, const FastBlock& a, double* in) {
-    if (qp.shared_fused >= 0) {
-        shared_fused_of[static_cast<std::size_t>(qp.shared_fused)](qp, a, in);
-        return;
-    }
     if (fused_loops && !qp.shared_terms.empty()) {
         shared_terms_block(qp, a, in);
         return;

@@ -30,17 +30,24 @@ bool continues(const table::Term& s, const table::Term& t) {
            s.edge == t.edge && s.low == t.low && s.edge_power > 0 && t.edge_power > s.edge_power;
 }
 
-// A term the fused loops can take (Basis::one, no power of q, no Taylor
-// variable, not continuing a series): its index in `shapes`, or -1.
+// A term the fused loops can take: Basis::one, no power of q, no Taylor
+// variable, a non-negative edge power.
+bool fusable(const TermPlan& t) {
+    return t.basis == table::Basis::one && t.low == 0 && t.var != table::Var::shifted && t.edge_power >= 0;
+}
+
+// Its shape is s's, low parts aside (variable, edge, length, edge power).
+bool has_shape(const TermPlan& t, const TermShape& s) {
+    return s.var_r == (t.var == table::Var::r) && s.support_edge == (t.edge == 1.0) && s.n == t.n &&
+           s.edge_power == t.edge_power;
+}
+
+// A fusable term not continuing a series, with or without low parts as
+// listed (the accurate loops): its index in `shapes`, or -1.
 int shape_index(const TermPlan& t, std::span<const TermShape> shapes) {
-    if (t.basis != table::Basis::one || t.low != 0 || t.var == table::Var::shifted || t.edge_power < 0 || t.continues)
-        return -1;
-    for (std::size_t i = 0; i < shapes.size(); ++i) {
-        const TermShape& s = shapes[i];
-        if (s.var_r == (t.var == table::Var::r) && s.support_edge == (t.edge == 1.0) && s.exact == t.exact && s.n == t.n &&
-            s.edge_power == t.edge_power)
-            return static_cast<int>(i);
-    }
+    if (!fusable(t) || t.continues) return -1;
+    for (std::size_t i = 0; i < shapes.size(); ++i)
+        if (has_shape(t, shapes[i]) && shapes[i].exact == t.exact) return static_cast<int>(i);
     return -1;
 }
 
@@ -49,13 +56,9 @@ int shape_index(const TermPlan& t, std::span<const TermShape> shapes) {
 // other (its edge power computed whole): its first index in term_shapes,
 // or -1.
 int fast_shape_index(const TermPlan& t) {
-    if (t.basis != table::Basis::one || t.low != 0 || t.var == table::Var::shifted || t.edge_power < 0) return -1;
-    for (std::size_t i = 0; i < term_shape_count; ++i) {
-        const TermShape& s = term_shapes[i];
-        if (s.var_r == (t.var == table::Var::r) && s.support_edge == (t.edge == 1.0) && s.n == t.n &&
-            s.edge_power == t.edge_power)
-            return static_cast<int>(i);
-    }
+    if (!fusable(t)) return -1;
+    for (std::size_t i = 0; i < term_shape_count; ++i)
+        if (has_shape(t, term_shapes[i])) return static_cast<int>(i);
     return -1;
 }
 
@@ -176,10 +179,7 @@ int shared_shapes_index(const QuantityPlan& qp) {
         bool same = s.m == m;
         for (std::size_t j = 0; same && j < m; ++j) {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
-            const TermShape& u = s.terms[j];
-            same = t.basis == table::Basis::one && t.low == 0 && t.var != table::Var::shifted && !t.continues &&
-                   u.var_r == (t.var == table::Var::r) && u.support_edge == (t.edge == 1.0) && u.n == t.n &&
-                   u.edge_power == t.edge_power;
+            same = fusable(t) && has_shape(t, s.terms[j]);
         }
         if (same) return static_cast<int>(i);
     }
@@ -217,13 +217,8 @@ int whole_pair_index(int dim, int value, int over_r) {
     if (dim < 2 || value < 0 || over_r < 0) return -1;
     const TermShape& v = whole_shapes[static_cast<std::size_t>(value)];
     const TermShape& g = whole_shapes[static_cast<std::size_t>(over_r)];
-    auto same = [](const TermShape& a, const TermShape& b) {
-        return a.var_r == b.var_r && a.support_edge == b.support_edge && a.exact == b.exact && a.n == b.n &&
-               a.edge_power == b.edge_power;
-    };
     for (std::size_t i = 0; i < whole_pair_count; ++i)
-        if (same(whole_pairs[i].value, v) && same(whole_pairs[i].over_r, g))
-            return static_cast<int>(i);
+        if (whole_pairs[i].value == v && whole_pairs[i].over_r == g) return static_cast<int>(i);
     return -1;
 }
 

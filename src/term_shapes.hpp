@@ -15,6 +15,7 @@ namespace mollify::detail {
 struct TermShape {
     bool var_r, support_edge, exact;
     int n, edge_power;
+    friend constexpr bool operator==(const TermShape&, const TermShape&) = default;
 };
 
 inline constexpr TermShape term_shapes[] = {
