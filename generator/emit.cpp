@@ -110,10 +110,7 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
     std::vector<nlohmann::ordered_json> kernels;
     TermShapes shapes;
     for (KernelOutput& k : outputs) {
-        shapes.terms.insert(k.shapes.terms.begin(), k.shapes.terms.end());
-        shapes.whole.insert(k.shapes.whole.begin(), k.shapes.whole.end());
-        shapes.whole_pairs.insert(k.shapes.whole_pairs.begin(), k.shapes.whole_pairs.end());
-        shapes.shared.insert(k.shapes.shared.begin(), k.shapes.shared.end());
+        shapes.add(k.shapes);
         if (result.files.count(k.path)) fail("internal: two kernels emitted to " + k.path + " (" + k.id + ")");
         result.files[k.path] = format == EmitFormat::cpp ? kernel_file(command, k.text) : k.text;
         headers.push_back(k.path);

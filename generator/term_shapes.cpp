@@ -1,6 +1,7 @@
 #include "term_shapes.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <optional>
 
 namespace mollify::gen {
@@ -18,44 +19,53 @@ TermShape shape_of(const RoundedTerm& t) {
 // A combination's pieces (QuantityPlan::shared_terms): 0 outside, piece p
 // holding the last terms of piece 0, every term fusable. Its shapes
 // (piece 0's, in order; `exact` false: the fast precision reads no low
-// parts) added to out.shared.
-void add_shared(const std::vector<RoundedPiece>& pieces, TermShapes& out) {
+// parts) added to out.shared, and returned.
+std::optional<std::vector<TermShape>> add_shared(const std::vector<RoundedPiece>& pieces, TermShapes& out) {
     const std::size_t inner = pieces.size() - 1;
-    if (inner < 2 || !pieces.back().terms.empty()) return;
+    if (inner < 2 || !pieces.back().terms.empty()) return std::nullopt;
     const std::vector<RoundedTerm>& all = pieces.front().terms;
-    if (all.size() < 2 || all.size() > max_shared_terms) return;
+    if (all.size() < 2 || all.size() > max_shared_terms) return std::nullopt;
     std::vector<TermShape> shapes;
     for (const RoundedTerm& t : all) {
-        if (!fusable(t)) return;
+        if (!fusable(t)) return std::nullopt;
         TermShape s = shape_of(t);
         s.exact = false;
         shapes.push_back(s);
     }
     for (std::size_t p = 1; p < inner; ++p) {
         const std::vector<RoundedTerm>& terms = pieces[p].terms;
-        if (terms.empty() || terms.size() >= all.size()) return;
+        if (terms.empty() || terms.size() >= all.size()) return std::nullopt;
         for (std::size_t t = 0; t < terms.size(); ++t) {
             const std::size_t in_all = all.size() - terms.size() + t;
-            if (!fusable(terms[t]) || terms[t].c != all[in_all].c || terms[t].edge != all[in_all].edge) return;
+            if (!fusable(terms[t]) || terms[t].c != all[in_all].c || terms[t].edge != all[in_all].edge)
+                return std::nullopt;
         }
     }
     out.shared.insert(shapes);
+    return shapes;
 }
 
-// Adds the quantity's fusable terms to `out`; returns its shape where it is
-// a whole quantity (one inner piece of one fusable term, 0 outside).
-std::optional<TermShape> add_quantity(const std::vector<RoundedPiece>& pieces, TermShapes& out) {
-    if (pieces.empty()) return std::nullopt;
+// A quantity's one-pass forms: its shape where it is a whole quantity (one
+// inner piece of one fusable term, 0 outside), its shared terms' shapes
+// where it is a combination's.
+struct OnePass {
+    std::optional<TermShape> whole;
+    std::optional<std::vector<TermShape>> shared;
+};
+
+// Adds the quantity's fusable terms to `out`.
+OnePass add_quantity(const std::vector<RoundedPiece>& pieces, TermShapes& out) {
+    if (pieces.empty()) return {};
     const std::size_t inner = pieces.size() - 1;  // the last piece is the exterior
     for (std::size_t p = 0; p < inner; ++p)
         for (const RoundedTerm& t : pieces[p].terms)
             if (fusable(t)) out.terms.insert(shape_of(t));
-    add_shared(pieces, out);
+    OnePass one_pass{std::nullopt, add_shared(pieces, out)};
     const bool whole = inner == 1 && pieces.front().terms.size() == 1 && pieces.back().terms.empty();
-    if (!whole || !fusable(pieces.front().terms.front())) return std::nullopt;
-    const TermShape shape = shape_of(pieces.front().terms.front());
-    out.whole.insert(shape);
-    return shape;
+    if (!whole || !fusable(pieces.front().terms.front())) return one_pass;
+    one_pass.whole = shape_of(pieces.front().terms.front());
+    out.whole.insert(*one_pass.whole);
+    return one_pass;
 }
 
 std::string shape_arguments(const TermShape& s) {
@@ -69,13 +79,16 @@ std::string line(const char* macro, const TermShape& s) { return std::string(mac
 }  // namespace
 
 void add_term_shapes(const Tables& tables, int dim, TermShapes& out) {
-    std::optional<TermShape> whole[2];
+    OnePass one_pass[2];
     for (const table::QuantityId q : {table::QuantityId::value, table::QuantityId::grad_over_r}) {
         const auto& pieces = tables[static_cast<std::size_t>(q)];
-        if (pieces) whole[q == table::QuantityId::grad_over_r] = add_quantity(*pieces, out);
+        if (pieces) one_pass[q == table::QuantityId::grad_over_r] = add_quantity(*pieces, out);
     }
     // In 1D the pair loop is scalar (the sign of x), as StaticKernel's.
-    if (dim >= 2 && whole[0] && whole[1]) out.whole_pairs.insert({*whole[0], *whole[1]});
+    if (dim < 2) return;
+    const OnePass &value = one_pass[0], &over_r = one_pass[1];
+    if (value.whole && over_r.whole) out.whole_pairs.insert({*value.whole, *over_r.whole});
+    if (value.shared && over_r.shared) out.shared_pairs.insert({*value.shared, *over_r.shared});
 }
 
 std::string term_shapes_source(const std::string& command, const TermShapes& shapes) {
@@ -85,7 +98,8 @@ std::string term_shapes_source(const std::string& command, const TermShapes& sha
                       "// MOLLIFY_WHOLE_SHAPE(...) for those that are a whole quantity (one piece, one term),\n"
                       "// MOLLIFY_WHOLE_PAIR(W's shape..., W'/r's shape...) for the kernels (D >= 2) whose W and W'/r both are.\n"
                       "// MOLLIFY_SHARED_TERMS(m, {shape}...) for a combination's m distinct terms (fast: exact false).\n"
-                      "// The includer defines the four macros.\n\n";
+                      "// MOLLIFY_SHARED_PAIR(i, j) for the combinations (D >= 2) whose W and W'/r are the i-th and j-th of those.\n"
+                      "// The includer defines the five macros.\n\n";
     for (const TermShape& s : shapes.terms) out += line("MOLLIFY_TERM_SHAPE", s);
     out += "\n";
     for (const TermShape& s : shapes.whole) out += line("MOLLIFY_WHOLE_SHAPE", s);
@@ -98,6 +112,12 @@ std::string term_shapes_source(const std::string& command, const TermShapes& sha
     out += "\n";
     for (const WholePair& p : shapes.whole_pairs)
         out += "MOLLIFY_WHOLE_PAIR(" + shape_arguments(p.value) + ", " + shape_arguments(p.over_r) + ")\n";
+    out += "\n";
+    auto index = [&](const std::vector<TermShape>& s) {
+        return std::to_string(std::distance(shapes.shared.begin(), shapes.shared.find(s)));
+    };
+    for (const auto& [value, over_r] : shapes.shared_pairs)
+        out += "MOLLIFY_SHARED_PAIR(" + index(value) + ", " + index(over_r) + ")\n";
     return out;
 }
 

@@ -44,6 +44,17 @@ struct TermShapes {
     // A combination's distinct terms (its innermost piece's, which the
     // outer pieces' terms end), for the fast precision: one pass for all.
     std::set<std::vector<TermShape>> shared;
+    // W's and W'/r's shared terms of a combination (D >= 2): the pair loop
+    // in one pass, as whole_pairs.
+    std::set<std::pair<std::vector<TermShape>, std::vector<TermShape>>> shared_pairs;
+
+    void add(const TermShapes& other) {
+        terms.insert(other.terms.begin(), other.terms.end());
+        whole.insert(other.whole.begin(), other.whole.end());
+        whole_pairs.insert(other.whole_pairs.begin(), other.whole_pairs.end());
+        shared.insert(other.shared.begin(), other.shared.end());
+        shared_pairs.insert(other.shared_pairs.begin(), other.shared_pairs.end());
+    }
 };
 
 // The fusable terms of one kernel's W and W'/r (Basis::one, no power of q,
@@ -53,8 +64,8 @@ void add_term_shapes(const Tables& tables, int dim, TermShapes& out);
 
 // generated/src/term_shapes.def: the shapes as X-macro lines
 // MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) and
-// MOLLIFY_WHOLE_SHAPE(...), MOLLIFY_SHARED_TERMS(...), MOLLIFY_WHOLE_PAIR(...)
-// for the evaluator to instantiate.
+// MOLLIFY_WHOLE_SHAPE(...), MOLLIFY_SHARED_TERMS(...), MOLLIFY_WHOLE_PAIR(...),
+// MOLLIFY_SHARED_PAIR(i, j) for the evaluator to instantiate.
 std::string term_shapes_source(const std::string& command, const TermShapes& shapes);
 
 }  // namespace mollify::gen

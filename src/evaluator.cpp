@@ -3,7 +3,7 @@
 // compensated Horner, double-double factors, edge series, Taylor pieces,
 // Green's-function exterior), so that its results are StaticKernel's bit
 // for bit on the same instruction set. Compiled once per instruction set
-// (CMake: generic x86-64 and x86-64-v3), each copy in its own inline
+// (CMake: generic x86-64, x86-64-v3 and x86-64-v4), each copy in its own inline
 // namespace (detail/isa.hpp).
 #include "evaluator.hpp"
 #include "term_shapes.hpp"
@@ -1209,6 +1209,133 @@ constexpr std::array<SharedWhole, sizeof...(I)> shared_whole_loops(std::index_se
 // [QuantityPlan::shared_fused], in both instruction sets (few, short loops)
 constexpr auto shared_whole_of = shared_whole_loops(std::make_index_sequence<shared_shapes_count>{});
 
+// Precision::accurate, the same: each distinct term once in double-double
+// (accurate_term_at, Exact false: QuantityPlan::shared_accurate), added to
+// the sum where its pieces reach and (0, 0) elsewhere. The static form sums
+// a piece's terms from (0, 0) as well; adding (0, 0) changes a
+// double-double sum's value at most in the sign of a zero low part (two_sum
+// is exact), so the result is the pieces' evaluated and selected, but for
+// the sign of a zero W (+0 where a one-term piece gives -0 at its edge).
+template <const SharedShapes& S>
+struct AccurateSharedTerms {
+    static constexpr std::size_t m = S.m;
+    static constexpr int longest = SharedTerms<S>::longest;
+    double k[m][longest], l[m][longest], lo[m], hi[m], edge[m], edge_lo[m];
+    DoubleDouble ah[m];
+
+    AccurateSharedTerms(const QuantityPlan& qp, double h) { read(qp, h, std::make_index_sequence<m>{}); }
+
+    template <std::size_t... J>
+    MOLLIFY_INLINE void read(const QuantityPlan& qp, double h, std::index_sequence<J...>) {
+        auto one = [&]<std::size_t j>(std::integral_constant<std::size_t, j>) {
+            const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
+            for (int c = 0; c < S.terms[j].n; ++c) k[j][c] = t.c[c], l[j][c] = t.c_lo[static_cast<std::size_t>(c)];
+            lo[j] = qp.shared_terms[j].lo, hi[j] = qp.shared_terms[j].hi, edge[j] = t.edge, edge_lo[j] = t.edge_lo;
+            ah[j] = two_product(t.edge, h);
+        };
+        (one(std::integral_constant<std::size_t, J>{}), ...);
+    }
+
+    template <std::size_t... J>
+    MOLLIFY_INLINE DoubleDouble sum(const AccurateRadius& x, double r, double h, double inv_h,
+                                    std::index_sequence<J...>) const {
+        DoubleDouble y{0.0, 0.0};
+        auto add = [&](bool in, const DoubleDouble& t) { y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)}; };
+        (add((x.q >= lo[J]) & (x.q < hi[J]),
+             accurate_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge, false>(
+                 k[J], l[J], edge[J], edge_lo[J], ah[J], h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo},
+                 {x.ee_hi, x.ee_lo})),
+         ...);
+        return y;
+    }
+};
+
+template <const SharedShapes& S>
+MOLLIFY_FLATTEN void accurate_shared_loop(const QuantityPlan& qp, const double* __restrict r, double* __restrict out,
+                                          std::size_t n, const Smoothing& smoothing, DoubleDouble scale) {
+    const double h = smoothing.h(), inv_h = smoothing.inverse();
+    const AccurateSharedTerms<S> t(qp, h);
+    for (std::size_t i = 0; i < n; ++i) {
+        const DoubleDouble y = t.sum(accurate_radius(r[i], h, inv_h), r[i], h, inv_h, std::make_index_sequence<S.m>{});
+        out[i] = select(r[i] <= h, rounded(y * scale), 0.0);
+    }
+}
+
+using AccurateShared = void (*)(const QuantityPlan&, const double*, double*, std::size_t, const Smoothing&, DoubleDouble);
+
+template <std::size_t... I>
+constexpr std::array<AccurateShared, sizeof...(I)> accurate_shared_loops(std::index_sequence<I...>) {
+    if constexpr (fused_loops) return {&accurate_shared_loop<shared_shapes[I]>...};
+    else return {};
+}
+// [QuantityPlan::shared_fused], where the target fuses multiply-add (fused_loops)
+constexpr auto accurate_shared_of = accurate_shared_loops(std::make_index_sequence<shared_shapes_count>{});
+
+// W and grad W at displacements for a combination whose W and W'/r are
+// both shared terms (Plan::shared_pair), in one pass, as whole_pairs_fixed:
+// each quantity as shared_whole_loop or accurate_shared_loop computes it
+// from r (accurate: one accurate_radius for both), so their bits. In the
+// fast precision in every instruction set (the generic copy is compared
+// with StaticKernel's pair loop bit for bit); 2D takes it with x2 = 0.
+template <Precision Pr, const SharedShapes& SV, const SharedShapes& SG>
+MOLLIFY_FLATTEN void shared_pairs_fixed(const QuantityPlan& value, const QuantityPlan& over_r, const double* __restrict x0,
+                                        const double* __restrict x1, const double* __restrict x2, double* __restrict w,
+                                        double* __restrict g0, double* __restrict g1, double* __restrict g2,
+                                        std::size_t n, const Smoothing& smoothing) {
+    const Smoothing s = smoothing;
+    const double h = s.h(), inv_h = s.inverse();
+    using Terms = std::conditional_t<Pr == Precision::fast, SharedTerms<SV>, AccurateSharedTerms<SV>>;
+    using OverR = std::conditional_t<Pr == Precision::fast, SharedTerms<SG>, AccurateSharedTerms<SG>>;
+    const auto [v, g] = [&] {
+        if constexpr (Pr == Precision::fast) return std::pair<Terms, OverR>{Terms(value), OverR(over_r)};
+        else return std::pair<Terms, OverR>{Terms(value, h), OverR(over_r, h)};
+    }();
+    const double v_scale = s.scale(QuantityId::value), g_scale = s.scale(QuantityId::grad_over_r);
+    const DoubleDouble v_scale_dd{v_scale, s.scale_lo(QuantityId::value)},
+        g_scale_dd{g_scale, s.scale_lo(QuantityId::grad_over_r)};
+    for (std::size_t i = 0; i < n; ++i) {
+        const double a = x0[i], b = x1[i];
+        const double r = std::sqrt(mul_add(x2[i], x2[i], mul_add(b, b, a * a)));
+        double wi, gi;
+        if constexpr (Pr == Precision::fast) {
+            const double q = r * inv_h, e = edge_distance(h - r, s);
+            wi = v.sum(q, e, r, h, inv_h, std::make_index_sequence<SV.m>{}) * v_scale;
+            gi = g.sum(q, e, r, h, inv_h, std::make_index_sequence<SG.m>{}) * g_scale;
+        } else {
+            const AccurateRadius x = accurate_radius(r, h, inv_h);
+            wi = rounded(v.sum(x, r, h, inv_h, std::make_index_sequence<SV.m>{}) * v_scale_dd);
+            gi = rounded(g.sum(x, r, h, inv_h, std::make_index_sequence<SG.m>{}) * g_scale_dd);
+        }
+        const bool inside = r <= h;
+        wi = select(inside, wi, 0.0), gi = select(inside, gi, 0.0);
+        w[i] = wi;
+        g0[i] = gi * a;
+        g1[i] = gi * b;
+        g2[i] = gi * x2[i];
+    }
+}
+
+using SharedPairs = void (*)(const QuantityPlan&, const QuantityPlan&, const double*, const double*, const double*,
+                             double*, double*, double*, double*, std::size_t, const Smoothing&);
+
+template <Precision Pr, std::size_t... I>
+constexpr std::array<SharedPairs, sizeof...(I)> shared_pairs_loops(std::index_sequence<I...>) {
+    if constexpr (Pr == Precision::fast || fused_loops)
+        return {&shared_pairs_fixed<Pr, shared_shapes[shared_pairs[I].value], shared_shapes[shared_pairs[I].over_r]>...};
+    else
+        return {};
+}
+// [Plan::shared_pair]
+template <Precision Pr>
+constexpr auto shared_pairs_of = shared_pairs_loops<Pr>(std::make_index_sequence<shared_pair_count>{});
+
+// Is the quantity evaluated in one pass from r by its shared terms'
+// loop (shared_whole_loop, accurate_shared_loop)?
+bool shared_one_pass(const QuantityPlan& qp, QuantityId q, int dim, Precision pr) {
+    if (qp.shared_fused < 0 || !qp.zero_outside || (q == QuantityId::potential && dim == 2)) return false;
+    return pr == Precision::fast || (fused_loops && qp.shared_accurate);
+}
+
 // Precision::fast, the inner pieces of a quantity whose pieces share terms
 // (QuantityPlan::shared_terms: a combination of m radii), at the B points
 // of a: each distinct term once, added where its pieces reach and +0
@@ -1385,7 +1512,7 @@ bool whole(const QuantityPlan& qp, QuantityId q, int dim) {
 // sorting costs less than a piece's double-double terms.
 bool sorted_by_piece(const QuantityPlan& qp, QuantityId q, int dim, Precision pr) {
     if (pr == Precision::fast) return !qp.polynomial_inside;
-    return qp.polynomial_inside && !whole(qp, q, dim) && by_piece(qp);
+    return qp.polynomial_inside && !whole(qp, q, dim) && !shared_one_pass(qp, q, dim, pr) && by_piece(qp);
 }
 
 // Up to this many points (a batch, or a batch's last partial block) go
@@ -1419,8 +1546,12 @@ void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
             fast_whole_of[shape](t, r, out, n, s, s.scale(q));
         return;
     }
-    if (Pr == Precision::fast && qp.shared_fused >= 0 && qp.zero_outside && !(q == QuantityId::potential && dim == 2)) {
-        shared_whole_of[static_cast<std::size_t>(qp.shared_fused)](qp, r, out, n, s, s.scale(q));
+    if (shared_one_pass(qp, q, dim, Pr)) {
+        const auto shapes = static_cast<std::size_t>(qp.shared_fused);
+        if constexpr (Pr == Precision::accurate)
+            accurate_shared_of[shapes](qp, r, out, n, s, {s.scale(q), s.scale_lo(q)});
+        else
+            shared_whole_of[shapes](qp, r, out, n, s, s.scale(q));
         return;
     }
     std::size_t i = 0;
@@ -1540,6 +1671,24 @@ void accurate_pairs_block_by_piece(const QuantityPlan& value, const QuantityPlan
     }
 }
 
+// A 3D pair loop loop(x0, x1, x2, w, g0, g1, g2, m) run on D = 2 or 3
+// displacements: 2D with x2 = 0 (fma(0, 0, y) = y, the same r, and half
+// the instantiations), its gradient component dropped.
+template <class Loop>
+void in_3d(const std::span<const double>* x, int dim, double* w, const std::span<double>* grad, std::size_t n,
+           const Loop& loop) {
+    if (dim == 3) {
+        loop(x[0].data(), x[1].data(), x[2].data(), w, grad[0].data(), grad[1].data(), grad[2].data(), n);
+        return;
+    }
+    constexpr std::size_t chunk = 8 * B;
+    static constexpr double no_x2[chunk] = {};
+    double dropped[chunk];
+    for (std::size_t start = 0; start < n; start += chunk)
+        loop(x[0].data() + start, x[1].data() + start, no_x2, w + start, grad[0].data() + start, grad[1].data() + start,
+             dropped, std::min(chunk, n - start));
+}
+
 template <Precision Pr>
 void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoothing& smoothing, double* __restrict w,
                  const std::span<double>* grad, std::size_t n) {
@@ -1583,18 +1732,18 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         const WholePairs loop = whole_pairs_of<Pr>[static_cast<std::size_t>(plan.whole_pair)];
         const TermPlan& v = value.inner.front().terms.front();
         const TermPlan& g = over_r.inner.front().terms.front();
-        if (dim == 3) {
-            loop(v, g, x[0].data(), x[1].data(), x[2].data(), w, grad[0].data(), grad[1].data(), grad[2].data(), n, s);
-            return;
-        }
-        // 2D through the same loop, x2 = 0: fma(0, 0, y) = y, the same r, and
-        // half the instantiations; its gradient component dropped.
-        constexpr std::size_t chunk = 8 * B;
-        static constexpr double no_x2[chunk] = {};
-        double dropped[chunk];
-        for (std::size_t start = 0; start < n; start += chunk)
-            loop(v, g, x[0].data() + start, x[1].data() + start, no_x2, w + start, grad[0].data() + start,
-                 grad[1].data() + start, dropped, std::min(chunk, n - start), s);
+        in_3d(x, dim, w, grad, n, [&](const double* x0, const double* x1, const double* x2, double* wc, double* g0,
+                                      double* g1, double* g2, std::size_t m) { loop(v, g, x0, x1, x2, wc, g0, g1, g2, m, s); });
+        return;
+    }
+    if (plan.shared_pair >= 0 && shared_one_pass(value, QuantityId::value, dim, Pr) &&
+        shared_one_pass(over_r, QuantityId::grad_over_r, dim, Pr)) {
+        // A combination's W and W'/r in one pass (shared_pairs_fixed).
+        const SharedPairs loop = shared_pairs_of<Pr>[static_cast<std::size_t>(plan.shared_pair)];
+        in_3d(x, dim, w, grad, n, [&](const double* x0, const double* x1, const double* x2, double* wc, double* g0,
+                                      double* g1, double* g2, std::size_t m) {
+            loop(value, over_r, x0, x1, x2, wc, g0, g1, g2, m, s);
+        });
         return;
     }
     if (pairs_by_piece(plan, Pr)) {
@@ -1614,8 +1763,9 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     }
     // (Both quantities one pass from r each, whole or a combination's shared
     // terms: the chunks below.)
-    const bool from_r = (whole(value, QuantityId::value, dim) || value.shared_fused >= 0) &&
-                        (whole(over_r, QuantityId::grad_over_r, dim) || over_r.shared_fused >= 0);
+    const bool from_r = (whole(value, QuantityId::value, dim) || shared_one_pass(value, QuantityId::value, dim, Pr)) &&
+                        (whole(over_r, QuantityId::grad_over_r, dim) ||
+                         shared_one_pass(over_r, QuantityId::grad_over_r, dim, Pr));
     if (Pr == Precision::fast && value.zero_outside && over_r.zero_outside && !from_r) {
         // Both quantities from one block of q and e (radial_block's first
         // pass done once), the last block padded with r = 0.
@@ -1665,6 +1815,13 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     const bool one_sort = Pr == Precision::accurate && accurate_pairs_by_piece(value, over_r, dim);
     for (std::size_t start = 0; start < n; start += chunk) {
         const std::size_t m = std::min(chunk, n - start);
+        {
+            const std::size_t next = start + chunk, ahead = next < n ? std::min(chunk, n - next) : 0;
+            for (std::size_t i = 0; i < ahead; i += 8) {
+                __builtin_prefetch(w + next + i, 1, 3);
+                for (int c = 0; c < dim; ++c) __builtin_prefetch(grad[c].data() + next + i, 1, 3);
+            }
+        }
         radii(x, dim, start, m, r);
         if (one_sort) {
             accurate_pairs_block_by_piece(value, over_r, x, dim, start, m, r, s, w, grad);

@@ -30,8 +30,8 @@ struct Evaluator {
                   const std::span<double>* grad, std::size_t n);
 };
 
-// The evaluator in use: x86-64-v3 (AVX2 + FMA) where the CPU has it, else
-// generic x86-64; the environment variable MOLLIFY_ISA=generic (or
+// The evaluator in use: x86-64-v4 (AVX-512F/BW/DQ/VL) where the CPU has it,
+// else x86-64-v3 (AVX2 + FMA) where it has that, else generic x86-64; the environment variable MOLLIFY_ISA=generic (or
 // set_isa) forces one.
 const Evaluator& evaluator();
 

@@ -202,6 +202,11 @@ QuantityPlan quantity_plan(const table::Kernel& k, int q) {
         out.whole = shape_index(out.inner.front().terms.front(), {whole_shapes, whole_shape_count});
     if (out.polynomial_inside && out.zero_outside) out.shared_terms = shared_terms_of(out.inner);
     out.shared_fused = shared_shapes_index(out);
+    out.shared_accurate = out.shared_fused >= 0;
+    for (const QuantityPlan::SharedTerm& m : out.shared_terms) {
+        const TermPlan& t = out.inner[m.piece].terms[m.term];
+        out.shared_accurate = out.shared_accurate && (t.n == 1 || !t.exact);
+    }
     for (const TermPlan& t : out.exterior.terms)
         if (t.basis == table::Basis::log) {
             out.log_coefficient = t.c[0];
@@ -222,6 +227,17 @@ int whole_pair_index(int dim, int value, int over_r) {
     return -1;
 }
 
+// The index in shared_pairs of a combination in D dimensions with W's and
+// W'/r's shared terms (indices in shared_shapes, each listed once), or -1.
+int shared_pair_index(int dim, int value, int over_r) {
+    if (dim < 2 || value < 0 || over_r < 0) return -1;
+    for (std::size_t i = 0; i < shared_pair_count; ++i)
+        if (shared_pairs[i].value == static_cast<std::size_t>(value) &&
+            shared_pairs[i].over_r == static_cast<std::size_t>(over_r))
+            return static_cast<int>(i);
+    return -1;
+}
+
 }  // namespace
 
 std::shared_ptr<const Plan> make_plan(const table::Kernel& k, std::shared_ptr<const table::Kernel> owner) {
@@ -232,8 +248,10 @@ std::shared_ptr<const Plan> make_plan(const table::Kernel& k, std::shared_ptr<co
     plan->owner = std::move(owner);
     plan->odd = k.parity < 0;
     for (int q = 0; q < table::quantity_count; ++q) plan->quantities[static_cast<std::size_t>(q)] = quantity_plan(k, q);
-    plan->whole_pair = whole_pair_index(k.dim, plan->quantities[static_cast<std::size_t>(table::QuantityId::value)].whole,
-                                        plan->quantities[static_cast<std::size_t>(table::QuantityId::grad_over_r)].whole);
+    const QuantityPlan& value = plan->quantities[static_cast<std::size_t>(table::QuantityId::value)];
+    const QuantityPlan& over_r = plan->quantities[static_cast<std::size_t>(table::QuantityId::grad_over_r)];
+    plan->whole_pair = whole_pair_index(k.dim, value.whole, over_r.whole);
+    plan->shared_pair = shared_pair_index(k.dim, value.shared_fused, over_r.shared_fused);
     return plan;
 }
 

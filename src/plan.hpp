@@ -66,6 +66,9 @@ struct QuantityPlan {
     };
     std::vector<SharedTerm> shared_terms;
     int shared_fused = -1;  // the shared terms' shapes: their index in shared_shapes, or -1
+    // ... and Precision::accurate may take them too: no term reads low parts
+    // the fast precision's shapes (exact false) would not (n == 1 or inexact).
+    bool shared_accurate = false;
 };
 
 struct Plan {
@@ -74,6 +77,7 @@ struct Plan {
     std::array<QuantityPlan, table::quantity_count> quantities;
     bool odd;
     int whole_pair = -1;  // W and W'/r both whole: their index in whole_pairs, or -1
+    int shared_pair = -1;  // W and W'/r both a combination's shared terms: their index in shared_pairs, or -1
 };
 
 // The plan of a table (checked: a term shape the evaluator cannot evaluate

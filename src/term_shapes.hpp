@@ -23,11 +23,13 @@ inline constexpr TermShape term_shapes[] = {
 #define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
 #define MOLLIFY_WHOLE_PAIR(...)
 #define MOLLIFY_SHARED_TERMS(...)
+#define MOLLIFY_SHARED_PAIR(...)
 #include <src/term_shapes.def>
 #undef MOLLIFY_TERM_SHAPE
 #undef MOLLIFY_WHOLE_SHAPE
 #undef MOLLIFY_WHOLE_PAIR
 #undef MOLLIFY_SHARED_TERMS
+#undef MOLLIFY_SHARED_PAIR
     {},  // an end that matches no term (n = 0), so that an empty list is still an array
 };
 
@@ -38,11 +40,13 @@ inline constexpr TermShape whole_shapes[] = {
 #define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power) {var_r, support_edge, exact, n, edge_power},
 #define MOLLIFY_WHOLE_PAIR(...)
 #define MOLLIFY_SHARED_TERMS(...)
+#define MOLLIFY_SHARED_PAIR(...)
 #include <src/term_shapes.def>
 #undef MOLLIFY_TERM_SHAPE
 #undef MOLLIFY_WHOLE_SHAPE
 #undef MOLLIFY_WHOLE_PAIR
 #undef MOLLIFY_SHARED_TERMS
+#undef MOLLIFY_SHARED_PAIR
     {},  // an end that matches no term (n = 0), so that an empty list is still an array
 };
 
@@ -57,11 +61,13 @@ inline constexpr WholePair whole_pairs[] = {
 #define MOLLIFY_WHOLE_PAIR(var_r, support_edge, exact, n, edge_power, g_var_r, g_support_edge, g_exact, g_n, g_edge_power) \
     {{var_r, support_edge, exact, n, edge_power}, {g_var_r, g_support_edge, g_exact, g_n, g_edge_power}},
 #define MOLLIFY_SHARED_TERMS(...)
+#define MOLLIFY_SHARED_PAIR(...)
 #include <src/term_shapes.def>
 #undef MOLLIFY_TERM_SHAPE
 #undef MOLLIFY_WHOLE_SHAPE
 #undef MOLLIFY_WHOLE_PAIR
 #undef MOLLIFY_SHARED_TERMS
+#undef MOLLIFY_SHARED_PAIR
     {},  // an end that matches no kernel
 };
 
@@ -78,17 +84,40 @@ inline constexpr SharedShapes shared_shapes[] = {
 #define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
 #define MOLLIFY_WHOLE_PAIR(...)
 #define MOLLIFY_SHARED_TERMS(m, ...) {m, {__VA_ARGS__}},
+#define MOLLIFY_SHARED_PAIR(...)
 #include <src/term_shapes.def>
 #undef MOLLIFY_TERM_SHAPE
 #undef MOLLIFY_WHOLE_SHAPE
 #undef MOLLIFY_WHOLE_PAIR
 #undef MOLLIFY_SHARED_TERMS
+#undef MOLLIFY_SHARED_PAIR
     {},  // an end that matches no quantity (m = 0)
+};
+
+// The combinations' (W, W'/r) shared terms (D = 2, 3), indices in
+// shared_shapes: the pair loop in one pass.
+struct SharedPair {
+    std::size_t value, over_r;
+};
+inline constexpr SharedPair shared_pairs[] = {
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_WHOLE_PAIR(...)
+#define MOLLIFY_SHARED_TERMS(...)
+#define MOLLIFY_SHARED_PAIR(value, over_r) {value, over_r},
+#include <src/term_shapes.def>
+#undef MOLLIFY_TERM_SHAPE
+#undef MOLLIFY_WHOLE_SHAPE
+#undef MOLLIFY_WHOLE_PAIR
+#undef MOLLIFY_SHARED_TERMS
+#undef MOLLIFY_SHARED_PAIR
+    {},  // an end that matches no kernel
 };
 
 inline constexpr std::size_t term_shape_count = std::size(term_shapes) - 1;
 inline constexpr std::size_t whole_shape_count = std::size(whole_shapes) - 1;
 inline constexpr std::size_t whole_pair_count = std::size(whole_pairs) - 1;
 inline constexpr std::size_t shared_shapes_count = std::size(shared_shapes) - 1;
+inline constexpr std::size_t shared_pair_count = std::size(shared_pairs) - 1;
 
 }  // namespace mollify::detail

@@ -8,8 +8,8 @@
 //
 // On the instruction set this test is compiled for (generic x86-64) the two
 // must agree bit for bit: the evaluator performs the same operations in the
-// same order. The x86-64-v3 copy (FMA) rounds differently; it is held to
-// the accuracy suite's reasoning instead (see v3_bound).
+// same order. The x86-64-v3 and x86-64-v4 copies (FMA) round differently;
+// they are held to the accuracy suite's reasoning instead (see fused_bound).
 //
 // Instantiating StaticKernel for all 256 catalogue tables is the deleted
 // registry's cost (22 minutes of compile); the tables compared are a cover of
@@ -105,7 +105,7 @@ double ulps(double a, double b, double floor) {
     return std::abs(a - b) / (std::ldexp(1.0, std::ilogb(m) - 52));
 }
 
-// x86-64-v3 against generic: each rounds differently (fused products), so
+// x86-64-v3 or -v4 against generic: each rounds differently (fused products), so
 // they agree to the sum of their errors against the exact value. The
 // accuracy suite bounds Precision::accurate by 4 ulp (values) and 8
 // (potentials); the difference then stays within 16, in ulps of the value
@@ -117,7 +117,7 @@ double ulps(double a, double b, double floor) {
 // Near a breakpoint the rounded q may choose the neighbouring piece (both
 // exact there) and the second derivatives of combinations jump by up to
 // ~125 ulp (accuracy_test's kink bound of 256): 512 for those.
-double v3_bound(const table::Kernel& k, QuantityId q, Precision pr) {
+double fused_bound(const table::Kernel& k, QuantityId q, Precision pr) {
     const bool kink = q == QuantityId::d2r || q == QuantityId::laplacian || q == QuantityId::hess_radial ||
                       q == QuantityId::potential_hess_radial;
     if (kink && std::string(k.spec).rfind("combo", 0) == 0) return 512;
@@ -131,16 +131,18 @@ struct Isa {
 
 std::vector<Isa> isas() {
     std::vector<Isa> out = {{"generic", true}};
-    try {
-        mollify::use_isa("x86-64-v3");
-        out.push_back({"x86-64-v3", false});
-    } catch (const mollify::Error&) {
-        // This CPU has no AVX2 + FMA: only the generic copy runs here.
+    for (const char* fused : {"x86-64-v3", "x86-64-v4"}) {
+        try {
+            mollify::use_isa(fused);
+            out.push_back({fused, false});
+        } catch (const mollify::Error&) {
+            // This CPU lacks AVX2 + FMA (v3) or AVX-512 (v4): that copy cannot run here.
+        }
     }
     return out;
 }
 
-// Where no static form of the same ISA compares (x86-64-v3: the static
+// Where no static form of the same ISA compares (x86-64-v3, -v4: the static
 // units are generic), the pair loop against the same kernel's batches on
 // the same ISA, bit for bit: W(r) and (W'/r)(r) x at r = |x| as the pair
 // loop computes it (multiply-adds: fused there). Its own loops (one pass
@@ -216,7 +218,7 @@ TEST(Runtime, CompileTimeAndRunTimeFormsAgreeBitForBit) {
                             } else {
                                 const double e = ulps(a[i], b[i], floor);
                                 worst = std::max(worst, e);
-                                ASSERT_LE(e, v3_bound(k, id, pr)) << where << ": static " << a[i] << " run-time " << b[i];
+                                ASSERT_LE(e, fused_bound(k, id, pr)) << where << ": static " << a[i] << " run-time " << b[i];
                             }
                         }
                     }

@@ -1,7 +1,7 @@
 // The run-time form of a kernel, chosen by a spec string (a scene file, a
 // command line) or given as a table: an opaque handle to a plan of the
 // table (src/plan.hpp), evaluated by libmollify's data-driven loops
-// (src/evaluator.cpp), compiled for generic x86-64 and x86-64-v3 and chosen
+// (src/evaluator.cpp), compiled for generic x86-64, x86-64-v3 and -v4 and chosen
 // at load time. No table is compiled into the caller.
 //
 //   const mollify::Kernel w = mollify::kernel("wendland:k=2", 3);
@@ -81,8 +81,8 @@ Kernel kernel(std::string_view spec, int dim, Precision precision = Precision::a
 Kernel kernel(const table::Kernel& table, Precision precision = Precision::accurate);
 Kernel kernel(std::shared_ptr<const table::Kernel> table, Precision precision = Precision::accurate);
 
-// The instruction set of the run-time form's loops: "x86-64-v3" (AVX2 +
-// FMA, chosen where the CPU has it) or "generic". use_isa forces one (tests
+// The instruction set of the run-time form's loops: "x86-64-v4" (AVX-512,
+// chosen where the CPU has it), "x86-64-v3" (AVX2 + FMA) or "generic". use_isa forces one (tests
 // check both; the environment variable MOLLIFY_ISA does the same at load
 // time); it fails naming an ISA that is unknown or that the CPU lacks.
 std::string_view isa();
