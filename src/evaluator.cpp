@@ -1815,13 +1815,6 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     const bool one_sort = Pr == Precision::accurate && accurate_pairs_by_piece(value, over_r, dim);
     for (std::size_t start = 0; start < n; start += chunk) {
         const std::size_t m = std::min(chunk, n - start);
-        {
-            const std::size_t next = start + chunk, ahead = next < n ? std::min(chunk, n - next) : 0;
-            for (std::size_t i = 0; i < ahead; i += 8) {
-                __builtin_prefetch(w + next + i, 1, 3);
-                for (int c = 0; c < dim; ++c) __builtin_prefetch(grad[c].data() + next + i, 1, 3);
-            }
-        }
         radii(x, dim, start, m, r);
         if (one_sort) {
             accurate_pairs_block_by_piece(value, over_r, x, dim, start, m, r, s, w, grad);

@@ -25,11 +25,7 @@ inline constexpr TermShape term_shapes[] = {
 #define MOLLIFY_SHARED_TERMS(...)
 #define MOLLIFY_SHARED_PAIR(...)
 #include <src/term_shapes.def>
-#undef MOLLIFY_TERM_SHAPE
-#undef MOLLIFY_WHOLE_SHAPE
-#undef MOLLIFY_WHOLE_PAIR
-#undef MOLLIFY_SHARED_TERMS
-#undef MOLLIFY_SHARED_PAIR
+#include "term_shapes_end.inc"
     {},  // an end that matches no term (n = 0), so that an empty list is still an array
 };
 
@@ -42,11 +38,7 @@ inline constexpr TermShape whole_shapes[] = {
 #define MOLLIFY_SHARED_TERMS(...)
 #define MOLLIFY_SHARED_PAIR(...)
 #include <src/term_shapes.def>
-#undef MOLLIFY_TERM_SHAPE
-#undef MOLLIFY_WHOLE_SHAPE
-#undef MOLLIFY_WHOLE_PAIR
-#undef MOLLIFY_SHARED_TERMS
-#undef MOLLIFY_SHARED_PAIR
+#include "term_shapes_end.inc"
     {},  // an end that matches no term (n = 0), so that an empty list is still an array
 };
 
@@ -63,11 +55,7 @@ inline constexpr WholePair whole_pairs[] = {
 #define MOLLIFY_SHARED_TERMS(...)
 #define MOLLIFY_SHARED_PAIR(...)
 #include <src/term_shapes.def>
-#undef MOLLIFY_TERM_SHAPE
-#undef MOLLIFY_WHOLE_SHAPE
-#undef MOLLIFY_WHOLE_PAIR
-#undef MOLLIFY_SHARED_TERMS
-#undef MOLLIFY_SHARED_PAIR
+#include "term_shapes_end.inc"
     {},  // an end that matches no kernel
 };
 
@@ -86,11 +74,7 @@ inline constexpr SharedShapes shared_shapes[] = {
 #define MOLLIFY_SHARED_TERMS(m, ...) {m, {__VA_ARGS__}},
 #define MOLLIFY_SHARED_PAIR(...)
 #include <src/term_shapes.def>
-#undef MOLLIFY_TERM_SHAPE
-#undef MOLLIFY_WHOLE_SHAPE
-#undef MOLLIFY_WHOLE_PAIR
-#undef MOLLIFY_SHARED_TERMS
-#undef MOLLIFY_SHARED_PAIR
+#include "term_shapes_end.inc"
     {},  // an end that matches no quantity (m = 0)
 };
 
@@ -106,11 +90,7 @@ inline constexpr SharedPair shared_pairs[] = {
 #define MOLLIFY_SHARED_TERMS(...)
 #define MOLLIFY_SHARED_PAIR(value, over_r) {value, over_r},
 #include <src/term_shapes.def>
-#undef MOLLIFY_TERM_SHAPE
-#undef MOLLIFY_WHOLE_SHAPE
-#undef MOLLIFY_WHOLE_PAIR
-#undef MOLLIFY_SHARED_TERMS
-#undef MOLLIFY_SHARED_PAIR
+#include "term_shapes_end.inc"
     {},  // an end that matches no kernel
 };
 
