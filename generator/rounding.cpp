@@ -93,11 +93,31 @@ std::string decimal_quotient(const Exact& a, const Exact& b, int digits) {
     return decide_quotient(a, b, [digits](const Q& q) { return decimal(q, digits); }, std::to_string(digits) + " digits");
 }
 
+namespace {
+
+// q on the grid of multiples of 2^-grid, rounded once (to nearest, ties to
+// even), exactly: the subnormals, where a rounding to the format's
+// precision first and to the grid after would round twice (just above half
+// the smallest subnormal became exactly half, and the tie went to 0).
+double on_subnormal_grid(const Q& q, int grid) {
+    const Q scaled = q * pow(Q(2), grid);
+    Z n;
+    mpz_fdiv_q(n.backend().data(), mpq_numref(scaled.backend().data()), mpq_denref(scaled.backend().data()));
+    const Q above = scaled - Q(n);  // in [0, 1)
+    if (above > Q(1, 2) || (above == Q(1, 2) && mpz_odd_p(n.backend().data()))) n += 1;
+    if (n == 0) return q < 0 ? -0.0 : 0.0;
+    return std::ldexp(mpz_get_d(n.backend().data()), -grid);  // |n| <= 2^52 (2^23 for floats): exact
+}
+
+}  // namespace
+
 double round_to_double(const Q& q) {
     mpfr_t x;
     mpfr_init2(x, 53);
     mpfr_set_q(x, q.backend().data(), MPFR_RNDN);
-    const double d = mpfr_get_d(x, MPFR_RNDN);  // exact: x already has 53 bits
+    // Below 2^-1022 (the smallest normal, MPFR exponent -1021) the subnormal grid.
+    const bool subnormal = !mpfr_zero_p(x) && mpfr_get_exp(x) <= -1022;
+    const double d = subnormal ? on_subnormal_grid(q, 1074) : mpfr_get_d(x, MPFR_RNDN);  // exact: x has 53 bits
     mpfr_clear(x);
     return d;
 }
@@ -125,7 +145,10 @@ float round_to_float(const Q& q) {
     mpfr_t x;
     mpfr_init2(x, 24);
     mpfr_set_q(x, q.backend().data(), MPFR_RNDN);
-    const float f = mpfr_get_flt(x, MPFR_RNDN);  // exact: x already has 24 bits (normal floats)
+    // Below 2^-126 (the smallest normal float) the subnormal grid 2^-149.
+    const bool subnormal = !mpfr_zero_p(x) && mpfr_get_exp(x) <= -126;
+    const float f = subnormal ? static_cast<float>(on_subnormal_grid(q, 149))  // a multiple of 2^-149: exact
+                              : mpfr_get_flt(x, MPFR_RNDN);                    // exact: x has 24 bits
     mpfr_clear(x);
     return f;
 }

@@ -23,6 +23,27 @@ TEST(Rounding, RationalsToDouble) {
     EXPECT_EQ(round_to_double(Q(1) + Q(1) / two53 + Q(1) / pow(Q(2), 200)), std::nextafter(1.0, 2.0));
 }
 
+// Below the smallest normal the grid is 2^-1074 (double) and 2^-149
+// (float): one rounding onto it, not one to 53 (24) bits and another to the
+// subnormal grid. Just above half the smallest subnormal goes up to it; a
+// 53-bit rounding first made it exactly half, and the tie went to 0.
+TEST(Rounding, SubnormalsAreRoundedOnce) {
+    const Q tiny = pow(Q(2), -1074), tiny_float = pow(Q(2), -149);
+    const Q above_half = tiny * (Q(1, 2) + pow(Q(2), -60));
+    EXPECT_EQ(round_to_double(above_half), 0x1p-1074);
+    EXPECT_EQ(round_to_double(-above_half), -0x1p-1074);
+    EXPECT_EQ(round_to_double(tiny / 2), 0.0);                      // a tie: to even, 0
+    EXPECT_EQ(round_to_double(tiny * Q(3, 2)), 0x1p-1073);           // a tie: to even, 2 x 2^-1074
+    EXPECT_EQ(round_to_double(tiny * (Q(5) + Q(1, 3))), 0x5p-1074);  // 5.33 x 2^-1074
+    EXPECT_EQ(round_to_double(pow(Q(2), -1022) - tiny / 3), 0x1p-1022);  // up to the smallest normal
+    EXPECT_EQ(round_to_double(pow(Q(2), -1023) + pow(Q(2), -1100)), 0x1p-1023);
+    const Q float_above_half = tiny_float * (Q(1, 2) + pow(Q(2), -40));
+    EXPECT_EQ(round_to_float(float_above_half), 0x1p-149f);
+    EXPECT_EQ(round_to_float(tiny_float / 2), 0.0f);
+    EXPECT_EQ(round_to_float(tiny_float * Q(7, 2)), 0x1p-147f);  // 3.5: a tie, to even 4
+    EXPECT_EQ(round_to_float(pow(Q(2), -126) - tiny_float / 3), 0x1p-126f);
+}
+
 TEST(Rounding, TranscendentalToDouble) {
     EXPECT_EQ(round_to_double(Exact::pi_power(Q(1), 1)), M_PI);
     EXPECT_EQ(round_to_double(Exact::pi_power(Q(1), -1)), M_1_PI);
