@@ -34,7 +34,7 @@ struct WholePair {
 };
 
 // The most terms a combination's fused loop takes (src/evaluator.cpp; the
-// same number as src/term_shapes.hpp's, which reads the list this writes).
+// runtime's src/term_shapes.hpp reads the longest from the list this writes).
 inline constexpr std::size_t max_shared_terms = 4;
 
 struct TermShapes {

@@ -7,6 +7,7 @@
 
 #include <mollify/table.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <iterator>
 
@@ -59,10 +60,21 @@ inline constexpr WholePair whole_pairs[] = {
     {},  // an end that matches no kernel
 };
 
+// The most terms of a listed combination (the generator's limit is
+// generator/term_shapes.hpp's max_shared_terms; read here from its list).
+inline constexpr std::size_t max_shared_terms = std::max({
+    std::size_t{1},
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_WHOLE_PAIR(...)
+#define MOLLIFY_SHARED_TERMS(m, ...) std::size_t{m},
+#define MOLLIFY_SHARED_PAIR(...)
+#include <src/term_shapes.def>
+#include "term_shapes_end.inc"
+});
+
 // A combination's m distinct terms (QuantityPlan::shared_terms) in order,
-// for the fast precision (exact false): all m in one pass. (The generator
-// lists none longer: generator/term_shapes.hpp's max_shared_terms.)
-inline constexpr std::size_t max_shared_terms = 4;
+// for the fast precision (exact false): all m in one pass.
 struct SharedShapes {
     std::size_t m;
     TermShape terms[max_shared_terms];
