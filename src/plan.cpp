@@ -5,6 +5,7 @@
 #include "plan.hpp"
 #include "term_shapes.hpp"
 
+#include <mollify/detail/evaluate.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
@@ -198,6 +199,7 @@ QuantityPlan quantity_plan(const table::Kernel& k, int q) {
         for (const TermPlan& t : piece.terms) out.polynomial_inside = out.polynomial_inside && t.basis == table::Basis::one;
     out.zero_outside = out.exterior.terms.empty();
     out.singular_at_origin = singular_at_origin(out.inner.front());
+    if (out.singular_at_origin) out.at_origin = limit_at_origin(quantity.pieces[0]);
     if (out.inner.size() == 1 && out.inner.front().terms.size() == 1 && !out.inner.front().edge_series && out.zero_outside)
         out.whole = shape_index(out.inner.front().terms.front(), {whole_shapes, whole_shape_count});
     if (out.polynomial_inside && out.zero_outside) out.shared_terms = shared_terms_of(out.inner);

@@ -12,6 +12,7 @@
 
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <cstddef>
 #include <cstdint>
 #include <utility>
@@ -488,6 +489,44 @@ inline constexpr bool singular_at_origin = [] {
     }
     return false;
 }();
+
+// The limit at q = 0 of a quantity singular there: the most singular terms
+// dominate, those of the lowest power q^low and, at the same power, those
+// with a logarithm (log q -> -inf, arcsech q ~ -log q -> +inf); each is then
+// c(0) edge^p (the polynomial at v = 0, the edge factor (edge - 0)^p, S = 1)
+// times that, so the limit is +-inf by the sign of their sum. Evaluated term
+// by term they give inf - inf or 0 * inf = NaN (a combination's per-radius
+// terms of W'' in 2D; the missing Wendland functions' log r terms). NaN
+// where this cannot tell: a Taylor term among them, or a sum of 0.
+constexpr double limit_at_origin(const table::Piece& first) {
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    auto logarithm = [](const table::Term& t) {
+        return t.basis == table::Basis::log || t.basis == table::Basis::arcsech;
+    };
+    // The most singular order: (low, with a logarithm), lower low first.
+    int low = 1 << 30;
+    bool with_log = false;
+    for (int t = 0; t < first.nterms; ++t) {
+        const table::Term& term = first.terms[t];
+        if (term.low < low || (term.low == low && logarithm(term))) low = term.low, with_log = logarithm(term);
+    }
+    if (low > 0 || (low == 0 && !with_log)) return nan;  // not singular
+    double sum = 0;
+    for (int t = 0; t < first.nterms; ++t) {
+        const table::Term& term = first.terms[t];
+        if (term.low != low || logarithm(term) != with_log) continue;
+        if ((term.basis != table::Basis::one && term.basis != table::Basis::sqrt_power && !with_log) ||
+            term.var == table::Var::shifted)
+            return nan;
+        double weight = term.c[0];
+        for (int k = 0; k < term.edge_power; ++k) weight *= term.edge;
+        sum += term.basis == table::Basis::log ? -weight : weight;  // log q -> -inf; arcsech q, q^low -> +inf
+    }
+    return sum > 0 ? inf : sum < 0 ? -inf : nan;
+}
+
+template <const table::Kernel& K, int Q>
+inline constexpr double limit_at_origin_of = limit_at_origin(piece_table<K, Q, 0>);
 
 // The quantity inside the support, f(q) for 0 <= q <= 1. Polynomial pieces
 // are all evaluated and the right one selected (branch-free, so a batch
