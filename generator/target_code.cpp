@@ -3,9 +3,11 @@
 #include "error.hpp"
 #include "rounding.hpp"
 
+#include <mollify/detail/evaluate.hpp>
 #include <mollify/smoothing.hpp>
 
 #include <cctype>
+#include <cmath>
 
 namespace mollify::gen {
 
@@ -30,6 +32,24 @@ std::optional<std::size_t> log_coefficient(const CodePiece& exterior) {
 
 std::string times(const std::string& a, const std::string& b) { return a + " * " + b; }
 
+// The limit at q = 0 of a quantity singular there, by the runtime's rule
+// (detail::limit_at_origin) on the same rounded terms: +-inf, or nullopt
+// where it is not singular or the rule cannot tell.
+std::optional<double> at_origin(const RoundedPiece& first) {
+    std::vector<table::Term> terms;
+    bool singular = false;
+    for (const RoundedTerm& t : first.terms) {
+        terms.push_back({.basis = t.basis, .s_power = t.s_power, .var = t.var, .edge = t.edge,
+                         .edge_power = t.edge_power, .low = t.low, .c = t.c.data(), .n = static_cast<int>(t.c.size())});
+        const bool logarithm = t.basis == table::Basis::log || t.basis == table::Basis::arcsech;
+        singular = singular || t.low < 0 || (logarithm && t.low <= 0);
+    }
+    if (!singular) return std::nullopt;
+    const double limit = detail::limit_at_origin({first.lo, first.hi, terms.data(), static_cast<int>(terms.size())});
+    if (std::isnan(limit)) return std::nullopt;
+    return limit;
+}
+
 }  // namespace
 
 CodeKernel code_kernel(const TargetKernel& k) {
@@ -44,6 +64,7 @@ CodeKernel code_kernel(const TargetKernel& k) {
         CodeQuantity q{id, table::quantity_names[i], detail::scale_power(id, kernel.dim), {}, {}, std::nullopt};
         for (std::size_t p = 0; p + 1 < rounded->size(); ++p) q.inside.push_back(code_piece((*rounded)[p], out.constants));
         q.exterior = code_piece(rounded->back(), out.constants);
+        q.at_origin = at_origin(rounded->front());
         if (id == table::QuantityId::potential && kernel.dim == 2) {
             q.log_h_coefficient = log_coefficient(q.exterior);
             if (!q.log_h_coefficient) fail("internal: a 2D potential without log r outside (" + k.facts.spec + ")");
@@ -97,6 +118,12 @@ std::string exterior_term(const Syntax& s, const CodeTerm& ct) {
     if (t.low != 0) x = times(x, s.power("r", t.low));
     if (t.basis == table::Basis::log) x = times(x, s.log + "(r)");
     return x;
+}
+
+std::string inside_piece(const Syntax& s, const CodeQuantity& q, std::size_t p) {
+    const std::string sum = piece_sum(s, q.inside[p], false);
+    if (p != 0 || !q.at_origin) return sum;
+    return s.call("at_origin", {sum, *q.at_origin > 0 ? s.infinity : "-" + s.infinity});
 }
 
 std::string piece_sum(const Syntax& s, const CodePiece& p, bool exterior) {

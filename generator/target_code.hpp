@@ -47,6 +47,10 @@ struct CodeQuantity {
     CodePiece exterior;             // r > h: no terms (0) or the Green's function at r
     // A 2D potential: phi(r/h) + c log h inside, c the constant of this index.
     std::optional<std::size_t> log_h_coefficient;
+    // Singular at q = 0: its limit there, +-inf (detail::limit_at_origin, as
+    // the runtime), taken where the first piece's terms give NaN (inf - inf
+    // or 0 * inf: at q = 0, and where q^low overflows).
+    std::optional<double> at_origin{};
 };
 
 struct CodeKernel {
@@ -81,10 +85,15 @@ struct Syntax {
     //   times_arcsech(x, q, e), times_log(x, q, e): x times them, 0 at q = 0
     //     (for q^low with low > 0: the limit, not 0 * inf)
     //   arcsin(q, e) = atan2(q, sqrt_s(q, e))
+    //   at_origin(x, limit) = limit where x is NaN, else x (CodeQuantity::at_origin)
     std::function<std::string(const std::string& name, const std::vector<std::string>& args)> call;
     std::string log;  // natural logarithm, for the Green's function
+    std::string infinity;  // +inf
 };
 
+// Inner piece p of q: its terms added in order; the first piece of a
+// quantity singular at 0 its limit where they give NaN (CodeQuantity::at_origin).
+std::string inside_piece(const Syntax& s, const CodeQuantity& q, std::size_t p);
 // One term inside the support (variables q, e, r, h).
 std::string inside_term(const Syntax& s, const CodeTerm& t);
 // One term of the Green's function outside (variable r).

@@ -60,6 +60,16 @@ static inline double mollify_c_arcsin(double q, double e) { return atan2(q, moll
 #endif
 )";
 
+// mollify's own C files only (the drop-in files of other codes have no
+// quantity singular at r = 0): a guard of its own, so that headers written
+// before it still combine with these.
+const char* const c_at_origin_helper = R"(#ifndef MOLLIFY_C_AT_ORIGIN
+#define MOLLIFY_C_AT_ORIGIN
+/* A quantity singular at r = 0: its limit (+-inf) where its terms give inf - inf or 0 * inf */
+static inline double mollify_c_at_origin(double x, double limit) { return isnan(x) ? limit : x; }
+#endif
+)";
+
 Syntax c_syntax(const std::string& prefix) {
     Syntax s;
     s.constant = [prefix](std::size_t i) { return prefix + "_c[" + std::to_string(i) + "]"; };
@@ -76,6 +86,7 @@ Syntax c_syntax(const std::string& prefix) {
         return out + ")";
     };
     s.log = "log";
+    s.infinity = "INFINITY";
     return s;
 }
 
@@ -93,7 +104,7 @@ std::string c_piece_chain(const CodeQuantity& q, const Syntax& s, const std::str
         if (q.inside.size() > 1)
             body += indent + (p == 0 ? "" : last ? "else" : "else ") +
                     (last ? std::string() : "if (q < " + hex_literal(q.inside[p + 1].lo) + ")") + "\n";
-        body += indent + "    " + target + " = " + piece_sum(s, piece, false) + ";\n";
+        body += indent + "    " + target + " = " + inside_piece(s, q, p) + ";\n";
     }
     return body;
 }
@@ -153,7 +164,7 @@ TargetFiles write_c(const TargetKernel& tk, const std::string& command) {
            " * <prefix>_<quantity>(r) is h = 1, <prefix>_<quantity>_h(r, h) any h; r >= 0, h > 0 finite (else NaN).\n"
            " * Evaluated as mollify's Precision::fast (factored at the support edge; README, \"Kernel files for\n"
            " * other languages\"). Each constant is correctly rounded, its exact value beside it.\n */\n";
-    out += "#ifndef " + guard + "\n#define " + guard + "\n\n#include <math.h>\n\n" + c_helpers + "\n";
+    out += "#ifndef " + guard + "\n#define " + guard + "\n\n#include <math.h>\n\n" + c_helpers + c_at_origin_helper + "\n";
     out += "enum { " + k.prefix + "_dim = " + std::to_string(k.dim) + " };\n";
     out += "static const double " + k.prefix + "_normalisation = " + hex_literal(k.normalisation.value) + "; /* " +
            comment_text(k.normalisation.exact) + " */\n";

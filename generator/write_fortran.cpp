@@ -112,6 +112,15 @@ const std::vector<Helper>& fortran_helpers() {
     if (q > 0.0_c_double) y = x * log_q(q, e)
   end function times_log
 )"},
+        {"at_origin", {}, R"(
+  ! a quantity singular at r = 0: its limit (+-inf) where its terms give inf - inf or 0 * inf
+  pure function at_origin(x, limit) result(y)
+    real(c_double), intent(in) :: x, limit
+    real(c_double) :: y
+    y = x
+    if (ieee_is_nan(x)) y = limit
+  end function at_origin
+)"},
         {"arcsin", {"sqrt_s"}, R"(
   ! arcsin q as atan2(q, S): asin would magnify the rounding of q by 1/S near q = 1
   pure function arcsin(q, e) result(y)
@@ -169,6 +178,7 @@ Syntax fortran_syntax(Literals& literals) {
         return out + ")";
     };
     s.log = "log";
+    s.infinity = "ieee_value(1.0_c_double, ieee_positive_inf)";
     return s;
 }
 
@@ -191,7 +201,7 @@ std::string fortran_piece_chain(const CodeQuantity& q, const Syntax& s, const st
         if (q.inside.size() > 1)
             body += indent + (last ? std::string("else\n")
                                    : std::string(p == 0 ? "if" : "else if") + " (q < " + s.literal(q.inside[p + 1].lo) + ") then\n");
-        body += indent + inner + "y = " + continued(piece_sum(s, piece, false)) + "\n";
+        body += indent + inner + "y = " + continued(inside_piece(s, q, p)) + "\n";
     }
     if (q.inside.size() > 1) body += indent + "end if\n";
     return body;
@@ -260,7 +270,7 @@ TargetFiles write_fortran(const TargetKernel& tk, const std::string& command) {
            "! bind(C) names: " + k.prefix + "_f90_<quantity>[_h]. Evaluated as mollify's Precision::fast.\n"
            "! Each constant is correctly rounded (its bits as a BOZ literal), its exact value beside it.\n";
     out += "module " + module + "\n  use, intrinsic :: iso_c_binding, only: c_double\n";
-    out += "  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_finite\n";
+    out += "  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, ieee_is_finite, ieee_is_nan\n";
     out += "  implicit none\n  private\n  public :: dim, normalisation, c, b\n" + names + "\n";
     bool log1p = false;
     const std::string helpers = used_helpers(functions, log1p);

@@ -62,6 +62,11 @@ def _times_log(x, q, e):
     return np.where(q == 0, 0.0, x * _log_q(q, e))
 
 
+def _at_origin(x, limit):
+    # a quantity singular at r = 0: its limit (+-inf) where its terms give inf - inf or 0 * inf
+    return np.where(np.isnan(x), limit, x)
+
+
 def _arcsin(q, e):
     # atan2(q, S): asin would magnify the rounding of q by 1/S near q = 1
     return np.arctan2(q, _sqrt_s(q, e))
@@ -117,6 +122,7 @@ Syntax python_syntax() {
         return out + ")";
     };
     s.log = "np.log";
+    s.infinity = "np.inf";
     return s;
 }
 
@@ -146,7 +152,7 @@ std::string quantity_code(const CodeQuantity& q, const Syntax& s) {
     for (std::size_t p = 0; p < q.inside.size(); ++p) {
         const std::string name = "_" + q.name + "_" + std::to_string(p);
         out += "\n\ndef " + name + "(q, e, r, h):\n    # " + q.inside[p].note + "\n";
-        out += "    return (" + piece_sum(s, q.inside[p], false) + ")\n";
+        out += "    return (" + inside_piece(s, q, p) + ")\n";
         pieces += name + ", ";
     }
     out += "\n\ndef _" + q.name + "_exterior(r):\n";

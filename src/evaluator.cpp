@@ -272,7 +272,7 @@ double radial(const QuantityPlan& qp, QuantityId q, double r, const Smoothing& s
         in = fast_piece(inner_piece(qp, a.q), a) * s.scale(q);
     }
     if (q == QuantityId::potential && dim == 2) in = mul_add(qp.log_coefficient, s.log_h(), in);
-    if (qp.singular_at_origin) in = select(r * s.inverse() == 0, qp.at_origin, in);  // StaticKernel::emitted's limit
+    if (qp.singular_at_origin) in = select(std::isnan(in), qp.at_origin, in);  // StaticKernel::emitted's limit
     if (qp.zero_outside) return select(r <= s.h(), in, 0.0);
     return r <= s.h() ? in : outside(qp, r);
 }
@@ -1574,10 +1574,10 @@ void evaluate_batch(const Plan& plan, QuantityId q, const double* __restrict r, 
     const QuantityPlan& qp = plan.quantities[static_cast<std::size_t>(q)];
     const int dim = plan.table->dim;
     radial_batch<Pr>(qp, q, r, out, n, s, dim);
-    // At q = 0 a singular quantity is its limit (StaticKernel::emitted).
+    // A singular quantity is its limit where its terms give NaN (StaticKernel::emitted).
     if (qp.singular_at_origin)
         for (std::size_t i = 0; i < n; ++i)
-            if (r[i] * s.inverse() == 0) out[i] = qp.at_origin;
+            if (std::isnan(out[i])) out[i] = qp.at_origin;
 }
 
 // Points per checked chunk (Evaluator::evaluate): few enough that the

@@ -52,7 +52,7 @@ struct QuantityPlan {
     bool polynomial_inside = true;  // every inner term has Basis::one: pieces selected branch-free
     bool zero_outside = true;
     bool singular_at_origin = false;
-    double at_origin = 0;  // where singular: its limit at q = 0 (detail::limit_at_origin)
+    double at_origin = 0;  // where singular: its limit at q = 0 (detail::limit_at_origin), taken where the terms give NaN
     double log_coefficient = 0;  // 2D potentials: c of c log r outside
     int whole = -1;  // one fused term, 0 outside: its index in whole_shapes, or -1
     // Pieces that share terms (a combination of m radii: piece p holds the

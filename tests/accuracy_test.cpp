@@ -520,8 +520,9 @@ TEST(VectorForms, FastPrecisionWithinItsBound) {
     }
 }
 
-// At r = 0 (and where r/h underflows to 0) a quantity singular there is its
-// limit, +-inf with the exact sign, never NaN: evaluated term by term, a
+// At r = 0, where r/h underflows to 0 and where q^low overflows (the
+// smallest subnormal r), a quantity singular there is its limit, +-inf with
+// the exact sign, never NaN: evaluated term by term, a
 // combination's per-radius r^-1 terms gave inf - inf (hess_radial of
 // combo:m=2,base=wendland:k=1 in 2D) and the missing Wendland functions'
 // log r terms 0 * inf (their hess_radial), NaN in both precisions. The sign
@@ -537,8 +538,8 @@ TEST(HardCases, SingularQuantitiesAtZeroAreTheirLimit) {
             for (int qi = 0; qi < table::quantity_count; ++qi) {
                 if (t->quantities[qi].npieces == 0) continue;
                 const auto q = static_cast<QuantityId>(qi);
-                const std::vector<double> r = {0.0, 0.0, 0.0, 1e-300};
-                const std::vector<double> h = {1.0, 1e-30, 1e30, 1e30};  // the last: r/h underflows to 0
+                const std::vector<double> r = {0.0, 0.0, 0.0, 1e-300, 0x1p-1074};
+                const std::vector<double> h = {1.0, 1e-30, 1e30, 1e30, 1.0};  // r/h underflows to 0; 1/q overflows
                 for (std::size_t i = 0; i < r.size(); ++i) {
                     std::vector<double> y(1);
                     k.evaluate(q, std::vector<double>{r[i]}, h[i], y);

@@ -142,9 +142,9 @@ private:
             in = detail::inside<K, q, Pr>(a) * s.scale(Q);
         }
         if constexpr (Q == QuantityId::potential && dimension == 2) in = detail::mul_add(detail::log_coefficient<K, q>, s.log_h(), in);
-        // At q = 0 a singular quantity is its limit, not its terms' inf - inf.
-        if constexpr (detail::singular_at_origin<K, q>)
-            in = detail::select(r * s.inverse() == 0, detail::limit_at_origin_of<K, q>, in);
+        // A quantity singular at 0 is its limit where its terms give NaN
+        // (inf - inf, 0 * inf: at q = 0 and where q^low overflows).
+        if constexpr (detail::singular_at_origin<K, q>) in = detail::select(std::isnan(in), detail::limit_at_origin_of<K, q>, in);
         if constexpr (detail::zero_outside<K, q>) {
             return detail::select(r <= s.h(), in, 0.0);
         } else {

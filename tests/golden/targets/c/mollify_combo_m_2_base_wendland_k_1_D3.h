@@ -57,6 +57,11 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 /* arcsin q as atan2(q, S): asin would magnify the rounding of q by 1/S near q = 1 */
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
+#ifndef MOLLIFY_C_AT_ORIGIN
+#define MOLLIFY_C_AT_ORIGIN
+/* A quantity singular at r = 0: its limit (+-inf) where its terms give inf - inf or 0 * inf */
+static inline double mollify_c_at_origin(double x, double limit) { return isnan(x) ? limit : x; }
+#endif
 
 enum { mollify_combo_m_2_base_wendland_k_1_D3_dim = 3 };
 static const double mollify_combo_m_2_base_wendland_k_1_D3_normalisation = 0x1.0b615ba0f867bp+6; /* 210 * pi^-1 */
@@ -330,8 +335,8 @@ static inline double mollify_combo_m_2_base_wendland_k_1_D3_hess_radial_h(double
         double x;
         /* [0, 1/2), per radius a_j, factored at a_j (Franz (4.17)) */
         if (q < 0x1p-1)
-            x = mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D3_c + 24, 1, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(mollify_c_to_edge(r, h, 0x1p-1), 2)
-        + mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D3_c + 25, 1, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(e, 2);
+            x = mollify_c_at_origin(mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D3_c + 24, 1, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(mollify_c_to_edge(r, h, 0x1p-1), 2)
+        + mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D3_c + 25, 1, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(e, 2), INFINITY);
         /* [1/2, 1), per radius a_j, factored at a_j (Franz (4.17)) */
         else
             x = mollify_c_horner(mollify_combo_m_2_base_wendland_k_1_D3_c + 26, 1, q) * mollify_c_ipow(q, -1) * mollify_c_ipow(e, 2);

@@ -57,6 +57,11 @@ static inline double mollify_c_times_log(double x, double q, double e) { return 
 /* arcsin q as atan2(q, S): asin would magnify the rounding of q by 1/S near q = 1 */
 static inline double mollify_c_arcsin(double q, double e) { return atan2(q, mollify_c_sqrt_s(q, e)); }
 #endif
+#ifndef MOLLIFY_C_AT_ORIGIN
+#define MOLLIFY_C_AT_ORIGIN
+/* A quantity singular at r = 0: its limit (+-inf) where its terms give inf - inf or 0 * inf */
+static inline double mollify_c_at_origin(double x, double limit) { return isnan(x) ? limit : x; }
+#endif
 
 enum { mollify_cubic_spline_D2_dim = 2 };
 static const double mollify_cubic_spline_D2_normalisation = 0x1.d1a452f204304p+0; /* 40/7 * pi^-1 */
@@ -239,7 +244,7 @@ static inline double mollify_cubic_spline_D2_hess_radial_h(double r, double h) {
         double x;
         /* [0, 1/2) */
         if (q < 0x1p-1)
-            x = mollify_c_horner(mollify_cubic_spline_D2_c + 18, 1, q * q) * mollify_c_ipow(q, -1);
+            x = mollify_c_at_origin(mollify_c_horner(mollify_cubic_spline_D2_c + 18, 1, q * q) * mollify_c_ipow(q, -1), INFINITY);
         /* [1/2, 1) */
         else
             x = mollify_c_horner(mollify_cubic_spline_D2_c + 19, 1, q * q) * mollify_c_ipow(q, -3) * (e * (0x1p+0 + q));

@@ -9,7 +9,7 @@
 ! Each constant is correctly rounded (its bits as a BOZ literal), its exact value beside it.
 module mollify_combo_m_2_base_wendland_k_1_d1
   use, intrinsic :: iso_c_binding, only: c_double
-  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_finite
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf, ieee_is_finite, ieee_is_nan
   implicit none
   private
   public :: dim, normalisation, c, b
@@ -168,6 +168,14 @@ contains
     real(c_double) :: y
     y = (a * h - r) / h
   end function to_edge
+
+  ! a quantity singular at r = 0: its limit (+-inf) where its terms give inf - inf or 0 * inf
+  pure function at_origin(x, limit) result(y)
+    real(c_double), intent(in) :: x, limit
+    real(c_double) :: y
+    y = x
+    if (ieee_is_nan(x)) y = limit
+  end function at_origin
 
   ! W: f_h(r) = h^(-1) f(r/h)
   pure function kernel_value_h(r, h) &
@@ -351,8 +359,8 @@ contains
     e = (h - r) / h
     ! [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     if (q < b(0)) then
-      y = horner(c(24:24), q) * q**(-1) * to_edge(r, h, b(0)) &
-        + horner(c(25:25), q) * q**(-1) * e
+      y = at_origin(horner(c(24:24), q) * q**(-1) * to_edge(r, h, b(0)) &
+        + horner(c(25:25), q) * q**(-1) * e, ieee_value(1.0_c_double, ieee_positive_inf))
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
       y = horner(c(26:26), q) * q**(-1) * e

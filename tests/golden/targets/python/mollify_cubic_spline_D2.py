@@ -199,6 +199,11 @@ def _times_log(x, q, e):
     return np.where(q == 0, 0.0, x * _log_q(q, e))
 
 
+def _at_origin(x, limit):
+    # a quantity singular at r = 0: its limit (+-inf) where its terms give inf - inf or 0 * inf
+    return np.where(np.isnan(x), limit, x)
+
+
 def _arcsin(q, e):
     # atan2(q, S): asin would magnify the rounding of q by 1/S near q = 1
     return np.arctan2(q, _sqrt_s(q, e))
@@ -377,7 +382,7 @@ def grad_over_r(r):
 
 def _hess_radial_0(q, e, r, h):
     # [0, 1/2)
-    return (_horner(18, 1, q * q) * q ** (-1))
+    return (_at_origin(_horner(18, 1, q * q) * q ** (-1), np.inf))
 
 
 def _hess_radial_1(q, e, r, h):
