@@ -34,17 +34,12 @@ std::string times(const std::string& a, const std::string& b) { return a + " * "
 
 // The limit at q = 0 of a quantity singular there, by the runtime's rule
 // (detail::limit_at_origin) on the same rounded terms: +-inf, or nullopt
-// where it is not singular or the rule cannot tell.
+// where it is not singular or the rule cannot tell (NaN).
 std::optional<double> at_origin(const RoundedPiece& first) {
     std::vector<table::Term> terms;
-    bool singular = false;
-    for (const RoundedTerm& t : first.terms) {
+    for (const RoundedTerm& t : first.terms)
         terms.push_back({.basis = t.basis, .s_power = t.s_power, .var = t.var, .edge = t.edge,
                          .edge_power = t.edge_power, .low = t.low, .c = t.c.data(), .n = static_cast<int>(t.c.size())});
-        const bool logarithm = t.basis == table::Basis::log || t.basis == table::Basis::arcsech;
-        singular = singular || t.low < 0 || (logarithm && t.low <= 0);
-    }
-    if (!singular) return std::nullopt;
     const double limit = detail::limit_at_origin({first.lo, first.hi, terms.data(), static_cast<int>(terms.size())});
     if (std::isnan(limit)) return std::nullopt;
     return limit;

@@ -1218,20 +1218,23 @@ constexpr auto shared_whole_of = shared_whole_loops(std::make_index_sequence<sha
 // is exact), so the result is the pieces' evaluated and selected, but for
 // the sign of a zero W (+0 where a one-term piece gives -0 at its edge).
 template <const SharedShapes& S>
-struct AccurateSharedTerms {
-    static constexpr std::size_t m = S.m;
-    static constexpr int longest = SharedTerms<S>::longest;
-    double k[m][longest], l[m][longest], lo[m], hi[m], edge[m], edge_lo[m];
-    DoubleDouble ah[m];
+struct AccurateSharedTerms : SharedTerms<S> {
+    using SharedTerms<S>::m;
+    using SharedTerms<S>::longest;
+    // The low parts besides the fast precision's coefficients, ranges and edges.
+    double l[m][longest], edge_lo[m];
+    DoubleDouble ah[m];  // edge times h, a two-product
 
-    AccurateSharedTerms(const QuantityPlan& qp, double h) { read(qp, h, std::make_index_sequence<m>{}); }
+    AccurateSharedTerms(const QuantityPlan& qp, double h) : SharedTerms<S>(qp) {
+        read_low_parts(qp, h, std::make_index_sequence<m>{});
+    }
 
     template <std::size_t... J>
-    MOLLIFY_INLINE void read(const QuantityPlan& qp, double h, std::index_sequence<J...>) {
+    MOLLIFY_INLINE void read_low_parts(const QuantityPlan& qp, double h, std::index_sequence<J...>) {
         auto one = [&]<std::size_t j>(std::integral_constant<std::size_t, j>) {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
-            for (int c = 0; c < S.terms[j].n; ++c) k[j][c] = t.c[c], l[j][c] = t.c_lo[static_cast<std::size_t>(c)];
-            lo[j] = qp.shared_terms[j].lo, hi[j] = qp.shared_terms[j].hi, edge[j] = t.edge, edge_lo[j] = t.edge_lo;
+            for (int c = 0; c < S.terms[j].n; ++c) l[j][c] = t.c_lo[static_cast<std::size_t>(c)];
+            edge_lo[j] = t.edge_lo;
             ah[j] = two_product(t.edge, h);
         };
         (one(std::integral_constant<std::size_t, J>{}), ...);
@@ -1242,9 +1245,9 @@ struct AccurateSharedTerms {
                                     std::index_sequence<J...>) const {
         DoubleDouble y{0.0, 0.0};
         auto add = [&](bool in, const DoubleDouble& t) { y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)}; };
-        (add((x.q >= lo[J]) & (x.q < hi[J]),
+        (add((x.q >= this->lo[J]) & (x.q < this->hi[J]),
              accurate_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge, false>(
-                 k[J], l[J], edge[J], edge_lo[J], ah[J], h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo},
+                 this->k[J], l[J], this->edge[J], edge_lo[J], ah[J], h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo},
                  {x.ee_hi, x.ee_lo})),
          ...);
         return y;

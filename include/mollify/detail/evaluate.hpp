@@ -497,7 +497,8 @@ inline constexpr bool singular_at_origin = [] {
 // times that, so the limit is +-inf by the sign of their sum. Evaluated term
 // by term they give inf - inf or 0 * inf = NaN (a combination's per-radius
 // terms of W'' in 2D; the missing Wendland functions' log r terms). NaN
-// where this cannot tell: a Taylor term among them, or a sum of 0.
+// where the quantity is not singular at 0 (singular_at_origin's test) or
+// this cannot tell: a Taylor term among them, or a sum of 0.
 constexpr double limit_at_origin(const table::Piece& first) {
     const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
     auto logarithm = [](const table::Term& t) {
