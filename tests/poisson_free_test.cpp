@@ -441,6 +441,41 @@ TEST(HardCases, HugeOffsets) {
     EXPECT_LE(tree_moved.e_l2, 2 * tree_here.e_l2 + 1e-8);
 }
 
+// Tiny and huge scales: the same problem with coordinates and delta times
+// 2^-120 and 2^120 (r^2 near 2^-240 and 2^240; the smoothing lengths a
+// kernel with hess_radial allows in 3D end near 2^-146). Scaling by a power
+// of 2 is exact, so phi scales by the inverse factor and E by its square:
+// the same sums up to the order of their roundings, 1e-13 relative. Two
+// sources 2^512 apart in one leaf: their r^2 overflows, 1/sqrt(inf) = 0,
+// each feels its own self term only (no NaN).
+TEST(HardCases, TinyAndHugeScales) {
+    const auto k = mollify::kernel("mollifier:M=4", 3);
+    const auto src = uniform_cloud<3>(sanitized ? 600 : 3000, 0, 1, -1, 0.05, false, 62);
+    const poisson::TreeOptions o{.theta = 0.5, .order = 8, .leaf_size = 32};
+    const auto here = poisson::Treecode<3, mollify::Kernel>(k, src.sources(), o).evaluate();
+    for (const int e : {-120, 120}) {
+        Cloud<3> scaled = src;
+        for (auto& c : scaled.x)
+            for (double& v : c) v = std::ldexp(v, e);
+        scaled.delta[0] = std::ldexp(scaled.delta[0], e);
+        auto f = poisson::Treecode<3, mollify::Kernel>(k, scaled.sources(), o).evaluate();
+        for (double& v : f.potential) v = std::ldexp(v, e);
+        for (auto& c : f.field)
+            for (double& v : c) v = std::ldexp(v, 2 * e);
+        const Errors d = compare<3>(f, here);
+        std::printf("[poisson] scale 2^%d: phi %.3g, E %.3g relative to the unscaled treecode\n", e, d.phi_l2, d.e_l2);
+        EXPECT_LE(d.phi_l2, 1e-13) << "2^" << e;
+        EXPECT_LE(d.e_l2, 1e-13) << "2^" << e;
+    }
+    const std::vector<double> x{-0x1p511, 0x1p511}, yz{0.0, 0.0}, q{1.0, 1.0}, delta{1.0};
+    const poisson::Sources<3> apart{{x, yz, yz}, q, delta};
+    const auto f = poisson::Treecode<3, mollify::Kernel>(k, apart, {.theta = 0.5, .order = 4, .leaf_size = 8}).evaluate();
+    for (std::size_t i = 0; i < 2; ++i) {
+        EXPECT_EQ(f.potential[i], k.potential(0.0, 1.0));
+        EXPECT_EQ(f.field[0][i], 0.0);
+    }
+}
+
 // The 2D vortex-blob velocity: a blob of circulation Gamma turns
 // counter-clockwise, |u| = Gamma/(2 pi r) outside its support.
 TEST(BiotSavart, PointVortexOutsideTheSupport) {
