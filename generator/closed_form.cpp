@@ -266,10 +266,23 @@ Exact ClosedForm::at(const Q& r) const {
 
 PointValues::PointValues(const Real& r, unsigned bits) : bits_(bits), digits10_(bits * 30103 / 100000 + 2), r_(r, digits10_) {}
 
+// Every value is computed in raw MPFR into a number of the point's
+// precision: Boost's expressions and functions may give their result the
+// thread's default precision, which they leave at whatever they last used
+// (from 121 to 1330 bits here): values below the precision asked for, and
+// the run's table (below) filled at a precision that depended on the thread
+// and the run.
+Real PointValues::fresh() const { return Real(0, digits10_); }
+
 // S = sqrt(1 - r^2) on first use (where every basis value comes from the
 // run's table, never).
 const Real& PointValues::S() {
-    if (!s_) s_.emplace(boost::multiprecision::sqrt(Real(1, digits10_) - r_ * r_));
+    if (!s_) {
+        mpfr_ptr s = s_.emplace(fresh()).backend().data();
+        mpfr_sqr(s, r_.backend().data(), MPFR_RNDN);
+        mpfr_ui_sub(s, 1, s, MPFR_RNDN);
+        mpfr_sqrt(s, s, MPFR_RNDN);
+    }
     return *s_;
 }
 
@@ -332,7 +345,10 @@ PointValues::PointValues(const Q& r, unsigned bits) : PointValues(rounded_real(r
 const Real& PointValues::power_of_r(int n) {
     if (n == 1) return r_;  // pow(r, 1) = r exactly
     auto it = r_powers_.find(n);
-    if (it == r_powers_.end()) it = r_powers_.emplace(n, boost::multiprecision::pow(r_, n)).first;
+    if (it == r_powers_.end()) {
+        it = r_powers_.emplace(n, fresh()).first;
+        mpfr_pow_si(it->second.backend().data(), r_.backend().data(), n, MPFR_RNDN);
+    }
     return it->second;
 }
 
@@ -340,13 +356,23 @@ const Real& PointValues::power_of_r(int n) {
 const Real& PointValues::pi_power(int e) {
     thread_local std::map<std::pair<unsigned, int>, Real> powers;
     auto it = powers.find({bits_, e});
-    if (it == powers.end()) it = powers.emplace(std::pair{bits_, e}, boost::multiprecision::pow(pi_at(bits_), e)).first;
+    if (it == powers.end()) {
+        it = powers.emplace(std::pair{bits_, e}, fresh()).first;
+        mpfr_ptr x = it->second.backend().data();
+        mpfr_const_pi(x, MPFR_RNDN);
+        mpfr_pow_si(x, x, e, MPFR_RNDN);
+    }
     return it->second;
 }
 
 const Real& PointValues::log_of(int p) {
     auto it = logs_.find(p);
-    if (it == logs_.end()) it = logs_.emplace(p, boost::multiprecision::log(Real(p, digits10_))).first;
+    if (it == logs_.end()) {
+        it = logs_.emplace(p, fresh()).first;
+        mpfr_ptr x = it->second.backend().data();
+        mpfr_set_si(x, p, MPFR_RNDN);
+        mpfr_log(x, x, MPFR_RNDN);
+    }
     return it->second;
 }
 
@@ -355,13 +381,19 @@ const Real& PointValues::basis(Basis b, int s_power) {
     auto it = bases_.find(key);
     if (it != bases_.end()) return it->second;
     auto compute = [&] {
-        Real v;
+        Real v = fresh();
+        mpfr_ptr x = v.backend().data();
+        mpfr_srcptr r = r_.backend().data();
         switch (b) {
-            case Basis::one: v = Real(1, digits10_); break;
-            case Basis::sqrt_power: v = boost::multiprecision::pow(S(), s_power); break;
-            case Basis::arcsech: v = boost::multiprecision::log((Real(1, digits10_) + S()) / r_); break;
-            case Basis::log: v = boost::multiprecision::log(r_); break;
-            case Basis::arcsin: v = boost::multiprecision::asin(r_); break;
+            case Basis::one: mpfr_set_ui(x, 1, MPFR_RNDN); break;
+            case Basis::sqrt_power: mpfr_pow_si(x, S().backend().data(), s_power, MPFR_RNDN); break;
+            case Basis::arcsech:  // log((1 + S) / r)
+                mpfr_add_ui(x, S().backend().data(), 1, MPFR_RNDN);
+                mpfr_div(x, x, r, MPFR_RNDN);
+                mpfr_log(x, x, MPFR_RNDN);
+                break;
+            case Basis::log: mpfr_log(x, r, MPFR_RNDN); break;
+            case Basis::arcsin: mpfr_asin(x, r, MPFR_RNDN); break;
         }
         return v;
     };

@@ -50,6 +50,7 @@ public:
 
 private:
     const Real& S();
+    Real fresh() const;  // 0 at the point's precision
     unsigned bits_, digits10_;
     Real r_;
     std::optional<Real> s_;
