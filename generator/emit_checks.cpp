@@ -43,6 +43,15 @@ ClosedForm term_form(const EmittedTerm& t) {
 // bound leaves a factor 6 for the sum of |terms| where f is small).
 constexpr double centred_certificate_bound = 0x1p-50;
 
+// The polynomial's working precision: Horner's rounding at 36 digits (120
+// bits) is below 2^-110 of the sum of |terms|, itself within a few
+// max(|f|, |r f'|) wherever the check passes (the rounding of the
+// coefficients, 2^-53 of it, must stay below 2^-50 of that): it cannot move
+// an error across centred_certificate_bound. (At 70 digits, its former
+// precision, the Horner loop was a ninth of a missing Wendland function's
+// emit.)
+constexpr unsigned horner_digits = 36;
+
 void check_centred(const ClosedForm& f, const CentredPiece& p) {
     const std::vector<double> a = rounded(p);
     // f's samples taken when the piece was planned (centred_series.hpp), if
@@ -50,18 +59,19 @@ void check_centred(const ClosedForm& f, const CentredPiece& p) {
     const bool sampled = p.samples.size() == 129 && p.sampled == f;
     const ClosedForm df = sampled ? ClosedForm() : f.derivative();
     auto real = [](const Q& q) {
-        Real x(0, 70);
+        Real x(0, horner_digits);
         mpfr_set_q(x.backend().data(), q.backend().data(), MPFR_RNDN);
         return x;
     };
-    // The emitted polynomial by Horner's rule at 70 digits (raw MPFR, no
-    // temporaries; the doubles converted once, exactly, at 53 bits).
-    std::vector<Real> coefficients(a.size());
-    for (std::size_t k = 0; k < a.size(); ++k) {
-        mpfr_set_prec(coefficients[k].backend().data(), 53);
-        mpfr_set_d(coefficients[k].backend().data(), a[k], MPFR_RNDN);
+    // The emitted polynomial by Horner's rule (raw MPFR, no
+    // temporaries; the doubles converted once, exactly, at the working
+    // precision: MPFR's additions of equal precisions take its fast path).
+    std::vector<Real> coefficients;
+    for (const double c : a) {
+        coefficients.emplace_back(0, horner_digits);
+        mpfr_set_d(coefficients.back().backend().data(), c, MPFR_RNDN);
     }
-    Real sum(0, 70);
+    Real sum(0, horner_digits);
     mpfr_ptr y = sum.backend().data();
     for (int i = 0; i <= 128; ++i) {
         const Q x = p.lo + (p.hi - p.lo) * ratio(i, 128);
