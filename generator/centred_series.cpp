@@ -2,6 +2,7 @@
 
 #include "edge_series.hpp"
 #include "error.hpp"
+#include "search_choices.hpp"
 
 #include <mpfr.h>
 
@@ -352,24 +353,44 @@ Real circle_bound(const CircleTerms& f, const Q& c, const Real& R) {
     return M * Real(101) / 100;
 }
 
-// min over 257 points of [lo, hi] of max(|f(r)|, |r f'(r)|) at 200 bits:
-// the size of f there in the sense of an exact evaluator that is handed r
-// with a relative error of half an ulp (sampled, not proven; the truncation
-// is then made 2^-61 of it, a factor 2 of room). Every other sample, f and
-// max(|f|, |r f'|), into `samples` (the check of the emitted piece reuses
-// them, emit_checks.cpp).
-Q intrinsic_scale(const PreparedForm& pf, const PreparedForm& pdf, const Q& lo, const Q& hi,
-                  std::vector<std::pair<Real, Real>>& samples) {
-    Real m;
-    samples.clear();
-    for (int i = 0; i <= 256; ++i) {
-        const Q x = lo + (hi - lo) * ratio(i, 256);
+// f and max(|f(r)|, |r f'(r)|) at r = lo + (hi - lo) i/n, i = 0 .. n, in
+// MPFR at 200 bits: the size of f there in the sense of an exact evaluator
+// that is handed r with a relative error of half an ulp.
+std::vector<std::pair<Real, Real>> sizes(const PreparedForm& pf, const PreparedForm& pdf, const Q& lo, const Q& hi, int n) {
+    std::vector<std::pair<Real, Real>> out;
+    for (int i = 0; i <= n; ++i) {
+        const Q x = lo + (hi - lo) * ratio(i, n);
         const Real r = real(x, 200);
         PointValues at(x, 200);
         Real v = pf.value(at);
-        const Real s = boost::multiprecision::max(boost::multiprecision::abs(v), boost::multiprecision::abs(r * pdf.value(at)));
-        if (i == 0 || s < m) m = s;
-        if (i % 2 == 0) samples.emplace_back(std::move(v), s);
+        // max(|v|, |r f'|) in raw MPFR at the forms' precision (Boost's max
+        // takes the thread's default precision, which its expressions leave
+        // at whatever they last used: the scale differed from run to run).
+        Real s = pdf.value(at);
+        mpfr_ptr size = s.backend().data();
+        mpfr_mul(size, size, r.backend().data(), MPFR_RNDN);
+        mpfr_abs(size, size, MPFR_RNDN);
+        if (mpfr_cmpabs(v.backend().data(), size) > 0) mpfr_abs(size, v.backend().data(), MPFR_RNDN);
+        out.emplace_back(std::move(v), std::move(s));
+    }
+    return out;
+}
+
+// The check of an emitted piece (emit_checks.cpp) compares with f at 129
+// points, lo + (hi - lo) i/128: f and max(|f|, |r f'|) there.
+constexpr int checked_points = 128;
+
+// min over 257 points of [lo, hi] of max(|f(r)|, |r f'(r)|) (sampled, not
+// proven; the truncation is then made 2^-61 of it, a factor 2 of room).
+// Every other sample into `samples` (the check's points, emit_checks.cpp).
+Q intrinsic_scale(const PreparedForm& pf, const PreparedForm& pdf, const Q& lo, const Q& hi,
+                  std::vector<std::pair<Real, Real>>& samples) {
+    std::vector<std::pair<Real, Real>> all = sizes(pf, pdf, lo, hi, 2 * checked_points);
+    Real m;
+    samples.clear();
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        if (i == 0 || all[i].second < m) m = all[i].second;
+        if (i % 2 == 0) samples.push_back(std::move(all[i]));
     }
     return rational(m);
 }
@@ -398,34 +419,46 @@ Q pythagorean_between(const Q& above, const Q& at) {
 
 constexpr int max_order = 200;
 
-// The order with M (d/R)^(n+1) / (1 - d/R) <= target, the best over a few
-// radii R = f min(c, 1 - c); the tail bound with it.
+// A truncation order and its proof: the circle of radius tenth/20 min(c,
+// 1 - c) about c, and the bound on the tail there.
+struct Order {
+    int n = max_order + 1;
+    Q tail;
+    int tenth = 0;
+};
+
+// The order with M (d/R)^(n+1) / (1 - d/R) <= target on the circle of radius
+// R = tenth/20 min(c, 1 - c), the tail bound with it; nullopt where R is
+// within 1.05 d or no order up to max_order proves the target.
 // With m > 0 the series is that of f S^-m: M times max |S^-m| on the circle,
 // ((1 - c - R)(1 + c - R))^(-m/2).
 // `bounds` keeps circle_bound per radius (tenth) for the other m.
-std::pair<int, Q> order_for(const CircleTerms& f, int m, const Q& c, const Q& d, const Q& target,
-                            std::map<int, Real>& bounds) {
-    const Q rho = std::min<Q>(c, Q(1 - c));
-    std::optional<std::pair<int, Q>> best;
-    for (int tenth = 5; tenth <= 19; ++tenth) {
-        const Q R = rho * ratio(tenth, 20);
-        if (R <= d * Q(21, 20)) continue;
-        const Real Rr = real(R, bound_bits), cc = real(c, bound_bits);
-        auto it = bounds.find(tenth);
-        if (it == bounds.end()) it = bounds.emplace(tenth, circle_bound(f, c, Rr)).first;
-        const Real M = it->second * boost::multiprecision::pow((1 - cc - Rr) * (1 + cc - Rr), Real(-m) / 2) *
-                       Real(101) / 100;
-        const Real x = real(d / R, bound_bits), t = real(target, bound_bits);
-        // n + 1 >= log(M / ((1 - x) t)) / log(1/x)
-        const Real need = boost::multiprecision::log(M / ((1 - x) * t)) / boost::multiprecision::log(1 / x);
-        const int n = std::max(1, static_cast<int>(std::ceil(static_cast<double>(need))));
-        if (n > max_order) continue;  // the caller fails if no radius is left
-        const Q tail = rational(M * boost::multiprecision::pow(x, n + 1) / (1 - x)) * Q(101, 100);
-        if (tail > target) continue;
-        if (!best || n < best->first) best = std::pair{n, tail};
-    }
-    if (!best) return {max_order + 1, Q(0)};
-    return *best;
+std::optional<Order> order_at_radius(const CircleTerms& f, int m, const Q& c, const Q& d, const Q& target, int tenth,
+                                     std::map<int, Real>& bounds) {
+    const Q R = std::min<Q>(c, Q(1 - c)) * ratio(tenth, 20);
+    if (R <= d * Q(21, 20)) return std::nullopt;
+    const Real Rr = real(R, bound_bits), cc = real(c, bound_bits);
+    auto it = bounds.find(tenth);
+    if (it == bounds.end()) it = bounds.emplace(tenth, circle_bound(f, c, Rr)).first;
+    const Real M = it->second * boost::multiprecision::pow((1 - cc - Rr) * (1 + cc - Rr), Real(-m) / 2) *
+                   Real(101) / 100;
+    const Real x = real(d / R, bound_bits), t = real(target, bound_bits);
+    // n + 1 >= log(M / ((1 - x) t)) / log(1/x)
+    const Real need = boost::multiprecision::log(M / ((1 - x) * t)) / boost::multiprecision::log(1 / x);
+    const int n = std::max(1, static_cast<int>(std::ceil(static_cast<double>(need))));
+    if (n > max_order) return std::nullopt;  // the caller fails if no radius is left
+    const Q tail = rational(M * boost::multiprecision::pow(x, n + 1) / (1 - x)) * Q(101, 100);
+    if (tail > target) return std::nullopt;
+    return Order{n, tail, tenth};
+}
+
+// The best order over the radii tenth/20 min(c, 1 - c), tenth = 5 .. 19: the
+// lowest, on the smallest such radius; n > max_order where none proves it.
+Order order_for(const CircleTerms& f, int m, const Q& c, const Q& d, const Q& target, std::map<int, Real>& bounds) {
+    Order best;
+    for (int tenth = 5; tenth <= 19; ++tenth)
+        if (const auto o = order_at_radius(f, m, c, d, target, tenth, bounds); o && o->n < best.n) best = *o;
+    return best;
 }
 
 }  // namespace
@@ -498,84 +531,165 @@ double expected_error(const CentredPiece& p) {
     return worst + std::abs(p.low) + p.s_power;
 }
 
+// Where the piece from x ends and about what it is centred: each piece
+// [x, y] within kappa min(c, 1 - c) of its centre, kappa = 3/10 (the Taylor
+// terms then shrink like (kappa/ratio)^n); d, the distance from c to the
+// farther end.
+struct Span {
+    Q c, y, d;
+};
+Span span_from(const Q& x, const Q& hi) {
+    const Q kappa(3, 10);
+    const Q ideal = std::min<Q>(Q(x / (1 - kappa)), Q((x + kappa) / (1 + kappa)));
+    const Q c = pythagorean_between(Q(x + (ideal - x) / 2), ideal);
+    // y: c + kappa min(c, 1 - c) down to a dyadic breakpoint (exact as a
+    // double), on a grid of 1/8 of that reach.
+    const Q reach = kappa * std::min<Q>(c, Q(1 - c));
+    long long grid = 8;
+    while (Q(grid) * reach < 8) grid *= 2;
+    Q y = Q(static_cast<long long>(std::floor(static_cast<double>((c + reach) * grid))), grid);
+    if (y >= hi || hi - y < reach / 4) y = hi;
+    return {c, y, std::max<Q>(Q(c - x), Q(y - c))};
+}
+
+// What both ways to a piece read of f: r^-K is its most negative power of r;
+// f and f' at 200 bits (the samples), the circle bounds' terms of f and
+// f r^K (the orders).
+struct Prepared {
+    explicit Prepared(const ClosedForm& form)
+        : f(form), K(most_negative_power(form)), pf(form, 200), pdf(form.derivative(), 200), f_terms(form),
+          fK_terms(form * Laurent::monomial(Q(1), K)) {}
+    static int most_negative_power(const ClosedForm& f) {
+        int K = 0;
+        for (const auto& [key, p] : f.terms()) K = std::max(K, -p.low());
+        return K;
+    }
+    const ClosedForm& f;
+    int K;
+    PreparedForm pf, pdf;
+    CircleTerms f_terms, fK_terms;
+};
+
+// The piece r^-k S^j T on [x, y] (T the Taylor series of g = r^k S^-j f to
+// (r - c)^order) from the first order + 1 coefficients of f S^-j's series
+// (`base`): g's is that times r^k, a polynomial (exact: the same coefficients
+// as g's own series). |f - r^-k S^j T| <= x^-k |g - T| (S <= 1 on [x, y]).
+CentredPiece make_piece(const Span& s, const Q& x, const std::vector<CentredValue>& base, const CentredChoice& choice,
+                        const Q& tail) {
+    std::vector<CentredValue> b = times_power_of_r(
+        std::vector<CentredValue>(base.begin(), base.begin() + choice.order + 1), choice.k, s.c);
+    return CentredPiece{x, s.y, s.c, -choice.k, choice.j, std::move(b), tail / pow(x, choice.k), choice.scale, {}, {}};
+}
+
+// The piece from x as the search makes it: f = r^-k S^j g, with k = 0 or K
+// (without f's negative powers, which cancel near 0) and j = 0 or m (f
+// vanishes like S^m at the edge, edge_power_of_S); the variant whose order
+// is provable with the smallest expected rounding error.
+std::pair<CentredPiece, CentredChoice> searched_piece(const Prepared& p, int m, const Q& x, const Q& hi) {
+    const Span s = span_from(x, hi);
+    std::vector<std::pair<Real, Real>> samples;
+    const Q scale = intrinsic_scale(p.pf, p.pdf, x, s.y, samples);
+    if (scale == 0) fail("internal: the quantity and its derivative vanish on [" + short_string(x) + ", " + short_string(s.y) + "]");
+    const Q target = scale / pow(Q(2), 61);
+    // The variants' orders first; then f's series once, to the highest of
+    // them, times S^-m once.
+    struct Variant {
+        int k, j;
+        Order order;
+    };
+    std::vector<Variant> variants;
+    for (const int k : {0, p.K}) {
+        if (k == p.K && k == 0 && !variants.empty()) break;
+        const CircleTerms& g = k == 0 ? p.f_terms : p.fK_terms;
+        std::map<int, Real> bounds;
+        const Order plain = order_for(g, 0, s.c, s.d, target * pow(x, k), bounds);
+        const Order factored = m > 0 ? order_for(g, m, s.c, s.d, target * pow(x, k), bounds) : plain;
+        for (const int j : {0, m}) {
+            const Order& order = j == 0 ? plain : factored;
+            if (order.n > max_order || (j == m && j == 0 && !variants.empty() && variants.back().k == k)) continue;
+            variants.push_back({k, j, order});
+        }
+    }
+    int most = 0;
+    for (const Variant& v : variants) most = std::max(most, v.order.n);
+    std::optional<std::pair<CentredPiece, CentredChoice>> best;
+    double best_error = 0;
+    if (!variants.empty()) {
+        const std::vector<CentredValue> a = taylor_at_centre(p.f, s.c, most);
+        const std::vector<CentredValue> aS = m > 0 ? times_power_of_S(a, m, s.c) : a;
+        for (const Variant& v : variants) {
+            const CentredChoice choice{v.k, v.j, v.order.n, v.order.tenth, scale};
+            CentredPiece piece = make_piece(s, x, v.j == 0 ? a : aS, choice, v.order.tail);
+            const double e = expected_error(piece);
+            if (!best || e < best_error) {
+                best_error = e;
+                best.emplace(std::move(piece), choice);
+            }
+        }
+    }
+    if (!best) fail("internal: no Taylor order <= " + std::to_string(max_order) + " about " + short_string(s.c));
+    best->first.samples = std::move(samples);
+    return std::move(*best);
+}
+
+// The piece from x as `choice` says, its order proven again (the same bound
+// on the same circle as the search's: valid for any power j of S factored
+// out); nullopt where the choice does not fit f (then the search decides).
+// The scale, min max(|f|, |r f'|) over 257 points, is the search's; the
+// check's 129 of them are sampled here.
+std::optional<CentredPiece> chosen_piece(const Prepared& p, const Q& x, const Q& hi, const CentredChoice& choice) {
+    const Span s = span_from(x, hi);
+    if ((choice.k != 0 && choice.k != p.K) || choice.j < 0 || choice.scale <= 0) return std::nullopt;
+    const Q target = choice.scale / pow(Q(2), 61) * pow(x, choice.k);
+    std::map<int, Real> bounds;
+    const auto order = order_at_radius(choice.k == 0 ? p.f_terms : p.fK_terms, choice.j, s.c, s.d, target, choice.tenth, bounds);
+    if (!order || order->n != choice.order) return std::nullopt;
+    std::vector<std::pair<Real, Real>> samples = sizes(p.pf, p.pdf, x, s.y, checked_points);
+    const Real scale = real(choice.scale, 200);
+    for (const auto& [value, size] : samples)  // the scale is a minimum of these sizes, at other points too
+        if (size < scale) return std::nullopt;
+    const std::vector<CentredValue> a = taylor_at_centre(p.f, s.c, choice.order);
+    CentredPiece piece = make_piece(s, x, choice.j == 0 ? a : times_power_of_S(a, choice.j, s.c), choice, order->tail);
+    piece.samples = std::move(samples);
+    return piece;
+}
+
+// The pieces from the compiled-in choices; nullopt where they do not fit.
+std::optional<std::vector<CentredPiece>> chosen_pieces(const Prepared& p, const Q& lo, const Q& hi,
+                                                       const CentredChoices& choices) {
+    std::vector<CentredPiece> out;
+    for (Q x = lo; x < hi;) {
+        if (out.size() == choices.size()) return std::nullopt;
+        auto piece = chosen_piece(p, x, hi, choices[out.size()]);
+        if (!piece) return std::nullopt;
+        x = piece->hi;
+        out.push_back(std::move(*piece));
+    }
+    if (out.size() != choices.size()) return std::nullopt;
+    return out;
+}
+
 }  // namespace
 
 std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const Q& hi) {
-    // Each piece [x, y] within kappa min(c, 1 - c) of its centre: the Taylor
-    // terms then shrink like (kappa/ratio)^n.
-    const Q kappa(3, 10);
-    const int m = edge_power_of_S(f);
-    int K = 0;  // the most negative power of r in f
-    for (const auto& [key, p] : f.terms()) K = std::max(K, -p.low());
-    const PreparedForm pf(f, 200), pdf(f.derivative(), 200);  // f and f' at 200 bits (intrinsic_scale)
-    const CircleTerms f_terms(f), fK_terms(f * Laurent::monomial(Q(1), K));  // f and f r^K (order_for)
-    std::vector<CentredPiece> out;
-    for (Q x = lo; x < hi;) {
-        const Q ideal = std::min<Q>(Q(x / (1 - kappa)), Q((x + kappa) / (1 + kappa)));
-        const Q c = pythagorean_between(Q(x + (ideal - x) / 2), ideal);
-        // y: c + kappa min(c, 1 - c) down to a dyadic breakpoint (exact as a
-        // double), on a grid of 1/8 of that reach.
-        const Q reach = kappa * std::min<Q>(c, Q(1 - c));
-        long long grid = 8;
-        while (Q(grid) * reach < 8) grid *= 2;
-        Q y = Q(static_cast<long long>(std::floor(static_cast<double>((c + reach) * grid))), grid);
-        if (y >= hi || hi - y < reach / 4) y = hi;
-        const Q d = std::max<Q>(Q(c - x), Q(y - c));
-        std::vector<std::pair<Real, Real>> samples;
-        const Q scale = intrinsic_scale(pf, pdf, x, y, samples);
-        if (scale == 0) fail("internal: the quantity and its derivative vanish on [" + short_string(x) + ", " + short_string(y) + "]");
-        // f = r^-k S^j g: the series of g = r^k S^-j f, with k = 0 or K
-        // (without f's negative powers, which cancel near 0) and j = 0 or m;
-        // |f - r^-k S^j T_g| <= x^-k |g - T_g| (S <= 1 on [x, y]). Of the
-        // variants, the one with the smallest expected rounding error.
-        const Q target = scale / pow(Q(2), 61);
-        // The variants' orders first; then f's series once, to the highest
-        // of them, times S^-m once; g's is that times r^k, a polynomial
-        // (exact: the same coefficients as g's own series).
-        struct Variant {
-            int k, j;
-            std::pair<int, Q> order;
-        };
-        std::vector<Variant> variants;
-        for (const int k : {0, K}) {
-            if (k == K && k == 0 && !variants.empty()) break;
-            const CircleTerms& g = k == 0 ? f_terms : fK_terms;
-            std::map<int, Real> bounds;
-            const auto plain = order_for(g, 0, c, d, target * pow(x, k), bounds);
-            const auto factored = m > 0 ? order_for(g, m, c, d, target * pow(x, k), bounds) : plain;
-            for (const int j : {0, m}) {
-                const auto& order = j == 0 ? plain : factored;
-                if (order.first > max_order || (j == m && j == 0 && !variants.empty() && variants.back().k == k)) continue;
-                variants.push_back({k, j, order});
-            }
+    const Prepared p(f);
+    const std::uint64_t key = search_key("centred", f, {lo, hi});
+    std::optional<std::vector<CentredPiece>> out;
+    if (const CentredChoices* known = known_choice<CentredChoices>(key)) out = chosen_pieces(p, lo, hi, *known);
+    if (!out) {
+        out.emplace();
+        CentredChoices choices;
+        const int m = edge_power_of_S(f);
+        for (Q x = lo; x < hi;) {
+            auto [piece, choice] = searched_piece(p, m, x, hi);
+            x = piece.hi;
+            out->push_back(std::move(piece));
+            choices.push_back(std::move(choice));
         }
-        int most = 0;
-        for (const Variant& v : variants) most = std::max(most, v.order.first);
-        std::optional<CentredPiece> best;
-        double best_error = 0;
-        if (!variants.empty()) {
-            const std::vector<CentredValue> a = taylor_at_centre(f, c, most);
-            const std::vector<CentredValue> aS = m > 0 ? times_power_of_S(a, m, c) : a;
-            for (const Variant& v : variants) {
-                const std::vector<CentredValue>& base = v.j == 0 ? a : aS;
-                const int order = v.order.first;
-                std::vector<CentredValue> b =
-                    times_power_of_r(std::vector<CentredValue>(base.begin(), base.begin() + order + 1), v.k, c);
-                CentredPiece piece{x, y, c, -v.k, v.j, std::move(b), v.order.second / pow(x, v.k), scale, {}, {}};
-                const double e = expected_error(piece);
-                if (!best || e < best_error) {
-                    best_error = e;
-                    best = std::move(piece);
-                }
-            }
-        }
-        if (!best) fail("internal: no Taylor order <= " + std::to_string(max_order) + " about " + short_string(c));
-        best->sampled = f;
-        best->samples = std::move(samples);
-        out.push_back(std::move(*best));
-        x = y;
+        if (searching_afresh()) record_choice(key, choices);
     }
-    return out;
+    for (CentredPiece& piece : *out) piece.sampled = f;
+    return std::move(*out);
 }
 
 }  // namespace mollify::gen

@@ -1,5 +1,7 @@
 #include "edge_series.hpp"
 
+#include "search_choices.hpp"
+
 #include <mpfr.h>
 
 #include <algorithm>
@@ -162,11 +164,13 @@ double edge_condition(const std::vector<EdgeTerm>& terms, double r) {
 
 namespace {
 
+Q edge_target() { return Q(1) / pow(Q(2), 60); }
+
 // The cheapest order with a proven bound below 2^-60 (the bound decreases
 // with the order: bisection on 2^-62, then proven), or nullopt above
 // max_order.
 std::optional<std::pair<int, Q>> order_for(const ClosedForm& f, const Q& r1, int max_order, const EdgeTerm& lead) {
-    const Q target = Q(1) / pow(Q(2), 60), aim = Q(1) / pow(Q(2), 62);
+    const Q target = edge_target(), aim = Q(1) / pow(Q(2), 62);
     auto small = [&](int order) {
         const auto b = bound_with_lead(f, order, r1, lead);
         return b && *b <= aim;
@@ -184,12 +188,14 @@ std::optional<std::pair<int, Q>> order_for(const ClosedForm& f, const Q& r1, int
 
 }  // namespace
 
-std::optional<EdgeSeries> edge_series(const ClosedForm& f, const Q& r0) {
+namespace {
+
+// The first of r0, k/32 (k = 16..31) with a proven truncation below 2^-60
+// within max_order powers of S: the closed form cancels from about r = 1/2
+// on (sum of |terms| over |value| 1e3 there, 1e7 at 3/4), so the series
+// starts as low as its order allows.
+std::optional<EdgeSeries> searched_edge_series(const ClosedForm& f, const Q& r0) {
     constexpr int max_order = 120;
-    // The closed form cancels from about r = 1/2 on (sum of |terms| over
-    // |value| 1e3 there, 1e7 at 3/4), so the series starts as low as its
-    // order allows: the first of r0, k/32 (k = 16..31) with a proven
-    // truncation below 2^-60 within max_order powers of S.
     const auto full = series_at_edge(f, max_order);
     if (!full) return std::nullopt;
     const auto lead = leading(*full);
@@ -204,6 +210,30 @@ std::optional<EdgeSeries> edge_series(const ClosedForm& f, const Q& r0) {
             return EdgeSeries{r1, o->first, std::move(*terms), o->second};
         }
     return std::nullopt;
+}
+
+// The series the search chose (search_choices.hpp), its bound proven again;
+// nullopt where it does not prove 2^-60. Its leading term is the full
+// series' (the lowest power of S, complete up to the order).
+std::optional<EdgeSeries> chosen_edge_series(const ClosedForm& f, const EdgeChoice& c) {
+    auto terms = series_at_edge(f, c.order);
+    if (!terms) return std::nullopt;
+    const auto lead = leading(*terms);
+    if (!lead) return std::nullopt;
+    const auto b = bound_with_lead(f, c.order, c.r1, *lead);
+    if (!b || *b > edge_target()) return std::nullopt;
+    return EdgeSeries{c.r1, c.order, std::move(*terms), *b};
+}
+
+}  // namespace
+
+std::optional<EdgeSeries> edge_series(const ClosedForm& f, const Q& r0) {
+    const std::uint64_t key = search_key("edge", f, {r0});
+    if (const EdgeChoice* c = known_choice<EdgeChoice>(key))
+        if (auto e = chosen_edge_series(f, *c)) return e;
+    auto e = searched_edge_series(f, r0);
+    if (e && searching_afresh()) record_choice(key, EdgeChoice{e->r1, e->order});
+    return e;
 }
 
 }  // namespace mollify::gen

@@ -49,7 +49,8 @@ struct EdgeSeries {
 // The edge piece of f, the closed form kept on [r0, r1) (r0: where f's
 // series at 0 ends): r1 the smallest of r0 and k/32 (k = 16..31) whose
 // truncation is proven below 2^-60 with at most 120 powers of S; nullopt
-// when f has no edge series.
+// when f has no edge series. The search's compiled-in choice where it fits
+// (search_choices.hpp).
 std::optional<EdgeSeries> edge_series(const ClosedForm& f, const Q& r0);
 
 // Sum of |terms| over |value| of an edge series at r (double, a heuristic).

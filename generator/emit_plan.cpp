@@ -3,6 +3,7 @@
 #include "edge_series.hpp"
 #include "error.hpp"
 #include "rounding.hpp"
+#include "search_choices.hpp"
 #include "series.hpp"
 
 #include <algorithm>
@@ -380,25 +381,77 @@ struct SubPiece {
     bool own;
 };
 
+SubPiece own_sub_piece(const EmittedPiece& piece, const Q& lo, const Q& hi) {
+    return {{lo, hi, piece.terms, piece.note}, true};
+}
+
+// The Taylor polynomial about the midpoint of [lo, hi) (centred_terms).
+SubPiece taylor_sub_piece(const Q& lo, const Q& hi, std::vector<EmittedTerm> taylor) {
+    return {{lo, hi, std::move(taylor), "Taylor polynomial about " + short_string((lo + hi) / 2)}, false};
+}
+
 void recentre(const EmittedPiece& piece, const Magnitude& own, const ClosedForm& form, const ClosedForm& derivative,
               const Q& lo, const Q& hi, int depth, std::vector<SubPiece>& out, std::map<Q, double>& scales) {
     const double plain = worst_condition(own, form, derivative, lo, hi, scales);
     if (plain <= recentre_condition) {
-        out.push_back({{lo, hi, piece.terms, piece.note}, true});
+        out.push_back(own_sub_piece(piece, lo, hi));
         return;
     }
     const Q c = (lo + hi) / 2;
     std::vector<EmittedTerm> taylor = centred_terms(form, c);
     const double centred = worst_condition(Magnitude(taylor), form, derivative, lo, hi, scales);
     if (centred <= recentre_condition || depth == 6) {
-        if (centred < plain)
-            out.push_back({{lo, hi, std::move(taylor), "Taylor polynomial about " + short_string(c)}, false});
-        else
-            out.push_back({{lo, hi, piece.terms, piece.note}, true});
+        out.push_back(centred < plain ? taylor_sub_piece(lo, hi, std::move(taylor)) : own_sub_piece(piece, lo, hi));
         return;
     }
     recentre(piece, own, form, derivative, lo, c, depth + 1, out, scales);
     recentre(piece, own, form, derivative, c, hi, depth + 1, out, scales);
+}
+
+// The sub-pieces recentre chose (search_choices.hpp); nullopt where they do
+// not tile the piece. (Nothing to prove again: check_emitted compares every
+// emitted piece's terms with its closed form exactly.)
+std::optional<std::vector<SubPiece>> chosen_sub_pieces(const EmittedPiece& piece, const ClosedForm& form,
+                                                       const RecentreChoices& choices) {
+    std::vector<SubPiece> out;
+    Q lo = piece.lo;
+    for (const RecentreChoice& c : choices) {
+        if (c.hi <= lo || c.hi > *piece.hi) return std::nullopt;
+        out.push_back(c.own ? own_sub_piece(piece, lo, c.hi) : taylor_sub_piece(lo, c.hi, centred_terms(form, (lo + c.hi) / 2)));
+        lo = c.hi;
+    }
+    if (lo != *piece.hi) return std::nullopt;
+    return out;
+}
+
+// The emitted terms as text: with the closed form and the bounds, all
+// recentre reads (its search's key).
+std::string terms_text(const std::vector<EmittedTerm>& terms) {
+    std::string s;
+    for (const EmittedTerm& t : terms) {
+        s += std::to_string(static_cast<int>(t.basis)) + " " + std::to_string(t.s_power) + " " + std::to_string(t.square) +
+             " " + std::to_string(t.edge_power) + " " + std::to_string(t.low) + (t.edge ? " edge " + t.edge->str() : "") +
+             (t.centre ? " centre " + t.centre->str() : "") + ":";
+        for (const Exact& c : t.c) s += " " + c.to_string();
+        s += ";";
+    }
+    return s;
+}
+
+// recentre's sub-pieces of `piece`, from the compiled-in choice where there is one.
+std::vector<SubPiece> sub_pieces(const EmittedPiece& piece, const ClosedForm& form) {
+    const std::uint64_t key = search_key("recentre " + terms_text(piece.terms), form, {piece.lo, *piece.hi});
+    if (const RecentreChoices* known = known_choice<RecentreChoices>(key))
+        if (auto sub = chosen_sub_pieces(piece, form, *known)) return std::move(*sub);
+    std::vector<SubPiece> sub;
+    std::map<Q, double> scales;
+    recentre(piece, Magnitude(piece.terms), form, form.derivative(), piece.lo, *piece.hi, 0, sub, scales);
+    if (searching_afresh()) {
+        RecentreChoices choices;
+        for (const SubPiece& s : sub) choices.push_back({*s.piece.hi, s.own});
+        record_choice(key, choices);
+    }
+    return sub;
 }
 
 std::vector<EmittedPiece> recentred(const Radial& f, const std::vector<EmittedPiece>& pieces) {
@@ -409,9 +462,7 @@ std::vector<EmittedPiece> recentred(const Radial& f, const std::vector<EmittedPi
             out.push_back(p);
             continue;
         }
-        std::vector<SubPiece> sub;
-        std::map<Q, double> scales;
-        recentre(p, Magnitude(p.terms), *form, form->derivative(), p.lo, *p.hi, 0, sub, scales);
+        std::vector<SubPiece> sub = sub_pieces(p, *form);
         for (std::size_t i = 0; i < sub.size(); ++i) {
             if (i > 0 && sub[i].own && sub[i - 1].own) {  // neighbours in the piece's own form: one piece
                 out.back().hi = sub[i].piece.hi;

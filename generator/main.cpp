@@ -10,6 +10,7 @@
 #include "error.hpp"
 #include "query.hpp"
 #include "rounding.hpp"
+#include "search_choices.hpp"
 #include "softening.hpp"
 #include "softening_certificate.hpp"
 #include "target.hpp"
@@ -19,6 +20,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 
 using namespace mollify::gen;
@@ -34,7 +36,8 @@ std::vector<Spec> parse_specs(const std::vector<std::string>& texts) {
 }
 
 int run_emit(const std::string& out, const std::vector<std::string>& only, const std::string& format,
-             const std::string& target_name, const std::vector<int>& only_dims, bool allow_negative_lobes) {
+             const std::string& target_name, const std::vector<int>& only_dims, bool allow_negative_lobes,
+             const std::string& choices_file) {
     if (format != "cpp" && format != "data") fail("--format " + format + " is neither cpp nor data");
     if (target_name != "cpp") {
         target(target_name);  // Error naming an unknown one
@@ -51,6 +54,7 @@ int run_emit(const std::string& out, const std::vector<std::string>& only, const
     for (const Spec& s : specs) command += only.empty() ? "" : " --only " + spec_string(s);
     for (int d : only_dims) command += " --dim " + std::to_string(d);
     std::vector<CatalogueEntry> entries = expand_dimensions(specs);
+    if (!choices_file.empty()) search_afresh();
     if (!only_dims.empty())  // --dim: only these dimensions
         std::erase_if(entries, [&](const CatalogueEntry& e) {
             return std::find(only_dims.begin(), only_dims.end(), e.dim) == only_dims.end();
@@ -68,6 +72,12 @@ int run_emit(const std::string& out, const std::vector<std::string>& only, const
         return 1;
     }
     const std::size_t written = write_files(out, r);
+    if (!choices_file.empty()) {
+        std::ofstream file(choices_file, std::ios::binary);
+        file << search_choices_file();
+        file.close();
+        if (!file) fail("--search-choices: cannot write " + choices_file);
+    }
     std::cout << "wrote " << written << " of " << r.files.size() << " files to " << out << " (the others unchanged): "
               << r.kernels << " kernels, "
               << r.certificates << " certificates, all exact\n";
@@ -178,6 +188,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     std::vector<int> emit_dims;
     emit->add_option("--dim", emit_dims, "only these dimensions (1..3; default: every one the kernel and target have)");
+    std::string choices_file;
+    emit->add_option("--search-choices", choices_file,
+                     "search every piece's form afresh (not from the compiled-in choices, search_choices.hpp) and write "
+                     "the choices to this file (generator/search_choices.def for the default catalogue)");
     bool allow_negative_lobes = false;
     emit->add_flag("--allow-negative-lobes", allow_negative_lobes,
                    "--target swift: write kernels not proved W >= 0, W' <= 0 without SWIFT's sign clamps");
@@ -236,7 +250,7 @@ int main(int argc, char** argv) {
         return bad_input;
     }
     try {
-        if (*emit) return run_emit(out, only, format, target_name, emit_dims, allow_negative_lobes);
+        if (*emit) return run_emit(out, only, format, target_name, emit_dims, allow_negative_lobes, choices_file);
         if (*value) return run_value(spec_text, dim, r_text, name, digits, exact);
         if (*weights) return run_weights(radii);
         if (*errata) return run_errata(transcriptions, errata_codes);

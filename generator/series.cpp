@@ -1,6 +1,7 @@
 #include "series.hpp"
 
 #include "error.hpp"
+#include "search_choices.hpp"
 
 #include <mpfr.h>
 
@@ -110,8 +111,10 @@ const ClosedForm& series_of(const ClosedForm& f, int order, SeriesByOrder& memo)
 
 std::optional<Q> relative_bound(const ClosedForm& f, const ClosedForm& series, int order, int m);
 
+Q zero_series_target() { return Q(1) / pow(Q(2), 60); }
+
 std::optional<Candidate> series_for_radius(const ClosedForm& f, int m, SeriesByOrder& memo) {
-    const Q r0 = Q(1) / pow(Q(2), m), target = Q(1) / pow(Q(2), 60);
+    const Q r0 = Q(1) / pow(Q(2), m), target = zero_series_target();
     Real r(0, 70);
     mpfr_set_q(r.backend().data(), r0.backend().data(), MPFR_RNDN);
     const double f0 = static_cast<double>(abs(f.evaluate(r, 400).first));
@@ -270,10 +273,12 @@ std::optional<Q> relative_bound(const ClosedForm& f, const ClosedForm& series, i
 
 }  // namespace
 
+namespace {
+
 // The seam r0 should be where the series does not cancel: of the provable
 // radii the largest whose condition number is within 2 (or 1.25 times the
 // best seam's).
-std::optional<ZeroSeries> zero_series(const ClosedForm& f) {
+std::optional<ZeroSeries> searched_zero_series(const ClosedForm& f) {
     std::vector<Candidate> candidates;
     SeriesByOrder memo;
     for (int m = 1; m <= 8; ++m)
@@ -287,6 +292,26 @@ std::optional<ZeroSeries> zero_series(const ClosedForm& f) {
     for (Candidate& c : candidates)
         if (c.score <= std::max(2.0, 1.25 * best)) return std::move(c.z);
     return std::nullopt;
+}
+
+// The series the search chose (search_choices.hpp), its bound proven again;
+// nullopt where it does not prove the target.
+std::optional<ZeroSeries> chosen_zero_series(const ClosedForm& f, const ZeroChoice& c) {
+    ClosedForm s = series_at_zero(f, c.order);
+    const auto rel = relative_bound(f, s, c.order, c.m);
+    if (!rel || *rel > zero_series_target()) return std::nullopt;
+    return ZeroSeries{c.m, c.order, std::move(s), *rel};
+}
+
+}  // namespace
+
+std::optional<ZeroSeries> zero_series(const ClosedForm& f) {
+    const std::uint64_t key = search_key("zero", f, {});
+    if (const ZeroChoice* c = known_choice<ZeroChoice>(key))
+        if (auto z = chosen_zero_series(f, *c)) return z;
+    auto z = searched_zero_series(f);
+    if (z && searching_afresh()) record_choice(key, ZeroChoice{z->m, z->order});
+    return z;
 }
 
 }  // namespace mollify::gen

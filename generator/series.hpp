@@ -53,6 +53,7 @@ struct ZeroSeries {
 // most 2, or within 1.25 of the best seam's. (The closed form beyond r0 is
 // not evaluated: Taylor pieces about centres replace it, centred_series.hpp.)
 // nullopt when f has no such series (e.g. it is singular beyond log r).
+// The search's compiled-in choice where it fits (search_choices.hpp).
 std::optional<ZeroSeries> zero_series(const ClosedForm& f);
 
 }  // namespace mollify::gen

@@ -274,8 +274,12 @@ TEST(Cli, EveryFamilyEmitsAsCheckedInUnderSanitizers) {
         " --only mollifier:M=4 --only mollifier:M=4,order=4 --only wendland:k=2,l=1 --only wendland-missing:k=1,l=1"
         " --only combo:m=3,base=wendland:k=2 --only poly6 --only spiky --only viscosity --only cubic-spline"
         " --only box --only box-d1 --only box-d2";
-    const Outcome r = run("emit --out " + a.string() + only);
+    // --search-choices: the series pieces searched, not taken from their
+    // compiled-in choices (search_choices.hpp), so the searches run instrumented.
+    const fs::path choices = scratch("families-choices.def");
+    const Outcome r = run("emit --out " + a.string() + only + " --search-choices " + choices.string());
     ASSERT_EQ(r.status, 0) << r.err;
+    fs::remove(choices);
     const auto files = tree(a);
     EXPECT_EQ(files.size(), 35u);  // 31 kernel headers (viscosity: D = 2, 3; box-d1, box-d2: D = 1), the two catalogue files, catalogue.json, term_shapes.def
     const fs::path checked_in = MOLLIFY_GENERATED_DIR;
@@ -306,6 +310,24 @@ TEST(Cli, GeneratedTablesAreFreshAndDeterministic) {
         EXPECT_TRUE(slurp(a / f) == slurp(checked_in / f))
             << "generated/" << f.string() << " is stale (or the emit is not deterministic): run `mollify-gen emit --out "
                "generated` twice, compare, and commit";
+    fs::remove_all(a);
+}
+
+// The series pieces' choices compiled into mollify-gen (search_choices.hpp)
+// are the searches': searched afresh, every search chooses as the checked-in
+// file says, and the tables are the checked-in ones (the test above emits
+// them from the compiled-in choices).
+TEST(Cli, SearchChoicesAreTheSearches) {
+    const fs::path a = scratch("choices");
+    const fs::path choices = a / "search_choices.def";
+    ASSERT_EQ(run("emit --out " + a.string() + " --search-choices " + choices.string()).status, 0);
+    EXPECT_TRUE(slurp(choices) == slurp(MOLLIFY_SEARCH_CHOICES))
+        << "generator/search_choices.def is stale: run `mollify-gen emit --search-choices "
+           "generator/search_choices.def`, rebuild mollify-gen, emit, and commit";
+    fs::remove(choices);
+    const fs::path checked_in = MOLLIFY_GENERATED_DIR;
+    for (const auto& f : tree(a))
+        EXPECT_TRUE(slurp(a / f) == slurp(checked_in / f)) << "searched afresh, generated/" << f.string() << " differs";
     fs::remove_all(a);
 }
 #endif
