@@ -19,6 +19,7 @@
 #include <mollify/tables/mollifier/M_4_D3.hpp>
 
 #include "charge_sets.hpp"
+#include "cpu_time.hpp"
 #include "report.hpp"
 
 #include <benchmark/benchmark.h>
@@ -73,7 +74,7 @@ struct Row {
     bench::Charges charges;
     std::size_t n;
     std::string parameters;
-    double cpu_s, e_l2, phi_l2 = NAN;
+    double cpu_s, e_l2;
 };
 std::vector<Row>& rows() {
     static std::vector<Row> r;
@@ -85,15 +86,18 @@ std::vector<Row>& rows() {
 void treecode(benchmark::State& state, std::size_t n, bench::Charges c, double theta, int p, const std::string& label) {
     const Problem& pr = problem(n, c);
     poisson::Field<3> f;
+    double cpu = 0;
     for (auto _ : state) {
+        const double t0 = bench::cpu_seconds();
         f = poisson::Treecode<3, Kernel>(Kernel{}, pr.sources(), {.theta = theta, .order = p}).evaluate();
         benchmark::DoNotOptimize(f.potential.data());
+        cpu = bench::cpu_seconds() - t0;
     }
     const double e = bench::relative_l2(interleaved(f, sample), pr.reference);
     state.counters["E_l2"] = e;
     char params[64];
     std::snprintf(params, sizeof params, "θ = %.2f, p = %d", theta, p);
-    rows().push_back({"mollify", c, n, label + params, NAN, e});
+    rows().push_back({"mollify", c, n, label + params, cpu, e});
 }
 
 // exafmm-t's lines (bench/peers/exafmm_t_laplace.cpp's format) for one set.
@@ -112,7 +116,7 @@ void peer(const std::string& exe, std::size_t n, bench::Charges c, const std::ve
             continue;
         char params[64];
         std::snprintf(params, sizeof params, "P = %d, ncrit %d (evaluation only %.3g s)", p, leaf, eval);
-        rows().push_back({"exafmm-t", c, n, params, total, e, phi});
+        rows().push_back({"exafmm-t", c, n, params, total, e});
         std::printf("exafmm-t %s N=%zu P=%d: %.3f CPU s, E %.2e\n", bench::name(c), n, p, total, e);
     }
     if (pclose(in) != 0) throw std::runtime_error(cmd + " failed");
@@ -164,21 +168,6 @@ void write_markdown(const std::string& path, const std::string& before, const st
     std::rename((path + ".tmp").c_str(), path.c_str());
 }
 
-class CpuCollector : public bench::Collector {
-public:
-    void ReportRuns(const std::vector<Run>& runs) override {
-        // Rows are pushed in run order; each run's CPU seconds land on the last
-        // row without one (benchmarks run one after another, one iteration).
-        for (const Run& r : runs)
-            for (Row& row : rows())
-                if (row.solver == "mollify" && std::isnan(row.cpu_s)) {
-                    row.cpu_s = r.GetAdjustedCPUTime();
-                    break;
-                }
-        Collector::ReportRuns(runs);
-    }
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -209,7 +198,7 @@ int main(int argc, char** argv) {
                 })->Iterations(1)->MeasureProcessCPUTime()->Unit(benchmark::kSecond);
             }
         }
-    CpuCollector collector;
+    bench::Collector collector;
     const std::string before = loadavg();
     benchmark::RunSpecifiedBenchmarks(&collector);
     if (!exafmm.empty())

@@ -16,6 +16,7 @@
 // (the standard headers first: exafmm-t's headers include the intrinsics
 // inside their namespace)
 #include "../charge_sets.hpp"
+#include "../cpu_time.hpp"
 
 #include "build_tree.h"
 #include "build_list.h"
@@ -25,15 +26,8 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 
 namespace {
-
-double cpu_seconds() {
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 constexpr std::size_t sample = 1000;
 
@@ -76,7 +70,7 @@ int main(int argc, char** argv) {
             sources[i].q = set.q[i];
             for (int d = 0; d < 3; ++d) sources[i].X[d] = targets[i].X[d] = set.x[static_cast<std::size_t>(d)][i];
         }
-        const double t0 = cpu_seconds();
+        const double t0 = mollify::bench::cpu_seconds();
         exafmm_t::LaplaceFmm fmm(p, ncrit);
         exafmm_t::get_bounds(sources, targets, fmm.x0, fmm.r0);
         exafmm_t::NodePtrs<exafmm_t::real_t> leafs, nonleafs;
@@ -85,10 +79,10 @@ int main(int argc, char** argv) {
         exafmm_t::build_list(nodes, fmm);
         fmm.precompute();
         fmm.M2L_setup(nonleafs);
-        const double t1 = cpu_seconds();
+        const double t1 = mollify::bench::cpu_seconds();
         fmm.upward_pass(nodes, leafs);
         fmm.downward_pass(nodes, leafs);
-        const double t2 = cpu_seconds();
+        const double t2 = mollify::bench::cpu_seconds();
         std::vector<double> phi(phi_ref.size()), grad(grad_ref.size());
         for (auto* leaf : leafs)
             for (std::size_t j = 0; j < leaf->itrgs.size(); ++j) {
