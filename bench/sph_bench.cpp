@@ -41,6 +41,7 @@
 #include <mollify/tables/wendland/k_2_D1.hpp>
 #include <mollify/tables/wendland/k_2_D3.hpp>
 
+#include "lattice.hpp"
 #include "report.hpp"
 
 #include <benchmark/benchmark.h>
@@ -52,7 +53,6 @@
 #include <cstring>
 #include <fstream>
 #include <map>
-#include <random>
 #include <span>
 #include <string>
 #include <vector>
@@ -62,7 +62,6 @@ namespace tables = mollify::tables;
 
 namespace {
 
-constexpr double jitter = 0.1;        // of the spacing, each coordinate
 constexpr double all_pairs_cap = 2;   // seconds: AllPairs sweeps slower than this are skipped
 constexpr double linear_within = 0.15;  // |alpha - 1| (or |alpha - 2|) that counts as O(N) (O(N^2))
 
@@ -131,29 +130,9 @@ std::vector<std::string>& order() {  // registration order
     return o;
 }
 
-template <int D>
-sph::Field<D> lattice(long side) {
-    const double dx = 1.0 / static_cast<double>(side);
-    const sph::Domain<D> box = sph::Domain<D>::periodic(1.0);
-    std::mt19937_64 rng(20240604);
-    std::uniform_real_distribution<double> u(-jitter * dx, jitter * dx);
-    std::size_t n = 1;
-    for (int c = 0; c < D; ++c) n *= static_cast<std::size_t>(side);
-    sph::Field<D> x;
-    for (auto& c : x) c.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        std::size_t k = i;
-        for (int c = 0; c < D; ++c) {
-            x[c][i] = box.wrap(static_cast<double>(k % static_cast<std::size_t>(side)) * dx + u(rng));
-            k /= static_cast<std::size_t>(side);
-        }
-    }
-    return x;
-}
-
 template <int D, class Kernel, class Search>
 void sweep(benchmark::State& state, long side, double eps_over_dx, bool capped) {
-    const sph::Field<D> x = lattice<D>(side);
+    const sph::Field<D> x = mollify::bench::lattice<D>(side);
     const std::size_t n = x[0].size();
     const double dx = 1.0 / static_cast<double>(side);
     sph::BarotropicEuler<D, Kernel, Search> system(Kernel{}, eps_over_dx * dx, sph::Domain<D>::periodic(1.0),
@@ -250,7 +229,7 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         << (per_core() ? "the process's CPU time (one core's work, whatever else the machine runs)" : "wall time")
         << ", wall = wall-clock ms/sweep.\n"
         << "One `BarotropicEuler::acceleration` sweep (neighbour update + gather + kernel pairs + accumulation) on the\n"
-        << "periodic unit box; particles on the lattice of spacing dx, jittered by +-" << jitter
+        << "periodic unit box; particles on the lattice of spacing dx, jittered by +-" << mollify::bench::lattice_jitter
         << " dx (seeded), masses dx^d; eps = 20 dx (d = 1), 2 dx (d = 3).\n"
         << "inter/s = particle–neighbour pairs met per second (ordered pairs (i, j) within eps, i = j included); "
         << "neighbours/particle measured.\n"
