@@ -20,6 +20,7 @@
 #include <mollify/poisson.hpp>
 #include <mollify/tables/mollifier/M_4_D3.hpp>
 
+#include "load_average.hpp"
 #include "report.hpp"
 
 #include <benchmark/benchmark.h>
@@ -153,13 +154,6 @@ void add(std::size_t n, double theta, int p) {
         ->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
 }
 
-std::string uptime() {
-    std::ifstream in("/proc/loadavg");
-    std::string s;
-    std::getline(in, s);
-    return s;
-}
-
 using mollify::bench::number;
 using mollify::bench::slope;
 
@@ -243,9 +237,9 @@ int main(int argc, char** argv) {
         add(200000, theta, p);
     for (const auto& [theta, p] : std::vector<std::pair<double, int>>{{0.5, 8}, {0.5, 10}, {0.6, 14}}) add(1000000, theta, p);
     mollify::bench::Collector collector;
-    const std::string before = uptime();
+    const std::string before = mollify::bench::load_average();
     benchmark::RunSpecifiedBenchmarks(&collector);
-    const std::string after = uptime();
+    const std::string after = mollify::bench::load_average();
     if (!md.empty()) write_markdown(md, collector, before, after);
     benchmark::Shutdown();
     return 0;
