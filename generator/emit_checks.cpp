@@ -23,10 +23,17 @@ Laurent in_r(const Laurent& p, bool square) {
 // (edge - v)^edge_power r^low sum_k c_k v^k basis.
 ClosedForm term_form(const EmittedTerm& t) {
     std::map<Atom, Laurent> by_atom;
-    for (std::size_t k = 0; k < t.c.size(); ++k)
-        for (const auto& [atom, q] : t.c[k].terms())
-            by_atom[atom] += t.centre ? Laurent::binomial_power(-*t.centre, Q(1), static_cast<int>(k)) * q
-                                      : Laurent::monomial(q, static_cast<int>(k));
+    if (t.centre) {
+        // sum_k c_k (r - centre)^k by Horner's rule in r - centre, per atom.
+        const Laurent shift = Laurent::binomial_power(-*t.centre, Q(1), 1);
+        for (std::size_t k = t.c.size(); k-- > 0;) {
+            for (auto& [atom, p] : by_atom) p = p * shift;
+            for (const auto& [atom, q] : t.c[k].terms()) by_atom[atom] += Laurent(q);
+        }
+    } else {
+        for (std::size_t k = 0; k < t.c.size(); ++k)
+            for (const auto& [atom, q] : t.c[k].terms()) by_atom[atom] += Laurent::monomial(q, static_cast<int>(k));
+    }
     Laurent factor(Q(1));
     if (t.edge_power > 0) factor = Laurent::binomial_power(t.square ? *t.edge * *t.edge : *t.edge, Q(-1), t.edge_power);
     ClosedForm out;

@@ -20,11 +20,20 @@ Laurent Laurent::monomial(const Q& c, int power) {
 }
 
 Laurent Laurent::binomial_power(const Q& a, const Q& b, int n) {
+    // c_k = binom(n, k) a^(n-k) b^k, the powers of a kept from the bottom up
+    // and binom(n, k) by its ratio: O(n) products, not a power per
+    // coefficient (check_emitted expands an edge factor (1 - r)^n per term).
+    std::vector<Q> a_power(static_cast<std::size_t>(n) + 1, Q(1));
+    for (std::size_t j = 1; j < a_power.size(); ++j) a_power[j] = a_power[j - 1] * a;
     Laurent p;
     p.c_.resize(static_cast<std::size_t>(n) + 1);
-    for (int k = 0; k <= n; ++k)
-        p.c_[static_cast<std::size_t>(k)] = Q(binomial(static_cast<unsigned>(n), static_cast<unsigned>(k))) *
-                                            pow(a, n - k) * pow(b, k);
+    Z binom = 1;
+    Q b_power = 1;
+    for (int k = 0; k <= n; ++k) {
+        p.c_[static_cast<std::size_t>(k)] = Q(binom) * a_power[static_cast<std::size_t>(n - k)] * b_power;
+        binom = binom * (n - k) / (k + 1);
+        b_power *= b;
+    }
     p.trim();
     return p;
 }

@@ -15,6 +15,7 @@ packages=(
   libtomlplusplus-dev       # scene files (toml++, tools/mollify)
   gnuplot-nox               # the PNG plots of `mollify run`
   libfftw3-dev              # FFTs (issue 5)
+  libmimalloc-dev           # mollify-gen's malloc (its GMP temporaries; generator/CMakeLists.txt)
   lld                       # the linker (CMakeLists.txt: a fresh build's links 25 s -> 8 s)
   time                      # /usr/bin/time: bench/compile_cost.sh (time and max RSS of a compile)
   pkgconf                   # pkg-config: tests/install_test.sh builds a program with mollify.pc
