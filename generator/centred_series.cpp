@@ -41,23 +41,51 @@ Scaled scaled(const Series& s, std::size_t n) {
     return out;
 }
 
-// The first a.size() coefficients of a b (b at least as long as a).
-Series product(const Series& a, const Series& b) {
-    const std::size_t n = a.size();
-    const Scaled x = scaled(a, n), y = scaled(b, n);
-    Z den = x.den * y.den, sum;
-    Series out(n);
+// The first n coefficients of x y as integers over x.den y.den, unreduced.
+Scaled product(const Scaled& x, const Scaled& y, std::size_t n) {
+    Scaled out{std::vector<Z>(n), x.den * y.den};
     for (std::size_t k = 0; k < n; ++k) {
-        mpz_set_ui(sum.backend().data(), 0);
+        mpz_ptr sum = out.num[k].backend().data();
         for (std::size_t i = 0; i <= k; ++i)
             if (mpz_sgn(x.num[i].backend().data()) != 0)
-                mpz_addmul(sum.backend().data(), x.num[i].backend().data(), y.num[k - i].backend().data());
+                mpz_addmul(sum, x.num[i].backend().data(), y.num[k - i].backend().data());
+    }
+    return out;
+}
+
+// The coefficients of a scaled series as reduced rationals.
+Series reduced(const Scaled& s) {
+    Series out(s.num.size());
+    for (std::size_t k = 0; k < s.num.size(); ++k) {
         mpq_ptr q = out[k].backend().data();
-        mpz_set(mpq_numref(q), sum.backend().data());
-        mpz_set(mpq_denref(q), den.backend().data());
+        mpz_set(mpq_numref(q), s.num[k].backend().data());
+        mpz_set(mpq_denref(q), s.den.backend().data());
         mpq_canonicalize(q);
     }
     return out;
+}
+
+// The first a.size() coefficients of a b (b at least as long as a).
+Series product(const Series& a, const Series& b) {
+    const std::size_t n = a.size();
+    return reduced(product(scaled(a, n), scaled(b, n), n));
+}
+
+// acc += x (sign -1: acc -= x), both over their own denominators: over
+// their lcm, the numerators rescaled, not reduced.
+void accumulate(Scaled& acc, const Scaled& x, int sign) {
+    Z lcm, fa, fx;
+    mpz_lcm(lcm.backend().data(), acc.den.backend().data(), x.den.backend().data());
+    mpz_divexact(fa.backend().data(), lcm.backend().data(), acc.den.backend().data());
+    mpz_divexact(fx.backend().data(), lcm.backend().data(), x.den.backend().data());
+    if (sign < 0) mpz_neg(fx.backend().data(), fx.backend().data());
+    const bool rescale = mpz_cmp_ui(fa.backend().data(), 1) != 0;
+    for (std::size_t k = 0; k < acc.num.size(); ++k) {
+        mpz_ptr a = acc.num[k].backend().data();
+        if (rescale) mpz_mul(a, a, fa.backend().data());
+        mpz_addmul(a, x.num[k].backend().data(), fx.backend().data());
+    }
+    acc.den = std::move(lcm);
 }
 
 Series integral(const Series& s) {  // the antiderivative vanishing at v = 0
@@ -213,18 +241,34 @@ std::vector<CentredValue> taylor_at_centre(const ClosedForm& f, const Q& c, int 
         if (it == powers.end()) it = powers.emplace(k, scaled(power_of_r(k, c, order), n)).first;
         return it->second;
     };
-    // The antiderivatives of arcsech', arcsin', log' (once, not per term).
-    std::map<Basis, Series> integrals;
-    auto integral_of = [&](Basis b) -> const Series& {
+    // The antiderivatives of arcsech', arcsin', log' (once, not per term),
+    // and the powers of S, as integers over one denominator.
+    std::map<Basis, Scaled> integrals;
+    auto integral_of = [&](Basis b) -> const Scaled& {
         auto it = integrals.find(b);
         if (it != integrals.end()) return it->second;
         Series d = b == Basis::arcsech ? product(inverse_r, S_power(-1)) : b == Basis::arcsin ? S_power(-1) : inverse_r;
-        return integrals.emplace(b, integral(d)).first->second;
+        return integrals.emplace(b, scaled(integral(d), n)).first->second;
     };
-    std::vector<CentredValue> out(n);
-    auto add = [&](Exact CentredValue::*slot, const Exact& factor, const Series& x) {
-        for (std::size_t k = 0; k < n; ++k)
-            if (x[k] != 0) out[k].*slot += factor * x[k];
+    std::map<int, Scaled> S_scaled;
+    auto S_power_scaled = [&](int j) -> const Scaled& {
+        auto it = S_scaled.find(j);
+        if (it == S_scaled.end()) it = S_scaled.emplace(j, scaled(S_power(j), n)).first;
+        return it->second;
+    };
+    // The series of each slot (1, arcsech c, arcsin c, log c) and constant
+    // pi^e log p, summed over the terms as integers over one denominator
+    // and reduced once at the end: GMP's gcds per coefficient and term were
+    // most of this function's time.
+    Exact CentredValue::*const slots[] = {&CentredValue::one, &CentredValue::arcsech, &CentredValue::arcsin,
+                                          &CentredValue::log};
+    std::map<std::pair<int, Atom>, Scaled> sums;
+    auto add = [&](int slot, const Atom& atom, int sign, Scaled x) {
+        auto [it, fresh] = sums.try_emplace({slot, atom});
+        if (!fresh) return accumulate(it->second, x, sign);
+        if (sign < 0)
+            for (Z& v : x.num) mpz_neg(v.backend().data(), v.backend().data());
+        it->second = std::move(x);
     };
     for (const auto& [key, p] : f.terms()) {
         // P = sum_k p_k r^k over the common denominator of the p_k r^k.
@@ -245,33 +289,34 @@ std::vector<CentredValue> taylor_at_centre(const ClosedForm& f, const Q& c, int 
             mpz_divexact(m.backend().data(), den.backend().data(), m.backend().data());
             m *= numerator(pk);
         }
-        Series P(n);
-        Z sum;
-        for (std::size_t j = 0; j < n; ++j) {
-            mpz_set_ui(sum.backend().data(), 0);
-            for (const auto& [m, rk] : parts) mpz_addmul(sum.backend().data(), m.backend().data(), rk->num[j].backend().data());
-            mpq_ptr q = P[j].backend().data();
-            mpz_set(mpq_numref(q), sum.backend().data());
-            mpz_set(mpq_denref(q), den.backend().data());
-            mpq_canonicalize(q);
-        }
-        const Exact factor = Exact::of(key.factor);
+        Scaled P{std::vector<Z>(n), den};
+        for (std::size_t j = 0; j < n; ++j)
+            for (const auto& [m, rk] : parts)
+                mpz_addmul(P.num[j].backend().data(), m.backend().data(), rk->num[j].backend().data());
+        const Atom& atom = key.factor;
         switch (key.basis) {
-            case Basis::one: add(&CentredValue::one, factor, P); break;
-            case Basis::sqrt_power: add(&CentredValue::one, factor, product(P, S_power(key.s_power))); break;
+            case Basis::one: add(0, atom, 1, std::move(P)); break;
+            case Basis::sqrt_power: add(0, atom, 1, product(P, S_power_scaled(key.s_power), n)); break;
             case Basis::arcsech:  // arcsech' = -1/(r S)
-                add(&CentredValue::arcsech, factor, P);
-                add(&CentredValue::one, factor * Q(-1), product(P, integral_of(Basis::arcsech)));
+                add(0, atom, -1, product(P, integral_of(Basis::arcsech), n));
+                add(1, atom, 1, std::move(P));
                 break;
             case Basis::arcsin:  // arcsin' = 1/S
-                add(&CentredValue::arcsin, factor, P);
-                add(&CentredValue::one, factor, product(P, integral_of(Basis::arcsin)));
+                add(0, atom, 1, product(P, integral_of(Basis::arcsin), n));
+                add(2, atom, 1, std::move(P));
                 break;
             case Basis::log:  // log' = 1/r
-                add(&CentredValue::log, factor, P);
-                add(&CentredValue::one, factor, product(P, integral_of(Basis::log)));
+                add(0, atom, 1, product(P, integral_of(Basis::log), n));
+                add(3, atom, 1, std::move(P));
                 break;
         }
+    }
+    std::vector<CentredValue> out(n);
+    for (const auto& [slot_atom, sum] : sums) {
+        const Exact unit = Exact::of(slot_atom.second);
+        const Series x = reduced(sum);
+        for (std::size_t k = 0; k < n; ++k)
+            if (x[k] != 0) out[k].*slots[slot_atom.first] += unit * x[k];
     }
     return out;
 }

@@ -25,9 +25,8 @@ ClosedForm term_form(const EmittedTerm& t) {
     std::map<Atom, Laurent> by_atom;
     if (t.centre) {
         // sum_k c_k (r - centre)^k by Horner's rule in r - centre, per atom.
-        const Laurent shift = Laurent::binomial_power(-*t.centre, Q(1), 1);
         for (std::size_t k = t.c.size(); k-- > 0;) {
-            for (auto& [atom, p] : by_atom) p = p * shift;
+            for (auto& [atom, p] : by_atom) p.times_r_minus(*t.centre);
             for (const auto& [atom, q] : t.c[k].terms()) by_atom[atom] += Laurent(q);
         }
     } else {

@@ -104,6 +104,16 @@ Laurent operator*(const Laurent& a, const Laurent& b) {
     return p;
 }
 
+Laurent& Laurent::times_r_minus(const Q& a) {
+    if (is_zero()) return *this;
+    // c'_i = c_(i-1) - a c_i over one more coefficient, from the top down.
+    c_.push_back(c_.back());
+    for (std::size_t i = c_.size() - 2; i > 0; --i) c_[i] = c_[i - 1] - a * c_[i];
+    c_[0] *= -a;
+    trim();
+    return *this;
+}
+
 Laurent Laurent::shifted(int k) const {
     Laurent p = *this;
     if (!p.is_zero()) p.low_ += k;

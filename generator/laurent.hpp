@@ -37,6 +37,7 @@ public:
     friend bool operator==(const Laurent& a, const Laurent& b) { return a.low_ == b.low_ && a.c_ == b.c_; }
 
     Laurent shifted(int k) const;       // times r^k
+    Laurent& times_r_minus(const Q& a);  // *= (r - a), in place (Horner's rule in r - a)
     Laurent derivative() const;          // d/dr
     // Antiderivative without the r^{-1} term; `log_coefficient` receives the
     // coefficient of log r (the antiderivative of c r^{-1}).

@@ -84,3 +84,24 @@ TEST(ClosedForm, CanonicalFormsCancelRemovableSingularities) {
     // S^3 = (1 - r^2) S.
     EXPECT_TRUE(ClosedForm(Laurent(Q(1)), TermKey{Basis::sqrt_power, 3, Atom{}}) == ClosedForm(u, S));
 }
+
+// The Laurent algebra's two shortcuts that the emission's check relies on
+// (emit_checks.cpp): (a + b r)^n by its binomial coefficients equals n
+// products of (a + b r), and times_r_minus(a) equals the product with
+// r - a, for polynomials with negative powers and for a = 0.
+TEST(Laurent, BinomialPowerAndTimesRMinusAreTheProducts) {
+    const Q a(-3, 7), b(5, 2);
+    Laurent power(Q(1));
+    for (int n = 0; n <= 12; ++n) {
+        EXPECT_EQ(Laurent::binomial_power(a, b, n), power) << "n = " << n;
+        power = power * Laurent::binomial_power(a, b, 1);
+    }
+    const Laurent p = Laurent::monomial(Q(2), -2) + Laurent::monomial(Q(-1, 3), 0) + Laurent::monomial(Q(7, 5), 3);
+    for (const Q& c : {Q(0), Q(1, 2), Q(-11, 4)}) {
+        Laurent q = p;
+        q.times_r_minus(c);
+        EXPECT_EQ(q, p * Laurent::binomial_power(-c, Q(1), 1)) << "c = " << short_string(c);
+    }
+    Laurent zero;
+    EXPECT_TRUE(zero.times_r_minus(Q(3)).is_zero());
+}
