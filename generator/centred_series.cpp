@@ -258,8 +258,9 @@ std::vector<CentredValue> taylor_at_centre(const ClosedForm& f, const Q& c, int 
     };
     // The series of each slot (1, arcsech c, arcsin c, log c) and constant
     // pi^e log p, summed over the terms as integers over one denominator
-    // and reduced once at the end: GMP's gcds per coefficient and term were
-    // most of this function's time.
+    // and reduced once at the end, not reduced (a gcd per coefficient) and
+    // added as Exact per term: this function's instructions over the
+    // catalogue 4.0e9 -> 3.0e9 (callgrind).
     Exact CentredValue::*const slots[] = {&CentredValue::one, &CentredValue::arcsech, &CentredValue::arcsin,
                                           &CentredValue::log};
     std::map<std::pair<int, Atom>, Scaled> sums;
