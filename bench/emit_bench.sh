@@ -5,17 +5,19 @@
 # before and after it; then the medians, their ratio, and whether each output
 # is byte for byte generated/.
 #
-#   bench/emit_bench.sh BEFORE_BINARY AFTER_BINARY [RUNS] > bench/results/emit_bench.md
+#   bench/emit_bench.sh BEFORE_BINARY AFTER_BINARY [RUNS [OUT.md]]
 #
-# (BEFORE: e.g. a mollify-gen built from the commit before a change.)
+# (BEFORE: e.g. a mollify-gen built from the commit before a change; OUT.md,
+# e.g. bench/results/emit_bench.md, written whole or not at all: a temporary
+# file, then renamed; without it the table goes to standard output.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 if [ $# -lt 2 ]; then
-  echo "usage: bench/emit_bench.sh BEFORE_BINARY AFTER_BINARY [RUNS]" >&2
+  echo "usage: bench/emit_bench.sh BEFORE_BINARY AFTER_BINARY [RUNS [OUT.md]]" >&2
   exit 2
 fi
-before=$1 after=$2 runs=${3:-5}
+before=$1 after=$2 runs=${3:-5} out=${4:-}
 for b in "$before" "$after"; do
   [ -x "$b" ] || { echo "emit_bench: not an executable: $b" >&2; exit 2; }
 done
@@ -27,6 +29,7 @@ trap 'rm -rf "$work"' EXIT
 load() { cut -d' ' -f1-3 /proc/loadavg; }
 median() { sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
 
+table() {
 echo "\`mollify-gen emit\` of the default catalogue (issue 21, goal 4: <= 1 s wall), $(date -u '+%Y-%m-%d %H:%M') UTC."
 echo
 echo "Host: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores."
@@ -38,16 +41,16 @@ echo "|--:|---|--:|--:|--:|---|---|---|"
 for i in $(seq 1 "$runs"); do
   for which in before after; do
     bin=${!which}
-    out="$work/$which-$i"
+    dir="$work/$which-$i"
     l0=$(load)
-    /usr/bin/time -f "%U %S %e" -o "$work/time" "$bin" emit --out "$out" > /dev/null
+    /usr/bin/time -f "%U %S %e" -o "$work/time" "$bin" emit --out "$dir" > /dev/null
     l1=$(load)
     read -r user sys wall < "$work/time"
     same=no
-    diff -rq "$out" generated > /dev/null && same=yes
+    diff -rq "$dir" generated > /dev/null && same=yes
     echo "$which $user $sys $wall" >> "$work/all"
     echo "| $i | $which | $user | $sys | $wall | $l0 | $l1 | $same |"
-    rm -rf "$out"
+    rm -rf "$dir"
   done
 done
 med() { awk -v w="$1" -v c="$2" '$1 == w {print $c}' "$work/all" | median; }
@@ -56,3 +59,10 @@ echo
 echo "Medians: before $bu s CPU (user), $bw s wall; after $au s CPU, $aw s wall:" \
   "after/before $(awk -v a="$au" -v b="$bu" 'BEGIN {printf "%.2f", a / b}') (CPU)," \
   "$(awk -v a="$aw" -v b="$bw" 'BEGIN {printf "%.2f", a / b}') (wall)."
+}
+if [ -z "$out" ]; then
+  table
+else
+  table > "$out.tmp"
+  mv "$out.tmp" "$out"
+fi

@@ -17,10 +17,10 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 count() {  # count KERNEL PRECISION: instructions per evaluation
-  local out="$work/$1-$2.out"
+  local profile="$work/$1-$2.out"
   local evaluations
-  evaluations=$(valgrind --tool=callgrind --callgrind-out-file="$out" "$bin" "$1" "$2" 2> /dev/null | awk '{print $2}')
-  callgrind_annotate --inclusive=yes "$out" 2> /dev/null | awk -v n="$evaluations" \
+  evaluations=$(valgrind --tool=callgrind --callgrind-out-file="$profile" "$bin" "$1" "$2" 2> /dev/null | awk '{print $2}')
+  callgrind_annotate --inclusive=yes "$profile" 2> /dev/null | awk -v n="$evaluations" \
     '/batches</ && !done {gsub(",", "", $1); printf "%.1f", $1 / n; done = 1}'
 }
 
