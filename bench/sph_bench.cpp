@@ -35,6 +35,7 @@
 //
 //   sph_bench [benchmark flags] [--md=FILE]   (cmake --build build --target bench-sph)
 #include <mollify/detail/parallel.hpp>
+#include <mollify/kernel.hpp>
 #include <mollify/sph/euler.hpp>
 #include <mollify/static_kernel.hpp>
 #include <mollify/tables/combo/m_3_base_wendland_k_3_D1.hpp>
@@ -94,6 +95,15 @@ struct ZeroKernel {
     double value(double, double) const { return 0.0; }
 };
 static_assert(mollify::RadialKernel<ZeroKernel<3>>);
+
+// Wendland C4 through the run-time form (mollify::kernel by its spec, the
+// data-driven loops of libmollify), as the scenes and `mollify report` run
+// their kernels: one indirect call per particle (1D) or batch of pairs (3D).
+template <int D>
+struct RunTimeC4 : mollify::Kernel {
+    RunTimeC4() : mollify::Kernel(mollify::kernel("wendland:k=2", D, mollify::Precision::fast)) {}
+};
+static_assert(mollify::RadialKernel<RunTimeC4<3>>);
 
 // The CellList visited particle by particle (update and visit only, no
 // half_pairs): BarotropicEuler's per-particle sweep, as it ran in 3D before
@@ -323,9 +333,12 @@ int main(int argc, char** argv) {
                                                 {10'000, 100'000, 1'000'000});
     register_sweeps<1, Combo_accurate, sph::SortedSweep>("SortedSweep", "combo:m=3,base=wendland:k=3 (accurate)", 20,
                                                          {10'000, 100'000, 1'000'000});
+    register_sweeps<1, RunTimeC4<1>, sph::SortedSweep>("SortedSweep", "wendland:k=2 (run-time form)", 20,
+                                                       {10'000, 100'000, 1'000'000});
     register_sweeps<1, ZeroKernel<1>, sph::SortedSweep>("SortedSweep", "zero", 20, {10'000, 100'000, 1'000'000});
     register_sweeps<1, C4_1, sph::AllPairs<1>>("AllPairs", "wendland:k=2", 20, {1'000, 3'000, 10'000});
     register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100});
+    register_sweeps<3, RunTimeC4<3>, sph::CellList<3>>("CellList", "wendland:k=2 (run-time form)", 2, {22, 46, 100});
     register_sweeps<3, ZeroKernel<3>, sph::CellList<3>>("CellList", "zero", 2, {22, 46, 100});
     register_sweeps<3, C4_3, CellListByParticle<3>>("CellListByParticle", "wendland:k=2", 2, {22, 46});
     register_sweeps<3, C4_3, sph::AllPairs<3>>("AllPairs", "wendland:k=2", 2, {10, 14, 22});  // 1000, 2744, 10648

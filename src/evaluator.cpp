@@ -1606,10 +1606,15 @@ void evaluate(const Plan& plan, Precision pr, QuantityId q, const double* r, dou
 
 // ---- W and grad W at displacements (StaticKernel::pairs_unchecked) ----
 
-// |x| at m points from `start` (dim 2 or 3), on raw restrict pointers so
-// that the loop vectorises.
+// |x| at m points from `start`, on raw restrict pointers so that the loop
+// vectorises. In 1D |x_0| itself, as StaticKernel's 1D pair takes it (the
+// square's root is |x_0| only where the square does not underflow).
 void radii(const std::span<const double>* x, int dim, std::size_t start, std::size_t m, double* __restrict r) {
     const double* __restrict x0 = x[0].data() + start;
+    if (dim == 1) {
+        for (std::size_t i = 0; i < m; ++i) r[i] = std::abs(x0[i]);
+        return;
+    }
     const double* __restrict x1 = x[1].data() + start;
     if (dim == 3) {
         const double* __restrict x2 = x[2].data() + start;
@@ -1706,31 +1711,35 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     const QuantityPlan& over_r = plan.quantities[static_cast<std::size_t>(QuantityId::grad_over_r)];
     const QuantityPlan& dr = plan.quantities[static_cast<std::size_t>(QuantityId::dr)];
     const bool cusp = over_r.singular_at_origin;
-    if (dim == 1 || plan.odd || cusp) {
-        for (std::size_t i = 0; i < n; ++i) {
-            double xi[3] = {x[0][i], dim > 1 ? x[1][i] : 0.0, dim > 2 ? x[2][i] : 0.0};
-            double r;
-            if (dim == 1) {
-                r = std::abs(xi[0]);
-            } else {
-                double sq = xi[0] * xi[0];
-                for (int c = 1; c < dim; ++c) sq = mul_add(xi[c], xi[c], sq);
-                r = std::sqrt(sq);
+    // Every kernel in blocks, 1D too (r = |x_0|): point by point (radial
+    // per pair) the run-time form's 1D pairs and every odd or cusped
+    // kernel's took 31-76 ns each, 25-50x the blocks' (2026-11-28, Intel
+    // host), and the report's Franz studies, all 1D, were 7/8 of its time.
+    if (plan.odd || cusp) {
+        // W and W' (cusp) or W'/r by radial_batch, as StaticKernel's pair
+        // computes them: W sign(x) for an odd kernel, x oriented to |x| (W'(x)
+        // = f'(|x|)); grad W = W'(r) (x/r), 0 at r = 0, or (W'/r) x.
+        constexpr std::size_t chunk = 8 * B;
+        double r[chunk], d[chunk];
+        const QuantityPlan& slope = cusp ? dr : over_r;
+        const QuantityId slope_id = cusp ? QuantityId::dr : QuantityId::grad_over_r;
+        for (std::size_t start = 0; start < n; start += chunk) {
+            const std::size_t m = std::min(chunk, n - start);
+            radii(x, dim, start, m, r);
+            double* __restrict wc = w + start;
+            radial_batch<Pr>(value, QuantityId::value, r, wc, m, s, dim);
+            radial_batch<Pr>(slope, slope_id, r, d, m, s, dim);
+            if (plan.odd) {  // 1D only
+                const double* __restrict x0 = x[0].data() + start;
+                for (std::size_t i = 0; i < m; ++i) wc[i] = x0[i] < 0 ? -wc[i] : wc[i];
             }
-            double wi = radial<Pr>(value, QuantityId::value, r, s, dim);
-            if (plan.odd) wi = xi[0] < 0 ? -wi : wi;
-            w[i] = wi;
-            if (plan.odd) xi[0] = std::abs(xi[0]);  // oriented: W'(x) = f'(|x|)
-            if (cusp) {
-                if (!(r > 0)) {
-                    for (int c = 0; c < dim; ++c) grad[c][i] = 0.0;
-                    continue;
+            for (int c = 0; c < dim; ++c) {
+                const double* __restrict xc = x[c].data() + start;
+                double* __restrict gc = grad[c].data() + start;
+                for (std::size_t i = 0; i < m; ++i) {
+                    const double oriented = plan.odd ? std::abs(xc[i]) : xc[i];
+                    gc[i] = cusp ? (r[i] > 0 ? d[i] * (oriented / r[i]) : 0.0) : d[i] * oriented;
                 }
-                const double d = radial<Pr>(dr, QuantityId::dr, r, s, dim);
-                for (int c = 0; c < dim; ++c) grad[c][i] = d * (xi[c] / r);
-            } else {
-                const double g = radial<Pr>(over_r, QuantityId::grad_over_r, r, s, dim);
-                for (int c = 0; c < dim; ++c) grad[c][i] = g * xi[c];
             }
         }
         return;
@@ -1755,16 +1764,12 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         return;
     }
     if (pairs_by_piece(plan, Pr)) {
-        thread_local std::vector<double> radii, over;
-        radii.resize(n);
+        thread_local std::vector<double> lengths, over;
+        lengths.resize(n);
         over.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            double sq = mul_add(x[1][i], x[1][i], x[0][i] * x[0][i]);
-            if (dim == 3) sq = mul_add(x[2][i], x[2][i], sq);
-            radii[i] = std::sqrt(sq);
-        }
-        radial_batch<Pr>(value, QuantityId::value, radii.data(), w, n, s, dim);
-        radial_batch<Pr>(over_r, QuantityId::grad_over_r, radii.data(), over.data(), n, s, dim);
+        radii(x, dim, 0, n, lengths.data());
+        radial_batch<Pr>(value, QuantityId::value, lengths.data(), w, n, s, dim);
+        radial_batch<Pr>(over_r, QuantityId::grad_over_r, lengths.data(), over.data(), n, s, dim);
         for (int c = 0; c < dim; ++c)
             for (std::size_t i = 0; i < n; ++i) grad[c][i] = over[i] * x[c][i];
         return;
@@ -1792,7 +1797,9 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
                 }
             const double* __restrict x0 = c[0];
             const double* __restrict x1 = c[1];
-            if (dim == 3) {
+            if (dim == 1) {
+                for (std::size_t i = 0; i < B; ++i) a.r[i] = std::abs(x0[i]);
+            } else if (dim == 3) {
                 const double* __restrict x2 = c[2];
                 for (std::size_t i = 0; i < B; ++i)
                     a.r[i] = std::sqrt(mul_add(x2[i], x2[i], mul_add(x1[i], x1[i], x0[i] * x0[i])));

@@ -147,16 +147,20 @@ std::vector<Isa> isas() {
 // the same ISA, bit for bit: W(r) and (W'/r)(r) x at r = |x| as the pair
 // loop computes it (multiply-adds: fused there). Its own loops (one pass
 // for whole quantities, blocks sharing q and e) against evaluate's. Not
-// in 1D, for odd kernels or where W'/r is singular at 0 (W' x/r there).
+// for odd kernels or where W'/r is singular at 0 (W' x/r there).
 void expect_pairs_as_batches(const mollify::Kernel& k, const std::span<const double>* x, const Smoothing& s,
                              const std::vector<double>& w, const std::span<double>* grad, const char* isa) {
     const table::Kernel& t = k.table();
-    if (t.dim < 2 || t.parity < 0) return;
+    if (t.parity < 0) return;  // odd 1D kernels: point by point, sign(x) f(|x|)
     const std::size_t n = w.size();
     std::vector<double> r(n), value(n), over_r(n), at_zero(1);
     k.evaluate(QuantityId::grad_over_r, std::vector<double>{0.0}, s, at_zero);
     if (!std::isfinite(at_zero[0])) return;
     for (std::size_t i = 0; i < n; ++i) {
+        if (t.dim == 1) {  // |x_0|, not the root of its square (which underflows below 2^-511)
+            r[i] = std::abs(x[0][i]);
+            continue;
+        }
         double sq = std::fma(x[1][i], x[1][i], x[0][i] * x[0][i]);
         if (t.dim == 3) sq = std::fma(x[2][i], x[2][i], sq);
         r[i] = std::sqrt(sq);
