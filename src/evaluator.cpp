@@ -1715,36 +1715,10 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     // per pair) the run-time form's 1D pairs and every odd or cusped
     // kernel's took 31-76 ns each, 25-50x the blocks' (2026-11-28, Intel
     // host), and the report's Franz studies, all 1D, were 7/8 of its time.
-    if (plan.odd || cusp) {
-        // W and W' (cusp) or W'/r by radial_batch, as StaticKernel's pair
-        // computes them: W sign(x) for an odd kernel, x oriented to |x| (W'(x)
-        // = f'(|x|)); grad W = W'(r) (x/r), 0 at r = 0, or (W'/r) x.
-        constexpr std::size_t chunk = 8 * B;
-        double r[chunk], d[chunk];
-        const QuantityPlan& slope = cusp ? dr : over_r;
-        const QuantityId slope_id = cusp ? QuantityId::dr : QuantityId::grad_over_r;
-        for (std::size_t start = 0; start < n; start += chunk) {
-            const std::size_t m = std::min(chunk, n - start);
-            radii(x, dim, start, m, r);
-            double* __restrict wc = w + start;
-            radial_batch<Pr>(value, QuantityId::value, r, wc, m, s, dim);
-            radial_batch<Pr>(slope, slope_id, r, d, m, s, dim);
-            if (plan.odd) {  // 1D only
-                const double* __restrict x0 = x[0].data() + start;
-                for (std::size_t i = 0; i < m; ++i) wc[i] = x0[i] < 0 ? -wc[i] : wc[i];
-            }
-            for (int c = 0; c < dim; ++c) {
-                const double* __restrict xc = x[c].data() + start;
-                double* __restrict gc = grad[c].data() + start;
-                for (std::size_t i = 0; i < m; ++i) {
-                    const double oriented = plan.odd ? std::abs(xc[i]) : xc[i];
-                    gc[i] = cusp ? (r[i] > 0 ? d[i] * (oriented / r[i]) : 0.0) : d[i] * oriented;
-                }
-            }
-        }
-        return;
-    }
-    if (fused_loops && plan.whole_pair >= 0) {
+    // Odd and cusped kernels take the chunks at the end (their gradient is
+    // not (W'/r) x); the others the one-pass loops where they fit.
+    const bool plain = !plan.odd && !cusp;
+    if (plain && fused_loops && plan.whole_pair >= 0) {
         // W and W'/r in one pass (whole_pairs_fixed), as the static form.
         const WholePairs loop = whole_pairs_of<Pr>[static_cast<std::size_t>(plan.whole_pair)];
         const TermPlan& v = value.inner.front().terms.front();
@@ -1753,7 +1727,7 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
                                       double* g1, double* g2, std::size_t m) { loop(v, g, x0, x1, x2, wc, g0, g1, g2, m, s); });
         return;
     }
-    if (plan.shared_pair >= 0 && shared_one_pass(value, QuantityId::value, dim, Pr) &&
+    if (plain && plan.shared_pair >= 0 && shared_one_pass(value, QuantityId::value, dim, Pr) &&
         shared_one_pass(over_r, QuantityId::grad_over_r, dim, Pr)) {
         // A combination's W and W'/r in one pass (shared_pairs_fixed).
         const SharedPairs loop = shared_pairs_of<Pr>[static_cast<std::size_t>(plan.shared_pair)];
@@ -1763,7 +1737,7 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         });
         return;
     }
-    if (pairs_by_piece(plan, Pr)) {
+    if (plain && pairs_by_piece(plan, Pr)) {
         thread_local std::vector<double> lengths, over;
         lengths.resize(n);
         over.resize(n);
@@ -1779,7 +1753,7 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     const bool from_r = (whole(value, QuantityId::value, dim) || shared_one_pass(value, QuantityId::value, dim, Pr)) &&
                         (whole(over_r, QuantityId::grad_over_r, dim) ||
                          shared_one_pass(over_r, QuantityId::grad_over_r, dim, Pr));
-    if (Pr == Precision::fast && value.zero_outside && over_r.zero_outside && !from_r) {
+    if (plain && Pr == Precision::fast && value.zero_outside && over_r.zero_outside && !from_r) {
         // Both quantities from one block of q and e (radial_block's first
         // pass done once), the last block padded with r = 0.
         FastBlock a;
@@ -1827,7 +1801,11 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     // (whole) then pays its dispatch once per 256 points, not per 32.
     constexpr std::size_t chunk = 8 * B;
     double r[chunk], g[chunk];
-    const bool one_sort = Pr == Precision::accurate && accurate_pairs_by_piece(value, over_r, dim);
+    // (An odd or cusped kernel, as StaticKernel's pair: W sign(x), x
+    // oriented to |x| (W'(x) = f'(|x|)); grad W = W'(r) (x/r), 0 at r = 0.)
+    const bool one_sort = plain && Pr == Precision::accurate && accurate_pairs_by_piece(value, over_r, dim);
+    const QuantityPlan& slope = cusp ? dr : over_r;
+    const QuantityId slope_id = cusp ? QuantityId::dr : QuantityId::grad_over_r;
     for (std::size_t start = 0; start < n; start += chunk) {
         const std::size_t m = std::min(chunk, n - start);
         radii(x, dim, start, m, r);
@@ -1835,9 +1813,25 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
             accurate_pairs_block_by_piece(value, over_r, x, dim, start, m, r, s, w, grad);
             continue;
         }
-        radial_batch<Pr>(value, QuantityId::value, r, w + start, m, s, dim);
-        radial_batch<Pr>(over_r, QuantityId::grad_over_r, r, g, m, s, dim);
-        for (int c = 0; c < dim; ++c) times(g, x[c].data() + start, grad[c].data() + start, m);
+        double* __restrict wc = w + start;
+        radial_batch<Pr>(value, QuantityId::value, r, wc, m, s, dim);
+        radial_batch<Pr>(slope, slope_id, r, g, m, s, dim);
+        if (plain) {
+            for (int c = 0; c < dim; ++c) times(g, x[c].data() + start, grad[c].data() + start, m);
+            continue;
+        }
+        if (plan.odd) {  // 1D only
+            const double* __restrict x0 = x[0].data() + start;
+            for (std::size_t i = 0; i < m; ++i) wc[i] = x0[i] < 0 ? -wc[i] : wc[i];
+        }
+        for (int c = 0; c < dim; ++c) {
+            const double* __restrict xc = x[c].data() + start;
+            double* __restrict gc = grad[c].data() + start;
+            for (std::size_t i = 0; i < m; ++i) {
+                const double oriented = plan.odd ? std::abs(xc[i]) : xc[i];
+                gc[i] = cusp ? (r[i] > 0 ? g[i] * (oriented / r[i]) : 0.0) : g[i] * oriented;
+            }
+        }
     }
 }
 
