@@ -191,6 +191,120 @@ void check_invariants(const Blob& blob) {
 TEST(Vortex, SheetKeepsItsInvariants) {
     check_invariants(vortex::AlgebraicBlob(0.25));
     check_invariants(vortex::CompactBlob(mollify::kernel("mollifier:M=4", 2), 0.25));
+    // The treecode at order 30 (truncation ~1e-15 of the velocities), with
+    // a support that leaves far cells (h = 0.1 of the period) but still damps
+    // the short waves that would amplify rounding (Krasny 1986).
+    check_invariants(vortex::SheetTreecode(vortex::CompactBlob(mollify::kernel("mollifier:M=4", 2), 0.1), 0.4, 30));
+}
+
+// A rolled, noisy sheet: x over seven periods, circulations of both signs,
+// a few particles far above and below (|y| = 3 and 25, past the closed
+// form's |y| > 20 switch), and 20 particles on one point (a cell of radius 0).
+vortex::Sheet hard_sheet(long n, double spread) {
+    vortex::Sheet s = vortex::krasny_sheet(n, 0.2);
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> noise(0, 1);
+    for (long j = 0; j < n; ++j) {
+        s.x[j] += spread * noise(rng) + static_cast<double>(j % 7 - 3);
+        s.y[j] += spread * noise(rng);
+        s.gamma[j] *= 1 + 0.8 * noise(rng);
+    }
+    for (long j : {1L, 2L, 3L}) s.y[j] = j == 1 ? 3.0 : j == 2 ? -25.0 : 25.0;
+    for (long j = 10; j < 30; ++j) {
+        s.x[j] = 0.3;
+        s.y[j] = 0.1;
+    }
+    return s;
+}
+
+double max_difference(const std::vector<double>& u, const std::vector<double>& v, const std::vector<double>& u2,
+                      const std::vector<double>& v2) {
+    double e = 0;
+    for (std::size_t j = 0; j < u.size(); ++j) e = std::max(e, std::hypot(u[j] - u2[j], v[j] - v2[j]));
+    return e;
+}
+
+// The treecode against the direct sum, particle by particle. A priori
+// (sheet_treecode.hpp) each accepted cell C errs by about
+// |Gamma|_C / (2 pi d) theta^(p+1) / (1 - theta) with d >= h, so the sum by
+// at most E = theta^(p+1) / (1 - theta) sum |Gamma| / (2 pi h); the error
+// must stay below E and fall with p, to rounding at p = 30: each of the
+// sums' terms is at most |Gamma| (1 / (2 pi h) + 1) (the blob's velocity is
+// largest at its edge; the images add at most ~1), each rounded to a few
+// eps, so 64 eps sum |Gamma| (1 / (2 pi h) + 1).
+// Three sheets: the noisy one at two supports (the opening ratio decides),
+// and a dense strip (0.1 x 0.01, leaves ~1e-3 across) at h = 0.01, where
+// the support decides which cells are far: a blob within h of a far cell
+// would differ from the point vortex by up to its whole velocity.
+vortex::Sheet dense_strip(long n) {
+    vortex::Sheet s = vortex::krasny_sheet(n, 0.0);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> c(0, 1);
+    for (long j = 0; j < n; ++j) {
+        s.x[j] = 0.3 + 0.1 * c(rng);
+        s.y[j] = 0.01 * c(rng);
+        s.gamma[j] *= c(rng) - 0.3;
+    }
+    return s;
+}
+
+TEST(Vortex, TreecodeIsTheDirectSum) {
+    const long n = 1000;
+    for (double h : {0.02, 0.002, 0.01}) {
+        const vortex::Sheet s = h == 0.01 ? dense_strip(n) : hard_sheet(n, 0.05);
+        const vortex::CompactBlob blob(mollify::kernel("wendland:k=2", 2), h);
+        std::vector<double> u, v, ut, vt;
+        vortex::velocity(blob, s, u, v);
+        double total = 0, fastest = 0;
+        for (std::size_t j = 0; j < s.size(); ++j) {
+            total += std::abs(s.gamma[j]);
+            fastest = std::max(fastest, std::hypot(u[j], v[j]));
+        }
+        const double theta = 0.4, rounding = 64 * 0x1p-52 * total * (1 / (2 * pi * h) + 1);
+        double previous = INFINITY;
+        for (int p : {4, 8, 16, 30}) {
+            vortex::velocity(vortex::SheetTreecode(blob, theta, p), s, ut, vt);
+            const double e = max_difference(u, v, ut, vt), bound = std::pow(theta, p + 1) / (1 - theta) * total / (2 * pi * h);
+            EXPECT_LE(e, std::max(bound, rounding)) << "h = " << h << ", p = " << p;
+            EXPECT_LT(e, previous / 20) << "h = " << h << ", p = " << p << ": no convergence";
+            previous = std::max(e, rounding);
+        }
+        EXPECT_LE(previous, rounding) << "h = " << h;
+        // The treecode needs the far field: at this h most pairs are far.
+        EXPECT_GT(fastest, 0.1);
+    }
+}
+
+// Tiny supports and clusters (h = 1e-9, particles 1e-10 .. 1e-6 apart, a
+// cell of radius 0): the expansion is scaled by rho and d, so nothing over-
+// or underflows; and a single particle moves not at all.
+TEST(Vortex, TreecodeAtTinySupports) {
+    const double h = 1e-9;
+    vortex::Sheet s = hard_sheet(600, 1e-7);
+    for (long j = 100; j < 300; ++j) {
+        s.x[j] = 0.5 + 1e-10 * static_cast<double>(j);
+        s.y[j] = 1e-10 * std::sin(static_cast<double>(j));
+    }
+    // x in [0, 1) as the tree holds it: differences of x across periods
+    // (ulp 4e-16 at |x| ~ 3) would move velocities of pairs 1e-7 apart by
+    // 4e-9 relative in the direct sum itself.
+    for (double& x : s.x) x -= std::floor(x);
+    const vortex::CompactBlob blob(mollify::kernel("combo:m=3,base=wendland:k=2", 2), h);
+    std::vector<double> u, v, ut, vt;
+    vortex::velocity(blob, s, u, v);
+    vortex::velocity(vortex::SheetTreecode(blob, 0.4, 30), s, ut, vt);
+    double fastest = 0;
+    for (std::size_t j = 0; j < s.size(); ++j) {
+        ASSERT_TRUE(std::isfinite(ut[j]) && std::isfinite(vt[j])) << j;
+        fastest = std::max(fastest, std::hypot(u[j], v[j]));
+    }
+    // Velocities up to ~1/(2 pi 1e-10): rounding of sums of 600 terms, 1e-13.
+    EXPECT_LE(max_difference(u, v, ut, vt), 1e-13 * fastest);
+    EXPECT_GT(fastest, 1e6);
+    vortex::Sheet one = vortex::krasny_sheet(1, 0.0);
+    vortex::velocity(vortex::SheetTreecode(blob, 0.4, 10), one, ut, vt);
+    EXPECT_EQ(ut[0], 0.0);
+    EXPECT_EQ(vt[0], 0.0);
 }
 
 // Classical RK4 is fourth order: the error against a fine step drops ~16x
@@ -226,6 +340,15 @@ TEST(Vortex, BadInputNamesTheValue) {
     expect_error([&] { vortex::CompactBlob(k, -1); }, "h = -1");
     expect_error([] { vortex::CompactBlob(mollify::kernel("wendland:k=2", 3), 0.25); }, "is not a 2D kernel");
     expect_error([] { vortex::krasny_sheet(0, 0.01); }, "N = 0");
+    const vortex::CompactBlob blob(k, 0.25);
+    expect_error([&] { vortex::SheetTreecode(blob, 1.0, 10); }, "theta = 1 is not in (0, 1)");
+    expect_error([&] { vortex::SheetTreecode(blob, std::nan(""), 10); }, "theta = nan");
+    expect_error([&] { vortex::SheetTreecode(blob, 0.5, 0); }, "order p = 0 is outside 1..40");
+    expect_error([&] { vortex::SheetTreecode(blob, 0.5, 41); }, "order p = 41");
+    vortex::Sheet bad = vortex::krasny_sheet(100, 0.01);
+    bad.x[42] = INFINITY;
+    std::vector<double> u, v;
+    expect_error([&] { vortex::velocity(vortex::SheetTreecode(blob, 0.5, 10), bad, u, v); }, "particle 42");
     const vortex::AlgebraicBlob b(0.25);
     vortex::Sheet s = vortex::krasny_sheet(8, 0.01);
     expect_error([&] { vortex::advance(b, s, 0.0, 1); }, "dt = 0");
