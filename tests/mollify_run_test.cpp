@@ -225,7 +225,33 @@ TEST(MollifyRun, VortexSheet) {
     r = w.run("run scenes/bad_steps.toml");
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("not a whole number of steps dt = 0.03"), std::string::npos) << r.err;
+    // The treecode: compact blobs only, its knobs only with it, its range.
+    w.file("scenes/tree_algebraic.toml", head + "summation = \"treecode\"\nalgebraic_delta = 0.25\ndt = 0.05\n");
+    r = w.run("run scenes/tree_algebraic.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("vortex_sheet.algebraic_delta = 0.25: Krasny's algebraic blob is not compact"), std::string::npos) << r.err;
+    w.file("scenes/direct_theta.toml", head + "treecode_theta = 0.5\nalgebraic_delta = 0.25\ndt = 0.05\n");
+    r = w.run("run scenes/direct_theta.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("vortex_sheet.treecode_theta"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("summation is \"direct\""), std::string::npos) << r.err;
+    w.file("scenes/tree_order.toml", head + "summation = \"treecode\"\ntreecode_order = 50\nkernels = [\"wendland:k=2\"]\nsupport = 0.1\ndt = 0.05\n");
+    r = w.run("run scenes/tree_order.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("vortex_sheet.treecode_order = 50"), std::string::npos) << r.err;
+    w.file("scenes/bad_summation.toml", head + "summation = \"fmm\"\nalgebraic_delta = 0.25\ndt = 0.05\n");
+    r = w.run("run scenes/bad_summation.toml");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("vortex_sheet.summation = \"fmm\""), std::string::npos) << r.err;
     EXPECT_EQ(w.entries(), std::vector<std::string>{"scenes"});
+    w.file("scenes/tree.toml", "[scene]\nname = \"vt\"\nexperiment = \"vortex-sheet\"\n[vortex_sheet]\nparticles = 300\ntimes = [0.1]\n"
+                               "summation = \"treecode\"\nkernels = [\"wendland:k=2\"]\nsupport = 0.05\ndt = 0.05\n");
+    r = w.run("run scenes/tree.toml");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(w.dir / "out" / "vt" / "sheet_0.csv"));
+    std::ifstream summary(w.dir / "out" / "vt" / "summary.md");
+    const std::string md((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
+    EXPECT_NE(md.find("the periodic treecode (θ = 0.4, order 20"), std::string::npos) << md;
     w.file("scenes/good.toml", head + "algebraic_delta = 0.25\nkernels = [\"mollifier:M=4\"]\nsupport = 0.25\ndt = 0.05\n");
     r = w.run("run scenes/good.toml");
     EXPECT_EQ(r.status, 0) << r.err;

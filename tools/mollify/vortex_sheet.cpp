@@ -32,6 +32,16 @@ Blob make_blob(std::string label, B blob) {
     return {std::move(label), [blob](vortex::Sheet& s, double dt, long steps) { vortex::advance(blob, s, dt, steps); }};
 }
 
+// How the velocities are summed: pair by pair (every blob), or by the
+// periodic treecode (compact blobs only: its far field is the point-vortex
+// row, exact beyond the support; Krasny's algebraic blob differs from it at
+// every distance).
+struct Summation {
+    bool treecode = false;
+    double theta = 0.4;
+    int order = 20;
+};
+
 struct Run {
     std::vector<vortex::Sheet> snapshots;  // at t = 0 and every requested time
     double seconds = 0;
@@ -75,9 +85,31 @@ std::string sheet_plot(const std::string& csv, const std::string& title, const s
 }  // namespace
 
 void run_vortex_sheet(const Scene& scene, Output& out) {
-    scene.only("vortex_sheet", {"particles", "epsilon", "algebraic_delta", "kernels", "support", "times", "dt", "check_halving"});
+    scene.only("vortex_sheet", {"particles", "epsilon", "algebraic_delta", "kernels", "support", "times", "dt", "check_halving", "summation",
+                                "treecode_theta", "treecode_order"});
+    Summation sum;
+    const std::string summation = scene.string("vortex_sheet.summation", "direct");
+    if (summation == "treecode")
+        sum.treecode = true;
+    else if (summation != "direct")
+        scene.reject("vortex_sheet.summation", "\"" + summation + "\" is not \"direct\" or \"treecode\"");
+    if (!sum.treecode && (scene.has("vortex_sheet.treecode_theta") || scene.has("vortex_sheet.treecode_order")))
+        scene.reject(scene.has("vortex_sheet.treecode_theta") ? "vortex_sheet.treecode_theta" : "vortex_sheet.treecode_order",
+                     "only the treecode has it, and summation is \"direct\"");
+    if (sum.treecode) {
+        sum.theta = scene.number("vortex_sheet.treecode_theta", sum.theta);
+        if (!(sum.theta > 0 && sum.theta < 1)) scene.reject("vortex_sheet.treecode_theta", format(sum.theta) + " is not in (0, 1)");
+        const long order = scene.has("vortex_sheet.treecode_order") ? scene.integer("vortex_sheet.treecode_order") : sum.order;
+        if (order < 1 || order > vortex::SheetTreecode<vortex::CompactBlob>::max_order)
+            scene.reject("vortex_sheet.treecode_order",
+                         std::to_string(order) + " is outside 1.." + std::to_string(vortex::SheetTreecode<vortex::CompactBlob>::max_order));
+        sum.order = static_cast<int>(order);
+    }
     const long n = scene.integer("vortex_sheet.particles");
-    if (n < 2 || n > 20000) scene.reject("vortex_sheet.particles", std::to_string(n) + " is outside 2..20000 (direct summation is O(N^2))");
+    const long most = sum.treecode ? 1000000 : 20000;
+    if (n < 2 || n > most)
+        scene.reject("vortex_sheet.particles", std::to_string(n) + " is outside 2.." + std::to_string(most) +
+                                                   (sum.treecode ? " (the treecode's range)" : " (direct summation is O(N^2); summation = \"treecode\" goes further)"));
     const double eps = scene.number("vortex_sheet.epsilon", 0.01);
     if (!std::isfinite(eps) || std::abs(eps) > 0.25) scene.reject("vortex_sheet.epsilon", format(eps) + " is not a small perturbation (|eps| <= 0.25)");
     const double dt = scene.positive("vortex_sheet.dt");
@@ -96,6 +128,10 @@ void run_vortex_sheet(const Scene& scene, Output& out) {
     std::vector<Blob> blobs;
     if (scene.has("vortex_sheet.algebraic_delta")) {
         const double delta = scene.positive("vortex_sheet.algebraic_delta");
+        if (sum.treecode)
+            scene.reject("vortex_sheet.algebraic_delta",
+                         "Krasny's algebraic blob is not compact, so the treecode's far field (the point-vortex row) would not be "
+                         "its velocity; drop it or use summation = \"direct\"");
         blobs.push_back(make_blob("algebraic, δ = " + format(delta, 3), vortex::AlgebraicBlob(delta)));
     }
     const std::vector<std::string> specs = scene.has("vortex_sheet.kernels") ? scene.strings("vortex_sheet.kernels") : std::vector<std::string>{};
@@ -104,7 +140,11 @@ void run_vortex_sheet(const Scene& scene, Output& out) {
         if (h > 0.5) scene.reject("vortex_sheet.support", format(h) + " exceeds 1/2, half the period");
         for (const std::string& spec : specs) {
             try {
-                blobs.push_back(make_blob(spec + ", h = " + format(h, 3), vortex::CompactBlob(mollify::exact::kernel(spec, 2), h)));
+                vortex::CompactBlob blob(mollify::exact::kernel(spec, 2), h);
+                if (sum.treecode)
+                    blobs.push_back(make_blob(spec + ", h = " + format(h, 3), vortex::SheetTreecode(std::move(blob), sum.theta, sum.order)));
+                else
+                    blobs.push_back(make_blob(spec + ", h = " + format(h, 3), std::move(blob)));
             } catch (const Error& e) {
                 scene.reject("vortex_sheet.kernels", e.what());
             }
@@ -158,8 +198,11 @@ void run_vortex_sheet(const Scene& scene, Output& out) {
     std::string& md = out.summary();
     md += "# " + scene.title() + "\n\n";
     md += "Krasny's sheet: N = " + std::to_string(n) + " particles at x = a + ε sin 2πa, y = −ε sin 2πa (a = j/N, ε = " + format(eps, 3) +
-          "), Γ_j = 1/N, period 1 in x; classical RK4 with dt = " + format(dt, 3) + ", direct summation over the periodic kernel (" +
-          std::to_string(detail::thread_count()) + " OpenMP threads, wall-clock seconds). The algebraic blob is Krasny's δ² regularisation "
+          "), Γ_j = 1/N, period 1 in x; classical RK4 with dt = " + format(dt, 3) + ", " +
+          (sum.treecode ? "the periodic treecode (θ = " + format(sum.theta, 3) + ", order " + std::to_string(sum.order) +
+                              "; exact blobs within the support, the point-vortex row's Taylor series beyond)"
+                        : std::string("direct summation over the periodic kernel")) +
+          " (" + std::to_string(detail::thread_count()) + " OpenMP threads, wall-clock seconds). The algebraic blob is Krasny's δ² regularisation "
           "of the periodic kernel; a compact blob is a mollifier of the tables with support radius h, exact beyond it (the point-vortex row). "
           "\"impulse drift\" is the change of Σ Γ y (zero for the exact dynamics); \"dt vs dt/2\" the largest distance between the runs "
           "with dt and dt/2 at the last time.\n\n" + summary.markdown() + "\n![all blobs at the last time](sheets_last.png)\n\n";
