@@ -85,6 +85,12 @@ Row measure(long n, double h, double theta, int order) {
     return {n, h, order, direct_s, tree_s, e / top, m < s.size()};
 }
 
+void print(const Row& r) {
+    std::printf("N %7ld  h %.2e  p %2d  direct %9.3f s%s  treecode %7.3f s  speed-up %7.1f  error %.1e\n", r.n, r.h, r.order, r.direct_s,
+                r.direct_scaled ? "*" : " ", r.tree_s, r.direct_s / r.tree_s, r.error);
+    std::fflush(stdout);
+}
+
 std::string fmt(const char* f, double x) {
     char b[64];
     std::snprintf(b, sizeof b, f, x);
@@ -103,18 +109,12 @@ int main(int argc, char** argv) {
     for (long n : {1000L, 4000L, 16000L, 64000L, 100000L})
         for (int order : {10, 20}) {
             rows.push_back(measure(n, 20.0 / static_cast<double>(n), theta, order));
-            const Row& r = rows.back();
-            std::printf("N %7ld  h %.2e  p %2d  direct %9.3f s%s  treecode %7.3f s  speed-up %7.1f  error %.1e\n", r.n, r.h, r.order,
-                        r.direct_s, r.direct_scaled ? "*" : " ", r.tree_s, r.direct_s / r.tree_s, r.error);
-            std::fflush(stdout);
+            print(rows.back());
         }
     for (long n : {4000L, 16000L})
         for (double h : {0.01, 0.25}) {
             rows.push_back(measure(n, h, theta, 20));
-            const Row& r = rows.back();
-            std::printf("N %7ld  h %.2e  p %2d  direct %9.3f s%s  treecode %7.3f s  speed-up %7.1f  error %.1e\n", r.n, r.h, r.order,
-                        r.direct_s, r.direct_scaled ? "*" : " ", r.tree_s, r.direct_s / r.tree_s, r.error);
-            std::fflush(stdout);
+            print(rows.back());
         }
     const std::string after = bench::load_average();
     std::printf("load before: %s\nload after:  %s\n", before.c_str(), after.c_str());
