@@ -1,5 +1,6 @@
-// The periodic sheet's velocity by a treecode (issue 21): O(N log N) instead
-// of the O(N^2) direct sum of sheet.hpp, for compact blobs, whose velocity
+// The periodic sheet's velocity by a treecode (issue 21): the far field in
+// O(N log N) instead of the O(N^2) direct sum of sheet.hpp (the near field,
+// pairs within ~h, stays O(N * N h)), for compact blobs, whose velocity
 // beyond the support radius h is exactly the point-vortex row
 //     u - i v = sum_j Gamma_j cot(pi (z - z_j)) / (2 i)      (blob.hpp),
 // so far clusters need no regularisation and near pairs keep the exact blob.
@@ -36,6 +37,7 @@
 #include <cstddef>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mollify::vortex {
