@@ -110,14 +110,12 @@ typename SheetTreecode<Blob>::Tree SheetTreecode<Blob>::build(const Sheet& s) co
         const double r = s.x[j] - std::floor(s.x[j]);
         t.x[j] = r < 1 ? r : 0.0;  // x = -tiny rounds to 1
     }
-    std::vector<double> x = t.x;
     t.y = s.y;
-    t.gamma = s.gamma;
     t.cells.reserve(2 * (n / leaf_ + 1));
     split(t, 0, n);
     std::vector<double> px(n), py(n), pg(n);
     for (std::size_t j = 0; j < n; ++j) {
-        px[j] = x[t.index[j]];
+        px[j] = t.x[t.index[j]];
         py[j] = s.y[t.index[j]];
         pg[j] = s.gamma[t.index[j]];
     }
@@ -194,15 +192,10 @@ void SheetTreecode<Blob>::cell_moments(Tree& t, int c) const {
 template <class Blob>
 void SheetTreecode<Blob>::cot_taylor(double zr, double zi, double d, Complex* a) const {
     constexpr double pi = std::numbers::pi;
-    if (std::abs(zi) > 20) {
-        a[0] = {0.0, -std::copysign(1.0, zi)};  // e^(-2 pi |y|) < 1e-54
-    } else {
-        // cot(pi z) = (sin 2 pi x - i sinh 2 pi y) / (2 (sinh^2 pi y + sin^2 pi x)),
-        // the denominator free of cancellation near z = 0 (periodic_point_vortex.hpp).
-        const double sx = std::sin(pi * zr), cx = std::cos(pi * zr), sy = std::sinh(pi * zi), cy = std::cosh(pi * zi);
-        const double den = sy * sy + sx * sx;
-        a[0] = {sx * cx / den, -sy * cy / den};
-    }
+    // cot(pi z) = 2 i (u - i v) = 2 v + 2 i u from the row's velocity (its
+    // closed form, free of cancellation near z = 0 and of overflow far off).
+    const Velocity row = detail::krasny(zr, zi, 0.0);
+    a[0] = {2 * row[1], 2 * row[0]};
     for (int j = 0; j < order_; ++j) {
         double sr = j == 0 ? 1.0 : 0.0, si = 0;
         for (int m = 0; m <= j; ++m) {
@@ -277,10 +270,10 @@ void SheetTreecode<Blob>::velocity(const Sheet& s, std::vector<double>& u, std::
                     stack.push_back(source.left);
                 }
             }
+            const double scale = target.rho > 0 ? 1 / target.rho : 0;
             for (std::size_t i = target.begin; i < target.end; ++i) {
                 // The local expansion at t = z_i - c_L (Horner in t / rho_L):
                 // S = sum Gamma cot, u - i v = S / (2 i).
-                const double scale = target.rho > 0 ? 1 / target.rho : 0;
                 const double tr = (t.x[i] - target.cx) * scale, ti = (t.y[i] - target.cy) * scale;
                 double sr = 0, si = 0;
                 for (int m = order_; m >= 0; --m) {
