@@ -8,9 +8,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
-#include <optional>
 #include <map>
+#include <mutex>
+#include <optional>
 
 namespace mollify::gen {
 
@@ -210,18 +212,39 @@ std::pair<Real, Real> CentredValue::evaluate(const Q& c, unsigned bits) const {
     return out;
 }
 
+namespace {
+
+// The constants' names about c, kept per thread: every coefficient of a
+// piece names the same three (S(c) by an integer square root each time was
+// most of writing the exact values beside the hex floats).
+struct ConstantNames {
+    std::string arcsech, arcsin, log;
+};
+const ConstantNames& constant_names(const Q& c) {
+    thread_local std::map<Q, ConstantNames> cache;
+    auto [it, fresh] = cache.try_emplace(c);
+    if (fresh) {
+        const Q s = rational_sqrt(Q(1) - c * c);
+        it->second = {"log(" + short_string((1 + s) / c) + ")",  // arcsech c = log((1 + S(c))/c)
+                      "arcsin(" + short_string(c) + ")", "log(" + short_string(c) + ")"};
+    }
+    return it->second;
+}
+
+}  // namespace
+
 std::string CentredValue::to_string(const Q& c) const {
-    const Q s = rational_sqrt(Q(1) - c * c);
+    const ConstantNames& names = constant_names(c);
     std::string out;
-    auto add = [&](const Exact& x, const std::string& constant) {
+    auto add = [&](const Exact& x, const std::string* constant) {
         if (x.is_zero()) return;
         if (!out.empty()) out += " + ";
-        out += constant.empty() ? x.to_string() : "(" + x.to_string() + ") * " + constant;
+        out += constant ? "(" + x.to_string() + ") * " + *constant : x.to_string();
     };
-    add(one, "");
-    add(arcsech, "log(" + short_string((1 + s) / c) + ")");  // arcsech c = log((1 + S(c))/c)
-    add(arcsin, "arcsin(" + short_string(c) + ")");
-    add(log, "log(" + short_string(c) + ")");
+    add(one, nullptr);
+    add(arcsech, &names.arcsech);
+    add(arcsin, &names.arcsin);
+    add(log, &names.log);
     return out.empty() ? "0" : out;
 }
 
@@ -717,7 +740,10 @@ std::optional<std::vector<CentredPiece>> chosen_pieces(const Prepared& p, const 
 
 }  // namespace
 
-std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const Q& hi) {
+namespace {
+
+// The pieces of f as the compiled-in choices say, or searched.
+std::vector<CentredPiece> pieces_of(const ClosedForm& f, const Q& lo, const Q& hi) {
     const Prepared p(f);
     const std::uint64_t key = search_key("centred", f, {lo, hi});
     std::optional<std::vector<CentredPiece>> out;
@@ -736,6 +762,72 @@ std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const
     }
     for (CentredPiece& piece : *out) piece.sampled = f;
     return std::move(*out);
+}
+
+// f = c g, c = q pi^e f's first term's lowest coefficient: a kernel's
+// quantities in 1, 2 and 3 dimensions differ by their normalisation (and the
+// value, first and second derivative of the same function by a factor), so
+// that half of the catalogue's closed forms here are multiples of others.
+std::pair<Exact, ClosedForm> normalised(const ClosedForm& f) {
+    if (f.is_zero()) fail("internal: Taylor pieces of the zero function");
+    const auto& [key, p] = *f.terms().begin();
+    const Exact c = Exact::pi_power(p.coefficient(p.low()), key.factor.pi_power);
+    return {c, f * c.inverse()};
+}
+
+// The pieces of every g met in this run (emit's threads share them: the
+// first to ask computes, the others wait).
+const std::vector<CentredPiece>& shared_pieces(const ClosedForm& g, const Q& lo, const Q& hi) {
+    static std::mutex mutex;
+    static std::map<std::uint64_t, std::shared_future<std::vector<CentredPiece>>> all;
+    const std::uint64_t key = search_key("centred", g, {lo, hi});
+    std::promise<std::vector<CentredPiece>> promise;
+    std::shared_future<std::vector<CentredPiece>> future;
+    bool mine = false;
+    {
+        const std::lock_guard<std::mutex> lock(mutex);
+        auto [it, fresh] = all.try_emplace(key);
+        if (fresh) it->second = promise.get_future().share();
+        future = it->second;
+        mine = fresh;
+    }
+    if (mine) {
+        try {
+            promise.set_value(pieces_of(g, lo, hi));
+        } catch (...) {
+            promise.set_exception(std::current_exception());
+        }
+    }
+    return future.get();
+}
+
+// c times g's piece, a piece of f = c g: the coefficients exactly; the
+// truncation bound times an upper bound of |c| (still rigorous), the scale
+// by the same factor (their ratio, which the tables print, is g's); the
+// samples times c at their 200 bits.
+CentredPiece multiple(const CentredPiece& p, const Exact& c, const ClosedForm& f) {
+    const auto& [atom, q] = *c.terms().begin();
+    const Q c_above = abs(q) * interval(atom).second;
+    CentredPiece out{p.lo, p.hi, p.centre, p.low, p.s_power, {}, p.tail * c_above, p.scale * c_above, f, {}, {}};
+    for (const CentredValue& a : p.a) out.a.push_back({a.one * c, a.arcsech * c, a.arcsin * c, a.log * c});
+    const Real c_real = c.evaluate(200).first;
+    for (const auto& [value, size] : p.samples) {
+        Real v(value), s(size);
+        mpfr_mul(v.backend().data(), v.backend().data(), c_real.backend().data(), MPFR_RNDN);
+        mpfr_mul(s.backend().data(), s.backend().data(), c_real.backend().data(), MPFR_RNDN);
+        mpfr_abs(s.backend().data(), s.backend().data(), MPFR_RNDN);
+        out.samples.emplace_back(std::move(v), std::move(s));
+    }
+    return out;
+}
+
+}  // namespace
+
+std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const Q& hi) {
+    const auto [c, g] = normalised(f);
+    std::vector<CentredPiece> out;
+    for (const CentredPiece& p : shared_pieces(g, lo, hi)) out.push_back(multiple(p, c, f));
+    return out;
 }
 
 }  // namespace mollify::gen

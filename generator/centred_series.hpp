@@ -57,6 +57,8 @@ std::vector<CentredValue> taylor_at_centre(const ClosedForm& f, const Q& c, int 
 // Pieces covering [lo, hi) (0 < lo < hi <= 1, f analytic on (0, 1)), each
 // |r - c| <= 0.3 min(c, 1 - c), truncation below 2^-60 of `scale`; as the
 // search's compiled-in choices say where they fit (search_choices.hpp).
+// Made once per run for f = c g (c = q pi^e, g's first coefficient 1) and
+// multiplied by c for every other multiple of g (the choices are g's).
 std::vector<CentredPiece> centred_pieces(const ClosedForm& f, const Q& lo, const Q& hi);
 
 }  // namespace mollify::gen

@@ -3,6 +3,8 @@
 #include "error.hpp"
 #include "rounding.hpp"
 
+#include <mollify/detail/double_double.hpp>
+
 #include <boost/multiprecision/mpfr.hpp>
 
 #include <map>
@@ -49,14 +51,23 @@ ClosedForm term_form(const EmittedTerm& t) {
 // bound leaves a factor 6 for the sum of |terms| where f is small).
 constexpr double centred_certificate_bound = 0x1p-50;
 
-// The polynomial's working precision: Horner's rounding at 36 digits (120
-// bits) is below 2^-110 of the sum of |terms|, itself within a few
-// max(|f|, |r f'|) wherever the check passes (the rounding of the
-// coefficients, 2^-53 of it, must stay below 2^-50 of that): it cannot move
-// an error across centred_certificate_bound. (At 70 digits, its former
-// precision, the Horner loop was a ninth of a missing Wendland function's
-// emit.)
+// The polynomial's working precision: Horner's rule in double-double
+// (mollify/detail/double_double.hpp, ~104 bits a step) leaves an error below
+// n 2^-103 of the sum of |terms|, itself within a few max(|f|, |r f'|)
+// wherever the check passes (the rounding of the coefficients, 2^-53 of it,
+// must stay below 2^-50 of that): it cannot move an error across
+// centred_certificate_bound. The factors r^low S^s_power and the comparison
+// are in MPFR at 36 digits (120 bits). (In MPFR at 36 digits the Horner
+// loop was two fifths of the check, at 70 digits a ninth of a missing
+// Wendland function's emit.)
 constexpr unsigned horner_digits = 36;
+
+// sum_k a_k v^k by Horner's rule, v = v.hi + v.lo.
+detail::DoubleDouble horner(const std::vector<double>& a, const detail::DoubleDouble& v) {
+    detail::DoubleDouble y{a.back(), 0.0};
+    for (std::size_t k = a.size() - 1; k-- > 0;) y = y * v + detail::DoubleDouble{a[k], 0.0};
+    return y;
+}
 
 void check_centred(const ClosedForm& f, const CentredPiece& p) {
     const std::vector<double> a = rounded(p);
@@ -69,24 +80,15 @@ void check_centred(const ClosedForm& f, const CentredPiece& p) {
         mpfr_set_q(x.backend().data(), q.backend().data(), MPFR_RNDN);
         return x;
     };
-    // The emitted polynomial by Horner's rule (raw MPFR, no
-    // temporaries; the doubles converted once, exactly, at the working
-    // precision: MPFR's additions of equal precisions take its fast path).
-    std::vector<Real> coefficients;
-    for (const double c : a) {
-        coefficients.emplace_back(0, horner_digits);
-        mpfr_set_d(coefficients.back().backend().data(), c, MPFR_RNDN);
-    }
-    Real sum(0, horner_digits);
-    mpfr_ptr y = sum.backend().data();
+    Real sum(0, horner_digits), v_rest(0, horner_digits);
     for (int i = 0; i <= 128; ++i) {
         const Q x = p.lo + (p.hi - p.lo) * ratio(i, 128);
         const Real r = real(x), v = real(x - p.centre);
-        mpfr_set(y, coefficients.back().backend().data(), MPFR_RNDN);
-        for (std::size_t k = a.size() - 1; k-- > 0;) {
-            mpfr_mul(y, y, v.backend().data(), MPFR_RNDN);
-            mpfr_add(y, y, coefficients[k].backend().data(), MPFR_RNDN);
-        }
+        const double v_hi = mpfr_get_d(v.backend().data(), MPFR_RNDN);
+        mpfr_sub_d(v_rest.backend().data(), v.backend().data(), v_hi, MPFR_RNDN);
+        const detail::DoubleDouble y = horner(a, {v_hi, mpfr_get_d(v_rest.backend().data(), MPFR_RNDN)});
+        mpfr_set_d(sum.backend().data(), y.hi, MPFR_RNDN);
+        mpfr_add_d(sum.backend().data(), sum.backend().data(), y.lo, MPFR_RNDN);
         if (p.low != 0 || p.s_power != 0)
             sum *= boost::multiprecision::pow(r, p.low) *
                    boost::multiprecision::pow(boost::multiprecision::sqrt(1 - r * r), p.s_power);

@@ -5,6 +5,8 @@
 #include <mpfr.h>
 
 #include <algorithm>
+#include <map>
+#include <tuple>
 
 namespace mollify::gen {
 
@@ -107,35 +109,50 @@ Real pi_at(unsigned bits) {
     return p;
 }
 
+namespace {
+
+// pi^e and log p at `bits`, each correctly rounded, kept per thread: Ziv's
+// rounding evaluates every coefficient at the same few precisions, and
+// these were a tenth of its time computed per term (filled in place: a
+// copied Real may take the thread's default precision).
+const Real& atom_factor(bool log, long n, unsigned bits) {
+    thread_local std::map<std::tuple<bool, long, unsigned>, Real> cache;
+    auto [it, fresh] = cache.try_emplace(std::tuple{log, n, bits});
+    if (fresh) {
+        mpfr_ptr x = it->second.backend().data();
+        mpfr_set_prec(x, bits);
+        if (log) {
+            mpfr_set_si(x, n, MPFR_RNDN);
+            mpfr_log(x, x, MPFR_RNDN);
+        } else {
+            mpfr_t pi;
+            mpfr_init2(pi, bits);
+            mpfr_const_pi(pi, MPFR_RNDN);
+            mpfr_pow_si(x, pi, n, MPFR_RNDN);
+            mpfr_clear(pi);
+        }
+    }
+    return it->second;
+}
+
+}  // namespace
+
 std::pair<Real, Real> Exact::evaluate(unsigned bits) const {
     const unsigned digits10 = bits * 30103 / 100000 + 2;
     Real sum(0, digits10), magnitude(0, digits10);
     // Raw MPFR at bits + 16 for the factors: Boost's expression temporaries
     // may take the thread's default precision, below what Ziv's rounding of
     // a cancelling sum assumes (rounding.hpp).
-    mpfr_t pi, f;
-    mpfr_init2(pi, bits + 16);
-    mpfr_init2(f, bits + 16);
-    mpfr_const_pi(pi, MPFR_RNDN);
+    Real t(0, digits10);
+    mpfr_ptr x = t.backend().data();
     for (const auto& [a, q] : terms_) {
-        Real t(0, digits10);
-        mpfr_ptr x = t.backend().data();
         mpfr_set_q(x, q.backend().data(), MPFR_RNDN);
-        if (a.pi_power != 0) {
-            mpfr_pow_si(f, pi, a.pi_power, MPFR_RNDN);
-            mpfr_mul(x, x, f, MPFR_RNDN);
-        }
-        if (a.log_of != 1) {
-            mpfr_set_si(f, static_cast<long>(a.log_of), MPFR_RNDN);
-            mpfr_log(f, f, MPFR_RNDN);
-            mpfr_mul(x, x, f, MPFR_RNDN);
-        }
+        if (a.pi_power != 0) mpfr_mul(x, x, atom_factor(false, a.pi_power, bits + 16).backend().data(), MPFR_RNDN);
+        if (a.log_of != 1) mpfr_mul(x, x, atom_factor(true, static_cast<long>(a.log_of), bits + 16).backend().data(), MPFR_RNDN);
         mpfr_add(sum.backend().data(), sum.backend().data(), x, MPFR_RNDN);
         mpfr_abs(x, x, MPFR_RNDN);
         mpfr_add(magnitude.backend().data(), magnitude.backend().data(), x, MPFR_RNDN);
     }
-    mpfr_clear(pi);
-    mpfr_clear(f);
     return {sum, magnitude};
 }
 

@@ -180,45 +180,50 @@ Q Laurent::operator()(const Q& r) const {
     return low_ == 0 ? value : Q(value * pow(r, low_));
 }
 
-std::optional<Laurent> Laurent::divided_by_linear_power(const Q& a, int n) const {
-    Laurent rest = *this;
-    for (int i = 0; i < n; ++i) {
-        if (rest.is_zero()) return rest;
-        // Synthetic division of r^low * q(r) by (a - r) = -(r - a).
-        if (rest.low_ < 0 && a == 0) return std::nullopt;
-        const int lo = rest.low_;
-        std::vector<Q> q = rest.c_;  // polynomial part in r, times r^lo
-        std::vector<Q> quotient(q.size() > 1 ? q.size() - 1 : 0);
-        Q carry = 0;
-        for (std::size_t k = q.size(); k-- > 0;) {
-            const Q v = q[k] + carry * a;
-            if (k == 0) {
-                if (v != 0) return std::nullopt;
-            } else {
-                quotient[k - 1] = v;
-                carry = v;
-            }
-        }
-        Laurent next;
-        next.low_ = lo;
-        next.c_ = std::move(quotient);
-        next *= Q(-1);  // divided by (r - a); flip for (a - r)
-        next.trim();
-        rest = next;
+namespace {
+
+// One synthetic division of r^low q(r) by (r - a) in place: q becomes the
+// quotient (low unchanged, then trimmed at its low end: r^low q(r) keeps its
+// value); false, q untouched, where it leaves a remainder.
+bool divide_by_r_minus(std::vector<Q>& q, int& low, const Q& a) {
+    if (q.empty()) return true;
+    if (low < 0 && a == 0) return false;
+    std::vector<Q> v = q;
+    const bool unit = a == 1;  // the edge: no products
+    for (std::size_t k = v.size() - 1; k-- > 0;) {
+        if (unit) v[k] += v[k + 1];
+        else v[k] += a * v[k + 1];
     }
-    return rest;
+    if (v.front() != 0) return false;
+    v.erase(v.begin());
+    std::size_t first = 0;
+    while (first < v.size() && v[first] == 0) ++first;
+    v.erase(v.begin(), v.begin() + static_cast<long>(first));
+    low += static_cast<int>(first);
+    q = std::move(v);
+    return true;
+}
+
+}  // namespace
+
+// Divided by (r - a) n times, the sign of (a - r)^n once at the end (a
+// rational's product by -1 reduces by gcds; its negation does not).
+std::optional<Laurent> Laurent::divided_by_linear_power(const Q& a, int n) const {
+    Laurent out = *this;
+    for (int i = 0; i < n && !out.c_.empty(); ++i)
+        if (!divide_by_r_minus(out.c_, out.low_, a)) return std::nullopt;
+    if (n % 2 != 0)
+        for (Q& c : out.c_) mpq_neg(c.backend().data(), c.backend().data());
+    out.trim();
+    return out;
 }
 
 int Laurent::multiplicity_of_root(const Q& a) const {
     if (is_zero()) return -1;
-    int n = 0;
-    Laurent rest = *this;
-    while (true) {
-        auto q = rest.divided_by_linear_power(a, 1);
-        if (!q || q->is_zero()) return n;
-        rest = *q;
-        ++n;
-    }
+    std::vector<Q> q = c_;
+    int low = low_, n = 0;
+    while (!q.empty() && divide_by_r_minus(q, low, a)) ++n;
+    return n;
 }
 
 std::vector<Q> Laurent::taylor_at(const Q& a) const {

@@ -7,6 +7,7 @@
 // ends and inside every piece; the pieces cover the interval in order.
 #include "catalogue.hpp"
 #include "centred_series.hpp"
+#include "emit_checks.hpp"
 #include "kernel.hpp"
 #include "quantities.hpp"
 #include "sanitized.hpp"
@@ -85,4 +86,37 @@ TEST(CentredSeries, TruncatedSeriesOfMissingWendlandQuantitiesIsWithinItsProvenT
         }
     }
     EXPECT_GT(checked, mollify::testing::sanitized_build ? 100 / 3 : 100);  // D = 3 only, or D = 1..3
+}
+
+// The emission's own check (emit_checks.hpp) of the Taylor pieces, which
+// compares the rounded coefficients' polynomial with the closed form's 200-bit
+// samples at 129 points: it passes the emitted pieces, in D = 1 and in
+// D = 3 (whose pieces are the D = 1 pieces times the normalisation), and
+// fails a piece whose constant coefficient is off by 2^-46 of itself (its
+// bound is 2^-50 of max(|f|, |r f'|)) or whose samples are not f's.
+TEST(CentredSeries, CheckOfEmittedTaylorPiecesCatchesAWrongCoefficient) {
+    const Spec spec = parse_spec("wendland-missing:k=1,l=1");
+    int pieces_checked = 0;
+    for (const int dim : {1, 3}) {
+        const ExactKernel k = make_kernel(spec, dim);
+        const Quantities qs = derive_quantities(k);
+        const Radial& f = quantity(k, qs, "value");
+        std::vector<EmittedPiece> pieces = plan_quantity(f, false, {});
+        EXPECT_NO_THROW(check_emitted(f, pieces)) << "D" << dim;
+        for (EmittedPiece& p : pieces) {
+            if (!p.centred) continue;
+            ++pieces_checked;
+            std::vector<EmittedPiece> one{p};
+            EXPECT_NO_THROW(check_emitted(f, one));
+            std::vector<double>& a = one.front().centred->a_double;
+            ASSERT_FALSE(a.empty());
+            a.front() *= 1 + 0x1p-46;
+            EXPECT_THROW(check_emitted(f, one), mollify::Error) << "D" << dim << " piece from " << short_string(p.lo);
+            one = {p};
+            auto& [value, size] = one.front().centred->samples.at(64);
+            value *= 1 + 1e-13;
+            EXPECT_THROW(check_emitted(f, one), mollify::Error) << "D" << dim << " piece from " << short_string(p.lo);
+        }
+    }
+    EXPECT_GE(pieces_checked, 4);
 }
