@@ -183,6 +183,7 @@ Scene Scene::parse(std::string_view text, std::string origin) {
     impl->text = std::string(text);
     check_toml_characters(impl->text, impl->origin);  // before toml++ (toml_guard.hpp)
     try {
+        (void)toml::parse(ascii_placeholders(impl->text), impl->origin);  // the structure first (toml_guard.hpp)
         impl->root = toml::parse(impl->text, impl->origin);
     } catch (const toml::parse_error& e) {
         const auto& b = e.source().begin;

@@ -154,4 +154,11 @@ private:
 
 void check_toml_characters(std::string_view text, const std::string& origin) { Lexer(text, origin).run(); }
 
+std::string ascii_placeholders(std::string_view text) {
+    std::string out(text);
+    for (char& c : out)
+        if (non_ascii(c)) c = 'x';
+    return out;
+}
+
 }  // namespace mollify::app

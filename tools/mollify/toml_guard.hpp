@@ -18,4 +18,12 @@ namespace mollify::app {
 // a multi-line basic string.
 void check_toml_characters(std::string_view text, const std::string& origin);
 
+// The text with every non-ASCII byte replaced by 'x' (lines kept): parsed
+// first, so that toml++ meets the real text only once its structure is known
+// to be valid. Where it is not ("x = 0\"§\"", "x = -[\"é\"]"), toml++ reads the
+// quote and what follows as one bad value and classifies each character as
+// whitespace or not, non-ASCII ones included (found by fuzz/fuzz_scene.cpp
+// after the lexer above).
+std::string ascii_placeholders(std::string_view text);
+
 }  // namespace mollify::app
