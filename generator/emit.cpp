@@ -5,6 +5,7 @@
 #include "emit_round.hpp"
 #include "target.hpp"
 #include "term_shapes.hpp"
+#include "write_constants.hpp"
 #include "write_cpp.hpp"
 #include "write_data.hpp"
 #include "write_json.hpp"
@@ -124,6 +125,7 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
     result.files["mollify/tables/catalogue.hpp"] = catalogue_header(command);
     result.files["src/catalogue.cpp"] = catalogue_source(command, headers, ids);
     result.files["src/term_shapes.def"] = term_shapes_source(command, shapes);
+    result.files["mollify/constants/cot_series.hpp"] = cot_series_header(command);
     result.files["catalogue.json"] = catalogue_json(command, kernels);
     return result;
 }

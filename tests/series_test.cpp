@@ -9,6 +9,7 @@
 #include "quantities.hpp"
 #include "sanitized.hpp"
 #include "series.hpp"
+#include "zeta.hpp"
 #include "edge_series.hpp"
 
 #include <gtest/gtest.h>
@@ -125,4 +126,34 @@ TEST(Series, EdgeSeriesOfEveryMissingWendlandQuantityMatchesTheClosedForm) {
             ++checked;
     });
     EXPECT_EQ(checked, (mollify::testing::sanitized_build ? 1 : 6) * 3 * 10);  // kernels x D x quantities
+}
+
+// Euler's zeta(2j)/pi^(2j) (generator/zeta.hpp), which the runtime's
+// periodic row of point vortices sums near its vortex (through
+// generated/mollify/constants/cot_series.hpp): the known first values
+// exactly, and every j to 12 against MPFR's zeta at 256 bits (an independent
+// oracle: its own summation, not Bernoulli numbers), within 2^-240.
+TEST(Series, EulerZetaValuesAtTheEvenIntegers) {
+    EXPECT_EQ(zeta_even_over_pi_power(1), Q(1, 6));
+    EXPECT_EQ(zeta_even_over_pi_power(2), Q(1, 90));
+    EXPECT_EQ(zeta_even_over_pi_power(6), Q(691, 638512875));
+    const std::vector<Q> b = bernoulli_numbers(12);
+    EXPECT_EQ(b[1], Q(-1, 2));
+    EXPECT_EQ(b[3], Q(0));
+    EXPECT_EQ(b[12], Q(-691, 2730));
+    mpfr_t z, pi, q;
+    mpfr_inits2(256, z, pi, q, static_cast<mpfr_ptr>(nullptr));
+    mpfr_const_pi(pi, MPFR_RNDN);
+    for (int j = 1; j <= 12; ++j) {
+        mpfr_zeta_ui(z, static_cast<unsigned long>(2 * j), MPFR_RNDN);
+        mpfr_set_q(q, zeta_even_over_pi_power(j).backend().data(), MPFR_RNDN);
+        mpfr_pow_ui(pi, pi, static_cast<unsigned long>(2 * j), MPFR_RNDN);
+        mpfr_mul(q, q, pi, MPFR_RNDN);  // q pi^(2j)
+        mpfr_const_pi(pi, MPFR_RNDN);
+        mpfr_sub(q, q, z, MPFR_RNDN);
+        mpfr_div(q, q, z, MPFR_RNDN);
+        EXPECT_LT(std::abs(mpfr_get_d(q, MPFR_RNDN)), 0x1p-240) << "zeta(" << 2 * j << ")";
+    }
+    mpfr_clears(z, pi, q, static_cast<mpfr_ptr>(nullptr));
+    EXPECT_THROW(zeta_even_over_pi_power(0), mollify::Error);
 }

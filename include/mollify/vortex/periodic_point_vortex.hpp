@@ -7,8 +7,11 @@
 // the second form free of cancellation near z = 0.
 #pragma once
 
+#include <mollify/constants/cot_series.hpp>
+
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <numbers>
 
 namespace mollify::vortex {
@@ -52,29 +55,19 @@ inline Velocity periodic_point_vortex(double x, double y) { return detail::krasn
 // terms leave |z|^13 < 1e-17 for |z| < 0.05. Elsewhere the difference,
 // whose rounding is eps / (2 pi |z|) absolute.
 inline Velocity periodic_point_vortex_images(double x, double y) {
-    constexpr double pi = std::numbers::pi;
     x = detail::nearest_image(x);
     if (x * x + y * y >= 0.05 * 0.05) {
         const Velocity p = detail::krasny(x, y, 0.0), s = point_vortex(x, y);
         return {p[0] - s[0], p[1] - s[1]};
     }
-    // zeta(2k) / pi^(2k) for k = 1..6 (Euler): 1/6, 1/90, 1/945, 1/9450,
-    // 1/93555, 691/638512875.
-    // The products c_k pi^(2k+1) once (not a pow per pair: the sheet's near
-    // sums call this for every pair inside a support).
-    static constexpr std::array<double, 6> c = [] {
-        std::array<double, 6> p{1.0 / 6, 1.0 / 90, 1.0 / 945, 1.0 / 9450, 1.0 / 93555, 691.0 / 638512875};
-        double power = pi;
-        for (double& q : p) {
-            q *= power;
-            power *= pi * pi;
-        }
-        return p;
-    }();
-    // w = sum_k c_k pi^(2k-1) z^(2k-1) (Horner in z^2), then u - i v = i w.
+    // zeta(2k)/pi, k = 1..6, from the generator (Euler's values, correctly
+    // rounded: generated/mollify/constants/cot_series.hpp).
+    const auto& c = constants::zeta_even_over_pi;
+    constexpr int terms = static_cast<int>(std::size(c));
+    // w = sum_k c_k z^(2k-2) (Horner in z^2), w z, then u - i v = i w z.
     const double z2r = x * x - y * y, z2i = 2 * x * y;
     double wr = 0, wi = 0;
-    for (int k = 5; k >= 0; --k) {
+    for (int k = terms - 1; k >= 0; --k) {
         const double p = c[k];
         const double tr = wr * z2r - wi * z2i, ti = wr * z2i + wi * z2r;
         wr = tr + p;
