@@ -2,16 +2,15 @@
 
 #include "edge_series.hpp"
 #include "error.hpp"
+#include "once_per_run.hpp"
 #include "search_choices.hpp"
 
 #include <mpfr.h>
 
 #include <algorithm>
 #include <cmath>
-#include <future>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <optional>
 
 namespace mollify::gen {
@@ -764,41 +763,10 @@ std::vector<CentredPiece> pieces_of(const ClosedForm& f, const Q& lo, const Q& h
     return std::move(*out);
 }
 
-// f = c g, c = q pi^e f's first term's lowest coefficient: a kernel's
-// quantities in 1, 2 and 3 dimensions differ by their normalisation (and the
-// value, first and second derivative of the same function by a factor), so
-// that half of the catalogue's closed forms here are multiples of others.
-std::pair<Exact, ClosedForm> normalised(const ClosedForm& f) {
-    if (f.is_zero()) fail("internal: Taylor pieces of the zero function");
-    const auto& [key, p] = *f.terms().begin();
-    const Exact c = Exact::pi_power(p.coefficient(p.low()), key.factor.pi_power);
-    return {c, f * c.inverse()};
-}
-
-// The pieces of every g met in this run (emit's threads share them: the
-// first to ask computes, the others wait).
+// The pieces of every g met in this run.
 const std::vector<CentredPiece>& shared_pieces(const ClosedForm& g, const Q& lo, const Q& hi) {
-    static std::mutex mutex;
-    static std::map<std::uint64_t, std::shared_future<std::vector<CentredPiece>>> all;
-    const std::uint64_t key = search_key("centred", g, {lo, hi});
-    std::promise<std::vector<CentredPiece>> promise;
-    std::shared_future<std::vector<CentredPiece>> future;
-    bool mine = false;
-    {
-        const std::lock_guard<std::mutex> lock(mutex);
-        auto [it, fresh] = all.try_emplace(key);
-        if (fresh) it->second = promise.get_future().share();
-        future = it->second;
-        mine = fresh;
-    }
-    if (mine) {
-        try {
-            promise.set_value(pieces_of(g, lo, hi));
-        } catch (...) {
-            promise.set_exception(std::current_exception());
-        }
-    }
-    return future.get();
+    return once_per_run<std::vector<CentredPiece>>(search_key("centred", g, {lo, hi}),
+                                                   [&] { return pieces_of(g, lo, hi); });
 }
 
 // c times g's piece, a piece of f = c g: the coefficients exactly; the

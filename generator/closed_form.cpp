@@ -502,4 +502,11 @@ Exact value_at(const ClosedForm& f, const Q& r) {
     fail("value of a sqrt/arcsech/arcsin closed form at r = " + short_string(r) + " is irrational");
 }
 
+std::pair<Exact, ClosedForm> normalised(const ClosedForm& f) {
+    if (f.is_zero()) fail("internal: the normalised form of 0");
+    const auto& [key, p] = *f.terms().begin();
+    const Exact c = Exact::pi_power(p.coefficient(p.low()), key.factor.pi_power);
+    return {c, f * c.inverse()};
+}
+
 }  // namespace mollify::gen

@@ -15,6 +15,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mollify::gen {
@@ -127,5 +128,12 @@ private:
 // arcsin 1 = pi/2 at 1). Error where the form is singular or irrational.
 Exact value_at(const ClosedForm& f, const Q& r);
 Exact limit_at_zero(const ClosedForm& f);
+
+// f = c g with c = q pi^e, q and e those of f's first term's lowest
+// coefficient (g's is 1): a kernel's quantities in 1, 2 and 3 dimensions
+// differ by their normalisation, and the generator's series and Taylor
+// pieces of f are c times g's (made once per run: centred_series.hpp,
+// edge_series.hpp, series.hpp). f must not be zero.
+std::pair<Exact, ClosedForm> normalised(const ClosedForm& f);
 
 }  // namespace mollify::gen

@@ -1,5 +1,6 @@
 #include "edge_series.hpp"
 
+#include "once_per_run.hpp"
 #include "search_choices.hpp"
 
 #include <mpfr.h>
@@ -225,14 +226,27 @@ std::optional<EdgeSeries> chosen_edge_series(const ClosedForm& f, const EdgeChoi
     return EdgeSeries{c.r1, c.order, std::move(*terms), *b};
 }
 
-}  // namespace
-
-std::optional<EdgeSeries> edge_series(const ClosedForm& f, const Q& r0) {
+// As the compiled-in choice says, or searched.
+std::optional<EdgeSeries> edge_series_of(const ClosedForm& f, const Q& r0) {
     const std::uint64_t key = search_key("edge", f, {r0});
     if (const EdgeChoice* c = known_choice<EdgeChoice>(key))
         if (auto e = chosen_edge_series(f, *c)) return e;
     auto e = searched_edge_series(f, r0);
     if (e && searching_afresh()) record_choice(key, EdgeChoice{e->r1, e->order});
+    return e;
+}
+
+}  // namespace
+
+// Once per run for g, f = c g (closed_form.hpp's normalised): the series is
+// linear in f and its bound relative, so f's is g's with its terms times c.
+std::optional<EdgeSeries> edge_series(const ClosedForm& f, const Q& r0) {
+    if (f.is_zero()) return edge_series_of(f, r0);
+    const auto [c, g] = normalised(f);
+    std::optional<EdgeSeries> e = once_per_run<std::optional<EdgeSeries>>(
+        search_key("edge", g, {r0}), [&] { return edge_series_of(g, r0); });
+    if (e)
+        for (EdgeTerm& t : e->terms) t.c = t.c * c;
     return e;
 }
 

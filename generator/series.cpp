@@ -1,6 +1,7 @@
 #include "series.hpp"
 
 #include "error.hpp"
+#include "once_per_run.hpp"
 #include "search_choices.hpp"
 
 #include <mpfr.h>
@@ -303,14 +304,26 @@ std::optional<ZeroSeries> chosen_zero_series(const ClosedForm& f, const ZeroChoi
     return ZeroSeries{c.m, c.order, std::move(s), *rel};
 }
 
-}  // namespace
-
-std::optional<ZeroSeries> zero_series(const ClosedForm& f) {
+// As the compiled-in choice says, or searched.
+std::optional<ZeroSeries> zero_series_of(const ClosedForm& f) {
     const std::uint64_t key = search_key("zero", f, {});
     if (const ZeroChoice* c = known_choice<ZeroChoice>(key))
         if (auto z = chosen_zero_series(f, *c)) return z;
     auto z = searched_zero_series(f);
     if (z && searching_afresh()) record_choice(key, ZeroChoice{z->m, z->order});
+    return z;
+}
+
+}  // namespace
+
+// Once per run for g, f = c g (closed_form.hpp's normalised): the series is
+// linear in f and its bound relative, so f's is g's times c.
+std::optional<ZeroSeries> zero_series(const ClosedForm& f) {
+    if (f.is_zero()) return zero_series_of(f);
+    const auto [c, g] = normalised(f);
+    std::optional<ZeroSeries> z =
+        once_per_run<std::optional<ZeroSeries>>(search_key("zero", g, {}), [&] { return zero_series_of(g); });
+    if (z) z->series = z->series * c;
     return z;
 }
 
