@@ -264,7 +264,7 @@ Exact ClosedForm::at(const Q& r) const {
     return v;
 }
 
-PointValues::PointValues(const Real& r, unsigned bits) : bits_(bits), digits10_(bits * 30103 / 100000 + 2), r_(r, digits10_) {}
+PointValues::PointValues(const Real& r, unsigned bits) : digits10_(bits * 30103 / 100000 + 2), r_(r, digits10_) {}
 
 // Every value is computed in raw MPFR into a number of the point's
 // precision: Boost's expressions and functions may give their result the
@@ -352,29 +352,10 @@ const Real& PointValues::power_of_r(int n) {
     return it->second;
 }
 
-// pi^e does not depend on r: kept per thread for each (bits, e).
-const Real& PointValues::pi_power(int e) {
-    thread_local std::map<std::pair<unsigned, int>, Real> powers;
-    auto it = powers.find({bits_, e});
-    if (it == powers.end()) {
-        it = powers.emplace(std::pair{bits_, e}, fresh()).first;
-        mpfr_ptr x = it->second.backend().data();
-        mpfr_const_pi(x, MPFR_RNDN);
-        mpfr_pow_si(x, x, e, MPFR_RNDN);
-    }
-    return it->second;
-}
+// pi^e and log p do not depend on r (exact.hpp, at the point's precision).
+const Real& PointValues::pi_power(int e) { return pi_power_at(e, static_cast<unsigned>(mpfr_get_prec(r_.backend().data()))); }
 
-const Real& PointValues::log_of(int p) {
-    auto it = logs_.find(p);
-    if (it == logs_.end()) {
-        it = logs_.emplace(p, fresh()).first;
-        mpfr_ptr x = it->second.backend().data();
-        mpfr_set_si(x, p, MPFR_RNDN);
-        mpfr_log(x, x, MPFR_RNDN);
-    }
-    return it->second;
-}
+const Real& PointValues::log_of(int p) { return log_at(p, static_cast<unsigned>(mpfr_get_prec(r_.backend().data()))); }
 
 const Real& PointValues::basis(Basis b, int s_power) {
     const std::pair key{b, b == Basis::sqrt_power ? s_power : 0};

@@ -52,10 +52,10 @@ public:
 private:
     const Real& S();
     Real fresh() const;  // 0 at the point's precision
-    unsigned bits_, digits10_;
+    unsigned digits10_;
     Real r_;
     std::optional<Real> s_;
-    std::map<int, Real> r_powers_, logs_;
+    std::map<int, Real> r_powers_;
     std::map<std::pair<Basis, int>, Real> bases_;
     Shared* shared_ = nullptr;
 };

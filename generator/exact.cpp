@@ -111,10 +111,7 @@ Real pi_at(unsigned bits) {
 
 namespace {
 
-// pi^e and log p at `bits`, each correctly rounded, kept per thread: Ziv's
-// rounding evaluates every coefficient at the same few precisions, and
-// these were a tenth of its time computed per term (filled in place: a
-// copied Real may take the thread's default precision).
+// Filled in place: a copied Real may take the thread's default precision.
 const Real& atom_factor(bool log, long n, unsigned bits) {
     thread_local std::map<std::tuple<bool, long, unsigned>, Real> cache;
     auto [it, fresh] = cache.try_emplace(std::tuple{log, n, bits});
@@ -137,6 +134,9 @@ const Real& atom_factor(bool log, long n, unsigned bits) {
 
 }  // namespace
 
+const Real& pi_power_at(int e, unsigned bits) { return atom_factor(false, e, bits); }
+const Real& log_at(long p, unsigned bits) { return atom_factor(true, p, bits); }
+
 std::pair<Real, Real> Exact::evaluate(unsigned bits) const {
     const unsigned digits10 = bits * 30103 / 100000 + 2;
     Real sum(0, digits10), magnitude(0, digits10);
@@ -147,8 +147,8 @@ std::pair<Real, Real> Exact::evaluate(unsigned bits) const {
     mpfr_ptr x = t.backend().data();
     for (const auto& [a, q] : terms_) {
         mpfr_set_q(x, q.backend().data(), MPFR_RNDN);
-        if (a.pi_power != 0) mpfr_mul(x, x, atom_factor(false, a.pi_power, bits + 16).backend().data(), MPFR_RNDN);
-        if (a.log_of != 1) mpfr_mul(x, x, atom_factor(true, static_cast<long>(a.log_of), bits + 16).backend().data(), MPFR_RNDN);
+        if (a.pi_power != 0) mpfr_mul(x, x, pi_power_at(a.pi_power, bits + 16).backend().data(), MPFR_RNDN);
+        if (a.log_of != 1) mpfr_mul(x, x, log_at(static_cast<long>(a.log_of), bits + 16).backend().data(), MPFR_RNDN);
         mpfr_add(sum.backend().data(), sum.backend().data(), x, MPFR_RNDN);
         mpfr_abs(x, x, MPFR_RNDN);
         mpfr_add(magnitude.backend().data(), magnitude.backend().data(), x, MPFR_RNDN);

@@ -57,6 +57,13 @@ private:
 
 Real pi_at(unsigned bits);
 
+// pi^e (pi rounded to `bits`, then the power) and log p, each rounded to
+// `bits`, kept per thread: Ziv's rounding evaluates every coefficient, and
+// the check samples every point, at the same few precisions (computed per
+// term they were a tenth of the rounding's time).
+const Real& pi_power_at(int e, unsigned bits);
+const Real& log_at(long p, unsigned bits);
+
 // Rigorous rational bounds of an exact constant: lo <= x <= hi (MPFR's pi,
 // log and pow_si correctly rounded at 200 bits, widened by 2^-150 relative
 // per atom), and of |x|: abs_lower_bound(x) <= |x| <= abs_upper_bound(x).

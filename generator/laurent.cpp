@@ -184,23 +184,21 @@ namespace {
 
 // One synthetic division of r^low q(r) by (r - a) in place: q becomes the
 // quotient (low unchanged, then trimmed at its low end: r^low q(r) keeps its
-// value); false, q untouched, where it leaves a remainder.
+// value); false where it leaves a remainder (q then holds no use: both
+// callers stop there).
 bool divide_by_r_minus(std::vector<Q>& q, int& low, const Q& a) {
     if (q.empty()) return true;
     if (low < 0 && a == 0) return false;
-    std::vector<Q> v = q;
     const bool unit = a == 1;  // the edge: no products
-    for (std::size_t k = v.size() - 1; k-- > 0;) {
-        if (unit) v[k] += v[k + 1];
-        else v[k] += a * v[k + 1];
+    for (std::size_t k = q.size() - 1; k-- > 0;) {
+        if (unit) q[k] += q[k + 1];
+        else q[k] += a * q[k + 1];
     }
-    if (v.front() != 0) return false;
-    v.erase(v.begin());
-    std::size_t first = 0;
-    while (first < v.size() && v[first] == 0) ++first;
-    v.erase(v.begin(), v.begin() + static_cast<long>(first));
-    low += static_cast<int>(first);
-    q = std::move(v);
+    if (q.front() != 0) return false;
+    std::size_t first = 1;
+    while (first < q.size() && q[first] == 0) ++first;
+    q.erase(q.begin(), q.begin() + static_cast<long>(first));
+    low += static_cast<int>(first - 1);
     return true;
 }
 

@@ -24,14 +24,19 @@ Q to_rational(const Real& x) {
     return q;
 }
 
-// [v - e, v + e] with e a generous bound on the evaluation error.
+// The bound on an evaluation's error at `bits`: magnitude 2^(headroom -
+// bits) + 2^(-floor_factor bits), generous (the evaluators round a few times
+// per term, each by 2^-bits of at most the sum of |terms|, the magnitude).
+constexpr unsigned error_headroom = 24, error_floor_factor = 4;
+
+// [v - e, v + e] with e that bound.
 std::pair<Q, Q> enclosure(const Evaluator& f, unsigned bits) {
     const auto [v, magnitude] = f(bits);
-    // magnitude 2^(24 - bits) + 2^(-4 bits), by exact shifts (rational powers
-    // of 2 by squaring were a sixth of `emit`'s time).
+    // By exact shifts (rational powers of 2 by squaring were a sixth of
+    // `emit`'s time).
     Q err = to_rational(magnitude), floor_term = 1;
-    mpq_div_2exp(err.backend().data(), err.backend().data(), bits - 24);
-    mpq_div_2exp(floor_term.backend().data(), floor_term.backend().data(), 4 * bits);
+    mpq_div_2exp(err.backend().data(), err.backend().data(), bits - error_headroom);
+    mpq_div_2exp(floor_term.backend().data(), floor_term.backend().data(), error_floor_factor * bits);
     err += floor_term;
     const Q center = to_rational(v);
     return {center - err, center + err};
@@ -137,8 +142,8 @@ auto ziv_round(const Evaluator& f, Round round, const std::string& to) {
 
 // Ziv's loop to a double in MPFR alone (the rational enclosure's
 // conversions and divisions were a third of the rounding's time): the
-// enclosure's ends moved outward, v - e rounded down and v + e up (e as
-// enclosure's, rounded up), each rounded to the nearest double by
+// enclosure's ends moved outward, v - e rounded down and v + e up (e the
+// same bound, rounded up), each rounded to the nearest double by
 // mpfr_get_d (correctly, subnormals included); where they agree, every
 // point of the wider interval, the value among them, rounds so.
 double ziv_round_to_double(const Evaluator& f, unsigned first_bits) {
@@ -150,8 +155,8 @@ double ziv_round_to_double(const Evaluator& f, unsigned first_bits) {
         const auto [v, magnitude] = f(bits);
         mpfr_set(e, magnitude.backend().data(), MPFR_RNDU);
         mpfr_abs(e, e, MPFR_RNDU);
-        mpfr_mul_2si(e, e, 24 - static_cast<long>(bits), MPFR_RNDU);
-        mpfr_set_ui_2exp(tiny, 1, -4 * static_cast<long>(bits), MPFR_RNDU);
+        mpfr_mul_2si(e, e, static_cast<long>(error_headroom) - static_cast<long>(bits), MPFR_RNDU);
+        mpfr_set_ui_2exp(tiny, 1, -static_cast<long>(error_floor_factor * bits), MPFR_RNDU);
         mpfr_add(e, e, tiny, MPFR_RNDU);
         const mpfr_prec_t p = mpfr_get_prec(v.backend().data()) + 2;
         mpfr_set_prec(lo, p);
