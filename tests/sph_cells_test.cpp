@@ -4,8 +4,9 @@
 // box and in R^D, with fewer than 3 cells per side (aliasing), pairs at
 // exactly eps and particles on cell boundaries, coincident particles, a
 // crowded cell; densities and accelerations against the particle sweep.
-// Built twice (tests/CMakeLists.txt): for the default target and for
-// x86-64-v3, where the pair test runs its AVX2 form (pair_batch.hpp).
+// Built for the default target, for x86-64-v3 (the pair test's and the 3D
+// sums' AVX2 forms) and, on a machine with AVX-512, for x86-64-v4 (the
+// pair test's AVX-512 form and gathers, pair_batch.hpp): tests/CMakeLists.txt.
 #include <mollify/sph.hpp>
 #include <mollify/tables/wendland/k_2_D2.hpp>
 #include <mollify/tables/wendland/k_2_D3.hpp>
@@ -39,6 +40,17 @@ static_assert(MOLLIFY_EXPECT_AVX2 == 1);
 TEST(NeighboursV3, CpuHasAvx2) {
     // A CPU without AVX2 cannot run this build's tests: a failure, not a skip.
     ASSERT_TRUE(__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"));
+}
+#endif
+
+#if defined(MOLLIFY_EXPECT_AVX512)
+// The v4 build must exercise the AVX-512 pair test and gathers.
+static_assert(MOLLIFY_EXPECT_AVX512 == 1);
+#if !defined(__AVX512F__) || !defined(__AVX512VL__)
+#error "sph_cells_v4_test is built without AVX-512: the AVX-512 pair test would go untested"
+#endif
+TEST(NeighboursV4, CpuHasAvx512) {
+    ASSERT_TRUE(__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl"));
 }
 #endif
 

@@ -29,6 +29,10 @@
 #include <string>
 #include <vector>
 
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
 namespace mollify::sph {
 
 template <int D>
@@ -245,25 +249,52 @@ private:
         // The pairs come grouped by a: a's sums in registers, b's scattered
         // (distinct within a group, so no chain through memory).
         constexpr std::size_t stride = D + 1;
-        for (std::size_t q = 0; q < k;) {
-            const std::size_t i = pa[q];
+        std::size_t q = 0;
+        for (std::size_t g = 0; g < b.groups; ++g) {
+            const std::size_t i = pa[q], end = b.ends[g];
+            double* __restrict own = sum + stride * i;
+#if defined(__AVX2__)
+            // In 3D a particle's sums (rho, grad) are one 4-lane vector: one
+            // multiply-add per pair and side.
+            if constexpr (D == 3) {
+                const __m256d mi = _mm256_mul_pd(_mm256_set1_pd(m[i]), _mm256_set_pd(-1.0, -1.0, -1.0, 1.0));
+                __m256d sum_i = _mm256_setzero_pd();
+                const auto pair = [&](std::size_t j, __m256d v) {  // v = (W, grad W) of the pair (i, j)
+                    double* __restrict to = sum + stride * j;
+                    sum_i = _mm256_fmadd_pd(_mm256_set1_pd(m[j]), v, sum_i);
+                    _mm256_storeu_pd(to, _mm256_fmadd_pd(mi, v, _mm256_loadu_pd(to)));  // m_a W, -m_a grad W
+                };
+                for (; q + 4 <= end; q += 4) {  // four pairs' (W, grad W) transposed into four vectors
+                    const __m256d w4 = _mm256_loadu_pd(w + q), g0 = _mm256_loadu_pd(grad[0] + q);
+                    const __m256d g1 = _mm256_loadu_pd(grad[1] + q), g2 = _mm256_loadu_pd(grad[2] + q);
+                    const __m256d t0 = _mm256_unpacklo_pd(w4, g0), t1 = _mm256_unpackhi_pd(w4, g0);
+                    const __m256d t2 = _mm256_unpacklo_pd(g1, g2), t3 = _mm256_unpackhi_pd(g1, g2);
+                    pair(pb[q], _mm256_permute2f128_pd(t0, t2, 0x20));
+                    pair(pb[q + 1], _mm256_permute2f128_pd(t1, t3, 0x20));
+                    pair(pb[q + 2], _mm256_permute2f128_pd(t0, t2, 0x31));
+                    pair(pb[q + 3], _mm256_permute2f128_pd(t1, t3, 0x31));
+                }
+                for (; q < end; ++q) pair(pb[q], _mm256_set_pd(grad[2][q], grad[1][q], grad[0][q], w[q]));
+                _mm256_storeu_pd(own, _mm256_add_pd(_mm256_loadu_pd(own), sum_i));
+                continue;
+            }
+#endif
             const double mi = m[i];
             double ri = 0;
             std::array<double, D> gi{};
-            for (; q < k && pa[q] == i; ++q) {
+            for (; q < end; ++q) {
                 double* __restrict to = sum + stride * pb[q];
                 const double wq = w[q], mj = m[pb[q]];
                 ri += mj * wq;
                 to[0] += mi * wq;
                 for (int c = 0; c < D; ++c) {
-                    const double g = grad[c][q];
-                    gi[c] += mj * g;
-                    to[1 + c] -= mi * g;
+                    const double gc = grad[c][q];
+                    gi[c] += mj * gc;
+                    to[1 + c] -= mi * gc;
                 }
             }
-            double* __restrict to = sum + stride * i;
-            to[0] += ri;
-            for (int c = 0; c < D; ++c) to[1 + c] += gi[c];
+            own[0] += ri;
+            for (int c = 0; c < D; ++c) own[1 + c] += gi[c];
         }
     }
 

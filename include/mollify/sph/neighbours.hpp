@@ -21,6 +21,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <numeric>
 #include <span>
 #include <string>
@@ -42,6 +43,15 @@ inline void check_radius(double eps) {
 // state the caller lost track of (or a NaN), not one to fold back silently.
 template <int D>
 void check_positions(const Positions<D>& x, const Domain<D>& domain) {
+    for (int c = 1; c < D; ++c)
+        if (x[c].size() != x[0].size()) fail("positions: components of different lengths");
+    // One branch-free pass (it vectorises); the loop below names the first bad value.
+    const bool periodic = domain.is_periodic();
+    const double L = domain.length();
+    bool good = true;
+    for (int c = 0; c < D; ++c)
+        for (const double v : x[c]) good &= std::abs(v) <= std::numeric_limits<double>::max() && (!periodic || (v >= 0 && v < L));
+    if (good) return;
     for (int c = 0; c < D; ++c)
         for (std::size_t i = 0; i < x[c].size(); ++i) {
             const double v = x[c][i];
@@ -52,8 +62,6 @@ void check_positions(const Positions<D>& x, const Domain<D>& domain) {
                 fail("particle " + std::to_string(i) + " at x[" + std::to_string(c) + "] = " + mollify::detail::show(v) +
                      " lies outside the periodic box [0, " + mollify::detail::show(domain.length()) + ")");
         }
-    for (int c = 1; c < D; ++c)
-        if (x[c].size() != x[0].size()) fail("positions: components of different lengths");
 }
 
 // What every search is made for: a domain and a support radius eps, checked
@@ -194,7 +202,7 @@ public:
         previous_.swap(members_);
         members_.resize(n);
         slot_.resize(n);
-        for (int c = 0; c < D; ++c) sorted_[c].resize(n);
+        for (int c = 0; c < D; ++c) sorted_[c].resize(n + copy_chunk);  // half_pairs_runs copies whole chunks
         for (std::size_t p = 0; p < n; ++p) {
             const std::size_t i = previous_[p];
             const std::size_t slot = fill_[cell_of_[i]]++;
@@ -239,12 +247,12 @@ public:
             const std::size_t a1 = std::min(nh, a0 + rows);
             if (b.size + (a1 - a0) * nc > cap) {
                 flush(b);
-                b.size = 0;
+                b.clear();
             }
             b.size = detail::near_pairs<D, true>(b, a0, a1, nc, reach_.eps, reach_.domain);
         }
         if (b.size) flush(b);
-        b.size = 0;
+        b.clear();
     }
 
     // Without aliasing each pair of neighbouring cells is met once from the
@@ -266,20 +274,13 @@ public:
         }
         const bool periodic = reach_.domain.is_periodic();
         const double L = reach_.domain.length();
-        std::array<int, D> off;  // off[0] unused: the row runs along axis 0
-        off.fill(-1);
-        off[0] = 0;
-        for (;;) {
-            bool positive = false, zero = true, inside = true;
-            for (int c = D - 1; c >= 1 && zero; --c)
-                if (off[c] != 0) {
-                    positive = off[c] > 0;
-                    zero = false;
-                }
+        for (const std::array<int, D>& off : detail::half_rows<D>) {  // off[0] unused: the row runs along axis 0
+            const bool home_row = off == detail::half_rows<D>[0];
+            bool inside = true;
             std::size_t row = 0;  // the row's cell at axis-0 coordinate 0
             std::array<double, D> shift{};
             for (int c = D - 1; c >= 1; --c) {
-                long v = at[c] + off[c];
+                long v = at[c] + off[static_cast<std::size_t>(c)];
                 if (v < 0 || v >= count_[c]) {
                     inside = inside && periodic;
                     shift[static_cast<std::size_t>(c)] = v < 0 ? -L : L;
@@ -288,58 +289,58 @@ public:
                 row = row * static_cast<std::size_t>(count_[c]) + static_cast<std::size_t>(v);
             }
             row *= static_cast<std::size_t>(count_[0]);
-            if (inside && (zero || positive)) {
-                for (long dx = zero ? 0 : -1; dx <= 1; ++dx) {
-                    long v = at[0] + dx;
-                    double sx = 0;
-                    if (v < 0 || v >= count_[0]) {
-                        if (!periodic) continue;
-                        sx = v < 0 ? -L : L;
-                        v = (v + count_[0]) % count_[0];
-                    }
-                    const std::size_t cell = row + static_cast<std::size_t>(v);
-                    shift[0] = sx;
-                    if (nruns > 0 && runs[nruns - 1].hi == start_[cell] && runs[nruns - 1].shift == shift) {
-                        runs[nruns - 1].hi = start_[cell + 1];
-                    } else {
-                        runs[nruns++] = {start_[cell], start_[cell + 1], shift};
-                    }
-                    total += start_[cell + 1] - start_[cell];
+            if (!inside) continue;
+            for (long dx = home_row ? 0 : -1; dx <= 1; ++dx) {
+                long v = at[0] + dx;
+                double sx = 0;
+                if (v < 0 || v >= count_[0]) {
+                    if (!periodic) continue;
+                    sx = v < 0 ? -L : L;
+                    v = (v + count_[0]) % count_[0];
                 }
+                const std::size_t cell = row + static_cast<std::size_t>(v);
+                shift[0] = sx;
+                if (nruns > 0 && runs[nruns - 1].hi == start_[cell] && runs[nruns - 1].shift == shift) {
+                    runs[nruns - 1].hi = start_[cell + 1];
+                } else {
+                    runs[nruns++] = {start_[cell], start_[cell + 1], shift};
+                }
+                total += start_[cell + 1] - start_[cell];
             }
-            int c = 1;
-            while (c < D && off[c] == 1) off[c++] = -1;
-            if (c == D) break;
-            ++off[c];
         }
         // The runs copied, shifted, into one contiguous candidate list (the
         // home cell first): one loop per home particle, not one per run
         // (each loop's exit is a mispredicted branch and a drained pipeline).
-        if (b.slot.size() < total + 4) {
-            for (auto& c : b.y) c.resize(total + 4);
-            b.slot.resize(total + 4);
+        // Each run in whole chunks, all components in one loop: the copy past
+        // a run's end is overwritten by the next run or lies in the padding
+        // (one loop exit per run, not one per component with a vector loop's
+        // peeling and remainder: those mispredicted ~30 times per cell).
+        if (b.slot.size() < total + 2 * copy_chunk) {
+            for (auto& c : b.y) c.resize(total + 2 * copy_chunk);
+            b.slot.resize(total + 2 * copy_chunk);
         }
         std::size_t at_slot = 0;
         for (std::size_t r = 0; r < nruns; ++r) {
             const std::size_t lo = runs[r].lo, len = runs[r].hi - runs[r].lo;
+            std::array<const double*, D> from;
+            std::array<double*, D> to;
             for (int c = 0; c < D; ++c) {
-                const double* __restrict from = sorted_[c].data() + lo;
-                double* __restrict to = b.y[c].data() + at_slot;
-                const double sh = runs[r].shift[static_cast<std::size_t>(c)];
-                for (std::size_t t = 0; t < len; ++t) to[t] = from[t] + sh;
+                from[static_cast<std::size_t>(c)] = sorted_[c].data() + lo;
+                to[static_cast<std::size_t>(c)] = b.y[c].data() + at_slot;
             }
-            for (std::size_t t = 0; t < len; ++t) b.slot[at_slot + t] = lo + t;
+            std::size_t* slots = b.slot.data() + at_slot;
+            const std::array<double, D> sh = runs[r].shift;
+            for (std::size_t t = 0; t < len; t += copy_chunk) {
+                for (std::size_t c = 0; c < D; ++c) detail::shifted_chunk<copy_chunk>(to[c] + t, from[c] + t, sh[c]);
+                detail::numbered_chunk<copy_chunk>(slots + t, lo + t);
+            }
             at_slot += len;
         }
         const std::size_t cap = std::max(total, PairBatch<D>::capacity);
         b.reserve(cap + 4);
         std::array<const double*, D> y;
-        std::array<double*, D> d;
-        for (int c = 0; c < D; ++c) {
-            y[static_cast<std::size_t>(c)] = b.y[c].data();
-            d[static_cast<std::size_t>(c)] = b.d[c].data();
-        }
-        if (b.close.size() < total + 4) b.close.resize(total + 4);
+        for (int c = 0; c < D; ++c) y[static_cast<std::size_t>(c)] = b.y[c].data();
+        if (b.close.size() < total + 8) b.close.resize(total + 8);
         std::uint32_t* close = b.close.data();
         const std::size_t* slot = b.slot.data();
         const double eps2 = reach_.eps * reach_.eps;
@@ -347,22 +348,16 @@ public:
         for (std::size_t a = 0; a < nh; ++a) {
             if (b.size + total > cap) {
                 flush(b);
-                b.size = 0;
+                b.clear();
             }
             std::array<double, D> xa;
             for (int c = 0; c < D; ++c) xa[static_cast<std::size_t>(c)] = y[static_cast<std::size_t>(c)][a];
             const std::size_t m = detail::append_near<D>(close, 0, xa, y, a + 1, total, eps2);
-            const std::size_t k = b.size, sa = slot[a];
-            for (std::size_t q = 0; q < m; ++q) {
-                const std::size_t j = close[q];
-                for (int c = 0; c < D; ++c) d[static_cast<std::size_t>(c)][k + q] = xa[static_cast<std::size_t>(c)] - y[static_cast<std::size_t>(c)][j];
-                b.a[k + q] = sa;
-                b.b[k + q] = slot[j];
-            }
-            b.size = k + m;
+            detail::store_pairs<D>(b, b.size, close, m, xa, y, slot, slot[a]);
+            b.close_group(b.size + m);
         }
         if (b.size) flush(b);
-        b.size = 0;
+        b.clear();
     }
 
     template <class F>
@@ -501,6 +496,7 @@ private:
         return static_cast<std::size_t>(std::clamp(k, 0L, count_[c] - 1));
     }
 
+    static constexpr std::size_t copy_chunk = 8;
     detail::Reach<D> reach_;
     std::array<double, D> origin_{}, side_{};
     std::array<long, D> count_{};
