@@ -189,6 +189,37 @@ TEST(Neighbours, CellPairsAfterMotion) {
 // Fewer than 3 cells on a periodic side (2 cells: offsets -1 and +1 are one
 // cell; exactly 3: the smallest count without aliasing), and a clump of
 // many particles in one cell (batches flushed mid-cell).
+// Every particle moved but none left its cell (the usual time step): the
+// update keeps the last order and takes the new positions only.
+TEST(Neighbours, CellPairsAfterMotionWithinCells) {
+    const Domain<3> box = Domain<3>::periodic(1.0);
+    const double eps = 0.1;  // ten cells of side 0.1 a side
+    Field<3> x = random_points<3>(2000 / fewer, 0, 1, 18), moved = x;
+    for (auto& c : moved)
+        for (auto& v : c) {
+            const double centre = (std::floor(v / eps) + 0.5) * eps;
+            v = centre + 0.5 * (v - centre);  // halfway to its cell's centre
+        }
+    CellList<3> fast(box, eps);
+    AllPairs<3> slow(box, eps);
+    fast.update(view<3>(x));
+    fast.update(view<3>(moved));
+    slow.update(view<3>(moved));
+    const PairSet<3> a = half_pairs_of(fast);
+    std::size_t pairs = 0;
+    for (std::size_t i = 0; i < moved[0].size(); ++i)
+        slow.visit(i, [&](std::size_t j, const Vector<3>& d) {
+            if (j > i) {
+                ++pairs;
+                const auto at = a.find(std::pair{i, j});
+                ASSERT_NE(at, a.end()) << "pair " << i << ", " << j;
+                for (int c = 0; c < 3; ++c) EXPECT_NEAR(at->second[c], d[c], 1e-15) << "pair " << i << ", " << j;
+            }
+        });
+    EXPECT_EQ(a.size(), pairs);
+    EXPECT_GT(pairs, 0u);
+}
+
 TEST(Neighbours, CellPairsAliasedAndCrowded) {
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.45, random_points<3>(300 / fewer, 0, 1, 8));
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.3125, dyadic_lattice<3>(8));  // 3 cells per side

@@ -194,15 +194,32 @@ public:
         }
         for (std::size_t i = 0; i < n; ++i) ++start_[cell_of_[i] + 1];
         std::partial_sum(start_.begin(), start_.end(), start_.begin());
-        fill_.assign(start_.begin(), start_.end() - 1);
         if (members_.size() != n) {
             members_.resize(n);
             std::iota(members_.begin(), members_.end(), std::size_t{0});
         }
-        previous_.swap(members_);
-        members_.resize(n);
         slot_.resize(n);
         for (int c = 0; c < D; ++c) sorted_[c].resize(n + copy_chunk);  // half_pairs_runs copies whole chunks
+        // Where every particle stayed in its cell (most time steps), the last
+        // order is the stable sort's already: only the positions are new, and
+        // all of it runs in parallel (the scatter below is serial).
+        bool kept = true;
+        MOLLIFY_PARALLEL_FOR(if(n > 50000) schedule(static) reduction(&& : kept))
+        for (long ls = 1; ls < count; ++ls)
+            kept = kept && cell_of_[members_[static_cast<std::size_t>(ls) - 1]] <= cell_of_[members_[static_cast<std::size_t>(ls)]];
+        if (kept) {
+            MOLLIFY_PARALLEL_FOR(if(n > 50000) schedule(static))
+            for (long ls = 0; ls < count; ++ls) {
+                const auto slot = static_cast<std::size_t>(ls);
+                const std::size_t i = members_[slot];
+                slot_[i] = slot;
+                for (int c = 0; c < D; ++c) sorted_[c][slot] = x[c][i];
+            }
+            return;
+        }
+        fill_.assign(start_.begin(), start_.end() - 1);
+        previous_.swap(members_);
+        members_.resize(n);
         for (std::size_t p = 0; p < n; ++p) {
             const std::size_t i = previous_[p];
             const std::size_t slot = fill_[cell_of_[i]]++;
