@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 #include <set>
 #include <tuple>
@@ -110,6 +111,29 @@ TEST(Neighbours, BadInput) {
     }
     Field<1> nan{{std::vector<double>{0.5, NAN}}};
     EXPECT_THROW(s.update(view<1>(nan)), Error);
+    // The cell list's one-pass check: each bad coordinate named, in R^3 and in the box.
+    const double inf = std::numeric_limits<double>::infinity();
+    const std::vector<std::pair<Domain<3>, double>> bad = {
+        {Domain<3>::whole_space(), inf}, {Domain<3>::whole_space(), -inf}, {Domain<3>::whole_space(), NAN},
+        {Domain<3>::periodic(1.0), 1.0}, {Domain<3>::periodic(1.0), -0x1p-1074}, {Domain<3>::periodic(1.0), NAN}};
+    for (const auto& [domain, v] : bad) {
+        CellList<3> cells(domain, 0.1);
+        Field<3> x{{std::vector<double>(5, 0.5), std::vector<double>(5, 0.5), std::vector<double>(5, 0.5)}};
+        x[2][3] = v;
+        try {
+            cells.update(view<3>(x));
+            ADD_FAILURE() << "coordinate " << v << " accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("particle 3"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("x[2]"), std::string::npos) << e.what();
+        }
+    }
+    // A finite coordinate anywhere in R^3 is fine, -0 and the box's lower end in the box.
+    CellList<3> open(Domain<3>::whole_space(), 0.1), box(Domain<3>::periodic(1.0), 0.1);
+    Field<3> far{{std::vector<double>{-1e300, 1e300}, std::vector<double>{0.0, 0.0}, std::vector<double>{0.0, 0.0}}};
+    EXPECT_NO_THROW(open.update(view<3>(far)));
+    Field<3> edge{{std::vector<double>{-0.0, 0.0}, std::vector<double>{0.0, 0.5}, std::vector<double>{0.0, 0.999}}};
+    EXPECT_NO_THROW(box.update(view<3>(edge)));
 }
 
 // Franz Thm. 6.2: the foot y solves x = y + t f(y) to 1e-14.

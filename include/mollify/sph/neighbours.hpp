@@ -45,12 +45,13 @@ template <int D>
 void check_positions(const Positions<D>& x, const Domain<D>& domain) {
     for (int c = 1; c < D; ++c)
         if (x[c].size() != x[0].size()) fail("positions: components of different lengths");
-    // One branch-free pass (it vectorises); the loop below names the first bad value.
-    const bool periodic = domain.is_periodic();
-    const double L = domain.length();
-    bool good = true;
+    // One branch-free pass (it vectorises): each coordinate in [lo, hi), which
+    // NaN and +-inf never are; the loop below names the first bad value.
+    const double lo = domain.is_periodic() ? 0.0 : -std::numeric_limits<double>::max();
+    const double hi = domain.is_periodic() ? domain.length() : std::numeric_limits<double>::infinity();
+    int good = 1;
     for (int c = 0; c < D; ++c)
-        for (const double v : x[c]) good &= std::abs(v) <= std::numeric_limits<double>::max() && (!periodic || (v >= 0 && v < L));
+        for (const double v : x[c]) good &= static_cast<int>(v >= lo) & static_cast<int>(v < hi);
     if (good) return;
     for (int c = 0; c < D; ++c)
         for (std::size_t i = 0; i < x[c].size(); ++i) {
