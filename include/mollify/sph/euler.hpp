@@ -174,11 +174,16 @@ private:
     void sweep_cells(Field<D>* a, std::vector<double>* rho) {
         const std::size_t n = size(), cells = search_.cells();
         const std::vector<std::size_t>& member = search_.members();
-        mass_sorted_.resize(n);
         [[maybe_unused]] const bool parallel = met_last_ > 50000;
-        MOLLIFY_PARALLEL_FOR(if(parallel) schedule(static))
-        for (long ls = 0; ls < static_cast<long>(n); ++ls)
-            mass_sorted_[static_cast<std::size_t>(ls)] = mass_[member[static_cast<std::size_t>(ls)]];
+        // The masses in slot order, again only where the order changed.
+        bool kept = false;
+        if constexpr (requires { search_.order_kept(); }) kept = search_.order_kept();
+        if (!kept || mass_sorted_.size() != n) {
+            mass_sorted_.resize(n);
+            MOLLIFY_PARALLEL_FOR(if(parallel) schedule(static))
+            for (long ls = 0; ls < static_cast<long>(n); ++ls)
+                mass_sorted_[static_cast<std::size_t>(ls)] = mass_[member[static_cast<std::size_t>(ls)]];
+        }
         // W(0), grad W(0): one kernel call on the zero displacement.
         Scratch& s0 = scratch_[0];
         s0.reserve(1);

@@ -195,7 +195,8 @@ public:
         }
         for (std::size_t i = 0; i < n; ++i) ++start_[cell_of_[i] + 1];
         std::partial_sum(start_.begin(), start_.end(), start_.begin());
-        if (members_.size() != n) {
+        const bool first = members_.size() != n;
+        if (first) {
             members_.resize(n);
             std::iota(members_.begin(), members_.end(), std::size_t{0});
         }
@@ -216,8 +217,10 @@ public:
                 slot_[i] = slot;
                 for (int c = 0; c < D; ++c) sorted_[c][slot] = x[c][i];
             }
+            order_kept_ = !first;
             return;
         }
+        order_kept_ = false;
         fill_.assign(start_.begin(), start_.end() - 1);
         previous_.swap(members_);
         members_.resize(n);
@@ -234,6 +237,9 @@ public:
     // a cell occupy consecutive slots, cells in row-major order (axis 0 fastest).
     std::size_t cells() const { return start_.empty() ? 0 : start_.size() - 1; }
     const std::vector<std::size_t>& members() const { return members_; }
+    // Whether the last update kept the order of the update before it (no
+    // particle changed cells): what a caller permuted by members() still holds.
+    bool order_kept() const { return order_kept_; }
 
     // Each unordered pair {a, b}, a != b, |x_a - x_b| <= eps, exactly once
     // over all home cells: a in the home cell, b later in the home cell or
@@ -519,6 +525,7 @@ private:
     std::array<double, D> origin_{}, side_{};
     std::array<long, D> count_{};
     bool aliased_ = false;  // a periodic side of fewer than 3 cells
+    bool order_kept_ = false;
     std::vector<std::size_t> start_, fill_, cell_of_, members_, previous_, slot_;  // slot_ inverts members_
     std::array<std::vector<double>, D> sorted_;
 };
