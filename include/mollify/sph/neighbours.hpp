@@ -361,10 +361,10 @@ public:
             at_slot += len;
         }
         const std::size_t cap = std::max(total, PairBatch<D>::capacity);
-        b.reserve(cap + 4);
+        b.reserve(cap + 16);  // store_pairs' two chunks of 8 (masked) past the last pair
         std::array<const double*, D> y;
         for (int c = 0; c < D; ++c) y[static_cast<std::size_t>(c)] = b.y[c].data();
-        if (b.close.size() < total + 8) b.close.resize(total + 8);
+        if (b.close.size() < total + 16) b.close.resize(total + 16);
         std::uint32_t* close = b.close.data();
         const std::size_t* slot = b.slot.data();
         const double eps2 = reach_.eps * reach_.eps;
