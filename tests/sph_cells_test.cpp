@@ -207,6 +207,40 @@ TEST(Neighbours, CellPairsAfterMotionWithinCells) {
     expect_half_pairs_after_motion(Domain<3>::periodic(1.0), eps, x, moved);
 }
 
+// Particles given in cell order already: the first update keeps it (and
+// must still number the slots), the second keeps it again; visit() reads
+// a particle's slot, so it sees either going wrong.
+TEST(Neighbours, VisitWhereTheOrderIsKept) {
+    const Domain<3> box = Domain<3>::periodic(1.0);
+    const double eps = 0.1;
+    const Field<3> random = random_points<3>(1500 / fewer, 0, 1, 21);
+    CellList<3> sorter(box, eps);
+    sorter.update(view<3>(random));
+    Field<3> x;
+    for (int c = 0; c < 3; ++c)
+        for (const std::size_t i : sorter.members()) x[c].push_back(random[c][i]);
+    CellList<3> fast(box, eps);
+    AllPairs<3> slow(box, eps);
+    slow.update(view<3>(x));
+    for (int round = 0; round < 2; ++round) {
+        fast.update(view<3>(x));
+        EXPECT_EQ(fast.order_kept(), round == 1);
+        std::size_t met = 0;
+        for (std::size_t i = 0; i < x[0].size(); ++i) {
+            std::map<std::size_t, Vector<3>> a, b;
+            fast.visit(i, [&](std::size_t j, const Vector<3>& d) { a.emplace(j, d); });
+            slow.visit(i, [&](std::size_t j, const Vector<3>& d) { b.emplace(j, d); });
+            ASSERT_EQ(a.size(), b.size()) << "particle " << i;
+            for (const auto& [j, d] : b) {
+                ASSERT_EQ(a.count(j), 1u) << "particle " << i << ", neighbour " << j;
+                for (int c = 0; c < 3; ++c) EXPECT_NEAR(a.at(j)[c], d[c], 1e-15);
+            }
+            met += b.size();
+        }
+        EXPECT_GT(met, x[0].size());  // neighbours besides themselves
+    }
+}
+
 // Fewer than 3 cells on a periodic side (2 cells: offsets -1 and +1 are one
 // cell; exactly 3: the smallest count without aliasing), and a clump of
 // many particles in one cell (batches flushed mid-cell).

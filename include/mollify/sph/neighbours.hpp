@@ -210,11 +210,12 @@ public:
         for (long ls = 1; ls < count; ++ls)
             kept = kept && cell_of_[members_[static_cast<std::size_t>(ls) - 1]] <= cell_of_[members_[static_cast<std::size_t>(ls)]];
         if (kept) {
+            // slot_ still inverts members_, except on the first update.
             MOLLIFY_PARALLEL_FOR(if(n > 50000) schedule(static))
             for (long ls = 0; ls < count; ++ls) {
                 const auto slot = static_cast<std::size_t>(ls);
                 const std::size_t i = members_[slot];
-                slot_[i] = slot;
+                if (first) slot_[i] = slot;
                 for (int c = 0; c < D; ++c) sorted_[c][slot] = x[c][i];
             }
             order_kept_ = !first;
@@ -298,8 +299,9 @@ public:
         }
         const bool periodic = reach_.domain.is_periodic();
         const double L = reach_.domain.length();
-        for (const std::array<int, D>& off : detail::half_rows<D>) {  // off[0] unused: the row runs along axis 0
-            const bool home_row = off == detail::half_rows<D>[0];
+        for (std::size_t r = 0; r < detail::half_rows<D>.size(); ++r) {
+            const std::array<int, D>& off = detail::half_rows<D>[r];  // off[0] unused: the row runs along axis 0
+            const bool home_row = r == 0;
             bool inside = true;
             std::size_t row = 0;  // the row's cell at axis-0 coordinate 0
             std::array<double, D> shift{};
