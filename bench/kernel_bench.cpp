@@ -3,7 +3,9 @@
 // (StaticKernel) and run-time (Kernel) batches against the naive forms
 // (expanded monomials, textbook pow), each next to the error it achieves,
 // measured in the same run and the same build (same flags, FMA or not)
-// against the exact values: speed against error.
+// against the exact values: speed against error. For two kernels also the
+// potential phi and phi'/r (the Poisson and vortex solvers' pairs within a
+// support), both precisions and forms.
 //
 // Counters: tsc_cyc = time stamp counter ticks per evaluation (constant rate,
 // the nominal clock; a core boosting above it does more work per tick),
@@ -253,7 +255,7 @@ void register_kernel(const char* label) {
     const double vb = value_products(K) / lanes_per_cycle, pb = pair_products(K) / lanes_per_cycle;
     const std::string base = std::string(label) + "/";
     for (const std::size_t n : sizes) {
-        const std::string suffix = "/" + std::to_string(n);
+        const std::string suffix = std::string("/").append(std::to_string(n));  // not "/" + ...: GCC 12 -Wrestrict
         auto reg = [&](const std::string& name, auto fn) { benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMicrosecond); };
         reg("W/" + base + "static" + suffix, [n, vb, e = value_only[0]](benchmark::State& st) {
             Data& d = data(n);
@@ -348,7 +350,7 @@ void register_forms(const char* label) {
     const std::string base = std::string(label) + "/";
     const Errors none{-1, -1};
     for (const std::size_t n : sizes) {
-        const std::string suffix = "/" + std::to_string(n);
+        const std::string suffix = std::string("/").append(std::to_string(n));  // not "/" + ...: GCC 12 -Wrestrict
         auto reg = [&](const std::string& name, auto fn) { benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMicrosecond); };
         reg("W/" + base + "static" + suffix, [n, none](benchmark::State& st) {
             Data& d = data(n);
@@ -396,6 +398,59 @@ void register_forms(const char* label) {
             const Smoothing s = F::smoothing(h);
             timed(st, n, 0, none, [&] { F::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
         });
+    }
+}
+
+// The potential phi and phi'/r (the Poisson and vortex solvers' pairs within
+// a support), both precisions, both forms; ulp_W and ulp_G are then the
+// errors of phi and phi'/r. Until stop 37 no row measured them, and a branch
+// between the support and the Green's function kept every such batch from
+// vectorising (mollifier:M=4: 8.4 against 1.6 ns per value, fast).
+template <const Kernel& K>
+void register_potentials(const char* label) {
+    using W = mollify::StaticKernel<K>;
+    using F = mollify::StaticKernel<K, mollify::Precision::fast>;
+    const mollify::Kernel runtime(K);
+    const acc::Reference ref(K.spec, 3);
+    const auto& pts = sample().points;
+    const acc::ExactValues ep = acc::exact_values(ref, QuantityId::potential, pts);
+    const acc::ExactValues eg = acc::exact_values(ref, QuantityId::dpotential_over_r, pts);
+    const auto errors_in = [&](mollify::Precision pr) {
+        const mollify::Kernel k = runtime.with(pr);
+        return errors_of(ep, eg, [k](double r, double hh) { return k(QuantityId::potential, r, hh); },
+                         [k](double r, double hh) { return k(QuantityId::dpotential_over_r, r, hh); });
+    };
+    const Errors accurate = errors_in(mollify::Precision::accurate), fast = errors_in(mollify::Precision::fast);
+    for (const std::size_t n : sizes) {
+        const std::string suffix = std::string("/").append(std::to_string(n));  // not "/" + ...: GCC 12 -Wrestrict
+        auto reg = [&](const std::string& name, auto fn) { benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMicrosecond); };
+        const auto both = [&]<QuantityId Q>(const std::string& quantity) {
+            std::string base = quantity;  // appended: GCC 12's -Wrestrict misfires on operator+ chains here
+            base.append("/").append(label).append("/");
+            reg(base + "static" + suffix, [n, accurate](benchmark::State& st) {
+                Data& d = data(n);
+                const Smoothing s = W::smoothing(h);
+                timed(st, n, 0, accurate, [&] { W::template evaluate<Q>(d.r, s, d.w); });
+            });
+            reg(base + "static-fast" + suffix, [n, fast](benchmark::State& st) {
+                Data& d = data(n);
+                const Smoothing s = F::smoothing(h);
+                timed(st, n, 0, fast, [&] { F::template evaluate<Q>(d.r, s, d.w); });
+            });
+            for (const mollify::Precision pr : {mollify::Precision::accurate, mollify::Precision::fast}) {
+                const bool is_fast = pr == mollify::Precision::fast;
+                std::string name = base;
+                name.append(is_fast ? "runtime-fast" : "runtime").append(suffix);
+                reg(name,
+                    [n, e = is_fast ? fast : accurate, k = runtime.with(pr)](benchmark::State& st) {
+                        Data& d = data(n);
+                        const Smoothing s = k.smoothing(h);
+                        timed(st, n, 0, e, [&] { k.evaluate(Q, d.r, s, d.w); });
+                    });
+            }
+        };
+        both.template operator()<QuantityId::potential>("phi");
+        both.template operator()<QuantityId::dpotential_over_r>("phi'/r");
     }
 }
 
@@ -461,7 +516,8 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         << "built with " << build_flags() << ".\n"
         << "Name: quantity/kernel/form/batch size. ns/eval from wall time; tsc_cyc = time-stamp-counter ticks per\n"
         << "evaluation; bound = multiplies+FMAs of mollify's factored form / 8 (AVX2 x 2 FMA pipes); ulp_W, ulp_G =\n"
-        << "max ulp error of W and W'/r measured in the same run (" << error_uniform << " uniform + hard points).\n\n"
+        << "max ulp error of W and W'/r (rows phi and phi'/r: of the potential and phi'/r) measured in the same run ("
+        << error_uniform << " uniform + hard points).\n\n"
         << "| benchmark | ns/eval | Meval/s | tsc_cyc/eval | bound | ulp_W | ulp_G |\n|---|--:|--:|--:|--:|--:|--:|\n";
     for (const auto& r : runs) {
         const double evals = r.counters.count("items_per_second") ? r.counters.at("items_per_second").value : 0;
@@ -488,6 +544,8 @@ int main(int argc, char** argv) {
     register_kernel<tables::cubic_spline_D3>("cubic-spline");
     register_kernel<tables::poly6_D3>("poly6");
     register_forms<tables::wendland_missing_k_1_D3>("wendland-missing:k=1");
+    register_potentials<tables::mollifier_M_4_D3>("mollifier:M=4");
+    register_potentials<tables::wendland_k_2_D3>("wendland:k=2");
     Collector collector;
     benchmark::RunSpecifiedBenchmarks(&collector);
     if (!md.empty()) write_markdown(md, collector.runs());

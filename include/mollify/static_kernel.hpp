@@ -147,6 +147,12 @@ private:
         if constexpr (detail::singular_at_origin<K, q>) in = detail::select(std::isnan(in), detail::limit_at_origin_of<K, q>, in);
         if constexpr (detail::zero_outside<K, q>) {
             return detail::select(r <= s.h(), in, 0.0);
+        } else if constexpr (detail::log_coefficient<K, q> == 0) {
+            // Both sides, then a select: a branch here kept every batch of a
+            // potential quantity from vectorising (mollifier:M=4 3D,
+            // Precision::fast: 8 ns per value). The 2D exterior's log(r)
+            // would not vectorise and costs more than the branch.
+            return detail::select(r <= s.h(), in, detail::outside<K, q>(r));
         } else {
             return r <= s.h() ? in : detail::outside<K, q>(r);
         }
