@@ -425,8 +425,7 @@ void register_potentials(const char* label) {
         const std::string suffix = std::string("/").append(std::to_string(n));  // not "/" + ...: GCC 12 -Wrestrict
         auto reg = [&](const std::string& name, auto fn) { benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMicrosecond); };
         const auto both = [&]<QuantityId Q>(const std::string& quantity) {
-            std::string base = quantity;  // appended: GCC 12's -Wrestrict misfires on operator+ chains here
-            base.append("/").append(label).append("/");
+            const std::string base = quantity + "/" + label + "/";
             reg(base + "static" + suffix, [n, accurate](benchmark::State& st) {
                 Data& d = data(n);
                 const Smoothing s = W::smoothing(h);
@@ -439,9 +438,7 @@ void register_potentials(const char* label) {
             });
             for (const mollify::Precision pr : {mollify::Precision::accurate, mollify::Precision::fast}) {
                 const bool is_fast = pr == mollify::Precision::fast;
-                std::string name = base;
-                name.append(is_fast ? "runtime-fast" : "runtime").append(suffix);
-                reg(name,
+                reg(base + (is_fast ? "runtime-fast" : "runtime") + suffix,
                     [n, e = is_fast ? fast : accurate, k = runtime.with(pr)](benchmark::State& st) {
                         Data& d = data(n);
                         const Smoothing s = k.smoothing(h);

@@ -38,10 +38,11 @@ namespace poisson = mollify::poisson;
 namespace bench = mollify::bench;
 // The kernel within the supports in Precision::fast (a few ulp; the field
 // errors compared here are >= 1e-8): Precision::accurate (<= 0.51 ulp, the
-// default) costs ~100 ns per pair for the potential and phi'/r against
-// ~16 ns, which at ~33 pairs within each support per target was half of
-// the near field (measured 2026-11-28: N = 10^5, theta 0.5, p = 1, 0.81
-// against 0.43 s). The knob's rows are also run with the accurate kernel.
+// default) costs ~29 ns per pair for the potential and phi'/r against ~5 ns
+// (kernel_bench's phi rows), at ~33 pairs within each support per target
+// 0.64 against 0.50 s of near field at N = 10^5 (theta 0.5, p = 1; 1.08 s
+// before stop 37 vectorised the potentials). The knob's rows are also run
+// with the accurate kernel.
 using Kernel = mollify::StaticKernel<mollify::tables::mollifier_M_4_D3, mollify::Precision::fast>;
 using AccurateKernel = mollify::StaticKernel<mollify::tables::mollifier_M_4_D3>;
 

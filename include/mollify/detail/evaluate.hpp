@@ -157,16 +157,6 @@ inline constexpr Coefficients series_coefficients = []<std::size_t... T>(std::in
     return out;
 }(std::make_index_sequence<static_cast<std::size_t>(piece_table<K, Q, P>.nterms)>{});
 
-// sum_k C[k] (v + dv)^k as a double-double, for Precision::accurate: the
-// compensated Horner scheme (Graillat, Langlois & Louvet, "Compensated
-// Horner scheme", 2005): each step's product and sum errors, exact by
-// two_product and two_sum, are summed by a second Horner recurrence, so the
-// result is as if Horner's rule ran in twice the precision (relative error
-// ~ u + cond(p, v) u^2; plain Horner is ~ 2 n cond(p, v) u, up to 4 ulp for
-// the Wendland polynomials of degree 8 and unbounded near a root of p).
-// The coefficients' own low parts (table::Term::c_lo) enter the second
-// recurrence, and the derivative p'(v) dv, by a plain Horner recurrence,
-// removes the rounding dv of v itself.
 struct HornerSums {
     double sum, error, slope;
 };
@@ -174,7 +164,7 @@ struct HornerSums {
 // One step of the scheme. A function forced inline, not a lambda: in a
 // large unit (the treecode's) GCC left the lambda a call, and a call in
 // the batch loop kept it from vectorising (mollifier:M=4's potential and
-// phi'/r, Precision::accurate: 24 against 100 ns per pair).
+// phi'/r together, Precision::accurate: 24 against 100 ns per pair).
 template <bool Exact>
 MOLLIFY_INLINE void compensated_step(HornerSums& h, double v, double c, double c_lo) {
     h.slope = mul_add(h.slope, v, h.sum);
@@ -185,6 +175,16 @@ MOLLIFY_INLINE void compensated_step(HornerSums& h, double v, double c, double c
     else h.error = mul_add(h.error, v, (product.lo + s.lo) + c_lo);
 }
 
+// sum_k C[k] (v + dv)^k as a double-double, for Precision::accurate: the
+// compensated Horner scheme (Graillat, Langlois & Louvet, "Compensated
+// Horner scheme", 2005): each step's product and sum errors, exact by
+// two_product and two_sum, are summed by a second Horner recurrence, so the
+// result is as if Horner's rule ran in twice the precision (relative error
+// ~ u + cond(p, v) u^2; plain Horner is ~ 2 n cond(p, v) u, up to 4 ulp for
+// the Wendland polynomials of degree 8 and unbounded near a root of p).
+// The coefficients' own low parts (table::Term::c_lo) enter the second
+// recurrence, and the derivative p'(v) dv, by a plain Horner recurrence,
+// removes the rounding dv of v itself.
 template <const Coefficients& C, std::size_t... I>
 MOLLIFY_INLINE DoubleDouble compensated_horner(double v, double dv, std::index_sequence<I...>) {
     constexpr std::size_t n = C.n;
