@@ -415,6 +415,8 @@ void register_potentials(const char* label) {
     const auto& pts = sample().points;
     const acc::ExactValues ep = acc::exact_values(ref, QuantityId::potential, pts);
     const acc::ExactValues eg = acc::exact_values(ref, QuantityId::dpotential_over_r, pts);
+    // Measured on the run-time form: StaticKernel's values are the same bit
+    // for bit (runtime_forms_test), so its rows carry these errors too.
     const auto errors_in = [&](mollify::Precision pr) {
         const mollify::Kernel k = runtime.with(pr);
         return errors_of(ep, eg, [k](double r, double hh) { return k(QuantityId::potential, r, hh); },
