@@ -220,6 +220,10 @@ Naive tight(const std::string& spec, QuantityId q) {
     return Naive(p);
 }
 
+// "/n", a benchmark name's batch size (appended: `"/" + std::to_string(n)`
+// trips GCC 12's -Wrestrict).
+std::string batch_suffix(std::size_t n) { return std::string("/").append(std::to_string(n)); }
+
 template <const Kernel& K>
 void register_kernel(const char* label) {
     using W = mollify::StaticKernel<K>;  // Precision::accurate, the default
@@ -255,7 +259,7 @@ void register_kernel(const char* label) {
     const double vb = value_products(K) / lanes_per_cycle, pb = pair_products(K) / lanes_per_cycle;
     const std::string base = std::string(label) + "/";
     for (const std::size_t n : sizes) {
-        const std::string suffix = std::string("/").append(std::to_string(n));  // not "/" + ...: GCC 12 -Wrestrict
+        const std::string suffix = batch_suffix(n);
         auto reg = [&](const std::string& name, auto fn) { benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMicrosecond); };
         reg("W/" + base + "static" + suffix, [n, vb, e = value_only[0]](benchmark::State& st) {
             Data& d = data(n);
@@ -350,7 +354,7 @@ void register_forms(const char* label) {
     const std::string base = std::string(label) + "/";
     const Errors none{-1, -1};
     for (const std::size_t n : sizes) {
-        const std::string suffix = std::string("/").append(std::to_string(n));  // not "/" + ...: GCC 12 -Wrestrict
+        const std::string suffix = batch_suffix(n);
         auto reg = [&](const std::string& name, auto fn) { benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMicrosecond); };
         reg("W/" + base + "static" + suffix, [n, none](benchmark::State& st) {
             Data& d = data(n);
@@ -424,7 +428,7 @@ void register_potentials(const char* label) {
     };
     const Errors accurate = errors_in(mollify::Precision::accurate), fast = errors_in(mollify::Precision::fast);
     for (const std::size_t n : sizes) {
-        const std::string suffix = std::string("/").append(std::to_string(n));  // not "/" + ...: GCC 12 -Wrestrict
+        const std::string suffix = batch_suffix(n);
         auto reg = [&](const std::string& name, auto fn) { benchmark::RegisterBenchmark(name.c_str(), fn)->Unit(benchmark::kMicrosecond); };
         const auto both = [&]<QuantityId Q>(const std::string& quantity) {
             const std::string base = quantity + "/" + label + "/";

@@ -1405,15 +1405,11 @@ void fast_zero_outside_block(const QuantityPlan& qp, const FastBlock& a, double 
     for (std::size_t i = 0; i < B; ++i) out[i] = select(a.r[i] <= a.h, in[i] * scale, 0.0);
 }
 
-// Does the exterior have a logarithm (the 2D potential's log r)? Then
-// radial_block and radial_by_piece keep a branch between the support and
-// the Green's function, as StaticKernel::emitted does: a logarithm does
-// not vectorise and costs more than the branch.
-bool exterior_has_log(const QuantityPlan& qp) {
-    for (const TermPlan& t : qp.exterior.terms)
-        if (t.basis == table::Basis::log) return true;
-    return false;
-}
+// Where the exterior has a logarithm (the 2D potential's log r:
+// qp.log_coefficient != 0, StaticKernel::emitted's test) radial_block and
+// radial_by_piece keep a branch between the support and the Green's
+// function: a logarithm does not vectorise and costs more than the branch.
+// Elsewhere outside_block and a select.
 
 // The Green's function at B radii with no logarithm in it, each point
 // outside()'s operations (green_term's: Horner's rule in r or r^2, times
@@ -1474,7 +1470,7 @@ void radial_block(const QuantityPlan& qp, QuantityId q, const double* r, double*
         for (std::size_t i = 0; i < B; ++i) in[i] = mul_add(qp.log_coefficient, s.log_h(), in[i]);
     if (qp.zero_outside) {
         for (std::size_t i = 0; i < B; ++i) out[i] = select(r[i] <= s.h(), in[i], 0.0);
-    } else if (exterior_has_log(qp)) {
+    } else if (qp.log_coefficient != 0) {
         for (std::size_t i = 0; i < B; ++i) out[i] = r[i] <= s.h() ? in[i] : outside(qp, r[i]);
     } else {
         double green[B];
@@ -1521,9 +1517,10 @@ void radial_by_piece(const QuantityPlan& qp, QuantityId q, const double* r, doub
     a.h = aa.h = s.h(), a.inv_h = aa.inv_h = s.inverse();
     aa.scale = {s.scale(q), s.scale_lo(q)};
     double in[B], rb[B], green[B];
-    const bool green_by_block = !qp.zero_outside && !exterior_has_log(qp);
     for (std::size_t p = 0; p < qp.inner.size(); ++p) {
         const std::vector<std::size_t>& m = members[p];
+        // Only the last piece holds points beyond the support (q >= 1).
+        const bool green_by_block = !qp.zero_outside && qp.log_coefficient == 0 && p + 1 == qp.inner.size();
         for (std::size_t start = 0; start < m.size(); start += B) {
             const std::size_t count = std::min(B, m.size() - start);
             for (std::size_t i = 0; i < B; ++i) rb[i] = r[m[start + (i < count ? i : 0)]];
