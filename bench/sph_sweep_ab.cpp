@@ -1,5 +1,6 @@
 // sph_sweep_ab: the 3D cell-by-cell SPH sweep (BarotropicEuler::acceleration
-// over a CellList, Wendland C4, Precision::fast, one thread) of two versions
+// over a CellList, Wendland C4, Precision::fast; one thread, or as many as
+// OpenMP is given, timed by the wall clock then) of two versions
 // of include/mollify/sph, interleaved sweep by sweep in one process, so that
 // the shared host's changing speed falls on both alike: issue 21, goal 1.
 // bench/sph_sweep_ab.sh builds it from two checkouts (their three sweep
@@ -22,14 +23,17 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <omp.h>
 #include <string>
 #include <vector>
 
 namespace {
 
+// Process CPU time on one thread; wall time on several (their CPU times add up).
 double cpu_seconds() {
+    static const clockid_t clock = omp_get_max_threads() > 1 ? CLOCK_MONOTONIC : CLOCK_PROCESS_CPUTIME_ID;
     timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    clock_gettime(clock, &t);
     return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 

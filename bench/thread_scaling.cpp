@@ -97,8 +97,8 @@ SphRow sph_sweep(long side) {
     const sph::Field<3> x = mollify::bench::lattice<3>(side);
     const std::size_t n = x[0].size();
     const double dx = 1.0 / static_cast<double>(side);
-    // One system per thread count: a system sizes its scratch (one set of
-    // sums per thread) by the thread count at construction.
+    // One system per thread count: a system sizes its scratch (a pair batch
+    // per thread) and its ranges of cells by the thread count.
     using System = sph::BarotropicEuler<3, C4, sph::CellList<3>>;
     std::deque<System> systems;  // not movable (an atomic counter)
     std::vector<sph::Field<3>> a(2);

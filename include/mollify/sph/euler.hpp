@@ -25,6 +25,10 @@
 #include <array>
 #include <atomic>
 #include <cstddef>
+#include <cstdlib>
+#include <memory>
+#include <new>
+#include <ranges>
 #include <span>
 #include <string>
 #include <vector>
@@ -44,6 +48,33 @@ Positions<D> view(const Field<D>& x) {
     for (int c = 0; c < D; ++c) p[c] = x[c];
     return p;
 }
+
+namespace detail {
+
+// A range of cells' sums over all slots: calloc'd, so that the pages of
+// slots the range never reaches are never touched (R ranges' arrays of N
+// slots occupy ~N + R layers of memory), and zero between sweeps (the
+// reduction clears what it reads).
+class SlotSums {
+public:
+    // Zero, of n values: kept where the size is the same (the sweeps keep it zero).
+    void zeroed(std::size_t n) {
+        if (n == n_) return;
+        data_.reset(static_cast<double*>(std::calloc(std::max<std::size_t>(n, 1), sizeof(double))));
+        if (!data_) throw std::bad_alloc();
+        n_ = n;
+    }
+    double* data() { return data_.get(); }
+
+private:
+    struct Free {
+        void operator()(double* p) const { std::free(p); }
+    };
+    std::unique_ptr<double[], Free> data_;
+    std::size_t n_ = 0;
+};
+
+}  // namespace detail
 
 // Particle positions and velocities, the state of the ODE system.
 template <int D>
@@ -102,9 +133,7 @@ private:
         Field<D> dx, grad;
         std::vector<double> w, m;
         PairBatch<D> batch;
-        // Per slot rho, grad_0 .. grad_{D-1} side by side (one cache line per
-        // neighbour updated); zero between sweeps.
-        std::vector<double> sums;
+        double* sums = nullptr;  // the sums of the range of cells this thread sweeps (sweep_cells)
 
         void reserve(std::size_t k) {  // grows to the largest batch, then stays
             if (w.size() >= k) return;
@@ -168,9 +197,16 @@ private:
 
     // Cell by cell on the search's sorted copy, Newton's third law: each
     // pair {a, b} once, W(x_a - x_b) = W(x_b - x_a) and grad W odd, so one
-    // kernel evaluation updates both (Franz 2.15, 3.5). Each thread sums
-    // into its own arrays in slot order (no races), added up and permuted
-    // back to the caller's indices at the end. The self term m_a W(0) once.
+    // kernel evaluation updates both (Franz 2.15, 3.5). The cells are cut
+    // into R contiguous ranges of equal numbers of particles (four per
+    // thread), each range summed by one thread into its own array in slot
+    // order (no races). A range's pairs reach only its own layers and the
+    // next (CellList::layers), so the arrays are added up layer by layer
+    // from the ranges that reach each layer: ~N + R layers of reads and of
+    // memory touched, where one array per thread over all cells costs T N
+    // of both; and, each range's sums made in one order and added in range
+    // order, the same bits in every run on as many threads. Then permuted
+    // back to the caller's indices. The self term m_a W(0) once.
     void sweep_cells(Field<D>* a, std::vector<double>* rho) {
         const std::size_t n = size(), cells = search_.cells();
         const std::vector<std::size_t>& member = search_.members();
@@ -192,43 +228,90 @@ private:
         const double w0 = s0.w[0];
         std::array<double, D> g0;
         for (int c = 0; c < D; ++c) g0[c] = s0.grad[c][0];
-        // Zero sums, kept so between sweeps: the reduction below clears what it reads.
-        for (auto& st : scratch_)
-            if (st.sums.size() != (D + 1) * n) st.sums.assign((D + 1) * n, 0.0);
-        std::size_t met = 0;
-        const long count = static_cast<long>(cells);
         // No more threads than scratch spaces (the count may have changed since construction).
         [[maybe_unused]] const int threads =
             parallel ? std::min(mollify::detail::thread_count(), static_cast<int>(scratch_.size())) : 1;
-        MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(dynamic, 16) reduction(+ : met))
-        for (long lc = 0; lc < count; ++lc) {
+        const std::size_t layers = std::max<std::size_t>(search_.layers(), 1);
+        // Four ranges per thread, taken as threads come free: a slower thread
+        // (a shared host, a denser region) takes fewer of them.
+        const std::size_t ranges = threads == 1 ? 1 : std::min(4 * static_cast<std::size_t>(threads), layers);
+        split_cells(n, cells, ranges);
+        reaching_ranges(cells, layers, ranges);
+        if (sums_.size() < ranges) sums_.resize(ranges);
+        for (std::size_t t = 0; t < ranges; ++t) sums_[t].zeroed((D + 1) * n);
+        std::size_t met = 0;
+        MOLLIFY_PARALLEL_FOR(if(ranges > 1) num_threads(threads) schedule(dynamic, 1) reduction(+ : met))
+        for (long lt = 0; lt < static_cast<long>(ranges); ++lt) {
+            const auto t = static_cast<std::size_t>(lt);
             Scratch& s = scratch_[static_cast<std::size_t>(mollify::detail::thread_index())];
-            search_.half_pairs(static_cast<std::size_t>(lc), s.batch, [&](PairBatch<D>& b) {
-                met += 2 * b.size;
-                accumulate(b, s);
-            });
+            s.sums = sums_[t].data();
+            const std::size_t first = cut_[t], last = cut_[t + 1];
+            for (std::size_t home = first; home < last; ++home)
+                search_.half_pairs(home, s.batch, [&](PairBatch<D>& b) {
+                    met += 2 * b.size;
+                    accumulate(b, s);
+                });
         }
-        const int used = static_cast<int>(scratch_.size());
+        const std::size_t per_layer = cells / layers;
         MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(static))
-        for (long ls = 0; ls < static_cast<long>(n); ++ls) {
-            const auto sl = static_cast<std::size_t>(ls);
-            const std::size_t i = member[sl];
-            double r = mass_sorted_[sl] * w0;
-            std::array<double, D> g;
-            for (int c = 0; c < D; ++c) g[c] = mass_sorted_[sl] * g0[c];
-            for (int t = 0; t < used; ++t) {
-                double* sum = scratch_[static_cast<std::size_t>(t)].sums.data() + (D + 1) * sl;
-                r += sum[0];
-                for (int c = 0; c < D; ++c) g[c] += sum[1 + c];
-                std::fill(sum, sum + D + 1, 0.0);
+        for (long lz = 0; lz < static_cast<long>(layers); ++lz) {
+            const auto z = static_cast<std::size_t>(lz);
+            const std::size_t first = search_.first_slot(z * per_layer), last = search_.first_slot((z + 1) * per_layer);
+            for (std::size_t sl = first; sl < last; ++sl) {
+                const std::size_t i = member[sl];
+                double r = mass_sorted_[sl] * w0;
+                std::array<double, D> g;
+                for (int c = 0; c < D; ++c) g[c] = mass_sorted_[sl] * g0[c];
+                for (std::size_t k = reach_start_[z]; k < reach_start_[z + 1]; ++k) {
+                    double* sum = sums_[reach_[k]].data() + (D + 1) * sl;
+                    r += sum[0];
+                    for (int c = 0; c < D; ++c) g[c] += sum[1 + c];
+                    std::fill(sum, sum + D + 1, 0.0);
+                }
+                if (rho) (*rho)[i] = r;
+                if (a)
+                    for (int c = 0; c < D; ++c) (*a)[c][i] = -g[c];
             }
-            if (rho) (*rho)[i] = r;
-            if (a)
-                for (int c = 0; c < D; ++c) (*a)[c][i] = -g[c];
         }
         met += n;
         interactions_.fetch_add(met, std::memory_order_relaxed);
         met_last_ = met;
+    }
+
+    // cut_[t], t = 0 .. ranges: range t is the cells [cut_[t], cut_[t + 1]),
+    // the first cell whose first slot is at least t n / ranges (a range may
+    // be empty where one cell holds many particles).
+    void split_cells(std::size_t n, std::size_t cells, std::size_t ranges) {
+        cut_.assign(ranges + 1, cells);
+        cut_[0] = 0;
+        for (std::size_t t = 1; t < ranges; ++t) {
+            const std::size_t target = n * t / ranges;
+            const auto from = std::views::iota(cut_[t - 1], cells);
+            const auto at = std::ranges::partition_point(from, [&](std::size_t c) { return search_.first_slot(c) < target; });
+            cut_[t] = cut_[t - 1] + static_cast<std::size_t>(at - from.begin());
+        }
+    }
+
+    // reach_[reach_start_[z] .. reach_start_[z + 1]): the ranges whose pairs
+    // can reach layer z, those with a cell in layer z or in the layer before
+    // (cyclically where periodic), in increasing order.
+    void reaching_ranges(std::size_t cells, std::size_t layers, std::size_t ranges) {
+        const std::size_t per_layer = cells / layers;
+        const bool wrap = domain_.is_periodic();
+        std::vector<std::vector<std::size_t>> by_layer(layers);
+        for (std::size_t t = 0; t < ranges; ++t) {
+            if (cut_[t] == cut_[t + 1]) continue;
+            const std::size_t z0 = cut_[t] / per_layer, z1 = (cut_[t + 1] - 1) / per_layer;
+            for (std::size_t z = z0; z <= z1; ++z) by_layer[z].push_back(t);
+            const std::size_t next = z1 + 1 < layers ? z1 + 1 : wrap ? 0 : layers;
+            if (next < layers && !(next >= z0 && next <= z1)) by_layer[next].push_back(t);
+        }
+        reach_start_.assign(layers + 1, 0);
+        reach_.clear();
+        for (std::size_t z = 0; z < layers; ++z) {
+            reach_.insert(reach_.end(), by_layer[z].begin(), by_layer[z].end());
+            reach_start_[z + 1] = reach_.size();
+        }
     }
 
     // rho_a += m_b W, rho_b += m_a W; grad_a += m_b grad W, grad_b -= m_a grad W.
@@ -245,7 +328,7 @@ private:
         else
             kernel_.pairs(d, smoothing_, std::span<double>(s.w.data(), k), outputs(s.grad, k));
         const double* __restrict m = mass_sorted_.data();
-        double* __restrict sum = s.sums.data();
+        double* __restrict sum = s.sums;
         const double* __restrict w = s.w.data();
         const std::size_t* __restrict pa = b.a.data();
         const std::size_t* __restrict pb = b.b.data();
@@ -334,6 +417,11 @@ private:
     NeighbourSearch search_;
     std::vector<double> mass_, mass_sorted_;  // mass_sorted_: in the search's slot order
     std::vector<Scratch> scratch_;
+    // Per range of cells, per slot rho, grad_0 .. grad_{D-1} side by side (one
+    // cache line per neighbour updated); zero between sweeps. The ranges and
+    // which of them reach each layer (sweep_cells).
+    std::vector<detail::SlotSums> sums_;
+    std::vector<std::size_t> cut_, reach_, reach_start_;
     std::atomic<std::size_t> interactions_{0};
     std::size_t met_last_ = 0;  // interactions of the last sweep: the work estimate
 };

@@ -241,6 +241,18 @@ public:
     // Whether the last update kept the order of the update before it (no
     // particle changed cells): what a caller permuted by members() still holds.
     bool order_kept() const { return order_kept_; }
+    // The first slot of a cell (first_slot(cells()) is the particle count).
+    std::size_t first_slot(std::size_t cell) const { return start_[cell]; }
+    // The cells' layers along the last axis (planes in 3D, rows in 2D), the
+    // cells of layer z being [z cells()/layers(), (z + 1) cells()/layers()).
+    // A home cell's half pairs reach only its own layer and the next one
+    // (layer 0 after the last where the domain is periodic): half_rows'
+    // last non-zero offset is +1, the first axes wrap within a layer. So
+    // threads that take contiguous cells sum into their own arrays and meet
+    // only where those ranges' layers touch (BarotropicEuler::sweep_cells).
+    // 1 where the cells alias (a periodic side of fewer than 3 cells: half
+    // pairs may then reach a lower layer).
+    std::size_t layers() const { return aliased_ ? 1 : static_cast<std::size_t>(count_[D - 1]); }
 
     // Each unordered pair {a, b}, a != b, |x_a - x_b| <= eps, exactly once
     // over all home cells: a in the home cell, b later in the home cell or
