@@ -352,7 +352,8 @@ TEST(Euler, CellSweepAfterParticlesChangedCells) {
 // 2, 3, 5 and 8 threads (more than the machine's cores is still that many
 // ranges): ranges that end inside a layer, ranges of one layer, the last
 // range's pairs across the periodic seam into layer 0, ranges left empty
-// by a crowded cell, the 2D rows; each against the particle sweep.
+// by a crowded cell, more ranges than layers (a flat domain of 2 layers;
+// the aliased cells, one layer), the 2D rows; each against the particle sweep.
 // A range whose sums were not added where its pairs reach (the next layer,
 // or layer 0 across the seam) loses those pairs' halves: far outside the bound.
 TEST(Euler, CellSweepOnAnyNumberOfThreads) {
@@ -360,12 +361,16 @@ TEST(Euler, CellSweepOnAnyNumberOfThreads) {
     Field<3> crowded = dyadic_random<3>(3000 / fewer, 0, 1, 21);
     for (std::size_t i = 0; i < 1500 / fewer; ++i)  // half of them in one cell of side 1/8
         for (int c = 0; c < 3; ++c) crowded[c][i] = 0.5 + crowded[c][i] / 16;
+    Field<3> flat = dyadic_random<3>(6000 / fewer, 0, 1, 27);
+    for (double& z : flat[2]) z /= 4;  // [0, 1/4): two cells of side 1/8 along the last axis
     for (const int threads : {2, 3, 5, 8}) {
         SCOPED_TRACE("threads " + std::to_string(threads));
         omp_set_num_threads(threads);
         expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.125, dyadic_random<3>(3000 / fewer, 0, 1, 22));
         expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::whole_space(), 0.125, dyadic_random<3>(3000 / fewer, -0.5, 0.5, 23));
         expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.125, crowded);
+        expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::whole_space(), 0.125, flat);
+        expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.375, dyadic_random<3>(1500 / fewer, 0, 1, 26));
         expect_sweep_as_all_pairs<2, Wendland2D>(Domain<2>::periodic(1.0), 0.0625, dyadic_random<2>(4000 / fewer, 0, 1, 24));
     }
     omp_set_num_threads(before);

@@ -198,7 +198,7 @@ private:
     // Cell by cell on the search's sorted copy, Newton's third law: each
     // pair {a, b} once, W(x_a - x_b) = W(x_b - x_a) and grad W odd, so one
     // kernel evaluation updates both (Franz 2.15, 3.5). The cells are cut
-    // into R contiguous ranges of equal numbers of particles (four per
+    // into R contiguous ranges of equal numbers of particles (up to four per
     // thread), each range summed by one thread into its own array in slot
     // order (no races). A range's pairs reach only its own layers and the
     // next (CellList::layers), so the arrays are added up layer by layer
@@ -232,9 +232,12 @@ private:
         [[maybe_unused]] const int threads =
             parallel ? std::min(mollify::detail::thread_count(), static_cast<int>(scratch_.size())) : 1;
         const std::size_t layers = std::max<std::size_t>(search_.layers(), 1);
-        // Four ranges per thread, taken as threads come free: a slower thread
-        // (a shared host, a denser region) takes fewer of them.
-        const std::size_t ranges = threads == 1 ? 1 : std::min(4 * static_cast<std::size_t>(threads), layers);
+        // Up to four ranges per thread, taken as threads come free: a slower
+        // thread (a shared host, a denser region) takes fewer of them. No more
+        // ranges than layers unless that leaves a thread idle (a flat domain):
+        // then ~2 T / L arrays per slot, still fewer than one per thread.
+        const auto t = static_cast<std::size_t>(threads);
+        const std::size_t ranges = t == 1 ? 1 : std::min(4 * t, std::max(layers, t));
         split_cells(n, cells, ranges);
         reaching_ranges(cells, layers, ranges);
         if (sums_.size() < ranges) sums_.resize(ranges);

@@ -251,7 +251,7 @@ public:
     // threads that take contiguous cells sum into their own arrays and meet
     // only where those ranges' layers touch (BarotropicEuler::sweep_cells).
     // 1 where the cells alias (a periodic side of fewer than 3 cells: half
-    // pairs may then reach a lower layer).
+    // pairs may then reach a lower layer), so that every range reaches it.
     std::size_t layers() const { return aliased_ ? 1 : static_cast<std::size_t>(count_[D - 1]); }
 
     // Each unordered pair {a, b}, a != b, |x_a - x_b| <= eps, exactly once
