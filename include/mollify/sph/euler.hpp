@@ -236,8 +236,8 @@ private:
         // thread (a shared host, a denser region) takes fewer of them. No more
         // ranges than layers unless that leaves a thread idle (a flat domain):
         // then ~2 T / L arrays per slot, still fewer than one per thread.
-        const auto t = static_cast<std::size_t>(threads);
-        const std::size_t ranges = t == 1 ? 1 : std::min(4 * t, std::max(layers, t));
+        const auto team = static_cast<std::size_t>(threads);
+        const std::size_t ranges = team == 1 ? 1 : std::min(4 * team, std::max(layers, team));
         split_cells(n, cells, ranges);
         reaching_ranges(cells, layers, ranges);
         if (sums_.size() < ranges) sums_.resize(ranges);
