@@ -28,6 +28,7 @@
 #include <cstdlib>
 #include <memory>
 #include <new>
+#include <numeric>
 #include <ranges>
 #include <span>
 #include <string>
@@ -297,24 +298,25 @@ private:
 
     // reach_[reach_start_[z] .. reach_start_[z + 1]): the ranges whose pairs
     // can reach layer z, those with a cell in layer z or in the layer before
-    // (cyclically where periodic), in increasing order.
+    // (cyclically where periodic), in increasing order: counted, then filled
+    // in range order (no allocation once the sizes are reached).
     void reaching_ranges(std::size_t cells, std::size_t layers, std::size_t ranges) {
         const std::size_t per_layer = cells / layers;
         const bool wrap = domain_.is_periodic();
-        std::vector<std::vector<std::size_t>> by_layer(layers);
-        for (std::size_t t = 0; t < ranges; ++t) {
-            if (cut_[t] == cut_[t + 1]) continue;
+        // Calls f(z) for each layer range t reaches, each once.
+        auto each_layer = [&](std::size_t t, auto&& f) {
+            if (cut_[t] == cut_[t + 1]) return;
             const std::size_t z0 = cut_[t] / per_layer, z1 = (cut_[t + 1] - 1) / per_layer;
-            for (std::size_t z = z0; z <= z1; ++z) by_layer[z].push_back(t);
+            for (std::size_t z = z0; z <= z1; ++z) f(z);
             const std::size_t next = z1 + 1 < layers ? z1 + 1 : wrap ? 0 : layers;
-            if (next < layers && !(next >= z0 && next <= z1)) by_layer[next].push_back(t);
-        }
+            if (next < layers && !(next >= z0 && next <= z1)) f(next);
+        };
         reach_start_.assign(layers + 1, 0);
-        reach_.clear();
-        for (std::size_t z = 0; z < layers; ++z) {
-            reach_.insert(reach_.end(), by_layer[z].begin(), by_layer[z].end());
-            reach_start_[z + 1] = reach_.size();
-        }
+        for (std::size_t t = 0; t < ranges; ++t) each_layer(t, [&](std::size_t z) { ++reach_start_[z + 1]; });
+        std::partial_sum(reach_start_.begin(), reach_start_.end(), reach_start_.begin());
+        reach_.resize(reach_start_[layers]);
+        fill_.assign(reach_start_.begin(), reach_start_.end() - 1);
+        for (std::size_t t = 0; t < ranges; ++t) each_layer(t, [&](std::size_t z) { reach_[fill_[z]++] = t; });
     }
 
     // rho_a += m_b W, rho_b += m_a W; grad_a += m_b grad W, grad_b -= m_a grad W.
@@ -424,7 +426,7 @@ private:
     // cache line per neighbour updated); zero between sweeps. The ranges and
     // which of them reach each layer (sweep_cells).
     std::vector<detail::SlotSums> sums_;
-    std::vector<std::size_t> cut_, reach_, reach_start_;
+    std::vector<std::size_t> cut_, reach_, reach_start_, fill_;
     std::atomic<std::size_t> interactions_{0};
     std::size_t met_last_ = 0;  // interactions of the last sweep: the work estimate
 };
