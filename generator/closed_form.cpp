@@ -6,6 +6,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <shared_mutex>
 #include <tuple>
 
 namespace mollify::gen {
@@ -307,32 +308,42 @@ struct PointValues::Shared {
 
 namespace {
 
+// Looked up far more often than filled (every sample point of every piece
+// asks it): lookups share the lock, so that two threads reading it do not
+// wait on each other (an exclusive mutex here put the threads to sleep
+// ~2,000 times per `emit`).
 class BasisTable {
 public:
     using Point = PointValues::Shared;
     Point& point(const Q& r, unsigned digits10) {
-        std::lock_guard lock(mutex_);
-        return points_[{digits10, r}];
+        std::pair<unsigned, Q> key{digits10, r};
+        {
+            std::shared_lock lock(mutex_);
+            auto it = points_.find(key);
+            if (it != points_.end()) return it->second;
+        }
+        std::unique_lock lock(mutex_);
+        return points_.try_emplace(std::move(key)).first->second;
     }
     template <class Compute>
     const Real& get(Point& p, std::pair<Basis, int> key, Compute compute) {
         {
-            std::lock_guard lock(mutex_);
+            std::shared_lock lock(mutex_);
             auto it = p.values.find(key);
             if (it != p.values.end()) return it->second;
         }
         Real v = compute();
-        std::lock_guard lock(mutex_);
+        std::unique_lock lock(mutex_);
         return p.values.try_emplace(key, std::move(v)).first->second;
     }
 
 private:
-    std::mutex mutex_;
+    std::shared_mutex mutex_;
     std::map<std::pair<unsigned, Q>, Point> points_;
 };
 
 BasisTable& basis_table() {
-    static BasisTable table;
+    static auto& table = *new BasisTable;  // never destroyed, as once_per_run's results
     return table;
 }
 

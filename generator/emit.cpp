@@ -32,7 +32,7 @@ namespace {
 // What one kernel contributes to the output.
 struct KernelOutput {
     std::string path, id, text;  // the kernel's file: C++ header or data file
-    nlohmann::ordered_json json;
+    std::string json;            // its entry in catalogue.json (C++ only)
     std::vector<std::string> failures;  // failed certificates
     int certificates = 0;
     TermShapes shapes;  // C++ only: its terms' shapes for the evaluator's fused loops
@@ -87,11 +87,14 @@ void for_each_kernel(const std::vector<CatalogueEntry>& entries, F f) {
         if (!e.empty()) fail(e);
 }
 
-KernelOutput render_kernel(const CatalogueEntry& e, EmitFormat format) {
+// A kernel's file whole (banner included): made on the worker's core, so
+// that the assembly after the workers only moves finished texts.
+KernelOutput render_kernel(const CatalogueEntry& e, const std::string& command, EmitFormat format) {
     const KernelFacts f = kernel_facts(e);
     const Tables tables = rounded_tables(f);
     KernelOutput out = format == EmitFormat::cpp
-                           ? KernelOutput{kernel_header(f.spec, e.dim), f.id, kernel_cpp(f, tables), kernel_json(f), {}, 0, {}}
+                           ? KernelOutput{kernel_header(f.spec, e.dim), f.id, kernel_file(command, f, tables),
+                                          kernel_entry(f), {}, 0, {}}
                            : KernelOutput{kernel_data_path(f.spec, e.dim), f.id, kernel_data(f, tables), {}, {}, 0, {}};
     count_certificates(f, e.dim, out.certificates, out.failures);
     if (format == EmitFormat::cpp) add_term_shapes(tables, e.dim, out.shapes);
@@ -100,20 +103,24 @@ KernelOutput render_kernel(const CatalogueEntry& e, EmitFormat format) {
 
 }  // namespace
 
-EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const std::string& command, EmitFormat format) {
+EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const std::string& command, EmitFormat format,
+                            const FileReady& ready) {
     // Kernels are independent: render them on every core, then assemble in
     // catalogue order so the output does not depend on scheduling.
     std::vector<KernelOutput> outputs(entries.size());
-    for_each_kernel(entries, [&](const CatalogueEntry& e, std::size_t i) { outputs[i] = render_kernel(e, format); });
+    for_each_kernel(entries, [&](const CatalogueEntry& e, std::size_t i) {
+        outputs[i] = render_kernel(e, command, format);
+        if (ready) ready(outputs[i].path, outputs[i].text);
+    });
 
     EmitResult result;
     std::vector<std::string> headers, ids;  // catalogue order
-    std::vector<nlohmann::ordered_json> kernels;
+    std::vector<std::string> kernels;
     TermShapes shapes;
     for (KernelOutput& k : outputs) {
         shapes.add(k.shapes);
         if (result.files.count(k.path)) fail("internal: two kernels emitted to " + k.path + " (" + k.id + ")");
-        result.files[k.path] = format == EmitFormat::cpp ? kernel_file(command, k.text) : k.text;
+        result.files[k.path] = std::move(k.text);
         headers.push_back(k.path);
         ids.push_back(k.id);
         kernels.push_back(std::move(k.json));

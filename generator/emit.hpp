@@ -11,7 +11,11 @@
 #include "catalogue.hpp"
 
 #include <filesystem>
+#include <functional>
 #include <map>
+#include <mutex>
+#include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -28,10 +32,16 @@ struct EmitResult {
 // data: one table file per kernel and dimension (write_data.cpp), nothing else.
 enum class EmitFormat { cpp, data };
 
+// Called with a kernel's file (path relative to the output, text) as soon as
+// it is rendered, on the thread that rendered it.
+using FileReady = std::function<void(const std::string& path, const std::string& text)>;
+
 // `command` is printed in every banner ("mollify-gen emit --only ..."): it
-// names the content, never the output directory.
+// names the content, never the output directory. `ready`, where given, sees
+// each kernel's file while the others are still being rendered (the
+// catalogue's own files are only in the result).
 EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const std::string& command,
-                            EmitFormat format = EmitFormat::cpp);
+                            EmitFormat format = EmitFormat::cpp, const FileReady& ready = {});
 
 // --target NAME (target.hpp; not cpp): each kernel's files as the target's
 // writer makes them, for its convention (conventions.hpp); Error for a
@@ -39,10 +49,37 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
 EmitResult render_target(const std::vector<CatalogueEntry>& entries, const std::string& command,
                          const std::string& target, bool allow_negative_lobes = false);
 
-// Writes every file whose content differs from the one at its place
-// (temporary file, then rename; unchanged files keep their timestamps);
-// creates directories.
-// Returns how many files it wrote.
+// Files written all or none: each file whose content differs from the one at
+// its place is written to a temporary beside it (stage: on any thread, as
+// soon as its text is ready), and commit renames them all into place;
+// destroyed before its commit, it removes its temporaries, so a failure
+// leaves the old files intact. Unchanged files keep their timestamps;
+// directories are created as needed.
+class StagedFiles {
+public:
+    explicit StagedFiles(std::filesystem::path out);
+    StagedFiles(const StagedFiles&) = delete;
+    StagedFiles& operator=(const StagedFiles&) = delete;
+    ~StagedFiles();
+
+    // `rel`, relative to the output; each path once.
+    void stage(const std::string& rel, const std::string& text);
+    // Stages the result's files not staged yet, then renames every staged
+    // file into place. Returns how many files it wrote.
+    std::size_t commit(const EmitResult& result);
+
+private:
+    void make_folders(const std::filesystem::path& folder);
+
+    std::filesystem::path out_;
+    std::mutex mutex_;
+    std::set<std::filesystem::path> made_;  // the folders this made (removed again where nothing is committed)
+    std::map<std::string, std::optional<std::filesystem::path>> staged_;  // path -> its temporary (none: unchanged)
+    bool committed_ = false;
+};
+
+// Every file of `result`, staged and committed (StagedFiles). Returns how
+// many files it wrote.
 std::size_t write_files(const std::filesystem::path& out, const EmitResult& result);
 
 }  // namespace mollify::gen

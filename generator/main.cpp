@@ -63,15 +63,20 @@ int run_emit(const std::string& out, const std::vector<std::string>& only, const
         const std::vector<int>& dims = convention(target_name).dims;
         std::erase_if(entries, [&](const CatalogueEntry& e) { return std::find(dims.begin(), dims.end(), e.dim) == dims.end(); });
     }
-    const EmitResult r = target_name == "cpp" ? render_catalogue(entries, command,
-                                                                 format == "cpp" ? EmitFormat::cpp : EmitFormat::data)
-                                              : render_target(entries, command, target_name, allow_negative_lobes);
+    // Each kernel's file is staged (written beside its place) as soon as it
+    // is rendered, while the other kernels are still being computed; all
+    // are renamed into place at the end, or none.
+    StagedFiles files(out);
+    const EmitResult r = target_name == "cpp"
+                             ? render_catalogue(entries, command, format == "cpp" ? EmitFormat::cpp : EmitFormat::data,
+                                                [&](const std::string& path, const std::string& text) { files.stage(path, text); })
+                             : render_target(entries, command, target_name, allow_negative_lobes);
     if (!r.failed_certificates.empty()) {
         for (const auto& f : r.failed_certificates) std::cerr << "certificate failed: " << f << "\n";
         std::cerr << r.failed_certificates.size() << " certificates failed; nothing written\n";
         return 1;
     }
-    const std::size_t written = write_files(out, r);
+    const std::size_t written = files.commit(r);
     if (!choices_file.empty()) {
         std::ofstream file(choices_file, std::ios::binary);
         file << search_choices_file();

@@ -5,17 +5,40 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string_view>
 
 namespace mollify::gen {
 
 namespace {
 
+// Appends the parts to `out` (no temporary strings: a missing Wendland
+// kernel's header is ~1 MB of coefficients and their exact values).
+void append(std::string& out, std::initializer_list<std::string_view> parts) {
+    for (std::string_view p : parts) out += p;
+}
+
 // A table::Term initialiser's doubles: table::infinity by name.
 std::string double_text(double x) { return std::isinf(x) ? "table::infinity" : hex_literal(x); }
 
+// The header's size, near enough to reserve it once: a coefficient's line is
+// its hex-float and its exact value, a low part ~25 characters.
+std::size_t estimated_size(const std::vector<std::optional<std::vector<RoundedPiece>>>& tables) {
+    std::size_t size = 4096;
+    for (const auto& q : tables)
+        if (q)
+            for (const RoundedPiece& p : *q) {
+                size += 200 + p.note.size();
+                for (const RoundedTerm& t : p.terms) {
+                    size += 400 + 25 * t.c_lo.size();
+                    for (const std::string& e : t.exact) size += 40 + e.size();
+                }
+            }
+    return size;
+}
+
 class HeaderWriter {
 public:
-    explicit HeaderWriter(std::string id) : id_(std::move(id)) {}
+    HeaderWriter(std::string id, std::string& out) : id_(std::move(id)), body_(out) {}
 
     // Writes a quantity's arrays; returns the C++ expression of its table::Quantity.
     std::string quantity(const std::string& name, const std::optional<std::vector<RoundedPiece>>& q) {
@@ -29,21 +52,19 @@ public:
                 term_exprs.push_back(term(terms_name + "_" + std::to_string(t), p.terms[t]));
             std::string terms_ref = "nullptr";
             if (!term_exprs.empty()) {
-                body_ += "inline constexpr table::Term " + terms_name + "[] = {\n";
-                for (const auto& e : term_exprs) body_ += "    " + e + ",\n";
+                append(body_, {"inline constexpr table::Term ", terms_name, "[] = {\n"});
+                for (const auto& e : term_exprs) append(body_, {"    ", e, ",\n"});
                 body_ += "};\n";
                 terms_ref = terms_name;
             }
             pieces.push_back("{.lo = " + hex_literal(p.lo) + ", .hi = " + double_text(p.hi) + ", .terms = " + terms_ref +
                              ", .nterms = " + std::to_string(term_exprs.size()) + "},  // " + p.note);
         }
-        body_ += "inline constexpr table::Piece " + name + "[] = {\n";
-        for (const auto& p : pieces) body_ += "    " + p + "\n";
+        append(body_, {"inline constexpr table::Piece ", name, "[] = {\n"});
+        for (const auto& p : pieces) append(body_, {"    ", p, "\n"});
         body_ += "};\n";
         return "{.pieces = detail_" + id_ + "::" + name + ", .npieces = " + std::to_string(pieces.size()) + "}";
     }
-
-    std::string body() const { return body_; }
 
 private:
     // A table::Term initialiser, its members named in declaration order;
@@ -67,45 +88,55 @@ private:
     // coefficients of Precision::accurate (table::Term::c_lo).
     // Returns the name of the low parts' array, "nullptr" where c is exact.
     std::string coefficients(const std::string& name, const RoundedTerm& t) {
-        body_ += "inline constexpr double " + name + "[] = {\n";
-        for (std::size_t k = 0; k < t.c.size(); ++k) body_ += "    " + hex_literal(t.c[k]) + ",  // " + t.exact[k] + "\n";
+        append(body_, {"inline constexpr double ", name, "[] = {\n"});
+        for (std::size_t k = 0; k < t.c.size(); ++k) append(body_, {"    ", hex_literal(t.c[k]), ",  // ", t.exact[k], "\n"});
         body_ += "};\n";
         if (t.c_lo.empty()) return "nullptr";
-        body_ += "inline constexpr double " + name + "_lo[] = {";
-        for (std::size_t k = 0; k < t.c_lo.size(); ++k)
-            body_ += std::string(k % 4 == 0 ? "\n    " : " ") + hex_literal(t.c_lo[k]) + ",";
+        append(body_, {"inline constexpr double ", name, "_lo[] = {"});
+        for (std::size_t k = 0; k < t.c_lo.size(); ++k) append(body_, {k % 4 == 0 ? "\n    " : " ", hex_literal(t.c_lo[k]), ","});
         body_ += "\n};\n";
         return name + "_lo";
     }
 
     std::string id_;
-    std::string body_;
+    std::string& body_;
 };
 
 }  // namespace
 
-std::string kernel_cpp(const KernelFacts& f, const std::vector<std::optional<std::vector<RoundedPiece>>>& tables) {
+std::string kernel_file(const std::string& command, const KernelFacts& f,
+                        const std::vector<std::optional<std::vector<RoundedPiece>>>& tables) {
     const ExactKernel& k = f.kernel;
-    HeaderWriter w(f.id);
+    // One string, reserved once and written in order: every copy or
+    // regrowth of ~1 MB is memory the emission touches again.
+    std::string out;
+    out.reserve(estimated_size(tables));
+    append(out, {banner(command, "//"),
+                 "// Each coefficient is correctly rounded, its exact value beside it; NAME_lo[k] is\n"
+                 "// the rounding error (exact - NAME[k]), correctly rounded (table.hpp: Term::c_lo).\n"
+                 "#pragma once\n\n#include <mollify/table.hpp>\n\nnamespace mollify::tables {\n"});
+    append(out, {"\n// ", f.spec, " in D = ", std::to_string(k.dim), ": ", k.source, "\n"});
+    append(out, {"namespace detail_", f.id, " {\n"});
+    HeaderWriter w(f.id, out);
     std::vector<std::string> quantities;
     for (int i = 0; i < table::quantity_count; ++i)
         quantities.push_back(w.quantity(table::quantity_names[i], tables[static_cast<std::size_t>(i)]));
-    std::ostringstream cpp;
-    cpp << "\n// " << f.spec << " in D = " << k.dim << ": " << k.source << "\n";
-    cpp << "namespace detail_" << f.id << " {\n" << w.body() << "}  // namespace detail_" << f.id << "\n";
-    cpp << "inline constexpr table::Kernel " << f.id << " = {\n";
-    cpp << "    .spec = \"" << f.spec << "\",\n    .dim = " << k.dim << ",\n    .support = 0x1p+0,\n";
-    cpp << "    .smoothness = " << k.claims.smoothness << ",\n    .order = " << k.claims.order
-        << ",\n    .parity = " << k.W.parity << ",\n";
-    cpp << "    .normalisation = " << hex_literal(round_to_double(k.normalisation)) << ",  // "
-        << k.normalisation.to_string() << "\n";
-    cpp << "    .normalisation_exact = \"" << k.normalisation.to_string() << "\",\n";
-    cpp << "    .has_potential = " << (k.claims.no_potential.empty() ? "true" : "false") << ",\n";
-    cpp << "    .quantities = {\n";
+    std::ostringstream tail;
+    tail << "}  // namespace detail_" << f.id << "\n";
+    tail << "inline constexpr table::Kernel " << f.id << " = {\n";
+    tail << "    .spec = \"" << f.spec << "\",\n    .dim = " << k.dim << ",\n    .support = 0x1p+0,\n";
+    tail << "    .smoothness = " << k.claims.smoothness << ",\n    .order = " << k.claims.order
+         << ",\n    .parity = " << k.W.parity << ",\n";
+    tail << "    .normalisation = " << hex_literal(round_to_double(k.normalisation)) << ",  // "
+         << k.normalisation.to_string() << "\n";
+    tail << "    .normalisation_exact = \"" << k.normalisation.to_string() << "\",\n";
+    tail << "    .has_potential = " << (k.claims.no_potential.empty() ? "true" : "false") << ",\n";
+    tail << "    .quantities = {\n";
     for (std::size_t i = 0; i < quantities.size(); ++i)
-        cpp << "        " << quantities[i] << ",  // " << table::quantity_names[i] << "\n";
-    cpp << "    }};\n";
-    return cpp.str();
+        tail << "        " << quantities[i] << ",  // " << table::quantity_names[i] << "\n";
+    tail << "    }};\n";
+    append(out, {tail.str(), "\n}  // namespace mollify::tables\n"});
+    return out;
 }
 
 // The header of one kernel in one dimension, relative to generated/:
@@ -123,14 +154,6 @@ std::string kernel_header(const std::string& spec, int dim) {
     const std::string family = colon == std::string::npos ? "classic" : spec.substr(0, colon);
     const std::string rest = colon == std::string::npos ? spec : spec.substr(colon + 1);
     return "mollify/tables/" + sanitized(family) + "/" + identifier(rest, dim) + ".hpp";
-}
-
-std::string kernel_file(const std::string& command, const std::string& text) {
-    return banner(command, "//") +
-           "// Each coefficient is correctly rounded, its exact value beside it; NAME_lo[k] is\n"
-           "// the rounding error (exact - NAME[k]), correctly rounded (table.hpp: Term::c_lo).\n"
-           "#pragma once\n\n#include <mollify/table.hpp>\n\nnamespace mollify::tables {\n" +
-           text + "\n}  // namespace mollify::tables\n";
 }
 
 // The list of every emitted kernel, declared without any table: a program

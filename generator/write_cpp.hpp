@@ -15,15 +15,14 @@
 
 namespace mollify::gen {
 
-// The tables of one kernel: namespace detail_<id> with its arrays, then
-// `inline constexpr table::Kernel <id>`. `tables`: the ten quantities
-// (emit_round.hpp) in table::QuantityId order.
-std::string kernel_cpp(const KernelFacts& k, const std::vector<std::optional<std::vector<RoundedPiece>>>& tables);
-
 // The header of kernel `spec` in dimension `dim`, relative to generated/.
 std::string kernel_header(const std::string& spec, int dim);
-// Its contents: banner, #include <mollify/table.hpp>, the tables.
-std::string kernel_file(const std::string& command, const std::string& tables);
+// Its contents: banner, #include <mollify/table.hpp>, then the tables of
+// the kernel: namespace detail_<id> with its arrays, then
+// `inline constexpr table::Kernel <id>`. `tables`: the ten quantities
+// (emit_round.hpp) in table::QuantityId order.
+std::string kernel_file(const std::string& command, const KernelFacts& k,
+                        const std::vector<std::optional<std::vector<RoundedPiece>>>& tables);
 std::string catalogue_header(const std::string& command);
 // `headers` and `ids` in catalogue order.
 std::string catalogue_source(const std::string& command, const std::vector<std::string>& headers,

@@ -22,34 +22,79 @@ bool holds(const std::filesystem::path& path, const std::string& text) {
 
 }  // namespace
 
-std::size_t write_files(const std::filesystem::path& out, const EmitResult& result) {
-    // Every changed file goes to a temporary beside its target first; only
-    // when all are written are they renamed into place, so a failure leaves
-    // the old tables intact.
-    std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;
-    auto discard = [&] {
-        for (const auto& [tmp, target] : staged) std::filesystem::remove(tmp);
-    };
+StagedFiles::StagedFiles(std::filesystem::path out) : out_(std::move(out)) {}
+
+StagedFiles::~StagedFiles() {
+    if (committed_) return;
+    std::error_code ignored;  // a destructor does not throw: what cannot be removed stays
+    for (const auto& [rel, tmp] : staged_)
+        if (tmp) std::filesystem::remove(*tmp, ignored);
+    // The folders made for them, deepest first (a folder sorts before its
+    // subfolders), each only if empty.
+    for (auto it = made_.rbegin(); it != made_.rend(); ++it) std::filesystem::remove(*it, ignored);
+}
+
+void StagedFiles::make_folders(const std::filesystem::path& folder) {
+    std::vector<std::filesystem::path> missing;
+    for (std::filesystem::path p = folder; !p.empty() && !std::filesystem::exists(p); p = p.parent_path()) {
+        missing.push_back(p);
+        if (p == p.parent_path()) break;
+    }
+    std::lock_guard lock(mutex_);  // one thread at a time makes folders, so each is made (and recorded) once
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it)
+        if (std::filesystem::create_directory(*it)) made_.insert(*it);
+}
+
+void StagedFiles::stage(const std::string& rel, const std::string& text) {
+    {
+        std::lock_guard lock(mutex_);
+        if (committed_) fail("internal: " + rel + " staged after the commit");
+        if (!staged_.try_emplace(rel).second) fail("internal: " + rel + " staged twice");
+    }
+    const std::filesystem::path target = out_ / rel;
+    std::optional<std::filesystem::path> tmp;
     try {
-        for (const auto& [rel, text] : result.files) {
-            const std::filesystem::path target = out / rel;
-            if (holds(target, text)) continue;
-            std::filesystem::create_directories(target.parent_path());
-            const std::filesystem::path tmp = target.string() + ".tmp." + std::to_string(::getpid());
-            staged.emplace_back(tmp, target);
-            std::ofstream f(tmp, std::ios::binary);
+        if (!holds(target, text)) {
+            make_folders(target.parent_path());
+            tmp = target.string() + ".tmp." + std::to_string(::getpid());
+            std::ofstream f(*tmp, std::ios::binary);
             f << text;
-            if (!f.flush()) fail("cannot write " + tmp.string());
+            if (!f.flush()) {
+                std::filesystem::remove(*tmp);
+                fail("cannot write " + tmp->string());
+            }
         }
     } catch (const std::filesystem::filesystem_error& e) {
-        discard();
         fail(std::string("cannot write the tables: ") + e.what());
-    } catch (...) {
-        discard();
-        throw;
     }
-    for (const auto& [tmp, target] : staged) std::filesystem::rename(tmp, target);
-    return staged.size();
+    std::lock_guard lock(mutex_);
+    staged_[rel] = std::move(tmp);
+}
+
+std::size_t StagedFiles::commit(const EmitResult& result) {
+    for (const auto& [rel, text] : result.files) {
+        bool seen;
+        {
+            std::lock_guard lock(mutex_);
+            seen = staged_.count(rel) != 0;
+        }
+        if (!seen) stage(rel, text);
+    }
+    std::lock_guard lock(mutex_);
+    std::size_t written = 0;
+    for (auto& [rel, tmp] : staged_)
+        if (tmp) {
+            std::filesystem::rename(*tmp, out_ / rel);
+            tmp.reset();
+            ++written;
+        }
+    committed_ = true;
+    return written;
+}
+
+std::size_t write_files(const std::filesystem::path& out, const EmitResult& result) {
+    StagedFiles files(out);
+    return files.commit(result);
 }
 
 }  // namespace mollify::gen

@@ -81,12 +81,39 @@ json kernel_json(const KernelFacts& f) {
     return out;
 }
 
-std::string catalogue_json(const std::string& command, const std::vector<json>& kernels) {
+std::string kernel_entry(const KernelFacts& k) {
+    // dump(1) of the entry alone, each line two spaces deeper: the entry's
+    // depth in the document (object, "kernels" array). Strings are printed
+    // with their newlines escaped, so every line break is the layout's.
+    const std::string alone = kernel_json(k).dump(1);
+    std::string out = "  ";
+    out.reserve(alone.size() + alone.size() / 8);
+    for (char c : alone) {
+        out += c;
+        if (c == '\n') out += "  ";
+    }
+    return out;
+}
+
+std::string catalogue_json(const std::string& command, const std::vector<std::string>& entries) {
     const json doc = {{"generated_by", "mollify-gen " + generator_version()},
                       {"command", command},
                       {"note", "Generated; do not edit. Exact values as p/q strings; pi_power/log_of give the factor pi^e log(p)."},
-                      {"kernels", kernels}};
-    return doc.dump(1) + "\n";
+                      {"kernels", json::array()}};
+    std::string out = doc.dump(1);  // ... "kernels": []\n}
+    const std::string empty = "[]\n}";
+    if (entries.empty() || !out.ends_with(empty)) return out + "\n";
+    out.resize(out.size() - empty.size());
+    std::size_t size = out.size() + 16;
+    for (const std::string& e : entries) size += e.size() + 2;
+    out.reserve(size);
+    out += "[\n";
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        out += entries[i];
+        out += i + 1 < entries.size() ? ",\n" : "\n";
+    }
+    out += " ]\n}\n";
+    return out;
 }
 
 }  // namespace mollify::gen
