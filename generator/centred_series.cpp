@@ -108,6 +108,45 @@ Series power_of_r(int k, const Q& c, int order) {
     return out;
 }
 
+// The first n terms of r^k about c = p/q as integers over one denominator,
+// made so (no rational, no gcd; the same values as scaled(power_of_r)):
+// k >= 0: binom(k, j) p^(k-j) q^j over q^k; k = -m < 0: binom(k, j) c^(k-j)
+// = (-1)^j binom(m+j-1, j) (q/p)^(m+j), i.e. (-1)^j binom(m+j-1, j) q^(m+j)
+// p^(n-1-j) over p^(m+n-1).
+Scaled scaled_power_of_r(int k, const Q& c, std::size_t n) {
+    const Z p = numerator(c), q = denominator(c);
+    Scaled out{std::vector<Z>(n), Z(1)};
+    auto power = [](const Z& base, unsigned long e) {
+        Z x;
+        mpz_pow_ui(x.backend().data(), base.backend().data(), e);
+        return x;
+    };
+    Z binom = 1;
+    if (k >= 0) {
+        const unsigned long K = static_cast<unsigned long>(k);
+        out.den = power(q, K);
+        Z q_j = 1;  // q^j
+        for (unsigned long j = 0; j < n && j <= K; ++j) {
+            out.num[j] = binom * power(p, K - j) * q_j;
+            mpz_mul_ui(binom.backend().data(), binom.backend().data(), K - j);  // binom(K, j + 1)
+            mpz_divexact_ui(binom.backend().data(), binom.backend().data(), j + 1);
+            q_j *= q;
+        }
+        return out;
+    }
+    const unsigned long m = static_cast<unsigned long>(-static_cast<long>(k));
+    out.den = power(p, m + n - 1);
+    Z q_power = power(q, m);  // q^(m+j)
+    for (unsigned long j = 0; j < n; ++j) {
+        out.num[j] = binom * q_power * power(p, n - 1 - j);
+        if (j % 2 == 1) mpz_neg(out.num[j].backend().data(), out.num[j].backend().data());
+        mpz_mul_ui(binom.backend().data(), binom.backend().data(), m + j);  // binom(m + j, j + 1)
+        mpz_divexact_ui(binom.backend().data(), binom.backend().data(), j + 1);
+        q_power *= q;
+    }
+    return out;
+}
+
 // S^j = g^(j/2), g = 1 - r^2 = S(c)^2 - 2c v - v^2, by J.C.P. Miller's
 // recurrence for powers of a series: from g h' = (j/2) g' h,
 // k g_0 h_k = sum_{i=1}^{min(k,2)} ((j/2 + 1) i - k) g_i h_(k-i).
@@ -260,7 +299,7 @@ std::vector<CentredValue> taylor_at_centre(const ClosedForm& f, const Q& c, int 
     std::map<int, Scaled> powers;  // r^k, k -> series
     auto r_power = [&](int k) -> const Scaled& {
         auto it = powers.find(k);
-        if (it == powers.end()) it = powers.emplace(k, scaled(power_of_r(k, c, order), n)).first;
+        if (it == powers.end()) it = powers.emplace(k, scaled_power_of_r(k, c, n)).first;
         return it->second;
     };
     // The antiderivatives of arcsech', arcsin', log' (once, not per term),
@@ -545,9 +584,10 @@ int edge_power_of_S(const ClosedForm& f) {
     return m == std::numeric_limits<int>::max() ? 0 : m;
 }
 
-// The coefficients of a w (the first a.size() of them), w a rational series:
-// per slot and constant pi^e log p, a product of rational series.
-std::vector<CentredValue> times_series(const std::vector<CentredValue>& a, const Series& w) {
+// The coefficients of a w (the first a.size() of them), w a rational series
+// over one denominator (at least a.size() terms): per slot and constant
+// pi^e log p, a product of rational series.
+std::vector<CentredValue> times_series(const std::vector<CentredValue>& a, const Scaled& w) {
     std::vector<CentredValue> out(a.size());
     for (Exact CentredValue::*slot : {&CentredValue::one, &CentredValue::arcsech, &CentredValue::arcsin, &CentredValue::log}) {
         std::map<Atom, Series> parts;
@@ -558,7 +598,7 @@ std::vector<CentredValue> times_series(const std::vector<CentredValue>& a, const
                 s[i] = q;
             }
         for (const auto& [atom, s] : parts) {
-            const Series y = product(s, w);
+            const Series y = reduced(product(scaled(s, s.size()), w, s.size()));
             const Exact unit = Exact::of(atom);
             for (std::size_t k = 0; k < y.size(); ++k)
                 if (y[k] != 0) out[k].*slot += unit * y[k];
@@ -570,13 +610,13 @@ std::vector<CentredValue> times_series(const std::vector<CentredValue>& a, const
 // The coefficients of a S^-m, from those of a.
 std::vector<CentredValue> times_power_of_S(const std::vector<CentredValue>& a, int m, const Q& c) {
     if (m == 0) return a;
-    return times_series(a, power_of_S(-m, c, rational_sqrt(Q(1) - c * c), static_cast<int>(a.size()) - 1));
+    return times_series(a, scaled(power_of_S(-m, c, rational_sqrt(Q(1) - c * c), static_cast<int>(a.size()) - 1), a.size()));
 }
 
 // The coefficients of a r^k (k >= 0: (c + v)^k, k + 1 terms).
 std::vector<CentredValue> times_power_of_r(const std::vector<CentredValue>& a, int k, const Q& c) {
     if (k == 0) return a;
-    return times_series(a, power_of_r(k, c, static_cast<int>(a.size()) - 1));
+    return times_series(a, scaled_power_of_r(k, c, a.size()));
 }
 
 // The rounding error of a piece's double evaluation, in ulps of f (a

@@ -47,8 +47,11 @@ struct CentredPiece {
     ClosedForm sampled;
     std::vector<std::pair<Real, Real>> samples;
     // a_k correctly rounded to double (emit_plan.hpp's rounded), once per
-    // piece: the check and the writer emit the same doubles.
+    // piece: the check and the writer emit the same doubles; and the low
+    // parts a_k - a_double[k], correctly rounded (emit_plan.hpp's
+    // centred_low_part), where they were made with them.
     std::vector<double> a_double{};
+    std::vector<double> a_lo{};
 };
 
 // The Taylor coefficients a_0 .. a_order of f about a Pythagorean centre c.

@@ -7,7 +7,9 @@
 #include <mutex>
 #include <optional>
 #include <shared_mutex>
+#include <string_view>
 #include <tuple>
+#include <unordered_map>
 
 namespace mollify::gen {
 
@@ -299,7 +301,23 @@ Real rounded_real(const Q& x, unsigned digits10) {
 // value at one precision, shared by the threads for the whole run: the
 // pieces of a kernel's quantities in its three dimensions lie on a few common
 // grids, and MPFR's log, asin and powers at 200 bits there were a seventh of
-// `emit`. Map nodes do not move, so a returned reference stays valid.
+// `emit`. Map nodes do not move (nor do an unordered map's), so a returned
+// reference stays valid.
+
+// A rational point's hash, from its numerator's and denominator's limbs:
+// the points are looked up by hash, not by the ~15 rational comparisons
+// (cross-multiplied) of an ordered map's search.
+struct PointKeyHash {
+    std::size_t operator()(const std::pair<unsigned, Q>& key) const {
+        mpq_srcptr q = key.second.backend().data();
+        auto limbs = [](mpz_srcptr z) {
+            return std::hash<std::string_view>{}(std::string_view(reinterpret_cast<const char*>(mpz_limbs_read(z)),
+                                                                  sizeof(mp_limb_t) * mpz_size(z)));
+        };
+        return limbs(mpq_numref(q)) ^ (limbs(mpq_denref(q)) * 0x9e3779b97f4a7c15ULL + key.first +
+                                       static_cast<std::size_t>(mpq_sgn(q) + 1));
+    }
+};
 }  // namespace
 
 struct PointValues::Shared {
@@ -339,7 +357,7 @@ public:
 
 private:
     std::shared_mutex mutex_;
-    std::map<std::pair<unsigned, Q>, Point> points_;
+    std::unordered_map<std::pair<unsigned, Q>, Point, PointKeyHash> points_;
 };
 
 BasisTable& basis_table() {
@@ -389,7 +407,13 @@ const Real& PointValues::basis(Basis b, int s_power) {
         }
         return v;
     };
-    if (shared_ && b != Basis::one) return basis_table().get(*shared_, key, compute);
+    if (shared_ && b != Basis::one) {
+        for (const auto& [k, v] : seen_)
+            if (k == key) return *v;
+        const Real& v = basis_table().get(*shared_, key, compute);
+        seen_.emplace_back(key, &v);
+        return v;
+    }
     return bases_.emplace(key, compute()).first->second;
 }
 

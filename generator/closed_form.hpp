@@ -58,6 +58,10 @@ private:
     std::map<int, Real> r_powers_;
     std::map<std::pair<Basis, int>, Real> bases_;
     Shared* shared_ = nullptr;
+    // The run's table's values this point has read (a few): each asked again
+    // without the table's lock (f and f' at 129 points per Taylor piece ask
+    // once per term).
+    std::vector<std::pair<std::pair<Basis, int>, const Real*>> seen_;
 };
 
 class ClosedForm {

@@ -80,18 +80,29 @@ void check_centred(const ClosedForm& f, const CentredPiece& p) {
         mpfr_set_q(x.backend().data(), q.backend().data(), MPFR_RNDN);
         return x;
     };
-    Real sum(0, horner_digits), v_rest(0, horner_digits);
+    // Raw MPFR into numbers made once per piece (Boost's expressions made
+    // and freed several numbers per point, at the thread's default precision).
+    Real sum(0, horner_digits), v_rest(0, horner_digits), factor(0, horner_digits), S(0, horner_digits);
+    Real difference(0, 70);  // 70 digits: sum and the 200-bit sample subtracted without loss that matters
+    mpfr_ptr sum_p = sum.backend().data(), factor_p = factor.backend().data(), S_p = S.backend().data(),
+             difference_p = difference.backend().data();
     for (int i = 0; i <= 128; ++i) {
         const Q x = p.lo + (p.hi - p.lo) * ratio(i, 128);
         const Real r = real(x), v = real(x - p.centre);
         const double v_hi = mpfr_get_d(v.backend().data(), MPFR_RNDN);
         mpfr_sub_d(v_rest.backend().data(), v.backend().data(), v_hi, MPFR_RNDN);
         const detail::DoubleDouble y = horner(a, {v_hi, mpfr_get_d(v_rest.backend().data(), MPFR_RNDN)});
-        mpfr_set_d(sum.backend().data(), y.hi, MPFR_RNDN);
-        mpfr_add_d(sum.backend().data(), sum.backend().data(), y.lo, MPFR_RNDN);
-        if (p.low != 0 || p.s_power != 0)
-            sum *= boost::multiprecision::pow(r, p.low) *
-                   boost::multiprecision::pow(boost::multiprecision::sqrt(1 - r * r), p.s_power);
+        mpfr_set_d(sum_p, y.hi, MPFR_RNDN);
+        mpfr_add_d(sum_p, sum_p, y.lo, MPFR_RNDN);
+        if (p.low != 0 || p.s_power != 0) {  // times r^low S^s_power
+            mpfr_pow_si(factor_p, r.backend().data(), p.low, MPFR_RNDN);
+            mpfr_sqr(S_p, r.backend().data(), MPFR_RNDN);
+            mpfr_ui_sub(S_p, 1, S_p, MPFR_RNDN);
+            mpfr_sqrt(S_p, S_p, MPFR_RNDN);
+            mpfr_pow_si(S_p, S_p, p.s_power, MPFR_RNDN);
+            mpfr_mul(factor_p, factor_p, S_p, MPFR_RNDN);
+            mpfr_mul(sum_p, sum_p, factor_p, MPFR_RNDN);
+        }
         auto sample = [&]() -> std::pair<Real, Real> {
             PointValues at(r, 200);
             Real value = f.evaluate(at).first;
@@ -101,7 +112,10 @@ void check_centred(const ClosedForm& f, const CentredPiece& p) {
         };
         const std::pair<Real, Real> computed = sampled ? std::pair<Real, Real>{} : sample();
         const auto& [exact, scale] = sampled ? p.samples[static_cast<std::size_t>(i)] : computed;
-        const double error = static_cast<double>(boost::multiprecision::abs(sum - exact) / scale);
+        mpfr_sub(difference_p, sum_p, exact.backend().data(), MPFR_RNDN);
+        mpfr_abs(difference_p, difference_p, MPFR_RNDN);
+        mpfr_div(difference_p, difference_p, scale.backend().data(), MPFR_RNDN);
+        const double error = mpfr_get_d(difference_p, MPFR_RNDU);
         if (!(error <= centred_certificate_bound))
             fail("internal: the Taylor piece about " + short_string(p.centre) + " misses the closed form at r = " +
                  short_string(x) + " by " + decimal(Q(error), 3) + " of max(|f|, |r f'|)");

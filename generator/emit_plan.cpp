@@ -155,6 +155,23 @@ std::optional<EmittedPiece> edge_series_piece(const ClosedForm& form, const Q& l
     return EmittedPiece{e->r1, hi, std::move(terms), note, true};
 }
 
+// A centred piece's a_k = a_double[k] + a_lo[k], each correctly rounded,
+// once: a coefficient with arcsech c, arcsin c or log c in it by one
+// evaluation where that decides both (rounding.hpp), else by two loops.
+void round_coefficients(CentredPiece& p) {
+    for (const CentredValue& a : p.a) {
+        const Evaluator value = [&](unsigned bits) { return a.evaluate(p.centre, bits); };
+        if (a.arcsech.is_zero() && a.arcsin.is_zero() && a.log.is_zero()) {
+            p.a_double.push_back(round_to_double(value));
+            p.a_lo.push_back(low_part(a.one, p.a_double.back()));
+        } else {
+            const auto [hi, lo] = round_to_double_double(value);
+            p.a_double.push_back(hi);
+            p.a_lo.push_back(lo);
+        }
+    }
+}
+
 // Between the series at 0 and at the edge, the closed forms with S, arcsech
 // and arcsin cancel (up to 1e9 ulp): Taylor pieces about Pythagorean
 // centres there (centred_series.hpp).
@@ -162,7 +179,7 @@ std::vector<EmittedPiece> middle_pieces(const ClosedForm& form, const Q& lo, con
     if (hi >= 1) fail("internal: a sqrt/arcsech/arcsin closed form without its edge series");
     std::vector<EmittedPiece> out;
     for (CentredPiece& p : centred_pieces(form, lo, hi)) {
-        p.a_double = rounded(p);
+        round_coefficients(p);
         const std::string note = (p.low ? "r^" + std::to_string(p.low) + " " : std::string()) +
                                  (p.s_power ? "S^" + std::to_string(p.s_power) + " " : std::string()) +
                                  (p.low || p.s_power ? "times " : "") + "Taylor about " +
@@ -454,12 +471,12 @@ std::vector<SubPiece> sub_pieces(const EmittedPiece& piece, const ClosedForm& fo
     return sub;
 }
 
-std::vector<EmittedPiece> recentred(const Radial& f, const std::vector<EmittedPiece>& pieces) {
+std::vector<EmittedPiece> recentred(const Radial& f, std::vector<EmittedPiece> pieces) {
     std::vector<EmittedPiece> out;
-    for (const EmittedPiece& p : pieces) {
+    for (EmittedPiece& p : pieces) {
         const ClosedForm* form = p.hi && !p.series && !p.centred ? &f.form_at((p.lo + *p.hi) / 2) : nullptr;
         if (!form || form->is_zero() || !is_polynomial_form(*form)) {
-            out.push_back(p);
+            out.push_back(std::move(p));
             continue;
         }
         std::vector<SubPiece> sub = sub_pieces(p, *form);
@@ -479,7 +496,8 @@ std::vector<EmittedPiece> recentred(const Radial& f, const std::vector<EmittedPi
 std::vector<EmittedPiece> plan_quantity(const Radial& f, bool potential_like, const std::vector<Radial>& parts) {
     std::vector<EmittedPiece> emitted =
         parts.empty() ? emitted_pieces(f, potential_like) : combination_pieces(f, parts, potential_like);
-    return potential_like ? recentred(f, emitted) : emitted;
+    if (potential_like) return recentred(f, std::move(emitted));
+    return emitted;  // moved (a conditional expression would copy every piece, its Taylor coefficients too)
 }
 
 // The emitted (rounded) Taylor coefficients of a centred piece (kept in the
@@ -493,6 +511,7 @@ std::vector<double> rounded(const CentredPiece& p) {
 
 // The low part of the emitted Taylor coefficient a_k = hi + lo.
 double centred_low_part(const CentredPiece& p, std::size_t k, double hi) {
+    if (p.a_lo.size() == p.a.size() && p.a_double[k] == hi) return p.a_lo[k];
     const CentredValue& a = p.a[k];
     if (a.arcsech.is_zero() && a.arcsin.is_zero() && a.log.is_zero()) return low_part(a.one, hi);
     return low_part([&](unsigned bits) { return a.evaluate(p.centre, bits); }, hi);

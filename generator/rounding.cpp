@@ -146,29 +146,33 @@ auto ziv_round(const Evaluator& f, Round round, const std::string& to) {
 // same bound, rounded up), each rounded to the nearest double by
 // mpfr_get_d (correctly, subnormals included); where they agree, every
 // point of the wider interval, the value among them, rounds so.
-double ziv_round_to_double(const Evaluator& f, unsigned first_bits) {
+// The double v rounds to where f's error bound at `bits` (Ziv's enclosure
+// [v - e, v + e], e = magnitude 2^(headroom - bits) + 2^(-floor bits))
+// rounds to one double; nullopt where its ends round apart.
+std::optional<double> decided(const Real& v, const Real& magnitude, unsigned bits) {
     mpfr_t e, tiny, lo, hi;
     mpfr_inits2(64, e, tiny, static_cast<mpfr_ptr>(nullptr));
-    mpfr_inits2(64, lo, hi, static_cast<mpfr_ptr>(nullptr));
-    std::optional<double> out;
-    for (unsigned bits = first_bits; bits <= max_bits && !out; bits *= 2) {
-        const auto [v, magnitude] = f(bits);
-        mpfr_set(e, magnitude.backend().data(), MPFR_RNDU);
-        mpfr_abs(e, e, MPFR_RNDU);
-        mpfr_mul_2si(e, e, static_cast<long>(error_headroom) - static_cast<long>(bits), MPFR_RNDU);
-        mpfr_set_ui_2exp(tiny, 1, -static_cast<long>(error_floor_factor * bits), MPFR_RNDU);
-        mpfr_add(e, e, tiny, MPFR_RNDU);
-        const mpfr_prec_t p = mpfr_get_prec(v.backend().data()) + 2;
-        mpfr_set_prec(lo, p);
-        mpfr_set_prec(hi, p);
-        mpfr_sub(lo, v.backend().data(), e, MPFR_RNDD);
-        mpfr_add(hi, v.backend().data(), e, MPFR_RNDU);
-        const double a = mpfr_get_d(lo, MPFR_RNDN), b = mpfr_get_d(hi, MPFR_RNDN);
-        if (a == b) out = a;
-    }
+    const mpfr_prec_t p = mpfr_get_prec(v.backend().data()) + 2;
+    mpfr_inits2(p, lo, hi, static_cast<mpfr_ptr>(nullptr));
+    mpfr_set(e, magnitude.backend().data(), MPFR_RNDU);
+    mpfr_abs(e, e, MPFR_RNDU);
+    mpfr_mul_2si(e, e, static_cast<long>(error_headroom) - static_cast<long>(bits), MPFR_RNDU);
+    mpfr_set_ui_2exp(tiny, 1, -static_cast<long>(error_floor_factor * bits), MPFR_RNDU);
+    mpfr_add(e, e, tiny, MPFR_RNDU);
+    mpfr_sub(lo, v.backend().data(), e, MPFR_RNDD);
+    mpfr_add(hi, v.backend().data(), e, MPFR_RNDU);
+    const double a = mpfr_get_d(lo, MPFR_RNDN), b = mpfr_get_d(hi, MPFR_RNDN);
     mpfr_clears(e, tiny, lo, hi, static_cast<mpfr_ptr>(nullptr));
-    if (!out) fail("internal: could not round a value correctly to double (is it exactly zero or a rounding boundary?)");
-    return *out;
+    if (a == b) return a;
+    return std::nullopt;
+}
+
+double ziv_round_to_double(const Evaluator& f, unsigned first_bits) {
+    for (unsigned bits = first_bits; bits <= max_bits; bits *= 2) {
+        const auto [v, magnitude] = f(bits);
+        if (const auto d = decided(v, magnitude, bits)) return *d;
+    }
+    fail("internal: could not round a value correctly to double (is it exactly zero or a rounding boundary?)");
 }
 
 }  // namespace
@@ -264,6 +268,21 @@ double low_part(const Exact& x, double hi) {
     if (x.is_rational()) return low_part(x.rational(), hi);
     if (const auto d = single_pi_low_part(x, hi)) return *d;
     return ziv_round_to_double(of(x - Exact(Q(hi))), low_part_bits);
+}
+
+std::pair<double, double> round_to_double_double(const Evaluator& f) {
+    // One evaluation at the low part's first precision decides both where
+    // it can (each correctly rounded, so the same doubles as the two loops,
+    // which run where it cannot).
+    auto [v, magnitude] = f(low_part_bits);
+    if (const auto hi = decided(v, magnitude, low_part_bits)) {
+        // Exact: v is within a factor 2 of hi (Sterbenz), at v's precision.
+        mpfr_sub_d(v.backend().data(), v.backend().data(), *hi, MPFR_RNDN);
+        if (const auto lo = decided(v, magnitude, low_part_bits)) return {*hi, *lo};
+        return {*hi, low_part(f, *hi)};
+    }
+    const double hi = round_to_double(f);
+    return {hi, low_part(f, hi)};
 }
 
 double low_part(const Evaluator& f, double hi) {

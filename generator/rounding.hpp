@@ -37,6 +37,9 @@ double low_part(const Exact& x, double hi);
 // For a value that is not exactly a double (a Ziv loop cannot settle an
 // exact zero).
 double low_part(const Evaluator& f, double hi);
+// Both parts of such a value, {round_to_double(f), low_part(f, hi)}: one
+// evaluation where it decides both.
+std::pair<double, double> round_to_double_double(const Evaluator& f);
 
 // C99 hexadecimal floating literal ("0x1.8p-2"), exact for every double.
 std::string hex_literal(double x);
