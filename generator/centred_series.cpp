@@ -465,10 +465,9 @@ Real circle_bound(const CircleTerms& f, const Q& c, const Real& R) {
 // that is handed r with a relative error of half an ulp.
 std::vector<std::pair<Real, Real>> sizes(const PreparedForm& pf, const PreparedForm& pdf, const Q& lo, const Q& hi, int n) {
     std::vector<std::pair<Real, Real>> out;
-    for (int i = 0; i <= n; ++i) {
-        const Q x = lo + (hi - lo) * ratio(i, n);
-        const Real r = real(x, 200);
+    for (const Q& x : equispaced(lo, hi, n)) {
         PointValues at(x, 200);
+        const Real& r = at.power_of_r(1);  // x at 200 bits, as real(x, 200)
         Real v = pf.value(at);
         // max(|v|, |r f'|) in raw MPFR at the forms' precision (Boost's max
         // takes the thread's default precision, which its expressions leave

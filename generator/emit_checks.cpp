@@ -86,8 +86,9 @@ void check_centred(const ClosedForm& f, const CentredPiece& p) {
     Real difference(0, 70);  // 70 digits: sum and the 200-bit sample subtracted without loss that matters
     mpfr_ptr sum_p = sum.backend().data(), factor_p = factor.backend().data(), S_p = S.backend().data(),
              difference_p = difference.backend().data();
+    const std::vector<Q> points = equispaced(p.lo, p.hi, 128);
     for (int i = 0; i <= 128; ++i) {
-        const Q x = p.lo + (p.hi - p.lo) * ratio(i, 128);
+        const Q& x = points[static_cast<std::size_t>(i)];
         const Real r = real(x), v = real(x - p.centre);
         const double v_hi = mpfr_get_d(v.backend().data(), MPFR_RNDN);
         mpfr_sub_d(v_rest.backend().data(), v.backend().data(), v_hi, MPFR_RNDN);

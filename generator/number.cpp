@@ -48,6 +48,16 @@ Q parse_rational(std::string_view text, std::string_view what) {
 
 std::string pq(const Q& q) { return numerator(q).str() + "/" + denominator(q).str(); }
 
+std::vector<Q> equispaced(const Q& lo, const Q& hi, int n) {
+    const Q step = (hi - lo) / Q(n);
+    std::vector<Q> out;
+    out.reserve(static_cast<std::size_t>(n) + 1);
+    out.push_back(lo);
+    for (int i = 1; i < n; ++i) out.push_back(out.back() + step);
+    out.push_back(hi);
+    return out;
+}
+
 std::string short_string(const Q& q) {
     return is_integer(q) ? numerator(q).str() : pq(q);
 }

@@ -7,6 +7,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace mollify::gen {
 
@@ -26,6 +27,9 @@ Q pow(const Q& base, int exponent);
 // a/b for machine integers of any sign (mpq_rational's two-argument
 // constructor misreads a negative denominator).
 inline Q ratio(long long a, long long b) { return Q(a) / Q(b); }
+// The n + 1 points lo + (hi - lo) i/n, i = 0 .. n, exactly (the step once,
+// then one addition a point).
+std::vector<Q> equispaced(const Q& lo, const Q& hi, int n);
 Z factorial(unsigned n);
 Z binomial(unsigned n, unsigned k);
 // Generalised binomial (a choose k) for rational a, k >= 0 (Franz Thm. 4.38).
