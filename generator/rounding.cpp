@@ -2,6 +2,7 @@
 
 #include "error.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -296,10 +297,20 @@ double low_part(const Evaluator& f, double hi) {
         low_part_bits);
 }
 
+// std::to_chars's hex form after "0x" (its sign before): the text of
+// printf's "%a" (Rounding.HexLiteralsAreThoseOfPrintf), without printf's
+// format parsing and locale, which were a fifth of the C++ writer's work.
+// Infinities and NaN as printf writes them ("inf", "-inf", "nan").
 std::string hex_literal(double x) {
+    if (std::isnan(x)) return "nan";
+    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%a", x);
-    return buf;
+    char* p = buf;
+    if (std::signbit(x)) *p++ = '-';
+    *p++ = '0';
+    *p++ = 'x';
+    const auto end = std::to_chars(p, buf + sizeof buf, std::abs(x), std::chars_format::hex).ptr;
+    return std::string(buf, end);
 }
 
 std::string decimal(const Q& q, int digits) {
