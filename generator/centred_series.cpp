@@ -222,8 +222,13 @@ void compute_constants(const Q& c, unsigned bits, Constants& k) {
 // (not copied: a copied Real may take the thread's default precision).
 const Constants& constants(const Q& c, unsigned bits) {
     thread_local std::map<std::pair<Q, unsigned>, Constants> cache;
+    // The last entry asked for first: a piece's coefficients ask for the same
+    // one in turn, and the map's search compares rationals by cross products.
+    thread_local const std::pair<const std::pair<Q, unsigned>, Constants>* last = nullptr;
+    if (last && last->first.second == bits && last->first.first == c) return last->second;
     auto [it, inserted] = cache.try_emplace(std::pair{c, bits});
     if (inserted) compute_constants(c, bits, it->second);
+    last = &*it;  // once filled
     return it->second;
 }
 
@@ -260,12 +265,15 @@ struct ConstantNames {
 };
 const ConstantNames& constant_names(const Q& c) {
     thread_local std::map<Q, ConstantNames> cache;
+    thread_local const std::pair<const Q, ConstantNames>* last = nullptr;  // as constants(): the last first
+    if (last && last->first == c) return last->second;
     auto [it, fresh] = cache.try_emplace(c);
     if (fresh) {
         const Q s = rational_sqrt(Q(1) - c * c);
         it->second = {"log(" + short_string((1 + s) / c) + ")",  // arcsech c = log((1 + S(c))/c)
                       "arcsin(" + short_string(c) + ")", "log(" + short_string(c) + ")"};
     }
+    last = &*it;  // once filled
     return it->second;
 }
 
