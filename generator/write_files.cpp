@@ -82,12 +82,16 @@ std::size_t StagedFiles::commit(const EmitResult& result) {
     }
     std::lock_guard lock(mutex_);
     std::size_t written = 0;
-    for (auto& [rel, tmp] : staged_)
-        if (tmp) {
-            std::filesystem::rename(*tmp, out_ / rel);
-            tmp.reset();
-            ++written;
-        }
+    try {
+        for (auto& [rel, tmp] : staged_)
+            if (tmp) {
+                std::filesystem::rename(*tmp, out_ / rel);
+                tmp.reset();
+                ++written;
+            }
+    } catch (const std::filesystem::filesystem_error& e) {  // the temporaries not renamed go with the destructor
+        fail(std::string("cannot write the tables: ") + e.what());
+    }
     committed_ = true;
     return written;
 }
