@@ -2,6 +2,7 @@
 // kernel's file is staged while the others are still being rendered, so a
 // failure after some were staged must leave the output as it was: old files
 // intact, no temporaries, no folders made for files that were never placed.
+#include "command.hpp"
 #include "emit.hpp"
 #include "error.hpp"
 
@@ -11,7 +12,6 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <thread>
 #include <unistd.h>
 #include <vector>
@@ -19,6 +19,7 @@
 namespace fs = std::filesystem;
 using mollify::gen::EmitResult;
 using mollify::gen::StagedFiles;
+using mollify::testing::slurp;
 
 namespace {
 
@@ -26,13 +27,6 @@ fs::path scratch(const std::string& name) {
     const fs::path p = fs::temp_directory_path() / ("mollify-staged-test-" + std::to_string(::getpid()) + "-" + name);
     fs::remove_all(p);
     return p;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::ostringstream s;
-    s << f.rdbuf();
-    return s.str();
 }
 
 // Every path under `root`, files and folders, relative to it.
