@@ -147,9 +147,9 @@ auto ziv_round(const Evaluator& f, Round round, const std::string& to) {
 // same bound, rounded up), each rounded to the nearest double by
 // mpfr_get_d (correctly, subnormals included); where they agree, every
 // point of the wider interval, the value among them, rounds so.
-// The double v rounds to where f's error bound at `bits` (Ziv's enclosure
-// [v - e, v + e], e = magnitude 2^(headroom - bits) + 2^(-floor bits))
-// rounds to one double; nullopt where its ends round apart.
+// One step of it: the double the value v stands for rounds to where its
+// enclosure at `bits` ([v - e, v + e], e = magnitude 2^(headroom - bits) +
+// 2^(-floor bits)) rounds to one double; nullopt where the ends round apart.
 std::optional<double> decided(const Real& v, const Real& magnitude, unsigned bits) {
     mpfr_t e, tiny, lo, hi;
     mpfr_inits2(64, e, tiny, static_cast<mpfr_ptr>(nullptr));
