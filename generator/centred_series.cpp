@@ -95,21 +95,9 @@ Series integral(const Series& s) {  // the antiderivative vanishing at v = 0
     return out;
 }
 
-// r^k = (c + v)^k = sum_j binom(k, j) c^(k-j) v^j, any integer k.
-Series power_of_r(int k, const Q& c, int order) {
-    Series out(static_cast<std::size_t>(order) + 1);
-    Q binom = 1, power = pow(c, k);
-    const Q inverse = Q(1) / c;
-    for (int j = 0; j <= order; ++j) {
-        out[static_cast<std::size_t>(j)] = binom * power;
-        binom = binom * Q(k - j) / Q(j + 1);
-        power *= inverse;
-    }
-    return out;
-}
-
-// The first n terms of r^k about c = p/q as integers over one denominator,
-// made so (no rational, no gcd; the same values as scaled(power_of_r)):
+// The first n terms of r^k = (c + v)^k = sum_j binom(k, j) c^(k-j) v^j
+// (any integer k) about c = p/q, as integers over one denominator, made so
+// (no rational arithmetic, no gcd):
 // k >= 0: binom(k, j) p^(k-j) q^j over q^k; k = -m < 0: binom(k, j) c^(k-j)
 // = (-1)^j binom(m+j-1, j) (q/p)^(m+j), i.e. (-1)^j binom(m+j-1, j) q^(m+j)
 // p^(n-1-j) over p^(m+n-1).
@@ -303,13 +291,13 @@ std::vector<CentredValue> taylor_at_centre(const ClosedForm& f, const Q& c, int 
         if (it == S.end()) it = S.emplace(j, power_of_S(j, c, s, order)).first;
         return it->second;
     };
-    const Series inverse_r = power_of_r(-1, c, order);
     std::map<int, Scaled> powers;  // r^k, k -> series
     auto r_power = [&](int k) -> const Scaled& {
         auto it = powers.find(k);
         if (it == powers.end()) it = powers.emplace(k, scaled_power_of_r(k, c, n)).first;
         return it->second;
     };
+    const Series inverse_r = reduced(r_power(-1));
     // The antiderivatives of arcsech', arcsin', log' (once, not per term),
     // and the powers of S, as integers over one denominator.
     std::map<Basis, Scaled> integrals;
