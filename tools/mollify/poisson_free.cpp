@@ -90,7 +90,7 @@ void run(const Scene& scene, Output& out) {
     const std::vector<double> thetas = scene.numbers("poisson_free.thetas");
     const std::vector<long> orders = scene.integers("poisson_free.orders");
     if (thetas.empty() || orders.empty()) scene.reject("poisson_free.thetas", "thetas and orders need at least one value each");
-    const long leaf = scene.integer("poisson_free.leaf_size", 256);
+    const long leaf = scene.integer("poisson_free.leaf_size", 0);  // 0: the treecode's default (TreeOptions::leaf_for)
     const double target = scene.number("poisson_free.target_error", 1e-6);
     const auto seed = static_cast<unsigned long>(scene.integer("poisson_free.seed", 1));
     // Everything the grid needs is checked before the first (long) run.

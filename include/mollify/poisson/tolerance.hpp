@@ -7,9 +7,9 @@
 // cases (every source on the cell's sphere, in line with the target)
 // overestimate the error of a whole evaluation by orders of magnitude: most
 // accepted cells lie well inside the theta limit, so the measured error
-// falls like (alpha theta)^(p+1) with alpha < 1. The knob uses that fitted
-// form,
-//     relative L2 field error ~ C (alpha theta)^(p+1),
+// falls like (alpha r)^(p+1) with alpha < 1, r = theta (2D) or
+// theta/(2 - theta) (3D's full M2L). The knob uses that fitted form,
+//     relative L2 field error ~ C (alpha r)^(p+1),
 // alpha and C calibrated by measurement (calibration below), and picks,
 // among theta in {0.3, 0.4, ..., 0.8}, the cheapest (theta, p) meeting the
 // target by a cost model fitted to measured times (cost below).
@@ -31,52 +31,69 @@ namespace mollify::poisson {
 struct TreeOptions {
     double theta = 0.5;  // opening parameter: a cell is expanded when rho_c / R < theta
     int order = 6;       // multipole order p
-    // At most this many sources in a leaf. 128: uniform sources in 3D fill
-    // octree boxes with N/8^level sources, and 128 splits every level above
-    // ~50 per leaf (N = 2e5: 49, 1e6: 31, 1e5: 24, 1e4: 20), where 256 left
-    // 244 per leaf at N = 1e6 (2.4x slower there, the same tree at 2e5).
-    int leaf_size = 128;
+    // At most this many sources in a leaf; 0: the dimension's default,
+    // leaf_for(D). 3D: 400, exafmm-t's ncrit: uniform sources fill octree
+    // boxes with N/8^level sources, and 400 stops at 195 per leaf at N = 1e5,
+    // 244 at 1e6, where the full M2L (multipole.hpp) at wide opening angles
+    // balances a large near field against few translations (N = 1e6,
+    // theta 0.7, p = 11, neutral charges: 6.7 CPU s at 400, 8.9 s at 256,
+    // which splits some of the 1e6 boxes and not others; 128, 24-49 per
+    // leaf, was best for the triangular M2L at theta 0.4-0.5). 2D
+    // (particle-cluster, per target): 128.
+    int leaf_size = 0;
+
+    int leaf_for(int dim) const { return leaf_size > 0 ? leaf_size : dim == 3 ? 400 : 128; }
 
     void check() const {
         if (!(theta > 0 && theta < 1))
             fail("opening parameter theta = " + mollify::detail::show(theta) +
                  " is not in (0, 1) (the multipole series converges only for rho/R < 1)");
         check_order(order);
-        if (leaf_size < 1) fail("tree leaf size " + std::to_string(leaf_size) + " is not >= 1");
+        if (leaf_size < 0)
+            fail("tree leaf size " + std::to_string(leaf_size) + " is negative (0: the dimension's default)");
     }
 };
 
 namespace detail {
 
-// Fit of the relative L2 field error against direct summation over
-// theta in {0.3, ..., 0.8}, p = 2..20, on NEUTRAL charges (uniform in
-// [-0.5, 0.5]: the far field cancels, so the same absolute truncation error
-// is a 5-10x larger relative one than on positive charges, where the model
-// was first fitted and which it then underestimated 4-5x): 10^5 sources in
-// the unit cube and 5000 in a Gaussian blob, 2D and 3D (bench/
-// treecode_bench.cpp's sets). The error falls by 1/(alpha theta) per order,
-// alpha = 0.905 (2D) and 0.92 (3D) by least squares of the log error, with
-// no visible (1 - theta) factor; C is the largest measured ratio error /
-// (alpha theta)^(p+1), 0.175 (2D) and 0.33 (3D), rounded up. Positive
-// charges measured 0.1-0.2x the model, 10^6 sources below 10^5's.
+// The relative L2 field error against direct summation on NEUTRAL charges
+// (uniform in [-0.5, 0.5]: the far field cancels, so the same absolute
+// truncation error is a 5-40x larger relative one than on positive
+// charges), modelled as C (alpha r(theta))^(p+1) with r the truncation
+// ratio per order at the opening angle: theta in 2D (particle-cluster, one
+// expansion per target and cell), theta/(2 - theta) in 3D (the full M2L of
+// two cells of radius theta R/2, multipole.hpp).
+// 2D: fitted over theta in {0.3, ..., 0.8}, p = 2..20, 10^5 sources in the
+// unit square and 5000 in a Gaussian blob: alpha = 0.905 by least squares of
+// the log error, C the largest measured ratio 0.175, rounded up.
+// 3D: bench/knob_calibration.cpp (bench/results/knob_calibration.md):
+// 10^5 sources in the unit cube (theta 0.4..0.8, p = 4..16) and 5000 in a
+// Gaussian blob (theta 0.3..0.8, p = 2..20); the tightest envelope (C the
+// largest ratio measured/(alpha r)^(p+1) at the alpha minimising the summed
+// log(model/measured)): alpha = 0.893, C = 0.26 (rounded up), 1-3.3x the
+// uniform set's measured errors at p >= 10. Positive charges measure
+// 0.02-0.2x the model.
 struct Calibration {
     double alpha, c;
 };
-inline constexpr Calibration calibration[2] = {{0.91, 0.2}, {0.92, 0.4}};  // D = 2, D = 3
+inline constexpr Calibration calibration[2] = {{0.91, 0.2}, {0.893, 0.26}};  // D = 2, D = 3
 
 inline double error_model(int dim, double theta, int p) {
     const Calibration k = calibration[dim - 2];
-    return k.c * std::pow(k.alpha * theta, p + 1);
+    const double r = dim == 3 ? theta / (2 - theta) : theta;
+    return k.c * std::pow(k.alpha * r, p + 1);
 }
 
-// Relative cost of an evaluation at (theta, p). 3D (dual traversal), fitted
-// to treecode_bench's one-thread times at N = 10^5: the near field grows like
-// theta^-1.5 (leaf pairs that fail the test), the translations like
-// (p + 1)^4 (the harmonic M2L, multipole.hpp) times the theta^-3 accepted
-// pairs; 1.5e5 is the ratio of the two at theta = 1. 2D (particle-cluster,
-// per target): (p + 1) per accepted cell, theta^-2 cells.
+// Relative cost of an evaluation at (theta, p). 3D (dual traversal, leaves
+// of ~200-250 sources), fitted to knob_calibration's one-thread times at
+// N = 10^5 (least squares of the relative deviation, largest 14 %): the
+// near field grows like theta^-2 (leaf pairs that fail the test), the
+// translations and the pushing down of the local expansions like
+// (p + 1)^6 theta^-3 ((p + 1)^4 fitted worse, and chose orders above 15
+// that measured slower); 8.0e7 is the ratio of the two at theta = 1.
+// 2D (particle-cluster, per target): (p + 1) per accepted cell, theta^-2 cells.
 inline double cost_model(int dim, double theta, int p) {
-    if (dim == 3) return (1.5e5 * std::pow(theta, 1.5) + std::pow(p + 1.0, 4)) / (theta * theta * theta);
+    if (dim == 3) return (8.0e7 * theta + std::pow(p + 1.0, 6)) / (theta * theta * theta);
     return (p + 1.0) / (theta * theta);
 }
 

@@ -21,19 +21,23 @@
 // expansions about target cells, pushed down to the leaves: one
 // translation per cell pair instead of an O(p^3) expansion per target and
 // cell, which at p = 8..14 is what makes 3D pay off (Dehnen's method,
-// J. Comput. Phys. 179 (2002), with Cartesian expansions). A pair well
-// inside the opening angle, (rho_s + rho_t)/R = ratio < theta, is translated
-// at the lowest degree q with ratio^(q+1) <= theta^(p+1), the truncation
-// factor of the worst accepted pair (Dehnen's error-controlled order;
-// Multipole<3>::pair_degree): ~1.6x faster at N = 2e5 for the same
-// worst-case bound, ~2.5x the measured error at the same (theta, p).
+// J. Comput. Phys. 179 (2002), with Cartesian expansions). Each translation
+// is the full one of the FMM (the local expansion of degree p of the whole
+// degree-p multipole expansion, Multipole<3>::add_local), whose error per
+// order at the opening angle, ~theta/(2 - theta), is what lets wide angles
+// (theta 0.6-0.75) with large leaves (400 sources, TreeOptions::leaf_for)
+// reach 1e-5..1e-7 of the field with few translations. A pair well inside
+// the opening angle is translated at the lowest degree with the truncation
+// factor of the worst balanced pair (Dehnen's error-controlled order;
+// Multipole<3>::pair_degree).
 //
-// Where the 3D time goes and what keeps it down (N = 2e5, theta 0.5,
-// p = 11, one thread, 6.2 CPU s before these measures, ~1.5 s after):
+// Where the 3D time goes and what keeps it down (one thread):
 // - M2L (translate): the harmonic reduction of Multipole<3>::add_local
-//   ((p + 1)^2 coefficients instead of C(p + 3, 3): 2926 instead of 8008
-//   multiply-adds at degree 10), and a target cell's source cells
-//   translated eight at a time, one per SIMD lane.
+//   ((p + 1)^2 coefficients instead of C(p + 3, 3): (p + 1)^4 = 14641
+//   instead of 81796 multiply-adds at degree 10), and a target cell's source
+//   cells translated eight at a time, one per SIMD lane. With 400 sources
+//   per leaf it is ~10 % of the time (N = 10^5 and 10^6, theta 0.7,
+//   p = 12), the near field ~60 %.
 // - Near field (descend): per target leaf the near cells' sources are
 //   gathered into one run; every pair beyond its support gets the Green's
 //   function in one vectorised pass (detail::add_green), and only the cells
@@ -71,7 +75,7 @@ public:
     Treecode(const K& kernel, const Sources<D>& sources, const TreeOptions& options)
         : kernel_(kernel), options_(checked(options)), expansion_(options.order),
           tree_((detail::check_kernel(kernel, D), detail::check_sources(sources), sources.x), sources.delta,
-                options.leaf_size),
+                options_.leaf_size),
           s_(sources, tree_.order()) {
         moments();
     }
@@ -112,8 +116,10 @@ public:
     }
 
 private:
-    static const TreeOptions& checked(const TreeOptions& o) {
+    // The options as used: checked, the leaf size resolved (leaf_for).
+    static TreeOptions checked(TreeOptions o) {
         o.check();
+        o.leaf_size = o.leaf_for(D);
         return o;
     }
 
@@ -285,7 +291,7 @@ private:
         const double r = std::sqrt(r2), reach = A.radius + B.radius;
         if (reach < options_.theta * r && r - reach >= B.delta_max) {
             if constexpr (D == 3)
-                far[static_cast<std::size_t>(a)].push_back({b, expansion_.pair_degree(reach / r, options_.theta)});
+                far[static_cast<std::size_t>(a)].push_back({b, expansion_.pair_degree(B.radius, A.radius, r, options_.theta)});
             has_local[static_cast<std::size_t>(a)] = 1;
         } else if (A.leaf() && B.leaf()) {
             near[static_cast<std::size_t>(a)].push_back(b);

@@ -1,0 +1,183 @@
+// knob_calibration: the measurements behind the 3D accuracy knob's constants
+// (include/mollify/poisson/tolerance.hpp, detail::calibration and
+// detail::cost_model): the treecode's relative L2 field error and one-thread
+// CPU time over a grid of (theta, p) on NEUTRAL charges (the worst case:
+// the far field cancels, so relative errors are 5-40x those of positive
+// charges), two sets:
+//   - treecode_bench's neutral set, N = 10^5 uniform in [0, 1)^3
+//     (bench/charge_sets.hpp), mollifier:M=4 with delta = 2 N^(-1/3),
+//     errors at the first 1000 points against direct summation;
+//   - the knob test's Gaussian blob (tests/poisson_free_test.cpp, AccuracyKnob:
+//     5000 sources, wendland:k=3, delta = 0.05), errors at every source.
+// Then the error model C (alpha r(theta))^(p+1), r = theta/(2 - theta) (the
+// full M2L's truncation ratio for a balanced pair at the opening angle,
+// multipole.hpp), as the tightest envelope of the measurements: for each
+// alpha, C is the largest measured error/(alpha r)^(p+1) (so the model is
+// never below a measurement), and alpha minimises the summed log of
+// model/measured; and the uniform set's times fitted to
+// a theta^-2 + b (p + 1)^6 theta^-3 (near field; translations and their
+// O(p^6) pushing down, which fit the times' growth in p better than
+// (p + 1)^4) by least squares of the relative deviation, for the cost
+// model's a/b. Writes a Markdown table with the load before and after:
+//
+//   cmake --build build --target bench-knob    (about 5 minutes; OMP_NUM_THREADS=1)
+#include <mollify/kernel.hpp>
+#include <mollify/poisson.hpp>
+#include <mollify/tables/mollifier/M_4_D3.hpp>
+
+#include "charge_sets.hpp"
+#include "cpu_time.hpp"
+#include "load_average.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace poisson = mollify::poisson;
+namespace bench = mollify::bench;
+
+namespace {
+
+struct Point {
+    std::string set;
+    double theta;
+    int p;
+    double cpu_s, e_l2, phi_l2;
+};
+
+double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
+    double d = 0, n = 0;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+        d += (a[i] - b[i]) * (a[i] - b[i]);
+        n += b[i] * b[i];
+    }
+    return std::sqrt(d / n);
+}
+
+// E (x0 y0 z0 x1 ...) and phi of the first m points.
+std::pair<std::vector<double>, std::vector<double>> first(const poisson::Field<3>& f, std::size_t m) {
+    std::vector<double> e(3 * m), phi(m);
+    for (std::size_t i = 0; i < m; ++i) {
+        phi[i] = f.potential[i];
+        for (std::size_t c = 0; c < 3; ++c) e[3 * i + c] = f.field[c][i];
+    }
+    return {e, phi};
+}
+
+template <class K>
+void sweep(const std::string& name, const K& kernel, const poisson::Sources<3>& s, std::size_t m,
+           const std::vector<double>& thetas, const std::vector<int>& orders, std::vector<Point>& out) {
+    const mollify::Points<3> targets{std::span<const double>(s.x[0].data(), m), std::span<const double>(s.x[1].data(), m),
+                                     std::span<const double>(s.x[2].data(), m)};
+    const auto [e_ref, phi_ref] = first(poisson::direct<3>(kernel, s, targets), m);
+    for (const double theta : thetas)
+        for (const int p : orders) {
+            const double t0 = bench::cpu_seconds();
+            const auto f = poisson::Treecode<3, K>(kernel, s, {.theta = theta, .order = p}).evaluate();
+            const double cpu = bench::cpu_seconds() - t0;
+            const auto [e, phi] = first(f, m);
+            out.push_back({name, theta, p, cpu, relative_l2(e, e_ref), relative_l2(phi, phi_ref)});
+            std::printf("%s theta %.2f p %2d: %.3f CPU s, E %.3g, phi %.3g\n", name.c_str(), theta, p, cpu,
+                        out.back().e_l2, out.back().phi_l2);
+            std::fflush(stdout);
+        }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string md;
+    for (int i = 1; i < argc; ++i)
+        if (std::string_view(argv[i]).substr(0, 5) == "--md=") md = argv[i] + 5;
+    const std::string before = bench::load_average();
+    std::vector<Point> points;
+
+    const bench::ChargeSet u = bench::charge_set(100000, bench::Charges::neutral);
+    const std::vector<double> du{2 / std::cbrt(1e5)};
+    const poisson::Sources<3> su{{u.x[0], u.x[1], u.x[2]}, u.q, du};
+    using Fast = mollify::StaticKernel<mollify::tables::mollifier_M_4_D3, mollify::Precision::fast>;
+    sweep("uniform 1e5", Fast{}, su, 1000, {0.4, 0.5, 0.6, 0.7, 0.8}, {4, 6, 8, 10, 12, 14, 16}, points);
+
+    std::mt19937_64 rng(31);  // the knob test's blob
+    std::normal_distribution<double> g(0, 1);
+    std::uniform_real_distribution<double> q(-0.5, 0.5);
+    std::array<std::vector<double>, 3> bx;
+    std::vector<double> bq;
+    for (int j = 0; j < 5000; ++j) {
+        for (int c = 0; c < 3; ++c) bx[static_cast<std::size_t>(c)].push_back(g(rng));
+        bq.push_back(q(rng));
+    }
+    const std::vector<double> db{0.05};
+    const poisson::Sources<3> sb{{bx[0], bx[1], bx[2]}, bq, db};
+    sweep("blob 5000", mollify::kernel("wendland:k=3", 3), sb, 5000, {0.3, 0.4, 0.5, 0.6, 0.7, 0.8},
+          {2, 4, 6, 8, 10, 12, 14, 16, 18, 20}, points);
+    const std::string after = bench::load_average();
+
+    // Error envelope over the points above the rounding floor (1e-11).
+    const auto ratio = [](double theta) { return theta / (2 - theta); };
+    const auto envelope = [&](double alpha) {
+        double c = 0;
+        for (const Point& pt : points)
+            if (pt.e_l2 > 1e-11)
+                c = std::max(c, std::max(pt.e_l2, pt.phi_l2) / std::pow(alpha * ratio(pt.theta), pt.p + 1));
+        return c;
+    };
+    double alpha = 1, c = envelope(1), best = std::numeric_limits<double>::infinity();
+    for (int i = 500; i <= 1000; ++i) {
+        const double a = i / 1000.0, ca = envelope(a);
+        double sum = 0;
+        for (const Point& pt : points)
+            if (pt.e_l2 > 1e-11) sum += std::log(ca * std::pow(a * ratio(pt.theta), pt.p + 1) / std::max(pt.e_l2, pt.phi_l2));
+        if (sum < best) {
+            best = sum;
+            alpha = a;
+            c = ca;
+        }
+    }
+    // Cost fit (uniform set): t = a theta^-2 + b (p + 1)^6 theta^-3, least
+    // squares of (model - t)/t.
+    double aa = 0, ab = 0, bb = 0, at = 0, bt = 0;
+    for (const Point& pt : points) {
+        if (pt.set != "uniform 1e5") continue;
+        const double f1 = std::pow(pt.theta, -2) / pt.cpu_s, f2 = std::pow(pt.p + 1.0, 6) / std::pow(pt.theta, 3) / pt.cpu_s;
+        aa += f1 * f1;
+        ab += f1 * f2;
+        bb += f2 * f2;
+        at += f1;
+        bt += f2;
+    }
+    const double det = aa * bb - ab * ab, a = (at * bb - bt * ab) / det, b = (aa * bt - ab * at) / det;
+    double deviation = 0;
+    for (const Point& pt : points)
+        if (pt.set == "uniform 1e5")
+            deviation = std::max(deviation, std::abs((a * std::pow(pt.theta, -2) + b * std::pow(pt.p + 1.0, 6) /
+                                                          std::pow(pt.theta, 3)) / pt.cpu_s - 1));
+    std::printf("fit: alpha %.3f, C %.3g; cost a %.3g s, b %.3g s, a/b %.3g (max deviation %.2f)\n", alpha, c, a, b,
+                a / b, deviation);
+    if (md.empty()) return 0;
+    std::ofstream out(md + ".tmp");
+    out << "# knob_calibration results\n\nGenerated by `cmake --build build --target bench-knob` "
+        << "(bench/knob_calibration.cpp), -O3 -march=native, one thread, process CPU seconds of one evaluation at "
+        << "all sources. Neutral charges (uniform in [-0.5, 0.5]). E, phi: relative L2 errors against direct "
+        << "summation (uniform set: at the first 1000 points; blob: at all 5000). Load (/proc/loadavg): before `"
+        << before << "`, after `" << after << "`.\n\n"
+        << "Envelope of max(E, phi) by C (alpha theta/(2 - theta))^(p+1) over the errors above 1e-11: **alpha = "
+        << alpha << ", C = " << c << "** (C the largest measured ratio at that alpha; alpha the one with the "
+        << "smallest summed log(model/measured)). Times of the uniform set fitted to a theta^-2 + b (p + 1)^6 "
+        << "theta^-3 (least squares of the relative deviation): a = " << a << " s, b = " << b << " s, **a/b = "
+        << a / b << "**, largest deviation " << deviation << ".\n\n| set | theta | p | CPU s | E rel. L2 | phi rel. L2 |\n|---|--:|--:|--:|--:|--:|\n";
+    for (const Point& pt : points) {
+        char row[200];
+        std::snprintf(row, sizeof row, "| %s | %.2f | %d | %.3f | %.3g | %.3g |\n", pt.set.c_str(), pt.theta, pt.p,
+                      pt.cpu_s, pt.e_l2, pt.phi_l2);
+        out << row;
+    }
+    out.close();
+    std::rename((md + ".tmp").c_str(), md.c_str());
+    return 0;
+}
