@@ -36,7 +36,7 @@ struct TreeOptions {
     // boxes with N/8^level sources, and 400 stops at 195 per leaf at N = 1e5,
     // 244 at 1e6, where the full M2L (multipole.hpp) at wide opening angles
     // balances a large near field against few translations (N = 1e6,
-    // theta 0.7, p = 11, neutral charges: 6.7 CPU s at 400, 8.9 s at 256,
+    // theta 0.7, p = 12, neutral charges: 6.8 CPU s at 400, 8.9 s at 256,
     // which splits some of the 1e6 boxes and not others; 128, 24-49 per
     // leaf, was best for the triangular M2L at theta 0.4-0.5). 2D
     // (particle-cluster, per target): 128.
