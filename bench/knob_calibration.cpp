@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
         return c;
     };
     double alpha = 1, c = envelope(1), best = std::numeric_limits<double>::infinity();
-    for (int i = 500; i <= 1000; ++i) {
+    for (int i = 500; i <= 1300; ++i) {
         const double a = i / 1000.0, ca = envelope(a);
         double sum = 0;
         for (const Point& pt : points)

@@ -183,8 +183,8 @@ int main(int argc, char** argv) {
     // The grid spans 1e-4 .. 1e-8 of gradient error on both charge sets
     // (wide opening angles: the full M2L, multipole.hpp); the accuracy knob
     // (poisson::for_relative_error) at each goal's epsilon.
-    const std::vector<std::pair<double, int>> grid{{0.8, 12},  {0.8, 16}, {0.75, 13}, {0.7, 10}, {0.7, 12}, {0.7, 14},
-                                                   {0.65, 13}, {0.6, 12}, {0.6, 14},  {0.6, 16}, {0.5, 14}};
+    const std::vector<std::pair<double, int>> grid{{0.8, 16},  {0.75, 13}, {0.72, 14}, {0.7, 13}, {0.7, 15}, {0.7, 17},
+                                                   {0.7, 19},  {0.65, 14}, {0.6, 13},  {0.6, 15}, {0.6, 17}, {0.5, 14}};
     for (const auto c : {bench::Charges::neutral, bench::Charges::positive})
         for (const std::size_t n : {100000UL, 1000000UL}) {
             for (const auto& [theta, p] : grid) {

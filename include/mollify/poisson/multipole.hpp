@@ -411,18 +411,19 @@ public:
         for (std::size_t i = 0; i < n; ++i) local[i] += w[i] / factorial_[i];
     }
 
-    // The degree at which an accepted pair (radii rho_s, rho_t, centres |R|
-    // apart, (rho_s + rho_t)/|R| < theta) has the truncation factor of the
-    // worst balanced pair at degree p (Dehnen's error-controlled order, for
-    // the M2L's error above): its ratio c = max(rho_s/(|R| - rho_t),
-    // rho_t/(|R| - rho_s)) against that pair's theta/(2 - theta) (rho_s =
-    // rho_t = theta |R|/2), (p + 1) log c_max / log c - 1 rounded up; p where
-    // c >= c_max (unbalanced pairs keep the full degree). Measured against
-    // the full degree everywhere: ~2x the error in ~0.85x the time; the
-    // bound of the most unbalanced pair, theta, as c_max, lowered the degree
-    // too far (100x the error).
-    int pair_degree(double rho_s, double rho_t, double R, double theta) const {
-        const double c = std::max(rho_s / (R - rho_t), rho_t / (R - rho_s)), c_max = theta / (2 - theta);
+    // The degree at which an accepted pair with convergence ratio c (the
+    // larger of rho_s/d_s and rho_t/d_t, d_s the distance from the source
+    // centre to the targets, d_t from the target centre to the sources;
+    // rho_s/(|R| - rho_t) and rho_t/(|R| - rho_s) for spheres) has the
+    // truncation factor c_max^(p+1) of the worst accepted pair, c_max =
+    // theta/(2 - theta) (two spheres of radius theta |R|/2: Dehnen's
+    // error-controlled order for the M2L's error above): (p + 1) log c_max /
+    // log c - 1 rounded up; p where c >= c_max. Measured against the full
+    // degree everywhere: ~2x the error in ~0.85x the time; with theta, the
+    // most unbalanced sphere pair's ratio, as c_max the degrees fell too far
+    // (100x the error).
+    int pair_degree(double c, double theta) const {
+        const double c_max = theta / (2 - theta);
         if (!(c > 0)) return 0;
         if (!(c < c_max)) return p_;
         const double d = std::ceil((p_ + 1) * std::log(c_max) / std::log(c)) - 1;

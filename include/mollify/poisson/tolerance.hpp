@@ -36,8 +36,9 @@ struct TreeOptions {
     // boxes with N/8^level sources, and 400 stops at 195 per leaf at N = 1e5,
     // 244 at 1e6, where the full M2L (multipole.hpp) at wide opening angles
     // balances a large near field against few translations (N = 1e6,
-    // theta 0.7, p = 12, neutral charges: 6.8 CPU s at 400, 8.9 s at 256,
-    // which splits some of the 1e6 boxes and not others; 128, 24-49 per
+    // theta 0.7, p = 12, neutral charges, the spheres' pair test: 6.8 CPU s
+    // at 400, 8.9 s at 256, which splits some of the 1e6 boxes and not
+    // others; 128, 24-49 per
     // leaf, was best for the triangular M2L at theta 0.4-0.5). 2D
     // (particle-cluster, per target): 128.
     int leaf_size = 0;
@@ -70,13 +71,13 @@ namespace detail {
 // 10^5 sources in the unit cube (theta 0.4..0.8, p = 4..16) and 5000 in a
 // Gaussian blob (theta 0.3..0.8, p = 2..20); the tightest envelope (C the
 // largest ratio measured/(alpha r)^(p+1) at the alpha minimising the summed
-// log(model/measured)): alpha = 0.893, C = 0.26 (rounded up), 1-3.3x the
-// uniform set's measured errors at p >= 10. Positive charges measure
-// 0.02-0.2x the model.
+// log(model/measured)): alpha = 0.888, C = 0.32 (0.316 rounded up), 1-2x the
+// uniform set's measured errors at p >= 10 (with the box-measured acceptance
+// of treecode.hpp's interact). Positive charges measure 0.02-0.2x the model.
 struct Calibration {
     double alpha, c;
 };
-inline constexpr Calibration calibration[2] = {{0.91, 0.2}, {0.893, 0.26}};  // D = 2, D = 3
+inline constexpr Calibration calibration[2] = {{0.91, 0.2}, {0.888, 0.32}};  // D = 2, D = 3
 
 inline double error_model(int dim, double theta, int p) {
     const Calibration k = calibration[dim - 2];
@@ -86,14 +87,14 @@ inline double error_model(int dim, double theta, int p) {
 
 // Relative cost of an evaluation at (theta, p). 3D (dual traversal, leaves
 // of ~200-250 sources), fitted to knob_calibration's one-thread times at
-// N = 10^5 (least squares of the relative deviation, largest 14 %): the
+// N = 10^5 (least squares of the relative deviation, largest 23 %): the
 // near field grows like theta^-2 (leaf pairs that fail the test), the
 // translations and the pushing down of the local expansions like
 // (p + 1)^6 theta^-3 ((p + 1)^4 fitted worse, and chose orders above 15
-// that measured slower); 8.0e7 is the ratio of the two at theta = 1.
+// that measured slower); 6.8e7 is the ratio of the two at theta = 1.
 // 2D (particle-cluster, per target): (p + 1) per accepted cell, theta^-2 cells.
 inline double cost_model(int dim, double theta, int p) {
-    if (dim == 3) return (8.0e7 * theta + std::pow(p + 1.0, 6)) / (theta * theta * theta);
+    if (dim == 3) return (6.8e7 * theta + std::pow(p + 1.0, 6)) / (theta * theta * theta);
     return (p + 1.0) / (theta * theta);
 }
 
