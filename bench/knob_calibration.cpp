@@ -50,15 +50,6 @@ struct Point {
     double cpu_s, e_l2, phi_l2;
 };
 
-double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
-    double d = 0, n = 0;
-    for (std::size_t i = 0; i < b.size(); ++i) {
-        d += (a[i] - b[i]) * (a[i] - b[i]);
-        n += b[i] * b[i];
-    }
-    return std::sqrt(d / n);
-}
-
 // E (x0 y0 z0 x1 ...) and phi of the first m points.
 std::pair<std::vector<double>, std::vector<double>> first(const poisson::Field<3>& f, std::size_t m) {
     std::vector<double> e(3 * m), phi(m);
@@ -81,7 +72,7 @@ void sweep(const std::string& name, const K& kernel, const poisson::Sources<3>& 
             const auto f = poisson::Treecode<3, K>(kernel, s, {.theta = theta, .order = p}).evaluate();
             const double cpu = bench::cpu_seconds() - t0;
             const auto [e, phi] = first(f, m);
-            out.push_back({name, theta, p, cpu, relative_l2(e, e_ref), relative_l2(phi, phi_ref)});
+            out.push_back({name, theta, p, cpu, bench::relative_l2(e, e_ref), bench::relative_l2(phi, phi_ref)});
             std::printf("%s theta %.2f p %2d: %.3f CPU s, E %.3g, phi %.3g\n", name.c_str(), theta, p, cpu,
                         out.back().e_l2, out.back().phi_l2);
             std::fflush(stdout);

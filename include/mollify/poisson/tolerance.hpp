@@ -73,7 +73,7 @@ namespace detail {
 // largest ratio measured/(alpha r)^(p+1) at the alpha minimising the summed
 // log(model/measured)): alpha = 0.888, C = 0.32 (0.316 rounded up), 1-2x the
 // uniform set's measured errors at p >= 10 (with the box-measured acceptance
-// of treecode.hpp's interact). Positive charges measure 0.02-0.2x the model.
+// of treecode.hpp's accepted()). Positive charges measure 0.02-0.2x the model.
 struct Calibration {
     double alpha, c;
 };

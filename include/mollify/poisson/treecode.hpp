@@ -18,7 +18,7 @@
 // O(p) per cell). 3D applies the two tests to PAIRS of cells of a target
 // tree and the source tree (a dual traversal; since stop 41 measured to the
 // cells' source boxes: the full M2L's ratio below theta/(2 - theta), the
-// boxes delta_max apart; interact()) and collects accepted source cells into Taylor (local)
+// boxes delta_max apart; accepted()) and collects accepted source cells into Taylor (local)
 // expansions about target cells, pushed down to the leaves: one
 // translation per cell pair instead of an O(p^3) expansion per target and
 // cell, which at p = 8..14 is what makes 3D pay off (Dehnen's method,
@@ -65,6 +65,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -279,52 +280,46 @@ private:
         int b, degree;
     };
 
+    // The 3D pair test: the ratio of the full M2L measured to the cells'
+    // source boxes, not to spheres about their centres: rho_s over the
+    // distance from B's centre to A's box, rho_t over that from A's centre
+    // to B's box, accepted below theta/(2 - theta) (what two spheres at the
+    // opening angle have), and every pair beyond its support when the boxes
+    // are delta_max apart. A 244-source leaf then keeps ~33 near leaves
+    // instead of ~57 at theta 0.7 (the leaves two apart in one axis and one
+    // in another are accepted): N = 10^6 neutral, 1e-5 in 5.6 instead of
+    // 6.7 CPU s. The spheres' ratio (rho_s + rho_t)/|R|, the rate of the
+    // double series the translation truncates, is kept below (1 + theta)/2:
+    // without that bound unbalanced pairs of a Gaussian blob left an error
+    // floor (4.5e-7 at theta 0.7 for p = 16..20; 1.2e-8 at p = 20 with it;
+    // the uniform sets have no such pairs). The pair's ratio c
+    // (Multipole<3>::pair_degree) if it is accepted.
+    std::optional<double> accepted(const Cell<D>& A, const Cell<D>& B) const {
+        double r2 = 0, ds2 = 0, dt2 = 0, gap2 = 0;
+        for (int k = 0; k < D; ++k) {
+            const double R = A.centre[k] - B.centre[k];
+            const double s = std::max({A.lo[k] - B.centre[k], B.centre[k] - A.hi[k], 0.0});
+            const double t = std::max({B.lo[k] - A.centre[k], A.centre[k] - B.hi[k], 0.0});
+            const double g = std::max({A.lo[k] - B.hi[k], B.lo[k] - A.hi[k], 0.0});
+            r2 += R * R;
+            ds2 += s * s;
+            dt2 += t * t;
+            gap2 += g * g;
+        }
+        const double theta = options_.theta;
+        if (!(ds2 > 0 && dt2 > 0 && gap2 >= B.delta_max * B.delta_max)) return std::nullopt;
+        if (!(A.radius + B.radius < 0.5 * (1 + theta) * std::sqrt(r2))) return std::nullopt;
+        const double c = std::max(B.radius / std::sqrt(ds2), A.radius / std::sqrt(dt2));
+        if (!(c < theta / (2 - theta))) return std::nullopt;
+        return c;
+    }
+
     void interact(const Tree<D>& t, int a, int b, std::vector<std::vector<Far>>& far, std::vector<char>& has_local,
                   std::vector<std::vector<int>>& near) const {
         const Cell<D>& A = t.cells()[static_cast<std::size_t>(a)];
         const Cell<D>& B = tree_.cells()[static_cast<std::size_t>(b)];
-        std::array<double, D> R;
-        double r2 = 0;
-        for (int k = 0; k < D; ++k) {
-            R[k] = A.centre[k] - B.centre[k];
-            r2 += R[k] * R[k];
-        }
-        const double r = std::sqrt(r2), reach = A.radius + B.radius;
-        bool accept = false;
-        double c = 0;  // the pair's convergence ratio (Multipole<3>::pair_degree)
-        if constexpr (D != 3) {
-            accept = reach < options_.theta * r && r - reach >= B.delta_max;
-        } else {
-            // 3D: the ratio of the full M2L measured to the cells' source
-            // boxes, not to spheres about their centres: rho_s over the
-            // distance from B's centre to A's box, rho_t over that from A's
-            // centre to B's box, accepted below theta/(2 - theta) (what two
-            // spheres at the opening angle have), and every pair beyond its
-            // support when the boxes are delta_max apart. A 244-source leaf
-            // then keeps ~33 near leaves instead of ~57 at theta 0.7 (the
-            // leaves two apart in one axis and one in another are accepted):
-            // N = 10^6 neutral, 1e-5 in 5.6 instead of 6.7 CPU s. The spheres'
-            // ratio (rho_s + rho_t)/|R|, the rate of the double series the
-            // translation truncates, is kept below (1 + theta)/2: without
-            // that bound unbalanced pairs of a Gaussian blob left an error
-            // floor (4.5e-7 at theta 0.7 for p = 16..20; 1.2e-8 at p = 20 with
-            // it; the uniform sets have no such pairs).
-            double ds2 = 0, dt2 = 0, gap2 = 0;
-            for (int k = 0; k < D; ++k) {
-                const double s = std::max({A.lo[k] - B.centre[k], B.centre[k] - A.hi[k], 0.0});
-                const double t = std::max({B.lo[k] - A.centre[k], A.centre[k] - B.hi[k], 0.0});
-                const double g = std::max({A.lo[k] - B.hi[k], B.lo[k] - A.hi[k], 0.0});
-                ds2 += s * s;
-                dt2 += t * t;
-                gap2 += g * g;
-            }
-            const double ds = std::sqrt(ds2), dt = std::sqrt(dt2);
-            c = std::max(B.radius / ds, A.radius / dt);
-            accept = ds > 0 && dt > 0 && c < options_.theta / (2 - options_.theta) && reach < 0.5 * (1 + options_.theta) * r &&
-                     gap2 >= B.delta_max * B.delta_max;
-        }
-        if (accept) {
-            if constexpr (D == 3) far[static_cast<std::size_t>(a)].push_back({b, expansion_.pair_degree(c, options_.theta)});
+        if (const auto c = accepted(A, B)) {
+            far[static_cast<std::size_t>(a)].push_back({b, expansion_.pair_degree(*c, options_.theta)});
             has_local[static_cast<std::size_t>(a)] = 1;
         } else if (A.leaf() && B.leaf()) {
             near[static_cast<std::size_t>(a)].push_back(b);
