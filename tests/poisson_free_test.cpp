@@ -375,9 +375,20 @@ TEST(HardCases, CoincidentParticles) {
     // = 4.3e-5 at theta 0.3, p = 10 (tolerance.hpp) holds, not the milder
     // errors of spread-out charges.
     EXPECT_LE(e.e_l2, 4.3e-5);
-    // The 300 coincident sources see each other's self terms: all equal fields.
+    // The 300 coincident sources see each other's self terms: equal fields up
+    // to the rounding of their sums, whose order differs from source to source
+    // (each pair within a support is evaluated once for both ends): ~800
+    // terms, mostly of one sign, so n u |phi| (Higham's bound for recursive
+    // summation), 6e-11 here, against 3e-3 relative for one missed pair
+    // (0.5 |phi(0)| = 2 of 638).
     const auto f = tree.evaluate();
-    for (std::size_t i = 501; i < src.size(); ++i) EXPECT_EQ(f.potential[i], f.potential[500]);
+    const double bound = 800 * u * std::abs(f.potential[500]);
+    double worst = 0;
+    for (std::size_t i = 501; i < src.size(); ++i) {
+        EXPECT_NEAR(f.potential[i], f.potential[500], bound);
+        worst = std::max(worst, std::abs(f.potential[i] - f.potential[500]));
+    }
+    std::printf("coincident sources: largest difference of their potentials %.3g (bound %.3g)\n", worst, bound);
     // A cloud made ONLY of coincident sources: 300 q phi(0) exactly (the sum of
     // equal terms is exact up to the sum's rounding: 300 u relative).
     Cloud<3> same;

@@ -18,6 +18,7 @@
 // gets the runtime's own accuracy.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/dynamic_kernel.hpp>
 #include <mollify/kernel_concept.hpp>
 #include <mollify/poisson/sources.hpp>
@@ -186,7 +187,7 @@ void add_exact(const K& kernel, const SourceArrays<D>& s, const std::array<doubl
 // Green's function (3D), over n sources gathered into plain arrays
 // (coordinates x, y, z, charges q, squared smoothing lengths d2): one
 // vectorised pass, 1/r from one square root and one division, no kernel.
-inline void add_green(const double* x, const double* y, const double* z, const double* q, const double* d2,
+MOLLIFY_NOINLINE void add_green(const double* x, const double* y, const double* z, const double* q, const double* d2,
                       std::size_t n, const std::array<double, 3>& xt, double& phi, std::array<double, 3>& e) {
     constexpr double k = 0.25 * std::numbers::inv_pi;
     double p_sum = 0, e0 = 0, e1 = 0, e2 = 0;
@@ -214,7 +215,10 @@ inline void add_green(const double* x, const double* y, const double* z, const d
 // target, r^2 >= d2t for the source). The sources' sums of q/r and
 // q (x_j - x_t)/r^3 are added to w[j], g0[j], g1[j], g2[j] (to be scaled by
 // -1/(4 pi) like the target's).
-inline void add_green_mutual(const double* x, const double* y, const double* z, const double* q, const double* d2,
+//
+// Both kept out of line: inlined into the treecode's descend, GCC left
+// the loop scalar (3x the time).
+MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const double* z, const double* q, const double* d2,
                              std::size_t n, const std::array<double, 3>& xt, double qt, double d2t, double& phi,
                              std::array<double, 3>& e, double* w, double* g0, double* g1, double* g2) {
     constexpr double k = 0.25 * std::numbers::inv_pi;
@@ -242,11 +246,13 @@ inline void add_green_mutual(const double* x, const double* y, const double* z, 
     e[2] -= k * e2;
 }
 
-// add_within: the pairs of sources [begin, end) within their support
-// (r^2 < delta_j^2), with the exact mollified kernel (as add_exact).
-template <int D, RadialKernel K>
-void add_within(const K& kernel, const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t begin,
-                std::size_t end, double& phi, std::array<double, D>& e) {
+// The pairs of sources [begin, end) within their support (r^2 < delta_j^2)
+// at the target xt, with the exact mollified kernel: pair(j, pot, g) for
+// each, pot = phi_delta_j(r) and g = phi_delta_j'(r)/r (add_within,
+// add_within_mutual).
+template <int D, RadialKernel K, class Pair>
+void within_pairs(const K& kernel, const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t begin,
+                  std::size_t end, Pair&& pair) {
     alignas(64) double r2[block], near_r[block], near_pot[block], near_g[block];
     unsigned near[block + 1];
     for (std::size_t b0 = begin; b0 < end; b0 += block) {
@@ -281,10 +287,42 @@ void add_within(const K& kernel, const SourceArrays<D>& s, const std::array<doub
                 pot = pot * s.phi_scale[j] + s.phi_shift[j];
                 g *= s.grad_scale[j];
             }
-            phi += s.q[j] * pot;
-            for (int k = 0; k < D; ++k) e[k] -= s.q[j] * g * (xt[k] - s.x[k][j]);
+            pair(j, pot, g);
         }
     }
+}
+
+// add_within: the pairs of sources [begin, end) within their support, with
+// the exact mollified kernel (as add_exact).
+template <int D, RadialKernel K>
+void add_within(const K& kernel, const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t begin,
+                std::size_t end, double& phi, std::array<double, D>& e) {
+    within_pairs<D>(kernel, s, xt, begin, end, [&](std::size_t j, double pot, double g) {
+        phi += s.q[j] * pot;
+        for (int k = 0; k < D; ++k) e[k] -= s.q[j] * g * (xt[k] - s.x[k][j]);
+    });
+}
+
+// add_within for a target that is itself source t of a global delta, where
+// phi_delta(r) is the same from either end: each pair's kernel values serve
+// both directions (Newton's third law), source j's share added to
+// phi_j[j - offset] and e_j[k][j - offset].
+template <int D, RadialKernel K>
+void add_within_mutual(const K& kernel, const SourceArrays<D>& s, std::size_t t, std::size_t begin, std::size_t end,
+                       double& phi, std::array<double, D>& e, double* phi_j, const std::array<double*, D>& e_j,
+                       std::size_t offset) {
+    std::array<double, D> xt;
+    for (int k = 0; k < D; ++k) xt[k] = s.x[k][t];
+    const double qt = s.q[t];
+    within_pairs<D>(kernel, s, xt, begin, end, [&](std::size_t j, double pot, double g) {
+        phi += s.q[j] * pot;
+        phi_j[j - offset] += qt * pot;
+        for (int k = 0; k < D; ++k) {
+            const double d = xt[k] - s.x[k][j];
+            e[k] -= s.q[j] * g * d;
+            e_j[k][j - offset] += qt * g * d;
+        }
+    });
 }
 
 }  // namespace detail

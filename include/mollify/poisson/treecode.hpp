@@ -32,23 +32,31 @@
 // factor of the worst balanced pair (Dehnen's error-controlled order;
 // Multipole<3>::pair_degree).
 //
-// Where the 3D time goes and what keeps it down (one thread):
-// - M2L (translate): the harmonic reduction of Multipole<3>::add_local
-//   ((p + 1)^2 coefficients instead of C(p + 3, 3): (p + 1)^4 = 14641
-//   instead of 81796 multiply-adds at degree 10), and a target cell's source
-//   cells translated eight at a time, one per SIMD lane. With 400 sources
-//   per leaf it is ~10 % of the time (N = 10^5 and 10^6, theta 0.7,
-//   p = 12), the near field ~60 %.
-// - Near field (descend): per target leaf the near cells' sources are
-//   gathered into one run; every pair beyond its support gets the Green's
-//   function in one vectorised pass (detail::add_green), and only the cells
-//   whose source box comes within delta_max of the target are searched for
-//   pairs within a support (detail::add_within, the exact kernel). The two
-//   tests split the pairs exactly, so each pair is counted once. At the
-//   sources, a leaf pair found from both sides gets one Green's pass for
-//   both directions (detail::add_green_mutual).
-// - P2M and L2P: eight sources (targets) at a time, each monomial one
-//   multiplication from its parent's.
+// Where the 3D time goes and what keeps it down (one thread; shares at
+// N = 10^6 neutral, theta 0.7, p = 17, measured by perf 2026-11-29):
+// - Near field (descend), ~45 %: per target leaf the near cells' sources
+//   are gathered into one run; every pair beyond its support gets the
+//   Green's function in one vectorised pass (detail::add_green), and only
+//   the cells whose source box comes within delta_max of the target are
+//   searched for pairs within a support (detail::add_within, the exact
+//   kernel). The two tests split the pairs exactly, so each pair is counted
+//   once. At the sources, a leaf pair found from both sides gets one
+//   Green's pass for both directions (detail::add_green_mutual, 34 %), and
+//   with a global delta one within-support search and one kernel value for
+//   both ends (detail::add_within_mutual, 10 %); each target's sums go to
+//   a per-thread array in tree order, permuted to the caller's order once.
+// - M2L (translate), ~26 %: the harmonic reduction of
+//   Multipole<3>::add_local ((p + 1)^2 coefficients instead of
+//   C(p + 3, 3): (p + 1)^4 multiply-adds instead of C(p + 3, 3)^2), a target
+//   cell's source cells eight at a time, one per SIMD lane, and the outputs
+//   in tiles of eight sharing each moment's load (tile_dot).
+// - P2M, M2M, L2L, L2P, ~9 %: sources (targets) eight at a time, each
+//   monomial one multiplication from its parent's; the moments of a cell
+//   that is not a leaf and the local expansion of a child by a change of
+//   centre one axis at a time (O(p^4), not the O(p^6) double sum; upper
+//   cells' moments were summed from all their sources before, 9 % of the
+//   time then). Local expansions live per depth while their subtree is
+//   descended (no array of every cell's).
 //
 //   mollify::poisson::Treecode<3, mollify::Kernel> tree(k, sources, {.theta = 0.5, .order = 6});
 //   auto f = tree.evaluate(targets);    // or tree.evaluate() at the sources
@@ -125,37 +133,100 @@ private:
         return o;
     }
 
-    // Moments of every cell from its own sources (each source enters one cell
-    // per level: O(N log N) work, parallel over cells).
-    // 3D keeps the harmonic reduction of the moments (Multipole<3>::reduce).
+    // Moments of every cell. 2D: from its own sources (each source enters one
+    // cell per level: O(N log N) work, parallel over cells). 3D: the leaves'
+    // from their sources, every other cell's from its children's
+    // (Multipole<3>::add_child_moments, exact), each cell's full moments kept
+    // only until its parent has them; stored as their harmonic reduction
+    // (Multipole<3>::reduce). At N = 10^6, p = 17: 4 % of the time instead
+    // of 9 % from every source at every level.
     void moments() {
         const auto& cells = tree_.cells();
-        const std::size_t n = expansion_.size();
         m_.assign(cells.size() * stride(), 0.0);
-        const auto count = static_cast<long>(cells.size());
-        MOLLIFY_PARALLEL_FOR(schedule(dynamic, 8))
-        for (long ci = 0; ci < count; ++ci) {
-            const Cell<D>& c = cells[static_cast<std::size_t>(ci)];
-            std::vector<double> full, work;
-            double* m = m_.data() + static_cast<std::size_t>(ci) * stride();
-            if constexpr (D == 3) {
-                full.assign(n, 0.0);
-                m = full.data();
+        if constexpr (D == 3) {
+            const std::size_t n = expansion_.size();
+            // The subtrees of the task cells in parallel, then the cells above them.
+            const std::vector<int> tasks = task_cells(tree_);
+            std::vector<double> top(tasks.size() * n);
+            std::vector<int> slot(cells.size(), -1);
+            for (std::size_t i = 0; i < tasks.size(); ++i) slot[static_cast<std::size_t>(tasks[i])] = static_cast<int>(i);
+            const auto count = static_cast<long>(tasks.size());
+            MOLLIFY_PARALLEL_FOR(schedule(dynamic, 1))
+            for (long ti = 0; ti < count; ++ti) {
+                std::vector<std::vector<double>> scratch;
+                std::vector<double> work;
+                const auto i = static_cast<std::size_t>(ti);
+                full_moments(tasks[i], top.data() + i * n, scratch, 0, work, {}, top.data());
             }
-            const double rho = scale(c);
-            if constexpr (D == 3) {
-                expansion_.add_sources(m, {s_.x[0].data() + c.begin, s_.x[1].data() + c.begin, s_.x[2].data() + c.begin},
-                                       s_.q.data() + c.begin, c.end - c.begin, c.centre, rho, work);
-                expansion_.reduce(m, c.radius > 0 ? options_.order : 0,
-                                  m_.data() + static_cast<std::size_t>(ci) * stride(), work);
-            } else {
+            if (slot[0] < 0) {
+                std::vector<std::vector<double>> scratch;
+                std::vector<double> root(n), work;
+                full_moments(0, root.data(), scratch, 0, work, slot, top.data());
+            }
+        } else {
+            const auto count = static_cast<long>(cells.size());
+            MOLLIFY_PARALLEL_FOR(schedule(dynamic, 8))
+            for (long ci = 0; ci < count; ++ci) {
+                const Cell<D>& c = cells[static_cast<std::size_t>(ci)];
+                double* m = m_.data() + static_cast<std::size_t>(ci) * stride();
                 for (std::size_t j = c.begin; j < c.end; ++j) {
                     std::array<double, D> y;
                     for (int k = 0; k < D; ++k) y[k] = s_.x[k][j];
-                    expansion_.add_source(m, y, c.centre, rho, s_.q[j]);
+                    expansion_.add_source(m, y, c.centre, scale(c), s_.q[j]);
                 }
             }
         }
+    }
+
+    // The full moments of cell ci into out (size()), and the reduced ones of
+    // every cell of its subtree into m_; a cell with a slot (task cells, done
+    // first) has its full moments in top. scratch: a buffer per depth.
+    void full_moments(int ci, double* out, std::vector<std::vector<double>>& scratch, std::size_t depth,
+                      std::vector<double>& work, const std::vector<int>& slot, const double* top) {
+        const Cell<D>& c = tree_.cells()[static_cast<std::size_t>(ci)];
+        const std::size_t n = expansion_.size();
+        if (!slot.empty() && slot[static_cast<std::size_t>(ci)] >= 0) {
+            const double* m = top + static_cast<std::size_t>(slot[static_cast<std::size_t>(ci)]) * n;
+            std::copy(m, m + n, out);
+            return;
+        }
+        std::fill(out, out + n, 0.0);
+        if (c.leaf()) {
+            expansion_.add_sources(out, {s_.x[0].data() + c.begin, s_.x[1].data() + c.begin, s_.x[2].data() + c.begin},
+                                   s_.q.data() + c.begin, c.end - c.begin, c.centre, scale(c), work);
+        } else {
+            if (scratch.size() <= depth) scratch.emplace_back(n);  // moving a vector keeps its buffer
+            double* child = scratch[depth].data();
+            for (int k = 0; k < c.children; ++k) {
+                const Cell<D>& C = tree_.cells()[static_cast<std::size_t>(c.first_child + k)];
+                full_moments(c.first_child + k, child, scratch, depth + 1, work, slot, top);
+                expansion_.add_child_moments(child, scale(C), C.centre, out, scale(c), c.centre, work);
+            }
+        }
+        expansion_.reduce(out, c.radius > 0 ? options_.order : 0, m_.data() + static_cast<std::size_t>(ci) * stride(), work);
+    }
+
+    // The target cells of the first level with at least 64 of them (or the
+    // leaves above it): independent tasks for the threads.
+    static std::vector<int> task_cells(const Tree<D>& t) {
+        const auto& tc = t.cells();
+        std::vector<int> tasks{0};
+        while (tasks.size() < 64) {
+            std::vector<int> next;
+            bool split = false;
+            for (const int ci : tasks) {
+                const Cell<D>& c = tc[static_cast<std::size_t>(ci)];
+                if (c.leaf()) {
+                    next.push_back(ci);
+                } else {
+                    split = true;
+                    for (int k = 0; k < c.children; ++k) next.push_back(c.first_child + k);
+                }
+            }
+            tasks.swap(next);
+            if (!split) break;
+        }
+        return tasks;
     }
 
     // Coefficients per cell in m_: reduced in 3D.
@@ -192,27 +263,10 @@ private:
     void by_target_leaf(const Tree<D>& t, const std::array<std::vector<double>, D>& y, Field<D>& out) const {
         const auto& tc = t.cells();
         const std::size_t n = expansion_.size();
-        std::vector<double> local(tc.size() * n, 0.0);
         std::vector<char> has_local(tc.size(), 0);
         std::vector<std::vector<int>> near(tc.size());
         std::vector<std::vector<Far>> far(tc.size());
-        // Tasks: the target cells of the first level with enough of them.
-        std::vector<int> tasks{0};
-        while (tasks.size() < 64) {
-            std::vector<int> next;
-            bool split = false;
-            for (const int ci : tasks) {
-                const Cell<D>& c = tc[static_cast<std::size_t>(ci)];
-                if (c.leaf()) {
-                    next.push_back(ci);
-                } else {
-                    split = true;
-                    for (int k = 0; k < c.children; ++k) next.push_back(c.first_child + k);
-                }
-            }
-            tasks.swap(next);
-            if (!split) break;
-        }
+        const std::vector<int> tasks = task_cells(t);
         const auto count = static_cast<long>(tasks.size());
         MOLLIFY_PARALLEL_FOR(schedule(dynamic, 1))
         for (long ti = 0; ti < count; ++ti) interact(t, tasks[static_cast<std::size_t>(ti)], 0, far, has_local, near);
@@ -223,6 +277,7 @@ private:
         // every near cell (near).
         NearField nf;
         nf.mutual = &t == &tree_;
+        nf.within = nf.mutual && s_.global;
         nf.green.resize(tc.size());
         nf.both.resize(tc.size());
         const auto ncells = static_cast<long>(tc.size());
@@ -244,11 +299,14 @@ private:
         }
         MOLLIFY_PARALLEL_FOR(schedule(dynamic, 1))
         for (long ti = 0; ti < count; ++ti) {
+            // A local expansion per depth: a cell's lives only while its
+            // subtree is descended (no array of every cell's to allocate).
+            // No ancestor of a task has far pairs (interact starts at the tasks).
+            std::vector<std::vector<double>> local(1, std::vector<double>(n, 0.0));
             std::vector<double> work;
-            descend(t, tasks[static_cast<std::size_t>(ti)], y, far, local, has_local, near, nf, out, work);
+            descend(t, tasks[static_cast<std::size_t>(ti)], y, far, local, 0, has_local, near, nf, out, work);
         }
         if (nf.mutual) {
-            constexpr double k = 0.25 * std::numbers::inv_pi;
             const auto m = static_cast<long>(s_.size());
             MOLLIFY_PARALLEL_FOR(schedule(static))
             for (long ii = 0; ii < m; ++ii) {
@@ -258,17 +316,19 @@ private:
                     if (!acc[0].empty())
                         for (std::size_t c = 0; c < 4; ++c) sum[c] += acc[c][i];
                 const std::size_t o = t.order()[i];
-                out.potential[o] -= k * sum[0];
-                for (int c = 0; c < D; ++c) out.field[c][o] -= k * sum[static_cast<std::size_t>(c) + 1];
+                out.potential[o] = sum[0];
+                for (int c = 0; c < D; ++c) out.field[c][o] = sum[static_cast<std::size_t>(c) + 1];
             }
         }
     }
 
     // The near field's split (by_target_leaf) and, for mutual pairs, per
-    // thread the sums of q/r and q (x_j - x_t)/r^3 felt by each source
-    // (tree order) from targets in other leaves.
+    // thread the potential and field each source (tree order) gets from
+    // targets in other leaves. within: the pairs within a support summed
+    // both ways too (a global delta, where the kernel is the same from
+    // either end).
     struct NearField {
-        bool mutual = false;
+        bool mutual = false, within = false;
         std::vector<std::vector<int>> green, both;
         std::vector<std::array<std::vector<double>, 4>> acc;
     };
@@ -361,24 +421,28 @@ private:
     }
 
     void descend(const Tree<D>& t, int a, const std::array<std::vector<double>, D>& y,
-                 std::vector<std::vector<Far>>& far, std::vector<double>& local, std::vector<char>& has_local,
-                 const std::vector<std::vector<int>>& near, NearField& nf, Field<D>& out,
-                 std::vector<double>& work) const {
+                 std::vector<std::vector<Far>>& far, std::vector<std::vector<double>>& local, std::size_t depth,
+                 std::vector<char>& has_local, const std::vector<std::vector<int>>& near, NearField& nf,
+                 Field<D>& out, std::vector<double>& work) const {
         const Cell<D>& A = t.cells()[static_cast<std::size_t>(a)];
         const std::size_t n = expansion_.size();
-        double* la = local.data() + static_cast<std::size_t>(a) * n;
+        double* la = local[depth].data();  // the parent's part already in
         translate(A, far[static_cast<std::size_t>(a)], la, work);
         if (!A.leaf()) {
+            if (local.size() <= depth + 1) {
+                local.emplace_back(n);  // moving a vector keeps its buffer: la stays valid
+            }
+            double* lc = local[depth + 1].data();
             for (int k = 0; k < A.children; ++k) {
                 const int c = A.first_child + k;
+                std::fill(lc, lc + n, 0.0);
                 if (has_local[static_cast<std::size_t>(a)]) {
                     const Cell<D>& C = t.cells()[static_cast<std::size_t>(c)];
                     if constexpr (D == 3)
-                        expansion_.add_shifted(la, local_scale(A), A.centre, local_scale(C), C.centre,
-                                               local.data() + static_cast<std::size_t>(c) * n, work);
+                        expansion_.add_shifted(la, local_scale(A), A.centre, local_scale(C), C.centre, lc, work);
                     has_local[static_cast<std::size_t>(c)] = 1;
                 }
-                descend(t, c, y, far, local, has_local, near, nf, out, work);
+                descend(t, c, y, far, local, depth + 1, has_local, near, nf, out, work);
             }
             return;
         }
@@ -408,6 +472,35 @@ private:
         const std::size_t na = A.end - A.begin;
         g.phi.assign(na, 0.0);
         for (auto& c : g.e) c.assign(na, 0.0);
+        // At the sources: what the leaf's targets get and give the mutual
+        // cells' sources (tree order, per thread).
+        std::array<std::vector<double>, 4>* acc = nullptr;
+        if (nf.mutual) {
+            acc = &nf.acc[static_cast<std::size_t>(mollify::detail::thread_index())];
+            if ((*acc)[0].empty())
+                for (auto& v : *acc) v.assign(s_.size(), 0.0);
+        }
+        // Each near cell's part in the within-support search: the whole cell
+        // (one way), none (its pairs are summed from the other end), the
+        // leaf itself (its pairs j > i both ways), or a mutual cell (both ways).
+        enum class Within : char { one_way, skip, self, mutual };
+        g.within.resize(nc);
+        double self_pot = 0;
+        for (std::size_t r = 0; r < nc; ++r) {
+            const int b = nl[r];
+            const auto& both = nf.both[static_cast<std::size_t>(a)];
+            const auto& one = nf.green[static_cast<std::size_t>(a)];
+            g.within[r] = static_cast<char>(
+                !nf.within                                      ? Within::one_way
+                : b == a                                        ? Within::self
+                : std::binary_search(both.begin(), both.end(), b) ? Within::mutual
+                : std::binary_search(one.begin(), one.end(), b)   ? Within::one_way
+                                                                  : Within::skip);
+        }
+        if (nf.within) {  // phi_delta(0), each source's own share
+            const double zero = 0;
+            detail::batch<QuantityId::potential>(kernel_, &zero, &self_pot, 1, s_.smoothing);
+        }
         if constexpr (D == 3)
             if (has_local[static_cast<std::size_t>(a)])
                 expansion_.add_local_at(la, local_scale(A), A.centre, {y[0].data() + A.begin, y[1].data() + A.begin, y[2].data() + A.begin},
@@ -442,24 +535,40 @@ private:
                         gap2[r] = mollify::detail::mul_add(gz, gz, mollify::detail::mul_add(gy, gy, gx * gx));
                     }
                 }
-                for (std::size_t r = 0; r < nc; ++r)
-                    if (gap2[r] < g.dm2[r]) {
-                        const Cell<D>& c = cells[static_cast<std::size_t>(nl[r])];
-                        detail::add_within<D>(kernel_, s_, x, c.begin, c.end, phi, e);
+                for (std::size_t r = 0; r < nc; ++r) {
+                    if (!(gap2[r] < g.dm2[r])) continue;
+                    const Cell<D>& c = cells[static_cast<std::size_t>(nl[r])];
+                    switch (static_cast<Within>(g.within[r])) {
+                        case Within::one_way: detail::add_within<D>(kernel_, s_, x, c.begin, c.end, phi, e); break;
+                        case Within::skip: break;
+                        case Within::self:
+                            phi += s_.q[i] * self_pot;
+                            detail::add_within_mutual<D>(kernel_, s_, i, i + 1, c.end, phi, e, g.phi.data(),
+                                                         {g.e[0].data(), g.e[1].data(), g.e[2].data()}, A.begin);
+                            break;
+                        case Within::mutual:
+                            detail::add_within_mutual<D>(kernel_, s_, i, c.begin, c.end, phi, e, (*acc)[0].data(),
+                                                         {(*acc)[1].data(), (*acc)[2].data(), (*acc)[3].data()}, 0);
+                            break;
                     }
+                }
             }
-            const std::size_t o = t.order()[i];
-            out.potential[o] = phi;
-            for (int c = 0; c < D; ++c) out.field[c][o] = e[c];
+            if (acc) {  // in tree order, sequential; by_target_leaf permutes once
+                (*acc)[0][i] += phi;
+                for (std::size_t c = 0; c < D; ++c) (*acc)[c + 1][i] += e[c];
+            } else {
+                const std::size_t o = t.order()[i];
+                out.potential[o] = phi;
+                for (int c = 0; c < D; ++c) out.field[c][o] = e[c];
+            }
         }
         if (!g.both.q.empty()) {
-            // What the leaf's targets gave the mutual cells' sources.
-            auto& acc = nf.acc[static_cast<std::size_t>(mollify::detail::thread_index())];
-            if (acc[0].empty())
-                for (auto& v : acc) v.assign(s_.size(), 0.0);
+            // The Green's pass's sums for the mutual cells' sources, scaled
+            // (phi = -q/(4 pi r), E = -q (x_j - x_t)/(4 pi r^3)).
+            constexpr double k = 0.25 * std::numbers::inv_pi;
             for (const auto& [begin, end, at] : g.both.runs)
                 for (std::size_t j = begin; j < end; ++j)
-                    for (std::size_t c = 0; c < 4; ++c) acc[c][j] += g.both.w[c][at + j - begin];
+                    for (std::size_t c = 0; c < 4; ++c) (*acc)[c][j] -= k * g.both.w[c][at + j - begin];
         }
     }
 
@@ -509,6 +618,7 @@ private:
         // The near cells: source boxes, delta_max^2, a target's squared gaps.
         std::array<std::vector<double>, 3> lo, hi;
         std::vector<double> dm2, gap2;
+        std::vector<char> within;
         void cells(std::size_t n) {
             for (auto& c : lo) c.resize(n);
             for (auto& c : hi) c.resize(n);
