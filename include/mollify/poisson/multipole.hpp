@@ -363,35 +363,18 @@ public:
 #if defined(__GNUC__)
         typedef double V __attribute__((vector_size(W * sizeof(double))));
         // Unaligned-safe loads (memcpy); no V crosses a call (ABI).
-        V s0 = {}, s1 = {}, s2 = {}, s3 = {}, s4 = {}, s5 = {}, s6 = {}, s7 = {}, a, b;
+        V s[8] = {}, a, b;  // fully unrolled: eight accumulator registers
         for (std::size_t i = 0; i < len; ++i) {
             std::memcpy(&a, x + i * W, sizeof(V));
             const double* r = t + static_cast<std::size_t>(off[i]) * W;
-            std::memcpy(&b, r, sizeof(V));
-            s0 += a * b;
-            std::memcpy(&b, r + W, sizeof(V));
-            s1 += a * b;
-            std::memcpy(&b, r + 2 * W, sizeof(V));
-            s2 += a * b;
-            std::memcpy(&b, r + 3 * W, sizeof(V));
-            s3 += a * b;
-            std::memcpy(&b, r + 4 * W, sizeof(V));
-            s4 += a * b;
-            std::memcpy(&b, r + 5 * W, sizeof(V));
-            s5 += a * b;
-            std::memcpy(&b, r + 6 * W, sizeof(V));
-            s6 += a * b;
-            std::memcpy(&b, r + 7 * W, sizeof(V));
-            s7 += a * b;
+#pragma GCC unroll 8
+            for (int d = 0; d < 8; ++d) {
+                std::memcpy(&b, r + d * W, sizeof(V));
+                s[d] += a * b;
+            }
         }
-        std::memcpy(acc, &s0, sizeof(V));
-        std::memcpy(acc + W, &s1, sizeof(V));
-        std::memcpy(acc + 2 * W, &s2, sizeof(V));
-        std::memcpy(acc + 3 * W, &s3, sizeof(V));
-        std::memcpy(acc + 4 * W, &s4, sizeof(V));
-        std::memcpy(acc + 5 * W, &s5, sizeof(V));
-        std::memcpy(acc + 6 * W, &s6, sizeof(V));
-        std::memcpy(acc + 7 * W, &s7, sizeof(V));
+#pragma GCC unroll 8
+        for (int d = 0; d < 8; ++d) std::memcpy(acc + d * W, &s[d], sizeof(V));
 #else
         for (int d = 0; d < 8; ++d)
             for (int l = 0; l < W; ++l) {
