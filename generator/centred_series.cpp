@@ -215,7 +215,14 @@ const Constants& constants(const Q& c, unsigned bits) {
     thread_local const std::pair<const std::pair<Q, unsigned>, Constants>* last = nullptr;
     if (last && last->first.second == bits && last->first.first == c) return last->second;
     auto [it, inserted] = cache.try_emplace(std::pair{c, bits});
-    if (inserted) compute_constants(c, bits, it->second);
+    if (inserted) {
+        try {
+            compute_constants(c, bits, it->second);
+        } catch (...) {
+            cache.erase(it);  // no half-filled entry for the next call
+            throw;
+        }
+    }
     last = &*it;  // once filled
     return it->second;
 }
@@ -257,9 +264,14 @@ const ConstantNames& constant_names(const Q& c) {
     if (last && last->first == c) return last->second;
     auto [it, fresh] = cache.try_emplace(c);
     if (fresh) {
-        const Q s = rational_sqrt(Q(1) - c * c);
-        it->second = {"log(" + short_string((1 + s) / c) + ")",  // arcsech c = log((1 + S(c))/c)
-                      "arcsin(" + short_string(c) + ")", "log(" + short_string(c) + ")"};
+        try {
+            const Q s = rational_sqrt(Q(1) - c * c);  // fails for a centre without a rational S(c)
+            it->second = {"log(" + short_string((1 + s) / c) + ")",  // arcsech c = log((1 + S(c))/c)
+                          "arcsin(" + short_string(c) + ")", "log(" + short_string(c) + ")"};
+        } catch (...) {
+            cache.erase(it);  // no empty entry for the next call
+            throw;
+        }
     }
     last = &*it;  // once filled
     return it->second;

@@ -120,3 +120,15 @@ TEST(CentredSeries, CheckOfEmittedTaylorPiecesCatchesAWrongCoefficient) {
     }
     EXPECT_GE(pieces_checked, 4);
 }
+
+// A centre without a rational S(c) = sqrt(1 - c^2) is an internal error
+// (the catalogue's centres have one): the names of its constants fail, and
+// fail again on the next call instead of leaving an empty cache entry
+// whose names would print as "" (the cache once kept it).
+TEST(CentredSeries, IrrationalCentreFailsEveryTime) {
+    const CentredValue zero{};
+    const Q c(1, 3);  // 1 - c^2 = 8/9
+    EXPECT_THROW((void)zero.to_string(c), mollify::Error);
+    EXPECT_THROW((void)zero.to_string(c), mollify::Error);
+    EXPECT_EQ(zero.to_string(Q(3, 5)), "0");  // S = 4/5: fine
+}
