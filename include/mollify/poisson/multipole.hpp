@@ -282,7 +282,7 @@ public:
         const std::size_t nt = static_cast<std::size_t>(t_start_[2 * static_cast<std::size_t>(degree) + 1]);
         const std::size_t nr = count_reduced(degree);
         const std::size_t du = static_cast<std::size_t>(degree) + 1;
-        work.resize((t_rows() + nr + 2 * du + 8) * W + W);
+        work.resize((t_rows() + nr + 2 * du) * W + W);
         double* t = aligned(work.data());     // T_j, lane l at t[dense(j) W + l]
         double* x = t + t_rows() * W;         // x_k (rho_s/|R|)^|k|
         double* ts = x + nr * W;              // (rho_s/|R|)^d

@@ -23,6 +23,7 @@
 #include <mollify/smoothing.hpp>
 
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <string>
 
@@ -86,16 +87,20 @@ inline double error_model(int dim, double theta, int p) {
 }
 
 // Relative cost of an evaluation at (theta, p). 3D (dual traversal, leaves
-// of ~200-250 sources), fitted to knob_calibration's one-thread times at
-// N = 10^5 (least squares of the relative deviation, largest 22 %; the
-// exponents the best of a theta^-m + b (p + 1)^k theta^-j over m 2..4,
-// k 3..6, j 2..4, stop 42): the near field grows like theta^-3 (leaf pairs
-// that fail the test), the far field like (p + 1)^6 theta^-2 (k = 4 fits
-// within 1 % of the same deviation and makes the same choices for 1e-3 ..
-// 1e-8); 4.9e7 is the ratio of the two at theta = 1.
+// of ~200-250 sources): knob_calibration's one-thread seconds at N = 10^5,
+// n(theta) + b (p + 1)^k theta^-j, the near field's time per opening angle
+// (theta = 0.3 .. 0.8: it grows in steps as leaf pairs fail the test, which
+// theta^-3 averaged 22 % off and so chose theta 0.6, p = 15 for 1e-7 where
+// 0.7, p = 20 measured faster) and the far field's power law, fitted by
+// least squares of the relative deviation (largest 10 %; stop 42).
 // 2D (particle-cluster, per target): (p + 1) per accepted cell, theta^-2 cells.
+inline constexpr double near_cost_3d[6] = {2.654, 1.457, 0.654, 0.4733, 0.2442, 0.2152};  // theta = 0.3, .., 0.8
+inline constexpr double far_cost_3d = 1.553e-5;                                          // b; k = 3, j = 2
 inline double cost_model(int dim, double theta, int p) {
-    if (dim == 3) return (4.9e7 + std::pow(p + 1.0, 6) * theta) / (theta * theta * theta);
+    if (dim == 3) {
+        const auto t = static_cast<std::size_t>(std::lround(10 * theta)) - 3;
+        return near_cost_3d[t] + far_cost_3d * std::pow(p + 1.0, 3) / (theta * theta);
+    }
     return (p + 1.0) / (theta * theta);
 }
 

@@ -322,11 +322,11 @@ private:
         }
     }
 
-    // The near field's split (by_target_leaf) and, for mutual pairs, per
-    // thread the potential and field each source (tree order) gets from
-    // targets in other leaves. within: the pairs within a support summed
-    // both ways too (a global delta, where the kernel is the same from
-    // either end).
+    // The near field's split (by_target_leaf) and, at the sources, per
+    // thread the potential and field of each source in tree order: its own
+    // sums as a target and what targets in other leaves give it. within:
+    // the pairs within a support summed both ways too (a global delta,
+    // where the kernel is the same from either end).
     struct NearField {
         bool mutual = false, within = false;
         std::vector<std::vector<int>> green, both;
