@@ -274,12 +274,17 @@ private:
         // source tree): a leaf pair (a, b) found from both sides is summed
         // once, at the smaller index, for both directions (add_green_mutual);
         // the other near cells one way. The within-support search keeps
-        // every near cell (near).
+        // every near cell (near), each with its part (nf.kind).
         NearField nf;
         nf.mutual = &t == &tree_;
         nf.within = nf.mutual && s_.global;
         nf.green.resize(tc.size());
         nf.both.resize(tc.size());
+        nf.kind.resize(tc.size());
+        if (nf.within) {  // phi_delta(0), each source's own share
+            const double zero = 0;
+            detail::batch<QuantityId::potential>(kernel_, &zero, &nf.self_pot, 1, s_.smoothing);
+        }
         const auto ncells = static_cast<long>(tc.size());
         if (nf.mutual) {
             MOLLIFY_PARALLEL_FOR(schedule(static))
@@ -291,10 +296,17 @@ private:
             const auto a = static_cast<std::size_t>(ci);
             for (const int b : near[a]) {
                 const auto& back = near[static_cast<std::size_t>(b)];
-                if (!nf.mutual || b == ci || !std::binary_search(back.begin(), back.end(), static_cast<int>(ci)))
+                Within kind = Within::one_way;
+                if (!nf.mutual || b == ci || !std::binary_search(back.begin(), back.end(), static_cast<int>(ci))) {
                     nf.green[a].push_back(b);
-                else if (b > ci)
+                    if (nf.within && b == ci) kind = Within::self;
+                } else if (b > ci) {
                     nf.both[a].push_back(b);
+                    if (nf.within) kind = Within::mutual;
+                } else if (nf.within) {
+                    kind = Within::skip;
+                }
+                nf.kind[a].push_back(kind);
             }
         }
         MOLLIFY_PARALLEL_FOR(schedule(dynamic, 1))
@@ -322,6 +334,11 @@ private:
         }
     }
 
+    // Each near cell's part in the within-support search: the whole cell
+    // (one way), none (its pairs are summed from the other end), the leaf
+    // itself (its pairs j > i both ways), or a mutual cell (both ways).
+    enum class Within : char { one_way, skip, self, mutual };
+
     // The near field's split (by_target_leaf) and, at the sources, per
     // thread the potential and field of each source in tree order: its own
     // sums as a target and what targets in other leaves give it. within:
@@ -329,7 +346,9 @@ private:
     // where the kernel is the same from either end).
     struct NearField {
         bool mutual = false, within = false;
+        double self_pot = 0;  // phi_delta(0) (within)
         std::vector<std::vector<int>> green, both;
+        std::vector<std::vector<Within>> kind;  // per near cell, as near
         std::vector<std::array<std::vector<double>, 4>> acc;
     };
 
@@ -480,27 +499,7 @@ private:
             if ((*acc)[0].empty())
                 for (auto& v : *acc) v.assign(s_.size(), 0.0);
         }
-        // Each near cell's part in the within-support search: the whole cell
-        // (one way), none (its pairs are summed from the other end), the
-        // leaf itself (its pairs j > i both ways), or a mutual cell (both ways).
-        enum class Within : char { one_way, skip, self, mutual };
-        g.within.resize(nc);
-        double self_pot = 0;
-        for (std::size_t r = 0; r < nc; ++r) {
-            const int b = nl[r];
-            const auto& both = nf.both[static_cast<std::size_t>(a)];
-            const auto& one = nf.green[static_cast<std::size_t>(a)];
-            g.within[r] = static_cast<char>(
-                !nf.within                                      ? Within::one_way
-                : b == a                                        ? Within::self
-                : std::binary_search(both.begin(), both.end(), b) ? Within::mutual
-                : std::binary_search(one.begin(), one.end(), b)   ? Within::one_way
-                                                                  : Within::skip);
-        }
-        if (nf.within) {  // phi_delta(0), each source's own share
-            const double zero = 0;
-            detail::batch<QuantityId::potential>(kernel_, &zero, &self_pot, 1, s_.smoothing);
-        }
+        const std::vector<Within>& kind = nf.kind[static_cast<std::size_t>(a)];
         if constexpr (D == 3)
             if (has_local[static_cast<std::size_t>(a)])
                 expansion_.add_local_at(la, local_scale(A), A.centre, {y[0].data() + A.begin, y[1].data() + A.begin, y[2].data() + A.begin},
@@ -538,11 +537,11 @@ private:
                 for (std::size_t r = 0; r < nc; ++r) {
                     if (!(gap2[r] < g.dm2[r])) continue;
                     const Cell<D>& c = cells[static_cast<std::size_t>(nl[r])];
-                    switch (static_cast<Within>(g.within[r])) {
+                    switch (kind[r]) {
                         case Within::one_way: detail::add_within<D>(kernel_, s_, x, c.begin, c.end, phi, e); break;
                         case Within::skip: break;
                         case Within::self:
-                            phi += s_.q[i] * self_pot;
+                            phi += s_.q[i] * nf.self_pot;
                             detail::add_within_mutual<D>(kernel_, s_, i, i + 1, c.end, phi, e, g.phi.data(),
                                                          {g.e[0].data(), g.e[1].data(), g.e[2].data()}, A.begin);
                             break;
@@ -618,7 +617,6 @@ private:
         // The near cells: source boxes, delta_max^2, a target's squared gaps.
         std::array<std::vector<double>, 3> lo, hi;
         std::vector<double> dm2, gap2;
-        std::vector<char> within;
         void cells(std::size_t n) {
             for (auto& c : lo) c.resize(n);
             for (auto& c : hi) c.resize(n);
