@@ -415,6 +415,39 @@ TEST(Euler, CellSweepIsReproducible) {
         for (int c = 0; c < 3; ++c) ASSERT_EQ(a[0][c][i], a[1][c][i]) << "particle " << i << ", component " << c;
     }
 }
+
+// Below CellList::serial_below particles a threaded sweep is one parallel
+// region whose thread 0 updates the search: a bad position found there is
+// the same error as on one thread (not std::terminate from an exception
+// leaving the region), the outputs keep their sizes, and the next sweep
+// of good positions gives the bits of a system that never saw it.
+TEST(Euler, BadPositionInAThreadedSmallSweep) {
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(2);
+    const Field<3> x = dyadic_random<3>(3000 / fewer, 0, 1, 28);
+    const std::vector<double> mass(x[0].size(), 1.0);
+    using System = BarotropicEuler<3, Wendland3D, CellList<3>>;
+    System s(Wendland3D{}, 0.3, Domain<3>::periodic(1.0), mass), clean(Wendland3D{}, 0.3, Domain<3>::periodic(1.0), mass);
+    Field<3> a, a_clean;
+    s.acceleration(x, a);
+    clean.acceleration(x, a_clean);
+    ASSERT_GT(s.interactions(), 50000u) << "the next sweep would not run threaded";
+    ASSERT_LE(x[0].size(), CellList<3>::serial_below);
+    Field<3> bad = x;
+    bad[1][17] = NAN;
+    try {
+        s.acceleration(bad, a);
+        ADD_FAILURE() << "a NaN coordinate was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("particle 17"), std::string::npos) << e.what();
+    }
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(a[c].size(), x[0].size());
+    s.acceleration(x, a);
+    clean.acceleration(x, a_clean);
+    omp_set_num_threads(before);
+    for (std::size_t i = 0; i < x[0].size(); ++i)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(a[c][i], a_clean[c][i]) << "particle " << i << ", component " << c;
+}
 #endif
 
 }  // namespace

@@ -26,6 +26,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdlib>
+#include <exception>
 #include <memory>
 #include <new>
 #include <numeric>
@@ -151,14 +152,19 @@ private:
         for (int c = 0; c < D; ++c)
             if (x[c].size() != n)
                 fail("state has " + std::to_string(x[c].size()) + " particles but " + std::to_string(n) + " masses");
-        search_.update(view<D>(x));
-        if (a)
-            for (auto& c : *a) c.resize(n);
-        if (rho) rho->resize(n);
-        if constexpr (requires(PairBatch<D>& b) { search_.half_pairs(std::size_t{}, b, [](PairBatch<D>&) {}); })
-            sweep_cells(a, rho);
-        else
+        if constexpr (requires(PairBatch<D>& b) { search_.half_pairs(std::size_t{}, b, [](PairBatch<D>&) {}); }) {
+            sweep_cells(x, a, rho);
+        } else {
+            search_.update(view<D>(x));
+            resize_outputs(a, rho);
             sweep_particles(a, rho);
+        }
+    }
+
+    void resize_outputs(Field<D>* a, std::vector<double>* rho) const {
+        if (a)
+            for (auto& c : *a) c.resize(size());
+        if (rho) rho->resize(size());
     }
 
     // Particle by particle: each particle's neighbours gathered, one kernel
@@ -206,80 +212,180 @@ private:
     // from the ranges that reach each layer: ~N + R layers of reads and of
     // memory touched, where one array per thread over all cells costs T N
     // of both; and, each range's sums made in one order and added in range
-    // order, the same bits in every run on as many threads. Then permuted
-    // back to the caller's indices. The self term m_a W(0) once.
-    void sweep_cells(Field<D>* a, std::vector<double>* rho) {
-        const std::size_t n = size(), cells = search_.cells();
-        const std::vector<std::size_t>& member = search_.members();
-        [[maybe_unused]] const bool parallel = met_last_ > 50000;
-        // The masses in slot order, again only where the order changed.
-        bool kept = false;
-        if constexpr (requires { search_.order_kept(); }) kept = search_.order_kept();
-        if (!kept || mass_sorted_.size() != n) {
-            mass_sorted_.resize(n);
-            MOLLIFY_PARALLEL_FOR(if(parallel) schedule(static))
-            for (long ls = 0; ls < static_cast<long>(n); ++ls)
-                mass_sorted_[static_cast<std::size_t>(ls)] = mass_[member[static_cast<std::size_t>(ls)]];
-        }
-        // W(0), grad W(0): one kernel call on the zero displacement.
-        Scratch& s0 = scratch_[0];
-        s0.reserve(1);
-        for (int c = 0; c < D; ++c) s0.dx[c][0] = 0.0;
-        kernel_.pairs(points(s0.dx, 1), smoothing_, std::span<double>(s0.w.data(), 1), outputs(s0.grad, 1));
-        const double w0 = s0.w[0];
-        std::array<double, D> g0;
-        for (int c = 0; c < D; ++c) g0[c] = s0.grad[c][0];
-        // No more threads than scratch spaces (the count may have changed since construction).
-        [[maybe_unused]] const int threads =
-            parallel ? std::min(mollify::detail::thread_count(), static_cast<int>(scratch_.size())) : 1;
-        const std::size_t layers = std::max<std::size_t>(search_.layers(), 1);
-        // Up to four ranges per thread, taken as threads come free: a slower
-        // thread (a shared host, a denser region) takes fewer of them. No more
-        // ranges than layers unless that leaves a thread idle (a flat domain):
-        // then ~2 T / L arrays per slot, still fewer than one per thread.
-        const auto team = static_cast<std::size_t>(threads);
-        const std::size_t ranges = team == 1 ? 1 : std::min(4 * team, std::max(layers, team));
-        split_cells(n, cells, ranges);
-        reaching_ranges(cells, layers, ranges);
-        if (sums_.size() < ranges) sums_.resize(ranges);
-        for (std::size_t t = 0; t < ranges; ++t) sums_[t].zeroed((D + 1) * n);
+    // order, the same bits in every run on as many threads. A layer is
+    // added up by the thread that finishes the last range reaching it,
+    // while the others still sweep: no loop waiting for every range. Then
+    // permuted back to the caller's indices. The self term m_a W(0) once.
+    void sweep_cells(const Field<D>& x, Field<D>* a, std::vector<double>* rho) {
+        const std::size_t n = size();
+        // Threads only where there is work to share (the last sweep's pairs),
+        // no more than scratch spaces (the count may have changed since construction).
+        const int threads = met_last_ > 50000 ? std::min(mollify::detail::thread_count(), static_cast<int>(scratch_.size())) : 1;
         std::size_t met = 0;
-        MOLLIFY_PARALLEL_FOR(if(ranges > 1) num_threads(threads) schedule(dynamic, 1) reduction(+ : met))
-        for (long lt = 0; lt < static_cast<long>(ranges); ++lt) {
-            const auto t = static_cast<std::size_t>(lt);
-            Scratch& s = scratch_[static_cast<std::size_t>(mollify::detail::thread_index())];
-            s.sums = sums_[t].data();
-            const std::size_t first = cut_[t], last = cut_[t + 1];
-            for (std::size_t home = first; home < last; ++home)
-                search_.half_pairs(home, s.batch, [&](PairBatch<D>& b) {
-                    met += 2 * b.size;
-                    accumulate(b, s);
-                });
-        }
-        const std::size_t per_layer = cells / layers;
-        MOLLIFY_PARALLEL_FOR(if(parallel) num_threads(threads) schedule(static))
-        for (long lz = 0; lz < static_cast<long>(layers); ++lz) {
-            const auto z = static_cast<std::size_t>(lz);
-            const std::size_t first = search_.first_slot(z * per_layer), last = search_.first_slot((z + 1) * per_layer);
-            for (std::size_t sl = first; sl < last; ++sl) {
-                const std::size_t i = member[sl];
-                double r = mass_sorted_[sl] * w0;
-                std::array<double, D> g;
-                for (int c = 0; c < D; ++c) g[c] = mass_sorted_[sl] * g0[c];
-                for (std::size_t k = reach_start_[z]; k < reach_start_[z + 1]; ++k) {
-                    double* sum = sums_[reach_[k]].data() + (D + 1) * sl;
-                    r += sum[0];
-                    for (int c = 0; c < D; ++c) g[c] += sum[1 + c];
-                    std::fill(sum, sum + D + 1, 0.0);
-                }
-                if (rho) (*rho)[i] = r;
-                if (a)
-                    for (int c = 0; c < D; ++c) (*a)[c][i] = -g[c];
-            }
+        if (threads > 1) {
+            met = threaded_cells(x, a, rho, threads);
+        } else {
+            search_.update(view<D>(x));
+            const CellSweep c = prepare_cells(a, rho, 1);
+            if (c.masses_moved) permute_masses(0, n);
+            met = sweep_range(0, c, a, rho);
         }
         met += n;
         interactions_.fetch_add(met, std::memory_order_relaxed);
         met_last_ = met;
+    }
+
+    // The threaded sweep, one parallel region (where threads sleep between
+    // regions, each region's start and end cost ~2 % of a sweep at N ~ 10^4,
+    // where there were four): thread 0 begins the search's update while the
+    // others wake up; each thread refreshes its part of the slots (and where
+    // the order changed, of the masses in slot order); thread 0 finishes the
+    // update and prepares the ranges; each thread sweeps the ranges of its
+    // own part (schedule(static): its slots and sums stay in its core's
+    // cache from sweep to sweep: taken as threads came free, two threads lost
+    // ~10 % at N ~ 10^4 and ~6 % at 10^5). The waits between the steps spin,
+    // each for one thread's short serial step or the others' equal parts.
+    std::size_t threaded_cells(const Field<D>& x, Field<D>* a, std::vector<double>* rho, int threads) {
+        const Positions<D> xv = view<D>(x);
+        const std::size_t n = size();
+        std::atomic<int> stage{0};  // 1: update begun, 2: ranges prepared, -1: failed
+        std::atomic<int> copied{0}, permuted{0};
+        std::atomic<bool> broken{false};
+        std::exception_ptr failure;
+        CellSweep c{};
+        std::size_t met = 0;
+        auto on_thread_0 = [&](int next, auto&& step) {
+            try {
+                step();
+                stage.store(next, std::memory_order_release);
+            } catch (...) {
+                failure = std::current_exception();
+                stage.store(-1, std::memory_order_release);
+            }
+        };
+        auto wait_past = [&](int now) {
+            int s = now;
+            mollify::detail::spin_until([&] { return (s = stage.load(std::memory_order_acquire)) != now; });
+            return s;
+        };
+        auto all_done = [](std::atomic<int>& count, int team) {
+            count.fetch_add(1, std::memory_order_acq_rel);
+            mollify::detail::spin_until([&] { return count.load(std::memory_order_acquire) == team; });
+        };
+        MOLLIFY_PARALLEL(num_threads(threads) reduction(+ : met)) {
+            const int team = mollify::detail::team_size(), me = mollify::detail::thread_index();
+            const std::size_t from = NeighbourSearch::part_begin(n, me, team), to = NeighbourSearch::part_begin(n, me + 1, team);
+            if (me == 0) on_thread_0(1, [&] { search_.begin_update(xv); });
+            if (wait_past(0) == 1) {
+                if (!search_.update_slots(xv, from, to)) broken.store(true, std::memory_order_relaxed);
+                if (me == 0) {
+                    all_done(copied, team);
+                    on_thread_0(2, [&] {
+                        search_.finish_update(xv, !broken.load(std::memory_order_relaxed));
+                        c = prepare_cells(a, rho, team);
+                    });
+                } else {
+                    copied.fetch_add(1, std::memory_order_acq_rel);
+                }
+                if (wait_past(1) == 2) {
+                    if (c.masses_moved) {
+                        permute_masses(from, to);
+                        all_done(permuted, team);
+                    }
+                    MOLLIFY_FOR(schedule(static) nowait)
+                    for (long lt = 0; lt < static_cast<long>(c.ranges); ++lt)
+                        met += sweep_range(static_cast<std::size_t>(lt), c, a, rho);
+                }
+            }
+        }
+        if (failure) std::rethrow_exception(failure);
+        return met;
+    }
+
+    // What the ranges need, once the search is updated: the outputs sized,
+    // W(0) and grad W(0), the ranges and their layers; and whether the
+    // masses in slot order are to be permuted again (the order changed).
+    struct CellSweep {
+        double w0;
+        std::array<double, D> g0;
+        std::size_t layers, ranges;
+        bool masses_moved;
+    };
+
+    CellSweep prepare_cells(Field<D>* a, std::vector<double>* rho, int threads) {
+        resize_outputs(a, rho);
+        const std::size_t n = size(), cells = search_.cells();
+        CellSweep c;
+        bool kept = false;
+        if constexpr (requires { search_.order_kept(); }) kept = search_.order_kept();
+        c.masses_moved = !kept || mass_sorted_.size() != n;
+        mass_sorted_.resize(n);
+        // W(0), grad W(0): one kernel call on the zero displacement.
+        Scratch& s0 = scratch_[0];
+        s0.reserve(1);
+        for (int k = 0; k < D; ++k) s0.dx[k][0] = 0.0;
+        kernel_.pairs(points(s0.dx, 1), smoothing_, std::span<double>(s0.w.data(), 1), outputs(s0.grad, 1));
+        c.w0 = s0.w[0];
+        for (int k = 0; k < D; ++k) c.g0[k] = s0.grad[k][0];
+        c.layers = std::max<std::size_t>(search_.layers(), 1);
+        // Up to four ranges per thread (a thread's are contiguous). No more
+        // ranges than layers unless that leaves a thread idle (a flat domain):
+        // then ~2 T / L arrays per slot, still fewer than one per thread.
+        const auto team = static_cast<std::size_t>(threads);
+        c.ranges = team == 1 ? 1 : std::min(4 * team, std::max(c.layers, team));
+        split_cells(n, cells, c.ranges);
+        reaching_ranges(cells, c.layers, c.ranges);
+        if (sums_.size() < c.ranges) sums_.resize(c.ranges);
+        for (std::size_t t = 0; t < c.ranges; ++t) sums_[t].zeroed((D + 1) * n);
+        return c;
+    }
+
+    // The masses of the slots [from, to) in slot order.
+    void permute_masses(std::size_t from, std::size_t to) {
+        const std::vector<std::size_t>& member = search_.members();
+        for (std::size_t slot = from; slot < to; ++slot) mass_sorted_[slot] = mass_[member[slot]];
+    }
+
+    // Range t's pairs into its own array; then each layer it was the last
+    // range to reach (acq_rel: that thread sees the other ranges' sums).
+    // The pairs met.
+    std::size_t sweep_range(std::size_t t, const CellSweep& c, Field<D>* a, std::vector<double>* rho) {
+        Scratch& s = scratch_[static_cast<std::size_t>(mollify::detail::thread_index())];
+        s.sums = sums_[t].data();
+        std::size_t met = 0;
+        for (std::size_t home = cut_[t]; home < cut_[t + 1]; ++home)
+            search_.half_pairs(home, s.batch, [&](PairBatch<D>& b) {
+                met += 2 * b.size;
+                accumulate(b, s);
+            });
+        for (std::size_t k = layers_of_start_[t]; k < layers_of_start_[t + 1]; ++k)
+            if (pending_[layers_of_[k]].fetch_sub(1, std::memory_order_acq_rel) == 1)
+                add_layer(layers_of_[k], c, a, rho);
+        return met;
+    }
+
+    // Layer z's sums: the self term and each reaching range's array, in
+    // range order (the same bits whichever thread adds them), the arrays
+    // left zero for the next sweep.
+    void add_layer(std::size_t z, const CellSweep& c, Field<D>* a, std::vector<double>* rho) {
+        const std::vector<std::size_t>& member = search_.members();
+        const std::size_t per_layer = search_.cells() / c.layers;
+        const std::size_t first = search_.first_slot(z * per_layer), last = search_.first_slot((z + 1) * per_layer);
+        for (std::size_t sl = first; sl < last; ++sl) {
+            const std::size_t i = member[sl];
+            double r = mass_sorted_[sl] * c.w0;
+            std::array<double, D> g;
+            for (int k = 0; k < D; ++k) g[k] = mass_sorted_[sl] * c.g0[k];
+            for (std::size_t k = reach_start_[z]; k < reach_start_[z + 1]; ++k) {
+                double* sum = sums_[reach_[k]].data() + (D + 1) * sl;
+                r += sum[0];
+                for (int j = 0; j < D; ++j) g[j] += sum[1 + j];
+                std::fill(sum, sum + D + 1, 0.0);
+            }
+            if (rho) (*rho)[i] = r;
+            if (a)
+                for (int k = 0; k < D; ++k) (*a)[k][i] = -g[k];
+        }
     }
 
     // cut_[t], t = 0 .. ranges: range t is the cells [cut_[t], cut_[t + 1]),
@@ -317,6 +423,19 @@ private:
         reach_.resize(reach_start_[layers]);
         fill_.assign(reach_start_.begin(), reach_start_.end() - 1);
         for (std::size_t t = 0; t < ranges; ++t) each_layer(t, [&](std::size_t z) { reach_[fill_[z]++] = t; });
+        // The inverse, the layers each range reaches, and the count of
+        // ranges each layer still waits for.
+        layers_of_start_.assign(ranges + 1, 0);
+        for (std::size_t t = 0; t < ranges; ++t) each_layer(t, [&](std::size_t) { ++layers_of_start_[t + 1]; });
+        std::partial_sum(layers_of_start_.begin(), layers_of_start_.end(), layers_of_start_.begin());
+        layers_of_.resize(layers_of_start_[ranges]);
+        for (std::size_t t = 0, k = 0; t < ranges; ++t) each_layer(t, [&](std::size_t z) { layers_of_[k++] = z; });
+        if (pending_size_ < layers) {
+            pending_ = std::make_unique<std::atomic<std::size_t>[]>(layers);
+            pending_size_ = layers;
+        }
+        for (std::size_t z = 0; z < layers; ++z)
+            pending_[z].store(reach_start_[z + 1] - reach_start_[z], std::memory_order_relaxed);
     }
 
     // rho_a += m_b W, rho_b += m_a W; grad_a += m_b grad W, grad_b -= m_a grad W.
@@ -426,7 +545,9 @@ private:
     // cache line per neighbour updated); zero between sweeps. The ranges and
     // which of them reach each layer (sweep_cells).
     std::vector<detail::SlotSums> sums_;
-    std::vector<std::size_t> cut_, reach_, reach_start_, fill_;
+    std::vector<std::size_t> cut_, reach_, reach_start_, fill_, layers_of_, layers_of_start_;
+    std::unique_ptr<std::atomic<std::size_t>[]> pending_;  // per layer: the ranges reaching it not yet summed
+    std::size_t pending_size_ = 0;
     std::atomic<std::size_t> interactions_{0};
     std::size_t met_last_ = 0;  // interactions of the last sweep: the work estimate
 };

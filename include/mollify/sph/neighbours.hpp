@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -170,10 +171,31 @@ public:
 
     CellList(Domain<D> domain, double eps) : reach_(domain, eps) {}
 
+    // Up to this many particles update() runs on one thread (the loops are
+    // shorter than waking the others).
+    static constexpr std::size_t serial_below = 50000;
+
     // A stable counting sort by cell that starts from the last update's
     // order: particles that stayed in their cells keep their slots, so the
     // sorted copy is written almost in sequence when particles barely move.
     void update(const Positions<D>& x) {
+        begin_update(x);
+        const std::size_t n = x[0].size();
+        const long parts = n > serial_below ? mollify::detail::thread_count() : 1;
+        bool kept = true;
+        MOLLIFY_PARALLEL_FOR(if(parts > 1) schedule(static) reduction(&& : kept))
+        for (long p = 0; p < parts; ++p)
+            kept = update_slots(x, part_begin(n, p, parts), part_begin(n, p + 1, parts)) && kept;
+        finish_update(x, kept);
+    }
+
+    // update() in three steps, for a caller that runs the middle one on its
+    // threads inside its own parallel region (BarotropicEuler's small
+    // sweeps, where each thread then sweeps the slots it copied: they stay
+    // in its core's cache). begin_update and finish_update on one thread;
+    // update_slots on slot ranges [from, to) that cover [0, n) (part_begin),
+    // each on one thread, between them.
+    void begin_update(const Positions<D>& x) {
         detail::check_positions<D>(x, reach_.domain);
         const std::size_t n = x[0].size();
         // half_pairs numbers a cell's candidates in 32 bits.
@@ -181,54 +203,91 @@ public:
         layout(x, n);
         std::size_t cells = 1;
         for (int c = 0; c < D; ++c) cells *= static_cast<std::size_t>(count_[c]);
-        start_.assign(cells + 1, 0);
-        cell_of_.resize(n);
-        // The cells in parallel (a sweep's serial part limits its threads'
-        // speed-up), the counting and the stable scatter in order.
-        const long count = static_cast<long>(n);
-        MOLLIFY_PARALLEL_FOR(if(n > 50000) schedule(static))
-        for (long li = 0; li < count; ++li) {
-            const auto i = static_cast<std::size_t>(li);
-            std::size_t k = 0;
-            for (int c = D - 1; c >= 0; --c) k = k * static_cast<std::size_t>(count_[c]) + coordinate(x[c][i], c);
-            cell_of_[i] = k;
-        }
-        for (std::size_t i = 0; i < n; ++i) ++start_[cell_of_[i] + 1];
-        std::partial_sum(start_.begin(), start_.end(), start_.begin());
-        const bool first = members_.size() != n;
-        if (first) {
+        start_.resize(cells + 1);
+        slot_cell_.resize(n);
+        first_ = members_.size() != n;
+        if (first_) {
             members_.resize(n);
             std::iota(members_.begin(), members_.end(), std::size_t{0});
         }
         slot_.resize(n);
         for (int c = 0; c < D; ++c) sorted_[c].resize(n + copy_chunk);  // half_pairs_runs copies whole chunks
-        // Where every particle stayed in its cell (most time steps), the last
-        // order is the stable sort's already: only the positions are new, and
-        // all of it runs in parallel (the scatter below is serial).
-        bool kept = true;
-        MOLLIFY_PARALLEL_FOR(if(n > 50000) schedule(static) reduction(&& : kept))
-        for (long ls = 1; ls < count; ++ls)
-            kept = kept && cell_of_[members_[static_cast<std::size_t>(ls) - 1]] <= cell_of_[members_[static_cast<std::size_t>(ls)]];
+    }
+
+    // Part p of `parts` equal slot ranges: [part_begin(n, p, parts), part_begin(n, p + 1, parts)).
+    static std::size_t part_begin(std::size_t n, long p, long parts) {
+        return n * static_cast<std::size_t>(p) / static_cast<std::size_t>(parts);
+    }
+
+    // The last order tried on the slots [from, to): each particle's cell,
+    // its sorted copy and, while the cells do not decrease from slot
+    // from - 1 on, the first slots of the cells they enter (the entries of
+    // the range's cells only, so parts write disjoint entries where the
+    // order holds; relaxed atomic stores, as parts may meet where it broke,
+    // and finish_update then sorts afresh). Whether the order held.
+    bool update_slots(const Positions<D>& x, std::size_t from, std::size_t to) {
+        const std::size_t n = x[0].size();
+        // The copy and the cells in separate loops over raw pointers (they
+        // vectorise: gathers, then the cells from the copy), then the check.
+        const std::size_t* __restrict member = members_.data();
+        for (int c = 0; c < D; ++c) {
+            const double* __restrict source = x[c].data();
+            double* __restrict copy = sorted_[c].data();
+            for (std::size_t slot = from; slot < to; ++slot) copy[slot] = source[member[slot]];
+        }
+        std::size_t* __restrict cell_at = slot_cell_.data();
+        const std::array<double, D> origin = origin_, side = side_;
+        const std::array<long, D> count = count_;
+        std::array<const double*, D> v;
+        for (int c = 0; c < D; ++c) v[c] = sorted_[c].data();
+        for (std::size_t slot = from; slot < to; ++slot) {
+            std::size_t k = 0;
+            for (int c = D - 1; c >= 0; --c)
+                k = k * static_cast<std::size_t>(count[c]) + coordinate(v[c][slot], origin[c], side[c], count[c]);
+            cell_at[slot] = k;
+        }
+        if (first_)
+            for (std::size_t slot = from; slot < to; ++slot) slot_[member[slot]] = slot;
+        auto first_slot_of = [&](std::size_t c, std::size_t slot) {
+            std::atomic_ref<std::size_t>(start_[c]).store(slot, std::memory_order_relaxed);
+        };
+        // The cell before the range (none before slot 0: cells from 0 on start there).
+        std::size_t previous = from > 0 ? cell(x, member[from - 1]) : 0;
+        std::size_t next = from > 0 ? previous + 1 : 0;  // the first cell whose first slot is still to be set
+        for (std::size_t slot = from; slot < to; ++slot) {
+            const std::size_t k = cell_at[slot];
+            if (k < previous) return false;
+            for (; next <= k; ++next) first_slot_of(next, slot);
+            previous = k;
+        }
+        // After the last particle every cell starts at n (start_[cells] too).
+        if (to == n)
+            for (const std::size_t cells = start_.size() - 1; next <= cells; ++next) first_slot_of(next, n);
+        return true;
+    }
+
+    // Where every part kept the order (most time steps) the first slots are
+    // set; else the stable counting sort from the last order.
+    void finish_update(const Positions<D>& x, bool kept) {
         if (kept) {
-            // slot_ still inverts members_, except on the first update.
-            MOLLIFY_PARALLEL_FOR(if(n > 50000) schedule(static))
-            for (long ls = 0; ls < count; ++ls) {
-                const auto slot = static_cast<std::size_t>(ls);
-                const std::size_t i = members_[slot];
-                if (first) slot_[i] = slot;
-                for (int c = 0; c < D; ++c) sorted_[c][slot] = x[c][i];
-            }
-            order_kept_ = !first;
+            order_kept_ = !first_;
             return;
         }
         order_kept_ = false;
+        const std::size_t n = x[0].size();
+        std::fill(start_.begin(), start_.end(), 0);
+        for (std::size_t p = 0; p < n; ++p) ++start_[slot_cell_[p] + 1];
+        std::partial_sum(start_.begin(), start_.end(), start_.begin());
         fill_.assign(start_.begin(), start_.end() - 1);
         previous_.swap(members_);
+        previous_cell_.swap(slot_cell_);
         members_.resize(n);
+        slot_cell_.resize(n);
         for (std::size_t p = 0; p < n; ++p) {
-            const std::size_t i = previous_[p];
-            const std::size_t slot = fill_[cell_of_[i]]++;
+            const std::size_t i = previous_[p], k = previous_cell_[p];
+            const std::size_t slot = fill_[k]++;
             members_[slot] = i;
+            slot_cell_[slot] = k;
             slot_[i] = slot;
             for (int c = 0; c < D; ++c) sorted_[c][slot] = x[c][i];
         }
@@ -401,7 +460,7 @@ public:
     template <class F>
     void visit(std::size_t i, F&& f) const {
         std::array<long, D> home;
-        std::size_t k = cell_of_[i];
+        std::size_t k = slot_cell_[slot_[i]];
         for (int c = 0; c < D; ++c) {
             home[c] = static_cast<long>(k % static_cast<std::size_t>(count_[c]));
             k /= static_cast<std::size_t>(count_[c]);
@@ -529,9 +588,16 @@ private:
         for (int c = 0; c < D; ++c) aliased_ = aliased_ || (reach_.domain.is_periodic() && count_[c] < 3);
     }
 
-    std::size_t coordinate(double v, int c) const {
-        const long k = static_cast<long>((v - origin_[c]) / side_[c]);
-        return static_cast<std::size_t>(std::clamp(k, 0L, count_[c] - 1));
+    std::size_t cell(const Positions<D>& x, std::size_t i) const {
+        std::size_t k = 0;
+        for (int c = D - 1; c >= 0; --c) k = k * static_cast<std::size_t>(count_[c]) + coordinate(x[c][i], c);
+        return k;
+    }
+
+    std::size_t coordinate(double v, int c) const { return coordinate(v, origin_[c], side_[c], count_[c]); }
+    static std::size_t coordinate(double v, double origin, double side, long count) {
+        const long k = static_cast<long>((v - origin) / side);
+        return static_cast<std::size_t>(std::clamp(k, 0L, count - 1));
     }
 
     static constexpr std::size_t copy_chunk = 8;
@@ -540,7 +606,10 @@ private:
     std::array<long, D> count_{};
     bool aliased_ = false;  // a periodic side of fewer than 3 cells
     bool order_kept_ = false;
-    std::vector<std::size_t> start_, fill_, cell_of_, members_, previous_, slot_;  // slot_ inverts members_
+    bool first_ = true;  // the update under way is the first (or the particle count changed)
+    std::vector<std::size_t> start_, fill_, members_, previous_, slot_;  // slot_ inverts members_
+    // The cell of each slot's particle (previous_cell_: of the order before a new sort).
+    std::vector<std::size_t> slot_cell_, previous_cell_;
     std::array<std::vector<double>, D> sorted_;
 };
 
