@@ -5,6 +5,7 @@
 #include "rounding.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace mollify::gen {
 
@@ -16,6 +17,41 @@ void set_coefficients(RoundedTerm& t, std::vector<double> c, std::vector<double>
     t.c = std::move(c);
     t.exact = std::move(exact);
     if (!std::all_of(c_lo.begin(), c_lo.end(), [](double x) { return x == 0; })) t.c_lo = std::move(c_lo);
+}
+
+// table::Term::plain of a Taylor piece: the most leading Horner steps of
+// Precision::accurate that may run in plain double arithmetic. After P
+// such steps (the coefficients a_{n-1} .. a_K, K = n - 1 - P, their low
+// parts dropped) the sum is off by at most (gamma_{2P} + u) sum_{k >= K}
+// |a_k| |v|^(k-K) (Higham, "Accuracy and Stability", 2nd ed., eq. 5.3:
+// Horner's rule, here two roundings a step where there is no FMA; u for
+// the dropped low parts), which enters f times |v|^K r^low S^s_power <=
+// rho^K lo^min(low, 0) (S <= 1, r <= 1): P is the largest with that below
+// 2^-66 of the piece's scale, the reference of its truncation bound (2^-60).
+// Every quantity is positive, so the bound in long double (64-bit
+// significands, a relative error below 2^-57 over these few hundred
+// operations) times 1 + 2^-40 is an upper bound of the exact one.
+int plain_steps(const CentredPiece& p, const std::vector<double>& a) {
+    const int n = static_cast<int>(a.size());
+    if (n < 3) return 0;
+    using L = long double;
+    const L margin = 1 + std::ldexp(L{1}, -40), u = std::ldexp(L{1}, -53);
+    const Q reach = std::max(boost::multiprecision::abs(p.lo - p.centre), boost::multiprecision::abs(p.hi - p.centre));
+    const L rho = static_cast<L>(reach.convert_to<double>()) * margin;
+    const L scale = static_cast<L>(p.scale.convert_to<double>()) / margin;
+    const L factor = p.low < 0 ? std::pow(static_cast<L>(p.lo.convert_to<double>()) / margin, static_cast<L>(p.low)) : L{1};
+    if (!(rho > 0) || !(scale > 0) || !std::isfinite(factor)) return 0;
+    // tail[K] = sum_{k >= K} |a_k| (1 + 2^-52) rho^k (a_k within 2^-53 of its double)
+    std::vector<L> tail(static_cast<std::size_t>(n) + 1, L{0});
+    for (int k = n - 1; k >= 0; --k)
+        tail[static_cast<std::size_t>(k)] =
+            tail[static_cast<std::size_t>(k) + 1] + std::abs(static_cast<L>(a[static_cast<std::size_t>(k)])) * (1 + 2 * u) * std::pow(rho, static_cast<L>(k));
+    for (int P = n - 2; P >= 1; --P) {
+        const L gamma = 2 * P * u / (1 - 2 * P * u);
+        const L bound = factor * (gamma + u) * tail[static_cast<std::size_t>(n - 1 - P)] * margin;
+        if (bound <= std::ldexp(scale, -66)) return P;
+    }
+    return 0;
 }
 
 // The one term of a Taylor piece: sum_k a_k v^k, v = r - centre
@@ -34,6 +70,7 @@ RoundedTerm centred_term(const CentredPiece& p, double hi) {
     set_coefficients(t, a, std::move(a_lo), std::move(exact));
     t.centre = round_to_double(p.centre);
     t.centre_lo = low_part(p.centre, t.centre);
+    t.plain = plain_steps(p, a);
     return t;
 }
 

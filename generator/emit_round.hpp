@@ -29,6 +29,7 @@ struct RoundedTerm {
     // c's exact values where they are constants q pi^e log p (nullopt for a
     // Taylor piece's coefficients): for writers that keep them (--target python).
     std::vector<std::optional<Exact>> exact_value{};
+    int plain = 0;  // table::Term::plain
 };
 
 struct RoundedPiece {

@@ -68,8 +68,8 @@ public:
 
 private:
     // A table::Term initialiser, its members named in declaration order;
-    // the defaulted ones (centre, centre_lo, c_lo, edge_lo) are written only
-    // where they differ from their default, a +0.0 double or nullptr.
+    // the defaulted ones (centre, centre_lo, c_lo, edge_lo, plain) are written
+    // only where they differ from their default, a +0.0 double, nullptr or 0.
     std::string term(const std::string& cname, const RoundedTerm& t) {
         const std::string c_lo = coefficients(cname, t);
         auto optional = [](const char* member, double x) {
@@ -80,7 +80,8 @@ private:
                ", .edge = " + double_text(t.edge) + ", .edge_power = " + std::to_string(t.edge_power) +
                ", .low = " + std::to_string(t.low) + ", .c = " + cname + ", .n = " + std::to_string(t.c.size()) +
                optional("centre", t.centre) + optional("centre_lo", t.centre_lo) +
-               (c_lo == "nullptr" ? std::string() : ", .c_lo = " + c_lo) + optional("edge_lo", t.edge_lo) + "}";
+               (c_lo == "nullptr" ? std::string() : ", .c_lo = " + c_lo) + optional("edge_lo", t.edge_lo) +
+               (t.plain ? ", .plain = " + std::to_string(t.plain) : std::string()) + "}";
     }
 
     // A term's coefficients (correctly rounded, the exact value beside each)

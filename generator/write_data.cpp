@@ -2,9 +2,9 @@
 // everything its table::Kernel holds, for programs that load tables at run
 // time (include/mollify/table_file.hpp) instead of compiling them.
 //
-// Format (version 1). Lines of fields separated by one space; every double
+// Format (version 2; version 1 had no "plain"). Lines of fields separated by one space; every double
 // is a C99 hex-float ("%a": exact, e.g. 0x1.3b2075224955ap+2, -0x0p+0, inf).
-//   mollify-table 1
+//   mollify-table 2
 //   generator <the generator's version>    (the rest of the line)
 //   spec <canonical spec>                  (the rest of the line)
 //   dim <D>
@@ -23,7 +23,8 @@
 //   term <basis> <s_power> <var> <edge> <edge_lo> <edge_power> <low> <centre> <centre_lo> <n> <c_0> ... <c_n-1> <low parts>
 // with <basis> a table::basis_name, <var> a table::var_name, and <low
 // parts> either "-" (table::Term::c_lo = nullptr: the c_k are exact) or the
-// n doubles c_lo_0 ... c_lo_n-1; and last
+// n doubles c_lo_0 ... c_lo_n-1, then "plain <k>" where table::Term::plain
+// is k > 0; and last
 //   end
 #include "write_data.hpp"
 
@@ -48,6 +49,7 @@ void write_term(std::string& out, const RoundedTerm& t) {
     for (double c : t.c) out += " " + hex(c);
     if (t.c_lo.empty()) out += " -";
     for (double c : t.c_lo) out += " " + hex(c);
+    if (t.plain) out += " plain " + std::to_string(t.plain);
     out += "\n";
 }
 
@@ -55,7 +57,7 @@ void write_term(std::string& out, const RoundedTerm& t) {
 
 std::string kernel_data(const KernelFacts& f, const std::vector<std::optional<std::vector<RoundedPiece>>>& tables) {
     const ExactKernel& k = f.kernel;
-    std::string out = "mollify-table 1\n";
+    std::string out = "mollify-table 2\n";
     out += "generator mollify-gen " + generator_version() + "\n";
     out += "spec " + f.spec + "\n";
     out += "dim " + std::to_string(k.dim) + "\n";

@@ -86,11 +86,17 @@ double horner(const double* c, int n, double v) {
     return sum;
 }
 
-// compensated_horner over run-time coefficients.
-DoubleDouble compensated_horner(const double* c, const double* lo, int n, bool exact, double v, double dv) {
+// compensated_horner over run-time coefficients, the first `plain` steps
+// plain (table::Term::plain).
+DoubleDouble compensated_horner(const double* c, const double* lo, int n, bool exact, double v, double dv, int plain = 0) {
     if (n == 1) return {c[0], lo[0]};
-    double sum = c[n - 1], error = lo[n - 1], slope = 0;
-    for (int k = n - 2; k >= 0; --k) {
+    double sum = c[n - 1], error = plain > 0 ? 0.0 : lo[n - 1], slope = 0;
+    int k = n - 2;
+    for (; k >= n - 1 - plain; --k) {
+        slope = mul_add(slope, v, sum);
+        sum = mul_add(sum, v, c[k]);
+    }
+    for (; k >= 0; --k) {
         slope = mul_add(slope, v, sum);
         const DoubleDouble product = two_product(sum, v);
         const DoubleDouble s = two_sum(product.hi, c[k]);
@@ -207,10 +213,10 @@ DoubleDouble accurate_polynomial(const TermPlan& t, const Scaled& a) {
     if (t.n == 1) return {t.c[0], t.c_lo[0]};
     if (t.var == table::Var::shifted) {
         const DoubleDouble v = shifted_dd(a, t.centre, t.centre_lo);
-        return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, v.hi, v.lo);
+        return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, v.hi, v.lo, t.plain);
     }
-    if (t.var == table::Var::r) return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.q, a.dq);
-    return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.q * a.q, a.dq2);
+    if (t.var == table::Var::r) return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.q, a.dq, t.plain);
+    return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.q * a.q, a.dq2, t.plain);
 }
 
 DoubleDouble accurate_term(const TermPlan& t, const Scaled& a, const DoubleDouble& factor) {
@@ -864,18 +870,26 @@ void factor_block(const TermPlan& t, const AccurateBlock& a, DDs& f) {
 }
 
 void compensated_horner_block(const double* c, const double* lo, int n, bool exact, const double* v, const double* dv,
-                              DDs& out) {
+                              DDs& out, int plain = 0) {
     if (n == 1) {
         for (std::size_t i = 0; i < B; ++i) out.hi[i] = c[0], out.lo[i] = lo[0];
         return;
     }
-    if (n <= fixed_length) {
+    if (n <= fixed_length && plain == 0) {
         (exact ? compensated_exact_of : compensated_inexact_of)[static_cast<std::size_t>(n - 2)](c, lo, v, dv, out);
         return;
     }
     double sum[B], error[B], slope[B];
-    for (std::size_t i = 0; i < B; ++i) sum[i] = c[n - 1], error[i] = lo[n - 1], slope[i] = 0;
-    for (int k = n - 2; k >= 0; --k) {
+    for (std::size_t i = 0; i < B; ++i) sum[i] = c[n - 1], error[i] = plain > 0 ? 0.0 : lo[n - 1], slope[i] = 0;
+    int k = n - 2;
+    for (; k >= n - 1 - plain; --k) {
+        const double ck = c[k];
+        for (std::size_t i = 0; i < B; ++i) {
+            slope[i] = mul_add(slope[i], v[i], sum[i]);
+            sum[i] = mul_add(sum[i], v[i], ck);
+        }
+    }
+    for (; k >= 0; --k) {
         const double ck = c[k], lk = lo[k];
         for (std::size_t i = 0; i < B; ++i) {
             slope[i] = mul_add(slope[i], v[i], sum[i]);
@@ -902,7 +916,7 @@ void accurate_polynomial_block(const TermPlan& t, const AccurateBlock& a, DDs& o
             v[i] = a.q[i] * a.q[i], dv[i] = a.dq2[i];
         }
     }
-    compensated_horner_block(t.c, t.c_lo.data(), t.n, t.exact, v, dv, out);
+    compensated_horner_block(t.c, t.c_lo.data(), t.n, t.exact, v, dv, out, t.plain);
 }
 
 // How a fused term's value joins its piece: the piece's only term, rounded

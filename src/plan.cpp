@@ -32,9 +32,9 @@ bool continues(const table::Term& s, const table::Term& t) {
 }
 
 // A term the fused loops can take: Basis::one, no power of q, no Taylor
-// variable, a non-negative edge power.
+// variable, a non-negative edge power, every Horner step compensated.
 bool fusable(const TermPlan& t) {
-    return t.basis == table::Basis::one && t.low == 0 && t.var != table::Var::shifted && t.edge_power >= 0;
+    return t.basis == table::Basis::one && t.low == 0 && t.var != table::Var::shifted && t.edge_power >= 0 && t.plain == 0;
 }
 
 // Its shape is s's, low parts aside (variable, edge, length, edge power).
@@ -71,6 +71,7 @@ TermPlan term_plan(const table::Term& t, const table::Term* previous) {
         p.c_lo[static_cast<std::size_t>(k)] = t.c_lo ? t.c_lo[k] : 0.0;
         p.exact = p.exact && p.c_lo[static_cast<std::size_t>(k)] == 0;
     }
+    p.plain = t.plain;
     p.has_factor = t.edge_power != 0 || t.low != 0 || t.basis == table::Basis::sqrt_power;
     p.continues = previous && continues(*previous, t);
     p.step = p.continues ? t.edge_power - previous->edge_power : 0;
@@ -126,7 +127,7 @@ bool singular_at_origin(const PiecePlan& first) {
 bool same_term(const TermPlan& a, const TermPlan& b) {
     if (a.basis != b.basis || a.s_power != b.s_power || a.var != b.var || a.edge != b.edge || a.edge_lo != b.edge_lo ||
         a.edge_power != b.edge_power || a.low != b.low || a.n != b.n || a.centre != b.centre ||
-        a.centre_lo != b.centre_lo || a.continues || b.continues)
+        a.centre_lo != b.centre_lo || a.plain != b.plain || a.continues || b.continues)
         return false;
     return std::equal(a.c, a.c + a.n, b.c) && a.c_lo == b.c_lo;
 }

@@ -33,6 +33,7 @@ struct TermPlan {
     // edge, length, edge power; Precision::fast reads no low parts and
     // fuses continuing terms too), or -1.
     int fast_shape = -1;
+    int plain = 0;  // table::Term::plain: its leading plain steps (Precision::accurate)
 };
 
 struct PiecePlan {

@@ -135,6 +135,11 @@ table::Term term(Reader& r, TableFile::Storage& s) {
         for (int k = 0; k < t.n; ++k) lo.push_back(r.number("a low part c_lo_k (or '-')"));
         t.c_lo = stored(s, std::move(lo));
     }
+    if (r.peek() == "plain") {
+        r.field("plain");
+        t.plain = r.integer("plain");
+        if (t.plain < 0 || t.plain > t.n - 2) r.bad("plain = " + std::to_string(t.plain) + " is outside 0..n - 2");
+    }
     r.done();
     return t;
 }
@@ -197,7 +202,8 @@ TableFile TableFile::parse(const std::string& text, const std::string& origin) {
     Reader r(text, origin);
     r.line("mollify-table");
     const std::string version = r.field("the format version");
-    if (version != "1") r.bad("format version '" + version + "' is not 1 (a newer mollify-gen wrote it?)");
+    if (version != "1" && version != "2")
+        r.bad("format version '" + version + "' is not 1 or 2 (a newer mollify-gen wrote it?)");
     r.done();
     r.line("generator");
     s->spec = r.line("spec");

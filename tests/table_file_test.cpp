@@ -179,8 +179,12 @@ TEST(TableFile, MovingKeepsTheTableValid) {
 TEST(TableFile, BadFilesFailNamingFileLineAndValue) {
     const std::string good = box_d1_text();
     ASSERT_NO_THROW(TableFile::parse(good, "good.table"));
+    // Version 1 (before table::Term::plain) is read as well.
+    ASSERT_NE(good.find("mollify-table 2\n"), std::string::npos);
+    EXPECT_NO_THROW(TableFile::parse(replaced(good, "mollify-table 2", "mollify-table 1"), "v1.table"));
     const std::vector<std::pair<std::string, std::string>> cases = {
-        {replaced(good, "mollify-table 1", "mollify-table 7"), "format version '7'"},
+        {replaced(good, "mollify-table 2", "mollify-table 7"), "format version '7'"},
+        {replaced(good, " -\n", " - plain 5\n"), "plain = 5 is outside 0..n - 2"},
         {replaced(good, "dim 1", "dim 4"), "bad.table:4: dimension 4"},
         {replaced(good, "dim 1", "dim one"), "'one' is not an integer"},
         {replaced(good, "quantity dr", "quantity d2r"), "quantity 'd2r' where 'dr' was expected"},

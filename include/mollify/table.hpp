@@ -71,6 +71,13 @@ struct Term {
     // to ~2^-106 (Precision::accurate); nullptr: c is exact.
     const double* c_lo = nullptr;
     double edge_lo = 0;
+    // Precision::accurate: the first `plain` Horner steps (the highest
+    // coefficients, from c[n - 1] down to c[n - 1 - plain]) in plain double
+    // arithmetic, their low parts unused, the rest compensated. Set by the
+    // generator where it proves those steps' rounding below 2^-66 of the
+    // piece's scale (a Taylor piece's terms fall geometrically, so only its
+    // last steps carry the error); 0: every step compensated.
+    int plain = 0;
 };
 
 struct Piece {

@@ -118,6 +118,7 @@ struct Coefficients {
     double c[capacity]{}, lo[capacity]{};
     std::size_t n = 0;
     bool exact = true;  // every lo is 0
+    int plain = 0;      // table::Term::plain
     constexpr void push(double hi, double low) {
         c[n] = hi;
         lo[n] = low;
@@ -145,6 +146,7 @@ inline constexpr Coefficients term_coefficients = [] {
     static_assert(t.n <= static_cast<int>(Coefficients::capacity));
     Coefficients out;
     for (int k = 0; k < t.n; ++k) out.push(t.c[k], low_at<t.c_lo>(k));
+    out.plain = t.plain;
     return out;
 }();
 
@@ -165,9 +167,13 @@ struct HornerSums {
 // large unit (the treecode's) GCC left the lambda a call, and a call in
 // the batch loop kept it from vectorising (mollifier:M=4's potential and
 // phi'/r together, Precision::accurate: 24 against 100 ns per pair).
-template <bool Exact>
+template <bool Exact, bool Plain = false>
 MOLLIFY_INLINE void compensated_step(HornerSums& h, double v, double c, double c_lo) {
     h.slope = mul_add(h.slope, v, h.sum);
+    if constexpr (Plain) {  // a leading step of table::Term::plain
+        h.sum = mul_add(h.sum, v, c);
+        return;
+    }
     const DoubleDouble product = two_product(h.sum, v);
     const DoubleDouble s = two_sum(product.hi, c);
     h.sum = s.hi;
@@ -184,12 +190,14 @@ MOLLIFY_INLINE void compensated_step(HornerSums& h, double v, double c, double c
 // the Wendland polynomials of degree 8 and unbounded near a root of p).
 // The coefficients' own low parts (table::Term::c_lo) enter the second
 // recurrence, and the derivative p'(v) dv, by a plain Horner recurrence,
-// removes the rounding dv of v itself.
+// removes the rounding dv of v itself. The first C.plain steps (a Taylor
+// piece's highest coefficients, where the generator proves it harmless)
+// are plain Horner steps.
 template <const Coefficients& C, std::size_t... I>
 MOLLIFY_INLINE DoubleDouble compensated_horner(double v, double dv, std::index_sequence<I...>) {
     constexpr std::size_t n = C.n;
-    HornerSums h{C.c[n - 1], C.lo[n - 1], 0.0};
-    (compensated_step<C.exact>(h, v, C.c[n - 2 - I], C.lo[n - 2 - I]), ...);
+    HornerSums h{C.c[n - 1], C.plain > 0 ? 0.0 : C.lo[n - 1], 0.0};
+    (compensated_step<C.exact, (static_cast<int>(I) < C.plain)>(h, v, C.c[n - 2 - I], C.lo[n - 2 - I]), ...);
     return {h.sum, mul_add(h.slope, dv, h.error)};
 }
 

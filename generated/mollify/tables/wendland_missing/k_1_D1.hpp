@@ -94,7 +94,7 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.4b845645ac615p+12, 0x1.fed241cd918b5p+15, 0x1.b1a200e834dbcp+18, 0x1.e03cc261f9aaep+19,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.bde7acf97c44ap-1,  // 14294532/9765625 * pi^-1 + (63849793/97656250 * pi^-1) * log(7)
@@ -151,7 +151,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.19eafbf62537ap-14, 0x1.c8948908c6532p-10, -0x1.23c92ad6e02d7p-12, 0x1.760e6ac5b0846p-7,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 32},
 };
 inline constexpr double value_3_0[] = {
     0x1.556569b4a96f5p-2,  // -9022650/1419857 * pi^-1 + (128880640/24137569 * pi^-1) * log(4)
@@ -212,7 +212,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.c4551fb26bcbap-32, -0x1.9e5767cebf9cbp-31, -0x1.d90a16f9918bdp-30,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 34},
 };
 inline constexpr double value_4_0[] = {
     0x1.677ec15f85b32p-5,  // -478976862/20511149 * pi^-1 + (15248800000/594823321 * pi^-1) * log(5/2)
@@ -269,7 +269,7 @@ inline constexpr double value_4_0_lo[] = {
     -0x1.d396a7a372aa3p-21, -0x1.cbfe886e1194cp-21, 0x1.84a46fb3b82b3p-20, -0x1.18ea7eaa1805ep-17,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 32},
 };
 inline constexpr double value_5_0[] = {
     0x1.21bb945252402p-1,  // 16/9 * pi^-1
@@ -745,7 +745,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.5ba1b39a8c9a9p+29,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 33},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.9c001782de0a6p+1,  // -2219112/78125 * pi^-1 + (18360447/1953125 * pi^-1) * log(7)
@@ -802,7 +802,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.2febbe7225502p-5, 0x1.d4b023a41ab94p-4, 0x1.d3f0c9107790bp-1, -0x1.8e055d20589d2p-2,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 32},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.17ce60a0e38eep+1,  // -5922000/83521 * pi^-1 + (65587200/1419857 * pi^-1) * log(4)
@@ -863,7 +863,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.72dffd00e580cp-26, -0x1.ecdd3e278f078p-25, -0x1.dbab6530f9083p-26,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 34},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.23a5b1d67003p-1,  // -101165400/707281 * pi^-1 + (3161760000/20511149 * pi^-1) * log(5/2)
@@ -919,7 +919,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.ac21b240bbac1p-16, -0x1.327cbb5a954cbp-15, 0x1.e9a235a0b2b8ep-12,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 31},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.45f306dc9c883p+2,  // -16 * pi^-1
@@ -1382,7 +1382,7 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.1f812f7ddf096p+59, -0x1.1908a1686d96p+62, -0x1.d0fa299889945p+66,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 31},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.4aea08f7b6871p+3,  // -13365828/122825 * pi^-1 + (62139441/2088025 * pi^-1) * log(13)
@@ -1438,7 +1438,7 @@ inline constexpr double d2r_2_0_lo[] = {
     -0x1.225ffa6016d99p+31, -0x1.1284611ce064bp+33, 0x1.1b18deb991a18p+35,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 31},
 };
 inline constexpr double d2r_3_0[] = {
     -0x1.d893ada155f82p+0,  // -9258354/54925 * pi^-1 + (55888896/714025 * pi^-1) * log(8)
@@ -1494,7 +1494,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.9e4e8dade0dc9p+9, -0x1.1a029e6b03243p+10, -0x1.af5dcafdc9086p+12,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 31},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.90d4d701f513dp+2,  // -656460/2197 * pi^-1 + (5651625/28561 * pi^-1) * log(5)
@@ -1556,7 +1556,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.0f108951fd045p-8, 0x1.76170ee3bafcfp-14, 0x1.303bcd80488b2p-8, 0x1.c661d8bb476f2p-5,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 34},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.d7d0608f8b3c3p+2,  // -13748/25 * pi^-1 + (13041/25 * pi^-1) * log(3)
@@ -1617,7 +1617,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.316784e9d1c4ap-16, -0x1.4f99eb4bd8fbcp-14, -0x1.b4a220d53eaa9p-15,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 43, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 43, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 34},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.c701990f0507cp+1,  // -266923440/389017 * pi^-1 + (25115561625/28398241 * pi^-1) * log(11/5)
@@ -1657,7 +1657,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.5b26c77077cafp-19, 0x1.b706dee5db9ep-19,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 26, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 26, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 20},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.1d34a60108f72p+5,  // 112 * pi^-1
@@ -2115,7 +2115,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.1f812f7ddf096p+59, -0x1.1908a1686d96p+62, -0x1.d0fa299889945p+66,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.4aea08f7b6871p+3,  // -13365828/122825 * pi^-1 + (62139441/2088025 * pi^-1) * log(13)
@@ -2171,7 +2171,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.225ffa6016d99p+31, -0x1.1284611ce064bp+33, 0x1.1b18deb991a18p+35,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.d893ada155f82p+0,  // -9258354/54925 * pi^-1 + (55888896/714025 * pi^-1) * log(8)
@@ -2227,7 +2227,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.9e4e8dade0dc9p+9, -0x1.1a029e6b03243p+10, -0x1.af5dcafdc9086p+12,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.90d4d701f513dp+2,  // -656460/2197 * pi^-1 + (5651625/28561 * pi^-1) * log(5)
@@ -2289,7 +2289,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     0x1.0f108951fd045p-8, 0x1.76170ee3bafcfp-14, 0x1.303bcd80488b2p-8, 0x1.c661d8bb476f2p-5,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 34},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.d7d0608f8b3c3p+2,  // -13748/25 * pi^-1 + (13041/25 * pi^-1) * log(3)
@@ -2350,7 +2350,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.316784e9d1c4ap-16, -0x1.4f99eb4bd8fbcp-14, -0x1.b4a220d53eaa9p-15,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 43, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 43, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 34},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.c701990f0507cp+1,  // -266923440/389017 * pi^-1 + (25115561625/28398241 * pi^-1) * log(11/5)
@@ -2390,7 +2390,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.5b26c77077cafp-19, 0x1.b706dee5db9ep-19,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 26, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 26, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 20},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.1d34a60108f72p+5,  // 112 * pi^-1
@@ -2852,7 +2852,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.57dcf08b8a84fp+26, -0x1.733e7f2a04c4dp+29, 0x1.99efe60d8d801p+29, 0x1.0b988f95b9d26p+28,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.6fdb82b4d8894p+3,  // -317016/3125 * pi^-1 + (2622921/78125 * pi^-1) * log(7)
@@ -2909,7 +2909,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.0fcbcdfdb755p+0, 0x1.a8b39e8d52e3cp-2, 0x1.aa3d6be0cf012p+4, -0x1.3635f279d5f6p+4,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.294b46aaf1c7dp+2,  // -740250/4913 * pi^-1 + (8198400/83521 * pi^-1) * log(4)
@@ -2969,7 +2969,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.5fc53817b0311p-24, -0x1.3dcb8a4f17981p-22,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 42, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 42, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.a6e3751088d13p-1,  // -5058270/24389 * pi^-1 + (158088000/707281 * pi^-1) * log(5/2)
@@ -3025,7 +3025,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.b9e8b5887ea02p-17, 0x1.6fc4bbe2237ap-19, -0x1.f19432f1fed69p-15,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.45f306dc9c883p+2,  // -16 * pi^-1
@@ -3487,7 +3487,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.1661a05d44fafp+73, -0x1.87dd96df58f73p+78,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo, .plain = 28},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.297c661305df4p+8,  // -21168/17 * pi^-1 + (1227996/1445 * pi^-1) * log(13)
@@ -3542,7 +3542,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.90b199c12ee1bp+45, 0x1.d203f59cb835p+49,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 38, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 38, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo, .plain = 28},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.703b9d41a4c94p+7,  // -15876/13 * pi^-1 + (731304/845 * pi^-1) * log(8)
@@ -3596,7 +3596,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.5913a9364078ap+16,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 37, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 37, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo, .plain = 27},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.6fc50605a1c63p+6,  // -15120/13 * pi^-1 + (152460/169 * pi^-1) * log(5)
@@ -3655,7 +3655,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.3f9a9b89e629bp+3,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 41, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 41, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.9c3f3882367e9p+4,  // -1008 * pi^-1 + (4956/5 * pi^-1) * log(3)
@@ -3714,7 +3714,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.7bb91d02b4565p-18,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo, .plain = 32},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.1d34a60108f72p+5,  // 112 * pi^-1
@@ -4221,7 +4221,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.edef12f728d13p-32, -0x1.d7692610d82a2p-30,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 38, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 38, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 31},
 };
 inline constexpr double potential_2_0[] = {
     0x1.103c64c704294p-2,  // 520927019775/1174711139837 * pi^-1 + (4855767648256/62259690411361 * pi^-1) * log(7/2) + (28/53 * pi^-1) * arcsin(28/53)
@@ -4277,7 +4277,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.d259c226b2a92p-56, -0x1.bc52009c56783p-51, 0x1.49cf65518f9e6p-57,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 39, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 39, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 31},
 };
 inline constexpr double potential_3_0[] = {
     0x1.72d30fc606ad7p-2,  // 21458752325/206998515708 * pi^-1 + (4228355531421/8003942607376 * pi^-1) * log(7/3) + (21/29 * pi^-1) * arcsin(21/29)
@@ -4329,7 +4329,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.c112f2e0861e5p-36, -0x1.3b60b45ff913cp-34, -0x1.67a57e36a3e88p-33, 0x1.96201becb0ec8p-32,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 30},
 };
 inline constexpr double potential_4_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
@@ -5251,7 +5251,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.8446500de7c2ep-27, -0x1.04810379160f7p-24, 0x1.9fd20b94c87bcp-25,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.e9f1abab64c9dp-2,  // -3814946100/22164361129 * pi^-1 + (1048954719232/1174711139837 * pi^-1) * log(7/2) + (1 * pi^-1) * arcsin(28/53)
@@ -5307,7 +5307,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.037da16987f5ep-47, 0x1.87a64850da8c2p-52, -0x1.2fb6fad0e55ap-45,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 39, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 39, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.fe83bb27b40a9p-2,  // -1789013450/594823321 * pi^-1 + (153264058227/34499752618 * pi^-1) * log(7/3) + (1 * pi^-1) * arcsin(21/29)
@@ -5359,7 +5359,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.053bba02f8dc6p-29, 0x1.e029e5f1d8f24p-36, -0x1.43cce1751e7d6p-27, -0x1.57f3031ec4e18p-25,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo, .plain = 30},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -6295,7 +6295,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.49b7191e2bb9cp-21, 0x1.e13c3a31380a8p-23, 0x1.07d8b80abb6fcp-21,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.cfb2702fed1a7p-1,  // -136248075/418195493 * pi^-1 + (37462668544/22164361129 * pi^-1) * log(7/2) + (53/28 * pi^-1) * arcsin(28/53)
@@ -6351,7 +6351,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.5def143db250ap-43, -0x1.86f21bded0fap-42, -0x1.519228e03cfd3p-42,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 39, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 39, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.607f87524575p-1,  // -255573350/61533447 * pi^-1 + (7298288487/1189646642 * pi^-1) * log(7/3) + (29/21 * pi^-1) * arcsin(21/29)
@@ -6403,7 +6403,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.d3a49b0cece03p-30, -0x1.0110f075e50ep-29, 0x1.715e9a0687d1fp-26, -0x1.e6357ad9aa9dcp-25,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 29},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -7345,7 +7345,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.bc357e5bb1266p-3, -0x1.45e7d80a5ff3bp-1, 0x1.441183d1933dp-1, 0x1.5fc50a86dc71fp-2,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 44, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 44, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_hess_radial_1_0_lo, .plain = 36},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.39fe90fa15af2p+1,  // -4057891875/116719568 * pi^-1 + (194209344/7890481 * pi^-1) * log(7/2) + (-148877/21952 * pi^-1) * arcsin(28/53)
@@ -7404,7 +7404,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.b8bca004a3bf1p-30,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_hess_radial_2_0_lo, .plain = 33},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.42d5e48553579p+0,  // -458674000/10755549 * pi^-1 + (34071219/707281 * pi^-1) * log(7/3) + (-24389/9261 * pi^-1) * arcsin(21/29)
@@ -7456,7 +7456,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.4493766d2f287p-23, 0x1.436e4481ae019p-22, 0x1.85724f1c8b4e9p-21, -0x1.b3f306eeae508p-20,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 29},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1p-1,  // -1/2

@@ -94,7 +94,7 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.f14681688292p+12, -0x1.80e24ea5d2d78p+16, -0x1.758cfea3b0b66p+18, -0x1.4be9371b425ffp+21,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.4e6dc1bb1d338p+0,  // 21441798/9765625 * pi^-1 + (191549379/195312500 * pi^-1) * log(7)
@@ -151,7 +151,7 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.9647e183b20b2p-12, 0x1.59bd9b1a52f97p-11, -0x1.b5adc04250443p-12, 0x1.88ad014446349p-10,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 32},
 };
 inline constexpr double value_3_0[] = {
     0x1.000c0f477f138p-1,  // -13533975/1419857 * pi^-1 + (193320960/24137569 * pi^-1) * log(4)
@@ -212,7 +212,7 @@ inline constexpr double value_3_0_lo[] = {
     0x1.acc0283a2f274p-31, 0x1.c93e7224f04a8p-30, 0x1.3a70dd89a5ae4p-30,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 34},
 };
 inline constexpr double value_4_0[] = {
     0x1.0d9f1107a4465p-4,  // -718465293/20511149 * pi^-1 + (22873200000/594823321 * pi^-1) * log(5/2)
@@ -269,7 +269,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.429e048ad400cp-21, 0x1.4e02335ae5a0fp-21, -0x1.6e42561c9aefdp-18, 0x1.2d5021006dfbap-16,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 32},
 };
 inline constexpr double value_5_0[] = {
     0x1.b2995e7b7b604p-1,  // 8/3 * pi^-1
@@ -745,7 +745,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.825ca359f4b9fp+31,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 33},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.350011a22687cp+2,  // -3328668/78125 * pi^-1 + (55081341/3906250 * pi^-1) * log(7)
@@ -802,7 +802,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.c0f312a6403e5p-8, 0x1.afc20d5d8a058p-2, 0x1.7bd25b3166b2p-2, 0x1.6abdfd13dec51p+0,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 32},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.a3b590f155566p+1,  // -8883000/83521 * pi^-1 + (98380800/1419857 * pi^-1) * log(4)
@@ -863,7 +863,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.627fdc0ac208dp-29, -0x1.71a5ee9dab45ap-24, -0x1.64c08be4bac62p-25,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 34},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.b5788ac1a8048p-1,  // -151748100/707281 * pi^-1 + (4742640000/20511149 * pi^-1) * log(5/2)
@@ -919,7 +919,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.a08ca2d846608p-14, 0x1.8d1139be08034p-13, 0x1.bce6a0e2182aap-13,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 31},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
@@ -1382,7 +1382,7 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.af41c73cce8ep+59, 0x1.2d3986f1adcf8p+63, -0x1.5cbb9f32672f4p+67,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 31},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.f05f0d7391caap+3,  // -20048742/122825 * pi^-1 + (186418323/4176050 * pi^-1) * log(13)
@@ -1438,7 +1438,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.26380437eedcdp+32, -0x1.9bc691ab50971p+33, -0x1.95d6ac7a69637p+37,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 31},
 };
 inline constexpr double d2r_3_0[] = {
     -0x1.626ec239007a1p+1,  // -13887531/54925 * pi^-1 + (83833344/714025 * pi^-1) * log(8)
@@ -1494,7 +1494,7 @@ inline constexpr double d2r_3_0_lo[] = {
     0x1.928a2b7b2eb53p+9, -0x1.a703eda084b65p+10, -0x1.4386583e56c64p+13,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 31},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.2c9fa14177ceep+3,  // -984690/2197 * pi^-1 + (16954875/57122 * pi^-1) * log(5)
@@ -1556,7 +1556,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.9698cdfafb867p-8, 0x1.18914b2acc3dbp-13, 0x1.390b36880d9a1p-5, -0x1.566d3ae714d96p-5,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 34},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.61dc486ba86d2p+3,  // -20622/25 * pi^-1 + (39123/50 * pi^-1) * log(3)
@@ -1617,7 +1617,7 @@ inline constexpr double d2r_5_0_lo[] = {
     -0x1.af25c50a2ac89p-19, 0x1.1323e1c750cbep-19, 0x1.5c4333b0088p-13,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 43, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 43, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 34},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.554132cb43c5dp+2,  // -400385160/389017 * pi^-1 + (75346684875/56796482 * pi^-1) * log(11/5)
@@ -1657,7 +1657,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.17456516760e3p-24, -0x1.5b5d6c69cda4cp-17,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 26, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 26, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 20},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.abcef9018d72bp+5,  // 168 * pi^-1
@@ -2114,7 +2114,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.220b6e68c47ddp+60, 0x1.d5a4b746f2b5bp+63,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.4bb005745386bp+5,  // -34731396/122825 * pi^-1 + (620794629/10440125 * pi^-1) * log(13)
@@ -2170,7 +2170,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.09c82418525b8p+32, -0x1.65f1713458fp+35, 0x1.1caa090d0618bp+36,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.6459ba50cb342p+4,  // -21678678/54925 * pi^-1 + (557512704/3570125 * pi^-1) * log(8)
@@ -2225,7 +2225,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.13cdd446ef53ap+10, -0x1.9a59b14ec58c4p+8,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 38, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 38, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 30},
 };
 inline constexpr double laplacian_4_0[] = {
     -0x1.9cc97979a0d01p+0,  // -1402380/2197 * pi^-1 + (11237625/28561 * pi^-1) * log(5)
@@ -2286,7 +2286,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     0x1.e8aabde71a471p-7, -0x1.c25707121777ap-8, 0x1.e5c940ed42b95p-6,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 43, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 43, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 33},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.067e87030184dp+3,  // -27636/25 * pi^-1 + (128709/125 * pi^-1) * log(3)
@@ -2348,7 +2348,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.3562db244952fp-15, 0x1.f8858cc28987ap-15, 0x1.5e592e8dbfe19p-16, 0x1.478fad77f1057p-11,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 35},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.308de89a8cd0cp+2,  // -526342320/389017 * pi^-1 + (49270307625/28398241 * pi^-1) * log(11/5)
@@ -2389,7 +2389,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     -0x1.eb112b6e45827p-18, -0x1.1e3157812b539p-17, 0x1.e5497ee4e3683p-15,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 21},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.abcef9018d72bp+5,  // 168 * pi^-1
@@ -2851,7 +2851,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.e5b468a7e3b86p+19, 0x1.d3224140f8d8cp+29, 0x1.3373ec8a2a201p+30, 0x1.9164d76096bb9p+28,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.13e4a207a266fp+4,  // -475524/3125 * pi^-1 + (7868763/156250 * pi^-1) * log(7)
@@ -2908,7 +2908,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.34272581b6804p+1, 0x1.13e86b6e9fe2bp+3, 0x1.3fae10e89b40ep+5, -0x1.d150ebb6c0f11p+4,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.bdf0ea006aabcp+2,  // -1110375/4913 * pi^-1 + (12297600/83521 * pi^-1) * log(4)
@@ -2968,7 +2968,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.07d3ea11c424dp-23, -0x1.3b9629eed46c8p-19,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 42, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 42, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.3d2a97cc669cep+0,  // -7587405/24389 * pi^-1 + (237132000/707281 * pi^-1) * log(5/2)
@@ -3024,7 +3024,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.ad245df66842p-14, 0x1.13d38ce99a9b8p-18, -0x1.2ea5e4c6afe42p-11,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
@@ -3486,7 +3486,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.34324e117cef1p+76, -0x1.25e6312782b96p+79,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo, .plain = 28},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.be3a991c88cedp+8,  // -31752/17 * pi^-1 + (1841994/1445 * pi^-1) * log(13)
@@ -3541,7 +3541,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.69bd66578e6b6p+47, 0x1.760be0d6289efp+48,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 38, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 38, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo, .plain = 28},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.142cb5f13b96fp+8,  // -23814/13 * pi^-1 + (1096956/845 * pi^-1) * log(8)
@@ -3595,7 +3595,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.02cebee8b05a7p+17,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 37, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 37, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo, .plain = 27},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.13d3c4843954ap+7,  // -22680/13 * pi^-1 + (228690/169 * pi^-1) * log(5)
@@ -3654,7 +3654,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.df67e94ed93e9p+3,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 41, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 41, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.352f6a61a8defp+5,  // -1512 * pi^-1 + (7434/5 * pi^-1) * log(3)
@@ -3713,7 +3713,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     0x1.b8cd4a8f7e2fdp-15,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo, .plain = 32},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.abcef9018d72bp+5,  // 168 * pi^-1
@@ -4221,7 +4221,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.a4f313529f029p-34, -0x1.41b688e06c4e3p-32, 0x1.2b3634df215b6p-33,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 31},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.944ad33abc1f6p-4,  // -97321466281455/131567647661744 * pi^-1 + (74413867422561/124519380822722 * pi^-1) * log(7/2) + (1/2 * pi^-1) * log(28/53)
@@ -4277,7 +4277,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.c6eec765c4cc2p-54, -0x1.7a99472105e91p-50, -0x1.60359e2cc0e9p-54,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 39, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 39, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 31},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.a40056f63707ap-5,  // -7605065839955/7727944586432 * pi^-1 + (148787765784233/128063081718016 * pi^-1) * log(7/3) + (1/2 * pi^-1) * log(21/29)
@@ -4329,7 +4329,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.4089af156e35cp-42, 0x1.314ea6a75fb5cp-35, 0x1.3c68a845a4112p-35, 0x1.0934cdadf7dbdp-34,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 29},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5146,7 +5146,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.c60278de4162dp-26, 0x1.963505ec8f79dp-24, -0x1.a9d91e6f3b1efp-23, -0x1.6d38202d012bdp-20,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.0e72c0b83f83ap-2,  // -88565673986/155150527903 * pi^-1 + (1313301669120/1174711139837 * pi^-1) * log(7/2)
@@ -5203,7 +5203,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.95c13a3e2ed58p-45, 0x1.5dc0542adaeb5p-49, 0x1.7f828bd56672bp-45, 0x1.7d75e4625d4a1p-45,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.bd64368bc03dfp-3,  // -134430212163/33310105976 * pi^-1 + (3074286607245/551996041888 * pi^-1) * log(7/3)
@@ -5257,7 +5257,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.76c8612668242p-22,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo, .plain = 30},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5727,7 +5727,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.be0b17af26b9bp-15, 0x1.aaa5d66d997ep-13,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 42, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 42, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo, .plain = 34},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.ffeb7f139ccb7p-2,  // -44282836993/40983158314 * pi^-1 + (46903631040/22164361129 * pi^-1) * log(7/2)
@@ -5784,7 +5784,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.9f7dd4a405becp-44, -0x1.91a3d34608c22p-42, -0x1.bf4c282583c0dp-42, -0x1.e5010bf125a54p-43,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.33883e0b294f6p-2,  // -44810070721/8040370408 * pi^-1 + (146394600345/19034346272 * pi^-1) * log(7/3)
@@ -5838,7 +5838,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.c88632946f7d1p-22,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 30},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6316,7 +6316,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.e3d770b89a809p+61,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 45},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.508ff9c913c6cp+2,  // -491832487/15006250 * pi^-1 + (10441263/1250000 * pi^-1) * log(7)
@@ -6385,7 +6385,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.bea6765eaafb5p+19,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 41},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.7980314dbb523p+1,  // -431035249/10061824 * pi^-1 + (2022720/83521 * pi^-1) * log(4)
@@ -6454,7 +6454,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     -0x1.ada64e082cab6p-15,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 40},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.3e1ad92a7b0eep+0,  // -3276946037/60972500 * pi^-1 + (38472000/707281 * pi^-1) * log(5/2)
@@ -6509,7 +6509,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     -0x1.5d2b86a7aba78p-21, -0x1.8496a475647b5p-21,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 38, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 38, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 31},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -94,7 +94,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.1d4aaf2d6075ep+16, 0x1.f5ebb325589a2p+14, 0x1.eb2e6d6b4287fp+20, -0x1.04cdd853a6a11p+19,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 32},
 };
 inline constexpr double value_2_0[] = {
     0x1.322ddc7771851p+1,  // -47082713184/6103515625 * pi^-2 + (785962548/48828125 * pi^-2) * log(7)
@@ -153,7 +153,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.fd9dace3b34fap-2,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 33},
 };
 inline constexpr double value_3_0[] = {
     0x1.66e3512f7599cp-1,  // -75246634800/410338673 * pi^-2 + (3313336320/24137569 * pi^-2) * log(4)
@@ -215,7 +215,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.964229a44eaa9p-29, 0x1.4af3579174b76p-29, 0x1.558c8cf7c12dfp-29, -0x1.befafb032cfc6p-26,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 34},
 };
 inline constexpr double value_4_0[] = {
     0x1.ef2fb3d9edfdap+0,  // -1985843987815568/88253338509 * pi^-2 + (45551159699200000/1853320108689 * pi^-2) * log(5/2)
@@ -302,7 +302,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.3c712676505c3p-42, -0x1.5e8df660bc542p-42, -0x1.01f9105923687p-40, 0x1.671842165492bp-40,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 56},
 };
 inline constexpr double value_5_0[] = {
     0x1.2dd39bbbc33bap+0,  // 128/11 * pi^-2
@@ -752,7 +752,7 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.3a8d1bda7ed2dp+33, -0x1.eadd585066bd4p+35,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 34},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.6f7e7a729bf8p+3,  // -138976133184/244140625 * pi^-2 + (457592184/1953125 * pi^-2) * log(7)
@@ -811,7 +811,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.a802a410b6dccp+4,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 32},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.73d8ec7d5899fp+2,  // -42372892800/24137569 * pi^-2 + (1739243520/1419857 * pi^-2) * log(4)
@@ -873,7 +873,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.aff06f9b44ea1p-25, 0x1.b0121e414b631p-22, -0x1.f8a1414c44732p-21, 0x1.cbb09f29e98eep-20,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 34},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.ca0f4154a55bbp-1,  // -2450187956160/594823321 * pi^-2 + (92010240000/20511149 * pi^-2) * log(5/2)
@@ -930,7 +930,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.efb5d69a4f25dp-18, -0x1.277d80bed2f2dp-15, 0x1.23c95625f1387p-14, -0x1.9e74e6aed8f72p-12,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 32},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.9f02f6222c72p+3,  // -128 * pi^-2
@@ -1407,7 +1407,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.300e4b86d82b6p+63, -0x1.5f8d8e1e375afp+66, 0x1.c2d836c0f96d3p+69,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 31},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.fd5c89c1703c2p+4,  // -9679649146272/4437053125 * pi^-2 + (1520136072/2088025 * pi^-2) * log(13)
@@ -1463,7 +1463,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.02f1c24b3bbaap+33, 0x1.3c0d20b48167ep+37, -0x1.c5d5cd4eee4fdp+40,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 31},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.e5a8be323fcc1p+2,  // -4668814143504/1160290625 * pi^-2 + (1407393792/714025 * pi^-2) * log(8)
@@ -1519,7 +1519,7 @@ inline constexpr double d2r_3_0_lo[] = {
     0x1.3d02fc67a9aaap+9, -0x1.430e77c9a7b8ap+12, 0x1.2d7f0ad028071p+14,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 30},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.0667f71b8edbap+5,  // -3047266656/371293 * pi^-2 + (151389000/28561 * pi^-2) * log(5)
@@ -1581,7 +1581,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.512b040621368p-5, 0x1.f210b2dc868e2p-4, -0x1.75a9ef7d77192p-3, -0x1.a3cf60450861bp-3,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 34},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.49172929556acp+4,  // -53559072/3125 * pi^-2 + (394632/25 * pi^-2) * log(3)
@@ -1643,7 +1643,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.05463cf2f499dp-19, 0x1.d605618f27568p-17, -0x1.b990577aa189cp-16, -0x1.1311388d7e5ebp-14,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 35},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.79403d9c237ep+2,  // -47845950735744/2073071593 * pi^-2 + (833369229000/28398241 * pi^-2) * log(11/5)
@@ -1684,7 +1684,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.817d1795c969ep-22, -0x1.690e0d359e573p-26, 0x1.ce5e031f43026p-17,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 21},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.d2e354e672004p+6,  // 1152 * pi^-2
@@ -2148,7 +2148,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.5bc193c1c4dc3p+63, 0x1.cb57147cb17b4p+67,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.5d36209f30f6cp+7,  // -21392772873696/4437053125 * pi^-2 + (12610221624/10440125 * pi^-2) * log(13)
@@ -2204,7 +2204,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.fab41993ccc12p+33, -0x1.4e8653ae0eaa3p+37, 0x1.966bae03eae84p+41,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.64d69716d5c74p+6,  // -8858493210672/1160290625 * pi^-2 + (11596161024/3570125 * pi^-2) * log(8)
@@ -2260,7 +2260,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     0x1.3504efe33610cp+11, -0x1.ade29c76fb10cp+13, -0x1.8812b130592d8p+15,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 30},
 };
 inline constexpr double laplacian_4_0[] = {
     -0x1.594b47ad47823p+4,  // -1015654003/41472 * pi^-2 + (7506874375/497664 * pi^-2) * log(5)
@@ -2329,7 +2329,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     0x1.da6e9a139ebcfp+5,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 49, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 49, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 38},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.9c400c80b44d8p+3,  // -85440096/3125 * pi^-2 + (3125304/125 * pi^-2) * log(3)
@@ -2394,7 +2394,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.7be1512b7e7a2p-14, 0x1.d5f7ca2007239p-14,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.3c1680b921965p+2,  // -74534212271232/2073071593 * pi^-2 + (1296710415000/28398241 * pi^-2) * log(11/5)
@@ -2436,7 +2436,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.a238c11f5643bp-21, -0x1.418b3a7bb4b13p-20, 0x1.0f3cdf4aa88aap-17, -0x1.43f9bd28016cfp-16,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 22},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.d2e354e672004p+6,  // 1152 * pi^-2
@@ -2915,7 +2915,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.a7d472baa1ea1p+37,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.481ea42f78f8ep+5,  // -19853733312/9765625 * pi^-2 + (65370312/78125 * pi^-2) * log(7)
@@ -2972,7 +2972,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.9b2618d685f93p+0, 0x1.2b923c6bb2c2ep+1, -0x1.8d5802091d77cp+7, -0x1.1b2918fb41745p+6,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.8b167b452e239p+3,  // -5296611600/1419857 * pi^-2 + (217405440/83521 * pi^-2) * log(4)
@@ -3033,7 +3033,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     -0x1.4345b302eb34bp-18, 0x1.5c2b42356fe99p-17, -0x1.770abaed773d2p-20,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.4c17dc2a2b15ap+0,  // -122509397808/20511149 * pi^-2 + (4600512000/707281 * pi^-2) * log(5/2)
@@ -3090,7 +3090,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.fffa8bbb56c6cp-17, -0x1.18e8011135dd2p-16, -0x1.7fc31eff17026p-15, -0x1.406914f1c9a8ap-13,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.9f02f6222c72p+3,  // -128 * pi^-2
@@ -3566,7 +3566,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.289af874bb5acp+112, -0x1.3ddd741ba73e1p+118, 0x1.b82a122decb43p+119, -0x1.a34cc65c09d47p+119,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = hess_radial_1_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.6a0c2ed0c0a67p+11,  // -1132352282880/30664297 * pi^-2 + (1993955040/97969 * pi^-2) * log(25)
@@ -3623,7 +3623,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.ce5ade15e7f4bp+82, -0x1.8efbcc671b9c8p+85, 0x1.c7248516290a1p+90, 0x1.77dee706bc079p+93,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = hess_radial_2_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.c6fbf28380e23p+10,  // -281758932000/7645373 * pi^-2 + (806097600/38809 * pi^-2) * log(14)
@@ -3680,7 +3680,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.6cba1ee12f3acp+53, 0x1.4d8ec01b91a3fp+52, -0x1.1783133d7d4a6p+56, -0x1.cbe26106c2724p+61,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = hess_radial_3_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.ce016af9efcf9p+9,  // -2010917664/54925 * pi^-2 + (18583488/845 * pi^-2) * log(8)
@@ -3735,7 +3735,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     0x1.c6ddaf18ff156p+23, 0x1.4bfe0cda8bc9ap+26,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 38, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 38, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_4_0_lo, .plain = 28},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.7640d25fe6092p+8,  // -78986880/2197 * pi^-2 + (4163040/169 * pi^-2) * log(5)
@@ -3795,7 +3795,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     0x1.f558f4d148a09p+6, 0x1.7d8d4139c6e88p+8,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 42, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 42, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_5_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.43553e16cda18p+8,  // -20409375/128 * pi^-2 + (75796875/512 * pi^-2) * log(3)
@@ -3870,7 +3870,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.988475d976bb4p-11, 0x1.c8f0b5f2fd34ap-11,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 54, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 54, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_6_0_lo, .plain = 44},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.673ac81a1097fp+3,  // -11405560320/389017 * pi^-2 + (198908640/5329 * pi^-2) * log(11/5)
@@ -3911,7 +3911,7 @@ inline constexpr double hess_radial_7_0_lo[] = {
     -0x1.ab375bcfa60cbp-23, -0x1.4362d02cc8795p-19, 0x1.4e8ab2592fe18p-19,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_7_0_lo, .plain = 21},
 };
 inline constexpr double hess_radial_8_0[] = {
     0x1.d2e354e672004p+6,  // 1152 * pi^-2
@@ -4387,7 +4387,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.d5f4c2ee1939bp-30, 0x1.62ff1e25a9e32p-29, -0x1.cbb04e86618a2p-26,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 31},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.2ea1a7ff62dbfp-3,  // -17811510525566595/6599527183604266 * pi^-2 + (87829326807040/62259690411361 * pi^-2) * log(7/2) + (-53/56 * pi^-2) * arcsin(28/53)
@@ -4444,7 +4444,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.4149b21443456p-50, 0x1.6f6769dafecb5p-50, -0x1.708c996c3dd6bp-53, -0x1.eaef8e13f8825p-49,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 31},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.c1e24db67affp-4,  // -390656272405480/43521437927607 * pi^-2 + (9979317008955/1000492825922 * pi^-2) * log(7/3) + (-29/42 * pi^-2) * arcsin(21/29)
@@ -4499,7 +4499,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.3da5fd395902fp-37, -0x1.fa0788a50f3a9p-31,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 31},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5388,7 +5388,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.b820df2ea3f3ep+26,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 45, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 45, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo, .plain = 38},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.320e052faa86p-2,  // -547198025508/5340576171875 * pi^-2 + (779374204/1220703125 * pi^-2) * log(7) + (625/98 * pi^-2) * arcsin(7/25)
@@ -5448,7 +5448,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.ef0380149e959p-11, -0x1.504ee6a9a7065p-11,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo, .plain = 34},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.12e063b27e877p-2,  // -1223987013135/111612119056 * pi^-2 + (3702784000/410338673 * pi^-2) * log(4) + (289/128 * pi^-2) * arcsin(8/17)
@@ -5512,7 +5512,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.7a143b315cff8p-33,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.50157e0f1962fp-3,  // -1203839537832981/20009856518440 * pi^-2 + (1148032000000/17249876309 * pi^-2) * log(5/2) + (841/800 * pi^-2) * arcsin(20/29)
@@ -5569,7 +5569,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     0x1.d8c6cc7cffb46p-31, 0x1.d79e3fdd18252p-29, -0x1.8d11e19e4bb9p-27, -0x1.9aa37d9ba5993p-26,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6489,7 +6489,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.b1a47633364dap+28, 0x1.786c044edcdc9p+34, -0x1.123c2c879e387p+37,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo, .plain = 40},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.1143600f21656p+0,  // -547198025508/1495361328125 * pi^-2 + (111339172/48828125 * pi^-2) * log(7) + (15625/686 * pi^-2) * arcsin(7/25)
@@ -6553,7 +6553,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.af526992568dp+0,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.240e69eda66ffp-1,  // -1223987013135/52523350144 * pi^-2 + (462848000/24137569 * pi^-2) * log(4) + (4913/1024 * pi^-2) * arcsin(8/17)
@@ -6618,7 +6618,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.e8fc89af21d69p-31, 0x1.498aa9a27c829p-27,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.e7525d2f7e691p-3,  // -1203839537832981/13799901047200 * pi^-2 + (57401600000/594823321 * pi^-2) * log(5/2) + (24389/16000 * pi^-2) * arcsin(20/29)
@@ -6674,7 +6674,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.518fd1d6a7caap-31, -0x1.00c003b99a42ep-31, 0x1.311ddf974a95p-27,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -7603,7 +7603,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.d92d32bcc72f1p+66, 0x1.0fede689a3c91p+68,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 54, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 54, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 46},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.4ab9d25354716p+3,  // -9893670653556/117236328125 * pi^-2 + (9223368/78125 * pi^-2) * log(7) + (-29296875/33614 * pi^-2) * arcsin(7/25)
@@ -7673,7 +7673,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.61037c44d57c2p+22, 0x1.860ba4c142a9dp+23,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 50, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 50, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 41},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.23fb190ca3754p+2,  // -5959608214995/11631468544 * pi^-2 + (30074880/83521 * pi^-2) * log(4) + (-4259571/65536 * pi^-2) * arcsin(8/17)
@@ -7744,7 +7744,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.7d79ed29376efp-14, -0x1.7293aca2f156bp-12, -0x1.2574b8e29b1b8p-12,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 41},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.6254f31d3abb5p+0,  // -5303540366046657/6563567680000 * pi^-2 + (618816000/707281 * pi^-2) * log(5/2) + (-61533447/6400000 * pi^-2) * arcsin(20/29)
@@ -7800,7 +7800,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.e140e7637be6bp-24, 0x1.043c9f08e2369p-23, 0x1.d3988c73b87adp-21,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 32},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1

@@ -94,7 +94,7 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.699bbfb7239a6p+14, -0x1.e9d4356994b7cp+17, 0x1.a3691a2dd653dp+19, 0x1.6d376b7012bb6p+21,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 32},
 };
 inline constexpr double value_2_0[] = {
     0x1.ab81b9612df49p-1,  // -5231412576/6103515625 * pi^-1 + (87329172/48828125 * pi^-1) * log(7)
@@ -153,7 +153,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.a149aaf1b428ep-4,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 33},
 };
 inline constexpr double value_3_0[] = {
     0x1.f51a248fcc549p-3,  // -8360737200/410338673 * pi^-1 + (368148480/24137569 * pi^-1) * log(4)
@@ -215,7 +215,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.a66148dffca87p-34, 0x1.8f257e75d9a7bp-33, 0x1.66a1dc6e8939fp-29, 0x1.b1285d4f65d92p-28,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 34},
 };
 inline constexpr double value_4_0[] = {
     0x1.59b48d41ac159p-1,  // -1985843987815568/794280046581 * pi^-1 + (45551159699200000/16679880978201 * pi^-1) * log(5/2)
@@ -302,7 +302,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.0d4b8aed31ddep-44, 0x1.b412772a53c41p-42, -0x1.d34e70947fb03p-42, -0x1.bec850471c556p-41,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 56},
 };
 inline constexpr double value_5_0[] = {
     0x1.a56def03605d5p-2,  // 128/99 * pi^-1
@@ -752,7 +752,7 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.597621c40c516p+32, -0x1.a475663ad6986p+31,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 34},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.008f2b06c30fbp+2,  // -15441792576/244140625 * pi^-1 + (50843576/1953125 * pi^-1) * log(7)
@@ -811,7 +811,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.1756482d41e7ep+3,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 32},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.039932a23815ep+1,  // -4708099200/24137569 * pi^-1 + (193249280/1419857 * pi^-1) * log(4)
@@ -873,7 +873,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.c012febf20242p-25, 0x1.ad68e2a22838p-25, -0x1.cf8e14ea7921ep-26, 0x1.61230a3a1b1d1p-21,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 34},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.3fc9321f728a3p-2,  // -272243106240/594823321 * pi^-1 + (10223360000/20511149 * pi^-1) * log(5/2)
@@ -930,7 +930,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.b05d5caa6f101p-19, 0x1.53e9c91f3d428p-23, 0x1.c8254b5162c2fp-16, 0x1.1cc844b5133e1p-14,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 32},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.21bb945252402p+2,  // -128/9 * pi^-1
@@ -1407,7 +1407,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.2bac51a8e6efep+61, 0x1.80f2f5ed5dabp+64, 0x1.fa603653e5ca2p+67,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 31},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.6399f4f93198fp+3,  // -1075516571808/4437053125 * pi^-1 + (168904008/2088025 * pi^-1) * log(13)
@@ -1463,7 +1463,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.e352304e46986p+32, -0x1.ba16da1fce1f8p+35, 0x1.4facc0463efb3p+36,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 31},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.530dd636ff417p+1,  // -518757127056/1160290625 * pi^-1 + (156377088/714025 * pi^-1) * log(8)
@@ -1519,7 +1519,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.91fee6e519347p+8, 0x1.47be832ffaf79p+11, -0x1.b2bd28d810ce9p+11,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 30},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.6e63577deea7ep+3,  // -338585184/371293 * pi^-1 + (16821000/28561 * pi^-1) * log(5)
@@ -1581,7 +1581,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.c8aad89e76875p-10, -0x1.82a058af63aa9p-7, 0x1.55944b7d08b64p-4, 0x1.cf77935127c35p-3,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 34},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.cb7f3a3003cf7p+2,  // -5951008/3125 * pi^-1 + (43848/25 * pi^-1) * log(3)
@@ -1643,7 +1643,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.25abe23d19cfcp-19, 0x1.65dc3da7e11e5p-22, -0x1.5e31e91c73ff3p-17, 0x1.e02e6f177efe1p-17,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 35},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.075eef66121a5p+1,  // -5316216748416/2073071593 * pi^-1 + (92596581000/28398241 * pi^-1) * log(11/5)
@@ -1684,7 +1684,7 @@ inline constexpr double d2r_6_0_lo[] = {
     -0x1.5041f620bbf48p-22, 0x1.5fba266c3f5p-21, -0x1.dc050707a4ed5p-19,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 21},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.45f306dc9c883p+5,  // 128 * pi^-1
@@ -2149,7 +2149,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.2bac51a8e6efep+61, 0x1.80f2f5ed5dabp+64, 0x1.fa603653e5ca2p+67,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.6399f4f93198fp+3,  // -1075516571808/4437053125 * pi^-1 + (168904008/2088025 * pi^-1) * log(13)
@@ -2205,7 +2205,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.e352304e46986p+32, -0x1.ba16da1fce1f8p+35, 0x1.4facc0463efb3p+36,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_3_0[] = {
     0x1.530dd636ff417p+1,  // -518757127056/1160290625 * pi^-1 + (156377088/714025 * pi^-1) * log(8)
@@ -2261,7 +2261,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.91fee6e519347p+8, 0x1.47be832ffaf79p+11, -0x1.b2bd28d810ce9p+11,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 30},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.6e63577deea7ep+3,  // -338585184/371293 * pi^-1 + (16821000/28561 * pi^-1) * log(5)
@@ -2323,7 +2323,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.c8aad89e76875p-10, -0x1.82a058af63aa9p-7, 0x1.55944b7d08b64p-4, 0x1.cf77935127c35p-3,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 34},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.cb7f3a3003cf7p+2,  // -5951008/3125 * pi^-1 + (43848/25 * pi^-1) * log(3)
@@ -2385,7 +2385,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.25abe23d19cfcp-19, 0x1.65dc3da7e11e5p-22, -0x1.5e31e91c73ff3p-17, 0x1.e02e6f177efe1p-17,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 35},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.075eef66121a5p+1,  // -5316216748416/2073071593 * pi^-1 + (92596581000/28398241 * pi^-1) * log(11/5)
@@ -2426,7 +2426,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     -0x1.5041f620bbf48p-22, 0x1.5fba266c3f5p-21, -0x1.dc050707a4ed5p-19,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 21},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.45f306dc9c883p+5,  // 128 * pi^-1
@@ -2898,7 +2898,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.514fe2d9162edp+34,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.ca243a8c132e5p+3,  // -2205970368/9765625 * pi^-1 + (7263368/78125 * pi^-1) * log(7)
@@ -2955,7 +2955,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.f74d13def2aa8p+2, -0x1.967c656c3cd8ap+2, 0x1.a020b6c939a5cp+4, 0x1.5fa190b8ae2eep+5,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.13d2c5cc5b974p+2,  // -588512400/1419857 * pi^-1 + (24156160/83521 * pi^-1) * log(4)
@@ -3016,7 +3016,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     -0x1.e34fab3176ca9p-21, 0x1.c1139e2a5c5ep-25, -0x1.769b42994c93fp-19,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.cfb088ad99487p-2,  // -13612155312/20511149 * pi^-1 + (511168000/707281 * pi^-1) * log(5/2)
@@ -3073,7 +3073,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.ae40d6a9f7324p-18, -0x1.e72164062263cp-18, 0x1.12cbc7dea2121p-16, -0x1.a6f55cdab0e5dp-15,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.21bb945252402p+2,  // -128/9 * pi^-1
@@ -3549,7 +3549,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.40c0c9889055p+112, -0x1.9ba1b231e6424p+116, -0x1.3a29d1c917007p+120, 0x1.eb5cf544968cfp+124,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = hess_radial_1_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.f983884ec7ac9p+9,  // -125816920320/30664297 * pi^-1 + (221550560/97969 * pi^-1) * log(25)
@@ -3606,7 +3606,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.183de2b559d26p+81, -0x1.7e3c3fa2077a8p+84, 0x1.0b21ce28b5f8bp+87, -0x1.f09ed72dd3d29p+91,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = hess_radial_2_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.3da38d1bb2de7p+9,  // -31306548000/7645373 * pi^-1 + (89566400/38809 * pi^-1) * log(14)
@@ -3663,7 +3663,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.b3f4c442d9b66p+49, -0x1.7019e2df8bbb1p+54, -0x1.6fb4695e8ee1ap+57, 0x1.23690f2a1a463p+59,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = hess_radial_3_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.428a6c212add2p+8,  // -223435296/54925 * pi^-1 + (2064832/845 * pi^-1) * log(8)
@@ -3718,7 +3718,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.d4d58e915a444p+22, -0x1.16ff723cad2cdp+24,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 38, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 38, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_4_0_lo, .plain = 28},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.05472cfa87538p+7,  // -8776320/2197 * pi^-1 + (462560/169 * pi^-1) * log(5)
@@ -3778,7 +3778,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.774c778aa0893p+4, 0x1.6d4a53bb2774ep+6,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 42, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 42, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_5_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.c3753fca7fa52p+6,  // -6803125/384 * pi^-1 + (8421875/512 * pi^-1) * log(3)
@@ -3853,7 +3853,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     0x1.0cae2e7af12c4p-15, 0x1.86529077dc608p-13,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 54, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 54, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_6_0_lo, .plain = 44},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.f594442dc8f2fp+1,  // -1267284480/389017 * pi^-1 + (22100960/5329 * pi^-1) * log(11/5)
@@ -3894,7 +3894,7 @@ inline constexpr double hess_radial_7_0_lo[] = {
     -0x1.cd69db93ca34dp-23, 0x1.7aa1624e44c9ep-21, 0x1.ed7fa54d6259dp-19,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_7_0_lo, .plain = 21},
 };
 inline constexpr double hess_radial_8_0[] = {
     0x1.45f306dc9c883p+5,  // 128 * pi^-1
@@ -4369,7 +4369,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.41c94fd65693dp-30, -0x1.977eef44f0885p-29,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 38, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 38, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 30},
 };
 inline constexpr double potential_2_0[] = {
     0x1.0f53642d2dfa9p-2,  // 874919263564200/3299763591802133 * pi^-1 + (40735151177728/186779071234083 * pi^-1) * log(7/2) + (28/53 * pi^-1) * arcsin(28/53)
@@ -4425,7 +4425,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.d30a17073413fp-54, 0x1.d8c25ad23357p-51, -0x1.07ff705855d84p-52,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 39, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 39, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 31},
 };
 inline constexpr double potential_3_0[] = {
     0x1.72c70aed71126p-2,  // -293484786457850/391692941348463 * pi^-1 + (1535528041677/1000492825922 * pi^-1) * log(7/3) + (21/29 * pi^-1) * arcsin(21/29)
@@ -4477,7 +4477,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.68c2f619f2e45p-40, 0x1.e1fd32f8fd829p-41, -0x1.899341b163e7p-36, 0x1.4874a7e571f08p-35,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 36, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 30},
 };
 inline constexpr double potential_4_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
@@ -5427,7 +5427,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.a46a9dac24f13p-23, 0x1.c84514621f1p-22, 0x1.09cb2894b293dp-21,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.f3cc623bfdfbbp-2,  // -136857093439500/62259690411361 * pi^-1 + (2977118298112/1174711139837 * pi^-1) * log(7/2) + (1 * pi^-1) * arcsin(28/53)
@@ -5484,7 +5484,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.feafa37e7a51bp-45, 0x1.c680aa971a0f3p-47, 0x1.a52418326cab3p-44, 0x1.868b693135554p-43,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.ff81e5be644f6p-2,  // -5231403299500/500246412961 * pi^-1 + (228366591516/17249876309 * pi^-1) * log(7/3) + (1 * pi^-1) * arcsin(21/29)
@@ -5538,7 +5538,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.8195ad7894bf2p-27,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo, .plain = 30},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -6390,7 +6390,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.68d6d841138ebp-21, -0x1.992bf0b161bf6p-21, -0x1.d6f6db9094b55p-16,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.d906018b10608p-1,  // -4887753337125/1174711139837 * pi^-1 + (106325653504/22164361129 * pi^-1) * log(7/2) + (53/28 * pi^-1) * arcsin(28/53)
@@ -6447,7 +6447,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.351bc5dc09907p-44, -0x1.496b9f9177f76p-41, -0x1.5667961e12bf5p-40, 0x1.cdabeac12388ap-40,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.612f064069d54p-1,  // -747343328500/51749628927 * pi^-1 + (10874599596/594823321 * pi^-1) * log(7/3) + (29/21 * pi^-1) * arcsin(21/29)
@@ -6501,7 +6501,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.a8546231829b5p-27,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 30},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -7357,7 +7357,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.54f0e759e581ep+45, -0x1.81f25b2f6d9abp+48, -0x1.042532a6efb11p+48,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 39},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.ab209d67c27dap+2,  // -20885868504/478515625 * pi^-1 + (1429624/78125 * pi^-1) * log(7) + (-15625/343 * pi^-1) * arcsin(7/25)
@@ -7421,7 +7421,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.64cf8a801f218p+11,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 36},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.bc6fe4bf830d2p+1,  // -7554351825/90870848 * pi^-1 + (4634624/83521 * pi^-1) * log(4) + (-4913/512 * pi^-1) * arcsin(8/17)
@@ -7486,7 +7486,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.11499dc322bb7p-18, 0x1.52842a5479071p-25,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 37},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.7b04c4112d41cp+0,  // -1024133978259/8204459600 * pi^-1 + (94553600/707281 * pi^-1) * log(5/2) + (-24389/8000 * pi^-1) * arcsin(20/29)
@@ -7541,7 +7541,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.936b7c90c09b6p-25, 0x1.c42980b545707p-25,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 38, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 38, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 31},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2

@@ -94,7 +94,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.aee4963d79f5cp+15, -0x1.ba961a222af61p+17, 0x1.43c15c2d59ad7p+19, -0x1.8bd93d597031ep+22,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 32},
 };
 inline constexpr double value_2_0[] = {
     0x1.68b57469fec66p+0,  // -8828008722/6103515625 * pi^-1 + (589471911/195312500 * pi^-1) * log(7)
@@ -153,7 +153,7 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.fe9d7c40ffd81p-7,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 33},
 };
 inline constexpr double value_3_0[] = {
     0x1.a6ce0ed954676p-2,  // -14108744025/410338673 * pi^-1 + (621250560/24137569 * pi^-1) * log(4)
@@ -215,7 +215,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.1918855f3f4b8p-31, -0x1.d5e70ba9920b5p-29, 0x1.ae9891fd43c8ep-28, -0x1.1285f1450210dp-27,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 34},
 };
 inline constexpr double value_4_0[] = {
     0x1.23b0572f69323p+0,  // -124115249238473/29417779503 * pi^-1 + (2846947481200000/617773369563 * pi^-1) * log(5/2)
@@ -302,7 +302,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.8cdef4e0884cfp-45, -0x1.b0106b744952ap-41, -0x1.6a4a2efd4bbcbp-41, 0x1.9c1bf110005fdp-42,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 56},
 };
 inline constexpr double value_5_0[] = {
     0x1.6394c1aad94ecp-1,  // 24/11 * pi^-1
@@ -752,7 +752,7 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.0deeb1f5a9929p+31, 0x1.b3a79e37cb5dfp+35,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 34},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.b0f1989b692a7p+2,  // -26058024972/244140625 * pi^-1 + (171597069/3906250 * pi^-1) * log(7)
@@ -811,7 +811,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.976199cc5f374p+3,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 32},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.b6128571bea4ep+1,  // -7944917400/24137569 * pi^-1 + (326108160/1419857 * pi^-1) * log(4)
@@ -873,7 +873,7 @@ inline constexpr double dr_3_0_lo[] = {
     0x1.0bdff21d79c3p-25, -0x1.5af80c72e10b9p-28, -0x1.61c7f869758d2p-23, -0x1.ac14debdf23fp-21,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 34},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.0dd1c24a88a4ap-1,  // -459410241780/594823321 * pi^-1 + (17251920000/20511149 * pi^-1) * log(5/2)
@@ -930,7 +930,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.33139d0324a76p-22, 0x1.847b3506c96ecp-16, -0x1.fc8221cd52aep-17, 0x1.1048f9f8c83c6p-13,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 32},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
@@ -1407,7 +1407,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.f9b2c9cd05b4dp+61, -0x1.b33007fb8f7bep+61, -0x1.297da4526c3aep+67,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 31},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.2c09e6b241d91p+4,  // -1814934214926/4437053125 * pi^-1 + (570051027/4176050 * pi^-1) * log(13)
@@ -1463,7 +1463,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.af9ab18417211p+32, -0x1.9a81a4056af54p+37, 0x1.8d9ce11da291fp+38,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 31},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.1e13acbe675f3p+2,  // -875402651907/1160290625 * pi^-1 + (263886336/714025 * pi^-1) * log(8)
@@ -1519,7 +1519,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.d4cbc4b453511p+11, 0x1.29117d60f781cp+11, 0x1.91306589b1d1bp+12,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 30},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.3523d1d2415dap+4,  // -571362498/371293 * pi^-1 + (56770875/57122 * pi^-1) * log(5)
@@ -1581,7 +1581,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.102a04d8b6804p-6, -0x1.e31ba569fe0bfp-5, -0x1.7f95c09d014c8p-4, 0x1.4e19c898f319ap-3,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 34},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.83b3591883371p+3,  // -10042326/3125 * pi^-1 + (147987/50 * pi^-1) * log(3)
@@ -1643,7 +1643,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.7c906e38dc74ep-22, 0x1.52df1d405a5f2p-17, 0x1.710bc69ffc416p-17, 0x1.2a9396dde9933p-15,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 44, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 35},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.bc7033fc3e8c7p+1,  // -8971115762952/2073071593 * pi^-1 + (312513460875/56796482 * pi^-1) * log(11/5)
@@ -1684,7 +1684,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.0890b0a8c2d36p-22, -0x1.b73aef94aa948p-20, 0x1.8e5bc2118cd7dp-18,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 21},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.13050dca2412ep+6,  // 216 * pi^-1
@@ -2149,7 +2149,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.9b61c0db0c421p+62, -0x1.1af451e52efabp+66, 0x1.ddcd0ee55a63fp+69,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.e66a29b5cd075p+5,  // -2913039564372/4437053125 * pi^-1 + (1894772061/10440125 * pi^-1) * log(13)
@@ -2205,7 +2205,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.73387fbaac0e8p+34, 0x1.96c8d3d8c6c0bp+37, -0x1.9fd41a4e5dd64p+39,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.80a16b56f7e62p+4,  // -1268185064454/1160290625 * pi^-1 + (1746855936/3570125 * pi^-1) * log(8)
@@ -2261,7 +2261,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     0x1.f74415aa39c97p+11, -0x1.0a6eccbfeb6a3p+11, 0x1.3ba18e45d0a7fp+15,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 30},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.81fcb72dd7fa7p+2,  // -772473996/371293 * pi^-1 + (37256625/28561 * pi^-1) * log(5)
@@ -2325,7 +2325,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     0x1.1c5d24f3cd12p-2,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 34},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.3b449b2a4963cp+3,  // -13031172/3125 * pi^-1 + (477981/125 * pi^-1) * log(3)
@@ -2389,7 +2389,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     -0x1.1126a0302f1b6p-14,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 35},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.986908becec4cp+1,  // -11473140281904/2073071593 * pi^-1 + (199694966625/28398241 * pi^-1) * log(11/5)
@@ -2430,7 +2430,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.7a80b309d7621p-26, -0x1.decf1d17577bcp-22, -0x1.c1c3be6e5a87p-18,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 21},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.13050dca2412ep+6,  // 216 * pi^-1
@@ -2909,7 +2909,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.dc6c93131aa91p+38,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.828e9166302f1p+4,  // -3722574996/9765625 * pi^-1 + (24513867/156250 * pi^-1) * log(7)
@@ -2966,7 +2966,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.11521188397fcp+2, 0x1.520e14d959527p+2, 0x1.8f8dcd1ce451fp+6, 0x1.5160a437a5ef2p+5,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.d173adc8da8f3p+2,  // -993114675/1419857 * pi^-1 + (40763520/83521 * pi^-1) * log(4)
@@ -3027,7 +3027,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.a834c78e43c51p-20, -0x1.7428bb9462108p-19, -0x1.78260062b139ap-19,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.873cf35279552p-1,  // -22970512089/20511149 * pi^-1 + (862596000/707281 * pi^-1) * log(5/2)
@@ -3084,7 +3084,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.a9f295c12edb3p-18, -0x1.1b042c652d042p-17, -0x1.70481eb84e819p-16, -0x1.b26f832c42a0fp-13,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
@@ -3560,7 +3560,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.15d55f4c6384dp+109, 0x1.84af91a5e5b82p+117, 0x1.96ecb6fe5497ap+121, 0x1.1e966ef1df06fp+125,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = hess_radial_1_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.aa86fb0278799p+10,  // -212316053040/30664297 * pi^-1 + (373866570/97969 * pi^-1) * log(25)
@@ -3617,7 +3617,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.2c74374903c98p+82, -0x1.4282d5b0b64f5p+85, 0x1.616485f25989dp+88, -0x1.f18302c7555cdp+93,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = hess_radial_2_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.0c01ff0f5eebbp+10,  // -52829799750/7645373 * pi^-1 + (151143300/38809 * pi^-1) * log(14)
@@ -3674,7 +3674,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.240a5e99e6138p+52, 0x1.12d45126c4345p+54, -0x1.6c8071cf911cbp+57, 0x1.5782932e18acfp+58,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = hess_radial_3_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.1024cb3bfc2a9p+9,  // -377047062/54925 * pi^-1 + (3484404/845 * pi^-1) * log(8)
@@ -3729,7 +3729,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     0x1.b46bcfb55bd67p+23, 0x1.1498779ccde23p+25,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 38, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 38, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_4_0_lo, .plain = 28},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.b8e81be6c45cep+7,  // -14810040/2197 * pi^-1 + (780570/169 * pi^-1) * log(5)
@@ -3789,7 +3789,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     0x1.a1abbd9184462p+6, 0x1.3436b6a5e94a9p+7,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 42, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 42, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_5_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.7ceaedd2dbb35p+7,  // -61228125/2048 * pi^-1 + (227390625/8192 * pi^-1) * log(3)
@@ -3864,7 +3864,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.075342321120bp-12, -0x1.3b552b0d6f075p-11,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 54, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 7, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 54, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_6_0_lo, .plain = 44},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.a7351986a18dp+2,  // -2138542560/389017 * pi^-1 + (37295370/5329 * pi^-1) * log(11/5)
@@ -3905,7 +3905,7 @@ inline constexpr double hess_radial_7_0_lo[] = {
     0x1.b55d5d769ac6ep-23, 0x1.9f782af20a0a5p-20, 0x1.818ecde52bef2p-20,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 27, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_7_0_lo, .plain = 21},
 };
 inline constexpr double hess_radial_8_0[] = {
     0x1.13050dca2412ep+6,  // 216 * pi^-1
@@ -4381,7 +4381,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.de1e3f1301c05p-29, -0x1.29e65b76d436ap-29, 0x1.858af71a09369p-29,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 31},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.99c0d6d5c1379p-4,  // -372221274261881295/369573522281838896 * pi^-1 + (100581715655521/124519380822722 * pi^-1) * log(7/2) + (1/2 * pi^-1) * log(28/53)
@@ -4438,7 +4438,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.924101f9c628ap-53, -0x1.caca028e1e8dbp-50, 0x1.418fb6e60f88cp-49, 0x1.3349457486f58p-50,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 31},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.a490911d3a4cfp-5,  // -132398928104661595/58492812574703808 * pi^-1 + (342128617032113/128063081718016 * pi^-1) * log(7/3) + (1/2 * pi^-1) * log(21/29)
@@ -4492,7 +4492,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.9dca0dbbb6762p-33,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 30},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5331,7 +5331,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.ac392ce0b2af9p-23, -0x1.18b57d488a87ap-23, -0x1.01609de95adadp-20, 0x1.49e79e28a7e98p-19,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.1d3ad291254e6p-2,  // -1573260531594974/435817832879527 * pi^-1 + (4205547037440/1174711139837 * pi^-1) * log(7/2)
@@ -5390,7 +5390,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.9460b11070c9cp-42,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.c05eb64fd10c4p-3,  // -426110619425283/28013799125816 * pi^-1 + (10357545602565/551996041888 * pi^-1) * log(7/3)
@@ -5445,7 +5445,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.c0f627718815ap-29, 0x1.8513f4e9c33bcp-24,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5916,7 +5916,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.e17fe0a0ba0c7p-13, -0x1.f1d3d27e35968p-12,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 42, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 42, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo, .plain = 34},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.0df31992834ecp-1,  // -786630265797487/115121691704026 * pi^-1 + (150198108480/22164361129 * pi^-1) * log(7/2)
@@ -5973,7 +5973,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.aaad205a7e92dp-43, -0x1.237b882c37314p-42, 0x1.0d28641d99cfcp-40, 0x1.4252fcfd89b89p-40,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.3596bad596701p-2,  // -142036873141761/6761951513128 * pi^-1 + (493216457265/19034346272 * pi^-1) * log(7/3)
@@ -6027,7 +6027,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.c89f3eab8d638p-26,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 30},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6506,7 +6506,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.6460ed920e406p+66,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 45},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.fc5d8fbd9af82p+2,  // -3523177091963/46894531250 * pi^-1 + (32231367/1250000 * pi^-1) * log(7)
@@ -6575,7 +6575,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.3ab40de9b0ap+19,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 40},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.e0ef3b7a5daaep+1,  // -350557948561/2907867136 * pi^-1 + (6552000/83521 * pi^-1) * log(4)
@@ -6644,7 +6644,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.e7c12f69c4d4ep-13,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 39},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.53d71f929e3e4p+0,  // -9136609419617/51277872500 * pi^-1 + (134316000/707281 * pi^-1) * log(5/2)
@@ -6700,7 +6700,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.d733759618d24p-25, -0x1.7d22e9fa6043ap-23, -0x1.dd87c7cc01c6p-23,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 32},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -97,7 +97,7 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.890604c826c26p+25,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.5c5d3f7671bd4p+1,  // -381814357419/6103515625 * pi^-2 + (11218633827093/244140625000 * pi^-2) * log(7)
@@ -156,7 +156,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.0db45f6d7fbd1p-1,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 32},
 };
 inline constexpr double value_3_0[] = {
     0x1.8a7ec38de1624p+1,  // -2792585086998674/961083984375 * pi^-2 + (30532686348279808/14416259765625 * pi^-2) * log(4)
@@ -237,7 +237,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.ac2b753df0ffbp-13, -0x1.129af2c155c11p-13, -0x1.b5f0bc5cb33e3p-14,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 49},
 };
 inline constexpr double value_4_0[] = {
     0x1.e80bdab47bcaap+0,  // -5531552767601379046/38919722282469 * pi^-2 + (126791620204884800000/817314167931849 * pi^-2) * log(5/2)
@@ -329,7 +329,7 @@ inline constexpr double value_4_0_lo[] = {
     -0x1.a38178ba70ad3p-42, -0x1.e7e460b3c83abp-38, -0x1.d0a0bc3191d36p-37, -0x1.1efd76e97b068p-42,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 59},
 };
 inline constexpr double value_5_0[] = {
     0x1.fec8916523027p-1,  // 128/13 * pi^-2
@@ -779,7 +779,7 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.6fc0978939925p+55, 0x1.10d34311a6861p+59, -0x1.5227b3ac7954bp+61,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = dr_1_0_lo, .plain = 32},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.1e4c17ce449bfp+4,  // -165908976469236/377149515625 * pi^-2 + (658164301375581/6411541765625 * pi^-2) * log(13)
@@ -835,7 +835,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.6c03fe48b65a4p+29, -0x1.22fea47d225efp+29, -0x1.d4d346cbbffacp+34,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = dr_2_0_lo, .plain = 31},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.18fe3ed83538cp+4,  // -83834819316864/75418890625 * pi^-2 + (442383839428608/980445578125 * pi^-2) * log(8)
@@ -892,7 +892,7 @@ inline constexpr double dr_3_0_lo[] = {
     0x1.5f691530900bep+5, 0x1.e64c9eb29618cp+8, -0x1.f5d03dd9d748cp+10, 0x1.3936021ae6b1p+11,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = dr_3_0_lo, .plain = 31},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.512078afdc46ap+3,  // -15506055180/4826809 * pi^-2 + (121194005625/62748517 * pi^-2) * log(5)
@@ -956,7 +956,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.1cb575979bdb1p-7,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = dr_4_0_lo, .plain = 35},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.55605d53e9bbep+4,  // -125179621875/1048576 * pi^-2 + (454969659375/4194304 * pi^-2) * log(3)
@@ -1042,7 +1042,7 @@ inline constexpr double dr_5_0_lo[] = {
     0x1.3321b8e3665f4p-23, 0x1.fd7d67c8a1aacp-21, 0x1.783cbfe49eceap-22,
 };
 inline constexpr table::Term dr_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dr_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = dr_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dr_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = dr_5_0_lo, .plain = 54},
 };
 inline constexpr double dr_6_0[] = {
     -0x1.6a6a0a3cc6947p-3,  // -2676301258997520/151334226289 * pi^-2 + (247763172949936875/11047398519097 * pi^-2) * log(11/5)
@@ -1086,7 +1086,7 @@ inline constexpr double dr_6_0_lo[] = {
     0x1.03fefbbe35388p-23,
 };
 inline constexpr table::Term dr_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = dr_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = dr_6_0_lo, .plain = 22},
 };
 inline constexpr double dr_7_0[] = {
     -0x1.9f02f6222c72p+3,  // -128 * pi^-2
@@ -1531,7 +1531,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.07141fbc818cap+97, 0x1.dc253fda0d551p+101, -0x1.be5775b708563p+103, 0x1.d8a6f02cb8f86p+110,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = d2r_1_0_lo, .plain = 33},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.cb1df0b02dbbp+6,  // -8615230146058536/3004150512793 * pi^-2 + (506814225814771875/940299110504209 * pi^-2) * log(25)
@@ -1590,7 +1590,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.3eb794fdb043fp+81,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 41, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 41, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = d2r_2_0_lo, .plain = 33},
 };
 inline constexpr double d2r_3_0[] = {
     -0x1.63bc701b74155p+5,  // -1512270849889800/296709280757 * pi^-2 + (103167346495973760/58451728309129 * pi^-2) * log(14)
@@ -1649,7 +1649,7 @@ inline constexpr double d2r_3_0_lo[] = {
     0x1.57d9d98934c9bp+50,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = d2r_3_0_lo, .plain = 32},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.07bd732b86adp+5,  // -1048807583208/89253125 * pi^-2 + (87598704162816/15083778125 * pi^-2) * log(8)
@@ -1706,7 +1706,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.6dbb440c139bp+10, 0x1.ac18b68d5059ap+15, 0x1.9edce9486493ep+17, 0x1.7136ddaf16043p+16,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_4_0_lo, .plain = 30},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.c38a77edc921dp+5,  // -762302772/28561 * pi^-2 + (81716740875/4826809 * pi^-2) * log(5)
@@ -1770,7 +1770,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.caddd5ec085f7p+1,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_5_0_lo, .plain = 34},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.4e3233c4ce3efp+4,  // -198524172/3125 * pi^-2 + (181290879/3125 * pi^-2) * log(3)
@@ -1834,7 +1834,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.bb534ddb005afp-17,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_6_0_lo, .plain = 36},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.ce58986430c57p+1,  // -193834721790864/2073071593 * pi^-2 + (17953196248015875/151334226289 * pi^-2) * log(11/5)
@@ -1876,7 +1876,7 @@ inline constexpr double d2r_7_0_lo[] = {
     -0x1.1f21f50740a15p-24, 0x1.360b7c8b71b17p-22, -0x1.97e6eb1ae71dep-21, -0x1.3901c77322dd2p-19,
 };
 inline constexpr table::Term d2r_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_7_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_7_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_7_0_lo, .plain = 21},
 };
 inline constexpr double d2r_8_0[] = {
     0x1.1d5209377e8e6p+7,  // 1408 * pi^-2
@@ -2357,7 +2357,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.20b8eb0ba9a9ep+62, -0x1.d29fb1cb6ad45p+68, 0x1.676bdf9b56df1p+71,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.0bbad21f0a6b9p+8,  // -50437880131716/4437053125 * pi^-2 + (256585562666433/75429903125 * pi^-2) * log(13)
@@ -2413,7 +2413,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.c7def66920a31p+37, -0x1.aa42d29ee6dafp+40, 0x1.13fabccefc003p+42,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.b6e5b61168c4cp+6,  // -24113850996312/1160290625 * pi^-2 + (142896684091392/15083778125 * pi^-2) * log(8)
@@ -2470,7 +2470,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.4565f1495ba19p+7, 0x1.2ab2bba0d7e7cp+15, -0x1.6c8fde642816ep+14, -0x1.e68f599f8ae01p+18,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.a8d4fabef257cp+0,  // -16112358108/371293 * pi^-2 + (130194343125/4826809 * pi^-2) * log(5)
@@ -2535,7 +2535,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.2975ca58bdc57p+2, 0x1.acd6e8fb72598p+3,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 34},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.d8e61766fca7bp+3,  // -305344116/3125 * pi^-2 + (278351073/3125 * pi^-2) * log(3)
@@ -2600,7 +2600,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.3cbe4599f5e32p-16, -0x1.7660277c622bbp-23,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.9237e00081dc8p+1,  // -291154767572592/2073071593 * pi^-2 + (26962766173468125/151334226289 * pi^-2) * log(11/5)
@@ -2642,7 +2642,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.f352b227dd60ap-26, 0x1.3aabdaf5d43c1p-22, 0x1.04b8a66bb0f92p-20, -0x1.9117ab369dcaep-19,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 21},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.1d5209377e8e6p+7,  // 1408 * pi^-2
@@ -3128,7 +3128,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.8e8a013d4bd5fp+61, -0x1.1c77d0e86d9e6p+66,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = grad_over_r_1_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.d3fc61fd79feep+6,  // -12762228959172/4437053125 * pi^-2 + (50628023182737/75429903125 * pi^-2) * log(13)
@@ -3184,7 +3184,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.e3db885e6d359p+35, 0x1.306a7da84c87bp+37, 0x1.ac244c2208996p+39,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = grad_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.1d6237d3960dap+6,  // -5239676207304/1160290625 * pi^-2 + (27648989964288/15083778125 * pi^-2) * log(8)
@@ -3240,7 +3240,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.450e85e2e826dp+9, -0x1.02cbf5d8f0e3bp+13, 0x1.9c88d758b34a2p+13,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = grad_over_r_3_0_lo, .plain = 30},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.b643d017d18f1p+4,  // -3101211036/371293 * pi^-2 + (24238801125/4826809 * pi^-2) * log(5)
@@ -3302,7 +3302,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.d59832d3114ecp-6, 0x1.9d27c0cf9311ep-5, -0x1.a74df5b72ebc5p-3, -0x1.26d0c3fe782eep-2,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = grad_over_r_4_0_lo, .plain = 34},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.1c7af870981c9p+5,  // -208632703125/1048576 * pi^-2 + (758282765625/4194304 * pi^-2) * log(3)
@@ -3388,7 +3388,7 @@ inline constexpr double grad_over_r_5_0_lo[] = {
     -0x1.2d0f927c88291p-19, 0x1.941c6970f741ep-20, 0x1.5fb3f4ae2fb68p-16,
 };
 inline constexpr table::Term grad_over_r_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = grad_over_r_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = grad_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = grad_over_r_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = grad_over_r_5_0_lo, .plain = 53},
 };
 inline constexpr double grad_over_r_6_0[] = {
     -0x1.e105c31d77476p-3,  // -48660022890864/2073071593 * pi^-2 + (4504784962726125/151334226289 * pi^-2) * log(11/5)
@@ -3432,7 +3432,7 @@ inline constexpr double grad_over_r_6_0_lo[] = {
     -0x1.6a44758ea1e7fp-24,
 };
 inline constexpr table::Term grad_over_r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = grad_over_r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = grad_over_r_6_0_lo, .plain = 22},
 };
 inline constexpr double grad_over_r_7_0[] = {
     -0x1.9f02f6222c72p+3,  // -128 * pi^-2
@@ -3875,7 +3875,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.a942f7017199cp+183, 0x1.bced6f62773b4p+193, 0x1.7ec3237f909d6p+199, -0x1.15910dad942d9p+206,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-7, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6c13e0ff1b70bp-7, .centre_lo = -0x1.77e5c4ca3bd79p-62, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-7, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6c13e0ff1b70bp-7, .centre_lo = -0x1.77e5c4ca3bd79p-62, .c_lo = hess_radial_1_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.b80c62abb131p+13,  // -4094892684072036/35444764805 * pi^-2 + (94489796288661914448/1702234829760125 * pi^-2) * log(98)
@@ -3931,7 +3931,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.c45f5642e9525p+154, 0x1.91d6f6cfc9d9bp+160, -0x1.b8312e67e0f79p+166,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.bp-6, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.4e552105d643p-6, .centre_lo = 0x1.4e552105d643p-62, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.bp-6, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.4e552105d643p-6, .centre_lo = 0x1.4e552105d643p-62, .c_lo = hess_radial_2_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.51187f705c766p+13,  // -2869113791890500/24820429213 * pi^-2 + (4030431788083654800/72401192014321 * pi^-2) * log(54)
@@ -3987,7 +3987,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.9a4c24077e2a6p+124, 0x1.14f7bc8805c83p+126, 0x1.d0e02ebdfc0a6p+133,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.88p-5, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.2f4dab38f507ap-5, .centre_lo = 0x1.4f997ea3c344ep-60, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.88p-5, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.2f4dab38f507ap-5, .centre_lo = 0x1.4f997ea3c344ep-60, .c_lo = hess_radial_3_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.dca1951917b45p+12,  // -84704135554500/731432701 * pi^-2 + (37022453588791440/659020863601 * pi^-2) * log(30)
@@ -4044,7 +4044,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     0x1.af54a04284dcp+93, -0x1.11aa389edae14p+97, -0x1.3ae735fc15c79p+101, -0x1.f9f6bad0f152fp+104,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.6p-4, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.10c37b071a6c9p-4, .centre_lo = -0x1.9ed3f5c5782fcp-58, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.6p-4, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.10c37b071a6c9p-4, .centre_lo = -0x1.9ed3f5c5782fcp-58, .c_lo = hess_radial_4_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.2a6a59a747564p+12,  // -14199004512/121945 * pi^-2 + (5103924158718/88410125 * pi^-2) * log(17)
@@ -4103,7 +4103,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.55a5895d0fa4p+76,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-3, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.e0387f1e0387fp-4, .centre_lo = 0x1.e0387f1e0387fp-60, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-3, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.e0387f1e0387fp-4, .centre_lo = 0x1.e0387f1e0387fp-60, .c_lo = hess_radial_5_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.3830f96d1eb56p+11,  // -121674514500/1030301 * pi^-2 + (6451087159440/104060401 * pi^-2) * log(10)
@@ -4159,7 +4159,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.d7b493a75e838p+37, 0x1.2545f8acbeaaap+37, -0x1.5b66863bb1a7bp+41,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.04p-2, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 39, .centre = 0x1.958b67ebb907ap-3, .centre_lo = -0x1.58b67ebb9079bp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.04p-2, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 39, .centre = 0x1.958b67ebb907ap-3, .centre_lo = -0x1.58b67ebb9079bp-57, .c_lo = hess_radial_6_0_lo, .plain = 28},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.d1d3ee18fad75p+9,  // -6174514500/50653 * pi^-2 + (137122246800/1874161 * pi^-2) * log(6)
@@ -4216,7 +4216,7 @@ inline constexpr double hess_radial_7_0_lo[] = {
     0x1.3bd5557732233p+9, -0x1.9d6bfa37b07a8p+13, -0x1.9b1e54ec27c99p+14, -0x1.45b97c1a47327p+16,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = hess_radial_7_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_8_0[] = {
     0x1.4307928b604f5p+9,  // -41772107530492108/74733890625 * pi^-2 + (1517596469571529424/3363025078125 * pi^-2) * log(7/2)
@@ -4290,7 +4290,7 @@ inline constexpr double hess_radial_8_0_lo[] = {
     -0x1.c92df6e4b1459p+0,
 };
 inline constexpr table::Term hess_radial_8[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 9, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = hess_radial_8_0, .n = 53, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = hess_radial_8_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 9, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = hess_radial_8_0, .n = 53, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = hess_radial_8_0_lo, .plain = 41},
 };
 inline constexpr double hess_radial_9_0[] = {
     0x1.6e20e395de719p+3,  // -3063291000/24389 * pi^-2 + (104939846550/707281 * pi^-2) * log(7/3)
@@ -4345,7 +4345,7 @@ inline constexpr double hess_radial_9_0_lo[] = {
     -0x1.7a3f564070bdap-10, -0x1.eaf86476398d2p-7,
 };
 inline constexpr table::Term hess_radial_9[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_9_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = hess_radial_9_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_9_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = hess_radial_9_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_10_0[] = {
     0x1.1d5209377e8e6p+7,  // 1408 * pi^-2
@@ -4832,7 +4832,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.20fcb9f6e75acp-27, 0x1.c1dae70a297a5p-26, -0x1.316a04213b821p-25, -0x1.3395f77c160e5p-24,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 32},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.311f603e86f32p-3,  // -40770715350715515/6599527183604266 * pi^-2 + (730698321787850752/174887470365513049 * pi^-2) * log(7/2) + (-53/56 * pi^-2) * arcsin(28/53)
@@ -4891,7 +4891,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.d6b32f2ebde8dp-46,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 32},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.c209db4ba6c57p-4,  // -4697113337246165/174085751710428 * pi^-2 + (210181104837714843/6731315732803216 * pi^-2) * log(7/3) + (-29/42 * pi^-2) * arcsin(21/29)
@@ -4946,7 +4946,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.8d996a28560d1p-36, 0x1.df13969c25f3ap-37,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 31},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5862,7 +5862,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.f6edd5636d7b9p+18, 0x1.68585565e57a5p+21, 0x1.6b8f2825b7f81p+23, 0x1.020b07356970ap+26,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.78fe90b69058cp-2,  // -9051245077113/5340576171875 * pi^-2 + (11036001637241/6103515625000 * pi^-2) * log(7) + (625/98 * pi^-2) * arcsin(7/25)
@@ -5922,7 +5922,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.5e7b8bc7f47d1p-9, 0x1.d00f2408ef316p-6,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo, .plain = 34},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.2d67f68cf4e9cp-2,  // -3950171224335/111612119056 * pi^-2 + (3181412024320/118587876497 * pi^-2) * log(4) + (289/128 * pi^-2) * arcsin(8/17)
@@ -5986,7 +5986,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.738cf5ee6ef1fp-32,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.53c4eabb9a7dap-3,  // -3888179228996181/20009856518440 * pi^-2 + (3089715808000000/14507145975869 * pi^-2) * log(5/2) + (841/800 * pi^-2) * arcsin(20/29)
@@ -6045,7 +6045,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.dd023ef877648p-28,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 41, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 41, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6994,7 +6994,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.d11a34041c7ebp+34, 0x1.af3a6a6fa2feep+35, -0x1.8ea9f67e2e6p+38,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo, .plain = 40},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.509a25c7932abp+0,  // -9051245077113/1495361328125 * pi^-2 + (1576571662463/244140625000 * pi^-2) * log(7) + (15625/686 * pi^-2) * arcsin(7/25)
@@ -7058,7 +7058,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.6b2ba3f084fa4p+3,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.403e75f5c4386p-1,  // -3950171224335/52523350144 * pi^-2 + (397676503040/6975757441 * pi^-2) * log(4) + (4913/1024 * pi^-2) * arcsin(8/17)
@@ -7123,7 +7123,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.17d6114569539p-27, -0x1.14d7503b1b7cap-27,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.ecaa545cd3363p-3,  // -3888179228996181/13799901047200 * pi^-2 + (154485790400000/500246412961 * pi^-2) * log(5/2) + (24389/16000 * pi^-2) * arcsin(20/29)
@@ -7180,7 +7180,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     0x1.86cef2946d2f5p-38, 0x1.b750f7755afc7p-32, -0x1.6c5aafc60f10fp-31, -0x1.d1905029905fap-30,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -8137,7 +8137,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.6e43a917e7259p+67,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 45},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.f32ae7b9b926fp+3,  // -66390782336316/117236328125 * pi^-2 + (16553364387/48828125 * pi^-2) * log(7) + (-29296875/33614 * pi^-2) * arcsin(7/25)
@@ -8207,7 +8207,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.381d058d7f7ddp+21, 0x1.4376f8bb97c73p+25,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 50, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 50, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 41},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.6f45720b46d97p+2,  // -1066912508835/684204032 * pi^-2 + (26719034880/24137569 * pi^-2) * log(4) + (-4259571/65536 * pi^-2) * arcsin(8/17)
@@ -8278,7 +8278,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.46a07d2f8fafbp-11, 0x1.ffbbe0eba914fp-10, -0x1.e26bd82717c16p-9,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 41},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.74fcdf0fa82c1p+0,  // -17863198915806657/6563567680000 * pi^-2 + (1762160304000/594823321 * pi^-2) * log(5/2) + (-61533447/6400000 * pi^-2) * arcsin(20/29)
@@ -8335,7 +8335,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     -0x1.050ba645f9ce5p-27, -0x1.ff6dcf6c99aa7p-27, 0x1.3dd182eadd79cp-27, -0x1.689aaf8f1b2afp-25,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 32},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1

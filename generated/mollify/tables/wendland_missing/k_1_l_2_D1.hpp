@@ -97,7 +97,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.646b49dfc14ecp+23,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.8df86b5b4577p-1,  // -34710396129/6103515625 * pi^-1 + (1019875802463/244140625000 * pi^-1) * log(7)
@@ -156,7 +156,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.b0ff3a9dff514p-2,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 32},
 };
 inline constexpr double value_3_0[] = {
     0x1.c2ab9430f0bb3p-1,  // -253871371545334/961083984375 * pi^-1 + (2775698758934528/14416259765625 * pi^-1) * log(4)
@@ -237,7 +237,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.a08e17074f269p-16, 0x1.7ec262df04989p-17, 0x1.b088aef60dd42p-14,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 49},
 };
 inline constexpr double value_4_0[] = {
     0x1.16c57a57c99abp-1,  // -502868433418307186/38919722282469 * pi^-1 + (11526510927716800000/817314167931849 * pi^-1) * log(5/2)
@@ -329,7 +329,7 @@ inline constexpr double value_4_0_lo[] = {
     -0x1.c6e94518ab842p-40, -0x1.8f07ed8d05ff4p-40, -0x1.fa4f460e87b37p-39, 0x1.619be1dd59f9cp-39,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 59},
 };
 inline constexpr double value_5_0[] = {
     0x1.23c243025668p-2,  // 128/143 * pi^-1
@@ -779,7 +779,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.331ada9e7f3d8p+54, -0x1.0d8560fd1f965p+57, -0x1.67af520862c0ap+60,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = dr_1_0_lo, .plain = 32},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.4710b0f509cecp+2,  // -15082634224476/377149515625 * pi^-1 + (59833118306871/6411541765625 * pi^-1) * log(13)
@@ -835,7 +835,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.a15ae65b07654p+26, -0x1.a6ddccaba30a4p+28, 0x1.a804d799bb432p+32,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = dr_2_0_lo, .plain = 31},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.41017d689697cp+2,  // -7621347210624/75418890625 * pi^-1 + (40216712675328/980445578125 * pi^-1) * log(8)
@@ -892,7 +892,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.cc802b2d79c0ap+0, 0x1.1de115b81491dp+6, -0x1.fbad5fcc1048p+8, 0x1.2df003d14973ep+7,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = dr_3_0_lo, .plain = 31},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.8121ff635c783p+1,  // -1409641380/4826809 * pi^-1 + (11017636875/62748517 * pi^-1) * log(5)
@@ -956,7 +956,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.1e9fbc0ebc60fp-7,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = dr_4_0_lo, .plain = 35},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.85fccdc6b6759p+2,  // -11379965625/1048576 * pi^-1 + (41360878125/4194304 * pi^-1) * log(3)
@@ -1042,7 +1042,7 @@ inline constexpr double dr_5_0_lo[] = {
     -0x1.fd523b544918bp-24, 0x1.7d3fcef620794p-26, -0x1.6bb92e421400ep-22,
 };
 inline constexpr table::Term dr_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dr_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = dr_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dr_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = dr_5_0_lo, .plain = 54},
 };
 inline constexpr double dr_6_0[] = {
     -0x1.9e056291a997ep-5,  // -243300114454320/151334226289 * pi^-1 + (22523924813630625/11047398519097 * pi^-1) * log(11/5)
@@ -1086,7 +1086,7 @@ inline constexpr double dr_6_0_lo[] = {
     -0x1.12d7cd4b7abfap-25,
 };
 inline constexpr table::Term dr_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = dr_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = dr_6_0_lo, .plain = 22},
 };
 inline constexpr double dr_7_0[] = {
     -0x1.da1bace3cc68fp+1,  // -128/11 * pi^-1
@@ -1531,7 +1531,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.9b58413de024cp+95, -0x1.9ec8e1e224196p+99, -0x1.92977b7f351f8p+104, -0x1.933d84d475ce2p+104,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = d2r_1_0_lo, .plain = 33},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.063f3ac9f5db5p+5,  // -783202740550776/3004150512793 * pi^-1 + (46074020528615625/940299110504209 * pi^-1) * log(25)
@@ -1590,7 +1590,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.211661bc0c394p+80,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 41, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 41, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = d2r_2_0_lo, .plain = 33},
 };
 inline constexpr double d2r_3_0[] = {
     -0x1.966457171b79cp+3,  // -137479168171800/296709280757 * pi^-1 + (9378849681452160/58451728309129 * pi^-1) * log(14)
@@ -1649,7 +1649,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.9b584107c471dp+48,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = d2r_3_0_lo, .plain = 32},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.2d4bc11ef5575p+3,  // -95346143928/89253125 * pi^-1 + (7963518560256/15083778125 * pi^-1) * log(8)
@@ -1706,7 +1706,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.7573bee328376p+11, 0x1.4a443c7b5954fp+12, 0x1.adff9094e230ap+15, 0x1.a025337461af4p+15,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_4_0_lo, .plain = 30},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.01eb67eefd7a7p+4,  // -69300252/28561 * pi^-1 + (7428794625/4826809 * pi^-1) * log(5)
@@ -1770,7 +1770,7 @@ inline constexpr double d2r_5_0_lo[] = {
     -0x1.6985242e159c8p-6,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_5_0_lo, .plain = 34},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.7dc8e45e7cfebp+2,  // -18047652/3125 * pi^-1 + (16480989/3125 * pi^-1) * log(3)
@@ -1834,7 +1834,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.d6861c23d148p-18,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_6_0_lo, .plain = 36},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.081769f72a6d4p+0,  // -17621338344624/2073071593 * pi^-1 + (1632108749819625/151334226289 * pi^-1) * log(11/5)
@@ -1876,7 +1876,7 @@ inline constexpr double d2r_7_0_lo[] = {
     -0x1.ea1400d2f5b17p-25, -0x1.304a03352a423p-24, -0x1.1d92a88681f75p-22, -0x1.707cd3a20b67bp-20,
 };
 inline constexpr table::Term d2r_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_7_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_7_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_7_0_lo, .plain = 21},
 };
 inline constexpr double d2r_8_0[] = {
     0x1.45f306dc9c883p+5,  // 128 * pi^-1
@@ -2357,7 +2357,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.9b58413de024cp+95, -0x1.9ec8e1e224196p+99, -0x1.92977b7f351f8p+104, -0x1.933d84d475ce2p+104,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = laplacian_1_0_lo, .plain = 33},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.063f3ac9f5db5p+5,  // -783202740550776/3004150512793 * pi^-1 + (46074020528615625/940299110504209 * pi^-1) * log(25)
@@ -2416,7 +2416,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.211661bc0c394p+80,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 41, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 41, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = laplacian_2_0_lo, .plain = 33},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.966457171b79cp+3,  // -137479168171800/296709280757 * pi^-1 + (9378849681452160/58451728309129 * pi^-1) * log(14)
@@ -2475,7 +2475,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.9b584107c471dp+48,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 41, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 41, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = laplacian_3_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.2d4bc11ef5575p+3,  // -95346143928/89253125 * pi^-1 + (7963518560256/15083778125 * pi^-1) * log(8)
@@ -2532,7 +2532,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.7573bee328376p+11, 0x1.4a443c7b5954fp+12, 0x1.adff9094e230ap+15, 0x1.a025337461af4p+15,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_4_0_lo, .plain = 30},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.01eb67eefd7a7p+4,  // -69300252/28561 * pi^-1 + (7428794625/4826809 * pi^-1) * log(5)
@@ -2596,7 +2596,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     -0x1.6985242e159c8p-6,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_5_0_lo, .plain = 34},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.7dc8e45e7cfebp+2,  // -18047652/3125 * pi^-1 + (16480989/3125 * pi^-1) * log(3)
@@ -2660,7 +2660,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.d6861c23d148p-18,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_6_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.081769f72a6d4p+0,  // -17621338344624/2073071593 * pi^-1 + (1632108749819625/151334226289 * pi^-1) * log(11/5)
@@ -2702,7 +2702,7 @@ inline constexpr double laplacian_7_0_lo[] = {
     -0x1.ea1400d2f5b17p-25, -0x1.304a03352a423p-24, -0x1.1d92a88681f75p-22, -0x1.707cd3a20b67bp-20,
 };
 inline constexpr table::Term laplacian_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_7_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_7_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_7_0_lo, .plain = 21},
 };
 inline constexpr double laplacian_8_0[] = {
     0x1.45f306dc9c883p+5,  // 128 * pi^-1
@@ -3182,7 +3182,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.e22257aeae6fap+60, -0x1.b32fc4be82fb9p+63,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = grad_over_r_1_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.0b501a7980a19p+5,  // -1160202632652/4437053125 * pi^-1 + (4602547562067/75429903125 * pi^-1) * log(13)
@@ -3238,7 +3238,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.c6e29dd8503a2p+33, 0x1.546c54f20d6d7p+35, 0x1.0ca399d0ac01ap+37,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = grad_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.4605835e38f22p+4,  // -476334200664/1160290625 * pi^-1 + (2513544542208/15083778125 * pi^-1) * log(8)
@@ -3294,7 +3294,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     -0x1.6148396df6792p+8, 0x1.5bb1c06bb5c6p+11, -0x1.f9940a16ccae4p+13,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = grad_over_r_3_0_lo, .plain = 30},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.f4ac326791cf8p+2,  // -281928276/371293 * pi^-1 + (2203527375/4826809 * pi^-1) * log(5)
@@ -3356,7 +3356,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.97180ed4a919ap-7, 0x1.f6d0c2052ada4p-6, 0x1.68a43056ccd2ep-5, -0x1.0542b918cc159p-4,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = grad_over_r_4_0_lo, .plain = 34},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.44fd5625980cap+3,  // -18966609375/1048576 * pi^-1 + (68934796875/4194304 * pi^-1) * log(3)
@@ -3442,7 +3442,7 @@ inline constexpr double grad_over_r_5_0_lo[] = {
     -0x1.62bcf05526d9cp-19, 0x1.7edc653fca81ep-19, 0x1.6c3edb3a7f4ebp-20,
 };
 inline constexpr table::Term grad_over_r_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = grad_over_r_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = grad_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = grad_over_r_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = grad_over_r_5_0_lo, .plain = 53},
 };
 inline constexpr double grad_over_r_6_0[] = {
     -0x1.12c268fa44548p-4,  // -4423638444624/2073071593 * pi^-1 + (409525905702375/151334226289 * pi^-1) * log(11/5)
@@ -3486,7 +3486,7 @@ inline constexpr double grad_over_r_6_0_lo[] = {
     -0x1.9e8fb5d35dc49p-27,
 };
 inline constexpr table::Term grad_over_r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = grad_over_r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = grad_over_r_6_0_lo, .plain = 22},
 };
 inline constexpr double grad_over_r_7_0[] = {
     -0x1.da1bace3cc68fp+1,  // -128/11 * pi^-1
@@ -3929,7 +3929,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.e1a6904a94a8ep+184, -0x1.5cca16517bc42p+191, -0x1.e665c5fae2557p+194, -0x1.cf610e3c42097p+204,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-7, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6c13e0ff1b70bp-7, .centre_lo = -0x1.77e5c4ca3bd79p-62, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-7, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6c13e0ff1b70bp-7, .centre_lo = -0x1.77e5c4ca3bd79p-62, .c_lo = hess_radial_1_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.f6b5c8bfbf3bfp+11,  // -372262971279276/35444764805 * pi^-1 + (8589981480787446768/1702234829760125 * pi^-1) * log(98)
@@ -3985,7 +3985,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.1eb9eac6d1d97p+153, -0x1.9113585ab4033p+158, 0x1.11d9a65e7a8bbp+163,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.bp-6, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.4e552105d643p-6, .centre_lo = 0x1.4e552105d643p-62, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.bp-6, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.4e552105d643p-6, .centre_lo = 0x1.4e552105d643p-62, .c_lo = hess_radial_2_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.8118e378c9041p+11,  // -260828526535500/24820429213 * pi^-1 + (366402889825786800/72401192014321 * pi^-1) * log(54)
@@ -4041,7 +4041,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.b2ea1b4395e36p+121, -0x1.50b4d0fdfcff7p+127, 0x1.54e0857b56ad7p+131,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.88p-5, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.2f4dab38f507ap-5, .centre_lo = 0x1.4f997ea3c344ep-60, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.88p-5, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.2f4dab38f507ap-5, .centre_lo = 0x1.4f997ea3c344ep-60, .c_lo = hess_radial_3_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.104047b449d1ep+11,  // -7700375959500/731432701 * pi^-1 + (3365677598981040/659020863601 * pi^-1) * log(30)
@@ -4098,7 +4098,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.eba016254d523p+92, 0x1.b78bf8981d07bp+95, -0x1.ab4f1a5aabbdfp+94, 0x1.1ab79e782d19p+103,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.6p-4, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.10c37b071a6c9p-4, .centre_lo = -0x1.9ed3f5c5782fcp-58, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.6p-4, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.10c37b071a6c9p-4, .centre_lo = -0x1.9ed3f5c5782fcp-58, .c_lo = hess_radial_4_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.54e8b39bdac44p+10,  // -1290818592/121945 * pi^-1 + (463993105338/88410125 * pi^-1) * log(17)
@@ -4157,7 +4157,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.3158dedfd67ap+73,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-3, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.e0387f1e0387fp-4, .centre_lo = 0x1.e0387f1e0387fp-60, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-3, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.e0387f1e0387fp-4, .centre_lo = 0x1.e0387f1e0387fp-60, .c_lo = hess_radial_5_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.64a581ef954bbp+9,  // -11061319500/1030301 * pi^-1 + (586462469040/104060401 * pi^-1) * log(10)
@@ -4213,7 +4213,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     0x1.a4115d2ac91dap+35, 0x1.099ba4132f8e1p+37, -0x1.8cb6b633954eap+40,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.04p-2, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 39, .centre = 0x1.958b67ebb907ap-3, .centre_lo = -0x1.58b67ebb9079bp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.04p-2, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 39, .centre = 0x1.958b67ebb907ap-3, .centre_lo = -0x1.58b67ebb9079bp-57, .c_lo = hess_radial_6_0_lo, .plain = 28},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.0a148b0d2181fp+8,  // -561319500/50653 * pi^-1 + (12465658800/1874161 * pi^-1) * log(6)
@@ -4270,7 +4270,7 @@ inline constexpr double hess_radial_7_0_lo[] = {
     0x1.259554d81dae8p+9, -0x1.70a1b0cd1eeb2p+9, -0x1.8e964db7055c8p+13, -0x1.1be37d755c29p+14,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = hess_radial_7_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_8_0[] = {
     0x1.7107337758097p+7,  // -3797464320953828/74733890625 * pi^-1 + (137963315415593584/3363025078125 * pi^-1) * log(7/2)
@@ -4344,7 +4344,7 @@ inline constexpr double hess_radial_8_0_lo[] = {
     -0x1.0aaf78e62c62dp-2,
 };
 inline constexpr table::Term hess_radial_8[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 9, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = hess_radial_8_0, .n = 53, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = hess_radial_8_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 9, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = hess_radial_8_0, .n = 53, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = hess_radial_8_0_lo, .plain = 41},
 };
 inline constexpr double hess_radial_9_0[] = {
     0x1.a243a1e5a87b8p+1,  // -278481000/24389 * pi^-1 + (9539986050/707281 * pi^-1) * log(7/3)
@@ -4399,7 +4399,7 @@ inline constexpr double hess_radial_9_0_lo[] = {
     0x1.ea7708dcd9b9ep-10, 0x1.cf783eb06993ep-8,
 };
 inline constexpr table::Term hess_radial_9[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_9_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = hess_radial_9_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_9_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = hess_radial_9_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_10_0[] = {
     0x1.45f306dc9c883p+5,  // 128 * pi^-1
@@ -4885,7 +4885,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.f82d288cef2ffp-30, -0x1.1d3c75bb78dfbp-28, 0x1.11ffb797d6365p-27,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 31},
 };
 inline constexpr double potential_2_0[] = {
     0x1.0ee4169611217p-2,  // -400592115610740/3299763591802133 * pi^-1 + (91917873529065472/174887470365513049 * pi^-1) * log(7/2) + (28/53 * pi^-1) * arcsin(28/53)
@@ -4942,7 +4942,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.25df60985c4e7p-50, -0x1.e24923e3ab171p-50, 0x1.83c5d1cf7e256p-53, -0x1.cc8ae83b3c3e9p-48,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 32},
 };
 inline constexpr double potential_3_0[] = {
     0x1.72c3974dc0c4cp-2,  // -478714154828405/174085751710428 * pi^-1 + (26224394886787923/6731315732803216 * pi^-1) * log(7/3) + (21/29 * pi^-1) * arcsin(21/29)
@@ -4996,7 +4996,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.9c9578ecef8d9p-39,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 31},
 };
 inline constexpr double potential_4_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
@@ -5865,7 +5865,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.9b190bef9e1ebp-22, 0x1.455faa044e608p-22, -0x1.f18bc9da6b8ecp-22, -0x1.02524feae7697p-24,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.f959e584998d1p-2,  // -424292661720900/62259690411361 * pi^-1 + (20567986296997888/3299763591802133 * pi^-1) * log(7/2) + (1 * pi^-1) * arcsin(28/53)
@@ -5924,7 +5924,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.265ab5aa24968p-41,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.ffd7032493641p-2,  // -28676209543275/1000492825922 * pi^-1 + (4030110830672703/116057167806952 * pi^-1) * log(7/3) + (1 * pi^-1) * arcsin(21/29)
@@ -5979,7 +5979,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.079d28e0a309fp-30, 0x1.c8d456c6e40dcp-32,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -6862,7 +6862,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.9bbc9064fb31dp-18, -0x1.5b38bf029285fp-17, -0x1.1855cacac7501p-15, -0x1.3062f4a39899dp-23,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.de475dcb35e58p-1,  // -15153309347175/1174711139837 * pi^-1 + (734570939178496/62259690411361 * pi^-1) * log(7/2) + (53/28 * pi^-1) * arcsin(28/53)
@@ -6921,7 +6921,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.e7509d0c0703bp-38,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.6169cb501ca08p-1,  // -1365533787775/34499752618 * pi^-1 + (191910039555843/4001971303688 * pi^-1) * log(7/3) + (29/21 * pi^-1) * arcsin(21/29)
@@ -6976,7 +6976,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.04a8f24e8e6c9p-30, 0x1.694f3d60ba7e4p-32,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -7862,7 +7862,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.53739bd62613bp+47, 0x1.0fce2740a921cp+44, 0x1.b6e6a43d4468bp+52,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 39},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.105c67b7b681dp+3,  // -46508141376/478515625 * pi^-1 + (2092266043/48828125 * pi^-1) * log(7) + (-15625/343 * pi^-1) * arcsin(7/25)
@@ -7924,7 +7924,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.f421277425da1p+8, -0x1.362b4ef4216b7p+8, 0x1.02718a328294ap+10, -0x1.d0d46f8c1dcccp+13,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 35},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.f0ffed38867cfp+1,  // -18125449425/90870848 * pi^-1 + (3342450176/24137569 * pi^-1) * log(4) + (-4913/512 * pi^-1) * arcsin(8/17)
@@ -7989,7 +7989,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.580d741bd23e5p-18, -0x1.f346f56b9a6ffp-20,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 36},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.8187e0860e7b1p+0,  // -2768530999059/8204459600 * pi^-1 + (217490249600/594823321 * pi^-1) * log(5/2) + (-24389/8000 * pi^-1) * arcsin(20/29)
@@ -8045,7 +8045,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.87bb2e3850e47p-29, 0x1.80afc8bb1987cp-27, -0x1.0281c73545067p-26,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 31},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2

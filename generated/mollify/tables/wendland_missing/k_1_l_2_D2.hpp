@@ -97,7 +97,7 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.6c76daaf8eb19p+26,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.7518e4a5911f9p+0,  // -104131188387/9765625000 * pi^-1 + (3059627407389/390625000000 * pi^-1) * log(7)
@@ -156,7 +156,7 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.6a10b90be0a3dp-1,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 32},
 };
 inline constexpr double value_3_0[] = {
     0x1.a680daede1af8p+0,  // -126935685772667/256289062500 * pi^-1 + (346962344866816/961083984375 * pi^-1) * log(4)
@@ -237,7 +237,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.86853596da342p-15, 0x1.d9b58f2c4513cp-14, 0x1.95802406acf6dp-13,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 49},
 };
 inline constexpr double value_4_0[] = {
     0x1.055922b24d01p+0,  // -1257171083545767965/51892963043292 * pi^-1 + (7204069329823000000/272438055977283 * pi^-1) * log(5/2)
@@ -329,7 +329,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.d5854f38df342p-39, -0x1.ec2edd686b3e9p-40, 0x1.caab5ca4c18f8p-39, 0x1.704477f08b445p-43,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 59},
 };
 inline constexpr double value_5_0[] = {
     0x1.11861ed231018p-1,  // 240/143 * pi^-1
@@ -779,7 +779,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.bfd259e92e934p+54, -0x1.f2b42bb53673ap+56, -0x1.11345ce7dc94ap+61,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = dr_1_0_lo, .plain = 32},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.329fa5e5b931dp+3,  // -11311975668357/150859806250 * pi^-1 + (179499354920613/10258466825000 * pi^-1) * log(13)
@@ -835,7 +835,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.43a29bfaab777p+28, -0x1.4637f7f0746cdp+30, 0x1.1b0914403f1dfp+32,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = dr_2_0_lo, .plain = 31},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.2cf165920d2e4p+3,  // -2858005203984/15083778125 * pi^-1 + (15081267253248/196089115625 * pi^-1) * log(8)
@@ -892,7 +892,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.1afb8287aa225p+5, 0x1.180608b926917p+6, 0x1.240d7630b0bc8p+9, -0x1.b93bbf1af2c8dp+10,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = dr_3_0_lo, .plain = 31},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.690fdf6d26b0bp+2,  // -5286155175/9653618 * pi^-1 + (165264553125/501988136 * pi^-1) * log(5)
@@ -956,7 +956,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.0cb5c04dd09aep-6,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = dr_4_0_lo, .plain = 35},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.6d9d00ea4b0e4p+3,  // -170699484375/8388608 * pi^-1 + (620413171875/33554432 * pi^-1) * log(3)
@@ -1042,7 +1042,7 @@ inline constexpr double dr_5_0_lo[] = {
     0x1.8a0ba183ede37p-25, 0x1.595af481af9c7p-23, 0x1.ac09928834fcap-23,
 };
 inline constexpr table::Term dr_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dr_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = dr_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dr_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = dr_5_0_lo, .plain = 54},
 };
 inline constexpr double dr_6_0[] = {
     -0x1.84250c688efe6p-4,  // -456187714601850/151334226289 * pi^-1 + (337858872204459375/88379188152776 * pi^-1) * log(11/5)
@@ -1086,7 +1086,7 @@ inline constexpr double dr_6_0_lo[] = {
     -0x1.41aa5076c313ap-24,
 };
 inline constexpr table::Term dr_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = dr_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = dr_6_0_lo, .plain = 22},
 };
 inline constexpr double dr_7_0[] = {
     -0x1.bc79f2158fa27p+2,  // -240/11 * pi^-1
@@ -1531,7 +1531,7 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.3e5d42d5fddd9p+96, 0x1.ec8eb0eff8a0ep+98, 0x1.8d23f8717c65p+104, -0x1.7a09ac872e714p+105,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = d2r_1_0_lo, .plain = 33},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.ebb68e3aacfb4p+5,  // -1468505138532705/3004150512793 * pi^-1 + (691110307929234375/7522392884033672 * pi^-1) * log(25)
@@ -1590,7 +1590,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.e09f74096eb5cp+76,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 41, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 41, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = d2r_2_0_lo, .plain = 33},
 };
 inline constexpr double d2r_3_0[] = {
     -0x1.7cfe11a5a9c22p+4,  // -257773440322125/296709280757 * pi^-1 + (17585343152722800/58451728309129 * pi^-1) * log(14)
@@ -1649,7 +1649,7 @@ inline constexpr double d2r_3_0_lo[] = {
     0x1.f9750c22df552p+47,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = d2r_3_0_lo, .plain = 32},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.1a77050d0601ep+4,  // -35754803973/17850625 * pi^-1 + (2986319460096/3016755625 * pi^-1) * log(8)
@@ -1706,7 +1706,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.a1e37d0b0a4c1p+12, -0x1.ca60074c5c406p+13, 0x1.263f2f17281b4p+15, 0x1.2188b80f46e51p+18,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_4_0_lo, .plain = 30},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.e39962e01b458p+4,  // -259875945/57122 * pi^-1 + (111431919375/38614472 * pi^-1) * log(5)
@@ -1770,7 +1770,7 @@ inline constexpr double d2r_5_0_lo[] = {
     -0x1.8a97668f59a21p+0,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_5_0_lo, .plain = 34},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.65ec5618952ecp+3,  // -13535739/1250 * pi^-1 + (49442967/5000 * pi^-1) * log(3)
@@ -1834,7 +1834,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.c8edd30ca19bep-20,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_6_0_lo, .plain = 36},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.ef2be6af6f8cep+0,  // -33040009396170/2073071593 * pi^-1 + (24481631247294375/1210673810312 * pi^-1) * log(11/5)
@@ -1876,7 +1876,7 @@ inline constexpr double d2r_7_0_lo[] = {
     -0x1.96e5818b8cacap-25, 0x1.62ba9cfe2861fp-23, 0x1.d11a080798a08p-23, -0x1.9750667eab131p-23,
 };
 inline constexpr table::Term d2r_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_7_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_7_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_7_0_lo, .plain = 21},
 };
 inline constexpr double d2r_8_0[] = {
     0x1.3193d66ed2bfap+6,  // 240 * pi^-1
@@ -2359,7 +2359,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.fb5f7b42b581bp+61, 0x1.55929f90035c9p+66, -0x1.f781725aa7509p+70,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.42deb6bfe835fp+6,  // -1284397199064/887410625 * pi^-1 + (7021279755126/15085980625 * pi^-1) * log(13)
@@ -2415,7 +2415,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.e7357855b61c8p+36, 0x1.07d6c7eee09f7p+38, 0x1.fc6fbb5c970fap+41,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 30},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.b3a207957100fp+4,  // -689016452881250/187570506627 * pi^-1 + (20388771644800000/11816941917501 * pi^-1) * log(8)
@@ -2475,7 +2475,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.ba79a242a47e1p+19, 0x1.09621b057aee4p+22,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 9, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 42, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 9, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 42, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 33},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.f1d1567f1dd89p+3,  // -2217809160/371293 * pi^-1 + (18060603750/4826809 * pi^-1) * log(5)
@@ -2540,7 +2540,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.7ef3d3c9ad902p+1, -0x1.e8303e7a1571p+1,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 35},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.319477a33350bp+3,  // -8588664/625 * pi^-1 + (7834806/625 * pi^-1) * log(3)
@@ -2605,7 +2605,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     -0x1.0529d14ffd3b4p-17, 0x1.68e4df6cb59e2p-16,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.cef91e621b8bp+0,  // -41334331479840/2073071593 * pi^-1 + (3828064979103750/151334226289 * pi^-1) * log(11/5)
@@ -2647,7 +2647,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     -0x1.248912d49794fp-26, 0x1.fb72b705a35e4p-24, -0x1.9b04ad9cb2b5ep-24, -0x1.6b372ba1c558fp-23,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 21},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.3193d66ed2bfap+6,  // 240 * pi^-1
@@ -3133,7 +3133,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.44003233c388ap+61, -0x1.2ff990e53597ap+63,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = grad_over_r_1_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.f53631a3d12efp+5,  // -870151974489/1774821250 * pi^-1 + (13807642686201/120687845000 * pi^-1) * log(13)
@@ -3189,7 +3189,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.558b8c0534c98p+34, 0x1.fc963e8bb25a7p+34, 0x1.fdecb019d0a0cp+39,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = grad_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.31a52b285563p+5,  // -178625325249/232058125 * pi^-1 + (942579203328/3016755625 * pi^-1) * log(8)
@@ -3245,7 +3245,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.69989451d1dcep+8, 0x1.8bed48c9f4d35p+11, -0x1.d9fac9755fe36p+14,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = grad_over_r_3_0_lo, .plain = 30},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.d5616f4118b28p+3,  // -1057231035/742586 * pi^-1 + (33052910625/38614472 * pi^-1) * log(5)
@@ -3307,7 +3307,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.7b4d1bcebd1p-7, -0x1.d13894364fa6cp-6, -0x1.ade612ae9ffa5p-4, 0x1.9622e4f181578p-4,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = grad_over_r_4_0_lo, .plain = 34},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.30ad80c33e8bep+4,  // -284499140625/8388608 * pi^-1 + (1034021953125/33554432 * pi^-1) * log(3)
@@ -3393,7 +3393,7 @@ inline constexpr double grad_over_r_5_0_lo[] = {
     -0x1.0c91214fd46c3p-18, 0x1.cddd3dd79bb38p-19, -0x1.2aa1449e4a299p-17,
 };
 inline constexpr table::Term grad_over_r_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = grad_over_r_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = grad_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = grad_over_r_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = grad_over_r_5_0_lo, .plain = 53},
 };
 inline constexpr double grad_over_r_6_0[] = {
     -0x1.0196426aa00f3p-3,  // -8294322083670/2073071593 * pi^-1 + (6142888585535625/1210673810312 * pi^-1) * log(11/5)
@@ -3437,7 +3437,7 @@ inline constexpr double grad_over_r_6_0_lo[] = {
     -0x1.84a6ba7627e84p-26,
 };
 inline constexpr table::Term grad_over_r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = grad_over_r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = grad_over_r_6_0_lo, .plain = 22},
 };
 inline constexpr double grad_over_r_7_0[] = {
     -0x1.bc79f2158fa27p+2,  // -240/11 * pi^-1
@@ -3880,7 +3880,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.78e7b17429437p+184, -0x1.86fd74ec6407ep+192, 0x1.470012cc997ap+198, 0x1.8d9502a782172p+205,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-7, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6c13e0ff1b70bp-7, .centre_lo = -0x1.77e5c4ca3bd79p-62, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-7, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6c13e0ff1b70bp-7, .centre_lo = -0x1.77e5c4ca3bd79p-62, .c_lo = hess_radial_1_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.d74a6c33c3483p+12,  // -279197228459457/14177905922 * pi^-1 + (3221243055295292538/340446965952025 * pi^-1) * log(98)
@@ -3936,7 +3936,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.ccc6cf966d10ap+152, 0x1.ff774abdcf40ep+153, -0x1.7f43f4076d1d1p+164,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.bp-6, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.4e552105d643p-6, .centre_lo = 0x1.4e552105d643p-62, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.bp-6, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.4e552105d643p-6, .centre_lo = 0x1.4e552105d643p-62, .c_lo = hess_radial_2_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.690755413c73dp+12,  // -978106974508125/49640858426 * pi^-1 + (687005418423350250/72401192014321 * pi^-1) * log(54)
@@ -3992,7 +3992,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.68448670a37aep+122, -0x1.775307dc3a5efp+127, 0x1.1fc93e91d0a15p+133,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.88p-5, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.2f4dab38f507ap-5, .centre_lo = 0x1.4f997ea3c344ep-60, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.88p-5, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.2f4dab38f507ap-5, .centre_lo = 0x1.4f997ea3c344ep-60, .c_lo = hess_radial_3_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.fe7886720a698p+11,  // -28876409848125/1462865402 * pi^-1 + (6310645498089450/659020863601 * pi^-1) * log(30)
@@ -4049,7 +4049,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.cce614c2f87d1p+93, -0x1.e3ecc6f164c8cp+96, 0x1.cdecbae95fdfcp+98, 0x1.12184921548eep+103,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.6p-4, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.10c37b071a6c9p-4, .centre_lo = -0x1.9ed3f5c5782fcp-58, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.6p-4, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.10c37b071a6c9p-4, .centre_lo = -0x1.9ed3f5c5782fcp-58, .c_lo = hess_radial_4_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.3f9a28621d18p+11,  // -484056972/24389 * pi^-1 + (695989658007/70728100 * pi^-1) * log(17)
@@ -4108,7 +4108,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.e4350f1d9125bp+70,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-3, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.e0387f1e0387fp-4, .centre_lo = 0x1.e0387f1e0387fp-60, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-3, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.e0387f1e0387fp-4, .centre_lo = 0x1.e0387f1e0387fp-60, .c_lo = hess_radial_5_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.4e5b29d09bf6fp+10,  // -41479948125/2060602 * pi^-1 + (1099617129450/104060401 * pi^-1) * log(10)
@@ -4164,7 +4164,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     0x1.c9d047581c8bcp+36, 0x1.3901e9d1fc953p+38, 0x1.3052d4be90192p+39,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.04p-2, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 39, .centre = 0x1.958b67ebb907ap-3, .centre_lo = -0x1.58b67ebb9079bp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.04p-2, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 39, .centre = 0x1.958b67ebb907ap-3, .centre_lo = -0x1.58b67ebb9079bp-57, .c_lo = hess_radial_6_0_lo, .plain = 28},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.f2e684b89ed39p+8,  // -2104948125/101306 * pi^-1 + (23373110250/1874161 * pi^-1) * log(6)
@@ -4221,7 +4221,7 @@ inline constexpr double hess_radial_7_0_lo[] = {
     -0x1.d98800eac858dp+9, 0x1.d334351fd981cp+11, -0x1.35ace8db9506bp+14, 0x1.d76ae987e6664p+13,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = hess_radial_7_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_8_0[] = {
     0x1.59f6c03fe288ep+8,  // -949366080238457/9964518750 * pi^-1 + (17245414426949198/224201671875 * pi^-1) * log(7/2)
@@ -4295,7 +4295,7 @@ inline constexpr double hess_radial_8_0_lo[] = {
     -0x1.ba048157c99cbp-1,
 };
 inline constexpr table::Term hess_radial_8[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 9, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = hess_radial_8_0, .n = 53, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = hess_radial_8_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 9, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = hess_radial_8_0, .n = 53, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = hess_radial_8_0_lo, .plain = 41},
 };
 inline constexpr double hess_radial_9_0[] = {
     0x1.881f67c74df3cp+2,  // -522151875/24389 * pi^-1 + (71549895375/2829124 * pi^-1) * log(7/3)
@@ -4350,7 +4350,7 @@ inline constexpr double hess_radial_9_0_lo[] = {
     0x1.179f309e183c8p-10, -0x1.afe8a753a0abep-12,
 };
 inline constexpr table::Term hess_radial_9[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_9_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = hess_radial_9_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_9_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = hess_radial_9_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_10_0[] = {
     0x1.3193d66ed2bfap+6,  // 240 * pi^-1
@@ -4837,7 +4837,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.f21d001c787e5p-28, 0x1.80c4f2bd326f2p-27, -0x1.03e42951ee128p-26, 0x1.ed0ec2c69f55cp-26,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 32},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.9cb02291c3f0fp-4,  // -613292924925944955/369573522281838896 * pi^-1 + (464028692821436761/349774940731026098 * pi^-1) * log(7/2) + (1/2 * pi^-1) * log(28/53)
@@ -4896,7 +4896,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.54dff20a65259p-47,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 32},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.a4bf2a0906642p-5,  // -164935843852494515/29246406287351904 * pi^-1 + (358425473464201921/53850525862425728 * pi^-1) * log(7/3) + (1/2 * pi^-1) * log(21/29)
@@ -4951,7 +4951,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.6b79dcf90ef38p-38, 0x1.8a8420d8275e3p-34,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 31},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5796,7 +5796,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.4428d95f30255p+17, -0x1.ed31851cda2cfp+20, 0x1.a11a7b765753dp+22,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 43, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 43, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.4d0f9961f1a2bp-2,  // 1105940143573/3417968750000 * pi^-1 + (35042028419223/97656250000000 * pi^-1) * log(7)
@@ -5855,7 +5855,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.d56fea07fbb45p-9,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.3b96ff45d5cp-2,  // -356501630039/55806059528 * pi^-1 + (629292625920/118587876497 * pi^-1) * log(4)
@@ -5919,7 +5919,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.305ca525da2c4p-32,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.d72a7551cab49p-3,  // -188589367142503/5002464129610 * pi^-1 + (608316030000000/14507145975869 * pi^-1) * log(5/2)
@@ -5976,7 +5976,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.85a79036f6437p-34, 0x1.b135a338dbd1dp-35, 0x1.09aa6594b8083p-33, -0x1.be4689a9b0fe3p-30,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6454,7 +6454,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.918e6f57806c5p+28,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 45, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 45, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo, .plain = 38},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.296036a9bc514p+0,  // 1105940143573/957031250000 * pi^-1 + (5006004059889/3906250000000 * pi^-1) * log(7)
@@ -6515,7 +6515,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.feb421034f06p-4, 0x1.df8b2d7f5d4c2p-2, -0x1.7ed821817de0fp-1,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.4f506f3a331bfp-1,  // -356501630039/26261675072 * pi^-1 + (78661578240/6975757441 * pi^-1) * log(4)
@@ -6577,7 +6577,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.90cb70eb667dfp-32, -0x1.e6205a67062c8p-31, 0x1.0309b13caaep-29, 0x1.252a0190cd57bp-28,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 34},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.559861db4c8fbp-2,  // -188589367142503/3449975261800 * pi^-1 + (30415801500000/500246412961 * pi^-1) * log(5/2)
@@ -6634,7 +6634,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     0x1.3fa23452f4362p-34, 0x1.4ee77208783b3p-33, 0x1.3534478b5c82ep-33, 0x1.1b507d3e2d2f5p-31,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -7120,7 +7120,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.3c1b198244a8p+57, 0x1.c210f40af5aa6p+56, -0x1.e7aad2a40f68fp+62, 0x1.01e14627ef5a2p+62,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 52, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 52, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 44},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.61673215455d2p+3,  // -776046046817/4689453125 * pi^-1 + (6563860317/97656250 * pi^-1) * log(7)
@@ -7187,7 +7187,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.ed958a97352b2p+14, -0x1.38fc0f16d191cp+16, -0x1.e4d6641ef16a1p+19, -0x1.7f1f639762f27p+21,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 48, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 48, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 39},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.1cd124e349bbcp+2,  // -921397218961/2907867136 * pi^-1 + (5273664480/24137569 * pi^-1) * log(4)
@@ -7256,7 +7256,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.bc81422857a97p-12,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 39},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.5ed45f97da4fp+0,  // -27534546748367/51277872500 * pi^-1 + (345785265000/594823321 * pi^-1) * log(5/2)
@@ -7312,7 +7312,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     -0x1.8825d7c7757b4p-30, 0x1.0ae1de4e2223dp-27, 0x1.6cc291e9a965dp-27,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 31},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -99,7 +99,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.9d1a6eff82845p+27, -0x1.4e44693731476p+28,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 34},
 };
 inline constexpr double value_2_0[] = {
     0x1.7bf3456706fe1p+1,  // -3738567444394068/19073486328125 * pi^-2 + (7066891341279/61035156250 * pi^-2) * log(7)
@@ -159,7 +159,7 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.6dea56d1e579cp-1, 0x1.668276dbad0c1p+1,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 33},
 };
 inline constexpr double value_3_0[] = {
     0x1.a12f9534e9976p+1,  // -33087422360957933672/3243658447265625 * pi^-2 + (359141941666838708224/48654876708984375 * pi^-2) * log(4)
@@ -245,7 +245,7 @@ inline constexpr double value_3_0_lo[] = {
     0x1.6d01c55eca01cp-8, -0x1.313a2962f75dap-7, -0x1.3d757e46c9dc1p-6,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 52},
 };
 inline constexpr double value_4_0[] = {
     0x1.c8713a663114ep+0,  // -41899869250952475744344/51490792579706487 * pi^-2 + (960302501948493256960000/1081306644173836227 * pi^-2) * log(5/2)
@@ -344,7 +344,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.ded4709cf921dp-37,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 63},
 };
 inline constexpr double value_5_0[] = {
     0x1.98a07450e8cecp-1,  // 512/65 * pi^-2
@@ -808,7 +808,7 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.584eae3ad0811p+56, 0x1.d376c68284ec7p+59, -0x1.e12c6810d1c07p+62,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = dr_1_0_lo, .plain = 31},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.b459f04fb5ad6p+4,  // -12473653940420937264/13624526251953125 * pi^-2 + (1615705271752572/6411541765625 * pi^-2) * log(13)
@@ -865,7 +865,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.6267e0b4cb514p+30, -0x1.431141aecafa1p+32, 0x1.7de89d4dc2032p+35, -0x1.d0e6901d8e0ep+33,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = dr_2_0_lo, .plain = 32},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.806789def249dp+4,  // -4170661098177176064/1593224064453125 * pi^-2 + (1122453978218496/980445578125 * pi^-2) * log(8)
@@ -922,7 +922,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.3599bccfceca7p+6, -0x1.71fa10dbf4e58p+8, -0x1.44c8c09151967p+10, -0x1.f2b90b1d327dep+13,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = dr_3_0_lo, .plain = 31},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.7b17d01f8fe08p+3,  // -6970562367120/815730721 * pi^-2 + (328599463500/62748517 * pi^-2) * log(5)
@@ -986,7 +986,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.8793a4ee3e712p-6,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = dr_4_0_lo, .plain = 35},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.880951c2cc1b2p+4,  // -2387051555625/4194304 * pi^-2 + (8687458828125/16777216 * pi^-2) * log(3)
@@ -1078,7 +1078,7 @@ inline constexpr double dr_5_0_lo[] = {
     0x1.c3a209c8ebe77p-18, -0x1.b31db72b92e14p-20, 0x1.e2437263bfc3bp-17, 0x1.777171b157522p-16,
 };
 inline constexpr table::Term dr_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dr_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = dr_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dr_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = dr_5_0_lo, .plain = 58},
 };
 inline constexpr double dr_6_0[] = {
     -0x1.492826ad59171p-4,  // -47410783797052082880/806460091894081 * pi^-2 + (823702158670198500/11047398519097 * pi^-2) * log(11/5)
@@ -1123,7 +1123,7 @@ inline constexpr double dr_6_0_lo[] = {
     -0x1.75bb93fb97c94p-28, -0x1.c193176cbb4e8p-27,
 };
 inline constexpr table::Term dr_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = dr_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = dr_6_0_lo, .plain = 23},
 };
 inline constexpr double dr_7_0[] = {
     -0x1.7f166d0bda41dp+3,  // -1536/13 * pi^-2
@@ -1575,7 +1575,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.468b33621a1d6p+98, -0x1.4a78e481fa70bp+102, 0x1.4ea9639379a28p+107, -0x1.120c420693f8fp+111,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-5, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 40, .centre = 0x1.6be8c0102c7a5p-5, .centre_lo = 0x1.73fefd385afa3p-63, .c_lo = d2r_1_0_lo, .plain = 32},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.5465e81d2d1fep+7,  // -1732756575297110878944/294313621587817417 * pi^-2 + (1229140836549202500/940299110504209 * pi^-2) * log(25)
@@ -1634,7 +1634,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.fb94d5300d1b9p+81,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 41, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-4, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 41, .centre = 0x1.472813a11fe5dp-4, .centre_lo = 0x1.eabc1d71afd8cp-59, .c_lo = d2r_2_0_lo, .plain = 33},
 };
 inline constexpr double d2r_3_0[] = {
     -0x1.45f5d3ff53834p+5,  // -137540905535748892320/11514990476898413 * pi^-2 + (255648694783781376/58451728309129 * pi^-2) * log(14)
@@ -1694,7 +1694,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.dab54e5e367a1p+51, -0x1.6f90143a1ad1ep+55,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 42, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.78p-3, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 42, .centre = 0x1.231617640f981p-3, .centre_lo = -0x1.66a8ef1b4a123p-57, .c_lo = d2r_3_0_lo, .plain = 33},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.2d515db7980c1p+6,  // -757072630537024032/24511139453125 * pi^-2 + (229439109537792/15083778125 * pi^-2) * log(8)
@@ -1753,7 +1753,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.f043b8b37df19p+22,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_4_0_lo, .plain = 31},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.49271ff564ffp+6,  // -4863643806384/62748517 * pi^-2 + (234893528100/4826809 * pi^-2) * log(5)
@@ -1818,7 +1818,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.95e15c21a745bp+2, 0x1.7a30eb277ee86p+4,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_5_0_lo, .plain = 35},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.b344d65fdd8e2p+7,  // -647196053625/262144 * pi^-2 + (2358463078125/1048576 * pi^-2) * log(3)
@@ -1905,7 +1905,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.2a92471996764p-17, 0x1.c43e08d8ba858p-13, -0x1.4f11f623ad5cfp-13, -0x1.5fd842b1a986ep-15,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 64, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 64, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_6_0_lo, .plain = 54},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.f717e371036e6p+0,  // -3784402863018968256/11047398519097 * pi^-2 + (65753803526588100/151334226289 * pi^-2) * log(11/5)
@@ -1949,7 +1949,7 @@ inline constexpr double d2r_7_0_lo[] = {
     0x1.5a24acb15d903p-20,
 };
 inline constexpr table::Term d2r_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_7_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_7_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_7_0_lo, .plain = 22},
 };
 inline constexpr double d2r_8_0[] = {
     0x1.37423899a1558p+7,  // 1536 * pi^-2
@@ -2397,7 +2397,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.307485639614ap+66, -0x1.e53c68f566f1dp+69, 0x1.ee1d65e3c6d16p+73,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.7b357774b10f2p+8,  // -812538432381470256/32057708828125 * pi^-2 + (635313930847596/75429903125 * pi^-2) * log(13)
@@ -2454,7 +2454,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.77f5b558308adp+37, 0x1.3c869c4f4457cp+41, -0x1.35db2bb606968p+43, -0x1.6fdf174ddef0fp+46,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.df80f2554419dp+6,  // -255681053561834208/4902227890625 * pi^-2 + (369745856815104/15083778125 * pi^-2) * log(8)
@@ -2511,7 +2511,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.8a722cd0d71b2p+15, 0x1.4de684e2cb1cfp+16, 0x1.edcdda83abc67p+17, 0x1.3521b7cecec7bp+20,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.4af82f83844dfp+4,  // -7651868753232/62748517 * pi^-2 + (366333313500/4826809 * pi^-2) * log(5)
@@ -2577,7 +2577,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     0x1.72815199f713bp+3, 0x1.7fb56cd89b125p+4, 0x1.7ce94d12332d8p+6,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 35},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.c68bd0c0eb9d8p+3,  // -24716021616/78125 * pi^-2 + (900298476/3125 * pi^-2) * log(3)
@@ -2643,7 +2643,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     -0x1.1efee8c1b41efp-19, 0x1.e6e123beddfcap-18, -0x1.cac5b24f6b2a2p-17,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 37},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.c07bb322378f4p+0,  // -5508431364729953088/11047398519097 * pi^-2 + (95706609296413500/151334226289 * pi^-2) * log(11/5)
@@ -2688,7 +2688,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     -0x1.a67dfc5a12ce7p-21, 0x1.032ea95edd643p-18,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 23},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.37423899a1558p+7,  // 1536 * pi^-2
@@ -3133,7 +3133,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.3ca6d62a8407cp+62, -0x1.6cc67420d1596p+67, 0x1.3e01fbbdb60c8p+69,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = grad_over_r_1_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.64a21f7c3968cp+7,  // -959511841570841328/160288544140625 * pi^-2 + (124285020904044/75429903125 * pi^-2) * log(13)
@@ -3189,7 +3189,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.6d81a94a4b3bep+36, -0x1.8c77022dcdb43p+39, -0x1.90998ee399b6p+40,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = grad_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.866928066e12fp+6,  // -260666318636073504/24511139453125 * pi^-2 + (70153373638656/15083778125 * pi^-2) * log(8)
@@ -3245,7 +3245,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.e100381d7b5e7p+13, -0x1.c509231bb1c6ep+13, 0x1.6d70e59ad6d93p+16,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = grad_over_r_3_0_lo, .plain = 30},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.ecd2282907d71p+4,  // -1394112473424/62748517 * pi^-2 + (65719892700/4826809 * pi^-2) * log(5)
@@ -3309,7 +3309,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.4f21471246e1bp+1,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = grad_over_r_4_0_lo, .plain = 34},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.46b26eccff6bfp+5,  // -3978419259375/4194304 * pi^-2 + (14479098046875/16777216 * pi^-2) * log(3)
@@ -3400,7 +3400,7 @@ inline constexpr double grad_over_r_5_0_lo[] = {
     0x1.d47a830b80a4ep-13, -0x1.493b49658928ep-12, 0x1.32ba84916964cp-16,
 };
 inline constexpr table::Term grad_over_r_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = grad_over_r_5_0, .n = 67, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = grad_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = grad_over_r_5_0, .n = 67, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = grad_over_r_5_0_lo, .plain = 56},
 };
 inline constexpr double grad_over_r_6_0[] = {
     -0x1.b4e182765ef96p-4,  // -862014250855492416/11047398519097 * pi^-2 + (14976402884912700/151334226289 * pi^-2) * log(11/5)
@@ -3445,7 +3445,7 @@ inline constexpr double grad_over_r_6_0_lo[] = {
     -0x1.ac755bccdeedcp-26, -0x1.71749afe6b79fp-29,
 };
 inline constexpr table::Term grad_over_r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = grad_over_r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = grad_over_r_6_0_lo, .plain = 23},
 };
 inline constexpr double grad_over_r_7_0[] = {
     -0x1.7f166d0bda41dp+3,  // -1536/13 * pi^-2
@@ -3895,7 +3895,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.6a0a7650e4c01p+186, -0x1.018fce71e082ep+191, 0x1.9b99344364209p+201, -0x1.2d90231d9ef09p+207,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-7, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6c13e0ff1b70bp-7, .centre_lo = -0x1.77e5c4ca3bd79p-62, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.d8p-7, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 40, .centre = 0x1.6c13e0ff1b70bp-7, .centre_lo = -0x1.77e5c4ca3bd79p-62, .c_lo = hess_radial_1_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.e67fda3a536a3p+14,  // -124271245097740750381506288/408749138496150015625 * pi^-2 + (226964195906252688576/1702234829760125 * pi^-2) * log(98)
@@ -3951,7 +3951,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.4309c661c6367p+154, 0x1.3ae044900645p+162, 0x1.9c8e47dfe6366p+167,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.bp-6, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.4e552105d643p-6, .centre_lo = 0x1.4e552105d643p-62, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.bp-6, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.4e552105d643p-6, .centre_lo = 0x1.4e552105d643p-62, .c_lo = hess_radial_2_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.6bebff55b94bap+14,  // -64313937957447666235440/211194277105774357 * pi^-2 + (9699474443548671936/72401192014321 * pi^-2) * log(54)
@@ -4008,7 +4008,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.7f9c0b83a42eap+123, -0x1.0e3dc5c29302p+129, 0x1.8b9ce86e23df1p+135, 0x1.195ade638f024p+139,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.88p-5, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.2f4dab38f507ap-5, .centre_lo = 0x1.4f997ea3c344ep-60, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.88p-5, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.2f4dab38f507ap-5, .centre_lo = 0x1.4f997ea3c344ep-60, .c_lo = hess_radial_3_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.ef7991f30d5ebp+13,  // -908825135565222280944/2968888990522505 * pi^-2 + (89634183177502656/659020863601 * pi^-2) * log(30)
@@ -4065,7 +4065,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     0x1.8a28ad0136dedp+95, -0x1.b194503ad2f55p+99, -0x1.eb13a58284429p+101, 0x1.45e108365389fp+106,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.6p-4, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.10c37b071a6c9p-4, .centre_lo = -0x1.9ed3f5c5782fcp-58, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.6p-4, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.10c37b071a6c9p-4, .centre_lo = -0x1.9ed3f5c5782fcp-58, .c_lo = hess_radial_4_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.239ea93edee76p+13,  // -99644695167878784/320486703125 * pi^-2 + (12576143149416/88410125 * pi^-2) * log(17)
@@ -4124,7 +4124,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     0x1.3666d26bc6905p+74,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-3, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.e0387f1e0387fp-4, .centre_lo = 0x1.e0387f1e0387fp-60, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-3, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 41, .centre = 0x1.e0387f1e0387fp-4, .centre_lo = 0x1.e0387f1e0387fp-60, .c_lo = hess_radial_5_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.13ccb3448f737p+12,  // -17014312436680944/52550502505 * pi^-2 + (16600386027456/104060401 * pi^-2) * log(10)
@@ -4181,7 +4181,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     0x1.98f26e344c5b5p+36, 0x1.67797626b57e8p+39, 0x1.623e141b01d4bp+43, 0x1.5d7725d5bf0d1p+45,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.04p-2, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 40, .centre = 0x1.958b67ebb907ap-3, .centre_lo = -0x1.58b67ebb9079bp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.04p-2, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 40, .centre = 0x1.958b67ebb907ap-3, .centre_lo = -0x1.58b67ebb9079bp-57, .c_lo = hess_radial_6_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.595f5bbd33793p+10,  // -24624016346160/69343957 * pi^-2 + (385692221376/1874161 * pi^-2) * log(6)
@@ -4238,7 +4238,7 @@ inline constexpr double hess_radial_7_0_lo[] = {
     0x1.88cd03ea7537cp+13, -0x1.7f3bd329dd1e3p+11, -0x1.f9d087b5d33efp+16, 0x1.f183001aee458p+15,
 };
 inline constexpr table::Term hess_radial_7[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = hess_radial_7_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = hess_radial_7_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = hess_radial_7_0_lo, .plain = 29},
 };
 inline constexpr double hess_radial_8_0[] = {
     0x1.ce75462c71883p+9,  // -357826221865797187888/140126044921875 * pi^-2 + (12899281090723869875264/6305672021484375 * pi^-2) * log(7/2)
@@ -4317,7 +4317,7 @@ inline constexpr double hess_radial_8_0_lo[] = {
     0x1.4b73b649b6ca7p+3,
 };
 inline constexpr table::Term hess_radial_8[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = hess_radial_8_0, .n = 57, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = hess_radial_8_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = hess_radial_8_0, .n = 57, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = hess_radial_8_0_lo, .plain = 45},
 };
 inline constexpr double hess_radial_9_0[] = {
     0x1.b94ab5ab50705p+2,  // -9565984501920/20511149 * pi^-2 + (389366812296/707281 * pi^-2) * log(7/3)
@@ -4374,7 +4374,7 @@ inline constexpr double hess_radial_9_0_lo[] = {
     0x1.627023d642823p-11, -0x1.994228bf75cb4p-10, -0x1.424479de097bfp-9, 0x1.09b66c38efbddp-7,
 };
 inline constexpr table::Term hess_radial_9[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_9_0, .n = 40, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = hess_radial_9_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_9_0, .n = 40, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = hess_radial_9_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_10_0[] = {
     0x1.37423899a1558p+7,  // 1536 * pi^-2
@@ -4828,7 +4828,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.0aeaa72eee47p-26, -0x1.078ac05781a21p-25, -0x1.d5449c82cd256p-24, -0x1.8a61463e7622p-22,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 31},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.3294b165a7c4p-3,  // -273688727137436072475/18538071858744383194 * pi^-2 + (1928304065324105728/174887470365513049 * pi^-2) * log(7/2) + (-53/56 * pi^-2) * arcsin(28/53)
@@ -4888,7 +4888,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.72d64ca1c430ep-46, 0x1.d5108f8338bdap-45,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 32},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.c217b4b3fef6fp-4,  // -916942956865435575/12200509765705829 * pi^-2 + (148225020135655113/1682828933200804 * pi^-2) * log(7/3) + (-29/42 * pi^-2) * arcsin(21/29)
@@ -4944,7 +4944,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.415d38ed7f2d4p-39, 0x1.43606bae5a32p-37, -0x1.e0373a377b49bp-35,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 33},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5874,7 +5874,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.0342e0c59bfdfp+15, -0x1.96e0af8e61b85p+22, -0x1.c168ebed4f5ddp+25, -0x1.fa26f89444035p+24,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.bfeb1f5ffb772p-2,  // -20922845237804736/3337860107421875 * pi^-2 + (6881353691723/1525878906250 * pi^-2) * log(7) + (625/98 * pi^-2) * arcsin(7/25)
@@ -5934,7 +5934,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.9399929cd2b05p-7, 0x1.7cc97c730bb41p-7,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo, .plain = 34},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.416dad827269bp-2,  // -3115530172535535/32255902407184 * pi^-2 + (8432809934848/118587876497 * pi^-2) * log(4) + (289/128 * pi^-2) * arcsin(8/17)
@@ -5999,7 +5999,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.c45dce560ad0fp-33, 0x1.e868ac434cf5dp-29,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.556d08c64051cp-3,  // -9482843024220993021/16828289332008040 * pi^-2 + (8935077299200000/14507145975869 * pi^-2) * log(5/2) + (841/800 * pi^-2) * arcsin(20/29)
@@ -6064,7 +6064,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     0x1.cd21cd549d4c9p-27, 0x1.8589e08a2246ap-25,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo, .plain = 38},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6929,7 +6929,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.2679e8839b6ffp+34, 0x1.80078f77cb41ap+37, -0x1.d1d14cc4c667cp+39,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo, .plain = 39},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.8fed5c0369aa6p+0,  // -20922845237804736/934600830078125 * pi^-2 + (983050527389/61035156250 * pi^-2) * log(7) + (15625/686 * pi^-2) * arcsin(7/25)
@@ -6991,7 +6991,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.c3b6d51731f25p-3, 0x1.944862e3477b3p+0, -0x1.5cf9c585cfab7p-7, -0x1.554cf65f2abb9p+2,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.5584885a99905p-1,  // -3115530172535535/15179248191616 * pi^-2 + (1054101241856/6975757441 * pi^-2) * log(4) + (4913/1024 * pi^-2) * arcsin(8/17)
@@ -7056,7 +7056,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.9ef7e18a18b6dp-26, -0x1.fc7572f8ab0a4p-26,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.ef114cb910768p-3,  // -9482843024220993021/11605716780695200 * pi^-2 + (446753864960000/500246412961 * pi^-2) * log(5/2) + (24389/16000 * pi^-2) * arcsin(20/29)
@@ -7121,7 +7121,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     0x1.1fc41acf01b7ep-26, -0x1.4de653ba17c5dp-24,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -7988,7 +7988,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.5ce1c94918374p+102, 0x1.c3a259acf6c5ep+105, 0x1.fba63ce66a9efp+108, -0x1.a0ded0b682a26p+111,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 52, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 52, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = potential_hess_radial_1_0_lo, .plain = 44},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.4898c78e07034p+5,  // 8014604714544308793066/4578001109200390625 * pi^-2 + (17535008799204/75429903125 * pi^-2) * log(13) + (-13311159375/742586 * pi^-2) * arcsin(13/85)
@@ -8058,7 +8058,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.5608751057375p+64, -0x1.5c0ef1878bf59p+67,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 50, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 50, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = potential_hess_radial_2_0_lo, .plain = 42},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.a4828603e5355p+4,  // -3813140685000383822799/3212724070400000000 * pi^-2 + (9722267344896/15083778125 * pi^-2) * log(8) + (-3480871875/2097152 * pi^-2) * arcsin(16/65)
@@ -8124,7 +8124,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.aaeb057b3d3eep+25, 0x1.8631ff8a8119p+24, -0x1.dbe4d911f292bp+29,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 47, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 47, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = potential_hess_radial_3_0_lo, .plain = 38},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.7aeef2bcdd171p+3,  // -116861093294418/39217823125 * pi^-2 + (8797106100/4826809 * pi^-2) * log(5) + (-1113879/6250 * pi^-2) * arcsin(5/13)
@@ -8195,7 +8195,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     -0x1.86589377431fp+3, -0x1.522b3656c30bep+2, 0x1.2eb1785bb64efp+6,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 51, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 51, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = potential_hess_radial_4_0_lo, .plain = 41},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.6412457a16437p+1,  // -69596869418/10546875 * pi^-2 + (18727524/3125 * pi^-2) * log(3) + (-3125/162 * pi^-2) * arcsin(3/5)
@@ -8259,7 +8259,7 @@ inline constexpr double potential_hess_radial_5_0_lo[] = {
     -0x1.ed6a08d4ffeb1p-29,
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_5_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = potential_hess_radial_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_5_0, .n = 45, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = potential_hess_radial_5_0_lo, .plain = 36},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.f4a343379bce3p-1,  // -960182477531478673704072/101090601073811985625 * pi^-2 + (1822223708966100/151334226289 * pi^-2) * log(11/5) + (-6219214779/1006568750 * pi^-2) * arcsin(55/73)
@@ -8301,7 +8301,7 @@ inline constexpr double potential_hess_radial_6_0_lo[] = {
     0x1.d9cca72f52561p-40, 0x1.2f754ee801c59p-38, -0x1.bd718617ce413p-36, -0x1.68618949e598p-34,
 };
 inline constexpr table::Term potential_hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = potential_hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = potential_hess_radial_6_0_lo, .plain = 22},
 };
 inline constexpr double potential_hess_radial_7_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1

@@ -94,7 +94,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.34bdc62047d7bp+4, -0x1.3d73939978cffp+5, 0x1.041bac1f3946cp+10, -0x1.b2adca87db66fp+12,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.b23a9cf88abd1p-1,  // 13256966117448/3814697265625 * pi^-1 + (-12716327463/30517578125 * pi^-1) * log(7)
@@ -151,7 +151,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.7cf07463807aep-18, -0x1.1ba7c421b3b64p-17, 0x1.722531b1d8eaep-16, 0x1.6dbed587736b3p-13,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 32},
 };
 inline constexpr double value_3_0[] = {
     0x1.d16743383d58p-3,  // 1708968517200/118587876497 * pi^-1 + (-68922900480/6975757441 * pi^-1) * log(4)
@@ -215,7 +215,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.53660ab9e5356p-33,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 35},
 };
 inline constexpr double value_4_0[] = {
     0x1.bb9d1f8aa4f6fp-1,  // 2271433070093126512/350277500542221 * pi^-1 + (-52035964567040000000/7355827511386641 * pi^-1) * log(5/2)
@@ -307,7 +307,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.798ca78f5aecp-47, 0x1.8eeda19f40c8bp-47, 0x1.516ee4dfe84a8p-48, -0x1.f3240a7b22bb7p-47,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 60},
 };
 inline constexpr double value_5_0[] = {
     0x1.23c243025668p-1,  // 256/143 * pi^-1
@@ -763,7 +763,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.f02897d7941ddp+23,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 33},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.0d544944e7312p+2,  // 659157984576/152587890625 * pi^-1 + (-11003475672/1220703125 * pi^-1) * log(7)
@@ -822,7 +822,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.0bb5922b445f4p-4,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 32},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.094a135b2ff09p+1,  // 1203946156800/6975757441 * pi^-1 + (-53013381120/410338673 * pi^-1) * log(4)
@@ -886,7 +886,7 @@ inline constexpr double dr_3_0_lo[] = {
     0x1.566034ba465ffp-27,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 35},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.0c3838a14c226p+3,  // 2739095155607680/88253338509 * pi^-1 + (-62829185792000000/1853320108689 * pi^-1) * log(5/2)
@@ -973,7 +973,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.d29cd5969ecf9p-42, 0x1.0461505d404cep-42, -0x1.619c2f22fb71ep-43, 0x1.fb14876823c63p-42,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 57},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.da1bace3cc68fp+2,  // -256/11 * pi^-1
@@ -1416,7 +1416,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.319ae12e7eb3p+50, -0x1.ab0c69728235cp+54,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 31},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.bcb804fb3bf3cp+3,  // -247351926267936/32057708828125 * pi^-1 + (-1057049236152/75429903125 * pi^-1) * log(13)
@@ -1472,7 +1472,7 @@ inline constexpr double d2r_2_0_lo[] = {
     -0x1.a9c68deba4d5ap+22, -0x1.ba1ff23a2c1fbp+27, -0x1.d5cf87f5e2568p+29,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 31},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.ce24ea3585cap-1,  // 997023521888352/4902227890625 * pi^-1 + (-1454713602048/15083778125 * pi^-1) * log(8)
@@ -1528,7 +1528,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.3f16e15819f31p+2, 0x1.b1c2f1d20114dp+2, 0x1.1d9382b32d65fp+4,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 31},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.94f9026ab189p+3,  // 63952556832/62748517 * pi^-1 + (-2937375000/4826809 * pi^-1) * log(5)
@@ -1592,7 +1592,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.9fe8fe6e198bbp-9,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 35},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.ded028e09a253p+2,  // 352785504/78125 * pi^-1 + (-12777912/3125 * pi^-1) * log(3)
@@ -1657,7 +1657,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.016dc5b780d87p-17, 0x1.1ffcb3a073cc7p-23,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 36},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.98726e1a05879p+0,  // 98888962515343488/11047398519097 * pi^-1 + (-1717131252375000/151334226289 * pi^-1) * log(11/5)
@@ -1699,7 +1699,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.44f433d8ae754p-24, 0x1.c9c6fecb210c1p-23, -0x1.fb8a0007ac315p-22, -0x1.bf19fba85f5a4p-21,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 21},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.45f306dc9c883p+6,  // 256 * pi^-1
@@ -2186,7 +2186,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.319ae12e7eb3p+50, -0x1.ab0c69728235cp+54,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.bcb804fb3bf3cp+3,  // -247351926267936/32057708828125 * pi^-1 + (-1057049236152/75429903125 * pi^-1) * log(13)
@@ -2242,7 +2242,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.a9c68deba4d5ap+22, -0x1.ba1ff23a2c1fbp+27, -0x1.d5cf87f5e2568p+29,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_3_0[] = {
     0x1.ce24ea3585cap-1,  // 997023521888352/4902227890625 * pi^-1 + (-1454713602048/15083778125 * pi^-1) * log(8)
@@ -2298,7 +2298,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.3f16e15819f31p+2, 0x1.b1c2f1d20114dp+2, 0x1.1d9382b32d65fp+4,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.94f9026ab189p+3,  // 63952556832/62748517 * pi^-1 + (-2937375000/4826809 * pi^-1) * log(5)
@@ -2362,7 +2362,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     0x1.9fe8fe6e198bbp-9,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 35},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.ded028e09a253p+2,  // 352785504/78125 * pi^-1 + (-12777912/3125 * pi^-1) * log(3)
@@ -2427,7 +2427,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.016dc5b780d87p-17, 0x1.1ffcb3a073cc7p-23,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.98726e1a05879p+0,  // 98888962515343488/11047398519097 * pi^-1 + (-1717131252375000/151334226289 * pi^-1) * log(11/5)
@@ -2469,7 +2469,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.44f433d8ae754p-24, 0x1.c9c6fecb210c1p-23, -0x1.fb8a0007ac315p-22, -0x1.bf19fba85f5a4p-21,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 21},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.45f306dc9c883p+6,  // 256 * pi^-1
@@ -2960,7 +2960,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.d26190a3efe4ap+17, 0x1.270ebc16c74ebp+21, -0x1.afac7ae7223c9p+22, -0x1.35bcb1bc2a25ap+24,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.e0f1f08d53b32p+3,  // 94165426368/6103515625 * pi^-1 + (-1571925096/48828125 * pi^-1) * log(7)
@@ -3019,7 +3019,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.5468fd80aa9p-3,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.19deb490e2ef9p+2,  // 150493269600/410338673 * pi^-1 + (-6626672640/24137569 * pi^-1) * log(4)
@@ -3081,7 +3081,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.76cb5c7eff0f6p-28, -0x1.c10a2e4494dcbp-29, 0x1.b227a00e967b6p-27, 0x1.8b29706ad6bbbp-28,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 34},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.84eb1ee9e1984p+3,  // 3971687975631136/88253338509 * pi^-1 + (-91102319398400000/1853320108689 * pi^-1) * log(5/2)
@@ -3168,7 +3168,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.3442c0ed49f99p-38, -0x1.aa53183e78f23p-40, 0x1.1b707d4e1f4c7p-39, -0x1.12bd4b60003fep-38,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 56},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.da1bace3cc68fp+2,  // -256/11 * pi^-1
@@ -3617,7 +3617,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.7b79df3438f4bp+38,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = hess_radial_1_0_lo, .plain = 33},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.01b460eecaca1p+8,  // 39707466624/9765625 * pi^-1 + (-130740624/78125 * pi^-1) * log(7)
@@ -3674,7 +3674,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.6c6d6cb5a1ffbp+5, -0x1.8dad03798ee31p+8, 0x1.2bdb325d9f259p+8, 0x1.1d1a8f4c0f02dp+11,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = hess_radial_2_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.364d1e85e70a2p+6,  // 10593223200/1419857 * pi^-1 + (-434810880/83521 * pi^-1) * log(4)
@@ -3735,7 +3735,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.8fdcd04bd2d1fp-16, 0x1.f0364f7082c0bp-16, -0x1.16a45544e2766p-13,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = hess_radial_3_0_lo, .plain = 33},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.04d34ce1a638cp+3,  // 245018795616/20511149 * pi^-1 + (-9201024000/707281 * pi^-1) * log(5/2)
@@ -3792,7 +3792,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.1bf70e80c9e78p-14, -0x1.edfd37bc8ca7ep-13, -0x1.b52540da76545p-12, 0x1.dbd4087607029p-11,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = hess_radial_4_0_lo, .plain = 32},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.45f306dc9c883p+6,  // 256 * pi^-1
@@ -4278,7 +4278,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.c5df6d22b142cp-37, -0x1.bef871971268ap-37,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 38, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 38, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 30},
 };
 inline constexpr double potential_2_0[] = {
     0x1.0f1965d44dc8dp-2,  // 67203998078381840160/101959395223094107567 * pi^-1 + (-16955375883321344/174887470365513049 * pi^-1) * log(7/2) + (28/53 * pi^-1) * arcsin(28/53)
@@ -4335,7 +4335,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.3b5d280c48c17p-55, 0x1.90b4ed07e7a0ep-57, 0x1.3b0d2de450b9p-57, -0x1.039a93c94e9ebp-57,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 31},
 };
 inline constexpr double potential_3_0[] = {
     0x1.72c49471facbp-2,  // 218704876620302290/134205607422764119 * pi^-1 + (-1071029908525437/841414466600402 * pi^-1) * log(7/3) + (21/29 * pi^-1) * arcsin(21/29)
@@ -4389,7 +4389,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.85131f15842fep-36,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 31},
 };
 inline constexpr double potential_4_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
@@ -5256,7 +5256,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.ecc2f2a54adc1p-34, -0x1.1654591c56a02p-29, -0x1.e3fcebfc8ffeap-27,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.f647bff3dcfffp-2,  // 498722294715864660/174887470365513049 * pi^-1 + (-4918442301194240/3299763591802133 * pi^-1) * log(7/2) + (1 * pi^-1) * arcsin(28/53)
@@ -5315,7 +5315,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.5bcfefa369d75p-57,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.ffbb224d38a8fp-2,  // 5469187813676720/420707233300201 * pi^-1 + (-209565657188055/14507145975869 * pi^-1) * log(7/3) + (1 * pi^-1) * arcsin(21/29)
@@ -5370,7 +5370,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.b4461bc00ab9bp-32, 0x1.c00abe0d7ac08p-28,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -6251,7 +6251,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.13438fd03fe59p-26, -0x1.cd56fb8a0ccdep-27, 0x1.f74560a932c53p-24,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.db5f55ab5edffp-1,  // 17811510525566595/3299763591802133 * pi^-1 + (-175658653614080/62259690411361 * pi^-1) * log(7/2) + (53/28 * pi^-1) * arcsin(28/53)
@@ -6308,7 +6308,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.2bbb93a641082p-47, -0x1.337b74291cb05p-53, 0x1.38cd23327e0b5p-49, 0x1.e2028585c6527p-46,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.61568b7e765c4p-1,  // 781312544810960/43521437927607 * pi^-1 + (-9979317008955/500246412961 * pi^-1) * log(7/3) + (29/21 * pi^-1) * arcsin(21/29)
@@ -6363,7 +6363,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.85d05f679495ep-32, 0x1.c95257d4b2879p-28,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -7248,7 +7248,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.7c6a06fe159b1p+35, -0x1.ae5213a6387d7p+37, -0x1.98751401ab389p+40,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 40},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.ad3da57de4697p+2,  // 1094396051016/1495361328125 * pi^-1 + (-222678344/48828125 * pi^-1) * log(7) + (-15625/343 * pi^-1) * arcsin(7/25)
@@ -7312,7 +7312,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.6afa91f1704a5p+4,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 37},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.cac2cee21416dp+1,  // 1223987013135/26261675072 * pi^-1 + (-925696000/24137569 * pi^-1) * log(4) + (-4913/512 * pi^-1) * arcsin(8/17)
@@ -7377,7 +7377,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     -0x1.a3ab4b61f5fd1p-26, -0x1.dd08949fa95ecp-28,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 37},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.7ebdd92e851b6p+0,  // 1203839537832981/6899950523600 * pi^-1 + (-114803200000/594823321 * pi^-1) * log(5/2) + (-24389/8000 * pi^-1) * arcsin(20/29)
@@ -7433,7 +7433,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     -0x1.5c1d9442af5c8p-28, 0x1.115abe72bc573p-27, 0x1.1d3bd61c7ce9ep-29,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 31},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2

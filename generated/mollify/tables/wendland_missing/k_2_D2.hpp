@@ -94,7 +94,7 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.36ace9bc4242bp+5, -0x1.1219ea5afc7a5p+9, 0x1.9f0f8fd5aa71ap+10, -0x1.f58d5a0cc08c7p+13,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.752a5ee5973a8p+0,  // 18228328411491/3051757812500 * pi^-1 + (-139879602093/195312500000 * pi^-1) * log(7)
@@ -151,7 +151,7 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.b8a15bfa7d966p-17, 0x1.c61de9b984c7bp-15, -0x1.c07a0252ca659p-13, 0x1.ea4fff8067302p-12,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 32},
 };
 inline constexpr double value_3_0[] = {
     0x1.8ff4bdc454b7ap-2,  // 5874579277875/237175752994 * pi^-1 + (-118461235200/6975757441 * pi^-1) * log(4)
@@ -215,7 +215,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.d5d89be07cee6p-39,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 35},
 };
 inline constexpr double value_4_0[] = {
     0x1.7d3b071b25c44p+0,  // 7808051178445122385/700555001084442 * pi^-1 + (-89436814099600000000/7355827511386641 * pi^-1) * log(5/2)
@@ -307,7 +307,7 @@ inline constexpr double value_4_0_lo[] = {
     -0x1.b71640019bba7p-47, -0x1.24af246c914e1p-48, -0x1.7f0259a7ca3p-46, -0x1.59e5f203a3b22p-47,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 60},
 };
 inline constexpr double value_5_0[] = {
     0x1.f575e32c0482bp-1,  // 40/13 * pi^-1
@@ -763,7 +763,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.d4c5c4fa86933p+23,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 33},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.cee8ddee6d5c7p+2,  // 226585557198/30517578125 * pi^-1 + (-15129779049/976562500 * pi^-1) * log(7)
@@ -822,7 +822,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.610099d2ec1ddp-7,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 32},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.c7f75144ba657p+1,  // 2069282457000/6975757441 * pi^-1 + (-91116748800/410338673 * pi^-1) * log(4)
@@ -886,7 +886,7 @@ inline constexpr double dr_3_0_lo[] = {
     0x1.63aad50147a6fp-30,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 35},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.cd00a1553adb2p+3,  // 4707819798700700/88253338509 * pi^-1 + (-107987663080000000/1853320108689 * pi^-1) * log(5/2)
@@ -973,7 +973,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.bc04e1ca3e167p-43, -0x1.903c5eefdcbdfp-41, -0x1.9fc47104202bcp-43, -0x1.874b745028362p-46,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 57},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.976fc893c3aa3p+3,  // -40 * pi^-1
@@ -1416,7 +1416,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.0d423307e9c3bp+50, -0x1.fefeaa9e67e63p+55,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 31},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.7e2e2447e7857p+4,  // -85027224654603/6411541765625 * pi^-1 + (-1453442699709/60343922500 * pi^-1) * log(13)
@@ -1472,7 +1472,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.490caf04bf2c3p+24, -0x1.0bf37429fdeb4p+28, 0x1.f8834e5162fb5p+29,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 31},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.8d27b945fef99p+0,  // 342726835649121/980445578125 * pi^-1 + (-500057800704/3016755625 * pi^-1) * log(8)
@@ -1528,7 +1528,7 @@ inline constexpr double d2r_3_0_lo[] = {
     0x1.fdc8565849b32p+3, 0x1.ed30e1f41e3b8p+5, 0x1.2d5ab1147ec0ep+7,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 31},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.5c05fe13b091cp+4,  // 109918457055/62748517 * pi^-1 + (-20194453125/19307236 * pi^-1) * log(5)
@@ -1592,7 +1592,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.d5278ab2c417ep-9,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 35},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.9b7ae3210477fp+3,  // 121270017/15625 * pi^-1 + (-17569629/2500 * pi^-1) * log(3)
@@ -1657,7 +1657,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.3a74abd36574p-17, -0x1.bc220b568871fp-16,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 46, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 36},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.5f02569e5cc08p+1,  // 169965404323246620/11047398519097 * pi^-1 + (-11805277360078125/605336905156 * pi^-1) * log(11/5)
@@ -1699,7 +1699,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.1d077238d7b2fp-25, 0x1.72ce05ed20cccp-23, -0x1.7a154c034bfd3p-20, -0x1.403a5444b1f19p-20,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 28, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 21},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.181cd9e59685p+7,  // 440 * pi^-1
@@ -2192,7 +2192,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.65e3398f123d5p+31,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = laplacian_1_0_lo, .plain = 33},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.8755eb8af8a41p+4,  // 10612867065625/12230590464 * pi^-1 + (-142485281640625/293534171136 * pi^-1) * log(7)
@@ -2254,7 +2254,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.92178179d8da3p+3, -0x1.da7ddecf7e4d8p+6, -0x1.bfc5d3d115a16p+6, -0x1.1eaea504d75c7p+9,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 9, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 9, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = laplacian_2_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_3_0[] = {
     0x1.cc65e100b343dp+3,  // 1682575166250/410338673 * pi^-1 + (-70608384000/24137569 * pi^-1) * log(4)
@@ -2319,7 +2319,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     0x1.f68f1974747a5p-20, -0x1.eb72cff4322f2p-24,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = laplacian_3_0_lo, .plain = 35},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.5dac5afcfa549p+2,  // 245064210091470/17249876309 * pi^-1 + (-9211356000000/594823321 * pi^-1) * log(5/2)
@@ -2378,7 +2378,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.5f32434895366p-9,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 41, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 41, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = laplacian_4_0_lo, .plain = 33},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.181cd9e59685p+7,  // 440 * pi^-1
@@ -2867,7 +2867,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.3cd09ecc775e3p+16, 0x1.d90a9a39347a2p+18, 0x1.8d07c6615e93fp+23, 0x1.6ba3ae84978f5p+24,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 40, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.9d4feab973edfp+4,  // 32369365314/1220703125 * pi^-1 + (-2161397007/39062500 * pi^-1) * log(7)
@@ -2926,7 +2926,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.49228e76a4a4fp+0,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.e476c659060bcp+2,  // 258660307125/410338673 * pi^-1 + (-11389593600/24137569 * pi^-1) * log(4)
@@ -2988,7 +2988,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     -0x1.5ef49e416e676p-26, -0x1.503c97f85dfdbp-25, 0x1.fa8d06c644a9p-25, 0x1.653979c9bd089p-23,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 44, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 34},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.4e3a0e90fddeep+4,  // 6826338708116015/88253338509 * pi^-1 + (-156582111466000000/1853320108689 * pi^-1) * log(5/2)
@@ -3075,7 +3075,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.31d2bb97d725p-38, -0x1.ee5f68d5aff02p-39, 0x1.89ca55d79172ep-37, 0x1.3e553397fc91fp-41,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 64, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 56},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.976fc893c3aa3p+3,  // -40 * pi^-1
@@ -3524,7 +3524,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.e461cbbd0e0f2p+43,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = hess_radial_1_0_lo, .plain = 33},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.baee069a6c8b4p+8,  // 13649441652/1953125 * pi^-1 + (-89884179/31250 * pi^-1) * log(7)
@@ -3581,7 +3581,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.b92e096c1737cp+6, -0x1.0b815df8ed965p+8, 0x1.41b05f4874c44p+9, -0x1.9afd2cdaa3199p+12,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = hess_radial_2_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.0aaa463b128cbp+7,  // 18207102375/1419857 * pi^-1 + (-747331200/83521 * pi^-1) * log(4)
@@ -3642,7 +3642,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.885e3cfed6d39p-15, -0x1.eac8a9dda7d13p-14, -0x1.fba9ca3994edfp-15,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 43, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = hess_radial_3_0_lo, .plain = 33},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.c04b2c23d5b18p+3,  // 421126054965/20511149 * pi^-1 + (-15814260000/707281 * pi^-1) * log(5/2)
@@ -3699,7 +3699,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     0x1.57ef5f12a4fa3p-14, -0x1.88859be608e05p-12, -0x1.5eb00eeef6c1cp-13, 0x1.b8ea37456e063p-10,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = hess_radial_4_0_lo, .plain = 32},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.181cd9e59685p+7,  // 440 * pi^-1
@@ -4186,7 +4186,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.313a80c9077d8p-36, 0x1.2d95ab49daac9p-35, 0x1.4171d0e346708p-33,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 31},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.9b62f34cc8db2p-4,  // -5023306662025106466045/11419452264986540047504 * pi^-1 + (123799788407727961/349774940731026098 * pi^-1) * log(7/2) + (1/2 * pi^-1) * log(28/53)
@@ -4243,7 +4243,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.6fbdbfa10d4ffp-60, 0x1.da237192e3ad9p-59, -0x1.cc972bfaa1382p-57, 0x1.f49a0c3597c81p-58,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 40, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 31},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.a4b2cdc431169p-5,  // 651204679065777604345/541117009128584927808 * pi^-1 + (-152964906946381633/107701051724851456 * pi^-1) * log(7/3) + (1/2 * pi^-1) * log(21/29)
@@ -4297,7 +4297,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.d70b9095d7f77p-37,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 30},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5143,7 +5143,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.7e5a8706b26bcp-29, -0x1.8491afe438b4cp-29, -0x1.8c6e6b8d12fbbp-27, 0x1.53b483d692bcbp-31,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.21cd456985373p-2,  // 4533725924534980009/1224212292558591343 * pi^-1 + (-7412785123054080/3299763591802133 * pi^-1) * log(7/2)
@@ -5203,7 +5203,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.47e7141238affp-52, -0x1.5589fa106f79p-48,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.c126dae7b4696p-3,  // 903099282991065569/47119210129622512 * pi^-1 + (-20247143958833715/928457342455616 * pi^-1) * log(7/3)
@@ -5259,7 +5259,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.47b5d7baf81ebp-28, 0x1.d194a3fd2ceb8p-27, -0x1.8a0b606660d66p-26,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -5737,7 +5737,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.1747813081966p-20, 0x1.cb1e10d42f097p-25,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 42, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 42, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo, .plain = 34},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.1246d88d02a68p-1,  // 4533725924534980009/646753663993218068 * pi^-1 + (-264742325823360/62259690411361 * pi^-1) * log(7/2)
@@ -5796,7 +5796,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.90f4d38e038ccp-44,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.3620ec7b6a48cp-2,  // 903099282991065569/34120807335243888 * pi^-1 + (-964149712325415/32015770429504 * pi^-1) * log(7/3)
@@ -5851,7 +5851,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.284c4105c5d0fp-28, -0x1.8be5b3b0ad30ap-27,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6337,7 +6337,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.6a1d9a03f2762p+55,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 46},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.072ef95092a4bp+3,  // -73159489183777/5861816406250 * pi^-1 + (-5362727139/781250000 * pi^-1) * log(7)
@@ -6406,7 +6406,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.6f9603c0702bdp+11,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 41},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.fde2ca5f80b8p+1,  // 56828298568271/840373602304 * pi^-1 + (-1395313920/24137569 * pi^-1) * log(4)
@@ -6475,7 +6475,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.b432a94e775aap-21,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 40},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.5a78b41f13a97p+0,  // 11337333958467103/43124690772500 * pi^-1 + (-173423250000/594823321 * pi^-1) * log(5/2)
@@ -6531,7 +6531,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     -0x1.d401e9b60e91dp-28, -0x1.d8c4c070bbdep-25, -0x1.fdfe3ff65f0d6p-26,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 39, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 31},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

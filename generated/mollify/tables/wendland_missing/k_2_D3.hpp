@@ -98,7 +98,7 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.7a2e6fe8fcc8fp+18,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.6aad6cad74cb1p+1,  // 1429306587688122/26702880859375 * pi^-2 + (-5011010063948889/381469726562500 * pi^-2) * log(7)
@@ -157,7 +157,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.b8788a8123b91p-8,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 32},
 };
 inline constexpr double value_3_0[] = {
     0x1.ebc616f8c59b3p+1,  // 68038640515746382768/22705609130859375 * pi^-2 + (-103839526371074244608/48654876708984375 * pi^-2) * log(4)
@@ -243,7 +243,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.bcb93ace504dep-17, -0x1.ba6966535f30ep-15, -0x1.4a1aee8918ff6p-14,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 53},
 };
 inline constexpr double value_4_0[] = {
     0x1.4be74478bff38p+1,  // 790922694356098752418256/1802177740289727045 * pi^-2 + (-3625139371580629760000000/7569146509216853589 * pi^-2) * log(5/2)
@@ -342,7 +342,7 @@ inline constexpr double value_4_0_lo[] = {
     -0x1.eca220a655628p-41,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 64},
 };
 inline constexpr double value_5_0[] = {
     0x1.7b706c01fccp+0,  // 512/35 * pi^-2
@@ -814,7 +814,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.c2110bf360b1ap+26, 0x1.619603b66fdafp+28,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 35},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.0fb95f94b4e06p+4,  // 59563039757364/152587890625 * pi^-2 + (-437526719256627/1525878906250 * pi^-2) * log(7)
@@ -874,7 +874,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.1250acaa9ab3dp-1, 0x1.71a921ef54071p+0,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 34},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.96789c4a0386bp+2,  // 292383256651200/48830302087 * pi^-2 + (-517571940188160/118587876497 * pi^-2) * log(4)
@@ -939,7 +939,7 @@ inline constexpr double dr_3_0_lo[] = {
     0x1.9a5f468de292bp-24, -0x1.fc103dcea99e7p-26,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 35},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.d4d01dc049839p+4,  // 198372926838118420960/90812685325761 * pi^-2 + (-4547009828037248000000/1907066391840981 * pi^-2) * log(5/2)
@@ -1033,7 +1033,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.ee93e279faa29p-36,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 69, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 69, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 61},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.63b96541dcf4p+4,  // -1536/7 * pi^-2
@@ -1485,7 +1485,7 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.cd4998cc4f9b3p+54, 0x1.45d81753585dcp+57, -0x1.d0ec376099ed2p+60,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 32},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.92a7d8df44d93p+5,  // 19955648554547706/32057708828125 * pi^-2 + (-475618672910924829/1089962100156250 * pi^-2) * log(13)
@@ -1542,7 +1542,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.3ed08047722f5p+26, -0x1.3b153b8299b85p+30, -0x1.967bbaf730f37p+32, -0x1.82f4e7524b273p+35,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 32},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.6ec2da9384f9bp+4,  // 2497880405451816/377094453125 * pi^-2 + (-15082598240354304/4902227890625 * pi^-2) * log(8)
@@ -1599,7 +1599,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.7a00b1414095cp+3, 0x1.1ec7a60ad522bp+7, 0x1.6801d2b25054bp+9, -0x1.c2ebf07217f2bp+10,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 31},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.e849cab0df1dap+5,  // 1131822022914/33787663 * pi^-2 + (-2565063703125/125497034 * pi^-2) * log(5)
@@ -1664,7 +1664,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.a672b1aa3ff57p-5, -0x1.dd20fb7cb936dp-4,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 35},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.5aa9d51308d09p+4,  // 91424137662/546875 * pi^-2 + (-23746111389/156250 * pi^-2) * log(3)
@@ -1730,7 +1730,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.7d2f0f52cf4ddp-18, 0x1.79bf5559fc9d3p-19, 0x1.97be0c13c5b69p-20,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 37},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.67f5ac6837c4dp+1,  // 27780333081958859688/77331789633679 * pi^-2 + (-734819202647545640625/1612920183788162 * pi^-2) * log(11/5)
@@ -1774,7 +1774,7 @@ inline constexpr double d2r_6_0_lo[] = {
     -0x1.52051cd41235bp-19,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 22},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.2106a24583864p+8,  // 19968/7 * pi^-2
@@ -2227,7 +2227,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.c9aa1ba56fb01p+54, 0x1.3f1dcd7a2291p+58,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.10f911d7b50f2p+8,  // -7253091111820554/6411541765625 * pi^-2 + (-664137616910101191/1089962100156250 * pi^-2) * log(13)
@@ -2283,7 +2283,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.5dd61a936f7f8p+28, -0x1.77e4c6c076ed7p+31, 0x1.180ba8cd18b89p+33,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.efa737fbfce06p+6,  // 578940511337496/75418890625 * pi^-2 + (-20979881243836416/4902227890625 * pi^-2) * log(8)
@@ -2340,7 +2340,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     0x1.149b0607a20bep+5, -0x1.2668d47255828p+6, 0x1.d3787f3ff4746p+9, 0x1.f42598d5b8304p+11,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.40911b3367329p+1,  // 1534739447142/33787663 * pi^-2 + (-3539968059375/125497034 * pi^-2) * log(5)
@@ -2406,7 +2406,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.5049b2e80380ap-8, -0x1.ecdfad660be6bp-4, 0x1.473fb523f59a6p-5,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.ff9092f02b39ap+3,  // 24859442322/109375 * pi^-2 + (-32303330631/156250 * pi^-2) * log(3)
@@ -2473,7 +2473,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     -0x1.358f3538d7d4fp-18, -0x1.2359030bbaf61p-20, -0x1.1dfdd4cfe95c6p-20, -0x1.89177b2c4c169p-15,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 48, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 48, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 37},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.3f3c12cda2d3bp+1,  // 37415669641479135864/77331789633679 * pi^-2 + (-989710165708089271875/1612920183788162 * pi^-2) * log(11/5)
@@ -2518,7 +2518,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.16b6ec0a488fcp-20, 0x1.cc7779a03f679p-17,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 23},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.2106a24583864p+8,  // 19968/7 * pi^-2
@@ -2977,7 +2977,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.529279c37280ep+31,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.e538bcf742fe7p+5,  // 59563039757364/42724609375 * pi^-2 + (-62503817036661/61035156250 * pi^-2) * log(7)
@@ -3036,7 +3036,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.3e42e67e3d7d7p-2,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.12bcda79aaad9p+6,  // 145214424523931048/2242529296875 * pi^-2 + (-226814241444364288/4805419921875 * pi^-2) * log(4)
@@ -3117,7 +3117,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     -0x1.1955c145272e2p-9, 0x1.df9f191a2ddc6p-7, 0x1.3868f4f811e3bp-6,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 49},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.53e3af2b687f6p+5,  // 287640743915271710392/90812685325761 * pi^-2 + (-6593164250654009600000/1907066391840981 * pi^-2) * log(5/2)
@@ -3209,7 +3209,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.000d4ceb32c33p-34, -0x1.2c37cef08244dp-33, -0x1.cd1baa9a7c0eap-34, 0x1.cfd7353577da4p-34,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 59},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.63b96541dcf4p+4,  // -1536/7 * pi^-2
@@ -3658,7 +3658,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.0f0475fe74542p+66, 0x1.1e8250b1741cap+70,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.45eb31f519886p+11,  // 284415388232976/4437053125 * pi^-2 + (-1128281659500996/75429903125 * pi^-2) * log(13)
@@ -3714,7 +3714,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.cbc51457e7e32p+39, 0x1.509143eacab3cp+42, -0x1.735022bc45fd2p+44,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.8d7fa92fda255p+10,  // 8982302069664/89253125 * pi^-2 + (-47398268510208/1160290625 * pi^-2) * log(8)
@@ -3770,7 +3770,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.c767c1d510b94p+16, -0x1.398fa647542fep+15, -0x1.687195f933b83p+18,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.31385ea2dfa83p+9,  // 5316361776/28561 * pi^-2 + (-41552230500/371293 * pi^-2) * log(5)
@@ -3832,7 +3832,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.d9532365477b7p-1, -0x1.1fbbaf6bfd47ep+0, -0x1.6941209c480cp+1, -0x1.44f7c0a5a3288p+3,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo, .plain = 34},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.8c3d90e5f870fp+9,  // 1162382203125/262144 * pi^-2 + (-4224718265625/1048576 * pi^-2) * log(3)
@@ -3918,7 +3918,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.2973b86b7e4d2p-13, 0x1.707f9fed7985bp-13, 0x1.1d5987e21ec57p-11,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo, .plain = 53},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.4eff7106ce7f7p+2,  // 1084423367282112/2073071593 * pi^-2 + (-100392350597896500/151334226289 * pi^-2) * log(11/5)
@@ -3962,7 +3962,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.7c8a6f60618c4p-21,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo, .plain = 22},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.2106a24583864p+8,  // 19968/7 * pi^-2
@@ -4418,7 +4418,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.77fa2ae89ad49p-37, 0x1.ab751061cc475p-34, -0x1.890662e9e3b8fp-31, 0x1.77bf4fd535361p-32,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 32},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.31dc7fd0f019ep-3,  // 278547013751450543955/129766503011210682358 * pi^-2 + (-1213177402005891940352/491258904256726154641 * pi^-2) * log(7/2) + (-53/56 * pi^-2) * arcsin(28/53)
@@ -4478,7 +4478,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.505bc25411b2ep-53, -0x1.53982fa4b718p-51,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 33},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.c213a2627b33dp-4,  // 9695592383899056665/341614273439763212 * pi^-2 + (-193136182498882891107/5661036531287504656 * pi^-2) * log(7/3) + (-29/42 * pi^-2) * arcsin(21/29)
@@ -4534,7 +4534,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.c9b052e76b594p-37, -0x1.fc44e27572cc1p-36, -0x1.b110c314e5d96p-34,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 32},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5464,7 +5464,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.f5040800529d5p+2, 0x1.aa1ffe2a28911p+12, -0x1.acc5ab8106cb6p+15, 0x1.33e0bfeead665p+16,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.84d3939f114a6p-2,  // 1819051998730506/667572021484375 * pi^-2 + (-3857846498005171/9536743164062500 * pi^-2) * log(7) + (625/98 * pi^-2) * arcsin(7/25)
@@ -5524,7 +5524,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.77c95f9ae5e72p-18, 0x1.b13fe9fa0354dp-19,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.34e4174b482d9p-2,  // 5625274081636215/225791316850288 * pi^-2 + (-569659187265536/34271896307633 * pi^-2) * log(4) + (289/128 * pi^-2) * arcsin(8/17)
@@ -5589,7 +5589,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.03fd7c19cdde1p-39, 0x1.1412f457c58p-43,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.54cf539529a33p-3,  // 4260848269669645059/16828289332008040 * pi^-2 + (-3360109644800000000/12200509765705829 * pi^-2) * log(5/2) + (841/800 * pi^-2) * arcsin(20/29)
@@ -5654,7 +5654,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     0x1.18af0794ef90bp-25, -0x1.ad9e9ad4fba92p-23,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6519,7 +6519,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.e5bb4ef62ceb1p+20, 0x1.fde6af7212b95p+27, -0x1.45156e07ec706p+28,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo, .plain = 40},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.5b2a9f3bbd27p+0,  // 1819051998730506/186920166015625 * pi^-2 + (-551120928286453/381469726562500 * pi^-2) * log(7) + (15625/686 * pi^-2) * arcsin(7/25)
@@ -6583,7 +6583,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.c54c925219ba8p-5,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.483258bffcb07p-1,  // 5625274081636215/106254737341312 * pi^-2 + (-71207398408192/2015993900449 * pi^-2) * log(4) + (4913/1024 * pi^-2) * arcsin(8/17)
@@ -6648,7 +6648,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.d12a2fff7e216p-33, 0x1.ba0c8209714dp-32,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.ee2c9f98492c9p-3,  // 4260848269669645059/11605716780695200 * pi^-2 + (-168005482240000000/420707233300201 * pi^-2) * log(5/2) + (24389/16000 * pi^-2) * arcsin(20/29)
@@ -6712,7 +6712,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     0x1.de3ad239ac0cdp-25,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 45, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 45, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -7585,7 +7585,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.e85b9c039baa5p+57,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 45},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.f80e9c7a81614p+3,  // 4547990117625336/14654541015625 * pi^-2 + (-6852341385897/61035156250 * pi^-2) * log(7) + (-29296875/33614 * pi^-2) * arcsin(7/25)
@@ -7655,7 +7655,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.58d05940a21c5p+11, 0x1.48bc7d788bbd6p+16,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 50, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 50, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 41},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.81e5603795ae2p+2,  // 31832799079471515/23530460864512 * pi^-2 + (-6946592686080/6975757441 * pi^-2) * log(4) + (-4259571/65536 * pi^-2) * arcsin(8/17)
@@ -7726,7 +7726,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.7dd2378f9c4bbp-20, -0x1.530e38744218p-18, -0x1.f2b3f2a037e4dp-17,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 41},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.7a9b9242f8436p+0,  // 27426877775699081463/5519960418880000 * pi^-2 + (-2716607673600000/500246412961 * pi^-2) * log(5/2) + (-61533447/6400000 * pi^-2) * arcsin(20/29)
@@ -7790,7 +7790,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.838aef13439b8p-19,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 45, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 45, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 37},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1

@@ -98,7 +98,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.913bad75fec87p+16,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.99028a2d3c2f9p-1,  // 18324443431899/3814697265625 * pi^-1 + (-899412062760057/762939453125000 * pi^-1) * log(7)
@@ -157,7 +157,7 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.a0e5075da5c4fp-11,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 32},
 };
 inline constexpr double value_3_0[] = {
     0x1.154c9b1f8dec8p+0,  // 2616870789067168568/9730975341796875 * pi^-1 + (-27956795561443065856/145964630126953125 * pi^-1) * log(4)
@@ -243,7 +243,7 @@ inline constexpr double value_3_0_lo[] = {
     0x1.2e8c0ddb4e7a6p-19, -0x1.d8eddee41acf7p-22, -0x1.1775c11c9f516p-19,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 53},
 };
 inline constexpr double value_4_0[] = {
     0x1.764df048c3589p-1,  // 30420103629080721246856/772361888695597305 * pi^-1 + (-139428437368485760000000/3243919932521508681 * pi^-1) * log(5/2)
@@ -342,7 +342,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.e83611f001a39p-45,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 64},
 };
 inline constexpr double value_5_0[] = {
     0x1.abe9b79d07433p-2,  // 256/195 * pi^-1
@@ -814,7 +814,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.e447db5391396p+22, 0x1.96688726e24c9p+26,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 35},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.326fec43b80c5p+2,  // 5345401003866/152587890625 * pi^-1 + (-78530436789651/3051757812500 * pi^-1) * log(7)
@@ -874,7 +874,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.f251885cdaebbp-5, 0x1.68d66b803757ep-2,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 34},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.ca65f7e26d532p+0,  // 3748503290400/6975757441 * pi^-1 + (-46448763863040/118587876497 * pi^-1) * log(4)
@@ -939,7 +939,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.02ccaa22c0521p-25, -0x1.f334c233ffc57p-24,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 35},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.085a28faf88e4p+3,  // 7629727955312246960/38919722282469 * pi^-1 + (-174884993386048000000/817314167931849 * pi^-1) * log(5/2)
@@ -1033,7 +1033,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.14ebe47b68edap-38,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 69, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 69, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 61},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.912b1c2336cfp+2,  // -256/13 * pi^-1
@@ -1485,7 +1485,7 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.3825cc713201dp+51, -0x1.72874cdf0901ep+55, 0x1.dcb87cd06f133p+58,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 32},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.c6186c18c038ep+3,  // 1790891536946589/32057708828125 * pi^-1 + (-85367454112217277/2179924200312500 * pi^-1) * log(13)
@@ -1542,7 +1542,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.9057676a243e7p+26, 0x1.625d3ac18e4d3p+28, -0x1.91cfe610b6514p+29, 0x1.416e4eac5fa6p+31,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 32},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.9d9d861e560b1p+2,  // 2914193806360452/4902227890625 * pi^-1 + (-17596364613746688/63728962578125 * pi^-1) * log(8)
@@ -1599,7 +1599,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.48498076858e4p+4, -0x1.a2a00625be187p+6, 0x1.1722ab3f43a49p+4, 0x1.dd2e7fc367ef7p+9,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 31},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.135575fd01a39p+4,  // 188637003819/62748517 * pi^-1 + (-5985148640625/3262922884 * pi^-1) * log(5)
@@ -1664,7 +1664,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.72963f8233fcep-8, -0x1.6a752d1db5b3ep-10,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 35},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.86f3383dc9b78p+2,  // 1172104329/78125 * pi^-1 + (-4262122557/312500 * pi^-1) * log(3)
@@ -1730,7 +1730,7 @@ inline constexpr double d2r_5_0_lo[] = {
     -0x1.0b1a1adb0781dp-21, 0x1.dcd18d7e4e19dp-20, -0x1.f9baca7b35fb8p-21,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 37},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.95f1e7d92d8ccp-1,  // 356158116435369996/11047398519097 * pi^-1 + (-131890626116226140625/3225840367576324 * pi^-1) * log(11/5)
@@ -1774,7 +1774,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.b8cdf03a5e24cp-21,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 22},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.45f306dc9c883p+6,  // 256 * pi^-1
@@ -2228,7 +2228,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.3825cc713201dp+51, -0x1.72874cdf0901ep+55, 0x1.dcb87cd06f133p+58,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.c6186c18c038ep+3,  // 1790891536946589/32057708828125 * pi^-1 + (-85367454112217277/2179924200312500 * pi^-1) * log(13)
@@ -2285,7 +2285,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.9057676a243e7p+26, 0x1.625d3ac18e4d3p+28, -0x1.91cfe610b6514p+29, 0x1.416e4eac5fa6p+31,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_3_0[] = {
     0x1.9d9d861e560b1p+2,  // 2914193806360452/4902227890625 * pi^-1 + (-17596364613746688/63728962578125 * pi^-1) * log(8)
@@ -2342,7 +2342,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.48498076858e4p+4, -0x1.a2a00625be187p+6, 0x1.1722ab3f43a49p+4, 0x1.dd2e7fc367ef7p+9,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.135575fd01a39p+4,  // 188637003819/62748517 * pi^-1 + (-5985148640625/3262922884 * pi^-1) * log(5)
@@ -2407,7 +2407,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     0x1.72963f8233fcep-8, -0x1.6a752d1db5b3ep-10,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 35},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.86f3383dc9b78p+2,  // 1172104329/78125 * pi^-1 + (-4262122557/312500 * pi^-1) * log(3)
@@ -2473,7 +2473,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     -0x1.0b1a1adb0781dp-21, 0x1.dcd18d7e4e19dp-20, -0x1.f9baca7b35fb8p-21,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 37},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.95f1e7d92d8ccp-1,  // 356158116435369996/11047398519097 * pi^-1 + (-131890626116226140625/3225840367576324 * pi^-1) * log(11/5)
@@ -2517,7 +2517,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.b8cdf03a5e24cp-21,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 22},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.45f306dc9c883p+6,  // 256 * pi^-1
@@ -2976,7 +2976,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.057b1e9b158cfp+29,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.119ac9cebfc1dp+4,  // 763628714838/6103515625 * pi^-1 + (-11218633827093/122070312500 * pi^-1) * log(7)
@@ -3035,7 +3035,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.4d7bc264fc3edp+0,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.35d5f5e1a580bp+4,  // 5585170173997348/961083984375 * pi^-1 + (-61065372696559616/14416259765625 * pi^-1) * log(4)
@@ -3116,7 +3116,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.1e61afd5066a8p-11, 0x1.f1b4b80d59ae4p-13, -0x1.295df8492981dp-9,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 49},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.7f4f8838b534bp+3,  // 11063105535202758092/38919722282469 * pi^-1 + (-253583240409769600000/817314167931849 * pi^-1) * log(5/2)
@@ -3208,7 +3208,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.1cfe81fc2854cp-37, -0x1.6daa8caf0be08p-35, -0x1.8fa5ff580ad27p-36, 0x1.4ce4d4b7d2245p-34,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 59},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.912b1c2336cfp+2,  // -256/13 * pi^-1
@@ -3657,7 +3657,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.348863b7e8134p+65, -0x1.ea67945e82f99p+69,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.6f8e246710de3p+9,  // 25524457918344/4437053125 * pi^-1 + (-101256046365474/75429903125 * pi^-1) * log(13)
@@ -3713,7 +3713,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.c5de6425b93fdp+35, -0x1.2a0a7a66693b4p+40, 0x1.1d3e190226fbap+40,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.c04794a18e4cep+8,  // 10479352414608/1160290625 * pi^-1 + (-55297979928576/15083778125 * pi^-1) * log(8)
@@ -3769,7 +3769,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.0d1e5884668ccp+13, 0x1.90f5cbb5f307ep+16, 0x1.5b95c6efacb7dp+18,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.583662a7343eap+7,  // 6202422072/371293 * pi^-1 + (-48477602250/4826809 * pi^-1) * log(5)
@@ -3831,7 +3831,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.503eeb9b977cdp-3, 0x1.9941ea71ca27dp-3, -0x1.f7f0e13bacd0fp+0, -0x1.8c4417de7624fp-4,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo, .plain = 34},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.bedc5673b1116p+7,  // 208632703125/524288 * pi^-1 + (-758282765625/2097152 * pi^-1) * log(3)
@@ -3917,7 +3917,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.30786b15d5292p-16, 0x1.78c87a6424c6bp-14, -0x1.7d359b5c1bc31p-14,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo, .plain = 53},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.79cb50581df43p+0,  // 97320045781728/2073071593 * pi^-1 + (-9009569925452250/151334226289 * pi^-1) * log(11/5)
@@ -3961,7 +3961,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     0x1.1d02cd0150772p-22,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo, .plain = 22},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.45f306dc9c883p+6,  // 256 * pi^-1
@@ -4418,7 +4418,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.255606646449dp-37, 0x1.7fe39e597f33ep-38, 0x1.d8b86cf70faefp-32,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 39, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 31},
 };
 inline constexpr double potential_2_0[] = {
     0x1.0ecd771c7e0a2p-2,  // 8264019909445233660/9269035929372191597 * pi^-1 + (-139136593998508015616/491258904256726154641 * pi^-1) * log(7/2) + (28/53 * pi^-1) * arcsin(28/53)
@@ -4477,7 +4477,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.d0edb53540901p-55,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 32},
 };
 inline constexpr double potential_3_0[] = {
     0x1.72c2f0fcb4c5cp-2,  // 1127885413815790835/292812234376939896 * pi^-1 + (-44107419322835838837/11322073062575009312 * pi^-1) * log(7/3) + (21/29 * pi^-1) * arcsin(21/29)
@@ -4531,7 +4531,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.4f44842f30aap-39,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 37, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 31},
 };
 inline constexpr double potential_4_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
@@ -5428,7 +5428,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.eef7cbc5dec5p-31, -0x1.3a93fa6a7580ep-29, 0x1.70e2d1bb8428fp-26, 0x1.073a37536d414p-26,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.fa6a2dde2475cp-2,  // 1141580029820034420/174887470365513049 * pi^-1 + (-40919106020119642112/9269035929372191597 * pi^-1) * log(7/2) + (1 * pi^-1) * arcsin(28/53)
@@ -5488,7 +5488,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.b434fa3c9a95dp-46, 0x1.a531161cc63b3p-47,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.ffe81fe17078bp-2,  // 32879793360723155/841414466600402 * pi^-1 + (-4413803201592011703/97604078125646632 * pi^-1) * log(7/3) + (1 * pi^-1) * arcsin(21/29)
@@ -5544,7 +5544,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.a9b93a6780f4ep-32, -0x1.5d3984e4c5208p-33, 0x1.2429a0f7aefcap-31,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -6455,7 +6455,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.3039f1ced5caap-25, 0x1.6201be6adf154p-24, -0x1.7c81341e4f4cap-24, 0x1.dabaf5ac37074p-23,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.df490ffb6281cp-1,  // 40770715350715515/3299763591802133 * pi^-1 + (-1461396643575701504/174887470365513049 * pi^-1) * log(7/2) + (53/28 * pi^-1) * arcsin(28/53)
@@ -6514,7 +6514,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.61caa1b21980dp-43,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.61759c1ba9166p-1,  // 4697113337246165/87042875855214 * pi^-1 + (-210181104837714843/3365657866401608 * pi^-1) * log(7/3) + (29/21 * pi^-1) * arcsin(21/29)
@@ -6569,7 +6569,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.ffb11bff9a4c9p-32, 0x1.aa23286100409p-36,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -7483,7 +7483,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.8ca1ea0ae332bp+36, -0x1.2b19f72ac0e34p+38, -0x1.0f6574245e38ep+41,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 40},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.085de02a5ae3ap+3,  // 18102490154226/1495361328125 * pi^-1 + (-1576571662463/122070312500 * pi^-1) * log(7) + (-15625/343 * pi^-1) * arcsin(7/25)
@@ -7547,7 +7547,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.9a6292f72e975p+4,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 45, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 37},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.f709bf8dc4779p+1,  // 3950171224335/26261675072 * pi^-1 + (-795353006080/6975757441 * pi^-1) * log(4) + (-4913/512 * pi^-1) * arcsin(8/17)
@@ -7612,7 +7612,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.33c1e86f1ba81p-24, -0x1.6d28297ce89d5p-28,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 36},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.82f03ef8e331ep+0,  // 3888179228996181/6899950523600 * pi^-1 + (-308971580800000/500246412961 * pi^-1) * log(5/2) + (-24389/8000 * pi^-1) * arcsin(20/29)
@@ -7669,7 +7669,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.faba66ddee585p-34, -0x1.1c98647b2d227p-29, -0x1.256e42cefa43bp-30, 0x1.8475a0c644db8p-28,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 32},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2

@@ -98,7 +98,7 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.f60358584904dp+11,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.7f72618a686c9p+0,  // 54973330295697/6103515625000 * pi^-1 + (-2698236188280171/1220703125000000 * pi^-1) * log(7)
@@ -157,7 +157,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.e4a52460d25d9p-12,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 32},
 };
 inline constexpr double value_3_0[] = {
     0x1.03f7d16d950dcp+1,  // 327108848633396071/648731689453125 * pi^-1 + (-3494599445180383232/9730975341796875 * pi^-1) * log(4)
@@ -243,7 +243,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.f22e59813336ap-17, 0x1.722507f85136fp-16, 0x1.df40335ea5547p-15,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 53},
 };
 inline constexpr double value_4_0[] = {
     0x1.5ee911443723p+0,  // 3802512953635090155857/51490792579706487 * pi^-1 + (-87142773355303600000000/1081306644173836227 * pi^-1) * log(5/2)
@@ -342,7 +342,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.936561a20312ap-45,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 64},
 };
 inline constexpr double value_5_0[] = {
     0x1.912b1c2336cfp-1,  // 32/13 * pi^-1
@@ -814,7 +814,7 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.cfe5130d3ed19p+20, 0x1.3d01feb47427dp+27,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 35},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.1f48ed7f7c8b8p+3,  // 8018101505799/122070312500 * pi^-1 + (-235591310368953/4882812500000 * pi^-1) * log(7)
@@ -874,7 +874,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.1669c81479618p-3, -0x1.d6db7d9be60edp+0,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 34},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.adbf9864467dfp+1,  // 7028443669500/6975757441 * pi^-1 + (-87091432243200/118587876497 * pi^-1) * log(4)
@@ -939,7 +939,7 @@ inline constexpr double dr_3_0_lo[] = {
     0x1.358081fdaecc3p-26, -0x1.a802ec217f922p-24,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 35},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.efa90cd6920acp+3,  // 4768579972070154350/12973240760823 * pi^-1 + (-109303120866280000000/272438055977283 * pi^-1) * log(5/2)
@@ -1033,7 +1033,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.78c5b3989b428p-38,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 69, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 69, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 61},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.78186a6103621p+3,  // -480/13 * pi^-1
@@ -1485,7 +1485,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.2dae482af08f2p+53, 0x1.a4a127eee78e3p+56, 0x1.f767a81b410fbp+56,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 32},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.a9b6e55734355p+4,  // 5372674610839767/51292334125000 * pi^-1 + (-256102362336651831/3487878720500000 * pi^-1) * log(13)
@@ -1542,7 +1542,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.6ea3e1e703f5p+26, -0x1.f3c898ea8a97ap+29, 0x1.43a68c282a89fp+31, -0x1.69544b1f332a3p+33,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 32},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.83c3adbc70aa6p+3,  // 2185645354770339/1960891156250 * pi^-1 + (-6598636730155008/12745792515625 * pi^-1) * log(8)
@@ -1599,7 +1599,7 @@ inline constexpr double d2r_3_0_lo[] = {
     0x1.4c3b1790e2caap+5, 0x1.bc4fd1e4ee48ap+4, -0x1.be93dfdd2c257p+7, -0x1.c0a46838ce8f8p+10,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 31},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.02201e9d31895p+5,  // 2829555057285/501988136 * pi^-1 + (-89777229609375/26103383072 * pi^-1) * log(5)
@@ -1664,7 +1664,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.6db36e2842f44p-9, 0x1.558644b684b4fp-6,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 35},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.6e8404b9ed1cp+3,  // 3516312987/125000 * pi^-1 + (-12786367671/500000 * pi^-1) * log(3)
@@ -1730,7 +1730,7 @@ inline constexpr double d2r_5_0_lo[] = {
     -0x1.3d343c96ab84ep-19, 0x1.3f0474a669383p-19, -0x1.fb43e3ba70538p-17,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 37},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.7c92c95b9ab3fp+0,  // 1335592936632637485/22094797038194 * pi^-1 + (-1978359391743392109375/25806722940610592 * pi^-1) * log(11/5)
@@ -1774,7 +1774,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.3a82226d7084ep-21,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 22},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.3193d66ed2bfap+7,  // 480 * pi^-1
@@ -2227,7 +2227,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.ceab615819718p+53, 0x1.5f40cbaf1edf2p+52,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.55d1cb44b107bp+6,  // -1097775471460437/25646167062500 * pi^-1 + (-30685746264412239/348787872050000 * pi^-1) * log(13)
@@ -2283,7 +2283,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.93c61bb8d9334p+25, -0x1.adf2058f02c21p+29, -0x1.e375d8b4b417p+29,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.2d28e6937965cp+5,  // 982479426302928125/579030153957549 * pi^-1 + (-31840465626112000000/36478899699325587 * pi^-1) * log(8)
@@ -2344,7 +2344,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.7b84822c86b85p+10, 0x1.7c85ef3887f34p+9, -0x1.26b95543039bbp+14,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 43, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 43, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 35},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.0cb78448f44d1p+4,  // 1666600918785/250994068 * pi^-1 + (-53419027921875/13051691536 * pi^-1) * log(5)
@@ -2410,7 +2410,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.115d30ab2edc7p-6, -0x1.a38bb4dac9e7fp-7, -0x1.12bdaf9dbbabbp-4,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.3e791319dd594p+3,  // 2074243743/62500 * pi^-1 + (-1509023439/50000 * pi^-1) * log(3)
@@ -2476,7 +2476,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     -0x1.c9fa2728aa863p-24, -0x1.f0ff7599dc9d2p-18, 0x1.b5fbcadd2a4cp-19,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 47, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 37},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.670b7765310d2p+0,  // 783605801964398985/11047398519097 * pi^-1 + (-1160740921008600421875/12903361470305296 * pi^-1) * log(11/5)
@@ -2520,7 +2520,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.4f816fe9ff7e5p-21,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 22},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.3193d66ed2bfap+7,  // 480 * pi^-1
@@ -2972,7 +2972,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.ea46d962c8684p+29,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.00811d31d3c5bp+5,  // 1145443072257/4882812500 * pi^-1 + (-33655901481279/195312500000 * pi^-1) * log(7)
@@ -3031,7 +3031,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.c75bf9c153851p+1,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 32},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.227896838b28bp+5,  // 1396292543499337/128144531250 * pi^-1 + (-7633171587069952/961083984375 * pi^-1) * log(4)
@@ -3112,7 +3112,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     -0x1.79c2359424fe1p-9, 0x1.1d2996c8c8413p-8, -0x1.cb640c624b74ep-7,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 59, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 49},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.675a8fb529e16p+4,  // 13828881919003447615/25946481521646 * pi^-1 + (-158489525256106000000/272438055977283 * pi^-1) * log(5/2)
@@ -3204,7 +3204,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.7d345988e68c2p-34, 0x1.4980e0df26ec2p-37, -0x1.76ab9f628a255p-35, 0x1.3816876c55021p-33,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 68, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 59},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.78186a6103621p+3,  // -480/13 * pi^-1
@@ -3653,7 +3653,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     0x1.dec02283966dfp+66, -0x1.78236313593ep+65,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.589542209fd05p+10,  // 9571671719379/887410625 * pi^-1 + (-151884069548211/60343922500 * pi^-1) * log(13)
@@ -3709,7 +3709,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.aa601f78d76afp+38, -0x1.5da74b000a9e2p+39, -0x1.bd2572237eddp+43,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.a4431b5775682p+9,  // 3929757155478/232058125 * pi^-1 + (-20736742473216/3016755625 * pi^-1) * log(8)
@@ -3765,7 +3765,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.3e26397e1011fp+15, 0x1.b7e66efa93d76p+17, -0x1.7a23957f4e13bp+19,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.42b2fc7cc0facp+8,  // 11629541385/371293 * pi^-1 + (-363582016875/19307236 * pi^-1) * log(5)
@@ -3827,7 +3827,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     0x1.098a063c43f6p-3, 0x1.feb72f2ab6154p-4, 0x1.9e38b36037f06p-1, -0x1.737fd6608ec2ap-3,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 44, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo, .plain = 34},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.a2ee910c76005p+8,  // 3129490546875/4194304 * pi^-1 + (-11374241484375/16777216 * pi^-1) * log(3)
@@ -3913,7 +3913,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     0x1.38a3c6e6e20a6p-13, 0x1.84efcaf789e93p-15, -0x1.b2b120d32d037p-12,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 11, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 63, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo, .plain = 53},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.622e9b529c14fp+1,  // 182475085840740/2073071593 * pi^-1 + (-67571774440891875/605336905156 * pi^-1) * log(11/5)
@@ -3957,7 +3957,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.e99abf9d8920ap-22,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 29, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo, .plain = 22},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.3193d66ed2bfap+7,  // 480 * pi^-1
@@ -4413,7 +4413,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.c7446c7d7d579p-36, 0x1.e80794c77fba7p-33, -0x1.e77876d9ad496p-34, 0x1.26f2db15024dap-32,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 32},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.9d6cfc7c7d1ap-4,  // -461014133863328421795/11419452264986540047504 * pi^-1 + (33191613585794728849/982517808513452309282 * pi^-1) * log(7/2) + (1/2 * pi^-1) * log(28/53)
@@ -4472,7 +4472,7 @@ inline constexpr double potential_2_0_lo[] = {
     -0x1.3dc7b08df84f3p-52,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 41, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 32},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.a4c95550b3de4p-5,  // 10872103718877953497255/2164468036514339711232 * pi^-1 + (-2147834195022093534487/362306338002400297984 * pi^-1) * log(7/3) + (1/2 * pi^-1) * log(21/29)
@@ -4527,7 +4527,7 @@ inline constexpr double potential_3_0_lo[] = {
     0x1.cf244ab8f11a2p-38, -0x1.a545c8d17f344p-36,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 31},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5393,7 +5393,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.779debcfa9077p+8, -0x1.2e7d4cce4d04dp+11, -0x1.b3ee0e02a6553p+14,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 43, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 43, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.5133139ee07c2p-2,  // 5055926010285503/4272460937500000 * pi^-1 + (-9338272579072899/122070312500000000 * pi^-1) * log(7)
@@ -5452,7 +5452,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.4fbbc24ee3ed3p-16,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 41, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.3f21b99b210e1p-2,  // 85951649890129/16127951203592 * pi^-1 + (-107547284275200/34271896307633 * pi^-1) * log(4)
@@ -5516,7 +5516,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.1881ae939bc86p-40,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.d7b3416a2515ap-3,  // 101491424123160226/2103536166501005 * pi^-1 + (-632792853000000000/12200509765705829 * pi^-1) * log(5/2)
@@ -5575,7 +5575,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.7b8d0f7a6967ep-31,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 41, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 41, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6060,7 +6060,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.1506e9dfa8371p+24,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 45, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 45, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo, .plain = 38},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.2d122cf26d012p+0,  // 5055926010285503/1196289062500000 * pi^-1 + (-1334038939867557/4882812500000000 * pi^-1) * log(7)
@@ -6121,7 +6121,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.745f7c3633ca3p-13, 0x1.43c6dd772e29cp-12, 0x1.3da190dfd6a1bp-8,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.5313d534d31efp-1,  // 85951649890129/7589624095808 * pi^-1 + (-13443410534400/2015993900449 * pi^-1) * log(4)
@@ -6185,7 +6185,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.41e325d30ea3p-38,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 45, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.55fb8f6cf47c8p-2,  // 50745712061580113/725357298793450 * pi^-1 + (-31639642650000000/420707233300201 * pi^-1) * log(5/2)
@@ -6242,7 +6242,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.8a275d2a4c3a8p-37, 0x1.bac5127fbc79bp-35, 0x1.f62419dc9cf6ep-34, -0x1.e08da58a4b1f1p-33,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 40, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6735,7 +6735,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.989a7caecf5ap+47, -0x1.4a011a8fe9ac3p+48, -0x1.6d6007f41b145p+52, 0x1.e611466d00326p+52,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 52, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 52, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 44},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.5caf58612e914p+3,  // 331460358692803/46894531250000 * pi^-1 + (-16581360966093/781250000000 * pi^-1) * log(7)
@@ -6802,7 +6802,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.20998929c7b0dp+5, -0x1.e7d11ac522de6p+8, 0x1.3e74f309758e8p+8, -0x1.457c24cfc00aap+10,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 48, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 48, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 40},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.24fe5c034bef2p+2,  // 206768430184271/840373602304 * pi^-1 + (-1310448142080/6975757441 * pi^-1) * log(4)
@@ -6871,7 +6871,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     -0x1.8c278e6bef50cp-20,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 39},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.61af5312e5603p+0,  // 80346028469268581/86249381545000 * pi^-1 + (-510949419750000/500246412961 * pi^-1) * log(5/2)
@@ -6935,7 +6935,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.5198d2c450d27p-20,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 45, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 45, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 37},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -98,7 +98,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.663deb883cf2ep+20,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.872e64f457ebcp+1,  // 1245100099746255012/11920928955078125 * pi^-2 + (-7281197117417223/190734863281250 * pi^-2) * log(7)
@@ -158,7 +158,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.56f7ecedd77e6p-6, -0x1.7859cb130cee7p-5,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 33},
 };
 inline constexpr double value_3_0[] = {
     0x1.05b89a2e1f7bcp+2,  // 2860115303840466996064/243274383544921875 * pi^-2 + (-30840815594878363762688/3649115753173828125 * pi^-2) * log(4)
@@ -248,7 +248,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.37c50354cbf38p-11, -0x1.a3ed865430cf9p-10,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 66, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 66, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 55},
 };
 inline constexpr double value_4_0[] = {
     0x1.3c4aa6486471p+1,  // 106337126453226873947678624/37845732546084267945 * pi^-2 + (-487413043735240882688000000/158952076693553925369 * pi^-2) * log(5/2)
@@ -352,7 +352,7 @@ inline constexpr double value_4_0_lo[] = {
     -0x1.5d5e7c7527ea3p-40,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 77, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 77, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 67},
 };
 inline constexpr double value_5_0[] = {
     0x1.6765a0f80afaep-14,  // 170287757745477379241576844969376/5872814382605742294870313445 * pi^-2 + (-187471479955434296573952000000/4064231406647572522401601 * pi^-2) * log(15/8)
@@ -423,7 +423,7 @@ inline constexpr double value_5_0_lo[] = {
     0x1.a755780dca866p+18, 0x1.5b583869db015p+20, 0x1.e005a00ce9562p+23,
 };
 inline constexpr table::Term value_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = value_5_0, .n = 51, .centre = 0x1.a930b83fc74edp-1, .centre_lo = 0x1.97795b3d1f00ep-55, .c_lo = value_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = value_5_0, .n = 51, .centre = 0x1.a930b83fc74edp-1, .centre_lo = 0x1.97795b3d1f00ep-55, .c_lo = value_5_0_lo, .plain = 42},
 };
 inline constexpr double value_6_0[] = {
     0x1.387ab34cee43cp+0,  // 1024/85 * pi^-2
@@ -862,7 +862,7 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.3d72abd312aafp+26, 0x1.96ef53ff3dde5p+29,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 34},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.59c13779ea34p+4,  // 680419274879720376/476837158203125 * pi^-2 + (-643087112056389/762939453125 * pi^-2) * log(7)
@@ -923,7 +923,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.711986183448cp+1, -0x1.927853eb379d9p+2, -0x1.4f394267aaa28p+4,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 34},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.3f0644ec3a288p+5,  // 404834344181132364928/3243658447265625 * pi^-2 + (-4394207286276614782976/48654876708984375 * pi^-2) * log(4)
@@ -1009,7 +1009,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.c4826235dee2bp-9, -0x1.c6f925ee84a45p-8, 0x1.06829b86cc276p-6,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 52},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.ff87b89ea9c39p+4,  // 751308000361906461622720/51490792579706487 * pi^-2 + (-17219217276317810124800000/1081306644173836227 * pi^-2) * log(5/2)
@@ -1108,7 +1108,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.8b11d9a887c1fp-33,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 64},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.4c025e81bd28p+4,  // -1024/5 * pi^-2
@@ -1574,7 +1574,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.5cc2b1c272238p+55, -0x1.6bf4abeb0ca9ap+58, -0x1.197bebae5afd4p+62,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 32},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.eb6ee195e478ep+5,  // 6125372809159522160295625/1958893762178986278912 * pi^-2 + (-239495229421903400970578125/164547076023034847428608 * pi^-2) * log(13)
@@ -1634,7 +1634,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.aa10e23956e9fp+37, 0x1.1e3068925686p+42,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 42, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 42, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 35},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.c5203e1e75bap+5,  // 30962036156237114544/1593224064453125 * pi^-2 + (-44496250450477056/4902227890625 * pi^-2) * log(8)
@@ -1693,7 +1693,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.e7149a81ebe98p+12,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 32},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.586b75904d591p+6,  // 85016586822948/815730721 * pi^-2 + (-4030234621875/62748517 * pi^-2) * log(5)
@@ -1759,7 +1759,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.5068f6109f541p-4, -0x1.c7ae937bf5e1fp-5, -0x1.2ff28bcaabbb2p-6,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 36},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.5858a5ad32972p+8,  // 179770068424375/16777216 * pi^-2 + (-654327470671875/67108864 * pi^-2) * log(3)
@@ -1851,7 +1851,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.9251353840997p-20, -0x1.df2c51edfe8f8p-17, 0x1.67f1ba4ee8d8ap-17, -0x1.947484443097ap-16,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 58},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.806b24f1ce957p+0,  // 81035657424836481880656/58871586708267913 * pi^-2 + (-1407895471077304584375/806460091894081 * pi^-2) * log(11/5)
@@ -1896,7 +1896,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.aff7c70b1b9a7p-22, 0x1.d717912416501p-22,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 23},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.37423899a1558p+8,  // 3072 * pi^-2
@@ -2349,7 +2349,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.185ba73eb7582p+54, 0x1.6480375a5a2a8p+56,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 31},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.76e6979bc8826p+8,  // 882489474903247687476/1158084731416015625 * pi^-2 + (-948083277135531537/544981050078125 * pi^-2) * log(13)
@@ -2406,7 +2406,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.183990f92c022p+27, 0x1.806a106dc3e35p+28, 0x1.3aa27c9ad4b01p+33, -0x1.a14902ce8801ep+36,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.1333e13444f76p+7,  // 197508232060217450064/7966120322265625 * pi^-2 + (-61651696745447424/4902227890625 * pi^-2) * log(8)
@@ -2465,7 +2465,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     0x1.8665d193fb884p+11,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.561b61880168p+4,  // 115638513126444/815730721 * pi^-2 + (-5518714595625/62748517 * pi^-2) * log(5)
@@ -2532,7 +2532,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.a5a17ce5d2acp-4, -0x1.16a9bacaa8391p-2, -0x1.8c1a8677acfa6p-4, 0x1.ec4c77069eb9dp-4,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 48, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 48, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.0c915e6556909p+8,  // 241406171131125/16777216 * pi^-2 + (-878787550265625/67108864 * pi^-2) * log(3)
@@ -2624,7 +2624,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.0b55bbfed5af2p-17, 0x1.98a2c368d942bp-23, 0x1.2c4c963cd5d5cp-16, -0x1.cd2509ba39be8p-15,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 58},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.5b45b17156dcfp+0,  // 107512130614940488605168/58871586708267913 * pi^-2 + (-1867898239435146043125/806460091894081 * pi^-2) * log(11/5)
@@ -2670,7 +2670,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.dae4adc70e821p-21, -0x1.35f43e20636d8p-20, 0x1.47e534ab6564ep-18,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 31, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 31, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 24},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.37423899a1558p+8,  // 3072 * pi^-2
@@ -3138,7 +3138,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.4fa57a2f9a0b8p+32, -0x1.f0686a8327f6p+33,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 34},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.34b5a863b5ae7p+6,  // 97202753554245768/19073486328125 * pi^-2 + (-91869587436627/30517578125 * pi^-2) * log(7)
@@ -3198,7 +3198,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.d6b19975758d1p+4, -0x1.a34a00927c99dp+6,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.52f6a93afdcbp+6,  // 860272981384906275472/3243658447265625 * pi^-2 + (-9337690483337806413824/48654876708984375 * pi^-2) * log(4)
@@ -3284,7 +3284,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.2edd1f45f7bd2p-4, -0x1.4800be5f9703fp-2, -0x1.3e1089667bfd3p-1,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 52},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.72dbff7307e0fp+5,  // 1089396600524764369352944/51490792579706487 * pi^-2 + (-24967865050660824680960000/1081306644173836227 * pi^-2) * log(5/2)
@@ -3383,7 +3383,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     0x1.cf5e6c900eb29p-29,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 63},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.4c025e81bd28p+4,  // -1024/5 * pi^-2
@@ -3847,7 +3847,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.feb871fd74b9bp+67, -0x1.179ec1a555e76p+72, -0x1.02619c8a23ea2p+74,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.21c3b994eea52p+12,  // 24947307880841874528/160288544140625 * pi^-2 + (-3231410543505144/75429903125 * pi^-2) * log(13)
@@ -3903,7 +3903,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.e8f9598c5d20bp+41, -0x1.7bbe9c7591bb3p+43, 0x1.8af98831d9c7cp+44,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.3d357085396f6p+11,  // 521332637272147008/1885472265625 * pi^-2 + (-140306747277312/1160290625 * pi^-2) * log(8)
@@ -3959,7 +3959,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.8da05b2fe8798p+17, -0x1.87f449bcbfc73p+19, -0x1.475dd46e7483dp+18,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.906ac0a1565ecp+9,  // 2788224946848/4826809 * pi^-2 + (-131439785400/371293 * pi^-2) * log(5)
@@ -4023,7 +4023,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.904b09bed9976p+6,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo, .plain = 34},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.0970fa068f87bp+10,  // 51719450371875/2097152 * pi^-2 + (-188228274609375/8388608 * pi^-2) * log(3)
@@ -4114,7 +4114,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.794714f2b10bfp-9, 0x1.2e00ae89fdc4dp-9, 0x1.b06c87449da5ep-7,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 67, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 67, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo, .plain = 56},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.62f73a002d2aap+1,  // 22412370522242802816/11047398519097 * pi^-2 + (-389386475007730200/151334226289 * pi^-2) * log(11/5)
@@ -4159,7 +4159,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     0x1.383eb52cea425p-22, 0x1.d2c2ebdeeb753p-20,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo, .plain = 23},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.37423899a1558p+8,  // 3072 * pi^-2
@@ -4624,7 +4624,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.0a1facbb1affep-34, -0x1.c81bb3ab32c05p-32, -0x1.bdd0a1ffca8cfp-32, 0x1.4a94e1977d532p-30,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 31},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.32f1a8da39a59p-3,  // 439819789061320458800445/52073443851212972391946 * pi^-2 + (-3685558128088483168256/491258904256726154641 * pi^-2) * log(7/2) + (-53/56 * pi^-2) * arcsin(28/53)
@@ -4685,7 +4685,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.af5139a2243p-51, -0x1.a472dabf72ab1p-52, 0x1.29a87d64171a7p-48,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 43, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 43, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 33},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.c21adad5cd75ep-4,  // 1901092148054826201045/20521257425917204378 * pi^-2 + (-311232731839658582373/2830518265643752328 * pi^-2) * log(7/3) + (-29/42 * pi^-2) * arcsin(21/29)
@@ -4742,7 +4742,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.e03ea2e826855p-40, 0x1.dd1a87a0ad7fap-38, -0x1.542d6a8757cffp-37, -0x1.88ec1b3a12254p-36,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 40, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 40, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 34},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5701,7 +5701,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.f2a48cea73a3p+10, 0x1.2db68e7d6aefep+14, -0x1.08c5236c5a5b8p+12, -0x1.b548692ed143fp+16,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.c36a5c18151e3p-2,  // 10042387845144723792/2086162567138671875 * pi^-2 + (-5569521807711197/4768371582031250 * pi^-2) * log(7) + (625/98 * pi^-2) * arcsin(7/25)
@@ -5761,7 +5761,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.378c728f3bb78p-15, 0x1.5c05a1d2fc35cp-14,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45a7cfd0cbfefp-2,  // 4697023805843213655/65253690569733232 * pi^-2 + (-1729261626982400/34271896307633 * pi^-2) * log(4) + (289/128 * pi^-2) * arcsin(8/17)
@@ -5827,7 +5827,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.18ff4fd3c21bp-38, -0x1.16226d95f4d64p-34, 0x1.ca7014685f1f1p-34,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 47, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 47, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.55d783caf0b4p-3,  // 11692423402800130890459/14152591328218761640 * pi^-2 + (-10989238077440000000/12200509765705829 * pi^-2) * log(5/2) + (841/800 * pi^-2) * arcsin(20/29)
@@ -5893,7 +5893,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.4047f1840392ap-29, 0x1.1302ae7993454p-26, -0x1.ea78ddbf338f9p-25,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 47, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 47, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo, .plain = 39},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6787,7 +6787,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.2f8fda76f799cp+26, -0x1.f6f889270124p+27, -0x1.77cdd38915b22p+30,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo, .plain = 39},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.930cada7c9b66p+0,  // 10042387845144723792/584125518798828125 * pi^-2 + (-795645972530171/190734863281250 * pi^-2) * log(7) + (15625/686 * pi^-2) * arcsin(7/25)
@@ -6849,7 +6849,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.bcec180c34671p-9, 0x1.c755be6b43fc7p-11, -0x1.98a3230422724p-7, 0x1.ef68c32239459p-5,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.5a024ccdd8beep-1,  // 4697023805843213655/30707619091639168 * pi^-2 + (-216157703372800/2015993900449 * pi^-2) * log(4) + (4913/1024 * pi^-2) * arcsin(8/17)
@@ -6915,7 +6915,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.6ff6d54c3a055p-31, -0x1.f7cdaa5dd0543p-31, -0x1.6f4a6119d811cp-32,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 47, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 47, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.efabb24ca9d1dp-3,  // 11692423402800130890459/9760407812564663200 * pi^-2 + (-549461903872000000/420707233300201 * pi^-2) * log(5/2) + (24389/16000 * pi^-2) * arcsin(20/29)
@@ -6980,7 +6980,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     0x1.ba69c479e1878p-31, -0x1.b87b4dea09e09p-26,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo, .plain = 37},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -7881,7 +7881,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.c4d2e8b51a2d4p+58,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 45},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.543b35352b74cp+4,  // 30882741352132324212/45795440673828125 * pi^-2 + (-9988284081279/30517578125 * pi^-2) * log(7) + (-29296875/33614 * pi^-2) * arcsin(7/25)
@@ -7950,7 +7950,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     -0x1.ae9417c333ec2p+16,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 40},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.bd2893750c90dp+2,  // 28907402929975224315/6800303189843968 * pi^-2 + (-21575486865408/6975757441 * pi^-2) * log(4) + (-4259571/65536 * pi^-2) * arcsin(8/17)
@@ -8021,7 +8021,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.fb41870e290ebp-17, 0x1.3969dedef273bp-17, -0x1.2dba1d5cda034p-16,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 41},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.814cb3d6352d8p+0,  // 78449429903711038870383/4642286712278080000 * pi^-2 + (-9230010478080000/500246412961 * pi^-2) * log(5/2) + (-61533447/6400000 * pi^-2) * arcsin(20/29)
@@ -8086,7 +8086,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.4344cfccab331p-21, 0x1.c6b10fde94ad9p-24,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 37},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1

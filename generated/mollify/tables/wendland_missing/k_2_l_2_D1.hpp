@@ -98,7 +98,7 @@ inline constexpr double value_1_0_lo[] = {
     -0x1.786d8226f394cp+18,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.7a2208b27abdep-1,  // 95776930749711924/11920928955078125 * pi^-1 + (-560092085955171/190734863281250 * pi^-1) * log(7)
@@ -158,7 +158,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.f342e745d9a9ap-11, -0x1.9308084513ccep-7,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 33},
 };
 inline constexpr double value_3_0[] = {
     0x1.f9fb7231ba50ap-1,  // 220008869526189768928/243274383544921875 * pi^-1 + (-2372370430375258750976/3649115753173828125 * pi^-1) * log(4)
@@ -248,7 +248,7 @@ inline constexpr double value_3_0_lo[] = {
     0x1.db4a1871fec8fp-14, 0x1.681b5bfda2052p-14,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 66, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 66, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 55},
 };
 inline constexpr double value_4_0[] = {
     0x1.31bdc8af57a81p-1,  // 8179778957940528765206048/37845732546084267945 * pi^-1 + (-37493311056556990976000000/158952076693553925369 * pi^-1) * log(5/2)
@@ -352,7 +352,7 @@ inline constexpr double value_4_0_lo[] = {
     -0x1.59b4ecff76efbp-40,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 77, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 77, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 67},
 };
 inline constexpr double value_5_0[] = {
     0x1.5b68ade1a6b39p-16,  // 13099058288113644557044372689952/5872814382605742294870313445 * pi^-1 + (-14420883073494945890304000000/4064231406647572522401601 * pi^-1) * log(15/8)
@@ -423,7 +423,7 @@ inline constexpr double value_5_0_lo[] = {
     0x1.509a3dc9c94ccp+17, 0x1.71fb07140fb63p+19, -0x1.5f79dfdc24ccp+20,
 };
 inline constexpr table::Term value_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = value_5_0, .n = 51, .centre = 0x1.a930b83fc74edp-1, .centre_lo = 0x1.97795b3d1f00ep-55, .c_lo = value_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = value_5_0, .n = 51, .centre = 0x1.a930b83fc74edp-1, .centre_lo = 0x1.97795b3d1f00ep-55, .c_lo = value_5_0_lo, .plain = 42},
 };
 inline constexpr double value_6_0[] = {
     0x1.2e0e637de7024p-2,  // 1024/1105 * pi^-1
@@ -862,7 +862,7 @@ inline constexpr double dr_1_0_lo[] = {
     -0x1.d6388c4c904eap+23, -0x1.d5c94b9ace13ap+28,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 34},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.4e38c2aa70d11p+2,  // 52339944221516952/476837158203125 * pi^-1 + (-49468239388953/762939453125 * pi^-1) * log(7)
@@ -923,7 +923,7 @@ inline constexpr double dr_2_0_lo[] = {
     0x1.7b9db5677ea18p-2, 0x1.c8709e1e97d91p+0, 0x1.170fe3fb7d778p+0,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 34},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.346211287d4a4p+3,  // 31141103398548643456/3243658447265625 * pi^-1 + (-338015945098201137152/48654876708984375 * pi^-1) * log(4)
@@ -1009,7 +1009,7 @@ inline constexpr double dr_3_0_lo[] = {
     0x1.971c02d14689p-10, -0x1.604171b4c2383p-9, 0x1.eff33fb79f0ddp-9,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 52},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.ee77ae7d743ddp+2,  // 57792923104762035509440/51490792579706487 * pi^-1 + (-1324555175101370009600000/1081306644173836227 * pi^-1) * log(5/2)
@@ -1108,7 +1108,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.684ffbd7109d1p-35,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 64},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.40ef49b5c5726p+2,  // -1024/65 * pi^-1
@@ -1574,7 +1574,7 @@ inline constexpr double d2r_1_0_lo[] = {
     -0x1.dd69894799facp+53, 0x1.e301ca90dbdeap+57, -0x1.b189955d5d48ap+60,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 32},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.db0a74159e3dap+3,  // 471182523781501704638125/1958893762178986278912 * pi^-1 + (-18422709955531030843890625/164547076023034847428608 * pi^-1) * log(13)
@@ -1634,7 +1634,7 @@ inline constexpr double d2r_2_0_lo[] = {
     -0x1.cedfc6952dc49p+37, 0x1.9913290ca7154p+39,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 42, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 42, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 35},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.b602ed1b0f937p+3,  // 30962036156237114544/20711912837890625 * pi^-1 + (-44496250450477056/63728962578125 * pi^-1) * log(8)
@@ -1693,7 +1693,7 @@ inline constexpr double d2r_3_0_lo[] = {
     0x1.dbf38edfff938p+11,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 32},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.4cee67137a26dp+4,  // 85016586822948/10604499373 * pi^-1 + (-4030234621875/815730721 * pi^-1) * log(5)
@@ -1759,7 +1759,7 @@ inline constexpr double d2r_4_0_lo[] = {
     -0x1.4e4fa4cd919d1p-6, -0x1.4cd8f0abbbfe9p-7, 0x1.c12059ba1dea6p-4,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 36},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.4cdc37d404e9p+6,  // 13828466801875/16777216 * pi^-1 + (-50332882359375/67108864 * pi^-1) * log(3)
@@ -1851,7 +1851,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.86b708f2164c1p-25, 0x1.e2cb94a58759ep-19, 0x1.e83f343222128p-19, -0x1.a0d1576655e1p-18,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 58},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.7398881d32373p-2,  // 6233512109602806298512/58871586708267913 * pi^-1 + (-108299651621331121875/806460091894081 * pi^-1) * log(11/5)
@@ -1896,7 +1896,7 @@ inline constexpr double d2r_6_0_lo[] = {
     0x1.e52c816255358p-25, 0x1.b121244774adcp-26,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 23},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.2ce0551a691b4p+6,  // 3072/13 * pi^-1
@@ -2350,7 +2350,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     -0x1.dd69894799facp+53, 0x1.e301ca90dbdeap+57, -0x1.b189955d5d48ap+60,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.db0a74159e3dap+3,  // 471182523781501704638125/1958893762178986278912 * pi^-1 + (-18422709955531030843890625/164547076023034847428608 * pi^-1) * log(13)
@@ -2410,7 +2410,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     -0x1.cedfc6952dc49p+37, 0x1.9913290ca7154p+39,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 42, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 42, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 35},
 };
 inline constexpr double laplacian_3_0[] = {
     0x1.b602ed1b0f937p+3,  // 30962036156237114544/20711912837890625 * pi^-1 + (-44496250450477056/63728962578125 * pi^-1) * log(8)
@@ -2469,7 +2469,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     0x1.dbf38edfff938p+11,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.4cee67137a26dp+4,  // 85016586822948/10604499373 * pi^-1 + (-4030234621875/815730721 * pi^-1) * log(5)
@@ -2535,7 +2535,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.4e4fa4cd919d1p-6, -0x1.4cd8f0abbbfe9p-7, 0x1.c12059ba1dea6p-4,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.4cdc37d404e9p+6,  // 13828466801875/16777216 * pi^-1 + (-50332882359375/67108864 * pi^-1) * log(3)
@@ -2627,7 +2627,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.86b708f2164c1p-25, 0x1.e2cb94a58759ep-19, 0x1.e83f343222128p-19, -0x1.a0d1576655e1p-18,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 58},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.7398881d32373p-2,  // 6233512109602806298512/58871586708267913 * pi^-1 + (-108299651621331121875/806460091894081 * pi^-1) * log(11/5)
@@ -2672,7 +2672,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.e52c816255358p-25, 0x1.b121244774adcp-26,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 23},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.2ce0551a691b4p+6,  // 3072/13 * pi^-1
@@ -3133,7 +3133,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.ea7a926f300dp+31, 0x1.19e770dcaa0ffp+31,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 34},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.2a69893cc0286p+4,  // 7477134888788136/19073486328125 * pi^-1 + (-7066891341279/30517578125 * pi^-1) * log(7)
@@ -3193,7 +3193,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.eb1a5a46ee62ap+3, -0x1.d3331c3ac3be8p+2,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.47a8323b051eep+4,  // 66174844721915867344/3243658447265625 * pi^-1 + (-718283883333677416448/48654876708984375 * pi^-1) * log(4)
@@ -3279,7 +3279,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     -0x1.30849a7c200f6p-5, 0x1.6c288b96e12aap-4, 0x1.0631fd35262aap-5,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 52},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.667d2b4e2779ap+3,  // 83799738501904951488688/51490792579706487 * pi^-1 + (-1920605003896986513920000/1081306644173836227 * pi^-1) * log(5/2)
@@ -3378,7 +3378,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.5c9432bb34866p-32,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 63},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.40ef49b5c5726p+2,  // -1024/65 * pi^-1
@@ -3842,7 +3842,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.06941db9e7972p+66, 0x1.871f0cdacf946p+70, -0x1.1a84a5b3431b3p+73,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.181960cc4d4d3p+10,  // 1919023683141682656/160288544140625 * pi^-1 + (-248570041808088/75429903125 * pi^-1) * log(13)
@@ -3898,7 +3898,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.5417371be682ep+36, 0x1.e1912515984bap+40, -0x1.272b56461f9a3p+44,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.32a0be0332617p+9,  // 521332637272147008/24511139453125 * pi^-1 + (-140306747277312/15083778125 * pi^-1) * log(8)
@@ -3954,7 +3954,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.f6c1098cda973p+13, 0x1.ecde1cab4fb99p+16, -0x1.1af1b9a27d254p+19,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.830f86bba5107p+7,  // 2788224946848/62748517 * pi^-1 + (-131439785400/4826809 * pi^-1) * log(5)
@@ -4018,7 +4018,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     0x1.506b834fc4241p+2,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo, .plain = 34},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.009654764c761p+8,  // 3978419259375/2097152 * pi^-1 + (-14479098046875/8388608 * pi^-1) * log(3)
@@ -4109,7 +4109,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     -0x1.be6bd50467d82p-11, 0x1.40d754de6d7a2p-15, -0x1.2a8ee8109e97p-9,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 67, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 67, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo, .plain = 56},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.57201dc24e529p-1,  // 1724028501710984832/11047398519097 * pi^-1 + (-29952805769825400/151334226289 * pi^-1) * log(11/5)
@@ -4154,7 +4154,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.037c4c076909cp-26, 0x1.8553bdc730d7dp-23,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo, .plain = 23},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.2ce0551a691b4p+6,  // 3072/13 * pi^-1
@@ -4620,7 +4620,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.81ae674c8d0d1p-35, 0x1.7de7188c89538p-32, -0x1.1cb41f955a849p-32, -0x1.783a1f924d8e9p-30,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 32},
 };
 inline constexpr double potential_2_0[] = {
     0x1.0ea664f092faap-2,  // 493135545183329817031680/338477385032884320547649 * pi^-1 + (-361016915570022612992/491258904256726154641 * pi^-1) * log(7/2) + (28/53 * pi^-1) * arcsin(28/53)
@@ -4680,7 +4680,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.b949f146886a4p-51, 0x1.08ad4e22ad26ap-52,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 33},
 };
 inline constexpr double potential_3_0[] = {
     0x1.72c26eb33ae3ap-2,  // 2566039008929708446535/266776346536923656914 * pi^-1 + (-30291630268292548911/2830518265643752328 * pi^-1) * log(7/3) + (21/29 * pi^-1) * arcsin(21/29)
@@ -4735,7 +4735,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.32dbff32a0a98p-46, 0x1.e2033824af0eep-40,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 38, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 32},
 };
 inline constexpr double potential_4_0[] = {
     0x1.45f306dc9c883p-2,  // 1 * pi^-1
@@ -5650,7 +5650,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     -0x1.0ce1ed5d7adep-22,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 41, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 41, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_1_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.fcd5c6e1cd43bp-2,  // 7663284359848210029300/491258904256726154641 * pi^-1 + (-107985027658149920768/9269035929372191597 * pi^-1) * log(7/2) + (1 * pi^-1) * arcsin(28/53)
@@ -5711,7 +5711,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.a63c1838dbb2fp-48, -0x1.cb6567a0fc3f5p-45, 0x1.aca8339145607p-46,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 43, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 43, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_2_0_lo, .plain = 34},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.fff7e0afcf109p-2,  // 38511604188348294150/353814783205469041 * pi^-1 + (-3112725422848757373/24401019531411658 * pi^-1) * log(7/3) + (1 * pi^-1) * arcsin(21/29)
@@ -5767,7 +5767,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.5aa771d4d4d26p-36, -0x1.6e9e5ade046e8p-34, -0x1.656ab0fac014fp-33,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_3_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -6694,7 +6694,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     -0x1.dcdb778d1b086p-24, 0x1.fa00cabf46b61p-23, -0x1.a1cfdb3b5b46ep-22, 0x1.613631cf40fa8p-21,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = dpotential_over_r_1_0_lo, .plain = 31},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.e19377a7fdb26p-1,  // 273688727137436072475/9269035929372191597 * pi^-1 + (-3856608130648211456/174887470365513049 * pi^-1) * log(7/2) + (53/28 * pi^-1) * arcsin(28/53)
@@ -6754,7 +6754,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.269bfc2768ap-43, 0x1.7345ebd7350dp-42,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = dpotential_over_r_2_0_lo, .plain = 32},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.61807caa275abp-1,  // 1833885913730871150/12200509765705829 * pi^-1 + (-148225020135655113/841414466600402 * pi^-1) * log(7/3) + (29/21 * pi^-1) * arcsin(21/29)
@@ -6810,7 +6810,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.05f7df54248f1p-36, -0x1.c27041712b1f5p-34, 0x1.4971080626cep-33,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.8p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -7738,7 +7738,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.3d2fa5c8eb1fdp+35, 0x1.684270f4dd95ep+36, -0x1.8f3d4eb187fa9p+42,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 39},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.3a1a21b47aea5p+3,  // 41845690475609472/934600830078125 * pi^-1 + (-983050527389/30517578125 * pi^-1) * log(7) + (-15625/343 * pi^-1) * arcsin(7/25)
@@ -7800,7 +7800,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.cff500fd37535p+1, -0x1.f021afabf9d8fp+2, 0x1.c89a90b046705p+1, -0x1.049e039293629p+4,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 35},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.0c3a357e466e9p+2,  // 3115530172535535/7589624095808 * pi^-1 + (-2108202483712/6975757441 * pi^-1) * log(4) + (-4913/512 * pi^-1) * arcsin(8/17)
@@ -7865,7 +7865,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     0x1.01177d4d36747p-23, -0x1.1563dc0814d48p-22,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 36},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.84d33e0f11a9p+0,  // 9482843024220993021/5802858390347600 * pi^-1 + (-893507729920000/500246412961 * pi^-1) * log(5/2) + (-24389/8000 * pi^-1) * arcsin(20/29)
@@ -7930,7 +7930,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     -0x1.c5474ad4a0031p-25, 0x1.c9a91774bde9dp-25,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 37},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2

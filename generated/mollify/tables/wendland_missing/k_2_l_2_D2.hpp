@@ -98,7 +98,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.c3618fa0e139dp+18,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 41, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 33},
 };
 inline constexpr double value_2_0[] = {
     0x1.800a90d544a8ep+0,  // 311275024936563753/19073486328125000 * pi^-1 + (-7281197117417223/1220703125000000 * pi^-1) * log(7)
@@ -158,7 +158,7 @@ inline constexpr double value_2_0_lo[] = {
     -0x1.c278068e8777ep-9, -0x1.d9542866281c1p-6,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 33},
 };
 inline constexpr double value_3_0[] = {
     0x1.00f1affd409cfp+1,  // 89378603245014593627/48654876708984375 * pi^-1 + (-963775487339948867584/729823150634765625 * pi^-1) * log(4)
@@ -248,7 +248,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.f522fcb0e4efbp-15, -0x1.54910da499dcbp-11,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 66, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 66, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 55},
 };
 inline constexpr double value_4_0[] = {
     0x1.3684bfd21506bp+0,  // 3323035201663339810864957/7569146509216853589 * pi^-1 + (-76158288083631387920000000/158952076693553925369 * pi^-1) * log(5/2)
@@ -352,7 +352,7 @@ inline constexpr double value_4_0_lo[] = {
     0x1.30e43f4c8b349p-39,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 77, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 77, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 67},
 };
 inline constexpr double value_5_0[] = {
     0x1.60d650992d4e6p-15,  // 5321492429546168101299276405293/1174562876521148458974062689 * pi^-1 + (-29292418743036608839680000000/4064231406647572522401601 * pi^-1) * log(15/8)
@@ -423,7 +423,7 @@ inline constexpr double value_5_0_lo[] = {
     0x1.25dca6c0f071fp+18, -0x1.a83d0ccfa00afp+20, 0x1.cd841c5235506p+22,
 };
 inline constexpr table::Term value_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = value_5_0, .n = 51, .centre = 0x1.a930b83fc74edp-1, .centre_lo = 0x1.97795b3d1f00ep-55, .c_lo = value_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = value_5_0, .n = 51, .centre = 0x1.a930b83fc74edp-1, .centre_lo = 0x1.97795b3d1f00ep-55, .c_lo = value_5_0_lo, .plain = 42},
 };
 inline constexpr double value_6_0[] = {
     0x1.32c69d0bde9e4p-1,  // 32/17 * pi^-1
@@ -862,7 +862,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.513748c11eb81p+25, 0x1.a5bf1e6d8d681p+28,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dr_1_0_lo, .plain = 34},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.5371a5b51a945p+3,  // 85052409359965047/381469726562500 * pi^-1 + (-643087112056389/4882812500000 * pi^-1) * log(7)
@@ -923,7 +923,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.bf39e9e171b2p+0, 0x1.3e49825c48e1bp-1, -0x1.c924f71d2524bp+3,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dr_2_0_lo, .plain = 34},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.3933996d1f3f7p+4,  // 12651073255660386404/648731689453125 * pi^-1 + (-137318977696144211968/9730975341796875 * pi^-1) * log(4)
@@ -1009,7 +1009,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.2143c691ba2e7p-8, -0x1.9709ddee55046p-10, -0x1.342679a4c13bp-7,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dr_3_0_lo, .plain = 52},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.f6318d376a0edp+3,  // 117391875056547884628550/51490792579706487 * pi^-1 + (-2690502699424657832000000/1081306644173836227 * pi^-1) * log(5/2)
@@ -1108,7 +1108,7 @@ inline constexpr double dr_4_0_lo[] = {
     0x1.ddf13bc66cdf8p-34,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dr_4_0_lo, .plain = 64},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.45f306dc9c883p+3,  // -32 * pi^-1
@@ -1574,7 +1574,7 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.1641a1268f3aap+53, -0x1.75722e44e0b1fp+58, 0x1.67b0444d2d424p+61,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 32},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.e2769de5f4b6ap+4,  // 30626864045797610801478125/62684600389727560925184 * pi^-1 + (-1197476147109517004852890625/5265506432737115117715456 * pi^-1) * log(13)
@@ -1634,7 +1634,7 @@ inline constexpr double d2r_2_0_lo[] = {
     -0x1.861b45af827bap+38, 0x1.dfbbbad86cd8dp+41,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 42, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 42, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 35},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.bcdaf8cf7bd1bp+4,  // 1935127259764819659/637289625781250 * pi^-1 + (-1390507826577408/980445578125 * pi^-1) * log(8)
@@ -1693,7 +1693,7 @@ inline constexpr double d2r_3_0_lo[] = {
     0x1.a3635d1b7f91dp+12,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 32},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.522220afc80f7p+5,  // 106270733528685/6525845768 * pi^-1 + (-20151173109375/2007952544 * pi^-1) * log(5)
@@ -1759,7 +1759,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.38ee393e7038fp-6, 0x1.6df3ab9195118p-6, 0x1.60936c8419882p-5,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 36},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.520fa8b354fcap+7,  // 898850342121875/536870912 * pi^-1 + (-3271637353359375/2147483648 * pi^-1) * log(3)
@@ -1851,7 +1851,7 @@ inline constexpr double d2r_5_0_lo[] = {
     0x1.c668f28aef52ap-23, 0x1.7a56c2f81d774p-18, 0x1.8fe03102ea9acp-18, 0x1.d8ab633c10c78p-17,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 58},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.7966ea3da7001p-1,  // 25323642945261400587705/117743173416535826 * pi^-1 + (-7039477355386522921875/25806722940610592 * pi^-1) * log(11/5)
@@ -1896,7 +1896,7 @@ inline constexpr double d2r_6_0_lo[] = {
     -0x1.f4cfb326085d7p-22, -0x1.6481a57276d8p-21,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 23},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.3193d66ed2bfap+7,  // 480 * pi^-1
@@ -2350,7 +2350,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.832fdbbed4cf4p+51, 0x1.b0708aa9bf683p+58, -0x1.4924695d6f2cbp+60,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.a3c41f6770475p+6,  // 249211415902865507091/926467785132812500 * pi^-1 + (-81409164537447747/348787872050000 * pi^-1) * log(13)
@@ -2407,7 +2407,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.0ed9af3d10bddp+28, -0x1.3f5542389f4ep+30, -0x1.b8c99de795c71p+29, 0x1.3986092284175p+35,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.3dee74d405ec2p+4,  // 5504975200646922231/1593224064453125 * pi^-1 + (-331712334987264/196089115625 * pi^-1) * log(8)
@@ -2466,7 +2466,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.f707d855dfab4p+14,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.a619577c0e878p+4,  // 62704718734185/3262922884 * pi^-1 + (-11936186521875/1003976272 * pi^-1) * log(5)
@@ -2533,7 +2533,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.f016878032fa3p-5, 0x1.17dd7842c3745p-4, 0x1.4238c80a4c04dp-3, 0x1.90af1821d452p-1,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 48, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 48, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 37},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.2cdd0f79a6f3p+7,  // 526470299444375/268435456 * pi^-1 + (-1916393776171875/1073741824 * pi^-1) * log(3)
@@ -2625,7 +2625,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.f1c8651e8a2a9p-21, 0x1.e04cd54de9b7cp-18, -0x1.3bba423b3b9bp-22, 0x1.62daf1c033495p-19,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 68, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 58},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.672af95cbe9b1p-1,  // 14730295940607575819205/58871586708267913 * pi^-1 + (-4094742138140563284375/12903361470305296 * pi^-1) * log(11/5)
@@ -2670,7 +2670,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     -0x1.f04caecc6244bp-22, -0x1.dddaf07c82f4ap-21,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 23},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.3193d66ed2bfap+7,  // 480 * pi^-1
@@ -3138,7 +3138,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.8891f2e3b334dp+30, 0x1.b793c3a8072e1p+34,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = grad_over_r_1_0_lo, .plain = 34},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.2f132f61b329p+5,  // 12150344194280721/15258789062500 * pi^-1 + (-91869587436627/195312500000 * pi^-1) * log(7)
@@ -3198,7 +3198,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.e58d876014385p+3, 0x1.4b002ea8a265p+2,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = grad_over_r_2_0_lo, .plain = 33},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.4cc6d303f1336p+5,  // 53767061336556642217/1297463378906250 * pi^-1 + (-291802827604306450432/9730975341796875 * pi^-1) * log(4)
@@ -3284,7 +3284,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     0x1.9572a633dee0bp-5, 0x1.f1d92dc53caf5p-3, -0x1.4d6d4eb5814f3p-2,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 63, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = grad_over_r_3_0_lo, .plain = 52},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.6c171ffb60178p+4,  // 340436437663988865422795/102981585159412974 * pi^-1 + (-3901228914165753856400000/1081306644173836227 * pi^-1) * log(5/2)
@@ -3383,7 +3383,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.081a0e188562p-33,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 73, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = grad_over_r_4_0_lo, .plain = 63},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.45f306dc9c883p+3,  // -32 * pi^-1
@@ -3847,7 +3847,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.baae6e30cf357p+67, 0x1.8d3b890e3ad2bp+71, -0x1.7eeeb84a1027ap+74,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.1c79c64f7e826p+11,  // 779603371276308579/32057708828125 * pi^-1 + (-403926317938143/60343922500 * pi^-1) * log(13)
@@ -3903,7 +3903,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.54d30d80f53c6p+40, 0x1.c91769a9eeaccp+41, -0x1.5e401cf9c0c4ep+42,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.376b40fb3f2bp+10,  // 16291644914754594/377094453125 * pi^-1 + (-4384585852416/232058125 * pi^-1) * log(8)
@@ -3959,7 +3959,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     0x1.fe9c0db30e019p+14, 0x1.3a48ca8efe7c4p+18, -0x1.5ebb01120e33ap+19,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 39, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo, .plain = 30},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.891bc4d693a4bp+8,  // 435660147945/4826809 * pi^-1 + (-82149865875/1485172 * pi^-1) * log(5)
@@ -4023,7 +4023,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     -0x1.ca94b3a8bf32dp+5,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 45, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo, .plain = 34},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.0498adc825a7fp+9,  // 258597251859375/67108864 * pi^-1 + (-941141373046875/268435456 * pi^-1) * log(3)
@@ -4114,7 +4114,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     0x1.9a9a7ba786888p-10, 0x1.945dab231e73p-10, 0x1.e18db89e3ddd6p-9,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 67, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 13, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 67, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo, .plain = 56},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.5c7c9e39578bep+0,  // 3501932894100437940/11047398519097 * pi^-1 + (-243366546879831375/605336905156 * pi^-1) * log(11/5)
@@ -4159,7 +4159,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     -0x1.71e28f4de1ab8p-23, 0x1.15b4865f26cdap-21,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 30, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo, .plain = 23},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.3193d66ed2bfap+7,  // 480 * pi^-1
@@ -4624,7 +4624,7 @@ inline constexpr double potential_1_0_lo[] = {
     0x1.01beb86409cc3p-33, 0x1.14d5ed47a21fcp-32, -0x1.8304d29ed9397p-31, -0x1.d87e241c3168p-29,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 40, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 32},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.9e9204c5e00e3p-4,  // 425202889520485922995764585/417004138360513482914703568 * pi^-1 + (-798859592307385011311/982517808513452309282 * pi^-1) * log(7/2) + (1/2 * pi^-1) * log(28/53)
@@ -4684,7 +4684,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.898153acc0984p-50, 0x1.780e22b491487p-51,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 42, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 33},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.a4d0f79ed81e9p-5,  // 374738284686303923394287815/23664129043211276062899456 * pi^-1 + (-6771380300042154942907/362306338002400297984 * pi^-1) * log(7/3) + (1/2 * pi^-1) * log(21/29)
@@ -4740,7 +4740,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.eb5a6d8e5b94p-41, 0x1.bd1a1d402b801p-39, -0x1.407b75f010913p-39,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 39, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 33},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5515,7 +5515,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.6798b734b85a6p+11, 0x1.c565a8c03be5ap+11, -0x1.9d7b7b82ad652p+11,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 43, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 43, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.7249412e7e6ccp-2,  // 20492838388878081151/13351440429687500000 * pi^-1 + (-25020850985817687/122070312500000000 * pi^-1) * log(7)
@@ -5575,7 +5575,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     -0x1.f77a266d09dafp-14, -0x1.877ad337623d8p-17,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 42, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo, .plain = 33},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.47fe78cd80e84p-2,  // 61754925811640881/4660977897838088 * pi^-1 + (-302672694804480/34271896307633 * pi^-1) * log(4)
@@ -5640,7 +5640,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     -0x1.b1d571ccbaaa9p-39, 0x1.40b17464cf394p-39,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.d83eea0ef2054p-3,  // 255917238577168242166/1769073916027345205 * pi^-1 + (-1916540425800000000/12200509765705829 * pi^-1) * log(5/2)
@@ -5706,7 +5706,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     -0x1.d0d6d4634f241p-29, 0x1.2bef571c04021p-28, -0x1.8fd6fcb62f6efp-26,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 47, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 47, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo, .plain = 39},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6142,7 +6142,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.d4ec7529fa1dap+23,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 45, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 45, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo, .plain = 38},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.4a9cd5a05e97fp+0,  // 20492838388878081151/3738403320312500000 * pi^-1 + (-3574407283688241/4882812500000000 * pi^-1) * log(7)
@@ -6203,7 +6203,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     0x1.e1d52a2aba1fep-12, 0x1.2c93d683b9653p-9, 0x1.d9b960e7b5602p-10,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo, .plain = 34},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.5c7e605a58f6dp-1,  // 61754925811640881/2193401363688512 * pi^-1 + (-37834086850560/2015993900449 * pi^-1) * log(4)
@@ -6268,7 +6268,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     0x1.eed80b3786a6fp-32, 0x1.338fb4b15c9bfp-33,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 46, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.5660d017a2aa3p-2,  // 127958619288584121083/610025488285291450 * pi^-1 + (-95827021290000000/420707233300201 * pi^-1) * log(5/2)
@@ -6333,7 +6333,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     -0x1.00dce05df1274p-29, -0x1.896f35e9a279ep-27,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo, .plain = 38},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -6777,7 +6777,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     -0x1.49922f4056d03p+48, -0x1.51e284d8ac8fbp+48, -0x1.6e5daa54ace61p+53, 0x1.4d5797ba97e37p+55,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 52, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 52, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 44},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.b9f053442a9dep+3,  // 10012114054905166643/146545410156250000 * pi^-1 + (-44848926331209/781250000000 * pi^-1) * log(7)
@@ -6844,7 +6844,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.8fdbbf6e2bac2p+6, -0x1.8952375a08a2cp+10, -0x1.00fd685ba2a78p+7, 0x1.87643fe6d1242p+10,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 48, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 48, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 39},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.44525cbb27ce6p+2,  // 178191917645417519/242867971065856 * pi^-1 + (-3772040912640/6975757441 * pi^-1) * log(4)
@@ -6913,7 +6913,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     -0x1.86801ebb24df2p-18,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 49, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 39},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.6538f15c7c7f8p+0,  // 213185485551292489121/72535729879345000 * pi^-1 + (-1606954699350000/500246412961 * pi^-1) * log(5/2)
@@ -6978,7 +6978,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.7880c11df5a79p-23, 0x1.87880a2f50b3p-21,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 46, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 37},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -100,7 +100,7 @@ inline constexpr double value_1_0_lo[] = {
     0x1.ae88f26ba384ep+20, 0x1.bb5c19eb80a1fp+21,
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = value_1_0, .n = 42, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = value_1_0_lo, .plain = 34},
 };
 inline constexpr double value_2_0[] = {
     0x1.9a8e7a985943ep+1,  // 1077824645883562707/4768371582031250 * pi^-2 + (-19052775598238691309/190734863281250000 * pi^-2) * log(7)
@@ -161,7 +161,7 @@ inline constexpr double value_2_0_lo[] = {
     0x1.a4b3e1d366e4fp-6, 0x1.fb028f6fabb4ap-3, 0x1.923f3e9bd6d29p-3,
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = value_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = value_2_0_lo, .plain = 34},
 };
 inline constexpr double value_3_0[] = {
     0x1.0d6c6bf28e60dp+2,  // 1387783927676326082333704/32842041778564453125 * pi^-2 + (-15001352842541865204973568/492630626678466796875 * pi^-2) * log(4)
@@ -256,7 +256,7 @@ inline constexpr double value_3_0_lo[] = {
     -0x1.1e1d3953893fdp-8, 0x1.63fbf9f2ccc96p-5,
 };
 inline constexpr table::Term value_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 19, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 70, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 19, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = value_3_0, .n = 70, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = value_3_0_lo, .plain = 58},
 };
 inline constexpr double value_4_0[] = {
     0x1.222684e728adep+1,  // 165592887128932721987442227288/10013980831693897298247 * pi^-2 + (-3795133797563713668194560000000/210293597465571843263187 * pi^-2) * log(5/2)
@@ -366,7 +366,7 @@ inline constexpr double value_4_0_lo[] = {
     -0x1.3404b837b1829p-35, -0x1.a38338a91aa84p-37,
 };
 inline constexpr table::Term value_4[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 19, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 82, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 19, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = value_4_0, .n = 82, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = value_4_0_lo, .plain = 72},
 };
 inline constexpr double value_5_0[] = {
     0x1.7d86be96711edp-16,  // 111958519239536433063915002704744/1174562876521148458974062689 * pi^-2 + (-51472424852962175252803092480000000/339448671314611904643504117121 * pi^-2) * log(15/8)
@@ -440,7 +440,7 @@ inline constexpr double value_5_0_lo[] = {
     -0x1.8279c016a5116p+22,
 };
 inline constexpr table::Term value_5[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = value_5_0, .n = 53, .centre = 0x1.a930b83fc74edp-1, .centre_lo = 0x1.97795b3d1f00ep-55, .c_lo = value_5_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = value_5_0, .n = 53, .centre = 0x1.a930b83fc74edp-1, .centre_lo = 0x1.97795b3d1f00ep-55, .c_lo = value_5_0_lo, .plain = 44},
 };
 inline constexpr double value_6_0[] = {
     0x1.ed636bf2bb936p-1,  // 3072/323 * pi^-2
@@ -880,7 +880,7 @@ inline constexpr double dr_1_0_lo[] = {
     0x1.7028ab59cfa65p+48, 0x1.74862ec29e88ap+50, 0x1.be59de85f9c1cp+54,
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = dr_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = dr_1_0_lo, .plain = 32},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.11ac722ac0734p+5,  // -1809381543377215590783/19687440434072265625 * pi^-2 + (-128253830264307475977249/1338745949516914062500 * pi^-2) * log(13)
@@ -937,7 +937,7 @@ inline constexpr double dr_2_0_lo[] = {
     -0x1.04c6a1f415dd8p+23, -0x1.036c55a64fe5ap+25, 0x1.4329260a97d85p+27, 0x1.0999a2783ad3ep+30,
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = dr_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = dr_2_0_lo, .plain = 32},
 };
 inline constexpr double dr_3_0[] = {
     -0x1.e3afa44a006ebp+4,  // 212088668363069452416/103559564189453125 * pi^-2 + (-1519075963144520073216/1346274334462890625 * pi^-2) * log(8)
@@ -996,7 +996,7 @@ inline constexpr double dr_3_0_lo[] = {
     -0x1.6587b8ad12f04p+9,
 };
 inline constexpr table::Term dr_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = dr_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = dr_3_0, .n = 41, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = dr_3_0_lo, .plain = 32},
 };
 inline constexpr double dr_4_0[] = {
     -0x1.a36c94b759cb6p+3,  // 214555422734235/10604499373 * pi^-2 + (-6976482855890625/551433967396 * pi^-2) * log(5)
@@ -1062,7 +1062,7 @@ inline constexpr double dr_4_0_lo[] = {
     -0x1.489b263d40176p-11, 0x1.cdad8292ebe43p-9, 0x1.f1c67643e57c1p-8,
 };
 inline constexpr table::Term dr_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = dr_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dr_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = dr_4_0_lo, .plain = 37},
 };
 inline constexpr double dr_5_0[] = {
     -0x1.34fb3a5383f37p+5,  // 142533032036484375/17179869184 * pi^-2 + (-518980471306171875/68719476736 * pi^-2) * log(3)
@@ -1164,7 +1164,7 @@ inline constexpr double dr_5_0_lo[] = {
     0x1.184b4354fc1d1p-18, 0x1.4740bbe14dd4dp-19, 0x1.5cf7501cd5fdp-17, 0x1.f64bde9264c4ep-17,
 };
 inline constexpr table::Term dr_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dr_5_0, .n = 76, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = dr_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = dr_5_0, .n = 76, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = dr_5_0_lo, .plain = 65},
 };
 inline constexpr double dr_6_0[] = {
     -0x1.d697e7354c3a5p+4,  // 82689738210404510614230706567719485/117640273407315333844303872 * pi^-2 + (-5034018670878122364876235320349953125/5646733123551136024526585856 * pi^-2) * log(11/5)
@@ -1256,7 +1256,7 @@ inline constexpr double dr_6_0_lo[] = {
     0x1.def71ba916a8cp-42, -0x1.341871d1ac37ap-42, 0x1.b4fbf1888b875p-42, -0x1.10ece28001236p-41,
 };
 inline constexpr table::Term dr_6[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = dr_6_0, .n = 68, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = dr_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = dr_6_0, .n = 68, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = dr_6_0_lo, .plain = 59},
 };
 inline constexpr double dr_7_0[] = {
     -0x1.24f308181f5f8p+4,  // -3072/17 * pi^-2
@@ -1691,7 +1691,7 @@ inline constexpr double d2r_1_0_lo[] = {
     0x1.cbaec98441d38p+57, -0x1.edf547c0e769fp+59, 0x1.2787eaa3a8a71p+63, 0x1.df4e8f3f17f12p+66,
 };
 inline constexpr table::Term d2r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 40, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = d2r_1_0, .n = 40, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = d2r_1_0_lo, .plain = 32},
 };
 inline constexpr double d2r_2_0[] = {
     -0x1.5d92b4ba7c2eep+5,  // 360518080974123183111/46323389256640625 * pi^-2 + (-50437099393689387782403/15749952347257812500 * pi^-2) * log(13)
@@ -1748,7 +1748,7 @@ inline constexpr double d2r_2_0_lo[] = {
     0x1.740abcf7b39e8p+30, -0x1.007e45a6d75e4p+31, 0x1.03b33e0287b23p+35, 0x1.b6ae59fde02ddp+37,
 };
 inline constexpr table::Term d2r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = d2r_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = d2r_2_0_lo, .plain = 31},
 };
 inline constexpr double d2r_3_0[] = {
     0x1.a794db9787234p+6,  // 16352776516212486504/318644812890625 * pi^-2 + (-500751520189984014336/20711912837890625 * pi^-2) * log(8)
@@ -1808,7 +1808,7 @@ inline constexpr double d2r_3_0_lo[] = {
     -0x1.9ccfd0db0e8a1p+15, -0x1.9a9df4af74264p+18,
 };
 inline constexpr table::Term d2r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 42, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = d2r_3_0, .n = 42, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = d2r_3_0_lo, .plain = 32},
 };
 inline constexpr double d2r_4_0[] = {
     0x1.ba41a0cbc6dbbp+6,  // 242357482739097/815730721 * pi^-2 + (-7801668816046875/42417997492 * pi^-2) * log(5)
@@ -1875,7 +1875,7 @@ inline constexpr double d2r_4_0_lo[] = {
     0x1.249dffcf4ddc7p-3, 0x1.65c6a500ccf13p-2, 0x1.dde98358a0a2bp+0, 0x1.056014940ce8ep+0,
 };
 inline constexpr table::Term d2r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 48, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = d2r_4_0, .n = 48, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = d2r_4_0_lo, .plain = 37},
 };
 inline constexpr double d2r_5_0[] = {
     0x1.b2db17e8ae3b3p+8,  // 58297146463359375/1073741824 * pi^-2 + (-212240619262546875/4294967296 * pi^-2) * log(3)
@@ -1972,7 +1972,7 @@ inline constexpr double d2r_5_0_lo[] = {
     -0x1.d6105c592d32ep-14, 0x1.3987230b30468p-15, -0x1.45dc0aca9197cp-14, 0x1.2e2e871e40007p-12,
 };
 inline constexpr table::Term d2r_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 72, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = d2r_5_0, .n = 72, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = d2r_5_0_lo, .plain = 61},
 };
 inline constexpr double d2r_6_0[] = {
     0x1.906d4c739eb26p+8,  // 133797307022649842866303052478149/51059146444147280314368 * pi^-2 + (-8145349861745289911027052696078125/2450839029319069455089664 * pi^-2) * log(11/5)
@@ -2059,7 +2059,7 @@ inline constexpr double d2r_6_0_lo[] = {
     -0x1.8cceaeb5cbb0cp-38, -0x1.98ee70b7d11d4p-37, -0x1.77a10a3843a85p-37, -0x1.c8c3205e660d9p-36,
 };
 inline constexpr table::Term d2r_6[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 64, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = d2r_6_0, .n = 64, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = d2r_6_0_lo, .plain = 56},
 };
 inline constexpr double d2r_7_0[] = {
     0x1.37423899a1558p+8,  // 3072 * pi^-2
@@ -2479,7 +2479,7 @@ inline constexpr double laplacian_1_0_lo[] = {
     0x1.dabb7fb3e6e88p+57, 0x1.a51edabe91cd6p+60, 0x1.dacd6adb8859ap+63,
 };
 inline constexpr table::Term laplacian_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = laplacian_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = laplacian_1_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_2_0[] = {
     -0x1.eb0c3898452e9p+8,  // 1524224013581813516973/231616946283203125 * pi^-2 + (-70168457895890537932749/15749952347257812500 * pi^-2) * log(13)
@@ -2536,7 +2536,7 @@ inline constexpr double laplacian_2_0_lo[] = {
     0x1.595bf26faa668p+28, -0x1.4b6deafd747d2p+32, -0x1.a06735d74971ep+36, -0x1.ecf8c5e0096e3p+37,
 };
 inline constexpr table::Term laplacian_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = laplacian_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = laplacian_2_0_lo, .plain = 32},
 };
 inline constexpr double laplacian_3_0[] = {
     -0x1.be94e34dbf501p+7,  // 990619073377082128747625000/9121439433117265052589 * pi^-2 + (-30621400423835255676928000000/574650684286387698313107 * pi^-2) * log(8)
@@ -2600,7 +2600,7 @@ inline constexpr double laplacian_3_0_lo[] = {
     -0x1.173d706806b7p+21,
 };
 inline constexpr table::Term laplacian_3[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 45, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = laplacian_3_0, .n = 45, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = laplacian_3_0_lo, .plain = 36},
 };
 inline constexpr double laplacian_4_0[] = {
     0x1.5342e6a932956p+5,  // 328179651832791/815730721 * pi^-2 + (-814789381415625/3262922884 * pi^-2) * log(5)
@@ -2669,7 +2669,7 @@ inline constexpr double laplacian_4_0_lo[] = {
     -0x1.860a8b58dae68p+3,
 };
 inline constexpr table::Term laplacian_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 49, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = laplacian_4_0, .n = 49, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = laplacian_4_0_lo, .plain = 37},
 };
 inline constexpr double laplacian_5_0[] = {
     0x1.6075f749e060bp+8,  // 77301550734890625/1073741824 * pi^-2 + (-281438015436703125/4294967296 * pi^-2) * log(3)
@@ -2768,7 +2768,7 @@ inline constexpr double laplacian_5_0_lo[] = {
     0x1.8d43e68dde5e8p-14,
 };
 inline constexpr table::Term laplacian_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 73, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = laplacian_5_0, .n = 73, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = laplacian_5_0_lo, .plain = 62},
 };
 inline constexpr double laplacian_6_0[] = {
     0x1.6eabba3dae451p+8,  // 19443079123197679267653747580883/5673238493794142257152 * pi^-2 + (-1183661741709245433029641267896875/272315447702118828343296 * pi^-2) * log(11/5)
@@ -2855,7 +2855,7 @@ inline constexpr double laplacian_6_0_lo[] = {
     0x1.de5d4b690abcep-37, 0x1.fe9518b5ae69p-36, -0x1.e81952d62048fp-36, 0x1.15381b7eb56d9p-36,
 };
 inline constexpr table::Term laplacian_6[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 64, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = laplacian_6_0, .n = 64, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = laplacian_6_0_lo, .plain = 56},
 };
 inline constexpr double laplacian_7_0[] = {
     0x1.37423899a1558p+8,  // 3072 * pi^-2
@@ -3281,7 +3281,7 @@ inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.e196c5f4a29f9p+51, 0x1.3832fd3e0b04cp+58,
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = grad_over_r_1_0, .n = 38, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = grad_over_r_1_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.bf59e200f5a8bp+7,  // -139183195644401199291/231616946283203125 * pi^-2 + (-9865679251100575075173/15749952347257812500 * pi^-2) * log(13)
@@ -3337,7 +3337,7 @@ inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.c4987f486df65p+28, -0x1.965d9054119cp+30, -0x1.1206a6c46a57ep+32,
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = grad_over_r_2_0, .n = 39, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = grad_over_r_2_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_3_0[] = {
     -0x1.eb3e62db28707p+6,  // 13255541772691840776/1593224064453125 * pi^-2 + (-94942247696532504576/20711912837890625 * pi^-2) * log(8)
@@ -3394,7 +3394,7 @@ inline constexpr double grad_over_r_3_0_lo[] = {
     -0x1.d47af8eb6fa4fp+4, 0x1.8cb8a31521e1bp+8, 0x1.cf417a957dbfcp+7, -0x1.62cbe68806ceep+10,
 };
 inline constexpr table::Term grad_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = grad_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = grad_over_r_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = grad_over_r_3_0_lo, .plain = 31},
 };
 inline constexpr double grad_over_r_4_0[] = {
     -0x1.10a02d772d91p+5,  // 42911084546847/815730721 * pi^-2 + (-1395296571178125/42417997492 * pi^-2) * log(5)
@@ -3460,7 +3460,7 @@ inline constexpr double grad_over_r_4_0_lo[] = {
     -0x1.7e2ae67a40f92p-5, -0x1.868aa9f0aa566p-5, -0x1.401a8b21403c3p-3,
 };
 inline constexpr table::Term grad_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = grad_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = grad_over_r_4_0, .n = 47, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = grad_over_r_4_0_lo, .plain = 36},
 };
 inline constexpr double grad_over_r_5_0[] = {
     -0x1.017c05f0434aep+6,  // 237555053394140625/17179869184 * pi^-2 + (-864967452176953125/68719476736 * pi^-2) * log(3)
@@ -3562,7 +3562,7 @@ inline constexpr double grad_over_r_5_0_lo[] = {
     -0x1.6ff757a2d1199p-14, -0x1.24d6dcbe73b93p-13, -0x1.4475668a746b3p-12, 0x1.61979e7e61f24p-12,
 };
 inline constexpr table::Term grad_over_r_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = grad_over_r_5_0, .n = 76, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = grad_over_r_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = grad_over_r_5_0, .n = 76, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = grad_over_r_5_0_lo, .plain = 65},
 };
 inline constexpr double grad_over_r_6_0[] = {
     -0x1.384d8925b2967p+5,  // 109751834351991441360706210535336771/117640273407315333844303872 * pi^-2 + (-6681515690438235138835730516100846875/5646733123551136024526585856 * pi^-2) * log(11/5)
@@ -3653,7 +3653,7 @@ inline constexpr double grad_over_r_6_0_lo[] = {
     -0x1.f285144bf8c18p-38, -0x1.5b28ab02f5486p-38, -0x1.af8eb8fc17987p-38,
 };
 inline constexpr table::Term grad_over_r_6[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = grad_over_r_6_0, .n = 67, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = grad_over_r_6_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 17, .var = table::Var::shifted, .edge = 0x1.ap-1, .edge_power = 0, .low = 0, .c = grad_over_r_6_0, .n = 67, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = grad_over_r_6_0_lo, .plain = 58},
 };
 inline constexpr double grad_over_r_7_0[] = {
     -0x1.24f308181f5f8p+4,  // -3072/17 * pi^-2
@@ -4087,7 +4087,7 @@ inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.e88e75480a40ap+70, -0x1.7cb317412be11p+73, 0x1.7b81f32ab5d88p+76,
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.c8p-4, .edge_power = 0, .low = 0, .c = hess_radial_1_0, .n = 39, .centre = 0x1.63807ba71fe11p-4, .centre_lo = 0x1.8e01ee9c7f846p-58, .c_lo = hess_radial_1_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.e0e5d716ecfdfp+12,  // 11489784618432053934/32057708828125 * pi^-2 + (-24006757480821782667/217992420031250 * pi^-2) * log(13)
@@ -4144,7 +4144,7 @@ inline constexpr double hess_radial_2_0_lo[] = {
     0x1.af35b88904c8cp+41, 0x1.1bc94c7a792cp+42, -0x1.70addf55b4112p+47, -0x1.e20d33a9ce186p+50,
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-3, .edge_power = 0, .low = 0, .c = hess_radial_2_0, .n = 40, .centre = 0x1.3939393939394p-3, .centre_lo = -0x1.b1b1b1b1b1b1bp-57, .c_lo = hess_radial_2_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_3_0[] = {
     0x1.d7d182cd161dap+11,  // 267610706282697624/377094453125 * pi^-2 + (-317038494135508992/980445578125 * pi^-2) * log(8)
@@ -4201,7 +4201,7 @@ inline constexpr double hess_radial_3_0_lo[] = {
     -0x1.771ebf8e2d3fbp+19, -0x1.13d759026a747p+21, 0x1.8fa41bb51b413p+22, 0x1.67c5d4ca350d5p+24,
 };
 inline constexpr table::Term hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.4p-2, .edge_power = 0, .low = 0, .c = hess_radial_3_0, .n = 40, .centre = 0x1.f81f81f81f82p-3, .centre_lo = -0x1.f81f81f81f82p-57, .c_lo = hess_radial_3_0_lo, .plain = 31},
 };
 inline constexpr double hess_radial_4_0[] = {
     0x1.e8e4173de7727p+9,  // 7977855927690/4826809 * pi^-2 + (-128127444897375/125497034 * pi^-2) * log(5)
@@ -4266,7 +4266,7 @@ inline constexpr double hess_radial_4_0_lo[] = {
     0x1.1e862c4ba8145p+7, 0x1.41399ffda7987p+8,
 };
 inline constexpr table::Term hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = hess_radial_4_0, .n = 46, .centre = 0x1.89d89d89d89d9p-2, .centre_lo = -0x1.89d89d89d89d9p-56, .c_lo = hess_radial_4_0_lo, .plain = 35},
 };
 inline constexpr double hess_radial_5_0[] = {
     0x1.4a97b4d19cea5p+10,  // 67770756010546875/536870912 * pi^-2 + (-246724890521484375/2147483648 * pi^-2) * log(3)
@@ -4363,7 +4363,7 @@ inline constexpr double hess_radial_5_0_lo[] = {
     0x1.d25a7ce7f5ef2p-7, 0x1.dd015a7fd4feep-7, -0x1.9986434c35e8fp-3, -0x1.397aeef23ca0bp-2,
 };
 inline constexpr table::Term hess_radial_5[] = {
-    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 72, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo},
+    {.basis = table::Basis::sqrt_power, .s_power = 15, .var = table::Var::shifted, .edge = 0x1.7p-1, .edge_power = 0, .low = 0, .c = hess_radial_5_0, .n = 72, .centre = 0x1.3333333333333p-1, .centre_lo = 0x1.999999999999ap-56, .c_lo = hess_radial_5_0_lo, .plain = 61},
 };
 inline constexpr double hess_radial_6_0[] = {
     0x1.5d7421de84dd2p+0,  // 80119267704407697480/11047398519097 * pi^-2 + (-14835794480140484725875/1612920183788162 * pi^-2) * log(11/5)
@@ -4409,7 +4409,7 @@ inline constexpr double hess_radial_6_0_lo[] = {
     0x1.d6d13ba164d13p-26, 0x1.787934478817cp-26, 0x1.8be08426dcc4bp-21,
 };
 inline constexpr table::Term hess_radial_6[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 31, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = hess_radial_6_0, .n = 31, .centre = 0x1.81c0e070381c1p-1, .centre_lo = -0x1.f8fc7e3f1f8fcp-57, .c_lo = hess_radial_6_0_lo, .plain = 23},
 };
 inline constexpr double hess_radial_7_0[] = {
     0x1.37423899a1558p+8,  // 3072 * pi^-2
@@ -4891,7 +4891,7 @@ inline constexpr double potential_1_0_lo[] = {
     -0x1.b1cb2f27379f1p-26,
 };
 inline constexpr table::Term potential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 41, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.a8p-2, .edge_power = 0, .low = 0, .c = potential_1_0, .n = 41, .centre = 0x1.4c1bacf914c1cp-2, .centre_lo = -0x1.4c1bacf914c1cp-56, .c_lo = potential_1_0_lo, .plain = 32},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.33976f09af9a9p-3,  // 9102538437405332361677595/364514106958490806743622 * pi^-2 + (-28559442516556764620423168/1379946262057143768386569 * pi^-2) * log(7/2) + (-53/56 * pi^-2) * arcsin(28/53)
@@ -4953,7 +4953,7 @@ inline constexpr double potential_2_0_lo[] = {
     0x1.841d92ccd4f89p-49, -0x1.cc4492379247ep-49, 0x1.34e6636da4c79p-47, 0x1.22c802a66e733p-46,
 };
 inline constexpr table::Term potential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 44, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.5p-1, .edge_power = 0, .low = 0, .c = potential_2_0, .n = 44, .centre = 0x1.0e7d95bc609a9p-1, .centre_lo = 0x1.cfb2b78c13522p-58, .c_lo = potential_2_0_lo, .plain = 34},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.c21d730ee8888p-4,  // 157745234682938877981905/574595207925681722584 * pi^-2 + (-3091081962953620126321299/9521863445625582831392 * pi^-2) * log(7/3) + (-29/42 * pi^-2) * arcsin(21/29)
@@ -5012,7 +5012,7 @@ inline constexpr double potential_3_0_lo[] = {
     -0x1.82ad74d15dabcp-38,
 };
 inline constexpr table::Term potential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 41, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_3_0, .n = 41, .centre = 0x1.72c234f72c235p-1, .centre_lo = -0x1.1a7b9611a7b96p-58, .c_lo = potential_3_0_lo, .plain = 34},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -5888,7 +5888,7 @@ inline constexpr double dpotential_1_0_lo[] = {
     0x1.80bfc0f4b2f47p+13, -0x1.dc10f98ffa6d3p+15, -0x1.7ccc6e8067a12p+17, -0x1.56401f1c999fdp+19,
 };
 inline constexpr table::Term dpotential_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 44, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_1_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.005cd4e594fa9p-1,  // 7537848981277527693/834465026855468750 * pi^-2 + (-72304085434446264721/23841857910156250000 * pi^-2) * log(7) + (625/98 * pi^-2) * arcsin(7/25)
@@ -5949,7 +5949,7 @@ inline constexpr double dpotential_2_0_lo[] = {
     0x1.3dae1278682f9p-14, -0x1.ebb9e0452b843p-16, -0x1.781979765584p-9,
 };
 inline constexpr table::Term dpotential_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 43, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_2_0_lo, .plain = 34},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.5232244ce577bp-2,  // 12718439177173563735/65253690569733232 * pi^-2 + (-1377159818598416384/9904578032905937 * pi^-2) * log(4) + (289/128 * pi^-2) * arcsin(8/17)
@@ -6015,7 +6015,7 @@ inline constexpr double dpotential_3_0_lo[] = {
     0x1.4d46bf92ce395p-34, -0x1.9090718b02b6fp-33, -0x1.717cd6a87e303p-32,
 };
 inline constexpr table::Term dpotential_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 47, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 47, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_3_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.564e20766bbe1p-3,  // 35049380720409950910939/14152591328218761640 * pi^-2 + (-27722733275417600000000/10260628712958602189 * pi^-2) * log(5/2) + (841/800 * pi^-2) * arcsin(20/29)
@@ -6082,7 +6082,7 @@ inline constexpr double dpotential_4_0_lo[] = {
     0x1.a5d29bb339598p-31, -0x1.cdff1736c522dp-30, 0x1.275dc28c0cb5bp-28, -0x1.ce5423e4fbf98p-29,
 };
 inline constexpr table::Term dpotential_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 48, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 48, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_4_0_lo, .plain = 39},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -6991,7 +6991,7 @@ inline constexpr double dpotential_over_r_1_0_lo[] = {
     0x1.b984d829d79c1p+26, 0x1.9549098265498p+29, -0x1.bb7b55f674b2dp+30,
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = dpotential_over_r_1_0, .n = 47, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = dpotential_over_r_1_0_lo, .plain = 39},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.c9ca5799f7bf7p+0,  // 7537848981277527693/233650207519531250 * pi^-2 + (-10329155062063752103/953674316406250000 * pi^-2) * log(7) + (15625/686 * pi^-2) * arcsin(7/25)
@@ -7053,7 +7053,7 @@ inline constexpr double dpotential_over_r_2_0_lo[] = {
     -0x1.1e6fb3c750743p-9, -0x1.38b2e36ab0b3p-6, 0x1.5a709d4663dfep-5, -0x1.817da4cdac9acp-7,
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_0, .n = 44, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = dpotential_over_r_2_0_lo, .plain = 35},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.67554691b3cf3p-1,  // 12718439177173563735/30707619091639168 * pi^-2 + (-172144977324802048/582622237229761 * pi^-2) * log(4) + (4913/1024 * pi^-2) * arcsin(8/17)
@@ -7119,7 +7119,7 @@ inline constexpr double dpotential_over_r_3_0_lo[] = {
     -0x1.8a43c9c3dd3d5p-30, 0x1.2db4d74ba4b4ep-29, 0x1.f65d46bd403d7p-28,
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 47, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_0, .n = 47, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = dpotential_over_r_3_0_lo, .plain = 36},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.f057af121c3ap-3,  // 35049380720409950910939/9760407812564663200 * pi^-2 + (-1386136663770880000000/353814783205469041 * pi^-2) * log(5/2) + (24389/16000 * pi^-2) * arcsin(20/29)
@@ -7186,7 +7186,7 @@ inline constexpr double dpotential_over_r_4_0_lo[] = {
     0x1.13d9f445d171dp-33, -0x1.418be4913c4dfp-29, 0x1.af0093012af33p-28, -0x1.79abb7970dadfp-27,
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 48, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_0, .n = 48, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = dpotential_over_r_4_0_lo, .plain = 39},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -8103,7 +8103,7 @@ inline constexpr double potential_hess_radial_1_0_lo[] = {
     0x1.d2aadc31e6603p+60,
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.b8p-3, .edge_power = 0, .low = 0, .c = potential_hess_radial_1_0, .n = 53, .centre = 0x1.52fab4152fab4p-3, .centre_lo = 0x1.52fab4152fab4p-59, .c_lo = potential_hess_radial_1_0_lo, .plain = 45},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.b841bb1a62832p+4,  // 15099930352230994782/9159088134765625 * pi^-2 + (-327940881658174491/381469726562500 * pi^-2) * log(7) + (-29296875/33614 * pi^-2) * arcsin(7/25)
@@ -8172,7 +8172,7 @@ inline constexpr double potential_hess_radial_2_0_lo[] = {
     0x1.b742426bc4702p+16,
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.7p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_0, .n = 49, .centre = 0x1.1eb851eb851ecp-2, .centre_lo = -0x1.eb851eb851eb8p-56, .c_lo = potential_hess_radial_2_0_lo, .plain = 40},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.efaadd49f4b71p+2,  // 82165913038434559995/6800303189843968 * pi^-2 + (-17635876309008384/2015993900449 * pi^-2) * log(4) + (-4259571/65536 * pi^-2) * arcsin(8/17)
@@ -8243,7 +8243,7 @@ inline constexpr double potential_hess_radial_3_0_lo[] = {
     -0x1.1f155ec4063c3p-16, -0x1.259dd44361c5ep-19, 0x1.4f06cc0772ba5p-15,
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.38p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_0, .n = 51, .centre = 0x1.e1e1e1e1e1e1ep-2, .centre_lo = 0x1.e1e1e1e1e1e1ep-58, .c_lo = potential_hess_radial_3_0_lo, .plain = 40},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.84afc447d37b2p+0,  // 245206217602917447574383/4642286712278080000 * pi^-2 + (-24255445119763200000/420707233300201 * pi^-2) * log(5/2) + (-61533447/6400000 * pi^-2) * arcsin(20/29)
@@ -8309,7 +8309,7 @@ inline constexpr double potential_hess_radial_4_0_lo[] = {
     0x1.277c4f0726a68p-25, 0x1.d0db55c3d7835p-23, -0x1.5ddef5fc0a7d7p-21,
 };
 inline constexpr table::Term potential_hess_radial_4[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 47, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::shifted, .edge = 0x1.9p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_4_0, .n = 47, .centre = 0x1.611a7b9611a7cp-1, .centre_lo = -0x1.a7b9611a7b961p-55, .c_lo = potential_hess_radial_4_0_lo, .plain = 38},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1
