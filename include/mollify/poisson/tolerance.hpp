@@ -24,6 +24,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -94,13 +95,14 @@ inline double error_model(int dim, double theta, int p) {
 // 0.7, p = 20 measured faster) and the far field's power law, fitted by
 // least squares of the relative deviation (largest 10 %; stop 42).
 // 2D (particle-cluster, per target): (p + 1) per accepted cell, theta^-2 cells.
-inline constexpr double near_cost_3d[6] = {2.654, 1.457, 0.654, 0.4733, 0.2442, 0.2152};  // theta = 0.3, .., 0.8
-inline constexpr double far_cost_3d = 1.553e-5;                                          // b; k = 3, j = 2
-inline double cost_model(int dim, double theta, int p) {
-    if (dim == 3) {
-        const auto t = static_cast<std::size_t>(std::lround(10 * theta)) - 3;
-        return near_cost_3d[t] + far_cost_3d * std::pow(p + 1.0, 3) / (theta * theta);
-    }
+// The opening angles the knob chooses from, and the 3D near field's cost at each.
+inline constexpr double thetas[6] = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8};
+inline constexpr double near_cost_3d[6] = {2.654, 1.457, 0.654, 0.4733, 0.2442, 0.2152};
+inline constexpr double far_cost_3d = 1.553e-5;  // b; k = 3, j = 2
+// At theta = thetas[t].
+inline double cost_model(int dim, std::size_t t, int p) {
+    const double theta = thetas[t];
+    if (dim == 3) return near_cost_3d[t] + far_cost_3d * std::pow(p + 1.0, 3) / (theta * theta);
     return (p + 1.0) / (theta * theta);
 }
 
@@ -114,11 +116,11 @@ inline TreeOptions for_relative_error(double relative_error, int dim) {
     if (dim != 2 && dim != 3) fail("dimension " + std::to_string(dim) + " is not 2 or 3");
     TreeOptions best;
     double best_cost = std::numeric_limits<double>::infinity();
-    for (int t = 3; t <= 8; ++t) {
-        const double theta = 0.1 * t;
+    for (std::size_t t = 0; t < std::size(detail::thetas); ++t) {
+        const double theta = detail::thetas[t];
         for (int p = 0; p <= max_order; ++p) {
             if (detail::error_model(dim, theta, p) > relative_error) continue;
-            const double cost = detail::cost_model(dim, theta, p);
+            const double cost = detail::cost_model(dim, t, p);
             if (cost < best_cost) {
                 best_cost = cost;
                 best.theta = theta;

@@ -130,6 +130,11 @@ public:
     // Pairs (i, j) with |x_i - x_j| <= eps met so far, i = j included.
     std::size_t interactions() const { return interactions_.load(std::memory_order_relaxed); }
 
+    // Threads only where the last sweep met more pairs than this: a few
+    // hundred particles cost less than waking the thread team (measured:
+    // 2x slower at N = 250).
+    static constexpr std::size_t parallel_above = 50000;
+
 private:
     struct Scratch {
         Field<D> dx, grad;
@@ -175,9 +180,7 @@ private:
         const long count = static_cast<long>(n);
         // Positions were checked by the search's update, so the kernel sees
         // finite displacements and does not throw inside the parallel loop.
-        // Threads only where there is work to share: a few hundred particles
-        // cost less than waking the thread team (measured: 2x slower at N = 250).
-        [[maybe_unused]] const bool parallel = met_last_ > 50000;
+        [[maybe_unused]] const bool parallel = met_last_ > parallel_above;
         MOLLIFY_PARALLEL_FOR(if(parallel) schedule(dynamic, 64) reduction(+ : met))
         for (long li = 0; li < count; ++li) {
             const auto i = static_cast<std::size_t>(li);
@@ -218,9 +221,9 @@ private:
     // permuted back to the caller's indices. The self term m_a W(0) once.
     void sweep_cells(const Field<D>& x, Field<D>* a, std::vector<double>* rho) {
         const std::size_t n = size();
-        // Threads only where there is work to share (the last sweep's pairs),
-        // no more than scratch spaces (the count may have changed since construction).
-        const int threads = met_last_ > 50000 ? std::min(mollify::detail::thread_count(), static_cast<int>(scratch_.size())) : 1;
+        // Threads only where there is work to share (parallel_above), no more
+        // than scratch spaces (the count may have changed since construction).
+        const int threads = met_last_ > parallel_above ? std::min(mollify::detail::thread_count(), static_cast<int>(scratch_.size())) : 1;
         std::size_t met = 0;
         if (threads > 1) {
             met = threaded_cells(x, a, rho, threads);
