@@ -74,6 +74,116 @@ RoundedTerm centred_term(const CentredPiece& p, double hi) {
     return t;
 }
 
+}  // namespace
+
+// The bounds below in long double (64-bit significands): every quantity is
+// positive and each takes at most a few dozen operations, so the computed
+// value is within 2^-57 of the exact one, and times (or over) 1 + 2^-40 an
+// upper (lower) bound of it, as in plain_steps.
+namespace {
+using L = long double;
+const L margin = 1 + std::ldexp(L{1}, -40), unit = std::ldexp(L{1}, -53);
+
+// Horner's rule on the integers m at every qa in [0, xa] that is a multiple
+// of 2^-s is exact: a_k = a_{k+1} qa + m_k is a multiple of 2^-s(n-1-k),
+// so the product and the sum are doubles where their bounds times
+// 2^s(n-1-k) are below 2^53 (then also without an FMA).
+bool horner_exact_at_split(const std::vector<L>& m, L xa, int s) {
+    const int n = static_cast<int>(m.size());
+    const L limit = std::ldexp(L{1}, 53);
+    L bound = m[static_cast<std::size_t>(n - 1)];  // B_{n-1}
+    for (int k = n - 2; k >= 0; --k) {
+        const L grid = std::ldexp(L{1}, s * (n - 1 - k));
+        const L product = bound * xa * margin;
+        bound = (product + m[static_cast<std::size_t>(k)]) * margin;
+        if (product * grid >= limit || bound * grid >= limit) return false;
+    }
+    return true;
+}
+
+L horner_value(const std::vector<L>& m, L x) {
+    L sum = 0;
+    for (std::size_t k = m.size(); k-- > 0;) sum = sum * x + m[k];
+    return sum;
+}
+
+L derivative_value(const std::vector<L>& m, L x) {
+    L sum = 0;
+    for (std::size_t k = m.size(); k-- > 1;) sum = sum * x + static_cast<L>(k) * m[k];
+    return sum;
+}
+
+// The remainder d = p(q) - p(qa) = sum_k m_k (q^k - qa^k) by the recurrence
+// d_k = d_{k+1} q + a_{k+1} (q - qa): every term has the sign of q - qa, so
+// its computed value is within gamma_{4n+4} of itself (Higham, "Accuracy
+// and Stability", 2nd ed., Lemma 3.1: at most 3 roundings a step without an
+// FMA, those of q - qa and of q, which enters up to n - 1 times), and
+// |d| <= |q - qa| p'(q + 2^-(s+1)) (p' increases: m_k >= 0). That must stay
+// below 2^-62 of p(q) on the piece (p increases too): on 64 parts [a, b] of
+// it, the bound at b against p(a). |q - qa| <= 2^-(s+1) + u xa (qa is the
+// rounded q's neighbour on the grid; the rounding of q itself enters
+// through Scaled::dq).
+bool remainder_small(const std::vector<L>& m, L lo, L hi, L xa, int s) {
+    const int n = static_cast<int>(m.size());
+    const L half_grid = std::ldexp(L{1}, -(s + 1)), step = (hi - lo) / 64;
+    const L gamma = (4 * n + 4) * unit / (1 - (4 * n + 4) * unit);
+    const L reach = (half_grid + unit * xa) * margin;
+    for (int j = 0; j < 64; ++j) {
+        const L a = (lo + j * step) / margin, b = j == 63 ? hi : (lo + (j + 1) * step) * margin;
+        const L error = gamma * reach * derivative_value(m, (b + half_grid) * margin) * margin;
+        if (error > std::ldexp(horner_value(m, a) / margin, -62)) return false;
+    }
+    return true;
+}
+}  // namespace
+
+Split split_of(const std::vector<Exact>& c, const Q& lo, const Q& hi) {
+    const int n = static_cast<int>(c.size());
+    if (n < 2 || lo < 0 || hi <= lo || c[0].is_zero()) return {};
+    // One atom pi^e log p for every coefficient: c_k = r_k atom.
+    const Atom atom = c[0].terms().begin()->first;
+    std::vector<Q> r;
+    for (const Exact& x : c) {
+        if (x.is_zero()) {
+            r.push_back(0);
+            continue;
+        }
+        if (x.terms().size() != 1 || x.terms().begin()->first != atom) return {};
+        r.push_back(x.terms().begin()->second);
+    }
+    // The content g = +-gcd(numerators)/lcm(denominators), its sign that of
+    // r_0, so that m_k = r_k/g are coprime integers, m_0 > 0.
+    boost::multiprecision::mpz_int num = 0, den = 1;
+    for (const Q& x : r)
+        if (x != 0) {
+            num = boost::multiprecision::gcd(num, boost::multiprecision::numerator(x));
+            den = boost::multiprecision::lcm(den, boost::multiprecision::denominator(x));
+        }
+    Q g = Q(num) / Q(den);
+    if (r[0] < 0) g = -g;
+    std::vector<Q> m;
+    for (const Q& x : r) {
+        m.push_back(x / g);
+        if (m.back() < 0) return {};  // mixed signs: p may cancel (compensated Horner)
+    }
+    std::vector<L> ml;
+    for (const Q& x : m) {
+        if (x >= Q(boost::multiprecision::mpz_int(1) << 53)) return {};
+        ml.push_back(static_cast<L>(x.convert_to<double>()));  // an integer below 2^53: exact
+    }
+    const L lo_l = static_cast<L>(lo.convert_to<double>()) / margin, hi_l = static_cast<L>(hi.convert_to<double>()) * margin;
+    for (int s = 26; s >= 1; --s) {
+        const L xa = (hi_l + std::ldexp(L{1}, -s)) * margin;
+        if (!horner_exact_at_split(ml, xa, s)) continue;
+        // The largest exact split; a smaller one only widens q - qa.
+        if (!remainder_small(ml, lo_l, hi_l, xa, s)) return {};
+        return {s, std::move(m), Exact::of(atom) * g};
+    }
+    return {};
+}
+
+namespace {
+
 RoundedTerm rounded_term(const EmittedTerm& term, const std::optional<Q>& hi, double hi_double) {
     std::vector<double> c, c_lo;
     std::vector<std::string> exact;
@@ -95,6 +205,19 @@ RoundedTerm rounded_term(const EmittedTerm& term, const std::optional<Q>& hi, do
         return t;
     }
     t.var = term.square ? table::Var::r2 : table::Var::r;
+    // On [0, edge], the term's whole domain (a combination's term w_j psi(q/a_j)
+    // is the same in every piece up to a_j): one split for every piece that
+    // holds it, so that the run-time form still sees one term (same_term).
+    if (t.var == table::Var::r && hi) {
+        const Split split = split_of(term.c, Q(0), term.edge ? *term.edge : *hi);
+        if (split.bits > 0) {
+            t.split = split.bits;
+            for (const Q& x : split.m) t.m.push_back(x.convert_to<double>());
+            t.content = round_to_double(split.content);
+            t.content_lo = low_part(split.content, t.content);
+            t.content_exact = split.content.to_string();
+        }
+    }
     const std::optional<Q> edge = term.edge ? term.edge : hi;
     if (edge) {
         t.edge = round_to_double(*edge);

@@ -30,7 +30,22 @@ struct RoundedTerm {
     // Taylor piece's coefficients): for writers that keep them (--target python).
     std::vector<std::optional<Exact>> exact_value{};
     int plain = 0;  // table::Term::plain
+    // table::Term::split, m, content, content_lo (split 0: none)
+    int split = 0;
+    std::vector<double> m{};
+    double content = 0, content_lo = 0;
+    std::string content_exact{};
 };
+
+// table::Term::split of a polynomial sum_k c_k q^k on the piece [lo, hi]:
+// the content and integer coefficients, the split and its proof (0 where
+// the term does not qualify).
+struct Split {
+    int bits = 0;
+    std::vector<Q> m;
+    Exact content;
+};
+Split split_of(const std::vector<Exact>& c, const Q& lo, const Q& hi);
 
 struct RoundedPiece {
     double lo, hi;  // hi: table::infinity for the exterior

@@ -23,6 +23,7 @@ struct TermShape {
     bool exact;         // every low part c_lo is 0
     int n;              // Horner length
     int edge_power;
+    bool split;         // table::Term::split > 0 (Precision::accurate's exact Horner at the split)
     auto operator<=>(const TermShape&) const = default;
 };
 
@@ -63,7 +64,7 @@ struct TermShapes {
 void add_term_shapes(const Tables& tables, int dim, TermShapes& out);
 
 // generated/src/term_shapes.def: the shapes as X-macro lines
-// MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) and
+// MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power, split) and
 // MOLLIFY_WHOLE_SHAPE(...), MOLLIFY_SHARED_TERMS(...), MOLLIFY_WHOLE_PAIR(...),
 // MOLLIFY_SHARED_PAIR(i, j) for the evaluator to instantiate.
 std::string term_shapes_source(const std::string& command, const TermShapes& shapes);

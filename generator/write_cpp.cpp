@@ -81,7 +81,18 @@ private:
                ", .low = " + std::to_string(t.low) + ", .c = " + cname + ", .n = " + std::to_string(t.c.size()) +
                optional("centre", t.centre) + optional("centre_lo", t.centre_lo) +
                (c_lo == "nullptr" ? std::string() : ", .c_lo = " + c_lo) + optional("edge_lo", t.edge_lo) +
-               (t.plain ? ", .plain = " + std::to_string(t.plain) : std::string()) + "}";
+               (t.plain ? ", .plain = " + std::to_string(t.plain) : std::string()) + split(cname, t) + "}";
+    }
+
+    // table::Term::split and its integer coefficients m (c = content m).
+    std::string split(const std::string& name, const RoundedTerm& t) {
+        if (t.split == 0) return {};
+        append(body_, {"// ", name, " = content * ", name, "_m, content = ", t.content_exact, " (table::Term::split)\n"});
+        append(body_, {"inline constexpr double ", name, "_m[] = {\n"});
+        for (double m : t.m) append(body_, {"    ", hex_literal(m), ",  // ", std::to_string(static_cast<long long>(m)), "\n"});
+        body_ += "};\n";
+        return ", .split = " + std::to_string(t.split) + ", .m = " + name + "_m, .content = " + hex_literal(t.content) +
+               ", .content_lo = " + hex_literal(t.content_lo);
     }
 
     // A term's coefficients (correctly rounded, the exact value beside each)

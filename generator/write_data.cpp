@@ -2,9 +2,9 @@
 // everything its table::Kernel holds, for programs that load tables at run
 // time (include/mollify/table_file.hpp) instead of compiling them.
 //
-// Format (version 2; version 1 had no "plain"). Lines of fields separated by one space; every double
+// Format (version 3; version 2 had no "split", version 1 no "plain"). Lines of fields separated by one space; every double
 // is a C99 hex-float ("%a": exact, e.g. 0x1.3b2075224955ap+2, -0x0p+0, inf).
-//   mollify-table 2
+//   mollify-table 3
 //   generator <the generator's version>    (the rest of the line)
 //   spec <canonical spec>                  (the rest of the line)
 //   dim <D>
@@ -24,7 +24,8 @@
 // with <basis> a table::basis_name, <var> a table::var_name, and <low
 // parts> either "-" (table::Term::c_lo = nullptr: the c_k are exact) or the
 // n doubles c_lo_0 ... c_lo_n-1, then "plain <k>" where table::Term::plain
-// is k > 0; and last
+// is k > 0, then "split <s> <content> <content_lo> <m_0> ... <m_n-1>" where
+// table::Term::split is s > 0; and last
 //   end
 #include "write_data.hpp"
 
@@ -50,6 +51,10 @@ void write_term(std::string& out, const RoundedTerm& t) {
     if (t.c_lo.empty()) out += " -";
     for (double c : t.c_lo) out += " " + hex(c);
     if (t.plain) out += " plain " + std::to_string(t.plain);
+    if (t.split) {
+        out += " split " + std::to_string(t.split) + " " + hex(t.content) + " " + hex(t.content_lo);
+        for (double m : t.m) out += " " + hex(m);
+    }
     out += "\n";
 }
 
@@ -57,7 +62,7 @@ void write_term(std::string& out, const RoundedTerm& t) {
 
 std::string kernel_data(const KernelFacts& f, const std::vector<std::optional<std::vector<RoundedPiece>>>& tables) {
     const ExactKernel& k = f.kernel;
-    std::string out = "mollify-table 2\n";
+    std::string out = "mollify-table 3\n";
     out += "generator mollify-gen " + generator_version() + "\n";
     out += "spec " + f.spec + "\n";
     out += "dim " + std::to_string(k.dim) + "\n";

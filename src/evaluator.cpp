@@ -49,13 +49,20 @@ inline double ipow_rt(double x, int n) {
     return out;
 }
 
+// The double-double ipow<N>'s tree: x^n = x^(2^k) x^(n - 2^k), the squares
+// by repeated squaring, the product built from the lowest set bit up.
 inline DoubleDouble ipow_rt(const DoubleDouble& x, int n) {
     if (n < 0) return ipow_rt(reciprocal(x), -n);
     if (n == 0) return {1.0, 0.0};
-    DoubleDouble out = x;
-    for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
-        out = out * out;
-        if ((n >> bit) & 1) out = out * x;
+    DoubleDouble square = x, out{};
+    bool first = true;
+    for (unsigned m = static_cast<unsigned>(n);; m >>= 1) {
+        if (m & 1) {
+            out = first ? square : square * out;
+            first = false;
+        }
+        if (m == 1) break;
+        square = square * square;
     }
     return out;
 }
@@ -209,8 +216,17 @@ DoubleDouble factor_dd(const TermPlan& t, const Scaled& a) {
     return f;
 }
 
+// detail::content_in_scale of a planned term, and its content times a scale.
+bool content_in_scale(const TermPlan& t) {
+    return t.split > 0 && (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power);
+}
+DoubleDouble content_times(const TermPlan& t, const DoubleDouble& scale) {
+    return DoubleDouble{t.content, t.content_lo} * scale;
+}
+
 DoubleDouble accurate_polynomial(const TermPlan& t, const Scaled& a) {
     if (t.n == 1) return {t.c[0], t.c_lo[0]};
+    if (t.split > 0) return split_horner(t.m.data(), t.n, t.split_c, t.content, t.content_lo, a.q, a.dq);
     if (t.var == table::Var::shifted) {
         const DoubleDouble v = shifted_dd(a, t.centre, t.centre_lo);
         return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, v.hi, v.lo, t.plain);
@@ -241,6 +257,8 @@ double accurate_piece(const PiecePlan& p, const Scaled& a) {
         const TermPlan& t = p.terms.front();
         DoubleDouble factor{1.0, 0.0};
         if (t.has_factor) factor = factor_dd(t, a);
+        if (content_in_scale(t))
+            return rounded(factor * split_sum(t.m.data(), t.n, t.split_c, a.q, a.dq) * content_times(t, a.scale));
         return rounded(accurate_term(t, a, factor) * a.scale);
     }
     DoubleDouble sum{0.0, 0.0}, previous{1.0, 0.0};
@@ -589,15 +607,10 @@ void ipow_block(const DDs& x, int n, DDs& out) {
         for (std::size_t i = 0; i < B; ++i) out.hi[i] = 1.0, out.lo[i] = 0.0;
         return;
     }
-    out = x;
-    for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
-        const bool times_x = (n >> bit) & 1;
-        for (std::size_t i = 0; i < B; ++i) {
-            DoubleDouble y = DoubleDouble{out.hi[i], out.lo[i]} * DoubleDouble{out.hi[i], out.lo[i]};
-            if (times_x) y = y * DoubleDouble{x.hi[i], x.lo[i]};
-            out.hi[i] = y.hi;
-            out.lo[i] = y.lo;
-        }
+    for (std::size_t i = 0; i < B; ++i) {
+        const DoubleDouble y = ipow_rt(DoubleDouble{x.hi[i], x.lo[i]}, n);
+        out.hi[i] = y.hi;
+        out.lo[i] = y.lo;
     }
 }
 
@@ -902,7 +915,16 @@ void compensated_horner_block(const double* c, const double* lo, int n, bool exa
     for (std::size_t i = 0; i < B; ++i) out.hi[i] = sum[i], out.lo[i] = mul_add(slope[i], dv[i], error[i]);
 }
 
-void accurate_polynomial_block(const TermPlan& t, const AccurateBlock& a, DDs& out) {
+// (raw: a split term's p_m without its content, content_in_scale)
+void accurate_polynomial_block(const TermPlan& t, const AccurateBlock& a, DDs& out, bool raw = false) {
+    if (t.split > 0) {
+        for (std::size_t i = 0; i < B; ++i) {
+            const DoubleDouble x = raw ? split_sum(t.m.data(), t.n, t.split_c, a.q[i], a.dq[i])
+                                       : split_horner(t.m.data(), t.n, t.split_c, t.content, t.content_lo, a.q[i], a.dq[i]);
+            out.hi[i] = x.hi, out.lo[i] = x.lo;
+        }
+        return;
+    }
     double v[B], dv[B];
     for (std::size_t i = 0; i < B; ++i) {
         if (t.var == table::Var::shifted) {
@@ -924,13 +946,32 @@ void accurate_polynomial_block(const TermPlan& t, const AccurateBlock& a, DDs& o
 // zero_dds for the first: 0 + term, as the generic loop's sum starts at 0).
 enum class Fold { single, add };
 
+// A split term's numbers besides its integer coefficients (table::Term::split):
+// split_constant(split), the content.
+struct SplitArgs {
+    double c = 0, content = 0, content_lo = 0;
+};
+
+SplitArgs split_args(const TermPlan& t) { return {t.split_c, t.content, t.content_lo}; }
+
+// A fused loop's coefficients: m for a split term, else c.
+const double* fused_coefficients(const TermPlan& t) { return t.split > 0 ? t.m.data() : t.c; }
+
+// The scale of a piece of one term (detail::content_in_scale: times the
+// content of a split term).
+DoubleDouble single_scale(const TermPlan& t, const DoubleDouble& scale) {
+    return content_in_scale(t) ? content_times(t, scale) : scale;
+}
+
 // One term of accurate_piece_block at one point (Basis::one, low = 0, not
 // continuing a series, Horner length N, edge power P): the distance to the
-// edge and its power in double-double, compensated Horner, the product;
+// edge and its power in double-double, compensated Horner (split_sum for a
+// split term), the product;
 // the same operations in the same order as the generic loops, so the same
 // bits. (ah: edge times h as a two-product, the same for every point.)
-template <int N, int P, bool VarR, bool SupportEdge, bool Exact>
-MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, double edge, double edge_lo,
+// (Raw: a split term's factor times p_m, its content left to the scale.)
+template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split, bool Raw = false>
+MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, const SplitArgs& sp, double edge, double edge_lo,
                                              const DoubleDouble& ah, double h, double inv_h, double q, double dq,
                                              double dq2, double r, const DoubleDouble& qq, const DoubleDouble& ee) {
     DoubleDouble factor{1.0, 0.0};
@@ -947,7 +988,11 @@ MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, d
         factor = ipow<P>(d);
     }
     DoubleDouble x{k[0], l[0]};
-    if constexpr (N > 1) {
+    if constexpr (Split) {
+        static_assert(VarR && N > 1);
+        const DoubleDouble p = split_sum(k, N, sp.c, q, dq);  // k holds m
+        x = Raw ? p : DoubleDouble{sp.content, sp.content_lo} * p;
+    } else if constexpr (N > 1) {
         const double v = VarR ? q : q * q, dv = VarR ? dq : dq2;
         double s = k[N - 1], error = l[N - 1], slope = 0;
         MOLLIFY_UNROLLED
@@ -967,48 +1012,54 @@ MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, d
 // The same term on a block in one pass, folded into its piece: one pass
 // instead of five (the double-double block arrays between the passes cost
 // more than the arithmetic: kernel_bench, README).
-template <int N, int P, bool VarR, bool SupportEdge, bool Exact>
+template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split>
 MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock& a, Fold fold, const DDs& from, DDs& sum,
                                          double* out) {
     double k[N], l[N];
-    for (int j = 0; j < N; ++j) k[j] = t.c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
+    const double* c = fused_coefficients(t);
+    for (int j = 0; j < N; ++j) k[j] = c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
+    const SplitArgs sp = split_args(t);
     const double edge = t.edge, edge_lo = t.edge_lo, h = a.h, inv_h = a.inv_h;
     const DoubleDouble ah = two_product(edge, h);
-    auto term = [&](std::size_t i) {
-        return accurate_term_at<N, P, VarR, SupportEdge, Exact>(k, l, edge, edge_lo, ah, h, inv_h, a.q[i], a.dq[i], a.dq2[i],
-                                                                a.r[i], {a.qq.hi[i], a.qq.lo[i]}, {a.ee.hi[i], a.ee.lo[i]});
+    auto term = [&]<bool Raw>(std::size_t i) {
+        return accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, Raw>(
+            k, l, sp, edge, edge_lo, ah, h, inv_h, a.q[i], a.dq[i], a.dq2[i], a.r[i], {a.qq.hi[i], a.qq.lo[i]},
+            {a.ee.hi[i], a.ee.lo[i]});
     };
     if (fold == Fold::single) {
-        const DoubleDouble scale = a.scale;
-        for (std::size_t i = 0; i < B; ++i) out[i] = rounded(term(i) * scale);
+        const DoubleDouble scale = single_scale(t, a.scale);
+        for (std::size_t i = 0; i < B; ++i) out[i] = rounded(term.template operator()<Split>(i) * scale);
     } else {
         for (std::size_t i = 0; i < B; ++i) {
-            const DoubleDouble y = DoubleDouble{from.hi[i], from.lo[i]} + term(i);
+            const DoubleDouble y = DoubleDouble{from.hi[i], from.lo[i]} + term.template operator()<false>(i);
             sum.hi[i] = y.hi, sum.lo[i] = y.lo;
         }
     }
 }
 
 // A whole quantity that is one term at one radius (x: its accurate_radius).
-template <int N, int P, bool VarR, bool SupportEdge, bool Exact>
-MOLLIFY_INLINE double accurate_whole_at(const double* k, const double* l, double edge, double edge_lo, const DoubleDouble& ah,
-                                        double h, double inv_h, double r, const AccurateRadius& x, const DoubleDouble& scale) {
-    const DoubleDouble y = accurate_term_at<N, P, VarR, SupportEdge, Exact>(
-        k, l, edge, edge_lo, ah, h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
+template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split>
+MOLLIFY_INLINE double accurate_whole_at(const double* k, const double* l, const SplitArgs& sp, double edge, double edge_lo,
+                                        const DoubleDouble& ah, double h, double inv_h, double r, const AccurateRadius& x,
+                                        const DoubleDouble& scale) {
+    const DoubleDouble y = accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, true>(
+        k, l, sp, edge, edge_lo, ah, h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
     return select(r <= h, rounded(y * scale), 0.0);
 }
 
 // A whole quantity that is one term (fast_whole_fixed) in one pass from r.
-template <int N, int P, bool VarR, bool SupportEdge, bool Exact>
+template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split>
 MOLLIFY_FLATTEN void accurate_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out,
                                           std::size_t n, double h, double inv_h, DoubleDouble scale) {
     double k[N], l[N];
-    for (int j = 0; j < N; ++j) k[j] = t.c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
+    const double* c = fused_coefficients(t);
+    for (int j = 0; j < N; ++j) k[j] = c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
+    const SplitArgs sp = split_args(t);
     const double edge = t.edge, edge_lo = t.edge_lo;
-    const DoubleDouble ah = two_product(edge, h);
+    const DoubleDouble ah = two_product(edge, h), whole = single_scale(t, scale);
     for (std::size_t i = 0; i < n; ++i)
-        out[i] = accurate_whole_at<N, P, VarR, SupportEdge, Exact>(k, l, edge, edge_lo, ah, h, inv_h, r[i],
-                                                                   accurate_radius(r[i], h, inv_h), scale);
+        out[i] = accurate_whole_at<N, P, VarR, SupportEdge, Exact, Split>(k, l, sp, edge, edge_lo, ah, h, inv_h, r[i],
+                                                                          accurate_radius(r[i], h, inv_h), whole);
 }
 
 // The fused loops of the listed shapes (term_shapes.hpp), compiled where
@@ -1023,9 +1074,11 @@ using AccurateWhole = void (*)(const TermPlan&, const double*, double*, std::siz
 using FastWhole = void (*)(const TermPlan&, const double*, double*, std::size_t, const Smoothing&, double);
 
 template <const TermShape& S>
-constexpr AccurateTerm accurate_term_loop = &accurate_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact>;
+constexpr AccurateTerm accurate_term_loop =
+    &accurate_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, S.split>;
 template <const TermShape& S>
-constexpr AccurateWhole accurate_whole_loop = &accurate_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact>;
+constexpr AccurateWhole accurate_whole_loop =
+    &accurate_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, S.split>;
 template <const TermShape& S>
 constexpr FastWhole fast_whole_loop = &fast_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge>;
 
@@ -1055,7 +1108,8 @@ constexpr auto fast_whole_of = fast_whole_loops(std::make_index_sequence<whole_s
 // the same bits. Raw restrict pointers as parameters: the loop vectorises.
 // (The fast precision reads no low parts: Exact false, one loop per shape.)
 // 2D takes it with x2 = 0 (pairs_batch).
-template <Precision Pr, int VN, int VP, bool VR, bool VE, bool VX, int GN, int GP, bool GR, bool GE, bool GX>
+template <Precision Pr, int VN, int VP, bool VR, bool VE, bool VX, bool VS, int GN, int GP, bool GR, bool GE, bool GX,
+          bool GS>
 MOLLIFY_FLATTEN void whole_pairs_fixed(const TermPlan& v, const TermPlan& g, const double* __restrict x0,
                                        const double* __restrict x1, const double* __restrict x2, double* __restrict w,
                                        double* __restrict g0, double* __restrict g1, double* __restrict g2, std::size_t n,
@@ -1063,11 +1117,15 @@ MOLLIFY_FLATTEN void whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
     const Smoothing s = smoothing;
     const double h = s.h(), inv_h = s.inverse(), v_edge = v.edge, g_edge = g.edge;
     double vk[VN], vl[VN], gk[GN], gl[GN];
-    for (int j = 0; j < VN; ++j) vk[j] = v.c[j], vl[j] = v.c_lo[static_cast<std::size_t>(j)];
-    for (int j = 0; j < GN; ++j) gk[j] = g.c[j], gl[j] = g.c_lo[static_cast<std::size_t>(j)];
+    // (the fast precision reads c: VS and GS are false there)
+    const double *vc = VS ? v.m.data() : v.c, *gc = GS ? g.m.data() : g.c;
+    for (int j = 0; j < VN; ++j) vk[j] = vc[j], vl[j] = v.c_lo[static_cast<std::size_t>(j)];
+    for (int j = 0; j < GN; ++j) gk[j] = gc[j], gl[j] = g.c_lo[static_cast<std::size_t>(j)];
+    const SplitArgs v_sp = split_args(v), g_sp = split_args(g);
     const double v_scale = s.scale(QuantityId::value), g_scale = s.scale(QuantityId::grad_over_r);
-    const DoubleDouble v_scale_dd{v_scale, s.scale_lo(QuantityId::value)},
-        g_scale_dd{g_scale, s.scale_lo(QuantityId::grad_over_r)};
+    // (single_scale: a split term's content joins the scale)
+    const DoubleDouble v_scale_dd = single_scale(v, {v_scale, s.scale_lo(QuantityId::value)}),
+                       g_scale_dd = single_scale(g, {g_scale, s.scale_lo(QuantityId::grad_over_r)});
     const DoubleDouble v_ah = two_product(v_edge, h), g_ah = two_product(g_edge, h);
     for (std::size_t i = 0; i < n; ++i) {
         const double a = x0[i], b = x1[i];
@@ -1078,8 +1136,8 @@ MOLLIFY_FLATTEN void whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
             gi = fast_whole_at<GN, GP, GR, GE>(gk, r, g_edge, h, inv_h, s, g_scale);
         } else {
             const AccurateRadius x = accurate_radius(r, h, inv_h);
-            wi = accurate_whole_at<VN, VP, VR, VE, VX>(vk, vl, v_edge, v.edge_lo, v_ah, h, inv_h, r, x, v_scale_dd);
-            gi = accurate_whole_at<GN, GP, GR, GE, GX>(gk, gl, g_edge, g.edge_lo, g_ah, h, inv_h, r, x, g_scale_dd);
+            wi = accurate_whole_at<VN, VP, VR, VE, VX, VS>(vk, vl, v_sp, v_edge, v.edge_lo, v_ah, h, inv_h, r, x, v_scale_dd);
+            gi = accurate_whole_at<GN, GP, GR, GE, GX, GS>(gk, gl, g_sp, g_edge, g.edge_lo, g_ah, h, inv_h, r, x, g_scale_dd);
         }
         w[i] = wi;
         g0[i] = gi * a;
@@ -1095,8 +1153,8 @@ template <Precision Pr, const WholePair& S>
 constexpr WholePairs whole_pairs_loop() {
     constexpr bool fast = Pr == Precision::fast;
     constexpr TermShape V = S.value, G = S.over_r;
-    return &whole_pairs_fixed<Pr, V.n, V.edge_power, V.var_r, V.support_edge, V.exact && !fast, G.n, G.edge_power,
-                              G.var_r, G.support_edge, G.exact && !fast>;
+    return &whole_pairs_fixed<Pr, V.n, V.edge_power, V.var_r, V.support_edge, V.exact && !fast, V.split && !fast, G.n,
+                              G.edge_power, G.var_r, G.support_edge, G.exact && !fast, G.split && !fast>;
 }
 template <Precision Pr, std::size_t... I>
 constexpr std::array<WholePairs, sizeof...(I)> whole_pairs_loops(std::index_sequence<I...>) {
@@ -1155,11 +1213,12 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
         } else {
             for (std::size_t i = 0; i < B; ++i) factor.hi[i] = 1.0, factor.lo[i] = 0.0;
         }
-        accurate_polynomial_block(t, a, x);
+        accurate_polynomial_block(t, a, x, single && content_in_scale(t));
+        const DoubleDouble scale = single ? single_scale(t, a.scale) : a.scale;
         for (std::size_t i = 0; i < B; ++i) {
             const DoubleDouble term = DoubleDouble{factor.hi[i], factor.lo[i]} * DoubleDouble{x.hi[i], x.lo[i]};
             if (single) {
-                out[i] = rounded(term * a.scale);
+                out[i] = rounded(term * scale);
             } else {
                 const DoubleDouble s = DoubleDouble{sum.hi[i], sum.lo[i]} + term;
                 sum.hi[i] = s.hi, sum.lo[i] = s.lo;
@@ -1256,6 +1315,8 @@ struct AccurateSharedTerms : SharedTerms<S> {
     // The low parts besides the fast precision's coefficients, ranges and edges.
     double l[m][longest], edge_lo[m];
     DoubleDouble ah[m];  // edge times h, a two-product
+    double km[m][longest];  // a split term's m (table::Term::split), else its c
+    SplitArgs sp[m];
 
     AccurateSharedTerms(const QuantityPlan& qp, double h) : SharedTerms<S>(qp) {
         read_low_parts(qp, h, std::make_index_sequence<m>{});
@@ -1266,6 +1327,8 @@ struct AccurateSharedTerms : SharedTerms<S> {
         auto one = [&]<std::size_t j>(std::integral_constant<std::size_t, j>) {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
             for (int c = 0; c < S.terms[j].n; ++c) l[j][c] = t.c_lo[static_cast<std::size_t>(c)];
+            for (int c = 0; c < S.terms[j].n; ++c) km[j][c] = fused_coefficients(t)[c];
+            sp[j] = split_args(t);
             edge_lo[j] = t.edge_lo;
             ah[j] = two_product(t.edge, h);
         };
@@ -1278,8 +1341,8 @@ struct AccurateSharedTerms : SharedTerms<S> {
         DoubleDouble y{0.0, 0.0};
         auto add = [&](bool in, const DoubleDouble& t) { y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)}; };
         (add((x.q >= this->lo[J]) & (x.q < this->hi[J]),
-             accurate_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge, false>(
-                 this->k[J], l[J], this->edge[J], edge_lo[J], ah[J], h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo},
+             accurate_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge, false,
+                              S.terms[J].split>(km[J], l[J], sp[J], this->edge[J], edge_lo[J], ah[J], h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo},
                  {x.ee_hi, x.ee_lo})),
          ...);
         return y;

@@ -48,7 +48,8 @@ bool has_shape(const TermPlan& t, const TermShape& s) {
 int shape_index(const TermPlan& t, std::span<const TermShape> shapes) {
     if (!fusable(t) || t.continues) return -1;
     for (std::size_t i = 0; i < shapes.size(); ++i)
-        if (has_shape(t, shapes[i]) && shapes[i].exact == t.exact) return static_cast<int>(i);
+        if (has_shape(t, shapes[i]) && shapes[i].exact == t.exact && shapes[i].split == (t.split > 0))
+            return static_cast<int>(i);
     return -1;
 }
 
@@ -72,6 +73,13 @@ TermPlan term_plan(const table::Term& t, const table::Term* previous) {
         p.exact = p.exact && p.c_lo[static_cast<std::size_t>(k)] == 0;
     }
     p.plain = t.plain;
+    if (t.split > 0) {
+        p.split = t.split;
+        p.m.assign(t.m, t.m + t.n);
+        p.content = t.content;
+        p.content_lo = t.content_lo;
+        p.split_c = split_constant(t.split);
+    }
     p.has_factor = t.edge_power != 0 || t.low != 0 || t.basis == table::Basis::sqrt_power;
     p.continues = previous && continues(*previous, t);
     p.step = p.continues ? t.edge_power - previous->edge_power : 0;
@@ -127,7 +135,8 @@ bool singular_at_origin(const PiecePlan& first) {
 bool same_term(const TermPlan& a, const TermPlan& b) {
     if (a.basis != b.basis || a.s_power != b.s_power || a.var != b.var || a.edge != b.edge || a.edge_lo != b.edge_lo ||
         a.edge_power != b.edge_power || a.low != b.low || a.n != b.n || a.centre != b.centre ||
-        a.centre_lo != b.centre_lo || a.plain != b.plain || a.continues || b.continues)
+        a.centre_lo != b.centre_lo || a.plain != b.plain || a.continues || b.continues || a.split != b.split ||
+        a.m != b.m || a.content != b.content || a.content_lo != b.content_lo)
         return false;
     return std::equal(a.c, a.c + a.n, b.c) && a.c_lo == b.c_lo;
 }
@@ -181,7 +190,7 @@ int shared_shapes_index(const QuantityPlan& qp) {
         bool same = s.m == m;
         for (std::size_t j = 0; same && j < m; ++j) {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
-            same = fusable(t) && has_shape(t, s.terms[j]);
+            same = fusable(t) && has_shape(t, s.terms[j]) && s.terms[j].split == (t.split > 0);
         }
         if (same) return static_cast<int>(i);
     }

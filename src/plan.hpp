@@ -34,6 +34,11 @@ struct TermPlan {
     // fuses continuing terms too), or -1.
     int fast_shape = -1;
     int plain = 0;  // table::Term::plain: its leading plain steps (Precision::accurate)
+    // table::Term::split (0: none), its integer coefficients and content,
+    // and split_constant(split).
+    int split = 0;
+    std::vector<double> m{};
+    double content = 0, content_lo = 0, split_c = 0;
 };
 
 struct PiecePlan {

@@ -3,6 +3,7 @@
 #include <mollify/error.hpp>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <deque>
 #include <fstream>
@@ -111,6 +112,37 @@ const double* stored(TableFile::Storage& s, std::vector<double> v) {
     return s.doubles.back().data();
 }
 
+// table::Term::split: the exactness it claims is checked here (a wrong
+// claim would be a silently wrong value): m non-negative integers below
+// 2^53, c_k within an ulp of content m_k, and Horner's bounds at the grid
+// 2^-split below 2^53 over q <= edge + 2^-split, the term's domain (long
+// double, with margin).
+void split(Reader& r, TableFile::Storage& s, table::Term& t) {
+    r.field("split");
+    t.split = r.integer("split");
+    if (t.split < 1 || t.split > 26) r.bad("split = " + std::to_string(t.split) + " is outside 1..26");
+    if (t.var != table::Var::r || t.n < 2) r.bad("split on a term that is not a polynomial in r of 2 or more coefficients");
+    t.content = r.number("content");
+    t.content_lo = r.number("content_lo");
+    std::vector<double> m;
+    for (int k = 0; k < t.n; ++k) {
+        const double x = r.number("an integer coefficient m_k");
+        if (!(x >= 0 && x < 0x1p53 && x == std::floor(x))) r.bad("m_k = " + std::to_string(x) + " is not an integer in [0, 2^53)");
+        if (!(std::abs(t.content * x - t.c[k]) <= std::abs(t.c[k]) * 0x1p-51))
+            r.bad("content * m_k = " + std::to_string(t.content * x) + " is not c_k = " + std::to_string(t.c[k]));
+        m.push_back(x);
+    }
+    long double bound = m.back();
+    const long double xa = (std::abs(static_cast<long double>(t.edge)) + std::ldexp(1.0L, -t.split)) * (1 + 0x1p-40L);
+    for (int k = t.n - 2; k >= 0; --k) {
+        const long double grid = std::ldexp(1.0L, t.split * (t.n - 1 - k)), product = bound * xa;
+        bound = product + m[static_cast<std::size_t>(k)];
+        if (product * grid >= 0x1p53L || bound * grid >= 0x1p53L)
+            r.bad("split = " + std::to_string(t.split) + " leaves Horner's rule inexact (a partial sum needs more than 53 bits)");
+    }
+    t.m = stored(s, std::move(m));
+}
+
 table::Term term(Reader& r, TableFile::Storage& s) {
     r.line("term");
     table::Term t{};
@@ -140,6 +172,7 @@ table::Term term(Reader& r, TableFile::Storage& s) {
         t.plain = r.integer("plain");
         if (t.plain < 0 || t.plain > t.n - 2) r.bad("plain = " + std::to_string(t.plain) + " is outside 0..n - 2");
     }
+    if (r.peek() == "split") split(r, s, t);
     r.done();
     return t;
 }
@@ -202,8 +235,8 @@ TableFile TableFile::parse(const std::string& text, const std::string& origin) {
     Reader r(text, origin);
     r.line("mollify-table");
     const std::string version = r.field("the format version");
-    if (version != "1" && version != "2")
-        r.bad("format version '" + version + "' is not 1 or 2 (a newer mollify-gen wrote it?)");
+    if (version != "1" && version != "2" && version != "3")
+        r.bad("format version '" + version + "' is not 1, 2 or 3 (a newer mollify-gen wrote it?)");
     r.done();
     r.line("generator");
     s->spec = r.line("spec");

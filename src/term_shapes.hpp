@@ -16,12 +16,13 @@ namespace mollify::detail {
 struct TermShape {
     bool var_r, support_edge, exact;
     int n, edge_power;
+    bool split;  // table::Term::split > 0
     friend constexpr bool operator==(const TermShape&, const TermShape&) = default;
 };
 
 inline constexpr TermShape term_shapes[] = {
-#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power) {var_r, support_edge, exact, n, edge_power},
-#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power, split) {var_r, support_edge, exact, n, edge_power, split},
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power, split)
 #define MOLLIFY_WHOLE_PAIR(...)
 #define MOLLIFY_SHARED_TERMS(...)
 #define MOLLIFY_SHARED_PAIR(...)
@@ -33,8 +34,8 @@ inline constexpr TermShape term_shapes[] = {
 // The shapes that are a whole quantity (one inner piece of one term, 0
 // outside): evaluated in one pass from r.
 inline constexpr TermShape whole_shapes[] = {
-#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
-#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power) {var_r, support_edge, exact, n, edge_power},
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power, split)
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power, split) {var_r, support_edge, exact, n, edge_power, split},
 #define MOLLIFY_WHOLE_PAIR(...)
 #define MOLLIFY_SHARED_TERMS(...)
 #define MOLLIFY_SHARED_PAIR(...)
@@ -49,10 +50,10 @@ struct WholePair {
     TermShape value, over_r;
 };
 inline constexpr WholePair whole_pairs[] = {
-#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
-#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
-#define MOLLIFY_WHOLE_PAIR(var_r, support_edge, exact, n, edge_power, g_var_r, g_support_edge, g_exact, g_n, g_edge_power) \
-    {{var_r, support_edge, exact, n, edge_power}, {g_var_r, g_support_edge, g_exact, g_n, g_edge_power}},
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power, split)
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power, split)
+#define MOLLIFY_WHOLE_PAIR(var_r, support_edge, exact, n, edge_power, split, g_var_r, g_support_edge, g_exact, g_n, g_edge_power, g_split) \
+    {{var_r, support_edge, exact, n, edge_power, split}, {g_var_r, g_support_edge, g_exact, g_n, g_edge_power, g_split}},
 #define MOLLIFY_SHARED_TERMS(...)
 #define MOLLIFY_SHARED_PAIR(...)
 #include <src/term_shapes.def>
@@ -64,8 +65,8 @@ inline constexpr WholePair whole_pairs[] = {
 // generator/term_shapes.hpp's max_shared_terms; read here from its list).
 inline constexpr std::size_t max_shared_terms = std::max({
     std::size_t{1},
-#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
-#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power, split)
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power, split)
 #define MOLLIFY_WHOLE_PAIR(...)
 #define MOLLIFY_SHARED_TERMS(m, ...) std::size_t{m},
 #define MOLLIFY_SHARED_PAIR(...)
@@ -80,8 +81,8 @@ struct SharedShapes {
     TermShape terms[max_shared_terms];
 };
 inline constexpr SharedShapes shared_shapes[] = {
-#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
-#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power, split)
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power, split)
 #define MOLLIFY_WHOLE_PAIR(...)
 #define MOLLIFY_SHARED_TERMS(m, ...) {m, {__VA_ARGS__}},
 #define MOLLIFY_SHARED_PAIR(...)
@@ -96,8 +97,8 @@ struct SharedPair {
     std::size_t value, over_r;
 };
 inline constexpr SharedPair shared_pairs[] = {
-#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power)
-#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power)
+#define MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power, split)
+#define MOLLIFY_WHOLE_SHAPE(var_r, support_edge, exact, n, edge_power, split)
 #define MOLLIFY_WHOLE_PAIR(...)
 #define MOLLIFY_SHARED_TERMS(...)
 #define MOLLIFY_SHARED_PAIR(value, over_r) {value, over_r},

@@ -211,9 +211,10 @@ TEST(Cli, EmitWritesOneHeaderPerKernelAndDimension) {
     // The fused loops' shapes of these kernels: W of Wendland C4 (with low
     // parts: h^-3 scaled) is one term (1 - q)^6 p(q), p of degree 2, a whole
     // quantity; the combination's W has terms at the interior edges a_j.
+    // Both split (table::Term::split: integer coefficients, exact Horner).
     const std::string shapes = slurp(out / "src/term_shapes.def");
-    EXPECT_NE(shapes.find("MOLLIFY_WHOLE_SHAPE(true, true, false, 3, 6)\n"), std::string::npos) << shapes;
-    EXPECT_NE(shapes.find("MOLLIFY_TERM_SHAPE(true, false, false, 3, 6)\n"), std::string::npos) << shapes;
+    EXPECT_NE(shapes.find("MOLLIFY_WHOLE_SHAPE(true, true, false, 3, 6, true)\n"), std::string::npos) << shapes;
+    EXPECT_NE(shapes.find("MOLLIFY_TERM_SHAPE(true, false, false, 3, 6, true)\n"), std::string::npos) << shapes;
     const std::string h = slurp(out / "mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp");
     EXPECT_NE(h.find("inline constexpr table::Kernel combo_m_3_base_wendland_k_2_D3 = {"), std::string::npos);
     EXPECT_EQ(lines_matching(h, std::regex("^#include .*")), std::vector<std::string>{"#include <mollify/table.hpp>"});

@@ -26,7 +26,7 @@ inline std::string term_feature(const table::Term& t, const table::Term* previou
     f += "basis=" + std::to_string(static_cast<int>(t.basis)) + " var=" + std::to_string(static_cast<int>(t.var)) +
          " edge_power=" + sign(t.edge_power) + " low=" + sign(t.low) + " n=" + (t.n == 1 ? "1" : ">1") +
          " edge=" + (t.edge == 1.0 ? "1" : "a") + " lo=" + (t.c_lo ? "y" : "n") + " continues=" +
-         (cont ? (t.edge_power - previous->edge_power > 1 ? "step" : "1") : "no");
+         (cont ? (t.edge_power - previous->edge_power > 1 ? "step" : "1") : "no") + " split=" + (t.split ? "y" : "n");
     if (t.basis == table::Basis::sqrt_power) f += std::string(" s_power=") + (t.s_power % 2 ? "odd" : "even");
     return f;
 }

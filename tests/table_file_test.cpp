@@ -59,6 +59,12 @@ std::string difference(const table::Kernel& a, const table::Kernel& b) {
                 if (!same_bits(x.edge, y.edge) || !same_bits(x.edge_lo, y.edge_lo)) return term + " edge";
                 if (!same_bits(x.centre, y.centre) || !same_bits(x.centre_lo, y.centre_lo)) return term + " centre";
                 if ((x.c_lo == nullptr) != (y.c_lo == nullptr)) return term + " c_lo presence";
+                if (x.plain != y.plain) return term + " plain";
+                if (x.split != y.split || (x.m == nullptr) != (y.m == nullptr) || !same_bits(x.content, y.content) ||
+                    !same_bits(x.content_lo, y.content_lo))
+                    return term + " split";
+                for (int k = 0; x.m && k < x.n; ++k)
+                    if (!same_bits(x.m[k], y.m[k])) return term + " m[" + std::to_string(k) + "]";
                 for (int k = 0; k < x.n; ++k) {
                     if (!same_bits(x.c[k], y.c[k])) return term + " c[" + std::to_string(k) + "]";
                     if (x.c_lo && !same_bits(x.c_lo[k], y.c_lo[k])) return term + " c_lo[" + std::to_string(k) + "]";
@@ -78,17 +84,20 @@ std::string error_of(const std::string& text) {
     return "(no error)";
 }
 
-// A small valid file: box-d1 in 1D (no potential), as mollify-gen writes it.
-std::string box_d1_text() {
-    const fs::path out = scratch("box");
-    const auto r = mollify::testing::run_command(std::string(MOLLIFY_GEN) + " emit --format data --only box-d1 --out " +
+// One kernel's file as mollify-gen writes it.
+std::string kernel_text(const std::string& spec, const std::string& file) {
+    const fs::path out = scratch("one");
+    const auto r = mollify::testing::run_command(std::string(MOLLIFY_GEN) + " emit --format data --only " + spec + " --out " +
                                                      out.string(),
                                                  out.string() + "-log");
     EXPECT_EQ(r.status, 0) << r.err;
-    const std::string text = mollify::testing::slurp(out / "mollify/tables/classic/box_d1_D1.table");
+    const std::string text = mollify::testing::slurp(out / "mollify/tables" / file);
     fs::remove_all(out);
     return text;
 }
+
+// A small valid file: box-d1 in 1D (no potential).
+std::string box_d1_text() { return kernel_text("box-d1", "classic/box_d1_D1.table"); }
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
     const auto at = text.find(from);
@@ -179,11 +188,22 @@ TEST(TableFile, MovingKeepsTheTableValid) {
 TEST(TableFile, BadFilesFailNamingFileLineAndValue) {
     const std::string good = box_d1_text();
     ASSERT_NO_THROW(TableFile::parse(good, "good.table"));
-    // Version 1 (before table::Term::plain) is read as well.
-    ASSERT_NE(good.find("mollify-table 2\n"), std::string::npos);
-    EXPECT_NO_THROW(TableFile::parse(replaced(good, "mollify-table 2", "mollify-table 1"), "v1.table"));
+    // Versions 1 (before table::Term::plain) and 2 (before split) are read as well.
+    ASSERT_NE(good.find("mollify-table 3\n"), std::string::npos);
+    EXPECT_NO_THROW(TableFile::parse(replaced(good, "mollify-table 3", "mollify-table 1"), "v1.table"));
+    EXPECT_NO_THROW(TableFile::parse(replaced(good, "mollify-table 3", "mollify-table 2"), "v2.table"));
+    // Wendland C4's W: c = 165/(32 pi) (3, 18, 35), exact at the grid 2^-23.
+    const std::string c4 = kernel_text("wendland:k=2", "wendland/k_2_D3.table");
+    ASSERT_NO_THROW(TableFile::parse(c4, "c4.table"));
+    const std::string split = " split 23 0x1.a42b46d861c78p+0 0x1.a40f855b9a531p-54 0x1.8p+1 0x1.2p+4 0x1.18p+5\n";
+    ASSERT_NE(c4.find(split), std::string::npos);
     const std::vector<std::pair<std::string, std::string>> cases = {
-        {replaced(good, "mollify-table 2", "mollify-table 7"), "format version '7'"},
+        {replaced(good, "mollify-table 3", "mollify-table 7"), "format version '7'"},
+        // A split that would leave Horner's rule inexact: 3 + 18 q + 35 q^2 at the grid 2^-24 needs 54 bits.
+        {replaced(c4, " split 23 ", " split 24 "), "split = 24 leaves Horner's rule inexact"},
+        {replaced(c4, " split 23 ", " split 27 "), "split = 27 is outside 1..26"},
+        {replaced(c4, " 0x1.8p+1 0x1.2p+4", " 0x1.9p+1 0x1.2p+4"), "m_k = 3.125"},
+        {replaced(c4, " split 23 0x1.a42b46d861c78p+0", " split 23 0x1.a42b46d861d78p+0"), "is not c_k"},
         {replaced(good, " -\n", " - plain 5\n"), "plain = 5 is outside 0..n - 2"},
         {replaced(good, "dim 1", "dim 4"), "bad.table:4: dimension 4"},
         {replaced(good, "dim 1", "dim one"), "'one' is not an integer"},

@@ -3,17 +3,20 @@
 // constant, and every quantity evaluated straight from the table
 // (table::evaluate, the unoptimised reference) matches the exact value at
 // sample radii, including the support edge and outside it.
+#include "emit_round.hpp"
 #include "kernel.hpp"
 #include "quantities.hpp"
 #include "rounding.hpp"
 #include "sanitized.hpp"
 
+#include <mollify/detail/evaluate.hpp>
 #include <mollify/tables/catalogue.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
+#include <random>
 #include <set>
 #include <string>
 
@@ -274,4 +277,80 @@ TEST(Tables, CombinationsKeepTheAccuracyOfTheirTerms) {
         }
     }
     EXPECT_GT(checked, 5000);
+}
+
+// table::Term::split (generator/emit_round.cpp: split_of) on the whole
+// catalogue: (1) content * m_k is c_k to double-double accuracy; (2) Horner's
+// rule on m in double is exact at the grid 2^-split over the piece (its ends,
+// their neighbours, random grid points), against rational arithmetic: the
+// proof's bounds in action; (3) split_horner's double-double is within
+// 2^-61 of content p_m(q) at random q, at the grid's midpoints (the largest
+// q - qa) and at the piece's ends: the remainder's bound (2^-62) plus the
+// product's rounding.
+TEST(Tables, SplitTermsAreExactAtTheirGridAndAccurateBetween) {
+    std::mt19937_64 rng(2026);
+    int terms = 0;
+    const Q tolerance = Q(1) / Q(boost::multiprecision::mpz_int(1) << 61);
+    for (const table::Kernel* t : mollify::tables::all_kernels)
+        for (const table::Quantity& quantity : t->quantities)
+            for (int p = 0; p + 1 < quantity.npieces; ++p) {
+                const table::Piece& piece = quantity.pieces[p];
+                for (int i = 0; i < piece.nterms; ++i) {
+                    const table::Term& term = piece.terms[i];
+                    if (term.split == 0) continue;
+                    ++terms;
+                    const std::string where = std::string(t->spec) + " D=" + std::to_string(t->dim) + " piece " +
+                                              std::to_string(p) + " term " + std::to_string(i);
+                    ASSERT_EQ(term.var, table::Var::r) << where;
+                    const Q content = Q(term.content) + Q(term.content_lo);
+                    for (int k = 0; k < term.n; ++k) {
+                        const Q c = Q(term.c[k]) + Q(term.c_lo ? term.c_lo[k] : 0.0);
+                        EXPECT_LE(abs(content * Q(term.m[k]) - c), abs(c) / Q(boost::multiprecision::mpz_int(1) << 100))
+                            << where << " k=" << k;
+                    }
+                    auto exact = [&](const Q& x) {
+                        Q sum = 0;
+                        for (int k = term.n; k-- > 0;) sum = sum * x + Q(term.m[k]);
+                        return sum;
+                    };
+                    const double grid = std::ldexp(1.0, -term.split);
+                    const long long j0 = std::llround(piece.lo / grid), j1 = std::llround(piece.hi / grid);
+                    std::vector<long long> js = {j0, j0 + 1, j1 - 1, j1};
+                    std::uniform_int_distribution<long long> pick(j0, j1);
+                    for (int n = 0; n < 40; ++n) js.push_back(pick(rng));
+                    for (const long long j : js) {
+                        const double qa = static_cast<double>(j) * grid;
+                        double a = term.m[term.n - 1];
+                        for (int k = term.n - 2; k >= 0; --k) a = std::fma(a, qa, term.m[k]);
+                        ASSERT_EQ(Q(a), exact(Q(qa))) << where << " qa=" << qa;
+                    }
+                    std::uniform_real_distribution<double> u(piece.lo, piece.hi);
+                    std::vector<double> qs = {piece.lo, piece.hi, std::nextafter(piece.hi, 0.0)};
+                    for (int n = 0; n < 20; ++n) qs.push_back(u(rng));
+                    for (int n = 0; n < 20; ++n) qs.push_back((static_cast<double>(pick(rng)) + 0.5) * grid);
+                    for (const double q : qs) {
+                        if (!(q >= piece.lo && q <= piece.hi)) continue;
+                        const mollify::detail::DoubleDouble y = mollify::detail::split_horner(
+                            term.m, term.n, mollify::detail::split_constant(term.split), term.content, term.content_lo, q, 0.0);
+                        const Q want = content * exact(Q(q));
+                        EXPECT_LE(abs(Q(y.hi) + Q(y.lo) - want), tolerance * abs(want)) << where << " q=" << q;
+                    }
+                }
+            }
+    EXPECT_GT(terms, 1000);
+}
+
+// split_of proves or refuses: Wendland C4's polynomial splits at 2^-23 (2
+// steps of 23 bits and 35 + 18 + 3 < 2^6); mixed signs may cancel; and
+// 1 + 2^20 q is exact at 2^-26 but its remainder, ~2^-27 2^20 with a
+// gamma_12 error, is not below 2^-62 of p(0) = 1.
+TEST(Tables, SplitIsProvenOrRefused) {
+    const Exact pi = Exact::pi_power(Q(1), -1);
+    const Split c4 = split_of({pi * Q(495, 32), pi * Q(1485, 16), pi * Q(5775, 32)}, Q(0), Q(1));
+    EXPECT_EQ(c4.bits, 23);
+    EXPECT_EQ(c4.m, (std::vector<Q>{Q(3), Q(18), Q(35)}));
+    EXPECT_EQ(c4.content, pi * Q(165, 32));
+    EXPECT_EQ(split_of({Exact(Q(1)), Exact(Q(-2))}, Q(0), Q(1)).bits, 0);
+    EXPECT_EQ(split_of({Exact(Q(1)), Exact(Q(1 << 20))}, Q(0), Q(1)).bits, 0);
+    EXPECT_EQ(split_of({Exact(Q(1)), Exact(Q(1 << 20))}, Q(1, 2), Q(1)).bits, 26);  // p >= 2^19 there
 }

@@ -78,6 +78,20 @@ struct Term {
     // piece's scale (a Taylor piece's terms fall geometrically, so only its
     // last steps carry the error); 0: every step compensated.
     int plain = 0;
+    // Precision::accurate of a polynomial in q (Var::r) where the generator
+    // proves it: c[k] = content * m[k] exactly, the m[k] non-negative
+    // integers, and Horner's rule on m exact at qa, q rounded to a multiple
+    // of 2^-split (every partial product and sum fits in 53 bits), so that
+    // p(q) = content (p_m(qa) + d) with d = p_m(q) - p_m(qa) from a plain
+    // recurrence in q - qa, whose error the generator bounds below 2^-62 of
+    // p_m on [0, edge], the term's domain (generator/emit_round.cpp:
+    // split_of): ~3 operations a step, no two-sum, instead of compensated
+    // Horner's ~11.
+    // content + content_lo is the double-double of the exact content.
+    // 0: compensated Horner.
+    int split = 0;
+    const double* m = nullptr;
+    double content = 0, content_lo = 0;
 };
 
 struct Piece {

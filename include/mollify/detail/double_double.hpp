@@ -12,6 +12,7 @@
 
 #include <mollify/detail/isa.hpp>
 
+#include <bit>
 #include <cmath>
 
 namespace mollify::detail {
@@ -76,14 +77,16 @@ inline DoubleDouble two_product(double a, double b) {
 #endif
 }
 
+// The cross terms fused into the product's error (two FMAs where the
+// target has them, one rounding fewer than a product and a sum).
 inline DoubleDouble operator*(const DoubleDouble& a, const DoubleDouble& b) {
     const DoubleDouble p = two_product(a.hi, b.hi);
-    return {p.hi, p.lo + (a.hi * b.lo + a.lo * b.hi)};
+    return {p.hi, mul_add(a.hi, b.lo, mul_add(a.lo, b.hi, p.lo))};
 }
 
 inline DoubleDouble operator*(const DoubleDouble& a, double b) {
     const DoubleDouble p = two_product(a.hi, b);
-    return {p.hi, p.lo + a.lo * b};
+    return {p.hi, mul_add(a.lo, b, p.lo)};
 }
 
 // 1/x to double-double accuracy: one Newton step on the exact residual.
@@ -103,9 +106,15 @@ inline DoubleDouble sqrt(const DoubleDouble& x) {
     return {s, s > 0 ? lo : 0.0};
 }
 
-// x^N by binary powering, unrolled (N > 0; N < 0 through the reciprocal).
+// x^N as x^(2^k) x^(N - 2^k), 2^k <= N < 2^(k+1), the squares x^(2^j)
+// by repeated squaring (N > 0; N < 0 through the reciprocal): a kernel's
+// W and W'/r, edge powers n and n - 1, then share their squares (x^6 and
+// x^5: four products, not five as with (x^3)^2 and (x^2)^2 x). The
+// run-time form walks the same tree (src/evaluator.cpp: ipow_rt). Forced
+// inline: GCC left ipow<4> a call in the run-time form's fused combination
+// loop, which then did not vectorise (8x slower).
 template <int N>
-inline DoubleDouble ipow(const DoubleDouble& x) {
+MOLLIFY_INLINE DoubleDouble ipow(const DoubleDouble& x) {
     if constexpr (N < 0) {
         return ipow<-N>(reciprocal(x));
     } else if constexpr (N == 0) {
@@ -113,9 +122,13 @@ inline DoubleDouble ipow(const DoubleDouble& x) {
     } else if constexpr (N == 1) {
         return x;
     } else {
-        const DoubleDouble half = ipow<N / 2>(x);
-        if constexpr (N % 2 == 0) return half * half;
-        else return half * half * x;
+        constexpr int top = static_cast<int>(std::bit_floor(static_cast<unsigned>(N)));
+        if constexpr (N == top) {
+            const DoubleDouble half = ipow<N / 2>(x);
+            return half * half;
+        } else {
+            return ipow<top>(x) * ipow<N - top>(x);
+        }
     }
 }
 

@@ -209,6 +209,48 @@ MOLLIFY_INLINE DoubleDouble compensated_horner(double v, double dv) {
     else return compensated_horner<C>(v, dv, std::make_index_sequence<C.n - 1>{});
 }
 
+// 1.5 * 2^(52 - split): (q + C) - C is q rounded to a multiple of 2^-split
+// (for 0 <= q < 2^(51 - split); beyond, where a piece's value is not
+// selected, some other number).
+constexpr double split_constant(int split) {
+    double c = 1.5;
+    for (int k = 0; k < 52 - split; ++k) c *= 2;
+    return c;
+}
+
+// table::Term::split: content * p_m(q + dq) as a double-double, p_m's
+// Horner rule exact at qa (q rounded to the grid 2^-split; the generator
+// proves every partial product and sum a double) and the remainder
+// d = p_m(q) - p_m(qa) by d_k = d_{k+1} q + a_{k+1} (q - qa), each term of
+// the sign of q - qa (generator/emit_round.cpp: split_of bounds its
+// error). {a, d} is left unnormalised: |d| <~ 2^-split |p_m'|, and the
+// product keeps d to first order. Bit for bit the same in both evaluators.
+// split_sum is {p_m(qa), d}, split_horner content times it.
+MOLLIFY_INLINE DoubleDouble split_sum(const double* m, int n, double c, double q, double dq) {
+    const double qa = (q + c) - c, qb = (q - qa) + dq;
+    double a = m[n - 1], d = 0;
+    // unrolled where n is a constant (GCC 12 kept such loops rolled inside
+    // a batch loop, which then did not vectorise)
+#pragma GCC unroll 32
+    for (int k = n - 2; k >= 0; --k) {
+        d = mul_add(d, q, a * qb);
+        a = mul_add(a, qa, m[k]);
+    }
+    return {a, d};
+}
+
+MOLLIFY_INLINE DoubleDouble split_horner(const double* m, int n, double c, double content, double content_lo, double q,
+                                         double dq) {
+    return DoubleDouble{content, content_lo} * split_sum(m, n, c, q, dq);
+}
+
+// A piece of one split term whose value is its factor times p (Basis::one,
+// sqrt_power): its content joins the scale h^p, one double-double product
+// per batch instead of one per point: rounded((factor p_m) (content h^p)).
+constexpr bool content_in_scale(const table::Term& t) {
+    return t.split > 0 && (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power);
+}
+
 // log r for 0 < r <= 1 without losing the digits of a value near 0.
 inline double log_near_one(const Scaled& a) { return a.q < 0.5 ? std::log(a.q) : std::log1p(-a.e); }
 
@@ -265,9 +307,11 @@ inline DoubleDouble distance_to_edge_dd(const Scaled& a) {
 }
 
 // The algebraic factor of a term in double-double (Precision::accurate):
-// (edge - v)^edge_power q^low S^s_power.
+// (edge - v)^edge_power q^low S^s_power. Forced inline: since ipow's
+// products are forced inline, GCC left this a call in large units (Wendland
+// k = l = 4's (1 - q)^14: a scalar pair loop, 8x slower).
 template <const table::Kernel& K, int Q, int P, int T>
-inline DoubleDouble factor_dd(const Scaled& a) {
+MOLLIFY_INLINE DoubleDouble factor_dd(const Scaled& a) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
     DoubleDouble f{1.0, 0.0};
     bool one = true;
@@ -333,6 +377,9 @@ inline DoubleDouble accurate_polynomial(const Scaled& a) {
     constexpr const Coefficients& c = term_coefficients<K, Q, P, T>;
     if constexpr (t.n == 1) {
         return {c.c[0], c.lo[0]};
+    } else if constexpr (t.split > 0) {
+        static_assert(t.var == table::Var::r);
+        return split_horner(t.m, t.n, split_constant(t.split), t.content, t.content_lo, a.q, a.dq);
     } else if constexpr (t.var == table::Var::shifted) {
         const DoubleDouble v = shifted_dd(a, t.centre, t.centre_lo);
         return compensated_horner<c>(v.hi, v.lo);
@@ -468,6 +515,11 @@ MOLLIFY_INLINE double piece(const Scaled& a) {
         } else if constexpr (n == 1 && !continues_series<K, Q, P, 0>()) {
             DoubleDouble factor{1.0, 0.0};
             if constexpr (has_factor<K, Q, P, 0>) factor = factor_dd<K, Q, P, 0>(a);
+            constexpr const table::Term& t = term_table<K, Q, P, 0>;
+            if constexpr (content_in_scale(t)) {
+                const DoubleDouble p = split_sum(t.m, t.n, split_constant(t.split), a.q, a.dq);
+                return rounded(factor * p * (DoubleDouble{t.content, t.content_lo} * a.scale));
+            }
             return rounded(accurate_term<K, Q, P, 0>(a, factor) * a.scale);
         } else {
             return rounded(accurate_terms<K, Q, P, 0>(a, DoubleDouble{0.0, 0.0}, DoubleDouble{1.0, 0.0}) * a.scale);

@@ -183,9 +183,14 @@ inline constexpr double potential_1_1[] = {
 inline constexpr double potential_1_1_lo[] = {
     0x1.c6624c19687dp-59, 0x1.c6624c19687dp-58,
 };
+// potential_1_1 = content * potential_1_1_m, content = 4/15 * pi^-1 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 26, .m = potential_1_1_m, .content = 0x1.5bade52f95e69p-4, .content_lo = 0x1.c6624c19687dp-59},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -241,9 +246,15 @@ inline constexpr double dpotential_2_1[] = {
 inline constexpr double dpotential_2_1_lo[] = {
     -0x1.c6624c19687dp-59, -0x1.c6624c19687dp-57, 0x1.e40290701eb1ep-55,
 };
+// dpotential_2_1 = content * dpotential_2_1_m, content = -4/15 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+    0x1.4p+3,  // 10
+};
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo, .split = 24, .m = dpotential_2_1_m, .content = -0x1.5bade52f95e69p-4, .content_lo = -0x1.c6624c19687dp-59},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -286,9 +297,15 @@ inline constexpr double dpotential_over_r_1_1[] = {
 inline constexpr double dpotential_over_r_1_1_lo[] = {
     -0x1.c6624c19687dp-59, -0x1.c6624c19687dp-57, 0x1.e40290701eb1ep-55,
 };
+// dpotential_over_r_1_1 = content * dpotential_over_r_1_1_m, content = -4/15 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+    0x1.4p+3,  // 10
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo, .split = 24, .m = dpotential_over_r_1_1_m, .content = -0x1.5bade52f95e69p-4, .content_lo = -0x1.c6624c19687dp-59},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -329,9 +346,16 @@ inline constexpr double potential_hess_radial_1_1[] = {
 inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.566c8dd9e3448p-58, 0x1.7f974ace4ac65p-55, 0x1.7f974ace4ac65p-54, -0x1.6b01ec5417056p-53,
 };
+// potential_hess_radial_1_1 = content * potential_hess_radial_1_1_m, content = 4/5 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+2,  // 6
+    0x1.4p+3,  // 10
+};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo, .split = 16, .m = potential_hess_radial_1_1_m, .content = 0x1.04c26be3b06cfp-2, .content_lo = -0x1.566c8dd9e3448p-58},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1

@@ -91,9 +91,16 @@ inline constexpr double potential_1_1[] = {
     0x1.9p-4,  // 25/256
     0x1.4p-6,  // 5/256
 };
+// potential_1_1 = content * potential_1_1_m, content = 1/256 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1.18p+5,  // 35
+    0x1.78p+5,  // 47
+    0x1.9p+4,  // 25
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_1_1, .n = 4},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_1_1, .n = 4, .split = 15, .m = potential_1_1_m, .content = 0x1p-8, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
@@ -124,9 +131,16 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.4p-1,  // -5/8
     -0x1.4p-3,  // -5/32
 };
+// dpotential_1_1 = content * dpotential_1_1_m, content = -1/32 (table::Term::split)
+inline constexpr double dpotential_1_1_m[] = {
+    0x1p+4,  // 16
+    0x1.dp+4,  // 29
+    0x1.4p+4,  // 20
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_1_1, .n = 4},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_1_1, .n = 4, .split = 15, .m = dpotential_1_1_m, .content = -0x1p-5, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
@@ -157,9 +171,16 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.4p-1,  // -5/8
     -0x1.4p-3,  // -5/32
 };
+// dpotential_over_r_1_1 = content * dpotential_over_r_1_1_m, content = -1/32 (table::Term::split)
+inline constexpr double dpotential_over_r_1_1_m[] = {
+    0x1p+4,  // 16
+    0x1.dp+4,  // 29
+    0x1.4p+4,  // 20
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_1_1, .n = 4},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_1_1, .n = 4, .split = 15, .m = dpotential_over_r_1_1_m, .content = -0x1p-5, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2

@@ -208,9 +208,14 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.6b01ec5417056p-55,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = -1/2 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .split = 26, .m = dpotential_3_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -265,9 +270,14 @@ inline constexpr double dpotential_over_r_2_1[] = {
 inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.6b01ec5417056p-55,
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/2 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .split = 26, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -309,9 +319,15 @@ inline constexpr double potential_hess_radial_1_1[] = {
 inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.6b01ec5417056p-56, -0x1.041713f11440cp-58, -0x1.041713f11440cp-57,
 };
+// potential_hess_radial_1_1 = content * potential_hess_radial_1_1_m, content = 1 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -4, .c = potential_hess_radial_1_1, .n = 3, .c_lo = potential_hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -4, .c = potential_hess_radial_1_1, .n = 3, .c_lo = potential_hess_radial_1_1_lo, .split = 24, .m = potential_hess_radial_1_1_m, .content = 0x1.45f306dc9c883p-2, .content_lo = -0x1.6b01ec5417056p-56},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -17,8 +17,13 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.ebae32712a6afp-54, 0x1.ebae32712a6afp-54,
 };
+// value_0_0 = content * value_0_0_m, content = 15/4 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+0,  // 1
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.3193d66ed2bfap+0, .content_lo = 0x1.ebae32712a6afp-54},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -32,8 +37,14 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.ebae32712a6afp-54, -0x1.ebae32712a6afp-53, 0x1.1e7ab456405f9p-53,
 };
+// dr_0_0 = content * dr_0_0_m, content = -15/4 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .split = 25, .m = dr_0_0_m, .content = -0x1.3193d66ed2bfap+0, .content_lo = -0x1.ebae32712a6afp-54},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -48,8 +59,15 @@ inline constexpr double d2r_0_0[] = {
 inline constexpr double d2r_0_0_lo[] = {
     0x1.ebae32712a6afp-53, 0x1.ebae32712a6afp-53, 0x1.ebae32712a6afp-53, -0x1.1e7ab456405f9p-52,
 };
+// d2r_0_0 = content * d2r_0_0_m, content = 15/2 * pi^-1 (table::Term::split)
+inline constexpr double d2r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+0,  // 1
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term d2r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = -3, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 1, .low = -3, .c = d2r_0_0, .n = 4, .c_lo = d2r_0_0_lo, .split = 16, .m = d2r_0_0_m, .content = 0x1.3193d66ed2bfap+1, .content_lo = 0x1.ebae32712a6afp-53},
 };
 inline constexpr table::Piece d2r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = d2r_0, .nterms = 1},  // [0, 1)
@@ -76,8 +94,14 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.ebae32712a6afp-54, -0x1.ebae32712a6afp-53, 0x1.1e7ab456405f9p-53,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -15/4 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .split = 25, .m = grad_over_r_0_0_m, .content = -0x1.3193d66ed2bfap+0, .content_lo = -0x1.ebae32712a6afp-54},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -140,9 +164,14 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     -0x1.6b01ec5417056p-58, -0x1.6b01ec5417056p-59,
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/8 * pi^-1 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1p+1,  // 2
+    0x1p+0,  // 1
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 26, .m = potential_2_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -201,9 +230,15 @@ inline constexpr double dpotential_2_1[] = {
 inline constexpr double dpotential_2_1_lo[] = {
     0x1.6b01ec5417056p-58, 0x1.6b01ec5417056p-56, -0x1.3a3d9896e3394p-57,
 };
+// dpotential_2_1 = content * dpotential_2_1_m, content = -1/8 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_2_1_m[] = {
+    0x1p+1,  // 2
+    0x1p+3,  // 8
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo, .split = 24, .m = dpotential_2_1_m, .content = -0x1.45f306dc9c883p-5, .content_lo = 0x1.6b01ec5417056p-59},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -248,9 +283,15 @@ inline constexpr double dpotential_over_r_1_1[] = {
 inline constexpr double dpotential_over_r_1_1_lo[] = {
     0x1.6b01ec5417056p-58, 0x1.6b01ec5417056p-56, -0x1.3a3d9896e3394p-57,
 };
+// dpotential_over_r_1_1 = content * dpotential_over_r_1_1_m, content = -1/8 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_1_1_m[] = {
+    0x1p+1,  // 2
+    0x1p+3,  // 8
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo, .split = 24, .m = dpotential_over_r_1_1_m, .content = -0x1.45f306dc9c883p-5, .content_lo = 0x1.6b01ec5417056p-59},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -295,9 +336,16 @@ inline constexpr double potential_hess_radial_1_1[] = {
 inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.041713f11440cp-60, -0x1.86229de99e612p-59, 0x1.e38d79d1a1c8fp-55, 0x1.ebae32712a6afp-55,
 };
+// potential_hess_radial_1_1 = content * potential_hess_radial_1_1_m, content = 3/8 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_1_1_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+2,  // 6
+    0x1.cp+2,  // 7
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo, .split = 16, .m = potential_hess_radial_1_1_m, .content = 0x1.e8ec8a4aeacc4p-4, .content_lo = -0x1.041713f11440cp-61},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1

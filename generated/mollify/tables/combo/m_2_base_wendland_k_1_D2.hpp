@@ -17,6 +17,11 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.61f7067794918p-49, 0x1.61f7067794918p-46,
 };
+// value_0_0 = content * value_0_0_m, content = 1792/3 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr double value_0_1[] = {
     -0x1.7c4632ac0bf43p-1,  // -7/3 * pi^-1
     -0x1.7c4632ac0bf43p+1,  // -28/3 * pi^-1
@@ -24,9 +29,14 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     -0x1.61f7067794918p-57, -0x1.61f7067794918p-55,
 };
+// value_0_1 = content * value_0_1_m, content = -7/3 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.7c4632ac0bf43p+7, .content_lo = 0x1.61f7067794918p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.7c4632ac0bf43p-1, .content_lo = -0x1.61f7067794918p-57},
 };
 inline constexpr double value_1_0[] = {
     -0x1.7c4632ac0bf43p-1,  // -7/3 * pi^-1
@@ -35,8 +45,13 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.61f7067794918p-57, -0x1.61f7067794918p-55,
 };
+// value_1_0 = content * value_1_0_m, content = -7/3 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.7c4632ac0bf43p-1, .content_lo = -0x1.61f7067794918p-57},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -524,9 +539,15 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     -0x1.e40290701eb1ep-59, 0x1.a2fccb73d9a1bp-57, -0x1.e40290701eb1ep-56,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 1/6 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 24, .m = dpotential_3_1_m, .content = 0x1.b2995e7b7b604p-5, .content_lo = -0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -588,6 +609,12 @@ inline constexpr double dpotential_over_r_2_1[] = {
 inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.e40290701eb1ep-52, -0x1.a2fccb73d9a1bp-49, 0x1.e40290701eb1ep-47,
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -64/3 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+    0x1p+5,  // 32
+};
 inline constexpr double dpotential_over_r_2_2[] = {
     -0x1.7c4632ac0bf43p-2,  // -7/6 * pi^-1
     0x0p+0,  // 0
@@ -602,7 +629,7 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo, .split = 24, .m = dpotential_over_r_2_1_m, .content = -0x1.b2995e7b7b604p+2, .content_lo = 0x1.e40290701eb1ep-52},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 6, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
@@ -619,9 +646,15 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     -0x1.e40290701eb1ep-59, 0x1.a2fccb73d9a1bp-57, -0x1.e40290701eb1ep-56,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 1/6 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 24, .m = dpotential_over_r_3_1_m, .content = 0x1.b2995e7b7b604p-5, .content_lo = -0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -707,9 +740,16 @@ inline constexpr double potential_hess_radial_3_1[] = {
 inline constexpr double potential_hess_radial_3_1_lo[] = {
     0x1.e40290701eb1ep-58, 0x1.e40290701eb1ep-56, -0x1.a2fccb73d9a1bp-55, -0x1.a2fccb73d9a1bp-54,
 };
+// potential_hess_radial_3_1 = content * potential_hess_radial_3_1_m, content = -1/3 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+    0x1.4p+3,  // 10
+    0x1.4p+4,  // 20
+};
 inline constexpr table::Term potential_hess_radial_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_3_1, .n = 4, .c_lo = potential_hess_radial_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_3_1, .n = 4, .c_lo = potential_hess_radial_3_1_lo, .split = 15, .m = potential_hess_radial_3_1_m, .content = -0x1.b2995e7b7b604p-4, .content_lo = 0x1.e40290701eb1ep-58},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -17,6 +17,11 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.425e51366bdb4p-45, 0x1.425e51366bdb4p-42,
 };
+// value_0_0 = content * value_0_0_m, content = 1792 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr double value_0_1[] = {
     -0x1.1d34a60108f72p+0,  // -7/2 * pi^-1
     -0x1.1d34a60108f72p+2,  // -14 * pi^-1
@@ -24,9 +29,14 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     -0x1.425e51366bdb4p-54, -0x1.425e51366bdb4p-52,
 };
+// value_0_1 = content * value_0_1_m, content = -7/2 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.1d34a60108f72p+9, .content_lo = 0x1.425e51366bdb4p-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.1d34a60108f72p+0, .content_lo = -0x1.425e51366bdb4p-54},
 };
 inline constexpr double value_1_0[] = {
     -0x1.1d34a60108f72p+0,  // -7/2 * pi^-1
@@ -35,8 +45,13 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.425e51366bdb4p-54, -0x1.425e51366bdb4p-52,
 };
+// value_1_0 = content * value_1_0_m, content = -7/2 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.1d34a60108f72p+0, .content_lo = -0x1.425e51366bdb4p-54},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -264,9 +279,15 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     0x1.e40290701eb1ep-60, 0x1.6b01ec5417056p-58, 0x1.6b01ec5417056p-58,
 };
+// potential_3_1 = content * potential_3_1_m, content = -1/12 * pi^-1 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .split = 25, .m = potential_3_1_m, .content = -0x1.b2995e7b7b604p-6, .content_lo = 0x1.e40290701eb1ep-60},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -362,9 +383,16 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     -0x1.e40290701eb1ep-60, 0x1.a2fccb73d9a1bp-58, 0x1.3a3d9896e3394p-56, 0x1.425e51366bdb4p-55,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 1/12 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_4_1, .n = 4, .c_lo = dpotential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_4_1, .n = 4, .c_lo = dpotential_4_1_lo, .split = 15, .m = dpotential_4_1_m, .content = 0x1.b2995e7b7b604p-6, .content_lo = -0x1.e40290701eb1ep-60},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -460,9 +488,16 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     -0x1.e40290701eb1ep-60, 0x1.a2fccb73d9a1bp-58, 0x1.3a3d9896e3394p-56, 0x1.425e51366bdb4p-55,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 1/12 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_3_1, .n = 4, .c_lo = dpotential_over_r_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_3_1, .n = 4, .c_lo = dpotential_over_r_3_1_lo, .split = 15, .m = dpotential_over_r_3_1_m, .content = 0x1.b2995e7b7b604p-6, .content_lo = -0x1.e40290701eb1ep-60},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1

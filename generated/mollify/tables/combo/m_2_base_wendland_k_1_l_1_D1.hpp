@@ -14,20 +14,35 @@ inline constexpr double value_0_0[] = {
     0x1p+6,  // 64
     0x1p+9,  // 512
 };
+// value_0_0 = content * value_0_0_m, content = 64 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr double value_0_1[] = {
     -0x1p-1,  // -1/2
     -0x1p+1,  // -2
 };
+// value_0_1 = content * value_0_1_m, content = -1/2 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .split = 26, .m = value_0_0_m, .content = 0x1p+6, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .split = 26, .m = value_0_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double value_1_0[] = {
     -0x1p-1,  // -1/2
     -0x1p+1,  // -2
 };
+// value_1_0 = content * value_1_0_m, content = -1/2 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .split = 26, .m = value_1_0_m, .content = -0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -175,6 +190,11 @@ inline constexpr double potential_1_1[] = {
 inline constexpr double potential_1_1_lo[] = {
     0x1.2492492492492p-52, 0x1.8618618618618p-51,
 };
+// potential_1_1 = content * potential_1_1_m, content = 32/21 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1p+3,  // 8
+};
 inline constexpr double potential_1_2[] = {
     -0x1.2492492492492p-5,  // -1/28
     0x0p+0,  // 0
@@ -191,7 +211,7 @@ inline constexpr double potential_1_2_lo[] = {
 };
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 26, .m = potential_1_1_m, .content = 0x1.8618618618618p+0, .content_lo = 0x1.8618618618618p-54},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_1_2, .n = 8, .c_lo = potential_1_2_lo},
 };
 inline constexpr double potential_2_0[] = {
@@ -204,9 +224,14 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     -0x1.2492492492492p-59, -0x1.8618618618618p-59,
 };
+// potential_2_1 = content * potential_2_1_m, content = -1/84 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1p+2,  // 4
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 26, .m = potential_2_1_m, .content = -0x1.8618618618618p-7, .content_lo = -0x1.8618618618618p-61},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
@@ -277,9 +302,14 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.5555555555555p-57, 0x1.5555555555555p-56,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 1/6 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .split = 26, .m = dpotential_3_1_m, .content = 0x1.5555555555555p-3, .content_lo = 0x1.5555555555555p-57},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -349,9 +379,14 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.5555555555555p-57, 0x1.5555555555555p-56,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 1/6 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .split = 26, .m = dpotential_over_r_3_1_m, .content = 0x1.5555555555555p-3, .content_lo = 0x1.5555555555555p-57},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -404,6 +439,12 @@ inline constexpr double potential_hess_radial_2_1[] = {
 inline constexpr double potential_hess_radial_2_1_lo[] = {
     0x1.5555555555555p-51, 0x1.5555555555555p-48, -0x1.5555555555555p-46,
 };
+// potential_hess_radial_2_1 = content * potential_hess_radial_2_1_m, content = 32/3 (table::Term::split)
+inline constexpr double potential_hess_radial_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.4p+5,  // 40
+};
 inline constexpr double potential_hess_radial_2_2[] = {
     0x1.aaaaaaaaaaaabp+1,  // 10/3
     -0x1.ep+2,  // -15/2
@@ -415,7 +456,7 @@ inline constexpr double potential_hess_radial_2_2_lo[] = {
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = -3, .c = potential_hess_radial_2_1, .n = 3, .c_lo = potential_hess_radial_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = -3, .c = potential_hess_radial_2_1, .n = 3, .c_lo = potential_hess_radial_2_1_lo, .split = 24, .m = potential_hess_radial_2_1_m, .content = 0x1.5555555555555p+3, .content_lo = 0x1.5555555555555p-51},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_2, .n = 4, .c_lo = potential_hess_radial_2_2_lo},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
@@ -429,9 +470,15 @@ inline constexpr double potential_hess_radial_3_1[] = {
 inline constexpr double potential_hess_radial_3_1_lo[] = {
     -0x1.5555555555555p-57, -0x1.5555555555555p-55, 0x1.5555555555555p-54,
 };
+// potential_hess_radial_3_1 = content * potential_hess_radial_3_1_m, content = -1/6 (table::Term::split)
+inline constexpr double potential_hess_radial_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+    0x1.4p+3,  // 10
+};
 inline constexpr table::Term potential_hess_radial_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .c_lo = potential_hess_radial_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .c_lo = potential_hess_radial_3_1_lo, .split = 24, .m = potential_hess_radial_3_1_m, .content = -0x1.5555555555555p-3, .content_lo = -0x1.5555555555555p-57},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1p-1,  // -1/2

@@ -17,6 +17,11 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.d7f4089f70c2p-48, -0x1.b641dea71661bp-42,
 };
+// value_0_0 = content * value_0_0_m, content = 14336/9 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+};
 inline constexpr double value_0_1[] = {
     -0x1.fb0843900ff04p-1,  // -28/9 * pi^-1
     -0x1.3ce52a3a09f63p+2,  // -140/9 * pi^-1
@@ -24,9 +29,14 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     -0x1.d7f4089f70c2p-57, 0x1.b641dea71661bp-52,
 };
+// value_0_1 = content * value_0_1_m, content = -28/9 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.fb0843900ff04p+8, .content_lo = 0x1.d7f4089f70c2p-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.fb0843900ff04p-1, .content_lo = -0x1.d7f4089f70c2p-57},
 };
 inline constexpr double value_1_0[] = {
     -0x1.fb0843900ff04p-1,  // -28/9 * pi^-1
@@ -35,8 +45,13 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.d7f4089f70c2p-57, 0x1.b641dea71661bp-52,
 };
+// value_1_0 = content * value_1_0_m, content = -28/9 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.fb0843900ff04p-1, .content_lo = -0x1.d7f4089f70c2p-57},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -576,9 +591,15 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     -0x1.e40290701eb1ep-59, -0x1.6b01ec5417056p-56, -0x1.b641dea71661bp-55,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 1/18 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .split = 23, .m = dpotential_4_1_m, .content = 0x1.21bb945252402p-6, .content_lo = 0x1.67fe4a5feb897p-60},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -659,9 +680,15 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     -0x1.e40290701eb1ep-59, -0x1.6b01ec5417056p-56, -0x1.b641dea71661bp-55,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 1/18 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 23, .m = dpotential_over_r_3_1_m, .content = 0x1.21bb945252402p-6, .content_lo = 0x1.67fe4a5feb897p-60},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -767,9 +794,16 @@ inline constexpr double potential_hess_radial_4_1[] = {
 inline constexpr double potential_hess_radial_4_1_lo[] = {
     0x1.e40290701eb1ep-58, -0x1.a2fccb73d9a1bp-56, -0x1.3a3d9896e3394p-54, 0x1.22c59bf543251p-54,
 };
+// potential_hess_radial_4_1 = content * potential_hess_radial_4_1_m, content = -1/3 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term potential_hess_radial_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_4_1, .n = 4, .c_lo = potential_hess_radial_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_4_1, .n = 4, .c_lo = potential_hess_radial_4_1_lo, .split = 15, .m = potential_hess_radial_4_1_m, .content = -0x1.b2995e7b7b604p-4, .content_lo = 0x1.e40290701eb1ep-58},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

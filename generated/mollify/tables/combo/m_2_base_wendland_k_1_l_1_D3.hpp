@@ -17,6 +17,11 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.e38d79d1a1c8fp-44, 0x1.5c70d8460a3b2p-41,
 };
+// value_0_0 = content * value_0_0_m, content = 5376 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+};
 inline constexpr double value_0_1[] = {
     -0x1.abcef9018d72bp+0,  // -21/4 * pi^-1
     -0x1.0b615ba0f867bp+3,  // -105/4 * pi^-1
@@ -24,9 +29,14 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     -0x1.e38d79d1a1c8fp-54, -0x1.5c70d8460a3b2p-52,
 };
+// value_0_1 = content * value_0_1_m, content = -21/4 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.abcef9018d72bp+10, .content_lo = 0x1.e38d79d1a1c8fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.abcef9018d72bp+0, .content_lo = -0x1.e38d79d1a1c8fp-54},
 };
 inline constexpr double value_1_0[] = {
     -0x1.abcef9018d72bp+0,  // -21/4 * pi^-1
@@ -35,8 +45,13 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.e38d79d1a1c8fp-54, -0x1.5c70d8460a3b2p-52,
 };
+// value_1_0 = content * value_1_0_m, content = -21/4 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.abcef9018d72bp+0, .content_lo = -0x1.e38d79d1a1c8fp-54},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -270,9 +285,15 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     0x1.e40290701eb1ep-60, -0x1.92bb5a34c85dap-59, 0x1.22c59bf543251p-59,
 };
+// potential_3_1 = content * potential_3_1_m, content = -1/96 * pi^-1 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .split = 23, .m = potential_3_1_m, .content = -0x1.b2995e7b7b604p-9, .content_lo = 0x1.e40290701eb1ep-63},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -17,6 +17,11 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.5555555555555p-47, 0x1.5555555555555p-44,
 };
+// value_0_0 = content * value_0_0_m, content = 448/3 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+};
 inline constexpr double value_0_1[] = {
     -0x1.2aaaaaaaaaaabp-1,  // -7/12
     -0x1.7555555555555p+1,  // -35/12
@@ -24,9 +29,14 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     0x1.5555555555555p-55, -0x1.5555555555555p-53,
 };
+// value_0_1 = content * value_0_1_m, content = -7/12 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.2aaaaaaaaaaabp+7, .content_lo = -0x1.5555555555555p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.2aaaaaaaaaaabp-1, .content_lo = 0x1.5555555555555p-55},
 };
 inline constexpr double value_1_0[] = {
     -0x1.2aaaaaaaaaaabp-1,  // -7/12
@@ -35,8 +45,13 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     0x1.5555555555555p-55, -0x1.5555555555555p-53,
 };
+// value_1_0 = content * value_1_0_m, content = -7/12 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.2aaaaaaaaaaabp-1, .content_lo = 0x1.5555555555555p-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -221,9 +236,14 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     0x0p+0, 0x1.5555555555555p-59,
 };
+// potential_3_1 = content * potential_3_1_m, content = -1/96 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .split = 26, .m = potential_3_1_m, .content = -0x1.5555555555555p-7, .content_lo = -0x1.5555555555555p-61},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -298,9 +318,14 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.5555555555555p-57, -0x1.5555555555555p-56,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 1/12 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+1,  // 2
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .split = 26, .m = dpotential_3_1_m, .content = 0x1.5555555555555p-4, .content_lo = 0x1.5555555555555p-58},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -373,9 +398,14 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.5555555555555p-57, -0x1.5555555555555p-56,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 1/12 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+1,  // 2
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .split = 26, .m = dpotential_over_r_3_1_m, .content = 0x1.5555555555555p-4, .content_lo = 0x1.5555555555555p-58},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -446,6 +476,12 @@ inline constexpr double potential_hess_radial_3_1[] = {
 inline constexpr double potential_hess_radial_3_1_lo[] = {
     0x1.5555555555555p-50, -0x1.5555555555555p-47, 0x0p+0,
 };
+// potential_hess_radial_3_1 = content * potential_hess_radial_3_1_m, content = 64/3 (table::Term::split)
+inline constexpr double potential_hess_radial_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+    0x1.ep+5,  // 60
+};
 inline constexpr double potential_hess_radial_3_2[] = {
     0x1.7555555555555p+2,  // 35/6
     -0x1.18p+4,  // -35/2
@@ -459,7 +495,7 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .c_lo = potential_hess_radial_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .c_lo = potential_hess_radial_3_1_lo, .split = 24, .m = potential_hess_radial_3_1_m, .content = 0x1.5555555555555p+4, .content_lo = 0x1.5555555555555p-50},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 5, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
@@ -473,9 +509,15 @@ inline constexpr double potential_hess_radial_4_1[] = {
 inline constexpr double potential_hess_radial_4_1_lo[] = {
     -0x1.5555555555555p-57, 0x1.5555555555555p-55, 0x0p+0,
 };
+// potential_hess_radial_4_1 = content * potential_hess_radial_4_1_m, content = -1/6 (table::Term::split)
+inline constexpr double potential_hess_radial_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+};
 inline constexpr table::Term potential_hess_radial_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_4_1, .n = 3, .c_lo = potential_hess_radial_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_4_1, .n = 3, .c_lo = potential_hess_radial_4_1_lo, .split = 24, .m = potential_hess_radial_4_1_m, .content = -0x1.5555555555555p-3, .content_lo = -0x1.5555555555555p-57},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2

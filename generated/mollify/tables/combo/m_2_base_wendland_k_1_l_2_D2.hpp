@@ -17,6 +17,11 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.6b01ec5417056p-44, -0x1.041713f11440cp-44,
 };
+// value_0_0 = content * value_0_0_m, content = 4096 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double value_0_1[] = {
     -0x1.45f306dc9c883p+0,  // -4 * pi^-1
     -0x1.e8ec8a4aeacc4p+2,  // -24 * pi^-1
@@ -24,9 +29,14 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     0x1.6b01ec5417056p-54, 0x1.041713f11440cp-55,
 };
+// value_0_1 = content * value_0_1_m, content = -4 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.45f306dc9c883p+10, .content_lo = -0x1.6b01ec5417056p-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.45f306dc9c883p+0, .content_lo = 0x1.6b01ec5417056p-54},
 };
 inline constexpr double value_1_0[] = {
     -0x1.45f306dc9c883p+0,  // -4 * pi^-1
@@ -35,8 +45,13 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     0x1.6b01ec5417056p-54, 0x1.041713f11440cp-55,
 };
+// value_1_0 = content * value_1_0_m, content = -4 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.45f306dc9c883p+0, .content_lo = 0x1.6b01ec5417056p-54},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -613,9 +628,15 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     -0x1.e40290701eb1ep-59, 0x1.61f7067794918p-58, -0x1.e40290701eb1ep-55,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 1/6 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .split = 24, .m = dpotential_4_1_m, .content = 0x1.b2995e7b7b604p-5, .content_lo = -0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -682,6 +703,12 @@ inline constexpr double dpotential_over_r_2_1[] = {
 inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.e40290701eb1ep-50, -0x1.61f7067794918p-48, 0x1.e40290701eb1ep-44,
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -256/3 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+    0x1p+6,  // 64
+};
 inline constexpr double dpotential_over_r_2_2[] = {
     -0x1.45f306dc9c883p-1,  // -2 * pi^-1
     0x0p+0,  // 0
@@ -698,7 +725,7 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.8p-2, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo, .split = 24, .m = dpotential_over_r_2_1_m, .content = -0x1.b2995e7b7b604p+4, .content_lo = 0x1.e40290701eb1ep-50},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.8p-2, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 8, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
@@ -732,9 +759,15 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     -0x1.e40290701eb1ep-59, 0x1.61f7067794918p-58, -0x1.e40290701eb1ep-55,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 1/6 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .split = 24, .m = dpotential_over_r_4_1_m, .content = 0x1.b2995e7b7b604p-5, .content_lo = -0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

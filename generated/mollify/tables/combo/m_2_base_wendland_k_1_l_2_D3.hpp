@@ -17,6 +17,11 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.ebae32712a6afp-42, -0x1.1e7ab456405f9p-39,
 };
+// value_0_0 = content * value_0_0_m, content = 15360 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double value_0_1[] = {
     -0x1.3193d66ed2bfap+1,  // -15/2 * pi^-1
     -0x1.ca5dc1a63c1f8p+3,  // -45 * pi^-1
@@ -24,9 +29,14 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     -0x1.ebae32712a6afp-53, 0x1.1e7ab456405f9p-51,
 };
+// value_0_1 = content * value_0_1_m, content = -15/2 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.3193d66ed2bfap+12, .content_lo = 0x1.ebae32712a6afp-42},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.3193d66ed2bfap+1, .content_lo = -0x1.ebae32712a6afp-53},
 };
 inline constexpr double value_1_0[] = {
     -0x1.3193d66ed2bfap+1,  // -15/2 * pi^-1
@@ -35,8 +45,13 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.ebae32712a6afp-53, 0x1.1e7ab456405f9p-51,
 };
+// value_1_0 = content * value_1_0_m, content = -15/2 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.3193d66ed2bfap+1, .content_lo = -0x1.ebae32712a6afp-53},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -293,9 +308,15 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     0x1.e40290701eb1ep-60, 0x1.0242b977209dp-58, 0x1.6b01ec5417056p-57,
 };
+// potential_4_1 = content * potential_4_1_m, content = -1/48 * pi^-1 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .split = 23, .m = potential_4_1_m, .content = -0x1.b2995e7b7b604p-8, .content_lo = 0x1.e40290701eb1ep-62},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.041713f11440cp-48, -0x1.86229de99e612p-45, -0x1.b42869efe4b7ap-41,
 };
+// value_0_0 = content * value_0_0_m, content = 1024 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+5,  // 36
+    0x1.18p+7,  // 140
+};
 inline constexpr double value_0_1[] = {
     -0x1.e8ec8a4aeacc4p-1,  // -3 * pi^-1
     -0x1.6eb167b830193p+2,  // -18 * pi^-1
@@ -26,9 +32,15 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     0x1.041713f11440cp-58, 0x1.86229de99e612p-56, 0x1.b42869efe4b7ap-53,
 };
+// value_0_1 = content * value_0_1_m, content = -1 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .split = 23, .m = value_0_0_m, .content = 0x1.45f306dc9c883p+8, .content_lo = -0x1.6b01ec5417056p-46},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .split = 23, .m = value_0_1_m, .content = -0x1.45f306dc9c883p-2, .content_lo = 0x1.6b01ec5417056p-56},
 };
 inline constexpr double value_1_0[] = {
     -0x1.e8ec8a4aeacc4p-1,  // -3 * pi^-1
@@ -38,8 +50,14 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     0x1.041713f11440cp-58, 0x1.86229de99e612p-56, 0x1.b42869efe4b7ap-53,
 };
+// value_1_0 = content * value_1_0_m, content = -1 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .split = 23, .m = value_1_0_m, .content = -0x1.45f306dc9c883p-2, .content_lo = 0x1.6b01ec5417056p-56},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -53,6 +71,11 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.425e51366bdb4p-39, 0x1.b42869efe4b7ap-38,
 };
+// dr_0_0 = content * dr_0_0_m, content = -114688 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+};
 inline constexpr double dr_0_1[] = {
     0x1.1d34a60108f72p+4,  // 56 * pi^-1
     0x1.6481cf814b34fp+6,  // 280 * pi^-1
@@ -60,9 +83,14 @@ inline constexpr double dr_0_1[] = {
 inline constexpr double dr_0_1_lo[] = {
     0x1.425e51366bdb4p-50, -0x1.b42869efe4b7ap-50,
 };
+// dr_0_1 = content * dr_0_1_m, content = 56 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 26, .m = dr_0_0_m, .content = -0x1.1d34a60108f72p+15, .content_lo = -0x1.425e51366bdb4p-39},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .split = 26, .m = dr_0_1_m, .content = 0x1.1d34a60108f72p+4, .content_lo = 0x1.425e51366bdb4p-50},
 };
 inline constexpr double dr_1_0[] = {
     0x1.1d34a60108f72p+4,  // 56 * pi^-1
@@ -71,8 +99,13 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.425e51366bdb4p-50, -0x1.b42869efe4b7ap-50,
 };
+// dr_1_0 = content * dr_1_0_m, content = 56 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .split = 26, .m = dr_1_0_m, .content = 0x1.1d34a60108f72p+4, .content_lo = 0x1.425e51366bdb4p-50},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -158,6 +191,11 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.425e51366bdb4p-39, 0x1.b42869efe4b7ap-38,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -114688 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.1d34a60108f72p+4,  // 56 * pi^-1
     0x1.6481cf814b34fp+6,  // 280 * pi^-1
@@ -165,9 +203,14 @@ inline constexpr double grad_over_r_0_1[] = {
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.425e51366bdb4p-50, -0x1.b42869efe4b7ap-50,
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 56 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.1d34a60108f72p+15, .content_lo = -0x1.425e51366bdb4p-39},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.1d34a60108f72p+4, .content_lo = 0x1.425e51366bdb4p-50},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.1d34a60108f72p+4,  // 56 * pi^-1
@@ -176,8 +219,13 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.425e51366bdb4p-50, -0x1.b42869efe4b7ap-50,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 56 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.1d34a60108f72p+4, .content_lo = 0x1.425e51366bdb4p-50},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

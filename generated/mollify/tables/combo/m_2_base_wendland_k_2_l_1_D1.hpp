@@ -15,22 +15,40 @@ inline constexpr double value_0_0[] = {
     0x1.bp+11,  // 3456
     0x1.a4p+13,  // 13440
 };
+// value_0_0 = content * value_0_0_m, content = 96 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+5,  // 36
+    0x1.18p+7,  // 140
+};
 inline constexpr double value_0_1[] = {
     -0x1.2p-1,  // -9/16
     -0x1.bp+1,  // -27/8
     -0x1.a4p+2,  // -105/16
 };
+// value_0_1 = content * value_0_1_m, content = -3/16 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .split = 23, .m = value_0_0_m, .content = 0x1.8p+6, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .split = 23, .m = value_0_1_m, .content = -0x1.8p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double value_1_0[] = {
     -0x1.2p-1,  // -9/16
     -0x1.bp+1,  // -27/8
     -0x1.a4p+2,  // -105/16
 };
+// value_1_0 = content * value_1_0_m, content = -3/16 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .split = 23, .m = value_1_0_m, .content = -0x1.8p-3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -41,20 +59,35 @@ inline constexpr double dr_0_0[] = {
     -0x1.5p+13,  // -10752
     -0x1.a4p+16,  // -107520
 };
+// dr_0_0 = content * dr_0_0_m, content = -10752 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+};
 inline constexpr double dr_0_1[] = {
     0x1.5p+3,  // 21/2
     0x1.a4p+5,  // 105/2
 };
+// dr_0_1 = content * dr_0_1_m, content = 21/2 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .split = 26, .m = dr_0_0_m, .content = -0x1.5p+13, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .split = 26, .m = dr_0_1_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.5p+3,  // 21/2
     0x1.a4p+5,  // 105/2
 };
+// dr_1_0 = content * dr_1_0_m, content = 21/2 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .split = 26, .m = dr_1_0_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -119,20 +152,35 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.5p+13,  // -10752
     -0x1.a4p+16,  // -107520
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -10752 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.5p+3,  // 21/2
     0x1.a4p+5,  // 105/2
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 21/2 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.5p+13, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.5p+3,  // 21/2
     0x1.a4p+5,  // 105/2
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 21/2 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -216,6 +264,12 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     0x0p+0, 0x1.5555555555555p-48, -0x1.5555555555555p-47,
 };
+// potential_2_1 = content * potential_2_1_m, content = 16/3 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1p+4,  // 16
+    0x1.cp+4,  // 28
+};
 inline constexpr double potential_2_2[] = {
     -0x1p-5,  // -1/32
     0x0p+0,  // 0
@@ -236,7 +290,7 @@ inline constexpr double potential_2_2_lo[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .split = 24, .m = potential_2_1_m, .content = 0x1.5555555555555p+2, .content_lo = 0x1.5555555555555p-52},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 11, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
@@ -250,9 +304,15 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     0x0p+0, -0x1.5555555555555p-58, 0x1.5555555555555p-58,
 };
+// potential_3_1 = content * potential_3_1_m, content = -1/96 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1p+3,  // 8
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .split = 24, .m = potential_3_1_m, .content = -0x1.5555555555555p-7, .content_lo = -0x1.5555555555555p-61},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -337,9 +397,15 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.5555555555555p-57, 0x1.5555555555555p-55, 0x1.5555555555555p-55,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 1/48 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 23, .m = dpotential_3_1_m, .content = 0x1.5555555555555p-6, .content_lo = 0x1.5555555555555p-60},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -422,9 +488,15 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.5555555555555p-57, 0x1.5555555555555p-55, 0x1.5555555555555p-55,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 1/48 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 23, .m = dpotential_over_r_3_1_m, .content = 0x1.5555555555555p-6, .content_lo = 0x1.5555555555555p-60},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2

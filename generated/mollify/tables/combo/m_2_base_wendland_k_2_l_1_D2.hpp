@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.b33e3cb2eae5cp-43, 0x1.f359d4723624p-41, 0x1.b33e3cb2eae5cp-37,
 };
+// value_0_0 = content * value_0_0_m, content = 22528/3 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+    0x1p+6,  // 64
+};
 inline constexpr double value_0_1[] = {
     -0x1.2ac970f4e4d22p+0,  // -11/3 * pi^-1
     -0x1.057042d64837ep+3,  // -77/3 * pi^-1
@@ -26,9 +32,15 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     -0x1.b33e3cb2eae5cp-54, -0x1.f359d4723624p-53, -0x1.b33e3cb2eae5cp-50,
 };
+// value_0_1 = content * value_0_1_m, content = -11/3 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .split = 24, .m = value_0_0_m, .content = 0x1.2ac970f4e4d22p+11, .content_lo = 0x1.b33e3cb2eae5cp-43},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .split = 24, .m = value_0_1_m, .content = -0x1.2ac970f4e4d22p+0, .content_lo = -0x1.b33e3cb2eae5cp-54},
 };
 inline constexpr double value_1_0[] = {
     -0x1.2ac970f4e4d22p+0,  // -11/3 * pi^-1
@@ -38,8 +50,14 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.b33e3cb2eae5cp-54, -0x1.f359d4723624p-53, -0x1.b33e3cb2eae5cp-50,
 };
+// value_1_0 = content * value_1_0_m, content = -11/3 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .split = 24, .m = value_1_0_m, .content = -0x1.2ac970f4e4d22p+0, .content_lo = -0x1.b33e3cb2eae5cp-54},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -53,6 +71,11 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     0x1.7322a4f39fa77p-38, 0x1.1659fbb6b7bd9p-34,
 };
+// dr_0_0 = content * dr_0_0_m, content = -360448 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double dr_0_1[] = {
     0x1.c02e296f573b4p+4,  // 88 * pi^-1
     0x1.50229f13816c7p+7,  // 528 * pi^-1
@@ -60,9 +83,14 @@ inline constexpr double dr_0_1[] = {
 inline constexpr double dr_0_1_lo[] = {
     -0x1.7322a4f39fa77p-50, -0x1.1659fbb6b7bd9p-47,
 };
+// dr_0_1 = content * dr_0_1_m, content = 88 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 26, .m = dr_0_0_m, .content = -0x1.c02e296f573b4p+16, .content_lo = 0x1.7322a4f39fa77p-38},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .split = 26, .m = dr_0_1_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
 };
 inline constexpr double dr_1_0[] = {
     0x1.c02e296f573b4p+4,  // 88 * pi^-1
@@ -71,8 +99,13 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     -0x1.7322a4f39fa77p-50, -0x1.1659fbb6b7bd9p-47,
 };
+// dr_1_0 = content * dr_1_0_m, content = 88 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .split = 26, .m = dr_1_0_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -158,6 +191,11 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.7322a4f39fa77p-38, 0x1.1659fbb6b7bd9p-34,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -360448 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.c02e296f573b4p+4,  // 88 * pi^-1
     0x1.50229f13816c7p+7,  // 528 * pi^-1
@@ -165,9 +203,14 @@ inline constexpr double grad_over_r_0_1[] = {
 inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.7322a4f39fa77p-50, -0x1.1659fbb6b7bd9p-47,
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 88 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.c02e296f573b4p+16, .content_lo = 0x1.7322a4f39fa77p-38},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.c02e296f573b4p+4,  // 88 * pi^-1
@@ -176,8 +219,13 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.7322a4f39fa77p-50, -0x1.1659fbb6b7bd9p-47,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 88 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

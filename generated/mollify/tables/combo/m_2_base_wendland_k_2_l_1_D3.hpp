@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.180a58e7bc376p-41, 0x1.ea121b958960ep-38, 0x1.180a58e7bc376p-35,
 };
+// value_0_0 = content * value_0_0_m, content = 28160 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+    0x1p+6,  // 64
+};
 inline constexpr double value_0_1[] = {
     -0x1.181cd9e59685p+1,  // -55/8 * pi^-1
     -0x1.ea327d51c768cp+3,  // -385/8 * pi^-1
@@ -26,9 +32,15 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     -0x1.180a58e7bc376p-53, -0x1.ea121b958960ep-51, -0x1.180a58e7bc376p-49,
 };
+// value_0_1 = content * value_0_1_m, content = -55/8 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .split = 24, .m = value_0_0_m, .content = 0x1.181cd9e59685p+13, .content_lo = 0x1.180a58e7bc376p-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .split = 24, .m = value_0_1_m, .content = -0x1.181cd9e59685p+1, .content_lo = -0x1.180a58e7bc376p-53},
 };
 inline constexpr double value_1_0[] = {
     -0x1.181cd9e59685p+1,  // -55/8 * pi^-1
@@ -38,8 +50,14 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.180a58e7bc376p-53, -0x1.ea121b958960ep-51, -0x1.180a58e7bc376p-49,
 };
+// value_1_0 = content * value_1_0_m, content = -55/8 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .split = 24, .m = value_1_0_m, .content = -0x1.181cd9e59685p+1, .content_lo = -0x1.180a58e7bc376p-53},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -53,6 +71,11 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.a40f855b9a531p-36, -0x1.3b0ba404b3be5p-32,
 };
+// dr_0_0 = content * dr_0_0_m, content = -1351680 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double dr_0_1[] = {
     0x1.a42b46d861c78p+5,  // 165 * pi^-1
     0x1.3b2075224955ap+8,  // 990 * pi^-1
@@ -60,9 +83,14 @@ inline constexpr double dr_0_1[] = {
 inline constexpr double dr_0_1_lo[] = {
     0x1.a40f855b9a531p-49, 0x1.3b0ba404b3be5p-46,
 };
+// dr_0_1 = content * dr_0_1_m, content = 165 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 26, .m = dr_0_0_m, .content = -0x1.a42b46d861c78p+18, .content_lo = -0x1.a40f855b9a531p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .split = 26, .m = dr_0_1_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
 };
 inline constexpr double dr_1_0[] = {
     0x1.a42b46d861c78p+5,  // 165 * pi^-1
@@ -71,8 +99,13 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.a40f855b9a531p-49, 0x1.3b0ba404b3be5p-46,
 };
+// dr_1_0 = content * dr_1_0_m, content = 165 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .split = 26, .m = dr_1_0_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -158,6 +191,11 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.a40f855b9a531p-36, -0x1.3b0ba404b3be5p-32,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -1351680 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.a42b46d861c78p+5,  // 165 * pi^-1
     0x1.3b2075224955ap+8,  // 990 * pi^-1
@@ -165,9 +203,14 @@ inline constexpr double grad_over_r_0_1[] = {
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.a40f855b9a531p-49, 0x1.3b0ba404b3be5p-46,
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 165 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.a42b46d861c78p+18, .content_lo = -0x1.a40f855b9a531p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.a42b46d861c78p+5,  // 165 * pi^-1
@@ -176,8 +219,13 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.a40f855b9a531p-49, 0x1.3b0ba404b3be5p-46,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 165 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -317,9 +365,16 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     0x1.e40290701eb1ep-60, -0x1.425e51366bdb4p-57, -0x1.ebae32712a6afp-56, -0x1.a2fccb73d9a1bp-57,
 };
+// potential_4_1 = content * potential_4_1_m, content = -1/48 * pi^-1 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = potential_4_1, .n = 4, .c_lo = potential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = potential_4_1, .n = 4, .c_lo = potential_4_1_lo, .split = 15, .m = potential_4_1_m, .content = -0x1.b2995e7b7b604p-8, .content_lo = 0x1.e40290701eb1ep-62},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -15,22 +15,40 @@ inline constexpr double value_0_0[] = {
     0x1.18p+13,  // 8960
     0x1.4p+15,  // 40960
 };
+// value_0_0 = content * value_0_0_m, content = 640 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+    0x1p+6,  // 64
+};
 inline constexpr double value_0_1[] = {
     -0x1.4p-1,  // -5/8
     -0x1.18p+2,  // -35/8
     -0x1.4p+3,  // -10
 };
+// value_0_1 = content * value_0_1_m, content = -5/8 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .split = 24, .m = value_0_0_m, .content = 0x1.4p+9, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .split = 24, .m = value_0_1_m, .content = -0x1.4p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double value_1_0[] = {
     -0x1.4p-1,  // -5/8
     -0x1.18p+2,  // -35/8
     -0x1.4p+3,  // -10
 };
+// value_1_0 = content * value_1_0_m, content = -5/8 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .split = 24, .m = value_1_0_m, .content = -0x1.4p-1, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -41,20 +59,35 @@ inline constexpr double dr_0_0[] = {
     -0x1.ep+14,  // -30720
     -0x1.68p+18,  // -368640
 };
+// dr_0_0 = content * dr_0_0_m, content = -30720 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double dr_0_1[] = {
     0x1.ep+3,  // 15
     0x1.68p+6,  // 90
 };
+// dr_0_1 = content * dr_0_1_m, content = 15 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .split = 26, .m = dr_0_0_m, .content = -0x1.ep+14, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .split = 26, .m = dr_0_1_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.ep+3,  // 15
     0x1.68p+6,  // 90
 };
+// dr_1_0 = content * dr_1_0_m, content = 15 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .split = 26, .m = dr_1_0_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -119,20 +152,35 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.ep+14,  // -30720
     -0x1.68p+18,  // -368640
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -30720 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.ep+3,  // 15
     0x1.68p+6,  // 90
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 15 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.ep+14, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.ep+3,  // 15
     0x1.68p+6,  // 90
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 15 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -237,9 +285,15 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     -0x1.1745d1745d174p-60, 0x1.364d9364d9365p-58, 0x1.745d1745d1746p-59,
 };
+// potential_3_1 = content * potential_3_1_m, content = -1/528 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1.ep+3,  // 15
+    0x1.78p+5,  // 47
+    0x1.8p+5,  // 48
+};
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .split = 23, .m = potential_3_1_m, .content = -0x1.f07c1f07c1f08p-10, .content_lo = 0x1.f07c1f07c1f08p-65},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -327,9 +381,15 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.5555555555555p-57, -0x1.5555555555555p-55, 0x0p+0,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 1/24 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 23, .m = dpotential_3_1_m, .content = 0x1.5555555555555p-5, .content_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -435,9 +495,15 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.5555555555555p-57, -0x1.5555555555555p-55, 0x0p+0,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 1/24 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .split = 23, .m = dpotential_over_r_4_1_m, .content = 0x1.5555555555555p-5, .content_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2

@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.f5b550c2e61f9p-42, -0x1.f5b550c2e61f9p-38, 0x1.ad82060031f6ap-36,
 };
+// value_0_0 = content * value_0_0_m, content = 90112/5 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+4,  // 16
+    0x1.5p+6,  // 84
+};
 inline constexpr double value_0_1[] = {
     -0x1.668b54591295dp+0,  // -22/5 * pi^-1
     -0x1.668b54591295dp+3,  // -176/5 * pi^-1
@@ -26,9 +32,15 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     0x1.f5b550c2e61f9p-54, 0x1.f5b550c2e61f9p-51, -0x1.ad82060031f6ap-50,
 };
+// value_0_1 = content * value_0_1_m, content = -22/5 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .split = 24, .m = value_0_0_m, .content = 0x1.668b54591295dp+12, .content_lo = -0x1.f5b550c2e61f9p-42},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .split = 24, .m = value_0_1_m, .content = -0x1.668b54591295dp+0, .content_lo = 0x1.f5b550c2e61f9p-54},
 };
 inline constexpr double value_1_0[] = {
     -0x1.668b54591295dp+0,  // -22/5 * pi^-1
@@ -38,8 +50,14 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     0x1.f5b550c2e61f9p-54, 0x1.f5b550c2e61f9p-51, -0x1.ad82060031f6ap-50,
 };
+// value_1_0 = content * value_1_0_m, content = -22/5 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .split = 24, .m = value_1_0_m, .content = -0x1.668b54591295dp+0, .content_lo = 0x1.f5b550c2e61f9p-54},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -53,6 +71,11 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     0x1.1659fbb6b7bd9p-36, 0x1.ce3af0ff83178p-34,
 };
+// dr_0_0 = content * dr_0_0_m, content = -1081344 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+};
 inline constexpr double dr_0_1[] = {
     0x1.50229f13816c7p+5,  // 132 * pi^-1
     0x1.261e4b31113eep+8,  // 924 * pi^-1
@@ -60,9 +83,14 @@ inline constexpr double dr_0_1[] = {
 inline constexpr double dr_0_1_lo[] = {
     -0x1.1659fbb6b7bd9p-49, -0x1.ce3af0ff83178p-48,
 };
+// dr_0_1 = content * dr_0_1_m, content = 132 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 26, .m = dr_0_0_m, .content = -0x1.50229f13816c7p+18, .content_lo = 0x1.1659fbb6b7bd9p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .split = 26, .m = dr_0_1_m, .content = 0x1.50229f13816c7p+5, .content_lo = -0x1.1659fbb6b7bd9p-49},
 };
 inline constexpr double dr_1_0[] = {
     0x1.50229f13816c7p+5,  // 132 * pi^-1
@@ -71,8 +99,13 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     -0x1.1659fbb6b7bd9p-49, -0x1.ce3af0ff83178p-48,
 };
+// dr_1_0 = content * dr_1_0_m, content = 132 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .split = 26, .m = dr_1_0_m, .content = 0x1.50229f13816c7p+5, .content_lo = -0x1.1659fbb6b7bd9p-49},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -158,6 +191,11 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.1659fbb6b7bd9p-36, 0x1.ce3af0ff83178p-34,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -1081344 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.50229f13816c7p+5,  // 132 * pi^-1
     0x1.261e4b31113eep+8,  // 924 * pi^-1
@@ -165,9 +203,14 @@ inline constexpr double grad_over_r_0_1[] = {
 inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.1659fbb6b7bd9p-49, -0x1.ce3af0ff83178p-48,
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 132 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.50229f13816c7p+18, .content_lo = 0x1.1659fbb6b7bd9p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.50229f13816c7p+5, .content_lo = -0x1.1659fbb6b7bd9p-49},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.50229f13816c7p+5,  // 132 * pi^-1
@@ -176,8 +219,13 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.1659fbb6b7bd9p-49, -0x1.ce3af0ff83178p-48,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 132 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.50229f13816c7p+5, .content_lo = -0x1.1659fbb6b7bd9p-49},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.6c61302f8dc04p-43, -0x1.6c61302f8dc04p-39, -0x1.bbc7f1e7cd419p-34,
 };
+// value_0_0 = content * value_0_0_m, content = 73216 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+4,  // 16
+    0x1.5p+6,  // 84
+};
 inline constexpr double value_0_1[] = {
     -0x1.6c2581aa76e02p+1,  // -143/16 * pi^-1
     -0x1.6c2581aa76e02p+4,  // -143/2 * pi^-1
@@ -26,9 +32,15 @@ inline constexpr double value_0_1[] = {
 inline constexpr double value_0_1_lo[] = {
     0x1.6c61302f8dc04p-56, 0x1.6c61302f8dc04p-53, 0x1.bbc7f1e7cd419p-49,
 };
+// value_0_1 = content * value_0_1_m, content = -143/16 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .split = 24, .m = value_0_0_m, .content = 0x1.6c2581aa76e02p+14, .content_lo = -0x1.6c61302f8dc04p-43},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .split = 24, .m = value_0_1_m, .content = -0x1.6c2581aa76e02p+1, .content_lo = 0x1.6c61302f8dc04p-56},
 };
 inline constexpr double value_1_0[] = {
     -0x1.6c2581aa76e02p+1,  // -143/16 * pi^-1
@@ -38,8 +50,14 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     0x1.6c61302f8dc04p-56, 0x1.6c61302f8dc04p-53, 0x1.bbc7f1e7cd419p-49,
 };
+// value_1_0 = content * value_1_0_m, content = -143/16 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .split = 24, .m = value_1_0_m, .content = -0x1.6c2581aa76e02p+1, .content_lo = 0x1.6c61302f8dc04p-56},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -53,6 +71,11 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     0x1.5566c74b25391p-35, 0x1.955cf730e048fp-30,
 };
+// dr_0_0 = content * dr_0_0_m, content = -4392960 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+};
 inline constexpr double dr_0_1[] = {
     0x1.5563298fcf722p+6,  // 2145/8 * pi^-1
     0x1.2ab6c45dd583ep+9,  // 15015/8 * pi^-1
@@ -60,9 +83,14 @@ inline constexpr double dr_0_1[] = {
 inline constexpr double dr_0_1_lo[] = {
     -0x1.5566c74b25391p-49, -0x1.955cf730e048fp-45,
 };
+// dr_0_1 = content * dr_0_1_m, content = 2145/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 26, .m = dr_0_0_m, .content = -0x1.5563298fcf722p+20, .content_lo = 0x1.5566c74b25391p-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .split = 26, .m = dr_0_1_m, .content = 0x1.5563298fcf722p+6, .content_lo = -0x1.5566c74b25391p-49},
 };
 inline constexpr double dr_1_0[] = {
     0x1.5563298fcf722p+6,  // 2145/8 * pi^-1
@@ -71,8 +99,13 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     -0x1.5566c74b25391p-49, -0x1.955cf730e048fp-45,
 };
+// dr_1_0 = content * dr_1_0_m, content = 2145/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .split = 26, .m = dr_1_0_m, .content = 0x1.5563298fcf722p+6, .content_lo = -0x1.5566c74b25391p-49},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -158,6 +191,11 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.5566c74b25391p-35, 0x1.955cf730e048fp-30,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -4392960 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.5563298fcf722p+6,  // 2145/8 * pi^-1
     0x1.2ab6c45dd583ep+9,  // 15015/8 * pi^-1
@@ -165,9 +203,14 @@ inline constexpr double grad_over_r_0_1[] = {
 inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.5566c74b25391p-49, -0x1.955cf730e048fp-45,
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 2145/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.5563298fcf722p+20, .content_lo = 0x1.5566c74b25391p-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.5563298fcf722p+6, .content_lo = -0x1.5566c74b25391p-49},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.5563298fcf722p+6,  // 2145/8 * pi^-1
@@ -176,8 +219,13 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.5566c74b25391p-49, -0x1.955cf730e048fp-45,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 2145/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.5563298fcf722p+6, .content_lo = -0x1.5566c74b25391p-49},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

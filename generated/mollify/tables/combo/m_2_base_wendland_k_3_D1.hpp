@@ -54,22 +54,40 @@ inline constexpr double dr_0_0[] = {
     -0x1.efp+17,  // -253440
     -0x1.e14p+19,  // -985600
 };
+// dr_0_0 = content * dr_0_0_m, content = -7040 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+5,  // 36
+    0x1.18p+7,  // 140
+};
 inline constexpr double dr_0_1[] = {
     0x1.4ap+3,  // 165/16
     0x1.efp+5,  // 495/8
     0x1.e14p+6,  // 1925/16
 };
+// dr_0_1 = content * dr_0_1_m, content = 55/16 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 3},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 3, .split = 23, .m = dr_0_0_m, .content = -0x1.b8p+12, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 3, .split = 23, .m = dr_0_1_m, .content = 0x1.b8p+1, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.4ap+3,  // 165/16
     0x1.efp+5,  // 495/8
     0x1.e14p+6,  // 1925/16
 };
+// dr_1_0 = content * dr_1_0_m, content = 55/16 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 3, .split = 23, .m = dr_1_0_m, .content = 0x1.b8p+1, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -141,22 +159,40 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.efp+17,  // -253440
     -0x1.e14p+19,  // -985600
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -7040 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+5,  // 36
+    0x1.18p+7,  // 140
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.4ap+3,  // 165/16
     0x1.efp+5,  // 495/8
     0x1.e14p+6,  // 1925/16
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 55/16 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 3},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 3, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.b8p+12, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 3, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.b8p+1, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.4ap+3,  // 165/16
     0x1.efp+5,  // 495/8
     0x1.e14p+6,  // 1925/16
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 55/16 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 3, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.b8p+1, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -167,20 +203,35 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.81p+19,  // 788480
     0x1.e14p+22,  // 7884800
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 788480 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.81p+7,  // -385/2
     -0x1.e14p+9,  // -1925/2
 };
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -385/2 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = hess_radial_0_0, .n = 2},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_0_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.81p+19, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_0_1, .n = 2, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.81p+7, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.81p+7,  // -385/2
     -0x1.e14p+9,  // -1925/2
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -385/2 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_1_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_1_0, .n = 2, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.81p+7, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

@@ -45,22 +45,40 @@ inline constexpr double dr_0_0[] = {
     -0x1.81p+19,  // -788480
     -0x1.b8p+21,  // -3604480
 };
+// dr_0_0 = content * dr_0_0_m, content = -56320 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+    0x1p+6,  // 64
+};
 inline constexpr double dr_0_1[] = {
     0x1.b8p+3,  // 55/4
     0x1.81p+6,  // 385/4
     0x1.b8p+7,  // 220
 };
+// dr_0_1 = content * dr_0_1_m, content = 55/4 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .split = 24, .m = dr_0_0_m, .content = -0x1.b8p+15, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3, .split = 24, .m = dr_0_1_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.b8p+3,  // 55/4
     0x1.81p+6,  // 385/4
     0x1.b8p+7,  // 220
 };
+// dr_1_0 = content * dr_1_0_m, content = 55/4 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3, .split = 24, .m = dr_1_0_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -132,22 +150,40 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.81p+19,  // -788480
     -0x1.b8p+21,  // -3604480
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -56320 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+    0x1p+6,  // 64
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.b8p+3,  // 55/4
     0x1.81p+6,  // 385/4
     0x1.b8p+7,  // 220
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 55/4 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.b8p+15, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3, .split = 24, .m = grad_over_r_0_1_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.b8p+3,  // 55/4
     0x1.81p+6,  // 385/4
     0x1.b8p+7,  // 220
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 55/4 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3, .split = 24, .m = grad_over_r_1_0_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -158,20 +194,35 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.4ap+21,  // 2703360
     0x1.efp+24,  // 32440320
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 2703360 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.4ap+8,  // -330
     -0x1.efp+10,  // -1980
 };
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -330 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.4ap+21, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.4ap+8, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.4ap+8,  // -330
     -0x1.efp+10,  // -1980
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -330 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.4ap+8, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -364,9 +415,16 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.5555555555555p-57, 0x0p+0, 0x0p+0, -0x1.5555555555555p-54,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 1/24 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_3_1, .n = 4, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_3_1, .n = 4, .c_lo = dpotential_3_1_lo, .split = 15, .m = dpotential_3_1_m, .content = 0x1.5555555555555p-5, .content_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -481,9 +539,16 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.5555555555555p-57, 0x0p+0, 0x0p+0, -0x1.5555555555555p-54,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 1/24 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_4_1, .n = 4, .c_lo = dpotential_over_r_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_4_1, .n = 4, .c_lo = dpotential_over_r_4_1_lo, .split = 15, .m = dpotential_over_r_4_1_m, .content = 0x1.5555555555555p-5, .content_lo = 0x1.5555555555555p-59},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2

@@ -57,6 +57,12 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.50b95cc34a0ccp-36, -0x1.50b95cc34a0ccp-32, 0x1.63065b1fd767ap-29,
 };
+// dr_0_0 = content * dr_0_0_m, content = -9371648/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+4,  // 16
+    0x1.5p+6,  // 84
+};
 inline constexpr double dr_0_1[] = {
     0x1.235134885f19bp+5,  // 572/5 * pi^-1
     0x1.235134885f19bp+8,  // 4576/5 * pi^-1
@@ -65,9 +71,15 @@ inline constexpr double dr_0_1[] = {
 inline constexpr double dr_0_1_lo[] = {
     0x1.50b95cc34a0ccp-50, 0x1.50b95cc34a0ccp-47, -0x1.63065b1fd767ap-45,
 };
+// dr_0_1 = content * dr_0_1_m, content = 572/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .split = 24, .m = dr_0_0_m, .content = -0x1.235134885f19bp+19, .content_lo = -0x1.50b95cc34a0ccp-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .split = 24, .m = dr_0_1_m, .content = 0x1.235134885f19bp+5, .content_lo = 0x1.50b95cc34a0ccp-50},
 };
 inline constexpr double dr_1_0[] = {
     0x1.235134885f19bp+5,  // 572/5 * pi^-1
@@ -77,8 +89,14 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.50b95cc34a0ccp-50, 0x1.50b95cc34a0ccp-47, -0x1.63065b1fd767ap-45,
 };
+// dr_1_0 = content * dr_1_0_m, content = 572/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .split = 24, .m = dr_1_0_m, .content = 0x1.235134885f19bp+5, .content_lo = 0x1.50b95cc34a0ccp-50},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -171,6 +189,12 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.50b95cc34a0ccp-36, -0x1.50b95cc34a0ccp-32, 0x1.63065b1fd767ap-29,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -9371648/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+4,  // 16
+    0x1.5p+6,  // 84
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.235134885f19bp+5,  // 572/5 * pi^-1
     0x1.235134885f19bp+8,  // 4576/5 * pi^-1
@@ -179,9 +203,15 @@ inline constexpr double grad_over_r_0_1[] = {
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.50b95cc34a0ccp-50, 0x1.50b95cc34a0ccp-47, -0x1.63065b1fd767ap-45,
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 572/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.235134885f19bp+19, .content_lo = -0x1.50b95cc34a0ccp-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .split = 24, .m = grad_over_r_0_1_m, .content = 0x1.235134885f19bp+5, .content_lo = 0x1.50b95cc34a0ccp-50},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.235134885f19bp+5,  // 572/5 * pi^-1
@@ -191,8 +221,14 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.50b95cc34a0ccp-50, 0x1.50b95cc34a0ccp-47, -0x1.63065b1fd767ap-45,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 572/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .split = 24, .m = grad_over_r_1_0_m, .content = 0x1.235134885f19bp+5, .content_lo = 0x1.50b95cc34a0ccp-50},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -206,6 +242,11 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.ddd6e37b8ab6p-29, -0x1.bbc7f1e7cd419p-26,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 112459776 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.111c213fd9281p+10,  // -3432 * pi^-1
     -0x1.ddf13a2fbc063p+12,  // -24024 * pi^-1
@@ -213,9 +254,14 @@ inline constexpr double hess_radial_0_1[] = {
 inline constexpr double hess_radial_0_1_lo[] = {
     -0x1.ddd6e37b8ab6p-44, 0x1.bbc7f1e7cd419p-42,
 };
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -3432 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.111c213fd9281p+25, .content_lo = 0x1.ddd6e37b8ab6p-29},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.111c213fd9281p+10, .content_lo = -0x1.ddd6e37b8ab6p-44},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.111c213fd9281p+10,  // -3432 * pi^-1
@@ -224,8 +270,13 @@ inline constexpr double hess_radial_1_0[] = {
 inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.ddd6e37b8ab6p-44, 0x1.bbc7f1e7cd419p-42,
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -3432 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.111c213fd9281p+10, .content_lo = -0x1.ddd6e37b8ab6p-44},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

@@ -57,6 +57,12 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     0x1.955cf730e048fp-33, 0x1.955cf730e048fp-29, 0x1.281408e04cbf8p-28,
 };
+// dr_0_0 = content * dr_0_0_m, content = -7687680 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+4,  // 16
+    0x1.5p+6,  // 84
+};
 inline constexpr double dr_0_1[] = {
     0x1.2ab6c45dd583ep+6,  // 15015/64 * pi^-1
     0x1.2ab6c45dd583ep+9,  // 15015/8 * pi^-1
@@ -65,9 +71,15 @@ inline constexpr double dr_0_1[] = {
 inline constexpr double dr_0_1_lo[] = {
     -0x1.955cf730e048fp-48, -0x1.955cf730e048fp-45, -0x1.281408e04cbf8p-45,
 };
+// dr_0_1 = content * dr_0_1_m, content = 15015/64 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .split = 24, .m = dr_0_0_m, .content = -0x1.2ab6c45dd583ep+21, .content_lo = 0x1.955cf730e048fp-33},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .split = 24, .m = dr_0_1_m, .content = 0x1.2ab6c45dd583ep+6, .content_lo = -0x1.955cf730e048fp-48},
 };
 inline constexpr double dr_1_0[] = {
     0x1.2ab6c45dd583ep+6,  // 15015/64 * pi^-1
@@ -77,8 +89,14 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     -0x1.955cf730e048fp-48, -0x1.955cf730e048fp-45, -0x1.281408e04cbf8p-45,
 };
+// dr_1_0 = content * dr_1_0_m, content = 15015/64 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .split = 24, .m = dr_1_0_m, .content = 0x1.2ab6c45dd583ep+6, .content_lo = -0x1.955cf730e048fp-48},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -171,6 +189,12 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.955cf730e048fp-33, 0x1.955cf730e048fp-29, 0x1.281408e04cbf8p-28,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -7687680 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+4,  // 16
+    0x1.5p+6,  // 84
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.2ab6c45dd583ep+6,  // 15015/64 * pi^-1
     0x1.2ab6c45dd583ep+9,  // 15015/8 * pi^-1
@@ -179,9 +203,15 @@ inline constexpr double grad_over_r_0_1[] = {
 inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.955cf730e048fp-48, -0x1.955cf730e048fp-45, -0x1.281408e04cbf8p-45,
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 15015/64 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.2ab6c45dd583ep+21, .content_lo = 0x1.955cf730e048fp-33},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .split = 24, .m = grad_over_r_0_1_m, .content = 0x1.2ab6c45dd583ep+6, .content_lo = -0x1.955cf730e048fp-48},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.2ab6c45dd583ep+6,  // 15015/64 * pi^-1
@@ -191,8 +221,14 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.955cf730e048fp-48, -0x1.955cf730e048fp-45, -0x1.281408e04cbf8p-45,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 15015/64 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .split = 24, .m = grad_over_r_1_0_m, .content = 0x1.2ab6c45dd583ep+6, .content_lo = -0x1.955cf730e048fp-48},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -206,6 +242,11 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.f80e4f7ba488dp-28, 0x1.1bcde9cf40213p-26,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 461260800 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.180b5817f82bap+11,  // -225225/32 * pi^-1
     -0x1.ea13da29f24c5p+13,  // -1576575/32 * pi^-1
@@ -213,9 +254,14 @@ inline constexpr double hess_radial_0_1[] = {
 inline constexpr double hess_radial_0_1_lo[] = {
     0x1.f80e4f7ba488dp-44, -0x1.1bcde9cf40213p-43,
 };
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -225225/32 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.180b5817f82bap+27, .content_lo = -0x1.f80e4f7ba488dp-28},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.180b5817f82bap+11, .content_lo = 0x1.f80e4f7ba488dp-44},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.180b5817f82bap+11,  // -225225/32 * pi^-1
@@ -224,8 +270,13 @@ inline constexpr double hess_radial_1_0[] = {
 inline constexpr double hess_radial_1_0_lo[] = {
     0x1.f80e4f7ba488dp-44, -0x1.1bcde9cf40213p-43,
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -225225/32 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.180b5817f82bap+11, .content_lo = 0x1.f80e4f7ba488dp-44},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

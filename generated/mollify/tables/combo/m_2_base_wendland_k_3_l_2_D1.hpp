@@ -54,22 +54,40 @@ inline constexpr double dr_0_0[] = {
     -0x1.1ep+21,  // -2342912
     -0x1.776p+23,  // -12300288
 };
+// dr_0_0 = content * dr_0_0_m, content = -146432 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+4,  // 16
+    0x1.5p+6,  // 84
+};
 inline constexpr double dr_0_1[] = {
     0x1.1ep+4,  // 143/8
     0x1.1ep+7,  // 143
     0x1.776p+8,  // 3003/8
 };
+// dr_0_1 = content * dr_0_1_m, content = 143/8 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .split = 24, .m = dr_0_0_m, .content = -0x1.1ep+17, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .split = 24, .m = dr_0_1_m, .content = 0x1.1ep+4, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.1ep+4,  // 143/8
     0x1.1ep+7,  // 143
     0x1.776p+8,  // 3003/8
 };
+// dr_1_0 = content * dr_1_0_m, content = 143/8 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .split = 24, .m = dr_1_0_m, .content = 0x1.1ep+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -141,22 +159,40 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.1ep+21,  // -2342912
     -0x1.776p+23,  // -12300288
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -146432 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+4,  // 16
+    0x1.5p+6,  // 84
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.1ep+4,  // 143/8
     0x1.1ep+7,  // 143
     0x1.776p+8,  // 3003/8
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 143/8 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.1ep+17, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .split = 24, .m = grad_over_r_0_1_m, .content = 0x1.1ep+4, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.1ep+4,  // 143/8
     0x1.1ep+7,  // 143
     0x1.776p+8,  // 3003/8
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 143/8 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .split = 24, .m = grad_over_r_1_0_m, .content = 0x1.1ep+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -167,20 +203,35 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.0c2p+23,  // 8785920
     0x1.d538p+26,  // 123002880
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 8785920 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+3,  // 14
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.0c2p+9,  // -2145/4
     -0x1.d538p+11,  // -15015/4
 };
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -2145/4 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.0c2p+23, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.0c2p+9, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.0c2p+9,  // -2145/4
     -0x1.d538p+11,  // -15015/4
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -2145/4 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.0c2p+9, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -277,9 +328,16 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     0x1.5555555555555p-60, 0x1.5555555555555p-58, 0x1.5555555555555p-57, 0x0p+0,
 };
+// potential_3_1 = content * potential_3_1_m, content = -1/192 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1.4p+2,  // 5
+    0x1.7p+4,  // 23
+    0x1.58p+5,  // 43
+    0x1.08p+5,  // 33
+};
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_3_1, .n = 4, .c_lo = potential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_3_1, .n = 4, .c_lo = potential_3_1_lo, .split = 15, .m = potential_3_1_m, .content = -0x1.5555555555555p-8, .content_lo = -0x1.5555555555555p-62},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2

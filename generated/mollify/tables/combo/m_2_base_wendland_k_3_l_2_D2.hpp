@@ -57,6 +57,12 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.cb2b4ff307e2ep-35, -0x1.0490b9f168df3p-31, 0x1.40adf40567618p-27,
 };
+// dr_0_0 = content * dr_0_0_m, content = -1703936 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+5,  // 54
+    0x1.4p+8,  // 320
+};
 inline constexpr double dr_0_1[] = {
     0x1.8d40305cdec5fp+5,  // 156 * pi^-1
     0x1.bee836687a9ebp+8,  // 1404 * pi^-1
@@ -65,9 +71,15 @@ inline constexpr double dr_0_1[] = {
 inline constexpr double dr_0_1_lo[] = {
     0x1.cb2b4ff307e2ep-50, 0x1.0490b9f168df3p-47, -0x1.40adf40567618p-44,
 };
+// dr_0_1 = content * dr_0_1_m, content = 52 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .split = 23, .m = dr_0_0_m, .content = -0x1.08d575933f2eap+19, .content_lo = -0x1.321cdff75a974p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .split = 23, .m = dr_0_1_m, .content = 0x1.08d575933f2eap+4, .content_lo = 0x1.321cdff75a974p-51},
 };
 inline constexpr double dr_1_0[] = {
     0x1.8d40305cdec5fp+5,  // 156 * pi^-1
@@ -77,8 +89,14 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.cb2b4ff307e2ep-50, 0x1.0490b9f168df3p-47, -0x1.40adf40567618p-44,
 };
+// dr_1_0 = content * dr_1_0_m, content = 52 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .split = 23, .m = dr_1_0_m, .content = 0x1.08d575933f2eap+4, .content_lo = 0x1.321cdff75a974p-51},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -171,6 +189,12 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.cb2b4ff307e2ep-35, -0x1.0490b9f168df3p-31, 0x1.40adf40567618p-27,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -1703936 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+5,  // 54
+    0x1.4p+8,  // 320
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.8d40305cdec5fp+5,  // 156 * pi^-1
     0x1.bee836687a9ebp+8,  // 1404 * pi^-1
@@ -179,9 +203,15 @@ inline constexpr double grad_over_r_0_1[] = {
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.cb2b4ff307e2ep-50, 0x1.0490b9f168df3p-47, -0x1.40adf40567618p-44,
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 52 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.08d575933f2eap+19, .content_lo = -0x1.321cdff75a974p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.08d575933f2eap+4, .content_lo = 0x1.321cdff75a974p-51},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.8d40305cdec5fp+5,  // 156 * pi^-1
@@ -191,8 +221,14 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.cb2b4ff307e2ep-50, 0x1.0490b9f168df3p-47, -0x1.40adf40567618p-44,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 52 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.08d575933f2eap+4, .content_lo = 0x1.321cdff75a974p-51},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -206,6 +242,11 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.c710d07891d9fp-28, 0x1.c710d07891d9fp-24,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 374865920 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+4,  // 16
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.c72ee21514982p+10,  // -5720 * pi^-1
     -0x1.c72ee21514982p+13,  // -45760 * pi^-1
@@ -213,9 +254,14 @@ inline constexpr double hess_radial_0_1[] = {
 inline constexpr double hess_radial_0_1_lo[] = {
     -0x1.c710d07891d9fp-44, -0x1.c710d07891d9fp-41,
 };
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -5720 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.c72ee21514982p+26, .content_lo = 0x1.c710d07891d9fp-28},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.c72ee21514982p+10, .content_lo = -0x1.c710d07891d9fp-44},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.c72ee21514982p+10,  // -5720 * pi^-1
@@ -224,8 +270,13 @@ inline constexpr double hess_radial_1_0[] = {
 inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.c710d07891d9fp-44, -0x1.c710d07891d9fp-41,
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -5720 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.c72ee21514982p+10, .content_lo = -0x1.c710d07891d9fp-44},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

@@ -57,6 +57,12 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.36375f71d0a02p-33, -0x1.5cfe4b600ab42p-29, -0x1.02837a342ddacp-26,
 };
+// dr_0_0 = content * dr_0_0_m, content = -7454720 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+5,  // 54
+    0x1.4p+8,  // 320
+};
 inline constexpr double dr_0_1[] = {
     0x1.b27e34e593a88p+6,  // 1365/4 * pi^-1
     0x1.e8cdfb82461d9p+9,  // 12285/4 * pi^-1
@@ -65,9 +71,15 @@ inline constexpr double dr_0_1[] = {
 inline constexpr double dr_0_1_lo[] = {
     0x1.36375f71d0a02p-49, 0x1.5cfe4b600ab42p-46, 0x1.02837a342ddacp-44,
 };
+// dr_0_1 = content * dr_0_1_m, content = 455/4 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .split = 23, .m = dr_0_0_m, .content = -0x1.21a978990d1bp+21, .content_lo = -0x1.9d9f29ed162adp-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .split = 23, .m = dr_0_1_m, .content = 0x1.21a978990d1bp+5, .content_lo = 0x1.9d9f29ed162adp-51},
 };
 inline constexpr double dr_1_0[] = {
     0x1.b27e34e593a88p+6,  // 1365/4 * pi^-1
@@ -77,8 +89,14 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.36375f71d0a02p-49, 0x1.5cfe4b600ab42p-46, 0x1.02837a342ddacp-44,
 };
+// dr_1_0 = content * dr_1_0_m, content = 455/4 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .split = 23, .m = dr_1_0_m, .content = 0x1.21a978990d1bp+5, .content_lo = 0x1.9d9f29ed162adp-51},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -171,6 +189,12 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.36375f71d0a02p-33, -0x1.5cfe4b600ab42p-29, -0x1.02837a342ddacp-26,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -7454720 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+5,  // 54
+    0x1.4p+8,  // 320
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.b27e34e593a88p+6,  // 1365/4 * pi^-1
     0x1.e8cdfb82461d9p+9,  // 12285/4 * pi^-1
@@ -179,9 +203,15 @@ inline constexpr double grad_over_r_0_1[] = {
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.36375f71d0a02p-49, 0x1.5cfe4b600ab42p-46, 0x1.02837a342ddacp-44,
 };
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 455/4 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.21a978990d1bp+21, .content_lo = -0x1.9d9f29ed162adp-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.21a978990d1bp+5, .content_lo = 0x1.9d9f29ed162adp-51},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.b27e34e593a88p+6,  // 1365/4 * pi^-1
@@ -191,8 +221,14 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.36375f71d0a02p-49, 0x1.5cfe4b600ab42p-46, 0x1.02837a342ddacp-44,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 455/4 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.21a978990d1bp+5, .content_lo = 0x1.9d9f29ed162adp-51},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -206,6 +242,11 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.4e459bfc2079ap-26, -0x1.4e459bfc2079ap-22,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 1640038400 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+4,  // 16
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.f1db47470e867p+11,  // -25025/2 * pi^-1
     -0x1.f1db47470e867p+14,  // -100100 * pi^-1
@@ -213,9 +254,14 @@ inline constexpr double hess_radial_0_1[] = {
 inline constexpr double hess_radial_0_1_lo[] = {
     0x1.4e459bfc2079ap-43, 0x1.4e459bfc2079ap-40,
 };
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -25025/2 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.f1db47470e867p+28, .content_lo = -0x1.4e459bfc2079ap-26},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.f1db47470e867p+11, .content_lo = 0x1.4e459bfc2079ap-43},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.f1db47470e867p+11,  // -25025/2 * pi^-1
@@ -224,8 +270,13 @@ inline constexpr double hess_radial_1_0[] = {
 inline constexpr double hess_radial_1_0_lo[] = {
     0x1.4e459bfc2079ap-43, 0x1.4e459bfc2079ap-40,
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -25025/2 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.f1db47470e867p+11, .content_lo = 0x1.4e459bfc2079ap-43},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

@@ -14,37 +14,67 @@ inline constexpr double value_0_0[] = {
     0x1.2fcp+7,  // 1215/8
     0x1.55b8p+10,  // 10935/8
 };
+// value_0_0 = content * value_0_0_m, content = 1215/8 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double value_0_1[] = {
     -0x1.e6p+1,  // -243/64
     -0x1.116p+4,  // -2187/128
+};
+// value_0_1 = content * value_0_1_m, content = -243/128 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.2p+3,  // 9
 };
 inline constexpr double value_0_2[] = {
     0x1p-3,  // 1/8
     0x1.8p-2,  // 3/8
 };
+// value_0_2 = content * value_0_2_m, content = 1/8 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = value_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_0_2, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.2fcp+7, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = value_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.e6p+0, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_0_2, .n = 2, .split = 26, .m = value_0_2_m, .content = 0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double value_1_0[] = {
     -0x1.e6p+1,  // -243/64
     -0x1.116p+4,  // -2187/128
 };
+// value_1_0 = content * value_1_0_m, content = -243/128 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.2p+3,  // 9
+};
 inline constexpr double value_1_1[] = {
     0x1p-3,  // 1/8
     0x1.8p-2,  // 3/8
 };
+// value_1_1 = content * value_1_1_m, content = 1/8 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = value_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_1_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = value_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.e6p+0, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_1_1, .n = 2, .split = 26, .m = value_1_1_m, .content = 0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double value_2_0[] = {
     0x1p-3,  // 1/8
     0x1.8p-2,  // 3/8
 };
+// value_2_0 = content * value_2_0_m, content = 1/8 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_2_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_2_0, .n = 2, .split = 26, .m = value_2_0_m, .content = 0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -289,6 +319,11 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     0x1.999999999999ap-57, 0x1.999999999999ap-55,
 };
+// potential_2_1 = content * potential_2_1_m, content = -243/1280 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr double potential_2_2[] = {
     0x1.999999999999ap-7,  // 1/80
     0x0p+0,  // 0
@@ -304,7 +339,7 @@ inline constexpr double potential_2_2_lo[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_2_1_m, .content = -0x1.84ccccccccccdp-3, .content_lo = 0x1.999999999999ap-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 7, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
@@ -317,6 +352,11 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     0x1.999999999999ap-57, 0x1.999999999999ap-55,
 };
+// potential_3_1 = content * potential_3_1_m, content = -243/1280 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr double potential_3_2[] = {
     0x1.999999999999ap-7,  // 1/80
     0x1.999999999999ap-7,  // 1/80
@@ -324,10 +364,15 @@ inline constexpr double potential_3_2[] = {
 inline constexpr double potential_3_2_lo[] = {
     -0x1.999999999999ap-61, -0x1.999999999999ap-61,
 };
+// potential_3_2 = content * potential_3_2_m, content = 1/80 (table::Term::split)
+inline constexpr double potential_3_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+0,  // 1
+};
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_3_2, .n = 2, .c_lo = potential_3_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_3_1_m, .content = -0x1.84ccccccccccdp-3, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_3_2, .n = 2, .c_lo = potential_3_2_lo, .split = 26, .m = potential_3_2_m, .content = 0x1.999999999999ap-7, .content_lo = -0x1.999999999999ap-61},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -339,9 +384,14 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     -0x1.999999999999ap-61, -0x1.999999999999ap-61,
 };
+// potential_4_1 = content * potential_4_1_m, content = 1/80 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+0,  // 1
+};
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo, .split = 26, .m = potential_4_1_m, .content = 0x1.999999999999ap-7, .content_lo = -0x1.999999999999ap-61},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -414,6 +464,11 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     -0x1.999999999999ap-55, 0x1.999999999999ap-53,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 243/640 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+3,  // 9
+};
 inline constexpr double dpotential_3_2[] = {
     0x1p-3,  // 1/8
     0x0p+0,  // 0
@@ -427,7 +482,7 @@ inline constexpr double dpotential_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_3_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 5, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
@@ -440,6 +495,11 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     -0x1.999999999999ap-55, 0x1.999999999999ap-53,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 243/640 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+3,  // 9
+};
 inline constexpr double dpotential_4_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1.3333333333333p-4,  // -3/40
@@ -447,10 +507,15 @@ inline constexpr double dpotential_4_2[] = {
 inline constexpr double dpotential_4_2_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-59,
 };
+// dpotential_4_2 = content * dpotential_4_2_m, content = -1/40 (table::Term::split)
+inline constexpr double dpotential_4_2_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_4_2, .n = 2, .c_lo = dpotential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_4_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_4_2, .n = 2, .c_lo = dpotential_4_2_lo, .split = 26, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -462,9 +527,14 @@ inline constexpr double dpotential_5_1[] = {
 inline constexpr double dpotential_5_1_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-59,
 };
+// dpotential_5_1 = content * dpotential_5_1_m, content = -1/40 (table::Term::split)
+inline constexpr double dpotential_5_1_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo, .split = 26, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -522,6 +592,11 @@ inline constexpr double dpotential_over_r_2_1[] = {
 inline constexpr double dpotential_over_r_2_1_lo[] = {
     -0x1.999999999999ap-55, 0x1.999999999999ap-53,
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = 243/640 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+3,  // 9
+};
 inline constexpr double dpotential_over_r_2_2[] = {
     0x1p-3,  // 1/8
     0x0p+0,  // 0
@@ -535,7 +610,7 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_2_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 5, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
@@ -548,6 +623,11 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     -0x1.999999999999ap-55, 0x1.999999999999ap-53,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 243/640 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+3,  // 9
+};
 inline constexpr double dpotential_over_r_3_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1.3333333333333p-4,  // -3/40
@@ -555,10 +635,15 @@ inline constexpr double dpotential_over_r_3_2[] = {
 inline constexpr double dpotential_over_r_3_2_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-59,
 };
+// dpotential_over_r_3_2 = content * dpotential_over_r_3_2_m, content = -1/40 (table::Term::split)
+inline constexpr double dpotential_over_r_3_2_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_3_2, .n = 2, .c_lo = dpotential_over_r_3_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_3_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_3_2, .n = 2, .c_lo = dpotential_over_r_3_2_lo, .split = 26, .m = dpotential_over_r_3_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -570,9 +655,14 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-59,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = -1/40 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .split = 26, .m = dpotential_over_r_4_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2
@@ -635,6 +725,12 @@ inline constexpr double potential_hess_radial_3_1[] = {
 inline constexpr double potential_hess_radial_3_1_lo[] = {
     -0x1.999999999999ap-55, 0x1.999999999999ap-52, -0x1.999999999999ap-51,
 };
+// potential_hess_radial_3_1 = content * potential_hess_radial_3_1_m, content = -81/160 (table::Term::split)
+inline constexpr double potential_hess_radial_3_1_m[] = {
+    0x1p+1,  // 2
+    0x1.2p+3,  // 9
+    0x1.bp+4,  // 27
+};
 inline constexpr double potential_hess_radial_3_2[] = {
     -0x1p-1,  // -1/2
     0x1.8p-1,  // 3/4
@@ -645,7 +741,7 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .c_lo = potential_hess_radial_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .c_lo = potential_hess_radial_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_hess_radial_3_1_m, .content = -0x1.0333333333333p-1, .content_lo = -0x1.999999999999ap-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 3, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
@@ -659,6 +755,12 @@ inline constexpr double potential_hess_radial_4_1[] = {
 inline constexpr double potential_hess_radial_4_1_lo[] = {
     -0x1.999999999999ap-55, 0x1.999999999999ap-52, -0x1.999999999999ap-51,
 };
+// potential_hess_radial_4_1 = content * potential_hess_radial_4_1_m, content = -81/160 (table::Term::split)
+inline constexpr double potential_hess_radial_4_1_m[] = {
+    0x1p+1,  // 2
+    0x1.2p+3,  // 9
+    0x1.bp+4,  // 27
+};
 inline constexpr double potential_hess_radial_4_2[] = {
     0x1.999999999999ap-5,  // 1/20
     0x1.3333333333333p-3,  // 3/20
@@ -667,10 +769,16 @@ inline constexpr double potential_hess_radial_4_2[] = {
 inline constexpr double potential_hess_radial_4_2_lo[] = {
     -0x1.999999999999ap-59, 0x1.999999999999ap-58, 0x1.999999999999ap-57,
 };
+// potential_hess_radial_4_2 = content * potential_hess_radial_4_2_m, content = 1/20 (table::Term::split)
+inline constexpr double potential_hess_radial_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term potential_hess_radial_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = -3, .c = potential_hess_radial_4_1, .n = 3, .c_lo = potential_hess_radial_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = potential_hess_radial_4_2, .n = 3, .c_lo = potential_hess_radial_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = -3, .c = potential_hess_radial_4_1, .n = 3, .c_lo = potential_hess_radial_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_hess_radial_4_1_m, .content = -0x1.0333333333333p-1, .content_lo = -0x1.999999999999ap-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = potential_hess_radial_4_2, .n = 3, .c_lo = potential_hess_radial_4_2_lo, .split = 24, .m = potential_hess_radial_4_2_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2
@@ -683,9 +791,15 @@ inline constexpr double potential_hess_radial_5_1[] = {
 inline constexpr double potential_hess_radial_5_1_lo[] = {
     -0x1.999999999999ap-59, 0x1.999999999999ap-58, 0x1.999999999999ap-57,
 };
+// potential_hess_radial_5_1 = content * potential_hess_radial_5_1_m, content = 1/20 (table::Term::split)
+inline constexpr double potential_hess_radial_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term potential_hess_radial_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = potential_hess_radial_5_1, .n = 3, .c_lo = potential_hess_radial_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = potential_hess_radial_5_1, .n = 3, .c_lo = potential_hess_radial_5_1_lo, .split = 24, .m = potential_hess_radial_5_1_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1p-1,  // -1/2

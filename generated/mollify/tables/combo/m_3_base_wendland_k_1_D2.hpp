@@ -17,12 +17,22 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.34c088068292bp-43, 0x1.86f99fb1e11f7p-43,
 };
+// value_0_0 = content * value_0_0_m, content = 15309/2 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double value_0_1[] = {
     -0x1.e74cf46ef7eb1p+3,  // -15309/320 * pi^-1
     -0x1.6d79b75339f05p+6,  // -45927/160 * pi^-1
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.e19633098921dp-53, 0x1.4b67acdc6c935p-49,
+};
+// value_0_1 = content * value_0_1_m, content = -15309/320 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
 };
 inline constexpr double value_0_2[] = {
     0x1.c8543cce74beap-3,  // 7/10 * pi^-1
@@ -31,10 +41,15 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     0x1.a8c207c2b2483p-59, 0x1.a8c207c2b2483p-57,
 };
+// value_0_2 = content * value_0_2_m, content = 7/10 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.309018c55af2fp+11, .content_lo = -0x1.34c088068292bp-43},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.c8543cce74beap-3, .content_lo = 0x1.a8c207c2b2483p-59},
 };
 inline constexpr double value_1_0[] = {
     -0x1.e74cf46ef7eb1p+3,  // -15309/320 * pi^-1
@@ -43,6 +58,11 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.e19633098921dp-53, 0x1.4b67acdc6c935p-49,
 };
+// value_1_0 = content * value_1_0_m, content = -15309/320 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr double value_1_1[] = {
     0x1.c8543cce74beap-3,  // 7/10 * pi^-1
     0x1.c8543cce74beap-1,  // 14/5 * pi^-1
@@ -50,9 +70,14 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     0x1.a8c207c2b2483p-59, 0x1.a8c207c2b2483p-57,
 };
+// value_1_1 = content * value_1_1_m, content = 7/10 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.c8543cce74beap-3, .content_lo = 0x1.a8c207c2b2483p-59},
 };
 inline constexpr double value_2_0[] = {
     0x1.c8543cce74beap-3,  // 7/10 * pi^-1
@@ -61,8 +86,13 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     0x1.a8c207c2b2483p-59, 0x1.a8c207c2b2483p-57,
 };
+// value_2_0 = content * value_2_0_m, content = 7/10 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.c8543cce74beap-3, .content_lo = 0x1.a8c207c2b2483p-59},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -874,6 +904,12 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     -0x1.8be363fe2f05cp-55, -0x1.f3252dbe4c156p-52, -0x1.7abfa0fbe9ccfp-52,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 729/640 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+    0x1.2p+5,  // 36
+};
 inline constexpr double dpotential_3_2[] = {
     0x1.c8543cce74beap-4,  // 7/20 * pi^-1
     0x0p+0,  // 0
@@ -888,7 +924,7 @@ inline constexpr double dpotential_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_3_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 6, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
@@ -905,6 +941,12 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     -0x1.8be363fe2f05cp-55, -0x1.f3252dbe4c156p-52, -0x1.7abfa0fbe9ccfp-52,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 729/640 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+    0x1.2p+5,  // 36
+};
 inline constexpr double dpotential_4_2[] = {
     -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -913,10 +955,16 @@ inline constexpr double dpotential_4_2[] = {
 inline constexpr double dpotential_4_2_lo[] = {
     0x1.566c8dd9e3448p-62, 0x1.6b01ec5417056p-58, 0x1.566c8dd9e3448p-59,
 };
+// dpotential_4_2 = content * dpotential_4_2_m, content = -1/20 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_4_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo, .split = 24, .m = dpotential_4_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -932,9 +980,15 @@ inline constexpr double dpotential_5_1[] = {
 inline constexpr double dpotential_5_1_lo[] = {
     0x1.566c8dd9e3448p-62, 0x1.6b01ec5417056p-58, 0x1.566c8dd9e3448p-59,
 };
+// dpotential_5_1 = content * dpotential_5_1_m, content = -1/20 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .split = 24, .m = dpotential_5_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1013,6 +1067,12 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     -0x1.8be363fe2f05cp-55, -0x1.f3252dbe4c156p-52, -0x1.7abfa0fbe9ccfp-52,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 729/640 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+    0x1.2p+5,  // 36
+};
 inline constexpr double dpotential_over_r_3_2[] = {
     0x1.c8543cce74beap-4,  // 7/20 * pi^-1
     0x0p+0,  // 0
@@ -1027,7 +1087,7 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_3_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_2, .n = 6, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
@@ -1044,6 +1104,12 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     -0x1.8be363fe2f05cp-55, -0x1.f3252dbe4c156p-52, -0x1.7abfa0fbe9ccfp-52,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 729/640 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+    0x1.2p+5,  // 36
+};
 inline constexpr double dpotential_over_r_4_2[] = {
     -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -1052,10 +1118,16 @@ inline constexpr double dpotential_over_r_4_2[] = {
 inline constexpr double dpotential_over_r_4_2_lo[] = {
     0x1.566c8dd9e3448p-62, 0x1.6b01ec5417056p-58, 0x1.566c8dd9e3448p-59,
 };
+// dpotential_over_r_4_2 = content * dpotential_over_r_4_2_m, content = -1/20 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_4_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo, .split = 24, .m = dpotential_over_r_4_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1071,9 +1143,15 @@ inline constexpr double dpotential_over_r_5_1[] = {
 inline constexpr double dpotential_over_r_5_1_lo[] = {
     0x1.566c8dd9e3448p-62, 0x1.6b01ec5417056p-58, 0x1.566c8dd9e3448p-59,
 };
+// dpotential_over_r_5_1 = content * dpotential_over_r_5_1_m, content = -1/20 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .split = 24, .m = dpotential_over_r_5_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1199,10 +1277,17 @@ inline constexpr double potential_hess_radial_4_2[] = {
 inline constexpr double potential_hess_radial_4_2_lo[] = {
     -0x1.566c8dd9e3448p-61, -0x1.566c8dd9e3448p-59, -0x1.6b01ec5417056p-56, -0x1.6b01ec5417056p-55,
 };
+// potential_hess_radial_4_2 = content * potential_hess_radial_4_2_m, content = 1/10 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+    0x1.4p+3,  // 10
+    0x1.4p+4,  // 20
+};
 inline constexpr table::Term potential_hess_radial_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_4_0, .n = 1, .c_lo = potential_hess_radial_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -4, .c = potential_hess_radial_4_1, .n = 4, .c_lo = potential_hess_radial_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_4_2, .n = 4, .c_lo = potential_hess_radial_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_4_2, .n = 4, .c_lo = potential_hess_radial_4_2_lo, .split = 15, .m = potential_hess_radial_4_2_m, .content = 0x1.04c26be3b06cfp-5, .content_lo = -0x1.566c8dd9e3448p-61},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1219,9 +1304,16 @@ inline constexpr double potential_hess_radial_5_1[] = {
 inline constexpr double potential_hess_radial_5_1_lo[] = {
     -0x1.566c8dd9e3448p-61, -0x1.566c8dd9e3448p-59, -0x1.6b01ec5417056p-56, -0x1.6b01ec5417056p-55,
 };
+// potential_hess_radial_5_1 = content * potential_hess_radial_5_1_m, content = 1/10 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+    0x1.4p+3,  // 10
+    0x1.4p+4,  // 20
+};
 inline constexpr table::Term potential_hess_radial_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_5_1, .n = 4, .c_lo = potential_hess_radial_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_5_1, .n = 4, .c_lo = potential_hess_radial_5_1_lo, .split = 15, .m = potential_hess_radial_5_1_m, .content = 0x1.04c26be3b06cfp-5, .content_lo = -0x1.566c8dd9e3448p-61},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -17,12 +17,22 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.db58990752e51p-41, 0x1.9b7d8d3a81d43p-37,
 };
+// value_0_0 = content * value_0_0_m, content = 137781/4 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double value_0_1[] = {
     -0x1.121b497e6b744p+5,  // -137781/1280 * pi^-1
     -0x1.9b28ee3da12e5p+7,  // -413343/640 * pi^-1
 };
 inline constexpr double value_0_1_lo[] = {
     0x1.7c46e0d2a8b74p-49, -0x1.c595aec402ed2p-47,
+};
+// value_0_1 = content * value_0_1_m, content = -137781/1280 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
 };
 inline constexpr double value_0_2[] = {
     0x1.563f2d9ad78fp-2,  // 21/20 * pi^-1
@@ -31,10 +41,15 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     -0x1.b05b9e8b7e927p-56, -0x1.b05b9e8b7e927p-54,
 };
+// value_0_2 = content * value_0_2_m, content = 21/20 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.56a21bde06515p+13, .content_lo = -0x1.db58990752e51p-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.121b497e6b744p+5, .content_lo = 0x1.7c46e0d2a8b74p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.563f2d9ad78fp-2, .content_lo = -0x1.b05b9e8b7e927p-56},
 };
 inline constexpr double value_1_0[] = {
     -0x1.121b497e6b744p+5,  // -137781/1280 * pi^-1
@@ -43,6 +58,11 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     0x1.7c46e0d2a8b74p-49, -0x1.c595aec402ed2p-47,
 };
+// value_1_0 = content * value_1_0_m, content = -137781/1280 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr double value_1_1[] = {
     0x1.563f2d9ad78fp-2,  // 21/20 * pi^-1
     0x1.563f2d9ad78fp+0,  // 21/5 * pi^-1
@@ -50,9 +70,14 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     -0x1.b05b9e8b7e927p-56, -0x1.b05b9e8b7e927p-54,
 };
+// value_1_1 = content * value_1_1_m, content = 21/20 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.121b497e6b744p+5, .content_lo = 0x1.7c46e0d2a8b74p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.563f2d9ad78fp-2, .content_lo = -0x1.b05b9e8b7e927p-56},
 };
 inline constexpr double value_2_0[] = {
     0x1.563f2d9ad78fp-2,  // 21/20 * pi^-1
@@ -61,8 +86,13 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     -0x1.b05b9e8b7e927p-56, -0x1.b05b9e8b7e927p-54,
 };
+// value_2_0 = content * value_2_0_m, content = 21/20 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.563f2d9ad78fp-2, .content_lo = -0x1.b05b9e8b7e927p-56},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -417,6 +447,12 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     -0x1.ae2aea02b9776p-56, 0x1.1c0fb8bcef59bp-54, 0x1.aa17951b67069p-54,
 };
+// potential_3_1 = content * potential_3_1_m, content = -2187/5120 * pi^-1 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+4,  // 18
+    0x1.bp+4,  // 27
+};
 inline constexpr double potential_3_2[] = {
     -0x1.8723a1d588a36p-6,  // -3/40 * pi^-1
     0x0p+0,  // 0
@@ -433,7 +469,7 @@ inline constexpr double potential_3_2_lo[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_3_1_m, .content = -0x1.16751df644865p-3, .content_lo = -0x1.ae2aea02b9776p-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_2, .n = 8, .c_lo = potential_3_2_lo},
 };
 inline constexpr double potential_4_0[] = {
@@ -450,6 +486,12 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     -0x1.ae2aea02b9776p-56, 0x1.1c0fb8bcef59bp-54, 0x1.aa17951b67069p-54,
 };
+// potential_4_1 = content * potential_4_1_m, content = -2187/5120 * pi^-1 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+4,  // 18
+    0x1.bp+4,  // 27
+};
 inline constexpr double potential_4_2[] = {
     0x1.04c26be3b06cfp-7,  // 1/40 * pi^-1
     0x1.8723a1d588a36p-6,  // 3/40 * pi^-1
@@ -458,10 +500,16 @@ inline constexpr double potential_4_2[] = {
 inline constexpr double potential_4_2_lo[] = {
     -0x1.566c8dd9e3448p-63, 0x1.7f974ace4ac65p-60, 0x1.7f974ace4ac65p-60,
 };
+// potential_4_2 = content * potential_4_2_m, content = 1/40 * pi^-1 (table::Term::split)
+inline constexpr double potential_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_4_2, .n = 3, .c_lo = potential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_4_1_m, .content = -0x1.16751df644865p-3, .content_lo = -0x1.ae2aea02b9776p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_4_2, .n = 3, .c_lo = potential_4_2_lo, .split = 25, .m = potential_4_2_m, .content = 0x1.04c26be3b06cfp-7, .content_lo = -0x1.566c8dd9e3448p-63},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -477,9 +525,15 @@ inline constexpr double potential_5_1[] = {
 inline constexpr double potential_5_1_lo[] = {
     -0x1.566c8dd9e3448p-63, 0x1.7f974ace4ac65p-60, 0x1.7f974ace4ac65p-60,
 };
+// potential_5_1 = content * potential_5_1_m, content = 1/40 * pi^-1 (table::Term::split)
+inline constexpr double potential_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .split = 25, .m = potential_5_1_m, .content = 0x1.04c26be3b06cfp-7, .content_lo = -0x1.566c8dd9e3448p-63},
 };
 inline constexpr double potential_6_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -618,10 +672,17 @@ inline constexpr double dpotential_5_2[] = {
 inline constexpr double dpotential_5_2_lo[] = {
     0x1.566c8dd9e3448p-63, 0x1.6b01ec5417056p-59, 0x1.041713f11440cp-61, 0x1.b05b9e8b7e927p-57,
 };
+// dpotential_5_2 = content * dpotential_5_2_m, content = -1/40 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_5_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_5_1, .n = 4, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_5_2, .n = 4, .c_lo = dpotential_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_5_2, .n = 4, .c_lo = dpotential_5_2_lo, .split = 15, .m = dpotential_5_2_m, .content = -0x1.04c26be3b06cfp-7, .content_lo = 0x1.566c8dd9e3448p-63},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -638,9 +699,16 @@ inline constexpr double dpotential_6_1[] = {
 inline constexpr double dpotential_6_1_lo[] = {
     0x1.566c8dd9e3448p-63, 0x1.6b01ec5417056p-59, 0x1.041713f11440cp-61, 0x1.b05b9e8b7e927p-57,
 };
+// dpotential_6_1 = content * dpotential_6_1_m, content = -1/40 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_6_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_6_1, .n = 4, .c_lo = dpotential_6_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_6_1, .n = 4, .c_lo = dpotential_6_1_lo, .split = 15, .m = dpotential_6_1_m, .content = -0x1.04c26be3b06cfp-7, .content_lo = 0x1.566c8dd9e3448p-63},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -779,10 +847,17 @@ inline constexpr double dpotential_over_r_4_2[] = {
 inline constexpr double dpotential_over_r_4_2_lo[] = {
     0x1.566c8dd9e3448p-63, 0x1.6b01ec5417056p-59, 0x1.041713f11440cp-61, 0x1.b05b9e8b7e927p-57,
 };
+// dpotential_over_r_4_2 = content * dpotential_over_r_4_2_m, content = -1/40 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -3, .c = dpotential_over_r_4_1, .n = 4, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_4_2, .n = 4, .c_lo = dpotential_over_r_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_4_2, .n = 4, .c_lo = dpotential_over_r_4_2_lo, .split = 15, .m = dpotential_over_r_4_2_m, .content = -0x1.04c26be3b06cfp-7, .content_lo = 0x1.566c8dd9e3448p-63},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -799,9 +874,16 @@ inline constexpr double dpotential_over_r_5_1[] = {
 inline constexpr double dpotential_over_r_5_1_lo[] = {
     0x1.566c8dd9e3448p-63, 0x1.6b01ec5417056p-59, 0x1.041713f11440cp-61, 0x1.b05b9e8b7e927p-57,
 };
+// dpotential_over_r_5_1 = content * dpotential_over_r_5_1_m, content = -1/40 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_5_1, .n = 4, .c_lo = dpotential_over_r_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_5_1, .n = 4, .c_lo = dpotential_over_r_5_1_lo, .split = 15, .m = dpotential_over_r_5_1_m, .content = -0x1.04c26be3b06cfp-7, .content_lo = 0x1.566c8dd9e3448p-63},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1

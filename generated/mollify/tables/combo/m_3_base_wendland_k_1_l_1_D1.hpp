@@ -14,12 +14,22 @@ inline constexpr double value_0_0[] = {
     0x1.116p+9,  // 2187/4
     0x1.9a1p+12,  // 6561
 };
+// value_0_0 = content * value_0_0_m, content = 2187/4 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double value_0_1[] = {
     -0x1.b566666666666p+2,  // -2187/320
     -0x1.480cccccccccdp+5,  // -6561/160
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.999999999999ap-52, 0x1.999999999999ap-50,
+};
+// value_0_1 = content * value_0_1_m, content = -2187/320 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
 };
 inline constexpr double value_0_2[] = {
     0x1.3333333333333p-3,  // 3/20
@@ -28,10 +38,15 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     0x1.999999999999ap-58, 0x1.999999999999ap-56,
 };
+// value_0_2 = content * value_0_2_m, content = 3/20 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.116p+9, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.b566666666666p+2, .content_lo = -0x1.999999999999ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr double value_1_0[] = {
     -0x1.b566666666666p+2,  // -2187/320
@@ -40,6 +55,11 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.999999999999ap-52, 0x1.999999999999ap-50,
 };
+// value_1_0 = content * value_1_0_m, content = -2187/320 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr double value_1_1[] = {
     0x1.3333333333333p-3,  // 3/20
     0x1.3333333333333p-1,  // 3/5
@@ -47,9 +67,14 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     0x1.999999999999ap-58, 0x1.999999999999ap-56,
 };
+// value_1_1 = content * value_1_1_m, content = 3/20 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.b566666666666p+2, .content_lo = -0x1.999999999999ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr double value_2_0[] = {
     0x1.3333333333333p-3,  // 3/20
@@ -58,8 +83,13 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     0x1.999999999999ap-58, 0x1.999999999999ap-56,
 };
+// value_2_0 = content * value_2_0_m, content = 3/20 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -306,6 +336,11 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     0x1.075075075075p-56, 0x1.075075075075p-55,
 };
+// potential_2_1 = content * potential_2_1_m, content = -2187/4480 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr double potential_2_2[] = {
     0x1.5f15f15f15f16p-7,  // 3/280
     0x0p+0,  // 0
@@ -322,7 +357,7 @@ inline constexpr double potential_2_2_lo[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_2_1_m, .content = -0x1.f3e2be2be2be3p-2, .content_lo = 0x1.075075075075p-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 8, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
@@ -335,6 +370,11 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     0x1.075075075075p-56, 0x1.075075075075p-55,
 };
+// potential_3_1 = content * potential_3_1_m, content = -2187/4480 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr double potential_3_2[] = {
     0x1.5f15f15f15f16p-7,  // 3/280
     0x1.d41d41d41d41dp-7,  // 1/70
@@ -342,10 +382,15 @@ inline constexpr double potential_3_2[] = {
 inline constexpr double potential_3_2_lo[] = {
     -0x1.d41d41d41d41dp-64, 0x1.075075075075p-61,
 };
+// potential_3_2 = content * potential_3_2_m, content = 1/280 (table::Term::split)
+inline constexpr double potential_3_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1p+2,  // 4
+};
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_3_2, .n = 2, .c_lo = potential_3_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_3_1_m, .content = -0x1.f3e2be2be2be3p-2, .content_lo = 0x1.075075075075p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_3_2, .n = 2, .c_lo = potential_3_2_lo, .split = 26, .m = potential_3_2_m, .content = 0x1.d41d41d41d41dp-9, .content_lo = 0x1.075075075075p-63},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -357,9 +402,14 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     -0x1.d41d41d41d41dp-64, 0x1.075075075075p-61,
 };
+// potential_4_1 = content * potential_4_1_m, content = 1/280 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1p+2,  // 4
+};
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo, .split = 26, .m = potential_4_1_m, .content = 0x1.d41d41d41d41dp-9, .content_lo = 0x1.075075075075p-63},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -435,6 +485,11 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     -0x1.999999999999ap-53, 0x1.999999999999ap-52,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 729/320 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr double dpotential_3_2[] = {
     0x1.3333333333333p-3,  // 3/20
     0x0p+0,  // 0
@@ -449,7 +504,7 @@ inline constexpr double dpotential_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_3_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 6, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
@@ -462,6 +517,11 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     -0x1.999999999999ap-53, 0x1.999999999999ap-52,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 729/320 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr double dpotential_4_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1.999999999999ap-4,  // -1/10
@@ -469,10 +529,15 @@ inline constexpr double dpotential_4_2[] = {
 inline constexpr double dpotential_4_2_lo[] = {
     0x1.999999999999ap-59, 0x1.999999999999ap-58,
 };
+// dpotential_4_2 = content * dpotential_4_2_m, content = -1/20 (table::Term::split)
+inline constexpr double dpotential_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_4_2, .n = 2, .c_lo = dpotential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_4_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_4_2, .n = 2, .c_lo = dpotential_4_2_lo, .split = 26, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -484,9 +549,14 @@ inline constexpr double dpotential_5_1[] = {
 inline constexpr double dpotential_5_1_lo[] = {
     0x1.999999999999ap-59, 0x1.999999999999ap-58,
 };
+// dpotential_5_1 = content * dpotential_5_1_m, content = -1/20 (table::Term::split)
+inline constexpr double dpotential_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo, .split = 26, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -561,6 +631,11 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     -0x1.999999999999ap-53, 0x1.999999999999ap-52,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 729/320 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr double dpotential_over_r_3_2[] = {
     0x1.3333333333333p-3,  // 3/20
     0x0p+0,  // 0
@@ -575,7 +650,7 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_3_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_2, .n = 6, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
@@ -588,6 +663,11 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     -0x1.999999999999ap-53, 0x1.999999999999ap-52,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 729/320 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr double dpotential_over_r_4_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1.999999999999ap-4,  // -1/10
@@ -595,10 +675,15 @@ inline constexpr double dpotential_over_r_4_2[] = {
 inline constexpr double dpotential_over_r_4_2_lo[] = {
     0x1.999999999999ap-59, 0x1.999999999999ap-58,
 };
+// dpotential_over_r_4_2 = content * dpotential_over_r_4_2_m, content = -1/20 (table::Term::split)
+inline constexpr double dpotential_over_r_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_4_2, .n = 2, .c_lo = dpotential_over_r_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_4_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_4_2, .n = 2, .c_lo = dpotential_over_r_4_2_lo, .split = 26, .m = dpotential_over_r_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2
@@ -610,9 +695,14 @@ inline constexpr double dpotential_over_r_5_1[] = {
 inline constexpr double dpotential_over_r_5_1_lo[] = {
     0x1.999999999999ap-59, 0x1.999999999999ap-58,
 };
+// dpotential_over_r_5_1 = content * dpotential_over_r_5_1_m, content = -1/20 (table::Term::split)
+inline constexpr double dpotential_over_r_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_5_1, .n = 2, .c_lo = dpotential_over_r_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_5_1, .n = 2, .c_lo = dpotential_over_r_5_1_lo, .split = 26, .m = dpotential_over_r_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1p-1,  // 1/2
@@ -661,6 +751,12 @@ inline constexpr double potential_hess_radial_2_1[] = {
     0x1.6c8p+9,  // 729
     0x1.55b8p+12,  // 10935/2
 };
+// potential_hess_radial_2_1 = content * potential_hess_radial_2_1_m, content = 243/4 (table::Term::split)
+inline constexpr double potential_hess_radial_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+    0x1.68p+6,  // 90
+};
 inline constexpr double potential_hess_radial_2_2[] = {
     0x1.34p+4,  // 77/4
     -0x1.086p+6,  // -2115/32
@@ -672,7 +768,7 @@ inline constexpr double potential_hess_radial_2_2_lo[] = {
 };
 inline constexpr table::Term potential_hess_radial_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = -3, .c = potential_hess_radial_2_0, .n = 1, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = -3, .c = potential_hess_radial_2_1, .n = 3, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = -3, .c = potential_hess_radial_2_1, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = potential_hess_radial_2_1_m, .content = 0x1.e6p+5, .content_lo = 0x0p+0},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_2_2, .n = 4, .c_lo = potential_hess_radial_2_2_lo, .edge_lo = 0x1.5555555555555p-56},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
@@ -689,6 +785,12 @@ inline constexpr double potential_hess_radial_3_1[] = {
 inline constexpr double potential_hess_radial_3_1_lo[] = {
     0x1.999999999999ap-55, 0x1.999999999999ap-51, 0x0p+0,
 };
+// potential_hess_radial_3_1 = content * potential_hess_radial_3_1_m, content = -243/320 (table::Term::split)
+inline constexpr double potential_hess_radial_3_1_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+3,  // 12
+    0x1.68p+5,  // 45
+};
 inline constexpr double potential_hess_radial_3_2[] = {
     -0x1p+0,  // -1
     0x1.2p+1,  // 9/4
@@ -700,7 +802,7 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .c_lo = potential_hess_radial_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .c_lo = potential_hess_radial_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_hess_radial_3_1_m, .content = -0x1.84ccccccccccdp-1, .content_lo = 0x1.999999999999ap-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 4, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
@@ -714,6 +816,12 @@ inline constexpr double potential_hess_radial_4_1[] = {
 inline constexpr double potential_hess_radial_4_1_lo[] = {
     0x1.999999999999ap-55, 0x1.999999999999ap-51, 0x0p+0,
 };
+// potential_hess_radial_4_1 = content * potential_hess_radial_4_1_m, content = -243/320 (table::Term::split)
+inline constexpr double potential_hess_radial_4_1_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+3,  // 12
+    0x1.68p+5,  // 45
+};
 inline constexpr double potential_hess_radial_4_2[] = {
     0x1.999999999999ap-5,  // 1/20
     0x1.999999999999ap-3,  // 1/5
@@ -722,10 +830,16 @@ inline constexpr double potential_hess_radial_4_2[] = {
 inline constexpr double potential_hess_radial_4_2_lo[] = {
     -0x1.999999999999ap-59, -0x1.999999999999ap-57, 0x0p+0,
 };
+// potential_hess_radial_4_2 = content * potential_hess_radial_4_2_m, content = 1/20 (table::Term::split)
+inline constexpr double potential_hess_radial_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+    0x1.4p+3,  // 10
+};
 inline constexpr table::Term potential_hess_radial_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -3, .c = potential_hess_radial_4_1, .n = 3, .c_lo = potential_hess_radial_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = potential_hess_radial_4_2, .n = 3, .c_lo = potential_hess_radial_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -3, .c = potential_hess_radial_4_1, .n = 3, .c_lo = potential_hess_radial_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_hess_radial_4_1_m, .content = -0x1.84ccccccccccdp-1, .content_lo = 0x1.999999999999ap-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = potential_hess_radial_4_2, .n = 3, .c_lo = potential_hess_radial_4_2_lo, .split = 24, .m = potential_hess_radial_4_2_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2
@@ -738,9 +852,15 @@ inline constexpr double potential_hess_radial_5_1[] = {
 inline constexpr double potential_hess_radial_5_1_lo[] = {
     -0x1.999999999999ap-59, -0x1.999999999999ap-57, 0x0p+0,
 };
+// potential_hess_radial_5_1 = content * potential_hess_radial_5_1_m, content = 1/20 (table::Term::split)
+inline constexpr double potential_hess_radial_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+    0x1.4p+3,  // 10
+};
 inline constexpr table::Term potential_hess_radial_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = potential_hess_radial_5_1, .n = 3, .c_lo = potential_hess_radial_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = potential_hess_radial_5_1, .n = 3, .c_lo = potential_hess_radial_5_1_lo, .split = 24, .m = potential_hess_radial_5_1_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1p-1,  // -1/2

@@ -17,12 +17,22 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.34c088068292bp-41, -0x1.c2e8ff0c34d31p-38,
 };
+// value_0_0 = content * value_0_0_m, content = 30618 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+};
 inline constexpr double value_0_1[] = {
     -0x1.e74cf46ef7eb1p+4,  // -15309/160 * pi^-1
     -0x1.c8d82528086c6p+7,  // -45927/64 * pi^-1
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.e19633098921dp-52, -0x1.86f99fb1e11f7p-50,
+};
+// value_0_1 = content * value_0_1_m, content = -15309/320 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
 };
 inline constexpr double value_0_2[] = {
     0x1.30382889a329cp-2,  // 14/15 * pi^-1
@@ -31,10 +41,15 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     0x1.1b2c052c76dadp-58, 0x1.61f7067794918p-56,
 };
+// value_0_2 = content * value_0_2_m, content = 14/15 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.309018c55af2fp+13, .content_lo = -0x1.34c088068292bp-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.30382889a329cp-2, .content_lo = 0x1.1b2c052c76dadp-58},
 };
 inline constexpr double value_1_0[] = {
     -0x1.e74cf46ef7eb1p+4,  // -15309/160 * pi^-1
@@ -43,6 +58,11 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.e19633098921dp-52, -0x1.86f99fb1e11f7p-50,
 };
+// value_1_0 = content * value_1_0_m, content = -15309/320 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+};
 inline constexpr double value_1_1[] = {
     0x1.30382889a329cp-2,  // 14/15 * pi^-1
     0x1.7c4632ac0bf43p+0,  // 14/3 * pi^-1
@@ -50,9 +70,14 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     0x1.1b2c052c76dadp-58, 0x1.61f7067794918p-56,
 };
+// value_1_1 = content * value_1_1_m, content = 14/15 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.30382889a329cp-2, .content_lo = 0x1.1b2c052c76dadp-58},
 };
 inline constexpr double value_2_0[] = {
     0x1.30382889a329cp-2,  // 14/15 * pi^-1
@@ -61,8 +86,13 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     0x1.1b2c052c76dadp-58, 0x1.61f7067794918p-56,
 };
+// value_2_0 = content * value_2_0_m, content = 14/15 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.30382889a329cp-2, .content_lo = 0x1.1b2c052c76dadp-58},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -951,6 +981,12 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     0x1.ae2aea02b9776p-55, -0x1.1c0fb8bcef59bp-52, 0x1.86f99fb1e11f7p-53,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 2187/2560 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
+};
 inline constexpr double dpotential_4_2[] = {
     0x1.30382889a329cp-3,  // 7/15 * pi^-1
     0x0p+0,  // 0
@@ -966,7 +1002,7 @@ inline constexpr double dpotential_4_2_lo[] = {
 };
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_4_1_m, .content = 0x1.16751df644865p-2, .content_lo = 0x1.ae2aea02b9776p-57},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_4_2, .n = 7, .c_lo = dpotential_4_2_lo},
 };
 inline constexpr double dpotential_5_0[] = {
@@ -983,6 +1019,12 @@ inline constexpr double dpotential_5_1[] = {
 inline constexpr double dpotential_5_1_lo[] = {
     0x1.ae2aea02b9776p-55, -0x1.1c0fb8bcef59bp-52, 0x1.86f99fb1e11f7p-53,
 };
+// dpotential_5_1 = content * dpotential_5_1_m, content = 2187/2560 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_5_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
+};
 inline constexpr double dpotential_5_2[] = {
     -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
     -0x1.8723a1d588a36p-4,  // -3/10 * pi^-1
@@ -991,10 +1033,16 @@ inline constexpr double dpotential_5_2[] = {
 inline constexpr double dpotential_5_2_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.7f974ace4ac65p-58, -0x1.61f7067794918p-59,
 };
+// dpotential_5_2 = content * dpotential_5_2_m, content = -1/60 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_5_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_5_2, .n = 3, .c_lo = dpotential_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_5_1_m, .content = 0x1.16751df644865p-2, .content_lo = 0x1.ae2aea02b9776p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_5_2, .n = 3, .c_lo = dpotential_5_2_lo, .split = 23, .m = dpotential_5_2_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1010,9 +1058,15 @@ inline constexpr double dpotential_6_1[] = {
 inline constexpr double dpotential_6_1_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.7f974ace4ac65p-58, -0x1.61f7067794918p-59,
 };
+// dpotential_6_1 = content * dpotential_6_1_m, content = -1/60 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_6_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_6_1, .n = 3, .c_lo = dpotential_6_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_6_1, .n = 3, .c_lo = dpotential_6_1_lo, .split = 23, .m = dpotential_6_1_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1095,6 +1149,12 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.ae2aea02b9776p-55, -0x1.1c0fb8bcef59bp-52, 0x1.86f99fb1e11f7p-53,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 2187/2560 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
+};
 inline constexpr double dpotential_over_r_3_2[] = {
     0x1.30382889a329cp-3,  // 7/15 * pi^-1
     0x0p+0,  // 0
@@ -1110,7 +1170,7 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_over_r_3_1_m, .content = 0x1.16751df644865p-2, .content_lo = 0x1.ae2aea02b9776p-57},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_2, .n = 7, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
@@ -1127,6 +1187,12 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.ae2aea02b9776p-55, -0x1.1c0fb8bcef59bp-52, 0x1.86f99fb1e11f7p-53,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 2187/2560 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
+};
 inline constexpr double dpotential_over_r_4_2[] = {
     -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
     -0x1.8723a1d588a36p-4,  // -3/10 * pi^-1
@@ -1135,10 +1201,16 @@ inline constexpr double dpotential_over_r_4_2[] = {
 inline constexpr double dpotential_over_r_4_2_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.7f974ace4ac65p-58, -0x1.61f7067794918p-59,
 };
+// dpotential_over_r_4_2 = content * dpotential_over_r_4_2_m, content = -1/60 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_4_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_over_r_4_1_m, .content = 0x1.16751df644865p-2, .content_lo = 0x1.ae2aea02b9776p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo, .split = 23, .m = dpotential_over_r_4_2_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1154,9 +1226,15 @@ inline constexpr double dpotential_over_r_5_1[] = {
 inline constexpr double dpotential_over_r_5_1_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.7f974ace4ac65p-58, -0x1.61f7067794918p-59,
 };
+// dpotential_over_r_5_1 = content * dpotential_over_r_5_1_m, content = -1/60 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_5_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .split = 23, .m = dpotential_over_r_5_1_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1318,10 +1396,17 @@ inline constexpr double potential_hess_radial_6_2[] = {
 inline constexpr double potential_hess_radial_6_2_lo[] = {
     -0x1.566c8dd9e3448p-61, -0x1.6b01ec5417056p-57, -0x1.041713f11440cp-59, 0x1.425e51366bdb4p-54,
 };
+// potential_hess_radial_6_2 = content * potential_hess_radial_6_2_m, content = 1/10 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_6_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term potential_hess_radial_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -4, .c = potential_hess_radial_6_0, .n = 1, .c_lo = potential_hess_radial_6_0_lo, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -4, .c = potential_hess_radial_6_1, .n = 4, .c_lo = potential_hess_radial_6_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_6_2, .n = 4, .c_lo = potential_hess_radial_6_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_6_2, .n = 4, .c_lo = potential_hess_radial_6_2_lo, .split = 15, .m = potential_hess_radial_6_2_m, .content = 0x1.04c26be3b06cfp-5, .content_lo = -0x1.566c8dd9e3448p-61},
 };
 inline constexpr double potential_hess_radial_7_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1
@@ -1338,9 +1423,16 @@ inline constexpr double potential_hess_radial_7_1[] = {
 inline constexpr double potential_hess_radial_7_1_lo[] = {
     -0x1.566c8dd9e3448p-61, -0x1.6b01ec5417056p-57, -0x1.041713f11440cp-59, 0x1.425e51366bdb4p-54,
 };
+// potential_hess_radial_7_1 = content * potential_hess_radial_7_1_m, content = 1/10 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_7_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term potential_hess_radial_7[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_7_0, .n = 1, .c_lo = potential_hess_radial_7_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_7_1, .n = 4, .c_lo = potential_hess_radial_7_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_7_1, .n = 4, .c_lo = potential_hess_radial_7_1_lo, .split = 15, .m = potential_hess_radial_7_1_m, .content = 0x1.04c26be3b06cfp-5, .content_lo = -0x1.566c8dd9e3448p-61},
 };
 inline constexpr double potential_hess_radial_8_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

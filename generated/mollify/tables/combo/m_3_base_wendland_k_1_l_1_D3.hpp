@@ -17,12 +17,22 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.a4f14f5f0af94p-41, -0x1.5d577165b96d9p-35,
 };
+// value_0_0 = content * value_0_0_m, content = 1240029/8 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+};
 inline constexpr double value_0_1[] = {
     -0x1.345eb2ae38e2cp+6,  // -1240029/5120 * pi^-1
     -0x1.2118c78355549p+9,  // -3720087/2048 * pi^-1
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.50c10c4c08c76p-50, -0x1.4eed3ee1d20ecp-45,
+};
+// value_0_1 = content * value_0_1_m, content = -1240029/10240 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
 };
 inline constexpr double value_0_2[] = {
     0x1.00af623421ab4p-1,  // 63/40 * pi^-1
@@ -31,10 +41,15 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     -0x1.4444b6e89eedep-55, -0x1.9555e4a2c6a95p-53,
 };
+// value_0_2 = content * value_0_2_m, content = 63/40 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.81765f59c71b7p+15, .content_lo = 0x1.a4f14f5f0af94p-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.345eb2ae38e2cp+5, .content_lo = -0x1.50c10c4c08c76p-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.00af623421ab4p-1, .content_lo = -0x1.4444b6e89eedep-55},
 };
 inline constexpr double value_1_0[] = {
     -0x1.345eb2ae38e2cp+6,  // -1240029/5120 * pi^-1
@@ -43,6 +58,11 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.50c10c4c08c76p-50, -0x1.4eed3ee1d20ecp-45,
 };
+// value_1_0 = content * value_1_0_m, content = -1240029/10240 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+};
 inline constexpr double value_1_1[] = {
     0x1.00af623421ab4p-1,  // 63/40 * pi^-1
     0x1.40db3ac12a161p+1,  // 63/8 * pi^-1
@@ -50,9 +70,14 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     -0x1.4444b6e89eedep-55, -0x1.9555e4a2c6a95p-53,
 };
+// value_1_1 = content * value_1_1_m, content = 63/40 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.345eb2ae38e2cp+5, .content_lo = -0x1.50c10c4c08c76p-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.00af623421ab4p-1, .content_lo = -0x1.4444b6e89eedep-55},
 };
 inline constexpr double value_2_0[] = {
     0x1.00af623421ab4p-1,  // 63/40 * pi^-1
@@ -61,8 +86,13 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     -0x1.4444b6e89eedep-55, -0x1.9555e4a2c6a95p-53,
 };
+// value_2_0 = content * value_2_0_m, content = 63/40 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.00af623421ab4p-1, .content_lo = -0x1.4444b6e89eedep-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -442,6 +472,12 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     0x1.7abfa0fbe9ccfp-56, -0x1.7e91c094c716bp-53, -0x1.9b7d8d3a81d43p-51,
 };
+// potential_4_1 = content * potential_4_1_m, content = -6561/81920 * pi^-1 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1p+5,  // 32
+    0x1.5cp+7,  // 174
+    0x1.3bp+8,  // 315
+};
 inline constexpr double potential_4_2[] = {
     -0x1.b808161039b7dp-6,  // -27/320 * pi^-1
     0x0p+0,  // 0
@@ -460,7 +496,7 @@ inline constexpr double potential_4_2_lo[] = {
 };
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = potential_4_1_m, .content = -0x1.a1afacf166c98p-6, .content_lo = 0x1.7abfa0fbe9ccfp-61},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_4_2, .n = 9, .c_lo = potential_4_2_lo},
 };
 inline constexpr double potential_5_0[] = {
@@ -477,6 +513,12 @@ inline constexpr double potential_5_1[] = {
 inline constexpr double potential_5_1_lo[] = {
     0x1.7abfa0fbe9ccfp-56, -0x1.7e91c094c716bp-53, -0x1.9b7d8d3a81d43p-51,
 };
+// potential_5_1 = content * potential_5_1_m, content = -6561/81920 * pi^-1 (table::Term::split)
+inline constexpr double potential_5_1_m[] = {
+    0x1p+5,  // 32
+    0x1.5cp+7,  // 174
+    0x1.3bp+8,  // 315
+};
 inline constexpr double potential_5_2[] = {
     0x1.04c26be3b06cfp-7,  // 1/40 * pi^-1
     0x1.d8a0638cafc57p-6,  // 29/320 * pi^-1
@@ -485,10 +527,16 @@ inline constexpr double potential_5_2[] = {
 inline constexpr double potential_5_2_lo[] = {
     -0x1.566c8dd9e3448p-63, 0x1.26b67dca2827dp-63, 0x1.425e51366bdb4p-59,
 };
+// potential_5_2 = content * potential_5_2_m, content = 1/320 * pi^-1 (table::Term::split)
+inline constexpr double potential_5_2_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_5_2, .n = 3, .c_lo = potential_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = potential_5_1_m, .content = -0x1.a1afacf166c98p-6, .content_lo = 0x1.7abfa0fbe9ccfp-61},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_5_2, .n = 3, .c_lo = potential_5_2_lo, .split = 23, .m = potential_5_2_m, .content = 0x1.04c26be3b06cfp-10, .content_lo = -0x1.566c8dd9e3448p-66},
 };
 inline constexpr double potential_6_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -504,9 +552,15 @@ inline constexpr double potential_6_1[] = {
 inline constexpr double potential_6_1_lo[] = {
     -0x1.566c8dd9e3448p-63, 0x1.26b67dca2827dp-63, 0x1.425e51366bdb4p-59,
 };
+// potential_6_1 = content * potential_6_1_m, content = 1/320 * pi^-1 (table::Term::split)
+inline constexpr double potential_6_1_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term potential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_6_0, .n = 1, .c_lo = potential_6_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_6_1, .n = 3, .c_lo = potential_6_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_6_1, .n = 3, .c_lo = potential_6_1_lo, .split = 23, .m = potential_6_1_m, .content = 0x1.04c26be3b06cfp-10, .content_lo = -0x1.566c8dd9e3448p-66},
 };
 inline constexpr double potential_7_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

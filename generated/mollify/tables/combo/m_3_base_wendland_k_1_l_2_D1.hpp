@@ -14,12 +14,22 @@ inline constexpr double value_0_0[] = {
     0x1.de68p+10,  // 15309/8
     0x1.c0818p+14,  // 229635/8
 };
+// value_0_0 = content * value_0_0_m, content = 15309/8 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+};
 inline constexpr double value_0_1[] = {
     -0x1.7eb999999999ap+3,  // -15309/1280
     -0x1.66cep+6,  // -45927/512
 };
 inline constexpr double value_0_1_lo[] = {
     0x1.999999999999ap-51, 0x0p+0,
+};
+// value_0_1 = content * value_0_1_m, content = -15309/2560 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
 };
 inline constexpr double value_0_2[] = {
     0x1.6666666666666p-3,  // 7/40
@@ -28,10 +38,15 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     0x1.999999999999ap-57, 0x0p+0,
 };
+// value_0_2 = content * value_0_2_m, content = 7/40 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.de68p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.7eb999999999ap+2, .content_lo = 0x1.999999999999ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.6666666666666p-3, .content_lo = 0x1.999999999999ap-57},
 };
 inline constexpr double value_1_0[] = {
     -0x1.7eb999999999ap+3,  // -15309/1280
@@ -40,6 +55,11 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     0x1.999999999999ap-51, 0x0p+0,
 };
+// value_1_0 = content * value_1_0_m, content = -15309/2560 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+};
 inline constexpr double value_1_1[] = {
     0x1.6666666666666p-3,  // 7/40
     0x1.cp-1,  // 7/8
@@ -47,9 +67,14 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     0x1.999999999999ap-57, 0x0p+0,
 };
+// value_1_1 = content * value_1_1_m, content = 7/40 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.7eb999999999ap+2, .content_lo = 0x1.999999999999ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.6666666666666p-3, .content_lo = 0x1.999999999999ap-57},
 };
 inline constexpr double value_2_0[] = {
     0x1.6666666666666p-3,  // 7/40
@@ -58,8 +83,13 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     0x1.999999999999ap-57, 0x0p+0,
 };
+// value_2_0 = content * value_2_0_m, content = 7/40 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.6666666666666p-3, .content_lo = 0x1.999999999999ap-57},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -329,6 +359,11 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     0x1.999999999999ap-56, 0x0p+0,
 };
+// potential_3_1 = content * potential_3_1_m, content = -6561/20480 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1p+1,  // 2
+    0x1.4p+2,  // 5
+};
 inline constexpr double potential_3_2[] = {
     0x1.3333333333333p-7,  // 3/320
     0x0p+0,  // 0
@@ -347,7 +382,7 @@ inline constexpr double potential_3_2_lo[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_3_1_m, .content = -0x1.480cccccccccdp-2, .content_lo = 0x1.999999999999ap-57},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_2, .n = 9, .c_lo = potential_3_2_lo},
 };
 inline constexpr double potential_4_0[] = {
@@ -360,6 +395,11 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     0x1.999999999999ap-56, 0x0p+0,
 };
+// potential_4_1 = content * potential_4_1_m, content = -6561/20480 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1p+1,  // 2
+    0x1.4p+2,  // 5
+};
 inline constexpr double potential_4_2[] = {
     0x1.3333333333333p-7,  // 3/320
     0x1p-6,  // 1/64
@@ -367,10 +407,15 @@ inline constexpr double potential_4_2[] = {
 inline constexpr double potential_4_2_lo[] = {
     0x1.999999999999ap-62, 0x0p+0,
 };
+// potential_4_2 = content * potential_4_2_m, content = 1/320 (table::Term::split)
+inline constexpr double potential_4_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_2, .n = 2, .c_lo = potential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_4_1_m, .content = -0x1.480cccccccccdp-2, .content_lo = 0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_2, .n = 2, .c_lo = potential_4_2_lo, .split = 26, .m = potential_4_2_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -382,9 +427,14 @@ inline constexpr double potential_5_1[] = {
 inline constexpr double potential_5_1_lo[] = {
     0x1.999999999999ap-62, 0x0p+0,
 };
+// potential_5_1 = content * potential_5_1_m, content = 1/320 (table::Term::split)
+inline constexpr double potential_5_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_5_1, .n = 2, .c_lo = potential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_5_1, .n = 2, .c_lo = potential_5_1_lo, .split = 26, .m = potential_5_1_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
 };
 inline constexpr double potential_6_0[] = {
     0x1p-1,  // 1/2
@@ -481,6 +531,11 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     0x1.999999999999ap-53, 0x0p+0,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 2187/2560 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.ep+3,  // 15
+};
 inline constexpr double dpotential_4_2[] = {
     0x1.6666666666666p-3,  // 7/40
     0x0p+0,  // 0
@@ -496,7 +551,7 @@ inline constexpr double dpotential_4_2_lo[] = {
 };
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_4_2, .n = 7, .c_lo = dpotential_4_2_lo},
 };
 inline constexpr double dpotential_5_0[] = {
@@ -509,6 +564,11 @@ inline constexpr double dpotential_5_1[] = {
 inline constexpr double dpotential_5_1_lo[] = {
     0x1.999999999999ap-53, 0x0p+0,
 };
+// dpotential_5_1 = content * dpotential_5_1_m, content = 2187/2560 (table::Term::split)
+inline constexpr double dpotential_5_1_m[] = {
+    0x1p+2,  // 4
+    0x1.ep+3,  // 15
+};
 inline constexpr double dpotential_5_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1p-3,  // -1/8
@@ -516,10 +576,15 @@ inline constexpr double dpotential_5_2[] = {
 inline constexpr double dpotential_5_2_lo[] = {
     0x1.999999999999ap-59, 0x0p+0,
 };
+// dpotential_5_2 = content * dpotential_5_2_m, content = -1/40 (table::Term::split)
+inline constexpr double dpotential_5_2_m[] = {
+    0x1p+1,  // 2
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_5_2, .n = 2, .c_lo = dpotential_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_5_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_5_2, .n = 2, .c_lo = dpotential_5_2_lo, .split = 26, .m = dpotential_5_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -531,9 +596,14 @@ inline constexpr double dpotential_6_1[] = {
 inline constexpr double dpotential_6_1_lo[] = {
     0x1.999999999999ap-59, 0x0p+0,
 };
+// dpotential_6_1 = content * dpotential_6_1_m, content = -1/40 (table::Term::split)
+inline constexpr double dpotential_6_1_m[] = {
+    0x1p+1,  // 2
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_6_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_6_1, .n = 2, .c_lo = dpotential_6_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_6_1, .n = 2, .c_lo = dpotential_6_1_lo, .split = 26, .m = dpotential_6_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1p-1,  // 1/2
@@ -612,6 +682,11 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.999999999999ap-53, 0x0p+0,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 2187/2560 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+2,  // 4
+    0x1.ep+3,  // 15
+};
 inline constexpr double dpotential_over_r_3_2[] = {
     0x1.6666666666666p-3,  // 7/40
     0x0p+0,  // 0
@@ -627,7 +702,7 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_3_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_2, .n = 7, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
@@ -640,6 +715,11 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.999999999999ap-53, 0x0p+0,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 2187/2560 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.ep+3,  // 15
+};
 inline constexpr double dpotential_over_r_4_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1p-3,  // -1/8
@@ -647,10 +727,15 @@ inline constexpr double dpotential_over_r_4_2[] = {
 inline constexpr double dpotential_over_r_4_2_lo[] = {
     0x1.999999999999ap-59, 0x0p+0,
 };
+// dpotential_over_r_4_2 = content * dpotential_over_r_4_2_m, content = -1/40 (table::Term::split)
+inline constexpr double dpotential_over_r_4_2_m[] = {
+    0x1p+1,  // 2
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_2, .n = 2, .c_lo = dpotential_over_r_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_2, .n = 2, .c_lo = dpotential_over_r_4_2_lo, .split = 26, .m = dpotential_over_r_4_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2
@@ -662,9 +747,14 @@ inline constexpr double dpotential_over_r_5_1[] = {
 inline constexpr double dpotential_over_r_5_1_lo[] = {
     0x1.999999999999ap-59, 0x0p+0,
 };
+// dpotential_over_r_5_1 = content * dpotential_over_r_5_1_m, content = -1/40 (table::Term::split)
+inline constexpr double dpotential_over_r_5_1_m[] = {
+    0x1p+1,  // 2
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_5_1, .n = 2, .c_lo = dpotential_over_r_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_5_1, .n = 2, .c_lo = dpotential_over_r_5_1_lo, .split = 26, .m = dpotential_over_r_5_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1p-1,  // 1/2
@@ -731,6 +821,12 @@ inline constexpr double potential_hess_radial_3_1[] = {
     0x1.55b8p+11,  // 10935/4
     0x1.806fp+14,  // 98415/4
 };
+// potential_hess_radial_3_1 = content * potential_hess_radial_3_1_m, content = 729/4 (table::Term::split)
+inline constexpr double potential_hess_radial_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+    0x1.0ep+7,  // 135
+};
 inline constexpr double potential_hess_radial_3_2[] = {
     0x1.0d8p+5,  // 539/16
     -0x1.347p+7,  // -4935/32
@@ -744,7 +840,7 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .edge_lo = 0x1.5555555555555p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = potential_hess_radial_3_1_m, .content = 0x1.6c8p+7, .content_lo = 0x0p+0},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 5, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
@@ -775,6 +871,12 @@ inline constexpr double potential_hess_radial_5_1[] = {
 inline constexpr double potential_hess_radial_5_1_lo[] = {
     0x1.999999999999ap-53, 0x0p+0, 0x0p+0,
 };
+// potential_hess_radial_5_1 = content * potential_hess_radial_5_1_m, content = -729/1280 (table::Term::split)
+inline constexpr double potential_hess_radial_5_1_m[] = {
+    0x1p+2,  // 4
+    0x1.ep+4,  // 30
+    0x1.0ep+7,  // 135
+};
 inline constexpr double potential_hess_radial_5_2[] = {
     -0x1.cp+0,  // -7/4
     0x1.5p+2,  // 21/4
@@ -788,7 +890,7 @@ inline constexpr double potential_hess_radial_5_2_lo[] = {
 };
 inline constexpr table::Term potential_hess_radial_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_5_0, .n = 1, .c_lo = potential_hess_radial_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -3, .c = potential_hess_radial_5_1, .n = 3, .c_lo = potential_hess_radial_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -3, .c = potential_hess_radial_5_1, .n = 3, .c_lo = potential_hess_radial_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_hess_radial_5_1_m, .content = -0x1.239999999999ap-1, .content_lo = 0x1.999999999999ap-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_hess_radial_5_2, .n = 5, .c_lo = potential_hess_radial_5_2_lo},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
@@ -802,6 +904,12 @@ inline constexpr double potential_hess_radial_6_1[] = {
 inline constexpr double potential_hess_radial_6_1_lo[] = {
     0x1.999999999999ap-53, 0x0p+0, 0x0p+0,
 };
+// potential_hess_radial_6_1 = content * potential_hess_radial_6_1_m, content = -729/1280 (table::Term::split)
+inline constexpr double potential_hess_radial_6_1_m[] = {
+    0x1p+2,  // 4
+    0x1.ep+4,  // 30
+    0x1.0ep+7,  // 135
+};
 inline constexpr double potential_hess_radial_6_2[] = {
     0x1.999999999999ap-5,  // 1/20
     0x1p-2,  // 1/4
@@ -810,10 +918,16 @@ inline constexpr double potential_hess_radial_6_2[] = {
 inline constexpr double potential_hess_radial_6_2_lo[] = {
     -0x1.999999999999ap-59, 0x0p+0, 0x0p+0,
 };
+// potential_hess_radial_6_2 = content * potential_hess_radial_6_2_m, content = 1/20 (table::Term::split)
+inline constexpr double potential_hess_radial_6_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+};
 inline constexpr table::Term potential_hess_radial_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_6_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -3, .c = potential_hess_radial_6_1, .n = 3, .c_lo = potential_hess_radial_6_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_6_2, .n = 3, .c_lo = potential_hess_radial_6_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -3, .c = potential_hess_radial_6_1, .n = 3, .c_lo = potential_hess_radial_6_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_hess_radial_6_1_m, .content = -0x1.239999999999ap-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_6_2, .n = 3, .c_lo = potential_hess_radial_6_2_lo, .split = 24, .m = potential_hess_radial_6_2_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
 };
 inline constexpr double potential_hess_radial_7_0[] = {
     -0x1p-1,  // -1/2
@@ -826,9 +940,15 @@ inline constexpr double potential_hess_radial_7_1[] = {
 inline constexpr double potential_hess_radial_7_1_lo[] = {
     -0x1.999999999999ap-59, 0x0p+0, 0x0p+0,
 };
+// potential_hess_radial_7_1 = content * potential_hess_radial_7_1_m, content = 1/20 (table::Term::split)
+inline constexpr double potential_hess_radial_7_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+};
 inline constexpr table::Term potential_hess_radial_7[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_7_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_7_1, .n = 3, .c_lo = potential_hess_radial_7_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_7_1, .n = 3, .c_lo = potential_hess_radial_7_1_lo, .split = 24, .m = potential_hess_radial_7_1_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
 };
 inline constexpr double potential_hess_radial_8_0[] = {
     -0x1p-1,  // -1/2

@@ -17,12 +17,22 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.05275e9890321p-39, 0x1.68ced651771edp-37,
 };
+// value_0_0 = content * value_0_0_m, content = 118098 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+};
 inline constexpr double value_0_1[] = {
     -0x1.d5e5a28f93a2bp+5,  // -59049/320 * pi^-1
     -0x1.08512b70c30b8p+9,  // -531441/320 * pi^-1
 };
 inline constexpr double value_0_1_lo[] = {
     0x1.aa17951b67069p-50, -0x1.20a578412c18ap-47,
+};
+// value_0_1 = content * value_0_1_m, content = -59049/320 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
 };
 inline constexpr double value_0_2[] = {
     0x1.8723a1d588a36p-2,  // 6/5 * pi^-1
@@ -31,10 +41,15 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     0x1.7f974ace4ac65p-56, -0x1.c09d0fca8fd68p-54,
 };
+// value_0_2 = content * value_0_2_m, content = 6/5 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.25af8599bc45bp+15, .content_lo = -0x1.05275e9890321p-39},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.d5e5a28f93a2bp+5, .content_lo = 0x1.aa17951b67069p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.8723a1d588a36p-2, .content_lo = 0x1.7f974ace4ac65p-56},
 };
 inline constexpr double value_1_0[] = {
     -0x1.d5e5a28f93a2bp+5,  // -59049/320 * pi^-1
@@ -43,6 +58,11 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     0x1.aa17951b67069p-50, -0x1.20a578412c18ap-47,
 };
+// value_1_0 = content * value_1_0_m, content = -59049/320 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double value_1_1[] = {
     0x1.8723a1d588a36p-2,  // 6/5 * pi^-1
     0x1.255ab960267a9p+1,  // 36/5 * pi^-1
@@ -50,9 +70,14 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     0x1.7f974ace4ac65p-56, -0x1.c09d0fca8fd68p-54,
 };
+// value_1_1 = content * value_1_1_m, content = 6/5 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.d5e5a28f93a2bp+5, .content_lo = 0x1.aa17951b67069p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.8723a1d588a36p-2, .content_lo = 0x1.7f974ace4ac65p-56},
 };
 inline constexpr double value_2_0[] = {
     0x1.8723a1d588a36p-2,  // 6/5 * pi^-1
@@ -61,8 +86,13 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     0x1.7f974ace4ac65p-56, -0x1.c09d0fca8fd68p-54,
 };
+// value_2_0 = content * value_2_0_m, content = 6/5 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.8723a1d588a36p-2, .content_lo = 0x1.7f974ace4ac65p-56},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -1138,6 +1168,12 @@ inline constexpr double dpotential_5_1[] = {
 inline constexpr double dpotential_5_1_lo[] = {
     -0x1.7abfa0fbe9ccfp-55, -0x1.7c46e0d2a8b74p-50, -0x1.aa17951b67069p-50,
 };
+// dpotential_5_1 = content * dpotential_5_1_m, content = 6561/2560 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_5_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double dpotential_5_2[] = {
     0x1.8723a1d588a36p-3,  // 3/5 * pi^-1
     0x0p+0,  // 0
@@ -1154,7 +1190,7 @@ inline constexpr double dpotential_5_2_lo[] = {
 };
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_5_1_m, .content = 0x1.a1afacf166c98p-1, .content_lo = -0x1.7abfa0fbe9ccfp-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_5_2, .n = 8, .c_lo = dpotential_5_2_lo},
 };
 inline constexpr double dpotential_6_0[] = {
@@ -1171,6 +1207,12 @@ inline constexpr double dpotential_6_1[] = {
 inline constexpr double dpotential_6_1_lo[] = {
     -0x1.7abfa0fbe9ccfp-55, -0x1.7c46e0d2a8b74p-50, -0x1.aa17951b67069p-50,
 };
+// dpotential_6_1 = content * dpotential_6_1_m, content = 6561/2560 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_6_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double dpotential_6_2[] = {
     -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
     -0x1.c8543cce74beap-4,  // -7/20 * pi^-1
@@ -1179,10 +1221,16 @@ inline constexpr double dpotential_6_2[] = {
 inline constexpr double dpotential_6_2_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.a8c207c2b2483p-60, 0x1.566c8dd9e3448p-58,
 };
+// dpotential_6_2 = content * dpotential_6_2_m, content = -1/20 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_6_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dpotential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = dpotential_6_1, .n = 3, .c_lo = dpotential_6_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_6_2, .n = 3, .c_lo = dpotential_6_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = dpotential_6_1, .n = 3, .c_lo = dpotential_6_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_6_1_m, .content = 0x1.a1afacf166c98p-1, .content_lo = -0x1.7abfa0fbe9ccfp-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_6_2, .n = 3, .c_lo = dpotential_6_2_lo, .split = 24, .m = dpotential_6_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1198,9 +1246,15 @@ inline constexpr double dpotential_7_1[] = {
 inline constexpr double dpotential_7_1_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.a8c207c2b2483p-60, 0x1.566c8dd9e3448p-58,
 };
+// dpotential_7_1 = content * dpotential_7_1_m, content = -1/20 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_7_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dpotential_7[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_7_0, .n = 1, .c_lo = dpotential_7_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_7_1, .n = 3, .c_lo = dpotential_7_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_7_1, .n = 3, .c_lo = dpotential_7_1_lo, .split = 24, .m = dpotential_7_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_8_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1304,6 +1358,12 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     -0x1.7abfa0fbe9ccfp-55, -0x1.7c46e0d2a8b74p-50, -0x1.aa17951b67069p-50,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 6561/2560 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double dpotential_over_r_4_2[] = {
     0x1.8723a1d588a36p-3,  // 3/5 * pi^-1
     0x0p+0,  // 0
@@ -1320,7 +1380,7 @@ inline constexpr double dpotential_over_r_4_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_over_r_4_1_m, .content = 0x1.a1afacf166c98p-1, .content_lo = -0x1.7abfa0fbe9ccfp-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_2, .n = 8, .c_lo = dpotential_over_r_4_2_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
@@ -1337,6 +1397,12 @@ inline constexpr double dpotential_over_r_5_1[] = {
 inline constexpr double dpotential_over_r_5_1_lo[] = {
     -0x1.7abfa0fbe9ccfp-55, -0x1.7c46e0d2a8b74p-50, -0x1.aa17951b67069p-50,
 };
+// dpotential_over_r_5_1 = content * dpotential_over_r_5_1_m, content = 6561/2560 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_5_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double dpotential_over_r_5_2[] = {
     -0x1.04c26be3b06cfp-6,  // -1/20 * pi^-1
     -0x1.c8543cce74beap-4,  // -7/20 * pi^-1
@@ -1345,10 +1411,16 @@ inline constexpr double dpotential_over_r_5_2[] = {
 inline constexpr double dpotential_over_r_5_2_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.a8c207c2b2483p-60, 0x1.566c8dd9e3448p-58,
 };
+// dpotential_over_r_5_2 = content * dpotential_over_r_5_2_m, content = -1/20 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_5_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_5_2, .n = 3, .c_lo = dpotential_over_r_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_over_r_5_1_m, .content = 0x1.a1afacf166c98p-1, .content_lo = -0x1.7abfa0fbe9ccfp-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_5_2, .n = 3, .c_lo = dpotential_over_r_5_2_lo, .split = 24, .m = dpotential_over_r_5_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1364,9 +1436,15 @@ inline constexpr double dpotential_over_r_6_1[] = {
 inline constexpr double dpotential_over_r_6_1_lo[] = {
     0x1.566c8dd9e3448p-62, -0x1.a8c207c2b2483p-60, 0x1.566c8dd9e3448p-58,
 };
+// dpotential_over_r_6_1 = content * dpotential_over_r_6_1_m, content = -1/20 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_6_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dpotential_over_r_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_6_1, .n = 3, .c_lo = dpotential_over_r_6_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_6_1, .n = 3, .c_lo = dpotential_over_r_6_1_lo, .split = 24, .m = dpotential_over_r_6_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_over_r_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

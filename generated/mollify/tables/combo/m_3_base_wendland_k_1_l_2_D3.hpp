@@ -17,12 +17,22 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.8f3f5d068ac66p-37, -0x1.c12748a75c1f3p-33,
 };
+// value_0_0 = content * value_0_0_m, content = 2657205/4 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+};
 inline constexpr double value_0_1[] = {
     -0x1.4a65764cf3ce6p+7,  // -531441/1024 * pi^-1
     -0x1.73b2251692483p+10,  // -4782969/1024 * pi^-1
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.68ced651771edp-49, 0x1.350ba7722cfebp-45,
+};
+// value_0_1 = content * value_0_1_m, content = -531441/1024 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
 };
 inline constexpr double value_0_2[] = {
     0x1.6eb167b830193p-1,  // 9/4 * pi^-1
@@ -31,10 +41,15 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     -0x1.86229de99e612p-59, 0x1.db6cc1321926ep-53,
 };
+// value_0_2 = content * value_0_2_m, content = 9/4 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.9cfed3e030c2p+17, .content_lo = -0x1.8f3f5d068ac66p-37},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.4a65764cf3ce6p+7, .content_lo = -0x1.68ced651771edp-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.6eb167b830193p-1, .content_lo = -0x1.86229de99e612p-59},
 };
 inline constexpr double value_1_0[] = {
     -0x1.4a65764cf3ce6p+7,  // -531441/1024 * pi^-1
@@ -43,6 +58,11 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.68ced651771edp-49, 0x1.350ba7722cfebp-45,
 };
+// value_1_0 = content * value_1_0_m, content = -531441/1024 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double value_1_1[] = {
     0x1.6eb167b830193p-1,  // 9/4 * pi^-1
     0x1.13050dca2412ep+2,  // 27/2 * pi^-1
@@ -50,9 +70,14 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     -0x1.86229de99e612p-59, 0x1.db6cc1321926ep-53,
 };
+// value_1_1 = content * value_1_1_m, content = 9/4 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.4a65764cf3ce6p+7, .content_lo = -0x1.68ced651771edp-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.6eb167b830193p-1, .content_lo = -0x1.86229de99e612p-59},
 };
 inline constexpr double value_2_0[] = {
     0x1.6eb167b830193p-1,  // 9/4 * pi^-1
@@ -61,8 +86,13 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     -0x1.86229de99e612p-59, 0x1.db6cc1321926ep-53,
 };
+// value_2_0 = content * value_2_0_m, content = 9/4 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.6eb167b830193p-1, .content_lo = -0x1.86229de99e612p-59},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -446,6 +476,12 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     0x1.1c0fb8bcef59bp-55, -0x1.dda378c971448p-52, -0x1.20a578412c18ap-52,
 };
+// potential_4_1 = content * potential_4_1_m, content = -19683/40960 * pi^-1 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1p+3,  // 8
+    0x1.98p+5,  // 51
+    0x1.bp+6,  // 108
+};
 inline constexpr double potential_4_2[] = {
     -0x1.e8ec8a4aeacc4p-6,  // -3/32 * pi^-1
     0x0p+0,  // 0
@@ -465,7 +501,7 @@ inline constexpr double potential_4_2_lo[] = {
 };
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_4_1_m, .content = -0x1.3943c1b50d172p-3, .content_lo = 0x1.1c0fb8bcef59bp-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_4_2, .n = 10, .c_lo = potential_4_2_lo},
 };
 inline constexpr double potential_5_0[] = {
@@ -482,6 +518,12 @@ inline constexpr double potential_5_1[] = {
 inline constexpr double potential_5_1_lo[] = {
     0x1.1c0fb8bcef59bp-55, -0x1.dda378c971448p-52, -0x1.20a578412c18ap-52,
 };
+// potential_5_1 = content * potential_5_1_m, content = -19683/40960 * pi^-1 (table::Term::split)
+inline constexpr double potential_5_1_m[] = {
+    0x1p+3,  // 8
+    0x1.98p+5,  // 51
+    0x1.bp+6,  // 108
+};
 inline constexpr double potential_5_2[] = {
     0x1.04c26be3b06cfp-7,  // 1/40 * pi^-1
     0x1.150e92a1eb73cp-5,  // 17/160 * pi^-1
@@ -490,10 +532,16 @@ inline constexpr double potential_5_2[] = {
 inline constexpr double potential_5_2_lo[] = {
     -0x1.566c8dd9e3448p-63, -0x1.35e9ab5bc0bc6p-60, 0x1.7f974ace4ac65p-59,
 };
+// potential_5_2 = content * potential_5_2_m, content = 1/160 * pi^-1 (table::Term::split)
+inline constexpr double potential_5_2_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -1, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_5_2, .n = 3, .c_lo = potential_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -1, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_5_1_m, .content = -0x1.3943c1b50d172p-3, .content_lo = 0x1.1c0fb8bcef59bp-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_5_2, .n = 3, .c_lo = potential_5_2_lo, .split = 23, .m = potential_5_2_m, .content = 0x1.04c26be3b06cfp-9, .content_lo = -0x1.566c8dd9e3448p-65},
 };
 inline constexpr double potential_6_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -509,9 +557,15 @@ inline constexpr double potential_6_1[] = {
 inline constexpr double potential_6_1_lo[] = {
     -0x1.566c8dd9e3448p-63, -0x1.35e9ab5bc0bc6p-60, 0x1.7f974ace4ac65p-59,
 };
+// potential_6_1 = content * potential_6_1_m, content = 1/160 * pi^-1 (table::Term::split)
+inline constexpr double potential_6_1_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term potential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_6_0, .n = 1, .c_lo = potential_6_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_6_1, .n = 3, .c_lo = potential_6_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_6_1, .n = 3, .c_lo = potential_6_1_lo, .split = 23, .m = potential_6_1_m, .content = 0x1.04c26be3b06cfp-9, .content_lo = -0x1.566c8dd9e3448p-65},
 };
 inline constexpr double potential_7_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -15,6 +15,12 @@ inline constexpr double value_0_0[] = {
     0x1.806fp+14,  // 98415/4
     0x1.cd52p+16,  // 118098
 };
+// value_0_0 = content * value_0_0_m, content = 6561/4 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+    0x1.2p+6,  // 72
+};
 inline constexpr double value_0_1[] = {
     -0x1.480cccccccccdp+3,  // -6561/640
     -0x1.338cp+6,  // -19683/256
@@ -22,6 +28,12 @@ inline constexpr double value_0_1[] = {
 };
 inline constexpr double value_0_1_lo[] = {
     0x1.999999999999ap-52, 0x0p+0, -0x1.999999999999ap-47,
+};
+// value_0_1 = content * value_0_1_m, content = -6561/1280 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+    0x1.2p+5,  // 36
 };
 inline constexpr double value_0_2[] = {
     0x1.3333333333333p-3,  // 3/20
@@ -31,10 +43,16 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     0x1.999999999999ap-58, 0x0p+0, 0x1.999999999999ap-55,
 };
+// value_0_2 = content * value_0_2_m, content = 3/20 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.9a1p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = value_0_1_m, .content = -0x1.480cccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 24, .m = value_0_2_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr double value_1_0[] = {
     -0x1.480cccccccccdp+3,  // -6561/640
@@ -44,6 +62,12 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     0x1.999999999999ap-52, 0x0p+0, -0x1.999999999999ap-47,
 };
+// value_1_0 = content * value_1_0_m, content = -6561/1280 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+    0x1.2p+5,  // 36
+};
 inline constexpr double value_1_1[] = {
     0x1.3333333333333p-3,  // 3/20
     0x1.8p-1,  // 3/4
@@ -52,9 +76,15 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     0x1.999999999999ap-58, 0x0p+0, 0x1.999999999999ap-55,
 };
+// value_1_1 = content * value_1_1_m, content = 3/20 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = value_1_0_m, .content = -0x1.480cccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 24, .m = value_1_1_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr double value_2_0[] = {
     0x1.3333333333333p-3,  // 3/20
@@ -64,8 +94,14 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     0x1.999999999999ap-58, 0x0p+0, 0x1.999999999999ap-55,
 };
+// value_2_0 = content * value_2_0_m, content = 3/20 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 24, .m = value_2_0_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -77,12 +113,22 @@ inline constexpr double dr_0_0[] = {
     -0x1.0d1a8p+16,  // -137781/2
     -0x1.93a7cp+19,  // -826686
 };
+// dr_0_0 = content * dr_0_0_m, content = -137781/2 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double dr_0_1[] = {
     0x1.ae90ccccccccdp+7,  // 137781/640
     0x1.42ec99999999ap+10,  // 413343/320
 };
 inline constexpr double dr_0_1_lo[] = {
     -0x1.999999999999ap-48, -0x1.999999999999ap-44,
+};
+// dr_0_1 = content * dr_0_1_m, content = 137781/640 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
 };
 inline constexpr double dr_0_2[] = {
     -0x1.0cccccccccccdp+1,  // -21/10
@@ -91,10 +137,15 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     0x1.999999999999ap-54, 0x1.999999999999ap-52,
 };
+// dr_0_2 = content * dr_0_2_m, content = -21/10 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.0d1a8p+16, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr double dr_1_0[] = {
     0x1.ae90ccccccccdp+7,  // 137781/640
@@ -103,6 +154,11 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     -0x1.999999999999ap-48, -0x1.999999999999ap-44,
 };
+// dr_1_0 = content * dr_1_0_m, content = 137781/640 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr double dr_1_1[] = {
     -0x1.0cccccccccccdp+1,  // -21/10
     -0x1.0cccccccccccdp+3,  // -42/5
@@ -110,9 +166,14 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     0x1.999999999999ap-54, 0x1.999999999999ap-52,
 };
+// dr_1_1 = content * dr_1_1_m, content = -21/10 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.0cccccccccccdp+1,  // -21/10
@@ -121,8 +182,13 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     0x1.999999999999ap-54, 0x1.999999999999ap-52,
 };
+// dr_2_0 = content * dr_2_0_m, content = -21/10 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -260,12 +326,22 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.0d1a8p+16,  // -137781/2
     -0x1.93a7cp+19,  // -826686
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -137781/2 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.ae90ccccccccdp+7,  // 137781/640
     0x1.42ec99999999ap+10,  // 413343/320
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.999999999999ap-48, -0x1.999999999999ap-44,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 137781/640 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.0cccccccccccdp+1,  // -21/10
@@ -274,10 +350,15 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     0x1.999999999999ap-54, 0x1.999999999999ap-52,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -21/10 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.0d1a8p+16, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.ae90ccccccccdp+7,  // 137781/640
@@ -286,6 +367,11 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.999999999999ap-48, -0x1.999999999999ap-44,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 137781/640 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.0cccccccccccdp+1,  // -21/10
     -0x1.0cccccccccccdp+3,  // -42/5
@@ -293,9 +379,14 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     0x1.999999999999ap-54, 0x1.999999999999ap-52,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -21/10 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.0cccccccccccdp+1,  // -21/10
@@ -304,8 +395,13 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.999999999999ap-54, 0x1.999999999999ap-52,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -21/10 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -403,6 +499,12 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     0x0p+0, -0x1.999999999999ap-53, 0x1.999999999999ap-54,
 };
+// potential_2_1 = content * potential_2_1_m, content = -729/10240 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1.4p+3,  // 10
+    0x1.08p+5,  // 33
+    0x1.2p+5,  // 36
+};
 inline constexpr double potential_2_2[] = {
     0x1.5555555555555p-7,  // 1/96
     0x0p+0,  // 0
@@ -422,7 +524,7 @@ inline constexpr double potential_2_2_lo[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_2_1_m, .content = -0x1.239999999999ap-4, .content_lo = 0x1.999999999999ap-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 10, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
@@ -436,6 +538,12 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     0x0p+0, -0x1.999999999999ap-53, 0x1.999999999999ap-54,
 };
+// potential_3_1 = content * potential_3_1_m, content = -729/10240 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1.4p+3,  // 10
+    0x1.08p+5,  // 33
+    0x1.2p+5,  // 36
+};
 inline constexpr double potential_3_2[] = {
     0x1.5555555555555p-7,  // 1/96
     0x1.7777777777777p-6,  // 11/480
@@ -444,10 +552,16 @@ inline constexpr double potential_3_2[] = {
 inline constexpr double potential_3_2_lo[] = {
     0x1.5555555555555p-61, 0x1.ddddddddddddep-60, 0x1.1111111111111p-62,
 };
+// potential_3_2 = content * potential_3_2_m, content = 1/480 (table::Term::split)
+inline constexpr double potential_3_2_m[] = {
+    0x1.4p+2,  // 5
+    0x1.6p+3,  // 11
+    0x1p+3,  // 8
+};
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_3_2, .n = 3, .c_lo = potential_3_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_3_1_m, .content = -0x1.239999999999ap-4, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_3_2, .n = 3, .c_lo = potential_3_2_lo, .split = 24, .m = potential_3_2_m, .content = 0x1.1111111111111p-9, .content_lo = 0x1.1111111111111p-65},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -460,9 +574,15 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     0x1.5555555555555p-61, 0x1.ddddddddddddep-60, 0x1.1111111111111p-62,
 };
+// potential_4_1 = content * potential_4_1_m, content = 1/480 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1.4p+2,  // 5
+    0x1.6p+3,  // 11
+    0x1p+3,  // 8
+};
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .split = 24, .m = potential_4_1_m, .content = 0x1.1111111111111p-9, .content_lo = 0x1.1111111111111p-65},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -547,6 +667,12 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.999999999999ap-53, 0x1.999999999999ap-52, 0x1.999999999999ap-50,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 2187/2560 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+4,  // 18
+    0x1.bp+4,  // 27
+};
 inline constexpr double dpotential_3_2[] = {
     0x1.3333333333333p-3,  // 3/20
     0x0p+0,  // 0
@@ -563,7 +689,7 @@ inline constexpr double dpotential_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_3_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 8, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
@@ -577,6 +703,12 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     0x1.999999999999ap-53, 0x1.999999999999ap-52, 0x1.999999999999ap-50,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 2187/2560 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+4,  // 18
+    0x1.bp+4,  // 27
+};
 inline constexpr double dpotential_4_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1.3333333333333p-3,  // -3/20
@@ -585,10 +717,16 @@ inline constexpr double dpotential_4_2[] = {
 inline constexpr double dpotential_4_2_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, -0x1.999999999999ap-58,
 };
+// dpotential_4_2 = content * dpotential_4_2_m, content = -1/20 (table::Term::split)
+inline constexpr double dpotential_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo, .split = 25, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -601,9 +739,15 @@ inline constexpr double dpotential_5_1[] = {
 inline constexpr double dpotential_5_1_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, -0x1.999999999999ap-58,
 };
+// dpotential_5_1 = content * dpotential_5_1_m, content = -1/20 (table::Term::split)
+inline constexpr double dpotential_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .split = 25, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -685,6 +829,12 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.999999999999ap-53, 0x1.999999999999ap-52, 0x1.999999999999ap-50,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = 2187/2560 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+4,  // 18
+    0x1.bp+4,  // 27
+};
 inline constexpr double dpotential_over_r_3_2[] = {
     0x1.3333333333333p-3,  // 3/20
     0x0p+0,  // 0
@@ -701,7 +851,7 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_3_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_2, .n = 8, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
@@ -715,6 +865,12 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.999999999999ap-53, 0x1.999999999999ap-52, 0x1.999999999999ap-50,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 2187/2560 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+4,  // 18
+    0x1.bp+4,  // 27
+};
 inline constexpr double dpotential_over_r_4_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1.3333333333333p-3,  // -3/20
@@ -723,10 +879,16 @@ inline constexpr double dpotential_over_r_4_2[] = {
 inline constexpr double dpotential_over_r_4_2_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, -0x1.999999999999ap-58,
 };
+// dpotential_over_r_4_2 = content * dpotential_over_r_4_2_m, content = -1/20 (table::Term::split)
+inline constexpr double dpotential_over_r_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo, .split = 25, .m = dpotential_over_r_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2
@@ -739,9 +901,15 @@ inline constexpr double dpotential_over_r_5_1[] = {
 inline constexpr double dpotential_over_r_5_1_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, -0x1.999999999999ap-58,
 };
+// dpotential_over_r_5_1 = content * dpotential_over_r_5_1_m, content = -1/20 (table::Term::split)
+inline constexpr double dpotential_over_r_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .split = 25, .m = dpotential_over_r_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1p-1,  // 1/2
@@ -867,10 +1035,17 @@ inline constexpr double potential_hess_radial_4_2[] = {
 inline constexpr double potential_hess_radial_4_2_lo[] = {
     -0x1.999999999999ap-59, 0x0p+0, 0x0p+0, -0x1.999999999999ap-55,
 };
+// potential_hess_radial_4_2 = content * potential_hess_radial_4_2_m, content = 1/20 (table::Term::split)
+inline constexpr double potential_hess_radial_4_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term potential_hess_radial_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -3, .c = potential_hess_radial_4_1, .n = 4, .c_lo = potential_hess_radial_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_4_2, .n = 4, .c_lo = potential_hess_radial_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_4_2, .n = 4, .c_lo = potential_hess_radial_4_2_lo, .split = 15, .m = potential_hess_radial_4_2_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
 };
 inline constexpr double potential_hess_radial_5_0[] = {
     -0x1p-1,  // -1/2
@@ -884,9 +1059,16 @@ inline constexpr double potential_hess_radial_5_1[] = {
 inline constexpr double potential_hess_radial_5_1_lo[] = {
     -0x1.999999999999ap-59, 0x0p+0, 0x0p+0, -0x1.999999999999ap-55,
 };
+// potential_hess_radial_5_1 = content * potential_hess_radial_5_1_m, content = 1/20 (table::Term::split)
+inline constexpr double potential_hess_radial_5_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term potential_hess_radial_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_5_1, .n = 4, .c_lo = potential_hess_radial_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_5_1, .n = 4, .c_lo = potential_hess_radial_5_1_lo, .split = 15, .m = potential_hess_radial_5_1_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
 };
 inline constexpr double potential_hess_radial_6_0[] = {
     -0x1p-1,  // -1/2

@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.e113c86c9ed3cp-42, 0x1.0e9b20bd19572p-37, -0x1.5d577165b96d9p-33,
 };
+// value_0_0 = content * value_0_0_m, content = 177147/2 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+    0x1.a4p+6,  // 105
+};
 inline constexpr double value_0_1[] = {
     -0x1.606c39ebaebap+5,  // -177147/1280 * pi^-1
     -0x1.8c79c12924914p+8,  // -1594323/1280 * pi^-1
@@ -25,6 +31,12 @@ inline constexpr double value_0_1[] = {
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.80dca056e5763p-51, -0x1.b0f83461c224fp-48, -0x1.4eed3ee1d20ecp-44,
+};
+// value_0_1 = content * value_0_1_m, content = -177147/5120 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
 };
 inline constexpr double value_0_2[] = {
     0x1.255ab960267a9p-2,  // 9/10 * pi^-1
@@ -34,10 +46,16 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     -0x1.c09d0fca8fd68p-57, 0x1.5f146850283e4p-55, 0x1.e38d79d1a1c8fp-53,
 };
+// value_0_2 = content * value_0_2_m, content = 3/10 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.b88748669a688p+14, .content_lo = 0x1.e113c86c9ed3cp-42},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.606c39ebaebap+3, .content_lo = -0x1.80dca056e5763p-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 23, .m = value_0_2_m, .content = 0x1.8723a1d588a36p-4, .content_lo = 0x1.7f974ace4ac65p-58},
 };
 inline constexpr double value_1_0[] = {
     -0x1.606c39ebaebap+5,  // -177147/1280 * pi^-1
@@ -47,6 +65,12 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.80dca056e5763p-51, -0x1.b0f83461c224fp-48, -0x1.4eed3ee1d20ecp-44,
 };
+// value_1_0 = content * value_1_0_m, content = -177147/5120 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
+};
 inline constexpr double value_1_1[] = {
     0x1.255ab960267a9p-2,  // 9/10 * pi^-1
     0x1.b808161039b7dp+0,  // 27/5 * pi^-1
@@ -55,9 +79,15 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     -0x1.c09d0fca8fd68p-57, 0x1.5f146850283e4p-55, 0x1.e38d79d1a1c8fp-53,
 };
+// value_1_1 = content * value_1_1_m, content = 3/10 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.606c39ebaebap+3, .content_lo = -0x1.80dca056e5763p-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 23, .m = value_1_1_m, .content = 0x1.8723a1d588a36p-4, .content_lo = 0x1.7f974ace4ac65p-58},
 };
 inline constexpr double value_2_0[] = {
     0x1.255ab960267a9p-2,  // 9/10 * pi^-1
@@ -67,8 +97,14 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     -0x1.c09d0fca8fd68p-57, 0x1.5f146850283e4p-55, 0x1.e38d79d1a1c8fp-53,
 };
+// value_2_0 = content * value_2_0_m, content = 3/10 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 23, .m = value_2_0_m, .content = 0x1.8723a1d588a36p-4, .content_lo = 0x1.7f974ace4ac65p-58},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -83,12 +119,22 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.a4f14f5f0af94p-36, 0x1.5d577165b96d9p-30,
 };
+// dr_0_0 = content * dr_0_0_m, content = -4960116 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+};
 inline constexpr double dr_0_1[] = {
     0x1.345eb2ae38e2cp+10,  // 1240029/320 * pi^-1
     0x1.2118c78355549p+13,  // 3720087/128 * pi^-1
 };
 inline constexpr double dr_0_1_lo[] = {
     0x1.50c10c4c08c76p-46, 0x1.4eed3ee1d20ecp-41,
+};
+// dr_0_1 = content * dr_0_1_m, content = 1240029/640 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
 };
 inline constexpr double dr_0_2[] = {
     -0x1.563f2d9ad78fp+2,  // -84/5 * pi^-1
@@ -97,10 +143,15 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     0x1.b05b9e8b7e927p-52, -0x1.e38d79d1a1c8fp-50,
 };
+// dr_0_2 = content * dr_0_2_m, content = -84/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.81765f59c71b7p+20, .content_lo = -0x1.a4f14f5f0af94p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr double dr_1_0[] = {
     0x1.345eb2ae38e2cp+10,  // 1240029/320 * pi^-1
@@ -109,6 +160,11 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.50c10c4c08c76p-46, 0x1.4eed3ee1d20ecp-41,
 };
+// dr_1_0 = content * dr_1_0_m, content = 1240029/640 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+};
 inline constexpr double dr_1_1[] = {
     -0x1.563f2d9ad78fp+2,  // -84/5 * pi^-1
     -0x1.abcef9018d72bp+4,  // -84 * pi^-1
@@ -116,9 +172,14 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     0x1.b05b9e8b7e927p-52, -0x1.e38d79d1a1c8fp-50,
 };
+// dr_1_1 = content * dr_1_1_m, content = -84/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.563f2d9ad78fp+2,  // -84/5 * pi^-1
@@ -127,8 +188,13 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     0x1.b05b9e8b7e927p-52, -0x1.e38d79d1a1c8fp-50,
 };
+// dr_2_0 = content * dr_2_0_m, content = -84/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -275,12 +341,22 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.a4f14f5f0af94p-36, 0x1.5d577165b96d9p-30,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -4960116 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.345eb2ae38e2cp+10,  // 1240029/320 * pi^-1
     0x1.2118c78355549p+13,  // 3720087/128 * pi^-1
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.50c10c4c08c76p-46, 0x1.4eed3ee1d20ecp-41,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 1240029/640 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.563f2d9ad78fp+2,  // -84/5 * pi^-1
@@ -289,10 +365,15 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     0x1.b05b9e8b7e927p-52, -0x1.e38d79d1a1c8fp-50,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -84/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.81765f59c71b7p+20, .content_lo = -0x1.a4f14f5f0af94p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.345eb2ae38e2cp+10,  // 1240029/320 * pi^-1
@@ -301,6 +382,11 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.50c10c4c08c76p-46, 0x1.4eed3ee1d20ecp-41,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 1240029/640 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.563f2d9ad78fp+2,  // -84/5 * pi^-1
     -0x1.abcef9018d72bp+4,  // -84 * pi^-1
@@ -308,9 +394,14 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     0x1.b05b9e8b7e927p-52, -0x1.e38d79d1a1c8fp-50,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -84/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.563f2d9ad78fp+2,  // -84/5 * pi^-1
@@ -319,8 +410,13 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.b05b9e8b7e927p-52, -0x1.e38d79d1a1c8fp-50,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -84/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.127b8ff47f686p-37, 0x1.cb34fe0cf0aa9p-33, -0x1.6252b82d21074p-31,
 };
+// value_0_0 = content * value_0_0_m, content = 29229255/64 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+    0x1.a4p+6,  // 105
+};
 inline constexpr double value_0_1[] = {
     -0x1.c64b82a9cf3bcp+6,  // -5845851/16384 * pi^-1
     -0x1.ff14f2ff09234p+9,  // -52612659/16384 * pi^-1
@@ -25,6 +31,12 @@ inline constexpr double value_0_1[] = {
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.7c0719ac00f29p-48, 0x1.51e00c79fbbc6p-47, 0x1.e8422cf0e739p-43,
+};
+// value_0_1 = content * value_0_1_m, content = -5845851/65536 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
 };
 inline constexpr double value_0_2[] = {
     0x1.f833ee9d4222ap-2,  // 99/64 * pi^-1
@@ -34,10 +46,16 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     0x1.79e419b7b18eap-58, -0x1.b9253b2d8eb54p-53, 0x1.6f8d94b02708bp-52,
 };
+// value_0_2 = content * value_0_2_m, content = 33/64 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.1bef31aa21856p+17, .content_lo = -0x1.127b8ff47f686p-37},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.c64b82a9cf3bcp+4, .content_lo = -0x1.7c0719ac00f29p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 23, .m = value_0_2_m, .content = 0x1.50229f13816c7p-3, .content_lo = -0x1.1659fbb6b7bd9p-57},
 };
 inline constexpr double value_1_0[] = {
     -0x1.c64b82a9cf3bcp+6,  // -5845851/16384 * pi^-1
@@ -47,6 +65,12 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.7c0719ac00f29p-48, 0x1.51e00c79fbbc6p-47, 0x1.e8422cf0e739p-43,
 };
+// value_1_0 = content * value_1_0_m, content = -5845851/65536 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
+};
 inline constexpr double value_1_1[] = {
     0x1.f833ee9d4222ap-2,  // 99/64 * pi^-1
     0x1.7a26f2f5f19ap+1,  // 297/32 * pi^-1
@@ -55,9 +79,15 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     0x1.79e419b7b18eap-58, -0x1.b9253b2d8eb54p-53, 0x1.6f8d94b02708bp-52,
 };
+// value_1_1 = content * value_1_1_m, content = 33/64 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.c64b82a9cf3bcp+4, .content_lo = -0x1.7c0719ac00f29p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 23, .m = value_1_1_m, .content = 0x1.50229f13816c7p-3, .content_lo = -0x1.1659fbb6b7bd9p-57},
 };
 inline constexpr double value_2_0[] = {
     0x1.f833ee9d4222ap-2,  // 99/64 * pi^-1
@@ -67,8 +97,14 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     0x1.79e419b7b18eap-58, -0x1.b9253b2d8eb54p-53, 0x1.6f8d94b02708bp-52,
 };
+// value_2_0 = content * value_2_0_m, content = 33/64 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 23, .m = value_2_0_m, .content = 0x1.50229f13816c7p-3, .content_lo = -0x1.1659fbb6b7bd9p-57},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -83,12 +119,22 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.fa7c414210954p-36, 0x1.6252b82d21074p-28,
 };
+// dr_0_0 = content * dr_0_0_m, content = -204604785/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+};
 inline constexpr double dr_0_1[] = {
     0x1.8d82125495545p+11,  // 40920957/4096 * pi^-1
     0x1.74a9f12f4bff1p+14,  // 613814355/8192 * pi^-1
 };
 inline constexpr double dr_0_1_lo[] = {
     -0x1.66f39312fe578p-44, -0x1.e8422cf0e739p-40,
+};
+// dr_0_1 = content * dr_0_1_m, content = 40920957/8192 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
 };
 inline constexpr double dr_0_2[] = {
     -0x1.261e4b31113eep+3,  // -231/8 * pi^-1
@@ -97,10 +143,15 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     0x1.ce3af0ff83178p-53, -0x1.6f8d94b02708bp-49,
 };
+// dr_0_2 = content * dr_0_2_m, content = -231/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.f0e296e9baa96p+22, .content_lo = -0x1.fa7c414210954p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.8d82125495545p+10, .content_lo = -0x1.66f39312fe578p-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.261e4b31113eep+3, .content_lo = 0x1.ce3af0ff83178p-53},
 };
 inline constexpr double dr_1_0[] = {
     0x1.8d82125495545p+11,  // 40920957/4096 * pi^-1
@@ -109,6 +160,11 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     -0x1.66f39312fe578p-44, -0x1.e8422cf0e739p-40,
 };
+// dr_1_0 = content * dr_1_0_m, content = 40920957/8192 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+};
 inline constexpr double dr_1_1[] = {
     -0x1.261e4b31113eep+3,  // -231/8 * pi^-1
     -0x1.6fa5ddfd558e9p+5,  // -1155/8 * pi^-1
@@ -116,9 +172,14 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     0x1.ce3af0ff83178p-53, -0x1.6f8d94b02708bp-49,
 };
+// dr_1_1 = content * dr_1_1_m, content = -231/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.8d82125495545p+10, .content_lo = -0x1.66f39312fe578p-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.261e4b31113eep+3, .content_lo = 0x1.ce3af0ff83178p-53},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.261e4b31113eep+3,  // -231/8 * pi^-1
@@ -127,8 +188,13 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     0x1.ce3af0ff83178p-53, -0x1.6f8d94b02708bp-49,
 };
+// dr_2_0 = content * dr_2_0_m, content = -231/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.261e4b31113eep+3, .content_lo = 0x1.ce3af0ff83178p-53},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -275,12 +341,22 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.fa7c414210954p-36, 0x1.6252b82d21074p-28,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -204604785/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.8d82125495545p+11,  // 40920957/4096 * pi^-1
     0x1.74a9f12f4bff1p+14,  // 613814355/8192 * pi^-1
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.66f39312fe578p-44, -0x1.e8422cf0e739p-40,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 40920957/8192 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.261e4b31113eep+3,  // -231/8 * pi^-1
@@ -289,10 +365,15 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     0x1.ce3af0ff83178p-53, -0x1.6f8d94b02708bp-49,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -231/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.f0e296e9baa96p+22, .content_lo = -0x1.fa7c414210954p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.8d82125495545p+10, .content_lo = -0x1.66f39312fe578p-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.261e4b31113eep+3, .content_lo = 0x1.ce3af0ff83178p-53},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.8d82125495545p+11,  // 40920957/4096 * pi^-1
@@ -301,6 +382,11 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.66f39312fe578p-44, -0x1.e8422cf0e739p-40,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 40920957/8192 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.261e4b31113eep+3,  // -231/8 * pi^-1
     -0x1.6fa5ddfd558e9p+5,  // -1155/8 * pi^-1
@@ -308,9 +394,14 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     0x1.ce3af0ff83178p-53, -0x1.6f8d94b02708bp-49,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -231/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.8d82125495545p+10, .content_lo = -0x1.66f39312fe578p-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.261e4b31113eep+3, .content_lo = 0x1.ce3af0ff83178p-53},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.261e4b31113eep+3,  // -231/8 * pi^-1
@@ -319,8 +410,13 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.ce3af0ff83178p-53, -0x1.6f8d94b02708bp-49,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -231/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.261e4b31113eep+3, .content_lo = 0x1.ce3af0ff83178p-53},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

@@ -15,6 +15,12 @@ inline constexpr double value_0_0[] = {
     0x1.853d3p+16,  // 1594323/16
     0x1.1bd1f3p+19,  // 18600435/32
 };
+// value_0_0 = content * value_0_0_m, content = 177147/32 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+    0x1.a4p+6,  // 105
+};
 inline constexpr double value_0_1[] = {
     -0x1.14caccccccccdp+4,  // -177147/10240
     -0x1.3764266666666p+7,  // -1594323/10240
@@ -22,6 +28,12 @@ inline constexpr double value_0_1[] = {
 };
 inline constexpr double value_0_1_lo[] = {
     0x1.999999999999ap-51, -0x1.999999999999ap-47, 0x0p+0,
+};
+// value_0_1 = content * value_0_1_m, content = -177147/40960 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
 };
 inline constexpr double value_0_2[] = {
     0x1.599999999999ap-3,  // 27/160
@@ -31,10 +43,16 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     -0x1.999999999999ap-57, 0x1.999999999999ap-55, 0x0p+0,
 };
+// value_0_2 = content * value_0_2_m, content = 9/160 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.59fd8p+12, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.14caccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 23, .m = value_0_2_m, .content = 0x1.ccccccccccccdp-5, .content_lo = -0x1.999999999999ap-60},
 };
 inline constexpr double value_1_0[] = {
     -0x1.14caccccccccdp+4,  // -177147/10240
@@ -44,6 +62,12 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     0x1.999999999999ap-51, -0x1.999999999999ap-47, 0x0p+0,
 };
+// value_1_0 = content * value_1_0_m, content = -177147/40960 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
+};
 inline constexpr double value_1_1[] = {
     0x1.599999999999ap-3,  // 27/160
     0x1.0333333333333p+0,  // 81/80
@@ -52,9 +76,15 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     -0x1.999999999999ap-57, 0x1.999999999999ap-55, 0x0p+0,
 };
+// value_1_1 = content * value_1_1_m, content = 9/160 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.14caccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 23, .m = value_1_1_m, .content = 0x1.ccccccccccccdp-5, .content_lo = -0x1.999999999999ap-60},
 };
 inline constexpr double value_2_0[] = {
     0x1.599999999999ap-3,  // 27/160
@@ -64,8 +94,14 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     -0x1.999999999999ap-57, 0x1.999999999999ap-55, 0x0p+0,
 };
+// value_2_0 = content * value_2_0_m, content = 9/160 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 23, .m = value_2_0_m, .content = 0x1.ccccccccccccdp-5, .content_lo = -0x1.999999999999ap-60},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -77,12 +113,22 @@ inline constexpr double dr_0_0[] = {
     -0x1.2ebddp+18,  // -1240029/4
     -0x1.1bd1f3p+22,  // -18600435/4
 };
+// dr_0_0 = content * dr_0_0_m, content = -1240029/4 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+};
 inline constexpr double dr_0_1[] = {
     0x1.e462e66666666p+8,  // 1240029/2560
     0x1.c61cb8p+11,  // 3720087/1024
 };
 inline constexpr double dr_0_1_lo[] = {
     0x1.999999999999ap-46, 0x0p+0,
+};
+// dr_0_1 = content * dr_0_1_m, content = 1240029/5120 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
 };
 inline constexpr double dr_0_2[] = {
     -0x1.9333333333333p+1,  // -63/20
@@ -91,10 +137,15 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     -0x1.999999999999ap-54, 0x0p+0,
 };
+// dr_0_2 = content * dr_0_2_m, content = -63/20 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.2ebddp+18, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr double dr_1_0[] = {
     0x1.e462e66666666p+8,  // 1240029/2560
@@ -103,6 +154,11 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.999999999999ap-46, 0x0p+0,
 };
+// dr_1_0 = content * dr_1_0_m, content = 1240029/5120 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+};
 inline constexpr double dr_1_1[] = {
     -0x1.9333333333333p+1,  // -63/20
     -0x1.f8p+3,  // -63/4
@@ -110,9 +166,14 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     -0x1.999999999999ap-54, 0x0p+0,
 };
+// dr_1_1 = content * dr_1_1_m, content = -63/20 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.9333333333333p+1,  // -63/20
@@ -121,8 +182,13 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     -0x1.999999999999ap-54, 0x0p+0,
 };
+// dr_2_0 = content * dr_2_0_m, content = -63/20 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -260,12 +326,22 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.2ebddp+18,  // -1240029/4
     -0x1.1bd1f3p+22,  // -18600435/4
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -1240029/4 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.e462e66666666p+8,  // 1240029/2560
     0x1.c61cb8p+11,  // 3720087/1024
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.999999999999ap-46, 0x0p+0,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 1240029/5120 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.9333333333333p+1,  // -63/20
@@ -274,10 +350,15 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.999999999999ap-54, 0x0p+0,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -63/20 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.2ebddp+18, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.e462e66666666p+8,  // 1240029/2560
@@ -286,6 +367,11 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.999999999999ap-46, 0x0p+0,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 1240029/5120 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.9333333333333p+1,  // -63/20
     -0x1.f8p+3,  // -63/4
@@ -293,9 +379,14 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.999999999999ap-54, 0x0p+0,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -63/20 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.9333333333333p+1,  // -63/20
@@ -304,8 +395,13 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.999999999999ap-54, 0x0p+0,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -63/20 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -426,6 +522,12 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     -0x1.999999999999ap-56, -0x1.999999999999ap-54, 0x1.999999999999ap-52,
 };
+// potential_3_1 = content * potential_3_1_m, content = -19683/81920 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1p+2,  // 4
+    0x1p+4,  // 16
+    0x1.5p+4,  // 21
+};
 inline constexpr double potential_3_2[] = {
     0x1.3333333333333p-7,  // 3/320
     0x0p+0,  // 0
@@ -446,7 +548,7 @@ inline constexpr double potential_3_2_lo[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_3_1_m, .content = -0x1.ec13333333333p-3, .content_lo = -0x1.999999999999ap-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_2, .n = 11, .c_lo = potential_3_2_lo},
 };
 inline constexpr double potential_4_0[] = {
@@ -460,6 +562,12 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     -0x1.999999999999ap-56, -0x1.999999999999ap-54, 0x1.999999999999ap-52,
 };
+// potential_4_1 = content * potential_4_1_m, content = -19683/81920 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1p+2,  // 4
+    0x1p+4,  // 16
+    0x1.5p+4,  // 21
+};
 inline constexpr double potential_4_2[] = {
     0x1.3333333333333p-7,  // 3/320
     0x1.999999999999ap-6,  // 1/40
@@ -468,10 +576,16 @@ inline constexpr double potential_4_2[] = {
 inline constexpr double potential_4_2_lo[] = {
     0x1.999999999999ap-62, -0x1.999999999999ap-60, 0x1.999999999999ap-60,
 };
+// potential_4_2 = content * potential_4_2_m, content = 1/320 (table::Term::split)
+inline constexpr double potential_4_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1p+3,  // 8
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_2, .n = 3, .c_lo = potential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_4_1_m, .content = -0x1.ec13333333333p-3, .content_lo = -0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_2, .n = 3, .c_lo = potential_4_2_lo, .split = 24, .m = potential_4_2_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -484,9 +598,15 @@ inline constexpr double potential_5_1[] = {
 inline constexpr double potential_5_1_lo[] = {
     0x1.999999999999ap-62, -0x1.999999999999ap-60, 0x1.999999999999ap-60,
 };
+// potential_5_1 = content * potential_5_1_m, content = 1/320 (table::Term::split)
+inline constexpr double potential_5_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1p+3,  // 8
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .split = 24, .m = potential_5_1_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
 };
 inline constexpr double potential_6_0[] = {
     0x1p-1,  // 1/2
@@ -576,6 +696,12 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     -0x1.999999999999ap-53, 0x1.999999999999ap-50, 0x0p+0,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = 6561/40960 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+5,  // 32
+    0x1.5cp+7,  // 174
+    0x1.3bp+8,  // 315
+};
 inline constexpr double dpotential_3_2[] = {
     0x1.599999999999ap-3,  // 27/160
     0x0p+0,  // 0
@@ -594,7 +720,7 @@ inline constexpr double dpotential_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = dpotential_3_1_m, .content = 0x1.480cccccccccdp-3, .content_lo = -0x1.999999999999ap-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 9, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
@@ -608,6 +734,12 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     -0x1.999999999999ap-53, 0x1.999999999999ap-50, 0x0p+0,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 6561/40960 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+5,  // 32
+    0x1.5cp+7,  // 174
+    0x1.3bp+8,  // 315
+};
 inline constexpr double dpotential_4_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1.7333333333333p-3,  // -29/160
@@ -616,10 +748,16 @@ inline constexpr double dpotential_4_2[] = {
 inline constexpr double dpotential_4_2_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, 0x0p+0,
 };
+// dpotential_4_2 = content * dpotential_4_2_m, content = -1/160 (table::Term::split)
+inline constexpr double dpotential_4_2_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = dpotential_4_1_m, .content = 0x1.480cccccccccdp-3, .content_lo = -0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo, .split = 23, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -632,9 +770,15 @@ inline constexpr double dpotential_5_1[] = {
 inline constexpr double dpotential_5_1_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, 0x0p+0,
 };
+// dpotential_5_1 = content * dpotential_5_1_m, content = -1/160 (table::Term::split)
+inline constexpr double dpotential_5_1_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .split = 23, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -741,6 +885,12 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     -0x1.999999999999ap-53, 0x1.999999999999ap-50, 0x0p+0,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 6561/40960 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+5,  // 32
+    0x1.5cp+7,  // 174
+    0x1.3bp+8,  // 315
+};
 inline constexpr double dpotential_over_r_4_2[] = {
     0x1.599999999999ap-3,  // 27/160
     0x0p+0,  // 0
@@ -759,7 +909,7 @@ inline constexpr double dpotential_over_r_4_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = dpotential_over_r_4_1_m, .content = 0x1.480cccccccccdp-3, .content_lo = -0x1.999999999999ap-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_2, .n = 9, .c_lo = dpotential_over_r_4_2_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
@@ -773,6 +923,12 @@ inline constexpr double dpotential_over_r_5_1[] = {
 inline constexpr double dpotential_over_r_5_1_lo[] = {
     -0x1.999999999999ap-53, 0x1.999999999999ap-50, 0x0p+0,
 };
+// dpotential_over_r_5_1 = content * dpotential_over_r_5_1_m, content = 6561/40960 (table::Term::split)
+inline constexpr double dpotential_over_r_5_1_m[] = {
+    0x1p+5,  // 32
+    0x1.5cp+7,  // 174
+    0x1.3bp+8,  // 315
+};
 inline constexpr double dpotential_over_r_5_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1.7333333333333p-3,  // -29/160
@@ -781,10 +937,16 @@ inline constexpr double dpotential_over_r_5_2[] = {
 inline constexpr double dpotential_over_r_5_2_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, 0x0p+0,
 };
+// dpotential_over_r_5_2 = content * dpotential_over_r_5_2_m, content = -1/160 (table::Term::split)
+inline constexpr double dpotential_over_r_5_2_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_5_2, .n = 3, .c_lo = dpotential_over_r_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = dpotential_over_r_5_1_m, .content = 0x1.480cccccccccdp-3, .content_lo = -0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_5_2, .n = 3, .c_lo = dpotential_over_r_5_2_lo, .split = 23, .m = dpotential_over_r_5_2_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1p-1,  // 1/2
@@ -797,9 +959,15 @@ inline constexpr double dpotential_over_r_6_1[] = {
 inline constexpr double dpotential_over_r_6_1_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, 0x0p+0,
 };
+// dpotential_over_r_6_1 = content * dpotential_over_r_6_1_m, content = -1/160 (table::Term::split)
+inline constexpr double dpotential_over_r_6_1_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_over_r_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_6_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_6_1, .n = 3, .c_lo = dpotential_over_r_6_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_6_1, .n = 3, .c_lo = dpotential_over_r_6_1_lo, .split = 23, .m = dpotential_over_r_6_1_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
 };
 inline constexpr double dpotential_over_r_7_0[] = {
     0x1p-1,  // 1/2

@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.ce2c44238c89ap-39, -0x1.de9a196ea874ap-35, 0x1.7c0719ac00f29p-31,
 };
+// value_0_0 = content * value_0_0_m, content = 649539/2 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+    0x1.2p+7,  // 144
+};
 inline constexpr double value_0_1[] = {
     -0x1.430ddfc2b57fdp+6,  // -649539/2560 * pi^-1
     -0x1.a80235af8e37dp+9,  // -13640319/5120 * pi^-1
@@ -25,6 +31,12 @@ inline constexpr double value_0_1[] = {
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.ad87e4be9495cp-48, 0x1.8c3da3c5dcfb7p-45, -0x1.8ce385599ca1ep-45,
+};
+// value_0_1 = content * value_0_1_m, content = -649539/5120 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
 };
 inline constexpr double value_0_2[] = {
     0x1.668b54591295dp-2,  // 11/10 * pi^-1
@@ -34,10 +46,16 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     -0x1.f5b550c2e61f9p-56, -0x1.b7f535544adccp-56, -0x1.f5b550c2e61f9p-52,
 };
+// value_0_2 = content * value_0_2_m, content = 11/10 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.93d157b362dfdp+16, .content_lo = -0x1.ce2c44238c89ap-39},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.430ddfc2b57fdp+5, .content_lo = -0x1.ad87e4be9495cp-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 24, .m = value_0_2_m, .content = 0x1.668b54591295dp-2, .content_lo = -0x1.f5b550c2e61f9p-56},
 };
 inline constexpr double value_1_0[] = {
     -0x1.430ddfc2b57fdp+6,  // -649539/2560 * pi^-1
@@ -47,6 +65,12 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.ad87e4be9495cp-48, 0x1.8c3da3c5dcfb7p-45, -0x1.8ce385599ca1ep-45,
 };
+// value_1_0 = content * value_1_0_m, content = -649539/5120 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double value_1_1[] = {
     0x1.668b54591295dp-2,  // 11/10 * pi^-1
     0x1.39b9e9cdf0431p+1,  // 77/10 * pi^-1
@@ -55,9 +79,15 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     -0x1.f5b550c2e61f9p-56, -0x1.b7f535544adccp-56, -0x1.f5b550c2e61f9p-52,
 };
+// value_1_1 = content * value_1_1_m, content = 11/10 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.430ddfc2b57fdp+5, .content_lo = -0x1.ad87e4be9495cp-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 24, .m = value_1_1_m, .content = 0x1.668b54591295dp-2, .content_lo = -0x1.f5b550c2e61f9p-56},
 };
 inline constexpr double value_2_0[] = {
     0x1.668b54591295dp-2,  // 11/10 * pi^-1
@@ -67,8 +97,14 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     -0x1.f5b550c2e61f9p-56, -0x1.b7f535544adccp-56, -0x1.f5b550c2e61f9p-52,
 };
+// value_2_0 = content * value_2_0_m, content = 11/10 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 24, .m = value_2_0_m, .content = 0x1.668b54591295dp-2, .content_lo = -0x1.f5b550c2e61f9p-56},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -83,12 +119,22 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.7c0719ac00f29p-32, 0x1.51e00c79fbbc6p-30,
 };
+// dr_0_0 = content * dr_0_0_m, content = -23383404 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+};
 inline constexpr double dr_0_1[] = {
     0x1.6b6f9bbb0c2fdp+11,  // 5845851/640 * pi^-1
     0x1.98dd8f326db5dp+14,  // 52612659/640 * pi^-1
 };
 inline constexpr double dr_0_1_lo[] = {
     0x1.8ce385599ca1ep-45, -0x1.1060027ecbf28p-40,
+};
+// dr_0_1 = content * dr_0_1_m, content = 5845851/640 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
 };
 inline constexpr double dr_0_2[] = {
     -0x1.0ce87f42cdf05p+3,  // -132/5 * pi^-1
@@ -97,10 +143,15 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     -0x1.87b8036dd3686p-51, -0x1.2e501492f4721p-51,
 };
+// dr_0_2 = content * dr_0_2_m, content = -132/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.c64b82a9cf3bcp+22, .content_lo = -0x1.7c0719ac00f29p-32},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.6b6f9bbb0c2fdp+11, .content_lo = 0x1.8ce385599ca1ep-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.0ce87f42cdf05p+3, .content_lo = -0x1.87b8036dd3686p-51},
 };
 inline constexpr double dr_1_0[] = {
     0x1.6b6f9bbb0c2fdp+11,  // 5845851/640 * pi^-1
@@ -109,6 +160,11 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.8ce385599ca1ep-45, -0x1.1060027ecbf28p-40,
 };
+// dr_1_0 = content * dr_1_0_m, content = 5845851/640 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double dr_1_1[] = {
     -0x1.0ce87f42cdf05p+3,  // -132/5 * pi^-1
     -0x1.935cbee434e88p+5,  // -792/5 * pi^-1
@@ -116,9 +172,14 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     -0x1.87b8036dd3686p-51, -0x1.2e501492f4721p-51,
 };
+// dr_1_1 = content * dr_1_1_m, content = -132/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.6b6f9bbb0c2fdp+11, .content_lo = 0x1.8ce385599ca1ep-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.0ce87f42cdf05p+3, .content_lo = -0x1.87b8036dd3686p-51},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.0ce87f42cdf05p+3,  // -132/5 * pi^-1
@@ -127,8 +188,13 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     -0x1.87b8036dd3686p-51, -0x1.2e501492f4721p-51,
 };
+// dr_2_0 = content * dr_2_0_m, content = -132/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.0ce87f42cdf05p+3, .content_lo = -0x1.87b8036dd3686p-51},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -275,12 +341,22 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.7c0719ac00f29p-32, 0x1.51e00c79fbbc6p-30,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -23383404 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.6b6f9bbb0c2fdp+11,  // 5845851/640 * pi^-1
     0x1.98dd8f326db5dp+14,  // 52612659/640 * pi^-1
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.8ce385599ca1ep-45, -0x1.1060027ecbf28p-40,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 5845851/640 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.0ce87f42cdf05p+3,  // -132/5 * pi^-1
@@ -289,10 +365,15 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.87b8036dd3686p-51, -0x1.2e501492f4721p-51,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -132/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.c64b82a9cf3bcp+22, .content_lo = -0x1.7c0719ac00f29p-32},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.6b6f9bbb0c2fdp+11, .content_lo = 0x1.8ce385599ca1ep-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.0ce87f42cdf05p+3, .content_lo = -0x1.87b8036dd3686p-51},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.6b6f9bbb0c2fdp+11,  // 5845851/640 * pi^-1
@@ -301,6 +382,11 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.8ce385599ca1ep-45, -0x1.1060027ecbf28p-40,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 5845851/640 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.0ce87f42cdf05p+3,  // -132/5 * pi^-1
     -0x1.935cbee434e88p+5,  // -792/5 * pi^-1
@@ -308,9 +394,14 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.87b8036dd3686p-51, -0x1.2e501492f4721p-51,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -132/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.6b6f9bbb0c2fdp+11, .content_lo = 0x1.8ce385599ca1ep-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.0ce87f42cdf05p+3, .content_lo = -0x1.87b8036dd3686p-51},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.0ce87f42cdf05p+3,  // -132/5 * pi^-1
@@ -319,8 +410,13 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.87b8036dd3686p-51, -0x1.2e501492f4721p-51,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -132/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.0ce87f42cdf05p+3, .content_lo = -0x1.87b8036dd3686p-51},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.127b8ff47f686p-35, -0x1.e8422cf0e739p-31, 0x1.cb34fe0cf0aa9p-28,
 };
+// value_0_0 = content * value_0_0_m, content = 29229255/16 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+    0x1.2p+7,  // 144
+};
 inline constexpr double value_0_1[] = {
     -0x1.c64b82a9cf3bcp+7,  // -5845851/8192 * pi^-1
     -0x1.2a218dbf6fff4p+11,  // -122762871/16384 * pi^-1
@@ -25,6 +31,12 @@ inline constexpr double value_0_1[] = {
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.7c0719ac00f29p-47, 0x1.869b57271f60dp-43, 0x1.51e00c79fbbc6p-44,
+};
+// value_0_1 = content * value_0_1_m, content = -5845851/16384 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
 };
 inline constexpr double value_0_2[] = {
     0x1.50229f13816c7p-1,  // 33/16 * pi^-1
@@ -34,10 +46,16 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     -0x1.1659fbb6b7bd9p-55, -0x1.ce3af0ff83178p-54, -0x1.1659fbb6b7bd9p-51,
 };
+// value_0_2 = content * value_0_2_m, content = 33/16 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.1bef31aa21856p+19, .content_lo = -0x1.127b8ff47f686p-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.c64b82a9cf3bcp+6, .content_lo = -0x1.7c0719ac00f29p-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 24, .m = value_0_2_m, .content = 0x1.50229f13816c7p-1, .content_lo = -0x1.1659fbb6b7bd9p-55},
 };
 inline constexpr double value_1_0[] = {
     -0x1.c64b82a9cf3bcp+7,  // -5845851/8192 * pi^-1
@@ -47,6 +65,12 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.7c0719ac00f29p-47, 0x1.869b57271f60dp-43, 0x1.51e00c79fbbc6p-44,
 };
+// value_1_0 = content * value_1_0_m, content = -5845851/16384 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double value_1_1[] = {
     0x1.50229f13816c7p-1,  // 33/16 * pi^-1
     0x1.261e4b31113eep+2,  // 231/16 * pi^-1
@@ -55,9 +79,15 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     -0x1.1659fbb6b7bd9p-55, -0x1.ce3af0ff83178p-54, -0x1.1659fbb6b7bd9p-51,
 };
+// value_1_1 = content * value_1_1_m, content = 33/16 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.c64b82a9cf3bcp+6, .content_lo = -0x1.7c0719ac00f29p-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 24, .m = value_1_1_m, .content = 0x1.50229f13816c7p-1, .content_lo = -0x1.1659fbb6b7bd9p-55},
 };
 inline constexpr double value_2_0[] = {
     0x1.50229f13816c7p-1,  // 33/16 * pi^-1
@@ -67,8 +97,14 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     -0x1.1659fbb6b7bd9p-55, -0x1.ce3af0ff83178p-54, -0x1.1659fbb6b7bd9p-51,
 };
+// value_2_0 = content * value_2_0_m, content = 33/16 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 24, .m = value_2_0_m, .content = 0x1.50229f13816c7p-1, .content_lo = -0x1.1659fbb6b7bd9p-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -83,12 +119,22 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.cb34fe0cf0aa9p-29, 0x1.fb64623171402p-25,
 };
+// dr_0_0 = content * dr_0_0_m, content = -263063295/2 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+};
 inline constexpr double dr_0_1[] = {
     0x1.ff14f2ff09234p+12,  // 52612659/2048 * pi^-1
     0x1.1f7bc8af7523dp+16,  // 473513931/2048 * pi^-1
 };
 inline constexpr double dr_0_1_lo[] = {
     -0x1.51e00c79fbbc6p-44, 0x1.a0f8fc7db133p-39,
+};
+// dr_0_1 = content * dr_0_1_m, content = 52612659/2048 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
 };
 inline constexpr double dr_0_2[] = {
     -0x1.f833ee9d4222ap+3,  // -99/2 * pi^-1
@@ -97,10 +143,15 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     -0x1.79e419b7b18eap-53, 0x1.b9253b2d8eb54p-48,
 };
+// dr_0_2 = content * dr_0_2_m, content = -99/2 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.3f6d17df65b6p+25, .content_lo = -0x1.cb34fe0cf0aa9p-29},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr double dr_1_0[] = {
     0x1.ff14f2ff09234p+12,  // 52612659/2048 * pi^-1
@@ -109,6 +160,11 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     -0x1.51e00c79fbbc6p-44, 0x1.a0f8fc7db133p-39,
 };
+// dr_1_0 = content * dr_1_0_m, content = 52612659/2048 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double dr_1_1[] = {
     -0x1.f833ee9d4222ap+3,  // -99/2 * pi^-1
     -0x1.7a26f2f5f19ap+6,  // -297 * pi^-1
@@ -116,9 +172,14 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     -0x1.79e419b7b18eap-53, 0x1.b9253b2d8eb54p-48,
 };
+// dr_1_1 = content * dr_1_1_m, content = -99/2 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.f833ee9d4222ap+3,  // -99/2 * pi^-1
@@ -127,8 +188,13 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     -0x1.79e419b7b18eap-53, 0x1.b9253b2d8eb54p-48,
 };
+// dr_2_0 = content * dr_2_0_m, content = -99/2 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -275,12 +341,22 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.cb34fe0cf0aa9p-29, 0x1.fb64623171402p-25,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -263063295/2 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.ff14f2ff09234p+12,  // 52612659/2048 * pi^-1
     0x1.1f7bc8af7523dp+16,  // 473513931/2048 * pi^-1
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.51e00c79fbbc6p-44, 0x1.a0f8fc7db133p-39,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 52612659/2048 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.f833ee9d4222ap+3,  // -99/2 * pi^-1
@@ -289,10 +365,15 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.79e419b7b18eap-53, 0x1.b9253b2d8eb54p-48,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -99/2 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.3f6d17df65b6p+25, .content_lo = -0x1.cb34fe0cf0aa9p-29},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.ff14f2ff09234p+12,  // 52612659/2048 * pi^-1
@@ -301,6 +382,11 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.51e00c79fbbc6p-44, 0x1.a0f8fc7db133p-39,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 52612659/2048 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.f833ee9d4222ap+3,  // -99/2 * pi^-1
     -0x1.7a26f2f5f19ap+6,  // -297 * pi^-1
@@ -308,9 +394,14 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.79e419b7b18eap-53, 0x1.b9253b2d8eb54p-48,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -99/2 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.f833ee9d4222ap+3,  // -99/2 * pi^-1
@@ -319,8 +410,13 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.79e419b7b18eap-53, 0x1.b9253b2d8eb54p-48,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -99/2 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -533,10 +629,17 @@ inline constexpr double potential_5_2[] = {
 inline constexpr double potential_5_2_lo[] = {
     -0x1.566c8dd9e3448p-63, -0x1.b05b9e8b7e927p-59, -0x1.86229de99e612p-62, -0x1.6b01ec5417056p-58,
 };
+// potential_5_2 = content * potential_5_2_m, content = 1/160 * pi^-1 (table::Term::split)
+inline constexpr double potential_5_2_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = -1, .c = potential_5_1, .n = 4, .c_lo = potential_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = potential_5_2, .n = 4, .c_lo = potential_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = potential_5_2, .n = 4, .c_lo = potential_5_2_lo, .split = 15, .m = potential_5_2_m, .content = 0x1.04c26be3b06cfp-9, .content_lo = -0x1.566c8dd9e3448p-65},
 };
 inline constexpr double potential_6_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -553,9 +656,16 @@ inline constexpr double potential_6_1[] = {
 inline constexpr double potential_6_1_lo[] = {
     -0x1.566c8dd9e3448p-63, -0x1.b05b9e8b7e927p-59, -0x1.86229de99e612p-62, -0x1.6b01ec5417056p-58,
 };
+// potential_6_1 = content * potential_6_1_m, content = 1/160 * pi^-1 (table::Term::split)
+inline constexpr double potential_6_1_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term potential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_6_0, .n = 1, .c_lo = potential_6_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = potential_6_1, .n = 4, .c_lo = potential_6_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = potential_6_1, .n = 4, .c_lo = potential_6_1_lo, .split = 15, .m = potential_6_1_m, .content = 0x1.04c26be3b06cfp-9, .content_lo = -0x1.566c8dd9e3448p-65},
 };
 inline constexpr double potential_7_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -15,42 +15,78 @@ inline constexpr double value_0_0[] = {
     0x1.7a6d44p+18,  // 6200145/16
     0x1.445da8p+21,  // 2657205
 };
+// value_0_0 = content * value_0_0_m, content = 295245/16 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+    0x1.2p+7,  // 144
+};
 inline constexpr double value_0_1[] = {
     -0x1.cd52p+4,  // -59049/2048
     -0x1.2ebddp+8,  // -1240029/4096
     -0x1.037e2p+10,  // -531441/512
+};
+// value_0_1 = content * value_0_1_m, content = -59049/4096 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
 };
 inline constexpr double value_0_2[] = {
     0x1.8p-3,  // 3/16
     0x1.5p+0,  // 21/16
     0x1.8p+1,  // 3
 };
+// value_0_2 = content * value_0_2_m, content = 3/16 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_2, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.20534p+14, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.cd52p+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_2, .n = 3, .split = 24, .m = value_0_2_m, .content = 0x1.8p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double value_1_0[] = {
     -0x1.cd52p+4,  // -59049/2048
     -0x1.2ebddp+8,  // -1240029/4096
     -0x1.037e2p+10,  // -531441/512
 };
+// value_1_0 = content * value_1_0_m, content = -59049/4096 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double value_1_1[] = {
     0x1.8p-3,  // 3/16
     0x1.5p+0,  // 21/16
     0x1.8p+1,  // 3
 };
+// value_1_1 = content * value_1_1_m, content = 3/16 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.cd52p+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_1, .n = 3, .split = 24, .m = value_1_1_m, .content = 0x1.8p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double value_2_0[] = {
     0x1.8p-3,  // 3/16
     0x1.5p+0,  // 21/16
     0x1.8p+1,  // 3
 };
+// value_2_0 = content * value_2_0_m, content = 3/16 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_2_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_2_0, .n = 3, .split = 24, .m = value_2_0_m, .content = 0x1.8p-3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -62,37 +98,67 @@ inline constexpr double dr_0_0[] = {
     -0x1.445da8p+20,  // -2657205/2
     -0x1.6ce95dp+24,  // -23914845
 };
+// dr_0_0 = content * dr_0_0_m, content = -2657205/2 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+};
 inline constexpr double dr_0_1[] = {
     0x1.037e2p+10,  // 531441/512
     0x1.23ede4p+13,  // 4782969/512
+};
+// dr_0_1 = content * dr_0_1_m, content = 531441/512 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
 };
 inline constexpr double dr_0_2[] = {
     -0x1.2p+2,  // -9/2
     -0x1.bp+4,  // -27
 };
+// dr_0_2 = content * dr_0_2_m, content = -9/2 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.445da8p+20, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 2, .split = 26, .m = dr_0_2_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.037e2p+10,  // 531441/512
     0x1.23ede4p+13,  // 4782969/512
 };
+// dr_1_0 = content * dr_1_0_m, content = 531441/512 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double dr_1_1[] = {
     -0x1.2p+2,  // -9/2
     -0x1.bp+4,  // -27
 };
+// dr_1_1 = content * dr_1_1_m, content = -9/2 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 2, .split = 26, .m = dr_1_1_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.2p+2,  // -9/2
     -0x1.bp+4,  // -27
 };
+// dr_2_0 = content * dr_2_0_m, content = -9/2 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 2, .split = 26, .m = dr_2_0_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -200,37 +266,67 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.445da8p+20,  // -2657205/2
     -0x1.6ce95dp+24,  // -23914845
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -2657205/2 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.037e2p+10,  // 531441/512
     0x1.23ede4p+13,  // 4782969/512
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 531441/512 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.2p+2,  // -9/2
     -0x1.bp+4,  // -27
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -9/2 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.445da8p+20, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 2, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.037e2p+10,  // 531441/512
     0x1.23ede4p+13,  // 4782969/512
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 531441/512 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.2p+2,  // -9/2
     -0x1.bp+4,  // -27
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -9/2 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 2, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.2p+2,  // -9/2
     -0x1.bp+4,  // -27
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -9/2 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 2, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -354,6 +450,12 @@ inline constexpr double potential_3_1[] = {
 inline constexpr double potential_3_1_lo[] = {
     -0x1.745d1745d1746p-56, -0x1.86fb586fb587p-52, 0x1.bed61bed61bedp-52,
 };
+// potential_3_1 = content * potential_3_1_m, content = -59049/450560 (table::Term::split)
+inline constexpr double potential_3_1_m[] = {
+    0x1.4p+3,  // 10
+    0x1.78p+5,  // 47
+    0x1.2p+6,  // 72
+};
 inline constexpr double potential_3_2[] = {
     0x1.1745d1745d174p-7,  // 3/352
     0x0p+0,  // 0
@@ -375,7 +477,7 @@ inline constexpr double potential_3_2_lo[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_3_1_m, .content = -0x1.0c67904a7904ap-3, .content_lo = -0x1.e4129e4129e41p-57},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_2, .n = 12, .c_lo = potential_3_2_lo},
 };
 inline constexpr double potential_4_0[] = {
@@ -389,6 +491,12 @@ inline constexpr double potential_4_1[] = {
 inline constexpr double potential_4_1_lo[] = {
     -0x1.745d1745d1746p-56, -0x1.86fb586fb587p-52, 0x1.bed61bed61bedp-52,
 };
+// potential_4_1 = content * potential_4_1_m, content = -59049/450560 (table::Term::split)
+inline constexpr double potential_4_1_m[] = {
+    0x1.4p+3,  // 10
+    0x1.78p+5,  // 47
+    0x1.2p+6,  // 72
+};
 inline constexpr double potential_4_2[] = {
     0x1.1745d1745d174p-7,  // 3/352
     0x1.b586fb586fb58p-6,  // 47/1760
@@ -397,10 +505,16 @@ inline constexpr double potential_4_2[] = {
 inline constexpr double potential_4_2_lo[] = {
     0x1.745d1745d1746p-61, 0x1.bed61bed61bedp-60, 0x1.86fb586fb587p-60,
 };
+// potential_4_2 = content * potential_4_2_m, content = 1/1760 (table::Term::split)
+inline constexpr double potential_4_2_m[] = {
+    0x1.ep+3,  // 15
+    0x1.78p+5,  // 47
+    0x1.8p+5,  // 48
+};
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_4_2, .n = 3, .c_lo = potential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_4_1_m, .content = -0x1.0c67904a7904ap-3, .content_lo = -0x1.e4129e4129e41p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_4_2, .n = 3, .c_lo = potential_4_2_lo, .split = 23, .m = potential_4_2_m, .content = 0x1.29e4129e4129ep-11, .content_lo = 0x1.04a7904a7904ap-65},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -413,9 +527,15 @@ inline constexpr double potential_5_1[] = {
 inline constexpr double potential_5_1_lo[] = {
     0x1.745d1745d1746p-61, 0x1.bed61bed61bedp-60, 0x1.86fb586fb587p-60,
 };
+// potential_5_1 = content * potential_5_1_m, content = 1/1760 (table::Term::split)
+inline constexpr double potential_5_1_m[] = {
+    0x1.ep+3,  // 15
+    0x1.78p+5,  // 47
+    0x1.8p+5,  // 48
+};
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .split = 23, .m = potential_5_1_m, .content = 0x1.29e4129e4129ep-11, .content_lo = 0x1.04a7904a7904ap-65},
 };
 inline constexpr double potential_6_0[] = {
     0x1p-1,  // 1/2
@@ -526,6 +646,12 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     0x1.999999999999ap-53, -0x1.999999999999ap-50, 0x1.999999999999ap-49,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = 19683/20480 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+3,  // 8
+    0x1.98p+5,  // 51
+    0x1.bp+6,  // 108
+};
 inline constexpr double dpotential_4_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1.b333333333333p-3,  // -17/80
@@ -534,10 +660,16 @@ inline constexpr double dpotential_4_2[] = {
 inline constexpr double dpotential_4_2_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, -0x1.999999999999ap-57,
 };
+// dpotential_4_2 = content * dpotential_4_2_m, content = -1/80 (table::Term::split)
+inline constexpr double dpotential_4_2_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_4_1_m, .content = 0x1.ec13333333333p-1, .content_lo = 0x1.999999999999ap-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo, .split = 23, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-7, .content_lo = 0x1.999999999999ap-61},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -550,9 +682,15 @@ inline constexpr double dpotential_5_1[] = {
 inline constexpr double dpotential_5_1_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, -0x1.999999999999ap-57,
 };
+// dpotential_5_1 = content * dpotential_5_1_m, content = -1/80 (table::Term::split)
+inline constexpr double dpotential_5_1_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .split = 23, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-7, .content_lo = 0x1.999999999999ap-61},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -663,6 +801,12 @@ inline constexpr double dpotential_over_r_4_1[] = {
 inline constexpr double dpotential_over_r_4_1_lo[] = {
     0x1.999999999999ap-53, -0x1.999999999999ap-50, 0x1.999999999999ap-49,
 };
+// dpotential_over_r_4_1 = content * dpotential_over_r_4_1_m, content = 19683/20480 (table::Term::split)
+inline constexpr double dpotential_over_r_4_1_m[] = {
+    0x1p+3,  // 8
+    0x1.98p+5,  // 51
+    0x1.bp+6,  // 108
+};
 inline constexpr double dpotential_over_r_4_2[] = {
     0x1.8p-3,  // 3/16
     0x0p+0,  // 0
@@ -682,7 +826,7 @@ inline constexpr double dpotential_over_r_4_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -1, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -1, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_over_r_4_1_m, .content = 0x1.ec13333333333p-1, .content_lo = 0x1.999999999999ap-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_4_2, .n = 10, .c_lo = dpotential_over_r_4_2_lo},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
@@ -696,6 +840,12 @@ inline constexpr double dpotential_over_r_5_1[] = {
 inline constexpr double dpotential_over_r_5_1_lo[] = {
     0x1.999999999999ap-53, -0x1.999999999999ap-50, 0x1.999999999999ap-49,
 };
+// dpotential_over_r_5_1 = content * dpotential_over_r_5_1_m, content = 19683/20480 (table::Term::split)
+inline constexpr double dpotential_over_r_5_1_m[] = {
+    0x1p+3,  // 8
+    0x1.98p+5,  // 51
+    0x1.bp+6,  // 108
+};
 inline constexpr double dpotential_over_r_5_2[] = {
     -0x1.999999999999ap-5,  // -1/20
     -0x1.b333333333333p-3,  // -17/80
@@ -704,10 +854,16 @@ inline constexpr double dpotential_over_r_5_2[] = {
 inline constexpr double dpotential_over_r_5_2_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, -0x1.999999999999ap-57,
 };
+// dpotential_over_r_5_2 = content * dpotential_over_r_5_2_m, content = -1/80 (table::Term::split)
+inline constexpr double dpotential_over_r_5_2_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -1, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_over_r_5_2, .n = 3, .c_lo = dpotential_over_r_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = -1, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_over_r_5_1_m, .content = 0x1.ec13333333333p-1, .content_lo = 0x1.999999999999ap-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_over_r_5_2, .n = 3, .c_lo = dpotential_over_r_5_2_lo, .split = 23, .m = dpotential_over_r_5_2_m, .content = -0x1.999999999999ap-7, .content_lo = 0x1.999999999999ap-61},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1p-1,  // 1/2
@@ -720,9 +876,15 @@ inline constexpr double dpotential_over_r_6_1[] = {
 inline constexpr double dpotential_over_r_6_1_lo[] = {
     0x1.999999999999ap-59, -0x1.999999999999ap-58, -0x1.999999999999ap-57,
 };
+// dpotential_over_r_6_1 = content * dpotential_over_r_6_1_m, content = -1/80 (table::Term::split)
+inline constexpr double dpotential_over_r_6_1_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term dpotential_over_r_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_6_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_over_r_6_1, .n = 3, .c_lo = dpotential_over_r_6_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_over_r_6_1, .n = 3, .c_lo = dpotential_over_r_6_1_lo, .split = 23, .m = dpotential_over_r_6_1_m, .content = -0x1.999999999999ap-7, .content_lo = 0x1.999999999999ap-61},
 };
 inline constexpr double dpotential_over_r_7_0[] = {
     0x1p-1,  // 1/2

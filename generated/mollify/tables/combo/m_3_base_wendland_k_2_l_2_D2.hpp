@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.8ce385599ca1ep-38, -0x1.6b2aadfe65435p-32, -0x1.257e03466bae4p-29,
 };
+// value_0_0 = content * value_0_0_m, content = 5845851/5 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+4,  // 24
+    0x1.7ap+7,  // 189
+};
 inline constexpr double value_0_1[] = {
     -0x1.22bfafc8d68cap+7,  // -5845851/12800 * pi^-1
     -0x1.b41f87ad41d3p+10,  // -17537553/3200 * pi^-1
@@ -25,6 +31,12 @@ inline constexpr double value_0_1[] = {
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.e8fa4ddeb8ed3p-47, 0x1.22888b31ea9c4p-44, 0x1.dfe690522f1ccp-46,
+};
+// value_0_1 = content * value_0_1_m, content = -5845851/51200 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
 };
 inline constexpr double value_0_2[] = {
     0x1.ae40cb9e164d5p-2,  // 33/25 * pi^-1
@@ -34,10 +46,16 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     0x1.a5f338afb8a6fp-56, 0x1.a5f338afb8a6fp-53, 0x1.a73ce99a896c8p-54,
 };
+// value_0_2 = content * value_0_2_m, content = 33/25 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.6b6f9bbb0c2fdp+18, .content_lo = 0x1.8ce385599ca1ep-38},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.22bfafc8d68cap+5, .content_lo = -0x1.e8fa4ddeb8ed3p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 24, .m = value_0_2_m, .content = 0x1.ae40cb9e164d5p-2, .content_lo = 0x1.a5f338afb8a6fp-56},
 };
 inline constexpr double value_1_0[] = {
     -0x1.22bfafc8d68cap+7,  // -5845851/12800 * pi^-1
@@ -47,6 +65,12 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.e8fa4ddeb8ed3p-47, 0x1.22888b31ea9c4p-44, 0x1.dfe690522f1ccp-46,
 };
+// value_1_0 = content * value_1_0_m, content = -5845851/51200 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
+};
 inline constexpr double value_1_1[] = {
     0x1.ae40cb9e164d5p-2,  // 33/25 * pi^-1
     0x1.ae40cb9e164d5p+1,  // 264/25 * pi^-1
@@ -55,9 +79,15 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     0x1.a5f338afb8a6fp-56, 0x1.a5f338afb8a6fp-53, 0x1.a73ce99a896c8p-54,
 };
+// value_1_1 = content * value_1_1_m, content = 33/25 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.22bfafc8d68cap+5, .content_lo = -0x1.e8fa4ddeb8ed3p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 24, .m = value_1_1_m, .content = 0x1.ae40cb9e164d5p-2, .content_lo = 0x1.a5f338afb8a6fp-56},
 };
 inline constexpr double value_2_0[] = {
     0x1.ae40cb9e164d5p-2,  // 33/25 * pi^-1
@@ -67,8 +97,14 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     0x1.a5f338afb8a6fp-56, 0x1.a5f338afb8a6fp-53, 0x1.a73ce99a896c8p-54,
 };
+// value_2_0 = content * value_2_0_m, content = 33/25 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 24, .m = value_2_0_m, .content = 0x1.ae40cb9e164d5p-2, .content_lo = 0x1.a5f338afb8a6fp-56},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -83,12 +119,22 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     0x1.51e00c79fbbc6p-32, -0x1.2244f7cff2cc6p-27,
 };
+// dr_0_0 = content * dr_0_0_m, content = -105225318 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+};
 inline constexpr double dr_0_1[] = {
     0x1.98dd8f326db5dp+12,  // 52612659/2560 * pi^-1
     0x1.0c5165f917ff5p+16,  // 1104865839/5120 * pi^-1
 };
 inline constexpr double dr_0_1_lo[] = {
     -0x1.1060027ecbf28p-42, -0x1.257e03466bae4p-39,
+};
+// dr_0_1 = content * dr_0_1_m, content = 52612659/5120 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
 };
 inline constexpr double dr_0_2[] = {
     -0x1.935cbee434e88p+3,  // -198/5 * pi^-1
@@ -97,10 +143,15 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
+// dr_0_2 = content * dr_0_2_m, content = -198/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.ff14f2ff09234p+24, .content_lo = 0x1.51e00c79fbbc6p-32},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.98dd8f326db5dp+11, .content_lo = -0x1.1060027ecbf28p-43},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.935cbee434e88p+3, .content_lo = -0x1.2e501492f4721p-53},
 };
 inline constexpr double dr_1_0[] = {
     0x1.98dd8f326db5dp+12,  // 52612659/2560 * pi^-1
@@ -109,6 +160,11 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     -0x1.1060027ecbf28p-42, -0x1.257e03466bae4p-39,
 };
+// dr_1_0 = content * dr_1_0_m, content = 52612659/5120 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+};
 inline constexpr double dr_1_1[] = {
     -0x1.935cbee434e88p+3,  // -198/5 * pi^-1
     -0x1.60f12707ae4b7p+6,  // -1386/5 * pi^-1
@@ -116,9 +172,14 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
+// dr_1_1 = content * dr_1_1_m, content = -198/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.98dd8f326db5dp+11, .content_lo = -0x1.1060027ecbf28p-43},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.935cbee434e88p+3, .content_lo = -0x1.2e501492f4721p-53},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.935cbee434e88p+3,  // -198/5 * pi^-1
@@ -127,8 +188,13 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
+// dr_2_0 = content * dr_2_0_m, content = -198/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.935cbee434e88p+3, .content_lo = -0x1.2e501492f4721p-53},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -275,12 +341,22 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.51e00c79fbbc6p-32, -0x1.2244f7cff2cc6p-27,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -105225318 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.98dd8f326db5dp+12,  // 52612659/2560 * pi^-1
     0x1.0c5165f917ff5p+16,  // 1104865839/5120 * pi^-1
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.1060027ecbf28p-42, -0x1.257e03466bae4p-39,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 52612659/5120 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.935cbee434e88p+3,  // -198/5 * pi^-1
@@ -289,10 +365,15 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -198/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.ff14f2ff09234p+24, .content_lo = 0x1.51e00c79fbbc6p-32},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.98dd8f326db5dp+11, .content_lo = -0x1.1060027ecbf28p-43},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.935cbee434e88p+3, .content_lo = -0x1.2e501492f4721p-53},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.98dd8f326db5dp+12,  // 52612659/2560 * pi^-1
@@ -301,6 +382,11 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.1060027ecbf28p-42, -0x1.257e03466bae4p-39,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 52612659/5120 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.935cbee434e88p+3,  // -198/5 * pi^-1
     -0x1.60f12707ae4b7p+6,  // -1386/5 * pi^-1
@@ -308,9 +394,14 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -198/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.98dd8f326db5dp+11, .content_lo = -0x1.1060027ecbf28p-43},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.935cbee434e88p+3, .content_lo = -0x1.2e501492f4721p-53},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.935cbee434e88p+3,  // -198/5 * pi^-1
@@ -319,8 +410,13 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.2e501492f4721p-53, -0x1.0886120095e3dp-50,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -198/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.935cbee434e88p+3, .content_lo = -0x1.2e501492f4721p-53},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

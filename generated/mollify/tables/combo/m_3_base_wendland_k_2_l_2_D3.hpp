@@ -18,6 +18,12 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.b0d758b65ed86p-34, 0x1.76bcfaee71bb8p-30, 0x1.87103815bfa46p-30,
 };
+// value_0_0 = content * value_0_0_m, content = 227988189/32 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+4,  // 24
+    0x1.7ap+7,  // 189
+};
 inline constexpr double value_0_1[] = {
     -0x1.baf005cbf6da4p+8,  // -227988189/163840 * pi^-1
     -0x1.4c340458f923bp+12,  // -683964567/40960 * pi^-1
@@ -25,6 +31,12 @@ inline constexpr double value_0_1[] = {
 };
 inline constexpr double value_0_1_lo[] = {
     -0x1.d8ed52a14db95p-46, -0x1.62b1fdf8fa4bp-42, -0x1.ad2736011661dp-40,
+};
+// value_0_1 = content * value_0_1_m, content = -227988189/655360 * pi^-1 (table::Term::split)
+inline constexpr double value_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
 };
 inline constexpr double value_0_2[] = {
     0x1.b4f9cecc8ea69p-1,  // 429/160 * pi^-1
@@ -34,10 +46,16 @@ inline constexpr double value_0_2[] = {
 inline constexpr double value_0_2_lo[] = {
     -0x1.0374fa6d88767p-55, -0x1.0374fa6d88767p-52, -0x1.0a44c457e18dcp-50,
 };
+// value_0_2 = content * value_0_2_m, content = 429/160 * pi^-1 (table::Term::split)
+inline constexpr double value_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.14d6039f7a487p+21, .content_lo = -0x1.b0d758b65ed86p-34},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.baf005cbf6da4p+6, .content_lo = -0x1.d8ed52a14db95p-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 24, .m = value_0_2_m, .content = 0x1.b4f9cecc8ea69p-1, .content_lo = -0x1.0374fa6d88767p-55},
 };
 inline constexpr double value_1_0[] = {
     -0x1.baf005cbf6da4p+8,  // -227988189/163840 * pi^-1
@@ -47,6 +65,12 @@ inline constexpr double value_1_0[] = {
 inline constexpr double value_1_0_lo[] = {
     -0x1.d8ed52a14db95p-46, -0x1.62b1fdf8fa4bp-42, -0x1.ad2736011661dp-40,
 };
+// value_1_0 = content * value_1_0_m, content = -227988189/655360 * pi^-1 (table::Term::split)
+inline constexpr double value_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
+};
 inline constexpr double value_1_1[] = {
     0x1.b4f9cecc8ea69p-1,  // 429/160 * pi^-1
     0x1.b4f9cecc8ea69p+2,  // 429/20 * pi^-1
@@ -55,9 +79,15 @@ inline constexpr double value_1_1[] = {
 inline constexpr double value_1_1_lo[] = {
     -0x1.0374fa6d88767p-55, -0x1.0374fa6d88767p-52, -0x1.0a44c457e18dcp-50,
 };
+// value_1_1 = content * value_1_1_m, content = 429/160 * pi^-1 (table::Term::split)
+inline constexpr double value_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.baf005cbf6da4p+6, .content_lo = -0x1.d8ed52a14db95p-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 24, .m = value_1_1_m, .content = 0x1.b4f9cecc8ea69p-1, .content_lo = -0x1.0374fa6d88767p-55},
 };
 inline constexpr double value_2_0[] = {
     0x1.b4f9cecc8ea69p-1,  // 429/160 * pi^-1
@@ -67,8 +97,14 @@ inline constexpr double value_2_0[] = {
 inline constexpr double value_2_0_lo[] = {
     -0x1.0374fa6d88767p-55, -0x1.0374fa6d88767p-52, -0x1.0a44c457e18dcp-50,
 };
+// value_2_0 = content * value_2_0_m, content = 429/160 * pi^-1 (table::Term::split)
+inline constexpr double value_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 24, .m = value_2_0_m, .content = 0x1.b4f9cecc8ea69p-1, .content_lo = -0x1.0374fa6d88767p-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -83,12 +119,22 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     0x1.d0576a603ab02p-27, 0x1.c2e5773c9a0e5p-24,
 };
+// dr_0_0 = content * dr_0_0_m, content = -10259468505/16 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+};
 inline constexpr double dr_0_1[] = {
     0x1.3770c41369918p+14,  // 2051893701/32768 * pi^-1
     0x1.98c401597a8efp+17,  // 43089767721/65536 * pi^-1
 };
 inline constexpr double dr_0_1_lo[] = {
     -0x1.737921e69559bp-40, 0x1.87103815bfa46p-41,
+};
+// dr_0_1 = content * dr_0_1_m, content = 2051893701/65536 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
 };
 inline constexpr double dr_0_2[] = {
     -0x1.99aa31dfc5bc2p+4,  // -1287/16 * pi^-1
@@ -97,10 +143,15 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     -0x1.9984aa72a021fp-51, 0x1.3357d5b767c4ap-49,
 };
+// dr_0_2 = content * dr_0_2_m, content = -1287/16 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.854cf51843f5ep+27, .content_lo = 0x1.d0576a603ab02p-27},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr double dr_1_0[] = {
     0x1.3770c41369918p+14,  // 2051893701/32768 * pi^-1
@@ -109,6 +160,11 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     -0x1.737921e69559bp-40, 0x1.87103815bfa46p-41,
 };
+// dr_1_0 = content * dr_1_0_m, content = 2051893701/65536 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+};
 inline constexpr double dr_1_1[] = {
     -0x1.99aa31dfc5bc2p+4,  // -1287/16 * pi^-1
     -0x1.6674eba3cd04ap+7,  // -9009/16 * pi^-1
@@ -116,9 +172,14 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     -0x1.9984aa72a021fp-51, 0x1.3357d5b767c4ap-49,
 };
+// dr_1_1 = content * dr_1_1_m, content = -1287/16 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.99aa31dfc5bc2p+4,  // -1287/16 * pi^-1
@@ -127,8 +188,13 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     -0x1.9984aa72a021fp-51, 0x1.3357d5b767c4ap-49,
 };
+// dr_2_0 = content * dr_2_0_m, content = -1287/16 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -275,12 +341,22 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.d0576a603ab02p-27, 0x1.c2e5773c9a0e5p-24,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -10259468505/16 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.3770c41369918p+14,  // 2051893701/32768 * pi^-1
     0x1.98c401597a8efp+17,  // 43089767721/65536 * pi^-1
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.737921e69559bp-40, 0x1.87103815bfa46p-41,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 2051893701/65536 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.99aa31dfc5bc2p+4,  // -1287/16 * pi^-1
@@ -289,10 +365,15 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.9984aa72a021fp-51, 0x1.3357d5b767c4ap-49,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -1287/16 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.854cf51843f5ep+27, .content_lo = 0x1.d0576a603ab02p-27},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.3770c41369918p+14,  // 2051893701/32768 * pi^-1
@@ -301,6 +382,11 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.737921e69559bp-40, 0x1.87103815bfa46p-41,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 2051893701/65536 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.99aa31dfc5bc2p+4,  // -1287/16 * pi^-1
     -0x1.6674eba3cd04ap+7,  // -9009/16 * pi^-1
@@ -308,9 +394,14 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.9984aa72a021fp-51, 0x1.3357d5b767c4ap-49,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -1287/16 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.99aa31dfc5bc2p+4,  // -1287/16 * pi^-1
@@ -319,8 +410,13 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.9984aa72a021fp-51, 0x1.3357d5b767c4ap-49,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -1287/16 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

@@ -69,42 +69,78 @@ inline constexpr double dr_0_0[] = {
     -0x1.f5c0dfep+23,  // -263063295/16
     -0x1.6ddca33ep+26,  // -3069071775/32
 };
+// dr_0_0 = content * dr_0_0_m, content = -29229255/32 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+    0x1.a4p+6,  // 105
+};
 inline constexpr double dr_0_1[] = {
     0x1.64cd6cp+9,  // 5845851/8192
     0x1.9167198p+12,  // 52612659/8192
     0x1.24b08298p+14,  // 613814355/32768
+};
+// dr_0_1 = content * dr_0_1_m, content = 5845851/32768 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
 };
 inline constexpr double dr_0_2[] = {
     -0x1.8cp+1,  // -99/32
     -0x1.29p+4,  // -297/16
     -0x1.20cp+5,  // -1155/32
 };
+// dr_0_2 = content * dr_0_2_m, content = -33/32 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = dr_0_0_m, .content = -0x1.be00c7p+19, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.64cd6cp+7, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 3, .split = 23, .m = dr_0_2_m, .content = -0x1.08p+0, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.64cd6cp+9,  // 5845851/8192
     0x1.9167198p+12,  // 52612659/8192
     0x1.24b08298p+14,  // 613814355/32768
 };
+// dr_1_0 = content * dr_1_0_m, content = 5845851/32768 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
+};
 inline constexpr double dr_1_1[] = {
     -0x1.8cp+1,  // -99/32
     -0x1.29p+4,  // -297/16
     -0x1.20cp+5,  // -1155/32
 };
+// dr_1_1 = content * dr_1_1_m, content = -33/32 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.64cd6cp+7, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 3, .split = 23, .m = dr_1_1_m, .content = -0x1.08p+0, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.8cp+1,  // -99/32
     -0x1.29p+4,  // -297/16
     -0x1.20cp+5,  // -1155/32
 };
+// dr_2_0 = content * dr_2_0_m, content = -33/32 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 3, .split = 23, .m = dr_2_0_m, .content = -0x1.08p+0, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -225,42 +261,78 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.f5c0dfep+23,  // -263063295/16
     -0x1.6ddca33ep+26,  // -3069071775/32
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -29229255/32 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+    0x1.a4p+6,  // 105
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.64cd6cp+9,  // 5845851/8192
     0x1.9167198p+12,  // 52612659/8192
     0x1.24b08298p+14,  // 613814355/32768
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 5845851/32768 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.8cp+1,  // -99/32
     -0x1.29p+4,  // -297/16
     -0x1.20cp+5,  // -1155/32
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -33/32 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.be00c7p+19, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.64cd6cp+7, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 3, .split = 23, .m = grad_over_r_0_2_m, .content = -0x1.08p+0, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.64cd6cp+9,  // 5845851/8192
     0x1.9167198p+12,  // 52612659/8192
     0x1.24b08298p+14,  // 613814355/32768
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 5845851/32768 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.2p+5,  // 36
+    0x1.a4p+6,  // 105
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.8cp+1,  // -99/32
     -0x1.29p+4,  // -297/16
     -0x1.20cp+5,  // -1155/32
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -33/32 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.64cd6cp+7, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 3, .split = 23, .m = grad_over_r_1_1_m, .content = -0x1.08p+0, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.8cp+1,  // -99/32
     -0x1.29p+4,  // -297/16
     -0x1.20cp+5,  // -1155/32
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -33/32 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 3, .split = 23, .m = grad_over_r_2_0_m, .content = -0x1.08p+0, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -272,37 +344,67 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.8640ae2p+25,  // 204604785/4
     0x1.6ddca33ep+29,  // 3069071775/4
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 204604785/4 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.ep+3,  // 15
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.3833be8p+14,  // -40920957/2048
     -0x1.24b08298p+17,  // -613814355/4096
+};
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -40920957/4096 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
 };
 inline constexpr double hess_radial_0_2[] = {
     0x1.cep+5,  // 231/4
     0x1.20cp+8,  // 1155/4
 };
+// hess_radial_0_2 = content * hess_radial_0_2_m, content = 231/4 (table::Term::split)
+inline constexpr double hess_radial_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = hess_radial_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_0_2, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = hess_radial_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.8640ae2p+25, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.3833be8p+13, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_0_2, .n = 2, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.cep+5, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.3833be8p+14,  // -40920957/2048
     -0x1.24b08298p+17,  // -613814355/4096
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -40920957/4096 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.ep+3,  // 15
+};
 inline constexpr double hess_radial_1_1[] = {
     0x1.cep+5,  // 231/4
     0x1.20cp+8,  // 1155/4
 };
+// hess_radial_1_1 = content * hess_radial_1_1_m, content = 231/4 (table::Term::split)
+inline constexpr double hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_1_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.3833be8p+13, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_1_1, .n = 2, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.cep+5, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.cep+5,  // 231/4
     0x1.20cp+8,  // 1155/4
 };
+// hess_radial_2_0 = content * hess_radial_2_0_m, content = 231/4 (table::Term::split)
+inline constexpr double hess_radial_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_2_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_2_0, .n = 2, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.cep+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

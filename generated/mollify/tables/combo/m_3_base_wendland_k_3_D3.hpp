@@ -90,6 +90,12 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.19deb274cc651p-29, 0x1.8382ed71aceedp-23, 0x1.c2e5773c9a0e5p-22,
 };
+// dr_0_0 = content * dr_0_0_m, content = -23938759845/64 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+    0x1.2p+7,  // 144
+};
 inline constexpr double dr_0_1[] = {
     0x1.6b58e4c1507f1p+13,  // 4787751969/131072 * pi^-1
     0x1.dce4ac3db9a6cp+16,  // 100542791349/262144 * pi^-1
@@ -97,6 +103,12 @@ inline constexpr double dr_0_1[] = {
 };
 inline constexpr double dr_0_1_lo[] = {
     -0x1.703548deb8f7fp-43, 0x1.8e5d082dd69d5p-39, 0x1.87103815bfa46p-40,
+};
+// dr_0_1 = content * dr_0_1_m, content = 4787751969/262144 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
 };
 inline constexpr double dr_0_2[] = {
     -0x1.ddf13a2fbc063p+3,  // -3003/64 * pi^-1
@@ -106,10 +118,16 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     0x1.bbc7f1e7cd419p-51, -0x1.f76218aa58cd5p-49, 0x1.bbc7f1e7cd419p-47,
 };
+// dr_0_2 = content * dr_0_2_m, content = -3003/64 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = dr_0_0_m, .content = -0x1.c62f1df1a49edp+26, .content_lo = -0x1.19deb274cc651p-29},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.6b58e4c1507f1p+12, .content_lo = -0x1.703548deb8f7fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo, .split = 24, .m = dr_0_2_m, .content = -0x1.ddf13a2fbc063p+3, .content_lo = 0x1.bbc7f1e7cd419p-51},
 };
 inline constexpr double dr_1_0[] = {
     0x1.6b58e4c1507f1p+13,  // 4787751969/131072 * pi^-1
@@ -119,6 +137,12 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     -0x1.703548deb8f7fp-43, 0x1.8e5d082dd69d5p-39, 0x1.87103815bfa46p-40,
 };
+// dr_1_0 = content * dr_1_0_m, content = 4787751969/262144 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double dr_1_1[] = {
     -0x1.ddf13a2fbc063p+3,  // -3003/64 * pi^-1
     -0x1.a23312e9c4856p+6,  // -21021/64 * pi^-1
@@ -127,9 +151,15 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     0x1.bbc7f1e7cd419p-51, -0x1.f76218aa58cd5p-49, 0x1.bbc7f1e7cd419p-47,
 };
+// dr_1_1 = content * dr_1_1_m, content = -3003/64 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.6b58e4c1507f1p+12, .content_lo = -0x1.703548deb8f7fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo, .split = 24, .m = dr_1_1_m, .content = -0x1.ddf13a2fbc063p+3, .content_lo = 0x1.bbc7f1e7cd419p-51},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.ddf13a2fbc063p+3,  // -3003/64 * pi^-1
@@ -139,8 +169,14 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     0x1.bbc7f1e7cd419p-51, -0x1.f76218aa58cd5p-49, 0x1.bbc7f1e7cd419p-47,
 };
+// dr_2_0 = content * dr_2_0_m, content = -3003/64 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo, .split = 24, .m = dr_2_0_m, .content = -0x1.ddf13a2fbc063p+3, .content_lo = 0x1.bbc7f1e7cd419p-51},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -300,6 +336,12 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.19deb274cc651p-29, 0x1.8382ed71aceedp-23, 0x1.c2e5773c9a0e5p-22,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -23938759845/64 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+    0x1.2p+7,  // 144
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.6b58e4c1507f1p+13,  // 4787751969/131072 * pi^-1
     0x1.dce4ac3db9a6cp+16,  // 100542791349/262144 * pi^-1
@@ -307,6 +349,12 @@ inline constexpr double grad_over_r_0_1[] = {
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     -0x1.703548deb8f7fp-43, 0x1.8e5d082dd69d5p-39, 0x1.87103815bfa46p-40,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 4787751969/262144 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.ddf13a2fbc063p+3,  // -3003/64 * pi^-1
@@ -316,10 +364,16 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     0x1.bbc7f1e7cd419p-51, -0x1.f76218aa58cd5p-49, 0x1.bbc7f1e7cd419p-47,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -3003/64 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.c62f1df1a49edp+26, .content_lo = -0x1.19deb274cc651p-29},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.6b58e4c1507f1p+12, .content_lo = -0x1.703548deb8f7fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo, .split = 24, .m = grad_over_r_0_2_m, .content = -0x1.ddf13a2fbc063p+3, .content_lo = 0x1.bbc7f1e7cd419p-51},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.6b58e4c1507f1p+13,  // 4787751969/131072 * pi^-1
@@ -329,6 +383,12 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     -0x1.703548deb8f7fp-43, 0x1.8e5d082dd69d5p-39, 0x1.87103815bfa46p-40,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 4787751969/262144 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.ddf13a2fbc063p+3,  // -3003/64 * pi^-1
     -0x1.a23312e9c4856p+6,  // -21021/64 * pi^-1
@@ -337,9 +397,15 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     0x1.bbc7f1e7cd419p-51, -0x1.f76218aa58cd5p-49, 0x1.bbc7f1e7cd419p-47,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -3003/64 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.6b58e4c1507f1p+12, .content_lo = -0x1.703548deb8f7fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo, .split = 24, .m = grad_over_r_1_1_m, .content = -0x1.ddf13a2fbc063p+3, .content_lo = 0x1.bbc7f1e7cd419p-51},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.ddf13a2fbc063p+3,  // -3003/64 * pi^-1
@@ -349,8 +415,14 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.bbc7f1e7cd419p-51, -0x1.f76218aa58cd5p-49, 0x1.bbc7f1e7cd419p-47,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -3003/64 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo, .split = 24, .m = grad_over_r_2_0_m, .content = -0x1.ddf13a2fbc063p+3, .content_lo = 0x1.bbc7f1e7cd419p-51},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -365,12 +437,22 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.c2e5773c9a0e5p-23, 0x1.04bdd9dbd2afep-19,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 215448838605/8 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.98c401597a8efp+18,  // -43089767721/32768 * pi^-1
     -0x1.cbdc8184a9e0dp+21,  // -387807909489/32768 * pi^-1
 };
 inline constexpr double hess_radial_0_1_lo[] = {
     -0x1.87103815bfa46p-40, 0x1.92037039e219cp-35,
+};
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -43089767721/32768 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
 };
 inline constexpr double hess_radial_0_2[] = {
     0x1.6674eba3cd04ap+8,  // 9009/8 * pi^-1
@@ -379,10 +461,15 @@ inline constexpr double hess_radial_0_2[] = {
 inline constexpr double hess_radial_0_2_lo[] = {
     -0x1.3357d5b767c4ap-48, 0x1.c65f87ed9c8b2p-43,
 };
+// hess_radial_0_2 = content * hess_radial_0_2_m, content = 9009/8 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.fef501afd932bp+32, .content_lo = -0x1.c2e5773c9a0e5p-23},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.98c401597a8efp+18, .content_lo = -0x1.87103815bfa46p-40},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.6674eba3cd04ap+8, .content_lo = -0x1.3357d5b767c4ap-48},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.98c401597a8efp+18,  // -43089767721/32768 * pi^-1
@@ -391,6 +478,11 @@ inline constexpr double hess_radial_1_0[] = {
 inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.87103815bfa46p-40, 0x1.92037039e219cp-35,
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -43089767721/32768 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double hess_radial_1_1[] = {
     0x1.6674eba3cd04ap+8,  // 9009/8 * pi^-1
     0x1.0cd7b0bad9c37p+11,  // 27027/4 * pi^-1
@@ -398,9 +490,14 @@ inline constexpr double hess_radial_1_1[] = {
 inline constexpr double hess_radial_1_1_lo[] = {
     -0x1.3357d5b767c4ap-48, 0x1.c65f87ed9c8b2p-43,
 };
+// hess_radial_1_1 = content * hess_radial_1_1_m, content = 9009/8 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.98c401597a8efp+18, .content_lo = -0x1.87103815bfa46p-40},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.6674eba3cd04ap+8, .content_lo = -0x1.3357d5b767c4ap-48},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.6674eba3cd04ap+8,  // 9009/8 * pi^-1
@@ -409,8 +506,13 @@ inline constexpr double hess_radial_2_0[] = {
 inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.3357d5b767c4ap-48, 0x1.c65f87ed9c8b2p-43,
 };
+// hess_radial_2_0 = content * hess_radial_2_0_m, content = 9009/8 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.6674eba3cd04ap+8, .content_lo = -0x1.3357d5b767c4ap-48},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

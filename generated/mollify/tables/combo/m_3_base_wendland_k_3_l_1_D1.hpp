@@ -69,42 +69,78 @@ inline constexpr double dr_0_0[] = {
     -0x1.24b08298p+26,  // -613814355/8
     -0x1.f5c0dfep+28,  // -526126590
 };
+// dr_0_0 = content * dr_0_0_m, content = -29229255/8 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+    0x1.2p+7,  // 144
+};
 inline constexpr double dr_0_1[] = {
     0x1.64cd6cp+10,  // 5845851/4096
     0x1.d44d9dcp+13,  // 122762871/8192
     0x1.9167198p+15,  // 52612659/1024
+};
+// dr_0_1 = content * dr_0_1_m, content = 5845851/8192 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
 };
 inline constexpr double dr_0_2[] = {
     -0x1.08p+2,  // -33/8
     -0x1.cep+4,  // -231/8
     -0x1.08p+6,  // -66
 };
+// dr_0_2 = content * dr_0_2_m, content = -33/8 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = dr_0_0_m, .content = -0x1.be00c7p+21, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.64cd6cp+9, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 3, .split = 24, .m = dr_0_2_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.64cd6cp+10,  // 5845851/4096
     0x1.d44d9dcp+13,  // 122762871/8192
     0x1.9167198p+15,  // 52612659/1024
 };
+// dr_1_0 = content * dr_1_0_m, content = 5845851/8192 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double dr_1_1[] = {
     -0x1.08p+2,  // -33/8
     -0x1.cep+4,  // -231/8
     -0x1.08p+6,  // -66
 };
+// dr_1_1 = content * dr_1_1_m, content = -33/8 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.64cd6cp+9, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 3, .split = 24, .m = dr_1_1_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.08p+2,  // -33/8
     -0x1.cep+4,  // -231/8
     -0x1.08p+6,  // -66
 };
+// dr_2_0 = content * dr_2_0_m, content = -33/8 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 3, .split = 24, .m = dr_2_0_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -225,42 +261,78 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.24b08298p+26,  // -613814355/8
     -0x1.f5c0dfep+28,  // -526126590
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -29229255/8 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+    0x1.2p+7,  // 144
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.64cd6cp+10,  // 5845851/4096
     0x1.d44d9dcp+13,  // 122762871/8192
     0x1.9167198p+15,  // 52612659/1024
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 5845851/8192 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.08p+2,  // -33/8
     -0x1.cep+4,  // -231/8
     -0x1.08p+6,  // -66
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -33/8 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.be00c7p+21, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.64cd6cp+9, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 3, .split = 24, .m = grad_over_r_0_2_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.64cd6cp+10,  // 5845851/4096
     0x1.d44d9dcp+13,  // 122762871/8192
     0x1.9167198p+15,  // 52612659/1024
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 5845851/8192 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+    0x1.2p+6,  // 72
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.08p+2,  // -33/8
     -0x1.cep+4,  // -231/8
     -0x1.08p+6,  // -66
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -33/8 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.64cd6cp+9, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 3, .split = 24, .m = grad_over_r_1_1_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.08p+2,  // -33/8
     -0x1.cep+4,  // -231/8
     -0x1.08p+6,  // -66
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -33/8 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 3, .split = 24, .m = grad_over_r_2_0_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -272,37 +344,67 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.f5c0dfep+27,  // 263063295
     0x1.1a3c7deep+32,  // 4735139310
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 263063295 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+4,  // 18
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.9167198p+15,  // -52612659/1024
     -0x1.c393fcbp+18,  // -473513931/1024
+};
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -52612659/1024 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
 };
 inline constexpr double hess_radial_0_2[] = {
     0x1.8cp+6,  // 99
     0x1.29p+9,  // 594
 };
+// hess_radial_0_2 = content * hess_radial_0_2_m, content = 99 (table::Term::split)
+inline constexpr double hess_radial_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_2, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.f5c0dfep+27, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.9167198p+15, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_2, .n = 2, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.8cp+6, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.9167198p+15,  // -52612659/1024
     -0x1.c393fcbp+18,  // -473513931/1024
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -52612659/1024 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr double hess_radial_1_1[] = {
     0x1.8cp+6,  // 99
     0x1.29p+9,  // 594
 };
+// hess_radial_1_1 = content * hess_radial_1_1_m, content = 99 (table::Term::split)
+inline constexpr double hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.9167198p+15, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_1, .n = 2, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.8cp+6, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.8cp+6,  // 99
     0x1.29p+9,  // 594
 };
+// hess_radial_2_0 = content * hess_radial_2_0_m, content = 99 (table::Term::split)
+inline constexpr double hess_radial_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_2_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_2_0, .n = 2, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.8cp+6, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -614,10 +716,17 @@ inline constexpr double dpotential_4_2[] = {
 inline constexpr double dpotential_4_2_lo[] = {
     0x1.999999999999ap-59, 0x1.999999999999ap-57, 0x0p+0, 0x0p+0,
 };
+// dpotential_4_2 = content * dpotential_4_2_m, content = -1/80 (table::Term::split)
+inline constexpr double dpotential_4_2_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = dpotential_4_1, .n = 4, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_4_2, .n = 4, .c_lo = dpotential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_4_2, .n = 4, .c_lo = dpotential_4_2_lo, .split = 15, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-7, .content_lo = 0x1.999999999999ap-61},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -631,9 +740,16 @@ inline constexpr double dpotential_5_1[] = {
 inline constexpr double dpotential_5_1_lo[] = {
     0x1.999999999999ap-59, 0x1.999999999999ap-57, 0x0p+0, 0x0p+0,
 };
+// dpotential_5_1 = content * dpotential_5_1_m, content = -1/80 (table::Term::split)
+inline constexpr double dpotential_5_1_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_5_1, .n = 4, .c_lo = dpotential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_5_1, .n = 4, .c_lo = dpotential_5_1_lo, .split = 15, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-7, .content_lo = 0x1.999999999999ap-61},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -798,10 +914,17 @@ inline constexpr double dpotential_over_r_5_2[] = {
 inline constexpr double dpotential_over_r_5_2_lo[] = {
     0x1.999999999999ap-59, 0x1.999999999999ap-57, 0x0p+0, 0x0p+0,
 };
+// dpotential_over_r_5_2 = content * dpotential_over_r_5_2_m, content = -1/80 (table::Term::split)
+inline constexpr double dpotential_over_r_5_2_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = -1, .c = dpotential_over_r_5_1, .n = 4, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_5_2, .n = 4, .c_lo = dpotential_over_r_5_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_5_2, .n = 4, .c_lo = dpotential_over_r_5_2_lo, .split = 15, .m = dpotential_over_r_5_2_m, .content = -0x1.999999999999ap-7, .content_lo = 0x1.999999999999ap-61},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1p-1,  // 1/2
@@ -815,9 +938,16 @@ inline constexpr double dpotential_over_r_6_1[] = {
 inline constexpr double dpotential_over_r_6_1_lo[] = {
     0x1.999999999999ap-59, 0x1.999999999999ap-57, 0x0p+0, 0x0p+0,
 };
+// dpotential_over_r_6_1 = content * dpotential_over_r_6_1_m, content = -1/80 (table::Term::split)
+inline constexpr double dpotential_over_r_6_1_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term dpotential_over_r_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_6_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_6_1, .n = 4, .c_lo = dpotential_over_r_6_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_6_1, .n = 4, .c_lo = dpotential_over_r_6_1_lo, .split = 15, .m = dpotential_over_r_6_1_m, .content = -0x1.999999999999ap-7, .content_lo = 0x1.999999999999ap-61},
 };
 inline constexpr double dpotential_over_r_7_0[] = {
     0x1p-1,  // 1/2

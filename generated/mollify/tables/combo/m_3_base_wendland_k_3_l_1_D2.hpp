@@ -90,6 +90,12 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.62b1fdf8fa4bp-28, -0x1.40afcf577707cp-28, 0x1.7c452efe5e6d4p-21,
 };
+// dr_0_0 = content * dr_0_0_m, content = -1367929134/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+4,  // 24
+    0x1.7ap+7,  // 189
+};
 inline constexpr double dr_0_1[] = {
     0x1.09c336ad941c9p+13,  // 683964567/25600 * pi^-1
     0x1.8ea4d2045e2aep+16,  // 2051893701/6400 * pi^-1
@@ -97,6 +103,12 @@ inline constexpr double dr_0_1[] = {
 };
 inline constexpr double dr_0_1_lo[] = {
     0x1.3bd32cb654233p-43, -0x1.8990cf3ba072dp-38, -0x1.8daa2ffac7c41p-38,
+};
+// dr_0_1 = content * dr_0_1_m, content = 683964567/102400 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
 };
 inline constexpr double dr_0_2[] = {
     -0x1.5d94a570721edp+3,  // -858/25 * pi^-1
@@ -106,10 +118,16 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     -0x1.96d59e0ec607ap-51, -0x1.96d59e0ec607ap-48, 0x1.aa07a08c9c15fp-47,
 };
+// dr_0_2 = content * dr_0_2_m, content = -858/25 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = dr_0_0_m, .content = -0x1.4c340458f923bp+26, .content_lo = -0x1.62b1fdf8fa4bp-28},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.09c336ad941c9p+11, .content_lo = 0x1.3bd32cb654233p-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo, .split = 24, .m = dr_0_2_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr double dr_1_0[] = {
     0x1.09c336ad941c9p+13,  // 683964567/25600 * pi^-1
@@ -119,6 +137,12 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.3bd32cb654233p-43, -0x1.8990cf3ba072dp-38, -0x1.8daa2ffac7c41p-38,
 };
+// dr_1_0 = content * dr_1_0_m, content = 683964567/102400 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
+};
 inline constexpr double dr_1_1[] = {
     -0x1.5d94a570721edp+3,  // -858/25 * pi^-1
     -0x1.5d94a570721edp+6,  // -6864/25 * pi^-1
@@ -127,9 +151,15 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     -0x1.96d59e0ec607ap-51, -0x1.96d59e0ec607ap-48, 0x1.aa07a08c9c15fp-47,
 };
+// dr_1_1 = content * dr_1_1_m, content = -858/25 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.09c336ad941c9p+11, .content_lo = 0x1.3bd32cb654233p-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo, .split = 24, .m = dr_1_1_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.5d94a570721edp+3,  // -858/25 * pi^-1
@@ -139,8 +169,14 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     -0x1.96d59e0ec607ap-51, -0x1.96d59e0ec607ap-48, 0x1.aa07a08c9c15fp-47,
 };
+// dr_2_0 = content * dr_2_0_m, content = -858/25 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo, .split = 24, .m = dr_2_0_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -300,6 +336,12 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.62b1fdf8fa4bp-28, -0x1.40afcf577707cp-28, 0x1.7c452efe5e6d4p-21,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -1367929134/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+4,  // 24
+    0x1.7ap+7,  // 189
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.09c336ad941c9p+13,  // 683964567/25600 * pi^-1
     0x1.8ea4d2045e2aep+16,  // 2051893701/6400 * pi^-1
@@ -307,6 +349,12 @@ inline constexpr double grad_over_r_0_1[] = {
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.3bd32cb654233p-43, -0x1.8990cf3ba072dp-38, -0x1.8daa2ffac7c41p-38,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 683964567/102400 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.5d94a570721edp+3,  // -858/25 * pi^-1
@@ -316,10 +364,16 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.96d59e0ec607ap-51, -0x1.96d59e0ec607ap-48, 0x1.aa07a08c9c15fp-47,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -858/25 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.4c340458f923bp+26, .content_lo = -0x1.62b1fdf8fa4bp-28},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.09c336ad941c9p+11, .content_lo = 0x1.3bd32cb654233p-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo, .split = 24, .m = grad_over_r_0_2_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.09c336ad941c9p+13,  // 683964567/25600 * pi^-1
@@ -329,6 +383,12 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.3bd32cb654233p-43, -0x1.8990cf3ba072dp-38, -0x1.8daa2ffac7c41p-38,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 683964567/102400 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.5d94a570721edp+3,  // -858/25 * pi^-1
     -0x1.5d94a570721edp+6,  // -6864/25 * pi^-1
@@ -337,9 +397,15 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.96d59e0ec607ap-51, -0x1.96d59e0ec607ap-48, 0x1.aa07a08c9c15fp-47,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -858/25 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.09c336ad941c9p+11, .content_lo = 0x1.3bd32cb654233p-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo, .split = 24, .m = grad_over_r_1_1_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.5d94a570721edp+3,  // -858/25 * pi^-1
@@ -349,8 +415,14 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.96d59e0ec607ap-51, -0x1.96d59e0ec607ap-48, 0x1.aa07a08c9c15fp-47,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -858/25 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo, .split = 24, .m = grad_over_r_2_0_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -365,12 +437,22 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.d2ca4d261ff97p-22, 0x1.1254c2a104fbbp-17,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 24622724412 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.75ba84e418483p+18,  // -6155681103/5120 * pi^-1
     -0x1.ea84ce6b5fdecp+21,  // -129269303163/10240 * pi^-1
 };
 inline constexpr double hess_radial_0_1_lo[] = {
     0x1.e1ef848fccd74p-37, 0x1.7c452efe5e6d4p-33,
+};
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -6155681103/10240 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
 };
 inline constexpr double hess_radial_0_2[] = {
     0x1.47bb5b196afcfp+8,  // 5148/5 * pi^-1
@@ -379,10 +461,15 @@ inline constexpr double hess_radial_0_2[] = {
 inline constexpr double hess_radial_0_2_lo[] = {
     -0x1.c297bbd22658dp-46, -0x1.0a44c457e18dcp-43,
 };
+// hess_radial_0_2 = content * hess_radial_0_2_m, content = 5148/5 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.d329261d1e5a3p+32, .content_lo = 0x1.d2ca4d261ff97p-22},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.75ba84e418483p+17, .content_lo = 0x1.e1ef848fccd74p-38},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.47bb5b196afcfp+8, .content_lo = -0x1.c297bbd22658dp-46},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.75ba84e418483p+18,  // -6155681103/5120 * pi^-1
@@ -391,6 +478,11 @@ inline constexpr double hess_radial_1_0[] = {
 inline constexpr double hess_radial_1_0_lo[] = {
     0x1.e1ef848fccd74p-37, 0x1.7c452efe5e6d4p-33,
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -6155681103/10240 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+};
 inline constexpr double hess_radial_1_1[] = {
     0x1.47bb5b196afcfp+8,  // 5148/5 * pi^-1
     0x1.1ec3efb63d9d5p+11,  // 36036/5 * pi^-1
@@ -398,9 +490,14 @@ inline constexpr double hess_radial_1_1[] = {
 inline constexpr double hess_radial_1_1_lo[] = {
     -0x1.c297bbd22658dp-46, -0x1.0a44c457e18dcp-43,
 };
+// hess_radial_1_1 = content * hess_radial_1_1_m, content = 5148/5 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.75ba84e418483p+17, .content_lo = 0x1.e1ef848fccd74p-38},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.47bb5b196afcfp+8, .content_lo = -0x1.c297bbd22658dp-46},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.47bb5b196afcfp+8,  // 5148/5 * pi^-1
@@ -409,8 +506,13 @@ inline constexpr double hess_radial_2_0[] = {
 inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.c297bbd22658dp-46, -0x1.0a44c457e18dcp-43,
 };
+// hess_radial_2_0 = content * hess_radial_2_0_m, content = 5148/5 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.47bb5b196afcfp+8, .content_lo = -0x1.c297bbd22658dp-46},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

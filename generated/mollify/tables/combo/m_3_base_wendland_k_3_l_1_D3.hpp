@@ -90,6 +90,12 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     0x1.c2e5773c9a0e5p-27, -0x1.5ba7cd2518ea8p-23, 0x1.aa71b483dede5p-18,
 };
+// dr_0_0 = content * dr_0_0_m, content = -215448838605/128 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+4,  // 24
+    0x1.7ap+7,  // 189
+};
 inline constexpr double dr_0_1[] = {
     0x1.98c401597a8efp+14,  // 43089767721/524288 * pi^-1
     0x1.329301031beb3p+18,  // 129269303163/131072 * pi^-1
@@ -97,6 +103,12 @@ inline constexpr double dr_0_1[] = {
 };
 inline constexpr double dr_0_1_lo[] = {
     0x1.87103815bfa46p-44, 0x1.1254c2a104fbbp-36, 0x1.de0b6f9680e7cp-34,
+};
+// dr_0_1 = content * dr_0_1_m, content = 43089767721/2097152 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
 };
 inline constexpr double dr_0_2[] = {
     -0x1.6674eba3cd04ap+4,  // -9009/128 * pi^-1
@@ -106,10 +118,16 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     0x1.3357d5b767c4ap-52, 0x1.3357d5b767c4ap-49, -0x1.b272ddfd1f37cp-50,
 };
+// dr_0_2 = content * dr_0_2_m, content = -9009/128 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = dr_0_0_m, .content = -0x1.fef501afd932bp+28, .content_lo = 0x1.c2e5773c9a0e5p-27},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.98c401597a8efp+12, .content_lo = 0x1.87103815bfa46p-46},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo, .split = 24, .m = dr_0_2_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr double dr_1_0[] = {
     0x1.98c401597a8efp+14,  // 43089767721/524288 * pi^-1
@@ -119,6 +137,12 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.87103815bfa46p-44, 0x1.1254c2a104fbbp-36, 0x1.de0b6f9680e7cp-34,
 };
+// dr_1_0 = content * dr_1_0_m, content = 43089767721/2097152 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
+};
 inline constexpr double dr_1_1[] = {
     -0x1.6674eba3cd04ap+4,  // -9009/128 * pi^-1
     -0x1.6674eba3cd04ap+7,  // -9009/16 * pi^-1
@@ -127,9 +151,15 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     0x1.3357d5b767c4ap-52, 0x1.3357d5b767c4ap-49, -0x1.b272ddfd1f37cp-50,
 };
+// dr_1_1 = content * dr_1_1_m, content = -9009/128 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.98c401597a8efp+12, .content_lo = 0x1.87103815bfa46p-46},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo, .split = 24, .m = dr_1_1_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.6674eba3cd04ap+4,  // -9009/128 * pi^-1
@@ -139,8 +169,14 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     0x1.3357d5b767c4ap-52, 0x1.3357d5b767c4ap-49, -0x1.b272ddfd1f37cp-50,
 };
+// dr_2_0 = content * dr_2_0_m, content = -9009/128 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo, .split = 24, .m = dr_2_0_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -300,6 +336,12 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.c2e5773c9a0e5p-27, -0x1.5ba7cd2518ea8p-23, 0x1.aa71b483dede5p-18,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -215448838605/128 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+4,  // 24
+    0x1.7ap+7,  // 189
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.98c401597a8efp+14,  // 43089767721/524288 * pi^-1
     0x1.329301031beb3p+18,  // 129269303163/131072 * pi^-1
@@ -307,6 +349,12 @@ inline constexpr double grad_over_r_0_1[] = {
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.87103815bfa46p-44, 0x1.1254c2a104fbbp-36, 0x1.de0b6f9680e7cp-34,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 43089767721/2097152 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.6674eba3cd04ap+4,  // -9009/128 * pi^-1
@@ -316,10 +364,16 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     0x1.3357d5b767c4ap-52, 0x1.3357d5b767c4ap-49, -0x1.b272ddfd1f37cp-50,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -9009/128 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.fef501afd932bp+28, .content_lo = 0x1.c2e5773c9a0e5p-27},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.98c401597a8efp+12, .content_lo = 0x1.87103815bfa46p-46},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo, .split = 24, .m = grad_over_r_0_2_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.98c401597a8efp+14,  // 43089767721/524288 * pi^-1
@@ -329,6 +383,12 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.87103815bfa46p-44, 0x1.1254c2a104fbbp-36, 0x1.de0b6f9680e7cp-34,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 43089767721/2097152 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.6674eba3cd04ap+4,  // -9009/128 * pi^-1
     -0x1.6674eba3cd04ap+7,  // -9009/16 * pi^-1
@@ -337,9 +397,15 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     0x1.3357d5b767c4ap-52, 0x1.3357d5b767c4ap-49, -0x1.b272ddfd1f37cp-50,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -9009/128 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.98c401597a8efp+12, .content_lo = 0x1.87103815bfa46p-46},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo, .split = 24, .m = grad_over_r_1_1_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.6674eba3cd04ap+4,  // -9009/128 * pi^-1
@@ -349,8 +415,14 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     0x1.3357d5b767c4ap-52, 0x1.3357d5b767c4ap-49, -0x1.b272ddfd1f37cp-50,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -9009/128 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo, .split = 24, .m = grad_over_r_2_0_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -365,12 +437,22 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.45ed5052c75bep-21, 0x1.d5e3bcb652d45p-16,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 9695197737225/64 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.1f69d0f2ea2c8p+20,  // -1939039547445/524288 * pi^-1
     -0x1.793ae23ed35a7p+23,  // -40719830496345/1048576 * pi^-1
 };
 inline constexpr double hess_radial_0_1_lo[] = {
     -0x1.04bdd9dbd2afep-36, 0x1.aa71b483dede5p-31,
+};
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -1939039547445/1048576 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
 };
 inline constexpr double hess_radial_0_2[] = {
     0x1.500d9ce990345p+9,  // 135135/64 * pi^-1
@@ -379,10 +461,15 @@ inline constexpr double hess_radial_0_2[] = {
 inline constexpr double hess_radial_0_2_lo[] = {
     0x1.37f769e903adfp-45, -0x1.6f0783541cc7dp-42,
 };
+// hess_radial_0_2 = content * hess_radial_0_2_m, content = 135135/64 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.6744452fa4b7ap+35, .content_lo = 0x1.45ed5052c75bep-21},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.1f69d0f2ea2c8p+19, .content_lo = -0x1.04bdd9dbd2afep-37},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.500d9ce990345p+9, .content_lo = 0x1.37f769e903adfp-45},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.1f69d0f2ea2c8p+20,  // -1939039547445/524288 * pi^-1
@@ -391,6 +478,11 @@ inline constexpr double hess_radial_1_0[] = {
 inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.04bdd9dbd2afep-36, 0x1.aa71b483dede5p-31,
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -1939039547445/1048576 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+};
 inline constexpr double hess_radial_1_1[] = {
     0x1.500d9ce990345p+9,  // 135135/64 * pi^-1
     0x1.260be94c5e2ddp+12,  // 945945/64 * pi^-1
@@ -398,9 +490,14 @@ inline constexpr double hess_radial_1_1[] = {
 inline constexpr double hess_radial_1_1_lo[] = {
     0x1.37f769e903adfp-45, -0x1.6f0783541cc7dp-42,
 };
+// hess_radial_1_1 = content * hess_radial_1_1_m, content = 135135/64 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.1f69d0f2ea2c8p+19, .content_lo = -0x1.04bdd9dbd2afep-37},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.500d9ce990345p+9, .content_lo = 0x1.37f769e903adfp-45},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.500d9ce990345p+9,  // 135135/64 * pi^-1
@@ -409,8 +506,13 @@ inline constexpr double hess_radial_2_0[] = {
 inline constexpr double hess_radial_2_0_lo[] = {
     0x1.37f769e903adfp-45, -0x1.6f0783541cc7dp-42,
 };
+// hess_radial_2_0 = content * hess_radial_2_0_m, content = 135135/64 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.500d9ce990345p+9, .content_lo = 0x1.37f769e903adfp-45},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

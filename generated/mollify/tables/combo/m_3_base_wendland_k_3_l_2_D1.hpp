@@ -84,6 +84,12 @@ inline constexpr double dr_0_0[] = {
     -0x1.4623c4b8p+28,  // -683964567/2
     -0x1.410b35a52p+31,  // -43089767721/16
 };
+// dr_0_0 = content * dr_0_0_m, content = -227988189/16 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+4,  // 24
+    0x1.7ap+7,  // 189
+};
 inline constexpr double dr_0_1[] = {
     0x1.5be1e2e666666p+11,  // 227988189/81920
     0x1.04e96a2cccccdp+15,  // 683964567/20480
@@ -91,6 +97,12 @@ inline constexpr double dr_0_1[] = {
 };
 inline constexpr double dr_0_1_lo[] = {
     0x1.999999999999ap-43, -0x1.999999999999ap-40, -0x1.999999999999ap-37,
+};
+// dr_0_1 = content * dr_0_1_m, content = 227988189/327680 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
 };
 inline constexpr double dr_0_2[] = {
     -0x1.5733333333333p+2,  // -429/80
@@ -100,10 +112,16 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     -0x1.999999999999ap-53, -0x1.999999999999ap-50, -0x1.999999999999ap-49,
 };
+// dr_0_2 = content * dr_0_2_m, content = -429/80 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = dr_0_0_m, .content = -0x1.b2da5bap+23, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.5be1e2e666666p+9, .content_lo = 0x1.999999999999ap-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo, .split = 24, .m = dr_0_2_m, .content = -0x1.5733333333333p+2, .content_lo = -0x1.999999999999ap-53},
 };
 inline constexpr double dr_1_0[] = {
     0x1.5be1e2e666666p+11,  // 227988189/81920
@@ -113,6 +131,12 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.999999999999ap-43, -0x1.999999999999ap-40, -0x1.999999999999ap-37,
 };
+// dr_1_0 = content * dr_1_0_m, content = 227988189/327680 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
+};
 inline constexpr double dr_1_1[] = {
     -0x1.5733333333333p+2,  // -429/80
     -0x1.5733333333333p+5,  // -429/10
@@ -121,9 +145,15 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     -0x1.999999999999ap-53, -0x1.999999999999ap-50, -0x1.999999999999ap-49,
 };
+// dr_1_1 = content * dr_1_1_m, content = -429/80 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.5be1e2e666666p+9, .content_lo = 0x1.999999999999ap-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo, .split = 24, .m = dr_1_1_m, .content = -0x1.5733333333333p+2, .content_lo = -0x1.999999999999ap-53},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.5733333333333p+2,  // -429/80
@@ -133,8 +163,14 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     -0x1.999999999999ap-53, -0x1.999999999999ap-50, -0x1.999999999999ap-49,
 };
+// dr_2_0 = content * dr_2_0_m, content = -429/80 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo, .split = 24, .m = dr_2_0_m, .content = -0x1.5733333333333p+2, .content_lo = -0x1.999999999999ap-53},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -285,6 +321,12 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.4623c4b8p+28,  // -683964567/2
     -0x1.410b35a52p+31,  // -43089767721/16
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -227988189/16 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+4,  // 24
+    0x1.7ap+7,  // 189
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.5be1e2e666666p+11,  // 227988189/81920
     0x1.04e96a2cccccdp+15,  // 683964567/20480
@@ -292,6 +334,12 @@ inline constexpr double grad_over_r_0_1[] = {
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.999999999999ap-43, -0x1.999999999999ap-40, -0x1.999999999999ap-37,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 227988189/327680 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.5733333333333p+2,  // -429/80
@@ -301,10 +349,16 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.999999999999ap-53, -0x1.999999999999ap-50, -0x1.999999999999ap-49,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -429/80 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.b2da5bap+23, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.5be1e2e666666p+9, .content_lo = 0x1.999999999999ap-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo, .split = 24, .m = grad_over_r_0_2_m, .content = -0x1.5733333333333p+2, .content_lo = -0x1.999999999999ap-53},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.5be1e2e666666p+11,  // 227988189/81920
@@ -314,6 +368,12 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.999999999999ap-43, -0x1.999999999999ap-40, -0x1.999999999999ap-37,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 227988189/327680 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+2,  // 4
+    0x1.8p+5,  // 48
+    0x1.7ap+7,  // 189
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.5733333333333p+2,  // -429/80
     -0x1.5733333333333p+5,  // -429/10
@@ -322,9 +382,15 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.999999999999ap-53, -0x1.999999999999ap-50, -0x1.999999999999ap-49,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -429/80 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.5be1e2e666666p+9, .content_lo = 0x1.999999999999ap-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo, .split = 24, .m = grad_over_r_1_1_m, .content = -0x1.5733333333333p+2, .content_lo = -0x1.999999999999ap-53},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.5733333333333p+2,  // -429/80
@@ -334,8 +400,14 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.999999999999ap-53, -0x1.999999999999ap-50, -0x1.999999999999ap-49,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -429/80 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo, .split = 24, .m = grad_over_r_2_0_m, .content = -0x1.5733333333333p+2, .content_lo = -0x1.999999999999ap-53},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -347,37 +419,67 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.31c1886c8p+30,  // 10259468505/8
     0x1.914e030e68p+34,  // 215448838605/8
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 10259468505/8 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.5p+4,  // 21
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.e935a714p+16,  // -2051893701/16384
     -0x1.410b35a52p+20,  // -43089767721/32768
+};
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -2051893701/32768 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
 };
 inline constexpr double hess_radial_0_2[] = {
     0x1.41cp+7,  // 1287/8
     0x1.1988p+10,  // 9009/8
 };
+// hess_radial_0_2 = content * hess_radial_0_2_m, content = 1287/8 (table::Term::split)
+inline constexpr double hess_radial_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.31c1886c8p+30, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.e935a714p+15, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.41cp+7, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.e935a714p+16,  // -2051893701/16384
     -0x1.410b35a52p+20,  // -43089767721/32768
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -2051893701/32768 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.5p+4,  // 21
+};
 inline constexpr double hess_radial_1_1[] = {
     0x1.41cp+7,  // 1287/8
     0x1.1988p+10,  // 9009/8
 };
+// hess_radial_1_1 = content * hess_radial_1_1_m, content = 1287/8 (table::Term::split)
+inline constexpr double hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.e935a714p+15, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.41cp+7, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.41cp+7,  // 1287/8
     0x1.1988p+10,  // 9009/8
 };
+// hess_radial_2_0 = content * hess_radial_2_0_m, content = 1287/8 (table::Term::split)
+inline constexpr double hess_radial_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.41cp+7, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -527,10 +629,17 @@ inline constexpr double potential_4_2[] = {
 inline constexpr double potential_4_2_lo[] = {
     0x0p+0, 0x1.999999999999ap-59, 0x1.999999999999ap-59, 0x1.999999999999ap-59,
 };
+// potential_4_2 = content * potential_4_2_m, content = 1/640 (table::Term::split)
+inline constexpr double potential_4_2_m[] = {
+    0x1.4p+2,  // 5
+    0x1.7p+4,  // 23
+    0x1.58p+5,  // 43
+    0x1.08p+5,  // 33
+};
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 11, .low = 0, .c = potential_4_1, .n = 4, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_2, .n = 4, .c_lo = potential_4_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_4_2, .n = 4, .c_lo = potential_4_2_lo, .split = 15, .m = potential_4_2_m, .content = 0x1.999999999999ap-10, .content_lo = -0x1.999999999999ap-64},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -544,9 +653,16 @@ inline constexpr double potential_5_1[] = {
 inline constexpr double potential_5_1_lo[] = {
     0x0p+0, 0x1.999999999999ap-59, 0x1.999999999999ap-59, 0x1.999999999999ap-59,
 };
+// potential_5_1 = content * potential_5_1_m, content = 1/640 (table::Term::split)
+inline constexpr double potential_5_1_m[] = {
+    0x1.4p+2,  // 5
+    0x1.7p+4,  // 23
+    0x1.58p+5,  // 43
+    0x1.08p+5,  // 33
+};
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_5_1, .n = 4, .c_lo = potential_5_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_5_1, .n = 4, .c_lo = potential_5_1_lo, .split = 15, .m = potential_5_1_m, .content = 0x1.999999999999ap-10, .content_lo = -0x1.999999999999ap-64},
 };
 inline constexpr double potential_6_0[] = {
     0x1p-1,  // 1/2

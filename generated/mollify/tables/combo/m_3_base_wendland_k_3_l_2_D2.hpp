@@ -90,6 +90,12 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     0x1.953e53872e906p-26, 0x1.55ec967a0f49dp-21, 0x1.7bea6e4ebba76p-18,
 };
+// dr_0_0 = content * dr_0_0_m, content = -1119214746 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.bp+4,  // 27
+    0x1.ep+7,  // 240
+};
 inline constexpr double dr_0_1[] = {
     0x1.0fcd77ebb4919p+14,  // 559607373/10240 * pi^-1
     0x1.caaaba5dc0b5bp+17,  // 15109399071/20480 * pi^-1
@@ -97,6 +103,12 @@ inline constexpr double dr_0_1[] = {
 };
 inline constexpr double dr_0_1_lo[] = {
     0x1.223489fa41261p-40, -0x1.56475729b20fcp-37, 0x1.a02282b53a276p-35,
+};
+// dr_0_1 = content * dr_0_1_m, content = 559607373/20480 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.bp+4,  // 27
+    0x1.ep+6,  // 120
 };
 inline constexpr double dr_0_2[] = {
     -0x1.dcb36d3c3e872p+3,  // -234/5 * pi^-1
@@ -106,10 +118,16 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     -0x1.1380632b6b21bp-51, -0x1.1af837c86c42fp-47, -0x1.cb2b4ff307e2ep-47,
 };
+// dr_0_2 = content * dr_0_2_m, content = -78/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = dr_0_0_m, .content = -0x1.53c0d5e6a1b6p+28, .content_lo = 0x1.953e53872e906p-26},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.0fcd77ebb4919p+13, .content_lo = 0x1.223489fa41261p-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo, .split = 23, .m = dr_0_2_m, .content = -0x1.3dccf37d7f04cp+2, .content_lo = -0x1.6f55d98f39824p-53},
 };
 inline constexpr double dr_1_0[] = {
     0x1.0fcd77ebb4919p+14,  // 559607373/10240 * pi^-1
@@ -119,6 +137,12 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.223489fa41261p-40, -0x1.56475729b20fcp-37, 0x1.a02282b53a276p-35,
 };
+// dr_1_0 = content * dr_1_0_m, content = 559607373/20480 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.bp+4,  // 27
+    0x1.ep+6,  // 120
+};
 inline constexpr double dr_1_1[] = {
     -0x1.dcb36d3c3e872p+3,  // -234/5 * pi^-1
     -0x1.0c24ed71e32cp+7,  // -2106/5 * pi^-1
@@ -127,9 +151,15 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     -0x1.1380632b6b21bp-51, -0x1.1af837c86c42fp-47, -0x1.cb2b4ff307e2ep-47,
 };
+// dr_1_1 = content * dr_1_1_m, content = -78/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.0fcd77ebb4919p+13, .content_lo = 0x1.223489fa41261p-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo, .split = 23, .m = dr_1_1_m, .content = -0x1.3dccf37d7f04cp+2, .content_lo = -0x1.6f55d98f39824p-53},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.dcb36d3c3e872p+3,  // -234/5 * pi^-1
@@ -139,8 +169,14 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     -0x1.1380632b6b21bp-51, -0x1.1af837c86c42fp-47, -0x1.cb2b4ff307e2ep-47,
 };
+// dr_2_0 = content * dr_2_0_m, content = -78/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo, .split = 23, .m = dr_2_0_m, .content = -0x1.3dccf37d7f04cp+2, .content_lo = -0x1.6f55d98f39824p-53},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -300,6 +336,12 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.953e53872e906p-26, 0x1.55ec967a0f49dp-21, 0x1.7bea6e4ebba76p-18,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -1119214746 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.bp+4,  // 27
+    0x1.ep+7,  // 240
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.0fcd77ebb4919p+14,  // 559607373/10240 * pi^-1
     0x1.caaaba5dc0b5bp+17,  // 15109399071/20480 * pi^-1
@@ -307,6 +349,12 @@ inline constexpr double grad_over_r_0_1[] = {
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.223489fa41261p-40, -0x1.56475729b20fcp-37, 0x1.a02282b53a276p-35,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 559607373/20480 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.bp+4,  // 27
+    0x1.ep+6,  // 120
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.dcb36d3c3e872p+3,  // -234/5 * pi^-1
@@ -316,10 +364,16 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.1380632b6b21bp-51, -0x1.1af837c86c42fp-47, -0x1.cb2b4ff307e2ep-47,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -78/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.53c0d5e6a1b6p+28, .content_lo = 0x1.953e53872e906p-26},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.0fcd77ebb4919p+13, .content_lo = 0x1.223489fa41261p-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo, .split = 23, .m = grad_over_r_0_2_m, .content = -0x1.3dccf37d7f04cp+2, .content_lo = -0x1.6f55d98f39824p-53},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.0fcd77ebb4919p+14,  // 559607373/10240 * pi^-1
@@ -329,6 +383,12 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.223489fa41261p-40, -0x1.56475729b20fcp-37, 0x1.a02282b53a276p-35,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 559607373/20480 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.bp+4,  // 27
+    0x1.ep+6,  // 120
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.dcb36d3c3e872p+3,  // -234/5 * pi^-1
     -0x1.0c24ed71e32cp+7,  // -2106/5 * pi^-1
@@ -337,9 +397,15 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.1380632b6b21bp-51, -0x1.1af837c86c42fp-47, -0x1.cb2b4ff307e2ep-47,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -78/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.0fcd77ebb4919p+13, .content_lo = 0x1.223489fa41261p-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo, .split = 23, .m = grad_over_r_1_1_m, .content = -0x1.3dccf37d7f04cp+2, .content_lo = -0x1.6f55d98f39824p-53},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.dcb36d3c3e872p+3,  // -234/5 * pi^-1
@@ -349,8 +415,14 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.1380632b6b21bp-51, -0x1.1af837c86c42fp-47, -0x1.cb2b4ff307e2ep-47,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -78/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo, .split = 23, .m = grad_over_r_2_0_m, .content = -0x1.3dccf37d7f04cp+2, .content_lo = -0x1.6f55d98f39824p-53},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -365,12 +437,22 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.477ce06fa7f7dp-20, 0x1.eb3b50a77bf3cp-16,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 123113622060 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+4,  // 24
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.d329261d1e5a3p+19,  // -6155681103/2048 * pi^-1
     -0x1.5e5edc95d6c3bp+23,  // -18467043309/512 * pi^-1
 };
 inline constexpr double hess_radial_0_1_lo[] = {
     -0x1.d2ca4d261ff97p-35, 0x1.a1e846236804fp-31,
+};
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -6155681103/2048 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
 };
 inline constexpr double hess_radial_0_2[] = {
     0x1.111c213fd9281p+9,  // 1716 * pi^-1
@@ -379,10 +461,15 @@ inline constexpr double hess_radial_0_2[] = {
 inline constexpr double hess_radial_0_2_lo[] = {
     0x1.ddd6e37b8ab6p-45, 0x1.ddd6e37b8ab6p-42,
 };
+// hess_radial_0_2 = content * hess_radial_0_2_m, content = 1716 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.23f9b7d232f86p+35, .content_lo = 0x1.477ce06fa7f7dp-20},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.d329261d1e5a3p+19, .content_lo = -0x1.d2ca4d261ff97p-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.111c213fd9281p+9, .content_lo = 0x1.ddd6e37b8ab6p-45},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.d329261d1e5a3p+19,  // -6155681103/2048 * pi^-1
@@ -391,6 +478,11 @@ inline constexpr double hess_radial_1_0[] = {
 inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.d2ca4d261ff97p-35, 0x1.a1e846236804fp-31,
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -6155681103/2048 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double hess_radial_1_1[] = {
     0x1.111c213fd9281p+9,  // 1716 * pi^-1
     0x1.111c213fd9281p+12,  // 13728 * pi^-1
@@ -398,9 +490,14 @@ inline constexpr double hess_radial_1_1[] = {
 inline constexpr double hess_radial_1_1_lo[] = {
     0x1.ddd6e37b8ab6p-45, 0x1.ddd6e37b8ab6p-42,
 };
+// hess_radial_1_1 = content * hess_radial_1_1_m, content = 1716 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.d329261d1e5a3p+19, .content_lo = -0x1.d2ca4d261ff97p-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.111c213fd9281p+9, .content_lo = 0x1.ddd6e37b8ab6p-45},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.111c213fd9281p+9,  // 1716 * pi^-1
@@ -409,8 +506,13 @@ inline constexpr double hess_radial_2_0[] = {
 inline constexpr double hess_radial_2_0_lo[] = {
     0x1.ddd6e37b8ab6p-45, 0x1.ddd6e37b8ab6p-42,
 };
+// hess_radial_2_0 = content * hess_radial_2_0_m, content = 1716 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.111c213fd9281p+9, .content_lo = 0x1.ddd6e37b8ab6p-45},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

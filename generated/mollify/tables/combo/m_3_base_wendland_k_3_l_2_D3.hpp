@@ -90,6 +90,12 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.b392df7b1bcd9p-23, -0x1.df07d91fbeeaep-19, -0x1.30b36306d4216p-16,
 };
+// dr_0_0 = content * dr_0_0_m, content = -58758774165/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.bp+4,  // 27
+    0x1.ep+7,  // 240
+};
 inline constexpr double dr_0_1[] = {
     0x1.bded18beb43edp+15,  // 11751754833/65536 * pi^-1
     0x1.78400ce0e815p+19,  // 317297380491/131072 * pi^-1
@@ -97,6 +103,12 @@ inline constexpr double dr_0_1[] = {
 };
 inline constexpr double dr_0_1_lo[] = {
     0x1.ec1e325e92e28p-39, 0x1.7f397a7fcbef1p-35, -0x1.72a3b0c7564bbp-33,
+};
+// dr_0_1 = content * dr_0_1_m, content = 11751754833/131072 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.bp+4,  // 27
+    0x1.ep+6,  // 120
 };
 inline constexpr double dr_0_2[] = {
     -0x1.04b21fbcf231ep+5,  // -819/8 * pi^-1
@@ -106,10 +118,16 @@ inline constexpr double dr_0_2[] = {
 inline constexpr double dr_0_2_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
+// dr_0_2 = content * dr_0_2_m, content = -273/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = dr_0_0_m, .content = -0x1.16b42f7730a74p+31, .content_lo = -0x1.b392df7b1bcd9p-23},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.bded18beb43edp+14, .content_lo = 0x1.ec1e325e92e28p-40},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo, .split = 23, .m = dr_0_2_m, .content = -0x1.5b982a5142ed3p+3, .content_lo = -0x1.48e2f2fa53734p-51},
 };
 inline constexpr double dr_1_0[] = {
     0x1.bded18beb43edp+15,  // 11751754833/65536 * pi^-1
@@ -119,6 +137,12 @@ inline constexpr double dr_1_0[] = {
 inline constexpr double dr_1_0_lo[] = {
     0x1.ec1e325e92e28p-39, 0x1.7f397a7fcbef1p-35, -0x1.72a3b0c7564bbp-33,
 };
+// dr_1_0 = content * dr_1_0_m, content = 11751754833/131072 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.bp+4,  // 27
+    0x1.ep+6,  // 120
+};
 inline constexpr double dr_1_1[] = {
     -0x1.04b21fbcf231ep+5,  // -819/8 * pi^-1
     -0x1.254863b490782p+8,  // -7371/8 * pi^-1
@@ -127,9 +151,15 @@ inline constexpr double dr_1_1[] = {
 inline constexpr double dr_1_1_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
+// dr_1_1 = content * dr_1_1_m, content = -273/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_1_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.bded18beb43edp+14, .content_lo = 0x1.ec1e325e92e28p-40},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo, .split = 23, .m = dr_1_1_m, .content = -0x1.5b982a5142ed3p+3, .content_lo = -0x1.48e2f2fa53734p-51},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.04b21fbcf231ep+5,  // -819/8 * pi^-1
@@ -139,8 +169,14 @@ inline constexpr double dr_2_0[] = {
 inline constexpr double dr_2_0_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
+// dr_2_0 = content * dr_2_0_m, content = -273/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_2_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo, .split = 23, .m = dr_2_0_m, .content = -0x1.5b982a5142ed3p+3, .content_lo = -0x1.48e2f2fa53734p-51},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -300,6 +336,12 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.b392df7b1bcd9p-23, -0x1.df07d91fbeeaep-19, -0x1.30b36306d4216p-16,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -58758774165/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.bp+4,  // 27
+    0x1.ep+7,  // 240
+};
 inline constexpr double grad_over_r_0_1[] = {
     0x1.bded18beb43edp+15,  // 11751754833/65536 * pi^-1
     0x1.78400ce0e815p+19,  // 317297380491/131072 * pi^-1
@@ -307,6 +349,12 @@ inline constexpr double grad_over_r_0_1[] = {
 };
 inline constexpr double grad_over_r_0_1_lo[] = {
     0x1.ec1e325e92e28p-39, 0x1.7f397a7fcbef1p-35, -0x1.72a3b0c7564bbp-33,
+};
+// grad_over_r_0_1 = content * grad_over_r_0_1_m, content = 11751754833/131072 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_1_m[] = {
+    0x1p+1,  // 2
+    0x1.bp+4,  // 27
+    0x1.ep+6,  // 120
 };
 inline constexpr double grad_over_r_0_2[] = {
     -0x1.04b21fbcf231ep+5,  // -819/8 * pi^-1
@@ -316,10 +364,16 @@ inline constexpr double grad_over_r_0_2[] = {
 inline constexpr double grad_over_r_0_2_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
+// grad_over_r_0_2 = content * grad_over_r_0_2_m, content = -273/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_2_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.16b42f7730a74p+31, .content_lo = -0x1.b392df7b1bcd9p-23},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.bded18beb43edp+14, .content_lo = 0x1.ec1e325e92e28p-40},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo, .split = 23, .m = grad_over_r_0_2_m, .content = -0x1.5b982a5142ed3p+3, .content_lo = -0x1.48e2f2fa53734p-51},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.bded18beb43edp+15,  // 11751754833/65536 * pi^-1
@@ -329,6 +383,12 @@ inline constexpr double grad_over_r_1_0[] = {
 inline constexpr double grad_over_r_1_0_lo[] = {
     0x1.ec1e325e92e28p-39, 0x1.7f397a7fcbef1p-35, -0x1.72a3b0c7564bbp-33,
 };
+// grad_over_r_1_0 = content * grad_over_r_1_0_m, content = 11751754833/131072 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_0_m[] = {
+    0x1p+1,  // 2
+    0x1.bp+4,  // 27
+    0x1.ep+6,  // 120
+};
 inline constexpr double grad_over_r_1_1[] = {
     -0x1.04b21fbcf231ep+5,  // -819/8 * pi^-1
     -0x1.254863b490782p+8,  // -7371/8 * pi^-1
@@ -337,9 +397,15 @@ inline constexpr double grad_over_r_1_1[] = {
 inline constexpr double grad_over_r_1_1_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
+// grad_over_r_1_1 = content * grad_over_r_1_1_m, content = -273/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_1_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 9, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.bded18beb43edp+14, .content_lo = 0x1.ec1e325e92e28p-40},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo, .split = 23, .m = grad_over_r_1_1_m, .content = -0x1.5b982a5142ed3p+3, .content_lo = -0x1.48e2f2fa53734p-51},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.04b21fbcf231ep+5,  // -819/8 * pi^-1
@@ -349,8 +415,14 @@ inline constexpr double grad_over_r_2_0[] = {
 inline constexpr double grad_over_r_2_0_lo[] = {
     -0x1.f6aa363bbe967p-49, -0x1.357f7d0336694p-46, -0x1.36375f71d0a02p-46,
 };
+// grad_over_r_2_0 = content * grad_over_r_2_0_m, content = -273/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_2_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo, .split = 23, .m = grad_over_r_2_0_m, .content = -0x1.5b982a5142ed3p+3, .content_lo = -0x1.48e2f2fa53734p-51},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -365,12 +437,22 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.b291c06e5f252p-19, 0x1.45ed5052c75bep-14,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 3231732579075/4 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+4,  // 24
+};
 inline constexpr double hess_radial_0_1[] = {
     -0x1.7f37c143e2e6p+21,  // -646346515815/65536 * pi^-1
     -0x1.1f69d0f2ea2c8p+25,  // -1939039547445/16384 * pi^-1
 };
 inline constexpr double hess_radial_0_1_lo[] = {
     -0x1.5ba7cd2518ea8p-35, -0x1.04bdd9dbd2afep-31,
+};
+// hess_radial_0_1 = content * hess_radial_0_1_m, content = -646346515815/65536 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
 };
 inline constexpr double hess_radial_0_2[] = {
     0x1.2ab6c45dd583ep+10,  // 15015/4 * pi^-1
@@ -379,10 +461,15 @@ inline constexpr double hess_radial_0_2[] = {
 inline constexpr double hess_radial_0_2_lo[] = {
     -0x1.955cf730e048fp-44, -0x1.955cf730e048fp-41,
 };
+// hess_radial_0_2 = content * hess_radial_0_2_m, content = 15015/4 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_2_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.df05b194db9f8p+37, .content_lo = 0x1.b291c06e5f252p-19},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.7f37c143e2e6p+21, .content_lo = -0x1.5ba7cd2518ea8p-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.2ab6c45dd583ep+10, .content_lo = -0x1.955cf730e048fp-44},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.7f37c143e2e6p+21,  // -646346515815/65536 * pi^-1
@@ -391,6 +478,11 @@ inline constexpr double hess_radial_1_0[] = {
 inline constexpr double hess_radial_1_0_lo[] = {
     -0x1.5ba7cd2518ea8p-35, -0x1.04bdd9dbd2afep-31,
 };
+// hess_radial_1_0 = content * hess_radial_1_0_m, content = -646346515815/65536 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+3,  // 12
+};
 inline constexpr double hess_radial_1_1[] = {
     0x1.2ab6c45dd583ep+10,  // 15015/4 * pi^-1
     0x1.2ab6c45dd583ep+13,  // 30030 * pi^-1
@@ -398,9 +490,14 @@ inline constexpr double hess_radial_1_1[] = {
 inline constexpr double hess_radial_1_1_lo[] = {
     -0x1.955cf730e048fp-44, -0x1.955cf730e048fp-41,
 };
+// hess_radial_1_1 = content * hess_radial_1_1_m, content = 15015/4 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.7f37c143e2e6p+21, .content_lo = -0x1.5ba7cd2518ea8p-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.2ab6c45dd583ep+10, .content_lo = -0x1.955cf730e048fp-44},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.2ab6c45dd583ep+10,  // 15015/4 * pi^-1
@@ -409,8 +506,13 @@ inline constexpr double hess_radial_2_0[] = {
 inline constexpr double hess_radial_2_0_lo[] = {
     -0x1.955cf730e048fp-44, -0x1.955cf730e048fp-41,
 };
+// hess_radial_2_0 = content * hess_radial_2_0_m, content = 15015/4 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_2_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.2ab6c45dd583ep+10, .content_lo = -0x1.955cf730e048fp-44},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

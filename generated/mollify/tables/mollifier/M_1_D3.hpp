@@ -104,9 +104,15 @@ inline constexpr double potential_1_1[] = {
 inline constexpr double potential_1_1_lo[] = {
     -0x1.6b01ec5417056p-58, -0x1.86229de99e612p-62, -0x1.041713f11440cp-63,
 };
+// potential_1_1 = content * potential_1_1_m, content = 1/32 * pi^-1 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1p+3,  // 8
+    0x1.2p+3,  // 9
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo, .split = 24, .m = potential_1_1_m, .content = 0x1.45f306dc9c883p-7, .content_lo = -0x1.6b01ec5417056p-61},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -89,9 +89,15 @@ inline constexpr double potential_1_1[] = {
     0x1p-3,  // 1/8
     0x1p-5,  // 1/32
 };
+// potential_1_1 = content * potential_1_1_m, content = 1/32 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1.4p+2,  // 5
+    0x1p+2,  // 4
+    0x1p+0,  // 1
+};
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_1_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = potential_1_1, .n = 3, .split = 24, .m = potential_1_1_m, .content = 0x1p-5, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
@@ -120,9 +126,15 @@ inline constexpr double dpotential_1_1[] = {
     -0x1.2p-1,  // -9/16
     -0x1.8p-3,  // -3/16
 };
+// dpotential_1_1 = content * dpotential_1_1_m, content = -1/16 (table::Term::split)
+inline constexpr double dpotential_1_1_m[] = {
+    0x1p+3,  // 8
+    0x1.2p+3,  // 9
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = dpotential_1_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = dpotential_1_1, .n = 3, .split = 24, .m = dpotential_1_1_m, .content = -0x1p-4, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1p-1,  // 1/2
@@ -151,9 +163,15 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.2p-1,  // -9/16
     -0x1.8p-3,  // -3/16
 };
+// dpotential_over_r_1_1 = content * dpotential_over_r_1_1_m, content = -1/16 (table::Term::split)
+inline constexpr double dpotential_over_r_1_1_m[] = {
+    0x1p+3,  // 8
+    0x1.2p+3,  // 9
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = dpotential_over_r_1_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = dpotential_over_r_1_1, .n = 3, .split = 24, .m = dpotential_over_r_1_1_m, .content = -0x1p-4, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2

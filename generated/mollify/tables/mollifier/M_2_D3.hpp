@@ -117,9 +117,16 @@ inline constexpr double potential_1_1[] = {
 inline constexpr double potential_1_1_lo[] = {
     -0x1.6b01ec5417056p-58, 0x1.970641d3cb232p-57, 0x1.3a3d9896e3394p-58, 0x1.3a3d9896e3394p-60,
 };
+// potential_1_1 = content * potential_1_1_m, content = 1/64 * pi^-1 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1p+4,  // 16
+    0x1.dp+4,  // 29
+    0x1.4p+4,  // 20
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = potential_1_1, .n = 4, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = potential_1_1, .n = 4, .c_lo = potential_1_1_lo, .split = 15, .m = potential_1_1_m, .content = 0x1.45f306dc9c883p-8, .content_lo = -0x1.6b01ec5417056p-62},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -116,9 +116,14 @@ inline constexpr double potential_1_1[] = {
 inline constexpr double potential_1_1_lo[] = {
     -0x1.6b01ec5417056p-58, -0x1.041713f11440cp-61,
 };
+// potential_1_1 = content * potential_1_1_m, content = 1/8 * pi^-1 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 26, .m = potential_1_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -270,9 +275,16 @@ inline constexpr double potential_hess_radial_1_1[] = {
 inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.041713f11440cp-60, -0x1.041713f11440cp-59, -0x1.86229de99e612p-59, -0x1.041713f11440cp-58,
 };
+// potential_hess_radial_1_1 = content * potential_hess_radial_1_1_m, content = 3/4 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+    0x1p+2,  // 4
+};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo, .split = 16, .m = potential_hess_radial_1_1_m, .content = 0x1.e8ec8a4aeacc4p-3, .content_lo = -0x1.041713f11440cp-60},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1

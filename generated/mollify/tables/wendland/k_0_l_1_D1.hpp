@@ -183,9 +183,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1p-1,  // 1/2
     0x1p+0,  // 1
 };
+// potential_hess_radial_1_1 = content * potential_hess_radial_1_1_m, content = 1/2 (table::Term::split)
+inline constexpr double potential_hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = potential_hess_radial_1_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = potential_hess_radial_1_1, .n = 2, .split = 26, .m = potential_hess_radial_1_1_m, .content = 0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2

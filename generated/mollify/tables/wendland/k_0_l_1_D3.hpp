@@ -117,9 +117,14 @@ inline constexpr double potential_1_1[] = {
 inline constexpr double potential_1_1_lo[] = {
     -0x1.6b01ec5417056p-58, -0x1.6b01ec5417056p-57,
 };
+// potential_1_1 = content * potential_1_1_m, content = 1/4 * pi^-1 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+1,  // 2
+};
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 26, .m = potential_1_1_m, .content = 0x1.45f306dc9c883p-4, .content_lo = -0x1.6b01ec5417056p-58},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -243,9 +248,15 @@ inline constexpr double dpotential_over_r_2_1[] = {
 inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-58, 0x1.6b01ec5417056p-56, -0x1.3a3d9896e3394p-55,
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/4 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+    0x1.4p+3,  // 10
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo, .split = 24, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-4, .content_lo = 0x1.6b01ec5417056p-58},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -288,9 +299,16 @@ inline constexpr double potential_hess_radial_1_1[] = {
 inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.041713f11440cp-60, -0x1.86229de99e612p-59, -0x1.86229de99e612p-58, 0x1.ebae32712a6afp-53,
 };
+// potential_hess_radial_1_1 = content * potential_hess_radial_1_1_m, content = 3/4 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+2,  // 6
+    0x1.4p+3,  // 10
+};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo, .split = 16, .m = potential_hess_radial_1_1_m, .content = 0x1.e8ec8a4aeacc4p-3, .content_lo = -0x1.041713f11440cp-60},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1

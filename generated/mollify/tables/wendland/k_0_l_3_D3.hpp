@@ -83,8 +83,13 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.5c70d8460a3b2p-49, -0x1.f556bb96f0a74p-48,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 210 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.0b615ba0f867bp+6, .content_lo = 0x1.5c70d8460a3b2p-49},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
@@ -137,9 +142,14 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     -0x1.6b01ec5417056p-58, -0x1.041713f11440cp-60,
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/4 * pi^-1 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 26, .m = potential_2_1_m, .content = 0x1.45f306dc9c883p-4, .content_lo = -0x1.6b01ec5417056p-58},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -233,9 +243,15 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     0x1.6b01ec5417056p-58, 0x1.041713f11440cp-59, -0x1.e38d79d1a1c8fp-54,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = -1/4 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .split = 24, .m = dpotential_4_1_m, .content = -0x1.45f306dc9c883p-4, .content_lo = 0x1.6b01ec5417056p-58},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -313,9 +329,15 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.6b01ec5417056p-58, 0x1.041713f11440cp-59, -0x1.e38d79d1a1c8fp-54,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = -1/4 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -3, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -3, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 24, .m = dpotential_over_r_3_1_m, .content = -0x1.45f306dc9c883p-4, .content_lo = 0x1.6b01ec5417056p-58},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -362,9 +384,16 @@ inline constexpr double potential_hess_radial_1_1[] = {
 inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.041713f11440cp-60, 0x1.ebae32712a6afp-54, -0x1.1e7ab456405f9p-53, 0x1.5c70d8460a3b2p-52,
 };
+// potential_hess_radial_1_1 = content * potential_hess_radial_1_1_m, content = 3/4 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -5, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -5, .c = potential_hess_radial_1_1, .n = 4, .c_lo = potential_hess_radial_1_1_lo, .split = 15, .m = potential_hess_radial_1_1_m, .content = 0x1.e8ec8a4aeacc4p-3, .content_lo = -0x1.041713f11440cp-60},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.e8ec8a4aeacc4p-3,  // -3/4 * pi^-1

@@ -64,8 +64,13 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.ep+3,  // 15
     0x1.68p+5,  // 45
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 15 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = hess_radial_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -3, .c = hess_radial_0_0, .n = 2, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
@@ -249,9 +254,14 @@ inline constexpr double potential_hess_radial_1_1[] = {
     0x1p-1,  // 1/2
     0x1.4p+1,  // 5/2
 };
+// potential_hess_radial_1_1 = content * potential_hess_radial_1_1_m, content = 1/2 (table::Term::split)
+inline constexpr double potential_hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_1_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_1_1, .n = 2, .split = 26, .m = potential_hess_radial_1_1_m, .content = 0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1p-1,  // -1/2

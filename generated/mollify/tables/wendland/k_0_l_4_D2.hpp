@@ -83,8 +83,13 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.e38d79d1a1c8fp-49, 0x1.e38d79d1a1c8fp-47,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 168 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.abcef9018d72bp+5, .content_lo = 0x1.e38d79d1a1c8fp-49},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
@@ -261,9 +266,14 @@ inline constexpr double dpotential_4_1[] = {
 inline constexpr double dpotential_4_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.425e51366bdb4p-54,
 };
+// dpotential_4_1 = content * dpotential_4_1_m, content = -1/2 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_4_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .split = 26, .m = dpotential_4_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -343,9 +353,14 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.425e51366bdb4p-54,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = -1/2 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .split = 26, .m = dpotential_over_r_3_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -392,9 +407,15 @@ inline constexpr double potential_hess_radial_1_1[] = {
 inline constexpr double potential_hess_radial_1_1_lo[] = {
     -0x1.6b01ec5417056p-56, -0x1.041713f11440cp-57, 0x1.e38d79d1a1c8fp-52,
 };
+// potential_hess_radial_1_1 = content * potential_hess_radial_1_1_m, content = 1 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term potential_hess_radial_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -4, .c = potential_hess_radial_1_1, .n = 3, .c_lo = potential_hess_radial_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -4, .c = potential_hess_radial_1_1, .n = 3, .c_lo = potential_hess_radial_1_1_lo, .split = 24, .m = potential_hess_radial_1_1_m, .content = 0x1.45f306dc9c883p-2, .content_lo = -0x1.6b01ec5417056p-56},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -14,8 +14,13 @@ inline constexpr double value_0_0[] = {
     0x1.4p+0,  // 5/4
     0x1.ep+1,  // 15/4
 };
+// value_0_0 = content * value_0_0_m, content = 5/4 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_0_0, .n = 2, .split = 26, .m = value_0_0_m, .content = 0x1.4p+0, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -92,9 +97,14 @@ inline constexpr double potential_1_1[] = {
     0x1p-3,  // 1/8
     0x1p-3,  // 1/8
 };
+// potential_1_1 = content * potential_1_1_m, content = 1/8 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+0,  // 1
+};
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_1_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_1_1, .n = 2, .split = 26, .m = potential_1_1_m, .content = 0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
@@ -135,9 +145,14 @@ inline constexpr double dpotential_2_1[] = {
     -0x1p-1,  // -1/2
     -0x1.8p-1,  // -3/4
 };
+// dpotential_2_1 = content * dpotential_2_1_m, content = -1/4 (table::Term::split)
+inline constexpr double dpotential_2_1_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_2_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_2_1, .n = 2, .split = 26, .m = dpotential_2_1_m, .content = -0x1p-2, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
@@ -168,9 +183,14 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1p-1,  // -1/2
     -0x1.8p-1,  // -3/4
 };
+// dpotential_over_r_1_1 = content * dpotential_over_r_1_1_m, content = -1/4 (table::Term::split)
+inline constexpr double dpotential_over_r_1_1_m[] = {
+    0x1p+1,  // 2
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_1_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_1_1, .n = 2, .split = 26, .m = dpotential_over_r_1_1_m, .content = -0x1p-2, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2

@@ -17,8 +17,13 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.425e51366bdb4p-53, 0x1.425e51366bdb4p-51,
 };
+// value_0_0 = content * value_0_0_m, content = 7 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.1d34a60108f72p+1, .content_lo = 0x1.425e51366bdb4p-53},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -218,9 +223,15 @@ inline constexpr double dpotential_2_1[] = {
 inline constexpr double dpotential_2_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.3a3d9896e3394p-55, 0x1.6b01ec5417056p-54,
 };
+// dpotential_2_1 = content * dpotential_2_1_m, content = -1/2 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo, .split = 24, .m = dpotential_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -281,9 +292,15 @@ inline constexpr double dpotential_over_r_2_1[] = {
 inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-57, -0x1.3a3d9896e3394p-55, 0x1.6b01ec5417056p-54,
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/2 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo, .split = 24, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -339,9 +356,16 @@ inline constexpr double potential_hess_radial_2_1[] = {
 inline constexpr double potential_hess_radial_2_1_lo[] = {
     -0x1.6b01ec5417056p-56, -0x1.6b01ec5417056p-54, 0x1.3a3d9896e3394p-53, 0x1.3a3d9896e3394p-52,
 };
+// potential_hess_radial_2_1 = content * potential_hess_radial_2_1_m, content = 1 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+    0x1.4p+3,  // 10
+    0x1.4p+4,  // 20
+};
 inline constexpr table::Term potential_hess_radial_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_2_0, .n = 1, .c_lo = potential_hess_radial_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_2_1, .n = 4, .c_lo = potential_hess_radial_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -4, .c = potential_hess_radial_2_1, .n = 4, .c_lo = potential_hess_radial_2_1_lo, .split = 15, .m = potential_hess_radial_2_1_m, .content = 0x1.45f306dc9c883p-2, .content_lo = -0x1.6b01ec5417056p-56},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -17,8 +17,13 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.e38d79d1a1c8fp-53, 0x1.e38d79d1a1c8fp-51,
 };
+// value_0_0 = content * value_0_0_m, content = 21/2 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.abcef9018d72bp+1, .content_lo = 0x1.e38d79d1a1c8fp-53},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -122,9 +127,15 @@ inline constexpr double potential_1_1[] = {
 inline constexpr double potential_1_1_lo[] = {
     -0x1.6b01ec5417056p-58, -0x1.041713f11440cp-60, -0x1.041713f11440cp-60,
 };
+// potential_1_1 = content * potential_1_1_m, content = 1/4 * pi^-1 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo, .split = 25, .m = potential_1_1_m, .content = 0x1.45f306dc9c883p-4, .content_lo = -0x1.6b01ec5417056p-58},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -202,9 +213,16 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-58, -0x1.3a3d9896e3394p-56, -0x1.ebae32712a6afp-54, -0x1.e38d79d1a1c8fp-54,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = -1/4 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_3_1, .n = 4, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_3_1, .n = 4, .c_lo = dpotential_3_1_lo, .split = 15, .m = dpotential_3_1_m, .content = -0x1.45f306dc9c883p-4, .content_lo = 0x1.6b01ec5417056p-58},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -267,9 +285,16 @@ inline constexpr double dpotential_over_r_2_1[] = {
 inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-58, -0x1.3a3d9896e3394p-56, -0x1.ebae32712a6afp-54, -0x1.e38d79d1a1c8fp-54,
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/4 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_2_1, .n = 4, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_2_1, .n = 4, .c_lo = dpotential_over_r_2_1_lo, .split = 15, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-4, .content_lo = 0x1.6b01ec5417056p-58},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1

@@ -17,8 +17,13 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.61f7067794918p-55, -0x1.22c59bf543251p-52,
 };
+// value_0_0 = content * value_0_0_m, content = 28/3 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.7c4632ac0bf43p+1, .content_lo = 0x1.61f7067794918p-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -246,9 +251,15 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.041713f11440cp-58, 0x1.22c59bf543251p-55,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = -1/6 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 23, .m = dpotential_3_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -312,9 +323,15 @@ inline constexpr double dpotential_over_r_2_1[] = {
 inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.041713f11440cp-58, 0x1.22c59bf543251p-55,
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/6 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo, .split = 23, .m = dpotential_over_r_2_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -388,9 +405,16 @@ inline constexpr double potential_hess_radial_3_1[] = {
 inline constexpr double potential_hess_radial_3_1_lo[] = {
     -0x1.6b01ec5417056p-56, 0x1.3a3d9896e3394p-54, 0x1.ebae32712a6afp-52, -0x1.b42869efe4b7ap-53,
 };
+// potential_hess_radial_3_1 = content * potential_hess_radial_3_1_m, content = 1 * pi^-1 (table::Term::split)
+inline constexpr double potential_hess_radial_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term potential_hess_radial_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_3_0, .n = 1, .c_lo = potential_hess_radial_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_3_1, .n = 4, .c_lo = potential_hess_radial_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -4, .c = potential_hess_radial_3_1, .n = 4, .c_lo = potential_hess_radial_3_1_lo, .split = 15, .m = potential_hess_radial_3_1_m, .content = 0x1.45f306dc9c883p-2, .content_lo = -0x1.6b01ec5417056p-56},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -17,8 +17,13 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     -0x1.9555e4a2c6a95p-52, -0x1.f556bb96f0a74p-51,
 };
+// value_0_0 = content * value_0_0_m, content = 63/4 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.40db3ac12a161p+2, .content_lo = -0x1.9555e4a2c6a95p-52},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -143,9 +148,15 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     -0x1.6b01ec5417056p-58, 0x1.970641d3cb232p-56, -0x1.b42869efe4b7ap-58,
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/32 * pi^-1 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .split = 23, .m = potential_2_1_m, .content = 0x1.45f306dc9c883p-7, .content_lo = -0x1.6b01ec5417056p-61},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -14,8 +14,13 @@ inline constexpr double value_0_0[] = {
     0x1.cp+0,  // 7/4
     0x1.18p+3,  // 35/4
 };
+// value_0_0 = content * value_0_0_m, content = 7/4 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .split = 26, .m = value_0_0_m, .content = 0x1.cp+0, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -108,9 +113,14 @@ inline constexpr double potential_2_1[] = {
     0x1.8p-4,  // 3/32
     0x1.4p-3,  // 5/32
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/32 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_2_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_2_1, .n = 2, .split = 26, .m = potential_2_1_m, .content = 0x1p-5, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
@@ -156,9 +166,14 @@ inline constexpr double dpotential_2_1[] = {
     -0x1p-1,  // -1/2
     -0x1.4p+0,  // -5/4
 };
+// dpotential_2_1 = content * dpotential_2_1_m, content = -1/4 (table::Term::split)
+inline constexpr double dpotential_2_1_m[] = {
+    0x1p+1,  // 2
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_2_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_2_1, .n = 2, .split = 26, .m = dpotential_2_1_m, .content = -0x1p-2, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
@@ -203,9 +218,14 @@ inline constexpr double dpotential_over_r_2_1[] = {
     -0x1p-1,  // -1/2
     -0x1.4p+0,  // -5/4
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/4 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+1,  // 2
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_2_1, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_2_1, .n = 2, .split = 26, .m = dpotential_over_r_2_1_m, .content = -0x1p-2, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2
@@ -257,9 +277,15 @@ inline constexpr double potential_hess_radial_3_1[] = {
     0x1.4p+1,  // 5/2
     0x1.ep+2,  // 15/2
 };
+// potential_hess_radial_3_1 = content * potential_hess_radial_3_1_m, content = 1/2 (table::Term::split)
+inline constexpr double potential_hess_radial_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+};
 inline constexpr table::Term potential_hess_radial_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_3_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .split = 24, .m = potential_hess_radial_3_1_m, .content = 0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
     -0x1p-1,  // -1/2

@@ -17,8 +17,13 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.ebae32712a6afp-52, 0x1.5c70d8460a3b2p-50,
 };
+// value_0_0 = content * value_0_0_m, content = 15 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.3193d66ed2bfap+2, .content_lo = 0x1.ebae32712a6afp-52},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -271,9 +276,15 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.6b01ec5417056p-54, -0x1.e38d79d1a1c8fp-53,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = -1/2 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 24, .m = dpotential_3_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -343,9 +354,15 @@ inline constexpr double dpotential_over_r_2_1[] = {
 inline constexpr double dpotential_over_r_2_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.6b01ec5417056p-54, -0x1.e38d79d1a1c8fp-53,
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/2 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo, .split = 24, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

@@ -17,8 +17,13 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.006e5efd2cf93p-55, 0x1.006e5efd2cf93p-52,
 };
+// value_0_0 = content * value_0_0_m, content = 55/3 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.757bcd321e06bp+2, .content_lo = 0x1.006e5efd2cf93p-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -282,9 +287,15 @@ inline constexpr double dpotential_3_1[] = {
 inline constexpr double dpotential_3_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.86229de99e612p-58, -0x1.a2fccb73d9a1bp-53,
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = -1/6 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 23, .m = dpotential_3_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -376,9 +387,15 @@ inline constexpr double dpotential_over_r_3_1[] = {
 inline constexpr double dpotential_over_r_3_1_lo[] = {
     0x1.6b01ec5417056p-57, 0x1.86229de99e612p-58, -0x1.a2fccb73d9a1bp-53,
 };
+// dpotential_over_r_3_1 = content * dpotential_over_r_3_1_m, content = -1/6 * pi^-1 (table::Term::split)
+inline constexpr double dpotential_over_r_3_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 23, .m = dpotential_over_r_3_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

@@ -17,8 +17,13 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.a40f855b9a531p-51, 0x1.a40f855b9a531p-48,
 };
+// value_0_0 = content * value_0_0_m, content = 165/4 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.a42b46d861c78p+3, .content_lo = 0x1.a40f855b9a531p-51},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -149,9 +154,15 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     -0x1.6b01ec5417056p-58, -0x1.7322a4f39fa77p-56, 0x1.3a3d9896e3394p-55,
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/8 * pi^-1 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1p+1,  // 2
+    0x1.6p+3,  // 11
+    0x1.4p+4,  // 20
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .split = 23, .m = potential_2_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -15,8 +15,14 @@ inline constexpr double value_0_0[] = {
     0x1.ep+2,  // 15/2
     0x1.8p+3,  // 12
 };
+// value_0_0 = content * value_0_0_m, content = 3/2 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1p+3,  // 8
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 3, .split = 24, .m = value_0_0_m, .content = 0x1.8p+0, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -26,8 +32,13 @@ inline constexpr double dr_0_0[] = {
     -0x1.5p+4,  // -21
     -0x1.5p+6,  // -84
 };
+// dr_0_0 = content * dr_0_0_m, content = -21 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_0_0, .n = 2, .split = 26, .m = dr_0_0_m, .content = -0x1.5p+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -61,8 +72,13 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.5p+4,  // -21
     -0x1.5p+6,  // -84
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -21 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+2,  // 4
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.5p+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -109,9 +125,15 @@ inline constexpr double potential_1_1[] = {
 inline constexpr double potential_1_1_lo[] = {
     -0x1.5555555555555p-58, 0x1.5555555555555p-57, 0x1.5555555555555p-57,
 };
+// potential_1_1 = content * potential_1_1_m, content = 1/48 (table::Term::split)
+inline constexpr double potential_1_1_m[] = {
+    0x1.4p+2,  // 5
+    0x1.6p+3,  // 11
+    0x1p+3,  // 8
+};
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo, .split = 24, .m = potential_1_1_m, .content = 0x1.5555555555555p-6, .content_lo = 0x1.5555555555555p-60},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
@@ -159,9 +181,15 @@ inline constexpr double dpotential_2_1[] = {
     -0x1.8p+0,  // -3/2
     -0x1.8p+0,  // -3/2
 };
+// dpotential_2_1 = content * dpotential_2_1_m, content = -1/2 (table::Term::split)
+inline constexpr double dpotential_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_2_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_2_1, .n = 3, .split = 25, .m = dpotential_2_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
@@ -196,9 +224,15 @@ inline constexpr double dpotential_over_r_1_1[] = {
     -0x1.8p+0,  // -3/2
     -0x1.8p+0,  // -3/2
 };
+// dpotential_over_r_1_1 = content * dpotential_over_r_1_1_m, content = -1/2 (table::Term::split)
+inline constexpr double dpotential_over_r_1_1_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+1,  // 3
+    0x1.8p+1,  // 3
+};
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_1_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_1_1, .n = 3, .split = 25, .m = dpotential_over_r_1_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2
@@ -242,9 +276,16 @@ inline constexpr double potential_hess_radial_2_1[] = {
     0x1.ep+2,  // 15/2
     0x1.5p+3,  // 21/2
 };
+// potential_hess_radial_2_1 = content * potential_hess_radial_2_1_m, content = 1/2 (table::Term::split)
+inline constexpr double potential_hess_radial_2_1_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+    0x1.ep+3,  // 15
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term potential_hess_radial_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_2_1, .n = 4},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_2_1, .n = 4, .split = 15, .m = potential_hess_radial_2_1_m, .content = 0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_hess_radial_3_0[] = {
     -0x1p-1,  // -1/2

@@ -15,8 +15,14 @@ inline constexpr double value_0_0[] = {
     0x1.44p+3,  // 81/8
     0x1.3bp+4,  // 315/16
 };
+// value_0_0 = content * value_0_0_m, content = 9/16 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+4,  // 18
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .split = 23, .m = value_0_0_m, .content = 0x1.2p-1, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -26,8 +32,13 @@ inline constexpr double dr_0_0[] = {
     -0x1.f8p+4,  // -63/2
     -0x1.3bp+7,  // -315/2
 };
+// dr_0_0 = content * dr_0_0_m, content = -63/2 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .split = 26, .m = dr_0_0_m, .content = -0x1.f8p+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -61,8 +72,13 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.f8p+4,  // -63/2
     -0x1.3bp+7,  // -315/2
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -63/2 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+2,  // 5
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.f8p+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -118,9 +134,15 @@ inline constexpr double potential_2_1[] = {
     0x1p-2,  // 1/4
     0x1.cp-3,  // 7/32
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/32 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1.8p+1,  // 3
+    0x1p+3,  // 8
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_2_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_2_1, .n = 3, .split = 24, .m = potential_2_1_m, .content = 0x1p-5, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
@@ -171,9 +193,15 @@ inline constexpr double dpotential_2_1[] = {
     -0x1.dp+0,  // -29/16
     -0x1.18p+1,  // -35/16
 };
+// dpotential_2_1 = content * dpotential_2_1_m, content = -1/16 (table::Term::split)
+inline constexpr double dpotential_2_1_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_2_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_2_1, .n = 3, .split = 23, .m = dpotential_2_1_m, .content = -0x1p-4, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
@@ -223,9 +251,15 @@ inline constexpr double dpotential_over_r_2_1[] = {
     -0x1.dp+0,  // -29/16
     -0x1.18p+1,  // -35/16
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/16 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+3,  // 8
+    0x1.dp+4,  // 29
+    0x1.18p+5,  // 35
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_2_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_2_1, .n = 3, .split = 23, .m = dpotential_over_r_2_1_m, .content = -0x1p-4, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2

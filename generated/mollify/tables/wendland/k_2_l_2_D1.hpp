@@ -15,8 +15,14 @@ inline constexpr double value_0_0[] = {
     0x1.a4p+3,  // 105/8
     0x1.ep+4,  // 30
 };
+// value_0_0 = content * value_0_0_m, content = 15/8 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .split = 24, .m = value_0_0_m, .content = 0x1.ep+0, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -26,8 +32,13 @@ inline constexpr double dr_0_0[] = {
     -0x1.68p+5,  // -45
     -0x1.0ep+8,  // -270
 };
+// dr_0_0 = content * dr_0_0_m, content = -45 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .split = 26, .m = dr_0_0_m, .content = -0x1.68p+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -61,8 +72,13 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.68p+5,  // -45
     -0x1.0ep+8,  // -270
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -45 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.68p+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -133,9 +149,15 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     0x1.d1745d1745d17p-58, 0x1.1745d1745d174p-56, 0x1.745d1745d1746p-56,
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/176 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1.ep+3,  // 15
+    0x1.78p+5,  // 47
+    0x1.8p+5,  // 48
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .split = 23, .m = potential_2_1_m, .content = 0x1.745d1745d1746p-8, .content_lo = -0x1.745d1745d1746p-63},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
@@ -188,9 +210,15 @@ inline constexpr double dpotential_2_1[] = {
     -0x1.1p+1,  // -17/8
     -0x1.8p+1,  // -3
 };
+// dpotential_2_1 = content * dpotential_2_1_m, content = -1/8 (table::Term::split)
+inline constexpr double dpotential_2_1_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = dpotential_2_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = dpotential_2_1, .n = 3, .split = 23, .m = dpotential_2_1_m, .content = -0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
@@ -242,9 +270,15 @@ inline constexpr double dpotential_over_r_2_1[] = {
     -0x1.1p+1,  // -17/8
     -0x1.8p+1,  // -3
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/8 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+2,  // 4
+    0x1.1p+4,  // 17
+    0x1.8p+4,  // 24
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_over_r_2_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = dpotential_over_r_2_1, .n = 3, .split = 23, .m = dpotential_over_r_2_1_m, .content = -0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2

@@ -18,8 +18,14 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.87b8036dd3686p-52, 0x1.87b8036dd3686p-49, 0x1.0886120095e3dp-50,
 };
+// value_0_0 = content * value_0_0_m, content = 66/5 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .split = 24, .m = value_0_0_m, .content = 0x1.0ce87f42cdf05p+2, .content_lo = 0x1.87b8036dd3686p-52},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -32,8 +38,13 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.79e419b7b18eap-50, 0x1.5aac34bfa251ap-46,
 };
+// dr_0_0 = content * dr_0_0_m, content = -396 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 26, .m = dr_0_0_m, .content = -0x1.f833ee9d4222ap+6, .content_lo = -0x1.79e419b7b18eap-50},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -76,8 +87,13 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.79e419b7b18eap-50, 0x1.5aac34bfa251ap-46,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -396 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.f833ee9d4222ap+6, .content_lo = -0x1.79e419b7b18eap-50},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)

@@ -15,8 +15,14 @@ inline constexpr double value_0_0[] = {
     0x1.08p+4,  // 33/2
     0x1.5a8p+5,  // 693/16
 };
+// value_0_0 = content * value_0_0_m, content = 33/16 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .split = 24, .m = value_0_0_m, .content = 0x1.08p+1, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -26,8 +32,13 @@ inline constexpr double dr_0_0[] = {
     -0x1.efp+5,  // -495/8
     -0x1.b12p+8,  // -3465/8
 };
+// dr_0_0 = content * dr_0_0_m, content = -495/8 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .split = 26, .m = dr_0_0_m, .content = -0x1.efp+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -61,8 +72,13 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.efp+5,  // -495/8
     -0x1.b12p+8,  // -3465/8
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -495/8 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.efp+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -122,9 +138,15 @@ inline constexpr double potential_2_1[] = {
     0x1.2p-2,  // 9/32
     0x1.5p-2,  // 21/64
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/64 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1.4p+2,  // 5
+    0x1.2p+4,  // 18
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_2_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = potential_2_1, .n = 3, .split = 23, .m = potential_2_1_m, .content = 0x1p-6, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
@@ -196,9 +218,15 @@ inline constexpr double dpotential_3_1[] = {
     -0x1.38p+1,  // -39/16
     -0x1.f8p+1,  // -63/16
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = -1/16 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+3,  // 8
+    0x1.38p+5,  // 39
+    0x1.f8p+5,  // 63
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_3_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_3_1, .n = 3, .split = 23, .m = dpotential_3_1_m, .content = -0x1p-4, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -253,9 +281,15 @@ inline constexpr double dpotential_over_r_2_1[] = {
     -0x1.38p+1,  // -39/16
     -0x1.f8p+1,  // -63/16
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/16 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+3,  // 8
+    0x1.38p+5,  // 39
+    0x1.f8p+5,  // 63
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_2_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_2_1, .n = 3, .split = 23, .m = dpotential_over_r_2_1_m, .content = -0x1p-4, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2

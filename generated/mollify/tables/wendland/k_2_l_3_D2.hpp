@@ -18,8 +18,14 @@ inline constexpr double value_0_0[] = {
 inline constexpr double value_0_0_lo[] = {
     0x1.6f55d98f39824p-53, -0x1.315fb59f6fa6cp-49, 0x1.321cdff75a974p-48,
 };
+// value_0_0 = content * value_0_0_m, content = 26/5 * pi^-1 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .split = 23, .m = value_0_0_m, .content = 0x1.a7bbef51feb1p+0, .content_lo = 0x1.e9c7ccbef7586p-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -32,8 +38,13 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     0x1.6c61302f8dc04p-50, 0x1.6c61302f8dc04p-47,
 };
+// dr_0_0 = content * dr_0_0_m, content = -572 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 26, .m = dr_0_0_m, .content = -0x1.6c2581aa76e02p+7, .content_lo = 0x1.6c61302f8dc04p-50},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -76,8 +87,13 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.6c61302f8dc04p-50, 0x1.6c61302f8dc04p-47,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -572 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.6c2581aa76e02p+7, .content_lo = 0x1.6c61302f8dc04p-50},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)

@@ -15,8 +15,14 @@ inline constexpr double value_0_0[] = {
     0x1.44p+4,  // 81/4
     0x1.ep+5,  // 60
 };
+// value_0_0 = content * value_0_0_m, content = 3/4 (table::Term::split)
+inline constexpr double value_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_0_0, .n = 3, .split = 23, .m = value_0_0_m, .content = 0x1.8p-1, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -26,8 +32,13 @@ inline constexpr double dr_0_0[] = {
     -0x1.4ap+6,  // -165/2
     -0x1.4ap+9,  // -660
 };
+// dr_0_0 = content * dr_0_0_m, content = -165/2 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 2, .split = 26, .m = dr_0_0_m, .content = -0x1.4ap+6, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -61,8 +72,13 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.4ap+6,  // -165/2
     -0x1.4ap+9,  // -660
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -165/2 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.4ap+6, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -139,9 +155,15 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     0x1.d89d89d89d89ep-58, -0x1.d89d89d89d89ep-57, -0x1.89d89d89d89d9p-56,
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/208 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1.ep+3,  // 15
+    0x1.e8p+5,  // 61
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .split = 22, .m = potential_2_1_m, .content = 0x1.3b13b13b13b14p-8, .content_lo = -0x1.3b13b13b13b14p-62},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
@@ -216,9 +238,15 @@ inline constexpr double dpotential_3_1[] = {
     -0x1.6p+1,  // -11/4
     -0x1.4p+2,  // -5
 };
+// dpotential_3_1 = content * dpotential_3_1_m, content = -1/4 (table::Term::split)
+inline constexpr double dpotential_3_1_m[] = {
+    0x1p+1,  // 2
+    0x1.6p+3,  // 11
+    0x1.4p+4,  // 20
+};
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = dpotential_3_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = dpotential_3_1, .n = 3, .split = 23, .m = dpotential_3_1_m, .content = -0x1p-2, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -275,9 +303,15 @@ inline constexpr double dpotential_over_r_2_1[] = {
     -0x1.6p+1,  // -11/4
     -0x1.4p+2,  // -5
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/4 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+1,  // 2
+    0x1.6p+3,  // 11
+    0x1.4p+4,  // 20
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_over_r_2_1, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_over_r_2_1, .n = 3, .split = 23, .m = dpotential_over_r_2_1_m, .content = -0x1p-2, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2

@@ -28,8 +28,14 @@ inline constexpr double dr_0_0[] = {
     -0x1.20cp+8,  // -1155/4
     -0x1.4ap+9,  // -660
 };
+// dr_0_0 = content * dr_0_0_m, content = -165/4 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .split = 24, .m = dr_0_0_m, .content = -0x1.4ap+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -66,8 +72,14 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.20cp+8,  // -1155/4
     -0x1.4ap+9,  // -660
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -165/4 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+    0x1p+4,  // 16
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.4ap+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -77,8 +89,13 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.efp+9,  // 990
     0x1.734p+12,  // 5940
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 990 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.8p+2,  // 6
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.efp+9, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
@@ -206,9 +223,16 @@ inline constexpr double dpotential_2_1[] = {
     -0x1.68p+2,  // -45/8
     -0x1.4p+2,  // -5
 };
+// dpotential_2_1 = content * dpotential_2_1_m, content = -1/8 (table::Term::split)
+inline constexpr double dpotential_2_1_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_2_1, .n = 4},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = dpotential_2_1, .n = 4, .split = 15, .m = dpotential_2_1_m, .content = -0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
@@ -265,9 +289,16 @@ inline constexpr double dpotential_over_r_2_1[] = {
     -0x1.68p+2,  // -45/8
     -0x1.4p+2,  // -5
 };
+// dpotential_over_r_2_1 = content * dpotential_over_r_2_1_m, content = -1/8 (table::Term::split)
+inline constexpr double dpotential_over_r_2_1_m[] = {
+    0x1p+2,  // 4
+    0x1.5p+4,  // 21
+    0x1.68p+5,  // 45
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_2_1, .n = 4},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = -1, .c = dpotential_over_r_2_1, .n = 4, .split = 15, .m = dpotential_over_r_2_1_m, .content = -0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2

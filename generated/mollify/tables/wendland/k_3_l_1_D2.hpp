@@ -34,8 +34,14 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     0x1.0374fa6d88767p-48, 0x1.0374fa6d88767p-45, 0x1.0a44c457e18dcp-43,
 };
+// dr_0_0 = content * dr_0_0_m, content = -1716/5 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .split = 24, .m = dr_0_0_m, .content = -0x1.b4f9cecc8ea69p+6, .content_lo = 0x1.0374fa6d88767p-48},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -81,8 +87,14 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     0x1.0374fa6d88767p-48, 0x1.0374fa6d88767p-45, 0x1.0a44c457e18dcp-43,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -1716/5 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.b4f9cecc8ea69p+6, .content_lo = 0x1.0374fa6d88767p-48},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -95,8 +107,13 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.9984aa72a021fp-44, -0x1.3357d5b767c4ap-42,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 10296 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.99aa31dfc5bc2p+11, .content_lo = 0x1.9984aa72a021fp-44},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)

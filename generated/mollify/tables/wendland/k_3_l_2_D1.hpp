@@ -28,8 +28,14 @@ inline constexpr double dr_0_0[] = {
     -0x1.adp+8,  // -429
     -0x1.1988p+10,  // -9009/8
 };
+// dr_0_0 = content * dr_0_0_m, content = -429/8 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .split = 24, .m = dr_0_0_m, .content = -0x1.adp+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -66,8 +72,14 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.adp+8,  // -429
     -0x1.1988p+10,  // -9009/8
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -429/8 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.adp+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -77,8 +89,13 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.923p+10,  // 6435/4
     0x1.5feap+13,  // 45045/4
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 6435/4 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.cp+2,  // 7
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.923p+10, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
@@ -133,9 +150,16 @@ inline constexpr double potential_2_1[] = {
     0x1.58p-1,  // 43/64
     0x1.08p-1,  // 33/64
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/64 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1.4p+2,  // 5
+    0x1.7p+4,  // 23
+    0x1.58p+5,  // 43
+    0x1.08p+5,  // 33
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_2_1, .n = 4},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = potential_2_1, .n = 4, .split = 15, .m = potential_2_1_m, .content = 0x1p-6, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2

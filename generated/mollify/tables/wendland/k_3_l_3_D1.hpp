@@ -28,8 +28,14 @@ inline constexpr double dr_0_0[] = {
     -0x1.332p+9,  // -2457/4
     -0x1.c7p+10,  // -1820
 };
+// dr_0_0 = content * dr_0_0_m, content = -91/4 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 3, .split = 23, .m = dr_0_0_m, .content = -0x1.6cp+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -66,8 +72,14 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.332p+9,  // -2457/4
     -0x1.c7p+10,  // -1820
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -91/4 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 3, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.6cp+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -77,8 +89,13 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.38dp+11,  // 5005/2
     0x1.38dp+14,  // 20020
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 5005/2 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.38dp+11, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
@@ -150,9 +167,16 @@ inline constexpr double potential_2_1[] = {
 inline constexpr double potential_2_1_lo[] = {
     -0x1.5555555555555p-58, 0x0p+0, 0x0p+0, 0x1.5555555555555p-55,
 };
+// potential_2_1 = content * potential_2_1_m, content = 1/96 (table::Term::split)
+inline constexpr double potential_2_1_m[] = {
+    0x1.cp+2,  // 7
+    0x1.2p+5,  // 36
+    0x1.2cp+6,  // 75
+    0x1p+6,  // 64
+};
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_2_1, .n = 4, .c_lo = potential_2_1_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = potential_2_1, .n = 4, .c_lo = potential_2_1_lo, .split = 15, .m = potential_2_1_m, .content = 0x1.5555555555555p-7, .content_lo = 0x1.5555555555555p-61},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2

@@ -28,8 +28,14 @@ inline constexpr double dr_0_0[] = {
     -0x1.aa9p+9,  // -6825/8
     -0x1.5feap+11,  // -45045/16
 };
+// dr_0_0 = content * dr_0_0_m, content = -1365/16 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+    0x1.08p+5,  // 33
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 1, .c = dr_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 1, .c = dr_0_0, .n = 3, .split = 23, .m = dr_0_0_m, .content = -0x1.554p+6, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -66,8 +72,14 @@ inline constexpr double grad_over_r_0_0[] = {
     -0x1.aa9p+9,  // -6825/8
     -0x1.5feap+11,  // -45045/16
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -1365/16 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+    0x1.08p+5,  // 33
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = grad_over_r_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = grad_over_r_0_0, .n = 3, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.554p+6, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -77,8 +89,13 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.d538p+11,  // 15015/4
     0x1.07ef8p+15,  // 135135/4
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 15015/4 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.2p+3,  // 9
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_0_0, .n = 2},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.d538p+11, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)

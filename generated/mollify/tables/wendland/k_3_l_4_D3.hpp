@@ -34,8 +34,14 @@ inline constexpr double dr_0_0[] = {
 inline constexpr double dr_0_0_lo[] = {
     -0x1.d07ee283b83abp-46, 0x1.02a31115c55e9p-44, -0x1.127a6c9299258p-43,
 };
+// dr_0_0 = content * dr_0_0_m, content = -16065/8 * pi^-1 (table::Term::split)
+inline constexpr double dr_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.6p+3,  // 11
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .split = 23, .m = dr_0_0_m, .content = -0x1.3f9a5f8668ebfp+9, .content_lo = -0x1.d07ee283b83abp-46},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -81,8 +87,14 @@ inline constexpr double grad_over_r_0_0[] = {
 inline constexpr double grad_over_r_0_0_lo[] = {
     -0x1.d07ee283b83abp-46, 0x1.02a31115c55e9p-44, -0x1.127a6c9299258p-43,
 };
+// grad_over_r_0_0 = content * grad_over_r_0_0_m, content = -16065/8 * pi^-1 (table::Term::split)
+inline constexpr double grad_over_r_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.6p+3,  // 11
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.3f9a5f8668ebfp+9, .content_lo = -0x1.d07ee283b83abp-46},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -95,8 +107,13 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.7cb38c0582d7ep-39, 0x1.b7c0de0dc71bap-37,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 208845/2 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.03ad6d9d353fbp+15, .content_lo = 0x1.7cb38c0582d7ep-39},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)

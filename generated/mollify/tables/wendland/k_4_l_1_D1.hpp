@@ -83,8 +83,14 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.5feap+13,  // 45045/4
     0x1.cde32p+14,  // 945945/32
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 45045/32 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1p+3,  // 8
+    0x1.5p+4,  // 21
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 3, .split = 24, .m = hess_radial_0_0_m, .content = 0x1.5feap+10, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)

@@ -104,8 +104,14 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.bac152092fbf5p-43, -0x1.e432f894ab6e7p-41, 0x1.39b43ba302e09p-38,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 14144/3 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.772e669099821p+10, .content_lo = 0x1.714e4a79ac03ap-47},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)

@@ -83,8 +83,14 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.1feep+14,  // 36855/2
     0x1.aa9p+15,  // 54600
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 1365/2 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.bp+4,  // 27
+    0x1.4p+6,  // 80
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = hess_radial_0_0, .n = 3, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.554p+9, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)

@@ -104,8 +104,14 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.a6aa474824677p-42, -0x1.fbeac9b9749fbp-37, -0x1.1840ccfb34eabp-38,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 793611/16 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+    0x1.08p+5,  // 33
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.ed631d11185f7p+13, .content_lo = 0x1.a6aa474824677p-42},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)

@@ -83,8 +83,14 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.c539p+14,  // 116025/4
     0x1.75e8ap+16,  // 765765/8
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 23205/8 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.4p+3,  // 10
+    0x1.08p+5,  // 33
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_0_0, .n = 3, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.6a94p+11, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)

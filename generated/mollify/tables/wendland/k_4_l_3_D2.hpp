@@ -104,8 +104,14 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     -0x1.7c8291e292c8ep-41, -0x1.0b33889789d43p-38, 0x1.22e64d2644277p-39,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 31008 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.6p+3,  // 11
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.3471393e431fep+13, .content_lo = -0x1.7c8291e292c8ep-41},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)

@@ -83,8 +83,14 @@ inline constexpr double hess_radial_0_0[] = {
     0x1.59258p+15,  // 176715/4
     0x1.39c5p+17,  // 160650
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 16065/4 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1p+0,  // 1
+    0x1.6p+3,  // 11
+    0x1.4p+5,  // 40
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = hess_radial_0_0, .n = 3},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 11, .low = 0, .c = hess_radial_0_0, .n = 3, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.f608p+11, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)

@@ -104,8 +104,14 @@ inline constexpr double hess_radial_0_0[] = {
 inline constexpr double hess_radial_0_0_lo[] = {
     0x1.3ed880dea80a2p-39, 0x1.de44c14dfc0f3p-36, 0x1.c59d2aa0ffa47p-34,
 };
+// hess_radial_0_0 = content * hess_radial_0_0_m, content = 305235/8 * pi^-1 (table::Term::split)
+inline constexpr double hess_radial_0_0_m[] = {
+    0x1.8p+1,  // 3
+    0x1.2p+5,  // 36
+    0x1.1ep+7,  // 143
+};
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 12, .low = 0, .c = hess_radial_0_0, .n = 3, .c_lo = hess_radial_0_0_lo, .split = 22, .m = hess_radial_0_0_m, .content = 0x1.7b87516f9c983p+13, .content_lo = 0x1.4f2d59f8d58b7p-43},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
