@@ -104,6 +104,14 @@ template <const table::Kernel& K, Precision Pr = Precision::accurate>
 class StaticKernel {
     static_assert(K.support == 1.0, "tables are emitted with support 1; h scales them");
     static_assert(K.dim >= 1 && K.dim <= 3);
+#if defined(__FAST_MATH__)
+    // -ffast-math lets the compiler reassociate: two_sum's error term and
+    // the split's (q + C) - C fold away, and the "accurate" values would be
+    // silently a few ulp off.
+    static_assert(Pr != Precision::accurate,
+                  "mollify: Precision::accurate needs IEEE arithmetic, and this unit is compiled with -ffast-math "
+                  "(__FAST_MATH__): compile it without, or use Precision::fast");
+#endif
 
 public:
     static constexpr int dimension = K.dim;
