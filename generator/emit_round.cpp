@@ -84,23 +84,6 @@ namespace {
 using L = long double;
 const L margin = 1 + std::ldexp(L{1}, -40), unit = std::ldexp(L{1}, -53);
 
-// Horner's rule on the integers m at every qa in [0, xa] that is a multiple
-// of 2^-s is exact: a_k = a_{k+1} qa + m_k is a multiple of 2^-s(n-1-k),
-// so the product and the sum are doubles where their bounds times
-// 2^s(n-1-k) are below 2^53 (then also without an FMA).
-bool horner_exact_at_split(const std::vector<L>& m, L xa, int s) {
-    const int n = static_cast<int>(m.size());
-    const L limit = std::ldexp(L{1}, 53);
-    L bound = m[static_cast<std::size_t>(n - 1)];  // B_{n-1}
-    for (int k = n - 2; k >= 0; --k) {
-        const L grid = std::ldexp(L{1}, s * (n - 1 - k));
-        const L product = bound * xa * margin;
-        bound = (product + m[static_cast<std::size_t>(k)]) * margin;
-        if (product * grid >= limit || bound * grid >= limit) return false;
-    }
-    return true;
-}
-
 L horner_value(const std::vector<L>& m, L x) {
     L sum = 0;
     for (std::size_t k = m.size(); k-- > 0;) sum = sum * x + m[k];
@@ -171,10 +154,12 @@ Split split_of(const std::vector<Exact>& c, const Q& lo, const Q& hi) {
         if (x >= Q(boost::multiprecision::mpz_int(1) << 53)) return {};
         ml.push_back(static_cast<L>(x.convert_to<double>()));  // an integer below 2^53: exact
     }
-    const L lo_l = static_cast<L>(lo.convert_to<double>()) / margin, hi_l = static_cast<L>(hi.convert_to<double>()) * margin;
+    const std::vector<double> md(ml.begin(), ml.end());
+    const double edge = hi.convert_to<double>();
+    const L lo_l = static_cast<L>(lo.convert_to<double>()) / margin, hi_l = static_cast<L>(edge) * margin;
     for (int s = 26; s >= 1; --s) {
         const L xa = (hi_l + std::ldexp(L{1}, -s)) * margin;
-        if (!horner_exact_at_split(ml, xa, s)) continue;
+        if (!table::split_is_exact(md.data(), n, edge, s)) continue;
         // The largest exact split; a smaller one only widens q - qa.
         if (!remainder_small(ml, lo_l, hi_l, xa, s)) return {};
         return {s, std::move(m), Exact::of(atom) * g};

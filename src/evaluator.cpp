@@ -217,9 +217,7 @@ DoubleDouble factor_dd(const TermPlan& t, const Scaled& a) {
 }
 
 // detail::content_in_scale of a planned term, and its content times a scale.
-bool content_in_scale(const TermPlan& t) {
-    return t.split > 0 && (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power);
-}
+bool content_in_scale(const TermPlan& t) { return mollify::detail::content_in_scale(t.split, t.basis); }
 DoubleDouble content_times(const TermPlan& t, const DoubleDouble& scale) {
     return DoubleDouble{t.content, t.content_lo} * scale;
 }

@@ -115,8 +115,8 @@ const double* stored(TableFile::Storage& s, std::vector<double> v) {
 // table::Term::split: the exactness it claims is checked here (a wrong
 // claim would be a silently wrong value): m non-negative integers below
 // 2^53, c_k within an ulp of content m_k, and Horner's bounds at the grid
-// 2^-split below 2^53 over q <= edge + 2^-split, the term's domain (long
-// double, with margin).
+// 2^-split below 2^53 over q <= edge + 2^-split, the term's domain
+// (table::split_is_exact, as the generator proved it).
 void split(Reader& r, TableFile::Storage& s, table::Term& t) {
     r.field("split");
     t.split = r.integer("split");
@@ -132,14 +132,8 @@ void split(Reader& r, TableFile::Storage& s, table::Term& t) {
             r.bad("content * m_k = " + std::to_string(t.content * x) + " is not c_k = " + std::to_string(t.c[k]));
         m.push_back(x);
     }
-    long double bound = m.back();
-    const long double xa = (std::abs(static_cast<long double>(t.edge)) + std::ldexp(1.0L, -t.split)) * (1 + 0x1p-40L);
-    for (int k = t.n - 2; k >= 0; --k) {
-        const long double grid = std::ldexp(1.0L, t.split * (t.n - 1 - k)), product = bound * xa;
-        bound = product + m[static_cast<std::size_t>(k)];
-        if (product * grid >= 0x1p53L || bound * grid >= 0x1p53L)
-            r.bad("split = " + std::to_string(t.split) + " leaves Horner's rule inexact (a partial sum needs more than 53 bits)");
-    }
+    if (!table::split_is_exact(m.data(), t.n, std::abs(t.edge), t.split))
+        r.bad("split = " + std::to_string(t.split) + " leaves Horner's rule inexact (a partial sum needs more than 53 bits)");
     t.m = stored(s, std::move(m));
 }
 

@@ -94,6 +94,27 @@ struct Term {
     double content = 0, content_lo = 0;
 };
 
+// Term::split's exactness claim: Horner's rule on the n integers m (in
+// [0, 2^53)) is exact at every multiple of 2^-split in [0, edge + 2^-split]:
+// a_k = a_{k+1} qa + m_k is a multiple of 2^-split(n-1-k), so each partial
+// product and sum is a double where its bound times 2^split(n-1-k) is below
+// 2^53 (then also without an FMA). The bounds in long double, each step
+// times 1 + 2^-40 (every quantity positive: upper bounds). The generator
+// proves a split with it (generator/emit_round.cpp: split_of), a table
+// file's reader checks one.
+inline bool split_is_exact(const double* m, int n, double edge, int split) {
+    const long double margin = 1 + 0x1p-40L;
+    const long double reach = (static_cast<long double>(edge) * margin + std::ldexp(1.0L, -split)) * margin;
+    long double bound = m[n - 1];
+    for (int k = n - 2; k >= 0; --k) {
+        const long double grid = std::ldexp(1.0L, split * (n - 1 - k));
+        const long double product = bound * reach * margin;
+        bound = (product + m[k]) * margin;
+        if (product * grid >= 0x1p53L || bound * grid >= 0x1p53L) return false;
+    }
+    return m[n - 1] < 0x1p53;
+}
+
 struct Piece {
     double lo, hi;  // [lo, hi), the last inner piece [lo, support]; the exterior (support, inf)
     const Term* terms;

@@ -247,8 +247,8 @@ MOLLIFY_INLINE DoubleDouble split_horner(const double* m, int n, double c, doubl
 // A piece of one split term whose value is its factor times p (Basis::one,
 // sqrt_power): its content joins the scale h^p, one double-double product
 // per batch instead of one per point: rounded((factor p_m) (content h^p)).
-constexpr bool content_in_scale(const table::Term& t) {
-    return t.split > 0 && (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power);
+constexpr bool content_in_scale(int split, table::Basis basis) {
+    return split > 0 && (basis == table::Basis::one || basis == table::Basis::sqrt_power);
 }
 
 // log r for 0 < r <= 1 without losing the digits of a value near 0.
@@ -516,7 +516,7 @@ MOLLIFY_INLINE double piece(const Scaled& a) {
             DoubleDouble factor{1.0, 0.0};
             if constexpr (has_factor<K, Q, P, 0>) factor = factor_dd<K, Q, P, 0>(a);
             constexpr const table::Term& t = term_table<K, Q, P, 0>;
-            if constexpr (content_in_scale(t)) {
+            if constexpr (content_in_scale(t.split, t.basis)) {
                 const DoubleDouble p = split_sum(t.m, t.n, split_constant(t.split), a.q, a.dq);
                 return rounded(factor * p * (DoubleDouble{t.content, t.content_lo} * a.scale));
             }
