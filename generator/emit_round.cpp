@@ -195,10 +195,11 @@ RoundedTerm rounded_term(const EmittedTerm& term, const std::optional<Q>& hi, do
     // holds it, so that the run-time form still sees one term (same_term).
     if (t.var == table::Var::r && hi) {
         const Split split = split_of(term.c, Q(0), term.edge ? *term.edge : *hi);
-        if (split.bits > 0) {
+        const double content = split.bits > 0 ? round_to_double(split.content) : 0.0;
+        if (split.bits > 0 && table::content_in_range(content)) {
             t.split = split.bits;
             for (const Q& x : split.m) t.m.push_back(x.convert_to<double>());
-            t.content = round_to_double(split.content);
+            t.content = content;
             t.content_lo = low_part(split.content, t.content);
             t.content_exact = split.content.to_string();
         }

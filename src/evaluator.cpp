@@ -236,7 +236,7 @@ DoubleDouble accurate_polynomial(const TermPlan& t, const Scaled& a) {
 DoubleDouble accurate_term(const TermPlan& t, const Scaled& a, const DoubleDouble& factor) {
     const DoubleDouble x = accurate_polynomial(t, a);
     if (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power) return factor * x;
-    return {with_basis(t, a, rounded(factor * x)), 0.0};
+    return {with_basis(t, a, rounded_product(factor, x)), 0.0};
 }
 
 double accurate_series(const PiecePlan& p, const Scaled& a) {
@@ -245,8 +245,7 @@ double accurate_series(const PiecePlan& p, const Scaled& a) {
     const DoubleDouble w = fast_two_sum(d.hi, d.lo);
     const DoubleDouble sum = compensated_horner(p.series_c.data(), p.series_lo.data(), static_cast<int>(p.series_c.size()),
                                                 p.series_exact, w.hi, w.lo);
-    const DoubleDouble x = factor_dd(first, a) * sum * a.scale;
-    return with_basis(first, a, rounded(x));
+    return with_basis(first, a, rounded_product(factor_dd(first, a) * sum, a.scale));
 }
 
 double accurate_piece(const PiecePlan& p, const Scaled& a) {
@@ -256,8 +255,8 @@ double accurate_piece(const PiecePlan& p, const Scaled& a) {
         DoubleDouble factor{1.0, 0.0};
         if (t.has_factor) factor = factor_dd(t, a);
         if (content_in_scale(t))
-            return rounded(factor * split_sum(t.m.data(), t.n, t.split_c, a.q, a.dq) * content_times(t, a.scale));
-        return rounded(accurate_term(t, a, factor) * a.scale);
+            return rounded_product(factor * split_sum(t.m.data(), t.n, t.split_c, a.q, a.dq), content_times(t, a.scale));
+        return rounded_product(accurate_term(t, a, factor), a.scale);
     }
     DoubleDouble sum{0.0, 0.0}, previous{1.0, 0.0};
     for (const TermPlan& t : p.terms) {
@@ -268,7 +267,7 @@ double accurate_piece(const PiecePlan& p, const Scaled& a) {
         sum = sum + x;
         previous = factor;
     }
-    return rounded(sum * a.scale);
+    return rounded_product(sum, a.scale);
 }
 
 // ---- a quantity at one radius (StaticKernel::emitted) ----
@@ -1026,7 +1025,7 @@ MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock&
     };
     if (fold == Fold::single) {
         const DoubleDouble scale = single_scale(t, a.scale);
-        for (std::size_t i = 0; i < B; ++i) out[i] = rounded(term.template operator()<Split>(i) * scale);
+        for (std::size_t i = 0; i < B; ++i) out[i] = rounded_product(term.template operator()<Split>(i), scale);
     } else {
         for (std::size_t i = 0; i < B; ++i) {
             const DoubleDouble y = DoubleDouble{from.hi[i], from.lo[i]} + term.template operator()<false>(i);
@@ -1042,7 +1041,7 @@ MOLLIFY_INLINE double accurate_whole_at(const double* k, const double* l, const 
                                         const DoubleDouble& scale) {
     const DoubleDouble y = accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, true>(
         k, l, sp, edge, edge_lo, ah, h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
-    return select(r <= h, rounded(y * scale), 0.0);
+    return select(r <= h, rounded_product(y, scale), 0.0);
 }
 
 // A whole quantity that is one term (fast_whole_fixed) in one pass from r.
@@ -1183,7 +1182,7 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
                                  p.series_exact, d.hi, d.lo, sum);
         factor_block(first, a, factor);
         for (std::size_t i = 0; i < B; ++i)
-            out[i] = rounded(DoubleDouble{factor.hi[i], factor.lo[i]} * DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
+            out[i] = rounded_product(DoubleDouble{factor.hi[i], factor.lo[i]} * DoubleDouble{sum.hi[i], sum.lo[i]}, a.scale);
         return;
     }
     const bool single = p.terms.size() == 1;
@@ -1194,7 +1193,7 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
         }
         for (std::size_t t = 0; t < p.terms.size(); ++t)
             accurate_term_block(p.terms[t], a, Fold::add, t == 0 ? zero_dds : sum, sum, out);
-        for (std::size_t i = 0; i < B; ++i) out[i] = rounded(DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
+        for (std::size_t i = 0; i < B; ++i) out[i] = rounded_product(DoubleDouble{sum.hi[i], sum.lo[i]}, a.scale);
         return;
     }
     for (std::size_t i = 0; i < B; ++i) sum.hi[i] = 0.0, sum.lo[i] = 0.0, previous.hi[i] = 1.0, previous.lo[i] = 0.0;
@@ -1216,7 +1215,7 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
         for (std::size_t i = 0; i < B; ++i) {
             const DoubleDouble term = DoubleDouble{factor.hi[i], factor.lo[i]} * DoubleDouble{x.hi[i], x.lo[i]};
             if (single) {
-                out[i] = rounded(term * scale);
+                out[i] = rounded_product(term, scale);
             } else {
                 const DoubleDouble s = DoubleDouble{sum.hi[i], sum.lo[i]} + term;
                 sum.hi[i] = s.hi, sum.lo[i] = s.lo;
@@ -1225,7 +1224,7 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
         previous = factor;
     }
     if (!single)
-        for (std::size_t i = 0; i < B; ++i) out[i] = rounded(DoubleDouble{sum.hi[i], sum.lo[i]} * a.scale);
+        for (std::size_t i = 0; i < B; ++i) out[i] = rounded_product(DoubleDouble{sum.hi[i], sum.lo[i]}, a.scale);
 }
 
 // scaled_accurate at the B radii r (a.h, a.inv_h set).
@@ -1354,7 +1353,7 @@ MOLLIFY_FLATTEN void accurate_shared_loop(const QuantityPlan& qp, const double* 
     const AccurateSharedTerms<S> t(qp, h);
     for (std::size_t i = 0; i < n; ++i) {
         const DoubleDouble y = t.sum(accurate_radius(r[i], h, inv_h), r[i], h, inv_h, std::make_index_sequence<S.m>{});
-        out[i] = select(r[i] <= h, rounded(y * scale), 0.0);
+        out[i] = select(r[i] <= h, rounded_product(y, scale), 0.0);
     }
 }
 
@@ -1400,8 +1399,8 @@ MOLLIFY_FLATTEN void shared_pairs_fixed(const QuantityPlan& value, const Quantit
             gi = g.sum(q, e, r, h, inv_h, std::make_index_sequence<SG.m>{}) * g_scale;
         } else {
             const AccurateRadius x = accurate_radius(r, h, inv_h);
-            wi = rounded(v.sum(x, r, h, inv_h, std::make_index_sequence<SV.m>{}) * v_scale_dd);
-            gi = rounded(g.sum(x, r, h, inv_h, std::make_index_sequence<SG.m>{}) * g_scale_dd);
+            wi = rounded_product(v.sum(x, r, h, inv_h, std::make_index_sequence<SV.m>{}), v_scale_dd);
+            gi = rounded_product(g.sum(x, r, h, inv_h, std::make_index_sequence<SG.m>{}), g_scale_dd);
         }
         const bool inside = r <= h;
         wi = select(inside, wi, 0.0), gi = select(inside, gi, 0.0);

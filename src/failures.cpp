@@ -17,7 +17,7 @@ void fail_smoothing_length(double h) {
 
 void fail_smoothing_range(double h, int dim, int power, int quantity) {
     fail("smoothing length h = " + show(h) + " is out of range in D = " + std::to_string(dim) + ": h^" +
-         std::to_string(power) + " (for " + table::quantity_names[quantity] + ") is not a normal double");
+         std::to_string(power) + " (for " + table::quantity_names[quantity] + ") is outside [2^-900, 2^900]");
 }
 
 void fail_radius(double r) { fail("radius r = " + show(r) + " is not a finite number >= 0"); }

@@ -24,15 +24,6 @@ detail::DoubleDouble power(double h, int n) {
     return detail::fast_two_sum(p.hi, p.lo);
 }
 
-// Where the low part of h^n would underflow (or h^n overflow) the 64-bit
-// significand and 15-bit exponent of long double keep 11 bits beyond the
-// double; one rounding of its power then gives the scale.
-detail::DoubleDouble extended_power(double h, int n) {
-    const long double p = std::pow(static_cast<long double>(h), n);
-    const double hi = static_cast<double>(p);
-    return {hi, static_cast<double>(p - static_cast<long double>(hi))};
-}
-
 }  // namespace
 
 Smoothing::Smoothing(double h, int dim) : h_(h), dim_(dim) {
@@ -41,11 +32,16 @@ Smoothing::Smoothing(double h, int dim) : h_(h), dim_(dim) {
     inv_h_ = 1 / h;
     for (int q = 0; q < table::quantity_count; ++q) {
         const int n = detail::scale_power(static_cast<QuantityId>(q), dim);
-        detail::DoubleDouble p = power(h, n);
-        if (!(std::abs(p.hi) >= 0x1p-960 && std::abs(p.hi) <= 0x1p+1000)) p = extended_power(h, n);
+        // Within 2^+-900 (smoothing.hpp: scale_range) or refused: the
+        // accurate precision's last product is by h^p + its low part, or by
+        // a term's content (2^-11 .. 2^9 in the catalogue, within 2^+-60 in
+        // any table) times them, and both must stay normal doubles: beyond,
+        // h^p's low part (2^-53 h^p) loses bits to underflow, or content
+        // h^p overflows, and the results are wrong by an ulp or +-inf.
+        const detail::DoubleDouble p = power(h, n);
+        if (!(p.hi >= 1 / scale_range && p.hi <= scale_range)) detail::fail_smoothing_range(h, dim, n, q);
         scale_[q] = p.hi;
         scale_lo_[q] = p.lo;
-        if (!std::isnormal(scale_[q])) detail::fail_smoothing_range(h, dim, n, q);
     }
     log_h_ = std::log(h);
 }

@@ -1,5 +1,6 @@
 #include <mollify/table_file.hpp>
 
+#include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 
 #include <cerrno>
@@ -124,6 +125,8 @@ void split(Reader& r, TableFile::Storage& s, table::Term& t) {
     if (t.var != table::Var::r || t.n < 2) r.bad("split on a term that is not a polynomial in r of 2 or more coefficients");
     t.content = r.number("content");
     t.content_lo = r.number("content_lo");
+    if (!table::content_in_range(t.content))
+        r.bad("content = " + detail::show(t.content) + " is outside [2^-60, 2^60] (it joins the scale h^p)");
     std::vector<double> m;
     for (int k = 0; k < t.n; ++k) {
         const double x = r.number("an integer coefficient m_k");

@@ -368,14 +368,67 @@ TEST(Runtime, AccurateAndFastPrecisionsAgreeAndStayFinite) {
             EXPECT_TRUE(std::isfinite(x)) << "r = " << r;
         }
     }
-    // Scales near the end of the double range (h^-7 ~ 1e280 for the 3D
-    // Hessian part at h = 1e-40): no NaN from splitting huge factors.
+    // Scales near the end of the accepted range (h^-7 ~ 5.5e270 ~ 2^899 for
+    // the 3D Hessian part at h = 2.1e-39, mollify::scale_range): no NaN
+    // from splitting huge factors.
     using W = mollify::StaticKernel<tables::wendland_k_4_l_4_D3>;
-    const mollify::Smoothing tiny(1e-40, 3);
+    const mollify::Smoothing tiny(2.1e-39, 3);
     for (const double r : radii(200, 8)) {
-        EXPECT_TRUE(std::isfinite(W::radial<QuantityId::hess_radial>(r * 1e-40, tiny))) << "r/h = " << r;
-        EXPECT_TRUE(std::isfinite(W::radial<QuantityId::value>(r * 1e-40, tiny))) << "r/h = " << r;
+        EXPECT_TRUE(std::isfinite(W::radial<QuantityId::hess_radial>(r * 2.1e-39, tiny))) << "r/h = " << r;
+        EXPECT_TRUE(std::isfinite(W::radial<QuantityId::value>(r * 2.1e-39, tiny))) << "r/h = " << r;
     }
+}
+
+// At h = 2^k, f_h(q h) = 2^(k p) f_1(q) exactly: q = r/h is the same double
+// and h^p a power of two, so the value differs from h = 1's only in its
+// last product, exact wherever the result is a normal double. Every
+// catalogue kernel and quantity (not the 2D potential, whose log h term is
+// not a power), both precisions, at the smallest and largest accepted h
+// (values above 2^-968, where the last rounding's error is a normal double):
+// where h^p's low part or a split term's content times h^p (content_in_scale)
+// left the normal range, the accurate precision was an ulp off or +-inf
+// where the value is finite (stop 44's kernels at h = 2^146 and 2^-146 in
+// 3D: 2^-1018 values an ulp off, hess_radial inf for 2^934). And h just
+// beyond the range is refused, naming it.
+TEST(Runtime, PowerOfTwoSmoothingLengthsScaleExactly) {
+    const std::vector<double> q = {1e-300, 1e-3, 0.1, 0.5, 0.77, 0.9, 0.999, 0.99999, 1 - 0x1p-40, 1.3, 1.9, 2.7};
+    int compared = 0;
+    for (const mollify::table::Kernel* t : tables::all_kernels) {
+        const int D = t->dim;
+        // The accepted powers of two: h^p within 2^+-900 for the extreme p = -(D + 4).
+        const int k_max = 900 / (D + 4);
+        for (const mollify::Precision pr : {mollify::Precision::accurate, mollify::Precision::fast}) {
+            const mollify::Kernel kernel(*t, pr);
+            const mollify::Smoothing unit(1.0, D);
+            for (const int k : {-k_max, 1 - k_max, -64, 64, k_max - 1, k_max}) {
+                const mollify::Smoothing s(std::ldexp(1.0, k), D);
+                for (int qi = 0; qi < mollify::table::quantity_count; ++qi) {
+                    const auto Q = static_cast<QuantityId>(qi);
+                    if (qi >= static_cast<int>(QuantityId::potential) && !kernel.has_potential()) continue;
+                    if (D == 2 && Q == QuantityId::potential) continue;
+                    std::vector<double> r(q.size()), at_h(q.size()), at_1(q.size());
+                    for (std::size_t i = 0; i < q.size(); ++i) r[i] = std::ldexp(q[i], k);
+                    kernel.evaluate(Q, r, s, at_h);
+                    kernel.evaluate(Q, q, unit, at_1);
+                    const int p = mollify::detail::scale_power(Q, D);
+                    for (std::size_t i = 0; i < q.size(); ++i) {
+                        const double expected = std::ldexp(at_1[i], k * p);
+                        // r = q 2^k itself exact; the result's rounding error
+                        // 2^-53 |result| normal (below 2^-968 the double-double
+                        // low parts are subnormal: the accuracy suite's tiny values)
+                        if (std::ldexp(r[i], -k) != q[i] || !(std::abs(expected) >= 0x1p-968)) continue;
+                        ++compared;
+                        ASSERT_EQ(at_h[i], expected) << t->spec << " D" << D << " " << mollify::quantity_names[qi]
+                                                     << " h = 2^" << k << " q = " << q[i]
+                                                     << (pr == mollify::Precision::fast ? " fast" : " accurate");
+                    }
+                }
+            }
+            expect_error([&] { mollify::Smoothing(std::ldexp(1.0, k_max + 1), D); }, "is outside [2^-900, 2^900]");
+            expect_error([&] { mollify::Smoothing(std::ldexp(1.0, -k_max - 1), D); }, "is outside [2^-900, 2^900]");
+        }
+    }
+    EXPECT_GT(compared, 100000);
 }
 
 // A table given at run time (here a copy of a catalogue table, owned by the

@@ -204,6 +204,8 @@ TEST(TableFile, BadFilesFailNamingFileLineAndValue) {
         {replaced(c4, " split 23 ", " split 27 "), "split = 27 is outside 1..26"},
         {replaced(c4, " 0x1.8p+1 0x1.2p+4", " 0x1.9p+1 0x1.2p+4"), "m_k = 3.125"},
         {replaced(c4, " split 23 0x1.a42b46d861c78p+0", " split 23 0x1.a42b46d861d78p+0"), "is not c_k"},
+        // A content that would leave content h^p subnormal at the smallest accepted scale.
+        {replaced(c4, " split 23 0x1.a42b46d861c78p+0", " split 23 0x1.a42b46d861c78p-70"), "is outside [2^-60, 2^60]"},
         {replaced(good, " -\n", " - plain 5\n"), "plain = 5 is outside 0..n - 2"},
         {replaced(good, "dim 1", "dim 4"), "bad.table:4: dimension 4"},
         {replaced(good, "dim 1", "dim one"), "'one' is not an integer"},

@@ -27,6 +27,12 @@ constexpr int scale_power(QuantityId q, int dim) {
 
 }  // namespace detail
 
+// Every h^p a Smoothing accepts lies in [1/scale_range, scale_range]
+// (src/smoothing.cpp: why): h in ~[2.0e-39, 5.1e38] in 3D, where the
+// Hessian part's h^-7 is the extreme, ~[7.0e-46, 1.4e45] in 2D, ~[6.5e-55,
+// 1.5e54] in 1D.
+inline constexpr double scale_range = 0x1p+900;
+
 class Smoothing {
 public:
     // Checks h and D (mollify::Error naming them); out of line, in

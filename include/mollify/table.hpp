@@ -115,6 +115,13 @@ inline bool split_is_exact(const double* m, int n, double edge, int split) {
     return m[n - 1] < 0x1p53;
 }
 
+// Term::split's content within 2^+-60: it joins the scale h^p
+// (detail::content_in_scale), which Smoothing keeps within 2^+-900, and
+// their product, and its low part, must stay normal doubles.
+inline bool content_in_range(double content) {
+    return std::abs(content) >= 0x1p-60 && std::abs(content) <= 0x1p60;
+}
+
 struct Piece {
     double lo, hi;  // [lo, hi), the last inner piece [lo, support]; the exterior (support, inf)
     const Term* terms;

@@ -70,7 +70,7 @@ def test_scaling_in_h():
     assert out.closed_form == mollify.exact.value("wendland:k=2", 2, 6, "potential").closed_form
     assert "log(2)" in out.closed_form and "log(3)" in out.closed_form
     k = mollify.kernel("wendland:k=2", 2)
-    for r, h in [(0.25, 2.0**-100), (0.75, 2.0**100), (0.0, 1e-50)]:
+    for r, h in [(0.25, 2.0**-100), (0.75, 2.0**100), (0.0, 1e-44)]:
         e = mollify.exact.value("wendland:k=2", 2, r * h, "potential", h=h)
         assert ulps(k.potential(r * h, h), float(e)) <= 8
 

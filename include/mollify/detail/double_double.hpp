@@ -141,5 +141,20 @@ inline double rounded(const DoubleDouble& x) {
     return select(std::abs(x.hi) <= 0x1.fffffffffffffp+1023, x.hi + x.lo, x.hi);
 }
 
+// x * y rounded to double (the last product of an evaluation, by its scale
+// h^p): with an FMA, x.hi y.hi + (x.hi y.lo + x.lo y.hi) in one rounding,
+// the exact product x.hi y.hi inside it: x y (1 + d) rounded once, |d| <=
+// ~2^-103 (rounded(x * y) rounds twice). Where x.hi y.hi overflows, itself
+// (+-inf, as rounded(): there the cross terms may overflow too, to either
+// sign).
+inline double rounded_product(const DoubleDouble& x, const DoubleDouble& y) {
+#if MOLLIFY_HAS_FMA
+    const double p = x.hi * y.hi;
+    return select(std::abs(p) <= 0x1.fffffffffffffp+1023, std::fma(x.hi, y.hi, std::fma(x.hi, y.lo, x.lo * y.hi)), p);
+#else
+    return rounded(x * y);
+#endif
+}
+
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::detail

@@ -76,8 +76,19 @@ struct AccurateRadius {
     double qq_hi, qq_lo, ee_hi, ee_lo, q, dq, dq2;
 };
 
+// r/h for a double r (over_h without a low part to add).
+inline DoubleDouble over_h(double x, double h, double inv_h) {
+    const double y = x * inv_h;
+#if MOLLIFY_HAS_FMA
+    return {y, std::fma(-y, h, x) * inv_h};
+#else
+    const DoubleDouble yh = two_product(y, h);
+    return {y, ((x - yh.hi) - yh.lo) * inv_h};
+#endif
+}
+
 inline AccurateRadius accurate_radius(double r, double h, double inv_h) {
-    const DoubleDouble q = over_h({r, 0.0}, h, inv_h);
+    const DoubleDouble q = over_h(r, h, inv_h);
     const DoubleDouble e = over_h(fast_two_sum(h, -r), h, inv_h);
     const DoubleDouble q1 = fast_two_sum(q.hi, q.lo);  // q1.hi: q rounded, q1.lo: its error
     const DoubleDouble square = two_product(q1.hi, q1.hi);
@@ -228,11 +239,14 @@ constexpr double split_constant(int split) {
 // split_sum is {p_m(qa), d}, split_horner content times it.
 MOLLIFY_INLINE DoubleDouble split_sum(const double* m, int n, double c, double q, double dq) {
     const double qa = (q + c) - c, qb = (q - qa) + dq;
-    double a = m[n - 1], d = 0;
+    if (n == 1) return {m[0], 0.0};
+    // the first step apart: d_{n-1} = 0 (an FMA with a zero operand is not
+    // folded away: 0 * q may be NaN)
+    double d = m[n - 1] * qb, a = mul_add(m[n - 1], qa, m[n - 2]);
     // unrolled where n is a constant (GCC 12 kept such loops rolled inside
     // a batch loop, which then did not vectorise)
 #pragma GCC unroll 32
-    for (int k = n - 2; k >= 0; --k) {
+    for (int k = n - 3; k >= 0; --k) {
         d = mul_add(d, q, a * qb);
         a = mul_add(a, qa, m[k]);
     }
@@ -246,7 +260,7 @@ MOLLIFY_INLINE DoubleDouble split_horner(const double* m, int n, double c, doubl
 
 // A piece of one split term whose value is its factor times p (Basis::one,
 // sqrt_power): its content joins the scale h^p, one double-double product
-// per batch instead of one per point: rounded((factor p_m) (content h^p)).
+// per batch instead of one per point: rounded_product(factor p_m, content h^p).
 constexpr bool content_in_scale(int split, table::Basis basis) {
     return split > 0 && (basis == table::Basis::one || basis == table::Basis::sqrt_power);
 }
@@ -426,7 +440,7 @@ inline DoubleDouble accurate_term(const Scaled& a, const DoubleDouble& factor) {
     if constexpr (t.basis == table::Basis::one || t.basis == table::Basis::sqrt_power) {
         return factor * x;
     } else {
-        return {with_basis<K, Q, P, T>(a, rounded(factor * x)), 0.0};
+        return {with_basis<K, Q, P, T>(a, rounded_product(factor, x)), 0.0};
     }
 }
 
@@ -492,8 +506,7 @@ inline double accurate_series(const Scaled& a) {
         return fast_two_sum(d.hi, d.lo);
     }();
     const DoubleDouble sum = compensated_horner<series_coefficients<K, Q, P>>(w.hi, w.lo);
-    const DoubleDouble x = factor_dd<K, Q, P, 0>(a) * sum * a.scale;
-    return with_basis<K, Q, P, 0>(a, rounded(x));
+    return with_basis<K, Q, P, 0>(a, rounded_product(factor_dd<K, Q, P, 0>(a) * sum, a.scale));
 }
 
 template <const table::Kernel& K, int Q, int P, std::size_t... T>
@@ -518,11 +531,11 @@ MOLLIFY_INLINE double piece(const Scaled& a) {
             constexpr const table::Term& t = term_table<K, Q, P, 0>;
             if constexpr (content_in_scale(t.split, t.basis)) {
                 const DoubleDouble p = split_sum(t.m, t.n, split_constant(t.split), a.q, a.dq);
-                return rounded(factor * p * (DoubleDouble{t.content, t.content_lo} * a.scale));
+                return rounded_product(factor * p, DoubleDouble{t.content, t.content_lo} * a.scale);
             }
-            return rounded(accurate_term<K, Q, P, 0>(a, factor) * a.scale);
+            return rounded_product(accurate_term<K, Q, P, 0>(a, factor), a.scale);
         } else {
-            return rounded(accurate_terms<K, Q, P, 0>(a, DoubleDouble{0.0, 0.0}, DoubleDouble{1.0, 0.0}) * a.scale);
+            return rounded_product(accurate_terms<K, Q, P, 0>(a, DoubleDouble{0.0, 0.0}, DoubleDouble{1.0, 0.0}), a.scale);
         }
     } else {
         return fast_piece<K, Q, P>(a, std::make_index_sequence<static_cast<std::size_t>(n)>{});
