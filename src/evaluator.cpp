@@ -1025,7 +1025,7 @@ MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock&
     };
     if (fold == Fold::single) {
         const DoubleDouble scale = single_scale(t, a.scale);
-        for (std::size_t i = 0; i < B; ++i) out[i] = rounded_product(term.template operator()<Split>(i), scale);
+        for (std::size_t i = 0; i < B; ++i) out[i] = rounded_product_bounded(term.template operator()<Split>(i), scale);
     } else {
         for (std::size_t i = 0; i < B; ++i) {
             const DoubleDouble y = DoubleDouble{from.hi[i], from.lo[i]} + term.template operator()<false>(i);
@@ -1041,7 +1041,7 @@ MOLLIFY_INLINE double accurate_whole_at(const double* k, const double* l, const 
                                         const DoubleDouble& scale) {
     const DoubleDouble y = accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, true>(
         k, l, sp, edge, edge_lo, ah, h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
-    return select(r <= h, rounded_product(y, scale), 0.0);
+    return select(r <= h, rounded_product_bounded(y, scale), 0.0);
 }
 
 // A whole quantity that is one term (fast_whole_fixed) in one pass from r.
@@ -1353,7 +1353,7 @@ MOLLIFY_FLATTEN void accurate_shared_loop(const QuantityPlan& qp, const double* 
     const AccurateSharedTerms<S> t(qp, h);
     for (std::size_t i = 0; i < n; ++i) {
         const DoubleDouble y = t.sum(accurate_radius(r[i], h, inv_h), r[i], h, inv_h, std::make_index_sequence<S.m>{});
-        out[i] = select(r[i] <= h, rounded_product(y, scale), 0.0);
+        out[i] = select(r[i] <= h, rounded_product_bounded(y, scale), 0.0);
     }
 }
 
@@ -1399,8 +1399,8 @@ MOLLIFY_FLATTEN void shared_pairs_fixed(const QuantityPlan& value, const Quantit
             gi = g.sum(q, e, r, h, inv_h, std::make_index_sequence<SG.m>{}) * g_scale;
         } else {
             const AccurateRadius x = accurate_radius(r, h, inv_h);
-            wi = rounded_product(v.sum(x, r, h, inv_h, std::make_index_sequence<SV.m>{}), v_scale_dd);
-            gi = rounded_product(g.sum(x, r, h, inv_h, std::make_index_sequence<SG.m>{}), g_scale_dd);
+            wi = rounded_product_bounded(v.sum(x, r, h, inv_h, std::make_index_sequence<SV.m>{}), v_scale_dd);
+            gi = rounded_product_bounded(g.sum(x, r, h, inv_h, std::make_index_sequence<SG.m>{}), g_scale_dd);
         }
         const bool inside = r <= h;
         wi = select(inside, wi, 0.0), gi = select(inside, gi, 0.0);

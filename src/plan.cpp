@@ -33,8 +33,11 @@ bool continues(const table::Term& s, const table::Term& t) {
 
 // A term the fused loops can take: Basis::one, no power of q, no Taylor
 // variable, a non-negative edge power, every Horner step compensated.
+// (bounded: the accurate fused loops' last product has no overflow guard,
+// detail::rounded_product_bounded)
 bool fusable(const TermPlan& t) {
-    return t.basis == table::Basis::one && t.low == 0 && t.var != table::Var::shifted && t.edge_power >= 0 && t.plain == 0;
+    return t.basis == table::Basis::one && t.low == 0 && t.var != table::Var::shifted && t.edge_power >= 0 &&
+           t.plain == 0 && t.bounded;
 }
 
 // Its shape is s's, low parts aside (variable, edge, length, edge power).
@@ -80,6 +83,7 @@ TermPlan term_plan(const table::Term& t, const table::Term* previous) {
         p.content_lo = t.content_lo;
         p.split_c = split_constant(t.split);
     }
+    p.bounded = table::bounded_term(t);
     p.has_factor = t.edge_power != 0 || t.low != 0 || t.basis == table::Basis::sqrt_power;
     p.continues = previous && continues(*previous, t);
     p.step = p.continues ? t.edge_power - previous->edge_power : 0;

@@ -39,6 +39,7 @@ struct TermPlan {
     int split = 0;
     std::vector<double> m{};
     double content = 0, content_lo = 0, split_c = 0;
+    bool bounded = false;  // table::bounded_term (fusable needs it)
 };
 
 struct PiecePlan {

@@ -379,6 +379,71 @@ TEST(Runtime, AccurateAndFastPrecisionsAgreeAndStayFinite) {
     }
 }
 
+// The accurate precision's last product (value times h^p) leaves out its
+// overflow guard only for polynomial terms bounded on the support
+// (table::bounded_term: the fused loops, StaticKernel's bounded pieces);
+// elsewhere the guard stays, and a value that overflows is +-inf of its sign.
+TEST(Runtime, UnboundedTermsKeepTheOverflowGuard) {
+    using mollify::table::Term;
+    const double c[] = {3, 18, 35}, huge[] = {3, 18, 0x1p400}, nan[] = {3, std::nan(""), 35};
+    Term t{};
+    t.basis = mollify::table::Basis::one, t.var = mollify::table::Var::r, t.edge = 1.0, t.edge_power = 6, t.c = c, t.n = 3;
+    EXPECT_EQ(mollify::table::term_bound(t), 56 * 64);  // (3 + 18 + 35) (1 + 1)^6
+    EXPECT_TRUE(mollify::table::bounded_term(t));
+    Term low = t, log = t, big = t, bad = t;
+    low.low = -1, log.basis = mollify::table::Basis::log, big.c = huge, bad.c = nan;
+    for (const Term& u : {low, log, big, bad}) EXPECT_FALSE(mollify::table::bounded_term(u));
+    // Every polynomial term of the catalogue is bounded (so the fused loops take them all).
+    int polynomial = 0;
+    for (const mollify::table::Kernel* k : tables::all_kernels)
+        for (const mollify::table::Quantity& q : k->quantities)
+            for (int p = 0; p < q.npieces; ++p)
+                for (int j = 0; j < q.pieces[p].nterms; ++j) {
+                    const Term& u = q.pieces[p].terms[j];
+                    if (u.basis != mollify::table::Basis::one || u.low < 0 || u.var == mollify::table::Var::shifted) continue;
+                    ++polynomial;
+                    EXPECT_TRUE(mollify::table::bounded_term(u)) << k->spec << " D" << k->dim;
+                }
+    EXPECT_GT(polynomial, 1000);
+    // Wendland C4's W times 2^700 (unsplit), at h = 2^-128 (h^-3 = 2^384): the
+    // values up to ~2^1090 overflow, where the product's cross terms overflow
+    // too, to either sign; the guarded product gives +inf, else 2^700 W_h.
+    const mollify::table::Kernel& base = tables::wendland_k_2_D3;
+    mollify::table::Kernel scaled = base;
+    const mollify::table::Quantity& value = base.quantities[static_cast<int>(QuantityId::value)];
+    std::vector<mollify::table::Piece> pieces(value.pieces, value.pieces + value.npieces);
+    std::vector<std::vector<Term>> terms(pieces.size());
+    std::vector<std::vector<double>> coefficients, low_parts;
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+        for (int j = 0; j < pieces[p].nterms; ++j) {
+            Term u = pieces[p].terms[j];
+            coefficients.emplace_back(u.c, u.c + u.n);
+            low_parts.emplace_back(u.c_lo, u.c_lo + u.n);
+            for (double& x : coefficients.back()) x = std::ldexp(x, 700);
+            for (double& x : low_parts.back()) x = std::ldexp(x, 700);
+            u.c = coefficients.back().data(), u.c_lo = low_parts.back().data();
+            u.split = 0, u.m = nullptr, u.content = u.content_lo = 0;
+            terms[p].push_back(u);
+        }
+        pieces[p].terms = terms[p].empty() ? nullptr : terms[p].data();
+    }
+    scaled.quantities[static_cast<int>(QuantityId::value)] = {pieces.data(), value.npieces};
+    const mollify::Kernel big_kernel(scaled), kernel(base);
+    const double h = 0x1p-128;
+    std::vector<double> r;
+    for (int i = 0; i <= 2000; ++i) r.push_back(h * i / 2000.0);
+    std::vector<double> got(r.size()), w(r.size());
+    big_kernel.evaluate(QuantityId::value, r, h, got);
+    kernel.evaluate(QuantityId::value, r, h, w);
+    int overflowed = 0;
+    for (std::size_t i = 0; i < r.size(); ++i) {
+        const double expected = std::ldexp(w[i], 700);
+        overflowed += std::isinf(expected);
+        ASSERT_EQ(got[i], expected) << "r/h = " << r[i] / h;
+    }
+    EXPECT_GT(overflowed, 100);
+}
+
 // At h = 2^k, f_h(q h) = 2^(k p) f_1(q) exactly: q = r/h is the same double
 // and h^p a power of two, so the value differs from h = 1's only in its
 // last product, exact wherever the result is a normal double. Every

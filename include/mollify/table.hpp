@@ -122,6 +122,28 @@ inline bool content_in_range(double content) {
     return std::abs(content) >= 0x1p-60 && std::abs(content) <= 0x1p60;
 }
 
+// An upper bound of |x| over the support 0 <= q <= 1 for a polynomial term
+// (Basis::one, low >= 0, Var::r or r2), x as the accurate precision has it
+// before the last product by the scale: sum |c_k| (or, for a split term,
+// sum m_k where larger: its content may join the scale) times
+// (|edge| + 1)^edge_power; +inf for any other term (and for non-finite
+// coefficients). Below 2^100 (bounded_term), the last product's cross terms
+// cannot overflow: detail::rounded_product_bounded.
+constexpr double term_bound(const Term& t) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    if (t.basis != Basis::one || t.low < 0 || t.var == Var::shifted || t.edge_power < 0) return inf;
+    double c = 0, m = 0;
+    for (int k = 0; k < t.n; ++k) {
+        c += t.c[k] < 0 ? -t.c[k] : t.c[k];
+        if (t.split > 0) m += t.m[k];
+    }
+    double b = m > c ? m : c;  // (a NaN c stays NaN)
+    for (int k = 0; k < t.edge_power; ++k) b *= (t.edge < 0 ? -t.edge : t.edge) + 1;
+    return b == b ? b : inf;
+}
+
+constexpr bool bounded_term(const Term& t) { return term_bound(t) < 0x1p100; }
+
 struct Piece {
     double lo, hi;  // [lo, hi), the last inner piece [lo, support]; the exterior (support, inf)
     const Term* terms;

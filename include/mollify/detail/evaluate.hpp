@@ -514,6 +514,24 @@ inline double fast_piece(const Scaled& a, std::index_sequence<T...>) {
     return (0.0 + ... + fast_term<K, Q, P, static_cast<int>(T)>(a));
 }
 
+// Is every term of the piece a polynomial term bounded on the support
+// (table::bounded_term)? Then its value times the scale needs no overflow
+// guard (rounded_product_bounded; the piece is evaluated at every q and
+// selected, but only its own q's are kept).
+template <const table::Kernel& K, int Q, int P>
+inline constexpr bool bounded_piece = [] {
+    for (int t = 0; t < piece_table<K, Q, P>.nterms; ++t)
+        if (!table::bounded_term(piece_table<K, Q, P>.terms[t])) return false;
+    return piece_table<K, Q, P>.nterms <= 1024;
+}();
+
+// x times the scale, rounded (the guard only where x may be unbounded).
+template <const table::Kernel& K, int Q, int P>
+MOLLIFY_INLINE double scaled_value(const DoubleDouble& x, const DoubleDouble& scale) {
+    if constexpr (bounded_piece<K, Q, P>) return rounded_product_bounded(x, scale);
+    else return rounded_product(x, scale);
+}
+
 // A piece, times the scale h^p (Scaled::scale) for Precision::accurate:
 // a single term is rounded once, after the scale (h^p last: the factor of a
 // steep term times h^p alone could underflow where the product with p(v)
@@ -531,11 +549,11 @@ MOLLIFY_INLINE double piece(const Scaled& a) {
             constexpr const table::Term& t = term_table<K, Q, P, 0>;
             if constexpr (content_in_scale(t.split, t.basis)) {
                 const DoubleDouble p = split_sum(t.m, t.n, split_constant(t.split), a.q, a.dq);
-                return rounded_product(factor * p, DoubleDouble{t.content, t.content_lo} * a.scale);
+                return scaled_value<K, Q, P>(factor * p, DoubleDouble{t.content, t.content_lo} * a.scale);
             }
-            return rounded_product(accurate_term<K, Q, P, 0>(a, factor), a.scale);
+            return scaled_value<K, Q, P>(accurate_term<K, Q, P, 0>(a, factor), a.scale);
         } else {
-            return rounded_product(accurate_terms<K, Q, P, 0>(a, DoubleDouble{0.0, 0.0}, DoubleDouble{1.0, 0.0}), a.scale);
+            return scaled_value<K, Q, P>(accurate_terms<K, Q, P, 0>(a, DoubleDouble{0.0, 0.0}, DoubleDouble{1.0, 0.0}), a.scale);
         }
     } else {
         return fast_piece<K, Q, P>(a, std::make_index_sequence<static_cast<std::size_t>(n)>{});
