@@ -142,29 +142,28 @@ inline double rounded(const DoubleDouble& x) {
 }
 
 // x * y rounded to double (the last product of an evaluation, by its scale
-// h^p): with an FMA, x.hi y.hi + (x.hi y.lo + x.lo y.hi) in one rounding,
-// the exact product x.hi y.hi inside it: x y (1 + d) rounded once, |d| <=
-// ~2^-103 (rounded(x * y) rounds twice). Where x.hi y.hi overflows, itself
-// (+-inf, as rounded(): there the cross terms may overflow too, to either
-// sign).
-inline double rounded_product(const DoubleDouble& x, const DoubleDouble& y) {
+// h^p), unguarded: with an FMA, x.hi y.hi + (x.hi y.lo + x.lo y.hi) in one
+// rounding, the exact product x.hi y.hi inside it: x y (1 + d) rounded once,
+// |d| <= ~2^-103 (rounded(x * y) rounds twice). For callers that know |x| <=
+// 2^110 and finite (table::bounded_term: a polynomial term on the support,
+// at most 1024 of them) and |y| <= 2^960 (Smoothing's scale_range times a
+// split content's 2^60): then the cross terms are below 2^1020 and the FMA
+// itself overflows to +-inf of the right sign.
+inline double rounded_product_bounded(const DoubleDouble& x, const DoubleDouble& y) {
 #if MOLLIFY_HAS_FMA
-    const double p = x.hi * y.hi;
-    return select(std::abs(p) <= 0x1.fffffffffffffp+1023, std::fma(x.hi, y.hi, std::fma(x.hi, y.lo, x.lo * y.hi)), p);
+    return std::fma(x.hi, y.hi, std::fma(x.hi, y.lo, x.lo * y.hi));
 #else
     return rounded(x * y);
 #endif
 }
 
-// rounded_product without the guard, where the caller knows |x| <= 2^110
-// and finite (table::bounded_term: a polynomial term on the support, at
-// most 1024 of them) and |y| <= 2^960 (Smoothing's scale_range times a
-// split content's 2^60): then the cross terms are below 2^1020 and the FMA
-// itself overflows to +-inf of the right sign. The same bits as
-// rounded_product wherever both apply; four operations fewer.
-inline double rounded_product_bounded(const DoubleDouble& x, const DoubleDouble& y) {
+// The same for any x: where x.hi y.hi overflows, itself (+-inf, as
+// rounded(): there the cross terms may overflow too, to either sign). The
+// same bits as rounded_product_bounded wherever both apply.
+inline double rounded_product(const DoubleDouble& x, const DoubleDouble& y) {
 #if MOLLIFY_HAS_FMA
-    return std::fma(x.hi, y.hi, std::fma(x.hi, y.lo, x.lo * y.hi));
+    const double p = x.hi * y.hi;
+    return select(std::abs(p) <= 0x1.fffffffffffffp+1023, rounded_product_bounded(x, y), p);
 #else
     return rounded(x * y);
 #endif
