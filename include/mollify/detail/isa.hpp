@@ -3,7 +3,11 @@
 //
 // Code compiled for different instruction sets (a benchmark built with
 // -march=native linked with a generic library) must not be merged by the
-// linker as one inline function: the ISA names an inline namespace.
+// linker as one inline function: the ISA names an inline namespace. Every
+// header of inline code with loops is in it: the kernels' evaluation
+// (detail/, StaticKernel) and the solvers (sph/, poisson/, vortex/: their
+// AVX2 paths and whatever the compiler vectorises; tests/isa_units_test).
+// The compiled library's interface (Kernel, Smoothing, specs, tables) is not.
 #pragma once
 
 #include <bit>

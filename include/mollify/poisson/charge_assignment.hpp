@@ -12,6 +12,7 @@
 // its quadrature error.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/dynamic_kernel.hpp>
@@ -25,6 +26,7 @@
 #include <vector>
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 
 enum class Assignment { nmp, cic, kernel };
 
@@ -187,4 +189,5 @@ std::array<std::vector<double>, D> particle_field(const PeriodicGrid<D>& grid, c
     return interpolate(grid, solve_periodic(grid, rho, o), p, s);
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

@@ -9,6 +9,7 @@
 //   f.potential[i], f.field[c][i]
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/parallel.hpp>
 #include <mollify/poisson/pair_sum.hpp>
 #include <mollify/poisson/sources.hpp>
@@ -17,6 +18,7 @@
 #include <vector>
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 
 // phi and E = -grad phi at the targets (any points: sources or others).
 template <int D, RadialKernel K>
@@ -47,4 +49,5 @@ Field<D> direct(const K& kernel, const Sources<D>& sources) {
     return direct<D>(kernel, sources, sources.x);
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

@@ -5,6 +5,7 @@
 // the spectrum (n_last/2 + 1 complex values), FFTW's r2c layout.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/error.hpp>
 
 #include <fftw3.h>
@@ -18,13 +19,19 @@
 #include <string>
 #include <vector>
 
-namespace mollify::poisson::detail {
-
-// FFTW's planner is not thread-safe: plan creation is serialised.
+// FFTW's planner is not thread-safe: plan creation is serialised, by one
+// mutex in the program, outside the instruction set's namespace below (units
+// built for different instruction sets plan under the same lock).
+namespace mollify::poisson::fftw {
 inline std::mutex& planner_mutex() {
     static std::mutex m;
     return m;
 }
+}  // namespace mollify::poisson::fftw
+
+namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
+namespace detail {
 
 template <int D>
 class RealFft {
@@ -39,7 +46,7 @@ public:
         real_ = static_cast<double*>(fftw_malloc(sizeof(double) * real_size_));
         spectrum_ = static_cast<fftw_complex*>(fftw_malloc(sizeof(fftw_complex) * complex_size_));
         if (!real_ || !spectrum_) fail("FFT: cannot allocate a grid of " + std::to_string(real_size_) + " points");
-        const std::lock_guard lock(planner_mutex());
+        const std::lock_guard lock(fftw::planner_mutex());
         forward_ = fftw_plan_dft_r2c(D, dims_.data(), real_, spectrum_, FFTW_ESTIMATE);
         backward_ = fftw_plan_dft_c2r(D, dims_.data(), spectrum_, real_, FFTW_ESTIMATE);
         if (!forward_ || !backward_) fail("FFT: FFTW cannot plan a grid of " + std::to_string(real_size_) + " points");
@@ -47,7 +54,7 @@ public:
     RealFft(const RealFft&) = delete;
     RealFft& operator=(const RealFft&) = delete;
     ~RealFft() {
-        const std::lock_guard lock(planner_mutex());
+        const std::lock_guard lock(fftw::planner_mutex());
         fftw_destroy_plan(forward_);
         fftw_destroy_plan(backward_);
         fftw_free(real_);
@@ -97,4 +104,6 @@ private:
     fftw_plan forward_ = nullptr, backward_ = nullptr;
 };
 
-}  // namespace mollify::poisson::detail
+}  // namespace detail
+}  // namespace MOLLIFY_ISA
+}  // namespace mollify::poisson

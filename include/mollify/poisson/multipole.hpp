@@ -29,6 +29,7 @@
 // huge coordinates overflow r^-(n+1).
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/parallel.hpp>
 #include <mollify/error.hpp>
 
@@ -44,6 +45,7 @@
 #include <vector>
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 
 inline constexpr int max_order = 20;
 
@@ -771,4 +773,5 @@ private:
     int p_;
 };
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

@@ -41,6 +41,7 @@
 #endif
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 namespace detail {
 
 // Either kernel form (mollify::RadialKernel): made for the sources'
@@ -326,4 +327,5 @@ void add_within_mutual(const K& kernel, const SourceArrays<D>& s, std::size_t t,
 }
 
 }  // namespace detail
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

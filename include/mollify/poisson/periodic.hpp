@@ -16,6 +16,7 @@
 // the neutralising uniform background rho_bar of the notes.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/poisson/fft.hpp>
@@ -27,6 +28,7 @@
 #include <span>
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 
 enum class Symbol { finite_difference, pseudospectral };
 
@@ -97,4 +99,5 @@ GridField<D> solve_periodic(const PeriodicGrid<D>& grid, std::span<const double>
     return out;
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

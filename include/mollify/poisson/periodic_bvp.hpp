@@ -10,6 +10,7 @@
 //                       convolution, summed by FFT (O(N log N), the same sum).
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/poisson/fft.hpp>
@@ -21,6 +22,7 @@
 #include <vector>
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 
 enum class BvpMethod { finite_difference, pseudospectral, green };
 
@@ -57,4 +59,5 @@ inline std::vector<double> solve_periodic_bvp(std::span<const double> f, double 
     return fft.backward(s);
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

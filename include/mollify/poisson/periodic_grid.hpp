@@ -3,6 +3,7 @@
 // share.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
@@ -14,6 +15,7 @@
 #include <vector>
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 
 template <int D>
 struct PeriodicGrid {
@@ -69,4 +71,5 @@ struct GridField {
     std::array<std::vector<double>, D> field;
 };
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

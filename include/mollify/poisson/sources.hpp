@@ -17,6 +17,7 @@
 // psi = -phi with q_j = Gamma_j; see biot_savart().
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
@@ -30,6 +31,7 @@
 #include <vector>
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 
 // Sources as views of the caller's arrays (structure of arrays): positions
 // x[c][j], charges q[j], and the smoothing length delta (the kernel's support
@@ -114,4 +116,5 @@ std::size_t check_targets(const Points<D>& x) {
 }
 
 }  // namespace detail
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

@@ -17,6 +17,7 @@
 // positive and on neutral charges.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/poisson/multipole.hpp>
@@ -29,6 +30,7 @@
 #include <string>
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 
 struct TreeOptions {
     double theta = 0.5;  // opening parameter: a cell is expanded when rho_c / R < theta
@@ -135,4 +137,5 @@ inline TreeOptions for_relative_error(double relative_error, int dim) {
     return best;
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

@@ -9,6 +9,7 @@
 // field, the bounding box of its sources.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/error.hpp>
 
 #include <algorithm>
@@ -21,6 +22,7 @@
 #include <vector>
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 
 template <int D>
 struct Cell {
@@ -143,4 +145,5 @@ private:
     int depth_ = 0;
 };
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

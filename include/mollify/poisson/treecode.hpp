@@ -62,6 +62,7 @@
 //   auto f = tree.evaluate(targets);    // or tree.evaluate() at the sources
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/parallel.hpp>
 #include <mollify/poisson/multipole.hpp>
 #include <mollify/poisson/pair_sum.hpp>
@@ -78,6 +79,7 @@
 #include <vector>
 
 namespace mollify::poisson {
+inline namespace MOLLIFY_ISA {
 
 template <int D, RadialKernel K>
 class Treecode {
@@ -672,4 +674,5 @@ Field<D> treecode(const K& kernel, const Sources<D>& sources, const Points<D>& t
     return Treecode<D, K>(kernel, sources, options).evaluate(targets);
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson

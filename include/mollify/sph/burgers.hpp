@@ -8,6 +8,7 @@
 // [x - t sup|f|, x + t sup|f|], to 1e-14.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
@@ -16,6 +17,7 @@
 #include <string>
 
 namespace mollify::sph {
+inline namespace MOLLIFY_ISA {
 
 struct BurgersData {
     double (*f)(double);
@@ -69,4 +71,5 @@ private:
     BurgersData data_;
 };
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::sph

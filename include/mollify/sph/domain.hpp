@@ -3,6 +3,7 @@
 // T^D of Franz §3.5), whose displacements are taken by the minimum image.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/smoothing.hpp>
@@ -11,6 +12,7 @@
 #include <string>
 
 namespace mollify::sph {
+inline namespace MOLLIFY_ISA {
 
 template <int D>
 class Domain {
@@ -52,4 +54,5 @@ private:
     double length_, inverse_;
 };
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::sph

@@ -6,12 +6,14 @@
 // root kernel.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/sph/euler.hpp>
 
 #include <cstddef>
 #include <vector>
 
 namespace mollify::sph {
+inline namespace MOLLIFY_ISA {
 
 struct EnergyError {
     double kinetic = 0;
@@ -32,4 +34,5 @@ EnergyError energy_error(const State<D>& y, const std::vector<double>& rho, cons
     return q;
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::sph

@@ -13,6 +13,7 @@
 // indirect call per particle or per batch and sweep.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/parallel.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
@@ -30,7 +31,6 @@
 #include <memory>
 #include <new>
 #include <numeric>
-#include <ranges>
 #include <span>
 #include <string>
 #include <vector>
@@ -40,6 +40,7 @@
 #endif
 
 namespace mollify::sph {
+inline namespace MOLLIFY_ISA {
 
 template <int D>
 using Field = std::array<std::vector<double>, D>;
@@ -399,9 +400,16 @@ private:
         cut_[0] = 0;
         for (std::size_t t = 1; t < ranges; ++t) {
             const std::size_t target = n * t / ranges;
-            const auto from = std::views::iota(cut_[t - 1], cells);
-            const auto at = std::ranges::partition_point(from, [&](std::size_t c) { return search_.first_slot(c) < target; });
-            cut_[t] = cut_[t - 1] + static_cast<std::size_t>(at - from.begin());
+            // bisection over the cells (first_slot does not decrease; not
+            // std::ranges::partition_point over views::iota, which clang 14
+            // cannot compile with libstdc++ 12's ranges)
+            std::size_t lo = cut_[t - 1], hi = cells;
+            while (lo < hi) {
+                const std::size_t mid = lo + (hi - lo) / 2;
+                if (search_.first_slot(mid) < target) lo = mid + 1;
+                else hi = mid;
+            }
+            cut_[t] = lo;
         }
     }
 
@@ -555,4 +563,5 @@ private:
     std::size_t met_last_ = 0;  // interactions of the last sweep: the work estimate
 };
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::sph

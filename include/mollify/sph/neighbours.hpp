@@ -10,6 +10,7 @@
 // once, cell by cell (half_pairs), for sweeps that use Newton's third law.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
@@ -29,6 +30,7 @@
 #include <vector>
 
 namespace mollify::sph {
+inline namespace MOLLIFY_ISA {
 
 template <int D>
 using Positions = std::array<std::span<const double>, D>;
@@ -657,4 +659,5 @@ struct DefaultSearch<1> {
 template <int D>
 using Search = typename DefaultSearch<D>::type;
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::sph

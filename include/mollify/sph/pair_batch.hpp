@@ -10,6 +10,7 @@
 // elsewhere: no branch per candidate.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD
 #include <mollify/sph/domain.hpp>
 
@@ -25,6 +26,7 @@
 #endif
 
 namespace mollify::sph {
+inline namespace MOLLIFY_ISA {
 
 // Pairs of particles found near each other, by slot in a CellList's sorted
 // copy, with their displacements x_a - x_b (structure of arrays, the form
@@ -304,4 +306,5 @@ std::size_t near_pairs(PairBatch<D>& b, std::size_t a0, std::size_t a1, std::siz
 
 }  // namespace detail
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::sph

@@ -5,6 +5,7 @@
 // wrapped back into it after every stage.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/sph/euler.hpp>
@@ -15,6 +16,7 @@
 #include <string_view>
 
 namespace mollify::sph {
+inline namespace MOLLIFY_ISA {
 
 enum class Integrator { rk4, leapfrog };
 
@@ -113,4 +115,5 @@ private:
     Field<D> a1_, a2_, a3_, a4_, x2_, x3_, x4_, u2_, u3_, u4_;
 };
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::sph

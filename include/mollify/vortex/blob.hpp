@@ -16,6 +16,7 @@
 // when it lies inside the support (the only image that can, for h <= 1/2).
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/dynamic_kernel.hpp>
 #include <mollify/error.hpp>
@@ -27,6 +28,7 @@
 #include <vector>
 
 namespace mollify::vortex {
+inline namespace MOLLIFY_ISA {
 
 class AlgebraicBlob {
 public:
@@ -116,4 +118,5 @@ private:
     bool normal_h2_ = h_ >= 1e-150;  // h <= 1/2
 };
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::vortex

@@ -7,6 +7,7 @@
 // the second form free of cancellation near z = 0.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/constants/cot_series.hpp>
 
 #include <array>
@@ -15,6 +16,7 @@
 #include <numbers>
 
 namespace mollify::vortex {
+inline namespace MOLLIFY_ISA {
 
 using Velocity = std::array<double, 2>;
 
@@ -78,4 +80,5 @@ inline Velocity periodic_point_vortex_images(double x, double y) {
     return {-fi, -fr};
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::vortex

@@ -4,6 +4,7 @@
 // (blob.hpp); direct O(N^2) summation, OpenMP over targets; classical RK4.
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/detail/parallel.hpp>
 #include <mollify/error.hpp>
@@ -17,6 +18,7 @@
 #include <vector>
 
 namespace mollify::vortex {
+inline namespace MOLLIFY_ISA {
 
 struct Sheet {
     std::vector<double> x, y, gamma;
@@ -127,4 +129,5 @@ inline double impulse_y(const Sheet& s) {
     return p;
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::vortex

@@ -28,6 +28,7 @@
 // the blob (near pairs exact).
 #pragma once
 
+#include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
 #include <mollify/vortex/sheet.hpp>
@@ -41,6 +42,7 @@
 #include <vector>
 
 namespace mollify::vortex {
+inline namespace MOLLIFY_ISA {
 
 template <class Blob>
 class SheetTreecode {
@@ -306,4 +308,5 @@ void velocity(const SheetTreecode<Blob>& tree, const Sheet& s, std::vector<doubl
     tree.velocity(s, u, v);
 }
 
+}  // namespace MOLLIFY_ISA
 }  // namespace mollify::vortex
