@@ -4,10 +4,11 @@
 // Code compiled for different instruction sets (a benchmark built with
 // -march=native linked with a generic library) must not be merged by the
 // linker as one inline function: the ISA names an inline namespace. Every
-// header of inline code with loops is in it: the kernels' evaluation
-// (detail/, StaticKernel) and the solvers (sph/, poisson/, vortex/: their
-// AVX2 paths and whatever the compiler vectorises; tests/isa_units_test).
-// The compiled library's interface (Kernel, Smoothing, specs, tables) is not.
+// header of hot inline code is in it: the kernels' evaluation (detail/,
+// StaticKernel) and the solvers (sph/, poisson/, vortex/: their AVX2 paths
+// and whatever the compiler vectorises; tests/isa_units_test). Not in it: the
+// compiled library's interface (Kernel, Smoothing, specs) and table.hpp's
+// checks and reference evaluation, which are not hot.
 #pragma once
 
 #include <bit>
