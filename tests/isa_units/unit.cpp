@@ -1,6 +1,6 @@
 // One unit of isa_units_test, compiled twice into the same program: for
-// generic x86-64 (as MOLLIFY_UNIT = generic_unit) and for x86-64-v3 (AVX2,
-// FMA: v3_unit). The solvers' headers are inline code, and their hot loops
+// generic x86-64 (MOLLIFY_UNIT = generic: generic_code, generic_values) and
+// for x86-64-v3 (AVX2, FMA: v3_code, v3_values). The solvers' headers are inline code, and their hot loops
 // differ by instruction set (sph/pair_batch.hpp's AVX2 gathers; what the
 // compiler vectorises): a linker that kept one copy of each would run the
 // AVX2 code from the generic unit too. mollify/detail/isa.hpp's inline
@@ -14,8 +14,10 @@
 
 #include <cmath>
 
-#define MOLLIFY_UNIT_NAME(x) MOLLIFY_UNIT_STRING(x)
 #define MOLLIFY_UNIT_STRING(x) #x
+#define MOLLIFY_UNIT_NAME(x) MOLLIFY_UNIT_STRING(x)
+#define MOLLIFY_UNIT_JOIN(a, b) a##_##b
+#define MOLLIFY_UNIT_FUNCTION(a, b) MOLLIFY_UNIT_JOIN(a, b)
 
 namespace isa_units {
 
@@ -68,25 +70,15 @@ std::vector<double> vortex_velocity() {
 
 }  // namespace
 
-UnitReport MOLLIFY_UNIT() {
-    UnitReport r{MOLLIFY_UNIT_NAME(MOLLIFY_ISA),
-                 address(&mollify::sph::detail::near_pairs<3, true>),
-                 address(static_cast<mollify::poisson::Field<3> (*)(const mollify::Kernel&,
-                                                                    const mollify::poisson::Sources<3>&)>(
-                     &mollify::poisson::direct<3, mollify::Kernel>)),
-                 address(static_cast<void (*)(const mollify::vortex::CompactBlob&, const mollify::vortex::Sheet&,
-                                              std::vector<double>&, std::vector<double>&)>(
-                     &mollify::vortex::velocity<mollify::vortex::CompactBlob>)),
-                 {},
-                 {},
-                 {}};
-#if defined(__AVX2__)
-    if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) return r;  // addresses only
-#endif
-    r.density = sph_density();
-    r.potential = poisson_potential();
-    r.u = vortex_velocity();
-    return r;
+UnitCode MOLLIFY_UNIT_FUNCTION(MOLLIFY_UNIT, code)() {
+    return {MOLLIFY_UNIT_NAME(MOLLIFY_ISA), address(&mollify::sph::detail::near_pairs<3, true>),
+            address(static_cast<mollify::poisson::Field<3> (*)(const mollify::Kernel&, const mollify::poisson::Sources<3>&)>(
+                &mollify::poisson::direct<3, mollify::Kernel>)),
+            address(static_cast<void (*)(const mollify::vortex::CompactBlob&, const mollify::vortex::Sheet&,
+                                         std::vector<double>&, std::vector<double>&)>(
+                &mollify::vortex::velocity<mollify::vortex::CompactBlob>))};
 }
+
+UnitValues MOLLIFY_UNIT_FUNCTION(MOLLIFY_UNIT, values)() { return {sph_density(), poisson_potential(), vortex_velocity()}; }
 
 }  // namespace isa_units

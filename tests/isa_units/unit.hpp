@@ -1,5 +1,5 @@
-// What one unit of isa_units_test computed, and where its solvers' code is
-// (unit.cpp, compiled once per instruction set).
+// What one unit of isa_units_test holds and computes (unit.cpp, compiled
+// once per instruction set).
 #pragma once
 
 #include <cstdint>
@@ -7,13 +7,20 @@
 
 namespace isa_units {
 
-struct UnitReport {
-    const char* isa;                           // MOLLIFY_ISA as the unit saw it
-    std::uintptr_t sph, poisson, vortex;       // one instantiated solver function of each
-    std::vector<double> density, potential, u; // a small problem of each solver
+// Where the unit's solver code is: one instantiated function of each solver.
+struct UnitCode {
+    const char* isa;  // MOLLIFY_ISA as the unit saw it
+    std::uintptr_t sph, poisson, vortex;
 };
 
-UnitReport generic_unit();
-UnitReport v3_unit();
+// A small problem of each solver, computed by the unit's copy.
+struct UnitValues {
+    std::vector<double> density, potential, u;
+};
+
+UnitCode generic_code();
+UnitValues generic_values();
+UnitCode v3_code();
+UnitValues v3_values();
 
 }  // namespace isa_units
