@@ -2,7 +2,10 @@
 // with the operations of detail/evaluate.hpp in the same order (the same
 // compensated Horner, double-double factors, edge series, Taylor pieces,
 // Green's-function exterior), so that its results are StaticKernel's bit
-// for bit on the same instruction set. Compiled once per instruction set
+// for bit on generic x86-64 (runtime_forms_test); with FMA the compiler
+// contracts StaticKernel's unrolled expressions its own way, and the two
+// agree within the precisions' bounds (batch_loops_test, README
+// "Runtime"). Compiled once per instruction set
 // (CMake: generic x86-64, x86-64-v3 and x86-64-v4), each copy in its own inline
 // namespace (detail/isa.hpp).
 #include "evaluator.hpp"

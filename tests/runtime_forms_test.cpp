@@ -17,6 +17,8 @@
 // chosen greedily), and CoverEveryPathOfTheCatalogue fails if a table of the
 // catalogue takes a path none of them takes.
 #include "runtime_forms/static_case.hpp"
+#include "fused_bound.hpp"
+#include "hard_points.hpp"
 #include "shape_features.hpp"
 
 #include <mollify/kernel.hpp>
@@ -46,6 +48,10 @@ using mollify::QuantityId;
 using mollify::Smoothing;
 
 using mollify::testing::Case;
+using mollify::testing::fused_bound;
+using mollify::testing::hard_q;
+using mollify::testing::ulp_floor;
+using mollify::testing::ulps;
 
 // The greedy cover printed by the features of every catalogue table; the
 // issue's benchmark kernels (Wendland C4 and combo:m=3,base=wendland:k=2 in
@@ -61,68 +67,9 @@ const std::vector<Case>& cases() {
     return all;
 }
 
-// r/h at the hard points of a table: near 0, at the edge, around every
-// breakpoint and combination radius, beyond, and uniform in [0, 1.25].
-std::vector<double> hard_q(const table::Kernel& k) {
-    std::vector<double> q = {0.0, 4.9e-324, 1e-310, 1e-300, 1e-160, 1e-20, 1e-8, 1e-3, 0.5, 1.0, 1.5, 3.0, 1e3};
-    auto around = [&](double x) {
-        double up = x, down = x;
-        for (int i = 0; i < 3; ++i) {
-            up = std::nextafter(up, 2.0);
-            down = std::nextafter(down, 0.0);
-            q.push_back(up);
-            q.push_back(down);
-        }
-        q.push_back(x);
-    };
-    around(1.0);
-    for (const double e : {1e-15, 1e-12, 1e-9, 1e-6}) q.push_back(1 - e);
-    for (int qi = 0; qi < table::quantity_count; ++qi)
-        for (int p = 0; p < k.quantities[qi].npieces; ++p) {
-            const table::Piece& piece = k.quantities[qi].pieces[p];
-            if (piece.lo > 0 && piece.lo <= 1) around(piece.lo);
-            for (int t = 0; t < piece.nterms; ++t)
-                if (piece.terms[t].edge > 0 && piece.terms[t].edge <= 1) around(piece.terms[t].edge);
-        }
-    std::mt19937_64 rng(18);
-    std::uniform_real_distribution<double> u(0, 1.25);
-    constexpr int uniform = 1500;
-    for (int i = 0; i < uniform; ++i) q.push_back(u(rng));
-    std::sort(q.begin(), q.end());
-    q.erase(std::unique(q.begin(), q.end()), q.end());
-    return q;
-}
-
 constexpr double smoothing_lengths[] = {1.0, 0.37, 3e-7, 2.5e6, 1e-30, 1e30};
 
 bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
-
-// |a - b| in ulps of max(|a|, |b|, floor).
-double ulps(double a, double b, double floor) {
-    if (!std::isfinite(a) || !std::isfinite(b)) return a == b || (std::isnan(a) && std::isnan(b)) ? 0 : INFINITY;
-    const double m = std::max({std::abs(a), std::abs(b), floor});
-    if (m == 0) return 0;
-    return std::abs(a - b) / (std::ldexp(1.0, std::ilogb(m) - 52));
-}
-
-// x86-64-v3 or -v4 against generic: each rounds differently (fused products), so
-// they agree to the sum of their errors against the exact value. The
-// accuracy suite bounds Precision::accurate by 4 ulp (values) and 8
-// (potentials); the difference then stays within 16, in ulps of the value
-// (values tinier than 2^-40 of the largest |f_h| of the sample in ulps of
-// that floor). Precision::fast rounds every term and multiplies the
-// half-ulp rounding of q and 1 - q by the edge powers (up to ~25 ulp each,
-// precision.hpp); near a root of f the terms cancel, so its error is ulps
-// of the terms, not of f: measured in ulps of the sample's max |f_h|, 64.
-// Near a breakpoint the rounded q may choose the neighbouring piece (both
-// exact there) and the second derivatives of combinations jump by up to
-// ~125 ulp (accuracy_test's kink bound of 256): 512 for those.
-double fused_bound(const table::Kernel& k, QuantityId q, Precision pr) {
-    const bool kink = q == QuantityId::d2r || q == QuantityId::laplacian || q == QuantityId::hess_radial ||
-                      q == QuantityId::potential_hess_radial;
-    if (kink && std::string(k.spec).rfind("combo", 0) == 0) return 512;
-    return pr == Precision::accurate ? 16 : 64;
-}
 
 struct Isa {
     const char* name;
@@ -208,10 +155,7 @@ TEST(Runtime, CompileTimeAndRunTimeFormsAgreeBitForBit) {
                         const auto id = static_cast<QuantityId>(qi);
                         c.batch(pr, id, r.data(), a.data(), r.size(), s);
                         runtime.evaluate(id, r, s, b);
-                        double floor = 0;
-                        for (const double x : a)
-                            if (std::isfinite(x)) floor = std::max(floor, std::abs(x));
-                        if (pr == Precision::accurate) floor *= 0x1p-40;
+                        const double floor = ulp_floor(a.data(), a.size(), pr);
                         for (std::size_t i = 0; i < r.size(); ++i) {
                             const std::string where = std::string(isa.name) + " " + k.spec + " D" + std::to_string(k.dim) +
                                                       " " + mollify::quantity_names[qi] + " " +

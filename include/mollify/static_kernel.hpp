@@ -268,7 +268,7 @@ public:
     // The batch loop: restrict pointers and a local copy of the smoothing, so
     // the compiler knows the output aliases nothing it reads (else no SIMD).
     template <QuantityId Q>
-    MOLLIFY_FLATTEN static void evaluate_unchecked(const double* __restrict in, double* __restrict out, std::size_t n,
+    MOLLIFY_BATCH_LOOP static void evaluate_unchecked(const double* __restrict in, double* __restrict out, std::size_t n,
                                    const Smoothing& smoothing) {
         const Smoothing s = smoothing;
         for (std::size_t i = 0; i < n; ++i) out[i] = radial<Q>(in[i], s);
@@ -384,7 +384,7 @@ public:
     // The pair loop without checks, for solvers that checked their state.
     // Written on scalars with restrict pointers and a local smoothing, so the
     // compiler sees no aliasing and no aggregates, and vectorises it.
-    MOLLIFY_FLATTEN static void pairs_unchecked(const Points<dimension>& x, const Smoothing& smoothing, double* __restrict w,
+    MOLLIFY_BATCH_LOOP static void pairs_unchecked(const Points<dimension>& x, const Smoothing& smoothing, double* __restrict w,
                                 const PointsOut<dimension>& grad, std::size_t n) {
         const Smoothing s = smoothing;
         constexpr bool cusp = detail::singular_at_origin<K, static_cast<int>(QuantityId::grad_over_r)>;
@@ -406,7 +406,7 @@ public:
 private:
     // Raw restrict pointers as parameters: with them GCC proves the loop free
     // of aliasing and vectorises it (pointers taken from spans it does not).
-    MOLLIFY_FLATTEN static void pairs_2d(const double* __restrict x0, const double* __restrict x1, double* __restrict w,
+    MOLLIFY_BATCH_LOOP static void pairs_2d(const double* __restrict x0, const double* __restrict x1, double* __restrict w,
                          double* __restrict g0, double* __restrict g1, std::size_t n, const Smoothing& s) {
         for (std::size_t i = 0; i < n; ++i) {
             const double a = x0[i], b = x1[i];
@@ -418,7 +418,7 @@ private:
         }
     }
 
-    MOLLIFY_FLATTEN static void pairs_3d(const double* __restrict x0, const double* __restrict x1, const double* __restrict x2,
+    MOLLIFY_BATCH_LOOP static void pairs_3d(const double* __restrict x0, const double* __restrict x1, const double* __restrict x2,
                          double* __restrict w, double* __restrict g0, double* __restrict g1, double* __restrict g2,
                          std::size_t n, const Smoothing& s) {
         for (std::size_t i = 0; i < n; ++i) {

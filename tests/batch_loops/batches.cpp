@@ -1,0 +1,144 @@
+// StaticKernel's batch loops in a unit built -march=x86-64-v3 -mtune=znver1
+// (tests/CMakeLists.txt): GCC's Zen 1 tuning prefers 128-bit vectors, which
+// MOLLIFY_BATCH_LOOP overrides with 256 (include/mollify/detail/isa.hpp).
+// A batch runs its points through 256-bit lanes, a shorter vector remainder
+// and scalar code; a single point only through the scalar code. They must
+// agree bit for bit: a value may not depend on the batch it was computed in
+// (nor on the vector width, which then changes no rounding). And the batch
+// against the run-time form's copy for the same instruction set (libmollify's
+// x86-64-v3 evaluator): not bit for bit (the static form's unrolled
+// expressions are contracted into FMAs where the data-driven loops have their
+// own), within runtime_forms_test's bounds (fused_bound.hpp).
+#include "batch_loops/batches.hpp"
+#include "fused_bound.hpp"
+#include "hard_points.hpp"
+
+#include <mollify/kernel.hpp>
+#include <mollify/static_kernel.hpp>
+#include <mollify/tables/combo/m_2_base_wendland_k_1_D2.hpp>
+#include <mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp>
+#include <mollify/tables/wendland/k_1_D1.hpp>
+#include <mollify/tables/wendland/k_2_D3.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <span>
+
+namespace batch_loops {
+
+namespace {
+
+namespace table = mollify::table;
+using mollify::Precision;
+using mollify::QuantityId;
+using mollify::Smoothing;
+
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+template <const table::Kernel& K, Precision Pr>
+void compare(Comparison& out) {
+    using S = mollify::StaticKernel<K, Pr>;
+    const mollify::Kernel runtime = mollify::kernel(K, Pr);
+    constexpr int D = S::dimension;
+    const std::vector<double> q = mollify::testing::hard_q(K);
+    const std::size_t n = q.size();
+    const std::string kernel = std::string(K.spec) + " D" + std::to_string(D) + (Pr == Precision::fast ? " fast" : " accurate");
+    auto bits = [](double x) {  // every digit: the values differ in the last place
+        char text[64];
+        std::snprintf(text, sizeof text, "%.17g (%a)", x, x);
+        return std::string(text);
+    };
+    auto mismatch = [&](const std::string& what, std::size_t i, double batch, double other) {
+        if (out.mismatches.size() < 20)
+            out.mismatches.push_back(kernel + " " + what + " at r/h = " + bits(q[i]) + ": batch " + bits(batch) +
+                                     ", other " + bits(other));
+        else if (out.mismatches.size() == 20)
+            out.mismatches.push_back("...");
+    };
+    for (const double h : {1.0, 0.37, 3e-7, 2.5e6}) {
+        const Smoothing s(h, D);
+        std::vector<double> r(n), batch(n), reference(n);
+        for (std::size_t i = 0; i < n; ++i) r[i] = q[i] * h;
+        for (int qi = 0; qi < table::quantity_count; ++qi) {
+            if (K.quantities[qi].npieces == 0) continue;
+            const auto quantity = static_cast<QuantityId>(qi);
+            S::evaluate(quantity, r, s, batch);
+            runtime.evaluate(quantity, r, s, reference);
+            const double floor = mollify::testing::ulp_floor(batch.data(), n, Pr);
+            const double bound = mollify::testing::fused_bound(K, quantity, Pr);
+            for (std::size_t i = 0; i < n; ++i) {
+                double alone = 0;
+                S::evaluate(quantity, std::span<const double>(&r[i], 1), s, std::span<double>(&alone, 1));
+                if (!same_bits(batch[i], alone)) mismatch(std::string(table::quantity_names[qi]), i, batch[i], alone);
+                const double e = mollify::testing::ulps(batch[i], reference[i], floor);
+                out.worst_against_runtime = std::max(out.worst_against_runtime, e);
+                if (e > bound)
+                    mismatch(std::string(table::quantity_names[qi]) + " against the run-time form (" + std::to_string(e) +
+                                 " ulp)", i, batch[i], reference[i]);
+            }
+            out.compared += n;
+        }
+        // W + grad W at displacements of length r along a direction that
+        // changes with the point (every component non-zero).
+        std::array<std::vector<double>, D> x, grad;
+        for (int c = 0; c < D; ++c) {
+            x[c].resize(n);
+            grad[c].resize(n);
+        }
+        std::vector<double> w(n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (int c = 0; c < D; ++c) x[c][i] = r[i] * (c == 0 ? 0.6 : c == 1 ? -0.64 : 0.48) * (1 + 1e-3 * (i % 7));
+        mollify::Points<D> xs;
+        mollify::PointsOut<D> gs;
+        for (int c = 0; c < D; ++c) {
+            xs[c] = x[c];
+            gs[c] = grad[c];
+        }
+        S::pairs(xs, s, w, gs);
+        for (std::size_t i = 0; i < n; ++i) {
+            std::array<double, D> xi, gi;
+            double wi = 0;
+            mollify::Points<D> one;
+            mollify::PointsOut<D> one_out;
+            for (int c = 0; c < D; ++c) {
+                xi[c] = x[c][i];
+                one[c] = std::span<const double>(&xi[c], 1);
+                one_out[c] = std::span<double>(&gi[c], 1);
+            }
+            S::pairs(one, s, std::span<double>(&wi, 1), one_out);
+            if (!same_bits(w[i], wi)) mismatch("pairs W", i, w[i], wi);
+            for (int c = 0; c < D; ++c)
+                if (!same_bits(grad[c][i], gi[c])) mismatch("pairs grad W_" + std::to_string(c), i, grad[c][i], gi[c]);
+        }
+        out.compared += n * (D + 1);
+    }
+}
+
+template <const table::Kernel& K>
+void both(Comparison& out) {
+    compare<K, Precision::accurate>(out);
+    compare<K, Precision::fast>(out);
+}
+
+}  // namespace
+
+// The vectorised paths of the batch loops: one whole term (Wendland C4,
+// pairs_3d), pieces of several terms (the combinations, in 3D and in 2D:
+// pairs_2d), and the 1D loop of pairs_unchecked itself. (Pieces chosen by
+// branches, sqrt/log ones, do not vectorise: no vector width to test; a
+// missing Wendland function here would triple this unit's 15 s compile.)
+Comparison batches_against_points() {
+    namespace tables = mollify::tables;
+    Comparison out;
+    both<tables::wendland_k_2_D3>(out);
+    both<tables::combo_m_3_base_wendland_k_2_D3>(out);
+    both<tables::combo_m_2_base_wendland_k_1_D2>(out);
+    both<tables::wendland_k_1_D1>(out);
+    return out;
+}
+
+}  // namespace batch_loops

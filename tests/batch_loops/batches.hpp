@@ -1,0 +1,21 @@
+// What batch_loops_test's x86-64-v3 unit (batches.cpp) computes.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace batch_loops {
+
+struct Comparison {
+    std::size_t compared = 0;             // values compared
+    std::vector<std::string> mismatches;  // where a batch and a single point differ, or the run-time form too far
+    double worst_against_runtime = 0;     // ulps (fused_bound.hpp) from the run-time form's copy
+};
+
+// Every quantity (both precisions) and W + grad W of a few tables, in
+// batches and point by point, in a unit tuned for AMD Zen 1; the batches
+// against the run-time form (the caller chooses its x86-64-v3 copy).
+Comparison batches_against_points();
+
+}  // namespace batch_loops
