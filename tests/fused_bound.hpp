@@ -1,17 +1,25 @@
-// How far two evaluations of one table may differ where they round
-// differently (one contracts a product into an FMA the other does not):
-// runtime_forms_test (the FMA copies of the run-time form against generic
-// StaticKernel) and batch_loops_test (StaticKernel built for x86-64-v3
-// against the run-time form's x86-64-v3 copy).
+// How far two evaluations of one table may differ: not at all where they
+// perform the same operations (same_bits: runtime_forms_test on generic
+// x86-64, batch_loops_test's batches against single points, table_file_test),
+// and fused_bound where they round differently (one contracts a product into
+// an FMA the other does not: runtime_forms_test's FMA copies against generic
+// StaticKernel, batch_loops_test's x86-64-v3 StaticKernel against the
+// run-time form's x86-64-v3 copy).
 #pragma once
 
 #include <mollify/kernel.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 namespace mollify::testing {
+
+// Where two evaluations must agree exactly (the same operations in the same
+// order): the same bits, signed zeros and NaN payloads included.
+inline bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
 // |a - b| in ulps of max(|a|, |b|, floor).
 inline double ulps(double a, double b, double floor) {

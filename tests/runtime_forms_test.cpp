@@ -50,6 +50,7 @@ using mollify::Smoothing;
 using mollify::testing::Case;
 using mollify::testing::fused_bound;
 using mollify::testing::hard_q;
+using mollify::testing::same_bits;
 using mollify::testing::ulp_floor;
 using mollify::testing::ulps;
 
@@ -68,8 +69,6 @@ const std::vector<Case>& cases() {
 }
 
 constexpr double smoothing_lengths[] = {1.0, 0.37, 3e-7, 2.5e6, 1e-30, 1e30};
-
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
 struct Isa {
     const char* name;

@@ -4,6 +4,7 @@
 // bit for bit, every field; bad files fail naming the file, the line and
 // the bad value.
 #include "command.hpp"
+#include "fused_bound.hpp"
 #include "sanitized.hpp"
 #include "shape_features.hpp"
 
@@ -21,6 +22,7 @@
 namespace fs = std::filesystem;
 namespace table = mollify::table;
 using mollify::TableFile;
+using mollify::testing::same_bits;
 
 namespace {
 
@@ -29,8 +31,6 @@ fs::path scratch(const std::string& name) {
     fs::remove_all(p);
     return p;
 }
-
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 // Every field of two tables equal, doubles bit for bit (so -0.0 != 0.0 and
 // inf == inf), absent arrays absent in both; the first difference, or "".

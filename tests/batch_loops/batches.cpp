@@ -36,8 +36,7 @@ namespace table = mollify::table;
 using mollify::Precision;
 using mollify::QuantityId;
 using mollify::Smoothing;
-
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+using mollify::testing::same_bits;
 
 template <const table::Kernel& K, Precision Pr>
 void compare(Comparison& out) {
