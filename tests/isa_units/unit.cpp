@@ -7,6 +7,8 @@
 // namespace keeps the copies apart.
 #include "unit.hpp"
 
+#include "../sanitized.hpp"
+
 #include <mollify/kernel.hpp>
 #include <mollify/poisson.hpp>
 #include <mollify/sph.hpp>
@@ -59,6 +61,27 @@ std::vector<double> poisson_potential() {
     return mollify::poisson::direct<3>(mollify::kernel("mollifier:M=4", 3), s).potential;
 }
 
+// The 3D treecode's field at 3000 sources (1000 under the sanitizers), leaves of 32 and p = 10 (many
+// translations, whose inner loops, Multipole<3>::tile_dot and local_sums,
+// take a register's worth of lanes at a time: 2 in the generic unit, 4 in
+// the v3 unit), and direct summation's.
+std::pair<std::vector<double>, std::vector<double>> tree_and_direct_field() {
+    std::array<std::vector<double>, 3> x;
+    std::vector<double> q, delta{0.02};
+    const int n = mollify::testing::sanitized_build ? 1000 : 3000;
+    for (int j = 0; j < n; ++j) {
+        for (int c = 0; c < 3; ++c) x[c].push_back(std::fmod(0.7548776662 * (j + 1) * (c + 1) + 0.1 * c, 1.0));
+        q.push_back(std::sin(j) - 0.1);
+    }
+    const mollify::poisson::Sources<3> s{{x[0], x[1], x[2]}, q, delta};
+    const mollify::Kernel k = mollify::kernel("mollifier:M=4", 3);
+    const auto tree = mollify::poisson::Treecode<3, mollify::Kernel>(k, s, {.theta = 0.5, .order = 10, .leaf_size = 32});
+    std::pair<std::vector<double>, std::vector<double>> e;
+    for (const auto& c : tree.evaluate().field) e.first.insert(e.first.end(), c.begin(), c.end());
+    for (const auto& c : mollify::poisson::direct<3>(k, s).field) e.second.insert(e.second.end(), c.begin(), c.end());
+    return e;
+}
+
 // Krasny's sheet of 64 compact blobs: the velocities.
 std::vector<double> vortex_velocity() {
     const mollify::vortex::CompactBlob blob(mollify::kernel("wendland:k=2", 2), 0.1);
@@ -79,6 +102,9 @@ UnitCode MOLLIFY_UNIT_FUNCTION(MOLLIFY_UNIT, code)() {
                 &mollify::vortex::velocity<mollify::vortex::CompactBlob>))};
 }
 
-UnitValues MOLLIFY_UNIT_FUNCTION(MOLLIFY_UNIT, values)() { return {sph_density(), poisson_potential(), vortex_velocity()}; }
+UnitValues MOLLIFY_UNIT_FUNCTION(MOLLIFY_UNIT, values)() {
+    auto [tree, direct] = tree_and_direct_field();
+    return {sph_density(), poisson_potential(), vortex_velocity(), std::move(tree), std::move(direct)};
+}
 
 }  // namespace isa_units

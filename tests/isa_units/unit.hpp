@@ -16,6 +16,8 @@ struct UnitCode {
 // A small problem of each solver, computed by the unit's copy.
 struct UnitValues {
     std::vector<double> density, potential, u;
+    // The 3D treecode's E and direct summation's, components one after another.
+    std::vector<double> tree_field, direct_field;
 };
 
 UnitCode generic_code();

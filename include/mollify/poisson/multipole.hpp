@@ -358,25 +358,43 @@ public:
     // densely (dense(j) linear in j), so T_(k + m0 + d e_x) is row
     // off_i + d of t (t at m0's row): per k one x row and eight consecutive
     // T rows feed eight multiply-adds, where one output at a time needed two
-    // loads and an index per multiply-add. GCC/Clang vector extension (one
-    // vector per lane set); plain loops otherwise.
+    // loads and an index per multiply-add. GCC/Clang vector extension in the
+    // machine's own width (native_lanes), the lanes a register's worth at a
+    // time: eight accumulators, an x and a T register fit the 16 registers of
+    // AVX2 or SSE2 (eight lanes as one vector there needed 20: GCC spilled
+    // them through general registers: the M2L 3.6x slower on AMD Zen 1 at p = 19,
+    // bench/results/treecode_bench_zen1.md).
+    // Plain loops otherwise.
+    static constexpr int native_lanes =
+#if defined(__AVX512F__)
+        8;
+#elif defined(__AVX__)
+        4;
+#else
+        2;
+#endif
+    static_assert(lanes % native_lanes == 0);
+
     static void tile_dot(const double* x, const double* t, const int* off, std::size_t len, double* acc) {
         constexpr int W = lanes;
 #if defined(__GNUC__)
-        typedef double V __attribute__((vector_size(W * sizeof(double))));
+        constexpr int N = native_lanes;
+        typedef double V __attribute__((vector_size(N * sizeof(double))));
         // Unaligned-safe loads (memcpy); no V crosses a call (ABI).
-        V s[8] = {}, a, b;  // fully unrolled: eight accumulator registers
-        for (std::size_t i = 0; i < len; ++i) {
-            std::memcpy(&a, x + i * W, sizeof(V));
-            const double* r = t + static_cast<std::size_t>(off[i]) * W;
+        for (int h = 0; h < W; h += N) {
+            V s[8] = {}, a, b;  // fully unrolled: eight accumulator registers
+            for (std::size_t i = 0; i < len; ++i) {
+                std::memcpy(&a, x + i * W + h, sizeof(V));
+                const double* r = t + static_cast<std::size_t>(off[i]) * W + h;
 #pragma GCC unroll 8
-            for (int d = 0; d < 8; ++d) {
-                std::memcpy(&b, r + d * W, sizeof(V));
-                s[d] += a * b;
+                for (int d = 0; d < 8; ++d) {
+                    std::memcpy(&b, r + d * W, sizeof(V));
+                    s[d] += a * b;
+                }
             }
-        }
 #pragma GCC unroll 8
-        for (int d = 0; d < 8; ++d) std::memcpy(acc + d * W, &s[d], sizeof(V));
+            for (int d = 0; d < 8; ++d) std::memcpy(acc + d * W + h, &s[d], sizeof(V));
+        }
 #else
         for (int d = 0; d < 8; ++d)
             for (int l = 0; l < W; ++l) {
@@ -503,34 +521,38 @@ private:
                     double* mono, double (&f)[lanes], double (&g)[3][lanes]) const {
         constexpr int W = lanes;
 #if defined(__GNUC__)
-        typedef double V __attribute__((vector_size(W * sizeof(double))));
-        V vf, v0, v1, v2, a, u;
-        std::memcpy(&vf, f, sizeof(V));
-        std::memcpy(&v0, g[0], sizeof(V));
-        std::memcpy(&v1, g[1], sizeof(V));
-        std::memcpy(&v2, g[2], sizeof(V));
-        std::size_t i = 1;
-        for (; i < ng; ++i) {
-            std::memcpy(&a, mono + static_cast<std::size_t>(parent_[i].index) * W, sizeof(V));
-            std::memcpy(&u, t[parent_[i].c], sizeof(V));
-            a *= u;
-            std::memcpy(mono + i * W, &a, sizeof(V));
-            vf += local[i] * a;
-            v0 += lg[i] * a;
-            v1 += lg[s + i] * a;
-            v2 += lg[2 * s + i] * a;
+        // The lanes a register's worth at a time (native_lanes, tile_dot).
+        constexpr int N = native_lanes;
+        typedef double V __attribute__((vector_size(N * sizeof(double))));
+        for (int h = 0; h < W; h += N) {
+            V vf, v0, v1, v2, a, u;
+            std::memcpy(&vf, f + h, sizeof(V));
+            std::memcpy(&v0, g[0] + h, sizeof(V));
+            std::memcpy(&v1, g[1] + h, sizeof(V));
+            std::memcpy(&v2, g[2] + h, sizeof(V));
+            std::size_t i = 1;
+            for (; i < ng; ++i) {
+                std::memcpy(&a, mono + static_cast<std::size_t>(parent_[i].index) * W + h, sizeof(V));
+                std::memcpy(&u, t[parent_[i].c] + h, sizeof(V));
+                a *= u;
+                std::memcpy(mono + i * W + h, &a, sizeof(V));
+                vf += local[i] * a;
+                v0 += lg[i] * a;
+                v1 += lg[s + i] * a;
+                v2 += lg[2 * s + i] * a;
+            }
+            for (; i < s; ++i) {
+                std::memcpy(&a, mono + static_cast<std::size_t>(parent_[i].index) * W + h, sizeof(V));
+                std::memcpy(&u, t[parent_[i].c] + h, sizeof(V));
+                a *= u;
+                std::memcpy(mono + i * W + h, &a, sizeof(V));
+                vf += local[i] * a;
+            }
+            std::memcpy(f + h, &vf, sizeof(V));
+            std::memcpy(g[0] + h, &v0, sizeof(V));
+            std::memcpy(g[1] + h, &v1, sizeof(V));
+            std::memcpy(g[2] + h, &v2, sizeof(V));
         }
-        for (; i < s; ++i) {
-            std::memcpy(&a, mono + static_cast<std::size_t>(parent_[i].index) * W, sizeof(V));
-            std::memcpy(&u, t[parent_[i].c], sizeof(V));
-            a *= u;
-            std::memcpy(mono + i * W, &a, sizeof(V));
-            vf += local[i] * a;
-        }
-        std::memcpy(f, &vf, sizeof(V));
-        std::memcpy(g[0], &v0, sizeof(V));
-        std::memcpy(g[1], &v1, sizeof(V));
-        std::memcpy(g[2], &v2, sizeof(V));
 #else
         for (std::size_t i = 1; i < s; ++i) {
             const double* from = mono + static_cast<std::size_t>(parent_[i].index) * W;
