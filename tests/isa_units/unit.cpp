@@ -61,10 +61,10 @@ std::vector<double> poisson_potential() {
     return mollify::poisson::direct<3>(mollify::kernel("mollifier:M=4", 3), s).potential;
 }
 
-// The 3D treecode's field at 3000 sources (1000 under the sanitizers), leaves of 32 and p = 10 (many
-// translations, whose inner loops, Multipole<3>::tile_dot and local_sums,
-// take a register's worth of lanes at a time: 2 in the generic unit, 4 in
-// the v3 unit), and direct summation's.
+// The 3D treecode's field at 3000 sources (1000 under the sanitizers),
+// leaves of 32 and p = 10 (many translations, whose inner loops,
+// Multipole<3>::tile_dot and local_sums, take a register's worth of lanes at
+// a time: 2 in the generic unit, 4 in the v3 unit), and direct summation's.
 std::pair<std::vector<double>, std::vector<double>> tree_and_direct_field() {
     std::array<std::vector<double>, 3> x;
     std::vector<double> q, delta{0.02};

@@ -86,6 +86,19 @@
 namespace mollify::detail {
 inline namespace MOLLIFY_ISA {
 
+// Doubles per vector register of the unit's instruction set: loops that
+// keep several lanes of sums in registers take this many at a time (a
+// wider GCC vector lives in several registers and can overflow the 16 of
+// AVX2 or SSE2: poisson/multipole.hpp's tile_dot).
+inline constexpr int register_doubles =
+#if defined(__AVX512F__)
+    8;
+#elif defined(__AVX__)
+    4;
+#else
+    2;
+#endif
+
 // a*b + c with one rounding where the target has a fused multiply-add;
 // without one, std::fma would be a slow library call.
 inline double mul_add(double a, double b, double c) {

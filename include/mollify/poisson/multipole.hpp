@@ -359,26 +359,18 @@ public:
     // off_i + d of t (t at m0's row): per k one x row and eight consecutive
     // T rows feed eight multiply-adds, where one output at a time needed two
     // loads and an index per multiply-add. GCC/Clang vector extension in the
-    // machine's own width (native_lanes), the lanes a register's worth at a
-    // time: eight accumulators, an x and a T register fit the 16 registers of
-    // AVX2 or SSE2 (eight lanes as one vector there needed 20: GCC spilled
-    // them through general registers: the M2L 3.6x slower on AMD Zen 1 at p = 19,
-    // bench/results/treecode_bench_zen1.md).
-    // Plain loops otherwise.
-    static constexpr int native_lanes =
-#if defined(__AVX512F__)
-        8;
-#elif defined(__AVX__)
-        4;
-#else
-        2;
-#endif
-    static_assert(lanes % native_lanes == 0);
+    // machine's own width (detail::register_doubles), the lanes a register's
+    // worth at a time: eight accumulators, an x and a T register fit the 16
+    // registers of AVX2 or SSE2 (eight lanes as one vector there needed 20:
+    // GCC spilled them through general registers, the M2L 3.6x slower on AMD
+    // Zen 1 at p = 19, bench/results/treecode_bench_zen1.md). Plain loops
+    // otherwise.
+    static_assert(lanes % mollify::detail::register_doubles == 0);
 
     static void tile_dot(const double* x, const double* t, const int* off, std::size_t len, double* acc) {
         constexpr int W = lanes;
 #if defined(__GNUC__)
-        constexpr int N = native_lanes;
+        constexpr int N = mollify::detail::register_doubles;
         typedef double V __attribute__((vector_size(N * sizeof(double))));
         // Unaligned-safe loads (memcpy); no V crosses a call (ABI).
         for (int h = 0; h < W; h += N) {
@@ -521,8 +513,8 @@ private:
                     double* mono, double (&f)[lanes], double (&g)[3][lanes]) const {
         constexpr int W = lanes;
 #if defined(__GNUC__)
-        // The lanes a register's worth at a time (native_lanes, tile_dot).
-        constexpr int N = native_lanes;
+        // The lanes a register's worth at a time (tile_dot).
+        constexpr int N = mollify::detail::register_doubles;
         typedef double V __attribute__((vector_size(N * sizeof(double))));
         for (int h = 0; h < W; h += N) {
             V vf, v0, v1, v2, a, u;
