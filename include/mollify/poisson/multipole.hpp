@@ -30,6 +30,7 @@
 #pragma once
 
 #include <mollify/detail/isa.hpp>
+#include <mollify/detail/lanes.hpp>
 #include <mollify/detail/parallel.hpp>
 #include <mollify/error.hpp>
 
@@ -369,9 +370,9 @@ public:
 
     static void tile_dot(const double* x, const double* t, const int* off, std::size_t len, double* acc) {
         constexpr int W = lanes;
-#if defined(__GNUC__)
+#if defined(MOLLIFY_LANES)
         constexpr int N = mollify::detail::register_doubles;
-        typedef double V __attribute__((vector_size(N * sizeof(double))));
+        using V = mollify::detail::Lanes;
         // Unaligned-safe loads (memcpy); no V crosses a call (ABI).
         for (int h = 0; h < W; h += N) {
             V s[8] = {}, a, b;  // fully unrolled: eight accumulator registers
@@ -512,10 +513,10 @@ private:
     void local_sums(const double* local, const double* lg, std::size_t s, std::size_t ng, const double (&t)[3][lanes],
                     double* mono, double (&f)[lanes], double (&g)[3][lanes]) const {
         constexpr int W = lanes;
-#if defined(__GNUC__)
+#if defined(MOLLIFY_LANES)
         // The lanes a register's worth at a time (tile_dot).
         constexpr int N = mollify::detail::register_doubles;
-        typedef double V __attribute__((vector_size(N * sizeof(double))));
+        using V = mollify::detail::Lanes;
         for (int h = 0; h < W; h += N) {
             V vf, v0, v1, v2, a, u;
             std::memcpy(&vf, f + h, sizeof(V));
