@@ -195,7 +195,9 @@ void add_exact(const K& kernel, const SourceArrays<D>& s, const std::array<doubl
 // add_green_mutual went 6.6 -> 4.4 ns per pair (2400 sources, a test
 // program) and the 3D treecode at N = 10^5, theta 0.7, p = 13 | 19 2.2 ->
 // 1.7 | 3.2 -> 2.6 s; two blocks ahead was slower in the treecode (2.7 s at
-// p = 19: four more live registers of AVX2's 16).
+// p = 19: four more live registers of AVX2's 16). A block's d is formed
+// again for use (three loads and subtractions, on pipes the divider leaves
+// idle) rather than carried from r2_at, for the same registers.
 template <class Use>
 MOLLIFY_INLINE std::size_t green_blocks(const double* x, const double* y, const double* z, std::size_t n,
                                         const std::array<double, 3>& xt, double& p_sum, double& e0, double& e1,
