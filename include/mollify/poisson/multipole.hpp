@@ -285,10 +285,10 @@ public:
         const std::size_t nt = static_cast<std::size_t>(t_start_[2 * static_cast<std::size_t>(degree) + 1]);
         const std::size_t nr = count_reduced(degree);
         const std::size_t du = static_cast<std::size_t>(degree) + 1;
-        work.resize((t_rows() + nr + 2 * du) * W + W);
+        work.resize((t_rows() + reduced_size() + 2 * du) * W + W);
         double* t = aligned(work.data());     // T_j, lane l at t[dense(j) W + l]
-        double* x = t + t_rows() * W;         // x_k (rho_s/|R|)^|k|
-        double* ts = x + nr * W;              // (rho_s/|R|)^d
+        double* x = t + t_rows() * W;         // x_k (rho_s/|R|)^|k|, in runs (run_position_)
+        double* ts = x + reduced_size() * W;  // (rho_s/|R|)^d
         double* tt = ts + du * W;             // (-rho_t/|R|)^d / |R|
         alignas(64) double u[3][W], inv_r[W], rs[W];
         for (int l = 0; l < W; ++l) {
@@ -330,13 +330,19 @@ public:
         }
         for (std::size_t k = 0; k < nr; ++k) {
             const double* tsk = ts + static_cast<std::size_t>(reduced_degree_[k]) * W;
-            for (int l = 0; l < W; ++l) x[k * W + static_cast<std::size_t>(l)] = l < count ? src[l].mr[k] * tsk[l] : 0.0;
+            double* xk = x + static_cast<std::size_t>(run_position_[k]) * W;
+            for (int l = 0; l < W; ++l) xk[l] = l < count ? src[l].mr[k] * tsk[l] : 0.0;
         }
         alignas(64) double acc[8 * W];
         for (const Tile& tile : m2l_tiles_) {
             if (tile.degree > degree) continue;
-            tile_dot(x, t + static_cast<std::size_t>(tile.row) * W, t_offset_.data(), nr, acc);
-            for (int d = 0; d < 8 && tile.degree + d <= degree; ++d) {
+            const double* tm = t + static_cast<std::size_t>(tile.row) * W;
+            const int width = degree - tile.degree < 4 ? 4 : 8;  // outputs left in the tile's row (tile_dot)
+            if (width == 8)
+                tile_dot<8>(x, tm, m2l_runs_.data(), m2l_runs_.size(), degree, acc);
+            else
+                tile_dot<4>(x, tm, m2l_runs_.data(), m2l_runs_.size(), degree, acc);
+            for (int d = 0; d < width && tile.degree + d <= degree; ++d) {
                 double* out = lr + static_cast<std::size_t>(tile.out[d]) * W;
                 const double* f = tt + static_cast<std::size_t>(tile.degree + d) * W;
                 MOLLIFY_SIMD
@@ -354,46 +360,85 @@ public:
         return q + ((a - v % a) % a) / sizeof(double);
     }
 
-    // The M2L's inner loop for one tile of eight outputs m = m0 + d e_x
-    // (d < 8): acc_d = sum_(i < len) x_i T_(k_i + m), lane-wise. T is stored
-    // densely (dense(j) linear in j), so T_(k + m0 + d e_x) is row
-    // off_i + d of t (t at m0's row): per k one x row and eight consecutive
-    // T rows feed eight multiply-adds, where one output at a time needed two
-    // loads and an index per multiply-add. GCC/Clang vector extension in the
-    // machine's own width (detail::register_doubles), the lanes a register's
-    // worth at a time: eight accumulators, an x and a T register fit the 16
-    // registers of AVX2 or SSE2 (eight lanes as one vector there needed 20:
-    // GCC spilled them through general registers, the M2L 3.6x slower on AMD
-    // Zen 1 at p = 19, bench/results/treecode_bench_zen1.md). Plain loops
-    // otherwise.
+    // The M2L's inner loop for one tile of Width (8 or 4) outputs
+    // m = m0 + d e_x (d < Width): acc_d = sum_k x_k T_(k + m), lane-wise,
+    // over |k| <= degree. T is stored densely (dense(j) linear in j), so
+    // T_(k + m0 + d e_x) is row dense(k) + d of t (t at m0's row), and
+    // k + e_x reads the rows of k shifted by one: the k are taken in runs
+    // along k_x (one run per k_y, k_z; x stored in that order,
+    // run_position_), C at a time, so Width + C - 1 T rows feed C Width
+    // multiply-adds (and GCC keeps the rows the next step shares in
+    // registers), where one k at a time loaded a T row per multiply-add: on
+    // AMD Zen 1 at p = 19 that loop took ~2.3 cycles per 256-bit
+    // multiply-add (loads, L2), this one ~1.2 (2026-12-02, add_local 333 ->
+    // 240 us per call of eight cells, the tiles of four below included).
+    // A row's last tile is one of four where at most four outputs are left
+    // (add_local): tiles of eight wasted 38 % of the multiply-adds at
+    // p = 19 on outputs beyond the degree. GCC/Clang vector extension in
+    // the machine's own width (detail::register_doubles), the lanes a
+    // register's worth at a time: Width accumulators, C x and a T register
+    // fit the 16 registers of AVX2 or SSE2 (eight lanes as one vector there
+    // needed 20: GCC spilled them through general registers, the M2L 3.6x
+    // slower on AMD Zen 1 at p = 19, bench/results/treecode_bench_zen1.md).
+    // Plain loops otherwise.
     static_assert(lanes % mollify::detail::register_doubles == 0);
 
-    static void tile_dot(const double* x, const double* t, const int* off, std::size_t len, double* acc) {
+    // A run of reduced k along k_x: x rows x_row.., T rows t_row.. (k_x = 0
+    // first), k_x <= degree - low (low = k_y + k_z).
+    struct Run {
+        int x_row, t_row, low;
+    };
+
+    template <int Width>
+    static void tile_dot(const double* x, const double* t, const Run* runs, std::size_t count, int degree,
+                         double* acc) {
         constexpr int W = lanes;
 #if defined(MOLLIFY_LANES)
         constexpr int N = mollify::detail::register_doubles;
+        constexpr int C = 16 / Width;  // k per step: 2 (eight outputs) or 4 (four)
         using V = mollify::detail::Lanes;
         // Unaligned-safe loads (memcpy); no V crosses a call (ABI).
         for (int h = 0; h < W; h += N) {
-            V s[8] = {}, a, b;  // fully unrolled: eight accumulator registers
-            for (std::size_t i = 0; i < len; ++i) {
-                std::memcpy(&a, x + i * W + h, sizeof(V));
-                const double* r = t + static_cast<std::size_t>(off[i]) * W + h;
+            V s[Width] = {};  // fully unrolled: accumulator registers
+            for (std::size_t r = 0; r < count; ++r) {
+                const int len = degree - runs[r].low + 1;
+                const double* xr = x + static_cast<std::size_t>(runs[r].x_row) * W + h;
+                const double* tr = t + static_cast<std::size_t>(runs[r].t_row) * W + h;
+                int a = 0;
+                for (; a + C <= len; a += C) {
+                    V xa[C];
+#pragma GCC unroll 4
+                    for (int i = 0; i < C; ++i) std::memcpy(&xa[i], xr + (a + i) * W, sizeof(V));
+#pragma GCC unroll 11
+                    for (int j = 0; j < C + Width - 1; ++j) {
+                        V b;
+                        std::memcpy(&b, tr + (a + j) * W, sizeof(V));
+#pragma GCC unroll 4
+                        for (int i = 0; i < C; ++i)
+                            if (j - i >= 0 && j - i < Width) s[j - i] += xa[i] * b;
+                    }
+                }
+                for (; a < len; ++a) {
+                    V xa, b;
+                    std::memcpy(&xa, xr + a * W, sizeof(V));
 #pragma GCC unroll 8
-                for (int d = 0; d < 8; ++d) {
-                    std::memcpy(&b, r + d * W, sizeof(V));
-                    s[d] += a * b;
+                    for (int d = 0; d < Width; ++d) {
+                        std::memcpy(&b, tr + (a + d) * W, sizeof(V));
+                        s[d] += xa * b;
+                    }
                 }
             }
 #pragma GCC unroll 8
-            for (int d = 0; d < 8; ++d) std::memcpy(acc + d * W + h, &s[d], sizeof(V));
+            for (int d = 0; d < Width; ++d) std::memcpy(acc + d * W + h, &s[d], sizeof(V));
         }
 #else
-        for (int d = 0; d < 8; ++d)
+        for (int d = 0; d < Width; ++d)
             for (int l = 0; l < W; ++l) {
                 double s0 = 0;
-                for (std::size_t i = 0; i < len; ++i)
-                    s0 += x[i * W + l] * t[(static_cast<std::size_t>(off[i]) + static_cast<std::size_t>(d)) * W + l];
+                for (std::size_t r = 0; r < count; ++r)
+                    for (int a = 0; a <= degree - runs[r].low; ++a)
+                        s0 += x[static_cast<std::size_t>(runs[r].x_row + a) * W + l] *
+                              t[static_cast<std::size_t>(runs[r].t_row + a + d) * W + l];
                 acc[d * W + l] = s0;
             }
 #endif
@@ -628,14 +673,23 @@ private:
             }
             t_steps_.push_back(s);
         }
-        // M2L: each reduced k's row offset, and the outputs in tiles of eight
-        // along m_x (m_z <= 1, |m| <= p).
-        for (const int k : reduced_full_) t_offset_.push_back(dense(k_[static_cast<std::size_t>(k)]));
+        // M2L: the reduced k in runs, and the outputs in tiles of eight
+        // along m_x (m_z <= 1, |m| <= p; a tile's first four alone where
+        // the degree leaves no more, add_local).
         auto reduced = [&](const std::array<int, 3>& m) {
             for (std::size_t r = 0; r < reduced_full_.size(); ++r)
                 if (k_[static_cast<std::size_t>(reduced_full_[r])] == m) return static_cast<int>(r);
             return -1;
         };
+        // Runs along k_x (tile_dot): k_z, then k_y, each run's k_x ascending.
+        run_position_.resize(reduced_full_.size());
+        int row = 0;
+        for (int z = 0; z <= 1; ++z)
+            for (int y = 0; y + z <= p_; ++y) {
+                m2l_runs_.push_back({row, dense({0, y, z}), y + z});
+                for (int a = 0; a + y + z <= p_; ++a)
+                    run_position_[static_cast<std::size_t>(reduced({a, y, z}))] = row++;
+            }
         for (int z = 0; z <= 1; ++z)
             for (int y = 0; y + z <= p_; ++y)
                 for (int x0 = 0; x0 + y + z <= p_; x0 += 8) {
@@ -735,7 +789,8 @@ private:
     std::vector<int> t_start_;
     int t_zero_ = 0;
     std::vector<TStep> t_steps_;
-    std::vector<int> t_offset_;  // dense(k) of each reduced k
+    std::vector<Run> m2l_runs_;      // the reduced k in runs along k_x (tile_dot)
+    std::vector<int> run_position_;  // each reduced k's row in x (add_local): its run's order
     struct Tile {
         int row, degree;           // dense(m0), |m0|
         std::array<int, 8> out;    // reduced index of m0 + d e_x (-1 beyond degree p)

@@ -49,8 +49,9 @@
 // - M2L (translate), ~26 %: the harmonic reduction of
 //   Multipole<3>::add_local ((p + 1)^2 coefficients instead of
 //   C(p + 3, 3): (p + 1)^4 multiply-adds instead of C(p + 3, 3)^2), a target
-//   cell's source cells eight at a time, one per SIMD lane, and the outputs
-//   in tiles of eight sharing each moment's load (tile_dot).
+//   cell's source cells eight at a time, one per SIMD lane, the outputs
+//   in tiles of eight sharing each moment's load, the moments in runs
+//   along k_x sharing the derivatives' loads (tile_dot).
 // - P2M, M2M, L2L, L2P, ~9 %: sources (targets) eight at a time, each
 //   monomial one multiplication from its parent's; the moments of a cell
 //   that is not a leaf and the local expansion of a child by a change of
