@@ -39,7 +39,6 @@
 #include <cmath>
 #include <complex>
 #include <cstdint>
-#include <cstring>
 #include <cstddef>
 #include <numbers>
 #include <string>
@@ -397,7 +396,7 @@ public:
         constexpr int N = mollify::detail::register_doubles;
         constexpr int C = 16 / Width;  // k per step: 2 (eight outputs) or 4 (four)
         using V = mollify::detail::Lanes;
-        // Unaligned-safe loads (memcpy); no V crosses a call (ABI).
+        using mollify::detail::load_lanes;
         for (int h = 0; h < W; h += N) {
             V s[Width] = {};  // fully unrolled: accumulator registers
             for (std::size_t r = 0; r < count; ++r) {
@@ -408,28 +407,23 @@ public:
                 for (; a + C <= len; a += C) {
                     V xa[C];
 #pragma GCC unroll 4
-                    for (int i = 0; i < C; ++i) std::memcpy(&xa[i], xr + (a + i) * W, sizeof(V));
+                    for (int i = 0; i < C; ++i) xa[i] = load_lanes(xr + (a + i) * W);
 #pragma GCC unroll 11
                     for (int j = 0; j < C + Width - 1; ++j) {
-                        V b;
-                        std::memcpy(&b, tr + (a + j) * W, sizeof(V));
+                        const V b = load_lanes(tr + (a + j) * W);
 #pragma GCC unroll 4
                         for (int i = 0; i < C; ++i)
                             if (j - i >= 0 && j - i < Width) s[j - i] += xa[i] * b;
                     }
                 }
                 for (; a < len; ++a) {
-                    V xa, b;
-                    std::memcpy(&xa, xr + a * W, sizeof(V));
+                    const V xa = load_lanes(xr + a * W);
 #pragma GCC unroll 8
-                    for (int d = 0; d < Width; ++d) {
-                        std::memcpy(&b, tr + (a + d) * W, sizeof(V));
-                        s[d] += xa * b;
-                    }
+                    for (int d = 0; d < Width; ++d) s[d] += xa * load_lanes(tr + (a + d) * W);
                 }
             }
 #pragma GCC unroll 8
-            for (int d = 0; d < Width; ++d) std::memcpy(acc + d * W + h, &s[d], sizeof(V));
+            for (int d = 0; d < Width; ++d) mollify::detail::store_lanes(acc + d * W + h, s[d]);
         }
 #else
         for (int d = 0; d < Width; ++d)
@@ -562,34 +556,29 @@ private:
         // The lanes a register's worth at a time (tile_dot).
         constexpr int N = mollify::detail::register_doubles;
         using V = mollify::detail::Lanes;
+        using mollify::detail::load_lanes, mollify::detail::store_lanes;
         for (int h = 0; h < W; h += N) {
-            V vf, v0, v1, v2, a, u;
-            std::memcpy(&vf, f + h, sizeof(V));
-            std::memcpy(&v0, g[0] + h, sizeof(V));
-            std::memcpy(&v1, g[1] + h, sizeof(V));
-            std::memcpy(&v2, g[2] + h, sizeof(V));
+            V vf = load_lanes(f + h), v0 = load_lanes(g[0] + h), v1 = load_lanes(g[1] + h), v2 = load_lanes(g[2] + h);
+            // mono_i = mono_parent t_c (the monomial one multiplication from its parent's)
+            auto monomial = [&](std::size_t i) {
+                const V a = load_lanes(mono + static_cast<std::size_t>(parent_[i].index) * W + h) *
+                            load_lanes(t[parent_[i].c] + h);
+                store_lanes(mono + i * W + h, a);
+                return a;
+            };
             std::size_t i = 1;
             for (; i < ng; ++i) {
-                std::memcpy(&a, mono + static_cast<std::size_t>(parent_[i].index) * W + h, sizeof(V));
-                std::memcpy(&u, t[parent_[i].c] + h, sizeof(V));
-                a *= u;
-                std::memcpy(mono + i * W + h, &a, sizeof(V));
+                const V a = monomial(i);
                 vf += local[i] * a;
                 v0 += lg[i] * a;
                 v1 += lg[s + i] * a;
                 v2 += lg[2 * s + i] * a;
             }
-            for (; i < s; ++i) {
-                std::memcpy(&a, mono + static_cast<std::size_t>(parent_[i].index) * W + h, sizeof(V));
-                std::memcpy(&u, t[parent_[i].c] + h, sizeof(V));
-                a *= u;
-                std::memcpy(mono + i * W + h, &a, sizeof(V));
-                vf += local[i] * a;
-            }
-            std::memcpy(f + h, &vf, sizeof(V));
-            std::memcpy(g[0] + h, &v0, sizeof(V));
-            std::memcpy(g[1] + h, &v1, sizeof(V));
-            std::memcpy(g[2] + h, &v2, sizeof(V));
+            for (; i < s; ++i) vf += local[i] * monomial(i);
+            store_lanes(f + h, vf);
+            store_lanes(g[0] + h, v0);
+            store_lanes(g[1] + h, v1);
+            store_lanes(g[2] + h, v2);
         }
 #else
         for (std::size_t i = 1; i < s; ++i) {
