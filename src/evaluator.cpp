@@ -1985,11 +1985,16 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     }
 }
 
-// Displacements per checked chunk (Evaluator::pairs): x in L2 when
-// pairs_batch reads it; more where it sorts the points into pieces. (A
-// prefetch of the next chunk, as in evaluate, measured no gain here.)
+// Displacements per checked chunk (Evaluator::pairs): x still in L2 when
+// it is checked; more where pairs_batch sorts the points into pieces.
 std::size_t pairs_chunk(const Plan& plan, Precision pr) { return pairs_by_piece(plan, pr) ? 64 * B : 32 * B; }
 
+// Each chunk checked after it is evaluated (a NaN or infinity only makes
+// NaNs there: pieces are chosen by comparisons), from cache: checked first,
+// the check waited on memory the evaluation then found in cache, where the
+// evaluation alone overlaps its reads with its arithmetic (20-28 % of a
+// batch of 10^6 points on AVX2, Zen 1). A bad value leaves the outputs
+// unspecified, as StaticKernel::pairs does.
 void pairs(const Plan& plan, Precision pr, const std::span<const double>* x, const Smoothing& s, double* w,
            const std::span<double>* grad, std::size_t n) {
     const int dim = plan.table->dim;
@@ -1998,12 +2003,10 @@ void pairs(const Plan& plan, Precision pr, const std::span<const double>* x, con
         const std::size_t m = std::min(chunk, n - start);
         std::span<const double> xc[3];
         std::span<double> gc[3];
-        for (int c = 0; c < dim; ++c) {
-            xc[c] = x[c].subspan(start, m), gc[c] = grad[c].subspan(start, m);
-            check_coordinates(xc[c], c);
-        }
+        for (int c = 0; c < dim; ++c) xc[c] = x[c].subspan(start, m), gc[c] = grad[c].subspan(start, m);
         if (pr == Precision::accurate) pairs_batch<Precision::accurate>(plan, xc, s, w + start, gc, m);
         else pairs_batch<Precision::fast>(plan, xc, s, w + start, gc, m);
+        for (int c = 0; c < dim; ++c) check_coordinates(xc[c], c);
     }
 }
 

@@ -338,6 +338,87 @@ TEST(Runtime, BadInputNamesTheValue) {
     if (!box.has_potential()) expect_error([&] { box.potential(0.5, 1.0); }, "no potential");
 }
 
+// The batch forms check their inputs in the pass that evaluates (the static
+// form: each r's bits as it is computed; the run-time form: per chunk before
+// it): a bad value anywhere - first, past the run-time form's first chunk,
+// last - is named with its component, in every dimension and pair loop (3D
+// and 2D whole loops, the 1D and cusped ones), both precisions. Huge finite
+// coordinates overflow r to inf and are not refused: W and grad W are 0.
+template <const mollify::table::Kernel& K, mollify::Precision Pr>
+void expect_batches_name_bad_input() {
+    using W = mollify::StaticKernel<K, Pr>;
+    constexpr int D = W::dimension;
+    const mollify::Kernel runtime = mollify::kernel(K, Pr);
+    const std::string where = std::string(K.spec) + " D" + std::to_string(D);
+    constexpr std::size_t n = 4500;  // past one run-time chunk (2048, 4096 points sorted by piece)
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-0.6, 0.6);
+    std::vector<std::vector<double>> x(D, std::vector<double>(n)), grad(D, std::vector<double>(n));
+    for (auto& c : x)
+        for (double& v : c) v = u(rng);
+    std::vector<double> w(n);
+    auto run = [&](bool static_form) {
+        mollify::Points<D> in;
+        mollify::PointsOut<D> out;
+        std::vector<std::span<const double>> rin;
+        std::vector<std::span<double>> rout;
+        for (int c = 0; c < D; ++c) {
+            in[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(c)];
+            out[static_cast<std::size_t>(c)] = grad[static_cast<std::size_t>(c)];
+            rin.emplace_back(x[static_cast<std::size_t>(c)]);
+            rout.emplace_back(grad[static_cast<std::size_t>(c)]);
+        }
+        if (static_form) W::pairs(in, W::smoothing(0.5), w, out);
+        else runtime.pairs(rin, runtime.smoothing(0.5), w, rout);
+    };
+    for (const bool static_form : {true, false}) {
+        SCOPED_TRACE(where + (static_form ? " static" : " run-time"));
+        for (const std::size_t i : {std::size_t{0}, std::size_t{4200}, n - 1})
+            for (int c = 0; c < D; ++c)
+                for (const double bad : {not_a_number, inf, -inf}) {
+                    double& v = x[static_cast<std::size_t>(c)][i];
+                    const double kept = v;
+                    v = bad;
+                    expect_error([&] { run(static_form); },
+                                 "coordinate x[" + std::to_string(c) + "] = " + (bad != bad ? "nan" : bad > 0 ? "inf" : "-inf"));
+                    v = kept;
+                }
+        for (const double huge : {1e200, -1e300, 0x1p600}) {
+            for (int c = 0; c < D; ++c) x[static_cast<std::size_t>(c)][n / 2] = huge;
+            run(static_form);
+            EXPECT_EQ(w[n / 2], 0.0) << huge;
+            for (int c = 0; c < D; ++c) EXPECT_EQ(grad[static_cast<std::size_t>(c)][n / 2], 0.0) << huge;
+        }
+        for (int c = 0; c < D; ++c) x[static_cast<std::size_t>(c)][n / 2] = 0.1;
+    }
+    // Radii: NaN, infinite or negative refused (-0 is a radius).
+    std::vector<double> r(n);
+    for (double& v : r) v = std::abs(u(rng));
+    std::vector<double> out(n);
+    for (const std::size_t i : {std::size_t{0}, std::size_t{4200}, n - 1})
+        for (const double bad : {not_a_number, inf, -0.25, -0x1p-1074}) {
+            const double kept = r[i];
+            r[i] = bad;
+            const std::string named = "r = " + (bad != bad ? std::string("nan") : bad == inf ? "inf" : bad == -0.25 ? "-0.25" : "-5e-324");
+            expect_error([&] { W::template evaluate<QuantityId::value>(r, W::smoothing(0.5), out); }, named);
+            expect_error([&] { runtime.evaluate(QuantityId::value, r, runtime.smoothing(0.5), out); }, named);
+            r[i] = kept;
+        }
+    r[5] = -0.0;
+    W::template evaluate<QuantityId::value>(r, W::smoothing(0.5), out);
+    EXPECT_EQ(out[5], W::value(0.0, 0.5)) << where;
+}
+
+TEST(Runtime, BatchesNameTheBadInput) {
+    using mollify::Precision;
+    expect_batches_name_bad_input<tables::wendland_k_2_D3, Precision::accurate>();
+    expect_batches_name_bad_input<tables::wendland_k_2_D3, Precision::fast>();
+    expect_batches_name_bad_input<tables::combo_m_3_base_wendland_k_2_D3, Precision::accurate>();
+    expect_batches_name_bad_input<tables::wendland_k_1_D2, Precision::fast>();
+    expect_batches_name_bad_input<tables::wendland_k_0_D1, Precision::accurate>();  // cusp: the point-by-point loop
+    expect_batches_name_bad_input<tables::combo_m_3_base_wendland_k_3_l_1_D1, Precision::fast>();
+}
+
 // Precision::accurate (double-double edge factors) against Precision::fast:
 // the same function, so within the fast form's own error (tests/accuracy_test
 // measures both against the exact values); and the double-double arithmetic

@@ -71,26 +71,31 @@ inline std::size_t check_points(const Points<D>& x) {
     return x[0].size();
 }
 
-// One pass on the bits (integer compares vectorise; a floating-point
-// reduction would not): is any value NaN or infinite (exponent all ones), or,
-// for radii, negative (sign bit set, not -0)? Only when so is the bad one
-// looked for, to name it.
+// Tests on the bits (integer compares vectorise; a floating-point reduction
+// would not), or-ed over a batch: is a value NaN or infinite (exponent all
+// ones), or, for radii, negative (sign bit set, not -0)? Only when some
+// value is flagged is the bad one looked for, to name it.
 inline constexpr std::uint64_t exponent_bits = 0x7ff0000000000000;
 inline constexpr std::uint64_t sign_bit = 0x8000000000000000;
 
+MOLLIFY_INLINE std::uint64_t not_finite(double x) {
+    return static_cast<std::uint64_t>((std::bit_cast<std::uint64_t>(x) & exponent_bits) == exponent_bits);
+}
+
+MOLLIFY_INLINE std::uint64_t not_a_radius(double r) {
+    return not_finite(r) | static_cast<std::uint64_t>(std::bit_cast<std::uint64_t>(r) > sign_bit);
+}
+
 inline void check_radii(std::span<const double> r) {
     std::uint64_t bad = 0;
-    for (const double x : r) {
-        const auto u = std::bit_cast<std::uint64_t>(x);
-        bad |= static_cast<std::uint64_t>((u & exponent_bits) == exponent_bits) | static_cast<std::uint64_t>(u > sign_bit);
-    }
+    for (const double x : r) bad |= not_a_radius(x);
     if (bad)
         for (const double x : r) check_radius(x);
 }
 
 inline void check_coordinates(std::span<const double> x, int component) {
     std::uint64_t bad = 0;
-    for (const double v : x) bad |= static_cast<std::uint64_t>((std::bit_cast<std::uint64_t>(v) & exponent_bits) == exponent_bits);
+    for (const double v : x) bad |= not_finite(v);
     if (bad)
         for (const double v : x) check_coordinate(v, component);
 }
@@ -241,15 +246,17 @@ public:
         return potential_gradient(checked(x), smoothing(h));
     }
 
-    // Batch forms over contiguous arrays; the inputs are checked in one
-    // vectorisable pass, then the loop body is the unrolled kernel.
+    // Batch forms over contiguous arrays, checked in the pass that
+    // evaluates: each input's bits tested as it is read (a separate pass
+    // read the inputs twice, from memory at 10^6 points), the bad input
+    // named only after the pass where one was flagged; the outputs are then
+    // unspecified, as the Error says.
     template <QuantityId Q>
     static void evaluate(std::span<const double> r, const Smoothing& s, std::span<double> out) {
         require_potential<Q>();
         require_dim(s);
         detail::check_sizes(r.size(), out.size(), "evaluate");
-        detail::check_radii(r);
-        evaluate_unchecked<Q>(r.data(), out.data(), r.size(), s);
+        if (evaluate_loop<Q, true>(r.data(), out.data(), r.size(), s)) detail::check_radii(r);
     }
 
     // The quantity chosen at run time (the shared API): one branch per
@@ -265,13 +272,11 @@ public:
         return out;
     }
 
-    // The batch loop: restrict pointers and a local copy of the smoothing, so
-    // the compiler knows the output aliases nothing it reads (else no SIMD).
+    // The batch loop without checks, for callers that checked their radii.
     template <QuantityId Q>
-    MOLLIFY_BATCH_LOOP static void evaluate_unchecked(const double* __restrict in, double* __restrict out, std::size_t n,
+    static void evaluate_unchecked(const double* __restrict in, double* __restrict out, std::size_t n,
                                    const Smoothing& smoothing) {
-        const Smoothing s = smoothing;
-        for (std::size_t i = 0; i < n; ++i) out[i] = radial<Q>(in[i], s);
+        evaluate_loop<Q, false>(in, out, n, smoothing);
     }
 
     // W_h and grad W_h at n displacements x_i - x_j (structure of arrays).
@@ -279,11 +284,13 @@ public:
         require_dim(s);
         const std::size_t n = detail::check_points<dimension>(x);
         detail::check_sizes(n, w.size(), "pairs (values)");
-        for (int c = 0; c < dimension; ++c) {
-            detail::check_sizes(n, grad[c].size(), "pairs (gradient)");
-            detail::check_coordinates(x[c], c);
-        }
-        pairs_unchecked(x, s, w.data(), grad, n);
+        for (int c = 0; c < dimension; ++c) detail::check_sizes(n, grad[c].size(), "pairs (gradient)");
+        // A NaN or infinite coordinate makes r = |x| NaN or infinite (a sum
+        // of squares: no inf - inf), so the loop tests r; where some r was
+        // flagged the coordinates are checked, to name the bad one (huge
+        // finite ones overflow r too, and are fine: W = 0 beyond h).
+        if (pair_loop<true>(x, s, w.data(), grad, n))
+            for (int c = 0; c < dimension; ++c) detail::check_coordinates(x[c], c);
     }
 
     // The shared API's form: x and grad hold dim() spans.
@@ -384,52 +391,87 @@ public:
     // The pair loop without checks, for solvers that checked their state.
     // Written on scalars with restrict pointers and a local smoothing, so the
     // compiler sees no aliasing and no aggregates, and vectorises it.
-    MOLLIFY_BATCH_LOOP static void pairs_unchecked(const Points<dimension>& x, const Smoothing& smoothing, double* __restrict w,
+    static void pairs_unchecked(const Points<dimension>& x, const Smoothing& smoothing, double* __restrict w,
                                 const PointsOut<dimension>& grad, std::size_t n) {
+        pair_loop<false>(x, smoothing, w, grad, n);
+    }
+
+private:
+    // The batch loops: restrict pointers and a local copy of the smoothing,
+    // so the compiler knows the output aliases nothing it reads (else no
+    // SIMD). Checked: is some input flagged (detail::not_a_radius, or
+    // not_finite of r), tested as it is read.
+    template <QuantityId Q, bool Checked>
+    MOLLIFY_BATCH_LOOP static bool evaluate_loop(const double* __restrict in, double* __restrict out, std::size_t n,
+                                                 const Smoothing& smoothing) {
+        const Smoothing s = smoothing;
+        std::uint64_t flagged = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            if constexpr (Checked) flagged |= detail::not_a_radius(in[i]);
+            out[i] = radial<Q>(in[i], s);
+        }
+        return flagged != 0;
+    }
+
+    template <bool Checked>
+    MOLLIFY_BATCH_LOOP static bool pair_loop(const Points<dimension>& x, const Smoothing& smoothing, double* __restrict w,
+                                             const PointsOut<dimension>& grad, std::size_t n) {
         const Smoothing s = smoothing;
         constexpr bool cusp = detail::singular_at_origin<K, static_cast<int>(QuantityId::grad_over_r)>;
         if constexpr (dimension == 1 || odd || cusp) {
+            std::uint64_t flagged = 0;
             for (std::size_t i = 0; i < n; ++i) {
                 Vector<dimension> xi;
                 for (int c = 0; c < dimension; ++c) xi[c] = x[c][i];
+                if constexpr (Checked) flagged |= detail::not_finite(norm(xi));
                 const Pair<dimension> p = pair(xi, s);
                 w[i] = p.value;
                 for (int c = 0; c < dimension; ++c) grad[c][i] = p.gradient[c];
             }
+            return flagged != 0;
         } else if constexpr (dimension == 2) {
-            pairs_2d(x[0].data(), x[1].data(), w, grad[0].data(), grad[1].data(), n, s);
+            return pairs_2d<Checked>(x[0].data(), x[1].data(), w, grad[0].data(), grad[1].data(), n, s);
         } else {
-            pairs_3d(x[0].data(), x[1].data(), x[2].data(), w, grad[0].data(), grad[1].data(), grad[2].data(), n, s);
+            return pairs_3d<Checked>(x[0].data(), x[1].data(), x[2].data(), w, grad[0].data(), grad[1].data(),
+                                     grad[2].data(), n, s);
         }
     }
 
-private:
     // Raw restrict pointers as parameters: with them GCC proves the loop free
     // of aliasing and vectorises it (pointers taken from spans it does not).
-    MOLLIFY_BATCH_LOOP static void pairs_2d(const double* __restrict x0, const double* __restrict x1, double* __restrict w,
-                         double* __restrict g0, double* __restrict g1, std::size_t n, const Smoothing& s) {
+    template <bool Checked>
+    MOLLIFY_BATCH_LOOP static bool pairs_2d(const double* __restrict x0, const double* __restrict x1, double* __restrict w,
+                                            double* __restrict g0, double* __restrict g1, std::size_t n, const Smoothing& s) {
+        std::uint64_t flagged = 0;
         for (std::size_t i = 0; i < n; ++i) {
             const double a = x0[i], b = x1[i];
             const double r = std::sqrt(detail::mul_add(b, b, a * a));
+            if constexpr (Checked) flagged |= detail::not_finite(r);
             w[i] = radial<QuantityId::value>(r, s);
             const double g = radial<QuantityId::grad_over_r>(r, s);
             g0[i] = g * a;
             g1[i] = g * b;
         }
+        return flagged != 0;
     }
 
-    MOLLIFY_BATCH_LOOP static void pairs_3d(const double* __restrict x0, const double* __restrict x1, const double* __restrict x2,
-                         double* __restrict w, double* __restrict g0, double* __restrict g1, double* __restrict g2,
-                         std::size_t n, const Smoothing& s) {
+    template <bool Checked>
+    MOLLIFY_BATCH_LOOP static bool pairs_3d(const double* __restrict x0, const double* __restrict x1,
+                                            const double* __restrict x2, double* __restrict w, double* __restrict g0,
+                                            double* __restrict g1, double* __restrict g2, std::size_t n,
+                                            const Smoothing& s) {
+        std::uint64_t flagged = 0;
         for (std::size_t i = 0; i < n; ++i) {
             const double a = x0[i], b = x1[i], c = x2[i];
             const double r = std::sqrt(detail::mul_add(c, c, detail::mul_add(b, b, a * a)));
+            if constexpr (Checked) flagged |= detail::not_finite(r);
             w[i] = radial<QuantityId::value>(r, s);
             const double g = radial<QuantityId::grad_over_r>(r, s);
             g0[i] = g * a;
             g1[i] = g * b;
             g2[i] = g * c;
         }
+        return flagged != 0;
     }
 };
 
