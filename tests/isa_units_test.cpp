@@ -62,8 +62,9 @@ TEST(IsaUnits, BothCopiesComputeTheSameValues) {
     // with the sanitizers' 1000 sources: a translation loop that mixed lanes
     // would be off by O(1)), and the two units' fields alike to 1e-9 (sums of
     // 3000 terms up to ~10^4 against fields of ~10^3, FMAs and orders
-    // differing: measured 4.2e-16, but 7.0e-11 with the Green's passes
-    // before stop 49 and with a variant tried then. These sources lie on a
+    // differing: measured 7.0e-11 since stop 50's translations in runs
+    // (4.2e-16 at stop 49; 7.0e-11 with the Green's passes before it and
+    // with a variant tried then). These sources lie on a
     // few line segments (y and z functions of x), which can amplify the
     // units' different roundings: on 3000 uniform random points the units
     // differ by 2.4e-16 with that variant, and here by 3.5e-16 with the v3
