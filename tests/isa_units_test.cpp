@@ -60,15 +60,13 @@ TEST(IsaUnits, BothCopiesComputeTheSameValues) {
     // The treecode: each unit's against its own direct summation (the
     // truncation error at theta 0.5, p = 10, measured 2.7e-7 in both, 2.6e-8
     // with the sanitizers' 1000 sources: a translation loop that mixed lanes
-    // would be off by O(1)), and the two units' fields alike to 1e-9 (sums of
-    // 3000 terms up to ~10^4 against fields of ~10^3, FMAs and orders
-    // differing: measured 7.0e-11 since stop 50's translations in runs
-    // (4.2e-16 at stop 49; 7.0e-11 with the Green's passes before it and
-    // with a variant tried then). These sources lie on a
-    // few line segments (y and z functions of x), which can amplify the
-    // units' different roundings: on 3000 uniform random points the units
-    // differ by 2.4e-16 with that variant, and here by 3.5e-16 with the v3
-    // unit built -ffp-contract=off; so the bound leaves room for rounding).
+    // would be off by O(1)), and the two units' fields alike to 1e-13: the
+    // same sources (isa_units/unit.cpp), sums of 3000 terms up to ~10^4
+    // against fields of ~10^3 in other orders and with FMAs, measured
+    // 4.2e-16; a term of the expansions dropped or doubled in one unit's
+    // loops would show near the truncation error's size. (Until stop 51 the units'
+    // sources differed by an ulp, 7.0e-11 between them, and the bound was
+    // 1e-9.)
     const double g_err = relative_l2(generic.tree_field, generic.direct_field),
                  v_err = relative_l2(v3.tree_field, v3.direct_field),
                  between = relative_l2(v3.tree_field, generic.tree_field);
@@ -76,7 +74,7 @@ TEST(IsaUnits, BothCopiesComputeTheSameValues) {
                 between);
     EXPECT_LE(g_err, 1e-6);
     EXPECT_LE(v_err, 1e-6);
-    EXPECT_LE(between, 1e-9);
+    EXPECT_LE(between, 1e-13);
 }
 
 }  // namespace
