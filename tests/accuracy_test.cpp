@@ -497,6 +497,37 @@ void check_vector_forms(double h, unsigned seed) {
 // power-of-two h and at awkward ones. Kernels whose W or W'/r change sign
 // (high orders, combos) are measured radially above with the intrinsic metric;
 // here a root would make the relative error meaningless.
+// Smoothing's h^p (scale + scale_lo, the double-double Precision::accurate
+// multiplies by) against MPFR for every quantity and D, at smoothing lengths
+// from the range's ends to odd ones: within 2^-100 relative (seven
+// double-double products and a reciprocal: ~8 2^-104), and scale is h^p
+// rounded to nearest (its low part at most half an ulp); log_h() is log h
+// in every D (stored for 2D only).
+TEST(Smoothing, ScalesAreDoubleDoublePowersOfH) {
+    const double lengths[] = {1.0, 0.1, 1.0 / 3, 7e-8, 3e7, 0x1.fffffffffffffp-1, 2.1e-39, 5e38, 1.3e-45, 6.6e-55, 1.4e54};
+    int checked = 0;
+    for (const double h : lengths)
+        for (int dim = 1; dim <= 3; ++dim) {
+            std::unique_ptr<mollify::Smoothing> s;
+            try {
+                s = std::make_unique<mollify::Smoothing>(h, dim);
+            } catch (const mollify::Error&) {
+                continue;  // beyond scale_range in this D (runtime_test checks the refusals)
+            }
+            EXPECT_EQ(s->log_h(), std::log(h)) << "h " << h << " D" << dim;
+            for (int q = 0; q < table::quantity_count; ++q) {
+                const auto id = static_cast<QuantityId>(q);
+                const Real exact = boost::multiprecision::pow(Real(h), mollify::detail::scale_power(id, dim));
+                const Real got = Real(s->scale(id)) + Real(s->scale_lo(id));
+                EXPECT_LE(boost::multiprecision::abs(got / exact - 1), Real(0x1p-100)) << "h " << h << " D" << dim << " q" << q;
+                EXPECT_LE(std::abs(s->scale_lo(id)), 0.5 * (std::nextafter(s->scale(id), INFINITY) - s->scale(id)))
+                    << "h " << h << " D" << dim << " q" << q;
+                ++checked;
+            }
+        }
+    EXPECT_GE(checked, 250);  // most lengths are within range in every D
+}
+
 TEST(VectorForms, PairGradientAndPotentialGradientMatchExactValues) {
     namespace t = mollify::tables;
     for (const double h : {1.0, 0.37, 3e-7, 2.5e6}) {

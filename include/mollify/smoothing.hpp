@@ -44,7 +44,7 @@ public:
     int dim() const { return dim_; }
     double scale(QuantityId q) const { return scale_[static_cast<int>(q)]; }
     double scale_lo(QuantityId q) const { return scale_lo_[static_cast<int>(q)]; }  // h^p - scale(q)
-    double log_h() const { return log_h_; }
+    double log_h() const { return dim_ == 2 ? log_h_ : std::log(h_); }  // kept for the 2D potential only
 
 private:
     double h_;
