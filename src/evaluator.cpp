@@ -1110,7 +1110,7 @@ constexpr auto fast_whole_of = fast_whole_loops(std::make_index_sequence<whole_s
 // 2D takes it with x2 = 0 (pairs_batch).
 template <Precision Pr, int VN, int VP, bool VR, bool VE, bool VX, bool VS, int GN, int GP, bool GR, bool GE, bool GX,
           bool GS>
-MOLLIFY_FLATTEN void whole_pairs_fixed(const TermPlan& v, const TermPlan& g, const double* __restrict x0,
+MOLLIFY_FLATTEN bool whole_pairs_fixed(const TermPlan& v, const TermPlan& g, const double* __restrict x0,
                                        const double* __restrict x1, const double* __restrict x2, double* __restrict w,
                                        double* __restrict g0, double* __restrict g1, double* __restrict g2, std::size_t n,
                                        const Smoothing& smoothing) {
@@ -1127,9 +1127,11 @@ MOLLIFY_FLATTEN void whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
     const DoubleDouble v_scale_dd = single_scale(v, {v_scale, s.scale_lo(QuantityId::value)}),
                        g_scale_dd = single_scale(g, {g_scale, s.scale_lo(QuantityId::grad_over_r)});
     const DoubleDouble v_ah = two_product(v_edge, h), g_ah = two_product(g_edge, h);
+    std::uint64_t unfinished = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const double a = x0[i], b = x1[i];
         const double r = std::sqrt(mul_add(x2[i], x2[i], mul_add(b, b, a * a)));
+        unfinished |= not_finite(r);
         double wi, gi;
         if constexpr (Pr == Precision::fast) {
             wi = fast_whole_at<VN, VP, VR, VE>(vk, r, v_edge, h, inv_h, s, v_scale);
@@ -1144,9 +1146,10 @@ MOLLIFY_FLATTEN void whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
         g1[i] = gi * b;
         g2[i] = gi * x2[i];
     }
+    return unfinished != 0;
 }
 
-using WholePairs = void (*)(const TermPlan&, const TermPlan&, const double*, const double*, const double*, double*, double*,
+using WholePairs = bool (*)(const TermPlan&, const TermPlan&, const double*, const double*, const double*, double*, double*,
                             double*, double*, std::size_t, const Smoothing&);
 
 template <Precision Pr, const WholePair& S>
@@ -1377,7 +1380,7 @@ constexpr auto accurate_shared_of = accurate_shared_loops(std::make_index_sequen
 // fast precision in every instruction set (the generic copy is compared
 // with StaticKernel's pair loop bit for bit); 2D takes it with x2 = 0.
 template <Precision Pr, const SharedShapes& SV, const SharedShapes& SG>
-MOLLIFY_FLATTEN void shared_pairs_fixed(const QuantityPlan& value, const QuantityPlan& over_r, const double* __restrict x0,
+MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const QuantityPlan& over_r, const double* __restrict x0,
                                         const double* __restrict x1, const double* __restrict x2, double* __restrict w,
                                         double* __restrict g0, double* __restrict g1, double* __restrict g2,
                                         std::size_t n, const Smoothing& smoothing) {
@@ -1392,9 +1395,11 @@ MOLLIFY_FLATTEN void shared_pairs_fixed(const QuantityPlan& value, const Quantit
     const double v_scale = s.scale(QuantityId::value), g_scale = s.scale(QuantityId::grad_over_r);
     const DoubleDouble v_scale_dd{v_scale, s.scale_lo(QuantityId::value)},
         g_scale_dd{g_scale, s.scale_lo(QuantityId::grad_over_r)};
+    std::uint64_t unfinished = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const double a = x0[i], b = x1[i];
         const double r = std::sqrt(mul_add(x2[i], x2[i], mul_add(b, b, a * a)));
+        unfinished |= not_finite(r);
         double wi, gi;
         if constexpr (Pr == Precision::fast) {
             const double q = r * inv_h, e = edge_distance(h - r, s);
@@ -1412,9 +1417,10 @@ MOLLIFY_FLATTEN void shared_pairs_fixed(const QuantityPlan& value, const Quantit
         g1[i] = gi * b;
         g2[i] = gi * x2[i];
     }
+    return unfinished != 0;
 }
 
-using SharedPairs = void (*)(const QuantityPlan&, const QuantityPlan&, const double*, const double*, const double*,
+using SharedPairs = bool (*)(const QuantityPlan&, const QuantityPlan&, const double*, const double*, const double*,
                              double*, double*, double*, double*, std::size_t, const Smoothing&);
 
 template <Precision Pr, std::size_t... I>
@@ -1836,24 +1842,28 @@ void accurate_pairs_block_by_piece(const QuantityPlan& value, const QuantityPlan
 
 // A 3D pair loop loop(x0, x1, x2, w, g0, g1, g2, m) run on D = 2 or 3
 // displacements: 2D with x2 = 0 (fma(0, 0, y) = y, the same r, and half
-// the instantiations), its gradient component dropped.
+// the instantiations), its gradient component dropped. Whether some r was
+// not finite (the loops' flag).
 template <class Loop>
-void in_3d(const std::span<const double>* x, int dim, double* w, const std::span<double>* grad, std::size_t n,
+bool in_3d(const std::span<const double>* x, int dim, double* w, const std::span<double>* grad, std::size_t n,
            const Loop& loop) {
-    if (dim == 3) {
-        loop(x[0].data(), x[1].data(), x[2].data(), w, grad[0].data(), grad[1].data(), grad[2].data(), n);
-        return;
-    }
+    if (dim == 3) return loop(x[0].data(), x[1].data(), x[2].data(), w, grad[0].data(), grad[1].data(), grad[2].data(), n);
     constexpr std::size_t chunk = 8 * B;
     static constexpr double no_x2[chunk] = {};
     double dropped[chunk];
+    bool unfinished = false;
     for (std::size_t start = 0; start < n; start += chunk)
-        loop(x[0].data() + start, x[1].data() + start, no_x2, w + start, grad[0].data() + start, grad[1].data() + start,
-             dropped, std::min(chunk, n - start));
+        unfinished |= loop(x[0].data() + start, x[1].data() + start, no_x2, w + start, grad[0].data() + start,
+                           grad[1].data() + start, dropped, std::min(chunk, n - start));
+    return unfinished;
 }
 
+// Returns whether the displacements were all tested as they were read and
+// found finite: the one-pass loops test each r (a NaN or infinite
+// coordinate makes r = sqrt(sum of squares) NaN or infinite, as in
+// StaticKernel's pair loop); the other paths leave the check to the caller.
 template <Precision Pr>
-void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoothing& smoothing, double* __restrict w,
+bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoothing& smoothing, double* __restrict w,
                  const std::span<double>* grad, std::size_t n) {
     const Smoothing s = smoothing;
     const int dim = plan.table->dim;
@@ -1873,19 +1883,19 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         const WholePairs loop = whole_pairs_of<Pr>[static_cast<std::size_t>(plan.whole_pair)];
         const TermPlan& v = value.inner.front().terms.front();
         const TermPlan& g = over_r.inner.front().terms.front();
-        in_3d(x, dim, w, grad, n, [&](const double* x0, const double* x1, const double* x2, double* wc, double* g0,
-                                      double* g1, double* g2, std::size_t m) { loop(v, g, x0, x1, x2, wc, g0, g1, g2, m, s); });
-        return;
+        return !in_3d(x, dim, w, grad, n, [&](const double* x0, const double* x1, const double* x2, double* wc, double* g0,
+                                              double* g1, double* g2, std::size_t m) {
+            return loop(v, g, x0, x1, x2, wc, g0, g1, g2, m, s);
+        });
     }
     if (plain && plan.shared_pair >= 0 && shared_one_pass(value, QuantityId::value, dim, Pr) &&
         shared_one_pass(over_r, QuantityId::grad_over_r, dim, Pr)) {
         // A combination's W and W'/r in one pass (shared_pairs_fixed).
         const SharedPairs loop = shared_pairs_of<Pr>[static_cast<std::size_t>(plan.shared_pair)];
-        in_3d(x, dim, w, grad, n, [&](const double* x0, const double* x1, const double* x2, double* wc, double* g0,
-                                      double* g1, double* g2, std::size_t m) {
-            loop(value, over_r, x0, x1, x2, wc, g0, g1, g2, m, s);
+        return !in_3d(x, dim, w, grad, n, [&](const double* x0, const double* x1, const double* x2, double* wc, double* g0,
+                                              double* g1, double* g2, std::size_t m) {
+            return loop(value, over_r, x0, x1, x2, wc, g0, g1, g2, m, s);
         });
-        return;
     }
     if (plain && pairs_by_piece(plan, Pr)) {
         thread_local std::vector<double> lengths, over;
@@ -1896,7 +1906,7 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         radial_batch<Pr>(over_r, QuantityId::grad_over_r, lengths.data(), over.data(), n, s, dim);
         for (int c = 0; c < dim; ++c)
             for (std::size_t i = 0; i < n; ++i) grad[c][i] = over[i] * x[c][i];
-        return;
+        return false;
     }
     // (Both quantities one pass from r each, whole or a combination's shared
     // terms: the chunks below.)
@@ -1945,7 +1955,7 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
                 for (std::size_t i = 0; i < m; ++i) gd[i] = g[i] * xd[i];
             }
         }
-        return;
+        return false;
     }
     // Chunks of 8 blocks: a quantity evaluated in one pass from r
     // (whole) then pays its dispatch once per 256 points, not per 32.
@@ -1983,18 +1993,24 @@ void pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
             }
         }
     }
+    return false;
 }
 
 // Displacements per checked chunk (Evaluator::pairs): x still in L2 when
 // it is checked; more where pairs_batch sorts the points into pieces.
 std::size_t pairs_chunk(const Plan& plan, Precision pr) { return pairs_by_piece(plan, pr) ? 64 * B : 32 * B; }
 
-// Each chunk checked after it is evaluated (a NaN or infinity only makes
-// NaNs there: pieces are chosen by comparisons), from cache: checked first,
-// the check waited on memory the evaluation then found in cache, where the
-// evaluation alone overlaps its reads with its arithmetic (20-28 % of a
-// batch of 10^6 points on AVX2, Zen 1). A bad value leaves the outputs
-// unspecified, as StaticKernel::pairs does.
+// Each chunk's displacements checked as they are evaluated where the
+// one-pass loops take them (each r's bits tested, pairs_batch), else after
+// the chunk is evaluated (a NaN or infinity only makes NaNs there: pieces
+// are chosen by comparisons), from cache: checked first, the check waited
+// on memory the evaluation then found in cache, where the evaluation alone
+// overlaps its reads with its arithmetic (20-28 % of a batch of 10^6
+// points on AVX2, Zen 1); after, it still re-read each chunk from L2 (13 %
+// of Wendland C4's fast batch of 10^6 on Zen 4). Where some r was not
+// finite the chunk's coordinates are checked, to name the bad one (a huge
+// finite x whose r overflows passes: W = grad W = 0). A bad value leaves
+// the outputs unspecified, as StaticKernel::pairs does.
 void pairs(const Plan& plan, Precision pr, const std::span<const double>* x, const Smoothing& s, double* w,
            const std::span<double>* grad, std::size_t n) {
     const int dim = plan.table->dim;
@@ -2004,9 +2020,10 @@ void pairs(const Plan& plan, Precision pr, const std::span<const double>* x, con
         std::span<const double> xc[3];
         std::span<double> gc[3];
         for (int c = 0; c < dim; ++c) xc[c] = x[c].subspan(start, m), gc[c] = grad[c].subspan(start, m);
-        if (pr == Precision::accurate) pairs_batch<Precision::accurate>(plan, xc, s, w + start, gc, m);
-        else pairs_batch<Precision::fast>(plan, xc, s, w + start, gc, m);
-        for (int c = 0; c < dim; ++c) check_coordinates(xc[c], c);
+        const bool tested = pr == Precision::accurate ? pairs_batch<Precision::accurate>(plan, xc, s, w + start, gc, m)
+                                                      : pairs_batch<Precision::fast>(plan, xc, s, w + start, gc, m);
+        if (!tested)
+            for (int c = 0; c < dim; ++c) check_coordinates(xc[c], c);
     }
 }
 
