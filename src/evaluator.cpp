@@ -468,13 +468,18 @@ MOLLIFY_INLINE double fast_whole_at(const double* k, double r, double edge, doub
 
 // ... at n radii in one pass from r.
 template <int N, int P, bool VarR, bool SupportEdge>
-MOLLIFY_FLATTEN void fast_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out, std::size_t n,
+MOLLIFY_FLATTEN bool fast_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out, std::size_t n,
                                       const Smoothing& smoothing, double scale) {
     const Smoothing s = smoothing;
     double k[N];
     for (int j = 0; j < N; ++j) k[j] = t.c[j];
     const double h = s.h(), inv_h = s.inverse(), edge = t.edge;
-    for (std::size_t i = 0; i < n; ++i) out[i] = fast_whole_at<N, P, VarR, SupportEdge>(k, r[i], edge, h, inv_h, s, scale);
+    std::uint64_t refused = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        refused |= not_a_radius(r[i]);
+        out[i] = fast_whole_at<N, P, VarR, SupportEdge>(k, r[i], edge, h, inv_h, s, scale);
+    }
+    return refused != 0;
 }
 
 // The fast fused loops: for the catalogue's shapes (term_shapes.hpp) of
@@ -1049,7 +1054,7 @@ MOLLIFY_INLINE double accurate_whole_at(const double* k, const double* l, const 
 
 // A whole quantity that is one term (fast_whole_fixed) in one pass from r.
 template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split>
-MOLLIFY_FLATTEN void accurate_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out,
+MOLLIFY_FLATTEN bool accurate_whole_fixed(const TermPlan& t, const double* __restrict r, double* __restrict out,
                                           std::size_t n, double h, double inv_h, DoubleDouble scale) {
     double k[N], l[N];
     const double* c = fused_coefficients(t);
@@ -1057,9 +1062,13 @@ MOLLIFY_FLATTEN void accurate_whole_fixed(const TermPlan& t, const double* __res
     const SplitArgs sp = split_args(t);
     const double edge = t.edge, edge_lo = t.edge_lo;
     const DoubleDouble ah = two_product(edge, h), whole = single_scale(t, scale);
-    for (std::size_t i = 0; i < n; ++i)
+    std::uint64_t refused = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        refused |= not_a_radius(r[i]);
         out[i] = accurate_whole_at<N, P, VarR, SupportEdge, Exact, Split>(k, l, sp, edge, edge_lo, ah, h, inv_h, r[i],
                                                                           accurate_radius(r[i], h, inv_h), whole);
+    }
+    return refused != 0;
 }
 
 // The fused loops of the listed shapes (term_shapes.hpp), compiled where
@@ -1070,8 +1079,8 @@ MOLLIFY_FLATTEN void accurate_whole_fixed(const TermPlan& t, const double* __res
 constexpr bool fused_loops = MOLLIFY_HAS_FMA;
 
 using AccurateTerm = void (*)(const TermPlan&, const AccurateBlock&, Fold, const DDs&, DDs&, double*);
-using AccurateWhole = void (*)(const TermPlan&, const double*, double*, std::size_t, double, double, DoubleDouble);
-using FastWhole = void (*)(const TermPlan&, const double*, double*, std::size_t, const Smoothing&, double);
+using AccurateWhole = bool (*)(const TermPlan&, const double*, double*, std::size_t, double, double, DoubleDouble);
+using FastWhole = bool (*)(const TermPlan&, const double*, double*, std::size_t, const Smoothing&, double);
 
 template <const TermShape& S>
 constexpr AccurateTerm accurate_term_loop =
@@ -1284,18 +1293,21 @@ struct SharedTerms {
 // A quantity of shared terms, 0 outside, at n radii in one pass from r:
 // radial_block's q, e, sum, scale and 0 beyond h for each point.
 template <const SharedShapes& S>
-MOLLIFY_FLATTEN void shared_whole_loop(const QuantityPlan& qp, const double* __restrict r, double* __restrict out,
+MOLLIFY_FLATTEN bool shared_whole_loop(const QuantityPlan& qp, const double* __restrict r, double* __restrict out,
                                        std::size_t n, const Smoothing& smoothing, double scale) {
     const Smoothing s = smoothing;
     const SharedTerms<S> t(qp);
     const double h = s.h(), inv_h = s.inverse();
+    std::uint64_t refused = 0;
     for (std::size_t i = 0; i < n; ++i) {
+        refused |= not_a_radius(r[i]);
         const double x = t.sum(r[i] * inv_h, edge_distance(h - r[i], s), r[i], h, inv_h, std::make_index_sequence<S.m>{});
         out[i] = select(r[i] <= h, x * scale, 0.0);
     }
+    return refused != 0;
 }
 
-using SharedWhole = void (*)(const QuantityPlan&, const double*, double*, std::size_t, const Smoothing&, double);
+using SharedWhole = bool (*)(const QuantityPlan&, const double*, double*, std::size_t, const Smoothing&, double);
 
 template <std::size_t... I>
 constexpr std::array<SharedWhole, sizeof...(I)> shared_whole_loops(std::index_sequence<I...>) {
@@ -1353,17 +1365,20 @@ struct AccurateSharedTerms : SharedTerms<S> {
 };
 
 template <const SharedShapes& S>
-MOLLIFY_FLATTEN void accurate_shared_loop(const QuantityPlan& qp, const double* __restrict r, double* __restrict out,
+MOLLIFY_FLATTEN bool accurate_shared_loop(const QuantityPlan& qp, const double* __restrict r, double* __restrict out,
                                           std::size_t n, const Smoothing& smoothing, DoubleDouble scale) {
     const double h = smoothing.h(), inv_h = smoothing.inverse();
     const AccurateSharedTerms<S> t(qp, h);
+    std::uint64_t refused = 0;
     for (std::size_t i = 0; i < n; ++i) {
+        refused |= not_a_radius(r[i]);
         const DoubleDouble y = t.sum(accurate_radius(r[i], h, inv_h), r[i], h, inv_h, std::make_index_sequence<S.m>{});
         out[i] = select(r[i] <= h, rounded_product_bounded(y, scale), 0.0);
     }
+    return refused != 0;
 }
 
-using AccurateShared = void (*)(const QuantityPlan&, const double*, double*, std::size_t, const Smoothing&, DoubleDouble);
+using AccurateShared = bool (*)(const QuantityPlan&, const double*, double*, std::size_t, const Smoothing&, DoubleDouble);
 
 template <std::size_t... I>
 constexpr std::array<AccurateShared, sizeof...(I)> accurate_shared_loops(std::index_sequence<I...>) {
@@ -1683,36 +1698,34 @@ bool sorted_by_piece(const QuantityPlan& qp, QuantityId q, int dim, Precision pr
 constexpr std::size_t few_points = 8;
 
 template <Precision Pr>
-void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s,
+bool radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s,
                   int dim) {
     if (n <= few_points) {
         for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
-        return;
+        return false;
     }
     if (sorted_by_piece(qp, q, dim, Pr)) {
         radial_by_piece<Pr>(qp, q, r, out, n, s, dim);
-        return;
+        return false;
     }
     if (!qp.polynomial_inside) {
         for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
-        return;
+        return false;
     }
     if (whole(qp, q, dim)) {
         const TermPlan& t = qp.inner.front().terms.front();
         const auto shape = static_cast<std::size_t>(qp.whole);
         if constexpr (Pr == Precision::accurate)
-            accurate_whole_of[shape](t, r, out, n, s.h(), s.inverse(), {s.scale(q), s.scale_lo(q)});
+            return !accurate_whole_of[shape](t, r, out, n, s.h(), s.inverse(), {s.scale(q), s.scale_lo(q)});
         else
-            fast_whole_of[shape](t, r, out, n, s, s.scale(q));
-        return;
+            return !fast_whole_of[shape](t, r, out, n, s, s.scale(q));
     }
     if (shared_one_pass(qp, q, dim, Pr)) {
         const auto shapes = static_cast<std::size_t>(qp.shared_fused);
         if constexpr (Pr == Precision::accurate)
-            accurate_shared_of[shapes](qp, r, out, n, s, {s.scale(q), s.scale_lo(q)});
+            return !accurate_shared_of[shapes](qp, r, out, n, s, {s.scale(q), s.scale_lo(q)});
         else
-            shared_whole_of[shapes](qp, r, out, n, s, s.scale(q));
-        return;
+            return !shared_whole_of[shapes](qp, r, out, n, s, s.scale(q));
     }
     std::size_t i = 0;
     for (; i + B <= n; i += B) radial_block<Pr>(qp, q, r + i, out + i, s, dim);
@@ -1724,39 +1737,49 @@ void radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
         radial_block<Pr>(qp, q, rb, ob, s, dim);
         for (std::size_t j = i; j < n; ++j) out[j] = ob[j - i];
     }
+    return false;
 }
 
+// Returns whether the radii were all tested as they were read and found
+// valid (radial_batch's one-pass loops); else the caller checks them.
 template <Precision Pr>
-void evaluate_batch(const Plan& plan, QuantityId q, const double* __restrict r, double* __restrict out, std::size_t n,
+bool evaluate_batch(const Plan& plan, QuantityId q, const double* __restrict r, double* __restrict out, std::size_t n,
                     const Smoothing& smoothing) {
     const Smoothing s = smoothing;
     const QuantityPlan& qp = plan.quantities[static_cast<std::size_t>(q)];
     const int dim = plan.table->dim;
-    radial_batch<Pr>(qp, q, r, out, n, s, dim);
+    const bool tested = radial_batch<Pr>(qp, q, r, out, n, s, dim);
     // A singular quantity is its limit where its terms give NaN (StaticKernel::emitted).
     if (qp.singular_at_origin)
         for (std::size_t i = 0; i < n; ++i)
             if (std::isnan(out[i])) out[i] = qp.at_origin;
+    return tested;
 }
 
-// Points per checked chunk (Evaluator::evaluate): few enough that the
-// next chunk's radii, prefetched while this one is evaluated, are in L1
-// when it is checked; more where the points are sorted into their pieces
-// (radial_by_piece pads each piece's last block of every chunk).
+// Points per checked chunk (Evaluator::evaluate): few enough that a chunk
+// is still in L1 when it is checked after its evaluation; more where the
+// points are sorted into their pieces (radial_by_piece pads each piece's
+// last block of every chunk).
 std::size_t radii_chunk(const QuantityPlan& qp, QuantityId q, int dim, Precision pr) {
     return sorted_by_piece(qp, q, dim, pr) ? 64 * B : 8 * B;
 }
 
+// Each chunk's radii checked as they are evaluated where radial_batch's
+// one-pass loops take them (each r's bits tested, as StaticKernel's
+// loops do), else just after the chunk is evaluated, from L1 (a NaN,
+// infinite or negative r makes no more than NaNs or wrong numbers there:
+// pieces are chosen by comparisons). Only where some r was refused is the
+// chunk read again, to name it. A bad value leaves the outputs
+// unspecified, as StaticKernel::evaluate does.
 void evaluate(const Plan& plan, Precision pr, QuantityId q, const double* r, double* out, std::size_t n,
               const Smoothing& s) {
     const std::size_t chunk = radii_chunk(plan.quantities[static_cast<std::size_t>(q)], q, plan.table->dim, pr);
     for (std::size_t start = 0; start < n; start += chunk) {
         const std::size_t m = std::min(chunk, n - start);
-        const std::size_t ahead = std::min(chunk, n - start - m);
-        for (std::size_t i = 0; i < ahead; i += 8) __builtin_prefetch(r + start + m + i, 0, 3);
-        check_radii({r + start, m});
-        if (pr == Precision::accurate) evaluate_batch<Precision::accurate>(plan, q, r + start, out + start, m, s);
-        else evaluate_batch<Precision::fast>(plan, q, r + start, out + start, m, s);
+        const bool tested = pr == Precision::accurate
+                                ? evaluate_batch<Precision::accurate>(plan, q, r + start, out + start, m, s)
+                                : evaluate_batch<Precision::fast>(plan, q, r + start, out + start, m, s);
+        if (!tested) check_radii({r + start, m});
     }
 }
 

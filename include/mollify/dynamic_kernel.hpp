@@ -44,7 +44,8 @@ public:
 
     // f_h at n radii (checked: finite r >= 0; h checked by Smoothing). The
     // radii are checked a chunk at a time as they are evaluated: on a bad
-    // one, an Error naming it, and out holds the values of the chunks before.
+    // one, an Error naming it; out then holds the values of the chunks
+    // before and unspecified values in the bad one's chunk.
     void evaluate(QuantityId q, std::span<const double> r, const Smoothing& s, std::span<double> out) const;
     void evaluate(QuantityId q, std::span<const double> r, double h, std::span<double> out) const {
         evaluate(q, r, smoothing(h), out);
