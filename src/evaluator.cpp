@@ -1136,11 +1136,11 @@ MOLLIFY_FLATTEN bool whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
     const DoubleDouble v_scale_dd = single_scale(v, {v_scale, s.scale_lo(QuantityId::value)}),
                        g_scale_dd = single_scale(g, {g_scale, s.scale_lo(QuantityId::grad_over_r)});
     const DoubleDouble v_ah = two_product(v_edge, h), g_ah = two_product(g_edge, h);
-    std::uint64_t unfinished = 0;
+    std::uint64_t suspect = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const double a = x0[i], b = x1[i];
         const double r = std::sqrt(mul_add(x2[i], x2[i], mul_add(b, b, a * a)));
-        unfinished |= not_finite(r);
+        suspect |= not_finite(r);
         double wi, gi;
         if constexpr (Pr == Precision::fast) {
             wi = fast_whole_at<VN, VP, VR, VE>(vk, r, v_edge, h, inv_h, s, v_scale);
@@ -1155,7 +1155,7 @@ MOLLIFY_FLATTEN bool whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
         g1[i] = gi * b;
         g2[i] = gi * x2[i];
     }
-    return unfinished != 0;
+    return suspect != 0;
 }
 
 using WholePairs = bool (*)(const TermPlan&, const TermPlan&, const double*, const double*, const double*, double*, double*,
@@ -1410,11 +1410,11 @@ MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const Quantit
     const double v_scale = s.scale(QuantityId::value), g_scale = s.scale(QuantityId::grad_over_r);
     const DoubleDouble v_scale_dd{v_scale, s.scale_lo(QuantityId::value)},
         g_scale_dd{g_scale, s.scale_lo(QuantityId::grad_over_r)};
-    std::uint64_t unfinished = 0;
+    std::uint64_t suspect = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const double a = x0[i], b = x1[i];
         const double r = std::sqrt(mul_add(x2[i], x2[i], mul_add(b, b, a * a)));
-        unfinished |= not_finite(r);
+        suspect |= not_finite(r);
         double wi, gi;
         if constexpr (Pr == Precision::fast) {
             const double q = r * inv_h, e = edge_distance(h - r, s);
@@ -1432,7 +1432,7 @@ MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const Quantit
         g1[i] = gi * b;
         g2[i] = gi * x2[i];
     }
-    return unfinished != 0;
+    return suspect != 0;
 }
 
 using SharedPairs = bool (*)(const QuantityPlan&, const QuantityPlan&, const double*, const double*, const double*,
@@ -1866,7 +1866,8 @@ void accurate_pairs_block_by_piece(const QuantityPlan& value, const QuantityPlan
 // A 3D pair loop loop(x0, x1, x2, w, g0, g1, g2, m) run on D = 2 or 3
 // displacements: 2D with x2 = 0 (fma(0, 0, y) = y, the same r, and half
 // the instantiations), its gradient component dropped. Whether some r was
-// not finite (the loops' flag).
+// not finite (the loops' flag: a coordinate to check, or a huge finite
+// displacement whose r overflowed).
 template <class Loop>
 bool in_3d(const std::span<const double>* x, int dim, double* w, const std::span<double>* grad, std::size_t n,
            const Loop& loop) {
@@ -1874,11 +1875,11 @@ bool in_3d(const std::span<const double>* x, int dim, double* w, const std::span
     constexpr std::size_t chunk = 8 * B;
     static constexpr double no_x2[chunk] = {};
     double dropped[chunk];
-    bool unfinished = false;
+    bool suspect = false;
     for (std::size_t start = 0; start < n; start += chunk)
-        unfinished |= loop(x[0].data() + start, x[1].data() + start, no_x2, w + start, grad[0].data() + start,
-                           grad[1].data() + start, dropped, std::min(chunk, n - start));
-    return unfinished;
+        suspect |= loop(x[0].data() + start, x[1].data() + start, no_x2, w + start, grad[0].data() + start,
+                        grad[1].data() + start, dropped, std::min(chunk, n - start));
+    return suspect;
 }
 
 // Returns whether the displacements were all tested as they were read and
