@@ -1883,9 +1883,11 @@ bool in_3d(const std::span<const double>* x, int dim, double* w, const std::span
 }
 
 // Returns whether the displacements were all tested as they were read and
-// found finite: the one-pass loops test each r (a NaN or infinite
-// coordinate makes r = sqrt(sum of squares) NaN or infinite, as in
-// StaticKernel's pair loop); the other paths leave the check to the caller.
+// found finite: a NaN or infinite coordinate makes r = sqrt(sum of
+// squares) (|x_0| in 1D) NaN or infinite, as in StaticKernel's pair loop,
+// and the one-pass loops test each r they compute or read (radial_batch's
+// as radii); the other paths (the fast blocks, the accurate sort into
+// pieces) leave the check to the caller.
 template <Precision Pr>
 bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoothing& smoothing, double* __restrict w,
                  const std::span<double>* grad, std::size_t n) {
@@ -1926,11 +1928,11 @@ bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         lengths.resize(n);
         over.resize(n);
         radii(x, dim, 0, n, lengths.data());
-        radial_batch<Pr>(value, QuantityId::value, lengths.data(), w, n, s, dim);
-        radial_batch<Pr>(over_r, QuantityId::grad_over_r, lengths.data(), over.data(), n, s, dim);
+        const bool value_tested = radial_batch<Pr>(value, QuantityId::value, lengths.data(), w, n, s, dim);
+        const bool over_r_tested = radial_batch<Pr>(over_r, QuantityId::grad_over_r, lengths.data(), over.data(), n, s, dim);
         for (int c = 0; c < dim; ++c)
             for (std::size_t i = 0; i < n; ++i) grad[c][i] = over[i] * x[c][i];
-        return false;
+        return value_tested || over_r_tested;  // the same radii: either test covers them
     }
     // (Both quantities one pass from r each, whole or a combination's shared
     // terms: the chunks below.)
@@ -1990,6 +1992,7 @@ bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     const bool one_sort = plain && Pr == Precision::accurate && accurate_pairs_by_piece(value, over_r, dim);
     const QuantityPlan& slope = cusp ? dr : over_r;
     const QuantityId slope_id = cusp ? QuantityId::dr : QuantityId::grad_over_r;
+    bool tested = !one_sort;  // every chunk's radii tested by one of its radial_batch loops
     for (std::size_t start = 0; start < n; start += chunk) {
         const std::size_t m = std::min(chunk, n - start);
         radii(x, dim, start, m, r);
@@ -1998,8 +2001,9 @@ bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
             continue;
         }
         double* __restrict wc = w + start;
-        radial_batch<Pr>(value, QuantityId::value, r, wc, m, s, dim);
-        radial_batch<Pr>(slope, slope_id, r, g, m, s, dim);
+        const bool value_tested = radial_batch<Pr>(value, QuantityId::value, r, wc, m, s, dim);
+        const bool slope_tested = radial_batch<Pr>(slope, slope_id, r, g, m, s, dim);
+        tested = tested && (value_tested || slope_tested);
         if (plain) {
             for (int c = 0; c < dim; ++c) times(g, x[c].data() + start, grad[c].data() + start, m);
             continue;
@@ -2017,7 +2021,7 @@ bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
             }
         }
     }
-    return false;
+    return tested;
 }
 
 // Displacements per checked chunk (Evaluator::pairs): x still in L2 when
