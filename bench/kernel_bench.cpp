@@ -457,6 +457,52 @@ void register_potentials(const char* label) {
     }
 }
 
+// The checked scalar forms, one call per radius, as code that has no batch
+// at hand calls them: W::value(r, h) and the run-time form's k.value(r, h)
+// take h per call (Smoothing::reused keeps this thread's last Smoothing per
+// D), against radial(r, s) with the caller's own Smoothing, and with h
+// alternating between two lengths (each call then makes its Smoothing).
+template <const Kernel& K>
+void register_scalar(const char* label) {
+    using W = mollify::StaticKernel<K>;
+    const mollify::Kernel runtime(K);
+    const acc::Reference ref(K.spec, 3);
+    const acc::ExactValues ew = acc::exact_values(ref, QuantityId::value, sample().points);
+    const double e = acc::measure(ew, [](double r, double hh) { return W::value(r, hh); }, sample().points).max_ulp;
+    const Errors value_only{e, -1};
+    constexpr std::size_t n = 4096;
+    const std::string base = std::string("W-scalar/") + label + "/";
+    auto reg = [&](const std::string& name, auto fn) {
+        benchmark::RegisterBenchmark((base + name + batch_suffix(n)).c_str(), fn)->Unit(benchmark::kMicrosecond);
+    };
+    reg("static-checked", [value_only](benchmark::State& st) {
+        Data& d = data(n);
+        timed(st, n, 0, value_only, [&] {
+            for (std::size_t i = 0; i < n; ++i) d.w[i] = W::value(d.r[i], h);
+        });
+    });
+    reg("static-smoothing", [value_only](benchmark::State& st) {
+        Data& d = data(n);
+        const Smoothing s = W::smoothing(h);
+        timed(st, n, 0, value_only, [&] {
+            for (std::size_t i = 0; i < n; ++i) d.w[i] = W::template radial<QuantityId::value>(d.r[i], s);
+        });
+    });
+    reg("static-checked-two-h", [value_only](benchmark::State& st) {
+        Data& d = data(n);
+        const double lengths[2] = {h, std::nextafter(h, 2 * h)};
+        timed(st, n, 0, value_only, [&] {
+            for (std::size_t i = 0; i < n; ++i) d.w[i] = W::value(d.r[i], lengths[i & 1]);
+        });
+    });
+    reg("runtime-checked", [value_only, runtime](benchmark::State& st) {
+        Data& d = data(n);
+        timed(st, n, 0, value_only, [&] {
+            for (std::size_t i = 0; i < n; ++i) d.w[i] = runtime.value(d.r[i], h);
+        });
+    });
+}
+
 // ---- Markdown ----
 
 using mollify::bench::Collector;
@@ -549,6 +595,7 @@ int main(int argc, char** argv) {
     register_forms<tables::wendland_missing_k_1_D3>("wendland-missing:k=1");
     register_potentials<tables::mollifier_M_4_D3>("mollifier:M=4");
     register_potentials<tables::wendland_k_2_D3>("wendland:k=2");
+    register_scalar<tables::wendland_k_2_D3>("wendland:k=2");
     Collector collector;
     benchmark::RunSpecifiedBenchmarks(&collector);
     if (!md.empty()) write_markdown(md, collector.runs());

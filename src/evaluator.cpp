@@ -1697,9 +1697,26 @@ bool sorted_by_piece(const QuantityPlan& qp, QuantityId q, int dim, Precision pr
 // block per point.
 constexpr std::size_t few_points = 8;
 
+// The one-pass loops take any n, one point included (a checked scalar call,
+// k(q, r, h)): the scalar path interprets the plan's terms, ~5x their time.
 template <Precision Pr>
 bool radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n, const Smoothing& s,
                   int dim) {
+    if (qp.polynomial_inside && whole(qp, q, dim)) {
+        const TermPlan& t = qp.inner.front().terms.front();
+        const auto shape = static_cast<std::size_t>(qp.whole);
+        if constexpr (Pr == Precision::accurate)
+            return !accurate_whole_of[shape](t, r, out, n, s.h(), s.inverse(), {s.scale(q), s.scale_lo(q)});
+        else
+            return !fast_whole_of[shape](t, r, out, n, s, s.scale(q));
+    }
+    if (qp.polynomial_inside && shared_one_pass(qp, q, dim, Pr)) {
+        const auto shapes = static_cast<std::size_t>(qp.shared_fused);
+        if constexpr (Pr == Precision::accurate)
+            return !accurate_shared_of[shapes](qp, r, out, n, s, {s.scale(q), s.scale_lo(q)});
+        else
+            return !shared_whole_of[shapes](qp, r, out, n, s, s.scale(q));
+    }
     if (n <= few_points) {
         for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
         return false;
@@ -1711,21 +1728,6 @@ bool radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
     if (!qp.polynomial_inside) {
         for (std::size_t i = 0; i < n; ++i) out[i] = radial<Pr>(qp, q, r[i], s, dim);
         return false;
-    }
-    if (whole(qp, q, dim)) {
-        const TermPlan& t = qp.inner.front().terms.front();
-        const auto shape = static_cast<std::size_t>(qp.whole);
-        if constexpr (Pr == Precision::accurate)
-            return !accurate_whole_of[shape](t, r, out, n, s.h(), s.inverse(), {s.scale(q), s.scale_lo(q)});
-        else
-            return !fast_whole_of[shape](t, r, out, n, s, s.scale(q));
-    }
-    if (shared_one_pass(qp, q, dim, Pr)) {
-        const auto shapes = static_cast<std::size_t>(qp.shared_fused);
-        if constexpr (Pr == Precision::accurate)
-            return !accurate_shared_of[shapes](qp, r, out, n, s, {s.scale(q), s.scale_lo(q)});
-        else
-            return !shared_whole_of[shapes](qp, r, out, n, s, s.scale(q));
     }
     std::size_t i = 0;
     for (; i + B <= n; i += B) radial_block<Pr>(qp, q, r + i, out + i, s, dim);

@@ -4,8 +4,11 @@
 #include <mollify/smoothing.hpp>
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 
 namespace mollify {
 
@@ -65,6 +68,18 @@ Smoothing::Smoothing(double h, int dim) : h_(h), dim_(dim) {
         scale_lo_[q] = p.lo;
     }
     if (dim == 2) log_h_ = std::log(h);  // the 2D potential's; log_h() forms it for the others
+}
+
+const Smoothing& Smoothing::reused(double h, int dim) {
+    if (dim < 1 || dim > 3) detail::fail_dimension(dim);
+    // One per dimension, so that kernels of several D in one loop each keep theirs.
+    thread_local std::array<std::optional<Smoothing>, 3> last;
+    std::optional<Smoothing>& kept = last[static_cast<std::size_t>(dim - 1)];
+    if (!kept || std::bit_cast<std::uint64_t>(kept->h_) != std::bit_cast<std::uint64_t>(h)) {
+        kept.reset();  // a bad h throws below and leaves nothing kept
+        kept.emplace(h, dim);
+    }
+    return *kept;
 }
 
 }  // namespace mollify

@@ -17,7 +17,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <limits>
 #include <memory>
@@ -25,6 +27,8 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <thread>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -407,6 +411,59 @@ void expect_batches_name_bad_input() {
     r[5] = -0.0;
     W::template evaluate<QuantityId::value>(r, W::smoothing(0.5), out);
     EXPECT_EQ(out[5], W::value(0.0, 0.5)) << where;
+}
+
+// Smoothing::reused, which the checked scalar forms call per call: every
+// field bit for bit Smoothing(h, dim)'s, through repeats, h one ulp apart,
+// alternating dimensions and refused lengths (which keep nothing); and the
+// checked forms of both kernels equal to the form with a Smoothing made for
+// that h, also with h changing between calls and on two threads at once.
+bool same_smoothing(const mollify::Smoothing& a, const mollify::Smoothing& b) {
+    auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+    bool same = bits(a.h()) == bits(b.h()) && bits(a.inverse()) == bits(b.inverse()) && a.dim() == b.dim() &&
+                bits(a.log_h()) == bits(b.log_h());
+    for (int q = 0; q < mollify::table::quantity_count; ++q) {
+        const auto id = static_cast<QuantityId>(q);
+        same = same && bits(a.scale(id)) == bits(b.scale(id)) && bits(a.scale_lo(id)) == bits(b.scale_lo(id));
+    }
+    return same;
+}
+
+TEST(Smoothing, ReusedIsTheSmoothingOfThisH) {
+    const double up = std::nextafter(1.0, 2.0), third = 1.0 / 3;
+    const std::pair<double, int> calls[] = {{1.0, 3}, {1.0, 3}, {up, 3}, {1.0, 3}, {1.0, 2}, {up, 3}, {third, 1},
+                                            {1.0, 2}, {third, 3}, {2.5e-30, 3}, {2.5e-30, 2}, {1.0, 3}, {1.0, 1}};
+    for (const auto& [h, dim] : calls)
+        EXPECT_TRUE(same_smoothing(mollify::Smoothing::reused(h, dim), mollify::Smoothing(h, dim))) << "h " << h << " D" << dim;
+    // A refused length names itself and leaves nothing behind.
+    for (const double bad : {0.0, -1.0, not_a_number, inf, 1e300}) {
+        mollify::Smoothing::reused(0.5, 3);
+        expect_error([&] { mollify::Smoothing::reused(bad, 3); }, "smoothing length h = ");
+        EXPECT_TRUE(same_smoothing(mollify::Smoothing::reused(0.5, 3), mollify::Smoothing(0.5, 3))) << "after h " << bad;
+    }
+    expect_error([] { mollify::Smoothing::reused(1.0, 4); }, "dimension 4");
+    expect_error([] { mollify::Smoothing::reused(1.0, 0); }, "dimension 0");
+
+    using W = mollify::StaticKernel<tables::wendland_k_2_D3>;
+    const mollify::Kernel runtime(tables::wendland_k_2_D3);
+    const double r = 0.4;
+    for (const double h : {1.0, up, 1.0, 0.5, 0.5, std::nextafter(0.5, 0.0), 1.0}) {
+        const mollify::Smoothing s(h, 3);
+        EXPECT_EQ(W::value(r, h), W::radial<QuantityId::value>(r, s)) << "h " << h;
+        EXPECT_EQ(W::potential(r, h), W::radial<QuantityId::potential>(r, s)) << "h " << h;
+        EXPECT_EQ(W::value(mollify::Vector<3>{r, 0, 0}, h), W::value(mollify::Vector<3>{r, 0, 0}, s)) << "h " << h;
+        EXPECT_EQ(runtime.value(r, h), W::radial<QuantityId::value>(r, s)) << "h " << h;
+    }
+    // Two threads, each its own h: a memo shared between them would race.
+    auto worker = [&](double h, int& wrong) {
+        const double expected = W::radial<QuantityId::value>(r, mollify::Smoothing(h, 3));
+        for (int k = 0; k < 20000; ++k) wrong += W::value(r, h) != expected;
+    };
+    int wrong_a = 0, wrong_b = 0;
+    std::thread a(worker, 0.5, std::ref(wrong_a)), b(worker, 0.75, std::ref(wrong_b));
+    a.join();
+    b.join();
+    EXPECT_EQ(wrong_a + wrong_b, 0);
 }
 
 TEST(Runtime, BatchesNameTheBadInput) {

@@ -53,7 +53,7 @@ public:
 
     double operator()(QuantityId q, double r, double h) const {
         double out = 0;
-        evaluate(q, std::span<const double>(&r, 1), h, std::span<double>(&out, 1));
+        evaluate(q, std::span<const double>(&r, 1), Smoothing::reused(h, dim()), std::span<double>(&out, 1));
         return out;
     }
     double value(double r, double h) const { return (*this)(QuantityId::value, r, h); }

@@ -182,7 +182,7 @@ public:
     static double radial(double r, double h) {
         require_potential<Q>();
         detail::check_radius(r);
-        return radial<Q>(r, smoothing(h));
+        return radial<Q>(r, Smoothing::reused(h, dimension));
     }
     static double value(double r, double h) { return radial<QuantityId::value>(r, h); }
     static double dr(double r, double h) { return radial<QuantityId::dr>(r, h); }
@@ -237,13 +237,13 @@ public:
     }
 
     // Checked vector forms.
-    static double value(const Vector<dimension>& x, double h) { return value(checked(x), smoothing(h)); }
-    static Vector<dimension> gradient(const Vector<dimension>& x, double h) { return gradient(checked(x), smoothing(h)); }
-    static Pair<dimension> pair(const Vector<dimension>& x, double h) { return pair(checked(x), smoothing(h)); }
-    static Matrix<dimension> hessian(const Vector<dimension>& x, double h) { return hessian(checked(x), smoothing(h)); }
-    static double potential(const Vector<dimension>& x, double h) { return potential(checked(x), smoothing(h)); }
+    static double value(const Vector<dimension>& x, double h) { return value(checked(x), Smoothing::reused(h, dimension)); }
+    static Vector<dimension> gradient(const Vector<dimension>& x, double h) { return gradient(checked(x), Smoothing::reused(h, dimension)); }
+    static Pair<dimension> pair(const Vector<dimension>& x, double h) { return pair(checked(x), Smoothing::reused(h, dimension)); }
+    static Matrix<dimension> hessian(const Vector<dimension>& x, double h) { return hessian(checked(x), Smoothing::reused(h, dimension)); }
+    static double potential(const Vector<dimension>& x, double h) { return potential(checked(x), Smoothing::reused(h, dimension)); }
     static Vector<dimension> potential_gradient(const Vector<dimension>& x, double h) {
-        return potential_gradient(checked(x), smoothing(h));
+        return potential_gradient(checked(x), Smoothing::reused(h, dimension));
     }
 
     // Batch forms over contiguous arrays, checked in the pass that
@@ -268,7 +268,7 @@ public:
     // f_h at one radius, checked, as mollify::Kernel's operator().
     double operator()(QuantityId q, double r, double h) const {
         double out = 0;
-        evaluate(q, std::span<const double>(&r, 1), smoothing(h), std::span<double>(&out, 1));
+        evaluate(q, std::span<const double>(&r, 1), Smoothing::reused(h, dimension), std::span<double>(&out, 1));
         return out;
     }
 
