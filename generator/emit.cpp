@@ -24,7 +24,7 @@ Tables rounded_tables(const KernelFacts& f) {
     for (int i = 0; i < table::quantity_count; ++i)
         tables.push_back(rounded_quantity(quantity_of(f, i), table::is_potential(static_cast<table::QuantityId>(i)),
                                           parts_of(f, i)));
-    return tables;
+    return with_one_split_grid(std::move(tables));
 }
 
 namespace {

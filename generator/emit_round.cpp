@@ -103,20 +103,30 @@ L derivative_value(const std::vector<L>& m, L x) {
 // FMA, those of q - qa and of q, which enters up to n - 1 times), and
 // |d| <= |q - qa| p'(q + 2^-(s+1)) (p' increases: m_k >= 0). That must stay
 // below 2^-62 of p(q) on the piece (p increases too): on 64 parts [a, b] of
-// it, the bound at b against p(a). |q - qa| <= 2^-(s+1) + u xa (qa is the
-// rounded q's neighbour on the grid; the rounding of q itself enters
-// through Scaled::dq).
+// it, the bound at b against p(a). |q - qa| <= 2^-(s+1) + 2 u xa (qa is the
+// evaluated q's neighbour on the grid, and q = r/h enters as r (1/h) rounded
+// plus its residual, at most ~2 ulp: detail::AccurateRadius).
 bool remainder_small(const std::vector<L>& m, L lo, L hi, L xa, int s) {
     const int n = static_cast<int>(m.size());
     const L half_grid = std::ldexp(L{1}, -(s + 1)), step = (hi - lo) / 64;
     const L gamma = (4 * n + 4) * unit / (1 - (4 * n + 4) * unit);
-    const L reach = (half_grid + unit * xa) * margin;
+    const L reach = (half_grid + 2 * unit * xa) * margin;
     for (int j = 0; j < 64; ++j) {
         const L a = (lo + j * step) / margin, b = j == 63 ? hi : (lo + (j + 1) * step) * margin;
         const L error = gamma * reach * derivative_value(m, (b + half_grid) * margin) * margin;
         if (error > std::ldexp(horner_value(m, a) / margin, -62)) return false;
     }
     return true;
+}
+
+// Is a split of s bits exact and its remainder bounded for the integers m
+// on [0, edge] (split_of's two proofs, from the term as rounded)?
+bool split_holds(const std::vector<double>& m, double edge, int s) {
+    const int n = static_cast<int>(m.size());
+    if (n < 2 || !table::split_is_exact(m.data(), n, edge, s)) return false;
+    const std::vector<L> ml(m.begin(), m.end());  // integers below 2^53: exact
+    const L hi_l = static_cast<L>(edge) * margin;
+    return remainder_small(ml, L{0}, hi_l, (hi_l + std::ldexp(L{1}, -s)) * margin, s);
 }
 }  // namespace
 
@@ -229,6 +239,22 @@ std::optional<std::vector<RoundedPiece>> rounded_quantity(const Radial* f, bool 
         out.push_back(std::move(p));
     }
     return out;
+}
+
+std::vector<std::optional<std::vector<RoundedPiece>>> with_one_split_grid(
+    std::vector<std::optional<std::vector<RoundedPiece>>> tables) {
+    int finest = 0;  // the coarsest of the terms' own grids
+    for (const auto& q : tables)
+        if (q)
+            for (const RoundedPiece& p : *q)
+                for (const RoundedTerm& t : p.terms)
+                    if (t.split > 0) finest = finest == 0 ? t.split : std::min(finest, t.split);
+    for (auto& q : tables)
+        if (q)
+            for (RoundedPiece& p : *q)
+                for (RoundedTerm& t : p.terms)
+                    if (t.split > finest && split_holds(t.m, t.edge, finest)) t.split = finest;
+    return tables;
 }
 
 }  // namespace mollify::gen

@@ -58,4 +58,15 @@ struct RoundedPiece {
 std::optional<std::vector<RoundedPiece>> rounded_quantity(const Radial* f, bool potential_like,
                                                           const std::vector<Radial>& parts);
 
+// One split grid for all of a kernel's split terms (every quantity and
+// piece): the coarsest of their own grids, for each term where both of
+// split_of's proofs still hold there (else it keeps its own). A coarser grid
+// only widens q - qa. The grid rounding of q, (q + C) - C and q - qa, is then
+// the same operations in every term, and an evaluation of several terms or
+// quantities at one q (W and grad W in a pair loop, a combination's terms,
+// a potential and its derivative) does them once: the compiler merges them
+// (W + grad W of Wendland C4: 4 of the accurate precision's 64 operations).
+std::vector<std::optional<std::vector<RoundedPiece>>> with_one_split_grid(
+    std::vector<std::optional<std::vector<RoundedPiece>>> tables);
+
 }  // namespace mollify::gen

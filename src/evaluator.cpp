@@ -227,13 +227,13 @@ DoubleDouble content_times(const TermPlan& t, const DoubleDouble& scale) {
 
 DoubleDouble accurate_polynomial(const TermPlan& t, const Scaled& a) {
     if (t.n == 1) return {t.c[0], t.c_lo[0]};
-    if (t.split > 0) return split_horner(t.m.data(), t.n, t.split_c, t.content, t.content_lo, a.q, a.dq);
+    if (t.split > 0) return split_horner(t.m.data(), t.n, t.split_c, t.content, t.content_lo, a.qq.hi, a.qq.lo);
     if (t.var == table::Var::shifted) {
         const DoubleDouble v = shifted_dd(a, t.centre, t.centre_lo);
         return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, v.hi, v.lo, t.plain);
     }
-    if (t.var == table::Var::r) return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.q, a.dq, t.plain);
-    return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.q * a.q, a.dq2, t.plain);
+    if (t.var == table::Var::r) return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.qq.hi, a.qq.lo, t.plain);
+    return compensated_horner(t.c, t.c_lo.data(), t.n, t.exact, a.qq.hi * a.qq.hi, a.dq2, t.plain);
 }
 
 DoubleDouble accurate_term(const TermPlan& t, const Scaled& a, const DoubleDouble& factor) {
@@ -258,7 +258,7 @@ double accurate_piece(const PiecePlan& p, const Scaled& a) {
         DoubleDouble factor{1.0, 0.0};
         if (t.has_factor) factor = factor_dd(t, a);
         if (content_in_scale(t))
-            return rounded_product(factor * split_sum(t.m.data(), t.n, t.split_c, a.q, a.dq), content_times(t, a.scale));
+            return rounded_product(factor * split_sum(t.m.data(), t.n, t.split_c, a.qq.hi, a.qq.lo), content_times(t, a.scale));
         return rounded_product(accurate_term(t, a, factor), a.scale);
     }
     DoubleDouble sum{0.0, 0.0}, previous{1.0, 0.0};
@@ -826,7 +826,7 @@ void fast_piece_block(const PiecePlan& p, const FastBlock& a, double* sum) {
 }
 
 struct AccurateBlock {
-    double q[B], e[B], r[B], dq[B], dq2[B];
+    double q[B], e[B], r[B], dq2[B];
     DDs qq, ee;
     double h, inv_h;
     DoubleDouble scale;
@@ -924,8 +924,8 @@ void compensated_horner_block(const double* c, const double* lo, int n, bool exa
 void accurate_polynomial_block(const TermPlan& t, const AccurateBlock& a, DDs& out, bool raw = false) {
     if (t.split > 0) {
         for (std::size_t i = 0; i < B; ++i) {
-            const DoubleDouble x = raw ? split_sum(t.m.data(), t.n, t.split_c, a.q[i], a.dq[i])
-                                       : split_horner(t.m.data(), t.n, t.split_c, t.content, t.content_lo, a.q[i], a.dq[i]);
+            const DoubleDouble x = raw ? split_sum(t.m.data(), t.n, t.split_c, a.qq.hi[i], a.qq.lo[i])
+                                       : split_horner(t.m.data(), t.n, t.split_c, t.content, t.content_lo, a.qq.hi[i], a.qq.lo[i]);
             out.hi[i] = x.hi, out.lo[i] = x.lo;
         }
         return;
@@ -938,9 +938,9 @@ void accurate_polynomial_block(const TermPlan& t, const AccurateBlock& a, DDs& o
             const DoubleDouble w = shifted_dd(s, t.centre, t.centre_lo);
             v[i] = w.hi, dv[i] = w.lo;
         } else if (t.var == table::Var::r) {
-            v[i] = a.q[i], dv[i] = a.dq[i];
+            v[i] = a.qq.hi[i], dv[i] = a.qq.lo[i];
         } else {
-            v[i] = a.q[i] * a.q[i], dv[i] = a.dq2[i];
+            v[i] = a.qq.hi[i] * a.qq.hi[i], dv[i] = a.dq2[i];
         }
     }
     compensated_horner_block(t.c, t.c_lo.data(), t.n, t.exact, v, dv, out, t.plain);
@@ -977,8 +977,8 @@ DoubleDouble single_scale(const TermPlan& t, const DoubleDouble& scale) {
 // (Raw: a split term's factor times p_m, its content left to the scale.)
 template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split, bool Raw = false>
 MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, const SplitArgs& sp, double edge, double edge_lo,
-                                             const DoubleDouble& ah, double h, double inv_h, double q, double dq,
-                                             double dq2, double r, const DoubleDouble& qq, const DoubleDouble& ee) {
+                                             const DoubleDouble& ah, double h, double inv_h, double dq2, double r,
+                                             const DoubleDouble& qq, const DoubleDouble& ee) {
     DoubleDouble factor{1.0, 0.0};
     if constexpr (P != 0) {
         DoubleDouble d = ee;
@@ -995,10 +995,10 @@ MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, c
     DoubleDouble x{k[0], l[0]};
     if constexpr (Split) {
         static_assert(VarR && N > 1);
-        const DoubleDouble p = split_sum(k, N, sp.c, q, dq);  // k holds m
+        const DoubleDouble p = split_sum(k, N, sp.c, qq.hi, qq.lo);  // k holds m
         x = Raw ? p : DoubleDouble{sp.content, sp.content_lo} * p;
     } else if constexpr (N > 1) {
-        const double v = VarR ? q : q * q, dv = VarR ? dq : dq2;
+        const double v = VarR ? qq.hi : qq.hi * qq.hi, dv = VarR ? qq.lo : dq2;
         double s = k[N - 1], error = l[N - 1], slope = 0;
         MOLLIFY_UNROLLED
         for (int j = N - 2; j >= 0; --j) {
@@ -1028,7 +1028,7 @@ MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock&
     const DoubleDouble ah = two_product(edge, h);
     auto term = [&]<bool Raw>(std::size_t i) {
         return accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, Raw>(
-            k, l, sp, edge, edge_lo, ah, h, inv_h, a.q[i], a.dq[i], a.dq2[i], a.r[i], {a.qq.hi[i], a.qq.lo[i]},
+            k, l, sp, edge, edge_lo, ah, h, inv_h, a.dq2[i], a.r[i], {a.qq.hi[i], a.qq.lo[i]},
             {a.ee.hi[i], a.ee.lo[i]});
     };
     if (fold == Fold::single) {
@@ -1048,7 +1048,7 @@ MOLLIFY_INLINE double accurate_whole_at(const double* k, const double* l, const 
                                         const DoubleDouble& ah, double h, double inv_h, double r, const AccurateRadius& x,
                                         const DoubleDouble& scale) {
     const DoubleDouble y = accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, true>(
-        k, l, sp, edge, edge_lo, ah, h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
+        k, l, sp, edge, edge_lo, ah, h, inv_h, x.dq2, r, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
     return select(r <= h, rounded_product_bounded(y, scale), 0.0);
 }
 
@@ -1246,7 +1246,7 @@ void accurate_piece_block(const PiecePlan& p, const AccurateBlock& a, double* ou
 void fill(AccurateBlock& a, const double* r) {
     for (std::size_t i = 0; i < B; ++i) {
         const AccurateRadius x = accurate_radius(r[i], a.h, a.inv_h);
-        a.q[i] = x.q, a.e[i] = x.ee_hi + x.ee_lo, a.r[i] = r[i], a.dq[i] = x.dq, a.dq2[i] = x.dq2;
+        a.q[i] = x.q, a.e[i] = x.ee_hi + x.ee_lo, a.r[i] = r[i], a.dq2[i] = x.dq2;
         a.qq.hi[i] = x.qq_hi, a.qq.lo[i] = x.qq_lo, a.ee.hi[i] = x.ee_hi, a.ee.lo[i] = x.ee_lo;
     }
 }
@@ -1357,7 +1357,7 @@ struct AccurateSharedTerms : SharedTerms<S> {
         auto add = [&](bool in, const DoubleDouble& t) { y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)}; };
         (add((x.q >= this->lo[J]) & (x.q < this->hi[J]),
              accurate_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge, false,
-                              S.terms[J].split>(km[J], l[J], sp[J], this->edge[J], edge_lo[J], ah[J], h, inv_h, x.q, x.dq, x.dq2, r, {x.qq_hi, x.qq_lo},
+                              S.terms[J].split>(km[J], l[J], sp[J], this->edge[J], edge_lo[J], ah[J], h, inv_h, x.dq2, r, {x.qq_hi, x.qq_lo},
                  {x.ee_hi, x.ee_lo})),
          ...);
         return y;

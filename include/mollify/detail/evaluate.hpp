@@ -48,9 +48,10 @@ struct Scaled {
     double r, h, inv_h;  // for the distance to an interior edge a: (a h - r)/h
     DoubleDouble qq{}, ee{};
     DoubleDouble scale{1.0, 0.0};  // Precision::accurate: h^p, multiplied into a piece before its rounding
-    // Precision::accurate: q - rounded(q) and q^2 - rounded(q^2), for the
-    // first-order correction p(v) + p'(v) dv of a polynomial in v = q, q^2.
-    double dq = 0, dq2 = 0;
+    // Precision::accurate: q^2 - rounded(qq.hi^2), for the first-order
+    // correction p(v) + p'(v) dv of a polynomial in v = q^2 (in v = q: v =
+    // qq.hi, dv = qq.lo).
+    double dq2 = 0;
 };
 
 // x/h to double-double accuracy, for x = x.hi + x.lo near a multiple of h:
@@ -70,10 +71,14 @@ inline DoubleDouble over_h(const DoubleDouble& x, double h, double inv_h) {
 // q = r/h and e = (h - r)/h in double-double, for r <= h: h - r is exact as
 // a fast two-sum (|h| >= |r|), then divided by h with its residual. Outside
 // the support (r > h) the numbers are meaningless and are never selected.
+// The polynomials take q as it comes, qq_hi = r (1/h) rounded and its
+// residual qq_lo (|qq_lo| <= ~2 ulp(qq_hi): unnormalised, which the split's
+// bound allows, generator/emit_round.cpp); q = qq_hi + qq_lo rounded, r/h
+// to ~half an ulp, chooses the pieces and feeds the transcendental bases.
 // (AccurateRadius: the numbers alone, which a batch loop keeps in registers;
 // GCC does not scalarise the whole Scaled there.)
 struct AccurateRadius {
-    double qq_hi, qq_lo, ee_hi, ee_lo, q, dq, dq2;
+    double qq_hi, qq_lo, ee_hi, ee_lo, q, dq2;
 };
 
 // r/h for a double r (over_h without a low part to add).
@@ -90,14 +95,13 @@ inline DoubleDouble over_h(double x, double h, double inv_h) {
 inline AccurateRadius accurate_radius(double r, double h, double inv_h) {
     const DoubleDouble q = over_h(r, h, inv_h);
     const DoubleDouble e = over_h(fast_two_sum(h, -r), h, inv_h);
-    const DoubleDouble q1 = fast_two_sum(q.hi, q.lo);  // q1.hi: q rounded, q1.lo: its error
-    const DoubleDouble square = two_product(q1.hi, q1.hi);
-    return {q.hi, q.lo, e.hi, e.lo, q1.hi, q1.lo, mul_add(2 * q1.hi, q1.lo, square.lo)};
+    const DoubleDouble square = two_product(q.hi, q.hi);
+    return {q.hi, q.lo, e.hi, e.lo, q.hi + q.lo, mul_add(2 * q.hi, q.lo, square.lo)};
 }
 
 inline Scaled scaled_accurate(double r, double h, double inv_h) {
     const AccurateRadius x = accurate_radius(r, h, inv_h);
-    return {x.q, x.ee_hi + x.ee_lo, r, h, inv_h, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo}, {1.0, 0.0}, x.dq, x.dq2};
+    return {x.q, x.ee_hi + x.ee_lo, r, h, inv_h, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo}, {1.0, 0.0}, x.dq2};
 }
 
 template <const table::Kernel& K, int Q>
@@ -393,14 +397,14 @@ inline DoubleDouble accurate_polynomial(const Scaled& a) {
         return {c.c[0], c.lo[0]};
     } else if constexpr (t.split > 0) {
         static_assert(t.var == table::Var::r);
-        return split_horner(t.m, t.n, split_constant(t.split), t.content, t.content_lo, a.q, a.dq);
+        return split_horner(t.m, t.n, split_constant(t.split), t.content, t.content_lo, a.qq.hi, a.qq.lo);
     } else if constexpr (t.var == table::Var::shifted) {
         const DoubleDouble v = shifted_dd(a, t.centre, t.centre_lo);
         return compensated_horner<c>(v.hi, v.lo);
     } else if constexpr (t.var == table::Var::r) {
-        return compensated_horner<c>(a.q, a.dq);
+        return compensated_horner<c>(a.qq.hi, a.qq.lo);
     } else {
-        return compensated_horner<c>(a.q * a.q, a.dq2);
+        return compensated_horner<c>(a.qq.hi * a.qq.hi, a.dq2);
     }
 }
 
@@ -548,7 +552,7 @@ MOLLIFY_INLINE double piece(const Scaled& a) {
             if constexpr (has_factor<K, Q, P, 0>) factor = factor_dd<K, Q, P, 0>(a);
             constexpr const table::Term& t = term_table<K, Q, P, 0>;
             if constexpr (content_in_scale(t.split, t.basis)) {
-                const DoubleDouble p = split_sum(t.m, t.n, split_constant(t.split), a.q, a.dq);
+                const DoubleDouble p = split_sum(t.m, t.n, split_constant(t.split), a.qq.hi, a.qq.lo);
                 return scaled_value<K, Q, P>(factor * p, DoubleDouble{t.content, t.content_lo} * a.scale);
             }
             return scaled_value<K, Q, P>(accurate_term<K, Q, P, 0>(a, factor), a.scale);

@@ -23,7 +23,7 @@ inline constexpr double value_0_0_m[] = {
     0x1p+0,  // 1
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.3193d66ed2bfap+0, .content_lo = 0x1.ebae32712a6afp-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 16, .m = value_0_0_m, .content = 0x1.3193d66ed2bfap+0, .content_lo = 0x1.ebae32712a6afp-54},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -44,7 +44,7 @@ inline constexpr double dr_0_0_m[] = {
     0x1.8p+1,  // 3
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .split = 25, .m = dr_0_0_m, .content = -0x1.3193d66ed2bfap+0, .content_lo = -0x1.ebae32712a6afp-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -2, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .split = 16, .m = dr_0_0_m, .content = -0x1.3193d66ed2bfap+0, .content_lo = -0x1.ebae32712a6afp-54},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -101,7 +101,7 @@ inline constexpr double grad_over_r_0_0_m[] = {
     0x1.8p+1,  // 3
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .split = 25, .m = grad_over_r_0_0_m, .content = -0x1.3193d66ed2bfap+0, .content_lo = -0x1.ebae32712a6afp-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .split = 16, .m = grad_over_r_0_0_m, .content = -0x1.3193d66ed2bfap+0, .content_lo = -0x1.ebae32712a6afp-54},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -171,7 +171,7 @@ inline constexpr double potential_2_1_m[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 26, .m = potential_2_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 16, .m = potential_2_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -238,7 +238,7 @@ inline constexpr double dpotential_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo, .split = 24, .m = dpotential_2_1_m, .content = -0x1.45f306dc9c883p-5, .content_lo = 0x1.6b01ec5417056p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo, .split = 16, .m = dpotential_2_1_m, .content = -0x1.45f306dc9c883p-5, .content_lo = 0x1.6b01ec5417056p-59},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -291,7 +291,7 @@ inline constexpr double dpotential_over_r_1_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo, .split = 24, .m = dpotential_over_r_1_1_m, .content = -0x1.45f306dc9c883p-5, .content_lo = 0x1.6b01ec5417056p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo, .split = 16, .m = dpotential_over_r_1_1_m, .content = -0x1.45f306dc9c883p-5, .content_lo = 0x1.6b01ec5417056p-59},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1

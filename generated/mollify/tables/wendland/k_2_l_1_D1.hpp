@@ -38,7 +38,7 @@ inline constexpr double dr_0_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .split = 26, .m = dr_0_0_m, .content = -0x1.f8p+4, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .split = 23, .m = dr_0_0_m, .content = -0x1.f8p+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -78,7 +78,7 @@ inline constexpr double grad_over_r_0_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.f8p+4, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.f8p+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -142,7 +142,7 @@ inline constexpr double potential_2_1_m[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_2_1, .n = 3, .split = 24, .m = potential_2_1_m, .content = 0x1p-5, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_2_1, .n = 3, .split = 23, .m = potential_2_1_m, .content = 0x1p-5, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2

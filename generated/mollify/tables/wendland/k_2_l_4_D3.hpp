@@ -44,7 +44,7 @@ inline constexpr double dr_0_0_m[] = {
     0x1.2p+3,  // 9
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 26, .m = dr_0_0_m, .content = -0x1.2ab6c45dd583ep+9, .content_lo = 0x1.955cf730e048fp-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 23, .m = dr_0_0_m, .content = -0x1.2ab6c45dd583ep+9, .content_lo = 0x1.955cf730e048fp-45},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -93,7 +93,7 @@ inline constexpr double grad_over_r_0_0_m[] = {
     0x1.2p+3,  // 9
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.2ab6c45dd583ep+9, .content_lo = 0x1.955cf730e048fp-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.2ab6c45dd583ep+9, .content_lo = 0x1.955cf730e048fp-45},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)

@@ -113,7 +113,7 @@ inline constexpr double hess_radial_0_0_m[] = {
     0x1.4p+3,  // 10
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.03ad6d9d353fbp+15, .content_lo = 0x1.7cb38c0582d7ep-39},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.03ad6d9d353fbp+15, .content_lo = 0x1.7cb38c0582d7ep-39},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
