@@ -243,17 +243,17 @@ std::optional<std::vector<RoundedPiece>> rounded_quantity(const Radial* f, bool 
 
 std::vector<std::optional<std::vector<RoundedPiece>>> with_one_split_grid(
     std::vector<std::optional<std::vector<RoundedPiece>>> tables) {
-    int finest = 0;  // the coarsest of the terms' own grids
+    int grid = 0;  // the coarsest of the terms' own grids
     for (const auto& q : tables)
         if (q)
             for (const RoundedPiece& p : *q)
                 for (const RoundedTerm& t : p.terms)
-                    if (t.split > 0) finest = finest == 0 ? t.split : std::min(finest, t.split);
+                    if (t.split > 0) grid = grid == 0 ? t.split : std::min(grid, t.split);
     for (auto& q : tables)
         if (q)
             for (RoundedPiece& p : *q)
                 for (RoundedTerm& t : p.terms)
-                    if (t.split > finest && split_holds(t.m, t.edge, finest)) t.split = finest;
+                    if (t.split > grid && split_holds(t.m, t.edge, grid)) t.split = grid;
     return tables;
 }
 

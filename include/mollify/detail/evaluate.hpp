@@ -388,7 +388,7 @@ inline double polynomial(const Scaled& a) {
 }
 
 // The same as a double-double (Precision::accurate): compensated Horner at
-// the rounded v, corrected for v's rounding (Scaled::dq, dq2, shifted_dd).
+// the rounded v, corrected for v's rounding (Scaled::qq, dq2, shifted_dd).
 template <const table::Kernel& K, int Q, int P, int T>
 inline DoubleDouble accurate_polynomial(const Scaled& a) {
     constexpr const table::Term& t = term_table<K, Q, P, T>;
