@@ -75,10 +75,8 @@ const Smoothing& Smoothing::reused(double h, int dim) {
     // One per dimension, so that kernels of several D in one loop each keep theirs.
     thread_local std::array<std::optional<Smoothing>, 3> last;
     std::optional<Smoothing>& kept = last[static_cast<std::size_t>(dim - 1)];
-    if (!kept || std::bit_cast<std::uint64_t>(kept->h_) != std::bit_cast<std::uint64_t>(h)) {
-        kept.reset();  // a bad h throws below and leaves nothing kept
-        kept.emplace(h, dim);
-    }
+    // emplace destroys the old one first: a refused h throws and leaves nothing kept.
+    if (!kept || std::bit_cast<std::uint64_t>(kept->h_) != std::bit_cast<std::uint64_t>(h)) kept.emplace(h, dim);
     return *kept;
 }
 
