@@ -1,8 +1,9 @@
 // sph_bench: particle–neighbour interactions per second of one SPH sweep,
 // BarotropicEuler::acceleration (neighbour update + gather + kernel pairs +
 // accumulation), on the periodic unit box, d = 1 and d = 3, with the O(N)
-// searches (SortedSweep in 1D, CellList in 3D) for N = 10^4 .. 10^6 and the
-// O(N^2) AllPairs baseline for N = 10^3 .. 10^4 (Google Benchmark).
+// searches (CellList, the default in both; in 1D also SortedSweep, the 1D
+// default until stop 54) for N = 10^4 .. 10^6 and the O(N^2) AllPairs
+// baseline for N = 10^3 .. 10^4 (Google Benchmark).
 //
 // Particles: the lattice of spacing dx = 1/n per side, each coordinate
 // jittered by a seeded uniform +-jitter*dx, masses dx^d (rho_0 = 1). Support
@@ -18,12 +19,12 @@
 // kernel's share of a sweep is the difference.
 //
 // Interactions: ordered pairs (i, j) with |x_i - x_j| <= eps, i = j
-// included, the same count for every search. The 3D CellList sweep
+// included, the same count for every search. The CellList sweep
 // (BarotropicEuler's cell-by-cell path, Newton's third law) evaluates the
 // kernel once per unordered pair {i, j}, i != j, and updates both
 // particles: it counts that pair twice, as AllPairs and SortedSweep (which
 // evaluate it once from each side) do; i = i once (W(0), one evaluation per
-// sweep). So in 3D the kernel is called on about half the interactions.
+// sweep). So with CellList the kernel is called on about half the interactions.
 //
 // Counters, with as many OpenMP threads as the environment allows (bench-sph
 // runs one), from the process's CPU time with one thread (one core's work,
@@ -253,9 +254,11 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         << " dx (seeded), masses dx^d; eps = 20 dx (d = 1), 2 dx (d = 3).\n"
         << "inter/s = particle–neighbour pairs met per second (ordered pairs (i, j) within eps, i = j included); "
         << "neighbours/particle measured.\n"
-        << "d = 3, CellList: the cell-by-cell sweep with Newton's third law, one kernel evaluation per unordered pair "
-        << "{i, j} (counted as the two interactions (i, j) and (j, i), as AllPairs counts them), particles sorted by cell "
-        << "and the order kept between sweeps. Kernels in `Precision::fast` unless marked (accurate).\n\n"
+        << "CellList (the default search, d = 1 and 3): the cell-by-cell sweep with Newton's third law, one kernel "
+        << "evaluation per unordered pair {i, j} (counted as the two interactions (i, j) and (j, i), as AllPairs counts "
+        << "them), particles sorted by cell and the order kept between sweeps. SortedSweep (d = 1, the default until "
+        << "stop 54): particle by particle, each pair evaluated from both sides. Kernels in `Precision::fast` unless "
+        << "marked (accurate).\n\n"
         << "Load (`uptime`), shared machine:\n\n- before: `" << load_before << "`\n- after: `" << load_after << "`\n\n"
         << (repeated ? "Best = interactions/s of the fastest repetition (the other columns: medians).\n\n" : "")
         << "| d | search | kernel | N | neighbours/particle | interactions/s | best | ns/particle | ms/sweep | wall |\n"
@@ -292,7 +295,10 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
             << " | " << number("%.3f", alpha) << " | " << verdict << " |\n";
     }
     // The kernel's share: against the zero kernel on the same search and N.
-    // The speed-up of the O(N) search over all pairs at the N both ran.
+    // The speed-up of the default search over the baselines at the N both ran.
+    auto is_baseline = [](const std::string& search) {
+        return search == "AllPairs" || search == "CellListByParticle" || search == "SortedSweep";
+    };
     std::string shares, speedups;
     for (const auto& name : order()) {
         const Case& c = cases().at(name);
@@ -303,8 +309,7 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
             if (o.kernel == "zero" && o.search == c.search)
                 shares += "| " + std::to_string(c.d) + " | " + c.search + " | " + c.kernel + " | " + std::to_string(c.n) +
                           " | " + number("%.0f", 100 * (1 - u / t)) + " % |\n";
-            if (o.kernel == c.kernel && (o.search == "AllPairs" || o.search == "CellListByParticle") &&
-                c.search != o.search && c.search != "AllPairs" && c.search != "CellListByParticle")
+            if (o.kernel == c.kernel && is_baseline(o.search) && !is_baseline(c.search))
                 speedups += "| " + std::to_string(c.d) + " | " + c.search + " | " + o.search + " | " + c.kernel + " | " +
                             std::to_string(c.n) + " | " + number("%.1f", u / t) + " |\n";
         }
@@ -339,16 +344,19 @@ int main(int argc, char** argv) {
     using C4_1_accurate = mollify::StaticKernel<tables::wendland_k_2_D1>;
     using Combo_accurate = mollify::StaticKernel<tables::combo_m_3_base_wendland_k_3_D1>;
     // d = 1, eps = 20 dx; d = 3, eps = 2 dx; N = 10^4, 10^5, 10^6 (3D: 22^3, 46^3, 100^3).
-    register_sweeps<1, C4_1, sph::SortedSweep>("SortedSweep", "wendland:k=2", 20, {10'000, 100'000, 1'000'000});
-    register_sweeps<1, C4_1_accurate, sph::SortedSweep>("SortedSweep", "wendland:k=2 (accurate)", 20,
-                                                        {10'000, 100'000, 1'000'000});
-    register_sweeps<1, Combo, sph::SortedSweep>("SortedSweep", "combo:m=3,base=wendland:k=3", 20,
-                                                {10'000, 100'000, 1'000'000});
-    register_sweeps<1, Combo_accurate, sph::SortedSweep>("SortedSweep", "combo:m=3,base=wendland:k=3 (accurate)", 20,
-                                                         {10'000, 100'000, 1'000'000});
-    register_sweeps<1, RunTimeC4<1>, sph::SortedSweep>("SortedSweep", "wendland:k=2 (run-time form)", 20,
-                                                       {10'000, 100'000, 1'000'000});
-    register_sweeps<1, ZeroKernel<1>, sph::SortedSweep>("SortedSweep", "zero", 20, {10'000, 100'000, 1'000'000});
+    // 1D through the default search (CellList, Newton's third law) and, the
+    // same run, through SortedSweep (particle by particle: the 1D default
+    // until stop 54).
+    const auto line = {10'000L, 100'000L, 1'000'000L};
+    register_sweeps<1, C4_1, sph::CellList<1>>("CellList", "wendland:k=2", 20, line);
+    register_sweeps<1, C4_1_accurate, sph::CellList<1>>("CellList", "wendland:k=2 (accurate)", 20, line);
+    register_sweeps<1, Combo, sph::CellList<1>>("CellList", "combo:m=3,base=wendland:k=3", 20, line);
+    register_sweeps<1, Combo_accurate, sph::CellList<1>>("CellList", "combo:m=3,base=wendland:k=3 (accurate)", 20, line);
+    register_sweeps<1, RunTimeC4<1>, sph::CellList<1>>("CellList", "wendland:k=2 (run-time form)", 20, line);
+    register_sweeps<1, ZeroKernel<1>, sph::CellList<1>>("CellList", "zero", 20, line);
+    register_sweeps<1, C4_1, sph::SortedSweep>("SortedSweep", "wendland:k=2", 20, line);
+    register_sweeps<1, RunTimeC4<1>, sph::SortedSweep>("SortedSweep", "wendland:k=2 (run-time form)", 20, line);
+    register_sweeps<1, ZeroKernel<1>, sph::SortedSweep>("SortedSweep", "zero", 20, line);
     register_sweeps<1, C4_1, sph::AllPairs<1>>("AllPairs", "wendland:k=2", 20, {1'000, 3'000, 10'000});
     register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100});
     register_sweeps<3, RunTimeC4<3>, sph::CellList<3>>("CellList", "wendland:k=2 (run-time form)", 2, {22, 46, 100});

@@ -3,11 +3,13 @@
 // within eps exactly once, on random and lattice particles, in a periodic
 // box and in R^D, with fewer than 3 cells per side (aliasing), pairs at
 // exactly eps and particles on cell boundaries, coincident particles, a
-// crowded cell; densities and accelerations against the particle sweep.
+// crowded cell; densities and accelerations against the particle sweep; in
+// 1D (the default search there too), 2D and 3D.
 // Built for the default target, for x86-64-v3 (the pair test's and the 3D
 // sums' AVX2 forms) and, on a machine with AVX-512, for x86-64-v4 (the
 // pair test's AVX-512 form and gathers, pair_batch.hpp): tests/CMakeLists.txt.
 #include <mollify/sph.hpp>
+#include <mollify/tables/wendland/k_2_D1.hpp>
 #include <mollify/tables/wendland/k_2_D2.hpp>
 #include <mollify/tables/wendland/k_2_D3.hpp>
 #include "sanitized.hpp"
@@ -31,6 +33,7 @@ using namespace mollify;
 using namespace mollify::sph;
 
 constexpr Precision fast = Precision::fast;  // as the scenes run SPH
+using Wendland1D = StaticKernel<tables::wendland_k_2_D1, fast>;
 using Wendland2D = StaticKernel<tables::wendland_k_2_D2, fast>;
 using Wendland3D = StaticKernel<tables::wendland_k_2_D3, fast>;
 
@@ -134,8 +137,9 @@ Field<D> dyadic_lattice(int side) {
             k /= side;
         }
     }
+    if (total <= 77) ADD_FAILURE() << "a lattice of " << total << " sites has no site 77 to repeat";
     for (int i : {0, 5, 5, 77})
-        for (int c = 0; c < D; ++c) x[c].push_back(x[c][static_cast<std::size_t>(i)]);
+        for (int c = 0; c < D; ++c) x[c].push_back(x[c][static_cast<std::size_t>(std::min(i, total - 1))]);
     return x;
 }
 
@@ -161,6 +165,16 @@ TEST(Neighbours, CellPairsEqualAllPairs) {
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.125, dyadic_lattice<3>(lattice_side));
     expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.125, dyadic_lattice<3>(lattice_side));
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.125, dyadic_random<3>(3000 / fewer, 0, 1, 7));
+    // 1D: a home cell and the next; the lattice's pairs at exactly eps and
+    // particles on cell boundaries; in R^1 a few far particles, so that the
+    // N + 1 cells are wider than eps and crowded.
+    expect_half_pairs_as_all_pairs<1>(Domain<1>::periodic(1.0), 0.02, random_points<1>(2000 / fewer, 0, 1, 30));
+    expect_half_pairs_as_all_pairs<1>(Domain<1>::whole_space(), 0.02, random_points<1>(2000 / fewer, -2, 3, 31));
+    expect_half_pairs_as_all_pairs<1>(Domain<1>::periodic(1.0), 0.125, dyadic_lattice<1>(128));
+    expect_half_pairs_as_all_pairs<1>(Domain<1>::whole_space(), 0.125, dyadic_lattice<1>(128));
+    Field<1> spread = random_points<1>(1000 / fewer, 0, 1, 32);
+    for (const double far : {-1e6, 3e7, 3e7 + 0.01}) spread[0].push_back(far);
+    expect_half_pairs_as_all_pairs<1>(Domain<1>::whole_space(), 0.01, spread);
 }
 
 // The order kept from the last update and repaired: particles moved by up
@@ -254,6 +268,13 @@ TEST(Neighbours, CellPairsAliasedAndCrowded) {
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.3125, dyadic_lattice<3>(8));  // 3 cells per side
     expect_half_pairs_as_all_pairs<3>(Domain<3>::periodic(1.0), 0.375, dyadic_lattice<3>(8));   // 2 cells per side
     expect_half_pairs_as_all_pairs<2>(Domain<2>::periodic(1.0), 0.45, random_points<2>(100 / fewer, 0, 1, 6));
+    expect_half_pairs_as_all_pairs<1>(Domain<1>::periodic(1.0), 0.45, random_points<1>(300 / fewer, 0, 1, 33));
+    expect_half_pairs_as_all_pairs<1>(Domain<1>::periodic(1.0), 0.3125, dyadic_lattice<1>(128));  // 3 cells
+    expect_half_pairs_as_all_pairs<1>(Domain<1>::periodic(1.0), 0.375, dyadic_lattice<1>(128));   // 2 cells
+    Field<1> clump1 = random_points<1>(700 / fewer, 0.5, 0.501, 34);  // all but one in one cell
+    clump1[0].push_back(0.9);
+    expect_half_pairs_as_all_pairs<1>(Domain<1>::periodic(1.0), 0.05, clump1);
+    expect_half_pairs_as_all_pairs<1>(Domain<1>::whole_space(), 0.05, clump1);
     // In R^3 one or two cells per side (no images, nothing aliases).
     expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.1, random_points<3>(60 / fewer, 0, 0.15, 16));
     expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.1, random_points<3>(200 / fewer, 0, 0.25, 17));
@@ -359,6 +380,12 @@ TEST(Euler, CellSweepEqualsAllPairs) {
     lattice[0][100] = 0.5 + 1.0 / 64;  // one particle off its site: non-zero forces
     expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.125, lattice);
     expect_sweep_as_all_pairs<2, Wendland2D>(Domain<2>::periodic(1.0), 0.0625, dyadic_random<2>(2000 / fewer, 0, 1, 13));
+    expect_sweep_as_all_pairs<1, Wendland1D>(Domain<1>::periodic(1.0), 0.01, dyadic_random<1>(3000 / fewer, 0, 1, 35));
+    expect_sweep_as_all_pairs<1, Wendland1D>(Domain<1>::whole_space(), 0.01, dyadic_random<1>(3000 / fewer, -0.5, 0.5, 36));
+    expect_sweep_as_all_pairs<1, Wendland1D>(Domain<1>::periodic(1.0), 0.375, dyadic_random<1>(200 / fewer, 0, 1, 37));  // aliased
+    Field<1> line = dyadic_lattice<1>(256);
+    line[0][100] = 100.0 / 256 + 1.0 / 1024;  // one particle off its site: non-zero forces
+    expect_sweep_as_all_pairs<1, Wendland1D>(Domain<1>::periodic(1.0), 0.0625, line);
 }
 
 TEST(Euler, CellSweepAfterParticlesChangedCells) {
@@ -366,6 +393,8 @@ TEST(Euler, CellSweepAfterParticlesChangedCells) {
     // moved to other cells since the sweep before.
     const Field<3> before = dyadic_random<3>(2000 / fewer, 0, 1, 19), after = dyadic_random<3>(2000 / fewer, 0, 1, 20);
     expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.125, after, &before);
+    const Field<1> before1 = dyadic_random<1>(3000 / fewer, 0, 1, 40), after1 = dyadic_random<1>(3000 / fewer, 0, 1, 41);
+    expect_sweep_as_all_pairs<1, Wendland1D>(Domain<1>::periodic(1.0), 0.01, after1, &before1);
 }
 
 #if defined(_OPENMP)
@@ -391,6 +420,9 @@ TEST(Euler, CellSweepOnAnyNumberOfThreads) {
     expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::whole_space(), 0.125, flat, nullptr, threads);
     expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 0.375, dyadic_random<3>(800 / fewer, 0, 1, 26), nullptr, threads);
     expect_sweep_as_all_pairs<2, Wendland2D>(Domain<2>::periodic(1.0), 0.0625, dyadic_random<2>(4000 / fewer, 0, 1, 24), nullptr, threads);
+    // 1D: each cell a layer (a home cell's pairs reach the next one).
+    expect_sweep_as_all_pairs<1, Wendland1D>(Domain<1>::periodic(1.0), 0.005, dyadic_random<1>(6000 / fewer, 0, 1, 38), nullptr, threads);
+    expect_sweep_as_all_pairs<1, Wendland1D>(Domain<1>::whole_space(), 0.005, dyadic_random<1>(6000 / fewer, -0.5, 0.5, 39), nullptr, threads);
 }
 
 // Each range of cells is summed by one thread in one order and the ranges
