@@ -4,6 +4,7 @@
 #pragma once
 
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -26,6 +27,10 @@ inline std::string initialize(int& argc, char** argv) {
 
 class Collector : public benchmark::ConsoleReporter {
 public:
+    // Colours only on a terminal: a reporter passed to RunSpecifiedBenchmarks
+    // keeps its own options (--benchmark_color sets only the default one's),
+    // and piped into a file or grep the escape codes were in every line.
+    Collector() : ConsoleReporter(isatty(fileno(stdout)) ? OO_ColorTabular : OO_Tabular) {}
     void ReportRuns(const std::vector<Run>& runs) override {
         for (const Run& r : runs)
             if (!r.error_occurred)
