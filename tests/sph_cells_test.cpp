@@ -181,21 +181,22 @@ TEST(Neighbours, CellPairsEqualAllPairs) {
 // to a third of eps (some across cell boundaries and the periodic box).
 // A cell list updated at x and then at the moved positions: its half pairs
 // against all pairs at the moved ones (displacements to rounding).
-void expect_half_pairs_after_motion(const Domain<3>& box, double eps, const Field<3>& x, const Field<3>& moved) {
-    CellList<3> fast(box, eps);
-    AllPairs<3> slow(box, eps);
-    fast.update(view<3>(x));
-    fast.update(view<3>(moved));
-    slow.update(view<3>(moved));
-    const PairSet<3> a = half_pairs_of(fast);
+template <int D>
+void expect_half_pairs_after_motion(const Domain<D>& box, double eps, const Field<D>& x, const Field<D>& moved) {
+    CellList<D> fast(box, eps);
+    AllPairs<D> slow(box, eps);
+    fast.update(view<D>(x));
+    fast.update(view<D>(moved));
+    slow.update(view<D>(moved));
+    const PairSet<D> a = half_pairs_of(fast);
     std::size_t pairs = 0;
     for (std::size_t i = 0; i < moved[0].size(); ++i)
-        slow.visit(i, [&](std::size_t j, const Vector<3>& d) {
+        slow.visit(i, [&](std::size_t j, const Vector<D>& d) {
             if (j > i) {
                 ++pairs;
                 const auto at = a.find(std::pair{i, j});
                 ASSERT_NE(at, a.end()) << "pair " << i << ", " << j;
-                for (int c = 0; c < 3; ++c) EXPECT_NEAR(at->second[c], d[c], 1e-15) << "pair " << i << ", " << j;
+                for (int c = 0; c < D; ++c) EXPECT_NEAR(at->second[c], d[c], 1e-15) << "pair " << i << ", " << j;
             }
         });
     EXPECT_EQ(a.size(), pairs);
@@ -210,7 +211,27 @@ TEST(Neighbours, CellPairsAfterMotion) {
     std::uniform_real_distribution<double> u(-eps / 3, eps / 3);
     for (auto& c : moved)
         for (auto& v : c) v = box.wrap(v + u(g));
-    expect_half_pairs_after_motion(box, eps, x, moved);
+    expect_half_pairs_after_motion<3>(box, eps, x, moved);
+}
+
+// 1D, where the slots are in order of position (each home particle's
+// candidates a window of them): particles that overtook others within
+// their cells, no particle changing cells, must break the kept order.
+TEST(Neighbours, CellPairsAfterMotion1D) {
+    const double eps = 0.01;  // cells of side 0.01
+    const Field<1> x = random_points<1>(3000 / fewer, 0, 1, 42);
+    Field<1> within = x, across = x;
+    std::mt19937_64 g(43);
+    std::uniform_real_distribution<double> u(-eps / 3, eps / 3);
+    for (double& v : within[0]) {
+        const double cell = std::floor(v / eps) * eps;
+        v = cell + (cell + eps - v);  // mirrored within its cell: the cell's order reversed
+        if (!(v < cell + eps)) v = cell;
+    }
+    for (double& v : across[0]) v = Domain<1>::periodic(1.0).wrap(v + u(g));
+    expect_half_pairs_after_motion<1>(Domain<1>::periodic(1.0), eps, x, within);
+    expect_half_pairs_after_motion<1>(Domain<1>::periodic(1.0), eps, x, across);
+    expect_half_pairs_after_motion<1>(Domain<1>::whole_space(), eps, x, within);
 }
 
 // Every particle moved but none left its cell (the usual time step): the
@@ -223,7 +244,7 @@ TEST(Neighbours, CellPairsAfterMotionWithinCells) {
             const double centre = (std::floor(v / eps) + 0.5) * eps;
             v = centre + 0.5 * (v - centre);  // halfway to its cell's centre
         }
-    expect_half_pairs_after_motion(Domain<3>::periodic(1.0), eps, x, moved);
+    expect_half_pairs_after_motion<3>(Domain<3>::periodic(1.0), eps, x, moved);
 }
 
 // Particles given in cell order already: the first update keeps it (and

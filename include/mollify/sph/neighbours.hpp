@@ -4,7 +4,7 @@
 // also a sorted sweep (the particles sorted by position, each particle's
 // neighbours a contiguous run on either side of it), visited particle by
 // particle: the cell list's half pairs, each pair evaluated once for both
-// particles in slot order, sweep 1D SPH 1.8-2.4x faster (bench/sph_bench.cpp,
+// particles in slot order, sweep 1D SPH 1.7-2.4x faster (bench/sph_bench.cpp,
 // the 1D rows of both), so the cell list is the default in every dimension.
 // AllPairs is the O(N^2) baseline the benchmarks compare against. All three
 // visit, for particle i, every j with |x_i - x_j| <= eps (i itself
@@ -31,6 +31,7 @@
 #include <numeric>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mollify::sph {
@@ -88,11 +89,8 @@ struct Reach {
 
 // 1D: the particles sorted by position. The order is kept between updates
 // and repaired by insertion sort, O(N) when particles barely reorder (the
-// usual case from one time step to the next). Unlike the cell list, its cost
-// does not depend on how the particles spread: in R^1 a cell list has at
-// most N + 1 cells across the particles' extent, so where that extent is
-// far larger than N eps (a few distant particles) its cells are wider than
-// eps and a dense cluster's candidates grow like its size squared.
+// usual case from one time step to the next). The 1D default until stop 54,
+// kept as the benchmarks' particle-by-particle baseline.
 class SortedSweep {
 public:
     static constexpr int dim = 1;
@@ -173,8 +171,12 @@ private:
 };
 
 // A cell list, 1D to 3D. In a periodic box the cells tile [0, L)^D; in R^D
-// they cover the particles' bounding box, at most N^(1/D) + 1 cells a side
-// (cells wider than eps where the particles spread further).
+// they cover the particles' bounding box, at most N^(1/D) + 1 cells a side,
+// so cells are wider than eps where the particles spread further than
+// N^(1/D) eps (a few far from a dense cluster): in 2D and 3D the cluster's
+// candidates then grow like its size squared. In 1D the slots are in order
+// of position, cells being intervals, and each particle's candidates are a
+// window of them (half_pairs_runs): O(neighbours) however wide the cells.
 template <int D>
 class CellList {
 public:
@@ -259,6 +261,13 @@ public:
         }
         if (first_)
             for (std::size_t slot = from; slot < to; ++slot) slot_[member[slot]] = slot;
+        if constexpr (D == 1) {  // the order is by position (half_pairs_runs' windows), the cells follow
+            double last = from > 0 ? x[0][member[from - 1]] : -std::numeric_limits<double>::infinity();
+            for (std::size_t slot = from; slot < to; ++slot) {
+                if (v[0][slot] < last) return false;
+                last = v[0][slot];
+            }
+        }
         auto first_slot_of = [&](std::size_t c, std::size_t slot) {
             std::atomic_ref<std::size_t>(start_[c]).store(slot, std::memory_order_relaxed);
         };
@@ -301,6 +310,27 @@ public:
             slot_cell_[slot] = k;
             slot_[i] = slot;
             for (int c = 0; c < D; ++c) sorted_[c][slot] = x[c][i];
+        }
+        if constexpr (D == 1) order_cells_by_position();
+    }
+
+    // 1D: each cell's slots in order of position (stable: equal positions
+    // keep the last order); the cells being intervals in order, so are all
+    // the slots.
+    void order_cells_by_position() {
+        std::vector<std::pair<double, std::size_t>>& by_x = by_position_;
+        const auto at = [&](std::size_t slot) { return sorted_[0].begin() + static_cast<std::ptrdiff_t>(slot); };
+        for (std::size_t k = 0; k + 1 < start_.size(); ++k) {
+            const std::size_t lo = start_[k], hi = start_[k + 1];
+            if (std::is_sorted(at(lo), at(hi))) continue;
+            by_x.clear();
+            for (std::size_t slot = lo; slot < hi; ++slot) by_x.emplace_back(sorted_[0][slot], members_[slot]);
+            std::stable_sort(by_x.begin(), by_x.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+            for (std::size_t slot = lo; slot < hi; ++slot) {
+                sorted_[0][slot] = by_x[slot - lo].first;
+                members_[slot] = by_x[slot - lo].second;
+                slot_[members_[slot]] = slot;
+            }
         }
     }
 
@@ -453,14 +483,25 @@ public:
         const std::size_t* slot = b.slot.data();
         const double eps2 = reach_.eps * reach_.eps;
         const std::size_t nh = start_[home + 1] - start_[home];
+        std::size_t end = D == 1 ? 0 : total;
         for (std::size_t a = 0; a < nh; ++a) {
-            if (b.size + total > cap) {
+            std::array<double, D> xa;
+            for (int c = 0; c < D; ++c) xa[static_cast<std::size_t>(c)] = y[static_cast<std::size_t>(c)][a];
+            if constexpr (D == 1) {
+                // The candidates are in order of position (the home cell's
+                // slots, then the next cell's, shifted by L across the seam),
+                // so those within eps of x_a are the ones up to the first
+                // beyond it, the same test as append_near's (the distance
+                // grows with the position, rounded or not): each particle's
+                // window, not its cells, however wide the cells are.
+                end = std::max(end, a + 1);
+                while (end < total && (xa[0] - y[0][end]) * (xa[0] - y[0][end]) <= eps2) ++end;
+            }
+            if (b.size + (D == 1 ? end - a : total) > cap) {  // at most that many pairs to come
                 flush(b);
                 b.clear();
             }
-            std::array<double, D> xa;
-            for (int c = 0; c < D; ++c) xa[static_cast<std::size_t>(c)] = y[static_cast<std::size_t>(c)][a];
-            const std::size_t m = detail::append_near<D>(close, 0, xa, y, a + 1, total, eps2);
+            const std::size_t m = detail::append_near<D>(close, 0, xa, y, a + 1, end, eps2);
             detail::store_pairs<D>(b, b.size, close, m, xa, y, slot, slot[a]);
             b.close_group(b.size + m);
         }
@@ -622,6 +663,7 @@ private:
     // The cell of each slot's particle (previous_cell_: of the order before a new sort).
     std::vector<std::size_t> slot_cell_, previous_cell_;
     std::array<std::vector<double>, D> sorted_;
+    std::vector<std::pair<double, std::size_t>> by_position_;  // order_cells_by_position's scratch
 };
 
 // The O(N^2) baseline: every pair tested.
