@@ -215,8 +215,9 @@ TEST(Neighbours, CellPairsAfterMotion) {
 }
 
 // 1D, where the slots are in order of position (each home particle's
-// candidates a window of them): particles that overtook others within
-// their cells, no particle changing cells, must break the kept order.
+// candidates a window of them): particles mirrored within cells of side
+// eps (each cell's order reversed, hardly any particle changing cells)
+// must break the kept order, as must particles moved across cells.
 TEST(Neighbours, CellPairsAfterMotion1D) {
     const double eps = 0.01;  // cells of side 0.01
     const Field<1> x = random_points<1>(3000 / fewer, 0, 1, 42);
