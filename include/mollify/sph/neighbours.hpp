@@ -1,12 +1,11 @@
 // Neighbour search for a kernel of support radius eps, O(N) per update: a
 // cell list (cells of side >= eps, filled by a counting sort; a particle's
-// neighbours lie in the 3^D cells around its own), in 1D, 2D and 3D. In 1D
-// also a sorted sweep (the particles sorted by position, each particle's
-// neighbours a contiguous run on either side of it), visited particle by
-// particle: the cell list's half pairs, each pair evaluated once for both
-// particles in slot order, sweep 1D SPH 1.7-2.4x faster (bench/sph_bench.cpp,
-// the 1D rows of both), so the cell list is the default in every dimension.
-// AllPairs is the O(N^2) baseline the benchmarks compare against. All three
+// neighbours lie in the 3^D cells around its own), the default in 1D, 2D
+// and 3D. In 1D also a sorted sweep (the particles sorted by position, each
+// particle's neighbours a contiguous run on either side of it), visited
+// particle by particle; the cell list's half pairs, each pair evaluated once
+// for both particles, sweep 1D SPH 1.7-2.4x faster (bench/sph_bench.cpp, the
+// 1D rows of both). AllPairs is the O(N^2) baseline the benchmarks compare against. All three
 // visit, for particle i, every j with |x_i - x_j| <= eps (i itself
 // included, at displacement 0) exactly once, with the displacement x_i - x_j
 // (minimum image in a periodic box). CellList also hands out each unordered
@@ -27,6 +26,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <span>
@@ -483,7 +483,7 @@ public:
         const std::size_t* slot = b.slot.data();
         const double eps2 = reach_.eps * reach_.eps;
         const std::size_t nh = start_[home + 1] - start_[home];
-        std::size_t end = D == 1 ? 0 : total;
+        std::size_t end = 0;  // 1D: the end of the last home particle's window
         for (std::size_t a = 0; a < nh; ++a) {
             std::array<double, D> xa;
             for (int c = 0; c < D; ++c) xa[static_cast<std::size_t>(c)] = y[static_cast<std::size_t>(c)][a];
@@ -491,9 +491,9 @@ public:
                 // The candidates are in order of position (the home cell's
                 // slots, then the next cell's, shifted by L across the seam),
                 // so those within eps of x_a are the ones up to the first
-                // beyond it, the same test as append_near's (the distance
-                // grows with the position, rounded or not): each particle's
-                // window, not its cells, however wide the cells are.
+                // beyond it, by append_near's test (the distance grows with
+                // the position, rounded or not): each particle's window, not
+                // its cells, however wide the cells are; all of it near.
                 end = std::max(end, a + 1);
                 while (end < total && (xa[0] - y[0][end]) * (xa[0] - y[0][end]) <= eps2) ++end;
             }
@@ -501,7 +501,12 @@ public:
                 flush(b);
                 b.clear();
             }
-            const std::size_t m = detail::append_near<D>(close, 0, xa, y, a + 1, end, eps2);
+            std::size_t m = 0;
+            if constexpr (D == 1) {
+                for (std::size_t q = a + 1; q < end; ++q) close[m++] = static_cast<std::uint32_t>(q);
+            } else {
+                m = detail::append_near<D>(close, 0, xa, y, a + 1, total, eps2);
+            }
             detail::store_pairs<D>(b, b.size, close, m, xa, y, slot, slot[a]);
             b.close_group(b.size + m);
         }
