@@ -3,7 +3,9 @@
 // accumulation), on the periodic unit box, d = 1 and d = 3, with the O(N)
 // searches (CellList, the default in both; in 1D also SortedSweep, the 1D
 // default until stop 54) for N = 10^4 .. 10^6 and the O(N^2) AllPairs
-// baseline for N = 10^3 .. 10^4 (Google Benchmark).
+// baseline for N = 10^3 .. 10^4 (Google Benchmark). In 3D the cell list
+// also in R^3, on the lattice alone and with one far particle (Space): the
+// far particle must not widen the cells (CellList::layout).
 //
 // Particles: the lattice of spacing dx = 1/n per side, each coordinate
 // jittered by a seeded uniform +-jitter*dx, masses dx^d (rho_0 = 1). Support
@@ -32,7 +34,8 @@
 // inter/s = particle–neighbour pairs met per second (i = j included),
 // ns/particle, ms/sweep (the console prints these two inverted rates with a
 // unit "s"), nbrs = pairs per particle. The Markdown adds the wall time, the
-// fit of time ∝ N^α, the kernel's share and the speed-up over all pairs.
+// fit of time ∝ N^α, the kernel's share, the speed-up over all pairs and
+// the far particle's cost.
 //
 //   sph_bench [benchmark flags] [--md=FILE]   (cmake --build build --target bench-sph)
 #include <mollify/detail/parallel.hpp>
@@ -131,7 +134,19 @@ struct Case {
     long side;  // particles per side
     std::size_t n;
     double eps_over_dx;
+    std::string domain;  // "periodic box", "R^d", "R^d, one far particle"
 };
+
+// Where the lattice lies: the periodic unit box (the benchmark's usual
+// case); R^d; R^d with one more particle far from the lattice (at 10^6 on
+// every axis), which the cell list's layout must not let crowd the
+// lattice's cells (CellList::layout; before stop 55 it made cells as wide
+// as the bounding box over N^(1/d), one of them holding the lattice).
+enum class Space { periodic, open, open_far };
+
+const char* space_name(Space s) {
+    return s == Space::periodic ? "periodic box" : s == Space::open ? "R^d" : "R^d, one far particle";
+}
 std::map<std::string, Case>& cases() {
     static std::map<std::string, Case> c;
     return c;
@@ -142,12 +157,15 @@ std::vector<std::string>& order() {  // registration order
 }
 
 template <int D, class Kernel, class Search>
-void sweep(benchmark::State& state, long side, double eps_over_dx, bool capped) {
-    const sph::Field<D> x = mollify::bench::lattice<D>(side);
+void sweep(benchmark::State& state, long side, double eps_over_dx, bool capped, Space space) {
+    sph::Field<D> x = mollify::bench::lattice<D>(side);
+    if (space == Space::open_far)
+        for (auto& c : x) c.push_back(1e6);
     const std::size_t n = x[0].size();
     const double dx = 1.0 / static_cast<double>(side);
-    sph::BarotropicEuler<D, Kernel, Search> system(Kernel{}, eps_over_dx * dx, sph::Domain<D>::periodic(1.0),
-                                                   std::vector<double>(n, std::pow(dx, D)));
+    sph::BarotropicEuler<D, Kernel, Search> system(
+        Kernel{}, eps_over_dx * dx, space == Space::periodic ? sph::Domain<D>::periodic(1.0) : sph::Domain<D>::whole_space(),
+        std::vector<double>(n, std::pow(dx, D)));
     sph::Field<D> a;
     // Warm-up: the first sort, the scratch buffers, the work estimate.
     const auto t0 = std::chrono::steady_clock::now();
@@ -180,17 +198,21 @@ void sweep(benchmark::State& state, long side, double eps_over_dx, bool capped) 
 bool per_core() { return mollify::detail::thread_count() == 1; }
 
 template <int D, class Kernel, class Search>
-void register_sweeps(const char* search, const char* kernel, double eps_over_dx, std::initializer_list<long> sides) {
+void register_sweeps(const char* search, const char* kernel, double eps_over_dx, std::initializer_list<long> sides,
+                     Space space = Space::periodic) {
     const bool capped = std::strcmp(search, "AllPairs") == 0;
     for (const long side : sides) {
-        std::size_t n = 1;
-        for (int c = 0; c < D; ++c) n *= static_cast<std::size_t>(side);
+        std::size_t n = space == Space::open_far ? 1 : 0;
+        std::size_t lattice = 1;
+        for (int c = 0; c < D; ++c) lattice *= static_cast<std::size_t>(side);
+        n += lattice;
+        const std::string where = space == Space::periodic ? "" : space == Space::open ? "open/" : "open+far/";
         const std::string name =
-            "sweep/d=" + std::to_string(D) + "/" + search + "/" + kernel + "/" + std::to_string(n);
-        cases().emplace(name, Case{D, search, kernel, side, n, eps_over_dx});
+            "sweep/d=" + std::to_string(D) + "/" + where + search + "/" + kernel + "/" + std::to_string(n);
+        cases().emplace(name, Case{D, search, kernel, side, n, eps_over_dx, space_name(space)});
         order().push_back(name);
-        auto* b = benchmark::RegisterBenchmark(name.c_str(), [side, eps_over_dx, capped](benchmark::State& st) {
-            sweep<D, Kernel, Search>(st, side, eps_over_dx, capped);
+        auto* b = benchmark::RegisterBenchmark(name.c_str(), [side, eps_over_dx, capped, space](benchmark::State& st) {
+            sweep<D, Kernel, Search>(st, side, eps_over_dx, capped, space);
         });
         b->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
         // The fastest repetition beside the median: on a shared host the
@@ -250,7 +272,8 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         << (per_core() ? "the process's CPU time (one core's work, whatever else the machine runs)" : "wall time")
         << ", wall = wall-clock ms/sweep.\n"
         << "One `BarotropicEuler::acceleration` sweep (neighbour update + gather + kernel pairs + accumulation) on the\n"
-        << "periodic unit box; particles on the lattice of spacing dx, jittered by +-" << mollify::bench::lattice_jitter
+        << "periodic unit box (d = 3 also in R^3, alone and with one more particle at 10^6 on every axis); particles "
+        << "on the lattice of spacing dx, jittered by +-" << mollify::bench::lattice_jitter
         << " dx (seeded), masses dx^d; eps = 20 dx (d = 1), 2 dx (d = 3).\n"
         << "inter/s = particle–neighbour pairs met per second (ordered pairs (i, j) within eps, i = j included); "
         << "neighbours/particle measured.\n"
@@ -261,8 +284,8 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         << "marked (accurate).\n\n"
         << "Load (`uptime`), shared machine:\n\n- before: `" << load_before << "`\n- after: `" << load_after << "`\n\n"
         << (repeated ? "Best = interactions/s of the fastest repetition (the other columns: medians).\n\n" : "")
-        << "| d | search | kernel | N | neighbours/particle | interactions/s | best | ns/particle | ms/sweep | wall |\n"
-        << "|--:|---|---|--:|--:|--:|--:|--:|--:|--:|\n";
+        << "| d | domain | search | kernel | N | neighbours/particle | interactions/s | best | ns/particle | ms/sweep | wall |\n"
+        << "|--:|---|---|---|--:|--:|--:|--:|--:|--:|--:|\n";
     std::vector<std::string> series;  // d/search/kernel in order
     std::map<std::string, std::vector<std::pair<double, double>>> fits;
     for (const auto& name : order()) {
@@ -270,12 +293,13 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         if (it == rows.end()) continue;
         const Case& c = cases().at(name);
         const Row& r = it->second;
-        out << "| " << c.d << " | " << c.search << " | " << c.kernel << " | " << c.n << " | " << number("%.1f", r.nbrs)
+        out << "| " << c.d << " | " << c.domain << " | " << c.search << " | " << c.kernel << " | " << c.n << " | "
+            << number("%.1f", r.nbrs)
             << " | " << number("%.3g", r.inter_s) << " | "
             << (std::isnan(r.best_inter_s) ? std::string("–") : number("%.3g", r.best_inter_s)) << " | "
             << number("%.1f", r.ns_particle) << " | "
             << number("%.3g", r.ms_sweep) << " | " << number("%.3g", r.wall_ms) << " |\n";
-        const std::string key = "d = " + std::to_string(c.d) + ", " + c.search + ", " + c.kernel;
+        const std::string key = "d = " + std::to_string(c.d) + ", " + c.domain + ", " + c.search + ", " + c.kernel;
         if (!fits.count(key)) series.push_back(key);
         fits[key].emplace_back(static_cast<double>(c.n), r.ms_sweep);
     }
@@ -304,7 +328,7 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         const Case& c = cases().at(name);
         if (c.kernel == "zero" || !rows.count(name)) continue;
         for (const auto& [other, o] : cases()) {
-            if (o.d != c.d || o.n != c.n || !rows.count(other)) continue;
+            if (o.d != c.d || o.n != c.n || o.domain != c.domain || !rows.count(other)) continue;
             const double t = rows.at(name).ms_sweep, u = rows.at(other).ms_sweep;
             if (o.kernel == "zero" && o.search == c.search)
                 shares += "| " + std::to_string(c.d) + " | " + c.search + " | " + c.kernel + " | " + std::to_string(c.n) +
@@ -322,6 +346,24 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         out << "\nSpeed-up over the baselines at the same N, same run:\n\n| d | search | baseline | kernel | N | "
             << "t(baseline) / t |\n|--:|---|---|---|--:|--:|\n"
             << speedups;
+    // One far particle against none, the same lattice in R^d, the same run.
+    std::string far;
+    for (const auto& name : order()) {
+        const Case& c = cases().at(name);
+        if (c.domain != space_name(Space::open_far) || !rows.count(name)) continue;
+        for (const auto& [other, o] : cases())
+            if (o.d == c.d && o.side == c.side && o.search == c.search && o.kernel == c.kernel &&
+                o.domain == space_name(Space::open) && rows.count(other))
+                far += "| " + std::to_string(c.d) + " | " + c.search + " | " + c.kernel + " | " + std::to_string(o.n) +
+                       " | " + number("%.3g", rows.at(other).ms_sweep) + " | " + number("%.3g", rows.at(name).ms_sweep) +
+                       " | " + number("%.2f", rows.at(name).ms_sweep / rows.at(other).ms_sweep) + " |\n";
+    }
+    if (!far.empty())
+        out << "\nOne far particle, same run: the lattice in R^d alone and with one particle at 10^6 on every axis "
+            << "(ms/sweep; a layout whose cells the far particle widens makes this ratio grow like N):\n\n"
+            << "| d | search | kernel | N (lattice) | t(R^d) | t(with the far particle) | ratio |\n"
+            << "|--:|---|---|--:|--:|--:|--:|\n"
+            << far;
     if (!skipped.empty()) {
         out << "\nSkipped:\n\n";
         for (const auto& s : skipped) out << "- " << s << "\n";
@@ -362,6 +404,9 @@ int main(int argc, char** argv) {
     register_sweeps<3, RunTimeC4<3>, sph::CellList<3>>("CellList", "wendland:k=2 (run-time form)", 2, {22, 46, 100});
     register_sweeps<3, ZeroKernel<3>, sph::CellList<3>>("CellList", "zero", 2, {22, 46, 100});
     register_sweeps<3, C4_3, CellListByParticle<3>>("CellListByParticle", "wendland:k=2", 2, {22, 46});
+    // R^3: the lattice alone and with one far particle (CellList::layout).
+    register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100}, Space::open);
+    register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100}, Space::open_far);
     register_sweeps<3, C4_3, sph::AllPairs<3>>("AllPairs", "wendland:k=2", 2, {10, 14, 22});  // 1000, 2744, 10648
     Collector collector;
     const std::string before = uptime();

@@ -306,6 +306,128 @@ TEST(Neighbours, CellPairsAliasedAndCrowded) {
     expect_half_pairs_as_all_pairs<3>(Domain<3>::whole_space(), 0.05, clump);
 }
 
+// The most particles in one cell.
+template <int D>
+std::size_t most_in_a_cell(const CellList<D>& s) {
+    std::size_t most = 0;
+    for (std::size_t c = 0; c < s.cells(); ++c) most = std::max(most, s.first_slot(c + 1) - s.first_slot(c));
+    return most;
+}
+
+// Points of `cluster` moved by `by` (every coordinate).
+template <int D>
+Field<D> shifted(Field<D> cluster, const std::array<double, D>& by) {
+    for (int c = 0; c < D; ++c)
+        for (double& v : cluster[c]) v += by[static_cast<std::size_t>(c)];
+    return cluster;
+}
+
+template <int D>
+Field<D> joined(Field<D> a, const Field<D>& b) {
+    for (int c = 0; c < D; ++c) a[c].insert(a[c].end(), b[c].begin(), b[c].end());
+    return a;
+}
+
+// Pairs as all pairs', and no crowded cell: the cluster of `n` dyadic
+// points in [0, 1)^D with eps = 1/8 has ~n/8^D a cell, a cell wider than
+// eps holds the whole cluster.
+template <int D>
+void expect_spread_pairs(const Field<D>& x, std::size_t cluster) {
+    expect_half_pairs_as_all_pairs<D>(Domain<D>::whole_space(), 0.125, x);
+    CellList<D> s(Domain<D>::whole_space(), 0.125);
+    s.update(view<D>(x));
+    double per_cell = static_cast<double>(cluster);
+    for (int c = 0; c < D; ++c) per_cell /= 8;
+    EXPECT_LE(static_cast<double>(most_in_a_cell(s)), 4 * per_cell + 20) << "of " << x[0].size() << " particles";
+}
+
+// In R^2 and R^3, particles spread far beyond what ~N cells of side eps can
+// cover: a cluster and particles far from it (alone; two within eps of each
+// other; below it; beyond 2^30 eps, where the slabs are clamped), two
+// clusters far apart along an axis and (2D) on a diagonal. The cells lie
+// over each axis's runs of occupied slabs (detail::CollapsedAxis), so the
+// pairs are all pairs' and no cell holds a cluster: with cells as wide as
+// the bounding box over N^(1/D) (the layout before it), one cell held the
+// cluster and its candidates grew like its size squared.
+TEST(Neighbours, CellPairsOfSpreadClusters) {
+    const std::size_t n = 3000 / fewer;
+    const Field<3> cube = dyadic_random<3>(n, 0, 1, 50);
+    Field<3> far = cube;
+    for (const double v : {1e6, 1e6 + 0.0625, -3e7, 1e12, 1e12 + 0.0625})
+        for (int c = 0; c < 3; ++c) far[c].push_back(c == 1 ? 0.5 : v);  // x and z far, y inside
+    expect_spread_pairs<3>(far, n);
+    expect_spread_pairs<3>(joined<3>(cube, shifted<3>(dyadic_random<3>(n, 0, 1, 51), {0, 0, 4096})), 2 * n);
+    const Field<2> square = dyadic_random<2>(n, 0, 1, 52);
+    Field<2> far2 = square;
+    for (const double v : {-1e6, 5e8, 5e8 + 0.125})
+        for (int c = 0; c < 2; ++c) far2[c].push_back(v);
+    expect_spread_pairs<2>(far2, n);
+    expect_spread_pairs<2>(joined<2>(square, shifted<2>(dyadic_random<2>(n, 0, 1, 53), {1024, 1024})), 2 * n);
+}
+
+// The runs kept while particles stray into slabs that were empty: those
+// share the collapsed cells between and beyond the runs, which must stay
+// next to the runs' cells (a stray within eps of a far particle, in the
+// slab before or after its run); once many have strayed the next update
+// finds the runs again. Pairs as all pairs' after every update. `clusters`
+// boxes [0, 1) x [0, 1/2)^2 64 apart along x (more than CollapsedAxis's few runs: its
+// bisection) and one particle at `far`; every 7th particle strays, half
+// into the slabs after the first cluster, half onto a chain eps/2 apart
+// through the far particle (it crosses the boundaries of the far
+// particle's slab, wherever they lie).
+void expect_pairs_of_strays(int clusters, std::size_t n, double far) {
+    const double eps = 0.125;
+    Field<3> x;
+    for (int k = 0; k < clusters; ++k) {
+        Field<3> cluster = dyadic_random<3>(n / static_cast<std::size_t>(clusters), 0, 1, 60 + static_cast<unsigned>(k));
+        for (int c = 1; c < 3; ++c)
+            for (double& v : cluster[c]) v /= 2;  // [0, 1) x [0, 1/2)^2: the cells of 12 fit the sanitizers' N
+        x = joined<3>(x, shifted<3>(cluster, {64.0 * k, 0, 0}));
+    }
+    for (int c = 0; c < 3; ++c) x[c].push_back(c == 0 ? far : 0.5);
+    Field<3> moved = x;
+    std::size_t strays = 0;
+    for (std::size_t i = 0; i + 1 < x[0].size(); i += 7, ++strays) {
+        const double k = static_cast<double>(strays / 2);
+        moved[0][i] = strays % 2 ? 1.0 + 0.0625 * std::fmod(k, 3) : far + 0.0625 * (std::fmod(k, 17) - 8);
+        moved[1][i] = 0.5 + (moved[1][i] - 0.5) / 16;  // near the far particle's y and z
+        moved[2][i] = 0.5 + (moved[2][i] - 0.5) / 16;
+    }
+    ASSERT_GT(strays, x[0].size() / 256 + 16) << "too few strays to find the runs again";
+    CellList<3> fast(Domain<3>::whole_space(), eps);
+    AllPairs<3> slow(Domain<3>::whole_space(), eps);
+    fast.update(view<3>(x));
+    // Every cluster's particles spread over its cells (in a cell as wide as
+    // the particles' spread, one cell would hold the clusters).
+    const double per_cell = static_cast<double>(n) / clusters / 128;
+    EXPECT_LE(static_cast<double>(most_in_a_cell(fast)), 4 * per_cell + 20);
+    slow.update(view<3>(moved));
+    const std::size_t kept_cells = fast.cells();
+    for (int round = 0; round < 2; ++round) {
+        fast.update(view<3>(moved));
+        if (round == 0) EXPECT_EQ(fast.cells(), kept_cells) << "the runs were not kept";
+        else EXPECT_NE(fast.cells(), kept_cells) << "the runs were not found again";
+        const PairSet<3> a = half_pairs_of(fast);
+        std::size_t pairs = 0, near_far = 0;
+        for (std::size_t i = 0; i < moved[0].size(); ++i)
+            slow.visit(i, [&](std::size_t j, const Vector<3>& d) {
+                if (j <= i) return;
+                ++pairs;
+                near_far += moved[0][i] > far / 2;
+                const auto at = a.find(std::pair{i, j});
+                ASSERT_NE(at, a.end()) << "round " << round << ", pair " << i << ", " << j;
+                for (int c = 0; c < 3; ++c) EXPECT_EQ(at->second[c], d[c]);
+            });
+        EXPECT_EQ(a.size(), pairs);
+        EXPECT_GT(near_far, 0u) << "no pair about the far particle: the test misses its point";
+    }
+}
+
+TEST(Neighbours, CellPairsOfStrays) {
+    expect_pairs_of_strays(1, 2000 / fewer, 1e6);
+    expect_pairs_of_strays(12, 6000 / fewer, 1e6);  // 13 runs along x
+}
+
 // The cell sweep (Newton's third law, sums in slot order) against the
 // particle sweep over AllPairs. Dyadic positions: both paths evaluate the
 // kernel at the same displacements (or their negatives, where W is even and
@@ -408,6 +530,10 @@ TEST(Euler, CellSweepEqualsAllPairs) {
     Field<1> line = dyadic_lattice<1>(256);
     line[0][100] = 100.0 / 256 + 1.0 / 1024;  // one particle off its site: non-zero forces
     expect_sweep_as_all_pairs<1, Wendland1D>(Domain<1>::periodic(1.0), 0.0625, line);
+    // R^3, a cluster and a far particle (cells over the runs of slabs, CellPairsOfSpreadClusters)
+    Field<3> spread = dyadic_random<3>(2000 / fewer, 0, 1, 55);
+    for (int c = 0; c < 3; ++c) spread[c].push_back(1e6);
+    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::whole_space(), 0.125, spread, nullptr, {1, 2, 3});
 }
 
 TEST(Euler, CellSweepAfterParticlesChangedCells) {

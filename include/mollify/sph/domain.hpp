@@ -20,7 +20,7 @@ public:
     static Domain whole_space() { return Domain(false, 0); }
     static Domain periodic(double length) {
         if (!(length > 0) || !std::isfinite(length))
-            fail("periodic box length L = " + detail::show(length) + " is not a positive finite number");
+            fail("periodic box length L = " + mollify::detail::show(length) + " is not a positive finite number");
         return Domain(true, length);
     }
 
@@ -44,8 +44,8 @@ public:
     // 2 eps < L; beyond, a particle would interact with several images.
     void check_support(double eps) const {
         if (periodic_ && !(2 * eps < length_))
-            fail("support radius eps = " + detail::show(eps) + " is not below half the periodic box length L = " +
-                 detail::show(length_) + " (a particle would meet several images of a neighbour)");
+            fail("support radius eps = " + mollify::detail::show(eps) + " is not below half the periodic box length L = " +
+                 mollify::detail::show(length_) + " (a particle would meet several images of a neighbour)");
     }
 
 private:

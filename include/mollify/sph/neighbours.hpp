@@ -17,6 +17,7 @@
 #include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
+#include <mollify/sph/collapsed_axis.hpp>
 #include <mollify/sph/domain.hpp>
 #include <mollify/sph/pair_batch.hpp>
 #include <mollify/static_kernel.hpp>  // mollify::Vector
@@ -171,12 +172,13 @@ private:
 };
 
 // A cell list, 1D to 3D. In a periodic box the cells tile [0, L)^D; in R^D
-// they cover the particles' bounding box, at most N^(1/D) + 1 cells a side,
-// so cells are wider than eps where the particles spread further than
-// N^(1/D) eps (a few far from a dense cluster): in 2D and 3D the cluster's
-// candidates then grow like its size squared. In 1D the slots are in order
-// of position, cells being intervals, and each particle's candidates are a
-// window of them (half_pairs_runs): O(neighbours) however wide the cells.
+// they cover the particles' bounding box or, in 2D and 3D where the
+// particles spread further than ~N cells of side eps reach (a few far from
+// a dense cluster, clusters far apart), each axis's runs of occupied slabs
+// (layout, detail::CollapsedAxis), so that a cluster's cells stay of side
+// eps. In 1D the slots are in order of position, cells being intervals,
+// and each particle's candidates are a window of them (half_pairs_runs):
+// O(neighbours) however wide the cells.
 template <int D>
 class CellList {
 public:
@@ -214,6 +216,7 @@ public:
         // half_pairs numbers a cell's candidates in 32 bits.
         if (n > std::size_t{1} << 31) fail("CellList: " + std::to_string(n) + " particles (at most 2^31)");
         layout(x, n);
+        strays_ = 0;  // layout() has read the last update's
         std::size_t cells = 1;
         for (int c = 0; c < D; ++c) cells *= static_cast<std::size_t>(count_[c]);
         start_.resize(cells + 1);
@@ -253,11 +256,21 @@ public:
         const std::array<long, D> count = count_;
         std::array<const double*, D> v;
         for (int c = 0; c < D; ++c) v[c] = sorted_[c].data();
-        for (std::size_t slot = from; slot < to; ++slot) {
-            std::size_t k = 0;
+        if (collapsed_.empty()) {
+            for (std::size_t slot = from; slot < to; ++slot) {
+                std::size_t k = 0;
+                for (int c = D - 1; c >= 0; --c)
+                    k = k * static_cast<std::size_t>(count[c]) + coordinate(v[c][slot], origin[c], side[c], count[c]);
+                cell_at[slot] = k;
+            }
+        } else {
+            // Axis by axis (each a loop that vectorises); a particle outside
+            // the runs on several axes counts as several strays.
+            std::fill(cell_at + from, cell_at + to, std::size_t{0});
+            std::size_t strays = 0;
             for (int c = D - 1; c >= 0; --c)
-                k = k * static_cast<std::size_t>(count[c]) + coordinate(v[c][slot], origin[c], side[c], count[c]);
-            cell_at[slot] = k;
+                strays += collapsed_[static_cast<std::size_t>(c)].append_coordinates(v[c] + from, to - from, cell_at + from);
+            std::atomic_ref<std::size_t>(strays_).fetch_add(strays, std::memory_order_relaxed);
         }
         if (first_)
             for (std::size_t slot = from; slot < to; ++slot) slot_[member[slot]] = slot;
@@ -362,6 +375,7 @@ public:
     // fills and at the end; the batch is left empty.
     template <class Flush>
     void half_pairs(std::size_t home, PairBatch<D>& b, Flush&& flush) const {
+        if (start_[home + 1] == start_[home]) return;  // no home particle (the neighbours' copy would be wasted)
         if (aliased_)
             half_pairs_aliased(home, b, flush);
         else
@@ -624,25 +638,81 @@ private:
     }
 
     // Cells of side >= eps, at most ~N of them in all (a sparse open domain
-    // must not allocate a huge empty grid).
+    // must not allocate a huge empty grid): in a periodic box and in R^1,
+    // at most N^(1/D) + 1 a side, wider than eps where that is too few (in
+    // R^1 harmless: half_pairs_runs' windows). In R^2 and R^3 cells of side
+    // eps over the bounding box where at most 4 (N^(1/D) + 1)^D of them
+    // cover it, however they are shared among the axes (a sheet of particles gets
+    // many cells along its plane); else, where the particles spread further
+    // (a cluster and particles far from it), cells of side eps over the
+    // runs of occupied slabs of each axis (detail::CollapsedAxis), kept from
+    // update to update until many particles stray from the runs; and only
+    // where even those are too many (particles spread thinly over a large
+    // region), cells wider than eps.
     void layout(const Positions<D>& x, std::size_t n) {
+        std::array<double, D> lo{}, hi{};
         for (int c = 0; c < D; ++c) {
-            double lo = 0, hi = reach_.domain.length();
+            lo[c] = 0, hi[c] = reach_.domain.length();
             if (!reach_.domain.is_periodic()) {
-                lo = hi = n ? x[c][0] : 0.0;
+                lo[c] = hi[c] = n ? x[c][0] : 0.0;
                 for (std::size_t i = 0; i < n; ++i) {
-                    lo = std::min(lo, x[c][i]);
-                    hi = std::max(hi, x[c][i]);
+                    lo[c] = std::min(lo[c], x[c][i]);
+                    hi[c] = std::max(hi[c], x[c][i]);
                 }
             }
-            origin_[c] = lo;
-            const double per_side = std::pow(static_cast<double>(std::max<std::size_t>(n, 1)), 1.0 / D) + 1;
-            count_[c] = std::max(1L, std::min(static_cast<long>((hi - lo) / reach_.eps), static_cast<long>(per_side)));
-            side_[c] = reach_.domain.is_periodic() ? reach_.domain.length() / static_cast<double>(count_[c])
-                                             : std::max((hi - lo) / static_cast<double>(count_[c]), reach_.eps);
         }
+        const double per_side = std::pow(static_cast<double>(std::max<std::size_t>(n, 1)), 1.0 / D) + 1;
+        // (hi - lo)/eps slabs a side, counted in double: it may exceed any long.
+        auto slabs = [&](int c) { return std::max(1.0, std::floor((hi[c] - lo[c]) / reach_.eps)); };
+        auto uniform = [&](int c, double count) {
+            origin_[c] = lo[c];
+            count_[c] = static_cast<long>(count);
+            side_[c] = reach_.domain.is_periodic()
+                           ? reach_.domain.length() / count
+                           : std::max(std::min(hi[c] - lo[c], std::numeric_limits<double>::max()) / count, reach_.eps);
+        };
         aliased_ = false;
-        for (int c = 0; c < D; ++c) aliased_ = aliased_ || (reach_.domain.is_periodic() && count_[c] < 3);
+        if (D == 1 || reach_.domain.is_periodic()) {
+            collapsed_.clear();
+            for (int c = 0; c < D; ++c) {
+                uniform(c, std::min(slabs(c), std::floor(per_side)));
+                aliased_ = aliased_ || (reach_.domain.is_periodic() && count_[c] < 3);
+            }
+            return;
+        }
+        // Four times the cells of the other layouts: empty cells cost a sweep
+        // little, and two clusters apart on a diagonal need 2^D their cells.
+        const double budget = 4 * std::pow(std::floor(per_side), D);
+        double cells = 1;
+        for (int c = 0; c < D; ++c) cells *= slabs(c);
+        if (cells <= budget) {
+            collapsed_.clear();
+            for (int c = 0; c < D; ++c) uniform(c, slabs(c));
+            return;
+        }
+        // Keep the runs while few particles stray from them (each stray one
+        // adds to a crowded collapsed cell); find them afresh otherwise, and
+        // after a failure only every 16th update (finding them sorts N slabs).
+        if (!collapsed_.empty() && strays_ <= std::max<std::size_t>(16, n / 256)) return;
+        if (hold_ == 0 && collapse(x, lo, budget)) return;
+        hold_ = hold_ == 0 ? 16 : hold_ - 1;
+        collapsed_.clear();
+        for (int c = 0; c < D; ++c) uniform(c, std::min(slabs(c), std::floor(per_side)));
+    }
+
+    // Cells of side ~eps over each axis's runs of occupied slabs, if at most
+    // max_cells of them in all.
+    bool collapse(const Positions<D>& x, const std::array<double, D>& lo, double max_cells) {
+        std::vector<detail::CollapsedAxis> axes;
+        double cells = 1;
+        for (int c = 0; c < D; ++c) {
+            axes.emplace_back(lo[c], reach_.eps);
+            if (!axes.back().find_runs(x[c], max_cells / cells)) return false;
+            cells *= static_cast<double>(axes.back().count());
+        }
+        collapsed_ = std::move(axes);
+        for (int c = 0; c < D; ++c) count_[c] = collapsed_[static_cast<std::size_t>(c)].count();
+        return true;
     }
 
     std::size_t cell(const Positions<D>& x, std::size_t i) const {
@@ -651,10 +721,13 @@ private:
         return k;
     }
 
-    std::size_t coordinate(double v, int c) const { return coordinate(v, origin_[c], side_[c], count_[c]); }
+    std::size_t coordinate(double v, int c) const {
+        if (!collapsed_.empty()) return collapsed_[static_cast<std::size_t>(c)].coordinate(v).first;
+        return coordinate(v, origin_[c], side_[c], count_[c]);
+    }
     static std::size_t coordinate(double v, double origin, double side, long count) {
-        const long k = static_cast<long>((v - origin) / side);
-        return static_cast<std::size_t>(std::clamp(k, 0L, count - 1));
+        // clamped as a double: (v - origin)/side may exceed any long
+        return static_cast<std::size_t>(std::clamp((v - origin) / side, 0.0, static_cast<double>(count - 1)));
     }
 
     static constexpr std::size_t copy_chunk = 8;
@@ -662,6 +735,12 @@ private:
     std::array<double, D> origin_{}, side_{};
     std::array<long, D> count_{};
     bool aliased_ = false;  // a periodic side of fewer than 3 cells
+    // R^2, R^3: the axes over runs of occupied slabs (layout), or none; the
+    // particles the last update found outside the runs; the updates until
+    // the runs are tried again after they were too many.
+    std::vector<detail::CollapsedAxis> collapsed_;
+    std::size_t strays_ = 0;
+    int hold_ = 0;
     bool order_kept_ = false;
     bool first_ = true;  // the update under way is the first (or the particle count changed)
     std::vector<std::size_t> start_, fill_, members_, previous_, slot_;  // slot_ inverts members_

@@ -1,0 +1,174 @@
+// An axis of a cell list in R^D (D >= 2) whose particles spread far beyond
+// what ~N cells of side eps can cover: a dense cluster and a few particles
+// far from it, or clusters far apart. Uniform cells would then be wider
+// than eps, and a cluster's candidates would grow like its size squared.
+// Here the axis is a lattice of slabs of width `side` (a little over eps);
+// each run of slabs that held particles when the runs were found gets
+// cells of its own, one per slab, and each stretch of empty slabs before,
+// between and after the runs is collapsed into one cell.
+//
+// Why the 3^D stencil stays exact: the map from slab to cell never
+// decreases and grows by at most one from a slab to the next, so two
+// particles within eps of each other (in slabs at most one apart) lie in
+// cells at most one apart, whatever slab they are in: a particle that
+// moves into a slab that was empty shares its collapsed cell, which costs
+// time, never a pair (CellList counts such particles and finds the runs
+// again when they become many).
+#pragma once
+
+#include <mollify/detail/isa.hpp>
+#include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace mollify::sph {
+inline namespace MOLLIFY_ISA {
+namespace detail {
+
+class CollapsedAxis {
+public:
+    // Slabs of width eps (1 + 2^-19) from `origin`, positions clamped to
+    // within 2^30 slabs of it. Both margins are for rounding: the slab
+    // floor((v - origin)/side) is then off by at most 2^-21, so two
+    // positions at most eps (1 + 2^-52) apart (all the pair test can
+    // accept) are computed at most one slab apart. Clamping, like the map,
+    // moves no two positions further apart in slabs.
+    CollapsedAxis(double origin, double eps) : origin_(origin), side_(eps * (1 + 0x1p-19)) {}
+
+    // The runs of the slabs of x; false (and the axis unchanged) where they
+    // need more than max_cells cells.
+    bool find_runs(std::span<const double> x, double max_cells) {
+        std::vector<double> slabs(x.size());
+        std::transform(x.begin(), x.end(), slabs.begin(), [&](double v) { return slab(v); });
+        std::sort(slabs.begin(), slabs.end());
+        slabs.erase(std::unique(slabs.begin(), slabs.end()), slabs.end());
+        std::vector<double> first, last;
+        std::vector<long> cell;
+        long count = 1;  // cell 0: the slabs below the first run
+        for (std::size_t k = 0; k < slabs.size(); ++k) {
+            if (k > 0 && slabs[k] == slabs[k - 1] + 1) {
+                last.back() = slabs[k];
+            } else {
+                if (!last.empty()) count += static_cast<long>(last.back() - first.back()) + 2;  // the run and the gap after it
+                if (static_cast<double>(count) > max_cells) return false;
+                first.push_back(slabs[k]);
+                last.push_back(slabs[k]);
+                cell.push_back(count);
+            }
+        }
+        if (!last.empty()) count += static_cast<long>(last.back() - first.back()) + 2;
+        if (static_cast<double>(count) > max_cells) return false;
+        first_ = std::move(first);
+        last_ = std::move(last);
+        cell_ = std::move(cell);
+        count_ = count;
+        few_first_.fill(std::numeric_limits<double>::infinity());
+        few_length_.fill(0);
+        for (std::size_t r = 0; r < std::min(few, first_.size()); ++r) {
+            few_first_[r] = first_[r];
+            few_length_[r] = last_[r] - first_[r] + 1;
+        }
+        return true;
+    }
+
+    long count() const { return count_; }
+
+    // The cell of position v, and whether it lies outside every run (in a
+    // collapsed cell).
+    std::pair<std::size_t, bool> coordinate(double v) const {
+        const double s = slab(v);
+        if (first_.size() <= few) {
+            const auto [cell, in_run] = few_runs(s);
+            return {static_cast<std::size_t>(cell), !in_run};
+        }
+        const auto after = std::upper_bound(first_.begin(), first_.end(), s);
+        if (after == first_.begin()) return {0, true};
+        const std::size_t run = static_cast<std::size_t>(after - first_.begin()) - 1;
+        const double into = s - first_[run], length = last_[run] - first_[run] + 1;
+        const bool outside = into >= length;
+        return {static_cast<std::size_t>(cell_[run] + static_cast<long>(outside ? length : into)), outside};
+    }
+
+    // k[i] = k[i] count() + the cell of v[i], for i < n; the number of v
+    // outside every run. Where the runs are few, in chunks of points, one
+    // loop over the chunk per run (few_runs' sum; omp simd: at -O2 GCC's
+    // cost model leaves such loops scalar);
+    // otherwise a bisection per point.
+    std::size_t append_coordinates(const double* v, std::size_t n, std::size_t* k) const {
+        const std::size_t count = static_cast<std::size_t>(count_);
+        std::size_t strays = 0;
+        if (first_.size() > few) {
+            for (std::size_t i = 0; i < n; ++i) {
+                const auto [cell, outside] = coordinate(v[i]);
+                k[i] = k[i] * count + cell;
+                strays += outside;
+            }
+            return strays;
+        }
+        constexpr std::size_t chunk = 256;
+        double s[chunk], cell[chunk], runs[chunk];
+        for (std::size_t from = 0; from < n; from += chunk) {
+            const std::size_t m = std::min(chunk, n - from);
+            MOLLIFY_SIMD
+            for (std::size_t i = 0; i < m; ++i) {
+                s[i] = slab(v[from + i]);
+                cell[i] = runs[i] = 0;
+            }
+            for (std::size_t r = 0; r < first_.size(); ++r) {
+                const double first = few_first_[r], length = few_length_[r];
+                MOLLIFY_SIMD
+                for (std::size_t i = 0; i < m; ++i) {
+                    const double t = s[i] - first + 1;
+                    cell[i] += std::min(std::max(t, 0.0), length + 1);
+                    runs[i] += t >= 1 && t <= length ? 1.0 : 0.0;
+                }
+            }
+            MOLLIFY_SIMD_SUM(strays)
+            for (std::size_t i = 0; i < m; ++i) {
+                k[from + i] = k[from + i] * count + static_cast<std::size_t>(cell[i]);
+                strays += runs[i] == 0;
+            }
+        }
+        return strays;
+    }
+
+private:
+    static constexpr std::size_t few = 8;
+
+    // With at most `few` runs: the cell of slab s is the sum over the runs of
+    // clamp(s - first + 1, 0, length + 1) (a run below s adds its cells and
+    // the collapsed one after it, the run holding s its cells up to s);
+    // padding runs start at +inf and add 0. Whether s lies in a run.
+    // (Arithmetic and selects only, which GCC vectorises over the points.)
+    std::pair<double, bool> few_runs(double s) const {
+        double cell = 0, runs = 0;
+        for (std::size_t r = 0; r < few; ++r) {
+            const double t = s - few_first_[r] + 1;  // s's place in the run, 1 at its first slab
+            cell += std::min(std::max(t, 0.0), few_length_[r] + 1);
+            runs += t >= 1 && t <= few_length_[r] ? 1.0 : 0.0;
+        }
+        return {cell, runs > 0};
+    }
+
+    double slab(double v) const {
+        const double reach = 0x1p30 * side_;
+        return std::floor((std::clamp(v, origin_ - reach, origin_ + reach) - origin_) / side_);
+    }
+
+    double origin_, side_;
+    std::vector<double> first_, last_;  // each run's first and last slab
+    std::vector<long> cell_;            // each run's first cell
+    long count_ = 1;
+    std::array<double, few> few_first_{}, few_length_{};  // the runs, padded (few_runs)
+};
+
+}  // namespace detail
+}  // namespace MOLLIFY_ISA
+}  // namespace mollify::sph
