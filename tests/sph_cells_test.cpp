@@ -336,6 +336,19 @@ void expect_spread_pairs(const Field<D>& x, std::size_t cluster) {
     expect_half_pairs_as_all_pairs<D>(Domain<D>::whole_space(), 0.125, x);
     CellList<D> s(Domain<D>::whole_space(), 0.125);
     s.update(view<D>(x));
+    // visit(i, f) too, particle by particle
+    AllPairs<D> all(Domain<D>::whole_space(), 0.125);
+    all.update(view<D>(x));
+    for (std::size_t i = 0; i < x[0].size(); ++i) {
+        std::map<std::size_t, Vector<D>> a, b;
+        s.visit(i, [&](std::size_t j, const Vector<D>& d) { EXPECT_TRUE(a.emplace(j, d).second) << i << ", " << j; });
+        all.visit(i, [&](std::size_t j, const Vector<D>& d) { b.emplace(j, d); });
+        ASSERT_EQ(a.size(), b.size()) << "particle " << i;
+        for (const auto& [j, d] : b) {
+            ASSERT_EQ(a.count(j), 1u) << "particle " << i << ", neighbour " << j;
+            for (int c = 0; c < D; ++c) EXPECT_EQ(a.at(j)[c], d[c]);
+        }
+    }
     double per_cell = static_cast<double>(cluster);
     for (int c = 0; c < D; ++c) per_cell /= 8;
     EXPECT_LE(static_cast<double>(most_in_a_cell(s)), 4 * per_cell + 20) << "of " << x[0].size() << " particles";

@@ -98,8 +98,8 @@ public:
 
     // k[i] = k[i] count() + the cell of v[i], for i < n; the number of v
     // outside every run. Where the runs are few, in chunks of points, one
-    // loop over the chunk per run (few_runs' sum; omp simd: at -O2 GCC's
-    // cost model leaves such loops scalar);
+    // loop over the chunk per run adding its term (add_run), which
+    // vectorises (omp simd: at -O2 GCC's cost model leaves it scalar);
     // otherwise a bisection per point.
     std::size_t append_coordinates(const double* v, std::size_t n, std::size_t* k) const {
         const std::size_t count = static_cast<std::size_t>(count_);
@@ -124,11 +124,7 @@ public:
             for (std::size_t r = 0; r < first_.size(); ++r) {
                 const double first = few_first_[r], length = few_length_[r];
                 MOLLIFY_SIMD
-                for (std::size_t i = 0; i < m; ++i) {
-                    const double t = s[i] - first + 1;
-                    cell[i] += std::min(std::max(t, 0.0), length + 1);
-                    runs[i] += t >= 1 && t <= length ? 1.0 : 0.0;
-                }
+                for (std::size_t i = 0; i < m; ++i) add_run(s[i], first, length, cell[i], runs[i]);
             }
             MOLLIFY_SIMD_SUM(strays)
             for (std::size_t i = 0; i < m; ++i) {
@@ -142,18 +138,23 @@ public:
 private:
     static constexpr std::size_t few = 8;
 
-    // With at most `few` runs: the cell of slab s is the sum over the runs of
-    // clamp(s - first + 1, 0, length + 1) (a run below s adds its cells and
-    // the collapsed one after it, the run holding s its cells up to s);
-    // padding runs start at +inf and add 0. Whether s lies in a run.
-    // (Arithmetic and selects only, which GCC vectorises over the points.)
+    // With at most `few` runs the cell of slab s is the sum over the runs of
+    // clamp(s - first + 1, 0, length + 1): a run below s adds its cells and
+    // the collapsed one after it, the run holding s its cells up to s, a run
+    // above s nothing. add_run adds one run's term to `cell`, and 1 to
+    // `runs` where s lies in it (arithmetic and selects only: it vectorises
+    // over points).
+    static void add_run(double s, double first, double length, double& cell, double& runs) {
+        const double t = s - first + 1;  // s's place in the run, 1 at its first slab
+        cell += std::min(std::max(t, 0.0), length + 1);
+        runs += t >= 1 && t <= length ? 1.0 : 0.0;
+    }
+
+    // One slab's cell, and whether it lies in a run (the padding runs start
+    // at +inf and add nothing).
     std::pair<double, bool> few_runs(double s) const {
         double cell = 0, runs = 0;
-        for (std::size_t r = 0; r < few; ++r) {
-            const double t = s - few_first_[r] + 1;  // s's place in the run, 1 at its first slab
-            cell += std::min(std::max(t, 0.0), few_length_[r] + 1);
-            runs += t >= 1 && t <= few_length_[r] ? 1.0 : 0.0;
-        }
+        for (std::size_t r = 0; r < few; ++r) add_run(s, few_first_[r], few_length_[r], cell, runs);
         return {cell, runs > 0};
     }
 
