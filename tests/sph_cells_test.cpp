@@ -329,10 +329,11 @@ Field<D> joined(Field<D> a, const Field<D>& b) {
 }
 
 // Pairs as all pairs', and no crowded cell: the cluster of `n` dyadic
-// points in [0, 1)^D with eps = 1/8 has ~n/8^D a cell, a cell wider than
-// eps holds the whole cluster.
+// points in [0, 1)^D with eps = 1/8 has ~n/8^D a cell, a cell as wide as
+// the spread over N^(1/D) holds the whole cluster. `most`: the most a cell
+// may hold, where not that (cells wider than eps).
 template <int D>
-void expect_spread_pairs(const Field<D>& x, std::size_t cluster) {
+void expect_spread_pairs(const Field<D>& x, std::size_t cluster, double most = 0) {
     expect_half_pairs_as_all_pairs<D>(Domain<D>::whole_space(), 0.125, x);
     CellList<D> s(Domain<D>::whole_space(), 0.125);
     s.update(view<D>(x));
@@ -351,17 +352,20 @@ void expect_spread_pairs(const Field<D>& x, std::size_t cluster) {
     }
     double per_cell = static_cast<double>(cluster);
     for (int c = 0; c < D; ++c) per_cell /= 8;
-    EXPECT_LE(static_cast<double>(most_in_a_cell(s)), 4 * per_cell + 20) << "of " << x[0].size() << " particles";
+    EXPECT_LE(static_cast<double>(most_in_a_cell(s)), most > 0 ? most : 4 * per_cell + 20)
+        << "of " << x[0].size() << " particles";
 }
 
 // In R^2 and R^3, particles spread far beyond what ~N cells of side eps can
 // cover: a cluster and particles far from it (alone; two within eps of each
 // other; below it; beyond 2^30 eps, where the slabs are clamped), two
-// clusters far apart along an axis and (2D) on a diagonal. The cells lie
-// over each axis's runs of occupied slabs (detail::CollapsedAxis), so the
-// pairs are all pairs' and no cell holds a cluster: with cells as wide as
-// the bounding box over N^(1/D) (the layout before it), one cell held the
-// cluster and its candidates grew like its size squared.
+// clusters far apart along an axis and (2D) on a diagonal, a cluster with
+// 1 % of its particles scattered far around it (runs left out), a cluster
+// in a Gaussian envelope and a far particle (slabs wider than eps). The
+// cells lie over each axis's runs of occupied slabs (detail::CollapsedAxis),
+// so the pairs are all pairs' and no cell holds a cluster: with cells as
+// wide as the bounding box over N^(1/D) (the layout before it), one cell
+// held the cluster and its candidates grew like its size squared.
 TEST(Neighbours, CellPairsOfSpreadClusters) {
     const std::size_t n = 3000 / fewer;
     const Field<3> cube = dyadic_random<3>(n, 0, 1, 50);
@@ -370,6 +374,14 @@ TEST(Neighbours, CellPairsOfSpreadClusters) {
         for (int c = 0; c < 3; ++c) far[c].push_back(c == 1 ? 0.5 : v);  // x and z far, y inside
     expect_spread_pairs<3>(far, n);
     expect_spread_pairs<3>(joined<3>(cube, shifted<3>(dyadic_random<3>(n, 0, 1, 51), {0, 0, 4096})), 2 * n);
+    expect_spread_pairs<3>(joined<3>(cube, dyadic_random<3>(n / 100, -1e6, 1e6, 56)), n);
+    Field<3> envelope = dyadic_random<3>(n / 10, 0, 1, 57);
+    std::mt19937_64 g(58);
+    std::normal_distribution<double> spread(0.5, 0.5);
+    for (auto& c : envelope)
+        for (double& v : c) v = std::ldexp(std::round(std::ldexp(spread(g), 20)), -20);  // dyadic
+    for (int c = 0; c < 3; ++c) envelope[c].push_back(1e6);
+    expect_spread_pairs<3>(joined<3>(cube, envelope), n, static_cast<double>(n) / 8);
     const Field<2> square = dyadic_random<2>(n, 0, 1, 52);
     Field<2> far2 = square;
     for (const double v : {-1e6, 5e8, 5e8 + 0.125})
@@ -383,11 +395,12 @@ TEST(Neighbours, CellPairsOfSpreadClusters) {
 // next to the runs' cells (a stray within eps of a far particle, in the
 // slab before or after its run); once many have strayed the next update
 // finds the runs again. Pairs as all pairs' after every update. `clusters`
-// boxes [0, 1) x [0, 1/2)^2 64 apart along x (more than CollapsedAxis's few runs: its
-// bisection) and one particle at `far`; every 7th particle strays, half
-// into the slabs after the first cluster, half onto a chain eps/2 apart
-// through the far particle (it crosses the boundaries of the far
-// particle's slab, wherever they lie).
+// boxes [0, 1) x [0, 1/2)^2 64 apart along x (more than CollapsedAxis's
+// few runs: its bisection) and one particle at `far`; every 7th particle
+// moves, half into the slabs after the first cluster (its run's margin),
+// half onto a chain eps/2 apart through the far particle, 4 slabs either
+// side (it crosses the boundaries of the far particle's run, margins
+// included, wherever they lie).
 void expect_pairs_of_strays(int clusters, std::size_t n, double far) {
     const double eps = 0.125;
     Field<3> x;

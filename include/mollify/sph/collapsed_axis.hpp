@@ -1,19 +1,24 @@
 // An axis of a cell list in R^D (D >= 2) whose particles spread far beyond
-// what ~N cells of side eps can cover: a dense cluster and a few particles
-// far from it, or clusters far apart. Uniform cells would then be wider
-// than eps, and a cluster's candidates would grow like its size squared.
-// Here the axis is a lattice of slabs of width `side` (a little over eps);
-// each run of slabs that held particles when the runs were found gets
-// cells of its own, one per slab, and each stretch of empty slabs before,
-// between and after the runs is collapsed into one cell.
+// what ~N cells of side eps can cover: a dense cluster and particles far
+// from it, clusters far apart, a diffuse envelope. Uniform cells would then
+// be as wide as the particles' spread over N^(1/D), and a cluster's
+// candidates would grow like its size squared. Here the axis is a lattice
+// of slabs of width side 2^level (side a little over eps); each run of
+// slabs that held particles when the runs were found (those holding at
+// least `threshold` particles, widened by a margin of two slabs for the
+// particles' next moves) gets cells of its own, one per slab, and each
+// stretch of slabs between the runs is collapsed into one cell. Which level
+// and threshold: Layout::choose, the finest level, and at it the smallest
+// threshold, whose cells fit the budget.
 //
-// Why the 3^D stencil stays exact: the map from slab to cell never
-// decreases and grows by at most one from a slab to the next, so two
-// particles within eps of each other (in slabs at most one apart) lie in
-// cells at most one apart, whatever slab they are in: a particle that
-// moves into a slab that was empty shares its collapsed cell, which costs
-// time, never a pair (CellList counts such particles and finds the runs
-// again when they become many).
+// Why the 3^D stencil stays exact: the map from position to cell never
+// decreases and grows by at most one from a slab of width side to the next,
+// so two particles within eps of each other (at most one such slab apart)
+// lie in cells at most one apart, whatever slab they are in: a particle in
+// a slab outside the runs (one dropped by the threshold, or empty when the
+// runs were found) shares its collapsed cell, which costs time, never a
+// pair (CellList counts such particles and finds the runs again when more
+// of them have strayed).
 #pragma once
 
 #include <mollify/detail/isa.hpp>
@@ -32,42 +37,96 @@ namespace mollify::sph {
 inline namespace MOLLIFY_ISA {
 namespace detail {
 
-class CollapsedAxis {
+// One axis's occupied slabs of width side from origin (positions clamped to
+// within 2^30 slabs of it), sorted, each with its particle count; and the
+// runs of consecutive ones at a coarser level (slabs of side 2^level).
+class OccupiedSlabs {
 public:
-    // Slabs of width eps (1 + 2^-19) from `origin`, positions clamped to
-    // within 2^30 slabs of it. Both margins are for rounding: the slab
-    // floor((v - origin)/side) is then off by at most 2^-21, so two
-    // positions at most eps (1 + 2^-52) apart (all the pair test can
-    // accept) are computed at most one slab apart. Clamping, like the map,
-    // moves no two positions further apart in slabs.
-    CollapsedAxis(double origin, double eps) : origin_(origin), side_(eps * (1 + 0x1p-19)) {}
+    struct Run {
+        double first, last, total;  // slabs (at the run's level) and particles
+    };
 
-    // The runs of the slabs of x; false (and the axis unchanged) where they
-    // need more than max_cells cells.
-    bool find_runs(std::span<const double> x, double max_cells) {
+    // Slabs of width eps (1 + 2^-19). Both margins are for rounding: the
+    // slab floor((v - origin)/side) is then off by at most 2^-21, so two
+    // positions at most eps (1 + 2^-52) apart (all the pair test can
+    // accept) are computed at most one slab apart. Clamping, like the
+    // coarser levels' floor(slab / 2^level), moves no two positions
+    // further apart in slabs.
+    OccupiedSlabs(std::span<const double> x, double origin, double eps) : origin_(origin), side_(eps * (1 + 0x1p-19)) {
         std::vector<double> slabs(x.size());
         std::transform(x.begin(), x.end(), slabs.begin(), [&](double v) { return slab(v); });
         std::sort(slabs.begin(), slabs.end());
-        slabs.erase(std::unique(slabs.begin(), slabs.end()), slabs.end());
-        std::vector<double> first, last;
-        std::vector<long> cell;
-        long count = 1;  // cell 0: the slabs below the first run
         for (std::size_t k = 0; k < slabs.size(); ++k) {
-            if (k > 0 && slabs[k] == slabs[k - 1] + 1) {
-                last.back() = slabs[k];
+            if (k > 0 && slabs[k] == slabs[k - 1]) ++counts_.back().second;
+            else counts_.emplace_back(slabs[k], 1.0);
+        }
+    }
+
+    double slab(double v) const { return slab(v, origin_, side_); }
+    static double slab(double v, double origin, double side) {
+        const double reach = 0x1p30 * side;
+        return std::floor((std::clamp(v, origin - reach, origin + reach) - origin) / side);
+    }
+
+    // The runs of occupied slabs of side 2^level, in order.
+    std::vector<Run> runs(int level) const {
+        const double scale = std::ldexp(1.0, -level);
+        std::vector<Run> out;
+        for (const auto& [s, count] : counts_) {
+            const double t = std::floor(s * scale);
+            if (!out.empty() && t <= out.back().last + 1) {
+                out.back().last = t;
+                out.back().total += count;
             } else {
-                if (!last.empty()) count += static_cast<long>(last.back() - first.back()) + 2;  // the run and the gap after it
-                if (static_cast<double>(count) > max_cells) return false;
-                first.push_back(slabs[k]);
-                last.push_back(slabs[k]);
-                cell.push_back(count);
+                out.push_back({t, t, count});
             }
         }
-        if (!last.empty()) count += static_cast<long>(last.back() - first.back()) + 2;
-        if (static_cast<double>(count) > max_cells) return false;
-        first_ = std::move(first);
-        last_ = std::move(last);
-        cell_ = std::move(cell);
+        return out;
+    }
+
+    double origin() const { return origin_; }
+    double side() const { return side_; }
+
+private:
+    double origin_, side_;
+    std::vector<std::pair<double, double>> counts_;  // occupied slab, its particles
+};
+
+class CollapsedAxis {
+public:
+    using Run = OccupiedSlabs::Run;
+    static constexpr double margin = 2;  // slabs added on each side of a run
+
+    // The runs with at least `threshold` particles, each widened by the
+    // margin, those that then touch merged: {first, last} slabs.
+    static std::vector<std::pair<double, double>> kept(const std::vector<Run>& runs, double threshold) {
+        std::vector<std::pair<double, double>> out;
+        for (const Run& r : runs) {
+            if (r.total < threshold) continue;
+            const double first = r.first - margin, last = r.last + margin;
+            if (!out.empty() && first <= out.back().second + 1) out.back().second = last;
+            else out.emplace_back(first, last);
+        }
+        return out;
+    }
+
+    // The cells such runs take: one below the first run, each run's slabs
+    // and one after each run.
+    static double cells(const std::vector<std::pair<double, double>>& runs) {
+        double count = 1;
+        for (const auto& [first, last] : runs) count += last - first + 2;
+        return count;
+    }
+
+    CollapsedAxis(const OccupiedSlabs& slabs, int level, const std::vector<std::pair<double, double>>& runs)
+        : origin_(slabs.origin()), side_(slabs.side()), scale_(std::ldexp(1.0, -level)) {
+        long count = 1;  // cell 0: the slabs below the first run
+        for (const auto& [first, last] : runs) {
+            first_.push_back(first);
+            last_.push_back(last);
+            cell_.push_back(count);
+            count += static_cast<long>(last - first) + 2;  // the run and the collapsed cell after it
+        }
         count_ = count;
         few_first_.fill(std::numeric_limits<double>::infinity());
         few_length_.fill(0);
@@ -75,7 +134,6 @@ public:
             few_first_[r] = first_[r];
             few_length_[r] = last_[r] - first_[r] + 1;
         }
-        return true;
     }
 
     long count() const { return count_; }
@@ -158,12 +216,10 @@ private:
         return {cell, runs > 0};
     }
 
-    double slab(double v) const {
-        const double reach = 0x1p30 * side_;
-        return std::floor((std::clamp(v, origin_ - reach, origin_ + reach) - origin_) / side_);
-    }
+    // OccupiedSlabs::slab at this level.
+    double slab(double v) const { return std::floor(OccupiedSlabs::slab(v, origin_, side_) * scale_); }
 
-    double origin_, side_;
+    double origin_, side_, scale_;  // scale_ = 2^-level
     std::vector<double> first_, last_;  // each run's first and last slab
     std::vector<long> cell_;            // each run's first cell
     long count_ = 1;

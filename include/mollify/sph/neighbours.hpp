@@ -642,13 +642,12 @@ private:
     // at most N^(1/D) + 1 a side, wider than eps where that is too few (in
     // R^1 harmless: half_pairs_runs' windows). In R^2 and R^3 cells of side
     // eps over the bounding box where at most 4 (N^(1/D) + 1)^D of them
-    // cover it, however they are shared among the axes (a sheet of particles gets
-    // many cells along its plane); else, where the particles spread further
-    // (a cluster and particles far from it), cells of side eps over the
-    // runs of occupied slabs of each axis (detail::CollapsedAxis), kept from
-    // update to update until many particles stray from the runs; and only
-    // where even those are too many (particles spread thinly over a large
-    // region), cells wider than eps.
+    // cover it, however they are shared among the axes (a sheet of particles
+    // gets many cells along its plane); else, where the particles spread
+    // further (a cluster and particles far from it, a diffuse envelope),
+    // cells over the runs of occupied slabs of each axis (collapse,
+    // detail::CollapsedAxis), kept from update to update until many more
+    // particles lie outside the runs than when they were found.
     void layout(const Positions<D>& x, std::size_t n) {
         std::array<double, D> lo{}, hi{};
         for (int c = 0; c < D; ++c) {
@@ -690,29 +689,57 @@ private:
             for (int c = 0; c < D; ++c) uniform(c, slabs(c));
             return;
         }
-        // Keep the runs while few particles stray from them (each stray one
-        // adds to a crowded collapsed cell); find them afresh otherwise, and
-        // after a failure only every 16th update (finding them sorts N slabs).
-        if (!collapsed_.empty() && strays_ <= std::max<std::size_t>(16, n / 256)) return;
-        if (hold_ == 0 && collapse(x, lo, budget)) return;
-        hold_ = hold_ == 0 ? 16 : hold_ - 1;
-        collapsed_.clear();
+        // Keep the runs while few more particles than when they were found
+        // lie outside them (each adds to a crowded collapsed cell); find
+        // them afresh otherwise (a sort of N slabs a side).
+        if (!collapsed_.empty() && strays_ <= outside_runs_ + std::max<std::size_t>(16, n / 256)) return;
+        if (collapse(x, lo, budget, n)) return;
+        collapsed_.clear();  // not met: collapse() reaches slabs as wide as the spread
         for (int c = 0; c < D; ++c) uniform(c, std::min(slabs(c), std::floor(per_side)));
     }
 
-    // Cells of side ~eps over each axis's runs of occupied slabs, if at most
-    // max_cells of them in all.
-    bool collapse(const Positions<D>& x, const std::array<double, D>& lo, double max_cells) {
-        std::vector<detail::CollapsedAxis> axes;
-        double cells = 1;
-        for (int c = 0; c < D; ++c) {
-            axes.emplace_back(lo[c], reach_.eps);
-            if (!axes.back().find_runs(x[c], max_cells / cells)) return false;
-            cells *= static_cast<double>(axes.back().count());
+    // Cells over each axis's runs of occupied slabs (detail::CollapsedAxis)
+    // if at most max_cells of them: slabs of side eps if they fit, else
+    // twice, four times ... that; at each side the runs that hold the
+    // fewest particles may be left out (their particles share the collapsed
+    // cells between the runs), up to n/16 particles a side. The first side,
+    // and at it the fewest runs left out, with which the cells fit.
+    bool collapse(const Positions<D>& x, const std::array<double, D>& lo, double max_cells, std::size_t n) {
+        using detail::CollapsedAxis;
+        using Run = detail::OccupiedSlabs::Run;
+        std::vector<detail::OccupiedSlabs> slabs;
+        for (int c = 0; c < D; ++c) slabs.emplace_back(x[c], lo[c], reach_.eps);
+        for (int level = 0; level <= 32; ++level) {
+            std::array<std::vector<Run>, D> runs;
+            std::vector<double> thresholds{1};
+            for (int c = 0; c < D; ++c) {
+                runs[c] = slabs[c].runs(level);
+                for (const Run& r : runs[c]) thresholds.push_back(r.total);
+            }
+            std::sort(thresholds.begin(), thresholds.end());
+            thresholds.erase(std::unique(thresholds.begin(), thresholds.end()), thresholds.end());
+            auto cells = [&](double threshold) {
+                double product = 1;
+                for (int c = 0; c < D; ++c) product *= CollapsedAxis::cells(CollapsedAxis::kept(runs[c], threshold));
+                return product;
+            };
+            // The cells shrink as the threshold grows: the smallest that fits, by bisection.
+            const auto fit = std::partition_point(thresholds.begin(), thresholds.end(),
+                                                  [&](double t) { return cells(t) > max_cells; });
+            if (fit == thresholds.end()) continue;
+            std::size_t left_out = 0;
+            for (int c = 0; c < D; ++c)
+                for (const Run& r : runs[c]) left_out += r.total < *fit ? static_cast<std::size_t>(r.total) : 0;
+            if (static_cast<double>(left_out) > static_cast<double>(n) / 16) continue;
+            collapsed_.clear();
+            for (int c = 0; c < D; ++c) {
+                collapsed_.emplace_back(slabs[static_cast<std::size_t>(c)], level, CollapsedAxis::kept(runs[c], *fit));
+                count_[c] = collapsed_.back().count();
+            }
+            outside_runs_ = left_out;
+            return true;
         }
-        collapsed_ = std::move(axes);
-        for (int c = 0; c < D; ++c) count_[c] = collapsed_[static_cast<std::size_t>(c)].count();
-        return true;
+        return false;
     }
 
     std::size_t cell(const Positions<D>& x, std::size_t i) const {
@@ -736,11 +763,10 @@ private:
     std::array<long, D> count_{};
     bool aliased_ = false;  // a periodic side of fewer than 3 cells
     // R^2, R^3: the axes over runs of occupied slabs (layout), or none; the
-    // particles the last update found outside the runs; the updates until
-    // the runs are tried again after they were too many.
+    // particles the last update found outside the runs, and those left out
+    // of the runs when they were found (summed over the axes).
     std::vector<detail::CollapsedAxis> collapsed_;
-    std::size_t strays_ = 0;
-    int hold_ = 0;
+    std::size_t strays_ = 0, outside_runs_ = 0;
     bool order_kept_ = false;
     bool first_ = true;  // the update under way is the first (or the particle count changed)
     std::vector<std::size_t> start_, fill_, members_, previous_, slot_;  // slot_ inverts members_
