@@ -39,7 +39,7 @@ namespace detail {
 
 // One axis's occupied slabs of width side from origin (positions clamped to
 // within 2^30 slabs of it), sorted, each with its particle count; and the
-// runs of consecutive ones at a coarser level (slabs of side 2^level).
+// runs of consecutive ones at a level (slabs 2^level times as wide).
 class OccupiedSlabs {
 public:
     struct Run {
@@ -68,7 +68,7 @@ public:
         return std::floor((std::clamp(v, origin - reach, origin + reach) - origin) / side);
     }
 
-    // The runs of occupied slabs of side 2^level, in order.
+    // The runs of occupied slabs 2^level times as wide, in order.
     std::vector<Run> runs(int level) const {
         const double scale = std::ldexp(1.0, -level);
         std::vector<Run> out;

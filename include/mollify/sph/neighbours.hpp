@@ -694,16 +694,16 @@ private:
         // them afresh otherwise (a sort of N slabs a side).
         if (!collapsed_.empty() && strays_ <= outside_runs_ + std::max<std::size_t>(16, n / 256)) return;
         if (collapse(x, lo, budget, n)) return;
-        collapsed_.clear();  // not met: collapse() reaches slabs as wide as the spread
+        collapsed_.clear();  // a handful of particles only: the runs' margins alone exceed their budget
         for (int c = 0; c < D; ++c) uniform(c, std::min(slabs(c), std::floor(per_side)));
     }
 
-    // Cells over each axis's runs of occupied slabs (detail::CollapsedAxis)
+    // Cells over each axis's runs of occupied slabs (detail::CollapsedAxis),
     // if at most max_cells of them: slabs of side eps if they fit, else
-    // twice, four times ... that; at each side the runs that hold the
-    // fewest particles may be left out (their particles share the collapsed
-    // cells between the runs), up to n/16 particles a side. The first side,
-    // and at it the fewest runs left out, with which the cells fit.
+    // 2 eps, 4 eps, ...; at each slab side the runs that hold the fewest
+    // particles may be left out (their particles share the collapsed cells
+    // between the runs), n/16 particles at most over the axes. The finest
+    // slabs, and with them the fewest runs left out, whose cells fit.
     bool collapse(const Positions<D>& x, const std::array<double, D>& lo, double max_cells, std::size_t n) {
         using detail::CollapsedAxis;
         using Run = detail::OccupiedSlabs::Run;
