@@ -25,10 +25,8 @@
 #include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstddef>
-#include <limits>
 #include <span>
 #include <utility>
 #include <vector>
@@ -123,35 +121,26 @@ public:
         long count = 1;  // cell 0: the slabs below the first run
         for (const auto& [first, last] : runs) {
             first_.push_back(first);
-            last_.push_back(last);
+            length_.push_back(last - first + 1);
             cell_.push_back(count);
             count += static_cast<long>(last - first) + 2;  // the run and the collapsed cell after it
         }
         count_ = count;
-        few_first_.fill(std::numeric_limits<double>::infinity());
-        few_length_.fill(0);
-        for (std::size_t r = 0; r < std::min(few, first_.size()); ++r) {
-            few_first_[r] = first_[r];
-            few_length_[r] = last_[r] - first_[r] + 1;
-        }
     }
 
     long count() const { return count_; }
 
     // The cell of position v, and whether it lies outside every run (in a
-    // collapsed cell).
+    // collapsed cell): the last run starting at or below its slab, by
+    // bisection.
     std::pair<std::size_t, bool> coordinate(double v) const {
         const double s = slab(v);
-        if (first_.size() <= few) {
-            const auto [cell, in_run] = few_runs(s);
-            return {static_cast<std::size_t>(cell), !in_run};
-        }
         const auto after = std::upper_bound(first_.begin(), first_.end(), s);
         if (after == first_.begin()) return {0, true};
         const std::size_t run = static_cast<std::size_t>(after - first_.begin()) - 1;
-        const double into = s - first_[run], length = last_[run] - first_[run] + 1;
-        const bool outside = into >= length;
-        return {static_cast<std::size_t>(cell_[run] + static_cast<long>(outside ? length : into)), outside};
+        const double into = s - first_[run];
+        const bool outside = into >= length_[run];
+        return {static_cast<std::size_t>(cell_[run] + static_cast<long>(outside ? length_[run] : into)), outside};
     }
 
     // k[i] = k[i] count() + the cell of v[i], for i < n; the number of v
@@ -180,7 +169,7 @@ public:
                 cell[i] = runs[i] = 0;
             }
             for (std::size_t r = 0; r < first_.size(); ++r) {
-                const double first = few_first_[r], length = few_length_[r];
+                const double first = first_[r], length = length_[r];
                 MOLLIFY_SIMD
                 for (std::size_t i = 0; i < m; ++i) add_run(s[i], first, length, cell[i], runs[i]);
             }
@@ -196,34 +185,25 @@ public:
 private:
     static constexpr std::size_t few = 8;
 
-    // With at most `few` runs the cell of slab s is the sum over the runs of
-    // clamp(s - first + 1, 0, length + 1): a run below s adds its cells and
-    // the collapsed one after it, the run holding s its cells up to s, a run
-    // above s nothing. add_run adds one run's term to `cell`, and 1 to
-    // `runs` where s lies in it (arithmetic and selects only: it vectorises
-    // over points).
+    // The cell of slab s is the sum over the runs of clamp(s - first + 1, 0,
+    // length + 1): a run below s adds its cells and the collapsed one after
+    // it, the run holding s its cells up to s, a run above s nothing.
+    // add_run adds one run's term to `cell`, and 1 to `runs` where s lies
+    // in it (arithmetic and selects only: it vectorises over points; with
+    // more than `few` runs, coordinate's bisection costs less).
     static void add_run(double s, double first, double length, double& cell, double& runs) {
         const double t = s - first + 1;  // s's place in the run, 1 at its first slab
         cell += std::min(std::max(t, 0.0), length + 1);
         runs += t >= 1 && t <= length ? 1.0 : 0.0;
     }
 
-    // One slab's cell, and whether it lies in a run (the padding runs start
-    // at +inf and add nothing).
-    std::pair<double, bool> few_runs(double s) const {
-        double cell = 0, runs = 0;
-        for (std::size_t r = 0; r < few; ++r) add_run(s, few_first_[r], few_length_[r], cell, runs);
-        return {cell, runs > 0};
-    }
-
     // OccupiedSlabs::slab at this level.
     double slab(double v) const { return std::floor(OccupiedSlabs::slab(v, origin_, side_) * scale_); }
 
     double origin_, side_, scale_;  // scale_ = 2^-level
-    std::vector<double> first_, last_;  // each run's first and last slab
-    std::vector<long> cell_;            // each run's first cell
+    std::vector<double> first_, length_;  // each run's first slab and its number of slabs
+    std::vector<long> cell_;              // each run's first cell
     long count_ = 1;
-    std::array<double, few> few_first_{}, few_length_{};  // the runs, padded (few_runs)
 };
 
 }  // namespace detail
