@@ -141,11 +141,31 @@ struct Case {
 // case); R^d; R^d with one more particle far from the lattice (at 10^6 on
 // every axis), which the cell list's layout must not let crowd the
 // lattice's cells (CellList::layout; before stop 55 it made cells as wide
-// as the bounding box over N^(1/d), one of them holding the lattice).
-enum class Space { periodic, open, open_far };
+// as the bounding box over N^(1/d), one of them holding the lattice); the
+// periodic box with 9 in 10 of the lattice's particles drawn into its
+// middle eighth on every axis (spacing dx/8, eps scaled with it), the
+// rest a sparse background, whose cells must not crowd (before stop 56 a
+// cell of side 1/(N^(1/d) + 1) held ~460 of the cluster's particles).
+enum class Space { periodic, open, open_far, periodic_cluster };
 
 const char* space_name(Space s) {
-    return s == Space::periodic ? "periodic box" : s == Space::open ? "R^d" : "R^d, one far particle";
+    switch (s) {
+        case Space::periodic: return "periodic box";
+        case Space::open: return "R^d";
+        case Space::open_far: return "R^d, one far particle";
+        case Space::periodic_cluster: return "periodic box, a cluster";
+    }
+    return "";
+}
+
+const char* space_path(Space s) {
+    switch (s) {
+        case Space::periodic: return "";
+        case Space::open: return "open/";
+        case Space::open_far: return "open+far/";
+        case Space::periodic_cluster: return "periodic+cluster/";
+    }
+    return "";
 }
 std::map<std::string, Case>& cases() {
     static std::map<std::string, Case> c;
@@ -161,10 +181,15 @@ void sweep(benchmark::State& state, long side, double eps_over_dx, bool capped, 
     sph::Field<D> x = mollify::bench::lattice<D>(side);
     if (space == Space::open_far)
         for (auto& c : x) c.push_back(1e6);
+    const bool cluster = space == Space::periodic_cluster, periodic = space == Space::periodic || cluster;
+    if (cluster)
+        for (auto& c : x)
+            for (std::size_t i = 0; i < c.size(); ++i)
+                if (i % 10 != 0) c[i] = 0.5 + (c[i] - 0.5) / 8;
     const std::size_t n = x[0].size();
     const double dx = 1.0 / static_cast<double>(side);
     sph::BarotropicEuler<D, Kernel, Search> system(
-        Kernel{}, eps_over_dx * dx, space == Space::periodic ? sph::Domain<D>::periodic(1.0) : sph::Domain<D>::whole_space(),
+        Kernel{}, eps_over_dx * dx / (cluster ? 8 : 1), periodic ? sph::Domain<D>::periodic(1.0) : sph::Domain<D>::whole_space(),
         std::vector<double>(n, std::pow(dx, D)));
     sph::Field<D> a;
     // Warm-up: the first sort, the scratch buffers, the work estimate.
@@ -206,9 +231,8 @@ void register_sweeps(const char* search, const char* kernel, double eps_over_dx,
         std::size_t lattice = 1;
         for (int c = 0; c < D; ++c) lattice *= static_cast<std::size_t>(side);
         n += lattice;
-        const std::string where = space == Space::periodic ? "" : space == Space::open ? "open/" : "open+far/";
         const std::string name =
-            "sweep/d=" + std::to_string(D) + "/" + where + search + "/" + kernel + "/" + std::to_string(n);
+            "sweep/d=" + std::to_string(D) + "/" + space_path(space) + search + "/" + kernel + "/" + std::to_string(n);
         cases().emplace(name, Case{D, search, kernel, side, n, eps_over_dx, space_name(space)});
         order().push_back(name);
         auto* b = benchmark::RegisterBenchmark(name.c_str(), [side, eps_over_dx, capped, space](benchmark::State& st) {
@@ -272,7 +296,8 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         << (per_core() ? "the process's CPU time (one core's work, whatever else the machine runs)" : "wall time")
         << ", wall = wall-clock ms/sweep.\n"
         << "One `BarotropicEuler::acceleration` sweep (neighbour update + gather + kernel pairs + accumulation) on the\n"
-        << "periodic unit box (d = 3 also in R^3, alone and with one more particle at 10^6 on every axis); particles "
+        << "periodic unit box (d = 3 also in R^3, alone and with one more particle at 10^6 on every axis, and in the box "
+        << "with a cluster); particles "
         << "on the lattice of spacing dx, jittered by +-" << mollify::bench::lattice_jitter
         << " dx (seeded), masses dx^d; eps = 20 dx (d = 1), 2 dx (d = 3).\n"
         << "inter/s = particle–neighbour pairs met per second (ordered pairs (i, j) within eps, i = j included); "
@@ -346,24 +371,37 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         out << "\nSpeed-up over the baselines at the same N, same run:\n\n| d | search | baseline | kernel | N | "
             << "t(baseline) / t |\n|--:|---|---|---|--:|--:|\n"
             << speedups;
-    // One far particle against none, the same lattice in R^d, the same run.
-    std::string far;
-    for (const auto& name : order()) {
-        const Case& c = cases().at(name);
-        if (c.domain != space_name(Space::open_far) || !rows.count(name)) continue;
-        for (const auto& [other, o] : cases())
-            if (o.d == c.d && o.side == c.side && o.search == c.search && o.kernel == c.kernel &&
-                o.domain == space_name(Space::open) && rows.count(other))
-                far += "| " + std::to_string(c.d) + " | " + c.search + " | " + c.kernel + " | " + std::to_string(o.n) +
-                       " | " + number("%.3g", rows.at(other).ms_sweep) + " | " + number("%.3g", rows.at(name).ms_sweep) +
-                       " | " + number("%.2f", rows.at(name).ms_sweep / rows.at(other).ms_sweep) + " |\n";
-    }
-    if (!far.empty())
+    // A lattice's variant against the lattice itself (the same side, search
+    // and kernel), the same run: ms/sweep and their ratio.
+    auto against = [&](Space variant, Space plain) {
+        std::string table;
+        for (const auto& name : order()) {
+            const Case& c = cases().at(name);
+            if (c.domain != space_name(variant) || !rows.count(name)) continue;
+            for (const auto& [other, o] : cases())
+                if (o.d == c.d && o.side == c.side && o.search == c.search && o.kernel == c.kernel &&
+                    o.domain == space_name(plain) && rows.count(other))
+                    table += "| " + std::to_string(c.d) + " | " + c.search + " | " + c.kernel + " | " + std::to_string(o.n) +
+                             " | " + number("%.3g", rows.at(other).ms_sweep) + " | " +
+                             number("%.3g", rows.at(name).ms_sweep) + " | " +
+                             number("%.2f", rows.at(name).ms_sweep / rows.at(other).ms_sweep) + " |\n";
+        }
+        return table;
+    };
+    if (const std::string far = against(Space::open_far, Space::open); !far.empty())
         out << "\nOne far particle, same run: the lattice in R^d alone and with one particle at 10^6 on every axis "
             << "(ms/sweep; a layout whose cells the far particle widens makes this ratio grow like N):\n\n"
             << "| d | search | kernel | N (lattice) | t(R^d) | t(with the far particle) | ratio |\n"
             << "|--:|---|---|--:|--:|--:|--:|\n"
             << far;
+    if (const std::string cluster = against(Space::periodic_cluster, Space::periodic); !cluster.empty())
+        out << "\nA cluster in the periodic box, same run: the lattice, and 9 in 10 of its particles drawn into the box's "
+            << "middle eighth on every axis (eps dx/4: ~27 neighbours in the cluster, the background ~none; ms/sweep; "
+            << "equal cells of side 1/(N^(1/3) + 1) put ~460 of the cluster's particles in each of its cells, which "
+            << "made this ratio 4-9 before stop 56):\n\n"
+            << "| d | search | kernel | N | t(lattice) | t(cluster) | ratio |\n"
+            << "|--:|---|---|--:|--:|--:|--:|\n"
+            << cluster;
     if (!skipped.empty()) {
         out << "\nSkipped:\n\n";
         for (const auto& s : skipped) out << "- " << s << "\n";
@@ -407,6 +445,8 @@ int main(int argc, char** argv) {
     // R^3: the lattice alone and with one far particle (CellList::layout).
     register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100}, Space::open);
     register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100}, Space::open_far);
+    // The periodic box with a cluster (CellList::periodic_layout).
+    register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100}, Space::periodic_cluster);
     register_sweeps<3, C4_3, sph::AllPairs<3>>("AllPairs", "wendland:k=2", 2, {10, 14, 22});  // 1000, 2744, 10648
     Collector collector;
     const std::string before = uptime();

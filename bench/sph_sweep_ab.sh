@@ -35,12 +35,13 @@ trap 'rm -rf "$work"' EXIT
 copy() {  # copy NAME SOURCE-OF-FILE (a command printing include/mollify/sph/F.hpp)
   local name=$1; shift
   mkdir -p "$work/$name"
-  for f in neighbours pair_batch euler collapsed_axis; do
-    # collapsed_axis.hpp (stop 55) is absent from older commits, whose neighbours.hpp does not include it
-    [ "$f" = collapsed_axis ] && ! "$@" "$f" > /dev/null 2>&1 && continue
+  for f in neighbours pair_batch euler collapsed_axis graded_axis; do
+    # collapsed_axis.hpp (stop 55) and graded_axis.hpp (stop 56) are absent from older commits, whose neighbours.hpp does not include them
+    { [ "$f" = collapsed_axis ] || [ "$f" = graded_axis ]; } && ! "$@" "$f" > /dev/null 2>&1 && continue
     "$@" "$f" | sed -e "s/namespace mollify::sph {/namespace mollify::sph_$name { using namespace mollify::sph;/" \
         -e "s|#include <mollify/sph/neighbours.hpp>|#include \"neighbours.hpp\"|" \
         -e "s|#include <mollify/sph/collapsed_axis.hpp>|#include \"collapsed_axis.hpp\"|" \
+        -e "s|#include <mollify/sph/graded_axis.hpp>|#include \"graded_axis.hpp\"|" \
         -e "s|#include <mollify/sph/pair_batch.hpp>|#include \"pair_batch.hpp\"|" > "$work/$name/$f.hpp"
     grep -q "namespace mollify::sph_$name" "$work/$name/$f.hpp" || { echo "sph_sweep_ab: $f.hpp has no namespace mollify::sph" >&2; exit 1; }
   done

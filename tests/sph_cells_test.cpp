@@ -390,6 +390,65 @@ TEST(Neighbours, CellPairsOfSpreadClusters) {
     expect_spread_pairs<2>(joined<2>(square, shifted<2>(dyadic_random<2>(n, 0, 1, 53), {1024, 1024})), 2 * n);
 }
 
+// A periodic box whose particles crowd part of it: a dense cube of side
+// 1/16 (8 eps, ~6 particles a cell of side eps) in a sparse background,
+// 90 % of the particles in it, at `centre` (wrapped: at a corner it
+// straddles every seam); `side`: the cube's side in eps. Equal cells of at most N^(1/D) + 1 a side (the
+// layout before graded cells) put the cube into a few cells of hundreds;
+// graded cells (detail::GradedAxis) give it cells of side eps. Pairs as
+// all pairs', half_pairs and visit, and no crowded cell.
+template <int D>
+Field<D> periodic_cluster(std::size_t n, const std::array<double, D>& centre, unsigned seed) {
+    const Domain<D> box = Domain<D>::periodic(1.0);
+    Field<D> cube = dyadic_random<D>(n - n / 10, -1.0 / 32, 1.0 / 32, seed);
+    for (int c = 0; c < D; ++c)
+        for (double& v : cube[c]) v = box.wrap(v + centre[static_cast<std::size_t>(c)]);
+    return joined<D>(cube, dyadic_random<D>(n / 10, 0, 1, seed + 1));
+}
+
+template <int D>
+void expect_periodic_cluster_pairs(const Field<D>& x, const Field<D>* before = nullptr, double side = 8) {
+    const Domain<D> box = Domain<D>::periodic(1.0);
+    const double eps = 1.0 / 128;
+    if (before) expect_half_pairs_after_motion<D>(box, eps, *before, x);
+    else expect_half_pairs_as_all_pairs<D>(box, eps, x);
+    CellList<D> s(box, eps);
+    if (before) s.update(view<D>(*before));
+    s.update(view<D>(x));
+    s.update(view<D>(x));  // a moved cluster: the update after the one that found the cells crowded chooses anew
+    AllPairs<D> all(box, eps);
+    all.update(view<D>(x));
+    for (std::size_t i = 0; i < x[0].size(); ++i) {
+        std::map<std::size_t, Vector<D>> a, b;
+        s.visit(i, [&](std::size_t j, const Vector<D>& d) { EXPECT_TRUE(a.emplace(j, d).second) << i << ", " << j; });
+        all.visit(i, [&](std::size_t j, const Vector<D>& d) { b.emplace(j, d); });
+        ASSERT_EQ(a.size(), b.size()) << "particle " << i;
+        for (const auto& [j, d] : b) {
+            ASSERT_EQ(a.count(j), 1u) << "particle " << i << ", neighbour " << j;
+            for (int c = 0; c < D; ++c) EXPECT_NEAR(a.at(j)[c], d[c], 1e-15);
+        }
+    }
+    double per_cell = 0.9 * static_cast<double>(x[0].size());  // the cube's particles in each of its side^D cells of side eps
+    for (int c = 0; c < D; ++c) per_cell /= side;
+    EXPECT_LE(static_cast<double>(most_in_a_cell(s)), 4 * per_cell + 20) << "of " << x[0].size() << " particles";
+}
+
+TEST(Neighbours, CellPairsOfPeriodicCluster) {
+    const std::size_t n = 3000 / fewer;
+    expect_periodic_cluster_pairs<3>(periodic_cluster<3>(n, {0, 0, 0}, 70));  // across every seam
+    expect_periodic_cluster_pairs<3>(periodic_cluster<3>(n, {0.5, 0.25, 0.75}, 72));
+    expect_periodic_cluster_pairs<2>(periodic_cluster<2>(n, {0, 0.5}, 74));
+    // Moved across the box since the last update, and collapsed to half its size.
+    Field<3> collapsed = periodic_cluster<3>(n, {0.25, 0.25, 0.25}, 76);
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t i = 0; i < n - n / 10; ++i) collapsed[c][i] = 0.25 + (collapsed[c][i] - 0.25) / 2;
+    const Field<3> before = periodic_cluster<3>(n, {0.75, 0.5, 0.5}, 76);
+    expect_periodic_cluster_pairs<3>(collapsed, &before, 4);
+    // Spread evenly again: the cells of a cluster no longer there.
+    const Field<3> even = dyadic_random<3>(n, 0, 1, 78);
+    expect_half_pairs_after_motion<3>(Domain<3>::periodic(1.0), 1.0 / 128, before, even);
+}
+
 // The runs kept while particles stray into slabs that were empty: those
 // share the collapsed cells between and beyond the runs, which must stay
 // next to the runs' cells (a stray within eps of a far particle, in the
@@ -561,6 +620,9 @@ TEST(Euler, CellSweepEqualsAllPairs) {
     Field<3> spread = dyadic_random<3>(2000 / fewer, 0, 1, 55);
     for (int c = 0; c < 3; ++c) spread[c].push_back(1e6);
     expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::whole_space(), 0.125, spread, nullptr, {1, 2, 3});
+    // A periodic box with a dense cluster across the seams (graded cells, CellPairsOfPeriodicCluster)
+    expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 1.0 / 128,
+                                             periodic_cluster<3>(3000 / fewer, {0, 0.5, 0}, 79), nullptr, {1, 2, 3});
 }
 
 TEST(Euler, CellSweepAfterParticlesChangedCells) {

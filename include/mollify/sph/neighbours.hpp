@@ -19,6 +19,7 @@
 #include <mollify/error.hpp>
 #include <mollify/sph/collapsed_axis.hpp>
 #include <mollify/sph/domain.hpp>
+#include <mollify/sph/graded_axis.hpp>
 #include <mollify/sph/pair_batch.hpp>
 #include <mollify/static_kernel.hpp>  // mollify::Vector
 
@@ -256,7 +257,10 @@ public:
         const std::array<long, D> count = count_;
         std::array<const double*, D> v;
         for (int c = 0; c < D; ++c) v[c] = sorted_[c].data();
-        if (collapsed_.empty()) {
+        if (!graded_.empty()) {
+            std::fill(cell_at + from, cell_at + to, std::size_t{0});
+            for (int c = D - 1; c >= 0; --c) graded_[static_cast<std::size_t>(c)].append_coordinates(v[c] + from, to - from, cell_at + from);
+        } else if (collapsed_.empty()) {
             for (std::size_t slot = from; slot < to; ++slot) {
                 std::size_t k = 0;
                 for (int c = D - 1; c >= 0; --c)
@@ -638,9 +642,11 @@ private:
     }
 
     // Cells of side >= eps, at most ~N of them in all (a sparse open domain
-    // must not allocate a huge empty grid): in a periodic box and in R^1,
-    // at most N^(1/D) + 1 a side, wider than eps where that is too few (in
-    // R^1 harmless: half_pairs_runs' windows). In R^2 and R^3 cells of side
+    // must not allocate a huge empty grid): in R^1, at most N + 1, wider
+    // than eps where that is too few (harmless: half_pairs_runs' windows).
+    // In a periodic box (periodic_layout) at most N^(1/D) + 1 a side, wider
+    // than eps where that is too few, or graded ones where the particles
+    // crowd part of the box. In R^2 and R^3 cells of side
     // eps over the bounding box where at most 4 (N^(1/D) + 1)^D of them
     // cover it, however they are shared among the axes (a sheet of particles
     // gets many cells along its plane); else, where the particles spread
@@ -663,30 +669,25 @@ private:
         const double per_side = std::pow(static_cast<double>(std::max<std::size_t>(n, 1)), 1.0 / D) + 1;
         // (hi - lo)/eps slabs a side, counted in double: it may exceed any long.
         auto slabs = [&](int c) { return std::max(1.0, std::floor((hi[c] - lo[c]) / reach_.eps)); };
-        auto uniform = [&](int c, double count) {
-            origin_[c] = lo[c];
-            count_[c] = static_cast<long>(count);
-            side_[c] = reach_.domain.is_periodic()
-                           ? reach_.domain.length() / count
-                           : std::max(std::min(hi[c] - lo[c], std::numeric_limits<double>::max()) / count, reach_.eps);
-        };
-        aliased_ = false;
-        if (D == 1 || reach_.domain.is_periodic()) {
-            collapsed_.clear();
-            for (int c = 0; c < D; ++c) {
-                uniform(c, std::min(slabs(c), std::floor(per_side)));
-                aliased_ = aliased_ || (reach_.domain.is_periodic() && count_[c] < 3);
-            }
+        if (D == 1) {
+            uniform(0, lo[0], hi[0], std::min(slabs(0), std::floor(per_side)));
+            aliased_ = reach_.domain.is_periodic() && count_[0] < 3;
             return;
         }
         // Four times the cells of the other layouts: empty cells cost a sweep
         // little, and two clusters apart on a diagonal need 2^D their cells.
         const double budget = 4 * std::pow(std::floor(per_side), D);
+        if (reach_.domain.is_periodic()) {
+            std::array<double, D> even;  // equal cells a side
+            for (int c = 0; c < D; ++c) even[c] = std::min(slabs(c), std::floor(per_side));
+            periodic_layout(x, n, even, budget);
+            return;
+        }
         double cells = 1;
         for (int c = 0; c < D; ++c) cells *= slabs(c);
         if (cells <= budget) {
             collapsed_.clear();
-            for (int c = 0; c < D; ++c) uniform(c, slabs(c));
+            for (int c = 0; c < D; ++c) uniform(c, lo[c], hi[c], slabs(c));
             return;
         }
         // Keep the runs while few more particles than when they were found
@@ -695,7 +696,57 @@ private:
         if (!collapsed_.empty() && strays_ <= outside_runs_ + std::max<std::size_t>(16, n / 256)) return;
         if (collapse(x, lo, budget, n)) return;
         collapsed_.clear();  // a handful of particles only: the runs' margins alone exceed their budget
-        for (int c = 0; c < D; ++c) uniform(c, std::min(slabs(c), std::floor(per_side)));
+        for (int c = 0; c < D; ++c) uniform(c, lo[c], hi[c], std::min(slabs(c), std::floor(per_side)));
+    }
+
+    // `count` equal cells over [lo, hi] along axis c (the box in a periodic domain).
+    void uniform(int c, double lo, double hi, double count) {
+        origin_[c] = lo;
+        count_[c] = static_cast<long>(count);
+        side_[c] = reach_.domain.is_periodic()
+                       ? reach_.domain.length() / count
+                       : std::max(std::min(hi - lo, std::numeric_limits<double>::max()) / count, reach_.eps);
+    }
+
+    // A periodic box: N^(1/D) + 1 equal cells a side at most (of side eps
+    // where fewer cover it); but where the particles crowd part of the box
+    // (on some axis the most in one of those cells' slabs exceeds twice
+    // their mean and 16: evenly spread particles stay within a few square
+    // roots of it) graded cells on every axis (detail::GradedAxis), at most
+    // budget^(1/D) a side. Chosen again when the cells' crowding (the sum of
+    // their squared counts, the candidates a sweep tests) has doubled since
+    // the first update after the choice: a cloud that collapses or
+    // disperses, a cluster that moves.
+    void periodic_layout(const Positions<D>& x, std::size_t n, const std::array<double, D>& even, double budget) {
+        collapsed_.clear();
+        if (members_.size() == n && n > 0) {  // start_ holds the last update's cells, in this layout
+            double crowding = 0;
+            for (std::size_t k = 0; k + 1 < start_.size(); ++k) {
+                const double m = static_cast<double>(start_[k + 1] - start_[k]);
+                crowding += m * m;
+            }
+            if (crowding_ == 0) crowding_ = crowding;
+            if (crowding <= 2 * crowding_) return;
+        }
+        crowding_ = 0;
+        graded_.clear();
+        aliased_ = false;
+        std::vector<detail::SlabCounts> counts;
+        bool crowded = false;
+        for (int c = 0; c < D; ++c) {
+            counts.emplace_back(x[c], reach_.domain.length(), reach_.eps);
+            crowded = crowded || (even[c] >= 3 && counts.back().slabs() > even[c] &&
+                                  counts.back().most_in(static_cast<long>(even[c])) > 2 * static_cast<double>(n) / even[c] + 16);
+        }
+        for (int c = 0; c < D; ++c) {
+            if (crowded) {
+                graded_.emplace_back(counts[static_cast<std::size_t>(c)], static_cast<long>(std::floor(std::pow(budget, 1.0 / D))));
+                count_[c] = graded_.back().count();
+            } else {
+                uniform(c, 0, reach_.domain.length(), even[c]);
+            }
+            aliased_ = aliased_ || count_[c] < 3;
+        }
     }
 
     // Cells over each axis's runs of occupied slabs (detail::CollapsedAxis),
@@ -750,6 +801,7 @@ private:
 
     std::size_t coordinate(double v, int c) const {
         if (!collapsed_.empty()) return collapsed_[static_cast<std::size_t>(c)].coordinate(v).first;
+        if (!graded_.empty()) return graded_[static_cast<std::size_t>(c)].coordinate(v);
         return coordinate(v, origin_[c], side_[c], count_[c]);
     }
     static std::size_t coordinate(double v, double origin, double side, long count) {
@@ -767,6 +819,11 @@ private:
     // of the runs when they were found (summed over the axes).
     std::vector<detail::CollapsedAxis> collapsed_;
     std::size_t strays_ = 0, outside_runs_ = 0;
+    // A periodic box: graded cells on every axis, or none (equal cells); the
+    // sum of the cells' squared counts at the first update after the layout
+    // was chosen (0: that update is still to come).
+    std::vector<detail::GradedAxis> graded_;
+    double crowding_ = 0;
     bool order_kept_ = false;
     bool first_ = true;  // the update under way is the first (or the particle count changed)
     std::vector<std::size_t> start_, fill_, members_, previous_, slot_;  // slot_ inverts members_
