@@ -145,8 +145,11 @@ struct Case {
 // periodic box with 9 in 10 of the lattice's particles drawn into its
 // middle eighth on every axis (spacing dx/8, eps scaled with it), the
 // rest a sparse background, whose cells must not crowd (before stop 56 a
-// cell of side 1/(N^(1/d) + 1) held ~460 of the cluster's particles).
-enum class Space { periodic, open, open_far, periodic_cluster };
+// cell of side 1/(N^(1/d) + 1) held ~460 of the cluster's particles); R^d
+// with N/10 more particles in a wide Gaussian envelope about the lattice
+// (sigma 5) and one at 10^6 (before stop 56 the envelope's slabs were
+// coarsened to fit, the lattice's with them).
+enum class Space { periodic, open, open_far, periodic_cluster, open_envelope };
 
 const char* space_name(Space s) {
     switch (s) {
@@ -154,6 +157,7 @@ const char* space_name(Space s) {
         case Space::open: return "R^d";
         case Space::open_far: return "R^d, one far particle";
         case Space::periodic_cluster: return "periodic box, a cluster";
+        case Space::open_envelope: return "R^d, an envelope and a far particle";
     }
     return "";
 }
@@ -164,6 +168,7 @@ const char* space_path(Space s) {
         case Space::open: return "open/";
         case Space::open_far: return "open+far/";
         case Space::periodic_cluster: return "periodic+cluster/";
+        case Space::open_envelope: return "open+envelope/";
     }
     return "";
 }
@@ -179,8 +184,14 @@ std::vector<std::string>& order() {  // registration order
 template <int D, class Kernel, class Search>
 void sweep(benchmark::State& state, long side, double eps_over_dx, bool capped, Space space) {
     sph::Field<D> x = mollify::bench::lattice<D>(side);
-    if (space == Space::open_far)
+    if (space == Space::open_far || space == Space::open_envelope)
         for (auto& c : x) c.push_back(1e6);
+    if (space == Space::open_envelope) {
+        std::mt19937_64 g(7);
+        std::normal_distribution<double> spread(0.5, 5);
+        for (std::size_t i = 0, m = x[0].size() / 10; i < m; ++i)
+            for (auto& c : x) c.push_back(spread(g));
+    }
     const bool cluster = space == Space::periodic_cluster, periodic = space == Space::periodic || cluster;
     if (cluster)
         for (auto& c : x)
@@ -227,10 +238,10 @@ void register_sweeps(const char* search, const char* kernel, double eps_over_dx,
                      Space space = Space::periodic) {
     const bool capped = std::strcmp(search, "AllPairs") == 0;
     for (const long side : sides) {
-        std::size_t n = space == Space::open_far ? 1 : 0;
         std::size_t lattice = 1;
         for (int c = 0; c < D; ++c) lattice *= static_cast<std::size_t>(side);
-        n += lattice;
+        std::size_t n = lattice + (space == Space::open_far ? 1 : 0);
+        if (space == Space::open_envelope) n += 1 + (lattice + 1) / 10;
         const std::string name =
             "sweep/d=" + std::to_string(D) + "/" + space_path(space) + search + "/" + kernel + "/" + std::to_string(n);
         cases().emplace(name, Case{D, search, kernel, side, n, eps_over_dx, space_name(space)});
@@ -296,8 +307,8 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
         << (per_core() ? "the process's CPU time (one core's work, whatever else the machine runs)" : "wall time")
         << ", wall = wall-clock ms/sweep.\n"
         << "One `BarotropicEuler::acceleration` sweep (neighbour update + gather + kernel pairs + accumulation) on the\n"
-        << "periodic unit box (d = 3 also in R^3, alone and with one more particle at 10^6 on every axis, and in the box "
-        << "with a cluster); particles "
+        << "periodic unit box (d = 3 also in R^3, alone, with one more particle at 10^6 on every axis and with an envelope "
+        << "and that particle, and in the box with a cluster); particles "
         << "on the lattice of spacing dx, jittered by +-" << mollify::bench::lattice_jitter
         << " dx (seeded), masses dx^d; eps = 20 dx (d = 1), 2 dx (d = 3).\n"
         << "inter/s = particle–neighbour pairs met per second (ordered pairs (i, j) within eps, i = j included); "
@@ -394,6 +405,13 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
             << "| d | search | kernel | N (lattice) | t(R^d) | t(with the far particle) | ratio |\n"
             << "|--:|---|---|--:|--:|--:|--:|\n"
             << far;
+    if (const std::string envelope = against(Space::open_envelope, Space::open); !envelope.empty())
+        out << "\nAn envelope, same run: the lattice in R^d alone and with N/10 more particles about it, Gaussian "
+            << "with sigma 5 on every axis, and one at 10^6 (ms/sweep; slabs coarsened to fit the envelope made this "
+            << "ratio 11, 100 and 390 at N = 10^4, 10^5, 10^6 before stop 56):\n\n"
+            << "| d | search | kernel | N (lattice) | t(R^d) | t(with the envelope) | ratio |\n"
+            << "|--:|---|---|--:|--:|--:|--:|\n"
+            << envelope;
     if (const std::string cluster = against(Space::periodic_cluster, Space::periodic); !cluster.empty())
         out << "\nA cluster in the periodic box, same run: the lattice, and 9 in 10 of its particles drawn into the box's "
             << "middle eighth on every axis (eps dx/4: ~27 neighbours in the cluster, the background ~none; ms/sweep; "
@@ -447,6 +465,7 @@ int main(int argc, char** argv) {
     register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100}, Space::open_far);
     // The periodic box with a cluster (CellList::periodic_layout).
     register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100}, Space::periodic_cluster);
+    register_sweeps<3, C4_3, sph::CellList<3>>("CellList", "wendland:k=2", 2, {22, 46, 100}, Space::open_envelope);
     register_sweeps<3, C4_3, sph::AllPairs<3>>("AllPairs", "wendland:k=2", 2, {10, 14, 22});  // 1000, 2744, 10648
     Collector collector;
     const std::string before = uptime();

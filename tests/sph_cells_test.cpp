@@ -361,11 +361,14 @@ void expect_spread_pairs(const Field<D>& x, std::size_t cluster, double most = 0
 // other; below it; beyond 2^30 eps, where the slabs are clamped), two
 // clusters far apart along an axis and (2D) on a diagonal, a cluster with
 // 1 % of its particles scattered far around it (runs left out), a cluster
-// in a Gaussian envelope and a far particle (slabs wider than eps). The
-// cells lie over each axis's runs of occupied slabs (detail::CollapsedAxis),
-// so the pairs are all pairs' and no cell holds a cluster: with cells as
-// wide as the bounding box over N^(1/D) (the layout before it), one cell
-// held the cluster and its candidates grew like its size squared.
+// in a Gaussian envelope and a far group of more than N/256 (slabs wider
+// than eps). The cells lie over each axis's runs of occupied slabs
+// (detail::CollapsedAxis) or, where all but N/256 particles at either end
+// of each axis span few enough slabs (a few far particles; two clusters
+// 4096 apart), are graded over that range (detail::GradedAxis), so the
+// pairs are all pairs' and no cell holds a cluster: with cells as wide as
+// the bounding box over N^(1/D) (the layout before stop 55), one cell held
+// the cluster and its candidates grew like its size squared.
 TEST(Neighbours, CellPairsOfSpreadClusters) {
     const std::size_t n = 3000 / fewer;
     const Field<3> cube = dyadic_random<3>(n, 0, 1, 50);
@@ -380,7 +383,8 @@ TEST(Neighbours, CellPairsOfSpreadClusters) {
     std::normal_distribution<double> spread(0.5, 0.5);
     for (auto& c : envelope)
         for (double& v : c) v = std::ldexp(std::round(std::ldexp(spread(g), 20)), -20);  // dyadic
-    for (int c = 0; c < 3; ++c) envelope[c].push_back(1e6);
+    for (std::size_t j = 0; j <= n / 128; ++j)  // a far group, more than graded cells leave out
+        for (int c = 0; c < 3; ++c) envelope[c].push_back(1e6 + 0.0625 * static_cast<double>(j % 4));
     expect_spread_pairs<3>(joined<3>(cube, envelope), n, static_cast<double>(n) / 8);
     const Field<2> square = dyadic_random<2>(n, 0, 1, 52);
     Field<2> far2 = square;
@@ -449,6 +453,46 @@ TEST(Neighbours, CellPairsOfPeriodicCluster) {
     expect_half_pairs_after_motion<3>(Domain<3>::periodic(1.0), 1.0 / 128, before, even);
 }
 
+// R^2, R^3: a cluster of n particles in [0, 1)^D at `at` inside a wide
+// Gaussian envelope of n/10 (sigma 5 around it: the bounding box spans ~300
+// slabs of eps = 1/8 a side). Collapsed runs (CollapsedAxis) would make the
+// envelope one run and coarsen its slabs to fit, 16 eps, the cluster in a
+// few cells; graded cells over the particles' range (GradedAxis) give the
+// cluster cells of side eps, with far particles too.
+template <int D>
+Field<D> cluster_in_envelope(std::size_t n, double at, unsigned seed) {
+    Field<D> envelope = dyadic_random<D>(n / 10, 0, 1, seed);
+    std::mt19937_64 g(seed + 1);
+    std::normal_distribution<double> spread(0.5, 5);
+    for (auto& c : envelope)
+        for (double& v : c) v = std::ldexp(std::round(std::ldexp(spread(g), 20)), -20);  // dyadic
+    Field<D> cluster = dyadic_random<D>(n, 0, 1, seed + 2);
+    for (auto& c : cluster)
+        for (double& v : c) v += at;
+    return joined<D>(cluster, envelope);
+}
+
+TEST(Neighbours, CellPairsOfClusterInEnvelope) {
+    const std::size_t n = 3000 / fewer;
+    expect_spread_pairs<3>(cluster_in_envelope<3>(n, 0, 80), n);
+    expect_spread_pairs<2>(cluster_in_envelope<2>(n, 0, 82), n);
+    // and far particles (at most n/256 beyond either end of an axis: left
+    // out of the graded range, clamped into its end slabs)
+    Field<3> far = cluster_in_envelope<3>(n, 0, 86);
+    for (const double v : {1e6, -3e7, 1e12})
+        for (int c = 0; c < 3; ++c) far[c].push_back(c == 1 ? 0.5 : v);
+    expect_spread_pairs<3>(far, n);
+    // The cluster moved across the envelope since the last update: pairs as
+    // all pairs' at once, its cells graded anew at the update after.
+    const Field<3> before = cluster_in_envelope<3>(n, 0, 84), after = cluster_in_envelope<3>(n, 6, 84);
+    expect_half_pairs_after_motion<3>(Domain<3>::whole_space(), 0.125, before, after);
+    CellList<3> s(Domain<3>::whole_space(), 0.125);
+    s.update(view<3>(before));
+    s.update(view<3>(after));
+    s.update(view<3>(after));
+    EXPECT_LE(static_cast<double>(most_in_a_cell(s)), 4 * static_cast<double>(n) / 512 + 20);
+}
+
 // The runs kept while particles stray into slabs that were empty: those
 // share the collapsed cells between and beyond the runs, which must stay
 // next to the runs' cells (a stray within eps of a far particle, in the
@@ -469,7 +513,11 @@ void expect_pairs_of_strays(int clusters, std::size_t n, double far) {
             for (double& v : cluster[c]) v /= 2;  // [0, 1) x [0, 1/2)^2: fewer cells for 9 of them
         x = joined<3>(x, shifted<3>(cluster, {64.0 * k, 0, 0}));
     }
-    for (int c = 0; c < 3; ++c) x[c].push_back(c == 0 ? far : 0.5);
+    // A group at `far`, more than N/256 (graded cells leave out only that
+    // many far particles: CellList::graded_over_most), so the runs are what
+    // the layout finds.
+    for (std::size_t j = 0; j < n / 256 + 2; ++j)
+        for (int c = 0; c < 3; ++c) x[c].push_back(c == 0 ? far + 0.0625 * static_cast<double>(j % 2) : 0.5);
     Field<3> moved = x;
     std::size_t strays = 0;
     for (std::size_t i = 0; i + 1 < x[0].size(); i += 7, ++strays) {

@@ -687,13 +687,22 @@ private:
         for (int c = 0; c < D; ++c) cells *= slabs(c);
         if (cells <= budget) {
             collapsed_.clear();
+            graded_.clear();
             for (int c = 0; c < D; ++c) uniform(c, lo[c], hi[c], slabs(c));
             return;
         }
-        // Keep the runs while few more particles than when they were found
-        // lie outside them (each adds to a crowded collapsed cell); find
-        // them afresh otherwise (a sort of N slabs a side).
+        // Graded cells kept while their crowding has not doubled; the runs
+        // while few more particles than when they were found lie outside
+        // them (each adds to a crowded collapsed cell).
+        if (!graded_.empty() && !crowding_doubled(n)) return;
         if (!collapsed_.empty() && strays_ <= outside_runs_ + std::max<std::size_t>(16, n / 256)) return;
+        // Chosen afresh: graded cells where the particles but the farthest
+        // span few enough slabs (a cluster in a wide envelope, with far
+        // particles or not: the collapsed runs would make the envelope one
+        // run, coarsened to fit, the cluster's core with it); else the runs
+        // (clusters far apart: a sort of N slabs a side).
+        if (graded_over_most(x, n, budget)) return;
+        graded_.clear();
         if (collapse(x, lo, budget, n)) return;
         collapsed_.clear();  // a handful of particles only: the runs' margins alone exceed their budget
         for (int c = 0; c < D; ++c) uniform(c, lo[c], hi[c], std::min(slabs(c), std::floor(per_side)));
@@ -719,34 +728,83 @@ private:
     // disperses, a cluster that moves.
     void periodic_layout(const Positions<D>& x, std::size_t n, const std::array<double, D>& even, double budget) {
         collapsed_.clear();
-        if (members_.size() == n && n > 0) {  // start_ holds the last update's cells, in this layout
-            double crowding = 0;
-            for (std::size_t k = 0; k + 1 < start_.size(); ++k) {
-                const double m = static_cast<double>(start_[k + 1] - start_[k]);
-                crowding += m * m;
-            }
-            if (crowding_ == 0) crowding_ = crowding;
-            if (crowding <= 2 * crowding_) return;
-        }
-        crowding_ = 0;
-        graded_.clear();
-        aliased_ = false;
+        if (!crowding_doubled(n)) return;
         std::vector<detail::SlabCounts> counts;
         bool crowded = false;
         for (int c = 0; c < D; ++c) {
-            counts.emplace_back(x[c], reach_.domain.length(), reach_.eps);
+            counts.push_back(detail::SlabCounts::periodic(x[c], reach_.domain.length(), reach_.eps));
             crowded = crowded || (even[c] >= 3 && counts.back().slabs() > even[c] &&
                                   counts.back().most_in(static_cast<long>(even[c])) > 2 * static_cast<double>(n) / even[c] + 16);
         }
+        if (crowded) {
+            graded(counts, budget);
+            return;
+        }
+        graded_.clear();
+        crowding_ = 0;
+        aliased_ = false;
         for (int c = 0; c < D; ++c) {
-            if (crowded) {
-                graded_.emplace_back(counts[static_cast<std::size_t>(c)], static_cast<long>(std::floor(std::pow(budget, 1.0 / D))));
-                count_[c] = graded_.back().count();
-            } else {
-                uniform(c, 0, reach_.domain.length(), even[c]);
-            }
+            uniform(c, 0, reach_.domain.length(), even[c]);
             aliased_ = aliased_ || count_[c] < 3;
         }
+    }
+
+    // Whether the cells' crowding (the sum of their squared counts, from
+    // the last update) has doubled since the first update after the layout
+    // was chosen, which records it; true where there is no last update in
+    // this layout (the first, or the particle count changed). A layout
+    // chosen afresh resets crowding_.
+    bool crowding_doubled(std::size_t n) {
+        if (members_.size() != n || n == 0) {
+            crowding_ = 0;
+            return true;
+        }
+        double crowding = 0;
+        for (std::size_t k = 0; k + 1 < start_.size(); ++k) {
+            const double m = static_cast<double>(start_[k + 1] - start_[k]);
+            crowding += m * m;
+        }
+        if (crowding_ == 0) crowding_ = crowding;
+        if (crowding <= 2 * crowding_) return false;
+        crowding_ = 0;
+        return true;
+    }
+
+    // Graded cells on every axis (detail::GradedAxis) over its slabs
+    // (`counts`), at most budget^(1/D) a side.
+    void graded(const std::vector<detail::SlabCounts>& counts, double budget) {
+        graded_.clear();
+        crowding_ = 0;
+        aliased_ = false;
+        for (int c = 0; c < D; ++c) {
+            graded_.emplace_back(counts[static_cast<std::size_t>(c)], static_cast<long>(std::floor(std::pow(budget, 1.0 / D))));
+            count_[c] = graded_.back().count();
+            aliased_ = aliased_ || (reach_.domain.is_periodic() && count_[c] < 3);
+        }
+    }
+
+    // R^2, R^3: graded cells over each axis's range without its n/256
+    // lowest and n/256 highest coordinates (far particles, an envelope's
+    // farthest tails: clamped into the end slabs, where they spread over the
+    // other axes' cells), if every such range spans at most
+    // SlabCounts::max_slabs slabs (a halo of more, clusters far apart: the
+    // collapsed runs).
+    bool graded_over_most(const Positions<D>& x, std::size_t n, double budget) {
+        const std::size_t k = n / 256;
+        std::vector<detail::SlabCounts> counts;
+        std::vector<double> v;
+        for (int c = 0; c < D; ++c) {
+            v.assign(x[c].begin(), x[c].end());
+            std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+            const double lo = v[k];
+            std::nth_element(v.begin() + static_cast<std::ptrdiff_t>(k), v.end() - 1 - static_cast<std::ptrdiff_t>(k), v.end());
+            const double hi = v[n - 1 - k];
+            if (!(detail::SlabCounts::open_slabs(lo, hi, reach_.eps) <= detail::SlabCounts::max_slabs)) return false;
+            counts.push_back(detail::SlabCounts::open(x[c], lo, hi, reach_.eps));
+        }
+        collapsed_.clear();
+        graded(counts, budget);
+        return true;
     }
 
     // Cells over each axis's runs of occupied slabs (detail::CollapsedAxis),
@@ -819,9 +877,11 @@ private:
     // of the runs when they were found (summed over the axes).
     std::vector<detail::CollapsedAxis> collapsed_;
     std::size_t strays_ = 0, outside_runs_ = 0;
-    // A periodic box: graded cells on every axis, or none (equal cells); the
-    // sum of the cells' squared counts at the first update after the layout
-    // was chosen (0: that update is still to come).
+    // Graded cells on every axis (a periodic box where particles crowd part
+    // of it; R^2, R^3 where they spread over up to SlabCounts::max_slabs
+    // slabs a side), or none; the sum of the cells' squared counts at the
+    // first update after the layout was chosen (0: that update is still to
+    // come; crowding_doubled).
     std::vector<detail::GradedAxis> graded_;
     double crowding_ = 0;
     bool order_kept_ = false;
