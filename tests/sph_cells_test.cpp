@@ -328,6 +328,25 @@ Field<D> joined(Field<D> a, const Field<D>& b) {
     return a;
 }
 
+// visit(i, f) against AllPairs, particle by particle: each neighbour once,
+// displacements within `tolerance` (0 in R^D; to rounding in a periodic
+// box, where the cell path shifts the neighbour by L).
+template <int D>
+void expect_visits_as_all_pairs(const CellList<D>& s, const Domain<D>& box, double eps, const Field<D>& x, double tolerance) {
+    AllPairs<D> all(box, eps);
+    all.update(view<D>(x));
+    for (std::size_t i = 0; i < x[0].size(); ++i) {
+        std::map<std::size_t, Vector<D>> a, b;
+        s.visit(i, [&](std::size_t j, const Vector<D>& d) { EXPECT_TRUE(a.emplace(j, d).second) << i << ", " << j; });
+        all.visit(i, [&](std::size_t j, const Vector<D>& d) { b.emplace(j, d); });
+        ASSERT_EQ(a.size(), b.size()) << "particle " << i;
+        for (const auto& [j, d] : b) {
+            ASSERT_EQ(a.count(j), 1u) << "particle " << i << ", neighbour " << j;
+            for (int c = 0; c < D; ++c) EXPECT_NEAR(a.at(j)[c], d[c], tolerance);
+        }
+    }
+}
+
 // Pairs as all pairs', and no crowded cell: the cluster of `n` dyadic
 // points in [0, 1)^D with eps = 1/8 has ~n/8^D a cell, a cell as wide as
 // the spread over N^(1/D) holds the whole cluster. `most`: the most a cell
@@ -337,19 +356,7 @@ void expect_spread_pairs(const Field<D>& x, std::size_t cluster, double most = 0
     expect_half_pairs_as_all_pairs<D>(Domain<D>::whole_space(), 0.125, x);
     CellList<D> s(Domain<D>::whole_space(), 0.125);
     s.update(view<D>(x));
-    // visit(i, f) too, particle by particle
-    AllPairs<D> all(Domain<D>::whole_space(), 0.125);
-    all.update(view<D>(x));
-    for (std::size_t i = 0; i < x[0].size(); ++i) {
-        std::map<std::size_t, Vector<D>> a, b;
-        s.visit(i, [&](std::size_t j, const Vector<D>& d) { EXPECT_TRUE(a.emplace(j, d).second) << i << ", " << j; });
-        all.visit(i, [&](std::size_t j, const Vector<D>& d) { b.emplace(j, d); });
-        ASSERT_EQ(a.size(), b.size()) << "particle " << i;
-        for (const auto& [j, d] : b) {
-            ASSERT_EQ(a.count(j), 1u) << "particle " << i << ", neighbour " << j;
-            for (int c = 0; c < D; ++c) EXPECT_EQ(a.at(j)[c], d[c]);
-        }
-    }
+    expect_visits_as_all_pairs<D>(s, Domain<D>::whole_space(), 0.125, x, 0);
     double per_cell = static_cast<double>(cluster);
     for (int c = 0; c < D; ++c) per_cell /= 8;
     EXPECT_LE(static_cast<double>(most_in_a_cell(s)), most > 0 ? most : 4 * per_cell + 20)
@@ -420,18 +427,7 @@ void expect_periodic_cluster_pairs(const Field<D>& x, const Field<D>* before = n
     if (before) s.update(view<D>(*before));
     s.update(view<D>(x));
     s.update(view<D>(x));  // a moved cluster: the update after the one that found the cells crowded chooses anew
-    AllPairs<D> all(box, eps);
-    all.update(view<D>(x));
-    for (std::size_t i = 0; i < x[0].size(); ++i) {
-        std::map<std::size_t, Vector<D>> a, b;
-        s.visit(i, [&](std::size_t j, const Vector<D>& d) { EXPECT_TRUE(a.emplace(j, d).second) << i << ", " << j; });
-        all.visit(i, [&](std::size_t j, const Vector<D>& d) { b.emplace(j, d); });
-        ASSERT_EQ(a.size(), b.size()) << "particle " << i;
-        for (const auto& [j, d] : b) {
-            ASSERT_EQ(a.count(j), 1u) << "particle " << i << ", neighbour " << j;
-            for (int c = 0; c < D; ++c) EXPECT_NEAR(a.at(j)[c], d[c], 1e-15);
-        }
-    }
+    expect_visits_as_all_pairs<D>(s, box, eps, x, 1e-15);
     double per_cell = 0.9 * static_cast<double>(x[0].size());  // the cube's particles in each of its side^D cells of side eps
     for (int c = 0; c < D; ++c) per_cell /= side;
     EXPECT_LE(static_cast<double>(most_in_a_cell(s)), 4 * per_cell + 20) << "of " << x[0].size() << " particles";
