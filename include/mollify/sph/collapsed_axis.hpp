@@ -23,6 +23,7 @@
 
 #include <mollify/detail/isa.hpp>
 #include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD
+#include <mollify/sph/graded_axis.hpp>  // slab_margin
 
 #include <algorithm>
 #include <cmath>
@@ -44,13 +45,11 @@ public:
         double first, last, total;  // slabs (at the run's level) and particles
     };
 
-    // Slabs of width eps (1 + 2^-19). Both margins are for rounding: the
-    // slab floor((v - origin)/side) is then off by at most 2^-21, so two
-    // positions at most eps (1 + 2^-52) apart (all the pair test can
-    // accept) are computed at most one slab apart. Clamping, like the
-    // coarser levels' floor(slab / 2^level), moves no two positions
-    // further apart in slabs.
-    OccupiedSlabs(std::span<const double> x, double origin, double eps) : origin_(origin), side_(eps * (1 + 0x1p-19)) {
+    // Slabs of width eps slab_margin (graded_axis.hpp), positions clamped
+    // to within 2^30 slabs of origin: the slab floor((v - origin)/side) is
+    // then off by at most 2^-21. Clamping, like the coarser levels'
+    // floor(slab / 2^level), moves no two positions further apart in slabs.
+    OccupiedSlabs(std::span<const double> x, double origin, double eps) : origin_(origin), side_(eps * slab_margin) {
         std::vector<double> slabs(x.size());
         std::transform(x.begin(), x.end(), slabs.begin(), [&](double v) { return slab(v); });
         std::sort(slabs.begin(), slabs.end());

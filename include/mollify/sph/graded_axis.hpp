@@ -42,6 +42,12 @@ namespace mollify::sph {
 inline namespace MOLLIFY_ISA {
 namespace detail {
 
+// Slabs of a cell list's axes are eps times this wide, a little over eps:
+// with a slab computed as a rounded quotient (off by at most ~2^-21 of a
+// slab for up to 2^30 slabs), two positions at most eps (1 + 2^-52) apart,
+// all the pair test can accept, land at most one slab apart.
+inline constexpr double slab_margin = 1 + 0x1p-19;
+
 // The particles of each slab of one axis: of a periodic side [0, L), n
 // slabs of width L/n; of an open one, slabs of width eps (1 + 2^-19) from
 // the particles' lowest coordinate lo over [lo, hi] (where that takes at
@@ -49,14 +55,12 @@ namespace detail {
 // end slabs, which keeps the map monotone).
 class SlabCounts {
 public:
-    // Slabs no narrower than eps (1 + 2^-19): with (v - origin) n / L
-    // rounded, two positions at most eps (1 + 2^-52) apart (all the pair
-    // test accepts) are computed at most one slab apart (the quotient's
-    // rounding is below 2^-34 for up to 2^16 slabs). At most max_slabs (the
+    // Slabs no narrower than eps slab_margin (the quotient (v - origin) n / L
+    // rounded to within 2^-34 for up to 2^16 slabs). At most max_slabs (the
     // cell map is a table of that many entries; periodic: wider slabs only
     // coarsen it).
     static constexpr long max_slabs = 1L << 16;
-    static constexpr double margin = 1 + 0x1p-19;
+    static constexpr double margin = slab_margin;
 
     static SlabCounts periodic(std::span<const double> x, double length, double eps) {
         const long n = static_cast<long>(std::clamp(std::floor(length / (eps * margin)), 1.0, double(max_slabs)));
@@ -103,16 +107,18 @@ private:
 class GradedAxis {
 public:
     // Cells of consecutive slabs, each ending once it holds `per_cell`
-    // particles (or at the last slab); their number.
-    static long cells(const SlabCounts& slabs, double per_cell) {
-        long count = 1;
+    // particles (or at the last slab); their number, and each slab's cell
+    // into `cell` where given.
+    static long cells(const SlabCounts& slabs, double per_cell, std::uint32_t* cell = nullptr) {
+        std::uint32_t at = 0;
         double held = 0;
         const auto& counts = slabs.counts();
-        for (std::size_t s = 0; s + 1 < counts.size(); ++s) {
+        for (std::size_t s = 0; s < counts.size(); ++s) {
+            if (cell) cell[s] = at;
             held += counts[s];
-            if (held >= per_cell) ++count, held = 0;
+            if (held >= per_cell && s + 1 < counts.size()) ++at, held = 0;
         }
-        return count;
+        return static_cast<long>(at) + 1;
     }
 
     // The cells for the smallest per_cell whose count is at most max_cells
@@ -125,16 +131,8 @@ public:
             const double mid = std::floor((lo + hi) / 2);
             (cells(slabs, mid) <= max_cells ? hi : lo) = mid;
         }
-        const double per_cell = cells(slabs, lo) <= max_cells ? lo : hi;
         cell_.resize(slabs.counts().size());
-        std::uint32_t at = 0;
-        double held = 0;
-        for (std::size_t s = 0; s < cell_.size(); ++s) {
-            cell_[s] = at;
-            held += slabs.counts()[s];
-            if (held >= per_cell && s + 1 < cell_.size()) ++at, held = 0;
-        }
-        count_ = static_cast<long>(at) + 1;
+        count_ = cells(slabs, cells(slabs, lo) <= max_cells ? lo : hi, cell_.data());
     }
 
     long count() const { return count_; }
