@@ -58,14 +58,17 @@ struct RoundedPiece {
 std::optional<std::vector<RoundedPiece>> rounded_quantity(const Radial* f, bool potential_like,
                                                           const std::vector<Radial>& parts);
 
-// One split grid for all of a kernel's split terms (every quantity and
-// piece): the coarsest of their own grids, for each term where both of
-// split_of's proofs still hold there (else it keeps its own). A coarser grid
-// only widens q - qa. The grid rounding of q, (q + C) - C and q - qa, is then
-// the same operations in every term, and an evaluation of several terms or
-// quantities at one q (W and grad W in a pair loop, a combination's terms,
-// a potential and its derivative) does them once: the compiler merges them
-// (W + grad W of Wendland C4: 4 of the accurate precision's 64 operations).
+// One split grid for all of a kernel's split terms in the quantities whose
+// pieces are one term each: the coarsest of their own grids, for each term
+// where both of split_of's proofs still hold there (else it keeps its own).
+// A coarser grid only widens q - qa, and the remainder's error stays below
+// 2^-62 of the term, which is the piece. The grid rounding of q, (q + C) - C
+// and q - qa, is then the same operations in those terms, and an evaluation
+// of several quantities at one q (W and grad W in a pair loop, a potential
+// and its derivative) does them once: the compiler merges them (W + grad W
+// of Wendland C4: 4 of the accurate precision's 64 operations). A quantity
+// with a piece of several terms keeps each term's own grid: they may cancel
+// (with_one_split_grid).
 std::vector<std::optional<std::vector<RoundedPiece>>> with_one_split_grid(
     std::vector<std::optional<std::vector<RoundedPiece>>> tables);
 

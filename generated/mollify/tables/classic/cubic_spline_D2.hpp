@@ -275,7 +275,7 @@ inline constexpr double dpotential_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_2_1, .n = 2, .c_lo = dpotential_2_1_lo, .split = 24, .m = dpotential_2_1_m, .content = -0x1.7483758e69c03p-3, .content_lo = -0x1.7fdcd56c11e67p-61},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_2_1, .n = 2, .c_lo = dpotential_2_1_lo, .split = 26, .m = dpotential_2_1_m, .content = -0x1.7483758e69c03p-3, .content_lo = -0x1.7fdcd56c11e67p-61},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -336,7 +336,7 @@ inline constexpr double dpotential_over_r_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .split = 24, .m = dpotential_over_r_2_1_m, .content = -0x1.7483758e69c03p-3, .content_lo = -0x1.7fdcd56c11e67p-61},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .split = 26, .m = dpotential_over_r_2_1_m, .content = -0x1.7483758e69c03p-3, .content_lo = -0x1.7fdcd56c11e67p-61},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

@@ -190,7 +190,7 @@ inline constexpr double potential_1_1_m[] = {
 };
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 16, .m = potential_1_1_m, .content = 0x1.5bade52f95e69p-4, .content_lo = 0x1.c6624c19687dp-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 26, .m = potential_1_1_m, .content = 0x1.5bade52f95e69p-4, .content_lo = 0x1.c6624c19687dp-59},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -254,7 +254,7 @@ inline constexpr double dpotential_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo, .split = 16, .m = dpotential_2_1_m, .content = -0x1.5bade52f95e69p-4, .content_lo = -0x1.c6624c19687dp-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo, .split = 24, .m = dpotential_2_1_m, .content = -0x1.5bade52f95e69p-4, .content_lo = -0x1.c6624c19687dp-59},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -305,7 +305,7 @@ inline constexpr double dpotential_over_r_1_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo, .split = 16, .m = dpotential_over_r_1_1_m, .content = -0x1.5bade52f95e69p-4, .content_lo = -0x1.c6624c19687dp-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = dpotential_over_r_1_1, .n = 3, .c_lo = dpotential_over_r_1_1_lo, .split = 24, .m = dpotential_over_r_1_1_m, .content = -0x1.5bade52f95e69p-4, .content_lo = -0x1.c6624c19687dp-59},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1

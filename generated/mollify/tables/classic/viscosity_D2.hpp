@@ -231,7 +231,7 @@ inline constexpr double dpotential_1_1_m[] = {
 };
 inline constexpr table::Term dpotential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_1_0, .n = 1, .c_lo = dpotential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_1_1, .n = 2, .c_lo = dpotential_1_1_lo, .split = 16, .m = dpotential_1_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_1_1, .n = 2, .c_lo = dpotential_1_1_lo, .split = 26, .m = dpotential_1_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -281,7 +281,7 @@ inline constexpr double dpotential_over_r_1_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_1_0, .n = 1, .c_lo = dpotential_over_r_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_over_r_1_1, .n = 2, .c_lo = dpotential_over_r_1_1_lo, .split = 16, .m = dpotential_over_r_1_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_over_r_1_1, .n = 2, .c_lo = dpotential_over_r_1_1_lo, .split = 26, .m = dpotential_over_r_1_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -333,7 +333,7 @@ inline constexpr double potential_hess_radial_1_1_m[] = {
 };
 inline constexpr table::Term potential_hess_radial_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -4, .c = potential_hess_radial_1_0, .n = 1, .c_lo = potential_hess_radial_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -4, .c = potential_hess_radial_1_1, .n = 3, .c_lo = potential_hess_radial_1_1_lo, .split = 16, .m = potential_hess_radial_1_1_m, .content = 0x1.b2995e7b7b604p-4, .content_lo = -0x1.e40290701eb1ep-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -4, .c = potential_hess_radial_1_1, .n = 3, .c_lo = potential_hess_radial_1_1_lo, .split = 24, .m = potential_hess_radial_1_1_m, .content = 0x1.b2995e7b7b604p-4, .content_lo = -0x1.e40290701eb1ep-58},
 };
 inline constexpr double potential_hess_radial_2_0[] = {
     -0x1.45f306dc9c883p-2,  // -1 * pi^-1

@@ -35,8 +35,8 @@ inline constexpr double value_0_1_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 15, .m = value_0_0_m, .content = 0x1.7c4632ac0bf43p+7, .content_lo = 0x1.61f7067794918p-49},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 15, .m = value_0_1_m, .content = -0x1.7c4632ac0bf43p-1, .content_lo = -0x1.61f7067794918p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.7c4632ac0bf43p+7, .content_lo = 0x1.61f7067794918p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.7c4632ac0bf43p-1, .content_lo = -0x1.61f7067794918p-57},
 };
 inline constexpr double value_1_0[] = {
     -0x1.7c4632ac0bf43p-1,  // -7/3 * pi^-1
@@ -51,7 +51,7 @@ inline constexpr double value_1_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 15, .m = value_1_0_m, .content = -0x1.7c4632ac0bf43p-1, .content_lo = -0x1.61f7067794918p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.7c4632ac0bf43p-1, .content_lo = -0x1.61f7067794918p-57},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -547,7 +547,7 @@ inline constexpr double dpotential_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 15, .m = dpotential_3_1_m, .content = 0x1.b2995e7b7b604p-5, .content_lo = -0x1.e40290701eb1ep-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 24, .m = dpotential_3_1_m, .content = 0x1.b2995e7b7b604p-5, .content_lo = -0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -654,7 +654,7 @@ inline constexpr double dpotential_over_r_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 15, .m = dpotential_over_r_3_1_m, .content = 0x1.b2995e7b7b604p-5, .content_lo = -0x1.e40290701eb1ep-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 24, .m = dpotential_over_r_3_1_m, .content = 0x1.b2995e7b7b604p-5, .content_lo = -0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

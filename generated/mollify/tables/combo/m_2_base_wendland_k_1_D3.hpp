@@ -35,8 +35,8 @@ inline constexpr double value_0_1_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 15, .m = value_0_0_m, .content = 0x1.1d34a60108f72p+9, .content_lo = 0x1.425e51366bdb4p-45},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 15, .m = value_0_1_m, .content = -0x1.1d34a60108f72p+0, .content_lo = -0x1.425e51366bdb4p-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.1d34a60108f72p+9, .content_lo = 0x1.425e51366bdb4p-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.1d34a60108f72p+0, .content_lo = -0x1.425e51366bdb4p-54},
 };
 inline constexpr double value_1_0[] = {
     -0x1.1d34a60108f72p+0,  // -7/2 * pi^-1
@@ -51,7 +51,7 @@ inline constexpr double value_1_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 15, .m = value_1_0_m, .content = -0x1.1d34a60108f72p+0, .content_lo = -0x1.425e51366bdb4p-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.1d34a60108f72p+0, .content_lo = -0x1.425e51366bdb4p-54},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -287,7 +287,7 @@ inline constexpr double potential_3_1_m[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .split = 15, .m = potential_3_1_m, .content = -0x1.b2995e7b7b604p-6, .content_lo = 0x1.e40290701eb1ep-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .split = 25, .m = potential_3_1_m, .content = -0x1.b2995e7b7b604p-6, .content_lo = 0x1.e40290701eb1ep-60},
 };
 inline constexpr double potential_4_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -29,8 +29,8 @@ inline constexpr double value_0_1_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .split = 24, .m = value_0_0_m, .content = 0x1p+6, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .split = 24, .m = value_0_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .split = 26, .m = value_0_0_m, .content = 0x1p+6, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .split = 26, .m = value_0_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double value_1_0[] = {
     -0x1p-1,  // -1/2
@@ -42,7 +42,7 @@ inline constexpr double value_1_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .split = 24, .m = value_1_0_m, .content = -0x1p-1, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .split = 26, .m = value_1_0_m, .content = -0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -211,7 +211,7 @@ inline constexpr double potential_1_2_lo[] = {
 };
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 24, .m = potential_1_1_m, .content = 0x1.8618618618618p+0, .content_lo = 0x1.8618618618618p-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 26, .m = potential_1_1_m, .content = 0x1.8618618618618p+0, .content_lo = 0x1.8618618618618p-54},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_1_2, .n = 8, .c_lo = potential_1_2_lo},
 };
 inline constexpr double potential_2_0[] = {
@@ -231,7 +231,7 @@ inline constexpr double potential_2_1_m[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 24, .m = potential_2_1_m, .content = -0x1.8618618618618p-7, .content_lo = -0x1.8618618618618p-61},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 26, .m = potential_2_1_m, .content = -0x1.8618618618618p-7, .content_lo = -0x1.8618618618618p-61},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2
@@ -309,7 +309,7 @@ inline constexpr double dpotential_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .split = 24, .m = dpotential_3_1_m, .content = 0x1.5555555555555p-3, .content_lo = 0x1.5555555555555p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .split = 26, .m = dpotential_3_1_m, .content = 0x1.5555555555555p-3, .content_lo = 0x1.5555555555555p-57},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -386,7 +386,7 @@ inline constexpr double dpotential_over_r_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .split = 24, .m = dpotential_over_r_3_1_m, .content = 0x1.5555555555555p-3, .content_lo = 0x1.5555555555555p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .split = 26, .m = dpotential_over_r_3_1_m, .content = 0x1.5555555555555p-3, .content_lo = 0x1.5555555555555p-57},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2

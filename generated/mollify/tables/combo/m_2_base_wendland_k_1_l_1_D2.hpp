@@ -35,8 +35,8 @@ inline constexpr double value_0_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 15, .m = value_0_0_m, .content = 0x1.fb0843900ff04p+8, .content_lo = 0x1.d7f4089f70c2p-48},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 15, .m = value_0_1_m, .content = -0x1.fb0843900ff04p-1, .content_lo = -0x1.d7f4089f70c2p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.fb0843900ff04p+8, .content_lo = 0x1.d7f4089f70c2p-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.fb0843900ff04p-1, .content_lo = -0x1.d7f4089f70c2p-57},
 };
 inline constexpr double value_1_0[] = {
     -0x1.fb0843900ff04p-1,  // -28/9 * pi^-1
@@ -51,7 +51,7 @@ inline constexpr double value_1_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 15, .m = value_1_0_m, .content = -0x1.fb0843900ff04p-1, .content_lo = -0x1.d7f4089f70c2p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.fb0843900ff04p-1, .content_lo = -0x1.d7f4089f70c2p-57},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -599,7 +599,7 @@ inline constexpr double dpotential_4_1_m[] = {
 };
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .split = 15, .m = dpotential_4_1_m, .content = 0x1.21bb945252402p-6, .content_lo = 0x1.67fe4a5feb897p-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .split = 23, .m = dpotential_4_1_m, .content = 0x1.21bb945252402p-6, .content_lo = 0x1.67fe4a5feb897p-60},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -688,7 +688,7 @@ inline constexpr double dpotential_over_r_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 15, .m = dpotential_over_r_3_1_m, .content = 0x1.21bb945252402p-6, .content_lo = 0x1.67fe4a5feb897p-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 23, .m = dpotential_over_r_3_1_m, .content = 0x1.21bb945252402p-6, .content_lo = 0x1.67fe4a5feb897p-60},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

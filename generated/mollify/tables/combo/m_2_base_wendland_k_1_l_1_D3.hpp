@@ -35,8 +35,8 @@ inline constexpr double value_0_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 23, .m = value_0_0_m, .content = 0x1.abcef9018d72bp+10, .content_lo = 0x1.e38d79d1a1c8fp-44},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 23, .m = value_0_1_m, .content = -0x1.abcef9018d72bp+0, .content_lo = -0x1.e38d79d1a1c8fp-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.abcef9018d72bp+10, .content_lo = 0x1.e38d79d1a1c8fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.abcef9018d72bp+0, .content_lo = -0x1.e38d79d1a1c8fp-54},
 };
 inline constexpr double value_1_0[] = {
     -0x1.abcef9018d72bp+0,  // -21/4 * pi^-1
@@ -51,7 +51,7 @@ inline constexpr double value_1_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 23, .m = value_1_0_m, .content = -0x1.abcef9018d72bp+0, .content_lo = -0x1.e38d79d1a1c8fp-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.abcef9018d72bp+0, .content_lo = -0x1.e38d79d1a1c8fp-54},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

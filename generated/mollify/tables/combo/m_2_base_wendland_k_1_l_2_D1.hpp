@@ -35,8 +35,8 @@ inline constexpr double value_0_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 24, .m = value_0_0_m, .content = 0x1.2aaaaaaaaaaabp+7, .content_lo = -0x1.5555555555555p-47},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 24, .m = value_0_1_m, .content = -0x1.2aaaaaaaaaaabp-1, .content_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.2aaaaaaaaaaabp+7, .content_lo = -0x1.5555555555555p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.2aaaaaaaaaaabp-1, .content_lo = 0x1.5555555555555p-55},
 };
 inline constexpr double value_1_0[] = {
     -0x1.2aaaaaaaaaaabp-1,  // -7/12
@@ -51,7 +51,7 @@ inline constexpr double value_1_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 24, .m = value_1_0_m, .content = -0x1.2aaaaaaaaaaabp-1, .content_lo = 0x1.5555555555555p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.2aaaaaaaaaaabp-1, .content_lo = 0x1.5555555555555p-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -243,7 +243,7 @@ inline constexpr double potential_3_1_m[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .split = 24, .m = potential_3_1_m, .content = -0x1.5555555555555p-7, .content_lo = -0x1.5555555555555p-61},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .split = 26, .m = potential_3_1_m, .content = -0x1.5555555555555p-7, .content_lo = -0x1.5555555555555p-61},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -325,7 +325,7 @@ inline constexpr double dpotential_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .split = 24, .m = dpotential_3_1_m, .content = 0x1.5555555555555p-4, .content_lo = 0x1.5555555555555p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .split = 26, .m = dpotential_3_1_m, .content = 0x1.5555555555555p-4, .content_lo = 0x1.5555555555555p-58},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -405,7 +405,7 @@ inline constexpr double dpotential_over_r_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .split = 24, .m = dpotential_over_r_3_1_m, .content = 0x1.5555555555555p-4, .content_lo = 0x1.5555555555555p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .split = 26, .m = dpotential_over_r_3_1_m, .content = 0x1.5555555555555p-4, .content_lo = 0x1.5555555555555p-58},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2

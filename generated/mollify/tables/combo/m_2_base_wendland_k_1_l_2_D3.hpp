@@ -35,8 +35,8 @@ inline constexpr double value_0_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 23, .m = value_0_0_m, .content = 0x1.3193d66ed2bfap+12, .content_lo = 0x1.ebae32712a6afp-42},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 23, .m = value_0_1_m, .content = -0x1.3193d66ed2bfap+1, .content_lo = -0x1.ebae32712a6afp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.3193d66ed2bfap+12, .content_lo = 0x1.ebae32712a6afp-42},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .split = 26, .m = value_0_1_m, .content = -0x1.3193d66ed2bfap+1, .content_lo = -0x1.ebae32712a6afp-53},
 };
 inline constexpr double value_1_0[] = {
     -0x1.3193d66ed2bfap+1,  // -15/2 * pi^-1
@@ -51,7 +51,7 @@ inline constexpr double value_1_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 23, .m = value_1_0_m, .content = -0x1.3193d66ed2bfap+1, .content_lo = -0x1.ebae32712a6afp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .split = 26, .m = value_1_0_m, .content = -0x1.3193d66ed2bfap+1, .content_lo = -0x1.ebae32712a6afp-53},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

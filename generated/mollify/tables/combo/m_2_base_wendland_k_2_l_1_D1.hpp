@@ -74,8 +74,8 @@ inline constexpr double dr_0_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .split = 23, .m = dr_0_0_m, .content = -0x1.5p+13, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .split = 23, .m = dr_0_1_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .split = 26, .m = dr_0_0_m, .content = -0x1.5p+13, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .split = 26, .m = dr_0_1_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.5p+3,  // 21/2
@@ -87,7 +87,7 @@ inline constexpr double dr_1_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .split = 23, .m = dr_1_0_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .split = 26, .m = dr_1_0_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -167,8 +167,8 @@ inline constexpr double grad_over_r_0_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.5p+13, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.5p+13, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.5p+3,  // 21/2
@@ -180,7 +180,7 @@ inline constexpr double grad_over_r_1_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.5p+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -290,7 +290,7 @@ inline constexpr double potential_2_2_lo[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .split = 23, .m = potential_2_1_m, .content = 0x1.5555555555555p+2, .content_lo = 0x1.5555555555555p-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 8, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .split = 24, .m = potential_2_1_m, .content = 0x1.5555555555555p+2, .content_lo = 0x1.5555555555555p-52},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 11, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
@@ -312,7 +312,7 @@ inline constexpr double potential_3_1_m[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .split = 23, .m = potential_3_1_m, .content = -0x1.5555555555555p-7, .content_lo = -0x1.5555555555555p-61},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .split = 24, .m = potential_3_1_m, .content = -0x1.5555555555555p-7, .content_lo = -0x1.5555555555555p-61},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2

@@ -89,8 +89,8 @@ inline constexpr double dr_0_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 24, .m = dr_0_0_m, .content = -0x1.c02e296f573b4p+16, .content_lo = 0x1.7322a4f39fa77p-38},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .split = 24, .m = dr_0_1_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 26, .m = dr_0_0_m, .content = -0x1.c02e296f573b4p+16, .content_lo = 0x1.7322a4f39fa77p-38},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .split = 26, .m = dr_0_1_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
 };
 inline constexpr double dr_1_0[] = {
     0x1.c02e296f573b4p+4,  // 88 * pi^-1
@@ -105,7 +105,7 @@ inline constexpr double dr_1_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .split = 24, .m = dr_1_0_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .split = 26, .m = dr_1_0_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -209,8 +209,8 @@ inline constexpr double grad_over_r_0_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.c02e296f573b4p+16, .content_lo = 0x1.7322a4f39fa77p-38},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .split = 24, .m = grad_over_r_0_1_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.c02e296f573b4p+16, .content_lo = 0x1.7322a4f39fa77p-38},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.c02e296f573b4p+4,  // 88 * pi^-1
@@ -225,7 +225,7 @@ inline constexpr double grad_over_r_1_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .split = 24, .m = grad_over_r_1_0_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.c02e296f573b4p+4, .content_lo = -0x1.7322a4f39fa77p-50},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

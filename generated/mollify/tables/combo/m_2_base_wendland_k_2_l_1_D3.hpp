@@ -40,7 +40,7 @@ inline constexpr double value_0_1_m[] = {
 };
 inline constexpr table::Term value_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .split = 24, .m = value_0_0_m, .content = 0x1.181cd9e59685p+13, .content_lo = 0x1.180a58e7bc376p-41},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .split = 15, .m = value_0_1_m, .content = -0x1.181cd9e59685p+1, .content_lo = -0x1.180a58e7bc376p-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .split = 24, .m = value_0_1_m, .content = -0x1.181cd9e59685p+1, .content_lo = -0x1.180a58e7bc376p-53},
 };
 inline constexpr double value_1_0[] = {
     -0x1.181cd9e59685p+1,  // -55/8 * pi^-1
@@ -57,7 +57,7 @@ inline constexpr double value_1_0_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .split = 15, .m = value_1_0_m, .content = -0x1.181cd9e59685p+1, .content_lo = -0x1.180a58e7bc376p-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .split = 24, .m = value_1_0_m, .content = -0x1.181cd9e59685p+1, .content_lo = -0x1.180a58e7bc376p-53},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -90,7 +90,7 @@ inline constexpr double dr_0_1_m[] = {
 };
 inline constexpr table::Term dr_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 26, .m = dr_0_0_m, .content = -0x1.a42b46d861c78p+18, .content_lo = -0x1.a40f855b9a531p-36},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .split = 15, .m = dr_0_1_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .split = 26, .m = dr_0_1_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
 };
 inline constexpr double dr_1_0[] = {
     0x1.a42b46d861c78p+5,  // 165 * pi^-1
@@ -105,7 +105,7 @@ inline constexpr double dr_1_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .split = 15, .m = dr_1_0_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .split = 26, .m = dr_1_0_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -210,7 +210,7 @@ inline constexpr double grad_over_r_0_1_m[] = {
 };
 inline constexpr table::Term grad_over_r_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.a42b46d861c78p+18, .content_lo = -0x1.a40f855b9a531p-36},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .split = 15, .m = grad_over_r_0_1_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.a42b46d861c78p+5,  // 165 * pi^-1
@@ -225,7 +225,7 @@ inline constexpr double grad_over_r_1_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .split = 15, .m = grad_over_r_1_0_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.a42b46d861c78p+5, .content_lo = 0x1.a40f855b9a531p-49},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

@@ -33,8 +33,8 @@ inline constexpr double value_0_1_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .split = 23, .m = value_0_0_m, .content = 0x1.4p+9, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .split = 23, .m = value_0_1_m, .content = -0x1.4p-1, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .split = 24, .m = value_0_0_m, .content = 0x1.4p+9, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .split = 24, .m = value_0_1_m, .content = -0x1.4p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double value_1_0[] = {
     -0x1.4p-1,  // -5/8
@@ -48,7 +48,7 @@ inline constexpr double value_1_0_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .split = 23, .m = value_1_0_m, .content = -0x1.4p-1, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .split = 24, .m = value_1_0_m, .content = -0x1.4p-1, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = value_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -74,8 +74,8 @@ inline constexpr double dr_0_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .split = 23, .m = dr_0_0_m, .content = -0x1.ep+14, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .split = 23, .m = dr_0_1_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .split = 26, .m = dr_0_0_m, .content = -0x1.ep+14, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .split = 26, .m = dr_0_1_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.ep+3,  // 15
@@ -87,7 +87,7 @@ inline constexpr double dr_1_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .split = 23, .m = dr_1_0_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .split = 26, .m = dr_1_0_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -167,8 +167,8 @@ inline constexpr double grad_over_r_0_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.ep+14, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.ep+14, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.ep+3,  // 15
@@ -180,7 +180,7 @@ inline constexpr double grad_over_r_1_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.ep+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

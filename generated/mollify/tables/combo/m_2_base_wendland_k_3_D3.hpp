@@ -260,8 +260,8 @@ inline constexpr double hess_radial_0_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 24, .m = hess_radial_0_0_m, .content = 0x1.2ab6c45dd583ep+25, .content_lo = -0x1.955cf730e048fp-29},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .split = 24, .m = hess_radial_0_1_m, .content = -0x1.2ab6c45dd583ep+10, .content_lo = 0x1.955cf730e048fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.2ab6c45dd583ep+25, .content_lo = -0x1.955cf730e048fp-29},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.2ab6c45dd583ep+10, .content_lo = 0x1.955cf730e048fp-44},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.2ab6c45dd583ep+10,  // -15015/4 * pi^-1
@@ -276,7 +276,7 @@ inline constexpr double hess_radial_1_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .split = 24, .m = hess_radial_1_0_m, .content = -0x1.2ab6c45dd583ep+10, .content_lo = 0x1.955cf730e048fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.2ab6c45dd583ep+10, .content_lo = 0x1.955cf730e048fp-44},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

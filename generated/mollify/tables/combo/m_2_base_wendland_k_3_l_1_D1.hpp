@@ -64,7 +64,7 @@ inline constexpr double dr_0_1_m[] = {
 };
 inline constexpr table::Term dr_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .split = 24, .m = dr_0_0_m, .content = -0x1.b8p+15, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3, .split = 15, .m = dr_0_1_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3, .split = 24, .m = dr_0_1_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.b8p+3,  // 55/4
@@ -78,7 +78,7 @@ inline constexpr double dr_1_0_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3, .split = 15, .m = dr_1_0_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3, .split = 24, .m = dr_1_0_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = dr_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -169,7 +169,7 @@ inline constexpr double grad_over_r_0_1_m[] = {
 };
 inline constexpr table::Term grad_over_r_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.b8p+15, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3, .split = 15, .m = grad_over_r_0_1_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3, .split = 24, .m = grad_over_r_0_1_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.b8p+3,  // 55/4
@@ -183,7 +183,7 @@ inline constexpr double grad_over_r_1_0_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3, .split = 15, .m = grad_over_r_1_0_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3, .split = 24, .m = grad_over_r_1_0_m, .content = 0x1.b8p+3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = grad_over_r_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))
@@ -210,7 +210,7 @@ inline constexpr double hess_radial_0_1_m[] = {
 };
 inline constexpr table::Term hess_radial_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.4ap+21, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .split = 15, .m = hess_radial_0_1_m, .content = -0x1.4ap+8, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.4ap+8, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.4ap+8,  // -330
@@ -222,7 +222,7 @@ inline constexpr double hess_radial_1_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .split = 15, .m = hess_radial_1_0_m, .content = -0x1.4ap+8, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.4ap+8, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

@@ -219,7 +219,7 @@ inline constexpr double hess_radial_0_1_m[] = {
 };
 inline constexpr table::Term hess_radial_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.0c2p+23, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .split = 15, .m = hess_radial_0_1_m, .content = -0x1.0c2p+9, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.0c2p+9, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.0c2p+9,  // -2145/4
@@ -231,7 +231,7 @@ inline constexpr double hess_radial_1_0_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .split = 15, .m = hess_radial_1_0_m, .content = -0x1.0c2p+9, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.0c2p+9, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p-1, .terms = hess_radial_0, .nterms = 2},  // [0, 1/2), per radius a_j, factored at a_j (Franz (4.17))

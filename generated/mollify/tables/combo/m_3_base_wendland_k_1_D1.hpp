@@ -38,9 +38,9 @@ inline constexpr double value_0_2_m[] = {
     0x1.8p+1,  // 3
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.2fcp+7, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = value_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = value_0_1_m, .content = -0x1.e6p+0, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_0_2, .n = 2, .split = 24, .m = value_0_2_m, .content = 0x1p-3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 3, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.2fcp+7, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = value_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.e6p+0, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_0_2, .n = 2, .split = 26, .m = value_0_2_m, .content = 0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double value_1_0[] = {
     -0x1.e6p+1,  // -243/64
@@ -61,8 +61,8 @@ inline constexpr double value_1_1_m[] = {
     0x1.8p+1,  // 3
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = value_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = value_1_0_m, .content = -0x1.e6p+0, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_1_1, .n = 2, .split = 24, .m = value_1_1_m, .content = 0x1p-3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 3, .low = 0, .c = value_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.e6p+0, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_1_1, .n = 2, .split = 26, .m = value_1_1_m, .content = 0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double value_2_0[] = {
     0x1p-3,  // 1/8
@@ -74,7 +74,7 @@ inline constexpr double value_2_0_m[] = {
     0x1.8p+1,  // 3
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_2_0, .n = 2, .split = 24, .m = value_2_0_m, .content = 0x1p-3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = 0, .c = value_2_0, .n = 2, .split = 26, .m = value_2_0_m, .content = 0x1p-3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -339,7 +339,7 @@ inline constexpr double potential_2_2_lo[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_2_1_m, .content = -0x1.84ccccccccccdp-3, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_2_1_m, .content = -0x1.84ccccccccccdp-3, .content_lo = 0x1.999999999999ap-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 7, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
@@ -371,8 +371,8 @@ inline constexpr double potential_3_2_m[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_3_1_m, .content = -0x1.84ccccccccccdp-3, .content_lo = 0x1.999999999999ap-58},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_3_2, .n = 2, .c_lo = potential_3_2_lo, .split = 24, .m = potential_3_2_m, .content = 0x1.999999999999ap-7, .content_lo = -0x1.999999999999ap-61},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_3_1_m, .content = -0x1.84ccccccccccdp-3, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_3_2, .n = 2, .c_lo = potential_3_2_lo, .split = 26, .m = potential_3_2_m, .content = 0x1.999999999999ap-7, .content_lo = -0x1.999999999999ap-61},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -391,7 +391,7 @@ inline constexpr double potential_4_1_m[] = {
 };
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo, .split = 24, .m = potential_4_1_m, .content = 0x1.999999999999ap-7, .content_lo = -0x1.999999999999ap-61},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo, .split = 26, .m = potential_4_1_m, .content = 0x1.999999999999ap-7, .content_lo = -0x1.999999999999ap-61},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -482,7 +482,7 @@ inline constexpr double dpotential_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_3_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_3_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 5, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
@@ -514,8 +514,8 @@ inline constexpr double dpotential_4_2_m[] = {
 };
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_4_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_4_2, .n = 2, .c_lo = dpotential_4_2_lo, .split = 24, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_4_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_4_2, .n = 2, .c_lo = dpotential_4_2_lo, .split = 26, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -534,7 +534,7 @@ inline constexpr double dpotential_5_1_m[] = {
 };
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo, .split = 24, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo, .split = 26, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -610,7 +610,7 @@ inline constexpr double dpotential_over_r_2_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_2_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_2_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_2_2, .n = 5, .c_lo = dpotential_over_r_2_2_lo},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
@@ -642,8 +642,8 @@ inline constexpr double dpotential_over_r_3_2_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_3_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_3_2, .n = 2, .c_lo = dpotential_over_r_3_2_lo, .split = 24, .m = dpotential_over_r_3_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_3_1_m, .content = 0x1.84ccccccccccdp-2, .content_lo = -0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_3_2, .n = 2, .c_lo = dpotential_over_r_3_2_lo, .split = 26, .m = dpotential_over_r_3_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1p-1,  // 1/2
@@ -662,7 +662,7 @@ inline constexpr double dpotential_over_r_4_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .split = 24, .m = dpotential_over_r_4_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .split = 26, .m = dpotential_over_r_4_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2

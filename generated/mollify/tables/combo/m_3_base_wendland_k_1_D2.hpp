@@ -48,8 +48,8 @@ inline constexpr double value_0_2_m[] = {
 };
 inline constexpr table::Term value_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.309018c55af2fp+11, .content_lo = -0x1.34c088068292bp-43},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = value_0_1_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 15, .m = value_0_2_m, .content = 0x1.c8543cce74beap-3, .content_lo = 0x1.a8c207c2b2483p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.c8543cce74beap-3, .content_lo = 0x1.a8c207c2b2483p-59},
 };
 inline constexpr double value_1_0[] = {
     -0x1.e74cf46ef7eb1p+3,  // -15309/320 * pi^-1
@@ -76,8 +76,8 @@ inline constexpr double value_1_1_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = value_1_0_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 15, .m = value_1_1_m, .content = 0x1.c8543cce74beap-3, .content_lo = 0x1.a8c207c2b2483p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.c8543cce74beap-3, .content_lo = 0x1.a8c207c2b2483p-59},
 };
 inline constexpr double value_2_0[] = {
     0x1.c8543cce74beap-3,  // 7/10 * pi^-1
@@ -92,7 +92,7 @@ inline constexpr double value_2_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 15, .m = value_2_0_m, .content = 0x1.c8543cce74beap-3, .content_lo = 0x1.a8c207c2b2483p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.c8543cce74beap-3, .content_lo = 0x1.a8c207c2b2483p-59},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -924,7 +924,7 @@ inline constexpr double dpotential_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dpotential_3_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_3_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 6, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
@@ -963,8 +963,8 @@ inline constexpr double dpotential_4_2_m[] = {
 };
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dpotential_4_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo, .split = 15, .m = dpotential_4_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_4_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo, .split = 24, .m = dpotential_4_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -988,7 +988,7 @@ inline constexpr double dpotential_5_1_m[] = {
 };
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .split = 15, .m = dpotential_5_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .split = 24, .m = dpotential_5_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1087,7 +1087,7 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dpotential_over_r_3_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_3_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_2, .n = 6, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
@@ -1126,8 +1126,8 @@ inline constexpr double dpotential_over_r_4_2_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dpotential_over_r_4_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo, .split = 15, .m = dpotential_over_r_4_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_4_1_m, .content = 0x1.7346d29db0b32p-2, .content_lo = -0x1.8be363fe2f05cp-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo, .split = 24, .m = dpotential_over_r_4_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1151,7 +1151,7 @@ inline constexpr double dpotential_over_r_5_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .split = 15, .m = dpotential_over_r_5_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .split = 24, .m = dpotential_over_r_5_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

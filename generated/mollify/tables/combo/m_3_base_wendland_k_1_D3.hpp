@@ -48,8 +48,8 @@ inline constexpr double value_0_2_m[] = {
 };
 inline constexpr table::Term value_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.56a21bde06515p+13, .content_lo = -0x1.db58990752e51p-41},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = value_0_1_m, .content = -0x1.121b497e6b744p+5, .content_lo = 0x1.7c46e0d2a8b74p-49},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 15, .m = value_0_2_m, .content = 0x1.563f2d9ad78fp-2, .content_lo = -0x1.b05b9e8b7e927p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.121b497e6b744p+5, .content_lo = 0x1.7c46e0d2a8b74p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.563f2d9ad78fp-2, .content_lo = -0x1.b05b9e8b7e927p-56},
 };
 inline constexpr double value_1_0[] = {
     -0x1.121b497e6b744p+5,  // -137781/1280 * pi^-1
@@ -76,8 +76,8 @@ inline constexpr double value_1_1_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = value_1_0_m, .content = -0x1.121b497e6b744p+5, .content_lo = 0x1.7c46e0d2a8b74p-49},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 15, .m = value_1_1_m, .content = 0x1.563f2d9ad78fp-2, .content_lo = -0x1.b05b9e8b7e927p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.121b497e6b744p+5, .content_lo = 0x1.7c46e0d2a8b74p-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.563f2d9ad78fp-2, .content_lo = -0x1.b05b9e8b7e927p-56},
 };
 inline constexpr double value_2_0[] = {
     0x1.563f2d9ad78fp-2,  // 21/20 * pi^-1
@@ -92,7 +92,7 @@ inline constexpr double value_2_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 15, .m = value_2_0_m, .content = 0x1.563f2d9ad78fp-2, .content_lo = -0x1.b05b9e8b7e927p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.563f2d9ad78fp-2, .content_lo = -0x1.b05b9e8b7e927p-56},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -469,7 +469,7 @@ inline constexpr double potential_3_2_lo[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = potential_3_1_m, .content = -0x1.16751df644865p-3, .content_lo = -0x1.ae2aea02b9776p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_3_1_m, .content = -0x1.16751df644865p-3, .content_lo = -0x1.ae2aea02b9776p-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_2, .n = 8, .c_lo = potential_3_2_lo},
 };
 inline constexpr double potential_4_0[] = {
@@ -508,8 +508,8 @@ inline constexpr double potential_4_2_m[] = {
 };
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_4_0, .n = 1, .c_lo = potential_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = potential_4_1_m, .content = -0x1.16751df644865p-3, .content_lo = -0x1.ae2aea02b9776p-58},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_4_2, .n = 3, .c_lo = potential_4_2_lo, .split = 15, .m = potential_4_2_m, .content = 0x1.04c26be3b06cfp-7, .content_lo = -0x1.566c8dd9e3448p-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_4_1_m, .content = -0x1.16751df644865p-3, .content_lo = -0x1.ae2aea02b9776p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_4_2, .n = 3, .c_lo = potential_4_2_lo, .split = 25, .m = potential_4_2_m, .content = 0x1.04c26be3b06cfp-7, .content_lo = -0x1.566c8dd9e3448p-63},
 };
 inline constexpr double potential_5_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -533,7 +533,7 @@ inline constexpr double potential_5_1_m[] = {
 };
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .split = 15, .m = potential_5_1_m, .content = 0x1.04c26be3b06cfp-7, .content_lo = -0x1.566c8dd9e3448p-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .split = 25, .m = potential_5_1_m, .content = 0x1.04c26be3b06cfp-7, .content_lo = -0x1.566c8dd9e3448p-63},
 };
 inline constexpr double potential_6_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -44,9 +44,9 @@ inline constexpr double value_0_2_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.116p+9, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = value_0_1_m, .content = -0x1.b566666666666p+2, .content_lo = -0x1.999999999999ap-52},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 24, .m = value_0_2_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.116p+9, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.b566666666666p+2, .content_lo = -0x1.999999999999ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr double value_1_0[] = {
     -0x1.b566666666666p+2,  // -2187/320
@@ -73,8 +73,8 @@ inline constexpr double value_1_1_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = value_1_0_m, .content = -0x1.b566666666666p+2, .content_lo = -0x1.999999999999ap-52},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 24, .m = value_1_1_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.b566666666666p+2, .content_lo = -0x1.999999999999ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr double value_2_0[] = {
     0x1.3333333333333p-3,  // 3/20
@@ -89,7 +89,7 @@ inline constexpr double value_2_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 24, .m = value_2_0_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -357,7 +357,7 @@ inline constexpr double potential_2_2_lo[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_2_1_m, .content = -0x1.f3e2be2be2be3p-2, .content_lo = 0x1.075075075075p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_2_1_m, .content = -0x1.f3e2be2be2be3p-2, .content_lo = 0x1.075075075075p-56},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 8, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
@@ -389,8 +389,8 @@ inline constexpr double potential_3_2_m[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_3_1_m, .content = -0x1.f3e2be2be2be3p-2, .content_lo = 0x1.075075075075p-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_3_2, .n = 2, .c_lo = potential_3_2_lo, .split = 24, .m = potential_3_2_m, .content = 0x1.d41d41d41d41dp-9, .content_lo = 0x1.075075075075p-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_3_1_m, .content = -0x1.f3e2be2be2be3p-2, .content_lo = 0x1.075075075075p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_3_2, .n = 2, .c_lo = potential_3_2_lo, .split = 26, .m = potential_3_2_m, .content = 0x1.d41d41d41d41dp-9, .content_lo = 0x1.075075075075p-63},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -409,7 +409,7 @@ inline constexpr double potential_4_1_m[] = {
 };
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo, .split = 24, .m = potential_4_1_m, .content = 0x1.d41d41d41d41dp-9, .content_lo = 0x1.075075075075p-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo, .split = 26, .m = potential_4_1_m, .content = 0x1.d41d41d41d41dp-9, .content_lo = 0x1.075075075075p-63},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -504,7 +504,7 @@ inline constexpr double dpotential_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_3_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_3_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 6, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
@@ -536,8 +536,8 @@ inline constexpr double dpotential_4_2_m[] = {
 };
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_4_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_4_2, .n = 2, .c_lo = dpotential_4_2_lo, .split = 24, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_4_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_4_2, .n = 2, .c_lo = dpotential_4_2_lo, .split = 26, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -556,7 +556,7 @@ inline constexpr double dpotential_5_1_m[] = {
 };
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo, .split = 24, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo, .split = 26, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -650,7 +650,7 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_3_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_3_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_2, .n = 6, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
@@ -682,8 +682,8 @@ inline constexpr double dpotential_over_r_4_2_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_4_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_4_2, .n = 2, .c_lo = dpotential_over_r_4_2_lo, .split = 24, .m = dpotential_over_r_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_4_1_m, .content = 0x1.239999999999ap+1, .content_lo = -0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_4_2, .n = 2, .c_lo = dpotential_over_r_4_2_lo, .split = 26, .m = dpotential_over_r_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2
@@ -702,7 +702,7 @@ inline constexpr double dpotential_over_r_5_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_5_1, .n = 2, .c_lo = dpotential_over_r_5_1_lo, .split = 24, .m = dpotential_over_r_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_5_1, .n = 2, .c_lo = dpotential_over_r_5_1_lo, .split = 26, .m = dpotential_over_r_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1p-1,  // 1/2

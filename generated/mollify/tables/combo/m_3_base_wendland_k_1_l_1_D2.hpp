@@ -48,8 +48,8 @@ inline constexpr double value_0_2_m[] = {
 };
 inline constexpr table::Term value_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.309018c55af2fp+13, .content_lo = -0x1.34c088068292bp-41},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = value_0_1_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 15, .m = value_0_2_m, .content = 0x1.30382889a329cp-2, .content_lo = 0x1.1b2c052c76dadp-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.30382889a329cp-2, .content_lo = 0x1.1b2c052c76dadp-58},
 };
 inline constexpr double value_1_0[] = {
     -0x1.e74cf46ef7eb1p+4,  // -15309/160 * pi^-1
@@ -76,8 +76,8 @@ inline constexpr double value_1_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = value_1_0_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 15, .m = value_1_1_m, .content = 0x1.30382889a329cp-2, .content_lo = 0x1.1b2c052c76dadp-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.e74cf46ef7eb1p+3, .content_lo = -0x1.e19633098921dp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.30382889a329cp-2, .content_lo = 0x1.1b2c052c76dadp-58},
 };
 inline constexpr double value_2_0[] = {
     0x1.30382889a329cp-2,  // 14/15 * pi^-1
@@ -92,7 +92,7 @@ inline constexpr double value_2_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 15, .m = value_2_0_m, .content = 0x1.30382889a329cp-2, .content_lo = 0x1.1b2c052c76dadp-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.30382889a329cp-2, .content_lo = 0x1.1b2c052c76dadp-58},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -1042,7 +1042,7 @@ inline constexpr double dpotential_5_2_m[] = {
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_5_0, .n = 1, .c_lo = dpotential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_5_1_m, .content = 0x1.16751df644865p-2, .content_lo = 0x1.ae2aea02b9776p-57},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_5_2, .n = 3, .c_lo = dpotential_5_2_lo, .split = 15, .m = dpotential_5_2_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_5_2, .n = 3, .c_lo = dpotential_5_2_lo, .split = 23, .m = dpotential_5_2_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1066,7 +1066,7 @@ inline constexpr double dpotential_6_1_m[] = {
 };
 inline constexpr table::Term dpotential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_6_1, .n = 3, .c_lo = dpotential_6_1_lo, .split = 15, .m = dpotential_6_1_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_6_1, .n = 3, .c_lo = dpotential_6_1_lo, .split = 23, .m = dpotential_6_1_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1210,7 +1210,7 @@ inline constexpr double dpotential_over_r_4_2_m[] = {
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_4_0, .n = 1, .c_lo = dpotential_over_r_4_0_lo, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -2, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_over_r_4_1_m, .content = 0x1.16751df644865p-2, .content_lo = 0x1.ae2aea02b9776p-57},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo, .split = 15, .m = dpotential_over_r_4_2_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo, .split = 23, .m = dpotential_over_r_4_2_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1234,7 +1234,7 @@ inline constexpr double dpotential_over_r_5_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .split = 15, .m = dpotential_over_r_5_1_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .split = 23, .m = dpotential_over_r_5_1_m, .content = -0x1.5bade52f95e69p-8, .content_lo = -0x1.c6624c19687dp-63},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

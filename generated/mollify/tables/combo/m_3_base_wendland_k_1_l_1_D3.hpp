@@ -47,9 +47,9 @@ inline constexpr double value_0_2_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 22, .m = value_0_0_m, .content = 0x1.81765f59c71b7p+15, .content_lo = 0x1.a4f14f5f0af94p-41},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = value_0_1_m, .content = -0x1.345eb2ae38e2cp+5, .content_lo = -0x1.50c10c4c08c76p-51},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 22, .m = value_0_2_m, .content = 0x1.00af623421ab4p-1, .content_lo = -0x1.4444b6e89eedep-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.81765f59c71b7p+15, .content_lo = 0x1.a4f14f5f0af94p-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.345eb2ae38e2cp+5, .content_lo = -0x1.50c10c4c08c76p-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.00af623421ab4p-1, .content_lo = -0x1.4444b6e89eedep-55},
 };
 inline constexpr double value_1_0[] = {
     -0x1.345eb2ae38e2cp+6,  // -1240029/5120 * pi^-1
@@ -76,8 +76,8 @@ inline constexpr double value_1_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = value_1_0_m, .content = -0x1.345eb2ae38e2cp+5, .content_lo = -0x1.50c10c4c08c76p-51},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 22, .m = value_1_1_m, .content = 0x1.00af623421ab4p-1, .content_lo = -0x1.4444b6e89eedep-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.345eb2ae38e2cp+5, .content_lo = -0x1.50c10c4c08c76p-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.00af623421ab4p-1, .content_lo = -0x1.4444b6e89eedep-55},
 };
 inline constexpr double value_2_0[] = {
     0x1.00af623421ab4p-1,  // 63/40 * pi^-1
@@ -92,7 +92,7 @@ inline constexpr double value_2_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 22, .m = value_2_0_m, .content = 0x1.00af623421ab4p-1, .content_lo = -0x1.4444b6e89eedep-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.00af623421ab4p-1, .content_lo = -0x1.4444b6e89eedep-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -536,7 +536,7 @@ inline constexpr double potential_5_2_m[] = {
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = potential_5_0, .n = 1, .c_lo = potential_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = potential_5_1_m, .content = -0x1.a1afacf166c98p-6, .content_lo = 0x1.7abfa0fbe9ccfp-61},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_5_2, .n = 3, .c_lo = potential_5_2_lo, .split = 22, .m = potential_5_2_m, .content = 0x1.04c26be3b06cfp-10, .content_lo = -0x1.566c8dd9e3448p-66},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_5_2, .n = 3, .c_lo = potential_5_2_lo, .split = 23, .m = potential_5_2_m, .content = 0x1.04c26be3b06cfp-10, .content_lo = -0x1.566c8dd9e3448p-66},
 };
 inline constexpr double potential_6_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -560,7 +560,7 @@ inline constexpr double potential_6_1_m[] = {
 };
 inline constexpr table::Term potential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_6_0, .n = 1, .c_lo = potential_6_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_6_1, .n = 3, .c_lo = potential_6_1_lo, .split = 22, .m = potential_6_1_m, .content = 0x1.04c26be3b06cfp-10, .content_lo = -0x1.566c8dd9e3448p-66},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = potential_6_1, .n = 3, .c_lo = potential_6_1_lo, .split = 23, .m = potential_6_1_m, .content = 0x1.04c26be3b06cfp-10, .content_lo = -0x1.566c8dd9e3448p-66},
 };
 inline constexpr double potential_7_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -44,9 +44,9 @@ inline constexpr double value_0_2_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = value_0_0_m, .content = 0x1.de68p+10, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.7eb999999999ap+2, .content_lo = 0x1.999999999999ap-52},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 23, .m = value_0_2_m, .content = 0x1.6666666666666p-3, .content_lo = 0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.de68p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.7eb999999999ap+2, .content_lo = 0x1.999999999999ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.6666666666666p-3, .content_lo = 0x1.999999999999ap-57},
 };
 inline constexpr double value_1_0[] = {
     -0x1.7eb999999999ap+3,  // -15309/1280
@@ -73,8 +73,8 @@ inline constexpr double value_1_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.7eb999999999ap+2, .content_lo = 0x1.999999999999ap-52},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 23, .m = value_1_1_m, .content = 0x1.6666666666666p-3, .content_lo = 0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.7eb999999999ap+2, .content_lo = 0x1.999999999999ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.6666666666666p-3, .content_lo = 0x1.999999999999ap-57},
 };
 inline constexpr double value_2_0[] = {
     0x1.6666666666666p-3,  // 7/40
@@ -89,7 +89,7 @@ inline constexpr double value_2_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 23, .m = value_2_0_m, .content = 0x1.6666666666666p-3, .content_lo = 0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.6666666666666p-3, .content_lo = 0x1.999999999999ap-57},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -382,7 +382,7 @@ inline constexpr double potential_3_2_lo[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_3_1_m, .content = -0x1.480cccccccccdp-2, .content_lo = 0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 2, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_3_1_m, .content = -0x1.480cccccccccdp-2, .content_lo = 0x1.999999999999ap-57},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_2, .n = 9, .c_lo = potential_3_2_lo},
 };
 inline constexpr double potential_4_0[] = {
@@ -414,8 +414,8 @@ inline constexpr double potential_4_2_m[] = {
 };
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_4_1_m, .content = -0x1.480cccccccccdp-2, .content_lo = 0x1.999999999999ap-57},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_2, .n = 2, .c_lo = potential_4_2_lo, .split = 23, .m = potential_4_2_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_4_1, .n = 2, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = potential_4_1_m, .content = -0x1.480cccccccccdp-2, .content_lo = 0x1.999999999999ap-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_2, .n = 2, .c_lo = potential_4_2_lo, .split = 26, .m = potential_4_2_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -434,7 +434,7 @@ inline constexpr double potential_5_1_m[] = {
 };
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_5_1, .n = 2, .c_lo = potential_5_1_lo, .split = 23, .m = potential_5_1_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_5_1, .n = 2, .c_lo = potential_5_1_lo, .split = 26, .m = potential_5_1_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
 };
 inline constexpr double potential_6_0[] = {
     0x1p-1,  // 1/2
@@ -551,7 +551,7 @@ inline constexpr double dpotential_4_2_lo[] = {
 };
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_4_1, .n = 2, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_4_2, .n = 7, .c_lo = dpotential_4_2_lo},
 };
 inline constexpr double dpotential_5_0[] = {
@@ -583,8 +583,8 @@ inline constexpr double dpotential_5_2_m[] = {
 };
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_5_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_5_2, .n = 2, .c_lo = dpotential_5_2_lo, .split = 23, .m = dpotential_5_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_5_1, .n = 2, .c_lo = dpotential_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_5_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_5_2, .n = 2, .c_lo = dpotential_5_2_lo, .split = 26, .m = dpotential_5_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -603,7 +603,7 @@ inline constexpr double dpotential_6_1_m[] = {
 };
 inline constexpr table::Term dpotential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_6_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_6_1, .n = 2, .c_lo = dpotential_6_1_lo, .split = 23, .m = dpotential_6_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_6_1, .n = 2, .c_lo = dpotential_6_1_lo, .split = 26, .m = dpotential_6_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1p-1,  // 1/2
@@ -702,7 +702,7 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_over_r_3_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 2, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_3_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_2, .n = 7, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
@@ -734,8 +734,8 @@ inline constexpr double dpotential_over_r_4_2_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_over_r_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_2, .n = 2, .c_lo = dpotential_over_r_4_2_lo, .split = 23, .m = dpotential_over_r_4_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_1, .n = 2, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dpotential_over_r_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_2, .n = 2, .c_lo = dpotential_over_r_4_2_lo, .split = 26, .m = dpotential_over_r_4_2_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2
@@ -754,7 +754,7 @@ inline constexpr double dpotential_over_r_5_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_5_1, .n = 2, .c_lo = dpotential_over_r_5_1_lo, .split = 23, .m = dpotential_over_r_5_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_5_1, .n = 2, .c_lo = dpotential_over_r_5_1_lo, .split = 26, .m = dpotential_over_r_5_1_m, .content = -0x1.999999999999ap-6, .content_lo = 0x1.999999999999ap-60},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1p-1,  // 1/2
@@ -840,7 +840,7 @@ inline constexpr double potential_hess_radial_3_2_lo[] = {
 };
 inline constexpr table::Term potential_hess_radial_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-2, .edge_power = 0, .low = -3, .c = potential_hess_radial_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = potential_hess_radial_3_1_m, .content = 0x1.6c8p+7, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = -3, .c = potential_hess_radial_3_1, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = potential_hess_radial_3_1_m, .content = 0x1.6c8p+7, .content_lo = 0x0p+0},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-2, .edge_power = 0, .low = 0, .c = potential_hess_radial_3_2, .n = 5, .c_lo = potential_hess_radial_3_2_lo},
 };
 inline constexpr double potential_hess_radial_4_0[] = {
@@ -927,7 +927,7 @@ inline constexpr double potential_hess_radial_6_2_m[] = {
 inline constexpr table::Term potential_hess_radial_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -3, .c = potential_hess_radial_6_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = -3, .c = potential_hess_radial_6_1, .n = 3, .c_lo = potential_hess_radial_6_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_hess_radial_6_1_m, .content = -0x1.239999999999ap-1, .content_lo = 0x1.999999999999ap-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_6_2, .n = 3, .c_lo = potential_hess_radial_6_2_lo, .split = 23, .m = potential_hess_radial_6_2_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_6_2, .n = 3, .c_lo = potential_hess_radial_6_2_lo, .split = 24, .m = potential_hess_radial_6_2_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
 };
 inline constexpr double potential_hess_radial_7_0[] = {
     -0x1p-1,  // -1/2
@@ -948,7 +948,7 @@ inline constexpr double potential_hess_radial_7_1_m[] = {
 };
 inline constexpr table::Term potential_hess_radial_7[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = potential_hess_radial_7_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_7_1, .n = 3, .c_lo = potential_hess_radial_7_1_lo, .split = 23, .m = potential_hess_radial_7_1_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = potential_hess_radial_7_1, .n = 3, .c_lo = potential_hess_radial_7_1_lo, .split = 24, .m = potential_hess_radial_7_1_m, .content = 0x1.999999999999ap-5, .content_lo = -0x1.999999999999ap-59},
 };
 inline constexpr double potential_hess_radial_8_0[] = {
     -0x1p-1,  // -1/2

@@ -47,9 +47,9 @@ inline constexpr double value_0_2_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = value_0_0_m, .content = 0x1.25af8599bc45bp+15, .content_lo = -0x1.05275e9890321p-39},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.d5e5a28f93a2bp+5, .content_lo = 0x1.aa17951b67069p-50},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 23, .m = value_0_2_m, .content = 0x1.8723a1d588a36p-2, .content_lo = 0x1.7f974ace4ac65p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.25af8599bc45bp+15, .content_lo = -0x1.05275e9890321p-39},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.d5e5a28f93a2bp+5, .content_lo = 0x1.aa17951b67069p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.8723a1d588a36p-2, .content_lo = 0x1.7f974ace4ac65p-56},
 };
 inline constexpr double value_1_0[] = {
     -0x1.d5e5a28f93a2bp+5,  // -59049/320 * pi^-1
@@ -76,8 +76,8 @@ inline constexpr double value_1_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.d5e5a28f93a2bp+5, .content_lo = 0x1.aa17951b67069p-50},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 23, .m = value_1_1_m, .content = 0x1.8723a1d588a36p-2, .content_lo = 0x1.7f974ace4ac65p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.d5e5a28f93a2bp+5, .content_lo = 0x1.aa17951b67069p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.8723a1d588a36p-2, .content_lo = 0x1.7f974ace4ac65p-56},
 };
 inline constexpr double value_2_0[] = {
     0x1.8723a1d588a36p-2,  // 6/5 * pi^-1
@@ -92,7 +92,7 @@ inline constexpr double value_2_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 23, .m = value_2_0_m, .content = 0x1.8723a1d588a36p-2, .content_lo = 0x1.7f974ace4ac65p-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.8723a1d588a36p-2, .content_lo = 0x1.7f974ace4ac65p-56},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -1230,7 +1230,7 @@ inline constexpr double dpotential_6_2_m[] = {
 inline constexpr table::Term dpotential_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_6_0, .n = 1, .c_lo = dpotential_6_0_lo, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = dpotential_6_1, .n = 3, .c_lo = dpotential_6_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_6_1_m, .content = 0x1.a1afacf166c98p-1, .content_lo = -0x1.7abfa0fbe9ccfp-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_6_2, .n = 3, .c_lo = dpotential_6_2_lo, .split = 23, .m = dpotential_6_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_6_2, .n = 3, .c_lo = dpotential_6_2_lo, .split = 24, .m = dpotential_6_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1254,7 +1254,7 @@ inline constexpr double dpotential_7_1_m[] = {
 };
 inline constexpr table::Term dpotential_7[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_7_0, .n = 1, .c_lo = dpotential_7_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_7_1, .n = 3, .c_lo = dpotential_7_1_lo, .split = 23, .m = dpotential_7_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_7_1, .n = 3, .c_lo = dpotential_7_1_lo, .split = 24, .m = dpotential_7_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_8_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1420,7 +1420,7 @@ inline constexpr double dpotential_over_r_5_2_m[] = {
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -2, .c = dpotential_over_r_5_0, .n = 1, .c_lo = dpotential_over_r_5_0_lo, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -2, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dpotential_over_r_5_1_m, .content = 0x1.a1afacf166c98p-1, .content_lo = -0x1.7abfa0fbe9ccfp-56},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_5_2, .n = 3, .c_lo = dpotential_over_r_5_2_lo, .split = 23, .m = dpotential_over_r_5_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_5_2, .n = 3, .c_lo = dpotential_over_r_5_2_lo, .split = 24, .m = dpotential_over_r_5_2_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -1444,7 +1444,7 @@ inline constexpr double dpotential_over_r_6_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_6_0, .n = 1, .c_lo = dpotential_over_r_6_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_6_1, .n = 3, .c_lo = dpotential_over_r_6_1_lo, .split = 23, .m = dpotential_over_r_6_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -2, .c = dpotential_over_r_6_1, .n = 3, .c_lo = dpotential_over_r_6_1_lo, .split = 24, .m = dpotential_over_r_6_1_m, .content = -0x1.04c26be3b06cfp-6, .content_lo = 0x1.566c8dd9e3448p-62},
 };
 inline constexpr double dpotential_over_r_7_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

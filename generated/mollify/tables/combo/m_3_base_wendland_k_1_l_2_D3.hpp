@@ -47,9 +47,9 @@ inline constexpr double value_0_2_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = value_0_0_m, .content = 0x1.9cfed3e030c2p+17, .content_lo = -0x1.8f3f5d068ac66p-37},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.4a65764cf3ce6p+7, .content_lo = -0x1.68ced651771edp-49},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 23, .m = value_0_2_m, .content = 0x1.6eb167b830193p-1, .content_lo = -0x1.86229de99e612p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = value_0_0_m, .content = 0x1.9cfed3e030c2p+17, .content_lo = -0x1.8f3f5d068ac66p-37},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 2, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_0_1_m, .content = -0x1.4a65764cf3ce6p+7, .content_lo = -0x1.68ced651771edp-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 2, .c_lo = value_0_2_lo, .split = 26, .m = value_0_2_m, .content = 0x1.6eb167b830193p-1, .content_lo = -0x1.86229de99e612p-59},
 };
 inline constexpr double value_1_0[] = {
     -0x1.4a65764cf3ce6p+7,  // -531441/1024 * pi^-1
@@ -76,8 +76,8 @@ inline constexpr double value_1_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.4a65764cf3ce6p+7, .content_lo = -0x1.68ced651771edp-49},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 23, .m = value_1_1_m, .content = 0x1.6eb167b830193p-1, .content_lo = -0x1.86229de99e612p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 2, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = value_1_0_m, .content = -0x1.4a65764cf3ce6p+7, .content_lo = -0x1.68ced651771edp-49},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 2, .c_lo = value_1_1_lo, .split = 26, .m = value_1_1_m, .content = 0x1.6eb167b830193p-1, .content_lo = -0x1.86229de99e612p-59},
 };
 inline constexpr double value_2_0[] = {
     0x1.6eb167b830193p-1,  // 9/4 * pi^-1
@@ -92,7 +92,7 @@ inline constexpr double value_2_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 23, .m = value_2_0_m, .content = 0x1.6eb167b830193p-1, .content_lo = -0x1.86229de99e612p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 2, .c_lo = value_2_0_lo, .split = 26, .m = value_2_0_m, .content = 0x1.6eb167b830193p-1, .content_lo = -0x1.86229de99e612p-59},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

@@ -51,8 +51,8 @@ inline constexpr double value_0_2_m[] = {
 };
 inline constexpr table::Term value_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.9a1p+10, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = value_0_1_m, .content = -0x1.480cccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 15, .m = value_0_2_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = value_0_1_m, .content = -0x1.480cccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 24, .m = value_0_2_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr double value_1_0[] = {
     -0x1.480cccccccccdp+3,  // -6561/640
@@ -83,8 +83,8 @@ inline constexpr double value_1_1_m[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = value_1_0_m, .content = -0x1.480cccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 15, .m = value_1_1_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = value_1_0_m, .content = -0x1.480cccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 24, .m = value_1_1_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr double value_2_0[] = {
     0x1.3333333333333p-3,  // 3/20
@@ -101,7 +101,7 @@ inline constexpr double value_2_0_m[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 15, .m = value_2_0_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 24, .m = value_2_0_m, .content = 0x1.3333333333333p-3, .content_lo = 0x1.999999999999ap-58},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -144,8 +144,8 @@ inline constexpr double dr_0_2_m[] = {
 };
 inline constexpr table::Term dr_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.0d1a8p+16, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dr_0_1_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 15, .m = dr_0_2_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr double dr_1_0[] = {
     0x1.ae90ccccccccdp+7,  // 137781/640
@@ -172,8 +172,8 @@ inline constexpr double dr_1_1_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dr_1_0_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 15, .m = dr_1_1_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.0cccccccccccdp+1,  // -21/10
@@ -188,7 +188,7 @@ inline constexpr double dr_2_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 15, .m = dr_2_0_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -357,8 +357,8 @@ inline constexpr double grad_over_r_0_2_m[] = {
 };
 inline constexpr table::Term grad_over_r_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 4, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.0d1a8p+16, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = grad_over_r_0_1_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 15, .m = grad_over_r_0_2_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.ae90ccccccccdp+7,  // 137781/640
@@ -385,8 +385,8 @@ inline constexpr double grad_over_r_1_1_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = grad_over_r_1_0_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 15, .m = grad_over_r_1_1_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 4, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.ae90ccccccccdp+7, .content_lo = -0x1.999999999999ap-48},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.0cccccccccccdp+1,  // -21/10
@@ -401,7 +401,7 @@ inline constexpr double grad_over_r_2_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 15, .m = grad_over_r_2_0_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.0cccccccccccdp+1, .content_lo = 0x1.999999999999ap-54},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -524,7 +524,7 @@ inline constexpr double potential_2_2_lo[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = potential_2_1_m, .content = -0x1.239999999999ap-4, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_2_1, .n = 3, .c_lo = potential_2_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_2_1_m, .content = -0x1.239999999999ap-4, .content_lo = 0x1.999999999999ap-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_2_2, .n = 10, .c_lo = potential_2_2_lo},
 };
 inline constexpr double potential_3_0[] = {
@@ -560,8 +560,8 @@ inline constexpr double potential_3_2_m[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = potential_3_1_m, .content = -0x1.239999999999ap-4, .content_lo = 0x1.999999999999ap-58},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_3_2, .n = 3, .c_lo = potential_3_2_lo, .split = 15, .m = potential_3_2_m, .content = 0x1.1111111111111p-9, .content_lo = 0x1.1111111111111p-65},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = potential_3_1_m, .content = -0x1.239999999999ap-4, .content_lo = 0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_3_2, .n = 3, .c_lo = potential_3_2_lo, .split = 24, .m = potential_3_2_m, .content = 0x1.1111111111111p-9, .content_lo = 0x1.1111111111111p-65},
 };
 inline constexpr double potential_4_0[] = {
     0x1p-1,  // 1/2
@@ -582,7 +582,7 @@ inline constexpr double potential_4_1_m[] = {
 };
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .split = 15, .m = potential_4_1_m, .content = 0x1.1111111111111p-9, .content_lo = 0x1.1111111111111p-65},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .split = 24, .m = potential_4_1_m, .content = 0x1.1111111111111p-9, .content_lo = 0x1.1111111111111p-65},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -689,7 +689,7 @@ inline constexpr double dpotential_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dpotential_3_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_3_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = dpotential_3_2, .n = 8, .c_lo = dpotential_3_2_lo},
 };
 inline constexpr double dpotential_4_0[] = {
@@ -725,8 +725,8 @@ inline constexpr double dpotential_4_2_m[] = {
 };
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dpotential_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo, .split = 15, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo, .split = 25, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -747,7 +747,7 @@ inline constexpr double dpotential_5_1_m[] = {
 };
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .split = 15, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .split = 25, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -851,7 +851,7 @@ inline constexpr double dpotential_over_r_3_2_lo[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dpotential_over_r_3_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_3_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = dpotential_over_r_3_2, .n = 8, .c_lo = dpotential_over_r_3_2_lo},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
@@ -887,8 +887,8 @@ inline constexpr double dpotential_over_r_4_2_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dpotential_over_r_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo, .split = 15, .m = dpotential_over_r_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_1, .n = 3, .c_lo = dpotential_over_r_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = dpotential_over_r_4_1_m, .content = 0x1.b566666666666p-1, .content_lo = 0x1.999999999999ap-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_4_2, .n = 3, .c_lo = dpotential_over_r_4_2_lo, .split = 25, .m = dpotential_over_r_4_2_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_over_r_5_0[] = {
     0x1p-1,  // 1/2
@@ -909,7 +909,7 @@ inline constexpr double dpotential_over_r_5_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .split = 15, .m = dpotential_over_r_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .split = 25, .m = dpotential_over_r_5_1_m, .content = -0x1.999999999999ap-5, .content_lo = 0x1.999999999999ap-59},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1p-1,  // 1/2

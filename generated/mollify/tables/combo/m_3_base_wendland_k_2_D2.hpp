@@ -53,7 +53,7 @@ inline constexpr double value_0_2_m[] = {
     0x1.18p+5,  // 35
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = value_0_0_m, .content = 0x1.b88748669a688p+14, .content_lo = 0x1.e113c86c9ed3cp-42},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.b88748669a688p+14, .content_lo = 0x1.e113c86c9ed3cp-42},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.606c39ebaebap+3, .content_lo = -0x1.80dca056e5763p-53},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 23, .m = value_0_2_m, .content = 0x1.8723a1d588a36p-4, .content_lo = 0x1.7f974ace4ac65p-58},
 };
@@ -149,9 +149,9 @@ inline constexpr double dr_0_2_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = dr_0_0_m, .content = -0x1.81765f59c71b7p+20, .content_lo = -0x1.a4f14f5f0af94p-36},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 23, .m = dr_0_2_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.81765f59c71b7p+20, .content_lo = -0x1.a4f14f5f0af94p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr double dr_1_0[] = {
     0x1.345eb2ae38e2cp+10,  // 1240029/320 * pi^-1
@@ -178,8 +178,8 @@ inline constexpr double dr_1_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 23, .m = dr_1_1_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.563f2d9ad78fp+2,  // -84/5 * pi^-1
@@ -194,7 +194,7 @@ inline constexpr double dr_2_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 23, .m = dr_2_0_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -371,9 +371,9 @@ inline constexpr double grad_over_r_0_2_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.81765f59c71b7p+20, .content_lo = -0x1.a4f14f5f0af94p-36},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 23, .m = grad_over_r_0_2_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.81765f59c71b7p+20, .content_lo = -0x1.a4f14f5f0af94p-36},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.345eb2ae38e2cp+10,  // 1240029/320 * pi^-1
@@ -400,8 +400,8 @@ inline constexpr double grad_over_r_1_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 23, .m = grad_over_r_1_1_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.345eb2ae38e2cp+9, .content_lo = 0x1.50c10c4c08c76p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.563f2d9ad78fp+2,  // -84/5 * pi^-1
@@ -416,7 +416,7 @@ inline constexpr double grad_over_r_2_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 23, .m = grad_over_r_2_0_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.563f2d9ad78fp+2, .content_lo = 0x1.b05b9e8b7e927p-52},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

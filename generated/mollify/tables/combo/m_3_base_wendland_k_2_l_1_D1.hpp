@@ -50,9 +50,9 @@ inline constexpr double value_0_2_m[] = {
     0x1.18p+5,  // 35
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 22, .m = value_0_0_m, .content = 0x1.59fd8p+12, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = value_0_1_m, .content = -0x1.14caccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 22, .m = value_0_2_m, .content = 0x1.ccccccccccccdp-5, .content_lo = -0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.59fd8p+12, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.14caccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 23, .m = value_0_2_m, .content = 0x1.ccccccccccccdp-5, .content_lo = -0x1.999999999999ap-60},
 };
 inline constexpr double value_1_0[] = {
     -0x1.14caccccccccdp+4,  // -177147/10240
@@ -83,8 +83,8 @@ inline constexpr double value_1_1_m[] = {
     0x1.18p+5,  // 35
 };
 inline constexpr table::Term value_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = value_1_0_m, .content = -0x1.14caccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 22, .m = value_1_1_m, .content = 0x1.ccccccccccccdp-5, .content_lo = -0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.14caccccccccdp+2, .content_lo = 0x1.999999999999ap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 23, .m = value_1_1_m, .content = 0x1.ccccccccccccdp-5, .content_lo = -0x1.999999999999ap-60},
 };
 inline constexpr double value_2_0[] = {
     0x1.599999999999ap-3,  // 27/160
@@ -101,7 +101,7 @@ inline constexpr double value_2_0_m[] = {
     0x1.18p+5,  // 35
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 22, .m = value_2_0_m, .content = 0x1.ccccccccccccdp-5, .content_lo = -0x1.999999999999ap-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 23, .m = value_2_0_m, .content = 0x1.ccccccccccccdp-5, .content_lo = -0x1.999999999999ap-60},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -143,9 +143,9 @@ inline constexpr double dr_0_2_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 22, .m = dr_0_0_m, .content = -0x1.2ebddp+18, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = dr_0_1_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 22, .m = dr_0_2_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.2ebddp+18, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr double dr_1_0[] = {
     0x1.e462e66666666p+8,  // 1240029/2560
@@ -172,8 +172,8 @@ inline constexpr double dr_1_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = dr_1_0_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 22, .m = dr_1_1_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.9333333333333p+1,  // -63/20
@@ -188,7 +188,7 @@ inline constexpr double dr_2_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 22, .m = dr_2_0_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -356,9 +356,9 @@ inline constexpr double grad_over_r_0_2_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 22, .m = grad_over_r_0_0_m, .content = -0x1.2ebddp+18, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = grad_over_r_0_1_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 22, .m = grad_over_r_0_2_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.2ebddp+18, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.e462e66666666p+8,  // 1240029/2560
@@ -385,8 +385,8 @@ inline constexpr double grad_over_r_1_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = grad_over_r_1_0_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 22, .m = grad_over_r_1_1_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.e462e66666666p+7, .content_lo = 0x1.999999999999ap-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.9333333333333p+1,  // -63/20
@@ -401,7 +401,7 @@ inline constexpr double grad_over_r_2_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 22, .m = grad_over_r_2_0_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.9333333333333p+1, .content_lo = -0x1.999999999999ap-54},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -548,7 +548,7 @@ inline constexpr double potential_3_2_lo[] = {
 };
 inline constexpr table::Term potential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p-1, .edge_power = 0, .low = 1, .c = potential_3_0, .n = 1, .c_lo = potential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = potential_3_1_m, .content = -0x1.ec13333333333p-3, .content_lo = -0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_3_1, .n = 3, .c_lo = potential_3_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_3_1_m, .content = -0x1.ec13333333333p-3, .content_lo = -0x1.999999999999ap-58},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p-1, .edge_power = 0, .low = 0, .c = potential_3_2, .n = 11, .c_lo = potential_3_2_lo},
 };
 inline constexpr double potential_4_0[] = {
@@ -584,8 +584,8 @@ inline constexpr double potential_4_2_m[] = {
 };
 inline constexpr table::Term potential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 1, .c = potential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = potential_4_1_m, .content = -0x1.ec13333333333p-3, .content_lo = -0x1.999999999999ap-58},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_2, .n = 3, .c_lo = potential_4_2_lo, .split = 22, .m = potential_4_2_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = potential_4_1, .n = 3, .c_lo = potential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 24, .m = potential_4_1_m, .content = -0x1.ec13333333333p-3, .content_lo = -0x1.999999999999ap-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_4_2, .n = 3, .c_lo = potential_4_2_lo, .split = 24, .m = potential_4_2_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
 };
 inline constexpr double potential_5_0[] = {
     0x1p-1,  // 1/2
@@ -606,7 +606,7 @@ inline constexpr double potential_5_1_m[] = {
 };
 inline constexpr table::Term potential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .split = 22, .m = potential_5_1_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_5_1, .n = 3, .c_lo = potential_5_1_lo, .split = 24, .m = potential_5_1_m, .content = 0x1.999999999999ap-9, .content_lo = -0x1.999999999999ap-63},
 };
 inline constexpr double potential_6_0[] = {
     0x1p-1,  // 1/2
@@ -757,7 +757,7 @@ inline constexpr double dpotential_4_2_m[] = {
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = 0, .c = dpotential_4_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = dpotential_4_1_m, .content = 0x1.480cccccccccdp-3, .content_lo = -0x1.999999999999ap-58},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo, .split = 22, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_4_2, .n = 3, .c_lo = dpotential_4_2_lo, .split = 23, .m = dpotential_4_2_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1p-1,  // 1/2
@@ -778,7 +778,7 @@ inline constexpr double dpotential_5_1_m[] = {
 };
 inline constexpr table::Term dpotential_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_5_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .split = 22, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = dpotential_5_1, .n = 3, .c_lo = dpotential_5_1_lo, .split = 23, .m = dpotential_5_1_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
 };
 inline constexpr double dpotential_6_0[] = {
     0x1p-1,  // 1/2
@@ -946,7 +946,7 @@ inline constexpr double dpotential_over_r_5_2_m[] = {
 inline constexpr table::Term dpotential_over_r_5[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1.5555555555555p-1, .edge_power = 0, .low = -1, .c = dpotential_over_r_5_0, .n = 1, .edge_lo = 0x1.5555555555555p-55},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = -1, .c = dpotential_over_r_5_1, .n = 3, .c_lo = dpotential_over_r_5_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 22, .m = dpotential_over_r_5_1_m, .content = 0x1.480cccccccccdp-3, .content_lo = -0x1.999999999999ap-58},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_5_2, .n = 3, .c_lo = dpotential_over_r_5_2_lo, .split = 22, .m = dpotential_over_r_5_2_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_5_2, .n = 3, .c_lo = dpotential_over_r_5_2_lo, .split = 23, .m = dpotential_over_r_5_2_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
 };
 inline constexpr double dpotential_over_r_6_0[] = {
     0x1p-1,  // 1/2
@@ -967,7 +967,7 @@ inline constexpr double dpotential_over_r_6_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_6[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_6_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_6_1, .n = 3, .c_lo = dpotential_over_r_6_1_lo, .split = 22, .m = dpotential_over_r_6_1_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = -1, .c = dpotential_over_r_6_1, .n = 3, .c_lo = dpotential_over_r_6_1_lo, .split = 23, .m = dpotential_over_r_6_1_m, .content = -0x1.999999999999ap-8, .content_lo = 0x1.999999999999ap-62},
 };
 inline constexpr double dpotential_over_r_7_0[] = {
     0x1p-1,  // 1/2

@@ -55,7 +55,7 @@ inline constexpr double value_0_2_m[] = {
 inline constexpr table::Term value_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.1bef31aa21856p+19, .content_lo = -0x1.127b8ff47f686p-35},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.c64b82a9cf3bcp+6, .content_lo = -0x1.7c0719ac00f29p-48},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 15, .m = value_0_2_m, .content = 0x1.50229f13816c7p-1, .content_lo = -0x1.1659fbb6b7bd9p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 24, .m = value_0_2_m, .content = 0x1.50229f13816c7p-1, .content_lo = -0x1.1659fbb6b7bd9p-55},
 };
 inline constexpr double value_1_0[] = {
     -0x1.c64b82a9cf3bcp+7,  // -5845851/8192 * pi^-1
@@ -87,7 +87,7 @@ inline constexpr double value_1_1_m[] = {
 };
 inline constexpr table::Term value_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.c64b82a9cf3bcp+6, .content_lo = -0x1.7c0719ac00f29p-48},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 15, .m = value_1_1_m, .content = 0x1.50229f13816c7p-1, .content_lo = -0x1.1659fbb6b7bd9p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 24, .m = value_1_1_m, .content = 0x1.50229f13816c7p-1, .content_lo = -0x1.1659fbb6b7bd9p-55},
 };
 inline constexpr double value_2_0[] = {
     0x1.50229f13816c7p-1,  // 33/16 * pi^-1
@@ -104,7 +104,7 @@ inline constexpr double value_2_0_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 15, .m = value_2_0_m, .content = 0x1.50229f13816c7p-1, .content_lo = -0x1.1659fbb6b7bd9p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 24, .m = value_2_0_m, .content = 0x1.50229f13816c7p-1, .content_lo = -0x1.1659fbb6b7bd9p-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -150,8 +150,8 @@ inline constexpr double dr_0_2_m[] = {
 };
 inline constexpr table::Term dr_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.3f6d17df65b6p+25, .content_lo = -0x1.cb34fe0cf0aa9p-29},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dr_0_1_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 15, .m = dr_0_2_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr double dr_1_0[] = {
     0x1.ff14f2ff09234p+12,  // 52612659/2048 * pi^-1
@@ -178,8 +178,8 @@ inline constexpr double dr_1_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = dr_1_0_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 15, .m = dr_1_1_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.f833ee9d4222ap+3,  // -99/2 * pi^-1
@@ -194,7 +194,7 @@ inline constexpr double dr_2_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 15, .m = dr_2_0_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -372,8 +372,8 @@ inline constexpr double grad_over_r_0_2_m[] = {
 };
 inline constexpr table::Term grad_over_r_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.3f6d17df65b6p+25, .content_lo = -0x1.cb34fe0cf0aa9p-29},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = grad_over_r_0_1_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 15, .m = grad_over_r_0_2_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.ff14f2ff09234p+12,  // 52612659/2048 * pi^-1
@@ -400,8 +400,8 @@ inline constexpr double grad_over_r_1_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = grad_over_r_1_0_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 15, .m = grad_over_r_1_1_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.ff14f2ff09234p+12, .content_lo = -0x1.51e00c79fbbc6p-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.f833ee9d4222ap+3,  // -99/2 * pi^-1
@@ -416,7 +416,7 @@ inline constexpr double grad_over_r_2_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 15, .m = grad_over_r_2_0_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.f833ee9d4222ap+3, .content_lo = -0x1.79e419b7b18eap-53},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

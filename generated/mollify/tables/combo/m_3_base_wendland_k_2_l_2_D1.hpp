@@ -44,9 +44,9 @@ inline constexpr double value_0_2_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = value_0_0_m, .content = 0x1.20534p+14, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.20534p+14, .content_lo = 0x0p+0},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.cd52p+3, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_2, .n = 3, .split = 23, .m = value_0_2_m, .content = 0x1.8p-3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_2, .n = 3, .split = 24, .m = value_0_2_m, .content = 0x1.8p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double value_1_0[] = {
     -0x1.cd52p+4,  // -59049/2048
@@ -72,7 +72,7 @@ inline constexpr double value_1_1_m[] = {
 };
 inline constexpr table::Term value_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = value_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.cd52p+3, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_1, .n = 3, .split = 23, .m = value_1_1_m, .content = 0x1.8p-3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_1_1, .n = 3, .split = 24, .m = value_1_1_m, .content = 0x1.8p-3, .content_lo = 0x0p+0},
 };
 inline constexpr double value_2_0[] = {
     0x1.8p-3,  // 3/16
@@ -86,7 +86,7 @@ inline constexpr double value_2_0_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_2_0, .n = 3, .split = 23, .m = value_2_0_m, .content = 0x1.8p-3, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_2_0, .n = 3, .split = 24, .m = value_2_0_m, .content = 0x1.8p-3, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -122,9 +122,9 @@ inline constexpr double dr_0_2_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = dr_0_0_m, .content = -0x1.445da8p+20, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 2, .split = 23, .m = dr_0_2_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.445da8p+20, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 2, .split = 26, .m = dr_0_2_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.037e2p+10,  // 531441/512
@@ -145,8 +145,8 @@ inline constexpr double dr_1_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 2, .split = 23, .m = dr_1_1_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_1_1, .n = 2, .split = 26, .m = dr_1_1_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.2p+2,  // -9/2
@@ -158,7 +158,7 @@ inline constexpr double dr_2_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 2, .split = 23, .m = dr_2_0_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_2_0, .n = 2, .split = 26, .m = dr_2_0_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -290,9 +290,9 @@ inline constexpr double grad_over_r_0_2_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.445da8p+20, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 2, .split = 23, .m = grad_over_r_0_2_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.445da8p+20, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 2, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.037e2p+10,  // 531441/512
@@ -313,8 +313,8 @@ inline constexpr double grad_over_r_1_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 2, .split = 23, .m = grad_over_r_1_1_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.037e2p+10, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_1_1, .n = 2, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.2p+2,  // -9/2
@@ -326,7 +326,7 @@ inline constexpr double grad_over_r_2_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 2, .split = 23, .m = grad_over_r_2_0_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_2_0, .n = 2, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.2p+2, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

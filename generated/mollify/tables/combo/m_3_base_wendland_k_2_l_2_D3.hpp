@@ -53,9 +53,9 @@ inline constexpr double value_0_2_m[] = {
     0x1.5p+4,  // 21
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = value_0_0_m, .content = 0x1.14d6039f7a487p+21, .content_lo = -0x1.b0d758b65ed86p-34},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = value_0_0_m, .content = 0x1.14d6039f7a487p+21, .content_lo = -0x1.b0d758b65ed86p-34},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_0_1, .n = 3, .c_lo = value_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_0_1_m, .content = -0x1.baf005cbf6da4p+6, .content_lo = -0x1.d8ed52a14db95p-48},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 23, .m = value_0_2_m, .content = 0x1.b4f9cecc8ea69p-1, .content_lo = -0x1.0374fa6d88767p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_0_2, .n = 3, .c_lo = value_0_2_lo, .split = 24, .m = value_0_2_m, .content = 0x1.b4f9cecc8ea69p-1, .content_lo = -0x1.0374fa6d88767p-55},
 };
 inline constexpr double value_1_0[] = {
     -0x1.baf005cbf6da4p+8,  // -227988189/163840 * pi^-1
@@ -87,7 +87,7 @@ inline constexpr double value_1_1_m[] = {
 };
 inline constexpr table::Term value_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = value_1_0, .n = 3, .c_lo = value_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = value_1_0_m, .content = -0x1.baf005cbf6da4p+6, .content_lo = -0x1.d8ed52a14db95p-48},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 23, .m = value_1_1_m, .content = 0x1.b4f9cecc8ea69p-1, .content_lo = -0x1.0374fa6d88767p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_1_1, .n = 3, .c_lo = value_1_1_lo, .split = 24, .m = value_1_1_m, .content = 0x1.b4f9cecc8ea69p-1, .content_lo = -0x1.0374fa6d88767p-55},
 };
 inline constexpr double value_2_0[] = {
     0x1.b4f9cecc8ea69p-1,  // 429/160 * pi^-1
@@ -104,7 +104,7 @@ inline constexpr double value_2_0_m[] = {
     0x1.5p+4,  // 21
 };
 inline constexpr table::Term value_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 23, .m = value_2_0_m, .content = 0x1.b4f9cecc8ea69p-1, .content_lo = -0x1.0374fa6d88767p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = value_2_0, .n = 3, .c_lo = value_2_0_lo, .split = 24, .m = value_2_0_m, .content = 0x1.b4f9cecc8ea69p-1, .content_lo = -0x1.0374fa6d88767p-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = value_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -149,9 +149,9 @@ inline constexpr double dr_0_2_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = dr_0_0_m, .content = -0x1.854cf51843f5ep+27, .content_lo = 0x1.d0576a603ab02p-27},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 23, .m = dr_0_2_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = dr_0_0_m, .content = -0x1.854cf51843f5ep+27, .content_lo = 0x1.d0576a603ab02p-27},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 2, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_0_1_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 2, .c_lo = dr_0_2_lo, .split = 26, .m = dr_0_2_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr double dr_1_0[] = {
     0x1.3770c41369918p+14,  // 2051893701/32768 * pi^-1
@@ -178,8 +178,8 @@ inline constexpr double dr_1_1_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term dr_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 23, .m = dr_1_1_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 2, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = dr_1_0_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 2, .c_lo = dr_1_1_lo, .split = 26, .m = dr_1_1_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.99aa31dfc5bc2p+4,  // -1287/16 * pi^-1
@@ -194,7 +194,7 @@ inline constexpr double dr_2_0_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 23, .m = dr_2_0_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 2, .c_lo = dr_2_0_lo, .split = 26, .m = dr_2_0_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -371,9 +371,9 @@ inline constexpr double grad_over_r_0_2_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.854cf51843f5ep+27, .content_lo = 0x1.d0576a603ab02p-27},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 23, .m = grad_over_r_0_2_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = grad_over_r_0_0_m, .content = -0x1.854cf51843f5ep+27, .content_lo = 0x1.d0576a603ab02p-27},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 2, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_0_1_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 2, .c_lo = grad_over_r_0_2_lo, .split = 26, .m = grad_over_r_0_2_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.3770c41369918p+14,  // 2051893701/32768 * pi^-1
@@ -400,8 +400,8 @@ inline constexpr double grad_over_r_1_1_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term grad_over_r_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 23, .m = grad_over_r_1_1_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 2, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = grad_over_r_1_0_m, .content = 0x1.3770c41369918p+13, .content_lo = -0x1.737921e69559bp-41},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 2, .c_lo = grad_over_r_1_1_lo, .split = 26, .m = grad_over_r_1_1_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.99aa31dfc5bc2p+4,  // -1287/16 * pi^-1
@@ -416,7 +416,7 @@ inline constexpr double grad_over_r_2_0_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 23, .m = grad_over_r_2_0_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 2, .c_lo = grad_over_r_2_0_lo, .split = 26, .m = grad_over_r_2_0_m, .content = -0x1.99aa31dfc5bc2p+4, .content_lo = -0x1.9984aa72a021fp-51},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

@@ -98,7 +98,7 @@ inline constexpr double dr_0_2_m[] = {
     0x1.18p+5,  // 35
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = dr_0_0_m, .content = -0x1.be00c7p+19, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = dr_0_0_m, .content = -0x1.be00c7p+19, .content_lo = 0x0p+0},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 1, .c = dr_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.64cd6cp+7, .content_lo = 0x0p+0},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_2, .n = 3, .split = 23, .m = dr_0_2_m, .content = -0x1.08p+0, .content_lo = 0x0p+0},
 };
@@ -290,7 +290,7 @@ inline constexpr double grad_over_r_0_2_m[] = {
     0x1.18p+5,  // 35
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.be00c7p+19, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.be00c7p+19, .content_lo = 0x0p+0},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = grad_over_r_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.64cd6cp+7, .content_lo = 0x0p+0},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_2, .n = 3, .split = 23, .m = grad_over_r_0_2_m, .content = -0x1.08p+0, .content_lo = 0x0p+0},
 };
@@ -368,9 +368,9 @@ inline constexpr double hess_radial_0_2_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = hess_radial_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.8640ae2p+25, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = hess_radial_0_1_m, .content = -0x1.3833be8p+13, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_0_2, .n = 2, .split = 23, .m = hess_radial_0_2_m, .content = 0x1.cep+5, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 5, .low = 0, .c = hess_radial_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.8640ae2p+25, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.3833be8p+13, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_0_2, .n = 2, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.cep+5, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.3833be8p+14,  // -40920957/2048
@@ -391,8 +391,8 @@ inline constexpr double hess_radial_1_1_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = hess_radial_1_0_m, .content = -0x1.3833be8p+13, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_1_1, .n = 2, .split = 23, .m = hess_radial_1_1_m, .content = 0x1.cep+5, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 5, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.3833be8p+13, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_1_1, .n = 2, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.cep+5, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.cep+5,  // 231/4
@@ -404,7 +404,7 @@ inline constexpr double hess_radial_2_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_2_0, .n = 2, .split = 23, .m = hess_radial_2_0_m, .content = 0x1.cep+5, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = hess_radial_2_0, .n = 2, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.cep+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

@@ -100,7 +100,7 @@ inline constexpr double dr_0_2_m[] = {
 inline constexpr table::Term dr_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 1, .c = dr_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = dr_0_0_m, .content = -0x1.be00c7p+21, .content_lo = 0x0p+0},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.64cd6cp+9, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 3, .split = 15, .m = dr_0_2_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_0_2, .n = 3, .split = 24, .m = dr_0_2_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_1_0[] = {
     0x1.64cd6cp+10,  // 5845851/4096
@@ -126,7 +126,7 @@ inline constexpr double dr_1_1_m[] = {
 };
 inline constexpr table::Term dr_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 1, .c = dr_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.64cd6cp+9, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 3, .split = 15, .m = dr_1_1_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_1_1, .n = 3, .split = 24, .m = dr_1_1_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.08p+2,  // -33/8
@@ -140,7 +140,7 @@ inline constexpr double dr_2_0_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 3, .split = 15, .m = dr_2_0_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 1, .c = dr_2_0, .n = 3, .split = 24, .m = dr_2_0_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -292,7 +292,7 @@ inline constexpr double grad_over_r_0_2_m[] = {
 inline constexpr table::Term grad_over_r_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = grad_over_r_0_0, .n = 3, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.be00c7p+21, .content_lo = 0x0p+0},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_0_1, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.64cd6cp+9, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 3, .split = 15, .m = grad_over_r_0_2_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_0_2, .n = 3, .split = 24, .m = grad_over_r_0_2_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.64cd6cp+10,  // 5845851/4096
@@ -318,7 +318,7 @@ inline constexpr double grad_over_r_1_1_m[] = {
 };
 inline constexpr table::Term grad_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = grad_over_r_1_0, .n = 3, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.64cd6cp+9, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 3, .split = 15, .m = grad_over_r_1_1_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_1_1, .n = 3, .split = 24, .m = grad_over_r_1_1_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.08p+2,  // -33/8
@@ -332,7 +332,7 @@ inline constexpr double grad_over_r_2_0_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 3, .split = 15, .m = grad_over_r_2_0_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = grad_over_r_2_0, .n = 3, .split = 24, .m = grad_over_r_2_0_m, .content = -0x1.08p+2, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -369,8 +369,8 @@ inline constexpr double hess_radial_0_2_m[] = {
 };
 inline constexpr table::Term hess_radial_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 6, .low = 0, .c = hess_radial_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.f5c0dfep+27, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = hess_radial_0_1_m, .content = -0x1.9167198p+15, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_2, .n = 2, .split = 15, .m = hess_radial_0_2_m, .content = 0x1.8cp+6, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.9167198p+15, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_0_2, .n = 2, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.8cp+6, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.9167198p+15,  // -52612659/1024
@@ -391,8 +391,8 @@ inline constexpr double hess_radial_1_1_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = hess_radial_1_0_m, .content = -0x1.9167198p+15, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_1, .n = 2, .split = 15, .m = hess_radial_1_1_m, .content = 0x1.8cp+6, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 6, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.9167198p+15, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_1_1, .n = 2, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.8cp+6, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.8cp+6,  // 99
@@ -404,7 +404,7 @@ inline constexpr double hess_radial_2_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_2_0, .n = 2, .split = 15, .m = hess_radial_2_0_m, .content = 0x1.8cp+6, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = hess_radial_2_0, .n = 2, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.8cp+6, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

@@ -125,9 +125,9 @@ inline constexpr double dr_0_2_m[] = {
     0x1.5p+4,  // 21
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = dr_0_0_m, .content = -0x1.4c340458f923bp+26, .content_lo = -0x1.62b1fdf8fa4bp-28},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = dr_0_0_m, .content = -0x1.4c340458f923bp+26, .content_lo = -0x1.62b1fdf8fa4bp-28},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.09c336ad941c9p+11, .content_lo = 0x1.3bd32cb654233p-45},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo, .split = 23, .m = dr_0_2_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo, .split = 24, .m = dr_0_2_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr double dr_1_0[] = {
     0x1.09c336ad941c9p+13,  // 683964567/25600 * pi^-1
@@ -159,7 +159,7 @@ inline constexpr double dr_1_1_m[] = {
 };
 inline constexpr table::Term dr_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.09c336ad941c9p+11, .content_lo = 0x1.3bd32cb654233p-45},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo, .split = 23, .m = dr_1_1_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo, .split = 24, .m = dr_1_1_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.5d94a570721edp+3,  // -858/25 * pi^-1
@@ -176,7 +176,7 @@ inline constexpr double dr_2_0_m[] = {
     0x1.5p+4,  // 21
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo, .split = 23, .m = dr_2_0_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo, .split = 24, .m = dr_2_0_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -371,9 +371,9 @@ inline constexpr double grad_over_r_0_2_m[] = {
     0x1.5p+4,  // 21
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.4c340458f923bp+26, .content_lo = -0x1.62b1fdf8fa4bp-28},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.4c340458f923bp+26, .content_lo = -0x1.62b1fdf8fa4bp-28},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.09c336ad941c9p+11, .content_lo = 0x1.3bd32cb654233p-45},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo, .split = 23, .m = grad_over_r_0_2_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo, .split = 24, .m = grad_over_r_0_2_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.09c336ad941c9p+13,  // 683964567/25600 * pi^-1
@@ -405,7 +405,7 @@ inline constexpr double grad_over_r_1_1_m[] = {
 };
 inline constexpr table::Term grad_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.09c336ad941c9p+11, .content_lo = 0x1.3bd32cb654233p-45},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo, .split = 23, .m = grad_over_r_1_1_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo, .split = 24, .m = grad_over_r_1_1_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.5d94a570721edp+3,  // -858/25 * pi^-1
@@ -422,7 +422,7 @@ inline constexpr double grad_over_r_2_0_m[] = {
     0x1.5p+4,  // 21
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo, .split = 23, .m = grad_over_r_2_0_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo, .split = 24, .m = grad_over_r_2_0_m, .content = -0x1.5d94a570721edp+3, .content_lo = -0x1.96d59e0ec607ap-51},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -467,9 +467,9 @@ inline constexpr double hess_radial_0_2_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.d329261d1e5a3p+32, .content_lo = 0x1.d2ca4d261ff97p-22},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = hess_radial_0_1_m, .content = -0x1.75ba84e418483p+17, .content_lo = 0x1.e1ef848fccd74p-38},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 23, .m = hess_radial_0_2_m, .content = 0x1.47bb5b196afcfp+8, .content_lo = -0x1.c297bbd22658dp-46},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.d329261d1e5a3p+32, .content_lo = 0x1.d2ca4d261ff97p-22},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.75ba84e418483p+17, .content_lo = 0x1.e1ef848fccd74p-38},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.47bb5b196afcfp+8, .content_lo = -0x1.c297bbd22658dp-46},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.75ba84e418483p+18,  // -6155681103/5120 * pi^-1
@@ -496,8 +496,8 @@ inline constexpr double hess_radial_1_1_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = hess_radial_1_0_m, .content = -0x1.75ba84e418483p+17, .content_lo = 0x1.e1ef848fccd74p-38},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 23, .m = hess_radial_1_1_m, .content = 0x1.47bb5b196afcfp+8, .content_lo = -0x1.c297bbd22658dp-46},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.75ba84e418483p+17, .content_lo = 0x1.e1ef848fccd74p-38},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.47bb5b196afcfp+8, .content_lo = -0x1.c297bbd22658dp-46},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.47bb5b196afcfp+8,  // 5148/5 * pi^-1
@@ -512,7 +512,7 @@ inline constexpr double hess_radial_2_0_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 23, .m = hess_radial_2_0_m, .content = 0x1.47bb5b196afcfp+8, .content_lo = -0x1.c297bbd22658dp-46},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.47bb5b196afcfp+8, .content_lo = -0x1.c297bbd22658dp-46},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

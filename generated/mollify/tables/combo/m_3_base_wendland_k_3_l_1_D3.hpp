@@ -125,9 +125,9 @@ inline constexpr double dr_0_2_m[] = {
     0x1.5p+4,  // 21
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = dr_0_0_m, .content = -0x1.fef501afd932bp+28, .content_lo = 0x1.c2e5773c9a0e5p-27},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 3, .c_lo = dr_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = dr_0_0_m, .content = -0x1.fef501afd932bp+28, .content_lo = 0x1.c2e5773c9a0e5p-27},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_0_1, .n = 3, .c_lo = dr_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_0_1_m, .content = 0x1.98c401597a8efp+12, .content_lo = 0x1.87103815bfa46p-46},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo, .split = 23, .m = dr_0_2_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_2, .n = 3, .c_lo = dr_0_2_lo, .split = 24, .m = dr_0_2_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr double dr_1_0[] = {
     0x1.98c401597a8efp+14,  // 43089767721/524288 * pi^-1
@@ -159,7 +159,7 @@ inline constexpr double dr_1_1_m[] = {
 };
 inline constexpr table::Term dr_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 1, .c = dr_1_0, .n = 3, .c_lo = dr_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = dr_1_0_m, .content = 0x1.98c401597a8efp+12, .content_lo = 0x1.87103815bfa46p-46},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo, .split = 23, .m = dr_1_1_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_1_1, .n = 3, .c_lo = dr_1_1_lo, .split = 24, .m = dr_1_1_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr double dr_2_0[] = {
     -0x1.6674eba3cd04ap+4,  // -9009/128 * pi^-1
@@ -176,7 +176,7 @@ inline constexpr double dr_2_0_m[] = {
     0x1.5p+4,  // 21
 };
 inline constexpr table::Term dr_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo, .split = 23, .m = dr_2_0_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_2_0, .n = 3, .c_lo = dr_2_0_lo, .split = 24, .m = dr_2_0_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = dr_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -371,9 +371,9 @@ inline constexpr double grad_over_r_0_2_m[] = {
     0x1.5p+4,  // 21
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.fef501afd932bp+28, .content_lo = 0x1.c2e5773c9a0e5p-27},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 3, .c_lo = grad_over_r_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.fef501afd932bp+28, .content_lo = 0x1.c2e5773c9a0e5p-27},
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_0_1, .n = 3, .c_lo = grad_over_r_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_0_1_m, .content = 0x1.98c401597a8efp+12, .content_lo = 0x1.87103815bfa46p-46},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo, .split = 23, .m = grad_over_r_0_2_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_2, .n = 3, .c_lo = grad_over_r_0_2_lo, .split = 24, .m = grad_over_r_0_2_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr double grad_over_r_1_0[] = {
     0x1.98c401597a8efp+14,  // 43089767721/524288 * pi^-1
@@ -405,7 +405,7 @@ inline constexpr double grad_over_r_1_1_m[] = {
 };
 inline constexpr table::Term grad_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = grad_over_r_1_0, .n = 3, .c_lo = grad_over_r_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = grad_over_r_1_0_m, .content = 0x1.98c401597a8efp+12, .content_lo = 0x1.87103815bfa46p-46},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo, .split = 23, .m = grad_over_r_1_1_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_1_1, .n = 3, .c_lo = grad_over_r_1_1_lo, .split = 24, .m = grad_over_r_1_1_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr double grad_over_r_2_0[] = {
     -0x1.6674eba3cd04ap+4,  // -9009/128 * pi^-1
@@ -422,7 +422,7 @@ inline constexpr double grad_over_r_2_0_m[] = {
     0x1.5p+4,  // 21
 };
 inline constexpr table::Term grad_over_r_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo, .split = 23, .m = grad_over_r_2_0_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_2_0, .n = 3, .c_lo = grad_over_r_2_0_lo, .split = 24, .m = grad_over_r_2_0_m, .content = -0x1.6674eba3cd04ap+4, .content_lo = 0x1.3357d5b767c4ap-52},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = grad_over_r_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))
@@ -467,9 +467,9 @@ inline constexpr double hess_radial_0_2_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.6744452fa4b7ap+35, .content_lo = 0x1.45ed5052c75bep-21},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = hess_radial_0_1_m, .content = -0x1.1f69d0f2ea2c8p+19, .content_lo = -0x1.04bdd9dbd2afep-37},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 23, .m = hess_radial_0_2_m, .content = 0x1.500d9ce990345p+9, .content_lo = 0x1.37f769e903adfp-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.6744452fa4b7ap+35, .content_lo = 0x1.45ed5052c75bep-21},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.1f69d0f2ea2c8p+19, .content_lo = -0x1.04bdd9dbd2afep-37},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.500d9ce990345p+9, .content_lo = 0x1.37f769e903adfp-45},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.1f69d0f2ea2c8p+20,  // -1939039547445/524288 * pi^-1
@@ -496,8 +496,8 @@ inline constexpr double hess_radial_1_1_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = hess_radial_1_0_m, .content = -0x1.1f69d0f2ea2c8p+19, .content_lo = -0x1.04bdd9dbd2afep-37},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 23, .m = hess_radial_1_1_m, .content = 0x1.500d9ce990345p+9, .content_lo = 0x1.37f769e903adfp-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.1f69d0f2ea2c8p+19, .content_lo = -0x1.04bdd9dbd2afep-37},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.500d9ce990345p+9, .content_lo = 0x1.37f769e903adfp-45},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.500d9ce990345p+9,  // 135135/64 * pi^-1
@@ -512,7 +512,7 @@ inline constexpr double hess_radial_2_0_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 23, .m = hess_radial_2_0_m, .content = 0x1.500d9ce990345p+9, .content_lo = 0x1.37f769e903adfp-45},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.500d9ce990345p+9, .content_lo = 0x1.37f769e903adfp-45},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

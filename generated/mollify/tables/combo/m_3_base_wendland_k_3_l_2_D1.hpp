@@ -444,8 +444,8 @@ inline constexpr double hess_radial_0_2_m[] = {
 };
 inline constexpr table::Term hess_radial_0[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 7, .low = 0, .c = hess_radial_0_0, .n = 2, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.31c1886c8p+30, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = hess_radial_0_1_m, .content = -0x1.e935a714p+15, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .split = 15, .m = hess_radial_0_2_m, .content = 0x1.41cp+7, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_0_1, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.e935a714p+15, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_0_2, .n = 2, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.41cp+7, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.e935a714p+16,  // -2051893701/16384
@@ -466,8 +466,8 @@ inline constexpr double hess_radial_1_1_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 15, .m = hess_radial_1_0_m, .content = -0x1.e935a714p+15, .content_lo = 0x0p+0},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .split = 15, .m = hess_radial_1_1_m, .content = 0x1.41cp+7, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 7, .low = 0, .c = hess_radial_1_0, .n = 2, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.e935a714p+15, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_1_1, .n = 2, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.41cp+7, .content_lo = 0x0p+0},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.41cp+7,  // 1287/8
@@ -479,7 +479,7 @@ inline constexpr double hess_radial_2_0_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .split = 15, .m = hess_radial_2_0_m, .content = 0x1.41cp+7, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = hess_radial_2_0, .n = 2, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.41cp+7, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

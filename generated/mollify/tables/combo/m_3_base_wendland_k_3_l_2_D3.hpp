@@ -467,9 +467,9 @@ inline constexpr double hess_radial_0_2_m[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.df05b194db9f8p+37, .content_lo = 0x1.b291c06e5f252p-19},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = hess_radial_0_1_m, .content = -0x1.7f37c143e2e6p+21, .content_lo = -0x1.5ba7cd2518ea8p-35},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 23, .m = hess_radial_0_2_m, .content = 0x1.2ab6c45dd583ep+10, .content_lo = -0x1.955cf730e048fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-2, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .edge_lo = 0x1.5555555555555p-56, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.df05b194db9f8p+37, .content_lo = 0x1.b291c06e5f252p-19},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_0_1, .n = 2, .c_lo = hess_radial_0_1_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_0_1_m, .content = -0x1.7f37c143e2e6p+21, .content_lo = -0x1.5ba7cd2518ea8p-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_2, .n = 2, .c_lo = hess_radial_0_2_lo, .split = 26, .m = hess_radial_0_2_m, .content = 0x1.2ab6c45dd583ep+10, .content_lo = -0x1.955cf730e048fp-44},
 };
 inline constexpr double hess_radial_1_0[] = {
     -0x1.7f37c143e2e6p+21,  // -646346515815/65536 * pi^-1
@@ -496,8 +496,8 @@ inline constexpr double hess_radial_1_1_m[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term hess_radial_1[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 23, .m = hess_radial_1_0_m, .content = -0x1.7f37c143e2e6p+21, .content_lo = -0x1.5ba7cd2518ea8p-35},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 23, .m = hess_radial_1_1_m, .content = 0x1.2ab6c45dd583ep+10, .content_lo = -0x1.955cf730e048fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1.5555555555555p-1, .edge_power = 8, .low = 0, .c = hess_radial_1_0, .n = 2, .c_lo = hess_radial_1_0_lo, .edge_lo = 0x1.5555555555555p-55, .split = 26, .m = hess_radial_1_0_m, .content = -0x1.7f37c143e2e6p+21, .content_lo = -0x1.5ba7cd2518ea8p-35},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_1_1, .n = 2, .c_lo = hess_radial_1_1_lo, .split = 26, .m = hess_radial_1_1_m, .content = 0x1.2ab6c45dd583ep+10, .content_lo = -0x1.955cf730e048fp-44},
 };
 inline constexpr double hess_radial_2_0[] = {
     0x1.2ab6c45dd583ep+10,  // 15015/4 * pi^-1
@@ -512,7 +512,7 @@ inline constexpr double hess_radial_2_0_m[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term hess_radial_2[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 23, .m = hess_radial_2_0_m, .content = 0x1.2ab6c45dd583ep+10, .content_lo = -0x1.955cf730e048fp-44},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_2_0, .n = 2, .c_lo = hess_radial_2_0_lo, .split = 26, .m = hess_radial_2_0_m, .content = 0x1.2ab6c45dd583ep+10, .content_lo = -0x1.955cf730e048fp-44},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1.5555555555555p-2, .terms = hess_radial_0, .nterms = 3},  // [0, 1/3), per radius a_j, factored at a_j (Franz (4.17))

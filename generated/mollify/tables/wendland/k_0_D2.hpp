@@ -190,7 +190,7 @@ inline constexpr double dpotential_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = dpotential_2_1, .n = 2, .c_lo = dpotential_2_1_lo, .split = 25, .m = dpotential_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -1, .c = dpotential_2_1, .n = 2, .c_lo = dpotential_2_1_lo, .split = 26, .m = dpotential_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -249,7 +249,7 @@ inline constexpr double dpotential_over_r_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -2, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .split = 25, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 3, .low = -2, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .split = 26, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

@@ -123,7 +123,7 @@ inline constexpr double potential_1_1_m[] = {
 };
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 16, .m = potential_1_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 26, .m = potential_1_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

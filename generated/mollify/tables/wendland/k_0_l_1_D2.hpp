@@ -215,7 +215,7 @@ inline constexpr double dpotential_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .split = 24, .m = dpotential_3_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -1, .c = dpotential_3_1, .n = 2, .c_lo = dpotential_3_1_lo, .split = 26, .m = dpotential_3_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -277,7 +277,7 @@ inline constexpr double dpotential_over_r_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .split = 24, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -2, .c = dpotential_over_r_2_1, .n = 2, .c_lo = dpotential_over_r_2_1_lo, .split = 26, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

@@ -89,7 +89,7 @@ inline constexpr double hess_radial_0_0_m[] = {
     0x1p+1,  // 2
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 15, .m = hess_radial_0_0_m, .content = 0x1.0b615ba0f867bp+5, .content_lo = 0x1.5c70d8460a3b2p-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 2, .low = -3, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.0b615ba0f867bp+5, .content_lo = 0x1.5c70d8460a3b2p-50},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
@@ -147,7 +147,7 @@ inline constexpr double potential_2_1_m[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 15, .m = potential_2_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 26, .m = potential_2_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1
@@ -245,7 +245,7 @@ inline constexpr double dpotential_4_1_m[] = {
 };
 inline constexpr table::Term dpotential_4[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_4_0, .n = 1, .c_lo = dpotential_4_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .split = 15, .m = dpotential_4_1_m, .content = -0x1.45f306dc9c883p-4, .content_lo = 0x1.6b01ec5417056p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_4_1, .n = 3, .c_lo = dpotential_4_1_lo, .split = 24, .m = dpotential_4_1_m, .content = -0x1.45f306dc9c883p-4, .content_lo = 0x1.6b01ec5417056p-58},
 };
 inline constexpr double dpotential_5_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1
@@ -328,7 +328,7 @@ inline constexpr double dpotential_over_r_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -3, .c = dpotential_over_r_3_0, .n = 1, .c_lo = dpotential_over_r_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 15, .m = dpotential_over_r_3_1_m, .content = -0x1.45f306dc9c883p-4, .content_lo = 0x1.6b01ec5417056p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -3, .c = dpotential_over_r_3_1, .n = 3, .c_lo = dpotential_over_r_3_1_lo, .split = 24, .m = dpotential_over_r_3_1_m, .content = -0x1.45f306dc9c883p-4, .content_lo = 0x1.6b01ec5417056p-58},
 };
 inline constexpr double dpotential_over_r_4_0[] = {
     0x1.45f306dc9c883p-4,  // 1/4 * pi^-1

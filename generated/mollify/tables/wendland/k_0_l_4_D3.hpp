@@ -89,7 +89,7 @@ inline constexpr double hess_radial_0_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.e148d821bf211p+6, .content_lo = -0x1.80035bd0a7f7ep-50},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = -3, .c = hess_radial_0_0, .n = 2, .c_lo = hess_radial_0_0_lo, .split = 26, .m = hess_radial_0_0_m, .content = 0x1.e148d821bf211p+6, .content_lo = -0x1.80035bd0a7f7ep-50},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
@@ -153,7 +153,7 @@ inline constexpr double potential_2_1_m[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_2_0, .n = 1, .c_lo = potential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 23, .m = potential_2_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = -1, .c = potential_2_1, .n = 2, .c_lo = potential_2_1_lo, .split = 26, .m = potential_2_1_m, .content = 0x1.45f306dc9c883p-5, .content_lo = -0x1.6b01ec5417056p-59},
 };
 inline constexpr double potential_3_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

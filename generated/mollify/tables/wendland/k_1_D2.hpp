@@ -23,7 +23,7 @@ inline constexpr double value_0_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 15, .m = value_0_0_m, .content = 0x1.1d34a60108f72p+1, .content_lo = 0x1.425e51366bdb4p-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.1d34a60108f72p+1, .content_lo = 0x1.425e51366bdb4p-53},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -231,7 +231,7 @@ inline constexpr double dpotential_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_2_0, .n = 1, .c_lo = dpotential_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo, .split = 15, .m = dpotential_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_2_1, .n = 3, .c_lo = dpotential_2_1_lo, .split = 24, .m = dpotential_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -300,7 +300,7 @@ inline constexpr double dpotential_over_r_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo, .split = 15, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo, .split = 24, .m = dpotential_over_r_2_1_m, .content = -0x1.45f306dc9c883p-3, .content_lo = 0x1.6b01ec5417056p-57},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

@@ -23,7 +23,7 @@ inline constexpr double value_0_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 15, .m = value_0_0_m, .content = 0x1.abcef9018d72bp+1, .content_lo = 0x1.e38d79d1a1c8fp-53},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.abcef9018d72bp+1, .content_lo = 0x1.e38d79d1a1c8fp-53},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -135,7 +135,7 @@ inline constexpr double potential_1_1_m[] = {
 };
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = potential_1_0, .n = 1, .c_lo = potential_1_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo, .split = 15, .m = potential_1_1_m, .content = 0x1.45f306dc9c883p-4, .content_lo = -0x1.6b01ec5417056p-58},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo, .split = 25, .m = potential_1_1_m, .content = 0x1.45f306dc9c883p-4, .content_lo = -0x1.6b01ec5417056p-58},
 };
 inline constexpr double potential_2_0[] = {
     -0x1.45f306dc9c883p-4,  // -1/4 * pi^-1

@@ -20,7 +20,7 @@ inline constexpr double value_0_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .split = 24, .m = value_0_0_m, .content = 0x1.8p+0, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = value_0_0, .n = 2, .split = 26, .m = value_0_0_m, .content = 0x1.8p+0, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -112,7 +112,7 @@ inline constexpr double potential_1_1_m[] = {
 };
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 24, .m = potential_1_1_m, .content = 0x1.2492492492492p-5, .content_lo = 0x1.2492492492492p-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = potential_1_1, .n = 2, .c_lo = potential_1_1_lo, .split = 26, .m = potential_1_1_m, .content = 0x1.2492492492492p-5, .content_lo = 0x1.2492492492492p-59},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
@@ -162,7 +162,7 @@ inline constexpr double dpotential_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_2_1, .n = 2, .split = 24, .m = dpotential_2_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = dpotential_2_1, .n = 2, .split = 26, .m = dpotential_2_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
@@ -201,7 +201,7 @@ inline constexpr double dpotential_over_r_1_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_1_1, .n = 2, .split = 24, .m = dpotential_over_r_1_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = -1, .c = dpotential_over_r_1_1, .n = 2, .split = 26, .m = dpotential_over_r_1_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2

@@ -23,7 +23,7 @@ inline constexpr double value_0_0_m[] = {
     0x1.4p+2,  // 5
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 15, .m = value_0_0_m, .content = 0x1.7c4632ac0bf43p+1, .content_lo = 0x1.61f7067794918p-55},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.7c4632ac0bf43p+1, .content_lo = 0x1.61f7067794918p-55},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -259,7 +259,7 @@ inline constexpr double dpotential_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_3_0, .n = 1, .c_lo = dpotential_3_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 15, .m = dpotential_3_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_3_1, .n = 3, .c_lo = dpotential_3_1_lo, .split = 23, .m = dpotential_3_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1
@@ -331,7 +331,7 @@ inline constexpr double dpotential_over_r_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -2, .c = dpotential_over_r_2_0, .n = 1, .c_lo = dpotential_over_r_2_0_lo},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo, .split = 15, .m = dpotential_over_r_2_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -2, .c = dpotential_over_r_2_1, .n = 3, .c_lo = dpotential_over_r_2_1_lo, .split = 23, .m = dpotential_over_r_2_1_m, .content = -0x1.b2995e7b7b604p-5, .content_lo = 0x1.e40290701eb1ep-59},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1.45f306dc9c883p-3,  // 1/2 * pi^-1

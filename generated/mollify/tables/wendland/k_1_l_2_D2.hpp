@@ -23,7 +23,7 @@ inline constexpr double value_0_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 24, .m = value_0_0_m, .content = 0x1.e8ec8a4aeacc4p+1, .content_lo = -0x1.041713f11440cp-56},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.e8ec8a4aeacc4p+1, .content_lo = -0x1.041713f11440cp-56},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)

@@ -23,7 +23,7 @@ inline constexpr double value_0_0_m[] = {
     0x1.cp+2,  // 7
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 23, .m = value_0_0_m, .content = 0x1.3b2075224955ap+3, .content_lo = 0x1.3b0ba404b3be5p-51},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_0, .n = 2, .c_lo = value_0_0_lo, .split = 26, .m = value_0_0_m, .content = 0x1.3b2075224955ap+3, .content_lo = 0x1.3b0ba404b3be5p-51},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)

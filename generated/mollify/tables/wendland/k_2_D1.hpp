@@ -22,7 +22,7 @@ inline constexpr double value_0_0_m[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 3, .split = 15, .m = value_0_0_m, .content = 0x1.8p+0, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 5, .low = 0, .c = value_0_0, .n = 3, .split = 24, .m = value_0_0_m, .content = 0x1.8p+0, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -38,7 +38,7 @@ inline constexpr double dr_0_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_0_0, .n = 2, .split = 15, .m = dr_0_0_m, .content = -0x1.5p+4, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 1, .c = dr_0_0, .n = 2, .split = 24, .m = dr_0_0_m, .content = -0x1.5p+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -78,7 +78,7 @@ inline constexpr double grad_over_r_0_0_m[] = {
     0x1p+2,  // 4
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 15, .m = grad_over_r_0_0_m, .content = -0x1.5p+4, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 4, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.5p+4, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -133,7 +133,7 @@ inline constexpr double potential_1_1_m[] = {
 };
 inline constexpr table::Term potential_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo, .split = 15, .m = potential_1_1_m, .content = 0x1.5555555555555p-6, .content_lo = 0x1.5555555555555p-60},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = potential_1_1, .n = 3, .c_lo = potential_1_1_lo, .split = 24, .m = potential_1_1_m, .content = 0x1.5555555555555p-6, .content_lo = 0x1.5555555555555p-60},
 };
 inline constexpr double potential_2_0[] = {
     0x1p-1,  // 1/2
@@ -189,7 +189,7 @@ inline constexpr double dpotential_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_2_1, .n = 3, .split = 15, .m = dpotential_2_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = dpotential_2_1, .n = 3, .split = 25, .m = dpotential_2_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_3_0[] = {
     0x1p-1,  // 1/2
@@ -232,7 +232,7 @@ inline constexpr double dpotential_over_r_1_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_1[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_1_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_1_1, .n = 3, .split = 15, .m = dpotential_over_r_1_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = -1, .c = dpotential_over_r_1_1, .n = 3, .split = 25, .m = dpotential_over_r_1_1_m, .content = -0x1p-1, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_2_0[] = {
     0x1p-1,  // 1/2

@@ -142,7 +142,7 @@ inline constexpr double potential_2_1_m[] = {
 };
 inline constexpr table::Term potential_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 1, .c = potential_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_2_1, .n = 3, .split = 23, .m = potential_2_1_m, .content = 0x1p-5, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = potential_2_1, .n = 3, .split = 24, .m = potential_2_1_m, .content = 0x1p-5, .content_lo = 0x0p+0},
 };
 inline constexpr double potential_3_0[] = {
     0x1p-1,  // 1/2

@@ -25,7 +25,7 @@ inline constexpr double value_0_0_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .split = 15, .m = value_0_0_m, .content = 0x1.a42b46d861c78p+2, .content_lo = 0x1.a40f855b9a531p-52},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .c_lo = value_0_0_lo, .split = 24, .m = value_0_0_m, .content = 0x1.a42b46d861c78p+2, .content_lo = 0x1.a40f855b9a531p-52},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -44,7 +44,7 @@ inline constexpr double dr_0_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 15, .m = dr_0_0_m, .content = -0x1.3b2075224955ap+7, .content_lo = -0x1.3b0ba404b3be5p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .c_lo = dr_0_0_lo, .split = 24, .m = dr_0_0_m, .content = -0x1.3b2075224955ap+7, .content_lo = -0x1.3b0ba404b3be5p-47},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -93,7 +93,7 @@ inline constexpr double grad_over_r_0_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 15, .m = grad_over_r_0_0_m, .content = -0x1.3b2075224955ap+7, .content_lo = -0x1.3b0ba404b3be5p-47},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .c_lo = grad_over_r_0_0_lo, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.3b2075224955ap+7, .content_lo = -0x1.3b0ba404b3be5p-47},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)

@@ -22,7 +22,7 @@ inline constexpr double value_0_0_m[] = {
     0x1p+4,  // 16
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .split = 23, .m = value_0_0_m, .content = 0x1.ep+0, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 7, .low = 0, .c = value_0_0, .n = 3, .split = 24, .m = value_0_0_m, .content = 0x1.ep+0, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -38,7 +38,7 @@ inline constexpr double dr_0_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .split = 23, .m = dr_0_0_m, .content = -0x1.68p+5, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 1, .c = dr_0_0, .n = 2, .split = 24, .m = dr_0_0_m, .content = -0x1.68p+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -78,7 +78,7 @@ inline constexpr double grad_over_r_0_0_m[] = {
     0x1.8p+2,  // 6
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.68p+5, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 6, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 24, .m = grad_over_r_0_0_m, .content = -0x1.68p+5, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)

@@ -22,7 +22,7 @@ inline constexpr double value_0_0_m[] = {
     0x1.4p+6,  // 80
 };
 inline constexpr table::Term value_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_0_0, .n = 3, .split = 22, .m = value_0_0_m, .content = 0x1.8p-1, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 9, .low = 0, .c = value_0_0, .n = 3, .split = 23, .m = value_0_0_m, .content = 0x1.8p-1, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece value[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = value_0, .nterms = 1},  // [0, 1)
@@ -38,7 +38,7 @@ inline constexpr double dr_0_0_m[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term dr_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 2, .split = 22, .m = dr_0_0_m, .content = -0x1.4ap+6, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 1, .c = dr_0_0, .n = 2, .split = 23, .m = dr_0_0_m, .content = -0x1.4ap+6, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece dr[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = dr_0, .nterms = 1},  // [0, 1)
@@ -78,7 +78,7 @@ inline constexpr double grad_over_r_0_0_m[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term grad_over_r_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 22, .m = grad_over_r_0_0_m, .content = -0x1.4ap+6, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = grad_over_r_0_0, .n = 2, .split = 23, .m = grad_over_r_0_0_m, .content = -0x1.4ap+6, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece grad_over_r[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = grad_over_r_0, .nterms = 1},  // [0, 1)
@@ -246,7 +246,7 @@ inline constexpr double dpotential_3_1_m[] = {
 };
 inline constexpr table::Term dpotential_3[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = 0, .c = dpotential_3_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = dpotential_3_1, .n = 3, .split = 22, .m = dpotential_3_1_m, .content = -0x1p-2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = 0, .c = dpotential_3_1, .n = 3, .split = 23, .m = dpotential_3_1_m, .content = -0x1p-2, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_4_0[] = {
     0x1p-1,  // 1/2
@@ -311,7 +311,7 @@ inline constexpr double dpotential_over_r_2_1_m[] = {
 };
 inline constexpr table::Term dpotential_over_r_2[] = {
     {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r2, .edge = 0x1p+0, .edge_power = 0, .low = -1, .c = dpotential_over_r_2_0, .n = 1},
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_over_r_2_1, .n = 3, .split = 22, .m = dpotential_over_r_2_1_m, .content = -0x1p-2, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 10, .low = -1, .c = dpotential_over_r_2_1, .n = 3, .split = 23, .m = dpotential_over_r_2_1_m, .content = -0x1p-2, .content_lo = 0x0p+0},
 };
 inline constexpr double dpotential_over_r_3_0[] = {
     0x1p-1,  // 1/2

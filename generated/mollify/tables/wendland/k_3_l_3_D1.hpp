@@ -95,7 +95,7 @@ inline constexpr double hess_radial_0_0_m[] = {
     0x1p+3,  // 8
 };
 inline constexpr table::Term hess_radial_0[] = {
-    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 15, .m = hess_radial_0_0_m, .content = 0x1.38dp+11, .content_lo = 0x0p+0},
+    {.basis = table::Basis::one, .s_power = 0, .var = table::Var::r, .edge = 0x1p+0, .edge_power = 8, .low = 0, .c = hess_radial_0_0, .n = 2, .split = 23, .m = hess_radial_0_0_m, .content = 0x1.38dp+11, .content_lo = 0x0p+0},
 };
 inline constexpr table::Piece hess_radial[] = {
     {.lo = 0x0p+0, .hi = 0x1p+0, .terms = hess_radial_0, .nterms = 1},  // [0, 1)
