@@ -458,18 +458,21 @@ void register_potentials(const char* label) {
 }
 
 // The checked scalar forms, one call per radius, as code that has no batch
-// at hand calls them: W::value(r, h) and the run-time form's k.value(r, h)
+// at hand calls them, both precisions: W::value(r, h) and the run-time
+// form's k.value(r, h) (one radius into the evaluator: Evaluator::at_radius)
 // take h per call (Smoothing::reused keeps this thread's last Smoothing per
 // D), against radial(r, s) with the caller's own Smoothing, and with h
 // alternating between two lengths (each call then makes its Smoothing).
 template <const Kernel& K>
 void register_scalar(const char* label) {
     using W = mollify::StaticKernel<K>;
+    using F = mollify::StaticKernel<K, mollify::Precision::fast>;
     const mollify::Kernel runtime(K);
     const acc::Reference ref(K.spec, 3);
     const acc::ExactValues ew = acc::exact_values(ref, QuantityId::value, sample().points);
     const double e = acc::measure(ew, [](double r, double hh) { return W::value(r, hh); }, sample().points).max_ulp;
-    const Errors value_only{e, -1};
+    const double e_fast = acc::measure(ew, [](double r, double hh) { return F::value(r, hh); }, sample().points).max_ulp;
+    const Errors value_only{e, -1}, fast_value_only{e_fast, -1};
     constexpr std::size_t n = 4096;
     const std::string base = std::string("W-scalar/") + label + "/";
     auto reg = [&](const std::string& name, auto fn) {
@@ -499,6 +502,18 @@ void register_scalar(const char* label) {
         Data& d = data(n);
         timed(st, n, 0, value_only, [&] {
             for (std::size_t i = 0; i < n; ++i) d.w[i] = runtime.value(d.r[i], h);
+        });
+    });
+    reg("static-fast-checked", [fast_value_only](benchmark::State& st) {
+        Data& d = data(n);
+        timed(st, n, 0, fast_value_only, [&] {
+            for (std::size_t i = 0; i < n; ++i) d.w[i] = F::value(d.r[i], h);
+        });
+    });
+    reg("runtime-fast-checked", [fast_value_only, fast = runtime.with(mollify::Precision::fast)](benchmark::State& st) {
+        Data& d = data(n);
+        timed(st, n, 0, fast_value_only, [&] {
+            for (std::size_t i = 0; i < n; ++i) d.w[i] = fast.value(d.r[i], h);
         });
     });
 }

@@ -1785,6 +1785,23 @@ void evaluate(const Plan& plan, Precision pr, QuantityId q, const double* r, dou
     }
 }
 
+// One radius (Kernel::operator(), a checked scalar call): radial_batch for
+// n = 1, as evaluate took one point, so the same bits, without evaluate's
+// chunk loop, its chunk size's piece tests and evaluate_batch's copy of the
+// Smoothing around it, which were a third of a call (kernel_bench's W-scalar
+// rows); r checked first, as the batch names it.
+double at_radius(const Plan& plan, Precision pr, QuantityId q, double r, const Smoothing& s) {
+    check_radius(r);
+    const QuantityPlan& qp = plan.quantities[static_cast<std::size_t>(q)];
+    const int dim = plan.table->dim;
+    double out;
+    if (pr == Precision::accurate)
+        radial_batch<Precision::accurate>(qp, q, &r, &out, 1, s, dim);
+    else
+        radial_batch<Precision::fast>(qp, q, &r, &out, 1, s, dim);
+    return qp.singular_at_origin && std::isnan(out) ? qp.at_origin : out;  // as evaluate_batch
+}
+
 // ---- W and grad W at displacements (StaticKernel::pairs_unchecked) ----
 
 // |x| at m points from `start`, on raw restrict pointers so that the loop
@@ -2062,7 +2079,7 @@ void pairs(const Plan& plan, Precision pr, const std::span<const double>* x, con
 #define MOLLIFY_STRINGIFY2(x) #x
 #define MOLLIFY_STRINGIFY(x) MOLLIFY_STRINGIFY2(x)
 extern const Evaluator isa_evaluator;
-const Evaluator isa_evaluator{MOLLIFY_STRINGIFY(MOLLIFY_ISA), &evaluate, &pairs};
+const Evaluator isa_evaluator{MOLLIFY_STRINGIFY(MOLLIFY_ISA), &evaluate, &pairs, &at_radius};
 
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::detail

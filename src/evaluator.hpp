@@ -28,6 +28,10 @@ struct Evaluator {
                      const Smoothing& s);
     void (*pairs)(const Plan& plan, Precision pr, const std::span<const double>* x, const Smoothing& s, double* w,
                   const std::span<double>* grad, std::size_t n);
+    // f_h at one radius, checked (fail naming a bad r): evaluate's
+    // operations for one point, so its bits, without its chunks around
+    // them (Kernel::operator(), a checked scalar call).
+    double (*at_radius)(const Plan& plan, Precision pr, QuantityId q, double r, const Smoothing& s);
 };
 
 // The evaluator in use: x86-64-v4 (AVX-512F/BW/DQ/VL) where the CPU has it,

@@ -70,6 +70,12 @@ void Kernel::require(QuantityId q, const Smoothing& s) const {
              " in D = " + std::to_string(dim()));
 }
 
+double Kernel::operator()(QuantityId q, double r, double h) const {
+    const Smoothing& s = Smoothing::reused(h, dim());
+    require(q, s);
+    return detail::evaluator().at_radius(*plan_, precision_, q, r, s);
+}
+
 void Kernel::evaluate(QuantityId q, std::span<const double> r, const Smoothing& s, std::span<double> out) const {
     require(q, s);
     detail::check_sizes(r.size(), out.size(), "evaluate");

@@ -15,8 +15,11 @@
 #include <mollify/tables/wendland/k_4_l_4_D3.hpp>
 #include <mollify/tables/wendland_missing/k_1_l_1_D2.hpp>
 
+#include "fused_bound.hpp"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -464,6 +467,73 @@ TEST(Smoothing, ReusedIsTheSmoothingOfThisH) {
     a.join();
     b.join();
     EXPECT_EQ(wrong_a + wrong_b, 0);
+}
+
+// The checked scalar call k(q, r, h) (k.value, k.potential) takes its own
+// way into the evaluator (one radius, without a batch's chunks): for every
+// catalogue kernel, both precisions and every quantity it has, at the hard
+// radii (0, the smallest subnormal, each piece's ends and the doubles beside
+// them, the support's edge, beyond it) and tiny to huge h, it is the value
+// the batch gives the same radius among 600 or more others (past the blocks
+// of 64 and the one-pass loops' vector body): bit for bit on generic x86-64
+// (the same operations), and on the instruction set chosen here within
+// fused_bound (a block loop may contract a product into an FMA where the
+// one-point path does not: measured, the fast precision's second
+// derivatives and potentials).
+TEST(Runtime, ScalarCallIsTheBatchsValue) {
+    const std::string chosen(mollify::isa());
+    for (const std::string& isa : {std::string("generic"), chosen}) {
+        const ForcedIsa forced(isa);
+        const bool same_operations = isa == "generic";
+        int compared = 0;
+        for (const mollify::table::Kernel* table : tables::all_kernels)
+            for (const mollify::Precision pr : {mollify::Precision::accurate, mollify::Precision::fast}) {
+                const mollify::Kernel k(*table, pr);
+                std::vector<double> hard{0.0, 0x1p-1074, 1e-300, 1e-8, 0.25, 1.0, 1.5, 3.0};
+                for (int q = 0; q < mollify::table::quantity_count; ++q)
+                    for (int p = 0; p < table->quantities[q].npieces; ++p) {
+                        const double lo = table->quantities[q].pieces[p].lo;
+                        if (lo > 0 && lo < 8) hard.insert(hard.end(), {std::nextafter(lo, 0.0), lo, std::nextafter(lo, 8.0)});
+                    }
+                std::sort(hard.begin(), hard.end());
+                hard.erase(std::unique(hard.begin(), hard.end()), hard.end());
+                const std::vector<double> base = radii(std::max<std::size_t>(600, 200 + 3 * hard.size()), 11);
+                for (const double h : {1.0, 0.37, 2.5e6, 3e-30}) {
+                    std::vector<double> r(base);
+                    for (double& x : r) x *= h;
+                    for (std::size_t i = 0; i < hard.size(); ++i) r[100 + 3 * i] = hard[i] * h;
+                    std::vector<double> out(r.size());
+                    for (int q = 0; q < mollify::table::quantity_count; ++q) {
+                        if (!table->quantities[q].npieces) continue;
+                        if (q >= static_cast<int>(QuantityId::potential) && !k.has_potential()) continue;
+                        const auto id = static_cast<QuantityId>(q);
+                        k.evaluate(id, r, h, out);
+                        const double floor = mollify::testing::ulp_floor(out.data(), out.size(), pr);
+                        const double bound = mollify::testing::fused_bound(*table, id, pr);
+                        for (std::size_t i = 0; i < r.size(); i += (i >= 100 && i < 100 + 3 * hard.size()) ? 3 : 37) {
+                            const double scalar = k(id, r[i], h);
+                            ++compared;
+                            const bool agree = same_operations ? mollify::testing::same_bits(scalar, out[i])
+                                                               : mollify::testing::ulps(scalar, out[i], floor) <= bound;
+                            if (!agree)
+                                ADD_FAILURE() << table->spec << " D" << table->dim << " " << mollify::quantity_names[q]
+                                              << " " << (pr == mollify::Precision::fast ? "fast" : "accurate") << " on "
+                                              << isa << ": k(q, r, h) = " << scalar << ", the batch " << out[i]
+                                              << " at r = " << r[i] << ", h = " << h;
+                        }
+                    }
+                }
+            }
+        EXPECT_GT(compared, 100000) << isa;
+    }
+    // A bad radius or length is named as the batch names it.
+    const mollify::Kernel k = mollify::kernel("wendland:k=2", 3);
+    for (const mollify::Kernel& each : {k, k.with(mollify::Precision::fast)}) {
+        expect_error([&] { each.value(not_a_number, 1.0); }, "r = nan");
+        expect_error([&] { each.value(-0.25, 1.0); }, "r = -0.25");
+        expect_error([&] { each.value(inf, 1.0); }, "r = inf");
+        expect_error([&] { each(QuantityId::dr, 0.5, 0.0); }, "h = 0");
+    }
 }
 
 TEST(Runtime, BatchesNameTheBadInput) {

@@ -51,11 +51,10 @@ public:
         evaluate(q, r, smoothing(h), out);
     }
 
-    double operator()(QuantityId q, double r, double h) const {
-        double out = 0;
-        evaluate(q, std::span<const double>(&r, 1), Smoothing::reused(h, dim()), std::span<double>(&out, 1));
-        return out;
-    }
+    // f_h at one radius, checked (r, h, q present): evaluate's operations for
+    // a batch of one, without the batch around them; h's Smoothing reused
+    // from this thread's last call with the same h (Smoothing::reused).
+    double operator()(QuantityId q, double r, double h) const;
     double value(double r, double h) const { return (*this)(QuantityId::value, r, h); }
     double potential(double r, double h) const { return (*this)(QuantityId::potential, r, h); }
 
