@@ -297,6 +297,12 @@ double outside(const QuantityPlan& qp, double r) {
     return sum;
 }
 
+// A quantity singular at r = 0 is its limit there where its terms give NaN
+// (StaticKernel::emitted's limit); any other value as it is.
+double limit_where_nan(const QuantityPlan& qp, double x) {
+    return qp.singular_at_origin ? select(std::isnan(x), qp.at_origin, x) : x;
+}
+
 template <Precision Pr>
 double radial(const QuantityPlan& qp, QuantityId q, double r, const Smoothing& s, int dim) {
     double in;
@@ -309,7 +315,7 @@ double radial(const QuantityPlan& qp, QuantityId q, double r, const Smoothing& s
         in = fast_piece(inner_piece(qp, a.q), a) * s.scale(q);
     }
     if (q == QuantityId::potential && dim == 2) in = mul_add(qp.log_coefficient, s.log_h(), in);
-    if (qp.singular_at_origin) in = select(std::isnan(in), qp.at_origin, in);  // StaticKernel::emitted's limit
+    in = limit_where_nan(qp, in);
     if (qp.zero_outside) return select(r <= s.h(), in, 0.0);
     return r <= s.h() ? in : outside(qp, r);
 }
@@ -1751,10 +1757,8 @@ bool evaluate_batch(const Plan& plan, QuantityId q, const double* __restrict r, 
     const QuantityPlan& qp = plan.quantities[static_cast<std::size_t>(q)];
     const int dim = plan.table->dim;
     const bool tested = radial_batch<Pr>(qp, q, r, out, n, s, dim);
-    // A singular quantity is its limit where its terms give NaN (StaticKernel::emitted).
     if (qp.singular_at_origin)
-        for (std::size_t i = 0; i < n; ++i)
-            if (std::isnan(out[i])) out[i] = qp.at_origin;
+        for (std::size_t i = 0; i < n; ++i) out[i] = limit_where_nan(qp, out[i]);
     return tested;
 }
 
@@ -1799,7 +1803,7 @@ double at_radius(const Plan& plan, Precision pr, QuantityId q, double r, const S
         radial_batch<Precision::accurate>(qp, q, &r, &out, 1, s, dim);
     else
         radial_batch<Precision::fast>(qp, q, &r, &out, 1, s, dim);
-    return qp.singular_at_origin && std::isnan(out) ? qp.at_origin : out;  // as evaluate_batch
+    return limit_where_nan(qp, out);
 }
 
 // ---- W and grad W at displacements (StaticKernel::pairs_unchecked) ----
