@@ -462,7 +462,9 @@ void register_potentials(const char* label) {
 // form's k.value(r, h) (one radius into the evaluator: Evaluator::at_radius)
 // take h per call (Smoothing::reused keeps this thread's last Smoothing per
 // D), against radial(r, s) with the caller's own Smoothing, and with h
-// alternating between two lengths (each call then makes its Smoothing).
+// alternating between two lengths (each call then makes its Smoothing: since
+// stop 59 with the one quantity's scale, Smoothing::reused(h, D, q); a whole
+// Smoothing made by the caller per call beside it).
 template <const Kernel& K>
 void register_scalar(const char* label) {
     using W = mollify::StaticKernel<K>;
@@ -498,10 +500,25 @@ void register_scalar(const char* label) {
             for (std::size_t i = 0; i < n; ++i) d.w[i] = W::value(d.r[i], lengths[i & 1]);
         });
     });
+    reg("static-smoothing-per-h", [value_only](benchmark::State& st) {  // the caller's own Smoothing for each h
+        Data& d = data(n);
+        const double lengths[2] = {h, std::nextafter(h, 2 * h)};
+        timed(st, n, 0, value_only, [&] {
+            for (std::size_t i = 0; i < n; ++i)
+                d.w[i] = W::template radial<QuantityId::value>(d.r[i], W::smoothing(lengths[i & 1]));
+        });
+    });
     reg("runtime-checked", [value_only, runtime](benchmark::State& st) {
         Data& d = data(n);
         timed(st, n, 0, value_only, [&] {
             for (std::size_t i = 0; i < n; ++i) d.w[i] = runtime.value(d.r[i], h);
+        });
+    });
+    reg("runtime-checked-two-h", [value_only, runtime](benchmark::State& st) {
+        Data& d = data(n);
+        const double lengths[2] = {h, std::nextafter(h, 2 * h)};
+        timed(st, n, 0, value_only, [&] {
+            for (std::size_t i = 0; i < n; ++i) d.w[i] = runtime.value(d.r[i], lengths[i & 1]);
         });
     });
     reg("static-fast-checked", [fast_value_only](benchmark::State& st) {

@@ -71,7 +71,7 @@ void Kernel::require(QuantityId q, const Smoothing& s) const {
 }
 
 double Kernel::operator()(QuantityId q, double r, double h) const {
-    const Smoothing& s = Smoothing::reused(h, dim());
+    const Smoothing& s = Smoothing::reused(h, dim(), q);
     require(q, s);
     return detail::evaluator().at_radius(*plan_, precision_, q, r, s);
 }

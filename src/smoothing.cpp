@@ -8,11 +8,44 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 
 namespace mollify {
 
 namespace {
+
+using detail::DoubleDouble;
+
+// The exact error of a product: by a fused multiply-add where the CPU has
+// one, else by Dekker's split (detail::two_product of the generic build this
+// file is compiled for: ~17 operations, two thirds of a Smoothing's time).
+// Both are the exact a b - p, so the same bits (Smoothing.ScalesTheSameWithoutFma).
+template <bool Fma>
+[[gnu::always_inline]] inline DoubleDouble exact_product(double a, double b) {
+    if constexpr (Fma) {
+        const double p = a * b;
+        return {p, __builtin_fma(a, b, -p)};
+    } else {
+        return detail::two_product(a, b);
+    }
+}
+
+// detail::DoubleDouble's product and reciprocal as the generic build forms
+// them (each multiply-add two roundings: this file is compiled with
+// -ffp-contract=off, CMakeLists.txt), their exact products by
+// exact_product<Fma>.
+template <bool Fma>
+[[gnu::always_inline]] inline DoubleDouble times(const DoubleDouble& a, const DoubleDouble& b) {
+    const DoubleDouble p = exact_product<Fma>(a.hi, b.hi);
+    return {p.hi, a.hi * b.lo + (a.lo * b.hi + p.lo)};
+}
+template <bool Fma>
+[[gnu::always_inline]] inline DoubleDouble reciprocal_of(double x) {
+    const double y = 1 / x;
+    const DoubleDouble yx = exact_product<Fma>(y, x);
+    return {y, ((1 - yx.hi) - yx.lo) * y};  // detail::reciprocal of {x, 0}
+}
 
 // x^0 .. x^(N-1) in double-double by repeated products: h^n (|n| <= 7)
 // from h or from its double-double reciprocal, ~|n| 2^-104 relative error,
@@ -25,11 +58,11 @@ namespace {
 // per call). std::pow(long double, int) went through powl and cost a fifth
 // of a batch of the accuracy suite, whose points each have their own h (as
 // an SPH code's particles do).
-template <std::size_t N>
-std::array<detail::DoubleDouble, N> powers(const detail::DoubleDouble& x) {
-    std::array<detail::DoubleDouble, N> p;
+template <bool Fma, std::size_t N>
+[[gnu::always_inline]] inline std::array<DoubleDouble, N> powers(const DoubleDouble& x) {
+    std::array<DoubleDouble, N> p;
     p[0] = {1.0, 0.0};
-    for (std::size_t k = 1; k < N; ++k) p[k] = p[k - 1] * x;
+    for (std::size_t k = 1; k < N; ++k) p[k] = times<Fma>(p[k - 1], x);
     return p;
 }
 
@@ -45,39 +78,157 @@ static_assert([] {
     return true;
 }());
 
+using Scales = std::array<double, table::quantity_count>;
+
+// h^n from the powers' first factor x (h, or its reciprocal for n < 0) by
+// powers' products: the same bits as powers<N>(x)[|n|].
+template <bool Fma>
+[[gnu::always_inline]] inline DoubleDouble power(const DoubleDouble& x, int n) {
+    DoubleDouble p{1.0, 0.0};
+    for (int k = 0; k < n; ++k) p = times<Fma>(p, x);
+    return p;
+}
+
+// Quantity q's h^p into scale[q], scale_lo[q], or refused.
+[[gnu::always_inline]] inline void store_scale(double h, int dim, int q, int n, const DoubleDouble& x, Scales& scale,
+                                               Scales& scale_lo) {
+    // Within 2^+-900 (smoothing.hpp: scale_range) or refused: the
+    // accurate precision's last product is by h^p + its low part, or by
+    // a term's content (2^-11 .. 2^9 in the catalogue, within 2^+-60 in
+    // any table) times them, and both must stay normal doubles: beyond,
+    // h^p's low part (2^-53 h^p) loses bits to underflow, or content
+    // h^p overflows, and the results are wrong by an ulp or +-inf.
+    const DoubleDouble p = detail::fast_two_sum(x.hi, x.lo);
+    if (!(p.hi >= 1 / scale_range && p.hi <= scale_range)) detail::fail_smoothing_range(h, dim, n, q);
+    scale[static_cast<std::size_t>(q)] = p.hi;
+    scale_lo[static_cast<std::size_t>(q)] = p.lo;
+}
+
+// Every quantity's h^p (only < 0) from one table of powers, or quantity
+// only's by its own products.
+template <bool Fma>
+[[gnu::always_inline]] inline void make_scales(double h, int dim, int only, Scales& scale, Scales& scale_lo) {
+    const DoubleDouble inverse = reciprocal_of<Fma>(h);
+    if (only >= 0) {
+        const int n = detail::scale_power(static_cast<QuantityId>(only), dim);
+        store_scale(h, dim, only, n, n < 0 ? power<Fma>(inverse, -n) : power<Fma>({h, 0.0}, n), scale, scale_lo);
+        return;
+    }
+    const auto down = powers<Fma, 1 - lowest_power>(inverse);
+    const auto up = powers<Fma, 1 + highest_power>({h, 0.0});
+    for (int q = 0; q < table::quantity_count; ++q) {
+        const int n = detail::scale_power(static_cast<QuantityId>(q), dim);
+        store_scale(h, dim, q, n, n < 0 ? down[static_cast<std::size_t>(-n)] : up[static_cast<std::size_t>(n)], scale,
+                    scale_lo);
+    }
+}
+
+#if defined(__x86_64__) && !defined(__FMA__)
+[[gnu::target("fma")]] void make_scales_fma(double h, int dim, int only, Scales& scale, Scales& scale_lo) {
+    make_scales<true>(h, dim, only, scale, scale_lo);
+}
+void make_scales_split(double h, int dim, int only, Scales& scale, Scales& scale_lo) {
+    make_scales<false>(h, dim, only, scale, scale_lo);
+}
+#endif
+
+// Whether every h^p of every quantity in every D lies well within
+// scale_range: |log2 h| <= 120 gives |log2 h^p| <= 7 * 121 < 900 for the
+// powers -7 .. 1 (lowest_power, highest_power). There one quantity's scale
+// is made without the others' checks, which all pass.
+// (The exponent from h's bits: a subnormal, infinite or NaN h is outside.)
+bool every_scale_within_range(double h) {
+    const int e = static_cast<int>((std::bit_cast<std::uint64_t>(h) >> 52) & 0x7ff) - 1023;
+    return e >= -120 && e <= 120;
+}
+static_assert(-lowest_power * 121 < 900 && highest_power * 121 < 900);
+
+constexpr unsigned all_quantities = (1u << table::quantity_count) - 1;
+
 }  // namespace
+
+namespace detail {
+void smoothing_scales(double h, int dim, int only, bool use_fma, std::array<double, table::quantity_count>& scale,
+                      std::array<double, table::quantity_count>& scale_lo) {
+#if defined(__x86_64__) && !defined(__FMA__)
+    if (use_fma && __builtin_cpu_supports("fma"))
+        make_scales_fma(h, dim, only, scale, scale_lo);
+    else
+        make_scales_split(h, dim, only, scale, scale_lo);
+#else
+    (void)use_fma;
+    make_scales<MOLLIFY_HAS_FMA != 0>(h, dim, only, scale, scale_lo);
+#endif
+}
+}  // namespace detail
 
 Smoothing::Smoothing(double h, int dim) : h_(h), dim_(dim) {
     if (dim < 1 || dim > 3) detail::fail_dimension(dim);
     if (!(h > 0) || !std::isfinite(h)) detail::fail_smoothing_length(h);
     inv_h_ = 1 / h;
-    const auto down = powers<1 - lowest_power>(detail::reciprocal({h, 0.0}));
-    const auto up = powers<1 + highest_power>({h, 0.0});
-    for (int q = 0; q < table::quantity_count; ++q) {
-        const int n = detail::scale_power(static_cast<QuantityId>(q), dim);
-        // Within 2^+-900 (smoothing.hpp: scale_range) or refused: the
-        // accurate precision's last product is by h^p + its low part, or by
-        // a term's content (2^-11 .. 2^9 in the catalogue, within 2^+-60 in
-        // any table) times them, and both must stay normal doubles: beyond,
-        // h^p's low part (2^-53 h^p) loses bits to underflow, or content
-        // h^p overflows, and the results are wrong by an ulp or +-inf.
-        const detail::DoubleDouble& x = n < 0 ? down[static_cast<std::size_t>(-n)] : up[static_cast<std::size_t>(n)];
-        const detail::DoubleDouble p = detail::fast_two_sum(x.hi, x.lo);
-        if (!(p.hi >= 1 / scale_range && p.hi <= scale_range)) detail::fail_smoothing_range(h, dim, n, q);
-        scale_[q] = p.hi;
-        scale_lo_[q] = p.lo;
-    }
-    if (dim == 2) log_h_ = std::log(h);  // the 2D potential's; log_h() forms it for the others
+    make(-1);
 }
 
-const Smoothing& Smoothing::reused(double h, int dim) {
+Smoothing::Smoothing(double h, int dim, QuantityId q, OneQuantity) : h_(h), dim_(dim), inv_h_(1 / h) {
+    scale_.fill(std::numeric_limits<double>::quiet_NaN());
+    scale_lo_.fill(std::numeric_limits<double>::quiet_NaN());
+    log_h_ = std::numeric_limits<double>::quiet_NaN();
+    make(static_cast<int>(q));
+}
+
+// Quantity only's scale (only < 0: every quantity's) and, with the 2D
+// potential, log h.
+void Smoothing::make(int only) {
+    detail::smoothing_scales(h_, dim_, only, true, scale_, scale_lo_);
+    made_ |= only < 0 ? all_quantities : 1u << only;
+    // The 2D potential's; log_h() forms it for the others.
+    if (dim_ == 2 && (only < 0 || only == static_cast<int>(QuantityId::potential))) log_h_ = std::log(h_);
+}
+
+namespace {
+// This thread's Smoothings, one per dimension, so that kernels of several D
+// in one loop each keep theirs.
+thread_local std::array<std::optional<Smoothing>, 3> kept_smoothings;
+}  // namespace
+
+// This thread's Smoothing for h in D = dim with quantity only's scale made
+// (only < 0: every one); a new h's made afresh, checked as Smoothing(h, dim)
+// checks it: one quantity's alone only where every quantity's passes.
+Smoothing& Smoothing::kept(double h, int dim, int only) {
     if (dim < 1 || dim > 3) detail::fail_dimension(dim);
-    // One per dimension, so that kernels of several D in one loop each keep theirs.
-    thread_local std::array<std::optional<Smoothing>, 3> last;
-    std::optional<Smoothing>& kept = last[static_cast<std::size_t>(dim - 1)];
+    std::optional<Smoothing>& kept = kept_smoothings[static_cast<std::size_t>(dim - 1)];
     // emplace destroys the old one first: a refused h throws and leaves nothing kept.
-    if (!kept || std::bit_cast<std::uint64_t>(kept->h_) != std::bit_cast<std::uint64_t>(h)) kept.emplace(h, dim);
+    if (!kept || std::bit_cast<std::uint64_t>(kept->h_) != std::bit_cast<std::uint64_t>(h)) {
+        if (only >= 0 && h > 0 && every_scale_within_range(h))
+            kept.emplace(h, dim, static_cast<QuantityId>(only), OneQuantity{});
+        else
+            kept.emplace(h, dim);
+    } else if (const unsigned needed = only < 0 ? all_quantities : 1u << only; (kept->made_ & needed) != needed) {
+        kept->make(only);  // within range: the same h made a Smoothing before
+    }
     return *kept;
+}
+
+// The kept Smoothing where it is for h and has what is needed, first
+// (a call with the same h as the last: ~4 ns), else kept().
+const Smoothing& Smoothing::reused(double h, int dim) {
+    const auto d = static_cast<unsigned>(dim - 1);
+    if (d < 3) {
+        const std::optional<Smoothing>& k = kept_smoothings[d];
+        if (k && std::bit_cast<std::uint64_t>(k->h_) == std::bit_cast<std::uint64_t>(h) && k->made_ == all_quantities) return *k;
+    }
+    return kept(h, dim, -1);
+}
+
+// A q that is no quantity: every scale, the caller's check names q.
+const Smoothing& Smoothing::reused(double h, int dim, QuantityId q) {
+    const auto d = static_cast<unsigned>(dim - 1), b = static_cast<unsigned>(q);
+    if (d < 3 && b < static_cast<unsigned>(table::quantity_count)) {
+        const std::optional<Smoothing>& k = kept_smoothings[d];
+        if (k && std::bit_cast<std::uint64_t>(k->h_) == std::bit_cast<std::uint64_t>(h) && (k->made_ >> b & 1u)) return *k;
+        return kept(h, dim, static_cast<int>(b));
+    }
+    return kept(h, dim, -1);
 }
 
 }  // namespace mollify

@@ -24,8 +24,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <random>
 #include <span>
 #include <string>
@@ -467,6 +469,126 @@ TEST(Smoothing, ReusedIsTheSmoothingOfThisH) {
     a.join();
     b.join();
     EXPECT_EQ(wrong_a + wrong_b, 0);
+}
+
+// Smoothing::reused(h, dim, q), the radial scalar forms' Smoothing, makes
+// q's scale alone for a new h: q's scale, low part, h, 1/h and (for the 2D
+// potential) log h bit for bit Smoothing(h, dim)'s, every other scale NaN
+// (Smoothing(h, dim)'s where |log2 h| > 120: there the whole Smoothing is
+// made, with its checks), every scale made once the full form is asked for;
+// and the same h refused with the same message, also where q's own power is
+// in range but another quantity's is not (3D h = 1e-39: h^-3 ~ 2^388, the
+// Hessian part's h^-7 ~ 2^907 > scale_range), at the ends of the range it
+// takes without the others' checks (|log2 h| <= 120) and beyond.
+TEST(Smoothing, OneQuantityIsTheSmoothingsScale) {
+    auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+    const double lengths[] = {1.0, std::nextafter(1.0, 2.0), 1.0 / 3, 0.37, 2.5e-30, 2.5e30, 0x1p-120, 0x1.fffffffffffffp+120,
+                              0x1p+121, std::nextafter(0x1p-120, 0.0), 1e-38, 5e38, 1e-39, 1e39, 6.6e-55, 1.4e54, 1e-300,
+                              1e300, 0x1p-1074, 0.0, -1.0, not_a_number, inf};
+    int made = 0, made_alone = 0, refused = 0;
+    for (const double h : lengths)
+        for (int dim = 1; dim <= 3; ++dim) {
+            std::string full_error;
+            std::optional<mollify::Smoothing> full;
+            try {
+                full.emplace(h, dim);
+            } catch (const Error& e) {
+                full_error = e.what();
+            }
+            for (int q = 0; q < mollify::table::quantity_count; ++q) {
+                const auto id = static_cast<QuantityId>(q);
+                const std::string where = "h " + std::to_string(h) + " D" + std::to_string(dim) + " q" + std::to_string(q);
+                mollify::Smoothing::reused(0.5, dim);  // a kept Smoothing for another h
+                if (!full) {
+                    std::string one_error;
+                    try {
+                        mollify::Smoothing::reused(h, dim, id);
+                    } catch (const Error& e) {
+                        one_error = e.what();
+                    }
+                    EXPECT_EQ(one_error, full_error) << where;
+                    ++refused;
+                    continue;
+                }
+                const mollify::Smoothing& one = mollify::Smoothing::reused(h, dim, id);
+                EXPECT_EQ(bits(one.scale(id)), bits(full->scale(id))) << where;
+                EXPECT_EQ(bits(one.scale_lo(id)), bits(full->scale_lo(id))) << where;
+                EXPECT_EQ(bits(one.h()), bits(full->h())) << where;
+                EXPECT_EQ(bits(one.inverse()), bits(full->inverse())) << where;
+                if (dim != 2 || id == QuantityId::potential) {
+                    EXPECT_EQ(bits(one.log_h()), bits(full->log_h())) << where;
+                }
+                // Within |log2 h| <= 120 the others are not made (NaN), beyond it all are.
+                const bool alone = std::abs(std::ilogb(h)) <= 120;
+                for (int o = 0; o < mollify::table::quantity_count; ++o) {
+                    const auto other = static_cast<QuantityId>(o);
+                    if (o == q) continue;
+                    if (alone) {
+                        EXPECT_TRUE(std::isnan(one.scale(other))) << where << " other q" << o;
+                    } else {
+                        EXPECT_EQ(bits(one.scale(other)), bits(full->scale(other))) << where << " other q" << o;
+                    }
+                }
+                made_alone += alone;
+                // Another quantity of the same h, then the whole Smoothing.
+                const auto next = static_cast<QuantityId>((q + 3) % mollify::table::quantity_count);
+                EXPECT_EQ(bits(mollify::Smoothing::reused(h, dim, next).scale_lo(next)), bits(full->scale_lo(next))) << where;
+                EXPECT_EQ(bits(mollify::Smoothing::reused(h, dim, id).scale(id)), bits(full->scale(id))) << where;
+                EXPECT_TRUE(same_smoothing(mollify::Smoothing::reused(h, dim), *full)) << where;
+                ++made;
+            }
+        }
+    EXPECT_GE(made, 400);
+    EXPECT_EQ(made_alone, 8 * 3 * 10);  // the first eight lengths, every D and quantity
+    EXPECT_GE(refused, 150);
+    expect_error([] { mollify::Smoothing::reused(1.0, 4, QuantityId::value); }, "dimension 4");
+    // Not a quantity: the whole Smoothing, for the caller's check to name q.
+    EXPECT_TRUE(same_smoothing(mollify::Smoothing::reused(0.25, 3, static_cast<QuantityId>(12)), mollify::Smoothing(0.25, 3)));
+}
+
+// Smoothing's powers of h by the CPU's fused multiply-add and by Dekker's
+// products (what a CPU without FMA runs): the same bits, for every quantity
+// alone and all at once, in every D, at 200,000 random h across the range
+// and beyond it (the same refusals). Its FMA copy compiled with contraction
+// (without -ffp-contract=off for src/smoothing.cpp) differs in most low parts.
+TEST(Smoothing, ScalesTheSameWithoutFma) {
+    std::mt19937_64 rng(21);
+    std::uniform_real_distribution<double> mantissa(1.0, 2.0);
+    std::uniform_int_distribution<int> exponent(-140, 140);
+    std::array<double, mollify::table::quantity_count> a, a_lo, b, b_lo;
+    int compared = 0, refused = 0;
+    for (int k = 0; k < 200000; ++k) {
+        const double h = std::ldexp(mantissa(rng), exponent(rng));
+        const int dim = 1 + k % 3, only = k % 11 - 1;  // -1: every quantity
+        a.fill(0.0), a_lo.fill(0.0), b.fill(0.0), b_lo.fill(0.0);
+        bool a_refused = false, b_refused = false;
+        try {
+            mollify::detail::smoothing_scales(h, dim, only, true, a, a_lo);
+        } catch (const Error&) {
+            a_refused = true;
+        }
+        try {
+            mollify::detail::smoothing_scales(h, dim, only, false, b, b_lo);
+        } catch (const Error&) {
+            b_refused = true;
+        }
+        ASSERT_EQ(a_refused, b_refused) << "h " << h << " D" << dim << " only " << only;
+        refused += a_refused;
+        if (a_refused) continue;
+        for (int q = 0; q < mollify::table::quantity_count; ++q) {
+            const auto i = static_cast<std::size_t>(q);
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(a[i]), std::bit_cast<std::uint64_t>(b[i])) << "h " << h << " D" << dim << " q" << q;
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(a_lo[i]), std::bit_cast<std::uint64_t>(b_lo[i]))
+                << "h " << h << " D" << dim << " q" << q;
+        }
+        ++compared;
+    }
+    EXPECT_GE(compared, 150000);
+    EXPECT_GE(refused, 900);
+#if defined(__x86_64__)
+    // On a CPU without FMA both are Dekker's: then this test compares nothing new.
+    if (!__builtin_cpu_supports("fma")) std::cout << "no FMA on this CPU: both sides are Dekker's products\n";
+#endif
 }
 
 // The checked scalar call k(q, r, h) (k.value, k.potential) takes its own

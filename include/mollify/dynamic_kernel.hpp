@@ -53,7 +53,8 @@ public:
 
     // f_h at one radius, checked (r, h, q present): evaluate's operations for
     // a batch of one, without the batch around them; h's Smoothing reused
-    // from this thread's last call with the same h (Smoothing::reused).
+    // from this thread's last call with the same h, for a new h only q's
+    // scale made (Smoothing::reused(h, dim, q)).
     double operator()(QuantityId q, double r, double h) const;
     double value(double r, double h) const { return (*this)(QuantityId::value, r, h); }
     double potential(double r, double h) const { return (*this)(QuantityId::potential, r, h); }

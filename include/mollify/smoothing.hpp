@@ -34,6 +34,8 @@ constexpr int scale_power(QuantityId q, int dim) {
 inline constexpr double scale_range = 0x1p+900;
 
 class Smoothing {
+    struct OneQuantity {};  // reused(h, dim, q)'s Smoothing: q's scale alone
+
 public:
     // Checks h and D (mollify::Error naming them); out of line, in
     // src/smoothing.cpp: made once per h, never in a hot loop.
@@ -42,9 +44,15 @@ public:
     // Smoothing(h, dim), bit for bit, kept from this thread's last call for
     // this dim where h is the same (its bits): the checked scalar forms
     // (W::value(r, h), k(q, r, h)) take h per call, and making a Smoothing
-    // cost ~5 evaluations (40 against 7 ns). Valid until this thread's next
-    // call for the same dim.
+    // costs ~4 evaluations (35-55 against ~10 ns on Zen 4). Valid until this
+    // thread's next call for the same dim.
     static const Smoothing& reused(double h, int dim);
+    // The same for a call that needs only quantity q (the radial scalar
+    // forms): where h is new, only q's scale is made (and log h for the 2D
+    // potential), its bits those of Smoothing(h, dim); the other scales are
+    // NaN until a call needs them. The same h accepted and refused; a q
+    // that is no quantity (the caller names it) as reused(h, dim).
+    static const Smoothing& reused(double h, int dim, QuantityId q);
 
     double h() const { return h_; }
     double inverse() const { return inv_h_; }
@@ -53,15 +61,28 @@ public:
     double scale_lo(QuantityId q) const { return scale_lo_[static_cast<int>(q)]; }  // h^p - scale(q)
     double log_h() const { return dim_ == 2 ? log_h_ : std::log(h_); }  // kept for the 2D potential only
 
+    Smoothing(double h, int dim, QuantityId q, OneQuantity);  // for std::optional::emplace in reused
+
 private:
+    static Smoothing& kept(double h, int dim, int only);
+    void make(int only);
+
     double h_;
     int dim_;
     double inv_h_ = 0;
     double log_h_ = 0;
     std::array<double, table::quantity_count> scale_{}, scale_lo_{};
+    unsigned made_ = 0;  // the quantities whose scale is made, a bit each
 };
 
 namespace detail {
+
+// The quantity only's h^p (only < 0: every quantity's; Smoothing::scale,
+// scale_lo) in D = dim, by the CPU's fused multiply-add where it has one and
+// use_fma, else by Dekker's exact products: the same bits either way
+// (Smoothing.ScalesTheSameWithoutFma). Refuses an h^p beyond scale_range.
+void smoothing_scales(double h, int dim, int only, bool use_fma, std::array<double, table::quantity_count>& scale,
+                      std::array<double, table::quantity_count>& scale_lo);
 
 // A radius must be a finite r >= 0: a NaN would otherwise fail every
 // comparison and come out as an exterior 0.

@@ -177,12 +177,12 @@ private:
     }
 
 public:
-    // Checked scalar forms.
+    // Checked scalar forms (for a new h only Q's scale made: Smoothing::reused(h, D, Q)).
     template <QuantityId Q>
     static double radial(double r, double h) {
         require_potential<Q>();
         detail::check_radius(r);
-        return radial<Q>(r, Smoothing::reused(h, dimension));
+        return radial<Q>(r, Smoothing::reused(h, dimension, Q));
     }
     static double value(double r, double h) { return radial<QuantityId::value>(r, h); }
     static double dr(double r, double h) { return radial<QuantityId::dr>(r, h); }
@@ -268,7 +268,7 @@ public:
     // f_h at one radius, checked, as mollify::Kernel's operator().
     double operator()(QuantityId q, double r, double h) const {
         double out = 0;
-        evaluate(q, std::span<const double>(&r, 1), Smoothing::reused(h, dimension), std::span<double>(&out, 1));
+        evaluate(q, std::span<const double>(&r, 1), Smoothing::reused(h, dimension, q), std::span<double>(&out, 1));
         return out;
     }
 
