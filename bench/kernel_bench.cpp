@@ -508,6 +508,27 @@ void register_scalar(const char* label) {
                 d.w[i] = W::template radial<QuantityId::value>(d.r[i], W::smoothing(lengths[i & 1]));
         });
     });
+    // W_h and grad W_h by W::pair(x, h), the same h and h alternating (an
+    // SPH code with a smoothing length per particle); errors of W only.
+    reg("static-pair-checked", [value_only](benchmark::State& st) {
+        Data& d = data(n);
+        timed(st, n, 0, value_only, [&] {
+            for (std::size_t i = 0; i < n; ++i) {
+                const auto p = W::pair({d.x[0][i], d.x[1][i], d.x[2][i]}, h);
+                d.w[i] = p.value, d.g[0][i] = p.gradient[0], d.g[1][i] = p.gradient[1], d.g[2][i] = p.gradient[2];
+            }
+        });
+    });
+    reg("static-pair-checked-two-h", [value_only](benchmark::State& st) {
+        Data& d = data(n);
+        const double lengths[2] = {h, std::nextafter(h, 2 * h)};
+        timed(st, n, 0, value_only, [&] {
+            for (std::size_t i = 0; i < n; ++i) {
+                const auto p = W::pair({d.x[0][i], d.x[1][i], d.x[2][i]}, lengths[i & 1]);
+                d.w[i] = p.value, d.g[0][i] = p.gradient[0], d.g[1][i] = p.gradient[1], d.g[2][i] = p.gradient[2];
+            }
+        });
+    });
     reg("runtime-checked", [value_only, runtime](benchmark::State& st) {
         Data& d = data(n);
         timed(st, n, 0, value_only, [&] {

@@ -3,6 +3,7 @@
 #include <mollify/detail/double_double.hpp>
 #include <mollify/smoothing.hpp>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -47,6 +48,37 @@ template <bool Fma>
     return {y, ((1 - yx.hi) - yx.lo) * y};  // detail::reciprocal of {x, 0}
 }
 
+// The powers every quantity needs: h^-7 (the 3D Hessian part) .. h^1 (the
+// 1D potential).
+constexpr int lowest_power = -7, highest_power = 1;
+static_assert([] {
+    for (int dim = 1; dim <= 3; ++dim)
+        for (int q = 0; q < table::quantity_count; ++q) {
+            const int n = detail::scale_power(static_cast<QuantityId>(q), dim);
+            if (n < lowest_power || n > highest_power) return false;
+        }
+    return true;
+}());
+
+using Scales = std::array<double, table::quantity_count>;
+
+using detail::every_quantity;
+
+// Quantity q's h^p into scale[q], scale_lo[q], or refused.
+[[gnu::always_inline]] inline void store_scale(double h, int dim, int q, int n, const DoubleDouble& x, Scales& scale,
+                                               Scales& scale_lo) {
+    // Within 2^+-900 (smoothing.hpp: scale_range) or refused: the
+    // accurate precision's last product is by h^p + its low part, or by
+    // a term's content (2^-11 .. 2^9 in the catalogue, within 2^+-60 in
+    // any table) times them, and both must stay normal doubles: beyond,
+    // h^p's low part (2^-53 h^p) loses bits to underflow, or content
+    // h^p overflows, and the results are wrong by an ulp or +-inf.
+    const DoubleDouble p = detail::fast_two_sum(x.hi, x.lo);
+    if (!(p.hi >= 1 / scale_range && p.hi <= scale_range)) detail::fail_smoothing_range(h, dim, n, q);
+    scale[static_cast<std::size_t>(q)] = p.hi;
+    scale_lo[static_cast<std::size_t>(q)] = p.lo;
+}
+
 // x^0 .. x^(N-1) in double-double by repeated products: h^n (|n| <= 7)
 // from h or from its double-double reciprocal, ~|n| 2^-104 relative error,
 // so the rounded sum is h^n correctly rounded but for values that close to
@@ -66,69 +98,51 @@ template <bool Fma, std::size_t N>
     return p;
 }
 
-// The powers every quantity needs: h^-7 (the 3D Hessian part) .. h^1 (the
-// 1D potential).
-constexpr int lowest_power = -7, highest_power = 1;
-static_assert([] {
-    for (int dim = 1; dim <= 3; ++dim)
+// The needed quantities' h^p (a bit each): every quantity's from the whole
+// table of powers (unrolled), some quantities' from powers only as deep as
+// theirs go (W alone in 3D: a reciprocal and three products), by the same
+// products in the same order, so a power's bits are the same whichever
+// others are needed.
+template <bool Fma>
+[[gnu::always_inline]] inline void make_scales(double h, int dim, unsigned needed, Scales& scale, Scales& scale_lo) {
+    if (needed == every_quantity) {
+        const auto down = powers<Fma, 1 - lowest_power>(reciprocal_of<Fma>(h));
+        const auto up = powers<Fma, 1 + highest_power>({h, 0.0});
         for (int q = 0; q < table::quantity_count; ++q) {
             const int n = detail::scale_power(static_cast<QuantityId>(q), dim);
-            if (n < lowest_power || n > highest_power) return false;
+            store_scale(h, dim, q, n, n < 0 ? down[static_cast<std::size_t>(-n)] : up[static_cast<std::size_t>(n)], scale,
+                        scale_lo);
         }
-    return true;
-}());
-
-using Scales = std::array<double, table::quantity_count>;
-
-// h^n from the powers' first factor x (h, or its reciprocal for n < 0) by
-// powers' products: the same bits as powers<N>(x)[|n|].
-template <bool Fma>
-[[gnu::always_inline]] inline DoubleDouble power(const DoubleDouble& x, int n) {
-    DoubleDouble p{1.0, 0.0};
-    for (int k = 0; k < n; ++k) p = times<Fma>(p, x);
-    return p;
-}
-
-// Quantity q's h^p into scale[q], scale_lo[q], or refused.
-[[gnu::always_inline]] inline void store_scale(double h, int dim, int q, int n, const DoubleDouble& x, Scales& scale,
-                                               Scales& scale_lo) {
-    // Within 2^+-900 (smoothing.hpp: scale_range) or refused: the
-    // accurate precision's last product is by h^p + its low part, or by
-    // a term's content (2^-11 .. 2^9 in the catalogue, within 2^+-60 in
-    // any table) times them, and both must stay normal doubles: beyond,
-    // h^p's low part (2^-53 h^p) loses bits to underflow, or content
-    // h^p overflows, and the results are wrong by an ulp or +-inf.
-    const DoubleDouble p = detail::fast_two_sum(x.hi, x.lo);
-    if (!(p.hi >= 1 / scale_range && p.hi <= scale_range)) detail::fail_smoothing_range(h, dim, n, q);
-    scale[static_cast<std::size_t>(q)] = p.hi;
-    scale_lo[static_cast<std::size_t>(q)] = p.lo;
-}
-
-// Every quantity's h^p (only < 0) from one table of powers, or quantity
-// only's by its own products.
-template <bool Fma>
-[[gnu::always_inline]] inline void make_scales(double h, int dim, int only, Scales& scale, Scales& scale_lo) {
-    const DoubleDouble inverse = reciprocal_of<Fma>(h);
-    if (only >= 0) {
-        const int n = detail::scale_power(static_cast<QuantityId>(only), dim);
-        store_scale(h, dim, only, n, n < 0 ? power<Fma>(inverse, -n) : power<Fma>({h, 0.0}, n), scale, scale_lo);
         return;
     }
-    const auto down = powers<Fma, 1 - lowest_power>(inverse);
-    const auto up = powers<Fma, 1 + highest_power>({h, 0.0});
-    for (int q = 0; q < table::quantity_count; ++q) {
-        const int n = detail::scale_power(static_cast<QuantityId>(q), dim);
+    int deepest_down = 0, deepest_up = 0;
+    for (unsigned rest = needed; rest != 0; rest &= rest - 1) {
+        const int n = detail::scale_power(static_cast<QuantityId>(std::countr_zero(rest)), dim);
+        deepest_down = std::max(deepest_down, -n);
+        deepest_up = std::max(deepest_up, n);
+    }
+    std::array<DoubleDouble, 1 - lowest_power> down;
+    std::array<DoubleDouble, 1 + highest_power> up;
+    down[0] = up[0] = {1.0, 0.0};
+    if (deepest_down > 0) {
+        const DoubleDouble inverse = reciprocal_of<Fma>(h);
+        for (int k = 1; k <= deepest_down; ++k)
+            down[static_cast<std::size_t>(k)] = times<Fma>(down[static_cast<std::size_t>(k - 1)], inverse);
+    }
+    for (int k = 1; k <= deepest_up; ++k) up[static_cast<std::size_t>(k)] = times<Fma>(up[static_cast<std::size_t>(k - 1)], {h, 0.0});
+    for (unsigned rest = needed; rest != 0; rest &= rest - 1) {
+        const int q = std::countr_zero(rest), n = detail::scale_power(static_cast<QuantityId>(q), dim);
         store_scale(h, dim, q, n, n < 0 ? down[static_cast<std::size_t>(-n)] : up[static_cast<std::size_t>(n)], scale,
                     scale_lo);
     }
 }
 
 #if defined(__x86_64__) && !defined(__FMA__)
-[[gnu::target("fma")]] void make_scales_fma(double h, int dim, int only, Scales& scale, Scales& scale_lo) {
-    make_scales<true>(h, dim, only, scale, scale_lo);
+[[gnu::target("fma")]] void make_scales_fma(double h, int dim, unsigned needed, Scales& scale, Scales& scale_lo) {
+    make_scales<true>(h, dim, needed, scale, scale_lo);
 }
-void make_scales_split(double h, int dim, int only, Scales& scale, Scales& scale_lo) {
-    make_scales<false>(h, dim, only, scale, scale_lo);
+void make_scales_split(double h, int dim, unsigned needed, Scales& scale, Scales& scale_lo) {
+    make_scales<false>(h, dim, needed, scale, scale_lo);
 }
 #endif
 
@@ -143,21 +157,20 @@ bool every_scale_within_range(double h) {
 }
 static_assert(-lowest_power * 121 < 900 && highest_power * 121 < 900);
 
-constexpr unsigned all_quantities = (1u << table::quantity_count) - 1;
-
 }  // namespace
 
 namespace detail {
-void smoothing_scales(double h, int dim, int only, bool use_fma, std::array<double, table::quantity_count>& scale,
+void smoothing_scales(double h, int dim, unsigned needed, bool use_fma, std::array<double, table::quantity_count>& scale,
                       std::array<double, table::quantity_count>& scale_lo) {
+    needed &= every_quantity;
 #if defined(__x86_64__) && !defined(__FMA__)
     if (use_fma && __builtin_cpu_supports("fma"))
-        make_scales_fma(h, dim, only, scale, scale_lo);
+        make_scales_fma(h, dim, needed, scale, scale_lo);
     else
-        make_scales_split(h, dim, only, scale, scale_lo);
+        make_scales_split(h, dim, needed, scale, scale_lo);
 #else
     (void)use_fma;
-    make_scales<MOLLIFY_HAS_FMA != 0>(h, dim, only, scale, scale_lo);
+    make_scales<MOLLIFY_HAS_FMA != 0>(h, dim, needed, scale, scale_lo);
 #endif
 }
 }  // namespace detail
@@ -166,23 +179,22 @@ Smoothing::Smoothing(double h, int dim) : h_(h), dim_(dim) {
     if (dim < 1 || dim > 3) detail::fail_dimension(dim);
     if (!(h > 0) || !std::isfinite(h)) detail::fail_smoothing_length(h);
     inv_h_ = 1 / h;
-    make(-1);
+    make(every_quantity);
 }
 
-Smoothing::Smoothing(double h, int dim, QuantityId q, OneQuantity) : h_(h), dim_(dim), inv_h_(1 / h) {
+Smoothing::Smoothing(double h, int dim, unsigned needed, Some) : h_(h), dim_(dim), inv_h_(1 / h) {
     scale_.fill(std::numeric_limits<double>::quiet_NaN());
     scale_lo_.fill(std::numeric_limits<double>::quiet_NaN());
     log_h_ = std::numeric_limits<double>::quiet_NaN();
-    make(static_cast<int>(q));
+    make(needed);
 }
 
-// Quantity only's scale (only < 0: every quantity's) and, with the 2D
-// potential, log h.
-void Smoothing::make(int only) {
-    detail::smoothing_scales(h_, dim_, only, true, scale_, scale_lo_);
-    made_ |= only < 0 ? all_quantities : 1u << only;
+// The needed quantities' scales and, with the 2D potential, log h.
+void Smoothing::make(unsigned needed) {
+    detail::smoothing_scales(h_, dim_, needed, true, scale_, scale_lo_);
+    made_ |= needed;
     // The 2D potential's; log_h() forms it for the others.
-    if (dim_ == 2 && (only < 0 || only == static_cast<int>(QuantityId::potential))) log_h_ = std::log(h_);
+    if (dim_ == 2 && (needed >> static_cast<int>(QuantityId::potential) & 1u)) log_h_ = std::log(h_);
 }
 
 namespace {
@@ -191,44 +203,38 @@ namespace {
 thread_local std::array<std::optional<Smoothing>, 3> kept_smoothings;
 }  // namespace
 
-// This thread's Smoothing for h in D = dim with quantity only's scale made
-// (only < 0: every one); a new h's made afresh, checked as Smoothing(h, dim)
-// checks it: one quantity's alone only where every quantity's passes.
-Smoothing& Smoothing::kept(double h, int dim, int only) {
+// This thread's Smoothing for h in D = dim with the needed quantities'
+// scales made; a new h's made afresh, checked as Smoothing(h, dim) checks
+// it: some quantities' alone only where every quantity's passes.
+Smoothing& Smoothing::kept(double h, int dim, unsigned needed) {
     if (dim < 1 || dim > 3) detail::fail_dimension(dim);
     std::optional<Smoothing>& kept = kept_smoothings[static_cast<std::size_t>(dim - 1)];
     // emplace destroys the old one first: a refused h throws and leaves nothing kept.
     if (!kept || std::bit_cast<std::uint64_t>(kept->h_) != std::bit_cast<std::uint64_t>(h)) {
-        if (only >= 0 && h > 0 && every_scale_within_range(h))
-            kept.emplace(h, dim, static_cast<QuantityId>(only), OneQuantity{});
+        if (needed != every_quantity && h > 0 && every_scale_within_range(h))
+            kept.emplace(h, dim, needed, Some{});
         else
             kept.emplace(h, dim);
-    } else if (const unsigned needed = only < 0 ? all_quantities : 1u << only; (kept->made_ & needed) != needed) {
-        kept->make(only);  // within range: the same h made a Smoothing before
+    } else if ((kept->made_ & needed) != needed) {
+        kept->make(needed & ~kept->made_);  // within range: the same h made a Smoothing before
     }
     return *kept;
 }
 
 // The kept Smoothing where it is for h and has what is needed, first
 // (a call with the same h as the last: ~4 ns), else kept().
-const Smoothing& Smoothing::reused(double h, int dim) {
+const Smoothing& Smoothing::reused_for(double h, int dim, unsigned needed) {
     const auto d = static_cast<unsigned>(dim - 1);
     if (d < 3) {
         const std::optional<Smoothing>& k = kept_smoothings[d];
-        if (k && std::bit_cast<std::uint64_t>(k->h_) == std::bit_cast<std::uint64_t>(h) && k->made_ == all_quantities) return *k;
+        if (k && std::bit_cast<std::uint64_t>(k->h_) == std::bit_cast<std::uint64_t>(h) && (k->made_ & needed) == needed)
+            return *k;
     }
-    return kept(h, dim, -1);
+    return kept(h, dim, needed);
 }
 
-// A q that is no quantity: every scale, the caller's check names q.
-const Smoothing& Smoothing::reused(double h, int dim, QuantityId q) {
-    const auto d = static_cast<unsigned>(dim - 1), b = static_cast<unsigned>(q);
-    if (d < 3 && b < static_cast<unsigned>(table::quantity_count)) {
-        const std::optional<Smoothing>& k = kept_smoothings[d];
-        if (k && std::bit_cast<std::uint64_t>(k->h_) == std::bit_cast<std::uint64_t>(h) && (k->made_ >> b & 1u)) return *k;
-        return kept(h, dim, static_cast<int>(b));
-    }
-    return kept(h, dim, -1);
-}
+const Smoothing& Smoothing::reused(double h, int dim) { return reused_for(h, dim, every_quantity); }
+
+const Smoothing& Smoothing::reused(double h, int dim, QuantityId q) { return reused_for(h, dim, bits_of({q})); }
 
 }  // namespace mollify

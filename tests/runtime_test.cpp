@@ -472,7 +472,7 @@ TEST(Smoothing, ReusedIsTheSmoothingOfThisH) {
 }
 
 // Smoothing::reused(h, dim, q), the radial scalar forms' Smoothing, makes
-// q's scale alone for a new h: q's scale, low part, h, 1/h and (for the 2D
+// q's scale alone for a new h (and reused(h, dim, {q, q'}) those two): q's scale, low part, h, 1/h and (for the 2D
 // potential) log h bit for bit Smoothing(h, dim)'s, every other scale NaN
 // (Smoothing(h, dim)'s where |log2 h| > 120: there the whole Smoothing is
 // made, with its checks), every scale made once the full form is asked for;
@@ -532,6 +532,14 @@ TEST(Smoothing, OneQuantityIsTheSmoothingsScale) {
                 made_alone += alone;
                 // Another quantity of the same h, then the whole Smoothing.
                 const auto next = static_cast<QuantityId>((q + 3) % mollify::table::quantity_count);
+                {  // a set of two for a new h: both made, the rest as above
+                    mollify::Smoothing::reused(0.5, dim);
+                    const mollify::Smoothing& two = mollify::Smoothing::reused(h, dim, {id, next});
+                    EXPECT_EQ(bits(two.scale(id)), bits(full->scale(id))) << where;
+                    EXPECT_EQ(bits(two.scale_lo(next)), bits(full->scale_lo(next))) << where;
+                    const auto third = static_cast<QuantityId>((q + 6) % mollify::table::quantity_count);
+                    EXPECT_EQ(std::isnan(two.scale(third)), alone) << where;
+                }
                 EXPECT_EQ(bits(mollify::Smoothing::reused(h, dim, next).scale_lo(next)), bits(full->scale_lo(next))) << where;
                 EXPECT_EQ(bits(mollify::Smoothing::reused(h, dim, id).scale(id)), bits(full->scale(id))) << where;
                 EXPECT_TRUE(same_smoothing(mollify::Smoothing::reused(h, dim), *full)) << where;
@@ -546,9 +554,71 @@ TEST(Smoothing, OneQuantityIsTheSmoothingsScale) {
     EXPECT_TRUE(same_smoothing(mollify::Smoothing::reused(0.25, 3, static_cast<QuantityId>(12)), mollify::Smoothing(0.25, 3)));
 }
 
+// The checked vector forms with h (W::value(x, h), gradient, pair, hessian,
+// potential, potential_gradient), which make only the scales of the
+// quantities they name for a new h: each bit for bit the same form with
+// Smoothing(h, D), with h new at every call (the kept Smoothing has only
+// what the call named), at x = 0, inside, near the edge and beyond; kernels
+// with a cusp (W'/r singular at 0: the gradient by W'), odd ones (1D), a 2D
+// potential (log h), a combination. A quantity a form reads and does not
+// name is NaN there and fails this.
+template <const mollify::table::Kernel& K>
+void check_vector_forms_with_h() {
+    using W = mollify::StaticKernel<K>;
+    constexpr int d = W::dimension;
+    auto same = [](double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); };
+    const double lengths[] = {0.37, 1.0, 2.5e6, 3e-30, std::nextafter(0.37, 1.0)};
+    const double at[] = {0.0, 1e-9, 0.2, 0.55, 0.999, 1.0, 1.5};
+    int compared = 0;
+    for (const double h : lengths)
+        for (const double t : at)
+            for (const double sign : {1.0, -1.0}) {
+                mollify::Vector<d> x{};
+                for (int c = 0; c < d; ++c) x[c] = sign * t * h * (c == 0 ? 0.8 : 0.6 / std::sqrt(double(d - 1)));
+                const mollify::Smoothing s(h, d);
+                const std::string where = std::string(K.spec) + " D" + std::to_string(d) + " h " + std::to_string(h) +
+                                          " |x|/h " + std::to_string(t) + " sign " + std::to_string(sign);
+                auto fresh = [] { mollify::Smoothing::reused(0.125, d); };  // the next call's h is new
+                fresh();
+                EXPECT_TRUE(same(W::value(x, h), W::value(x, s))) << where;
+                fresh();
+                const auto g = W::gradient(x, h), gs = W::gradient(x, s);
+                fresh();
+                const auto p = W::pair(x, h), ps = W::pair(x, s);
+                fresh();
+                const auto m = W::hessian(x, h), ms = W::hessian(x, s);
+                EXPECT_TRUE(same(p.value, ps.value)) << where;
+                for (int i = 0; i < d; ++i) {
+                    EXPECT_TRUE(same(g[i], gs[i])) << where << " gradient " << i;
+                    EXPECT_TRUE(same(p.gradient[i], ps.gradient[i])) << where << " pair " << i;
+                    for (int j = 0; j < d; ++j) EXPECT_TRUE(same(m[i][j], ms[i][j])) << where << " hessian " << i << j;
+                }
+                if constexpr (K.has_potential) {
+                    fresh();
+                    EXPECT_TRUE(same(W::potential(x, h), W::potential(x, s))) << where;
+                    fresh();
+                    const auto e = W::potential_gradient(x, h), es = W::potential_gradient(x, s);
+                    for (int i = 0; i < d; ++i) EXPECT_TRUE(same(e[i], es[i])) << where << " potential gradient " << i;
+                }
+                ++compared;
+            }
+    EXPECT_EQ(compared, 5 * 7 * 2) << K.spec;
+}
+
+TEST(Smoothing, VectorFormsWithHAreTheSmoothingsForms) {
+    check_vector_forms_with_h<tables::wendland_k_2_D3>();
+    check_vector_forms_with_h<tables::wendland_k_0_D1>();  // a cusp, W'/r singular at 0
+    check_vector_forms_with_h<tables::wendland_k_1_D2>();  // the 2D potential's log h
+    check_vector_forms_with_h<tables::wendland_missing_k_1_l_1_D2>();
+    check_vector_forms_with_h<tables::mollifier_M_4_order_4_D3>();
+    check_vector_forms_with_h<tables::combo_m_3_base_wendland_k_2_D3>();
+    check_vector_forms_with_h<tables::combo_m_3_base_wendland_k_3_l_1_D1>();
+    check_vector_forms_with_h<tables::box_d1_D1>();  // odd in 1D
+}
+
 // Smoothing's powers of h by the CPU's fused multiply-add and by Dekker's
 // products (what a CPU without FMA runs): the same bits, for every quantity
-// alone and all at once, in every D, at 200,000 random h across the range
+// alone, all at once and random sets, in every D, at 200,000 random h across the range
 // and beyond it (the same refusals). Its FMA copy compiled with contraction
 // (without -ffp-contract=off for src/smoothing.cpp) differs in most low parts.
 TEST(Smoothing, ScalesTheSameWithoutFma) {
@@ -559,20 +629,24 @@ TEST(Smoothing, ScalesTheSameWithoutFma) {
     int compared = 0, refused = 0;
     for (int k = 0; k < 200000; ++k) {
         const double h = std::ldexp(mantissa(rng), exponent(rng));
-        const int dim = 1 + k % 3, only = k % 11 - 1;  // -1: every quantity
+        const int dim = 1 + k % 3;
+        // Every quantity, one alone, or any set of them.
+        const unsigned needed = k % 3 == 0   ? mollify::detail::every_quantity
+                                : k % 3 == 1 ? 1u << (k / 3 % mollify::table::quantity_count)
+                                             : static_cast<unsigned>(rng() % (mollify::detail::every_quantity + 1));
         a.fill(0.0), a_lo.fill(0.0), b.fill(0.0), b_lo.fill(0.0);
         bool a_refused = false, b_refused = false;
         try {
-            mollify::detail::smoothing_scales(h, dim, only, true, a, a_lo);
+            mollify::detail::smoothing_scales(h, dim, needed, true, a, a_lo);
         } catch (const Error&) {
             a_refused = true;
         }
         try {
-            mollify::detail::smoothing_scales(h, dim, only, false, b, b_lo);
+            mollify::detail::smoothing_scales(h, dim, needed, false, b, b_lo);
         } catch (const Error&) {
             b_refused = true;
         }
-        ASSERT_EQ(a_refused, b_refused) << "h " << h << " D" << dim << " only " << only;
+        ASSERT_EQ(a_refused, b_refused) << "h " << h << " D" << dim << " needed " << needed;
         refused += a_refused;
         if (a_refused) continue;
         for (int q = 0; q < mollify::table::quantity_count; ++q) {

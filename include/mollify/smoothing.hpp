@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cmath>
+#include <initializer_list>
 
 namespace mollify {
 
@@ -25,6 +26,9 @@ constexpr int scale_power(QuantityId q, int dim) {
     return shift[static_cast<int>(q)] - dim;
 }
 
+// Every quantity as a bit (1 << QuantityId): Smoothing's sets of scales.
+inline constexpr unsigned every_quantity = (1u << table::quantity_count) - 1;
+
 }  // namespace detail
 
 // Every h^p a Smoothing accepts lies in [1/scale_range, scale_range]
@@ -34,7 +38,7 @@ constexpr int scale_power(QuantityId q, int dim) {
 inline constexpr double scale_range = 0x1p+900;
 
 class Smoothing {
-    struct OneQuantity {};  // reused(h, dim, q)'s Smoothing: q's scale alone
+    struct Some {};  // reused(h, dim, q)'s Smoothing: some quantities' scales
 
 public:
     // Checks h and D (mollify::Error naming them); out of line, in
@@ -47,12 +51,16 @@ public:
     // costs ~4 evaluations (35-55 against ~10 ns on Zen 4). Valid until this
     // thread's next call for the same dim.
     static const Smoothing& reused(double h, int dim);
-    // The same for a call that needs only quantity q (the radial scalar
-    // forms): where h is new, only q's scale is made (and log h for the 2D
-    // potential), its bits those of Smoothing(h, dim); the other scales are
-    // NaN until a call needs them. The same h accepted and refused; a q
-    // that is no quantity (the caller names it) as reused(h, dim).
+    // The same for a call that needs only quantity q, or only these
+    // quantities (the checked scalar and vector forms): where h is new,
+    // only their scales are made (and log h for the 2D potential), their
+    // bits those of Smoothing(h, dim); the other scales are NaN until a call
+    // needs them. The same h accepted and refused; a q that is no quantity
+    // (the caller names it) as reused(h, dim).
     static const Smoothing& reused(double h, int dim, QuantityId q);
+    static const Smoothing& reused(double h, int dim, std::initializer_list<QuantityId> quantities) {
+        return reused_for(h, dim, bits_of(quantities));  // inline: the set's bits folded where it is a constant
+    }
 
     double h() const { return h_; }
     double inverse() const { return inv_h_; }
@@ -61,11 +69,22 @@ public:
     double scale_lo(QuantityId q) const { return scale_lo_[static_cast<int>(q)]; }  // h^p - scale(q)
     double log_h() const { return dim_ == 2 ? log_h_ : std::log(h_); }  // kept for the 2D potential only
 
-    Smoothing(double h, int dim, QuantityId q, OneQuantity);  // for std::optional::emplace in reused
+    Smoothing(double h, int dim, unsigned needed, Some);  // for std::optional::emplace in kept
 
 private:
-    static Smoothing& kept(double h, int dim, int only);
-    void make(int only);
+    // The quantities as bits (a q that is no quantity: all of them, for the
+    // caller's check to name q).
+    static constexpr unsigned bits_of(std::initializer_list<QuantityId> quantities) {
+        unsigned bits = 0;
+        for (const QuantityId q : quantities) {
+            const auto b = static_cast<unsigned>(q);
+            bits |= b < static_cast<unsigned>(table::quantity_count) ? 1u << b : detail::every_quantity;
+        }
+        return bits;
+    }
+    static const Smoothing& reused_for(double h, int dim, unsigned needed);
+    static Smoothing& kept(double h, int dim, unsigned needed);
+    void make(unsigned needed);
 
     double h_;
     int dim_;
@@ -77,11 +96,11 @@ private:
 
 namespace detail {
 
-// The quantity only's h^p (only < 0: every quantity's; Smoothing::scale,
+// The needed quantities' h^p (a bit each, 1 << QuantityId; Smoothing::scale,
 // scale_lo) in D = dim, by the CPU's fused multiply-add where it has one and
 // use_fma, else by Dekker's exact products: the same bits either way
 // (Smoothing.ScalesTheSameWithoutFma). Refuses an h^p beyond scale_range.
-void smoothing_scales(double h, int dim, int only, bool use_fma, std::array<double, table::quantity_count>& scale,
+void smoothing_scales(double h, int dim, unsigned needed, bool use_fma, std::array<double, table::quantity_count>& scale,
                       std::array<double, table::quantity_count>& scale_lo);
 
 // A radius must be a finite r >= 0: a NaN would otherwise fail every

@@ -236,14 +236,26 @@ public:
         return hessian_of<QuantityId::dpotential_over_r, QuantityId::potential_hess_radial, QuantityId::potential_hess_radial>(x, s);
     }
 
-    // Checked vector forms.
-    static double value(const Vector<dimension>& x, double h) { return value(checked(x), Smoothing::reused(h, dimension)); }
-    static Vector<dimension> gradient(const Vector<dimension>& x, double h) { return gradient(checked(x), Smoothing::reused(h, dimension)); }
-    static Pair<dimension> pair(const Vector<dimension>& x, double h) { return pair(checked(x), Smoothing::reused(h, dimension)); }
-    static Matrix<dimension> hessian(const Vector<dimension>& x, double h) { return hessian(checked(x), Smoothing::reused(h, dimension)); }
-    static double potential(const Vector<dimension>& x, double h) { return potential(checked(x), Smoothing::reused(h, dimension)); }
+    // Checked vector forms (for a new h only the scales of the quantities
+    // each reads: a scale it reads and did not name is NaN, and fails the
+    // vector forms' tests).
+    static double value(const Vector<dimension>& x, double h) {
+        return value(checked(x), Smoothing::reused(h, dimension, QuantityId::value));
+    }
+    static Vector<dimension> gradient(const Vector<dimension>& x, double h) {
+        return gradient(checked(x), Smoothing::reused(h, dimension, {QuantityId::grad_over_r, QuantityId::dr}));
+    }
+    static Pair<dimension> pair(const Vector<dimension>& x, double h) {
+        return pair(checked(x), Smoothing::reused(h, dimension, {QuantityId::value, QuantityId::grad_over_r, QuantityId::dr}));
+    }
+    static Matrix<dimension> hessian(const Vector<dimension>& x, double h) {
+        return hessian(checked(x), Smoothing::reused(h, dimension, {QuantityId::grad_over_r, QuantityId::hess_radial, QuantityId::d2r}));
+    }
+    static double potential(const Vector<dimension>& x, double h) {
+        return potential(checked(x), Smoothing::reused(h, dimension, QuantityId::potential));
+    }
     static Vector<dimension> potential_gradient(const Vector<dimension>& x, double h) {
-        return potential_gradient(checked(x), Smoothing::reused(h, dimension));
+        return potential_gradient(checked(x), Smoothing::reused(h, dimension, QuantityId::dpotential_over_r));
     }
 
     // Batch forms over contiguous arrays, checked in the pass that
