@@ -555,8 +555,8 @@ TEST(Smoothing, OneQuantityIsTheSmoothingsScale) {
 }
 
 // The checked vector forms with h (W::value(x, h), gradient, pair, hessian,
-// potential, potential_gradient), which make only the scales of the
-// quantities they name for a new h: each bit for bit the same form with
+// potential, potential_gradient) and the scalar W(q, r, h), which make only
+// the scales of the quantities they name for a new h: each bit for bit the same form with
 // Smoothing(h, D), with h new at every call (the kept Smoothing has only
 // what the call named), at x = 0, inside, near the edge and beyond; kernels
 // with a cusp (W'/r singular at 0: the gradient by W'), odd ones (1D), a 2D
@@ -592,6 +592,16 @@ void check_vector_forms_with_h() {
                     EXPECT_TRUE(same(g[i], gs[i])) << where << " gradient " << i;
                     EXPECT_TRUE(same(p.gradient[i], ps.gradient[i])) << where << " pair " << i;
                     for (int j = 0; j < d; ++j) EXPECT_TRUE(same(m[i][j], ms[i][j])) << where << " hessian " << i << j;
+                }
+                // The radial scalar forms, every quantity the kernel has: W(q, r, h).
+                const double r = t * h;
+                for (int q = 0; q < mollify::table::quantity_count; ++q) {
+                    if (K.quantities[q].npieces == 0) continue;  // not in this table
+                    const auto id = static_cast<QuantityId>(q);
+                    double batch = 0;
+                    W::evaluate(id, std::span<const double>(&r, 1), s, std::span<double>(&batch, 1));
+                    fresh();
+                    EXPECT_TRUE(same(W{}(id, r, h), batch)) << where << " q" << q;
                 }
                 if constexpr (K.has_potential) {
                     fresh();

@@ -38,7 +38,11 @@ inline constexpr unsigned every_quantity = (1u << table::quantity_count) - 1;
 inline constexpr double scale_range = 0x1p+900;
 
 class Smoothing {
-    struct Some {};  // reused(h, dim, q)'s Smoothing: some quantities' scales
+    // The tag of a Smoothing with some quantities' scales (reused(h, dim, q)):
+    // explicit, so that no caller outside can pass {} for it.
+    struct Some {
+        explicit Some() = default;
+    };
 
 public:
     // Checks h and D (mollify::Error naming them); out of line, in
