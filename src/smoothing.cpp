@@ -42,8 +42,7 @@ template <bool Fma>
     return {p.hi, a.hi * b.lo + (a.lo * b.hi + p.lo)};
 }
 template <bool Fma>
-[[gnu::always_inline]] inline DoubleDouble reciprocal_of(double x) {
-    const double y = 1 / x;
+[[gnu::always_inline]] inline DoubleDouble reciprocal_of(double x, double y) {  // y = 1/x, the Smoothing's inverse()
     const DoubleDouble yx = exact_product<Fma>(y, x);
     return {y, ((1 - yx.hi) - yx.lo) * y};  // detail::reciprocal of {x, 0}
 }
@@ -104,9 +103,9 @@ template <bool Fma, std::size_t N>
 // products in the same order, so a power's bits are the same whichever
 // others are needed.
 template <bool Fma>
-[[gnu::always_inline]] inline void make_scales(double h, int dim, unsigned needed, Scales& scale, Scales& scale_lo) {
+[[gnu::always_inline]] inline void make_scales(double h, double inverse, int dim, unsigned needed, Scales& scale, Scales& scale_lo) {
     if (needed == every_quantity) {
-        const auto down = powers<Fma, 1 - lowest_power>(reciprocal_of<Fma>(h));
+        const auto down = powers<Fma, 1 - lowest_power>(reciprocal_of<Fma>(h, inverse));
         const auto up = powers<Fma, 1 + highest_power>({h, 0.0});
         for (int q = 0; q < table::quantity_count; ++q) {
             const int n = detail::scale_power(static_cast<QuantityId>(q), dim);
@@ -125,9 +124,9 @@ template <bool Fma>
     std::array<DoubleDouble, 1 + highest_power> up;
     down[0] = up[0] = {1.0, 0.0};
     if (deepest_down > 0) {
-        const DoubleDouble inverse = reciprocal_of<Fma>(h);
+        const DoubleDouble reciprocal = reciprocal_of<Fma>(h, inverse);
         for (int k = 1; k <= deepest_down; ++k)
-            down[static_cast<std::size_t>(k)] = times<Fma>(down[static_cast<std::size_t>(k - 1)], inverse);
+            down[static_cast<std::size_t>(k)] = times<Fma>(down[static_cast<std::size_t>(k - 1)], reciprocal);
     }
     for (int k = 1; k <= deepest_up; ++k) up[static_cast<std::size_t>(k)] = times<Fma>(up[static_cast<std::size_t>(k - 1)], {h, 0.0});
     for (unsigned rest = needed; rest != 0; rest &= rest - 1) {
@@ -138,11 +137,11 @@ template <bool Fma>
 }
 
 #if defined(__x86_64__) && !defined(__FMA__)
-[[gnu::target("fma")]] void make_scales_fma(double h, int dim, unsigned needed, Scales& scale, Scales& scale_lo) {
-    make_scales<true>(h, dim, needed, scale, scale_lo);
+[[gnu::target("fma")]] void make_scales_fma(double h, double inverse, int dim, unsigned needed, Scales& scale, Scales& scale_lo) {
+    make_scales<true>(h, inverse, dim, needed, scale, scale_lo);
 }
-void make_scales_split(double h, int dim, unsigned needed, Scales& scale, Scales& scale_lo) {
-    make_scales<false>(h, dim, needed, scale, scale_lo);
+void make_scales_split(double h, double inverse, int dim, unsigned needed, Scales& scale, Scales& scale_lo) {
+    make_scales<false>(h, inverse, dim, needed, scale, scale_lo);
 }
 #endif
 
@@ -160,17 +159,17 @@ static_assert(-lowest_power * 121 < 900 && highest_power * 121 < 900);
 }  // namespace
 
 namespace detail {
-void smoothing_scales(double h, int dim, unsigned needed, bool use_fma, std::array<double, table::quantity_count>& scale,
+void smoothing_scales(double h, double inverse, int dim, unsigned needed, bool use_fma, std::array<double, table::quantity_count>& scale,
                       std::array<double, table::quantity_count>& scale_lo) {
     needed &= every_quantity;
 #if defined(__x86_64__) && !defined(__FMA__)
     if (use_fma && __builtin_cpu_supports("fma"))
-        make_scales_fma(h, dim, needed, scale, scale_lo);
+        make_scales_fma(h, inverse, dim, needed, scale, scale_lo);
     else
-        make_scales_split(h, dim, needed, scale, scale_lo);
+        make_scales_split(h, inverse, dim, needed, scale, scale_lo);
 #else
     (void)use_fma;
-    make_scales<MOLLIFY_HAS_FMA != 0>(h, dim, needed, scale, scale_lo);
+    make_scales<MOLLIFY_HAS_FMA != 0>(h, inverse, dim, needed, scale, scale_lo);
 #endif
 }
 }  // namespace detail
@@ -191,7 +190,7 @@ Smoothing::Smoothing(double h, int dim, unsigned needed, Some) : h_(h), dim_(dim
 
 // The needed quantities' scales and, with the 2D potential, log h.
 void Smoothing::make(unsigned needed) {
-    detail::smoothing_scales(h_, dim_, needed, true, scale_, scale_lo_);
+    detail::smoothing_scales(h_, inv_h_, dim_, needed, true, scale_, scale_lo_);
     made_ |= needed;
     // The 2D potential's; log_h() forms it for the others.
     if (dim_ == 2 && (needed >> static_cast<int>(QuantityId::potential) & 1u)) log_h_ = std::log(h_);

@@ -647,12 +647,12 @@ TEST(Smoothing, ScalesTheSameWithoutFma) {
         a.fill(0.0), a_lo.fill(0.0), b.fill(0.0), b_lo.fill(0.0);
         bool a_refused = false, b_refused = false;
         try {
-            mollify::detail::smoothing_scales(h, dim, needed, true, a, a_lo);
+            mollify::detail::smoothing_scales(h, 1 / h, dim, needed, true, a, a_lo);
         } catch (const Error&) {
             a_refused = true;
         }
         try {
-            mollify::detail::smoothing_scales(h, dim, needed, false, b, b_lo);
+            mollify::detail::smoothing_scales(h, 1 / h, dim, needed, false, b, b_lo);
         } catch (const Error&) {
             b_refused = true;
         }

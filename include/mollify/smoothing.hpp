@@ -104,7 +104,8 @@ namespace detail {
 // scale_lo) in D = dim, by the CPU's fused multiply-add where it has one and
 // use_fma, else by Dekker's exact products: the same bits either way
 // (Smoothing.ScalesTheSameWithoutFma). Refuses an h^p beyond scale_range.
-void smoothing_scales(double h, int dim, unsigned needed, bool use_fma, std::array<double, table::quantity_count>& scale,
+// inverse is 1/h (Smoothing::inverse(), divided once).
+void smoothing_scales(double h, double inverse, int dim, unsigned needed, bool use_fma, std::array<double, table::quantity_count>& scale,
                       std::array<double, table::quantity_count>& scale_lo);
 
 // A radius must be a finite r >= 0: a NaN would otherwise fail every
