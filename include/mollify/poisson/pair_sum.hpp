@@ -45,6 +45,9 @@ namespace mollify::poisson {
 inline namespace MOLLIFY_ISA {
 namespace detail {
 
+using mollify::detail::fastest_inverse_sqrt;
+using mollify::detail::InverseSqrt;
+
 // Either kernel form (mollify::RadialKernel): made for the sources'
 // dimension and with a potential, else a mollify::Error naming both.
 template <RadialKernel K>
@@ -197,8 +200,12 @@ void add_exact(const K& kernel, const SourceArrays<D>& s, const std::array<doubl
 // 1.7 | 3.2 -> 2.6 s; two blocks ahead was slower in the treecode (2.7 s at
 // p = 19: four more live registers of AVX2's 16). A block's d is formed
 // again for use (three loads and subtractions, on pipes the divider leaves
-// idle) rather than carried from r2_at, for the same registers.
-template <class Use>
+// idle) rather than carried from r2_at, for the same registers. How: the
+// square root and division, or on Intel's AVX-512 cores 1/sqrt refined
+// from its estimate (detail::inverse_sqrt_lanes, fastest_inverse_sqrt;
+// issued a block ahead too: a plain loop for it, d carried, measured the
+// same in the treecode).
+template <mollify::detail::InverseSqrt How, class Use>
 MOLLIFY_INLINE std::size_t green_blocks(const double* x, const double* y, const double* z, std::size_t n,
                                         const std::array<double, 3>& xt, double& p_sum, double& e0, double& e1,
                                         double& e2, Use&& use) {
@@ -213,14 +220,14 @@ MOLLIFY_INLINE std::size_t green_blocks(const double* x, const double* y, const 
     Lanes r2_a{}, inv_a{};  // the next block's
     if (nv > 0) {
         r2_a = r2_at(0);
-        inv_a = 1.0 / sqrt_lanes(r2_a);
+        inv_a = inverse_sqrt_lanes<How>(r2_a);
     }
     Lanes vp{}, v0{}, v1{}, v2{};
     for (std::size_t j0 = 0; j0 < nv; j0 += N) {
         const Lanes r2 = r2_a, inv = inv_a;
         if (j0 + N < nv) {
             r2_a = r2_at(j0 + N);
-            inv_a = 1.0 / sqrt_lanes(r2_a);
+            inv_a = inverse_sqrt_lanes<How>(r2_a);
         }
         const Lanes dx = tx - load_lanes(x + j0), dy = ty - load_lanes(y + j0), dz = tz - load_lanes(z + j0);
         const auto [w, g] = use(j0, dx, dy, dz, r2, inv);
@@ -244,20 +251,24 @@ MOLLIFY_INLINE std::size_t green_blocks(const double* x, const double* y, const 
 // add_green: the pairs beyond their support, where phi_delta IS the
 // Green's function (3D), over n sources gathered into plain arrays
 // (coordinates x, y, z, charges q, squared smoothing lengths d2): one
-// vectorised pass, 1/r from one square root and one division, no kernel.
+// vectorised pass, 1/r from one square root and one division (or refined
+// from VRSQRT14PD's estimate: `how`, green_blocks), no kernel.
 MOLLIFY_NOINLINE void add_green(const double* x, const double* y, const double* z, const double* q, const double* d2,
-                      std::size_t n, const std::array<double, 3>& xt, double& phi, std::array<double, 3>& e) {
+                      std::size_t n, const std::array<double, 3>& xt, double& phi, std::array<double, 3>& e,
+                      [[maybe_unused]] InverseSqrt how = fastest_inverse_sqrt()) {
     constexpr double k = 0.25 * std::numbers::inv_pi;
     double p_sum = 0, e0 = 0, e1 = 0, e2 = 0;
     std::size_t j = 0;
 #if defined(MOLLIFY_LANES)
     using mollify::detail::Lanes;
-    j = green_blocks(x, y, z, n, xt, p_sum, e0, e1, e2, [&](std::size_t j0, Lanes, Lanes, Lanes, Lanes r2, Lanes inv) {
+    auto use = [&](std::size_t j0, Lanes, Lanes, Lanes, Lanes r2, Lanes inv) {
         using namespace mollify::detail;
         const Lanes to_t = keep_lanes(r2 >= load_lanes(d2 + j0), inv);  // 1/r, or 0 within the support
         const Lanes w = load_lanes(q + j0) * to_t;                       // q/r
         return std::array<Lanes, 2>{w, w * to_t * to_t};                 // q/r, q/r^3
-    });
+    };
+    j = how == InverseSqrt::refine ? green_blocks<InverseSqrt::refine>(x, y, z, n, xt, p_sum, e0, e1, e2, use)
+                                   : green_blocks<InverseSqrt::divide>(x, y, z, n, xt, p_sum, e0, e1, e2, use);
 #else
     MOLLIFY_SIMD_REDUCTION(p_sum, e0, e1, e2)
 #endif
@@ -289,14 +300,15 @@ MOLLIFY_NOINLINE void add_green(const double* x, const double* y, const double* 
 // the loop scalar (3x the time).
 MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const double* z, const double* q, const double* d2,
                              std::size_t n, const std::array<double, 3>& xt, double qt, double d2t, double& phi,
-                             std::array<double, 3>& e, double* w, double* g0, double* g1, double* g2) {
+                             std::array<double, 3>& e, double* w, double* g0, double* g1, double* g2,
+                             [[maybe_unused]] InverseSqrt how = fastest_inverse_sqrt()) {
     constexpr double k = 0.25 * std::numbers::inv_pi;
     double p_sum = 0, e0 = 0, e1 = 0, e2 = 0;
     std::size_t j = 0;
 #if defined(MOLLIFY_LANES)
     using mollify::detail::Lanes;
     const Lanes vq = Lanes{} + qt, vd2 = Lanes{} + d2t;
-    j = green_blocks(x, y, z, n, xt, p_sum, e0, e1, e2, [&](std::size_t j0, Lanes dx, Lanes dy, Lanes dz, Lanes r2, Lanes inv) {
+    auto use = [&](std::size_t j0, Lanes dx, Lanes dy, Lanes dz, Lanes r2, Lanes inv) {
         using namespace mollify::detail;
         const Lanes to_t = keep_lanes(r2 >= load_lanes(d2 + j0), inv), to_j = keep_lanes(r2 >= vd2, inv);
         const Lanes wt = load_lanes(q + j0) * to_t;
@@ -306,7 +318,9 @@ MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const d
         store_lanes(g1 + j0, load_lanes(g1 + j0) - gj * dy);
         store_lanes(g2 + j0, load_lanes(g2 + j0) - gj * dz);
         return std::array<Lanes, 2>{wt, wt * to_t * to_t};
-    });
+    };
+    j = how == InverseSqrt::refine ? green_blocks<InverseSqrt::refine>(x, y, z, n, xt, p_sum, e0, e1, e2, use)
+                                   : green_blocks<InverseSqrt::divide>(x, y, z, n, xt, p_sum, e0, e1, e2, use);
 #else
     MOLLIFY_SIMD_REDUCTION(p_sum, e0, e1, e2)
 #endif
