@@ -1,13 +1,15 @@
-// The treecode's Green's passes on AVX-512 (include/mollify/poisson/pair_sum.hpp,
+// The treecode's near-field passes on AVX-512 (include/mollify/poisson/pair_sum.hpp,
 // detail/lanes.hpp): 1/sqrt refined from VRSQRT14PD's estimate against
-// long double, its hard cases (the lanes it leaves to the division), and
-// the two passes with the refined 1/r against the same passes with the
-// division. Built for x86-64-v4 where the host has AVX-512
+// long double, its hard cases (the lanes it leaves to the division), the
+// two Green's passes with the refined 1/r against the same passes with the
+// division, and the within-support search's compressed compaction against
+// its definition. Built for x86-64-v4 where the host has AVX-512
 // (tests/CMakeLists.txt: poisson_free_v4_test).
 #include <mollify/poisson.hpp>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -201,6 +203,67 @@ TEST(GreenPass, OneWayRefinedAgreesWithDivision) {
         ASSERT_TRUE(std::isfinite(e_r[c])) << c;
         EXPECT_NEAR(e_r[c], e_d[c], 1e-14 * mag_e) << c;
     }
+}
+
+// The within-support search's compaction (detail::near_sources), eight
+// sources at a time compressed into place, against the definition: the
+// sources with r^2 < delta_j^2, r^2 formed as add_green forms it, in their
+// order, with their r^2 bit for bit; in 2D and 3D, at block offsets that
+// leave a scalar tail, per-source delta (some pairs exactly at r^2 =
+// delta^2: not within) and one global delta.
+template <int D>
+void near_sources_are_the_definition(bool per_source) {
+    std::mt19937_64 rng(31 + D + (per_source ? 1 : 0));
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const std::size_t n = 613;
+    std::array<std::vector<double>, D> x;
+    std::vector<double> q(n, 1.0), delta;
+    for (std::size_t j = 0; j < n; ++j) {
+        for (int k = 0; k < D; ++k) x[k].push_back(unit(rng));
+        if (per_source) delta.push_back(0.05 + 0.2 * unit(rng));
+    }
+    if (!per_source) delta.push_back(0.15);
+    std::array<double, D> xt;
+    for (int k = 0; k < D; ++k) xt[k] = 0.5;
+    // A source at distance exactly 0.25 (r^2 = 1/16 exactly) with delta 0.25: r^2 = delta^2, not within.
+    x[0][100] = 0.75;
+    for (int k = 1; k < D; ++k) x[k][100] = 0.5;
+    if (per_source) delta[100] = 0.25;
+    mollify::Points<D> p;
+    for (int k = 0; k < D; ++k) p[k] = x[k];
+    std::vector<std::size_t> order(n);
+    for (std::size_t j = 0; j < n; ++j) order[j] = j;
+    const pd::SourceArrays<D> s(mollify::poisson::Sources<D>{p, q, delta}, order);
+    for (const std::size_t b0 : {std::size_t{0}, std::size_t{3}, std::size_t{128}, std::size_t{500}}) {
+        const std::size_t count = std::min<std::size_t>(pd::block, n - b0);
+        unsigned near[pd::block + 1];
+        double near_r2[pd::block];
+        const std::size_t m = pd::near_sources<D>(s, xt, b0, count, near, near_r2);
+        std::size_t expected = 0;
+        for (std::size_t j = 0; j < count; ++j) {
+            const std::size_t i = b0 + j;
+            const double dx = xt[0] - s.x[0][i], dy = xt[1] - s.x[1][i];
+            double r2 = std::fma(dy, dy, dx * dx);
+            if constexpr (D == 3) r2 = std::fma(xt[2] - s.x[2][i], xt[2] - s.x[2][i], r2);
+            if (!(r2 < s.delta[i] * s.delta[i])) continue;
+            ASSERT_LT(expected, m) << "b0 " << b0 << ": source " << j << " within its support is missing";
+            EXPECT_EQ(near[expected], j) << "b0 " << b0;
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(near_r2[expected]), std::bit_cast<std::uint64_t>(r2)) << "b0 " << b0;
+            ++expected;
+        }
+        EXPECT_EQ(m, expected) << "b0 " << b0;
+        EXPECT_GT(m, 0u) << "b0 " << b0;
+    }
+}
+
+TEST(WithinSupport, NearSourcesAreTheDefinition3D) {
+    near_sources_are_the_definition<3>(true);
+    near_sources_are_the_definition<3>(false);
+}
+
+TEST(WithinSupport, NearSourcesAreTheDefinition2D) {
+    near_sources_are_the_definition<2>(true);
+    near_sources_are_the_definition<2>(false);
 }
 
 }  // namespace
