@@ -129,28 +129,38 @@ public:
                      const std::array<double, 3>& c, double rho, std::vector<double>& work) const {
         constexpr int W = lanes;
         const std::size_t s = size();
-        work.assign(2 * s * W + W, 0.0);
-        double* mono = aligned(work.data());
-        double* acc = mono + s * W;
+        // The monomials of one degree from the previous degree's (graded
+        // order: a parent is of degree |k| - 1), two buffers of a degree's
+        // (p + 1)(p + 2)/2 that stay in L1, beside the lane sums acc.
+        work.assign(s * W + 2 * widest() * W + W, 0.0);
+        double* acc = aligned(work.data());
+        double* prev = acc + s * W;
+        double* cur = prev + widest() * W;
         for (std::size_t j0 = 0; j0 < n; j0 += W) {
             const std::size_t count = std::min<std::size_t>(W, n - j0);
             alignas(64) double t[3][W];
             for (int l = 0; l < W; ++l) {
                 const bool on = static_cast<std::size_t>(l) < count;
                 for (int d = 0; d < 3; ++d) t[d][l] = on ? (y[d][j0 + static_cast<std::size_t>(l)] - c[d]) / rho : 0.0;
-                mono[l] = on ? q[j0 + static_cast<std::size_t>(l)] : 0.0;
-                acc[l] += mono[l];
+                prev[l] = on ? q[j0 + static_cast<std::size_t>(l)] : 0.0;
+                acc[l] += prev[l];
             }
-            for (std::size_t i = 1; i < s; ++i) {
-                const double* from = mono + static_cast<std::size_t>(parent_[i].index) * W;
-                const double* tc = t[parent_[i].c];
-                double* to = mono + i * W;
-                double* a = acc + i * W;
-                MOLLIFY_SIMD
-                for (int l = 0; l < W; ++l) {
-                    to[l] = from[l] * tc[l];
-                    a[l] += to[l];
+            for (int deg = 1; deg <= p_; ++deg) {
+                const auto first = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg)]);
+                const auto last = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg) + 1]);
+                const auto below = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg) - 1]);
+                for (std::size_t i = first; i < last; ++i) {
+                    const double* from = prev + (static_cast<std::size_t>(parent_[i].index) - below) * W;
+                    const double* tc = t[parent_[i].c];
+                    double* to = cur + (i - first) * W;
+                    double* a = acc + i * W;
+                    MOLLIFY_SIMD
+                    for (int l = 0; l < W; ++l) {
+                        to[l] = from[l] * tc[l];
+                        a[l] += to[l];
+                    }
                 }
+                std::swap(prev, cur);
             }
         }
         for (std::size_t i = 0; i < s; ++i) {
@@ -518,9 +528,10 @@ public:
                       const std::array<double*, 3>& e, std::vector<double>& work) const {
         constexpr int W = lanes;
         const std::size_t s = size(), sg = count(p_ - 1 < 0 ? 0 : p_ - 1), ng = p_ > 0 ? sg : 0;
-        work.resize(s * W + 3 * s + W);
+        const std::size_t rows = std::max(s, 2 * widest());  // local_sums: a row per monomial, or two degrees'
+        work.resize(rows * W + 3 * s + W);
         double* mono = aligned(work.data());
-        double* lg = mono + s * W;  // (j_c + 1) L_(j+e_c), c = 0, 1, 2
+        double* lg = mono + rows * W;  // (j_c + 1) L_(j+e_c), c = 0, 1, 2
         for (std::size_t j = 0; j < ng; ++j)
             for (int d = 0; d < 3; ++d)
                 lg[static_cast<std::size_t>(d) * s + j] =
@@ -547,8 +558,13 @@ public:
     }
 
 private:
+    // The monomials of a degree: (p + 1)(p + 2)/2 at degree p.
+    std::size_t widest() const { return static_cast<std::size_t>((p_ + 1) * (p_ + 2) / 2); }
+
     // The lane sums of add_local_at: f += L_i u^i, g_c += lg_c,i u^i
-    // (i < ng), i >= 1; monomials from their parents (mono row 0 set).
+    // (i < ng = the monomials of degree < p), i >= 1; monomials from their
+    // parents (mono row 0 set), with SIMD lanes degree by degree in two
+    // buffers of a degree's rows (add_sources).
     void local_sums(const double* local, const double* lg, std::size_t s, std::size_t ng, const double (&t)[3][lanes],
                     double* mono, double (&f)[lanes], double (&g)[3][lanes]) const {
         constexpr int W = lanes;
@@ -559,22 +575,32 @@ private:
         using mollify::detail::load_lanes, mollify::detail::store_lanes;
         for (int h = 0; h < W; h += N) {
             V vf = load_lanes(f + h), v0 = load_lanes(g[0] + h), v1 = load_lanes(g[1] + h), v2 = load_lanes(g[2] + h);
-            // mono_i = mono_parent t_c (the monomial one multiplication from its parent's)
-            auto monomial = [&](std::size_t i) {
-                const V a = load_lanes(mono + static_cast<std::size_t>(parent_[i].index) * W + h) *
-                            load_lanes(t[parent_[i].c] + h);
-                store_lanes(mono + i * W + h, a);
-                return a;
-            };
-            std::size_t i = 1;
-            for (; i < ng; ++i) {
-                const V a = monomial(i);
-                vf += local[i] * a;
-                v0 += lg[i] * a;
-                v1 += lg[s + i] * a;
-                v2 += lg[2 * s + i] * a;
+            // mono_i = mono_parent t_c (the monomial one multiplication from its
+            // parent's, of the degree below: prev), kept in cur
+            double *prev = mono, *cur = mono + widest() * W;
+            for (int deg = 1; deg <= p_; ++deg) {
+                const auto first = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg)]);
+                const auto last = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg) + 1]);
+                const auto below = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg) - 1]);
+                auto monomial = [&](std::size_t i) {
+                    const V a = load_lanes(prev + (static_cast<std::size_t>(parent_[i].index) - below) * W + h) *
+                                load_lanes(t[parent_[i].c] + h);
+                    store_lanes(cur + (i - first) * W + h, a);
+                    return a;
+                };
+                if (last <= ng) {
+                    for (std::size_t i = first; i < last; ++i) {
+                        const V a = monomial(i);
+                        vf += local[i] * a;
+                        v0 += lg[i] * a;
+                        v1 += lg[s + i] * a;
+                        v2 += lg[2 * s + i] * a;
+                    }
+                } else {  // ng = count(p - 1), a degree's start: the degree p, no gradient terms
+                    for (std::size_t i = first; i < last; ++i) vf += local[i] * monomial(i);
+                }
+                std::swap(prev, cur);
             }
-            for (; i < s; ++i) vf += local[i] * monomial(i);
             store_lanes(f + h, vf);
             store_lanes(g[0] + h, v0);
             store_lanes(g[1] + h, v1);
