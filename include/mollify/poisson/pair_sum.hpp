@@ -201,7 +201,7 @@ void add_exact(const K& kernel, const SourceArrays<D>& s, const std::array<doubl
 // 1.7 | 3.2 -> 2.6 s; two blocks ahead was slower in the treecode (2.7 s at
 // p = 19: four more live registers of AVX2's 16). A block's d is formed
 // again for use (three loads and subtractions, on pipes the divider leaves
-// idle) rather than carried from r2_at, for the same registers. How: the
+// idle) rather than carried from its r^2, for the same registers. How: the
 // square root and division, or on Intel's AVX-512 cores 1/sqrt refined
 // from its estimate (detail::inverse_sqrt_lanes, fastest_inverse_sqrt),
 // which needs no look-ahead: a plain loop, d carried from r^2 to its use
