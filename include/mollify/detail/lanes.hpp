@@ -33,7 +33,7 @@ enum class InverseSqrt { divide, refine };
 // (stop 48): AMD keeps the division. Without AVX-512 there is no estimate
 // of a double's 1/sqrt to refine.
 inline InverseSqrt fastest_inverse_sqrt() {
-#if defined(__AVX512F__) && defined(__GNUC__)
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__GNUC__)
     static const InverseSqrt how = [] {
         __builtin_cpu_init();
         return __builtin_cpu_is("intel") ? InverseSqrt::refine : InverseSqrt::divide;
@@ -102,8 +102,9 @@ MOLLIFY_INLINE Lanes mul_add_lanes(Lanes a, Lanes b, Lanes c) {
 // against long double). Lanes where a is 0, subnormal, infinite, negative
 // or NaN (the estimate then gives 0 * inf = NaN, or is not defined) take
 // the division, the whole block at once (a branch the blocks of a
-// treecode never take but at coincident or overflowing points).
-#if defined(__AVX512F__)
+// treecode never take but at coincident or overflowing points). AVX-512F
+// and DQ (VFPCLASSPD), as in x86-64-v4; else the division.
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
 MOLLIFY_INLINE Lanes refined_inverse_sqrt_lanes(Lanes a) {
     const Lanes y0 = _mm512_maskz_rsqrt14_pd(0xff, a);  // maskz: _mm512_rsqrt14_pd's undefined source trips GCC 12
     const Lanes t = a * y0;
@@ -114,18 +115,13 @@ MOLLIFY_INLINE Lanes refined_inverse_sqrt_lanes(Lanes a) {
 
 // Is a lane 0, subnormal, infinite, negative or NaN (VFPCLASSPD's classes
 // QNaN, +-0, +-inf, subnormal, negative finite, SNaN)?
-MOLLIFY_INLINE bool outside_refined_range(Lanes a) {
-#if defined(__AVX512DQ__)
-    return _mm512_fpclass_pd_mask(a, 0xff) != 0;
-#else
-    return (_mm512_cmp_pd_mask(a, Lanes{} + 0x1p-1022, _CMP_GE_OQ) & _mm512_cmp_pd_mask(a, Lanes{} + 0x1.fffffffffffffp+1023, _CMP_LE_OQ)) != 0xff;
-#endif
-}
+MOLLIFY_INLINE bool outside_refined_range(Lanes a) { return _mm512_fpclass_pd_mask(a, 0xff) != 0; }
+#define MOLLIFY_REFINED_INVERSE_SQRT 1
 #endif
 
 template <InverseSqrt How>
 MOLLIFY_INLINE Lanes inverse_sqrt_lanes(Lanes a) {
-#if defined(__AVX512F__)
+#if defined(MOLLIFY_REFINED_INVERSE_SQRT)
     if constexpr (How == InverseSqrt::refine) {
         if (!outside_refined_range(a)) [[likely]]
             return refined_inverse_sqrt_lanes(a);

@@ -146,9 +146,8 @@ public:
                 acc[l] += prev[l];
             }
             for (int deg = 1; deg <= p_; ++deg) {
-                const auto first = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg)]);
-                const auto last = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg) + 1]);
-                const auto below = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg) - 1]);
+                const DegreeRows rows = rows_of(deg);
+                const std::size_t first = rows.first, last = rows.last, below = rows.below;
                 for (std::size_t i = first; i < last; ++i) {
                     const double* from = prev + (static_cast<std::size_t>(parent_[i].index) - below) * W;
                     const double* tc = t[parent_[i].c];
@@ -561,6 +560,16 @@ private:
     // The monomials of a degree: (p + 1)(p + 2)/2 at degree p.
     std::size_t widest() const { return static_cast<std::size_t>((p_ + 1) * (p_ + 2) / 2); }
 
+    // The monomials of degree deg >= 1, [first, last), and the first of the
+    // degree below (their parents' rows in the buffer of that degree).
+    struct DegreeRows {
+        std::size_t first, last, below;
+    };
+    DegreeRows rows_of(int deg) const {
+        const auto at = [&](int d) { return static_cast<std::size_t>(start_[static_cast<std::size_t>(d)]); };
+        return {at(deg), at(deg + 1), at(deg - 1)};
+    }
+
     // The lane sums of add_local_at: f += L_i u^i, g_c += lg_c,i u^i
     // (i < ng = the monomials of degree < p), i >= 1; monomials from their
     // parents (mono row 0 set), with SIMD lanes degree by degree in two
@@ -579,9 +588,9 @@ private:
             // parent's, of the degree below: prev), kept in cur
             double *prev = mono, *cur = mono + widest() * W;
             for (int deg = 1; deg <= p_; ++deg) {
-                const auto first = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg)]);
-                const auto last = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg) + 1]);
-                const auto below = static_cast<std::size_t>(start_[static_cast<std::size_t>(deg) - 1]);
+                const DegreeRows rows = rows_of(deg);
+                // named, not a structured binding: the lambda below captures them (clang 14 cannot)
+                const std::size_t first = rows.first, last = rows.last, below = rows.below;
                 auto monomial = [&](std::size_t i) {
                     const V a = load_lanes(prev + (static_cast<std::size_t>(parent_[i].index) - below) * W + h) *
                                 load_lanes(t[parent_[i].c] + h);
