@@ -11,13 +11,16 @@
 // P_n(cos theta) = (-1)^n/n! r^(n+1) d^n/dz^n (1/r)), so the truncation error is
 // the notes' Legendre/spherical-harmonic one (|P_n| <= 1):
 //     |error| <= sum_j |q_j| (rho/r)^(p+1) / (r - rho).
-// Cartesian rather than spherical harmonics because one recurrence serves
-// every p and the field: the a_k follow from
+// Cartesian for the moments, the local expansions, their shifts and the
+// particle-cluster sums, because one recurrence serves every p and the
+// field: the a_k follow from
 //     n |R|^2 a_k - (2n - 1) sum_i R_i a_(k-e_i) + (n - 1) sum_i a_(k-2e_i) = 0,  n = |k|
 // (Lindsay & Krasny, J. Comput. Phys. 172 (2001), eq. (2.8)), and the field
-// from the same a_k one order up, d a_k/dx_i = -(k_i + 1) a_(k+e_i); no
-// Legendre functions, no complex arithmetic, no rotation of the moments.
-// (C(p+3,3) moments against (p+1)^2: 84 against 49 at p = 6.)
+// from the same a_k one order up, d a_k/dx_i = -(k_i + 1) a_(k+e_i); each
+// monomial of a source or target is one multiplication. Only the
+// cluster-cluster translation (M2L, add_local), the step whose cost grows
+// fastest in p, passes through real spherical harmonics, where rotating
+// the pair's axis onto z makes it O(p^3) instead of O(p^4).
 //
 // 2D: log|x - y| = Re log(z - w) with complex z, w, and
 //     log(z - w) = log(z - c) - sum_(k>=1) ((w - c)/(z - c))^k / k,
@@ -215,43 +218,52 @@ public:
     //     phi(c_t + v) = -(1/4 pi) sum_(|m|<=p) L_m v^m,
     //     L_m = (-1)^|m| sum_(|k|<=p) binom(k + m, k) M_k a_(k+m)(R):
     // the local expansion of degree p of the whole degree-p multipole
-    // expansion (derivatives up to degree 2p), as in Greengard & Rokhlin's
-    // FMM. Its error is the two expansions' own truncations,
-    // ~(rho_s/(|R| - rho_t))^(p+1) + (rho_t/(|R| - rho_s))^(p+1), where the
-    // triangle |k| + |m| <= p (Dehnen's Cartesian M2L, (p + 1)^4/6
-    // multiply-adds instead of (p + 1)^4) has ((rho_s + rho_t)/|R|)^(p+1):
-    // at the opening angle theta = 0.5 with rho_s = rho_t that is 1/3 against
-    // 1/2 per order. Measured (treecode_bench's neutral set, N = 10^5, one
-    // thread, 2026-11-29): 1e-5 of the field in 0.45-0.5 s against 1.0-1.3 s
-    // with the triangle (theta 0.5, p = 13, the best it had); the full
-    // translation costs more per pair but pays at wider opening angles
-    // (fewer pairs, larger leaves, smaller p).
+    // expansion, as in Greengard & Rokhlin's FMM. Its error is the two
+    // expansions' own truncations, ~(rho_s/(|R| - rho_t))^(p+1) +
+    // (rho_t/(|R| - rho_s))^(p+1), where the triangle |k| + |m| <= p
+    // (Dehnen's Cartesian M2L) has ((rho_s + rho_t)/|R|)^(p+1): at the
+    // opening angle theta = 0.5 with rho_s = rho_t that is 1/3 against 1/2
+    // per order (measured, treecode_bench's neutral set, N = 10^5, one
+    // thread, 2026-11-29: 1e-5 of the field in 0.45-0.5 s against 1.0-1.3 s
+    // with the triangle).
     //
-    // Harmonic reduction. With x_k = M_k/k! and the derivatives
-    // T_j = j! a_j = (-1)^|j| D^j (1/|R|) (unit R; the powers of |R| apply
-    // per degree), L_m = ((-1)^|m|/m!) sum_k x_k T_(k+m). 1/|R| is harmonic,
-    // so T_(j+2e_z) = -T_(j+2e_x) - T_(j+2e_y) for every j (exactly; the
-    // trace of a derivative tensor of 1/r vanishes). Hence
-    //  (1) the sum over k needs only k_z <= 1: a moment x_k with k_z >= 2
-    //      is folded into x_(k-2e_z+2e_x) and x_(k-2e_z+2e_y) with a minus
-    //      sign (same degree, so every truncation |k| <= d is kept),
-    //      once per source cell (reduce);
-    //  (2) the outputs need only m_z <= 1: W_m = sum_k x_k T_(k+m) obeys
-    //      W_m = -W_(m-2e_z+2e_x) - W_(m-2e_z+2e_y) for m_z >= 2 (same k
-    //      range), and so does any sum of them over source cells, so a
-    //      target cell accumulates the reduced W and rebuilds the rest once
-    //      (add_expanded);
-    //  (3) only T_j with j_z <= 2 are read, and their recurrence (below)
-    //      never leaves that set.
-    // 2n + 1 of the (n + 1)(n + 2)/2 coefficients of degree n are kept: at
-    // degree 10 a translation costs (p + 1)^4 = 14641 multiply-adds instead
-    // of C(p + 3, 3)^2 = 81796.
+    // Harmonic reduction. With x_k = M_k/k! and T_j = j! a_j =
+    // (-1)^|j| D^j (1/|R|), L_m = ((-1)^|m|/m!) W_m, W_m = sum_k x_k T_(k+m).
+    // 1/|R| is harmonic, so T_(j+2e_z) = -T_(j+2e_x) - T_(j+2e_y): a moment
+    // x_k with k_z >= 2 folds into x_(k-2e_z+2e_x) and x_(k-2e_z+2e_y) with
+    // a minus sign (reduce), and the W_m with m_z >= 2 follow from those
+    // with m_z <= 1 by the same rule (add_expanded): 2n + 1 coefficients of
+    // degree n on either side, (p + 1)^2 in all.
+    //
+    // Spherical harmonics, rotated (the M2L of Greengard & Rokhlin's
+    // "new version" of the FMM, 1997, and of Dehnen 2014, sect. 3.3, in real
+    // harmonics): the 2n + 1 numbers of degree n are coordinates of a
+    // harmonic polynomial, so they are held in the basis of real solid
+    // harmonics S_n^(m,c/s) (sh_tables) instead: by Maxwell's rule
+    // T_k(y) = (2n - 1)!! pi(y^k)/|y|^(2n+1) (pi the harmonic projection)
+    // the far field of degree n is sum_i M_i S_i(y)/|y|^(2n+1) with
+    // M_i = (2n - 1)!! <S_i, sum_k x_k y^k> (Fischer's product, in which the
+    // S_i are orthonormal), and the local one sum_i L_i S_i(v). Rotating R
+    // onto the z axis, R_y(-theta) R_z(-phi) = Q R_z(-theta) Q^T R_z(-phi)
+    // (Q = R_x(-pi/2), fixed; Pinchon & Hoggan, J. Phys. A 40 (2007), its
+    // y-z exchange), costs per degree two plane rotations of the (c, s)
+    // pairs and two products with Q's fixed matrix, block-diagonal in four
+    // parity classes ((2n + 1)^2/4 multiply-adds); along z the translation
+    // keeps m: L_(j,m) = sum_n M_(n,m) (-1)^(j-m) binom(n + j, j - m)
+    // (K_nm/K_jm) / d^(n+j+1), K_nm the coefficient of x^m z^(n-m) in
+    // S_n^(m,c) (match the rho^m cos/sin(m phi) terms on the axis, where
+    // S_n^m ~ K_nm rho^m z^(n-m)); then the rotations back. ~(p + 1)^3
+    // multiply-adds a pair (~9 (p + 1)^3/8 in all at p = 19, against the
+    // (p + 1)^4 of the Cartesian M2L this replaced, 2026-12-04): the same
+    // truncation (n, j <= degree), so the same errors.
 
-    // (p + 1)^2: the coefficients with k_z <= 1 (2n + 1 of degree n).
+    // (p + 1)^2: the coefficients of degree <= p, 2n + 1 of degree n.
     std::size_t reduced_size() const { return count_reduced(p_); }
 
-    // The reduced moments of a cell: x_k = M_k/k! (full moments m, those of
-    // degree above order_s taken as 0), folded onto k_z <= 1; work: scratch.
+    // The multipole coefficients of a cell in the harmonics' basis:
+    // x_k = M_k/k! (full moments m, those of degree above order_s taken as
+    // 0), folded onto k_z <= 1, then per degree M_i = (2n - 1)!! sum_k
+    // x_k k! S_i[k] (sh_in_); work: scratch.
     void reduce(const double* m, int order_s, double* out, std::vector<double>& work) const {
         const std::size_t n = size();
         work.resize(n);
@@ -261,13 +273,21 @@ public:
             x[f.a] -= x[f.i];
             x[f.b] -= x[f.i];
         }
-        for (std::size_t r = 0; r < reduced_size(); ++r) out[r] = x[reduced_full_[r]];
+        for (int d = 0; d <= p_; ++d) {
+            const auto w = static_cast<std::size_t>(2 * d + 1), first = static_cast<std::size_t>(d * d);
+            const double* a = sh_in_.data() + sh_at(d);
+            for (std::size_t i = 0; i < w; ++i) {
+                double sum = 0;
+                for (std::size_t r = 0; r < w; ++r) sum += a[i * w + r] * x[reduced_full_[first + r]];
+                out[first + i] = sum;
+            }
+        }
     }
 
     // Source cells translated together (one per SIMD lane) by add_local.
     static constexpr int lanes = 8;
 
-    // One source cell of an M2L batch: reduced moments mr (reduce), scale
+    // One source cell of an M2L batch: coefficients mr (reduce), scale
     // rho_s, R = c_t - c_s.
     struct Source {
         const double* mr;
@@ -275,86 +295,84 @@ public:
         std::array<double, 3> R;
     };
 
-    // Adds the reduced local coefficients W_m (-1)^|m| (rho_t/|R|)^|m| / |R|
-    // (m_z <= 1, |m| <= degree, |k| <= degree) of up to `lanes` source
-    // cells to one target cell's per-lane sums lr (reduced_size() rows of
-    // `lanes`, lane l of row m at m lanes + l, aligned with `aligned`);
-    // add_expanded adds the lanes and turns the accumulated sum into
-    // L_m rho_t^|m|. degree <= p: a pair far enough
-    // apart reaches the accuracy of the worst accepted pair at a lower degree
-    // (pair_degree); a batch uses the largest degree of its pairs. The cells
-    // are SIMD lanes: derivatives, scaled moments and partial sums are stored
-    // lane-innermost, so every step is a vector operation on contiguous
-    // memory (no gathers) and the lanes' sums are independent chains.
+    // Adds the local coefficients L_i rho_t^j (harmonics' basis, degree
+    // j <= degree, from the multipole's n <= degree) of up to `lanes`
+    // source cells to one target cell's per-lane sums lr (reduced_size()
+    // rows of `lanes`, lane l of row i at i lanes + l, aligned with
+    // `aligned`); add_expanded adds the lanes and turns the sum into
+    // L_m rho_t^|m|. degree <= p: a pair far enough apart reaches the
+    // accuracy of the worst accepted pair at a lower degree (pair_degree); a
+    // batch uses the largest degree of its pairs. The cells are SIMD lanes,
+    // stored lane-innermost: every step is a vector operation on contiguous
+    // rows, the rotations' angles differing per lane.
     void add_local(const Source* src, int count, double rho_t, double* lr, std::vector<double>& work,
                    int degree = -1) const {
         constexpr int W = lanes;
         if (degree < 0 || degree > p_) degree = p_;
-        const std::size_t nt = static_cast<std::size_t>(t_start_[2 * static_cast<std::size_t>(degree) + 1]);
-        const std::size_t nr = count_reduced(degree);
-        const std::size_t du = static_cast<std::size_t>(degree) + 1;
-        work.resize((t_rows() + reduced_size() + 2 * du) * W + W);
-        double* t = aligned(work.data());     // T_j, lane l at t[dense(j) W + l]
-        double* x = t + t_rows() * W;         // x_k (rho_s/|R|)^|k|, in runs (run_position_)
-        double* ts = x + reduced_size() * W;  // (rho_s/|R|)^d
-        double* tt = ts + du * W;             // (-rho_t/|R|)^d / |R|
-        alignas(64) double u[3][W], inv_r[W], rs[W];
+        const auto du = static_cast<std::size_t>(degree) + 1;
+        const std::size_t wide = 2 * du;  // a degree's rows, and one
+        work.resize((reduced_size() + 2 * wide) * W + W);
+        double* a = aligned(work.data());  // the multipole along z, by columns (column_)
+        double* u = a + reduced_size() * W;
+        double* v = u + wide * W;
+        Angles phi, theta;  // cos/sin(m phi), cos/sin(m theta), R = d (sin t cos f, sin t sin f, cos t)
+        alignas(64) double ts[max_order + 1][W], tt[max_order + 1][W];
         for (int l = 0; l < W; ++l) {
-            // Empty lanes: a unit vector and no moments.
+            // Empty lanes: along z, no moments, no sum.
             const bool on = l < count;
-            const std::array<double, 3> R = on ? src[l].R : std::array<double, 3>{1.0, 0.0, 0.0};
-            const double r = std::sqrt(R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
-            inv_r[l] = 1 / r;
-            for (int c = 0; c < 3; ++c) u[c][l] = R[c] * inv_r[l];
-            rs[l] = on ? src[l].rho_s : 0.0;
-        }
-        for (int l = 0; l < W; ++l) {
-            ts[l] = 1;
-            tt[l] = l < count ? inv_r[l] : 0.0;
-        }
-        for (std::size_t d = 1; d < du; ++d)
-            for (int l = 0; l < W; ++l) {
-                ts[d * W + static_cast<std::size_t>(l)] = ts[(d - 1) * W + static_cast<std::size_t>(l)] * rs[l] * inv_r[l];
-                tt[d * W + static_cast<std::size_t>(l)] = -tt[(d - 1) * W + static_cast<std::size_t>(l)] * rho_t * inv_r[l];
+            const std::array<double, 3> R = on ? src[l].R : std::array<double, 3>{0.0, 0.0, 1.0};
+            // The angles from R over its largest component: R_x^2 + R_y^2
+            // would underflow at |R| ~ 1e-150 (the azimuth of a pair 1e-12
+            // off the axis then off by O(1), an error of ~1e-12 in all) and
+            // |R|^2 overflow above 1e154.
+            const double big = std::max({std::fabs(R[0]), std::fabs(R[1]), std::fabs(R[2])});
+            const double x = R[0] / big, y = R[1] / big, z = R[2] / big;
+            const double rxy = std::sqrt(x * x + y * y), rn = std::sqrt(rxy * rxy + z * z);
+            const double inv_r = 1 / (rn * big);
+            phi.c[1][l] = rxy > 0 ? x / rxy : 1.0;
+            phi.s[1][l] = rxy > 0 ? y / rxy : 0.0;
+            theta.c[1][l] = z / rn;
+            theta.s[1][l] = rxy / rn;
+            ts[0][l] = on ? 1.0 : 0.0;
+            tt[0][l] = on ? inv_r : 0.0;
+            const double fs = (on ? src[l].rho_s : 0.0) * inv_r, ft = rho_t * inv_r;
+            for (std::size_t d = 1; d < du; ++d) {
+                ts[d][l] = ts[d - 1][l] * fs;
+                tt[d][l] = tt[d - 1][l] * ft;
             }
-        // T_j = j! a_j(u): a_j's recurrence times j! (derivatives).
-        for (int l = 0; l < W; ++l) {
-            t[static_cast<std::size_t>(t_zero_) * W + static_cast<std::size_t>(l)] = 0;
-            t[l] = 1;
         }
-        for (std::size_t i = 1; i < nt; ++i) {
-            const TStep& st = t_steps_[i];
-            double* ti = t + static_cast<std::size_t>(st.row) * W;
-            const double *a0 = t + static_cast<std::size_t>(st.minus1[0]) * W,
-                         *a1 = t + static_cast<std::size_t>(st.minus1[1]) * W,
-                         *a2 = t + static_cast<std::size_t>(st.minus1[2]) * W,
-                         *b0 = t + static_cast<std::size_t>(st.minus2[0]) * W,
-                         *b1 = t + static_cast<std::size_t>(st.minus2[1]) * W,
-                         *b2 = t + static_cast<std::size_t>(st.minus2[2]) * W;
-            MOLLIFY_SIMD
-            for (int l = 0; l < W; ++l)
-                ti[l] = st.c1[0] * u[0][l] * a0[l] + st.c1[1] * u[1][l] * a1[l] + st.c1[2] * u[2][l] * a2[l] -
-                        (st.c2[0] * b0[l] + st.c2[1] * b1[l] + st.c2[2] * b2[l]);
+        phi.fill(degree);
+        theta.fill(degree);
+        // Per degree in the blocks' order (place_): to z, then into a by columns.
+        for (int n = 0; n <= degree; ++n) {
+            const auto first = static_cast<std::size_t>(n * n), w = static_cast<std::size_t>(2 * n + 1);
+            for (std::size_t i = 0; i < w; ++i) {
+                double* to = u + static_cast<std::size_t>(place_[first + i]) * W;
+                for (int l = 0; l < W; ++l) to[l] = l < count ? src[l].mr[first + i] * ts[n][l] : 0.0;
+            }
+            rotate_z(u, n, phi, -1);
+            exchange(u, v, n, true);
+            rotate_z(v, n, theta, -1);
+            exchange(v, u, n, false);
+            for (std::size_t i = 0; i < w; ++i) {
+                const double* from = u + static_cast<std::size_t>(place_[first + i]) * W;
+                double* to = a + (column_[i] + static_cast<std::size_t>(n) - (i + 1) / 2) * W;
+                for (int l = 0; l < W; ++l) to[l] = from[l];
+            }
         }
-        for (std::size_t k = 0; k < nr; ++k) {
-            const double* tsk = ts + static_cast<std::size_t>(reduced_degree_[k]) * W;
-            double* xk = x + static_cast<std::size_t>(run_position_[k]) * W;
-            for (int l = 0; l < W; ++l) xk[l] = l < count ? src[l].mr[k] * tsk[l] : 0.0;
-        }
-        alignas(64) double acc[8 * W];
-        for (const Tile& tile : m2l_tiles_) {
-            if (tile.degree > degree) continue;
-            const double* tm = t + static_cast<std::size_t>(tile.row) * W;
-            const int width = degree - tile.degree < 4 ? 4 : 8;  // outputs left in the tile's row (tile_dot)
-            if (width == 8)
-                tile_dot<8>(x, tm, m2l_runs_.data(), m2l_runs_.size(), degree, acc);
-            else
-                tile_dot<4>(x, tm, m2l_runs_.data(), m2l_runs_.size(), degree, acc);
-            for (int d = 0; d < width && tile.degree + d <= degree; ++d) {
-                double* out = lr + static_cast<std::size_t>(tile.out[d]) * W;
-                const double* f = tt + static_cast<std::size_t>(tile.degree + d) * W;
+        for (int j = 0; j <= degree; ++j) {
+            const auto first = static_cast<std::size_t>(j * j), w = static_cast<std::size_t>(2 * j + 1);
+            translate_z(a, u, j, degree);
+            exchange(u, v, j, true);
+            rotate_z(v, j, theta, 1);
+            exchange(v, u, j, false);
+            rotate_z(u, j, phi, 1);
+            double* out = lr + first * W;
+            const double* f = tt[j];
+            for (std::size_t i = 0; i < w; ++i) {
+                const double* from = u + static_cast<std::size_t>(place_[first + i]) * W;
                 MOLLIFY_SIMD
-                for (int l = 0; l < W; ++l) out[l] += f[l] * acc[d * W + l];
+                for (int l = 0; l < W; ++l) out[i * W + static_cast<std::size_t>(l)] += f[l] * from[l];
             }
         }
     }
@@ -368,101 +386,33 @@ public:
         return q + ((a - v % a) % a) / sizeof(double);
     }
 
-    // The M2L's inner loop for one tile of Width (8 or 4) outputs
-    // m = m0 + d e_x (d < Width): acc_d = sum_k x_k T_(k + m), lane-wise,
-    // over |k| <= degree. T is stored densely (dense(j) linear in j), so
-    // T_(k + m0 + d e_x) is row dense(k) + d of t (t at m0's row), and
-    // k + e_x reads the rows of k shifted by one: the k are taken in runs
-    // along k_x (one run per k_y, k_z; x stored in that order,
-    // run_position_), C at a time, so Width + C - 1 T rows feed C Width
-    // multiply-adds (and GCC keeps the rows the next step shares in
-    // registers), where one k at a time loaded a T row per multiply-add: on
-    // AMD Zen 1 at p = 19 that loop took ~2.3 cycles per 256-bit
-    // multiply-add (loads, L2), this one ~1.2 (2026-12-02, add_local 333 ->
-    // 240 us per call of eight cells, the tiles of four below included).
-    // A row's last tile is one of four where at most four outputs are left
-    // (add_local): tiles of eight wasted 38 % of the multiply-adds at
-    // p = 19 on outputs beyond the degree. GCC/Clang vector extension in
-    // the machine's own width (detail::register_doubles), the lanes a
-    // register's worth at a time: Width accumulators, C x and a T register
-    // fit the 16 registers of AVX2 or SSE2 (eight lanes as one vector there
-    // needed 20: GCC spilled them through general registers, the M2L 3.6x
-    // slower on AMD Zen 1 at p = 19, bench/results/treecode_bench_zen1.md).
-    // Plain loops otherwise.
-    static_assert(lanes % mollify::detail::register_doubles == 0);
-
-    // A run of reduced k along k_x: x rows x_row.., T rows t_row.. (k_x = 0
-    // first), k_x <= degree - low (low = k_y + k_z).
-    struct Run {
-        int x_row, t_row, low;
-    };
-
-    template <int Width>
-    static void tile_dot(const double* x, const double* t, const Run* runs, std::size_t count, int degree,
-                         double* acc) {
-        constexpr int W = lanes;
-#if defined(MOLLIFY_LANES)
-        constexpr int N = mollify::detail::register_doubles;
-        constexpr int C = 16 / Width;  // k per step: 2 (eight outputs) or 4 (four)
-        using V = mollify::detail::Lanes;
-        using mollify::detail::load_lanes;
-        for (int h = 0; h < W; h += N) {
-            V s[Width] = {};  // fully unrolled: accumulator registers
-            for (std::size_t r = 0; r < count; ++r) {
-                const int len = degree - runs[r].low + 1;
-                const double* xr = x + static_cast<std::size_t>(runs[r].x_row) * W + h;
-                const double* tr = t + static_cast<std::size_t>(runs[r].t_row) * W + h;
-                int a = 0;
-                for (; a + C <= len; a += C) {
-                    V xa[C];
-#pragma GCC unroll 4
-                    for (int i = 0; i < C; ++i) xa[i] = load_lanes(xr + (a + i) * W);
-#pragma GCC unroll 11
-                    for (int j = 0; j < C + Width - 1; ++j) {
-                        const V b = load_lanes(tr + (a + j) * W);
-#pragma GCC unroll 4
-                        for (int i = 0; i < C; ++i)
-                            if (j - i >= 0 && j - i < Width) s[j - i] += xa[i] * b;
-                    }
-                }
-                for (; a < len; ++a) {
-                    const V xa = load_lanes(xr + a * W);
-#pragma GCC unroll 8
-                    for (int d = 0; d < Width; ++d) s[d] += xa * load_lanes(tr + (a + d) * W);
-                }
-            }
-#pragma GCC unroll 8
-            for (int d = 0; d < Width; ++d) mollify::detail::store_lanes(acc + d * W + h, s[d]);
-        }
-#else
-        for (int d = 0; d < Width; ++d)
-            for (int l = 0; l < W; ++l) {
-                double s0 = 0;
-                for (std::size_t r = 0; r < count; ++r)
-                    for (int a = 0; a <= degree - runs[r].low; ++a)
-                        s0 += x[static_cast<std::size_t>(runs[r].x_row + a) * W + l] *
-                              t[static_cast<std::size_t>(runs[r].t_row + a + d) * W + l];
-                acc[d * W + l] = s0;
-            }
-#endif
-    }
-
-    // Adds the full local expansion L_m rho_t^|m| = W_m/m! of the reduced
-    // accumulation lr (add_local, per lane) to local (size()): the W_m with m_z >= 2
-    // from W_m = -W_(m-2e_z+2e_x) - W_(m-2e_z+2e_y), m_z ascending.
+    // Adds the full local expansion L_m rho_t^|m| of the per-lane sums lr
+    // (add_local) to local (size()): per degree the reduced
+    // W_m (-rho_t)^|m| = m! sum_i S_i[m] (L_i rho_t^j) (sh_out_; F(R + v) =
+    // sum_m ((-1)^|m|/m!) W_m v^m), the W_m with m_z >= 2 from
+    // W_m = -W_(m-2e_z+2e_x) - W_(m-2e_z+2e_y), m_z ascending.
     void add_expanded(const double* lr, double* local, std::vector<double>& work) const {
         const std::size_t n = size();
-        work.resize(n);
+        work.resize(n + reduced_size());
         double* w = work.data();
+        double* sum = w + n;
         for (std::size_t r = 0; r < reduced_size(); ++r) {
-            double sum = 0;
-            for (int l = 0; l < lanes; ++l) sum += lr[r * lanes + static_cast<std::size_t>(l)];
-            w[reduced_full_[r]] = sum;
+            double s = 0;
+            for (int l = 0; l < lanes; ++l) s += lr[r * lanes + static_cast<std::size_t>(l)];
+            sum[r] = s;
+        }
+        for (int d = 0; d <= p_; ++d) {
+            const auto width = static_cast<std::size_t>(2 * d + 1), first = static_cast<std::size_t>(d * d);
+            const double* b = sh_out_.data() + sh_at(d);
+            for (std::size_t r = 0; r < width; ++r) {
+                double s = 0;
+                for (std::size_t i = 0; i < width; ++i) s += b[r * width + i] * sum[first + i];
+                w[reduced_full_[first + r]] = s;
+            }
         }
         for (auto f = fold_.rbegin(); f != fold_.rend(); ++f) w[f->i] = -(w[f->a] + w[f->b]);
         for (std::size_t i = 0; i < n; ++i) local[i] += w[i] / factorial_[i];
     }
-
     // The degree at which an accepted pair with convergence ratio c (the
     // larger of rho_s/d_s and rho_t/d_t, d_s the distance from the source
     // centre to the targets, d_t from the target centre to the sources;
@@ -578,7 +528,7 @@ private:
                     double* mono, double (&f)[lanes], double (&g)[3][lanes]) const {
         constexpr int W = lanes;
 #if defined(MOLLIFY_LANES)
-        // The lanes a register's worth at a time (tile_dot).
+        // The lanes a register's worth at a time: four sums and a monomial in registers.
         constexpr int N = mollify::detail::register_doubles;
         using V = mollify::detail::Lanes;
         using mollify::detail::load_lanes, mollify::detail::store_lanes;
@@ -641,20 +591,13 @@ private:
         }
     }
 
-    // The derivatives T_j = j! a_j(u), j_z <= 2 (t_steps_ order), follow
-    // a_j's recurrence times j!:
-    //     T_j = c1 sum_i j_i u_i T_(j-e_i) - c2 sum_i j_i (j_i - 1) T_(j-2e_i),
-    // which reads only j_z, j_z - 1, j_z - 2 (the set is closed).
     // Tables of the harmonic reduction (see add_local).
     void harmonic_tables() {
         // Reduced multi-indices (k_z <= 1) by degree: k_z = 0 with k_x
         // descending, then k_z = 1 likewise; degree n starts at n^2.
         for (int n = 0; n <= p_; ++n) {
             for (int z = 0; z <= std::min(n, 1); ++z)
-                for (int a = n - z; a >= 0; --a) {
-                    reduced_full_.push_back(index({a, n - z - a, z}));
-                    reduced_degree_.push_back(n);
-                }
+                for (int a = n - z; a >= 0; --a) reduced_full_.push_back(index({a, n - z - a, z}));
         }
         // Folding order: k_z descending (a folded moment lands on k_z - 2,
         // which is folded later).
@@ -663,68 +606,315 @@ private:
                 for (int a = n - z; a >= 0; --a)
                     fold_.push_back({index({a, n - z - a, z}), index({a + 2, n - z - a, z - 2}),
                                      index({a, n - z - a + 2, z - 2})});
-        // Derivatives with j_z <= 2, by degree up to 2p (the M2L's |k| + |m|):
-        // j_z = 0, 1, 2, each with j_x descending.
-        std::vector<std::array<int, 3>> tk;
-        for (int n = 0; n <= 2 * p_; ++n) {
-            t_start_.push_back(static_cast<int>(tk.size()));
-            for (int z = 0; z <= std::min(n, 2); ++z)
-                for (int a = n - z; a >= 0; --a) tk.push_back({a, n - z - a, z});
-        }
-        t_start_.push_back(static_cast<int>(tk.size()));
-        // Dense rows: dense(j) = (j_z X + j_y) X + j_x, X = 2p + 1, linear in
-        // j (the M2L tiles' T_(k + m) are row sums); eight rows of room after
-        // the last (a tile's unused outputs read there), then a zero row.
-        const int X = 2 * p_ + 1;
-        auto dense = [X](const std::array<int, 3>& j) { return (j[2] * X + j[1]) * X + j[0]; };
-        t_zero_ = 3 * X * X + 8;
-        for (const auto& j : tk) {
-            const int n = j[0] + j[1] + j[2];
-            TStep s{};
-            s.row = dense(j);
-            for (int c = 0; c < 3; ++c) {
-                s.minus1[c] = s.minus2[c] = t_zero_;
-                if (n == 0) continue;
-                auto m = j;
-                if (--m[c] >= 0) {
-                    s.minus1[c] = dense(m);
-                    s.c1[c] = (2.0 * n - 1) / n * j[c];
-                }
-                if (--m[c] >= 0) {
-                    s.minus2[c] = dense(m);
-                    s.c2[c] = (n - 1.0) / n * j[c] * (j[c] - 1);
-                }
-            }
-            t_steps_.push_back(s);
-        }
-        // M2L: the reduced k in runs, and the outputs in tiles of eight
-        // along m_x (m_z <= 1, |m| <= p; a tile's first four alone where
-        // the degree leaves no more, add_local).
-        auto reduced = [&](const std::array<int, 3>& m) {
-            for (std::size_t r = 0; r < reduced_full_.size(); ++r)
-                if (k_[static_cast<std::size_t>(reduced_full_[r])] == m) return static_cast<int>(r);
-            return -1;
-        };
-        // Runs along k_x (tile_dot): k_z, then k_y, each run's k_x ascending.
-        run_position_.resize(reduced_full_.size());
-        int row = 0;
-        for (int z = 0; z <= 1; ++z)
-            for (int y = 0; y + z <= p_; ++y) {
-                m2l_runs_.push_back({row, dense({0, y, z}), y + z});
-                for (int a = 0; a + y + z <= p_; ++a)
-                    run_position_[static_cast<std::size_t>(reduced({a, y, z}))] = row++;
-            }
-        for (int z = 0; z <= 1; ++z)
-            for (int y = 0; y + z <= p_; ++y)
-                for (int x0 = 0; x0 + y + z <= p_; x0 += 8) {
-                    Tile tile{dense({x0, y, z}), x0 + y + z, {}};
-                    for (int d = 0; d < 8; ++d) tile.out[static_cast<std::size_t>(d)] = reduced({x0 + d, y, z});
-                    m2l_tiles_.push_back(tile);
-                }
+        sh_tables();
     }
 
-    // Rows of the dense derivative array (add_local's work).
-    std::size_t t_rows() const { return static_cast<std::size_t>(t_zero_) + 1; }
+    // A harmonic polynomial of degree n: its coefficients in the graded
+    // order of k_ (degree n's block), in long double (the tables' sums
+    // cancel; they are rounded to double once).
+    using Poly = std::vector<long double>;
+    static std::size_t monomials(int n) { return static_cast<std::size_t>((n + 1) * (n + 2) / 2); }
+    std::size_t in_degree(const std::array<int, 3>& k) const {
+        return static_cast<std::size_t>(index(k) - start_[static_cast<std::size_t>(k[0] + k[1] + k[2])]);
+    }
+    // x_c q, q of degree n.
+    Poly times(const Poly& q, int n, int c) const {
+        Poly out(monomials(n + 1), 0.0L);
+        for (std::size_t i = 0; i < monomials(n); ++i) {
+            auto k = k_[static_cast<std::size_t>(start_[static_cast<std::size_t>(n)]) + i];
+            ++k[static_cast<std::size_t>(c)];
+            out[in_degree(k)] += q[i];
+        }
+        return out;
+    }
+    // Fischer's product sum_k k! x_k y_k of two polynomials of degree n
+    // (rotation-invariant; harmonic polynomials are orthogonal to |y|^2 q).
+    long double fischer(const Poly& x, const Poly& y, int n) const {
+        long double s = 0;
+        for (std::size_t i = 0; i < monomials(n); ++i)
+            s += static_cast<long double>(factorial_[static_cast<std::size_t>(start_[static_cast<std::size_t>(n)]) + i]) * x[i] * y[i];
+        return s;
+    }
+
+    // The real solid harmonics S_n^(m,c/s) = G_nm(z, |y|^2) Re/Im (x + iy)^m,
+    // Legendre's recurrence (n - m) G_n = (2n - 1) z G_(n-1) - (n + m - 1) |y|^2 G_(n-2)
+    // (G_mm = 1, G_(m+1)m = (2m + 1) z), each scaled to Fischer norm 1;
+    // within degree n, index 0 is m = 0, 2m - 1 the cosine's, 2m the sine's.
+    // From them: sh_in_ (reduced moments to M_i), sh_out_ (L_i to reduced
+    // W), the z translation's coefficients and Q's blocks (add_local).
+    void sh_tables() {
+        const auto P = static_cast<std::size_t>(p_) + 1;
+        std::vector<std::vector<Poly>> S(P);
+        for (std::size_t n = 0; n < P; ++n) S[n].resize(2 * n + 1);
+        Poly re{1.0L}, im{0.0L};  // (x + iy)^m
+        for (int m = 0; m <= p_; ++m) {
+            if (m > 0) {
+                const Poly a = times(re, m - 1, 0), b = times(im, m - 1, 1), c = times(im, m - 1, 0), d = times(re, m - 1, 1);
+                Poly r(a.size()), s(a.size());
+                for (std::size_t i = 0; i < a.size(); ++i) {
+                    r[i] = a[i] - b[i];
+                    s[i] = c[i] + d[i];
+                }
+                re = std::move(r);
+                im = std::move(s);
+            }
+            for (int part = 0; part < (m > 0 ? 2 : 1); ++part) {
+                const std::size_t i = m == 0 ? 0 : static_cast<std::size_t>(2 * m - 1 + part);
+                S[static_cast<std::size_t>(m)][i] = part == 0 ? re : im;
+                for (int n = m + 1; n <= p_; ++n) {
+                    Poly g = times(S[static_cast<std::size_t>(n) - 1][i], n - 1, 2);
+                    for (auto& x : g) x *= 2 * n - 1;
+                    if (n >= m + 2) {
+                        const Poly& q = S[static_cast<std::size_t>(n) - 2][i];
+                        for (int c = 0; c < 3; ++c) {
+                            const Poly r2 = times(times(q, n - 2, c), n - 1, c);
+                            for (std::size_t k = 0; k < g.size(); ++k) g[k] -= (n + m - 1) * r2[k];
+                        }
+                    }
+                    for (auto& x : g) x /= n - m;
+                    S[static_cast<std::size_t>(n)][i] = std::move(g);
+                }
+            }
+        }
+        for (int n = 0; n <= p_; ++n)
+            for (auto& s : S[static_cast<std::size_t>(n)]) {
+                const long double norm = std::sqrt(fischer(s, s, n));
+                for (auto& x : s) x /= norm;
+            }
+        // Moments in, locals out: per degree (2n + 1)^2, rows i (harmonics)
+        // and r (reduced multi-indices) respectively.
+        long double odd_factorial = 1;  // (2n - 1)!!
+        for (int n = 0; n <= p_; ++n) {
+            if (n > 0) odd_factorial *= 2 * n - 1;
+            const auto w = static_cast<std::size_t>(2 * n + 1), first = static_cast<std::size_t>(n * n);
+            sh_start_.push_back(sh_in_.size());
+            sh_in_.resize(sh_in_.size() + w * w);
+            sh_out_.resize(sh_in_.size());
+            double* in = sh_in_.data() + sh_start_.back();
+            double* out = sh_out_.data() + sh_start_.back();
+            for (std::size_t i = 0; i < w; ++i)
+                for (std::size_t r = 0; r < w; ++r) {
+                    const auto full = static_cast<std::size_t>(reduced_full_[first + r]);
+                    const long double s = S[static_cast<std::size_t>(n)][i][full - static_cast<std::size_t>(start_[static_cast<std::size_t>(n)])];
+                    in[i * w + r] = static_cast<double>(odd_factorial * factorial_[full] * s);
+                    out[r * w + i] = static_cast<double>(factorial_[full] * s);
+                }
+        }
+        // The translation along z: K_nm, the coefficient of x^m z^(n-m) in S_n^(m,c).
+        std::vector<long double> K(P * P, 0.0L);
+        for (int n = 0; n <= p_; ++n)
+            for (int m = 0; m <= n; ++m)
+                K[static_cast<std::size_t>(n) * P + static_cast<std::size_t>(m)] =
+                    S[static_cast<std::size_t>(n)][m == 0 ? 0 : static_cast<std::size_t>(2 * m - 1)][in_degree({m, 0, n - m})];
+        const auto binomial = [](int a, int b) {
+            long double c = 1;
+            for (int t = 1; t <= b; ++t) c = c * (a - b + t) / t;
+            return c;
+        };
+        trans_start_.assign(P * P, 0);
+        for (int j = 0; j <= p_; ++j)
+            for (int m = 0; m <= j; ++m) {
+                trans_start_[static_cast<std::size_t>(j) * P + static_cast<std::size_t>(m)] = trans_.size();
+                for (int n = m; n <= p_; ++n)
+                    trans_.push_back(static_cast<double>(((j - m) % 2 ? -1 : 1) * binomial(n + j, j - m) *
+                                                         K[static_cast<std::size_t>(n) * P + static_cast<std::size_t>(m)] /
+                                                         K[static_cast<std::size_t>(j) * P + static_cast<std::size_t>(m)]));
+            }
+        // Q = R_x(-pi/2) (z to y): D_(i'i) = <S_i', S_i(Q^T y)>, S_i(Q^T y) =
+        // S_i(x, -z, y). Q commutes with x -> -x and with R_x(pi), so D keeps
+        // their parities: cos(m phi) parts have (-1)^m and (-1)^(n-m), sine
+        // parts the opposite of each: four blocks.
+        // The multipole along z by columns (add_local): index i (m = (i + 1)/2)
+        // of degrees n = m..p at column_[i] + n - m.
+        for (std::size_t i = 0, row = 0; i < 2 * P - 1; ++i) {
+            column_.push_back(row);
+            row += P - (i + 1) / 2;
+        }
+        block_start_.push_back(0);
+        for (int n = 0; n <= p_; ++n) {
+            const auto w = static_cast<std::size_t>(2 * n + 1);
+            const auto first = static_cast<std::size_t>(start_[static_cast<std::size_t>(n)]);
+            std::vector<Poly> moved(w, Poly(monomials(n), 0.0L));
+            for (std::size_t i = 0; i < w; ++i)
+                for (std::size_t k = 0; k < monomials(n); ++k) {
+                    const auto& e = k_[first + k];
+                    moved[i][in_degree({e[0], e[2], e[1]})] = (e[1] % 2 ? -1 : 1) * S[static_cast<std::size_t>(n)][i][k];
+                }
+            auto parity = [n](std::size_t i) {
+                const int m = static_cast<int>((i + 1) / 2), sine = i > 0 && i % 2 == 0;
+                return 2 * ((m + sine) % 2) + (n - m + sine) % 2;
+            };
+            std::vector<int> order;  // the degree's indices by class: each block's rows contiguous
+            for (int cls = 0; cls < 4; ++cls) {
+                Block b{static_cast<int>(order.size()), 0, static_cast<int>(exchange_.size())};
+                for (std::size_t i = 0; i < w; ++i)
+                    if (parity(i) == cls) order.push_back(static_cast<int>(i));
+                b.size = static_cast<int>(order.size()) - b.row;
+                if (b.size == 0) continue;
+                const auto s = static_cast<std::size_t>(b.size);
+                exchange_.resize(exchange_.size() + 2 * s * s);
+                double* d = exchange_.data() + b.matrix;
+                for (std::size_t x = 0; x < s; ++x)
+                    for (std::size_t y = 0; y < s; ++y) {
+                        const auto ix = static_cast<std::size_t>(order[static_cast<std::size_t>(b.row) + x]);
+                        const auto iy = static_cast<std::size_t>(order[static_cast<std::size_t>(b.row) + y]);
+                        const double v = static_cast<double>(fischer(S[static_cast<std::size_t>(n)][ix], moved[iy], n));
+                        d[x * s + y] = v;          // D
+                        d[s * s + y * s + x] = v;  // D^T
+                    }
+                blocks_.push_back(b);
+            }
+            place_.resize(place_.size() + w);
+            for (std::size_t r = 0; r < w; ++r) place_[static_cast<std::size_t>(n * n) + static_cast<std::size_t>(order[r])] = static_cast<int>(r);
+            block_start_.push_back(blocks_.size());
+        }
+    }
+    // The offset of degree d's (2d + 1)^2 matrix in sh_in_ and sh_out_.
+    std::size_t sh_at(int d) const { return sh_start_[static_cast<std::size_t>(d)]; }
+
+    // cos(m a) and sin(m a) per lane, m <= degree, from row 1 (fill: the
+    // complex powers (cos a + i sin a)^m).
+    struct Angles {
+        alignas(64) double c[max_order + 1][lanes], s[max_order + 1][lanes];
+        void fill(int degree) {
+            for (int l = 0; l < lanes; ++l) {
+                c[0][l] = 1;
+                s[0][l] = 0;
+            }
+            for (int m = 2; m <= degree; ++m)
+                for (int l = 0; l < lanes; ++l) {
+                    c[m][l] = c[m - 1][l] * c[1][l] - s[m - 1][l] * s[1][l];
+                    s[m][l] = s[m - 1][l] * c[1][l] + c[m - 1][l] * s[1][l];
+                }
+        }
+    };
+
+    // The coordinates of degree n (rows of lanes in the blocks' order)
+    // rotated about z by sign a (sign = -1: the frame turned by a):
+    // (c, s)_m -> (c cos ma - s sin ma, c sin ma + s cos ma).
+    void rotate_z(double* x, int n, const Angles& g, int sign) const {
+        constexpr int W = lanes;
+        const int* at = place_.data() + n * n;
+        for (int m = 1; m <= n; ++m) {
+            double* c = x + static_cast<std::size_t>(at[2 * m - 1]) * W;
+            double* s = x + static_cast<std::size_t>(at[2 * m]) * W;
+            MOLLIFY_SIMD
+            for (int l = 0; l < W; ++l) {
+                const double cm = g.c[m][l], sm = sign * g.s[m][l], p = c[l], q = s[l];
+                c[l] = p * cm - q * sm;
+                s[l] = p * sm + q * cm;
+            }
+        }
+    }
+
+    // out = D in (transposed: D^T in), degree n: Q's blocks, each on its
+    // own contiguous rows.
+    void exchange(const double* in, double* out, int n, bool transposed) const {
+        for (std::size_t k = block_start_[static_cast<std::size_t>(n)]; k < block_start_[static_cast<std::size_t>(n) + 1]; ++k) {
+            const Block& b = blocks_[k];
+            const auto s = static_cast<std::size_t>(b.size), row = static_cast<std::size_t>(b.row) * lanes;
+            matrix_rows(exchange_.data() + b.matrix + (transposed ? s * s : 0), s, in + row, out + row);
+        }
+    }
+
+    // y = d x for an s x s matrix d and s rows of lanes x: four rows of d
+    // at a time (four chains of multiply-adds, x loaded once for the four).
+    static void matrix_rows(const double* d, std::size_t s, const double* x, double* y) {
+        constexpr int W = lanes;
+#if defined(MOLLIFY_LANES)
+        constexpr int N = mollify::detail::register_doubles;
+        using V = mollify::detail::Lanes;
+        using mollify::detail::load_lanes, mollify::detail::store_lanes;
+        for (int h = 0; h < W; h += N) {
+            std::size_t r = 0;
+            for (; r + 4 <= s; r += 4) {
+                V a0{}, a1{}, a2{}, a3{};
+                for (std::size_t c = 0; c < s; ++c) {
+                    const V v = load_lanes(x + c * W + h);
+                    a0 += d[r * s + c] * v;
+                    a1 += d[(r + 1) * s + c] * v;
+                    a2 += d[(r + 2) * s + c] * v;
+                    a3 += d[(r + 3) * s + c] * v;
+                }
+                store_lanes(y + r * W + h, a0);
+                store_lanes(y + (r + 1) * W + h, a1);
+                store_lanes(y + (r + 2) * W + h, a2);
+                store_lanes(y + (r + 3) * W + h, a3);
+            }
+            for (; r < s; ++r) {
+                V a0{};
+                for (std::size_t c = 0; c < s; ++c) a0 += d[r * s + c] * load_lanes(x + c * W + h);
+                store_lanes(y + r * W + h, a0);
+            }
+        }
+#else
+        for (std::size_t r = 0; r < s; ++r)
+            for (int l = 0; l < W; ++l) {
+                double a0 = 0;
+                for (std::size_t c = 0; c < s; ++c) a0 += d[r * s + c] * x[c * W + static_cast<std::size_t>(l)];
+                y[r * W + static_cast<std::size_t>(l)] = a0;
+            }
+#endif
+    }
+
+    // The local coordinates of degree j (into u, the blocks' order) of the
+    // multipole along z (a by columns, degrees n <= degree): m kept, the
+    // cosine's and the sine's column with the same coefficients.
+    void translate_z(const double* a, double* u, int j, int degree) const {
+        constexpr int W = lanes;
+        const auto P = static_cast<std::size_t>(p_) + 1;
+        const int* at = place_.data() + j * j;
+        for (int m = 0; m <= j; ++m) {
+            const double* c = trans_.data() + trans_start_[static_cast<std::size_t>(j) * P + static_cast<std::size_t>(m)];
+            const auto len = static_cast<std::size_t>(degree - m + 1);
+            if (m == 0) {
+                column_dot(c, a + column_[0] * W, a + column_[0] * W, len, u + static_cast<std::size_t>(at[0]) * W, nullptr);
+            } else {
+                const auto i = static_cast<std::size_t>(2 * m - 1);
+                column_dot(c, a + column_[i] * W, a + column_[i + 1] * W, len, u + static_cast<std::size_t>(at[i]) * W,
+                           u + static_cast<std::size_t>(at[i + 1]) * W);
+            }
+        }
+    }
+
+    // yc = sum_t c_t xc_t and ys likewise (ys null: yc alone), rows of
+    // lanes, in two chains each.
+    static void column_dot(const double* c, const double* xc, const double* xs, std::size_t len, double* yc, double* ys) {
+        constexpr int W = lanes;
+#if defined(MOLLIFY_LANES)
+        constexpr int N = mollify::detail::register_doubles;
+        using V = mollify::detail::Lanes;
+        using mollify::detail::load_lanes, mollify::detail::store_lanes;
+        for (int h = 0; h < W; h += N) {
+            V c0{}, c1{}, s0{}, s1{};
+            std::size_t t = 0;
+            for (; t + 2 <= len; t += 2) {
+                c0 += c[t] * load_lanes(xc + t * W + h);
+                c1 += c[t + 1] * load_lanes(xc + (t + 1) * W + h);
+                if (ys) {
+                    s0 += c[t] * load_lanes(xs + t * W + h);
+                    s1 += c[t + 1] * load_lanes(xs + (t + 1) * W + h);
+                }
+            }
+            if (t < len) {
+                c0 += c[t] * load_lanes(xc + t * W + h);
+                if (ys) s0 += c[t] * load_lanes(xs + t * W + h);
+            }
+            store_lanes(yc + h, c0 + c1);
+            if (ys) store_lanes(ys + h, s0 + s1);
+        }
+#else
+        for (int l = 0; l < W; ++l) {
+            double sc = 0, ss = 0;
+            for (std::size_t t = 0; t < len; ++t) {
+                sc += c[t] * xc[t * W + static_cast<std::size_t>(l)];
+                ss += c[t] * xs[t * W + static_cast<std::size_t>(l)];
+            }
+            yc[l] = sc;
+            if (ys) ys[l] = ss;
+        }
+#endif
+    }
 
     // A change of centre along axis c by e, one factor of the binomial
     // theorem per axis ((s t + e)^k = prod_c (s t_c + e_c)^(k_c)): ~p/4
@@ -803,23 +993,21 @@ private:
     struct Fold {
         int i, a, b;  // k (k_z >= 2), k - 2e_z + 2e_x, k - 2e_z + 2e_y
     };
-    struct TStep {
-        double c1[3], c2[3];
-        int minus1[3], minus2[3];  // dense rows of j - e_c, j - 2 e_c (or the zero row)
-        int row;                   // dense(j)
-    };
-    std::vector<int> reduced_full_, reduced_degree_;
+    std::vector<int> reduced_full_;
     std::vector<Fold> fold_;
-    std::vector<int> t_start_;
-    int t_zero_ = 0;
-    std::vector<TStep> t_steps_;
-    std::vector<Run> m2l_runs_;      // the reduced k in runs along k_x (tile_dot)
-    std::vector<int> run_position_;  // each reduced k's row in x (add_local): its run's order
-    struct Tile {
-        int row, degree;           // dense(m0), |m0|
-        std::array<int, 8> out;    // reduced index of m0 + d e_x (-1 beyond degree p)
+    // The harmonics' tables (sh_tables).
+    std::vector<std::size_t> sh_start_;
+    std::vector<double> sh_in_, sh_out_;
+    std::vector<std::size_t> trans_start_;  // (j, m), j (p + 1) + m: the coefficients of n = m..p
+    std::vector<double> trans_;
+    struct Block {
+        int row, size, matrix;  // its first row in the blocks' order, D and then D^T at exchange_[matrix]
     };
-    std::vector<Tile> m2l_tiles_;
+    std::vector<Block> blocks_;
+    std::vector<std::size_t> block_start_;  // degree n's blocks from block_start_[n]
+    std::vector<int> place_;  // index i of degree n: its row in the blocks' order, place_[n^2 + i]
+    std::vector<std::size_t> column_;
+    std::vector<double> exchange_;
 };
 
 // 2D complex expansion of order p: moments M_k = sum q ((w - c)/rho)^k.

@@ -48,12 +48,11 @@
 //   with a global delta one within-support search and one kernel value for
 //   both ends (detail::add_within_mutual, 10 %); each target's sums go to
 //   a per-thread array in tree order, permuted to the caller's order once.
-// - M2L (translate), ~26 %: the harmonic reduction of
-//   Multipole<3>::add_local ((p + 1)^2 coefficients instead of
-//   C(p + 3, 3): (p + 1)^4 multiply-adds instead of C(p + 3, 3)^2), a target
-//   cell's source cells eight at a time, one per SIMD lane, the outputs
-//   in tiles of eight sharing each moment's load, the moments in runs
-//   along k_x sharing the derivatives' loads (tile_dot).
+// - M2L (translate), ~26 % with the Cartesian translation ((p + 1)^4
+//   multiply-adds a pair after the harmonic reduction), 6-12 % since it
+//   rotates real spherical harmonics (Multipole<3>::add_local: ~(p + 1)^3;
+//   the Intel host, N = 10^5, theta 0.7-0.72, p = 14-19, 2026-12-04), a
+//   target cell's source cells eight at a time, one per SIMD lane.
 // - P2M, M2M, L2L, L2P, ~9 %: sources (targets) eight at a time, each
 //   monomial one multiplication from its parent's; the moments of a cell
 //   that is not a leaf and the local expansion of a child by a change of
