@@ -252,9 +252,10 @@ public:
     // keeps m: L_(j,m) = sum_n M_(n,m) (-1)^(j-m) binom(n + j, j - m)
     // (K_nm/K_jm) / d^(n+j+1), K_nm the coefficient of x^m z^(n-m) in
     // S_n^(m,c) (match the rho^m cos/sin(m phi) terms on the axis, where
-    // S_n^m ~ K_nm rho^m z^(n-m)); then the rotations back. ~(p + 1)^3
-    // multiply-adds a pair (~9 (p + 1)^3/8 in all at p = 19, against the
-    // (p + 1)^4 of the Cartesian M2L this replaced, 2026-12-04): the same
+    // S_n^m ~ K_nm rho^m z^(n-m)); then the rotations back. ~2 (p + 1)^3
+    // multiply-adds a pair (~17,600 at p = 19: Q's four products 10,660,
+    // the translation 5,340, the plane rotations ~1,600; the Cartesian M2L
+    // this replaced, 2026-12-04, took (p + 1)^4 = 160,000): the same
     // truncation (n, j <= degree), so the same errors.
 
     // (p + 1)^2: the coefficients of degree <= p, 2n + 1 of degree n.
@@ -310,7 +311,7 @@ public:
         constexpr int W = lanes;
         if (degree < 0 || degree > p_) degree = p_;
         const auto du = static_cast<std::size_t>(degree) + 1;
-        const std::size_t wide = 2 * du;  // a degree's rows, and one
+        const std::size_t wide = 2 * du;  // room for a degree's 2n + 1 rows
         work.resize((reduced_size() + 2 * wide) * W + W);
         double* a = aligned(work.data());  // the multipole along z, by columns (column_)
         double* u = a + reduced_size() * W;
@@ -720,16 +721,16 @@ private:
                                                          K[static_cast<std::size_t>(n) * P + static_cast<std::size_t>(m)] /
                                                          K[static_cast<std::size_t>(j) * P + static_cast<std::size_t>(m)]));
             }
-        // Q = R_x(-pi/2) (z to y): D_(i'i) = <S_i', S_i(Q^T y)>, S_i(Q^T y) =
-        // S_i(x, -z, y). Q commutes with x -> -x and with R_x(pi), so D keeps
-        // their parities: cos(m phi) parts have (-1)^m and (-1)^(n-m), sine
-        // parts the opposite of each: four blocks.
         // The multipole along z by columns (add_local): index i (m = (i + 1)/2)
         // of degrees n = m..p at column_[i] + n - m.
         for (std::size_t i = 0, row = 0; i < 2 * P - 1; ++i) {
             column_.push_back(row);
             row += P - (i + 1) / 2;
         }
+        // Q = R_x(-pi/2) (z to y): D_(i'i) = <S_i', S_i(Q^T y)>, S_i(Q^T y) =
+        // S_i(x, -z, y). Q commutes with x -> -x and with R_x(pi), so D keeps
+        // their parities: cos(m phi) parts have (-1)^m and (-1)^(n-m), sine
+        // parts the opposite of each: four blocks.
         block_start_.push_back(0);
         for (int n = 0; n <= p_; ++n) {
             const auto w = static_cast<std::size_t>(2 * n + 1);

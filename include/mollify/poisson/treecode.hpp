@@ -50,7 +50,7 @@
 //   a per-thread array in tree order, permuted to the caller's order once.
 // - M2L (translate), ~26 % with the Cartesian translation ((p + 1)^4
 //   multiply-adds a pair after the harmonic reduction), 6-12 % since it
-//   rotates real spherical harmonics (Multipole<3>::add_local: ~(p + 1)^3;
+//   rotates real spherical harmonics (Multipole<3>::add_local: ~2 (p + 1)^3;
 //   the Intel host, N = 10^5, theta 0.7-0.72, p = 14-19, 2026-12-04), a
 //   target cell's source cells eight at a time, one per SIMD lane.
 // - P2M, M2M, L2L, L2P, ~9 %: sources (targets) eight at a time, each
