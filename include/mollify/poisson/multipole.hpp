@@ -508,6 +508,17 @@ public:
     }
 
 private:
+#if defined(MOLLIFY_LANES)
+    // A register's worth of the lanes (detail/lanes.hpp): the loops written
+    // lane-wise by hand (local_sums, matrix_rows, column_dot) take the
+    // lanes N at a time.
+    using V = mollify::detail::Lanes;
+    static constexpr int N = mollify::detail::register_doubles;
+    static V load(const double* p) { return mollify::detail::load_lanes(p); }
+    static void store(double* p, V v) { mollify::detail::store_lanes(p, v); }
+    static_assert(lanes % N == 0);
+#endif
+
     // The monomials of a degree: (p + 1)(p + 2)/2 at degree p.
     std::size_t widest() const { return static_cast<std::size_t>((p_ + 1) * (p_ + 2) / 2); }
 
@@ -530,11 +541,8 @@ private:
         constexpr int W = lanes;
 #if defined(MOLLIFY_LANES)
         // The lanes a register's worth at a time: four sums and a monomial in registers.
-        constexpr int N = mollify::detail::register_doubles;
-        using V = mollify::detail::Lanes;
-        using mollify::detail::load_lanes, mollify::detail::store_lanes;
         for (int h = 0; h < W; h += N) {
-            V vf = load_lanes(f + h), v0 = load_lanes(g[0] + h), v1 = load_lanes(g[1] + h), v2 = load_lanes(g[2] + h);
+            V vf = load(f + h), v0 = load(g[0] + h), v1 = load(g[1] + h), v2 = load(g[2] + h);
             // mono_i = mono_parent t_c (the monomial one multiplication from its
             // parent's, of the degree below: prev), kept in cur
             double *prev = mono, *cur = mono + widest() * W;
@@ -543,9 +551,9 @@ private:
                 // named, not a structured binding: the lambda below captures them (clang 14 cannot)
                 const std::size_t first = rows.first, last = rows.last, below = rows.below;
                 auto monomial = [&](std::size_t i) {
-                    const V a = load_lanes(prev + (static_cast<std::size_t>(parent_[i].index) - below) * W + h) *
-                                load_lanes(t[parent_[i].c] + h);
-                    store_lanes(cur + (i - first) * W + h, a);
+                    const V a = load(prev + (static_cast<std::size_t>(parent_[i].index) - below) * W + h) *
+                                load(t[parent_[i].c] + h);
+                    store(cur + (i - first) * W + h, a);
                     return a;
                 };
                 if (last <= ng) {
@@ -561,10 +569,10 @@ private:
                 }
                 std::swap(prev, cur);
             }
-            store_lanes(f + h, vf);
-            store_lanes(g[0] + h, v0);
-            store_lanes(g[1] + h, v1);
-            store_lanes(g[2] + h, v2);
+            store(f + h, vf);
+            store(g[0] + h, v0);
+            store(g[1] + h, v1);
+            store(g[2] + h, v2);
         }
 #else
         for (std::size_t i = 1; i < s; ++i) {
@@ -823,29 +831,26 @@ private:
     static void matrix_rows(const double* d, std::size_t s, const double* x, double* y) {
         constexpr int W = lanes;
 #if defined(MOLLIFY_LANES)
-        constexpr int N = mollify::detail::register_doubles;
-        using V = mollify::detail::Lanes;
-        using mollify::detail::load_lanes, mollify::detail::store_lanes;
         for (int h = 0; h < W; h += N) {
             std::size_t r = 0;
             for (; r + 4 <= s; r += 4) {
                 V a0{}, a1{}, a2{}, a3{};
                 for (std::size_t c = 0; c < s; ++c) {
-                    const V v = load_lanes(x + c * W + h);
+                    const V v = load(x + c * W + h);
                     a0 += d[r * s + c] * v;
                     a1 += d[(r + 1) * s + c] * v;
                     a2 += d[(r + 2) * s + c] * v;
                     a3 += d[(r + 3) * s + c] * v;
                 }
-                store_lanes(y + r * W + h, a0);
-                store_lanes(y + (r + 1) * W + h, a1);
-                store_lanes(y + (r + 2) * W + h, a2);
-                store_lanes(y + (r + 3) * W + h, a3);
+                store(y + r * W + h, a0);
+                store(y + (r + 1) * W + h, a1);
+                store(y + (r + 2) * W + h, a2);
+                store(y + (r + 3) * W + h, a3);
             }
             for (; r < s; ++r) {
                 V a0{};
-                for (std::size_t c = 0; c < s; ++c) a0 += d[r * s + c] * load_lanes(x + c * W + h);
-                store_lanes(y + r * W + h, a0);
+                for (std::size_t c = 0; c < s; ++c) a0 += d[r * s + c] * load(x + c * W + h);
+                store(y + r * W + h, a0);
             }
         }
 #else
@@ -883,26 +888,23 @@ private:
     static void column_dot(const double* c, const double* xc, const double* xs, std::size_t len, double* yc, double* ys) {
         constexpr int W = lanes;
 #if defined(MOLLIFY_LANES)
-        constexpr int N = mollify::detail::register_doubles;
-        using V = mollify::detail::Lanes;
-        using mollify::detail::load_lanes, mollify::detail::store_lanes;
         for (int h = 0; h < W; h += N) {
             V c0{}, c1{}, s0{}, s1{};
             std::size_t t = 0;
             for (; t + 2 <= len; t += 2) {
-                c0 += c[t] * load_lanes(xc + t * W + h);
-                c1 += c[t + 1] * load_lanes(xc + (t + 1) * W + h);
+                c0 += c[t] * load(xc + t * W + h);
+                c1 += c[t + 1] * load(xc + (t + 1) * W + h);
                 if (ys) {
-                    s0 += c[t] * load_lanes(xs + t * W + h);
-                    s1 += c[t + 1] * load_lanes(xs + (t + 1) * W + h);
+                    s0 += c[t] * load(xs + t * W + h);
+                    s1 += c[t + 1] * load(xs + (t + 1) * W + h);
                 }
             }
             if (t < len) {
-                c0 += c[t] * load_lanes(xc + t * W + h);
-                if (ys) s0 += c[t] * load_lanes(xs + t * W + h);
+                c0 += c[t] * load(xc + t * W + h);
+                if (ys) s0 += c[t] * load(xs + t * W + h);
             }
-            store_lanes(yc + h, c0 + c1);
-            if (ys) store_lanes(ys + h, s0 + s1);
+            store(yc + h, c0 + c1);
+            if (ys) store(ys + h, s0 + s1);
         }
 #else
         for (int l = 0; l < W; ++l) {
