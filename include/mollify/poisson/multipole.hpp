@@ -43,6 +43,8 @@
 #include <complex>
 #include <cstdint>
 #include <cstddef>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -264,7 +266,7 @@ public:
     // The multipole coefficients of a cell in the harmonics' basis:
     // x_k = M_k/k! (full moments m, those of degree above order_s taken as
     // 0), folded onto k_z <= 1, then per degree M_i = (2n - 1)!! sum_k
-    // x_k k! S_i[k] (sh_in_); work: scratch.
+    // x_k k! S_i[k] (Harmonics::in); work: scratch.
     void reduce(const double* m, int order_s, double* out, std::vector<double>& work) const {
         const std::size_t n = size();
         work.resize(n);
@@ -276,7 +278,7 @@ public:
         }
         for (int d = 0; d <= p_; ++d) {
             const auto w = static_cast<std::size_t>(2 * d + 1), first = static_cast<std::size_t>(d * d);
-            const double* a = sh_in_.data() + sh_at(d);
+            const double* a = sh_->in.data() + sh_at(d);
             for (std::size_t i = 0; i < w; ++i) {
                 double sum = 0;
                 for (std::size_t r = 0; r < w; ++r) sum += a[i * w + r] * x[reduced_full_[first + r]];
@@ -313,7 +315,7 @@ public:
         const auto du = static_cast<std::size_t>(degree) + 1;
         const std::size_t wide = 2 * du;  // room for a degree's 2n + 1 rows
         work.resize((reduced_size() + 2 * wide) * W + W);
-        double* a = aligned(work.data());  // the multipole along z, by columns (column_)
+        double* a = aligned(work.data());  // the multipole along z, by columns (Harmonics::column)
         double* u = a + reduced_size() * W;
         double* v = u + wide * W;
         Angles phi, theta;  // cos/sin(m phi), cos/sin(m theta), R = d (sin t cos f, sin t sin f, cos t)
@@ -344,11 +346,11 @@ public:
         }
         phi.fill(degree);
         theta.fill(degree);
-        // Per degree in the blocks' order (place_): to z, then into a by columns.
+        // Per degree in the blocks' order (Harmonics::place): to z, then into a by columns.
         for (int n = 0; n <= degree; ++n) {
             const auto first = static_cast<std::size_t>(n * n), w = static_cast<std::size_t>(2 * n + 1);
             for (std::size_t i = 0; i < w; ++i) {
-                double* to = u + static_cast<std::size_t>(place_[first + i]) * W;
+                double* to = u + static_cast<std::size_t>(sh_->place[first + i]) * W;
                 for (int l = 0; l < W; ++l) to[l] = l < count ? src[l].mr[first + i] * ts[n][l] : 0.0;
             }
             rotate_z(u, n, phi, -1);
@@ -356,8 +358,8 @@ public:
             rotate_z(v, n, theta, -1);
             exchange(v, u, n, false);
             for (std::size_t i = 0; i < w; ++i) {
-                const double* from = u + static_cast<std::size_t>(place_[first + i]) * W;
-                double* to = a + (column_[i] + static_cast<std::size_t>(n) - (i + 1) / 2) * W;
+                const double* from = u + static_cast<std::size_t>(sh_->place[first + i]) * W;
+                double* to = a + (sh_->column[i] + static_cast<std::size_t>(n) - (i + 1) / 2) * W;
                 for (int l = 0; l < W; ++l) to[l] = from[l];
             }
         }
@@ -371,7 +373,7 @@ public:
             double* out = lr + first * W;
             const double* f = tt[j];
             for (std::size_t i = 0; i < w; ++i) {
-                const double* from = u + static_cast<std::size_t>(place_[first + i]) * W;
+                const double* from = u + static_cast<std::size_t>(sh_->place[first + i]) * W;
                 MOLLIFY_SIMD
                 for (int l = 0; l < W; ++l) out[i * W + static_cast<std::size_t>(l)] += f[l] * from[l];
             }
@@ -389,7 +391,7 @@ public:
 
     // Adds the full local expansion L_m rho_t^|m| of the per-lane sums lr
     // (add_local) to local (size()): per degree the reduced
-    // W_m (-rho_t)^|m| = m! sum_i S_i[m] (L_i rho_t^j) (sh_out_; F(R + v) =
+    // W_m (-rho_t)^|m| = m! sum_i S_i[m] (L_i rho_t^j) (Harmonics::out; F(R + v) =
     // sum_m ((-1)^|m|/m!) W_m v^m), the W_m with m_z >= 2 from
     // W_m = -W_(m-2e_z+2e_x) - W_(m-2e_z+2e_y), m_z ascending.
     void add_expanded(const double* lr, double* local, std::vector<double>& work) const {
@@ -404,7 +406,7 @@ public:
         }
         for (int d = 0; d <= p_; ++d) {
             const auto width = static_cast<std::size_t>(2 * d + 1), first = static_cast<std::size_t>(d * d);
-            const double* b = sh_out_.data() + sh_at(d);
+            const double* b = sh_->out.data() + sh_at(d);
             for (std::size_t r = 0; r < width; ++r) {
                 double s = 0;
                 for (std::size_t i = 0; i < width; ++i) s += b[r * width + i] * sum[first + i];
@@ -600,6 +602,23 @@ private:
         }
     }
 
+    // The harmonics' tables (sh_tables), one per order p, shared by every
+    // expansion of that order (harmonics()).
+    struct Block {
+        int row, size, matrix;  // its first row in the blocks' order, D and then D^T at matrices[matrix]
+    };
+    struct Harmonics {
+        std::vector<std::size_t> matrix_at;  // degree d's (2d + 1)^2 matrices in `in` and `out`
+        std::vector<double> in, out;         // reduced moments to M_i, L_i to reduced W (reduce, add_expanded)
+        std::vector<std::size_t> translation_at;  // (j, m), j (p + 1) + m: the coefficients of n = m..p
+        std::vector<double> translation;
+        std::vector<Block> blocks;           // Q's, by degree
+        std::vector<std::size_t> blocks_at;  // degree n's from blocks_at[n]
+        std::vector<int> place;              // index i of degree n: its row in the blocks' order, place[n^2 + i]
+        std::vector<std::size_t> column;     // the multipole along z by columns (add_local)
+        std::vector<double> matrices;        // each block's D, then D^T
+    };
+
     // Tables of the harmonic reduction (see add_local).
     void harmonic_tables() {
         // Reduced multi-indices (k_z <= 1) by degree: k_z = 0 with k_x
@@ -615,7 +634,19 @@ private:
                 for (int a = n - z; a >= 0; --a)
                     fold_.push_back({index({a, n - z - a, z}), index({a + 2, n - z - a, z - 2}),
                                      index({a, n - z - a + 2, z - 2})});
-        sh_tables();
+        sh_ = harmonics();
+    }
+
+    // The harmonics' tables of this order, built once per process and order
+    // (1.1 ms at p = 14, 5 ms at p = 20: a treecode at N = 10^4 takes
+    // ~30 ms, and time steppers build one per step).
+    std::shared_ptr<const Harmonics> harmonics() const {
+        static std::mutex lock;
+        static std::array<std::shared_ptr<const Harmonics>, max_order + 1> built;
+        const std::lock_guard<std::mutex> hold(lock);
+        auto& h = built[static_cast<std::size_t>(p_)];
+        if (!h) h = std::make_shared<const Harmonics>(sh_tables());
+        return h;
     }
 
     // A harmonic polynomial of degree n: its coefficients in the graded
@@ -649,9 +680,10 @@ private:
     // Legendre's recurrence (n - m) G_n = (2n - 1) z G_(n-1) - (n + m - 1) |y|^2 G_(n-2)
     // (G_mm = 1, G_(m+1)m = (2m + 1) z), each scaled to Fischer norm 1;
     // within degree n, index 0 is m = 0, 2m - 1 the cosine's, 2m the sine's.
-    // From them: sh_in_ (reduced moments to M_i), sh_out_ (L_i to reduced
+    // From them: in (reduced moments to M_i), out (L_i to reduced
     // W), the z translation's coefficients and Q's blocks (add_local).
-    void sh_tables() {
+    Harmonics sh_tables() const {
+        Harmonics h;
         const auto P = static_cast<std::size_t>(p_) + 1;
         std::vector<std::vector<Poly>> S(P);
         for (std::size_t n = 0; n < P; ++n) S[n].resize(2 * n + 1);
@@ -696,11 +728,11 @@ private:
         for (int n = 0; n <= p_; ++n) {
             if (n > 0) odd_factorial *= 2 * n - 1;
             const auto w = static_cast<std::size_t>(2 * n + 1), first = static_cast<std::size_t>(n * n);
-            sh_start_.push_back(sh_in_.size());
-            sh_in_.resize(sh_in_.size() + w * w);
-            sh_out_.resize(sh_in_.size());
-            double* in = sh_in_.data() + sh_start_.back();
-            double* out = sh_out_.data() + sh_start_.back();
+            h.matrix_at.push_back(h.in.size());
+            h.in.resize(h.in.size() + w * w);
+            h.out.resize(h.in.size());
+            double* in = h.in.data() + h.matrix_at.back();
+            double* out = h.out.data() + h.matrix_at.back();
             for (std::size_t i = 0; i < w; ++i)
                 for (std::size_t r = 0; r < w; ++r) {
                     const auto full = static_cast<std::size_t>(reduced_full_[first + r]);
@@ -720,26 +752,26 @@ private:
             for (int t = 1; t <= b; ++t) c = c * (a - b + t) / t;
             return c;
         };
-        trans_start_.assign(P * P, 0);
+        h.translation_at.assign(P * P, 0);
         for (int j = 0; j <= p_; ++j)
             for (int m = 0; m <= j; ++m) {
-                trans_start_[static_cast<std::size_t>(j) * P + static_cast<std::size_t>(m)] = trans_.size();
+                h.translation_at[static_cast<std::size_t>(j) * P + static_cast<std::size_t>(m)] = h.translation.size();
                 for (int n = m; n <= p_; ++n)
-                    trans_.push_back(static_cast<double>(((j - m) % 2 ? -1 : 1) * binomial(n + j, j - m) *
+                    h.translation.push_back(static_cast<double>(((j - m) % 2 ? -1 : 1) * binomial(n + j, j - m) *
                                                          K[static_cast<std::size_t>(n) * P + static_cast<std::size_t>(m)] /
                                                          K[static_cast<std::size_t>(j) * P + static_cast<std::size_t>(m)]));
             }
         // The multipole along z by columns (add_local): index i (m = (i + 1)/2)
-        // of degrees n = m..p at column_[i] + n - m.
+        // of degrees n = m..p at h.column[i] + n - m.
         for (std::size_t i = 0, row = 0; i < 2 * P - 1; ++i) {
-            column_.push_back(row);
+            h.column.push_back(row);
             row += P - (i + 1) / 2;
         }
         // Q = R_x(-pi/2) (z to y): D_(i'i) = <S_i', S_i(Q^T y)>, S_i(Q^T y) =
         // S_i(x, -z, y). Q commutes with x -> -x and with R_x(pi), so D keeps
         // their parities: cos(m phi) parts have (-1)^m and (-1)^(n-m), sine
         // parts the opposite of each: four blocks.
-        block_start_.push_back(0);
+        h.blocks_at.push_back(0);
         for (int n = 0; n <= p_; ++n) {
             const auto w = static_cast<std::size_t>(2 * n + 1);
             const auto first = static_cast<std::size_t>(start_[static_cast<std::size_t>(n)]);
@@ -755,14 +787,14 @@ private:
             };
             std::vector<int> order;  // the degree's indices by class: each block's rows contiguous
             for (int cls = 0; cls < 4; ++cls) {
-                Block b{static_cast<int>(order.size()), 0, static_cast<int>(exchange_.size())};
+                Block b{static_cast<int>(order.size()), 0, static_cast<int>(h.matrices.size())};
                 for (std::size_t i = 0; i < w; ++i)
                     if (parity(i) == cls) order.push_back(static_cast<int>(i));
                 b.size = static_cast<int>(order.size()) - b.row;
                 if (b.size == 0) continue;
                 const auto s = static_cast<std::size_t>(b.size);
-                exchange_.resize(exchange_.size() + 2 * s * s);
-                double* d = exchange_.data() + b.matrix;
+                h.matrices.resize(h.matrices.size() + 2 * s * s);
+                double* d = h.matrices.data() + b.matrix;
                 for (std::size_t x = 0; x < s; ++x)
                     for (std::size_t y = 0; y < s; ++y) {
                         const auto ix = static_cast<std::size_t>(order[static_cast<std::size_t>(b.row) + x]);
@@ -771,15 +803,16 @@ private:
                         d[x * s + y] = v;          // D
                         d[s * s + y * s + x] = v;  // D^T
                     }
-                blocks_.push_back(b);
+                h.blocks.push_back(b);
             }
-            place_.resize(place_.size() + w);
-            for (std::size_t r = 0; r < w; ++r) place_[static_cast<std::size_t>(n * n) + static_cast<std::size_t>(order[r])] = static_cast<int>(r);
-            block_start_.push_back(blocks_.size());
+            h.place.resize(h.place.size() + w);
+            for (std::size_t r = 0; r < w; ++r) h.place[static_cast<std::size_t>(n * n) + static_cast<std::size_t>(order[r])] = static_cast<int>(r);
+            h.blocks_at.push_back(h.blocks.size());
         }
+        return h;
     }
-    // The offset of degree d's (2d + 1)^2 matrix in sh_in_ and sh_out_.
-    std::size_t sh_at(int d) const { return sh_start_[static_cast<std::size_t>(d)]; }
+    // The offset of degree d's (2d + 1)^2 matrix in Harmonics::in and out.
+    std::size_t sh_at(int d) const { return sh_->matrix_at[static_cast<std::size_t>(d)]; }
 
     // cos(m a) and sin(m a) per lane, m <= degree, from row 1 (fill: the
     // complex powers (cos a + i sin a)^m).
@@ -803,7 +836,7 @@ private:
     // (c, s)_m -> (c cos ma - s sin ma, c sin ma + s cos ma).
     void rotate_z(double* x, int n, const Angles& g, int sign) const {
         constexpr int W = lanes;
-        const int* at = place_.data() + n * n;
+        const int* at = sh_->place.data() + n * n;
         for (int m = 1; m <= n; ++m) {
             double* c = x + static_cast<std::size_t>(at[2 * m - 1]) * W;
             double* s = x + static_cast<std::size_t>(at[2 * m]) * W;
@@ -819,10 +852,10 @@ private:
     // out = D in (transposed: D^T in), degree n: Q's blocks, each on its
     // own contiguous rows.
     void exchange(const double* in, double* out, int n, bool transposed) const {
-        for (std::size_t k = block_start_[static_cast<std::size_t>(n)]; k < block_start_[static_cast<std::size_t>(n) + 1]; ++k) {
-            const Block& b = blocks_[k];
+        for (std::size_t k = sh_->blocks_at[static_cast<std::size_t>(n)]; k < sh_->blocks_at[static_cast<std::size_t>(n) + 1]; ++k) {
+            const Block& b = sh_->blocks[k];
             const auto s = static_cast<std::size_t>(b.size), row = static_cast<std::size_t>(b.row) * lanes;
-            matrix_rows(exchange_.data() + b.matrix + (transposed ? s * s : 0), s, in + row, out + row);
+            matrix_rows(sh_->matrices.data() + b.matrix + (transposed ? s * s : 0), s, in + row, out + row);
         }
     }
 
@@ -869,15 +902,15 @@ private:
     void translate_z(const double* a, double* u, int j, int degree) const {
         constexpr int W = lanes;
         const auto P = static_cast<std::size_t>(p_) + 1;
-        const int* at = place_.data() + j * j;
+        const int* at = sh_->place.data() + j * j;
         for (int m = 0; m <= j; ++m) {
-            const double* c = trans_.data() + trans_start_[static_cast<std::size_t>(j) * P + static_cast<std::size_t>(m)];
+            const double* c = sh_->translation.data() + sh_->translation_at[static_cast<std::size_t>(j) * P + static_cast<std::size_t>(m)];
             const auto len = static_cast<std::size_t>(degree - m + 1);
             if (m == 0) {
-                column_dot(c, a + column_[0] * W, a + column_[0] * W, len, u + static_cast<std::size_t>(at[0]) * W, nullptr);
+                column_dot(c, a + sh_->column[0] * W, a + sh_->column[0] * W, len, u + static_cast<std::size_t>(at[0]) * W, nullptr);
             } else {
                 const auto i = static_cast<std::size_t>(2 * m - 1);
-                column_dot(c, a + column_[i] * W, a + column_[i + 1] * W, len, u + static_cast<std::size_t>(at[i]) * W,
+                column_dot(c, a + sh_->column[i] * W, a + sh_->column[i + 1] * W, len, u + static_cast<std::size_t>(at[i]) * W,
                            u + static_cast<std::size_t>(at[i + 1]) * W);
             }
         }
@@ -998,19 +1031,7 @@ private:
     };
     std::vector<int> reduced_full_;
     std::vector<Fold> fold_;
-    // The harmonics' tables (sh_tables).
-    std::vector<std::size_t> sh_start_;
-    std::vector<double> sh_in_, sh_out_;
-    std::vector<std::size_t> trans_start_;  // (j, m), j (p + 1) + m: the coefficients of n = m..p
-    std::vector<double> trans_;
-    struct Block {
-        int row, size, matrix;  // its first row in the blocks' order, D and then D^T at exchange_[matrix]
-    };
-    std::vector<Block> blocks_;
-    std::vector<std::size_t> block_start_;  // degree n's blocks from block_start_[n]
-    std::vector<int> place_;  // index i of degree n: its row in the blocks' order, place_[n^2 + i]
-    std::vector<std::size_t> column_;
-    std::vector<double> exchange_;
+    std::shared_ptr<const Harmonics> sh_;  // harmonics()
 };
 
 // 2D complex expansion of order p: moments M_k = sum q ((w - c)/rho)^k.
