@@ -2,8 +2,8 @@
 // detail/lanes.hpp): 1/sqrt refined from VRSQRT14PD's estimate against
 // long double, its hard cases (the lanes it leaves to the division), the
 // two Green's passes with the refined 1/r against the same passes with the
-// division, and the within-support search's compressed compaction against
-// its definition. Built for x86-64-v4 where the host has AVX-512
+// division, and the pairs they leave to the exact kernel (detail::WithinPairs,
+// compressed into place eight at a time) against their definition. Built for x86-64-v4 where the host has AVX-512
 // (tests/CMakeLists.txt: poisson_free_v4_test).
 #include <mollify/poisson.hpp>
 
@@ -134,65 +134,109 @@ Pass sources(std::size_t n, unsigned seed) {
     return p;
 }
 
+// The pairs a pass leaves out, by the definition: every j with
+// !(r^2 >= d2_j) (r^2 formed as the passes form it: d = xt - x_j, FMAs in
+// the order x, y, z), in order, with r^2 bit for bit.
+void expect_listed(const Pass& p, std::size_t n, const std::array<double, 3>& xt, const std::vector<double>& d2,
+                   const pd::WithinPairs& got, const char* what) {
+    std::size_t expected = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+        const double dx = xt[0] - p.x[j], dy = xt[1] - p.y[j], dz = xt[2] - p.z[j];
+        const double r2 = std::fma(dz, dz, std::fma(dy, dy, dx * dx));
+        if (r2 >= d2[j]) continue;
+        ASSERT_LT(expected, got.size) << what << " n " << n << ": pair " << j << " within the support is missing";
+        EXPECT_EQ(got.at[expected], j) << what << " n " << n;
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(got.r2[expected]), std::bit_cast<std::uint64_t>(r2)) << what << " n " << n;
+        ++expected;
+    }
+    EXPECT_EQ(got.size, expected) << what << " n " << n;
+    EXPECT_GT(got.size, 0u) << what << " n " << n;
+}
+
+// Room for a pass's list.
+struct List {
+    std::vector<unsigned> at;
+    std::vector<double> r2;
+    explicit List(std::size_t n) : at(n), r2(n) {}
+    pd::WithinPairs pairs() { return {at.data(), r2.data()}; }
+};
+
 // The mutual pass both ways: the target's phi and E and every source's
 // sums agree to a few roundings of their terms' magnitudes (each 1/r within
 // 2 ulp, 1/r^3 within ~6 ulp: 1e-15 relative per term, against ~2^-14 for
 // an unrefined estimate), and nothing is NaN (coincident pairs are masked
-// out as with the division).
+// out as with the division); the pairs it leaves to the exact kernel are
+// listed by the definition, per direction (per-source d2: within the
+// source's support for the target, within the target's d2t for the source)
+// and, with one global d2 (to_source null), once for both.
 TEST(GreenPass, MutualRefinedAgreesWithDivision) {
     const std::array<double, 3> xt{0.25, -0.5, 2.0};
-    for (const std::size_t n : {std::size_t{5}, std::size_t{203}, std::size_t{4099}}) {
-        const Pass p = sources(n, 7 + static_cast<unsigned>(n));
-        struct Out {
-            double phi = 0;
-            std::array<double, 3> e{};
-            std::vector<double> w, g0, g1, g2;
-        };
-        auto run = [&](InverseSqrt how) {
-            Out o;
-            o.w.assign(n, 0.0), o.g0.assign(n, 0.0), o.g1.assign(n, 0.0), o.g2.assign(n, 0.0);
-            pd::add_green_mutual(p.x.data(), p.y.data(), p.z.data(), p.q.data(), p.d2.data(), n, xt, 0.75, 2e-4, o.phi,
-                                 o.e, o.w.data(), o.g0.data(), o.g1.data(), o.g2.data(), how);
-            return o;
-        };
-        const Out r = run(InverseSqrt::refine), d = run(InverseSqrt::divide);
-        // The magnitudes the sums are made of: sum |q|/r and sum |q|/r^2.
-        double mag_phi = 0, mag_e = 0;
-        for (std::size_t j = 0; j < n; ++j) {
-            const double dx = xt[0] - p.x[j], dy = xt[1] - p.y[j], dz = xt[2] - p.z[j];
-            const double r2 = dx * dx + dy * dy + dz * dz;
-            if (r2 >= p.d2[j] && r2 > 0) mag_phi += std::abs(p.q[j]) / std::sqrt(r2), mag_e += std::abs(p.q[j]) / r2;
+    for (const bool global : {false, true})
+        for (const std::size_t n : {std::size_t{5}, std::size_t{203}, std::size_t{4099}}) {
+            Pass p = sources(n, 7 + static_cast<unsigned>(n));
+            const double d2t = 2e-4;
+            if (global) p.d2.assign(n, d2t);
+            struct Out {
+                double phi = 0;
+                std::array<double, 3> e{};
+                std::vector<double> w, g0, g1, g2;
+            };
+            auto run = [&](InverseSqrt how) {
+                Out o;
+                o.w.assign(n, 0.0), o.g0.assign(n, 0.0), o.g1.assign(n, 0.0), o.g2.assign(n, 0.0);
+                List to_t(n), to_j(n);
+                pd::WithinPairs t = to_t.pairs(), j = to_j.pairs();
+                pd::add_green_mutual(p.x.data(), p.y.data(), p.z.data(), p.q.data(), p.d2.data(), n, xt, 0.75, d2t,
+                                     o.phi, o.e, o.w.data(), o.g0.data(), o.g1.data(), o.g2.data(), t,
+                                     global ? nullptr : &j, how);
+                expect_listed(p, n, xt, p.d2, t, global ? "both directions" : "to the target");
+                if (!global) expect_listed(p, n, xt, std::vector<double>(n, d2t), j, "to the sources");
+                return o;
+            };
+            const Out r = run(InverseSqrt::refine), d = run(InverseSqrt::divide);
+            // The magnitudes the sums are made of: sum |q|/r and sum |q|/r^2.
+            double mag_phi = 0, mag_e = 0;
+            for (std::size_t j = 0; j < n; ++j) {
+                const double dx = xt[0] - p.x[j], dy = xt[1] - p.y[j], dz = xt[2] - p.z[j];
+                const double r2 = dx * dx + dy * dy + dz * dz;
+                if (r2 >= p.d2[j] && r2 > 0) mag_phi += std::abs(p.q[j]) / std::sqrt(r2), mag_e += std::abs(p.q[j]) / r2;
+            }
+            const double tol = 1e-14;  // ~45 u: 6 ulp per term plus the sums' own roundings, which the two ways share
+            EXPECT_TRUE(std::isfinite(r.phi));
+            EXPECT_NEAR(r.phi, d.phi, tol * mag_phi) << n;
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.e[c], d.e[c], tol * mag_e) << n << " component " << c;
+            for (std::size_t j = 0; j < n; ++j) {
+                const double dx = xt[0] - p.x[j], dy = xt[1] - p.y[j], dz = xt[2] - p.z[j];
+                const double r2 = dx * dx + dy * dy + dz * dz;
+                ASSERT_TRUE(std::isfinite(r.w[j]) && std::isfinite(r.g0[j])) << j;
+                EXPECT_NEAR(r.w[j], d.w[j], 6e-16 * std::abs(d.w[j])) << j << " r2 " << r2;
+                EXPECT_NEAR(r.g0[j], d.g0[j], 2e-15 * std::abs(d.g0[j])) << j << " r2 " << r2;
+                EXPECT_NEAR(r.g2[j], d.g2[j], 2e-15 * std::abs(d.g2[j])) << j << " r2 " << r2;
+            }
         }
-        const double tol = 1e-14;  // ~45 u: 6 ulp per term plus the sums' own roundings, which the two ways share
-        EXPECT_TRUE(std::isfinite(r.phi));
-        EXPECT_NEAR(r.phi, d.phi, tol * mag_phi) << n;
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.e[c], d.e[c], tol * mag_e) << n << " component " << c;
-        for (std::size_t j = 0; j < n; ++j) {
-            const double dx = xt[0] - p.x[j], dy = xt[1] - p.y[j], dz = xt[2] - p.z[j];
-            const double r2 = dx * dx + dy * dy + dz * dz;
-            ASSERT_TRUE(std::isfinite(r.w[j]) && std::isfinite(r.g0[j])) << j;
-            EXPECT_NEAR(r.w[j], d.w[j], 6e-16 * std::abs(d.w[j])) << j << " r2 " << r2;
-            EXPECT_NEAR(r.g0[j], d.g0[j], 2e-15 * std::abs(d.g0[j])) << j << " r2 " << r2;
-            EXPECT_NEAR(r.g2[j], d.g2[j], 2e-15 * std::abs(d.g2[j])) << j << " r2 " << r2;
-        }
-    }
 }
 
 // The one-way pass, and pairs whose r^2 overflows (2^600 apart): 1/r = 0
-// from the division's block, as before, not inf * 0.
+// from the division's block, as before, not inf * 0; its list of the
+// pairs within a support by the definition.
 TEST(GreenPass, OneWayRefinedAgreesWithDivision) {
     const std::array<double, 3> xt{0.25, -0.5, 2.0};
     Pass p = sources(1001, 99);
     p.x[17] = 0x1p600;
+    const std::size_t n = p.x.size();
     double phi_r = 0, phi_d = 0;
     std::array<double, 3> e_r{}, e_d{};
-    pd::add_green(p.x.data(), p.y.data(), p.z.data(), p.q.data(), p.d2.data(), p.x.size(), xt, phi_r, e_r,
+    List list_r(n), list_d(n);
+    pd::WithinPairs within_r = list_r.pairs(), within_d = list_d.pairs();
+    pd::add_green(p.x.data(), p.y.data(), p.z.data(), p.q.data(), p.d2.data(), n, xt, phi_r, e_r, within_r,
                   InverseSqrt::refine);
-    pd::add_green(p.x.data(), p.y.data(), p.z.data(), p.q.data(), p.d2.data(), p.x.size(), xt, phi_d, e_d,
+    pd::add_green(p.x.data(), p.y.data(), p.z.data(), p.q.data(), p.d2.data(), n, xt, phi_d, e_d, within_d,
                   InverseSqrt::divide);
+    expect_listed(p, n, xt, p.d2, within_r, "refined");
+    expect_listed(p, n, xt, p.d2, within_d, "divided");
     ASSERT_TRUE(std::isfinite(phi_r));
     double mag_phi = 0, mag_e = 0;
-    for (std::size_t j = 0; j < p.x.size(); ++j) {
+    for (std::size_t j = 0; j < n; ++j) {
         const double dx = xt[0] - p.x[j], dy = xt[1] - p.y[j], dz = xt[2] - p.z[j];
         const double r2 = dx * dx + dy * dy + dz * dz;
         if (r2 >= p.d2[j] && r2 > 0 && std::isfinite(r2))
@@ -205,65 +249,21 @@ TEST(GreenPass, OneWayRefinedAgreesWithDivision) {
     }
 }
 
-// The within-support search's compaction (detail::near_sources), eight
-// sources at a time compressed into place, against the definition: the
-// sources with r^2 < delta_j^2, r^2 formed as add_green forms it, in their
-// order, with their r^2 bit for bit; in 2D and 3D, at block offsets that
-// leave a scalar tail, per-source delta (some pairs exactly at r^2 =
-// delta^2: not within) and one global delta.
-template <int D>
-void near_sources_are_the_definition(bool per_source) {
-    std::mt19937_64 rng(31 + D + (per_source ? 1 : 0));
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const std::size_t n = 613;
-    std::array<std::vector<double>, D> x;
-    std::vector<double> q(n, 1.0), delta;
-    for (std::size_t j = 0; j < n; ++j) {
-        for (int k = 0; k < D; ++k) x[k].push_back(unit(rng));
-        if (per_source) delta.push_back(0.05 + 0.2 * unit(rng));
-    }
-    if (!per_source) delta.push_back(0.15);
-    std::array<double, D> xt;
-    for (int k = 0; k < D; ++k) xt[k] = 0.5;
-    // A source at distance exactly 0.25 (r^2 = 1/16 exactly) with delta 0.25: r^2 = delta^2, not within.
-    x[0][100] = 0.75;
-    for (int k = 1; k < D; ++k) x[k][100] = 0.5;
-    if (per_source) delta[100] = 0.25;
-    mollify::Points<D> p;
-    for (int k = 0; k < D; ++k) p[k] = x[k];
-    std::vector<std::size_t> order(n);
-    for (std::size_t j = 0; j < n; ++j) order[j] = j;
-    const pd::SourceArrays<D> s(mollify::poisson::Sources<D>{p, q, delta}, order);
-    for (const std::size_t b0 : {std::size_t{0}, std::size_t{3}, std::size_t{128}, std::size_t{500}}) {
-        const std::size_t count = std::min<std::size_t>(pd::block, n - b0);
-        unsigned near[pd::block + 1];
-        double near_r2[pd::block];
-        const std::size_t m = pd::near_sources<D>(s, xt, b0, count, near, near_r2);
-        std::size_t expected = 0;
-        for (std::size_t j = 0; j < count; ++j) {
-            const std::size_t i = b0 + j;
-            const double dx = xt[0] - s.x[0][i], dy = xt[1] - s.x[1][i];
-            double r2 = std::fma(dy, dy, dx * dx);
-            if constexpr (D == 3) r2 = std::fma(xt[2] - s.x[2][i], xt[2] - s.x[2][i], r2);
-            if (!(r2 < s.delta[i] * s.delta[i])) continue;
-            ASSERT_LT(expected, m) << "b0 " << b0 << ": source " << j << " within its support is missing";
-            EXPECT_EQ(near[expected], j) << "b0 " << b0;
-            EXPECT_EQ(std::bit_cast<std::uint64_t>(near_r2[expected]), std::bit_cast<std::uint64_t>(r2)) << "b0 " << b0;
-            ++expected;
-        }
-        EXPECT_EQ(m, expected) << "b0 " << b0;
-        EXPECT_GT(m, 0u) << "b0 " << b0;
-    }
-}
-
-TEST(WithinSupport, NearSourcesAreTheDefinition3D) {
-    near_sources_are_the_definition<3>(true);
-    near_sources_are_the_definition<3>(false);
-}
-
-TEST(WithinSupport, NearSourcesAreTheDefinition2D) {
-    near_sources_are_the_definition<2>(true);
-    near_sources_are_the_definition<2>(false);
+// A pass over n = 0 sources (a leaf's last target in its own leaf's pass)
+// adds nothing and lists nothing.
+TEST(GreenPass, EmptyPassAddsNothing) {
+    const std::array<double, 3> xt{0.25, -0.5, 2.0};
+    double phi = 1.5;
+    std::array<double, 3> e{1.0, 2.0, 3.0};
+    double none = 0;
+    unsigned at = 0;
+    pd::WithinPairs t{&at, &none}, j{&at, &none};
+    pd::add_green(nullptr, nullptr, nullptr, nullptr, nullptr, 0, xt, phi, e, t);
+    pd::add_green_mutual(nullptr, nullptr, nullptr, nullptr, nullptr, 0, xt, 1.0, 1.0, phi, e, nullptr, nullptr,
+                         nullptr, nullptr, t, &j);
+    EXPECT_EQ(phi, 1.5);
+    EXPECT_EQ(e, (std::array<double, 3>{1.0, 2.0, 3.0}));
+    EXPECT_EQ(t.size + j.size, 0u);
 }
 
 }  // namespace

@@ -130,13 +130,29 @@ MOLLIFY_INLINE Lanes inverse_sqrt_lanes(Lanes a) {
     return 1.0 / sqrt_lanes(a);
 }
 
-// v where the mask (a lane-wise comparison's: all bits set or none) is set,
-// +0 elsewhere.
-template <class Mask>
-MOLLIFY_INLINE Lanes keep_lanes(Mask m, Lanes v) {
-    static_assert(sizeof(Mask) == sizeof(Lanes));
-    return std::bit_cast<Lanes>(std::bit_cast<Mask>(v) & m);
+// Lane-wise a >= b (false where either is NaN) as a mask: AVX-512's mask
+// register, else the comparison's vector (all bits set or none per lane);
+// keep_lanes(m, v): v where m is set, +0 elsewhere; clear_lanes(m): the
+// lanes where m is clear, as bits (lane l at bit l).
+#if defined(__AVX512F__)
+using LaneMask = __mmask8;
+MOLLIFY_INLINE LaneMask at_least_lanes(Lanes a, Lanes b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
+MOLLIFY_INLINE Lanes keep_lanes(LaneMask m, Lanes v) { return _mm512_maskz_mov_pd(m, v); }
+MOLLIFY_INLINE unsigned clear_lanes(LaneMask m) { return static_cast<unsigned>(static_cast<LaneMask>(~m)); }
+#else
+using LaneMask = decltype(Lanes{} >= Lanes{});
+MOLLIFY_INLINE LaneMask at_least_lanes(Lanes a, Lanes b) { return a >= b; }
+MOLLIFY_INLINE Lanes keep_lanes(LaneMask m, Lanes v) { return std::bit_cast<Lanes>(std::bit_cast<LaneMask>(v) & m); }
+MOLLIFY_INLINE unsigned clear_lanes(LaneMask m) {
+#if defined(__AVX__)
+    return static_cast<unsigned>(~_mm256_movemask_pd(std::bit_cast<__m256d>(m))) & 0xfu;
+#else
+    unsigned bits = 0;
+    for (int l = 0; l < register_doubles; ++l) bits |= m[l] ? 0u : 1u << l;
+    return bits;
+#endif
 }
+#endif
 
 // The lanes' sum, lane 0 first.
 MOLLIFY_INLINE double sum_lanes(Lanes v) {

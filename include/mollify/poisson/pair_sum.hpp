@@ -6,10 +6,10 @@
 // one batch call of the kernel per quantity (potential, phi'/r) for the
 // pairs within a support, then the weighted sums (vectorised reductions).
 //
-// The treecode's near field uses two variants (add_green, add_within, at
-// the end): the Green's function for the pairs beyond their support over
+// The treecode's near field uses two variants (add_green, within_kernel,
+// at the end): the Green's function for the pairs beyond their support over
 // sources gathered from several cells, and the exact kernel only for the
-// pairs within a support.
+// pairs within a support, which the Green's passes list.
 //
 // Per-source smoothing lengths use the scaling of the runtime
 // (include/mollify/smoothing.hpp): f_delta(r) = delta^p f_1(r/delta), with
@@ -261,16 +261,50 @@ MOLLIFY_INLINE std::size_t green_blocks(const double* x, const double* y, const 
 
 // The treecode's near field in two parts, which together are add_exact
 // over the same sources (each pair in exactly one part: r^2 >= delta_j^2
-// in the first, r^2 < delta_j^2 in the second).
+// in the first, its complement in the second).
 //
+// The second part's pairs, found by the first as it goes: the pairs a
+// Green's pass leaves out (not r^2 >= delta^2: within a support), by their
+// position in the pass's arrays and with r^2 as the pass formed it, in
+// order; at and r2 hold room for every position of the pass. The search
+// for them was a second pass over the near cells (the same r^2 of every
+// source in the cells within delta_max of the target, ~6 % of the
+// treecode); here a block of sources costs a test of the mask the Green's
+// function needs anyway, and ~1 block in 25 has a pair to append.
+struct WithinPairs {
+    unsigned* at;
+    double* r2;
+    std::size_t size = 0;
+    MOLLIFY_INLINE void push(std::size_t j, double r2j) {
+        at[size] = static_cast<unsigned>(j);
+        r2[size] = r2j;
+        ++size;
+    }
+#if defined(MOLLIFY_LANES)
+    // Lanes l of the block at j0 whose bit is set in `bits`.
+    MOLLIFY_INLINE void push_lanes(std::size_t j0, unsigned bits, mollify::detail::Lanes r2j) {
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+        const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+        _mm512_mask_compressstoreu_pd(r2 + size, static_cast<__mmask8>(bits), r2j);
+        _mm256_mask_compressstoreu_epi32(at + size, static_cast<__mmask8>(bits),
+                                         _mm256_add_epi32(lane, _mm256_set1_epi32(static_cast<int>(j0))));
+        size += static_cast<std::size_t>(std::popcount(bits));
+#else
+        for (; bits != 0; bits &= bits - 1) push(j0 + static_cast<std::size_t>(std::countr_zero(bits)), r2j[std::countr_zero(bits)]);
+#endif
+    }
+#endif
+};
+
 // add_green: the pairs beyond their support, where phi_delta IS the
 // Green's function (3D), over n sources gathered into plain arrays
 // (coordinates x, y, z, charges q, squared smoothing lengths d2): one
 // vectorised pass, 1/r from one square root and one division (or refined
-// from VRSQRT14PD's estimate: `how`, green_blocks), no kernel.
+// from VRSQRT14PD's estimate: `how`, green_blocks), no kernel; the other
+// pairs appended to `within`.
 MOLLIFY_NOINLINE void add_green(const double* x, const double* y, const double* z, const double* q, const double* d2,
                       std::size_t n, const std::array<double, 3>& xt, double& phi, std::array<double, 3>& e,
-                      [[maybe_unused]] InverseSqrt how = fastest_inverse_sqrt()) {
+                      WithinPairs& within, [[maybe_unused]] InverseSqrt how = fastest_inverse_sqrt()) {
     constexpr double k = 0.25 * std::numbers::inv_pi;
     double p_sum = 0, e0 = 0, e1 = 0, e2 = 0;
     std::size_t j = 0;
@@ -278,20 +312,25 @@ MOLLIFY_NOINLINE void add_green(const double* x, const double* y, const double* 
     using mollify::detail::Lanes;
     auto use = [&](std::size_t j0, Lanes, Lanes, Lanes, Lanes r2, Lanes inv) {
         using namespace mollify::detail;
-        const Lanes to_t = keep_lanes(r2 >= load_lanes(d2 + j0), inv);  // 1/r, or 0 within the support
-        const Lanes w = load_lanes(q + j0) * to_t;                       // q/r
-        return std::array<Lanes, 2>{w, w * to_t * to_t};                 // q/r, q/r^3
+        const LaneMask beyond = at_least_lanes(r2, load_lanes(d2 + j0));
+        if (const unsigned in = clear_lanes(beyond)) [[unlikely]]
+            within.push_lanes(j0, in, r2);
+        const Lanes to_t = keep_lanes(beyond, inv);  // 1/r, or 0 within the support
+        const Lanes w = load_lanes(q + j0) * to_t;  // q/r
+        return std::array<Lanes, 2>{w, w * to_t * to_t};  // q/r, q/r^3
     };
     j = how == InverseSqrt::refine ? green_blocks<InverseSqrt::refine>(x, y, z, n, xt, p_sum, e0, e1, e2, use)
                                    : green_blocks<InverseSqrt::divide>(x, y, z, n, xt, p_sum, e0, e1, e2, use);
-#else
-    MOLLIFY_SIMD_REDUCTION(p_sum, e0, e1, e2)
 #endif
     for (; j < n; ++j) {
         const double dx = xt[0] - x[j], dy = xt[1] - y[j], dz = xt[2] - z[j];
         const double r2 = mollify::detail::mul_add(dz, dz, mollify::detail::mul_add(dy, dy, dx * dx));
-        const double inv = r2 >= d2[j] ? 1 / std::sqrt(r2) : 0.0;  // 1/r, or 0 within the support
-        const double w = q[j] * inv, g = w * inv * inv;               // q/r, q/r^3
+        if (!(r2 >= d2[j])) {
+            within.push(j, r2);
+            continue;
+        }
+        const double inv = 1 / std::sqrt(r2);
+        const double w = q[j] * inv, g = w * inv * inv;  // q/r, q/r^3
         p_sum += w;
         e0 += g * dx;
         e1 += g * dy;
@@ -309,14 +348,20 @@ MOLLIFY_NOINLINE void add_green(const double* x, const double* y, const double* 
 // serves both directions (Newton's third law; masks r^2 >= d2[j] for the
 // target, r^2 >= d2t for the source). The sources' sums of q/r and
 // q (x_j - x_t)/r^3 are added to w[j], g0[j], g1[j], g2[j] (to be scaled by
-// -1/(4 pi) like the target's).
+// -1/(4 pi) like the target's). The pairs left out: within the source's
+// support to `to_target`, within the target's to `*to_source`; with
+// to_source null the caller's delta is global (every d2[j] is d2t, which
+// alone is read): one mask for both directions, each pair left out once,
+// to `to_target` (2 of the ~34 operations a block fewer).
 //
 // Both kept out of line: inlined into the treecode's descend, GCC left
 // the loop scalar (3x the time).
-MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const double* z, const double* q, const double* d2,
-                             std::size_t n, const std::array<double, 3>& xt, double qt, double d2t, double& phi,
-                             std::array<double, 3>& e, double* w, double* g0, double* g1, double* g2,
-                             [[maybe_unused]] InverseSqrt how = fastest_inverse_sqrt()) {
+template <bool Global>
+MOLLIFY_INLINE void add_green_mutual_as(const double* x, const double* y, const double* z, const double* q,
+                                        const double* d2, std::size_t n, const std::array<double, 3>& xt, double qt,
+                                        double d2t, double& phi, std::array<double, 3>& e, double* w, double* g0,
+                                        double* g1, double* g2, WithinPairs& to_target, WithinPairs* to_source,
+                                        [[maybe_unused]] InverseSqrt how) {
     constexpr double k = 0.25 * std::numbers::inv_pi;
     double p_sum = 0, e0 = 0, e1 = 0, e2 = 0;
     std::size_t j = 0;
@@ -325,10 +370,28 @@ MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const d
     const Lanes vq = Lanes{} + qt, vd2 = Lanes{} + d2t;
     auto use = [&](std::size_t j0, Lanes dx, Lanes dy, Lanes dz, Lanes r2, Lanes inv) {
         using namespace mollify::detail;
-        const Lanes to_t = keep_lanes(r2 >= load_lanes(d2 + j0), inv), to_j = keep_lanes(r2 >= vd2, inv);
-        const Lanes wt = load_lanes(q + j0) * to_t;
-        const Lanes wj = vq * to_j, gj = wj * to_j * to_j;
-        const Lanes gt = wt * to_t * to_t;
+        Lanes wt, gt, wj, gj;
+        if constexpr (Global) {
+            const LaneMask beyond = at_least_lanes(r2, vd2);
+            if (const unsigned in = clear_lanes(beyond)) [[unlikely]]
+                to_target.push_lanes(j0, in, r2);
+            const Lanes to = keep_lanes(beyond, inv), to2 = to * to;
+            wt = load_lanes(q + j0) * to;
+            wj = vq * to;
+            gt = wt * to2;
+            gj = wj * to2;
+        } else {
+            const LaneMask beyond_t = at_least_lanes(r2, load_lanes(d2 + j0)), beyond_j = at_least_lanes(r2, vd2);
+            if (const unsigned in = clear_lanes(beyond_t)) [[unlikely]]
+                to_target.push_lanes(j0, in, r2);
+            if (const unsigned in = clear_lanes(beyond_j)) [[unlikely]]
+                to_source->push_lanes(j0, in, r2);
+            const Lanes to_t = keep_lanes(beyond_t, inv), to_j = keep_lanes(beyond_j, inv);
+            wt = load_lanes(q + j0) * to_t;
+            wj = vq * to_j;
+            gt = wt * to_t * to_t;
+            gj = wj * to_j * to_j;
+        }
         store_lanes(w + j0, load_lanes(w + j0) + wj);
         store_lanes(g0 + j0, load_lanes(g0 + j0) - gj * dx);
         store_lanes(g1 + j0, load_lanes(g1 + j0) - gj * dy);
@@ -337,14 +400,17 @@ MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const d
     };
     j = how == InverseSqrt::refine ? green_blocks<InverseSqrt::refine>(x, y, z, n, xt, p_sum, e0, e1, e2, use)
                                    : green_blocks<InverseSqrt::divide>(x, y, z, n, xt, p_sum, e0, e1, e2, use);
-#else
-    MOLLIFY_SIMD_REDUCTION(p_sum, e0, e1, e2)
 #endif
     for (; j < n; ++j) {
         const double dx = xt[0] - x[j], dy = xt[1] - y[j], dz = xt[2] - z[j];
         const double r2 = mollify::detail::mul_add(dz, dz, mollify::detail::mul_add(dy, dy, dx * dx));
+        const double d2j = Global ? d2t : d2[j];
+        const bool beyond_t = r2 >= d2j, beyond_j = r2 >= d2t;
+        if (!beyond_t) to_target.push(j, r2);
+        if (!Global && !beyond_j) to_source->push(j, r2);
+        if (!beyond_t && !beyond_j) continue;
         const double inv = 1 / std::sqrt(r2);
-        const double to_t = r2 >= d2[j] ? inv : 0.0, to_j = r2 >= d2t ? inv : 0.0;
+        const double to_t = beyond_t ? inv : 0.0, to_j = beyond_j ? inv : 0.0;
         const double wt = q[j] * to_t, gt = wt * to_t * to_t;
         const double wj = qt * to_j, gj = wj * to_j * to_j;
         p_sum += wt;
@@ -362,117 +428,40 @@ MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const d
     e[2] -= k * e2;
 }
 
-// The sources b0 + j, j < n, within their support at xt (r^2 < delta_j^2,
-// r^2 exactly as add_green forms it: the two tests must split the pairs):
-// their j in near[0, m) and r^2 in near_r2[0, m), in order; returns m.
-// With AVX-512 eight at a time, the lanes within compressed into place
-// (VCOMPRESSPD): the scalar loop's compaction, a compare, a flag and a store
-// per source, was ~40 % of the treecode's within-support search, which
-// reads every source of a cell for its ~16 pairs (an Intel Xeon, N = 10^6).
-template <int D>
-MOLLIFY_INLINE std::size_t near_sources(const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t b0,
-                                        std::size_t n, unsigned* near, double* near_r2) {
-    const double* delta = s.delta.data() + b0;
-    const double *x = s.x[0].data() + b0, *y = s.x[1].data() + b0, *z = s.x[D - 1].data() + b0;
-    auto r2_of = [&](std::size_t j) {
-        const double dx = xt[0] - x[j], dy = xt[1] - y[j];
-        const double r2 = mollify::detail::mul_add(dy, dy, dx * dx);
-        if constexpr (D == 3) {
-            const double dz = xt[2] - z[j];
-            return mollify::detail::mul_add(dz, dz, r2);
-        }
-        return r2;
-    };
-    std::size_t m = 0, j = 0;
-#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(MOLLIFY_LANES)
-    using namespace mollify::detail;
-    static_assert(register_doubles == 8);
-    const Lanes tx = Lanes{} + xt[0], ty = Lanes{} + xt[1];
-    const __m256i step = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    for (; j + 8 <= n; j += 8) {
-        const Lanes dx = tx - load_lanes(x + j), dy = ty - load_lanes(y + j);
-        Lanes r2 = mul_add_lanes(dy, dy, dx * dx);
-        if constexpr (D == 3) {
-            const Lanes dz = (Lanes{} + xt[2]) - load_lanes(z + j);
-            r2 = mul_add_lanes(dz, dz, r2);
-        }
-        const Lanes d = load_lanes(delta + j);
-        const __mmask8 within = _mm512_cmp_pd_mask(r2, d * d, _CMP_LT_OQ);
-        _mm512_mask_compressstoreu_pd(near_r2 + m, within, r2);
-        _mm256_mask_compressstoreu_epi32(near + m, within, _mm256_add_epi32(step, _mm256_set1_epi32(static_cast<int>(j))));
-        m += static_cast<std::size_t>(std::popcount(static_cast<unsigned>(within)));
-    }
-#endif
-    for (; j < n; ++j) {  // branch-free compaction
-        const double r2 = r2_of(j);
-        near[m] = static_cast<unsigned>(j);
-        near_r2[m] = r2;
-        m += r2 < delta[j] * delta[j] ? 1 : 0;
-    }
-    return m;
+MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const double* z, const double* q, const double* d2,
+                             std::size_t n, const std::array<double, 3>& xt, double qt, double d2t, double& phi,
+                             std::array<double, 3>& e, double* w, double* g0, double* g1, double* g2,
+                             WithinPairs& to_target, WithinPairs* to_source,
+                             InverseSqrt how = fastest_inverse_sqrt()) {
+    if (to_source)
+        add_green_mutual_as<false>(x, y, z, q, d2, n, xt, qt, d2t, phi, e, w, g0, g1, g2, to_target, to_source, how);
+    else
+        add_green_mutual_as<true>(x, y, z, q, d2, n, xt, qt, d2t, phi, e, w, g0, g1, g2, to_target, to_source, how);
 }
 
-// The pairs of sources [begin, end) within their support (r^2 < delta_j^2)
-// at the target xt, with the exact mollified kernel: pair(j, pot, g) for
-// each, pot = phi_delta_j(r) and g = phi_delta_j'(r)/r (add_within,
-// add_within_mutual).
+// The exact kernel at m pairs within a support (a Green's pass's
+// WithinPairs, in batches): pair(k, pot, g) for pair k, pot = phi_delta(r)
+// and g = phi_delta'(r)/r at r = sqrt(r2[k]), delta that of source
+// smoothed_by[k] (a global delta: the one).
 template <int D, RadialKernel K, class Pair>
-void within_pairs(const K& kernel, const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t begin,
-                  std::size_t end, Pair&& pair) {
-    alignas(64) double near_r2[block], near_r[block], near_pot[block], near_g[block];
-    unsigned near[block + 1];
-    for (std::size_t b0 = begin; b0 < end; b0 += block) {
-        const std::size_t n = std::min(block, end - b0);
-        const double* delta = s.delta.data() + b0;
-        const std::size_t m = near_sources<D>(s, xt, b0, n, near, near_r2);
-        if (m == 0) continue;
-        for (std::size_t i = 0; i < m; ++i)
-            near_r[i] = s.global ? std::sqrt(near_r2[i]) : std::sqrt(near_r2[i]) / delta[near[i]];
-        batch<QuantityId::potential>(kernel, near_r, near_pot, m, s.smoothing);
-        batch<QuantityId::dpotential_over_r>(kernel, near_r, near_g, m, s.smoothing);
-        for (std::size_t i = 0; i < m; ++i) {
-            const std::size_t j = b0 + near[i];
-            double pot = near_pot[i], g = near_g[i];
-            if (!s.global) {
-                pot = pot * s.phi_scale[j] + s.phi_shift[j];
-                g *= s.grad_scale[j];
+void within_kernel(const K& kernel, const SourceArrays<D>& s, const double* r2, const std::size_t* smoothed_by,
+                   std::size_t m, Pair&& pair) {
+    alignas(64) double r[block], pot[block], g[block];
+    for (std::size_t k0 = 0; k0 < m; k0 += block) {
+        const std::size_t n = std::min(block, m - k0);
+        for (std::size_t k = 0; k < n; ++k)
+            r[k] = s.global ? std::sqrt(r2[k0 + k]) : std::sqrt(r2[k0 + k]) / s.delta[smoothed_by[k0 + k]];
+        batch<QuantityId::potential>(kernel, r, pot, n, s.smoothing);
+        batch<QuantityId::dpotential_over_r>(kernel, r, g, n, s.smoothing);
+        for (std::size_t k = 0; k < n; ++k) {
+            if (s.global) {
+                pair(k0 + k, pot[k], g[k]);
+            } else {
+                const std::size_t j = smoothed_by[k0 + k];
+                pair(k0 + k, pot[k] * s.phi_scale[j] + s.phi_shift[j], g[k] * s.grad_scale[j]);
             }
-            pair(j, pot, g);
         }
     }
-}
-
-// add_within: the pairs of sources [begin, end) within their support, with
-// the exact mollified kernel (as add_exact).
-template <int D, RadialKernel K>
-void add_within(const K& kernel, const SourceArrays<D>& s, const std::array<double, D>& xt, std::size_t begin,
-                std::size_t end, double& phi, std::array<double, D>& e) {
-    within_pairs<D>(kernel, s, xt, begin, end, [&](std::size_t j, double pot, double g) {
-        phi += s.q[j] * pot;
-        for (int k = 0; k < D; ++k) e[k] -= s.q[j] * g * (xt[k] - s.x[k][j]);
-    });
-}
-
-// add_within for a target that is itself source t of a global delta, where
-// phi_delta(r) is the same from either end: each pair's kernel values serve
-// both directions (Newton's third law), source j's share added to
-// phi_j[j - offset] and e_j[k][j - offset].
-template <int D, RadialKernel K>
-void add_within_mutual(const K& kernel, const SourceArrays<D>& s, std::size_t t, std::size_t begin, std::size_t end,
-                       double& phi, std::array<double, D>& e, double* phi_j, const std::array<double*, D>& e_j,
-                       std::size_t offset) {
-    std::array<double, D> xt;
-    for (int k = 0; k < D; ++k) xt[k] = s.x[k][t];
-    const double qt = s.q[t];
-    within_pairs<D>(kernel, s, xt, begin, end, [&](std::size_t j, double pot, double g) {
-        phi += s.q[j] * pot;
-        phi_j[j - offset] += qt * pot;
-        for (int k = 0; k < D; ++k) {
-            const double d = xt[k] - s.x[k][j];
-            e[k] -= s.q[j] * g * d;
-            e_j[k][j - offset] += qt * g * d;
-        }
-    });
 }
 
 }  // namespace detail

@@ -34,20 +34,25 @@
 //
 // Where the 3D time goes and what keeps it down (one thread; shares at
 // N = 10^6 neutral, theta 0.7, p = 17, measured by perf 2026-11-29):
-// - Near field (descend), ~45 %: per target leaf the near cells' sources
-//   are gathered into one run; every pair beyond its support gets the
-//   Green's function in one vectorised pass (detail::add_green), and only
-//   the cells whose source box comes within delta_max of the target are
-//   searched for pairs within a support (detail::add_within, the exact
-//   kernel). The two tests split the pairs exactly, so each pair is counted
-//   once. At the sources, a leaf pair found from both sides gets one
-//   Green's pass for both directions (detail::add_green_mutual, 34 %; its
-//   square roots and divisions issued a block ahead, detail::green_blocks;
-//   on Intel's AVX-512 cores 1/sqrt refined from its estimate instead, the
-//   divider there having held the pass at ~60 % of the time), and
-//   with a global delta one within-support search and one kernel value for
-//   both ends (detail::add_within_mutual, 10 %); each target's sums go to
-//   a per-thread array in tree order, permuted to the caller's order once.
+// - Near field (descend), ~45 % then, ~70-80 % since the far field's
+//   stop-61 M2L (the Intel host, N = 10^5 | 10^6, theta 0.72 | 0.7):
+//   per target leaf the near cells' sources are gathered into runs; every
+//   pair beyond its support gets the Green's function in one vectorised
+//   pass (detail::add_green), which lists the pairs it leaves out, those
+//   within a support, for the exact kernel (detail::within_kernel, one
+//   batch per target); the two parts split the pairs exactly, so each pair
+//   is counted once. At the sources, a leaf pair found from both sides
+//   gets one Green's pass for both directions (detail::add_green_mutual,
+//   ~60-70 %; its square roots and divisions issued a block ahead,
+//   detail::green_blocks; on Intel's AVX-512 cores 1/sqrt refined from its
+//   estimate instead, the divider there having held the pass at ~60 % of
+//   the time), and so do a leaf's own pairs (j > i); with a global delta
+//   one kernel value serves both ends of a pair within a support (~12 %
+//   at 10^5 with the listing); each target's sums go to a per-thread array
+//   in tree order, permuted to the caller's order once. Until stop 62 the
+//   pairs within a support were searched for in a second pass over the
+//   cells that come within delta_max of the target (~6 % of the time), the
+//   own leaf went one way, and the passes ended in scalar tails.
 // - M2L (translate), ~26 % with the Cartesian translation ((p + 1)^4
 //   multiply-adds a pair after the harmonic reduction), 6-12 % since it
 //   rotates real spherical harmonics (Multipole<3>::add_local: ~2 (p + 1)^3;
@@ -76,6 +81,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -277,16 +283,13 @@ private:
         for (long ti = 0; ti < count; ++ti) interact(t, tasks[static_cast<std::size_t>(ti)], 0, far, has_local, near);
         // The near field's Green's-function part, at the sources (t is the
         // source tree): a leaf pair (a, b) found from both sides is summed
-        // once, at the smaller index, for both directions (add_green_mutual);
-        // the other near cells one way. The within-support search keeps
-        // every near cell (near), each with its part (nf.kind).
+        // once, at the smaller index, for both directions (add_green_mutual),
+        // as a leaf's own pairs (j > i); the other near cells one way.
         NearField nf;
         nf.mutual = &t == &tree_;
-        nf.within = nf.mutual && s_.global;
         nf.green.resize(tc.size());
         nf.both.resize(tc.size());
-        nf.kind.resize(tc.size());
-        if (nf.within) {  // phi_delta(0), each source's own share
+        if (nf.mutual) {  // phi_delta(0) (per-source deltas: phi_1(0)), each source's own share
             const double zero = 0;
             detail::batch<QuantityId::potential>(kernel_, &zero, &nf.self_pot, 1, s_.smoothing);
         }
@@ -301,17 +304,11 @@ private:
             const auto a = static_cast<std::size_t>(ci);
             for (const int b : near[a]) {
                 const auto& back = near[static_cast<std::size_t>(b)];
-                Within kind = Within::one_way;
-                if (!nf.mutual || b == ci || !std::binary_search(back.begin(), back.end(), static_cast<int>(ci))) {
+                if (nf.mutual && b == ci) continue;  // the leaf's own pairs: descend, j > i both ways
+                if (!nf.mutual || !std::binary_search(back.begin(), back.end(), static_cast<int>(ci)))
                     nf.green[a].push_back(b);
-                    if (nf.within && b == ci) kind = Within::self;
-                } else if (b > ci) {
+                else if (b > ci)
                     nf.both[a].push_back(b);
-                    if (nf.within) kind = Within::mutual;
-                } else if (nf.within) {
-                    kind = Within::skip;
-                }
-                nf.kind[a].push_back(kind);
             }
         }
         MOLLIFY_PARALLEL_FOR(schedule(dynamic, 1))
@@ -321,7 +318,7 @@ private:
             // No ancestor of a task has far pairs (interact starts at the tasks).
             std::vector<std::vector<double>> local(1, std::vector<double>(n, 0.0));
             std::vector<double> work;
-            descend(t, tasks[static_cast<std::size_t>(ti)], y, far, local, 0, has_local, near, nf, out, work);
+            descend(t, tasks[static_cast<std::size_t>(ti)], y, far, local, 0, has_local, nf, out, work);
         }
         if (nf.mutual) {
             const auto m = static_cast<long>(s_.size());
@@ -339,21 +336,13 @@ private:
         }
     }
 
-    // Each near cell's part in the within-support search: the whole cell
-    // (one way), none (its pairs are summed from the other end), the leaf
-    // itself (its pairs j > i both ways), or a mutual cell (both ways).
-    enum class Within : char { one_way, skip, self, mutual };
-
-    // The near field's split (by_target_leaf) and, at the sources, per
-    // thread the potential and field of each source in tree order: its own
-    // sums as a target and what targets in other leaves give it. within:
-    // the pairs within a support summed both ways too (a global delta,
-    // where the kernel is the same from either end).
+    // The near field's split (by_target_leaf) and, at the sources (mutual),
+    // per thread the potential and field of each source in tree order: its
+    // own sums as a target and what targets in other leaves give it.
     struct NearField {
-        bool mutual = false, within = false;
-        double self_pot = 0;  // phi_delta(0) (within)
+        bool mutual = false;
+        double self_pot = 0;  // phi_delta(0), or phi_1(0) with per-source deltas (mutual)
         std::vector<std::vector<int>> green, both;
-        std::vector<std::vector<Within>> kind;  // per near cell, as near
         std::vector<std::array<std::vector<double>, 4>> acc;
     };
 
@@ -446,7 +435,7 @@ private:
 
     void descend(const Tree<D>& t, int a, const std::array<std::vector<double>, D>& y,
                  std::vector<std::vector<Far>>& far, std::vector<std::vector<double>>& local, std::size_t depth,
-                 std::vector<char>& has_local, const std::vector<std::vector<int>>& near, NearField& nf,
+                 std::vector<char>& has_local, NearField& nf,
                  Field<D>& out, std::vector<double>& work) const {
         const Cell<D>& A = t.cells()[static_cast<std::size_t>(a)];
         const std::size_t n = expansion_.size();
@@ -466,7 +455,7 @@ private:
                         expansion_.add_shifted(la, local_scale(A), A.centre, local_scale(C), C.centre, lc, work);
                     has_local[static_cast<std::size_t>(c)] = 1;
                 }
-                descend(t, c, y, far, local, depth + 1, has_local, near, nf, out, work);
+                descend(t, c, y, far, local, depth + 1, has_local, nf, out, work);
             }
             return;
         }
@@ -474,25 +463,14 @@ private:
         // into runs (adjacent cells merged), the Green's function for every
         // pair beyond its support in one vectorised pass per target and run
         // (detail::add_green; detail::add_green_mutual for the cells summed
-        // both ways here), and the exact kernel for the pairs within a
-        // support (detail::add_within), looked for only in the cells whose
-        // source box comes within their largest delta of the target.
+        // both ways here), which lists the pairs within a support for the
+        // exact kernel (detail::within_kernel), one batch per target.
         const auto& cells = tree_.cells();
-        const std::vector<int>& nl = near[static_cast<std::size_t>(a)];
         Gathered& g = gathered();
         g.one.gather(cells, s_, nf.green[static_cast<std::size_t>(a)]);
         g.both.gather(cells, s_, nf.both[static_cast<std::size_t>(a)]);
-        // The near cells' source boxes and delta_max^2 (the search for pairs within a support).
-        const std::size_t nc = nl.size();
-        g.cells(nc);
-        for (std::size_t r = 0; r < nc; ++r) {
-            const Cell<D>& c = cells[static_cast<std::size_t>(nl[r])];
-            for (int k = 0; k < D; ++k) {
-                g.lo[static_cast<std::size_t>(k)][r] = c.lo[k];
-                g.hi[static_cast<std::size_t>(k)][r] = c.hi[k];
-            }
-            g.dm2[r] = c.delta_max * c.delta_max;
-        }
+        g.own.gather(cells, s_, nf.mutual ? std::vector<int>{a} : std::vector<int>{});
+        g.room();
         const std::size_t na = A.end - A.begin;
         g.phi.assign(na, 0.0);
         for (auto& c : g.e) c.assign(na, 0.0);
@@ -504,58 +482,47 @@ private:
             if ((*acc)[0].empty())
                 for (auto& v : *acc) v.assign(s_.size(), 0.0);
         }
-        const std::vector<Within>& kind = nf.kind[static_cast<std::size_t>(a)];
         if constexpr (D == 3)
             if (has_local[static_cast<std::size_t>(a)])
                 expansion_.add_local_at(la, local_scale(A), A.centre, {y[0].data() + A.begin, y[1].data() + A.begin, y[2].data() + A.begin},
                                         na, g.phi.data(), {g.e[0].data(), g.e[1].data(), g.e[2].data()}, work);
+        constexpr double k = 0.25 * std::numbers::inv_pi;
         for (std::size_t i = A.begin; i < A.end; ++i) {
+            const std::size_t l = i - A.begin;  // the target's place in the leaf
             std::array<double, D> x, e;
             for (int c = 0; c < D; ++c) {
                 x[c] = y[c][i];
-                e[c] = g.e[static_cast<std::size_t>(c)][i - A.begin];
+                e[c] = g.e[static_cast<std::size_t>(c)][l];
             }
-            double phi = g.phi[i - A.begin];
+            double phi = g.phi[l];
             if constexpr (D == 3) {
+                Lists lists{{g.one.within_at.data(), g.one.within_r2.data()},
+                            {g.both.within_at.data(), g.both.within_r2.data()},
+                            {g.back_at.data(), g.back_r2.data()},
+                            {g.own.within_at.data(), g.own.within_r2.data()},
+                            {g.own_back_at.data(), g.own_back_r2.data()}};
                 detail::add_green(g.one.x[0].data(), g.one.x[1].data(), g.one.x[2].data(), g.one.q.data(), g.one.d2.data(),
-                                  g.one.q.size(), x, phi, e);
+                                  g.one.q.size(), x, phi, e, lists.one);
+                const double qt = s_.q[i], d2t = s_.delta[i] * s_.delta[i];
+                const bool per_source = !s_.global;
                 if (!g.both.q.empty())
                     detail::add_green_mutual(g.both.x[0].data(), g.both.x[1].data(), g.both.x[2].data(), g.both.q.data(),
-                                             g.both.d2.data(), g.both.q.size(), x, s_.q[i], s_.delta[i] * s_.delta[i], phi,
-                                             e, g.both.w[0].data(), g.both.w[1].data(), g.both.w[2].data(),
-                                             g.both.w[3].data());
-                // The squared distance to each near cell's source box, formed
-                // like r^2 in add_green from per-axis gaps no larger than any
-                // |x_k - y_k| (rounding is monotone): never above a pair's r^2.
-                double* gap2 = g.gap2.data();
-                {
-                    const double *lx = g.lo[0].data(), *ly = g.lo[1].data(), *lz = g.lo[2].data();
-                    const double *hx = g.hi[0].data(), *hy = g.hi[1].data(), *hz = g.hi[2].data();
-                    MOLLIFY_SIMD
-                    for (std::size_t r = 0; r < nc; ++r) {
-                        const double gx = x[0] < lx[r] ? lx[r] - x[0] : x[0] > hx[r] ? x[0] - hx[r] : 0.0;
-                        const double gy = x[1] < ly[r] ? ly[r] - x[1] : x[1] > hy[r] ? x[1] - hy[r] : 0.0;
-                        const double gz = x[2] < lz[r] ? lz[r] - x[2] : x[2] > hz[r] ? x[2] - hz[r] : 0.0;
-                        gap2[r] = mollify::detail::mul_add(gz, gz, mollify::detail::mul_add(gy, gy, gx * gx));
-                    }
+                                             g.both.d2.data(), g.both.q.size(), x, qt, d2t, phi, e, g.both.w[0].data(),
+                                             g.both.w[1].data(), g.both.w[2].data(), g.both.w[3].data(), lists.both,
+                                             per_source ? &lists.back : nullptr);
+                if (nf.mutual) {
+                    // The leaf's own sources j > i (at l + 1 on); what the
+                    // sources j < i gave i through theirs, scaled as the
+                    // mutual cells' sums below.
+                    const std::size_t o = l + 1;
+                    phi -= k * g.own.w[0][l];
+                    for (std::size_t c = 0; c < D; ++c) e[c] -= k * g.own.w[c + 1][l];
+                    detail::add_green_mutual(g.own.x[0].data() + o, g.own.x[1].data() + o, g.own.x[2].data() + o,
+                                             g.own.q.data() + o, g.own.d2.data() + o, g.own.q.size() - o, x, qt, d2t, phi, e,
+                                             g.own.w[0].data() + o, g.own.w[1].data() + o, g.own.w[2].data() + o,
+                                             g.own.w[3].data() + o, lists.own, per_source ? &lists.own_back : nullptr);
                 }
-                for (std::size_t r = 0; r < nc; ++r) {
-                    if (!(gap2[r] < g.dm2[r])) continue;
-                    const Cell<D>& c = cells[static_cast<std::size_t>(nl[r])];
-                    switch (kind[r]) {
-                        case Within::one_way: detail::add_within<D>(kernel_, s_, x, c.begin, c.end, phi, e); break;
-                        case Within::skip: break;
-                        case Within::self:
-                            phi += s_.q[i] * nf.self_pot;
-                            detail::add_within_mutual<D>(kernel_, s_, i, i + 1, c.end, phi, e, g.phi.data(),
-                                                         {g.e[0].data(), g.e[1].data(), g.e[2].data()}, A.begin);
-                            break;
-                        case Within::mutual:
-                            detail::add_within_mutual<D>(kernel_, s_, i, c.begin, c.end, phi, e, (*acc)[0].data(),
-                                                         {(*acc)[1].data(), (*acc)[2].data(), (*acc)[3].data()}, 0);
-                            break;
-                    }
-                }
+                within(nf, A, i, x, lists, phi, e, acc);
             }
             if (acc) {  // in tree order, sequential; by_target_leaf permutes once
                 (*acc)[0][i] += phi;
@@ -569,31 +536,111 @@ private:
         if (!g.both.q.empty()) {
             // The Green's pass's sums for the mutual cells' sources, scaled
             // (phi = -q/(4 pi r), E = -q (x_j - x_t)/(4 pi r^3)).
-            constexpr double k = 0.25 * std::numbers::inv_pi;
             for (const auto& [begin, end, at] : g.both.runs)
                 for (std::size_t j = begin; j < end; ++j)
                     for (std::size_t c = 0; c < 4; ++c) (*acc)[c][j] -= k * g.both.w[c][at + j - begin];
         }
     }
 
+    // A target's pairs within a support, as its Green's passes list them:
+    // one (the one-way cells), both and back (the mutual cells: within the
+    // source's support, the target's where it differs), own and own_back
+    // (the leaf's own sources j > i, from i + 1 on).
+    struct Lists {
+        detail::WithinPairs one, both, back, own, own_back;
+    };
+
+    // Who feels a pair's values: the target, the source (a mutual cell's in
+    // acc, the leaf's own in Gathered's phi and e), or both.
+    enum Share : char { to_target, with_own, with_cells, to_own, to_cells };
+
+    // The pairs of target i (of leaf A) within a support with the exact
+    // kernel, in one batch. A global delta's values serve both ends of a
+    // pair (Newton's third law); per-source deltas give each direction its
+    // own: the source's for i, i's for the mutual cells' and the leaf's
+    // sources (back, own_back). i itself gets q_i phi_delta(0).
+    void within(const NearField& nf, const Cell<D>& A, std::size_t i, const std::array<double, D>& x,
+                const Lists& lists, double& phi, std::array<double, D>& e,
+                std::array<std::vector<double>, 4>* acc) const {
+        Gathered& g = gathered();
+        std::size_t m = 0;
+        // A list's pairs but those with the padding (at >= real: Run).
+        auto put = [&](const detail::WithinPairs& list, std::size_t real, auto&& source_of, bool by_target, Share share) {
+            for (std::size_t k = 0; k < list.size; ++k) {
+                if (list.at[k] >= real) continue;
+                const std::size_t j = source_of(list.at[k]);
+                g.pair_j[m] = j;
+                g.pair_r2[m] = list.r2[k];
+                g.pair_by[m] = by_target ? i : j;
+                g.pair_share[m] = share;
+                ++m;
+            }
+        };
+        const auto one = [&](unsigned at) { return g.one.source[at]; };
+        const auto both = [&](unsigned at) { return g.both.source[at]; };
+        const auto own = [&](unsigned at) { return i + 1 + at; };
+        const bool global = s_.global;
+        const std::size_t own_real = A.end - i - 1;
+        put(lists.one, g.one.size, one, false, to_target);
+        put(lists.both, g.both.size, both, false, global ? with_cells : to_target);
+        put(lists.back, g.both.size, both, true, to_cells);
+        put(lists.own, own_real, own, false, global ? with_own : to_target);
+        put(lists.own_back, own_real, own, true, to_own);
+        if (nf.mutual)
+            phi += s_.q[i] * (global ? nf.self_pot : nf.self_pot * s_.phi_scale[i] + s_.phi_shift[i]);
+        const double qt = s_.q[i];
+        detail::within_kernel<D>(kernel_, s_, g.pair_r2.data(), g.pair_by.data(), m, [&](std::size_t k, double pot, double gr) {
+            const std::size_t j = g.pair_j[k];
+            const auto share = static_cast<Share>(g.pair_share[k]);
+            std::array<double, D> d;
+            for (int c = 0; c < D; ++c) d[c] = x[c] - s_.x[c][j];
+            if (share == to_target || share == with_own || share == with_cells) {
+                phi += s_.q[j] * pot;
+                for (int c = 0; c < D; ++c) e[c] -= s_.q[j] * gr * d[c];
+            }
+            if (share == with_own || share == to_own) {
+                g.phi[j - A.begin] += qt * pot;
+                for (std::size_t c = 0; c < D; ++c) g.e[c][j - A.begin] += qt * gr * d[c];
+            } else if (share == with_cells || share == to_cells) {
+                (*acc)[0][j] += qt * pot;
+                for (std::size_t c = 0; c < D; ++c) (*acc)[c + 1][j] += qt * gr * d[c];
+            }
+        });
+    }
+
     // Sources gathered from a list of cells into plain arrays, adjacent
     // cells (in the source order) as one run; w: the sources' own sums
-    // (mutual pairs), zeroed.
+    // (mutual pairs), zeroed. The arrays are padded to a multiple of eight
+    // with sources that add nothing (q = 0; delta^2 = inf: no target is
+    // beyond their support, and a pair with them that is listed within is
+    // dropped, Treecode::within), so that a Green's pass over them, or over
+    // the own leaf's sources from j on, ends on a whole register: the
+    // scalar tail's square roots and divisions were ~5 % of the passes' time,
+    // 3.5 sources a target on average in the own leaf's.
     struct Run {
         std::array<std::vector<double>, 3> x;
         std::vector<double> q, d2;
         std::array<std::vector<double>, 4> w;
         std::vector<std::array<std::size_t, 3>> runs;  // begin, end, position
+        std::vector<std::size_t> source;                 // each position's source
+        std::vector<unsigned> within_at;                 // a target's pairs within a support (detail::WithinPairs)
+        std::vector<double> within_r2;
+        std::size_t size = 0;  // without the padding
         void gather(const std::vector<Cell<D>>& cells, const detail::SourceArrays<D>& s, std::vector<int> list) {
             std::sort(list.begin(), list.end(), [&](int u, int v) {
                 return cells[static_cast<std::size_t>(u)].begin < cells[static_cast<std::size_t>(v)].begin;
             });
             std::size_t total = 0;
             for (const int ci : list) total += cells[static_cast<std::size_t>(ci)].end - cells[static_cast<std::size_t>(ci)].begin;
-            for (auto& c : x) c.resize(total);
-            q.resize(total);
-            d2.resize(total);
-            for (auto& c : w) c.assign(total, 0.0);
+            size = total;
+            const std::size_t padded = (total + 7) / 8 * 8;
+            for (auto& c : x) c.assign(padded, 0.0);
+            q.assign(padded, 0.0);
+            source.resize(padded);
+            within_at.resize(padded);
+            within_r2.resize(padded);
+            d2.assign(padded, std::numeric_limits<double>::infinity());
+            for (auto& c : w) c.assign(padded, 0.0);
             runs.clear();
             std::size_t at = 0;
             for (std::size_t r = 0; r < list.size();) {
@@ -606,7 +653,10 @@ private:
                               x[static_cast<std::size_t>(k)].begin() + static_cast<std::ptrdiff_t>(at));
                 std::copy(s.q.begin() + static_cast<std::ptrdiff_t>(begin), s.q.begin() + static_cast<std::ptrdiff_t>(end),
                           q.begin() + static_cast<std::ptrdiff_t>(at));
-                for (std::size_t j = begin; j < end; ++j) d2[at + j - begin] = s.delta[j] * s.delta[j];
+                for (std::size_t j = begin; j < end; ++j) {
+                    d2[at + j - begin] = s.delta[j] * s.delta[j];
+                    source[at + j - begin] = j;
+                }
                 runs.push_back({begin, end, at});
                 at += end - begin;
             }
@@ -615,18 +665,28 @@ private:
 
     // The near field of one target leaf (per thread).
     struct Gathered {
-        Run one, both;
+        Run one, both, own;  // own: the leaf's own sources (at the sources)
         // The leaf's targets: phi and E from the local expansion.
         std::vector<double> phi;
         std::array<std::vector<double>, 3> e;
-        // The near cells: source boxes, delta_max^2, a target's squared gaps.
-        std::array<std::vector<double>, 3> lo, hi;
-        std::vector<double> dm2, gap2;
-        void cells(std::size_t n) {
-            for (auto& c : lo) c.resize(n);
-            for (auto& c : hi) c.resize(n);
-            dm2.resize(n);
-            gap2.resize(n);
+        // The pairs within the target's support that the mutual cells'
+        // sources feel (a per-source delta: detail::add_green_mutual's
+        // to_source), and all of a target's pairs for the kernel's batch.
+        std::vector<unsigned> back_at, own_back_at;
+        std::vector<double> back_r2, own_back_r2;
+        std::vector<std::size_t> pair_j, pair_by;
+        std::vector<double> pair_r2;
+        std::vector<char> pair_share;
+        void room() {
+            back_at.resize(both.q.size());
+            back_r2.resize(both.q.size());
+            own_back_at.resize(own.q.size());
+            own_back_r2.resize(own.q.size());
+            const std::size_t most = one.q.size() + 2 * both.q.size() + 2 * own.q.size();
+            pair_j.resize(most);
+            pair_by.resize(most);
+            pair_r2.resize(most);
+            pair_share.resize(most);
         }
     };
     static Gathered& gathered() {
