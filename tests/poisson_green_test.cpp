@@ -249,6 +249,74 @@ TEST(GreenPass, OneWayRefinedAgreesWithDivision) {
     }
 }
 
+// T targets in one pass (detail::Targets, the treecode's tile) against T
+// single-target passes: each target's phi and E, the sources' sums and
+// each target's lists (by the definition), per-source and global d2, both
+// ways of 1/sqrt. The tile sums a block's source terms over its targets
+// before adding them to the sources' sums: the same terms in another
+// order, so agreement to the terms' magnitudes (1e-14 as above).
+template <int T>
+void tile_is_each_targets_pass(bool global, InverseSqrt how) {
+    const std::size_t n = 1003;
+    Pass p = sources(n, 41);
+    // The first target is sources()' centre, the others at sources 1, 2, 3
+    // (r = 0: each has pairs within the supports).
+    std::array<std::array<double, 3>, 4> xt{{{0.25, -0.5, 2.0}}};
+    for (std::size_t t = 1; t < 4; ++t) xt[t] = {p.x[t], p.y[t], p.z[t]};
+    const std::array<double, 4> qt{0.75, -0.5, 1.25, 0.125}, d2t{2e-4, 3e-4, 2e-4, 1e-4};
+    if (global) p.d2.assign(n, d2t[0]);
+    std::vector<double> w(n, 0.0), g0(n, 0.0), g1(n, 0.0), g2(n, 0.0);
+    std::vector<double> w1(n, 0.0), g01(n, 0.0), g11(n, 0.0), g21(n, 0.0);
+    std::vector<List> to_t, to_j;
+    for (int t = 0; t < 2 * T; ++t) to_t.emplace_back(n), to_j.emplace_back(n);
+    std::vector<pd::WithinPairs> lt, lj;
+    for (int t = 0; t < 2 * T; ++t) lt.push_back(to_t[t].pairs()), lj.push_back(to_j[t].pairs());
+    pd::Targets<T> tg;
+    for (int t = 0; t < T; ++t) {
+        tg.x[t] = xt[t];
+        tg.q[t] = qt[t];
+        tg.d2[t] = global ? d2t[0] : d2t[t];
+        tg.to_target[t] = &lt[t];
+        tg.to_source[t] = global ? nullptr : &lj[t];
+    }
+    pd::add_green_mutual<T>(p.x.data(), p.y.data(), p.z.data(), p.q.data(), p.d2.data(), n, tg, w.data(), g0.data(),
+                            g1.data(), g2.data(), how);
+    double mag_w = 0, mag_g = 0;
+    for (int t = 0; t < T; ++t) {
+        double phi = 0;
+        std::array<double, 3> e{};
+        pd::add_green_mutual(p.x.data(), p.y.data(), p.z.data(), p.q.data(), p.d2.data(), n, xt[t], qt[t], tg.d2[t],
+                             phi, e, w1.data(), g01.data(), g11.data(), g21.data(), lt[T + t],
+                             global ? nullptr : &lj[T + t], how);
+        double mag_phi = 0, mag_e = 0;
+        for (std::size_t j = 0; j < n; ++j) {
+            const double dx = xt[t][0] - p.x[j], dy = xt[t][1] - p.y[j], dz = xt[t][2] - p.z[j];
+            const double r2 = dx * dx + dy * dy + dz * dz;
+            if (r2 >= p.d2[j] && r2 > 0) mag_phi += std::abs(p.q[j]) / std::sqrt(r2), mag_e += std::abs(p.q[j]) / r2;
+            if (r2 >= tg.d2[t] && r2 > 0) mag_w += std::abs(qt[t]) / std::sqrt(r2), mag_g += std::abs(qt[t]) / r2;
+        }
+        EXPECT_NEAR(tg.phi[t], phi, 1e-14 * mag_phi) << "target " << t;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(tg.e[t][c], e[c], 1e-14 * mag_e) << "target " << t << " component " << c;
+        expect_listed(p, n, xt[t], p.d2, lt[t], "tile, to the target");
+        if (!global) expect_listed(p, n, xt[t], std::vector<double>(n, tg.d2[t]), lj[t], "tile, to the sources");
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+        ASSERT_TRUE(std::isfinite(w[j]) && std::isfinite(g0[j])) << j;
+        EXPECT_NEAR(w[j], w1[j], 1e-14 * mag_w) << j;
+        EXPECT_NEAR(g0[j], g01[j], 1e-14 * mag_g) << j;
+        EXPECT_NEAR(g1[j], g11[j], 1e-14 * mag_g) << j;
+        EXPECT_NEAR(g2[j], g21[j], 1e-14 * mag_g) << j;
+    }
+}
+
+TEST(GreenPass, TileIsEachTargetsPass) {
+    for (const bool global : {false, true})
+        for (const InverseSqrt how : {InverseSqrt::refine, InverseSqrt::divide}) {
+            tile_is_each_targets_pass<1>(global, how);
+            tile_is_each_targets_pass<4>(global, how);
+        }
+}
+
 // A pass over n = 0 sources (a leaf's last target in its own leaf's pass)
 // adds nothing and lists nothing.
 TEST(GreenPass, EmptyPassAddsNothing) {

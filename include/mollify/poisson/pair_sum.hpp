@@ -439,6 +439,141 @@ MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const d
         add_green_mutual_as<true>(x, y, z, q, d2, n, xt, qt, d2t, phi, e, w, g0, g1, g2, to_target, to_source, how);
 }
 
+// add_green_mutual for T targets at once (consecutive targets of a leaf):
+// each block of sources is loaded, and its sums added and stored, once for
+// all T (the single-target pass loads 8 and stores 4 registers a block for
+// ~30 operations; Treecode::tile has the times). The targets: x[t], q[t],
+// d2[t], their sums phi[t], e[t] (added to), their lists to_target[t],
+// to_source[t] (null for all: a global delta, as add_green_mutual).
+template <int T>
+struct Targets {
+    std::array<std::array<double, 3>, T> x;
+    std::array<double, T> q, d2;
+    std::array<double, T> phi{};
+    std::array<std::array<double, 3>, T> e{};
+    std::array<WithinPairs*, T> to_target{}, to_source{};
+};
+
+template <int T, bool Global, InverseSqrt How>
+MOLLIFY_INLINE void add_green_mutual_tile(const double* x, const double* y, const double* z, const double* q,
+                                          const double* d2, std::size_t n, Targets<T>& tg, double* w, double* g0,
+                                          double* g1, double* g2) {
+    constexpr double k = 0.25 * std::numbers::inv_pi;
+    std::array<double, T> p_sum{}, e0{}, e1{}, e2{};
+    std::size_t j = 0;
+#if defined(MOLLIFY_LANES)
+    {
+        using namespace mollify::detail;
+        constexpr std::size_t N = register_doubles;
+        const std::size_t nv = n - n % N;
+        std::array<Lanes, T> vp{}, v0{}, v1{}, v2{};
+        // The targets in registers (the passes' stores could alias tg).
+        std::array<Lanes, T> tx, ty, tz, tq, td2;
+        for (int t = 0; t < T; ++t) {
+            tx[t] = Lanes{} + tg.x[t][0];
+            ty[t] = Lanes{} + tg.x[t][1];
+            tz[t] = Lanes{} + tg.x[t][2];
+            tq[t] = Lanes{} + tg.q[t];
+            td2[t] = Lanes{} + tg.d2[t];
+        }
+        const std::array<WithinPairs*, T> to_target = tg.to_target, to_source = tg.to_source;
+        for (std::size_t j0 = 0; j0 < nv; j0 += N) {
+            const Lanes X = load_lanes(x + j0), Y = load_lanes(y + j0), Z = load_lanes(z + j0), Q = load_lanes(q + j0);
+            Lanes ws{}, gs0{}, gs1{}, gs2{};
+#pragma GCC unroll 8
+            for (int t = 0; t < T; ++t) {
+                const Lanes dx = tx[t] - X, dy = ty[t] - Y, dz = tz[t] - Z;
+                const Lanes r2 = mul_add_lanes(dz, dz, mul_add_lanes(dy, dy, dx * dx));
+                const Lanes inv = inverse_sqrt_lanes<How>(r2);
+                const Lanes vd2 = td2[t];
+                Lanes wt, gt, wj, gj;
+                if constexpr (Global) {
+                    const LaneMask beyond = at_least_lanes(r2, vd2);
+                    if (const unsigned in = clear_lanes(beyond)) [[unlikely]]
+                        to_target[t]->push_lanes(j0, in, r2);
+                    const Lanes to = keep_lanes(beyond, inv), to2 = to * to;
+                    wt = Q * to;
+                    wj = tq[t] * to;
+                    gt = wt * to2;
+                    gj = wj * to2;
+                } else {
+                    const LaneMask beyond_t = at_least_lanes(r2, load_lanes(d2 + j0)), beyond_j = at_least_lanes(r2, vd2);
+                    if (const unsigned in = clear_lanes(beyond_t)) [[unlikely]]
+                        to_target[t]->push_lanes(j0, in, r2);
+                    if (const unsigned in = clear_lanes(beyond_j)) [[unlikely]]
+                        to_source[t]->push_lanes(j0, in, r2);
+                    const Lanes to_t = keep_lanes(beyond_t, inv), to_j = keep_lanes(beyond_j, inv);
+                    wt = Q * to_t;
+                    wj = tq[t] * to_j;
+                    gt = wt * to_t * to_t;
+                    gj = wj * to_j * to_j;
+                }
+                vp[t] += wt;
+                v0[t] = mul_add_lanes(gt, dx, v0[t]);
+                v1[t] = mul_add_lanes(gt, dy, v1[t]);
+                v2[t] = mul_add_lanes(gt, dz, v2[t]);
+                ws += wj;
+                gs0 = mul_add_lanes(gj, dx, gs0);
+                gs1 = mul_add_lanes(gj, dy, gs1);
+                gs2 = mul_add_lanes(gj, dz, gs2);
+            }
+            store_lanes(w + j0, load_lanes(w + j0) + ws);
+            store_lanes(g0 + j0, load_lanes(g0 + j0) - gs0);
+            store_lanes(g1 + j0, load_lanes(g1 + j0) - gs1);
+            store_lanes(g2 + j0, load_lanes(g2 + j0) - gs2);
+        }
+        for (int t = 0; t < T; ++t) {
+            p_sum[t] = sum_lanes(vp[t]);
+            e0[t] = sum_lanes(v0[t]);
+            e1[t] = sum_lanes(v1[t]);
+            e2[t] = sum_lanes(v2[t]);
+        }
+        j = nv;
+    }
+#endif
+    for (; j < n; ++j)
+        for (int t = 0; t < T; ++t) {
+            const double dx = tg.x[t][0] - x[j], dy = tg.x[t][1] - y[j], dz = tg.x[t][2] - z[j];
+            const double r2 = mollify::detail::mul_add(dz, dz, mollify::detail::mul_add(dy, dy, dx * dx));
+            const bool beyond_t = r2 >= (Global ? tg.d2[t] : d2[j]), beyond_j = r2 >= tg.d2[t];
+            if (!beyond_t) tg.to_target[t]->push(j, r2);
+            if (!Global && !beyond_j) tg.to_source[t]->push(j, r2);
+            if (!beyond_t && !beyond_j) continue;
+            const double inv = 1 / std::sqrt(r2);
+            const double to_t = beyond_t ? inv : 0.0, to_j = beyond_j ? inv : 0.0;
+            const double wt = q[j] * to_t, gt = wt * to_t * to_t;
+            const double wj = tg.q[t] * to_j, gj = wj * to_j * to_j;
+            p_sum[t] += wt;
+            e0[t] += gt * dx;
+            e1[t] += gt * dy;
+            e2[t] += gt * dz;
+            w[j] += wj;
+            g0[j] -= gj * dx;
+            g1[j] -= gj * dy;
+            g2[j] -= gj * dz;
+        }
+    for (int t = 0; t < T; ++t) {
+        tg.phi[t] -= k * p_sum[t];
+        tg.e[t][0] -= k * e0[t];
+        tg.e[t][1] -= k * e1[t];
+        tg.e[t][2] -= k * e2[t];
+    }
+}
+
+template <int T>
+MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const double* z, const double* q,
+                                       const double* d2, std::size_t n, Targets<T>& tg, double* w, double* g0,
+                                       double* g1, double* g2, InverseSqrt how = fastest_inverse_sqrt()) {
+    const bool global = tg.to_source[0] == nullptr;
+    if (how == InverseSqrt::refine) {
+        if (global) add_green_mutual_tile<T, true, InverseSqrt::refine>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
+        else add_green_mutual_tile<T, false, InverseSqrt::refine>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
+    } else {
+        if (global) add_green_mutual_tile<T, true, InverseSqrt::divide>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
+        else add_green_mutual_tile<T, false, InverseSqrt::divide>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
+    }
+}
+
 // The exact kernel at m pairs within a support (a Green's pass's
 // WithinPairs, in batches): pair(k, pot, g) for pair k, pot = phi_delta(r)
 // and g = phi_delta'(r)/r at r = sqrt(r2[k]), delta that of source
