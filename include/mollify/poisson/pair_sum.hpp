@@ -343,102 +343,6 @@ MOLLIFY_NOINLINE void add_green(const double* x, const double* y, const double* 
     e[2] -= k * e2;
 }
 
-// add_green for a target that is itself a source (charge qt, squared
-// smoothing length d2t) and n sources that feel it back: each pair's 1/r
-// serves both directions (Newton's third law; masks r^2 >= d2[j] for the
-// target, r^2 >= d2t for the source). The sources' sums of q/r and
-// q (x_j - x_t)/r^3 are added to w[j], g0[j], g1[j], g2[j] (to be scaled by
-// -1/(4 pi) like the target's). The pairs left out: within the source's
-// support to `to_target`, within the target's to `*to_source`; with
-// to_source null the caller's delta is global (every d2[j] is d2t, which
-// alone is read): one mask for both directions, each pair left out once,
-// to `to_target` (2 of the ~34 operations a block fewer).
-//
-// Both kept out of line: inlined into the treecode's descend, GCC left
-// the loop scalar (3x the time).
-template <bool Global>
-MOLLIFY_INLINE void add_green_mutual_as(const double* x, const double* y, const double* z, const double* q,
-                                        const double* d2, std::size_t n, const std::array<double, 3>& xt, double qt,
-                                        double d2t, double& phi, std::array<double, 3>& e, double* w, double* g0,
-                                        double* g1, double* g2, WithinPairs& to_target, WithinPairs* to_source,
-                                        [[maybe_unused]] InverseSqrt how) {
-    constexpr double k = 0.25 * std::numbers::inv_pi;
-    double p_sum = 0, e0 = 0, e1 = 0, e2 = 0;
-    std::size_t j = 0;
-#if defined(MOLLIFY_LANES)
-    using mollify::detail::Lanes;
-    const Lanes vq = Lanes{} + qt, vd2 = Lanes{} + d2t;
-    auto use = [&](std::size_t j0, Lanes dx, Lanes dy, Lanes dz, Lanes r2, Lanes inv) {
-        using namespace mollify::detail;
-        Lanes wt, gt, wj, gj;
-        if constexpr (Global) {
-            const LaneMask beyond = at_least_lanes(r2, vd2);
-            if (const unsigned in = clear_lanes(beyond)) [[unlikely]]
-                to_target.push_lanes(j0, in, r2);
-            const Lanes to = keep_lanes(beyond, inv), to2 = to * to;
-            wt = load_lanes(q + j0) * to;
-            wj = vq * to;
-            gt = wt * to2;
-            gj = wj * to2;
-        } else {
-            const LaneMask beyond_t = at_least_lanes(r2, load_lanes(d2 + j0)), beyond_j = at_least_lanes(r2, vd2);
-            if (const unsigned in = clear_lanes(beyond_t)) [[unlikely]]
-                to_target.push_lanes(j0, in, r2);
-            if (const unsigned in = clear_lanes(beyond_j)) [[unlikely]]
-                to_source->push_lanes(j0, in, r2);
-            const Lanes to_t = keep_lanes(beyond_t, inv), to_j = keep_lanes(beyond_j, inv);
-            wt = load_lanes(q + j0) * to_t;
-            wj = vq * to_j;
-            gt = wt * to_t * to_t;
-            gj = wj * to_j * to_j;
-        }
-        store_lanes(w + j0, load_lanes(w + j0) + wj);
-        store_lanes(g0 + j0, load_lanes(g0 + j0) - gj * dx);
-        store_lanes(g1 + j0, load_lanes(g1 + j0) - gj * dy);
-        store_lanes(g2 + j0, load_lanes(g2 + j0) - gj * dz);
-        return std::array<Lanes, 2>{wt, gt};
-    };
-    j = how == InverseSqrt::refine ? green_blocks<InverseSqrt::refine>(x, y, z, n, xt, p_sum, e0, e1, e2, use)
-                                   : green_blocks<InverseSqrt::divide>(x, y, z, n, xt, p_sum, e0, e1, e2, use);
-#endif
-    for (; j < n; ++j) {
-        const double dx = xt[0] - x[j], dy = xt[1] - y[j], dz = xt[2] - z[j];
-        const double r2 = mollify::detail::mul_add(dz, dz, mollify::detail::mul_add(dy, dy, dx * dx));
-        const double d2j = Global ? d2t : d2[j];
-        const bool beyond_t = r2 >= d2j, beyond_j = r2 >= d2t;
-        if (!beyond_t) to_target.push(j, r2);
-        if (!Global && !beyond_j) to_source->push(j, r2);
-        if (!beyond_t && !beyond_j) continue;
-        const double inv = 1 / std::sqrt(r2);
-        const double to_t = beyond_t ? inv : 0.0, to_j = beyond_j ? inv : 0.0;
-        const double wt = q[j] * to_t, gt = wt * to_t * to_t;
-        const double wj = qt * to_j, gj = wj * to_j * to_j;
-        p_sum += wt;
-        e0 += gt * dx;
-        e1 += gt * dy;
-        e2 += gt * dz;
-        w[j] += wj;
-        g0[j] -= gj * dx;
-        g1[j] -= gj * dy;
-        g2[j] -= gj * dz;
-    }
-    phi -= k * p_sum;
-    e[0] -= k * e0;
-    e[1] -= k * e1;
-    e[2] -= k * e2;
-}
-
-MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const double* z, const double* q, const double* d2,
-                             std::size_t n, const std::array<double, 3>& xt, double qt, double d2t, double& phi,
-                             std::array<double, 3>& e, double* w, double* g0, double* g1, double* g2,
-                             WithinPairs& to_target, WithinPairs* to_source,
-                             InverseSqrt how = fastest_inverse_sqrt()) {
-    if (to_source)
-        add_green_mutual_as<false>(x, y, z, q, d2, n, xt, qt, d2t, phi, e, w, g0, g1, g2, to_target, to_source, how);
-    else
-        add_green_mutual_as<true>(x, y, z, q, d2, n, xt, qt, d2t, phi, e, w, g0, g1, g2, to_target, to_source, how);
-}
-
 // add_green_mutual for T targets at once (consecutive targets of a leaf):
 // each block of sources is loaded, and its sums added and stored, once for
 // all T (the single-target pass loads 8 and stores 4 registers a block for
@@ -560,6 +464,8 @@ MOLLIFY_INLINE void add_green_mutual_tile(const double* x, const double* y, cons
     }
 }
 
+// Kept out of line: inlined into the treecode's descend, GCC left the loop
+// scalar (3x the time).
 template <int T>
 MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const double* z, const double* q,
                                        const double* d2, std::size_t n, Targets<T>& tg, double* w, double* g0,
@@ -572,6 +478,32 @@ MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const d
         if (global) add_green_mutual_tile<T, true, InverseSqrt::divide>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
         else add_green_mutual_tile<T, false, InverseSqrt::divide>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
     }
+}
+
+// add_green for a target that is itself a source (charge qt, squared
+// smoothing length d2t) and n sources that feel it back: each pair's 1/r
+// serves both directions (Newton's third law; masks r^2 >= d2[j] for the
+// target, r^2 >= d2t for the source). The sources' sums of q/r and
+// q (x_j - x_t)/r^3 are added to w[j], g0[j], g1[j], g2[j] (to be scaled by
+// -1/(4 pi) like the target's). The pairs left out: within the source's
+// support to `to_target`, within the target's to `*to_source`; with
+// to_source null the caller's delta is global (every d2[j] is d2t, which
+// alone is read): one mask for both directions, each pair left out once,
+// to `to_target`. The tile of one target.
+inline void add_green_mutual(const double* x, const double* y, const double* z, const double* q, const double* d2,
+                             std::size_t n, const std::array<double, 3>& xt, double qt, double d2t, double& phi,
+                             std::array<double, 3>& e, double* w, double* g0, double* g1, double* g2,
+                             WithinPairs& to_target, WithinPairs* to_source,
+                             InverseSqrt how = fastest_inverse_sqrt()) {
+    Targets<1> tg;
+    tg.x[0] = xt;
+    tg.q[0] = qt;
+    tg.d2[0] = d2t;
+    tg.to_target[0] = &to_target;
+    tg.to_source[0] = to_source;
+    add_green_mutual<1>(x, y, z, q, d2, n, tg, w, g0, g1, g2, how);
+    phi += tg.phi[0];
+    for (int c = 0; c < 3; ++c) e[c] += tg.e[0][c];
 }
 
 // The exact kernel at m pairs within a support (a Green's pass's
