@@ -381,14 +381,40 @@ MOLLIFY_INLINE void add_green_mutual_tile(const double* x, const double* y, cons
             td2[t] = Lanes{} + tg.d2[t];
         }
         const std::array<WithinPairs*, T> to_target = tg.to_target, to_source = tg.to_source;
+        // The division's blocks issue the next block's square roots and
+        // divisions ahead of their use (as green_blocks), the refinement's
+        // in place.
+        std::array<Lanes, T> r2_next{}, inv_next{};
+        auto ahead = [&](std::size_t j0) {
+            const Lanes X = load_lanes(x + j0), Y = load_lanes(y + j0), Z = load_lanes(z + j0);
+#pragma GCC unroll 8
+            for (int t = 0; t < T; ++t) {
+                const Lanes dx = tx[t] - X, dy = ty[t] - Y, dz = tz[t] - Z;
+                r2_next[t] = mul_add_lanes(dz, dz, mul_add_lanes(dy, dy, dx * dx));
+                inv_next[t] = inverse_sqrt_lanes<How>(r2_next[t]);
+            }
+        };
+        if (How == InverseSqrt::divide && nv > 0) ahead(0);
         for (std::size_t j0 = 0; j0 < nv; j0 += N) {
+            std::array<Lanes, T> r2_now, inv_now;
+            if constexpr (How == InverseSqrt::divide) {
+                r2_now = r2_next;
+                inv_now = inv_next;
+                if (j0 + N < nv) ahead(j0 + N);
+            }
             const Lanes X = load_lanes(x + j0), Y = load_lanes(y + j0), Z = load_lanes(z + j0), Q = load_lanes(q + j0);
             Lanes ws{}, gs0{}, gs1{}, gs2{};
 #pragma GCC unroll 8
             for (int t = 0; t < T; ++t) {
                 const Lanes dx = tx[t] - X, dy = ty[t] - Y, dz = tz[t] - Z;
-                const Lanes r2 = mul_add_lanes(dz, dz, mul_add_lanes(dy, dy, dx * dx));
-                const Lanes inv = inverse_sqrt_lanes<How>(r2);
+                Lanes r2, inv;
+                if constexpr (How == InverseSqrt::divide) {
+                    r2 = r2_now[t];
+                    inv = inv_now[t];
+                } else {
+                    r2 = mul_add_lanes(dz, dz, mul_add_lanes(dy, dy, dx * dx));
+                    inv = inverse_sqrt_lanes<How>(r2);
+                }
                 const Lanes vd2 = td2[t];
                 Lanes wt, gt, wj, gj;
                 if constexpr (Global) {

@@ -488,6 +488,7 @@ private:
                                         na, g.phi.data(), {g.e[0].data(), g.e[1].data(), g.e[2].data()}, work);
         constexpr double k = 0.25 * std::numbers::inv_pi;
         const bool per_source = !s_.global;
+        const bool tiled = detail::fastest_inverse_sqrt() == detail::InverseSqrt::refine;
         // The leaf's targets a tile at a time: the mutual cells' Green's pass
         // for the tile's targets together (detail::add_green_mutual over
         // Targets<tile>), then each target's other parts in order.
@@ -502,7 +503,7 @@ private:
             }
             if constexpr (D == 3)
                 if (!g.both.q.empty()) {
-                    if (tn == tile)
+                    if (tn == tile && tiled)
                         both_pass<tile>(i0, 0, y, both, back, both_phi, both_e);
                     else
                         for (std::size_t u = 0; u < tn; ++u) both_pass<1>(i0 + u, u, y, both, back, both_phi, both_e);
@@ -564,7 +565,10 @@ private:
     // 16,384 sources took 0.93-1.05 ns a pair with one target, 0.77-0.84
     // with two, 0.72-0.79 with four (more spill registers); the treecode at
     // N = 10^6 neutral, theta 0.7, p = 16, 4.67-4.84 -> 4.49-4.59 s (the
-    // Intel Xeon of stop 62, alternating runs).
+    // Intel Xeon of stop 62, alternating runs). Only where 1/sqrt is refined
+    // (InverseSqrt::refine): with the division two or four targets a pass
+    // were 8-10 % slower on the AMD Zen 5 host of stop 42, bound by the
+    // divider, so there the targets go one at a time, as before.
     static constexpr std::size_t tile = 4;
 
     // The mutual cells' Green's pass (Gathered::both) for the T targets from
