@@ -34,25 +34,26 @@
 //
 // Where the 3D time goes and what keeps it down (one thread; shares at
 // N = 10^6 neutral, theta 0.7, p = 17, measured by perf 2026-11-29):
-// - Near field (descend), ~45 % then, ~70-80 % since the far field's
-//   stop-61 M2L (the Intel host, N = 10^5 | 10^6, theta 0.72 | 0.7):
-//   per target leaf the near cells' sources are gathered into runs; every
-//   pair beyond its support gets the Green's function in one vectorised
-//   pass (detail::add_green), which lists the pairs it leaves out, those
-//   within a support, for the exact kernel (detail::within_kernel, one
-//   batch per target); the two parts split the pairs exactly, so each pair
+// - Near field (descend), ~45 % then, ~70 % since (the Intel host,
+//   N = 10^5 | 10^6, theta 0.72 | 0.7, p = 14 | 16, 2026-12-04): per target
+//   leaf the near cells' sources are gathered into runs; every pair beyond
+//   its support gets the Green's function in one vectorised pass
+//   (detail::add_green), which lists the pairs it leaves out, those within
+//   a support, for the exact kernel (detail::within_kernel, one batch per
+//   target; 8 | 6 %); the two parts split the pairs exactly, so each pair
 //   is counted once. At the sources, a leaf pair found from both sides
 //   gets one Green's pass for both directions (detail::add_green_mutual,
-//   ~60-70 %; its square roots and divisions issued a block ahead,
-//   detail::green_blocks; on Intel's AVX-512 cores 1/sqrt refined from its
-//   estimate instead, the divider there having held the pass at ~60 % of
-//   the time), and so do a leaf's own pairs (j > i); with a global delta
-//   one kernel value serves both ends of a pair within a support (~12 %
-//   at 10^5 with the listing); each target's sums go to a per-thread array
-//   in tree order, permuted to the caller's order once. Until stop 62 the
-//   pairs within a support were searched for in a second pass over the
-//   cells that come within delta_max of the target (~6 % of the time), the
-//   own leaf went one way, and the passes ended in scalar tails.
+//   four targets at a time where 1/sqrt is refined, Treecode::tile;
+//   54 | 58 %), and so do a leaf's own pairs, j > i (7 | 6 %). On Intel's
+//   AVX-512 cores 1/sqrt is refined from its estimate (the divider there
+//   held the pass at ~60 % of the time), elsewhere each block's square
+//   roots and divisions are issued a block ahead (as detail::green_blocks).
+//   With a global delta one kernel value serves both ends of a pair within
+//   a support. Each target's sums go to a per-thread array in tree order,
+//   permuted to the caller's order once. Until stop 62 the pairs within a
+//   support were searched for in a second pass over the cells that come
+//   within delta_max of the target (13 % with its kernel), the own leaf
+//   went one way, and the passes ended in scalar tails.
 // - M2L (translate), ~26 % with the Cartesian translation ((p + 1)^4
 //   multiply-adds a pair after the harmonic reduction), 6-12 % since it
 //   rotates real spherical harmonics (Multipole<3>::add_local: ~2 (p + 1)^3;
