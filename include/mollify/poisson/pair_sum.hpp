@@ -394,7 +394,8 @@ MOLLIFY_INLINE void add_green_mutual_tile(const double* x, const double* y, cons
                 inv_next[t] = inverse_sqrt_lanes<How>(r2_next[t]);
             }
         };
-        if (How == InverseSqrt::divide && nv > 0) ahead(0);
+        if constexpr (How == InverseSqrt::divide)
+            if (nv > 0) ahead(0);
         for (std::size_t j0 = 0; j0 < nv; j0 += N) {
             std::array<Lanes, T> r2_now, inv_now;
             if constexpr (How == InverseSqrt::divide) {

@@ -689,12 +689,16 @@ private:
             for (const int ci : list) total += cells[static_cast<std::size_t>(ci)].end - cells[static_cast<std::size_t>(ci)].begin;
             size = total;
             const std::size_t padded = (total + 7) / 8 * 8;
-            for (auto& c : x) c.assign(padded, 0.0);
-            q.assign(padded, 0.0);
+            const auto pad = [&](std::vector<double>& v, double value) {  // the real part is copied below
+                v.resize(padded);
+                std::fill(v.begin() + static_cast<std::ptrdiff_t>(total), v.end(), value);
+            };
+            for (auto& c : x) pad(c, 0.0);
+            pad(q, 0.0);
+            pad(d2, std::numeric_limits<double>::infinity());
             source.resize(padded);
             within_at.resize(padded);
             within_r2.resize(padded);
-            d2.assign(padded, std::numeric_limits<double>::infinity());
             for (auto& c : w) c.assign(padded, 0.0);
             runs.clear();
             std::size_t at = 0;
