@@ -2,9 +2,11 @@
 // detail/lanes.hpp): 1/sqrt refined from VRSQRT14PD's estimate against
 // long double, its hard cases (the lanes it leaves to the division), the
 // two Green's passes with the refined 1/r against the same passes with the
-// division, and the pairs they leave to the exact kernel (detail::WithinPairs,
-// compressed into place eight at a time) against their definition. Built for x86-64-v4 where the host has AVX-512
-// (tests/CMakeLists.txt: poisson_free_v4_test).
+// division, the pairs they leave to the exact kernel (detail::WithinPairs,
+// compressed into place eight at a time) against their definition, and the
+// tile of four targets against four single-target passes. Built for
+// x86-64-v4 where the host has AVX-512 (tests/CMakeLists.txt:
+// poisson_free_v4_test).
 #include <mollify/poisson.hpp>
 
 #include <gtest/gtest.h>
