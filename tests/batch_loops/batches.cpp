@@ -1,12 +1,14 @@
 // StaticKernel's batch loops in a unit built -march=x86-64-v3 -mtune=znver1
 // (tests/CMakeLists.txt): GCC's Zen 1 tuning prefers 128-bit vectors, which
-// MOLLIFY_BATCH_LOOP overrides with 256 (include/mollify/detail/isa.hpp).
-// A batch runs its points through 256-bit lanes, a shorter vector remainder
-// and scalar code; a single point only through the scalar code. They must
-// agree bit for bit: a value may not depend on the batch it was computed in
-// (nor on the vector width, which then changes no rounding). And the batch
-// against the run-time form's copy for the same instruction set (libmollify's
-// x86-64-v3 evaluator): not bit for bit (the static form's unrolled
+// MOLLIFY_BATCH_LOOP overrides with 256 (include/mollify/detail/isa.hpp);
+// and built -march=x86-64-v4 -mtune=sapphirerapids (batch_loops_v4_test),
+// whose 256-bit preference it overrides with 512. A batch runs its points
+// through the wide lanes, a shorter vector remainder and scalar code; a
+// single point only through the scalar code. They must agree bit for bit: a
+// value may not depend on the batch it was computed in (nor on the vector
+// width, which then changes no rounding). And the batch against the run-time
+// form's copy for the same instruction set (libmollify's evaluator for it,
+// chosen by the caller): not bit for bit (the static form's unrolled
 // expressions are contracted into FMAs where the data-driven loops have their
 // own), within runtime_forms_test's bounds (fused_bound.hpp).
 #include "batch_loops/batches.hpp"
