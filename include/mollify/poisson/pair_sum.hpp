@@ -185,80 +185,6 @@ void add_exact(const K& kernel, const SourceArrays<D>& s, const std::array<doubl
     if constexpr (D == 3) e[2] += e2;
 }
 
-#if defined(MOLLIFY_LANES)
-// The Green's passes a register's worth of sources at a time (detail/lanes.hpp),
-// over the blocks j0 = 0, N, ... of the first nv = n - n % N sources
-// (N = register_doubles; returns nv, the rest left to the scalar loop):
-// use(j0, dx, dy, dz, r2, inv), d = xt - x_j, r2 = |d|^2 as the scalar loop
-// forms it, inv = 1/sqrt(r2), returns the target's {q/r, q/r^3} per lane,
-// whose sums (q/r and q d/r^3) are added to p_sum and e0, e1, e2. Each
-// block's square root and division are issued a block ahead of their use:
-// out of order, the processor did not reach the next block's by itself
-// (the rest of a block is ~40 instructions), and on AMD Zen 1 a block's
-// square root and division hold the divider for ~25 cycles. There
-// add_green_mutual went 6.6 -> 4.4 ns per pair (2400 sources, a test
-// program) and the 3D treecode at N = 10^5, theta 0.7, p = 13 | 19 2.2 ->
-// 1.7 | 3.2 -> 2.6 s; two blocks ahead was slower in the treecode (2.7 s at
-// p = 19: four more live registers of AVX2's 16). A block's d is formed
-// again for use (three loads and subtractions, on pipes the divider leaves
-// idle) rather than carried from its r^2, for the same registers. How: the
-// square root and division, or on Intel's AVX-512 cores 1/sqrt refined
-// from its estimate (detail::inverse_sqrt_lanes, fastest_inverse_sqrt),
-// which needs no look-ahead: a plain loop, d carried from r^2 to its use
-// (three subtractions and loads fewer: 0.95-1.03 -> 0.77-0.92 ns per pair of the
-// mutual pass, 244 targets against 6588 sources, alternating runs on the
-// Intel Xeon of stop 60; the division's path unchanged, 1.34-1.42 ns).
-template <mollify::detail::InverseSqrt How, class Use>
-MOLLIFY_INLINE std::size_t green_blocks(const double* x, const double* y, const double* z, std::size_t n,
-                                        const std::array<double, 3>& xt, double& p_sum, double& e0, double& e1,
-                                        double& e2, Use&& use) {
-    using namespace mollify::detail;
-    constexpr std::size_t N = register_doubles;
-    const std::size_t nv = n - n % N;
-    const Lanes tx = Lanes{} + xt[0], ty = Lanes{} + xt[1], tz = Lanes{} + xt[2];
-    auto d_at = [&](std::size_t j0) {
-        return std::array<Lanes, 3>{tx - load_lanes(x + j0), ty - load_lanes(y + j0), tz - load_lanes(z + j0)};
-    };
-    auto r2_of = [](const std::array<Lanes, 3>& d) {
-        return mul_add_lanes(d[2], d[2], mul_add_lanes(d[1], d[1], d[0] * d[0]));
-    };
-    Lanes vp{}, v0{}, v1{}, v2{};
-    auto add = [&](std::size_t j0, const std::array<Lanes, 3>& d, Lanes r2, Lanes inv) {
-        const auto [w, g] = use(j0, d[0], d[1], d[2], r2, inv);
-        vp += w;
-        v0 += g * d[0];
-        v1 += g * d[1];
-        v2 += g * d[2];
-    };
-    if constexpr (How == InverseSqrt::refine) {  // no divider to wait for: d carried, not formed again
-        for (std::size_t j0 = 0; j0 < nv; j0 += N) {
-            const std::array<Lanes, 3> d = d_at(j0);
-            const Lanes r2 = r2_of(d);
-            add(j0, d, r2, inverse_sqrt_lanes<How>(r2));
-        }
-    } else {
-        Lanes r2_a{}, inv_a{};  // the next block's
-        if (nv > 0) {
-            r2_a = r2_of(d_at(0));
-            inv_a = inverse_sqrt_lanes<How>(r2_a);
-        }
-        for (std::size_t j0 = 0; j0 < nv; j0 += N) {
-            const Lanes r2 = r2_a, inv = inv_a;
-            if (j0 + N < nv) {
-                r2_a = r2_of(d_at(j0 + N));
-                inv_a = inverse_sqrt_lanes<How>(r2_a);
-            }
-            add(j0, d_at(j0), r2, inv);
-        }
-    }
-    p_sum += sum_lanes(vp);
-    e0 += sum_lanes(v0);
-    e1 += sum_lanes(v1);
-    e2 += sum_lanes(v2);
-    return nv;
-}
-#endif
-
 // The treecode's near field in two parts, which together are add_exact
 // over the same sources (each pair in exactly one part: r^2 >= delta_j^2
 // in the first, its complement in the second).
@@ -296,59 +222,31 @@ struct WithinPairs {
 #endif
 };
 
-// add_green: the pairs beyond their support, where phi_delta IS the
-// Green's function (3D), over n sources gathered into plain arrays
-// (coordinates x, y, z, charges q, squared smoothing lengths d2): one
-// vectorised pass, 1/r from one square root and one division (or refined
-// from VRSQRT14PD's estimate: `how`, green_blocks), no kernel; the other
-// pairs appended to `within`.
-MOLLIFY_NOINLINE void add_green(const double* x, const double* y, const double* z, const double* q, const double* d2,
-                      std::size_t n, const std::array<double, 3>& xt, double& phi, std::array<double, 3>& e,
-                      WithinPairs& within, [[maybe_unused]] InverseSqrt how = fastest_inverse_sqrt()) {
-    constexpr double k = 0.25 * std::numbers::inv_pi;
-    double p_sum = 0, e0 = 0, e1 = 0, e2 = 0;
-    std::size_t j = 0;
-#if defined(MOLLIFY_LANES)
-    using mollify::detail::Lanes;
-    auto use = [&](std::size_t j0, Lanes, Lanes, Lanes, Lanes r2, Lanes inv) {
-        using namespace mollify::detail;
-        const LaneMask beyond = at_least_lanes(r2, load_lanes(d2 + j0));
-        if (const unsigned in = clear_lanes(beyond)) [[unlikely]]
-            within.push_lanes(j0, in, r2);
-        const Lanes to_t = keep_lanes(beyond, inv);  // 1/r, or 0 within the support
-        const Lanes w = load_lanes(q + j0) * to_t;  // q/r
-        return std::array<Lanes, 2>{w, w * to_t * to_t};  // q/r, q/r^3
-    };
-    j = how == InverseSqrt::refine ? green_blocks<InverseSqrt::refine>(x, y, z, n, xt, p_sum, e0, e1, e2, use)
-                                   : green_blocks<InverseSqrt::divide>(x, y, z, n, xt, p_sum, e0, e1, e2, use);
-#endif
-    for (; j < n; ++j) {
-        const double dx = xt[0] - x[j], dy = xt[1] - y[j], dz = xt[2] - z[j];
-        const double r2 = mollify::detail::mul_add(dz, dz, mollify::detail::mul_add(dy, dy, dx * dx));
-        if (!(r2 >= d2[j])) {
-            within.push(j, r2);
-            continue;
-        }
-        const double inv = 1 / std::sqrt(r2);
-        const double w = q[j] * inv, g = w * inv * inv;  // q/r, q/r^3
-        p_sum += w;
-        e0 += g * dx;
-        e1 += g * dy;
-        e2 += g * dz;
-    }
-    // phi = -k q/r, E = -grad phi = -k q (x - x_j)/r^3.
-    phi -= k * p_sum;
-    e[0] -= k * e0;
-    e[1] -= k * e1;
-    e[2] -= k * e2;
-}
+// The Green's passes: the pairs beyond their support, where phi_delta IS
+// the Green's function (3D), over n sources gathered into plain arrays
+// (coordinates x, y, z, charges q, squared smoothing lengths d2), for T
+// targets at once (Targets: x[t], q[t], d2[t]; their sums phi[t], e[t],
+// added to; their lists to_target[t], to_source[t]), no kernel: one
+// vectorised pass, 1/r from one square root and one division, or on
+// Intel's AVX-512 cores refined from VRSQRT14PD's estimate (`how`,
+// detail::inverse_sqrt_lanes). The pairs each leaves out go to the lists.
+// Three kinds:
+//   one_way        the targets feel the sources (masks r^2 >= d2[j]);
+//   mutual         the sources feel the targets back (Newton's third law;
+//                  masks r^2 >= d2[j] for a target, r^2 >= d2[t] for the
+//                  source): their sums of q/r and q (x_j - x_t)/r^3 added
+//                  to w[j], g0[j], g1[j], g2[j] (to be scaled by -1/(4 pi)
+//                  like the targets'); pairs within the source's support to
+//                  to_target[t], within the target's to to_source[t];
+//   mutual_global  mutual with one delta (every d2[j] is d2[t], which alone
+//                  is read): one mask for both directions, each pair left
+//                  out once, to to_target[t] (2 of ~30 operations a block
+//                  fewer).
+// T targets share each block's loads of the sources and stores of their
+// sums (the single-target pass loads 8 and stores 4 registers a block for
+// ~30 operations; Treecode::tile has the times).
+enum class GreenPass { one_way, mutual, mutual_global };
 
-// add_green_mutual for T targets at once (consecutive targets of a leaf):
-// each block of sources is loaded, and its sums added and stored, once for
-// all T (the single-target pass loads 8 and stores 4 registers a block for
-// ~30 operations; Treecode::tile has the times). The targets: x[t], q[t],
-// d2[t], their sums phi[t], e[t] (added to), their lists to_target[t],
-// to_source[t] (null for all: a global delta, as add_green_mutual).
 template <int T>
 struct Targets {
     std::array<std::array<double, 3>, T> x;
@@ -358,8 +256,22 @@ struct Targets {
     std::array<WithinPairs*, T> to_target{}, to_source{};
 };
 
-template <int T, bool Global, InverseSqrt How>
-MOLLIFY_INLINE void add_green_mutual_tile(const double* x, const double* y, const double* z, const double* q,
+// The blocks of the division's passes issue the next block's square roots
+// and divisions ahead of their use: out of order, the processor did not
+// reach the next block's by itself (the rest of a block is ~40
+// instructions), and on AMD Zen 1 a block's square root and division hold
+// the divider for ~25 cycles. There the mutual pass went 6.6 -> 4.4 ns per
+// pair (2400 sources, a test program) and the 3D treecode at N = 10^5,
+// theta 0.7, p = 13 | 19 2.2 -> 1.7 | 3.2 -> 2.6 s; two blocks ahead was
+// slower (2.7 s at p = 19: four more live registers of AVX2's 16). A
+// block's d is formed again for use (three loads and subtractions, on
+// pipes the divider leaves idle) rather than carried from its r^2, for the
+// same registers. The refinement needs no look-ahead: d carried from r^2
+// to its use (three subtractions and loads fewer: 0.95-1.03 -> 0.77-0.92 ns
+// per pair of the mutual pass, 244 targets against 6588 sources, the Intel
+// Xeon of stop 60).
+template <int T, GreenPass Kind, InverseSqrt How>
+MOLLIFY_INLINE void green_pass(const double* x, const double* y, const double* z, const double* q,
                                           const double* d2, std::size_t n, Targets<T>& tg, double* w, double* g0,
                                           double* g1, double* g2) {
     constexpr double k = 0.25 * std::numbers::inv_pi;
@@ -381,9 +293,7 @@ MOLLIFY_INLINE void add_green_mutual_tile(const double* x, const double* y, cons
             td2[t] = Lanes{} + tg.d2[t];
         }
         const std::array<WithinPairs*, T> to_target = tg.to_target, to_source = tg.to_source;
-        // The division's blocks issue the next block's square roots and
-        // divisions ahead of their use (as green_blocks), the refinement's
-        // in place.
+        // The division's a block ahead, the refinement's in place (above).
         std::array<Lanes, T> r2_next{}, inv_next{};
         auto ahead = [&](std::size_t j0) {
             const Lanes X = load_lanes(x + j0), Y = load_lanes(y + j0), Z = load_lanes(z + j0);
@@ -417,8 +327,15 @@ MOLLIFY_INLINE void add_green_mutual_tile(const double* x, const double* y, cons
                     inv = inverse_sqrt_lanes<How>(r2);
                 }
                 const Lanes vd2 = td2[t];
-                Lanes wt, gt, wj, gj;
-                if constexpr (Global) {
+                Lanes wt, gt, wj{}, gj{};
+                if constexpr (Kind == GreenPass::one_way) {
+                    const LaneMask beyond = at_least_lanes(r2, load_lanes(d2 + j0));
+                    if (const unsigned in = clear_lanes(beyond)) [[unlikely]]
+                        to_target[t]->push_lanes(j0, in, r2);
+                    const Lanes to = keep_lanes(beyond, inv);  // 1/r, or 0 within the support
+                    wt = Q * to;                               // q/r
+                    gt = wt * to * to;                         // q/r^3
+                } else if constexpr (Kind == GreenPass::mutual_global) {
                     const LaneMask beyond = at_least_lanes(r2, vd2);
                     if (const unsigned in = clear_lanes(beyond)) [[unlikely]]
                         to_target[t]->push_lanes(j0, in, r2);
@@ -443,15 +360,19 @@ MOLLIFY_INLINE void add_green_mutual_tile(const double* x, const double* y, cons
                 v0[t] = mul_add_lanes(gt, dx, v0[t]);
                 v1[t] = mul_add_lanes(gt, dy, v1[t]);
                 v2[t] = mul_add_lanes(gt, dz, v2[t]);
-                ws += wj;
-                gs0 = mul_add_lanes(gj, dx, gs0);
-                gs1 = mul_add_lanes(gj, dy, gs1);
-                gs2 = mul_add_lanes(gj, dz, gs2);
+                if constexpr (Kind != GreenPass::one_way) {
+                    ws += wj;
+                    gs0 = mul_add_lanes(gj, dx, gs0);
+                    gs1 = mul_add_lanes(gj, dy, gs1);
+                    gs2 = mul_add_lanes(gj, dz, gs2);
+                }
             }
-            store_lanes(w + j0, load_lanes(w + j0) + ws);
-            store_lanes(g0 + j0, load_lanes(g0 + j0) - gs0);
-            store_lanes(g1 + j0, load_lanes(g1 + j0) - gs1);
-            store_lanes(g2 + j0, load_lanes(g2 + j0) - gs2);
+            if constexpr (Kind != GreenPass::one_way) {
+                store_lanes(w + j0, load_lanes(w + j0) + ws);
+                store_lanes(g0 + j0, load_lanes(g0 + j0) - gs0);
+                store_lanes(g1 + j0, load_lanes(g1 + j0) - gs1);
+                store_lanes(g2 + j0, load_lanes(g2 + j0) - gs2);
+            }
         }
         for (int t = 0; t < T; ++t) {
             p_sum[t] = sum_lanes(vp[t]);
@@ -466,18 +387,20 @@ MOLLIFY_INLINE void add_green_mutual_tile(const double* x, const double* y, cons
         for (int t = 0; t < T; ++t) {
             const double dx = tg.x[t][0] - x[j], dy = tg.x[t][1] - y[j], dz = tg.x[t][2] - z[j];
             const double r2 = mollify::detail::mul_add(dz, dz, mollify::detail::mul_add(dy, dy, dx * dx));
-            const bool beyond_t = r2 >= (Global ? tg.d2[t] : d2[j]), beyond_j = r2 >= tg.d2[t];
+            constexpr bool global = Kind == GreenPass::mutual_global, one_way = Kind == GreenPass::one_way;
+            const bool beyond_t = r2 >= (global ? tg.d2[t] : d2[j]), beyond_j = !one_way && r2 >= tg.d2[t];
             if (!beyond_t) tg.to_target[t]->push(j, r2);
-            if (!Global && !beyond_j) tg.to_source[t]->push(j, r2);
+            if (Kind == GreenPass::mutual && !beyond_j) tg.to_source[t]->push(j, r2);
             if (!beyond_t && !beyond_j) continue;
             const double inv = 1 / std::sqrt(r2);
             const double to_t = beyond_t ? inv : 0.0, to_j = beyond_j ? inv : 0.0;
             const double wt = q[j] * to_t, gt = wt * to_t * to_t;
-            const double wj = tg.q[t] * to_j, gj = wj * to_j * to_j;
             p_sum[t] += wt;
             e0[t] += gt * dx;
             e1[t] += gt * dy;
             e2[t] += gt * dz;
+            if constexpr (one_way) continue;
+            const double wj = tg.q[t] * to_j, gj = wj * to_j * to_j;
             w[j] += wj;
             g0[j] -= gj * dx;
             g1[j] -= gj * dy;
@@ -491,32 +414,46 @@ MOLLIFY_INLINE void add_green_mutual_tile(const double* x, const double* y, cons
     }
 }
 
-// Kept out of line: inlined into the treecode's descend, GCC left the loop
+// The pass with 1/sqrt the way `how` says. Its entry points below are kept
+// out of line: inlined into the treecode's descend, GCC left the loop
 // scalar (3x the time).
+template <int T, GreenPass Kind>
+MOLLIFY_INLINE void green_pass(const double* x, const double* y, const double* z, const double* q, const double* d2,
+                               std::size_t n, Targets<T>& tg, double* w, double* g0, double* g1, double* g2,
+                               InverseSqrt how) {
+    if (how == InverseSqrt::refine)
+        green_pass<T, Kind, InverseSqrt::refine>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
+    else
+        green_pass<T, Kind, InverseSqrt::divide>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
+}
+
+// The mutual pass (add_green_mutual) for T targets.
 template <int T>
 MOLLIFY_NOINLINE void add_green_mutual(const double* x, const double* y, const double* z, const double* q,
                                        const double* d2, std::size_t n, Targets<T>& tg, double* w, double* g0,
                                        double* g1, double* g2, InverseSqrt how = fastest_inverse_sqrt()) {
-    const bool global = tg.to_source[0] == nullptr;
-    if (how == InverseSqrt::refine) {
-        if (global) add_green_mutual_tile<T, true, InverseSqrt::refine>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
-        else add_green_mutual_tile<T, false, InverseSqrt::refine>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
-    } else {
-        if (global) add_green_mutual_tile<T, true, InverseSqrt::divide>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
-        else add_green_mutual_tile<T, false, InverseSqrt::divide>(x, y, z, q, d2, n, tg, w, g0, g1, g2);
-    }
+    if (tg.to_source[0] == nullptr)
+        green_pass<T, GreenPass::mutual_global>(x, y, z, q, d2, n, tg, w, g0, g1, g2, how);
+    else
+        green_pass<T, GreenPass::mutual>(x, y, z, q, d2, n, tg, w, g0, g1, g2, how);
 }
 
-// add_green for a target that is itself a source (charge qt, squared
-// smoothing length d2t) and n sources that feel it back: each pair's 1/r
-// serves both directions (Newton's third law; masks r^2 >= d2[j] for the
-// target, r^2 >= d2t for the source). The sources' sums of q/r and
-// q (x_j - x_t)/r^3 are added to w[j], g0[j], g1[j], g2[j] (to be scaled by
-// -1/(4 pi) like the target's). The pairs left out: within the source's
-// support to `to_target`, within the target's to `*to_source`; with
-// to_source null the caller's delta is global (every d2[j] is d2t, which
-// alone is read): one mask for both directions, each pair left out once,
-// to `to_target`. The tile of one target.
+// The one-way pass for one target xt: its pairs within a support to `within`.
+MOLLIFY_NOINLINE void add_green(const double* x, const double* y, const double* z, const double* q, const double* d2,
+                                std::size_t n, const std::array<double, 3>& xt, double& phi, std::array<double, 3>& e,
+                                WithinPairs& within, InverseSqrt how = fastest_inverse_sqrt()) {
+    Targets<1> tg;
+    tg.x[0] = xt;
+    tg.q[0] = 0;
+    tg.d2[0] = 0;
+    tg.to_target[0] = &within;
+    green_pass<1, GreenPass::one_way>(x, y, z, q, d2, n, tg, nullptr, nullptr, nullptr, nullptr, how);
+    phi += tg.phi[0];
+    for (int c = 0; c < 3; ++c) e[c] += tg.e[0][c];
+}
+
+// The mutual pass for one target (charge qt, squared smoothing length
+// d2t): to_source null for one global delta.
 inline void add_green_mutual(const double* x, const double* y, const double* z, const double* q, const double* d2,
                              std::size_t n, const std::array<double, 3>& xt, double qt, double d2t, double& phi,
                              std::array<double, 3>& e, double* w, double* g0, double* g1, double* g2,

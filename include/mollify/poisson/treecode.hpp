@@ -47,7 +47,7 @@
 //   54 | 58 %), and so do a leaf's own pairs, j > i (7 | 6 %). On Intel's
 //   AVX-512 cores 1/sqrt is refined from its estimate (the divider there
 //   held the pass at ~60 % of the time), elsewhere each block's square
-//   roots and divisions are issued a block ahead (as detail::green_blocks).
+//   roots and divisions are issued a block ahead (detail::green_pass).
 //   With a global delta one kernel value serves both ends of a pair within
 //   a support. Each target's sums go to a per-thread array in tree order,
 //   permuted to the caller's order once. Until stop 62 the pairs within a
