@@ -48,20 +48,21 @@ inline int thread_index() {
 #endif
 }
 
+// The pause hint of a busy wait (leaves a sibling hyperthread the core).
+inline void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
+
 // Waits until done(), for waits of one thread's short serial step: busy
-// with the pause hint (which leaves a sibling hyperthread the core), then
-// yielding the core (~50 us on), where threads outnumber cores and the
-// awaited thread may need this one's.
+// with the pause hint, then yielding the core (~50 us on), where threads
+// outnumber cores and the awaited thread may need this one's.
 template <class Done>
 void spin_until(Done&& done) {
     for (int k = 0; !done(); ++k) {
-        if (k < 4096) {
-#if defined(__x86_64__) || defined(__i386__)
-            __builtin_ia32_pause();
-#endif
-        } else {
-            std::this_thread::yield();
-        }
+        if (k < 4096) pause();
+        else std::this_thread::yield();
     }
 }
 
