@@ -127,8 +127,8 @@ SphRow sph_sweep(long side) {
     const std::size_t before = systems[0].interactions();
     systems[0].acceleration(x, a[0]);
     const std::size_t per_sweep = systems[0].interactions() - before;
-    // ~0.4 s of one-thread sweeps a row (~0.1 us a particle), at least 15 (a sweep of ~1 ms at
-    // N ~ 10^4: 15 of them left the speed-up to one lucky run)
+    // ~0.4 s of one-thread sweeps a row (~0.1 us a particle), at least 15
+    // (15 sweeps of ~1 ms at N ~ 10^4 left the speed-up to one lucky run)
     const Times t = interleaved(
         [&](int threads) {
             omp_set_num_threads(threads);

@@ -49,7 +49,7 @@ inline int thread_index() {
 }
 
 // The pause hint of a busy wait (leaves a sibling hyperthread the core).
-inline void pause() {
+inline void cpu_pause() {
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_ia32_pause();
 #endif
@@ -61,7 +61,7 @@ inline void pause() {
 template <class Done>
 void spin_until(Done&& done) {
     for (int k = 0; !done(); ++k) {
-        if (k < 4096) pause();
+        if (k < 4096) cpu_pause();
         else std::this_thread::yield();
     }
 }

@@ -309,7 +309,7 @@ private:
             // pauses after their signal let them reach the barrier first.
             if (me == 0) {
                 all_done(swept, team);
-                for (int k = 0; k < 20; ++k) mollify::detail::pause();
+                for (int k = 0; k < 20; ++k) mollify::detail::cpu_pause();
             } else {
                 swept.fetch_add(1, std::memory_order_acq_rel);
             }
