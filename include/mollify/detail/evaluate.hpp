@@ -655,9 +655,129 @@ MOLLIFY_INLINE double chosen_piece(const Scaled& a) {
     else return piece<K, Q, P, Pr>(a);
 }
 
+// A combination's pieces share terms: piece p holds the terms of the radii
+// beyond it. The distinct terms of the inner pieces, each with the q range
+// of the run of pieces that holds it, in an order every piece's terms
+// follow; m = 0 where a term's pieces are not one run, a piece's terms are
+// out of that order, a term continues a series or nothing is shared. The
+// rule of QuantityPlan::shared_terms (src/plan.cpp: shared_terms_of), so
+// that both forms add the same terms in the same order.
+struct SharedTerms {
+    static constexpr int capacity = 8;
+    struct Ref {
+        int piece, term;
+        double lo, hi;
+    };
+    Ref t[capacity]{};
+    int m = 0;
+};
+
+constexpr bool same_arrays(const double* a, const double* b, int n) {
+    if (a == nullptr || b == nullptr) return a == b;
+    for (int k = 0; k < n; ++k)
+        if (a[k] != b[k]) return false;
+    return true;
+}
+
+constexpr bool same_term(const table::Term& a, const table::Term& b) {
+    return a.basis == b.basis && a.s_power == b.s_power && a.var == b.var && a.edge == b.edge &&
+           a.edge_lo == b.edge_lo && a.edge_power == b.edge_power && a.low == b.low && a.n == b.n &&
+           a.centre == b.centre && a.centre_lo == b.centre_lo && a.plain == b.plain && a.split == b.split &&
+           a.content == b.content && a.content_lo == b.content_lo && same_arrays(a.c, b.c, a.n) &&
+           same_arrays(a.c_lo, b.c_lo, a.n) && same_arrays(a.m, b.m, a.split > 0 ? a.n : 0);
+}
+
+// continues_series on the terms themselves.
+constexpr bool continues(const table::Term& s, const table::Term& t) {
+    return s.basis == t.basis && s.s_power == t.s_power && s.var == t.var && s.var != table::Var::shifted &&
+           s.edge == t.edge && s.low == t.low && s.edge_power > 0 && t.edge_power > s.edge_power;
+}
+
+template <const table::Kernel& K, int Q>
+inline constexpr SharedTerms shared_terms = [] {
+    const table::Quantity& quantity = quantity_table<K, Q>;
+    const int inner = quantity.npieces - 1;
+    SharedTerms out;
+    int first[SharedTerms::capacity]{}, last[SharedTerms::capacity]{}, terms = 0;
+    for (int p = 0; p < inner; ++p) {
+        const table::Piece& piece = quantity.pieces[p];
+        if (p > 0 && !(piece.lo > quantity.pieces[p - 1].lo)) return SharedTerms{};
+        int previous = 0;
+        for (int t = 0; t < piece.nterms; ++t, ++terms) {
+            const table::Term& term = piece.terms[t];
+            if (t > 0 && continues(piece.terms[t - 1], term)) return SharedTerms{};
+            int d = 0;
+            while (d < out.m && !same_term(quantity.pieces[out.t[d].piece].terms[out.t[d].term], term)) ++d;
+            if (d == out.m) {
+                if (out.m == SharedTerms::capacity) return SharedTerms{};
+                out.t[out.m] = {p, t, 0.0, 0.0};
+                first[out.m] = last[out.m] = p;
+                ++out.m;
+            } else {
+                if (last[d] + 1 != p) return SharedTerms{};
+                last[d] = p;
+            }
+            if (d < previous) return SharedTerms{};
+            previous = d + 1;
+        }
+    }
+    if (out.m == terms || inner < 2) return SharedTerms{};
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    for (int d = 0; d < out.m; ++d) {
+        out.t[d].lo = first[d] == 0 ? -inf : quantity.pieces[first[d]].lo;
+        out.t[d].hi = last[d] + 1 == inner ? inf : quantity.pieces[last[d] + 1].lo;
+    }
+    return out;
+}();
+
+// Precision::accurate sums a combination's distinct terms once, each where
+// its pieces reach and (0, 0) elsewhere, as the run-time form's fused loop
+// (src/evaluator.cpp: AccurateSharedTerms), instead of every piece's terms
+// (the term of the outermost radius then twice: once alone, its content in
+// the scale, once in the sums) and a selection: where the target fuses
+// multiply-add (on others both forms keep the pieces, bit for bit), the
+// quantity polynomial inside and 0 outside, no edge series, and every
+// distinct term of one coefficient or with low parts (QuantityPlan::
+// shared_accurate: compensated Horner with its low parts, as that loop).
+template <const table::Kernel& K, int Q>
+inline constexpr bool shared_accurate = [] {
+    if (!MOLLIFY_HAS_FMA || shared_terms<K, Q>.m == 0) return false;
+    const table::Quantity& quantity = quantity_table<K, Q>;
+    if (quantity.pieces[quantity.npieces - 1].nterms != 0) return false;
+    for (int p = 0; p + 1 < quantity.npieces; ++p)
+        for (int t = 0; t < quantity.pieces[p].nterms; ++t) {
+            const table::Term& term = quantity.pieces[p].terms[t];
+            if (term.basis != table::Basis::one || !table::bounded_term(term)) return false;
+        }
+    for (int d = 0; d < shared_terms<K, Q>.m; ++d) {
+        const table::Term& term = quantity.pieces[shared_terms<K, Q>.t[d].piece].terms[shared_terms<K, Q>.t[d].term];
+        if (term.n > 1 && term.c_lo == nullptr) return false;
+    }
+    return true;
+}();
+
+template <const table::Kernel& K, int Q, int J>
+MOLLIFY_INLINE DoubleDouble shared_term(const Scaled& a) {
+    constexpr int P = shared_terms<K, Q>.t[J].piece, T = shared_terms<K, Q>.t[J].term;
+    DoubleDouble factor{1.0, 0.0};
+    if constexpr (has_factor<K, Q, P, T>) factor = factor_dd<K, Q, P, T>(a);
+    return accurate_term<K, Q, P, T>(a, factor);
+}
+
+template <const table::Kernel& K, int Q, std::size_t... J>
+MOLLIFY_INLINE double shared_accurate_inside(const Scaled& a, std::index_sequence<J...>) {
+    constexpr const SharedTerms& shared = shared_terms<K, Q>;
+    DoubleDouble y{0.0, 0.0};
+    auto add = [&](bool in, const DoubleDouble& t) { y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)}; };
+    (add((a.q >= shared.t[J].lo) & (a.q < shared.t[J].hi), shared_term<K, Q, static_cast<int>(J)>(a)), ...);
+    return rounded_product_bounded(y, a.scale);
+}
+
 template <const table::Kernel& K, int Q, Precision Pr, int P = inner_pieces<K, Q> - 1>
 MOLLIFY_INLINE double inside(const Scaled& a) {
-    if constexpr (P == 0) {
+    if constexpr (Pr == Precision::accurate && shared_accurate<K, Q>) {
+        return shared_accurate_inside<K, Q>(a, std::make_index_sequence<static_cast<std::size_t>(shared_terms<K, Q>.m)>{});
+    } else if constexpr (P == 0) {
         return chosen_piece<K, Q, 0, Pr>(a);
     } else if constexpr (polynomial_inside<K, Q>) {
         const double here = piece<K, Q, P, Pr>(a);
