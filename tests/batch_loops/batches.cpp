@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <span>
+#include <utility>
 
 namespace batch_loops {
 
@@ -39,6 +40,15 @@ using mollify::Precision;
 using mollify::QuantityId;
 using mollify::Smoothing;
 using mollify::testing::same_bits;
+
+// Does the static form sum the quantity's distinct terms (a combination's,
+// Precision::accurate where the target fuses multiply-add)? For W and W'/r
+// the run-time form's fused loop (the generator lists their shapes) does the
+// same operations in the same order, so there the two agree bit for bit.
+template <const table::Kernel& K, std::size_t... Q>
+constexpr std::array<bool, table::quantity_count> shared_sums(std::index_sequence<Q...>) {
+    return {mollify::detail::shared_accurate<K, static_cast<int>(Q)>...};
+}
 
 template <const table::Kernel& K, Precision Pr>
 void compare(Comparison& out) {
@@ -71,6 +81,9 @@ void compare(Comparison& out) {
             runtime.evaluate(quantity, r, s, reference);
             const double floor = mollify::testing::ulp_floor(batch.data(), n, Pr);
             const double bound = mollify::testing::fused_bound(K, quantity, Pr);
+            const bool lockstep =
+                Pr == Precision::accurate && (quantity == QuantityId::value || quantity == QuantityId::grad_over_r) &&
+                shared_sums<K>(std::make_index_sequence<table::quantity_count>{})[static_cast<std::size_t>(qi)];
             for (std::size_t i = 0; i < n; ++i) {
                 double alone = 0;
                 S::evaluate(quantity, std::span<const double>(&r[i], 1), s, std::span<double>(&alone, 1));
@@ -80,6 +93,9 @@ void compare(Comparison& out) {
                 if (e > bound)
                     mismatch(std::string(table::quantity_names[qi]) + " against the run-time form (" + std::to_string(e) +
                                  " ulp)", i, batch[i], reference[i]);
+                else if (lockstep && !same_bits(batch[i], reference[i]))
+                    mismatch(std::string(table::quantity_names[qi]) + " against the run-time form's shared terms, bit for bit",
+                             i, batch[i], reference[i]);
             }
             out.compared += n;
         }
