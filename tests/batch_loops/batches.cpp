@@ -8,9 +8,10 @@
 // value may not depend on the batch it was computed in (nor on the vector
 // width, which then changes no rounding). And the batch against the run-time
 // form's copy for the same instruction set (libmollify's evaluator for it,
-// chosen by the caller): not bit for bit (the static form's unrolled
-// expressions are contracted into FMAs where the data-driven loops have their
-// own), within runtime_forms_test's bounds (fused_bound.hpp).
+// chosen by the caller): within runtime_forms_test's bounds (fused_bound.hpp),
+// since the static form's unrolled expressions are contracted into FMAs where
+// the data-driven loops have their own; bit for bit where both sum a
+// combination's distinct terms (shared_sums below).
 #include "batch_loops/batches.hpp"
 #include "fused_bound.hpp"
 #include "hard_points.hpp"
