@@ -453,15 +453,15 @@ inline DoubleDouble accurate_term(const Scaled& a, const DoubleDouble& factor) {
 // one times the distance to the difference of the powers, one or two
 // double-double products instead of a new power (the missing Wendland
 // functions' edge series run to ~50 terms S (1 - q^2)^j).
+constexpr bool continues(const table::Term& s, const table::Term& t) {
+    return s.basis == t.basis && s.s_power == t.s_power && s.var == t.var && s.var != table::Var::shifted &&
+           s.edge == t.edge && s.low == t.low && s.edge_power > 0 && t.edge_power > s.edge_power;
+}
+
 template <const table::Kernel& K, int Q, int P, int T>
 constexpr bool continues_series() {
-    if constexpr (T == 0) {
-        return false;
-    } else {
-        constexpr const table::Term &s = term_table<K, Q, P, T - 1>, &t = term_table<K, Q, P, T>;
-        return s.basis == t.basis && s.s_power == t.s_power && s.var == t.var && s.var != table::Var::shifted &&
-               s.edge == t.edge && s.low == t.low && s.edge_power > 0 && t.edge_power > s.edge_power;
-    }
+    if constexpr (T == 0) return false;
+    else return continues(term_table<K, Q, P, T - 1>, term_table<K, Q, P, T>);
 }
 
 // Precision::accurate: the terms from T on, added to `sum` in order (in
@@ -685,12 +685,6 @@ constexpr bool same_term(const table::Term& a, const table::Term& b) {
            a.centre == b.centre && a.centre_lo == b.centre_lo && a.plain == b.plain && a.split == b.split &&
            a.content == b.content && a.content_lo == b.content_lo && same_arrays(a.c, b.c, a.n) &&
            same_arrays(a.c_lo, b.c_lo, a.n) && same_arrays(a.m, b.m, a.split > 0 ? a.n : 0);
-}
-
-// continues_series on the terms themselves.
-constexpr bool continues(const table::Term& s, const table::Term& t) {
-    return s.basis == t.basis && s.s_power == t.s_power && s.var == t.var && s.var != table::Var::shifted &&
-           s.edge == t.edge && s.low == t.low && s.edge_power > 0 && t.edge_power > s.edge_power;
 }
 
 template <const table::Kernel& K, int Q>
