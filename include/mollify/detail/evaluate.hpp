@@ -662,7 +662,7 @@ MOLLIFY_INLINE double chosen_piece(const Scaled& a) {
 // out of that order, a term continues a series or nothing is shared. The
 // rule of QuantityPlan::shared_terms (src/plan.cpp: shared_terms_of), so
 // that both forms add the same terms in the same order.
-struct SharedTerms {
+struct SharedTermList {
     static constexpr int capacity = 8;
     struct Ref {
         int piece, term;
@@ -688,34 +688,34 @@ constexpr bool same_term(const table::Term& a, const table::Term& b) {
 }
 
 template <const table::Kernel& K, int Q>
-inline constexpr SharedTerms shared_terms = [] {
+inline constexpr SharedTermList shared_terms = [] {
     const table::Quantity& quantity = quantity_table<K, Q>;
     const int inner = quantity.npieces - 1;
-    SharedTerms out;
-    int first[SharedTerms::capacity]{}, last[SharedTerms::capacity]{}, terms = 0;
+    SharedTermList out;
+    int first[SharedTermList::capacity]{}, last[SharedTermList::capacity]{}, terms = 0;
     for (int p = 0; p < inner; ++p) {
         const table::Piece& piece = quantity.pieces[p];
-        if (p > 0 && !(piece.lo > quantity.pieces[p - 1].lo)) return SharedTerms{};
+        if (p > 0 && !(piece.lo > quantity.pieces[p - 1].lo)) return SharedTermList{};
         int previous = 0;
         for (int t = 0; t < piece.nterms; ++t, ++terms) {
             const table::Term& term = piece.terms[t];
-            if (t > 0 && continues(piece.terms[t - 1], term)) return SharedTerms{};
+            if (t > 0 && continues(piece.terms[t - 1], term)) return SharedTermList{};
             int d = 0;
             while (d < out.m && !same_term(quantity.pieces[out.t[d].piece].terms[out.t[d].term], term)) ++d;
             if (d == out.m) {
-                if (out.m == SharedTerms::capacity) return SharedTerms{};
+                if (out.m == SharedTermList::capacity) return SharedTermList{};
                 out.t[out.m] = {p, t, 0.0, 0.0};
                 first[out.m] = last[out.m] = p;
                 ++out.m;
             } else {
-                if (last[d] + 1 != p) return SharedTerms{};
+                if (last[d] + 1 != p) return SharedTermList{};
                 last[d] = p;
             }
-            if (d < previous) return SharedTerms{};
+            if (d < previous) return SharedTermList{};
             previous = d + 1;
         }
     }
-    if (out.m == terms || inner < 2) return SharedTerms{};
+    if (out.m == terms || inner < 2) return SharedTermList{};
     constexpr double inf = std::numeric_limits<double>::infinity();
     for (int d = 0; d < out.m; ++d) {
         out.t[d].lo = first[d] == 0 ? -inf : quantity.pieces[first[d]].lo;
@@ -760,7 +760,7 @@ MOLLIFY_INLINE DoubleDouble shared_term(const Scaled& a) {
 
 template <const table::Kernel& K, int Q, std::size_t... J>
 MOLLIFY_INLINE double shared_accurate_inside(const Scaled& a, std::index_sequence<J...>) {
-    constexpr const SharedTerms& shared = shared_terms<K, Q>;
+    constexpr const SharedTermList& shared = shared_terms<K, Q>;
     DoubleDouble y{0.0, 0.0};
     auto add = [&](bool in, const DoubleDouble& t) { y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)}; };
     (add((a.q >= shared.t[J].lo) & (a.q < shared.t[J].hi), shared_term<K, Q, static_cast<int>(J)>(a)), ...);
