@@ -672,23 +672,70 @@ struct SharedTermList {
     int m = 0;
 };
 
-constexpr bool same_arrays(const double* a, const double* b, int n) {
-    if (a == nullptr || b == nullptr) return a == b;
+// Where a quantity may share terms at all, from the fields alone: the
+// target fuses multiply-add (elsewhere both forms keep the pieces, bit for
+// bit), at least two inner pieces of at most `capacity` polynomial terms
+// each, bounded on the support (table::bounded_term: the last product needs
+// no guard), at most 16 coefficients a term, and 0 outside.
+template <const table::Kernel& K, int Q>
+inline constexpr bool may_share_terms = [] {
+    const table::Quantity& quantity = quantity_table<K, Q>;
+    const int inner = quantity.npieces - 1;
+    if (!MOLLIFY_HAS_FMA || inner < 2 || inner > SharedTermList::capacity || quantity.pieces[inner].nterms != 0)
+        return false;
+    for (int p = 0; p < inner; ++p) {
+        if (quantity.pieces[p].nterms > SharedTermList::capacity) return false;
+        for (int t = 0; t < quantity.pieces[p].nterms; ++t) {
+            const table::Term& term = quantity.pieces[p].terms[t];
+            if (term.basis != table::Basis::one || term.n > 16 || !table::bounded_term(term)) return false;
+        }
+    }
+    return true;
+}();
+
+// The inner pieces' low parts, lo[p][t][k], read through low_at (a table's
+// address is not compared with null: under -fsanitize GCC cannot fold that).
+struct InnerLows {
+    double lo[SharedTermList::capacity][SharedTermList::capacity][16]{};
+};
+
+template <const table::Kernel& K, int Q, int P, std::size_t... T>
+constexpr void read_lows(InnerLows& out, std::index_sequence<T...>) {
+    auto term = [&]<int J>(std::integral_constant<int, J>) {
+        constexpr const table::Term& t = term_table<K, Q, P, J>;
+        for (int k = 0; k < t.n; ++k) out.lo[P][J][k] = low_at<t.c_lo>(k);
+    };
+    (term(std::integral_constant<int, static_cast<int>(T)>{}), ...);
+}
+
+template <const table::Kernel& K, int Q, std::size_t... P>
+constexpr InnerLows inner_lows(std::index_sequence<P...>) {
+    InnerLows out;
+    (read_lows<K, Q, static_cast<int>(P)>(
+         out, std::make_index_sequence<static_cast<std::size_t>(piece_table<K, Q, static_cast<int>(P)>.nterms)>{}),
+     ...);
+    return out;
+}
+
+constexpr bool same_values(const double* a, const double* b, int n) {
     for (int k = 0; k < n; ++k)
         if (a[k] != b[k]) return false;
     return true;
 }
 
-constexpr bool same_term(const table::Term& a, const table::Term& b) {
+// Term (p, t) against term (r, u) of the same quantity, field by field and
+// value by value (the generator writes a shared term once per piece).
+constexpr bool same_term(const table::Quantity& quantity, const InnerLows& lows, int p, int t, int r, int u) {
+    const table::Term &a = quantity.pieces[p].terms[t], &b = quantity.pieces[r].terms[u];
     return a.basis == b.basis && a.s_power == b.s_power && a.var == b.var && a.edge == b.edge &&
            a.edge_lo == b.edge_lo && a.edge_power == b.edge_power && a.low == b.low && a.n == b.n &&
            a.centre == b.centre && a.centre_lo == b.centre_lo && a.plain == b.plain && a.split == b.split &&
-           a.content == b.content && a.content_lo == b.content_lo && same_arrays(a.c, b.c, a.n) &&
-           same_arrays(a.c_lo, b.c_lo, a.n) && same_arrays(a.m, b.m, a.split > 0 ? a.n : 0);
+           a.content == b.content && a.content_lo == b.content_lo && same_values(a.c, b.c, a.n) &&
+           same_values(lows.lo[p][t], lows.lo[r][u], a.n) && (a.split == 0 || same_values(a.m, b.m, a.n));
 }
 
 template <const table::Kernel& K, int Q>
-inline constexpr SharedTermList shared_terms = [] {
+constexpr SharedTermList shared_terms_of(const InnerLows& lows) {
     const table::Quantity& quantity = quantity_table<K, Q>;
     const int inner = quantity.npieces - 1;
     SharedTermList out;
@@ -698,10 +745,9 @@ inline constexpr SharedTermList shared_terms = [] {
         if (p > 0 && !(piece.lo > quantity.pieces[p - 1].lo)) return SharedTermList{};
         int previous = 0;
         for (int t = 0; t < piece.nterms; ++t, ++terms) {
-            const table::Term& term = piece.terms[t];
-            if (t > 0 && continues(piece.terms[t - 1], term)) return SharedTermList{};
+            if (t > 0 && continues(piece.terms[t - 1], piece.terms[t])) return SharedTermList{};
             int d = 0;
-            while (d < out.m && !same_term(quantity.pieces[out.t[d].piece].terms[out.t[d].term], term)) ++d;
+            while (d < out.m && !same_term(quantity, lows, out.t[d].piece, out.t[d].term, p, t)) ++d;
             if (d == out.m) {
                 if (out.m == SharedTermList::capacity) return SharedTermList{};
                 out.t[out.m] = {p, t, 0.0, 0.0};
@@ -715,40 +761,40 @@ inline constexpr SharedTermList shared_terms = [] {
             previous = d + 1;
         }
     }
-    if (out.m == terms || inner < 2) return SharedTermList{};
+    if (out.m == terms) return SharedTermList{};
+    // QuantityPlan::shared_accurate: every distinct term of one coefficient
+    // or with low parts (compensated Horner with its low parts, as the
+    // run-time form's loop)
+    for (int d = 0; d < out.m; ++d) {
+        const int n = quantity.pieces[out.t[d].piece].terms[out.t[d].term].n;
+        bool exact = true;
+        for (int k = 0; k < n; ++k) exact = exact && lows.lo[out.t[d].piece][out.t[d].term][k] == 0;
+        if (n > 1 && exact) return SharedTermList{};
+    }
     constexpr double inf = std::numeric_limits<double>::infinity();
     for (int d = 0; d < out.m; ++d) {
         out.t[d].lo = first[d] == 0 ? -inf : quantity.pieces[first[d]].lo;
         out.t[d].hi = last[d] + 1 == inner ? inf : quantity.pieces[last[d] + 1].lo;
     }
     return out;
+}
+
+template <const table::Kernel& K, int Q>
+inline constexpr SharedTermList shared_terms = [] {
+    if constexpr (may_share_terms<K, Q>)
+        return shared_terms_of<K, Q>(
+            inner_lows<K, Q>(std::make_index_sequence<static_cast<std::size_t>(quantity_table<K, Q>.npieces - 1)>{}));
+    else
+        return SharedTermList{};
 }();
 
 // Precision::accurate sums a combination's distinct terms once, each where
 // its pieces reach and (0, 0) elsewhere, as the run-time form's fused loop
 // (src/evaluator.cpp: AccurateSharedTerms), instead of every piece's terms
 // (the term of the outermost radius then twice: once alone, its content in
-// the scale, once in the sums) and a selection: where the target fuses
-// multiply-add (on others both forms keep the pieces, bit for bit), the
-// quantity polynomial inside and 0 outside, no edge series, and every
-// distinct term of one coefficient or with low parts (QuantityPlan::
-// shared_accurate: compensated Horner with its low parts, as that loop).
+// the scale, once in the sums) and a selection (may_share_terms says where).
 template <const table::Kernel& K, int Q>
-inline constexpr bool shared_accurate = [] {
-    if (!MOLLIFY_HAS_FMA || shared_terms<K, Q>.m == 0) return false;
-    const table::Quantity& quantity = quantity_table<K, Q>;
-    if (quantity.pieces[quantity.npieces - 1].nterms != 0) return false;
-    for (int p = 0; p + 1 < quantity.npieces; ++p)
-        for (int t = 0; t < quantity.pieces[p].nterms; ++t) {
-            const table::Term& term = quantity.pieces[p].terms[t];
-            if (term.basis != table::Basis::one || !table::bounded_term(term)) return false;
-        }
-    for (int d = 0; d < shared_terms<K, Q>.m; ++d) {
-        const table::Term& term = quantity.pieces[shared_terms<K, Q>.t[d].piece].terms[shared_terms<K, Q>.t[d].term];
-        if (term.n > 1 && term.c_lo == nullptr) return false;
-    }
-    return true;
-}();
+inline constexpr bool shared_accurate = shared_terms<K, Q>.m > 0;
 
 template <const table::Kernel& K, int Q, int J>
 MOLLIFY_INLINE DoubleDouble shared_term(const Scaled& a) {
