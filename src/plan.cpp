@@ -24,13 +24,6 @@ namespace {
          std::to_string(p) + ", term " + std::to_string(t) + ": " + why);
 }
 
-// continues_series<K, Q, P, T>: the same factor as the previous term but
-// for a higher power of the same edge distance.
-bool continues(const table::Term& s, const table::Term& t) {
-    return s.basis == t.basis && s.s_power == t.s_power && s.var == t.var && s.var != table::Var::shifted &&
-           s.edge == t.edge && s.low == t.low && s.edge_power > 0 && t.edge_power > s.edge_power;
-}
-
 // A term the fused loops can take: Basis::one, no power of q, no Taylor
 // variable, a non-negative edge power, every Horner step compensated.
 // (bounded: the accurate fused loops' last product has no overflow guard,
@@ -136,51 +129,33 @@ bool singular_at_origin(const PiecePlan& first) {
     return false;
 }
 
-bool same_term(const TermPlan& a, const TermPlan& b) {
-    if (a.basis != b.basis || a.s_power != b.s_power || a.var != b.var || a.edge != b.edge || a.edge_lo != b.edge_lo ||
-        a.edge_power != b.edge_power || a.low != b.low || a.n != b.n || a.centre != b.centre ||
-        a.centre_lo != b.centre_lo || a.plain != b.plain || a.continues || b.continues || a.split != b.split ||
-        a.m != b.m || a.content != b.content || a.content_lo != b.content_lo)
-        return false;
-    return std::equal(a.c, a.c + a.n, b.c) && a.c_lo == b.c_lo;
-}
-
-// The distinct terms of the inner pieces, each with the run of pieces that
-// holds it, in an order that every piece's terms follow (then the sum of the
-// terms each masked to its run adds, at every q, the terms of q's piece in
-// their order, plus zeros: the same bits). Empty where a term's pieces are
-// not one run, a piece's terms are out of that order, a piece is a series
-// or nothing is shared.
-std::vector<QuantityPlan::SharedTerm> shared_terms_of(const std::vector<PiecePlan>& inner) {
-    struct Distinct {
-        std::size_t piece, term, first, last;
-    };
-    std::vector<Distinct> distinct;
-    std::size_t terms = 0;
-    for (std::size_t p = 0; p < inner.size(); ++p) {
-        if (inner[p].edge_series || (p > 0 && !(inner[p].lo > inner[p - 1].lo))) return {};
-        std::size_t previous = 0;  // one past the distinct index of the piece's previous term
-        for (std::size_t t = 0; t < inner[p].terms.size(); ++t, ++terms) {
-            const TermPlan& term = inner[p].terms[t];
-            if (term.continues) return {};
-            std::size_t d = 0;
-            while (d < distinct.size() && !same_term(inner[distinct[d].piece].terms[distinct[d].term], term)) ++d;
-            if (d == distinct.size()) {
-                distinct.push_back({p, t, p, p});
-            } else {
-                if (distinct[d].last + 1 != p) return {};  // its pieces are not one run
-                distinct[d].last = p;
-            }
-            if (d < previous) return {};
-            previous = d + 1;
-        }
+// The plan's inner pieces as shared_terms_rule (detail/evaluate.hpp) reads
+// them, the rule StaticKernel applies to the table.
+struct PlanTerms {
+    const std::vector<PiecePlan>& inner;
+    int pieces() const { return static_cast<int>(inner.size()); }
+    double lo(int p) const { return piece(p).lo; }
+    int terms(int p) const { return static_cast<int>(piece(p).terms.size()); }
+    bool series(int p) const { return piece(p).edge_series; }
+    bool continues(int p, int t) const { return term(p, t).continues; }
+    bool same(int p, int t, int r, int u) const {
+        const TermPlan &a = term(p, t), &b = term(r, u);
+        return a.basis == b.basis && a.s_power == b.s_power && a.var == b.var && a.edge == b.edge &&
+               a.edge_lo == b.edge_lo && a.edge_power == b.edge_power && a.low == b.low && a.n == b.n &&
+               a.centre == b.centre && a.centre_lo == b.centre_lo && a.plain == b.plain && a.split == b.split &&
+               a.m == b.m && a.content == b.content && a.content_lo == b.content_lo &&
+               std::equal(a.c, a.c + a.n, b.c) && a.c_lo == b.c_lo;
     }
-    if (distinct.size() == terms || inner.size() < 2) return {};
+    const PiecePlan& piece(int p) const { return inner[static_cast<std::size_t>(p)]; }
+    const TermPlan& term(int p, int t) const { return piece(p).terms[static_cast<std::size_t>(t)]; }
+};
+
+std::vector<QuantityPlan::SharedTerm> shared_terms_of(const std::vector<PiecePlan>& inner) {
+    const SharedTermList list = shared_terms_rule(PlanTerms{inner});
     std::vector<QuantityPlan::SharedTerm> out;
-    constexpr double inf = std::numeric_limits<double>::infinity();
-    for (const Distinct& d : distinct)
-        out.push_back({d.piece, d.term, d.first == 0 ? -inf : inner[d.first].lo,
-                       d.last + 1 == inner.size() ? inf : inner[d.last + 1].lo});
+    for (int d = 0; d < list.m; ++d)
+        out.push_back({static_cast<std::size_t>(list.t[d].piece), static_cast<std::size_t>(list.t[d].term),
+                       list.t[d].lo, list.t[d].hi});
     return out;
 }
 

@@ -658,12 +658,16 @@ MOLLIFY_INLINE double chosen_piece(const Scaled& a) {
 // A combination's pieces share terms: piece p holds the terms of the radii
 // beyond it. The distinct terms of the inner pieces, each with the q range
 // of the run of pieces that holds it, in an order every piece's terms
-// follow; m = 0 where a term's pieces are not one run, a piece's terms are
-// out of that order, a term continues a series or nothing is shared. The
-// rule of QuantityPlan::shared_terms (src/plan.cpp: shared_terms_of), so
-// that both forms add the same terms in the same order.
+// follow (then the sum of the terms each masked to its range adds, at every
+// q, the terms of q's piece in their order, plus zeros: the same bits); m = 0
+// where a term's pieces are not one run, a piece's terms are out of that
+// order, a piece is an edge series or a term continues one, or nothing is
+// shared. One rule for both forms (shared_terms_rule): StaticKernel reads
+// the table (shared_terms below), the run-time plan its copy of it
+// (src/plan.cpp: QuantityPlan::shared_terms). Beyond `capacity` distinct
+// terms (a combination of more than 16 radii) both keep the pieces.
 struct SharedTermList {
-    static constexpr int capacity = 8;
+    static constexpr int capacity = 16;
     struct Ref {
         int piece, term;
         double lo, hi;
@@ -672,32 +676,69 @@ struct SharedTermList {
     int m = 0;
 };
 
-// Where a quantity may share terms at all, from the fields alone: the
-// target fuses multiply-add (elsewhere both forms keep the pieces, bit for
-// bit), at least two inner pieces of at most `capacity` polynomial terms
-// each, bounded on the support (table::bounded_term: the last product needs
-// no guard), at most 16 coefficients a term, and 0 outside.
-template <const table::Kernel& K, int Q>
-inline constexpr bool may_share_terms = [] {
-    const table::Quantity& quantity = quantity_table<K, Q>;
-    const int inner = quantity.npieces - 1;
-    if (!MOLLIFY_HAS_FMA || inner < 2 || inner > SharedTermList::capacity || quantity.pieces[inner].nterms != 0)
-        return false;
+// v: the inner pieces, as v.pieces(), v.lo(p), v.terms(p), v.series(p),
+// v.continues(p, t) and v.same(p, t, r, u) (term (p, t) is term (r, u)).
+template <class View>
+constexpr SharedTermList shared_terms_rule(const View& v) {
+    const int inner = v.pieces();
+    SharedTermList out;
+    int first[SharedTermList::capacity]{}, last[SharedTermList::capacity]{}, terms = 0;
     for (int p = 0; p < inner; ++p) {
-        if (quantity.pieces[p].nterms > SharedTermList::capacity) return false;
-        for (int t = 0; t < quantity.pieces[p].nterms; ++t) {
-            const table::Term& term = quantity.pieces[p].terms[t];
-            if (term.basis != table::Basis::one || term.n > 16 || !table::bounded_term(term)) return false;
+        if (v.series(p) || (p > 0 && !(v.lo(p) > v.lo(p - 1)))) return SharedTermList{};
+        int previous = 0;  // one past the distinct index of the piece's previous term
+        for (int t = 0; t < v.terms(p); ++t, ++terms) {
+            if (v.continues(p, t)) return SharedTermList{};
+            int d = 0;
+            while (d < out.m && !v.same(out.t[d].piece, out.t[d].term, p, t)) ++d;
+            if (d == out.m) {
+                if (out.m == SharedTermList::capacity) return SharedTermList{};
+                out.t[out.m] = {p, t, 0.0, 0.0};
+                first[out.m] = last[out.m] = p;
+                ++out.m;
+            } else {
+                if (last[d] + 1 != p) return SharedTermList{};  // its pieces are not one run
+                last[d] = p;
+            }
+            if (d < previous) return SharedTermList{};
+            previous = d + 1;
         }
     }
-    return true;
-}();
+    if (out.m == terms || inner < 2) return SharedTermList{};
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    for (int d = 0; d < out.m; ++d) {
+        out.t[d].lo = first[d] == 0 ? -inf : v.lo(first[d]);
+        out.t[d].hi = last[d] + 1 == inner ? inf : v.lo(last[d] + 1);
+    }
+    return out;
+}
 
 // The inner pieces' low parts, lo[p][t][k], read through low_at (a table's
 // address is not compared with null: under -fsanitize GCC cannot fold that).
 struct InnerLows {
-    double lo[SharedTermList::capacity][SharedTermList::capacity][16]{};
+    static constexpr int pieces = 8, terms = 8, coefficients = 16;
+    double lo[pieces][terms][coefficients]{};
 };
+
+// Where a quantity may share terms at all, from the fields alone: the
+// target fuses multiply-add (elsewhere both forms keep the pieces, bit for
+// bit), at least two inner pieces of at most InnerLows' polynomial terms
+// each, bounded on the support (table::bounded_term: the last product needs
+// no guard), at most its coefficients a term, and 0 outside.
+template <const table::Kernel& K, int Q>
+inline constexpr bool may_share_terms = [] {
+    const table::Quantity& quantity = quantity_table<K, Q>;
+    const int inner = quantity.npieces - 1;
+    if (!MOLLIFY_HAS_FMA || inner < 2 || inner > InnerLows::pieces || quantity.pieces[inner].nterms != 0)
+        return false;
+    for (int p = 0; p < inner; ++p) {
+        if (quantity.pieces[p].nterms > InnerLows::terms) return false;
+        for (int t = 0; t < quantity.pieces[p].nterms; ++t) {
+            const table::Term& term = quantity.pieces[p].terms[t];
+            if (term.basis != table::Basis::one || term.n > InnerLows::coefficients || !table::bounded_term(term)) return false;
+        }
+    }
+    return true;
+}();
 
 template <const table::Kernel& K, int Q, int P, std::size_t... T>
 constexpr void read_lows(InnerLows& out, std::index_sequence<T...>) {
@@ -723,58 +764,43 @@ constexpr bool same_values(const double* a, const double* b, int n) {
     return true;
 }
 
-// Term (p, t) against term (r, u) of the same quantity, field by field and
-// value by value (the generator writes a shared term once per piece).
-constexpr bool same_term(const table::Quantity& quantity, const InnerLows& lows, int p, int t, int r, int u) {
-    const table::Term &a = quantity.pieces[p].terms[t], &b = quantity.pieces[r].terms[u];
-    return a.basis == b.basis && a.s_power == b.s_power && a.var == b.var && a.edge == b.edge &&
-           a.edge_lo == b.edge_lo && a.edge_power == b.edge_power && a.low == b.low && a.n == b.n &&
-           a.centre == b.centre && a.centre_lo == b.centre_lo && a.plain == b.plain && a.split == b.split &&
-           a.content == b.content && a.content_lo == b.content_lo && same_values(a.c, b.c, a.n) &&
-           same_values(lows.lo[p][t], lows.lo[r][u], a.n) && (a.split == 0 || same_values(a.m, b.m, a.n));
-}
-
-template <const table::Kernel& K, int Q>
-constexpr SharedTermList shared_terms_of(const InnerLows& lows) {
-    const table::Quantity& quantity = quantity_table<K, Q>;
-    const int inner = quantity.npieces - 1;
-    SharedTermList out;
-    int first[SharedTermList::capacity]{}, last[SharedTermList::capacity]{}, terms = 0;
-    for (int p = 0; p < inner; ++p) {
-        const table::Piece& piece = quantity.pieces[p];
-        if (p > 0 && !(piece.lo > quantity.pieces[p - 1].lo)) return SharedTermList{};
-        int previous = 0;
-        for (int t = 0; t < piece.nterms; ++t, ++terms) {
-            if (t > 0 && continues(piece.terms[t - 1], piece.terms[t])) return SharedTermList{};
-            int d = 0;
-            while (d < out.m && !same_term(quantity, lows, out.t[d].piece, out.t[d].term, p, t)) ++d;
-            if (d == out.m) {
-                if (out.m == SharedTermList::capacity) return SharedTermList{};
-                out.t[out.m] = {p, t, 0.0, 0.0};
-                first[out.m] = last[out.m] = p;
-                ++out.m;
-            } else {
-                if (last[d] + 1 != p) return SharedTermList{};
-                last[d] = p;
-            }
-            if (d < previous) return SharedTermList{};
-            previous = d + 1;
-        }
+// The table's inner pieces as shared_terms_rule reads them: term against
+// term field by field and value by value (the generator writes a shared
+// term once per piece); an edge series' terms continue one another, which
+// the rule refuses.
+struct TableTerms {
+    const table::Quantity& quantity;
+    const InnerLows& lows;
+    constexpr int pieces() const { return quantity.npieces - 1; }
+    constexpr double lo(int p) const { return quantity.pieces[p].lo; }
+    constexpr int terms(int p) const { return quantity.pieces[p].nterms; }
+    constexpr bool series(int) const { return false; }
+    constexpr bool continues(int p, int t) const {
+        return t > 0 && detail::continues(quantity.pieces[p].terms[t - 1], quantity.pieces[p].terms[t]);
     }
-    if (out.m == terms) return SharedTermList{};
-    // QuantityPlan::shared_accurate: every distinct term of one coefficient
-    // or with low parts (compensated Horner with its low parts, as the
-    // run-time form's loop)
+    constexpr bool same(int p, int t, int r, int u) const {
+        const table::Term &a = quantity.pieces[p].terms[t], &b = quantity.pieces[r].terms[u];
+        return a.basis == b.basis && a.s_power == b.s_power && a.var == b.var && a.edge == b.edge &&
+               a.edge_lo == b.edge_lo && a.edge_power == b.edge_power && a.low == b.low && a.n == b.n &&
+               a.centre == b.centre && a.centre_lo == b.centre_lo && a.plain == b.plain && a.split == b.split &&
+               a.content == b.content && a.content_lo == b.content_lo && same_values(a.c, b.c, a.n) &&
+               same_values(lows.lo[p][t], lows.lo[r][u], a.n) && (a.split == 0 || same_values(a.m, b.m, a.n));
+    }
+};
+
+// StaticKernel's shared terms, where Precision::accurate sums them: also
+// every distinct term of one coefficient or with low parts (QuantityPlan::
+// shared_accurate: compensated Horner with its low parts, as the run-time
+// form's loop).
+template <const table::Kernel& K, int Q>
+constexpr SharedTermList accurate_shared_terms(const InnerLows& lows) {
+    const table::Quantity& quantity = quantity_table<K, Q>;
+    const SharedTermList out = shared_terms_rule(TableTerms{quantity, lows});
     for (int d = 0; d < out.m; ++d) {
         const int n = quantity.pieces[out.t[d].piece].terms[out.t[d].term].n;
         bool exact = true;
         for (int k = 0; k < n; ++k) exact = exact && lows.lo[out.t[d].piece][out.t[d].term][k] == 0;
         if (n > 1 && exact) return SharedTermList{};
-    }
-    constexpr double inf = std::numeric_limits<double>::infinity();
-    for (int d = 0; d < out.m; ++d) {
-        out.t[d].lo = first[d] == 0 ? -inf : quantity.pieces[first[d]].lo;
-        out.t[d].hi = last[d] + 1 == inner ? inf : quantity.pieces[last[d] + 1].lo;
     }
     return out;
 }
@@ -782,7 +808,7 @@ constexpr SharedTermList shared_terms_of(const InnerLows& lows) {
 template <const table::Kernel& K, int Q>
 inline constexpr SharedTermList shared_terms = [] {
     if constexpr (may_share_terms<K, Q>)
-        return shared_terms_of<K, Q>(
+        return accurate_shared_terms<K, Q>(
             inner_lows<K, Q>(std::make_index_sequence<static_cast<std::size_t>(quantity_table<K, Q>.npieces - 1)>{}));
     else
         return SharedTermList{};
