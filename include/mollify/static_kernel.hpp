@@ -15,6 +15,7 @@
 #pragma once
 
 #include <mollify/detail/evaluate.hpp>
+#include <mollify/detail/roots_ahead.hpp>
 #include <mollify/precision.hpp>
 #include <mollify/smoothing.hpp>
 
@@ -450,20 +451,24 @@ private:
     }
 
     // Raw restrict pointers as parameters: with them GCC proves the loop free
-    // of aliasing and vectorises it (pointers taken from spans it does not).
+    // of aliasing and vectorises it (pointers taken from spans it does not);
+    // the lambdas capture them by value, which keeps that. The roots a block
+    // ahead of their use (detail/roots_ahead.hpp).
     template <bool Checked>
     MOLLIFY_BATCH_LOOP static bool pairs_2d(const double* __restrict x0, const double* __restrict x1, double* __restrict w,
-                                            double* __restrict g0, double* __restrict g1, std::size_t n, const Smoothing& s) {
+                                            double* __restrict g0, double* __restrict g1, std::size_t n, const Smoothing& smoothing) {
+        const Smoothing s = smoothing;
         std::uint64_t flagged = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double a = x0[i], b = x1[i];
-            const double r = std::sqrt(detail::mul_add(b, b, a * a));
-            if constexpr (Checked) flagged |= detail::not_finite(r);
-            w[i] = radial<QuantityId::value>(r, s);
-            const double g = radial<QuantityId::grad_over_r>(r, s);
-            g0[i] = g * a;
-            g1[i] = g * b;
-        }
+        detail::for_each_root_ahead(
+            n, [x0, x1](std::size_t i) MOLLIFY_INLINE_LAMBDA { return detail::radius(x0[i], x1[i]); },
+            [x0, x1, w, g0, g1, &s, &flagged](std::size_t i, double r) MOLLIFY_INLINE_LAMBDA {
+                if constexpr (Checked) flagged |= detail::not_finite(r);
+                w[i] = radial<QuantityId::value>(r, s);
+                const double g = radial<QuantityId::grad_over_r>(r, s);
+                g0[i] = g * x0[i];
+                g1[i] = g * x1[i];
+            },
+            w, g0, g1);
         return flagged != 0;
     }
 
@@ -471,18 +476,20 @@ private:
     MOLLIFY_BATCH_LOOP static bool pairs_3d(const double* __restrict x0, const double* __restrict x1,
                                             const double* __restrict x2, double* __restrict w, double* __restrict g0,
                                             double* __restrict g1, double* __restrict g2, std::size_t n,
-                                            const Smoothing& s) {
+                                            const Smoothing& smoothing) {
+        const Smoothing s = smoothing;
         std::uint64_t flagged = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double a = x0[i], b = x1[i], c = x2[i];
-            const double r = std::sqrt(detail::mul_add(c, c, detail::mul_add(b, b, a * a)));
-            if constexpr (Checked) flagged |= detail::not_finite(r);
-            w[i] = radial<QuantityId::value>(r, s);
-            const double g = radial<QuantityId::grad_over_r>(r, s);
-            g0[i] = g * a;
-            g1[i] = g * b;
-            g2[i] = g * c;
-        }
+        detail::for_each_root_ahead(
+            n, [x0, x1, x2](std::size_t i) MOLLIFY_INLINE_LAMBDA { return detail::radius(x0[i], x1[i], x2[i]); },
+            [x0, x1, x2, w, g0, g1, g2, &s, &flagged](std::size_t i, double r) MOLLIFY_INLINE_LAMBDA {
+                if constexpr (Checked) flagged |= detail::not_finite(r);
+                w[i] = radial<QuantityId::value>(r, s);
+                const double g = radial<QuantityId::grad_over_r>(r, s);
+                g0[i] = g * x0[i];
+                g1[i] = g * x1[i];
+                g2[i] = g * x2[i];
+            },
+            w, g0, g1, g2);
         return flagged != 0;
     }
 };

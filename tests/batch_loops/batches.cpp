@@ -117,6 +117,9 @@ void compare(Comparison& out) {
             gs[c] = grad[c];
         }
         S::pairs(xs, s, w, gs);
+        std::vector<double> w_alone(n);
+        std::array<std::vector<double>, D> g_alone;
+        for (int c = 0; c < D; ++c) g_alone[c].resize(n);
         for (std::size_t i = 0; i < n; ++i) {
             std::array<double, D> xi, gi;
             double wi = 0;
@@ -128,11 +131,43 @@ void compare(Comparison& out) {
                 one_out[c] = std::span<double>(&gi[c], 1);
             }
             S::pairs(one, s, std::span<double>(&wi, 1), one_out);
+            w_alone[i] = wi;
+            for (int c = 0; c < D; ++c) g_alone[c][i] = gi[c];
             if (!same_bits(w[i], wi)) mismatch("pairs W", i, w[i], wi);
             for (int c = 0; c < D; ++c)
                 if (!same_bits(grad[c][i], gi[c])) mismatch("pairs grad W_" + std::to_string(c), i, grad[c][i], gi[c]);
         }
         out.compared += n * (D + 1);
+        // Batches of every length around the pair loops' blocks of 16
+        // (detail/roots_ahead.hpp: the roots a block ahead, a last block
+        // that overlaps the one before, fewer than 16 points plainly), from
+        // an odd offset: each point's values as it gives them alone.
+        for (const std::size_t m : {1, 15, 16, 17, 24, 31, 32, 33, 47, 48, 49, 100, 129}) {
+            const std::size_t from = 3;
+            if (from + m > n) {  // the sample shrank: this test would no longer cover its blocks
+                out.mismatches.push_back(kernel + ": " + std::to_string(n) + " hard points, too few for a batch of " +
+                                         std::to_string(m));
+                continue;
+            }
+            std::vector<double> wm(m);
+            std::array<std::vector<double>, D> gm;
+            mollify::Points<D> part;
+            mollify::PointsOut<D> part_out;
+            for (int c = 0; c < D; ++c) {
+                gm[c].resize(m);
+                part[c] = std::span<const double>(x[c]).subspan(from, m);
+                part_out[c] = gm[c];
+            }
+            S::pairs(part, s, wm, part_out);
+            for (std::size_t i = 0; i < m; ++i) {
+                const std::string batch = "pairs of " + std::to_string(m) + " points, point " + std::to_string(i) + ": ";
+                if (!same_bits(wm[i], w_alone[from + i])) mismatch(batch + "W", from + i, wm[i], w_alone[from + i]);
+                for (int c = 0; c < D; ++c)
+                    if (!same_bits(gm[c][i], g_alone[c][from + i]))
+                        mismatch(batch + "grad W_" + std::to_string(c), from + i, gm[c][i], g_alone[c][from + i]);
+            }
+            out.compared += m * (D + 1);
+        }
     }
 }
 

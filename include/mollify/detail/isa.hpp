@@ -44,8 +44,10 @@
 // the bit-for-bit comparisons with the generic library stay exact.
 #if defined(__GNUC__) && !defined(MOLLIFY_NO_FORCED_INLINE)
 #define MOLLIFY_INLINE [[gnu::always_inline]] inline
+#define MOLLIFY_INLINE_LAMBDA __attribute__((always_inline))  // after a lambda's parameters
 #else
 #define MOLLIFY_INLINE inline
+#define MOLLIFY_INLINE_LAMBDA
 #endif
 
 // The batch loops are flattened: every call inside them is inlined, however
