@@ -11,7 +11,6 @@
 #include "evaluator.hpp"
 #include "term_shapes.hpp"
 
-#include <mollify/detail/roots_ahead.hpp>
 #include <mollify/static_kernel.hpp>
 
 #include <algorithm>
@@ -1121,8 +1120,8 @@ constexpr auto fast_whole_of = fast_whole_loops(std::make_index_sequence<whole_s
 // fused term, 0 outside (Plan::whole_pair), in one pass, as
 // StaticKernel::pairs_3d: r, W, W'/r, grad W = (W'/r) x, each quantity as
 // its whole loop computes it (accurate: one accurate_radius for both), so
-// the same bits. Raw restrict pointers as parameters: the loop vectorises;
-// the roots a block ahead of their use (detail/roots_ahead.hpp).
+// the same bits. The loop is StaticKernel's (detail::pairs_at_radii: the
+// roots a block ahead; restrict pointers, so that it vectorises).
 // (The fast precision reads no low parts: Exact false, one loop per shape.)
 // 2D takes it with x2 = 0 (pairs_batch).
 template <Precision Pr, int VN, int VP, bool VR, bool VE, bool VX, bool VS, int GN, int GP, bool GR, bool GE, bool GX,
@@ -1144,29 +1143,17 @@ MOLLIFY_FLATTEN bool whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
     const DoubleDouble v_scale_dd = single_scale(v, {v_scale, s.scale_lo(QuantityId::value)}),
                        g_scale_dd = single_scale(g, {g_scale, s.scale_lo(QuantityId::grad_over_r)});
     const DoubleDouble v_ah = two_product(v_edge, h), g_ah = two_product(g_edge, h);
-    std::uint64_t suspect = 0;
-    for_each_root_ahead(
-        n, [x0, x1, x2](std::size_t i) MOLLIFY_INLINE_LAMBDA { return radius(x0[i], x1[i], x2[i]); },
-        [&, x0, x1, x2, w, g0, g1, g2](std::size_t i, double r) MOLLIFY_INLINE_LAMBDA {
-            suspect |= not_finite(r);
-            double wi, gi;
-            if constexpr (Pr == Precision::fast) {
-                wi = fast_whole_at<VN, VP, VR, VE>(vk, r, v_edge, h, inv_h, s, v_scale);
-                gi = fast_whole_at<GN, GP, GR, GE>(gk, r, g_edge, h, inv_h, s, g_scale);
-            } else {
-                const AccurateRadius x = accurate_radius(r, h, inv_h);
-                wi = accurate_whole_at<VN, VP, VR, VE, VX, VS>(vk, vl, v_sp, v_edge, v.edge_lo, v_ah, h, inv_h, r, x,
-                                                               v_scale_dd);
-                gi = accurate_whole_at<GN, GP, GR, GE, GX, GS>(gk, gl, g_sp, g_edge, g.edge_lo, g_ah, h, inv_h, r, x,
-                                                               g_scale_dd);
-            }
-            w[i] = wi;
-            g0[i] = gi * x0[i];
-            g1[i] = gi * x1[i];
-            g2[i] = gi * x2[i];
-        },
-        w, g0, g1, g2);
-    return suspect != 0;
+    return pairs_at_radii<true>(n, x0, x1, x2, w, g0, g1, g2, [&](double r) MOLLIFY_INLINE_LAMBDA {
+        if constexpr (Pr == Precision::fast) {
+            return std::pair{fast_whole_at<VN, VP, VR, VE>(vk, r, v_edge, h, inv_h, s, v_scale),
+                             fast_whole_at<GN, GP, GR, GE>(gk, r, g_edge, h, inv_h, s, g_scale)};
+        } else {
+            const AccurateRadius x = accurate_radius(r, h, inv_h);
+            return std::pair{
+                accurate_whole_at<VN, VP, VR, VE, VX, VS>(vk, vl, v_sp, v_edge, v.edge_lo, v_ah, h, inv_h, r, x, v_scale_dd),
+                accurate_whole_at<GN, GP, GR, GE, GX, GS>(gk, gl, g_sp, g_edge, g.edge_lo, g_ah, h, inv_h, r, x, g_scale_dd)};
+        }
+    });
 }
 
 using WholePairs = bool (*)(const TermPlan&, const TermPlan&, const double*, const double*, const double*, double*, double*,
@@ -1405,7 +1392,7 @@ constexpr auto accurate_shared_of = accurate_shared_loops(std::make_index_sequen
 // from r (accurate: one accurate_radius for both), so their bits. In the
 // fast precision in every instruction set (the generic copy is compared
 // with StaticKernel's pair loop bit for bit); 2D takes it with x2 = 0.
-// The roots a block ahead, as there.
+// The loop is detail::pairs_at_radii, as there.
 template <Precision Pr, const SharedShapes& SV, const SharedShapes& SG>
 MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const QuantityPlan& over_r, const double* __restrict x0,
                                         const double* __restrict x1, const double* __restrict x2, double* __restrict w,
@@ -1422,30 +1409,20 @@ MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const Quantit
     const double v_scale = s.scale(QuantityId::value), g_scale = s.scale(QuantityId::grad_over_r);
     const DoubleDouble v_scale_dd{v_scale, s.scale_lo(QuantityId::value)},
         g_scale_dd{g_scale, s.scale_lo(QuantityId::grad_over_r)};
-    std::uint64_t suspect = 0;
-    for_each_root_ahead(
-        n, [x0, x1, x2](std::size_t i) MOLLIFY_INLINE_LAMBDA { return radius(x0[i], x1[i], x2[i]); },
-        [&, x0, x1, x2, w, g0, g1, g2](std::size_t i, double r) MOLLIFY_INLINE_LAMBDA {
-            suspect |= not_finite(r);
-            double wi, gi;
-            if constexpr (Pr == Precision::fast) {
-                const double q = r * inv_h, e = edge_distance(h - r, s);
-                wi = v.sum(q, e, r, h, inv_h, std::make_index_sequence<SV.m>{}) * v_scale;
-                gi = g.sum(q, e, r, h, inv_h, std::make_index_sequence<SG.m>{}) * g_scale;
-            } else {
-                const AccurateRadius x = accurate_radius(r, h, inv_h);
-                wi = rounded_product_bounded(v.sum(x, r, h, inv_h, std::make_index_sequence<SV.m>{}), v_scale_dd);
-                gi = rounded_product_bounded(g.sum(x, r, h, inv_h, std::make_index_sequence<SG.m>{}), g_scale_dd);
-            }
-            const bool inside = r <= h;
-            wi = select(inside, wi, 0.0), gi = select(inside, gi, 0.0);
-            w[i] = wi;
-            g0[i] = gi * x0[i];
-            g1[i] = gi * x1[i];
-            g2[i] = gi * x2[i];
-        },
-        w, g0, g1, g2);
-    return suspect != 0;
+    return pairs_at_radii<true>(n, x0, x1, x2, w, g0, g1, g2, [&](double r) MOLLIFY_INLINE_LAMBDA {
+        double wi, gi;
+        if constexpr (Pr == Precision::fast) {
+            const double q = r * inv_h, e = edge_distance(h - r, s);
+            wi = v.sum(q, e, r, h, inv_h, std::make_index_sequence<SV.m>{}) * v_scale;
+            gi = g.sum(q, e, r, h, inv_h, std::make_index_sequence<SG.m>{}) * g_scale;
+        } else {
+            const AccurateRadius x = accurate_radius(r, h, inv_h);
+            wi = rounded_product_bounded(v.sum(x, r, h, inv_h, std::make_index_sequence<SV.m>{}), v_scale_dd);
+            gi = rounded_product_bounded(g.sum(x, r, h, inv_h, std::make_index_sequence<SG.m>{}), g_scale_dd);
+        }
+        const bool inside = r <= h;
+        return std::pair{select(inside, wi, 0.0), select(inside, gi, 0.0)};
+    });
 }
 
 using SharedPairs = bool (*)(const QuantityPlan&, const QuantityPlan&, const double*, const double*, const double*,

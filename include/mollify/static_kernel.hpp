@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <utility>
 
 namespace mollify {
 
@@ -99,6 +100,30 @@ inline void check_coordinates(std::span<const double> x, int component) {
     for (const double v : x) bad |= not_finite(v);
     if (bad)
         for (const double v : x) check_coordinate(v, component);
+}
+
+// W and grad W = (W'/r) x at n displacements x in 3D, from wg(r) = {W,
+// W'/r} (inlined: MOLLIFY_INLINE_LAMBDA): the 3D pair loop of both forms,
+// the roots a block ahead. Restrict pointers: the outputs alias nothing
+// read, which the vectoriser must know. Checked: whether some r is not
+// finite (an input was inf or NaN, or its square overflowed).
+template <bool Checked, class WG>
+MOLLIFY_INLINE bool pairs_at_radii(std::size_t n, const double* __restrict x0, const double* __restrict x1,
+                                   const double* __restrict x2, double* __restrict w, double* __restrict g0,
+                                   double* __restrict g1, double* __restrict g2, WG wg) {
+    std::uint64_t flagged = 0;
+    for_each_root_ahead(
+        n, [x0, x1, x2](std::size_t i) MOLLIFY_INLINE_LAMBDA { return radius(x0[i], x1[i], x2[i]); },
+        [x0, x1, x2, w, g0, g1, g2, &wg, &flagged](std::size_t i, double r) MOLLIFY_INLINE_LAMBDA {
+            if constexpr (Checked) flagged |= not_finite(r);
+            const auto [wi, gi] = wg(r);
+            w[i] = wi;
+            g0[i] = gi * x0[i];
+            g1[i] = gi * x1[i];
+            g2[i] = gi * x2[i];
+        },
+        w, g0, g1, g2);
+    return flagged != 0;
 }
 
 }  // namespace MOLLIFY_ISA
@@ -478,19 +503,9 @@ private:
                                             double* __restrict g1, double* __restrict g2, std::size_t n,
                                             const Smoothing& smoothing) {
         const Smoothing s = smoothing;
-        std::uint64_t flagged = 0;
-        detail::for_each_root_ahead(
-            n, [x0, x1, x2](std::size_t i) MOLLIFY_INLINE_LAMBDA { return detail::radius(x0[i], x1[i], x2[i]); },
-            [x0, x1, x2, w, g0, g1, g2, &s, &flagged](std::size_t i, double r) MOLLIFY_INLINE_LAMBDA {
-                if constexpr (Checked) flagged |= detail::not_finite(r);
-                w[i] = radial<QuantityId::value>(r, s);
-                const double g = radial<QuantityId::grad_over_r>(r, s);
-                g0[i] = g * x0[i];
-                g1[i] = g * x1[i];
-                g2[i] = g * x2[i];
-            },
-            w, g0, g1, g2);
-        return flagged != 0;
+        return detail::pairs_at_radii<Checked>(n, x0, x1, x2, w, g0, g1, g2, [&s](double r) MOLLIFY_INLINE_LAMBDA {
+            return std::pair{radial<QuantityId::value>(r, s), radial<QuantityId::grad_over_r>(r, s)};
+        });
     }
 };
 
