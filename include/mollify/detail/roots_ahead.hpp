@@ -39,7 +39,8 @@ inline double radius(double a, double b, double c) { return std::sqrt(mul_add(c,
 // How far ahead the outputs are fetched for writing, in points: where a
 // batch comes from memory (10^6 points), the loop above without it ran
 // slower than the plain one (Wendland C4 accurate 2.3 -> 3.0 ms), with it
-// faster (1.9-2.0 ms; the combination's 6.0 -> 4.4 ms; fast 2.5 -> 1.9 ms).
+// faster (1.9-2.0 ms; the combination's 6.0 -> 4.6 ms; fast 2.5 -> 1.9-2.0 ms;
+// kernel_bench, W + grad W).
 // 128 and 256 points did alike, 512 was slower.
 inline constexpr std::size_t outputs_ahead = 128;
 
