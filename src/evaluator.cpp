@@ -1804,9 +1804,9 @@ void radii(const std::span<const double>* x, int dim, std::size_t start, std::si
     const double* __restrict x1 = x[1].data() + start;
     if (dim == 3) {
         const double* __restrict x2 = x[2].data() + start;
-        for (std::size_t i = 0; i < m; ++i) r[i] = std::sqrt(mul_add(x2[i], x2[i], mul_add(x1[i], x1[i], x0[i] * x0[i])));
+        for (std::size_t i = 0; i < m; ++i) r[i] = radius(x0[i], x1[i], x2[i]);
     } else {
-        for (std::size_t i = 0; i < m; ++i) r[i] = std::sqrt(mul_add(x1[i], x1[i], x0[i] * x0[i]));
+        for (std::size_t i = 0; i < m; ++i) r[i] = radius(x0[i], x1[i]);
     }
 }
 
@@ -1968,10 +1968,9 @@ bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
                 for (std::size_t i = 0; i < B; ++i) a.r[i] = std::abs(x0[i]);
             } else if (dim == 3) {
                 const double* __restrict x2 = c[2];
-                for (std::size_t i = 0; i < B; ++i)
-                    a.r[i] = std::sqrt(mul_add(x2[i], x2[i], mul_add(x1[i], x1[i], x0[i] * x0[i])));
+                for (std::size_t i = 0; i < B; ++i) a.r[i] = radius(x0[i], x1[i], x2[i]);
             } else {
-                for (std::size_t i = 0; i < B; ++i) a.r[i] = std::sqrt(mul_add(x1[i], x1[i], x0[i] * x0[i]));
+                for (std::size_t i = 0; i < B; ++i) a.r[i] = radius(x0[i], x1[i]);
             }
             for (std::size_t i = 0; i < B; ++i) {
                 a.q[i] = a.r[i] * s.inverse();

@@ -140,11 +140,7 @@ struct PlanTerms {
     bool continues(int p, int t) const { return term(p, t).continues; }
     bool same(int p, int t, int r, int u) const {
         const TermPlan &a = term(p, t), &b = term(r, u);
-        return a.basis == b.basis && a.s_power == b.s_power && a.var == b.var && a.edge == b.edge &&
-               a.edge_lo == b.edge_lo && a.edge_power == b.edge_power && a.low == b.low && a.n == b.n &&
-               a.centre == b.centre && a.centre_lo == b.centre_lo && a.plain == b.plain && a.split == b.split &&
-               a.m == b.m && a.content == b.content && a.content_lo == b.content_lo &&
-               std::equal(a.c, a.c + a.n, b.c) && a.c_lo == b.c_lo;
+        return same_term_fields(a, b) && a.m == b.m && std::equal(a.c, a.c + a.n, b.c) && a.c_lo == b.c_lo;
     }
     const PiecePlan& piece(int p) const { return inner[static_cast<std::size_t>(p)]; }
     const TermPlan& term(int p, int t) const { return piece(p).terms[static_cast<std::size_t>(t)]; }

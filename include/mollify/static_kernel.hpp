@@ -454,9 +454,9 @@ private:
     template <bool Checked>
     MOLLIFY_BATCH_LOOP static bool pair_loop(const Points<dimension>& x, const Smoothing& smoothing, double* __restrict w,
                                              const PointsOut<dimension>& grad, std::size_t n) {
-        const Smoothing s = smoothing;
         constexpr bool cusp = detail::singular_at_origin<K, static_cast<int>(QuantityId::grad_over_r)>;
         if constexpr (dimension == 1 || odd || cusp) {
+            const Smoothing s = smoothing;
             std::uint64_t flagged = 0;
             for (std::size_t i = 0; i < n; ++i) {
                 Vector<dimension> xi;
@@ -468,10 +468,10 @@ private:
             }
             return flagged != 0;
         } else if constexpr (dimension == 2) {
-            return pairs_2d<Checked>(x[0].data(), x[1].data(), w, grad[0].data(), grad[1].data(), n, s);
+            return pairs_2d<Checked>(x[0].data(), x[1].data(), w, grad[0].data(), grad[1].data(), n, smoothing);
         } else {
             return pairs_3d<Checked>(x[0].data(), x[1].data(), x[2].data(), w, grad[0].data(), grad[1].data(),
-                                     grad[2].data(), n, s);
+                                     grad[2].data(), n, smoothing);
         }
     }
 

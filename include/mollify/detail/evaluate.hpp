@@ -764,6 +764,17 @@ constexpr bool same_values(const double* a, const double* b, int n) {
     return true;
 }
 
+// Two terms alike in every field but their arrays of coefficients, which
+// each view compares its own way: table::Term and the run-time plan's
+// TermPlan (src/plan.hpp) name these fields alike.
+template <class Term>
+constexpr bool same_term_fields(const Term& a, const Term& b) {
+    return a.basis == b.basis && a.s_power == b.s_power && a.var == b.var && a.edge == b.edge &&
+           a.edge_lo == b.edge_lo && a.edge_power == b.edge_power && a.low == b.low && a.n == b.n &&
+           a.centre == b.centre && a.centre_lo == b.centre_lo && a.plain == b.plain && a.split == b.split &&
+           a.content == b.content && a.content_lo == b.content_lo;
+}
+
 // The table's inner pieces as shared_terms_rule reads them: term against
 // term field by field and value by value (the generator writes a shared
 // term once per piece); an edge series' terms continue one another, which
@@ -780,11 +791,8 @@ struct TableTerms {
     }
     constexpr bool same(int p, int t, int r, int u) const {
         const table::Term &a = quantity.pieces[p].terms[t], &b = quantity.pieces[r].terms[u];
-        return a.basis == b.basis && a.s_power == b.s_power && a.var == b.var && a.edge == b.edge &&
-               a.edge_lo == b.edge_lo && a.edge_power == b.edge_power && a.low == b.low && a.n == b.n &&
-               a.centre == b.centre && a.centre_lo == b.centre_lo && a.plain == b.plain && a.split == b.split &&
-               a.content == b.content && a.content_lo == b.content_lo && same_values(a.c, b.c, a.n) &&
-               same_values(lows.lo[p][t], lows.lo[r][u], a.n) && (a.split == 0 || same_values(a.m, b.m, a.n));
+        return same_term_fields(a, b) && same_values(a.c, b.c, a.n) && same_values(lows.lo[p][t], lows.lo[r][u], a.n) &&
+               (a.split == 0 || same_values(a.m, b.m, a.n));
     }
 };
 
