@@ -116,7 +116,7 @@ template <int D>
 class CellListByParticle {
 public:
     static constexpr int dim = D;
-    CellListByParticle(sph::Domain<D> domain, double eps) : cells_(domain, eps) {}
+    CellListByParticle(sph::Domain<D> domain, double eps, sph::SupportEdge edge) : cells_(domain, eps, edge) {}
     void update(const sph::Positions<D>& x) { cells_.update(x); }
     template <class F>
     void visit(std::size_t i, F&& f) const {

@@ -11,6 +11,7 @@
 #include <mollify/sph.hpp>
 #include <mollify/tables/wendland/k_2_D1.hpp>
 #include <mollify/tables/wendland/k_2_D2.hpp>
+#include <mollify/tables/mollifier/M_1_D3.hpp>
 #include <mollify/tables/wendland/k_2_D3.hpp>
 #include "sanitized.hpp"
 #include "sph_points.hpp"
@@ -36,6 +37,7 @@ constexpr Precision fast = Precision::fast;  // as the scenes run SPH
 using Wendland1D = StaticKernel<tables::wendland_k_2_D1, fast>;
 using Wendland2D = StaticKernel<tables::wendland_k_2_D2, fast>;
 using Wendland3D = StaticKernel<tables::wendland_k_2_D3, fast>;
+using MollifierM1 = StaticKernel<tables::mollifier_M_1_D3, fast>;  // C^0: grad W jumps at the edge
 
 using mollify::testing::random_points;
 
@@ -175,6 +177,37 @@ TEST(Neighbours, CellPairsEqualAllPairs) {
     Field<1> spread = random_points<1>(1000 / fewer, 0, 1, 32);
     for (const double far : {-1e6, 3e7, 3e7 + 0.01}) spread[0].push_back(far);
     expect_half_pairs_as_all_pairs<1>(Domain<1>::whole_space(), 0.01, spread);
+}
+
+// A lattice of side 8 in the periodic unit box with eps = 1/8 (cells of side
+// exactly eps but for CellList's margin) and two particles more, at x = 1/8 -
+// 2^-56 and 1/4: 2^-56 more than eps apart, but their difference rounds to
+// 1/8, so the pair test accepts them (q = 1 exactly), while x/side puts them
+// in cells 0 and 2 (found by a search over the doubles near the cells'
+// boundaries, stop 65).
+Field<3> pair_at_eps_by_rounding() {
+    Field<3> x = dyadic_lattice<3>(8);
+    const double near[3] = {0x1.fffffffffffffp-4, 0.5 + 1.0 / 32, 0.5 + 1.0 / 32}, far[3] = {0.25, 0.5 + 1.0 / 32, 0.5 + 1.0 / 32};
+    for (int c = 0; c < 3; ++c) {
+        x[c].push_back(near[c]);
+        x[c].push_back(far[c]);
+    }
+    return x;
+}
+
+TEST(Neighbours, CellPairsAtEpsByRounding) {
+    const Domain<3> box = Domain<3>::periodic(1.0);
+    const Field<3> x = pair_at_eps_by_rounding();
+    const std::size_t near = x[0].size() - 2, far = near + 1;
+    // The default cells (SupportEdge::contributes) meet every pair the test accepts.
+    expect_half_pairs_as_all_pairs<3>(box, 0.125, x);
+    // Cells of side eps miss this one: the case still exercises the rounding
+    // the margin is for.
+    CellList<3> bare(box, 0.125, SupportEdge::vanishes);
+    bare.update(view<3>(x));
+    EXPECT_EQ(half_pairs_of(bare).count(std::pair{near, far}), 0u) << "the pair no longer lies two cells apart";
+    EXPECT_EQ(bare.support_edge(), SupportEdge::vanishes);
+    EXPECT_EQ(CellList<3>(box, 0.125).support_edge(), SupportEdge::contributes);
 }
 
 // The order kept from the last update and repaired: particles moved by up
@@ -667,6 +700,27 @@ TEST(Euler, CellSweepEqualsAllPairs) {
     // A periodic box with a dense cluster across the seams (graded cells, CellPairsOfPeriodicCluster)
     expect_sweep_as_all_pairs<3, Wendland3D>(Domain<3>::periodic(1.0), 1.0 / 128,
                                              periodic_cluster<3>(3000 / fewer, {0, 0.5, 0}, 79), nullptr, {1, 2, 3});
+}
+
+// The solver's cells follow its kernel: with mollifier:M=1 (grad W jumps at
+// the edge) the pair at eps by rounding (above) is met and its force is the
+// all-pairs one; with Wendland C4 (C^4: W and grad W vanish there) the cells
+// of side eps are kept, the pair missed, and nothing but the count changes.
+TEST(Euler, CellSweepMeetsPairsAtEpsWhereTheKernelDoesNotVanish) {
+    const Domain<3> box = Domain<3>::periodic(1.0);
+    Field<3> x = pair_at_eps_by_rounding();
+    x[0][100] = 0.5 + 1.0 / 64;  // one lattice particle off its site: more non-zero forces
+    expect_sweep_as_all_pairs<3, MollifierM1>(box, 0.125, x);
+    const std::vector<double> mass(x[0].size(), 1.0);
+    BarotropicEuler<3, Wendland3D, AllPairs<3>> all(Wendland3D{}, 0.125, box, mass);
+    BarotropicEuler<3, Wendland3D> cells(Wendland3D{}, 0.125, box, mass);
+    Field<3> a_all, a_cells;
+    std::vector<double> rho_all, rho_cells;
+    all.acceleration(x, a_all, &rho_all);
+    cells.acceleration(x, a_cells, &rho_cells);
+    EXPECT_LT(cells.interactions(), all.interactions()) << "Wendland C4's sweep no longer keeps cells of side eps";
+    const std::size_t near = x[0].size() - 2;
+    EXPECT_DOUBLE_EQ(rho_cells[near], rho_all[near]);
 }
 
 TEST(Euler, CellSweepAfterParticlesChangedCells) {

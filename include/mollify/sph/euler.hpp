@@ -33,6 +33,7 @@
 #include <numeric>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #if defined(__AVX2__)
@@ -90,7 +91,11 @@ template <int D, RadialKernel Kernel, class NeighbourSearch = Search<D>>
 class BarotropicEuler {
 public:
     BarotropicEuler(Kernel kernel, double eps, Domain<D> domain, std::vector<double> mass)
-        : kernel_(std::move(kernel)), smoothing_(eps, D), domain_(domain), search_(domain, eps), mass_(std::move(mass)) {
+        : kernel_(std::move(kernel)),
+          smoothing_(eps, D),
+          domain_(domain),
+          search_(make_search(domain, eps, kernel_)),
+          mass_(std::move(mass)) {
         for (std::size_t j = 0; j < mass_.size(); ++j)
             if (!(mass_[j] >= 0) || !std::isfinite(mass_[j]))
                 fail("particle " + std::to_string(j) + " has mass " + mollify::detail::show(mass_[j]) +
@@ -561,6 +566,15 @@ private:
     Kernel kernel_;
     Smoothing smoothing_;
     Domain<D> domain_;
+    // A search told whether pairs at exactly eps matter (CellList: cells of
+    // side eps only where they do not, the kernel being C^1 or more).
+    static NeighbourSearch make_search(Domain<D> domain, double eps, const Kernel& kernel) {
+        if constexpr (std::is_constructible_v<NeighbourSearch, Domain<D>, double, SupportEdge>)
+            return NeighbourSearch(domain, eps, support_edge_of(kernel));
+        else
+            return NeighbourSearch(domain, eps);
+    }
+
     NeighbourSearch search_;
     std::vector<double> mass_, mass_sorted_;  // mass_sorted_: in the search's slot order
     std::vector<Scratch> scratch_;

@@ -89,6 +89,17 @@ struct Reach {
 
 }  // namespace detail
 
+// Whether pairs at exactly eps change a sweep: W and grad W of a kernel of
+// smoothness C^1 or more (table::Kernel::smoothness, at its breakpoints and
+// edge) vanish there, so a pair the cells miss within a few ulps of eps adds
+// (about) 0; a box kernel's W (C^-1) and mollifier:M=1's grad W (C^0) do not.
+enum class SupportEdge { contributes, vanishes };
+
+template <class Kernel>
+SupportEdge support_edge_of(const Kernel& k) {
+    return k.table().smoothness >= 1 ? SupportEdge::vanishes : SupportEdge::contributes;
+}
+
 // 1D: the particles sorted by position. The order is kept between updates
 // and repaired by insertion sort, O(N) when particles barely reorder (the
 // usual case from one time step to the next). The 1D default until stop 54,
@@ -185,7 +196,21 @@ class CellList {
 public:
     static constexpr int dim = D;
 
-    CellList(Domain<D> domain, double eps) : reach_(domain, eps) {}
+    // Where L/eps (or the bounding box's extent over eps) is an integer the
+    // cells would have side exactly eps, and a particle's cell, a rounded
+    // quotient, can be one off within a few ulps of a boundary: two
+    // particles at eps (the pair test accepts them) can lie two cells apart
+    // (stop 57: 0-2 % of a periodic lattice's pairs, up to 10 % of those at
+    // exactly eps). SupportEdge::contributes (the default) keeps cells of
+    // side eps (1 + 2^-19) (detail::slab_margin, as graded cells do), so
+    // every pair the test accepts is met: one cell a side fewer where L/eps
+    // is an integer (the benchmark lattice at N = 10^4: 11 -> 10 a side,
+    // 1.33x the candidates). SupportEdge::vanishes (BarotropicEuler with a
+    // kernel of C^1 or more: support_edge_of) keeps side eps there.
+    CellList(Domain<D> domain, double eps, SupportEdge edge = SupportEdge::contributes)
+        : reach_(domain, eps), margin_(edge == SupportEdge::contributes ? detail::slab_margin : 1.0) {}
+
+    SupportEdge support_edge() const { return margin_ == 1.0 ? SupportEdge::vanishes : SupportEdge::contributes; }
 
     // Up to this many particles update() runs on one thread (the loops are
     // shorter than waking the others).
@@ -668,7 +693,7 @@ private:
         }
         const double per_side = std::pow(static_cast<double>(std::max<std::size_t>(n, 1)), 1.0 / D) + 1;
         // (hi - lo)/eps slabs a side, counted in double: it may exceed any long.
-        auto slabs = [&](int c) { return std::max(1.0, std::floor((hi[c] - lo[c]) / reach_.eps)); };
+        auto slabs = [&](int c) { return std::max(1.0, std::floor((hi[c] - lo[c]) / (reach_.eps * margin_))); };
         if (D == 1) {
             uniform(0, lo[0], hi[0], std::min(slabs(0), std::floor(per_side)));
             aliased_ = reach_.domain.is_periodic() && count_[0] < 3;
@@ -714,7 +739,7 @@ private:
         count_[c] = static_cast<long>(count);
         side_[c] = reach_.domain.is_periodic()
                        ? reach_.domain.length() / count
-                       : std::max(std::min(hi - lo, std::numeric_limits<double>::max()) / count, reach_.eps);
+                       : std::max(std::min(hi - lo, std::numeric_limits<double>::max()) / count, reach_.eps * margin_);
     }
 
     // A periodic box: N^(1/D) + 1 equal cells a side at most (of side eps
@@ -869,6 +894,7 @@ private:
 
     static constexpr std::size_t copy_chunk = 8;
     detail::Reach<D> reach_;
+    double margin_;  // the equal cells' side over eps at least (the constructor's SupportEdge)
     std::array<double, D> origin_{}, side_{};
     std::array<long, D> count_{};
     bool aliased_ = false;  // a periodic side of fewer than 3 cells
