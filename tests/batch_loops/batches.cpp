@@ -11,7 +11,11 @@
 // chosen by the caller): within runtime_forms_test's bounds (fused_bound.hpp),
 // since the static form's unrolled expressions are contracted into FMAs where
 // the data-driven loops have their own; bit for bit where both sum a
-// combination's distinct terms (shared_sums below).
+// combination's distinct terms (shared_sums below). And the pair loops'
+// W and grad W against the batch forms of W and W'/r at the same |x|: the
+// pair loops leave out a combination's terms that no point of a register
+// reaches (detail::levels), the batch forms never do; registers with one
+// point below a level's radius test that choice (levels_against_radial).
 #include "batch_loops/batches.hpp"
 #include "fused_bound.hpp"
 #include "hard_points.hpp"
@@ -30,6 +34,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <span>
+#include <string>
 #include <utility>
 
 namespace batch_loops {
@@ -51,6 +56,78 @@ constexpr std::array<bool, table::quantity_count> shared_sums(std::index_sequenc
     return {mollify::detail::shared_accurate<K, static_cast<int>(Q)>...};
 }
 
+// Every digit: the values differ in the last place.
+std::string bits(double x) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.17g (%a)", x, x);
+    return std::string(text);
+}
+
+// The pair loops' W and grad W = (W'/r) x against the checked batch forms
+// of W and W'/r at the same radius |x| (detail::radius, as the loops take
+// it): those take every term at every point, the pair loops leave out a
+// combination's terms that no point of a register reaches (levels), so this
+// is what tells a wrongly chosen level.
+template <class S, class Mismatch>
+void expect_pair_as_radial(const std::array<double, S::dimension>& x, double w, const auto& grad, std::size_t i,
+                           const Smoothing& s, Mismatch mismatch) {
+    constexpr int D = S::dimension;
+    double r = std::abs(x[0]);
+    if constexpr (D == 2) r = mollify::detail::radius(x[0], x[1]);
+    if constexpr (D == 3) r = mollify::detail::radius(x[0], x[1], x[2]);
+    double value = 0, over_r = 0;
+    S::evaluate(QuantityId::value, std::span<const double>(&r, 1), s, std::span<double>(&value, 1));
+    S::evaluate(QuantityId::grad_over_r, std::span<const double>(&r, 1), s, std::span<double>(&over_r, 1));
+    if (!same_bits(w, value)) mismatch("pairs W against W at |x|", w, value);
+    for (int c = 0; c < D; ++c)
+        if (!same_bits(grad[c][i], over_r * x[c]))
+            mismatch("pairs grad W_" + std::to_string(c) + " against (W'/r)(|x|) x", grad[c][i], over_r * x[c]);
+}
+
+// Registers of points all at or beyond a level's radius a_L h but one, at
+// (1 - 2^-4) a_L h (where the left-out term is far from 0) or one double
+// below a_L h: the one point's term must be taken, in every place of the
+// batch, batches of 8, 16 and 24 along x (|x| = r exactly).
+template <class S>
+void levels_against_radial(const Smoothing& s, Comparison& out) {
+    constexpr int D = S::dimension;
+    constexpr const table::Kernel& K = S::table();
+    for (int l = 0; l + 1 < mollify::detail::levels<K>; ++l) {
+        const double a = mollify::detail::level_bound<K>(l) * s.h();
+        for (const double below : {a * (1 - 0x1p-4), std::nextafter(a, 0.0)})
+            for (const std::size_t m : {8, 16, 24})
+                for (std::size_t at = 0; at < m; ++at) {
+                    std::array<std::vector<double>, D> x, grad;
+                    for (int c = 0; c < D; ++c) {
+                        x[c].assign(m, 0.0);
+                        grad[c].assign(m, 0.0);
+                    }
+                    for (std::size_t k = 0; k < m; ++k) x[0][k] = k == at ? below : a * (1 + 0x1p-10 * static_cast<double>(k));
+                    std::vector<double> w(m);
+                    mollify::Points<D> xs;
+                    mollify::PointsOut<D> gs;
+                    for (int c = 0; c < D; ++c) {
+                        xs[c] = x[c];
+                        gs[c] = grad[c];
+                    }
+                    S::pairs(xs, s, w, gs);
+                    for (std::size_t k = 0; k < m; ++k) {
+                        std::array<double, D> xk{};
+                        xk[0] = x[0][k];
+                        expect_pair_as_radial<S>(xk, w[k], grad, k, s, [&](const std::string& what, double batch, double other) {
+                            if (out.mismatches.size() < 20)
+                                out.mismatches.push_back(std::string(K.spec) + " level " + std::to_string(l + 1) + ", h = " +
+                                                         bits(s.h()) + ", " + std::to_string(m) + " points, point " +
+                                                         std::to_string(k) + " at r = " + bits(x[0][k]) + " (below a_L h: " +
+                                                         std::to_string(at) + "): " + what + ": batch " + bits(batch) +
+                                                         ", other " + bits(other));
+                        });
+                    }
+                    out.compared += m * (D + 1);
+                }
+    }
+}
+
 template <const table::Kernel& K, Precision Pr>
 void compare(Comparison& out) {
     using S = mollify::StaticKernel<K, Pr>;
@@ -59,11 +136,6 @@ void compare(Comparison& out) {
     const std::vector<double> q = mollify::testing::hard_q(K);
     const std::size_t n = q.size();
     const std::string kernel = std::string(K.spec) + " D" + std::to_string(D) + (Pr == Precision::fast ? " fast" : " accurate");
-    auto bits = [](double x) {  // every digit: the values differ in the last place
-        char text[64];
-        std::snprintf(text, sizeof text, "%.17g (%a)", x, x);
-        return std::string(text);
-    };
     auto mismatch = [&](const std::string& what, std::size_t i, double batch, double other) {
         if (out.mismatches.size() < 20)
             out.mismatches.push_back(kernel + " " + what + " at r/h = " + bits(q[i]) + ": batch " + bits(batch) +
@@ -136,8 +208,12 @@ void compare(Comparison& out) {
             if (!same_bits(w[i], wi)) mismatch("pairs W", i, w[i], wi);
             for (int c = 0; c < D; ++c)
                 if (!same_bits(grad[c][i], gi[c])) mismatch("pairs grad W_" + std::to_string(c), i, grad[c][i], gi[c]);
+            expect_pair_as_radial<S>(xi, w[i], grad, i, s, [&](const std::string& what, double batch, double other) {
+                mismatch(what, i, batch, other);
+            });
         }
         out.compared += n * (D + 1);
+        if constexpr (mollify::detail::levels<K> > 1 && Pr == Precision::accurate) levels_against_radial<S>(s, out);
         // Batches of every length around the pair loops' blocks of 16
         // (detail/roots_ahead.hpp: the roots a block ahead, a last block
         // that overlaps the one before, fewer than 16 points plainly), from

@@ -838,19 +838,68 @@ MOLLIFY_INLINE DoubleDouble shared_term(const Scaled& a) {
     return accurate_term<K, Q, P, T>(a, factor);
 }
 
-template <const table::Kernel& K, int Q, std::size_t... J>
+// Skip: the first Skip distinct terms are known to be (0, 0) at a (the
+// caller's level: no q of its block reaches them); from y = (0, 0) their
+// sums were (+0, +0) + (+0, +0), so leaving them out gives the same bits.
+template <const table::Kernel& K, int Q, int Skip = 0, std::size_t... J>
 MOLLIFY_INLINE double shared_accurate_inside(const Scaled& a, std::index_sequence<J...>) {
     constexpr const SharedTermList& shared = shared_terms<K, Q>;
     DoubleDouble y{0.0, 0.0};
-    auto add = [&](bool in, const DoubleDouble& t) { y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)}; };
-    (add((a.q >= shared.t[J].lo) & (a.q < shared.t[J].hi), shared_term<K, Q, static_cast<int>(J)>(a)), ...);
+    auto add = [&]<int I>(std::integral_constant<int, I>) MOLLIFY_INLINE_LAMBDA {
+        if constexpr (I >= Skip) {
+            const DoubleDouble t = shared_term<K, Q, I>(a);
+            const bool in = (a.q >= shared.t[I].lo) & (a.q < shared.t[I].hi);
+            y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)};
+        }
+    };
+    (add(std::integral_constant<int, static_cast<int>(J)>{}), ...);
     return rounded_product_bounded(y, a.scale);
 }
 
-template <const table::Kernel& K, int Q, Precision Pr, int P = inner_pieces<K, Q> - 1>
+// The levels of a block of points (StaticKernel's pair loop): level L >= 1
+// where every q of the block is at least level_bound<K>(L - 1), the L-th
+// finite upper end of the value's shared terms' ranges (a combination's
+// radii a_1 < a_2 < ...: no point of the block reaches the terms of the
+// radii below it). One level where nothing is shared.
+template <const table::Kernel& K>
+inline constexpr int levels = [] {
+    constexpr int v = static_cast<int>(table::QuantityId::value);
+    if constexpr (!shared_accurate<K, v>) {
+        return 1;
+    } else {
+        int n = 1;
+        for (int d = 0; d < shared_terms<K, v>.m; ++d) n += shared_terms<K, v>.t[d].hi < table::infinity ? 1 : 0;
+        return n;
+    }
+}();
+
+template <const table::Kernel& K>
+constexpr double level_bound(int l) {
+    constexpr const SharedTermList& shared = shared_terms<K, static_cast<int>(table::QuantityId::value)>;
+    int seen = 0;
+    for (int d = 0; d < shared.m; ++d)
+        if (shared.t[d].hi < table::infinity && seen++ == l) return shared.t[d].hi;
+    return table::infinity;
+}
+
+// How many of quantity Q's first distinct terms no q >= level_bound(L - 1)
+// reaches (their ranges end at or below it).
+template <const table::Kernel& K, int Q, int L>
+inline constexpr int skipped_terms = [] {
+    if constexpr (L == 0 || !shared_accurate<K, Q>) {
+        return 0;
+    } else {
+        const double bound = level_bound<K>(L - 1);
+        int d = 0;
+        while (d < shared_terms<K, Q>.m && shared_terms<K, Q>.t[d].hi <= bound) ++d;
+        return d;
+    }
+}();
+
+template <const table::Kernel& K, int Q, Precision Pr, int P = inner_pieces<K, Q> - 1, int Skip = 0>
 MOLLIFY_INLINE double inside(const Scaled& a) {
     if constexpr (Pr == Precision::accurate && shared_accurate<K, Q>) {
-        return shared_accurate_inside<K, Q>(a, std::make_index_sequence<static_cast<std::size_t>(shared_terms<K, Q>.m)>{});
+        return shared_accurate_inside<K, Q, Skip>(a, std::make_index_sequence<static_cast<std::size_t>(shared_terms<K, Q>.m)>{});
     } else if constexpr (P == 0) {
         return chosen_piece<K, Q, 0, Pr>(a);
     } else if constexpr (polynomial_inside<K, Q>) {

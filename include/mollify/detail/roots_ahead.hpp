@@ -24,6 +24,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
+#include <utility>
 
 namespace mollify::detail {
 inline namespace MOLLIFY_ISA {
@@ -44,23 +46,26 @@ inline double radius(double a, double b, double c) { return std::sqrt(mul_add(c,
 // 128 and 256 points did alike, 512 was slower.
 inline constexpr std::size_t outputs_ahead = 128;
 
-// body(i, root(i)) for i = 0 .. n-1 in blocks of B, each block's roots
-// taken while the block before it is evaluated; the lines of `out` (the
-// arrays body writes) fetched outputs_ahead points ahead. Where B does
-// not divide n the last block ends at n and overlaps the one before: its
-// first points are evaluated twice, so body must be idempotent (it stores
-// a function of i, or ORs a flag). The plain loop's last n mod B points,
-// which the vectoriser leaves to narrower or scalar code, had made the SPH
-// sweep's batches (mostly 64-256 pairs) 3 % slower; overlapped, as fast as
-// before. Fewer than B points: the plain loop. Root and body are inlined
-// (MOLLIFY_INLINE_LAMBDA at the caller): a call left in the loop stops its
-// vectorisation, and flattening did not reach them. A user's unit compiles
-// the body twice (blocks and plain loop).
-template <class Root, class Body, class... Out>
-MOLLIFY_INLINE void for_each_root_ahead(std::size_t n, Root root, Body body, Out*... out) {
+// block(i, roots, count): the roots of points i .. i + count - 1, in blocks
+// of B (count a std::integral_constant), each block's roots taken while the
+// block before it is evaluated; the lines of `out` (the arrays the blocks
+// write) fetched outputs_ahead points ahead. Where B does not divide n the
+// last block ends at n and overlaps the one before: its first points are
+// evaluated twice, so a block must be idempotent (it stores a function of
+// i, or ORs a flag). The plain loop's last n mod B points, which the
+// vectoriser leaves to narrower or scalar code, had made the SPH sweep's
+// batches (mostly 64-256 pairs) 3 % slower; overlapped, as fast as before.
+// Fewer than B points: one block of count = n (a std::size_t), without
+// roots ahead. Root and block are inlined (MOLLIFY_INLINE_LAMBDA at the
+// caller): a call left in the loop stops its vectorisation, and flattening
+// did not reach them. A user's unit compiles the block twice (B and n < B).
+template <class Root, class Block, class... Out>
+MOLLIFY_INLINE void for_each_block_of_roots(std::size_t n, Root root, Block block, Out*... out) {
     constexpr std::size_t B = roots_ahead_block, line = 64 / sizeof(double);
     if (n < B) {
-        for (std::size_t i = 0; i < n; ++i) body(i, root(i));
+        double roots[B];
+        for (std::size_t i = 0; i < n; ++i) roots[i] = root(i);
+        block(std::size_t{0}, static_cast<const double*>(roots), n);
         return;
     }
     double ahead[2][B];
@@ -70,18 +75,70 @@ MOLLIFY_INLINE void for_each_root_ahead(std::size_t n, Root root, Body body, Out
         // the next block; the last one ends at n (it may overlap this one)
         const std::size_t next = i + B < n ? std::min(i + B, n - B) : n;
         double* __restrict later = ahead[now ^ 1];
-        const double* __restrict these = ahead[now];
 #if defined(__GNUC__)
         if (i + outputs_ahead + B <= n)
             for (std::size_t j = 0; j < B; j += line) (__builtin_prefetch(out + i + outputs_ahead + j, 1), ...);
 #endif
         if (next < n)
             for (std::size_t j = 0; j < B; ++j) later[j] = root(next + j);
-        for (std::size_t j = 0; j < B; ++j) body(i + j, these[j]);
+        block(i, static_cast<const double*>(ahead[now]), std::integral_constant<std::size_t, B>{});
         if (next == n) return;
         i = next;
         now ^= 1;
     }
+}
+
+// body(i, root(i)) for i = 0 .. n-1, the roots a block ahead
+// (for_each_block_of_roots; body must be idempotent).
+template <class Root, class Body, class... Out>
+MOLLIFY_INLINE void for_each_root_ahead(std::size_t n, Root root, Body body, Out*... out) {
+    for_each_block_of_roots(
+        n, root,
+        [&body](std::size_t i, const double* __restrict these, auto count) MOLLIFY_INLINE_LAMBDA {
+            for (std::size_t j = 0; j < count; ++j) body(i + j, these[j]);
+        },
+        out...);
+}
+
+// f(std::integral_constant<int, L>{}) for the L = level in [0, Levels).
+template <int Levels, class F, int... L>
+MOLLIFY_INLINE void at_level(int level, F& f, std::integer_sequence<int, L...>) {
+    static_cast<void>(((level == L ? (f(std::integral_constant<int, L>{}), true) : false) || ...));
+}
+
+// body(i, root(i), std::integral_constant<int, L>{}) for i = 0 .. n-1, the
+// roots a block ahead, L = level(roots, count) in [0, Levels) chosen once
+// per register of points (register_doubles) from their roots: a level the
+// body may rely on for each of those points (a combination's terms that
+// none of them reaches, left out: StaticKernel::pairs_3d). Per register,
+// not per block of 16: combo:m=3's accurate W + grad W per 4096 points
+// 17.5 -> 13.0-13.3 us per register of 8, 16.0 per block, 24 per half
+// register (kernel_bench, an Intel Xeon with AVX-512, stop 65). The body is
+// compiled once per level; Levels = 1: for_each_root_ahead's loop.
+template <int Levels, class Root, class Level, class Body, class... Out>
+MOLLIFY_INLINE void for_each_root_ahead_at_levels(std::size_t n, Root root, Level level, Body body, Out*... out) {
+    for_each_block_of_roots(
+        n, root,
+        [&body, &level](std::size_t i, const double* __restrict these, auto count) MOLLIFY_INLINE_LAMBDA {
+            constexpr std::size_t S = register_doubles;
+            if constexpr (Levels == 1) {
+                static_cast<void>(level);
+                for (std::size_t j = 0; j < count; ++j) body(i + j, these[j], std::integral_constant<int, 0>{});
+            } else if constexpr (std::is_same_v<decltype(count), std::size_t> || count % S != 0) {
+                auto run = [&](auto at) MOLLIFY_INLINE_LAMBDA {
+                    for (std::size_t j = 0; j < count; ++j) body(i + j, these[j], at);
+                };
+                at_level<Levels>(level(these, std::size_t{count}), run, std::make_integer_sequence<int, Levels>{});
+            } else {
+                for (std::size_t k = 0; k < count; k += S) {
+                    auto run = [&](auto at) MOLLIFY_INLINE_LAMBDA {
+                        for (std::size_t j = 0; j < S; ++j) body(i + k + j, these[k + j], at);
+                    };
+                    at_level<Levels>(level(these + k, S), run, std::make_integer_sequence<int, Levels>{});
+                }
+            }
+        },
+        out...);
 }
 
 }  // namespace MOLLIFY_ISA
