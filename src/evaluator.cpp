@@ -1348,16 +1348,24 @@ struct AccurateSharedTerms : SharedTerms<S> {
         (one(std::integral_constant<std::size_t, J>{}), ...);
     }
 
-    template <std::size_t... J>
+    // Skip: the first Skip terms are (0, 0) at x (levelled_terms: no point
+    // of the caller's register reaches them); left out, the same bits (from
+    // y = (0, 0) their sums were (+0, +0) + (+0, +0)).
+    template <std::size_t Skip = 0, std::size_t... J>
     MOLLIFY_INLINE DoubleDouble sum(const AccurateRadius& x, double r, double h, double inv_h,
                                     std::index_sequence<J...>) const {
         DoubleDouble y{0.0, 0.0};
-        auto add = [&](bool in, const DoubleDouble& t) { y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)}; };
-        (add((x.q >= this->lo[J]) & (x.q < this->hi[J]),
-             accurate_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge, false,
-                              S.terms[J].split>(km[J], l[J], sp[J], this->edge[J], edge_lo[J], ah[J], h, inv_h, x.dq2, r, {x.qq_hi, x.qq_lo},
-                 {x.ee_hi, x.ee_lo})),
-         ...);
+        auto add = [&]<std::size_t I>(std::integral_constant<std::size_t, I>) MOLLIFY_INLINE_LAMBDA {
+            if constexpr (I >= Skip) {
+                const DoubleDouble t =
+                    accurate_term_at<S.terms[I].n, S.terms[I].edge_power, S.terms[I].var_r, S.terms[I].support_edge, false,
+                                     S.terms[I].split>(km[I], l[I], sp[I], this->edge[I], edge_lo[I], ah[I], h, inv_h, x.dq2, r,
+                                                       {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
+                const bool in = (x.q >= this->lo[I]) & (x.q < this->hi[I]);
+                y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)};
+            }
+        };
+        (add(std::integral_constant<std::size_t, J>{}), ...);
         return y;
     }
 };
@@ -1386,6 +1394,23 @@ constexpr std::array<AccurateShared, sizeof...(I)> accurate_shared_loops(std::in
 // [QuantityPlan::shared_fused], where the target fuses multiply-add (fused_loops)
 constexpr auto accurate_shared_of = accurate_shared_loops(std::make_index_sequence<shared_shapes_count>{});
 
+// The levels of a register of points for the shared pair loop, as
+// StaticKernel's (detail::levels, RadiusLevel): at level L the first L
+// terms of W and of W'/r are 0. Only where both quantities' terms are a
+// combination's radii in order, each from q = 0 up to its radius (the last
+// to the support), the same radii for both; elsewhere one level.
+template <int Levels>
+RadiusLevel<Levels> shared_pair_level(const QuantityPlan& value, const QuantityPlan& over_r, double h) {
+    const std::vector<QuantityPlan::SharedTerm>&v = value.shared_terms, &g = over_r.shared_terms;
+    bool radii = g.size() == v.size() && v.size() == static_cast<std::size_t>(Levels);
+    for (std::size_t j = 0; radii && j < v.size(); ++j) {
+        const bool last = j + 1 == v.size();
+        radii = v[j].lo == -table::infinity && g[j].lo == -table::infinity && v[j].hi == g[j].hi &&
+                (last ? v[j].hi == table::infinity : v[j].hi < table::infinity && (j == 0 || v[j].hi > v[j - 1].hi));
+    }
+    return {[&](int l) { return radii ? v[static_cast<std::size_t>(l)].hi : table::infinity; }, h};
+}
+
 // W and grad W at displacements for a combination whose W and W'/r are
 // both shared terms (Plan::shared_pair), in one pass, as whole_pairs_fixed:
 // each quantity as shared_whole_loop or accurate_shared_loop computes it
@@ -1409,20 +1434,26 @@ MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const Quantit
     const double v_scale = s.scale(QuantityId::value), g_scale = s.scale(QuantityId::grad_over_r);
     const DoubleDouble v_scale_dd{v_scale, s.scale_lo(QuantityId::value)},
         g_scale_dd{g_scale, s.scale_lo(QuantityId::grad_over_r)};
-    return pairs_at_radii<true>(n, x0, x1, x2, w, g0, g1, g2, [&](double r) MOLLIFY_INLINE_LAMBDA {
-        double wi, gi;
-        if constexpr (Pr == Precision::fast) {
-            const double q = r * inv_h, e = edge_distance(h - r, s);
-            wi = v.sum(q, e, r, h, inv_h, std::make_index_sequence<SV.m>{}) * v_scale;
-            gi = g.sum(q, e, r, h, inv_h, std::make_index_sequence<SG.m>{}) * g_scale;
-        } else {
-            const AccurateRadius x = accurate_radius(r, h, inv_h);
-            wi = rounded_product_bounded(v.sum(x, r, h, inv_h, std::make_index_sequence<SV.m>{}), v_scale_dd);
-            gi = rounded_product_bounded(g.sum(x, r, h, inv_h, std::make_index_sequence<SG.m>{}), g_scale_dd);
-        }
-        const bool inside = r <= h;
-        return std::pair{select(inside, wi, 0.0), select(inside, gi, 0.0)};
-    });
+    constexpr int levels = Pr == Precision::accurate && SV.m == SG.m ? static_cast<int>(SV.m) : 1;
+    const RadiusLevel<levels> level = shared_pair_level<levels>(value, over_r, h);
+    return pairs_at_radii_at_levels<true, levels>(
+        n, x0, x1, x2, w, g0, g1, g2,
+        [&]<int L>(double r, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
+            double wi, gi;
+            if constexpr (Pr == Precision::fast) {
+                const double q = r * inv_h, e = edge_distance(h - r, s);
+                wi = v.sum(q, e, r, h, inv_h, std::make_index_sequence<SV.m>{}) * v_scale;
+                gi = g.sum(q, e, r, h, inv_h, std::make_index_sequence<SG.m>{}) * g_scale;
+            } else {
+                constexpr std::size_t skip = static_cast<std::size_t>(L);
+                const AccurateRadius x = accurate_radius(r, h, inv_h);
+                wi = rounded_product_bounded(v.template sum<skip>(x, r, h, inv_h, std::make_index_sequence<SV.m>{}), v_scale_dd);
+                gi = rounded_product_bounded(g.template sum<skip>(x, r, h, inv_h, std::make_index_sequence<SG.m>{}), g_scale_dd);
+            }
+            const bool inside = r <= h;
+            return std::pair{select(inside, wi, 0.0), select(inside, gi, 0.0)};
+        },
+        level);
 }
 
 using SharedPairs = bool (*)(const QuantityPlan&, const QuantityPlan&, const double*, const double*, const double*,

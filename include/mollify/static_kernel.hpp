@@ -497,19 +497,9 @@ private:
     // displacements in [-h, h]^3 (kernel_bench): of registers of 8, 14 %
     // reach q < 1/3 for combo:m=3, 74 % q < 2/3. One level elsewhere.
     static constexpr int pair_levels = Pr == Precision::accurate ? detail::levels<K> : 1;
-    struct BlockLevel {
-        double at_least[pair_levels];
-        explicit BlockLevel(const Smoothing& s) {
-            for (int l = 0; l + 1 < pair_levels; ++l) at_least[l] = detail::level_bound<K>(l) * s.h() * (1 + 0x1p-48);
-        }
-        MOLLIFY_INLINE int operator()(const double* __restrict r, std::size_t count) const {
-            double least = r[0];
-            for (std::size_t j = 1; j < count; ++j) least = r[j] < least ? r[j] : least;
-            int l = 0;
-            while (l + 1 < pair_levels && least >= at_least[l]) ++l;
-            return l;
-        }
-    };
+    static detail::RadiusLevel<pair_levels> level_of_register(const Smoothing& s) {
+        return {[](int l) { return detail::level_bound<K>(l); }, s.h()};
+    }
 
     // Raw restrict pointers as parameters: with them GCC proves the loop free
     // of aliasing and vectorises it (pointers taken from spans it does not);
@@ -521,7 +511,7 @@ private:
         const Smoothing s = smoothing;
         std::uint64_t flagged = 0;
         detail::for_each_root_ahead_at_levels<pair_levels>(
-            n, [x0, x1](std::size_t i) MOLLIFY_INLINE_LAMBDA { return detail::radius(x0[i], x1[i]); }, BlockLevel(s),
+            n, [x0, x1](std::size_t i) MOLLIFY_INLINE_LAMBDA { return detail::radius(x0[i], x1[i]); }, level_of_register(s),
             [x0, x1, w, g0, g1, &s, &flagged]<int L>(std::size_t i, double r, std::integral_constant<int, L>)
                 MOLLIFY_INLINE_LAMBDA {
                     if constexpr (Checked) flagged |= detail::not_finite(r);
@@ -545,7 +535,7 @@ private:
             [&s]<int L>(double r, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
                 return std::pair{emitted<QuantityId::value, L>(r, s), emitted<QuantityId::grad_over_r, L>(r, s)};
             },
-            BlockLevel(s));
+            level_of_register(s));
     }
 };
 

@@ -106,6 +106,29 @@ MOLLIFY_INLINE void at_level(int level, F& f, std::integer_sequence<int, L...>) 
     static_cast<void>(((level == L ? (f(std::integral_constant<int, L>{}), true) : false) || ...));
 }
 
+// The level of a register of points from their radii: L where every r is
+// at least at_least[L - 1] (increasing; +inf for levels never taken), the
+// radius a_L h of a combination's L-th radius with 2^-48 to spare over the
+// rounding of q = r/h, so that a_L's term is 0 at each point (the pair
+// loops of StaticKernel and of the run-time form's shared terms). A NaN
+// first radius gives level 0.
+template <int Levels>
+struct RadiusLevel {
+    double at_least[Levels];
+    // bound(l): the l-th radius a_l in units of h, l < Levels - 1.
+    template <class Bound>
+    RadiusLevel(Bound bound, double h) {
+        for (int l = 0; l + 1 < Levels; ++l) at_least[l] = bound(l) * h * (1 + 0x1p-48);
+    }
+    MOLLIFY_INLINE int operator()(const double* __restrict r, std::size_t count) const {
+        double least = r[0];
+        for (std::size_t j = 1; j < count; ++j) least = r[j] < least ? r[j] : least;
+        int l = 0;
+        while (l + 1 < Levels && least >= at_least[l]) ++l;
+        return l;
+    }
+};
+
 // body(i, root(i), std::integral_constant<int, L>{}) for i = 0 .. n-1, the
 // roots a block ahead, L = level(roots, count) in [0, Levels) chosen once
 // per register of points (register_doubles) from their roots: a level the
