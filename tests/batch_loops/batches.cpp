@@ -84,6 +84,19 @@ void expect_pair_as_radial(const std::array<double, S::dimension>& x, double w, 
             mismatch("pairs grad W_" + std::to_string(c) + " against (W'/r)(|x|) x", grad[c][i], over_r * x[c]);
 }
 
+// S::pairs over whole arrays of displacements, into w and grad (sized as x).
+template <class S>
+void pairs_of(const std::array<std::vector<double>, S::dimension>& x, const Smoothing& s, std::vector<double>& w,
+              std::array<std::vector<double>, S::dimension>& grad) {
+    mollify::Points<S::dimension> xs;
+    mollify::PointsOut<S::dimension> gs;
+    for (int c = 0; c < S::dimension; ++c) {
+        xs[c] = x[c];
+        gs[c] = grad[c];
+    }
+    S::pairs(xs, s, w, gs);
+}
+
 // Registers of points all at or beyond a level's radius a_L h but one, at
 // (1 - 2^-4) a_L h (where the left-out term is far from 0) or one double
 // below a_L h: the one point's term must be taken, in every place of the
@@ -104,13 +117,7 @@ void levels_against_radial(const Smoothing& s, Comparison& out) {
                     }
                     for (std::size_t k = 0; k < m; ++k) x[0][k] = k == at ? below : a * (1 + 0x1p-10 * static_cast<double>(k));
                     std::vector<double> w(m);
-                    mollify::Points<D> xs;
-                    mollify::PointsOut<D> gs;
-                    for (int c = 0; c < D; ++c) {
-                        xs[c] = x[c];
-                        gs[c] = grad[c];
-                    }
-                    S::pairs(xs, s, w, gs);
+                    pairs_of<S>(x, s, w, grad);
                     for (std::size_t k = 0; k < m; ++k) {
                         std::array<double, D> xk{};
                         xk[0] = x[0][k];
@@ -182,13 +189,7 @@ void compare(Comparison& out) {
         std::vector<double> w(n);
         for (std::size_t i = 0; i < n; ++i)
             for (int c = 0; c < D; ++c) x[c][i] = r[i] * (c == 0 ? 0.6 : c == 1 ? -0.64 : 0.48) * (1 + 1e-3 * (i % 7));
-        mollify::Points<D> xs;
-        mollify::PointsOut<D> gs;
-        for (int c = 0; c < D; ++c) {
-            xs[c] = x[c];
-            gs[c] = grad[c];
-        }
-        S::pairs(xs, s, w, gs);
+        pairs_of<S>(x, s, w, grad);
         std::vector<double> w_alone(n);
         std::array<std::vector<double>, D> g_alone;
         for (int c = 0; c < D; ++c) g_alone[c].resize(n);
