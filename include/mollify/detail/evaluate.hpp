@@ -839,7 +839,7 @@ MOLLIFY_INLINE DoubleDouble shared_term(const Scaled& a) {
 }
 
 // Skip: the first Skip distinct terms are known to be (0, 0) at a (the
-// caller's level: no q of its block reaches them); from y = (0, 0) their
+// caller's level: no q of its register reaches them); from y = (0, 0) their
 // sums were (+0, +0) + (+0, +0), so leaving them out gives the same bits.
 template <const table::Kernel& K, int Q, int Skip = 0, std::size_t... J>
 MOLLIFY_INLINE double shared_accurate_inside(const Scaled& a, std::index_sequence<J...>) {
@@ -856,11 +856,12 @@ MOLLIFY_INLINE double shared_accurate_inside(const Scaled& a, std::index_sequenc
     return rounded_product_bounded(y, a.scale);
 }
 
-// The levels of a block of points (StaticKernel's pair loop): level L >= 1
-// where every q of the block is at least level_bound<K>(L - 1), the L-th
-// finite upper end of the value's shared terms' ranges (a combination's
-// radii a_1 < a_2 < ...: no point of the block reaches the terms of the
-// radii below it). One level where nothing is shared.
+// The levels of a register of points (StaticKernel's pair loops,
+// RadiusLevel): level L >= 1 where every q of the register is at least
+// level_bound<K>(L - 1), the L-th finite upper end of the value's shared
+// terms' ranges (a combination's radii a_1 < a_2 < ...: no point of the
+// register reaches the terms of the radii below it). One level where
+// nothing is shared.
 template <const table::Kernel& K>
 inline constexpr int levels = [] {
     constexpr int v = static_cast<int>(table::QuantityId::value);

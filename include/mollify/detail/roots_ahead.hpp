@@ -88,18 +88,6 @@ MOLLIFY_INLINE void for_each_block_of_roots(std::size_t n, Root root, Block bloc
     }
 }
 
-// body(i, root(i)) for i = 0 .. n-1, the roots a block ahead
-// (for_each_block_of_roots; body must be idempotent).
-template <class Root, class Body, class... Out>
-MOLLIFY_INLINE void for_each_root_ahead(std::size_t n, Root root, Body body, Out*... out) {
-    for_each_block_of_roots(
-        n, root,
-        [&body](std::size_t i, const double* __restrict these, auto count) MOLLIFY_INLINE_LAMBDA {
-            for (std::size_t j = 0; j < count; ++j) body(i + j, these[j]);
-        },
-        out...);
-}
-
 // f(std::integral_constant<int, L>{}) for the L = level in [0, Levels).
 template <int Levels, class F, int... L>
 MOLLIFY_INLINE void at_level(int level, F& f, std::integer_sequence<int, L...>) {
@@ -137,7 +125,8 @@ struct RadiusLevel {
 // not per block of 16: combo:m=3's accurate W + grad W per 4096 points
 // 17.5 -> 13.0-13.3 us per register of 8, 16.0 per block, 24 per half
 // register (kernel_bench, an Intel Xeon with AVX-512, stop 65). The body is
-// compiled once per level; Levels = 1: for_each_root_ahead's loop.
+// compiled once per level (Levels = 1: each block's points in one loop);
+// body must be idempotent (for_each_block_of_roots).
 template <int Levels, class Root, class Level, class Body, class... Out>
 MOLLIFY_INLINE void for_each_root_ahead_at_levels(std::size_t n, Root root, Level level, Body body, Out*... out) {
     for_each_block_of_roots(

@@ -200,8 +200,8 @@ public:
     // cells would have side exactly eps, and a particle's cell, a rounded
     // quotient, can be one off within a few ulps of a boundary: two
     // particles at eps (the pair test accepts them) can lie two cells apart
-    // (stop 57: 0-2 % of a periodic lattice's pairs, up to 10 % of those at
-    // exactly eps). SupportEdge::contributes (the default) keeps cells of
+    // (x = 1/8 - 2^-56 and 1/4 with eps = 1/8: their difference rounds to
+    // eps, their cells are 0 and 2). SupportEdge::contributes (the default) keeps cells of
     // side eps (1 + 2^-19) (detail::slab_margin, as graded cells do), so
     // every pair the test accepts is met: one cell a side fewer where L/eps
     // is an integer (the benchmark lattice at N = 10^4: 11 -> 10 a side,
