@@ -1348,7 +1348,7 @@ struct AccurateSharedTerms : SharedTerms<S> {
         (one(std::integral_constant<std::size_t, J>{}), ...);
     }
 
-    // Skip: the first Skip terms are (0, 0) at x (levelled_terms: no point
+    // Skip: the first Skip terms are (0, 0) at x (radii_in_order: no point
     // of the caller's register reaches them); left out, the same bits (from
     // y = (0, 0) their sums were (+0, +0) + (+0, +0)).
     template <std::size_t Skip = 0, std::size_t... J>
@@ -1394,20 +1394,13 @@ constexpr std::array<AccurateShared, sizeof...(I)> accurate_shared_loops(std::in
 // [QuantityPlan::shared_fused], where the target fuses multiply-add (fused_loops)
 constexpr auto accurate_shared_of = accurate_shared_loops(std::make_index_sequence<shared_shapes_count>{});
 
-// The levels of a register of points for the shared pair loop, as
-// StaticKernel's (detail::levels, RadiusLevel): at level L the first L
-// terms of W and of W'/r are 0. Only where both quantities' terms are a
-// combination's radii in order, each from q = 0 up to its radius (the last
-// to the support), the same radii for both; elsewhere one level.
+// The shared pair loop's levels of a register of points, as StaticKernel's
+// (detail::radii_in_order: at level L the first L terms of W and of W'/r
+// are 0), from the plan's terms; one level where they are not radii in order.
 template <int Levels>
 RadiusLevel<Levels> shared_pair_level(const QuantityPlan& value, const QuantityPlan& over_r, double h) {
     const std::vector<QuantityPlan::SharedTerm>&v = value.shared_terms, &g = over_r.shared_terms;
-    bool radii = g.size() == v.size() && v.size() == static_cast<std::size_t>(Levels);
-    for (std::size_t j = 0; radii && j < v.size(); ++j) {
-        const bool last = j + 1 == v.size();
-        radii = v[j].lo == -table::infinity && g[j].lo == -table::infinity && v[j].hi == g[j].hi &&
-                (last ? v[j].hi == table::infinity : v[j].hi < table::infinity && (j == 0 || v[j].hi > v[j - 1].hi));
-    }
+    const bool radii = v.size() == static_cast<std::size_t>(Levels) && g.size() == v.size() && radii_in_order(v, g, v.size());
     return {[&](int l) { return radii ? v[static_cast<std::size_t>(l)].hi : table::infinity; }, h};
 }
 

@@ -181,8 +181,9 @@ public:
     }
 
 private:
-    // Level: the pair loop's level of r's block (detail::levels): the
-    // combination's terms no point of the block reaches are left out.
+    // Level: the pair loop's level of r's register (detail::levels; W and
+    // W'/r only): the first Level terms of a combination, which no point of
+    // the register reaches, are left out.
     template <QuantityId Q, int Level = 0>
     MOLLIFY_INLINE static double emitted(double r, const Smoothing& s) {
         constexpr int q = static_cast<int>(Q);
@@ -190,7 +191,7 @@ private:
         double in;
         if constexpr (Pr == Precision::accurate) {
             a.scale = {s.scale(Q), s.scale_lo(Q)};
-            in = detail::inside<K, q, Pr, detail::inner_pieces<K, q> - 1, detail::skipped_terms<K, q, Level>>(a);
+            in = detail::inside<K, q, Pr, detail::inner_pieces<K, q> - 1, Level>(a);
         } else {
             in = detail::inside<K, q, Pr>(a) * s.scale(Q);
         }

@@ -265,6 +265,10 @@ Comparison batches_against_points() {
     namespace tables = mollify::tables;
     Comparison out;
     both<tables::wendland_k_2_D3>(out);
+    // The units fuse multiply-add: the combinations' pair loops take their
+    // levels (else levels_against_radial would test nothing).
+    static_assert(mollify::detail::levels<tables::combo_m_3_base_wendland_k_2_D3> == 3);
+    static_assert(mollify::detail::levels<tables::combo_m_2_base_wendland_k_1_D2> == 2);
     both<tables::combo_m_3_base_wendland_k_2_D3>(out);
     both<tables::combo_m_2_base_wendland_k_1_D2>(out);
     both<tables::wendland_k_1_D1>(out);

@@ -856,46 +856,39 @@ MOLLIFY_INLINE double shared_accurate_inside(const Scaled& a, std::index_sequenc
     return rounded_product_bounded(y, a.scale);
 }
 
-// The levels of a register of points (StaticKernel's pair loops,
-// RadiusLevel): level L >= 1 where every q of the register is at least
-// level_bound<K>(L - 1), the L-th finite upper end of the value's shared
-// terms' ranges (a combination's radii a_1 < a_2 < ...: no point of the
-// register reaches the terms of the radii below it). One level where
-// nothing is shared.
+// The pair loops' levels (RadiusLevel), one rule for both forms: where
+// W's and W'/r's distinct terms are a combination's radii in order, each
+// from q = 0 up to its radius a_j (the last to the support), the same
+// radii for both, a register of points every q of which is at least a_L
+// is at level L, and there the first L terms of both are 0. v and g: the
+// two quantities' terms (lo, hi), m of each. Elsewhere one level.
+template <class Terms>
+constexpr bool radii_in_order(const Terms& v, const Terms& g, std::size_t m) {
+    bool radii = m > 1;
+    for (std::size_t j = 0; radii && j < m; ++j) {
+        const bool last = j + 1 == m;
+        radii = v[j].lo == -table::infinity && g[j].lo == -table::infinity && v[j].hi == g[j].hi &&
+                (last ? v[j].hi == table::infinity : v[j].hi < table::infinity && (j == 0 || v[j].hi > v[j - 1].hi));
+    }
+    return radii;
+}
+
+// StaticKernel's: its number of levels (the m radii, else 1) and the l-th
+// radius a_l (l < levels - 1).
 template <const table::Kernel& K>
 inline constexpr int levels = [] {
-    constexpr int v = static_cast<int>(table::QuantityId::value);
-    if constexpr (!shared_accurate<K, v>) {
+    constexpr int v = static_cast<int>(table::QuantityId::value), g = static_cast<int>(table::QuantityId::grad_over_r);
+    constexpr int m = shared_terms<K, v>.m;
+    if constexpr (shared_accurate<K, v> && shared_terms<K, g>.m == m)
+        return radii_in_order(shared_terms<K, v>.t, shared_terms<K, g>.t, static_cast<std::size_t>(m)) ? m : 1;
+    else
         return 1;
-    } else {
-        int n = 1;
-        for (int d = 0; d < shared_terms<K, v>.m; ++d) n += shared_terms<K, v>.t[d].hi < table::infinity ? 1 : 0;
-        return n;
-    }
 }();
 
 template <const table::Kernel& K>
 constexpr double level_bound(int l) {
-    constexpr const SharedTermList& shared = shared_terms<K, static_cast<int>(table::QuantityId::value)>;
-    int seen = 0;
-    for (int d = 0; d < shared.m; ++d)
-        if (shared.t[d].hi < table::infinity && seen++ == l) return shared.t[d].hi;
-    return table::infinity;
+    return shared_terms<K, static_cast<int>(table::QuantityId::value)>.t[l].hi;
 }
-
-// How many of quantity Q's first distinct terms no q >= level_bound(L - 1)
-// reaches (their ranges end at or below it).
-template <const table::Kernel& K, int Q, int L>
-inline constexpr int skipped_terms = [] {
-    if constexpr (L == 0 || !shared_accurate<K, Q>) {
-        return 0;
-    } else {
-        const double bound = level_bound<K>(L - 1);
-        int d = 0;
-        while (d < shared_terms<K, Q>.m && shared_terms<K, Q>.t[d].hi <= bound) ++d;
-        return d;
-    }
-}();
 
 template <const table::Kernel& K, int Q, Precision Pr, int P = inner_pieces<K, Q> - 1, int Skip = 0>
 MOLLIFY_INLINE double inside(const Scaled& a) {
