@@ -1348,9 +1348,11 @@ struct AccurateSharedTerms : SharedTerms<S> {
         (one(std::integral_constant<std::size_t, J>{}), ...);
     }
 
-    // Skip: the first Skip terms are (0, 0) at x (radii_in_order: no point
-    // of the caller's register reaches them); left out, the same bits (from
-    // y = (0, 0) their sums were (+0, +0) + (+0, +0)).
+    // StaticKernel's sum (detail::shared_accurate_inside), the same bits:
+    // the first term added to (+0, +0) is itself with +0 for -0. Skip: the
+    // first Skip terms are (0, 0) at x (radii_in_order: no point of the
+    // caller's register reaches them); left out, the same bits (from y =
+    // (0, 0) their sums were (+0, +0) + (+0, +0)).
     template <std::size_t Skip = 0, std::size_t... J>
     MOLLIFY_INLINE DoubleDouble sum(const AccurateRadius& x, double r, double h, double inv_h,
                                     std::index_sequence<J...>) const {
@@ -1362,7 +1364,9 @@ struct AccurateSharedTerms : SharedTerms<S> {
                                      S.terms[I].split>(km[I], l[I], sp[I], this->edge[I], edge_lo[I], ah[I], h, inv_h, x.dq2, r,
                                                        {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
                 const bool in = (x.q >= this->lo[I]) & (x.q < this->hi[I]);
-                y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)};
+                const DoubleDouble here{select(in, t.hi, 0.0), select(in, t.lo, 0.0)};
+                if constexpr (I == Skip) y = {here.hi + 0.0, here.lo + 0.0};
+                else y = y + here;
             }
         };
         (add(std::integral_constant<std::size_t, J>{}), ...);

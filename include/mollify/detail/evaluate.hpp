@@ -838,18 +838,36 @@ MOLLIFY_INLINE DoubleDouble shared_term(const Scaled& a) {
     return accurate_term<K, Q, P, T>(a, factor);
 }
 
-// Skip: the first Skip distinct terms are known to be (0, 0) at a (the
-// caller's level: no q of its register reaches them); from y = (0, 0) their
-// sums were (+0, +0) + (+0, +0), so leaving them out gives the same bits.
+// Where a distinct term reaches (shared_terms' lo and hi), as a mask of
+// the point: a bound at -inf or +inf is not compared (q is then a number,
+// or NaN, which the caller's select of r <= h discards).
+template <const table::Kernel& K, int Q, int I>
+MOLLIFY_INLINE bool reaches(double q) {
+    constexpr double lo = shared_terms<K, Q>.t[I].lo, hi = shared_terms<K, Q>.t[I].hi;
+    if constexpr (lo == -table::infinity && hi == table::infinity) return true;
+    else if constexpr (lo == -table::infinity) return q < hi;
+    else if constexpr (hi == table::infinity) return q >= lo;
+    else return (q >= lo) & (q < hi);
+}
+
+// The sum of the distinct terms, each where it reaches and (0, 0)
+// elsewhere, in order: the first term added to (+0, +0) is itself with
+// +0 for -0 (two_sum of 0 and a finite t is exact: (t.hi + 0, t.lo + 0)),
+// so the sum starts there, without a two-sum. Skip: the first Skip terms
+// are known to be (0, 0) at a (the caller's level: no q of its register
+// reaches them); from (+0, +0) their sums were (+0, +0), so leaving them
+// out gives the same bits. On the support every term is finite
+// (table::bounded_term); elsewhere the caller discards the sum.
 template <const table::Kernel& K, int Q, int Skip = 0, std::size_t... J>
 MOLLIFY_INLINE double shared_accurate_inside(const Scaled& a, std::index_sequence<J...>) {
-    constexpr const SharedTermList& shared = shared_terms<K, Q>;
     DoubleDouble y{0.0, 0.0};
     auto add = [&]<int I>(std::integral_constant<int, I>) MOLLIFY_INLINE_LAMBDA {
         if constexpr (I >= Skip) {
-            const DoubleDouble t = shared_term<K, Q, I>(a);
-            const bool in = (a.q >= shared.t[I].lo) & (a.q < shared.t[I].hi);
-            y = y + DoubleDouble{select(in, t.hi, 0.0), select(in, t.lo, 0.0)};
+            DoubleDouble t = shared_term<K, Q, I>(a);
+            const bool in = reaches<K, Q, I>(a.q);
+            t = {select(in, t.hi, 0.0), select(in, t.lo, 0.0)};
+            if constexpr (I == Skip) y = {t.hi + 0.0, t.lo + 0.0};
+            else y = y + t;
         }
     };
     (add(std::integral_constant<int, static_cast<int>(J)>{}), ...);
