@@ -1374,17 +1374,33 @@ struct AccurateSharedTerms : SharedTerms<S> {
     }
 };
 
+// The levels of a register of points (detail::radii_in_order: at level L
+// the first L terms of v and of g are 0), from the plan's terms, as
+// StaticKernel's; one level where they are not radii in order.
+template <int Levels>
+RadiusLevel<Levels> shared_level(const std::vector<QuantityPlan::SharedTerm>& v,
+                                 const std::vector<QuantityPlan::SharedTerm>& g, double h) {
+    const bool radii = v.size() == static_cast<std::size_t>(Levels) && g.size() == v.size() && radii_in_order(v, g, v.size());
+    return {[&](int l) { return radii ? v[static_cast<std::size_t>(l)].hi : table::infinity; }, h};
+}
+
+// One quantity's shared terms at n radii, by levels (StaticKernel's
+// evaluate: for_each_register_at_levels).
 template <const SharedShapes& S>
 MOLLIFY_FLATTEN bool accurate_shared_loop(const QuantityPlan& qp, const double* __restrict r, double* __restrict out,
                                           std::size_t n, const Smoothing& smoothing, DoubleDouble scale) {
     const double h = smoothing.h(), inv_h = smoothing.inverse();
     const AccurateSharedTerms<S> t(qp, h);
+    constexpr int levels = static_cast<int>(S.m);
     std::uint64_t refused = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        refused |= not_a_radius(r[i]);
-        const DoubleDouble y = t.sum(accurate_radius(r[i], h, inv_h), r[i], h, inv_h, std::make_index_sequence<S.m>{});
-        out[i] = select(r[i] <= h, rounded_product_bounded(y, scale), 0.0);
-    }
+    for_each_register_at_levels<levels>(
+        n, r, shared_level<levels>(qp.shared_terms, qp.shared_terms, h),
+        [&]<int L>(std::size_t i, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
+            refused |= not_a_radius(r[i]);
+            const DoubleDouble y = t.template sum<static_cast<std::size_t>(L)>(accurate_radius(r[i], h, inv_h), r[i], h,
+                                                                              inv_h, std::make_index_sequence<S.m>{});
+            out[i] = select(r[i] <= h, rounded_product_bounded(y, scale), 0.0);
+        });
     return refused != 0;
 }
 
@@ -1397,16 +1413,6 @@ constexpr std::array<AccurateShared, sizeof...(I)> accurate_shared_loops(std::in
 }
 // [QuantityPlan::shared_fused], where the target fuses multiply-add (fused_loops)
 constexpr auto accurate_shared_of = accurate_shared_loops(std::make_index_sequence<shared_shapes_count>{});
-
-// The shared pair loop's levels of a register of points, as StaticKernel's
-// (detail::radii_in_order: at level L the first L terms of W and of W'/r
-// are 0), from the plan's terms; one level where they are not radii in order.
-template <int Levels>
-RadiusLevel<Levels> shared_pair_level(const QuantityPlan& value, const QuantityPlan& over_r, double h) {
-    const std::vector<QuantityPlan::SharedTerm>&v = value.shared_terms, &g = over_r.shared_terms;
-    const bool radii = v.size() == static_cast<std::size_t>(Levels) && g.size() == v.size() && radii_in_order(v, g, v.size());
-    return {[&](int l) { return radii ? v[static_cast<std::size_t>(l)].hi : table::infinity; }, h};
-}
 
 // W and grad W at displacements for a combination whose W and W'/r are
 // both shared terms (Plan::shared_pair), in one pass, as whole_pairs_fixed:
@@ -1432,7 +1438,7 @@ MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const Quantit
     const DoubleDouble v_scale_dd{v_scale, s.scale_lo(QuantityId::value)},
         g_scale_dd{g_scale, s.scale_lo(QuantityId::grad_over_r)};
     constexpr int levels = Pr == Precision::accurate && SV.m == SG.m ? static_cast<int>(SV.m) : 1;
-    const RadiusLevel<levels> level = shared_pair_level<levels>(value, over_r, h);
+    const RadiusLevel<levels> level = shared_level<levels>(value.shared_terms, over_r.shared_terms, h);
     return pairs_at_radii_at_levels<true, levels>(
         n, x0, x1, x2, w, g0, g1, g2,
         [&]<int L>(double r, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {

@@ -459,9 +459,22 @@ private:
                                                  const Smoothing& smoothing) {
         const Smoothing s = smoothing;
         std::uint64_t flagged = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            if constexpr (Checked) flagged |= detail::not_a_radius(in[i]);
-            out[i] = radial<Q>(in[i], s);
+        constexpr int q = static_cast<int>(Q);
+        if constexpr (Pr == Precision::accurate && detail::quantity_levels<K, q> > 1) {
+            // A combination's terms by levels, as the pair loops (pair_levels),
+            // from the radii as given.
+            const detail::RadiusLevel<detail::quantity_levels<K, q>> level(
+                [](int l) { return detail::quantity_level_bound<K, q>(l); }, s.h());
+            detail::for_each_register_at_levels<detail::quantity_levels<K, q>>(
+                n, in, level, [in, out, &s, &flagged]<int L>(std::size_t i, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
+                    if constexpr (Checked) flagged |= detail::not_a_radius(in[i]);
+                    out[i] = emitted<Q, L>(in[i], s);
+                });
+        } else {
+            for (std::size_t i = 0; i < n; ++i) {
+                if constexpr (Checked) flagged |= detail::not_a_radius(in[i]);
+                out[i] = radial<Q>(in[i], s);
+            }
         }
         return flagged != 0;
     }

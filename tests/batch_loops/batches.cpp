@@ -63,9 +63,9 @@ std::string bits(double x) {
     return std::string(text);
 }
 
-// The pair loops' W and grad W = (W'/r) x against the checked batch forms
-// of W and W'/r at the same radius |x| (detail::radius, as the loops take
-// it): those take every term at every point, the pair loops leave out a
+// The pair loops' W and grad W = (W'/r) x against the scalar forms of W
+// and W'/r at the same radius |x| (detail::radius, as the loops take it):
+// those take every term at every point, the pair loops leave out a
 // combination's terms that no point of a register reaches (levels), so this
 // is what tells a wrongly chosen level.
 template <class S, class Mismatch>
@@ -75,9 +75,10 @@ void expect_pair_as_radial(const std::array<double, S::dimension>& x, double w, 
     double r = std::abs(x[0]);
     if constexpr (D == 2) r = mollify::detail::radius(x[0], x[1]);
     if constexpr (D == 3) r = mollify::detail::radius(x[0], x[1], x[2]);
-    double value = 0, over_r = 0;
-    S::evaluate(QuantityId::value, std::span<const double>(&r, 1), s, std::span<double>(&value, 1));
-    S::evaluate(QuantityId::grad_over_r, std::span<const double>(&r, 1), s, std::span<double>(&over_r, 1));
+    // the scalar forms: every term at every point (a batch of one point
+    // takes the levels of its own radius)
+    const double value = S::template radial<QuantityId::value>(r, s);
+    const double over_r = S::template radial<QuantityId::grad_over_r>(r, s);
     if (!same_bits(w, value)) mismatch("pairs W against W at |x|", w, value);
     for (int c = 0; c < D; ++c)
         if (!same_bits(grad[c][i], over_r * x[c]))
@@ -131,6 +132,39 @@ void levels_against_radial(const Smoothing& s, Comparison& out) {
                         });
                     }
                     out.compared += m * (D + 1);
+                }
+    }
+}
+
+// The same registers for the batch evaluation of one quantity whose terms
+// are radii in order (detail::quantity_levels: W and W'/r of a
+// combination), StaticKernel's and the run-time form's, against the scalar
+// form at each point, bit for bit (both forms sum the distinct terms
+// alike); batches of 5 and 11 take the last, shorter register.
+template <class S, int Q>
+void evaluate_levels_against_radial(const mollify::Kernel& runtime, const Smoothing& s, Comparison& out) {
+    constexpr const table::Kernel& K = S::table();
+    constexpr QuantityId quantity = static_cast<QuantityId>(Q);
+    for (int l = 0; l + 1 < mollify::detail::quantity_levels<K, Q>; ++l) {
+        const double a = mollify::detail::quantity_level_bound<K, Q>(l) * s.h();
+        for (const double below : {a * (1 - 0x1p-4), std::nextafter(a, 0.0)})
+            for (const std::size_t m : {5, 8, 11, 16, 24})
+                for (std::size_t at = 0; at < m; ++at) {
+                    std::vector<double> r(m), batch(m), other(m);
+                    for (std::size_t k = 0; k < m; ++k) r[k] = k == at ? below : a * (1 + 0x1p-10 * static_cast<double>(k));
+                    S::template evaluate<quantity>(r, s, batch);
+                    runtime.evaluate(quantity, r, s, other);
+                    for (std::size_t k = 0; k < m; ++k) {
+                        const double alone = S::template radial<quantity>(r[k], s);
+                        for (const auto& [form, x] : {std::pair{"StaticKernel", batch[k]}, std::pair{"run-time", other[k]}})
+                            if (!same_bits(x, alone) && out.mismatches.size() < 20)
+                                out.mismatches.push_back(std::string(K.spec) + " " + table::quantity_names[Q] + " level " +
+                                                         std::to_string(l + 1) + ", h = " + bits(s.h()) + ", " + form +
+                                                         " batch of " + std::to_string(m) + ", point " + std::to_string(k) +
+                                                         " at r = " + bits(r[k]) + " (below a_L h: " + std::to_string(at) +
+                                                         "): batch " + bits(x) + ", alone " + bits(alone));
+                    }
+                    out.compared += 2 * m;
                 }
     }
 }
@@ -214,7 +248,11 @@ void compare(Comparison& out) {
             });
         }
         out.compared += n * (D + 1);
-        if constexpr (mollify::detail::levels<K> > 1 && Pr == Precision::accurate) levels_against_radial<S>(s, out);
+        if constexpr (mollify::detail::levels<K> > 1 && Pr == Precision::accurate) {
+            levels_against_radial<S>(s, out);
+            evaluate_levels_against_radial<S, static_cast<int>(QuantityId::value)>(runtime, s, out);
+            evaluate_levels_against_radial<S, static_cast<int>(QuantityId::grad_over_r)>(runtime, s, out);
+        }
         // Batches of every length around the pair loops' blocks of 16
         // (detail/roots_ahead.hpp: the roots a block ahead, a last block
         // that overlaps the one before, fewer than 16 points plainly), from
@@ -269,6 +307,7 @@ Comparison batches_against_points() {
     // levels (else levels_against_radial would test nothing).
     static_assert(mollify::detail::levels<tables::combo_m_3_base_wendland_k_2_D3> == 3);
     static_assert(mollify::detail::levels<tables::combo_m_2_base_wendland_k_1_D2> == 2);
+    static_assert(mollify::detail::quantity_levels<tables::combo_m_3_base_wendland_k_2_D3, 0> == 3);
     both<tables::combo_m_3_base_wendland_k_2_D3>(out);
     both<tables::combo_m_2_base_wendland_k_1_D2>(out);
     both<tables::wendland_k_1_D1>(out);

@@ -908,6 +908,24 @@ constexpr double level_bound(int l) {
     return shared_terms<K, static_cast<int>(table::QuantityId::value)>.t[l].hi;
 }
 
+// The same for one quantity alone (the batch evaluation of W or W'/r, or
+// of any quantity whose distinct terms are radii in order): levels and
+// the l-th radius.
+template <const table::Kernel& K, int Q>
+inline constexpr int quantity_levels = [] {
+    if constexpr (shared_accurate<K, Q>) {
+        constexpr int m = shared_terms<K, Q>.m;
+        return radii_in_order(shared_terms<K, Q>.t, shared_terms<K, Q>.t, static_cast<std::size_t>(m)) ? m : 1;
+    } else {
+        return 1;
+    }
+}();
+
+template <const table::Kernel& K, int Q>
+constexpr double quantity_level_bound(int l) {
+    return shared_terms<K, Q>.t[l].hi;
+}
+
 template <const table::Kernel& K, int Q, Precision Pr, int P = inner_pieces<K, Q> - 1, int Skip = 0>
 MOLLIFY_INLINE double inside(const Scaled& a) {
     if constexpr (Pr == Precision::accurate && shared_accurate<K, Q>) {

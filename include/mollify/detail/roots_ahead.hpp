@@ -117,6 +117,30 @@ struct RadiusLevel {
     }
 };
 
+// body(i, std::integral_constant<int, L>{}) for i = 0 .. n-1, L =
+// level(r + k, count) chosen once per register of points (register_doubles;
+// the last count = n mod register_doubles) from their radii r: the batch
+// evaluation of a combination's W or W'/r alone (StaticKernel::evaluate,
+// the run-time form's accurate_shared_loop), where the radii are given and
+// no root is taken. The body is compiled once per level and once more for
+// the last, shorter register.
+template <int Levels, class Level, class Body>
+MOLLIFY_INLINE void for_each_register_at_levels(std::size_t n, const double* __restrict r, Level level, Body body) {
+    constexpr std::size_t S = register_doubles;
+    std::size_t i = 0;
+    for (; i + S <= n; i += S) {
+        auto run = [&](auto at) MOLLIFY_INLINE_LAMBDA {
+            for (std::size_t j = 0; j < S; ++j) body(i + j, at);
+        };
+        at_level<Levels>(level(r + i, S), run, std::make_integer_sequence<int, Levels>{});
+    }
+    if (i == n) return;
+    auto rest = [&](auto at) MOLLIFY_INLINE_LAMBDA {
+        for (std::size_t j = i; j < n; ++j) body(j, at);
+    };
+    at_level<Levels>(level(r + i, n - i), rest, std::make_integer_sequence<int, Levels>{});
+}
+
 // body(i, root(i), std::integral_constant<int, L>{}) for i = 0 .. n-1, the
 // roots a block ahead, L = level(roots, count) in [0, Levels) chosen once
 // per register of points (register_doubles) from their roots: a level the
