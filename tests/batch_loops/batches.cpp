@@ -12,10 +12,11 @@
 // since the static form's unrolled expressions are contracted into FMAs where
 // the data-driven loops have their own; bit for bit where both sum a
 // combination's distinct terms (shared_sums below). And the pair loops'
-// W and grad W against the batch forms of W and W'/r at the same |x|: the
-// pair loops leave out a combination's terms that no point of a register
-// reaches (detail::levels), the batch forms never do; registers with one
-// point below a level's radius test that choice (levels_against_radial).
+// W and grad W, and the batch forms of W and W'/r, against the scalar forms
+// at the same |x|: the loops leave out a combination's terms that no point
+// of a register reaches (detail::levels, quantity_levels), the scalar forms
+// never do; registers with one point below a level's radius test that
+// choice (levels_against_radial, evaluate_levels_against_radial).
 #include "batch_loops/batches.hpp"
 #include "fused_bound.hpp"
 #include "hard_points.hpp"
