@@ -908,12 +908,15 @@ constexpr double level_bound(int l) {
     return shared_terms<K, static_cast<int>(table::QuantityId::value)>.t[l].hi;
 }
 
-// The same for one quantity alone (the batch evaluation of W or W'/r, or
-// of any quantity whose distinct terms are radii in order): levels and
-// the l-th radius.
+// The same for W or W'/r alone (their batch evaluation; as in the run-time
+// form, whose fused loops take these two: generator/term_shapes.hpp),
+// where its distinct terms are radii in order: levels and the l-th radius.
+// Other quantities keep one level (a unit pays a body per level).
 template <const table::Kernel& K, int Q>
 inline constexpr int quantity_levels = [] {
-    if constexpr (shared_accurate<K, Q>) {
+    constexpr bool w_or_over_r =
+        Q == static_cast<int>(table::QuantityId::value) || Q == static_cast<int>(table::QuantityId::grad_over_r);
+    if constexpr (w_or_over_r && shared_accurate<K, Q>) {
         constexpr int m = shared_terms<K, Q>.m;
         return radii_in_order(shared_terms<K, Q>.t, shared_terms<K, Q>.t, static_cast<std::size_t>(m)) ? m : 1;
     } else {

@@ -118,12 +118,12 @@ struct RadiusLevel {
 };
 
 // body(i, std::integral_constant<int, L>{}) for i = 0 .. n-1, L =
-// level(r + k, count) chosen once per register of points (register_doubles;
-// the last count = n mod register_doubles) from their radii r: the batch
-// evaluation of a combination's W or W'/r alone (StaticKernel::evaluate,
-// the run-time form's accurate_shared_loop), where the radii are given and
-// no root is taken. The body is compiled once per level and once more for
-// the last, shorter register.
+// level(r + k, register_doubles) chosen once per register of points from
+// their radii r: the batch evaluation of a combination's W or W'/r alone
+// (StaticKernel::evaluate, the run-time form's accurate_shared_loop), where
+// the radii are given and no root is taken. The body is compiled once per
+// level and once more for the last n mod register_doubles points, which
+// take level 0.
 template <int Levels, class Level, class Body>
 MOLLIFY_INLINE void for_each_register_at_levels(std::size_t n, const double* __restrict r, Level level, Body body) {
     constexpr std::size_t S = register_doubles;
@@ -134,11 +134,8 @@ MOLLIFY_INLINE void for_each_register_at_levels(std::size_t n, const double* __r
         };
         at_level<Levels>(level(r + i, S), run, std::make_integer_sequence<int, Levels>{});
     }
-    if (i == n) return;
-    auto rest = [&](auto at) MOLLIFY_INLINE_LAMBDA {
-        for (std::size_t j = i; j < n; ++j) body(j, at);
-    };
-    at_level<Levels>(level(r + i, n - i), rest, std::make_integer_sequence<int, Levels>{});
+    // the last, shorter register at level 0 (every term): one more body, not Levels
+    for (; i < n; ++i) body(i, std::integral_constant<int, 0>{});
 }
 
 // body(i, root(i), std::integral_constant<int, L>{}) for i = 0 .. n-1, the
