@@ -464,7 +464,7 @@ private:
             // A combination's terms by levels, as the pair loops (pair_levels),
             // from the radii as given.
             const detail::RadiusLevel<detail::quantity_levels<K, q>> level(
-                [](int l) { return detail::quantity_level_bound<K, q>(l); }, s.h());
+                [](int l) { return detail::level_bound<K, q>(l); }, s.h());
             detail::for_each_register_at_levels<detail::quantity_levels<K, q>>(
                 n, in, level, [in, out, &s, &flagged]<int L>(std::size_t i, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
                     if constexpr (Checked) flagged |= detail::not_a_radius(in[i]);

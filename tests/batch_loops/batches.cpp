@@ -147,7 +147,7 @@ void evaluate_levels_against_radial(const mollify::Kernel& runtime, const Smooth
     constexpr const table::Kernel& K = S::table();
     constexpr QuantityId quantity = static_cast<QuantityId>(Q);
     for (int l = 0; l + 1 < mollify::detail::quantity_levels<K, Q>; ++l) {
-        const double a = mollify::detail::quantity_level_bound<K, Q>(l) * s.h();
+        const double a = mollify::detail::level_bound<K, Q>(l) * s.h();
         for (const double below : {a * (1 - 0x1p-4), std::nextafter(a, 0.0)})
             for (const std::size_t m : {5, 8, 11, 16, 24})
                 for (std::size_t at = 0; at < m; ++at) {

@@ -892,7 +892,7 @@ constexpr bool radii_in_order(const Terms& v, const Terms& g, std::size_t m) {
 }
 
 // StaticKernel's: its number of levels (the m radii, else 1) and the l-th
-// radius a_l (l < levels - 1).
+// radius a_l (l < levels - 1; level_bound below).
 template <const table::Kernel& K>
 inline constexpr int levels = [] {
     constexpr int v = static_cast<int>(table::QuantityId::value), g = static_cast<int>(table::QuantityId::grad_over_r);
@@ -903,15 +903,10 @@ inline constexpr int levels = [] {
         return 1;
 }();
 
-template <const table::Kernel& K>
-constexpr double level_bound(int l) {
-    return shared_terms<K, static_cast<int>(table::QuantityId::value)>.t[l].hi;
-}
-
 // The same for W or W'/r alone (their batch evaluation; as in the run-time
 // form, whose fused loops take these two: generator/term_shapes.hpp),
-// where its distinct terms are radii in order: levels and the l-th radius.
-// Other quantities keep one level (a unit pays a body per level).
+// where its distinct terms are radii in order. Other quantities keep one
+// level (a unit pays a body per level).
 template <const table::Kernel& K, int Q>
 inline constexpr int quantity_levels = [] {
     constexpr bool w_or_over_r =
@@ -924,8 +919,9 @@ inline constexpr int quantity_levels = [] {
     }
 }();
 
-template <const table::Kernel& K, int Q>
-constexpr double quantity_level_bound(int l) {
+// The l-th radius a_l of Q's levels (of W's, the pair loops' levels).
+template <const table::Kernel& K, int Q = static_cast<int>(table::QuantityId::value)>
+constexpr double level_bound(int l) {
     return shared_terms<K, Q>.t[l].hi;
 }
 
