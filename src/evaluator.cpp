@@ -192,11 +192,7 @@ double fast_piece(const PiecePlan& p, const Scaled& a) {
 
 DoubleDouble distance_to_edge_dd(const TermPlan& t, const Scaled& a) {
     DoubleDouble d = a.ee;
-    if (t.edge != 1.0) {
-        const DoubleDouble ah = two_product(t.edge, a.h);
-        const DoubleDouble s = two_sum(ah.hi, -a.r);
-        d = over_h({s.hi, s.lo + mul_add(t.edge_lo, a.h, ah.lo)}, a.h, a.inv_h);
-    }
+    if (t.edge != 1.0) d = interior_distance(t.edge, t.edge_lo, a.qq);
     if (t.var == table::Var::r) return d;
     const DoubleDouble edge_plus_q = plus(t.edge, a.qq);
     return d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + t.edge_lo};
@@ -841,11 +837,7 @@ struct AccurateBlock {
 void distance_to_edge_block(const TermPlan& t, const AccurateBlock& a, DDs& out) {
     for (std::size_t i = 0; i < B; ++i) {
         DoubleDouble d{a.ee.hi[i], a.ee.lo[i]};
-        if (t.edge != 1.0) {
-            const DoubleDouble ah = two_product(t.edge, a.h);
-            const DoubleDouble s = two_sum(ah.hi, -a.r[i]);
-            d = over_h({s.hi, s.lo + mul_add(t.edge_lo, a.h, ah.lo)}, a.h, a.inv_h);
-        }
+        if (t.edge != 1.0) d = interior_distance(t.edge, t.edge_lo, {a.qq.hi[i], a.qq.lo[i]});
         if (t.var != table::Var::r) {
             const DoubleDouble edge_plus_q = plus(t.edge, {a.qq.hi[i], a.qq.lo[i]});
             d = d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + t.edge_lo};
@@ -983,15 +975,11 @@ DoubleDouble single_scale(const TermPlan& t, const DoubleDouble& scale) {
 // (Raw: a split term's factor times p_m, its content left to the scale.)
 template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split, bool Raw = false>
 MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, const SplitArgs& sp, double edge, double edge_lo,
-                                             const DoubleDouble& ah, double h, double inv_h, double dq2, double r,
-                                             const DoubleDouble& qq, const DoubleDouble& ee) {
+                                             double dq2, const DoubleDouble& qq, const DoubleDouble& ee) {
     DoubleDouble factor{1.0, 0.0};
     if constexpr (P != 0) {
         DoubleDouble d = ee;
-        if constexpr (!SupportEdge) {
-            const DoubleDouble s = two_sum(ah.hi, -r);
-            d = over_h({s.hi, s.lo + mul_add(edge_lo, h, ah.lo)}, h, inv_h);
-        }
+        if constexpr (!SupportEdge) d = interior_distance(edge, edge_lo, qq);
         if constexpr (!VarR) {
             const DoubleDouble edge_plus_q = plus(edge, qq);
             d = d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + edge_lo};
@@ -1030,12 +1018,10 @@ MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock&
     const double* c = fused_coefficients(t);
     for (int j = 0; j < N; ++j) k[j] = c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
     const SplitArgs sp = split_args(t);
-    const double edge = t.edge, edge_lo = t.edge_lo, h = a.h, inv_h = a.inv_h;
-    const DoubleDouble ah = two_product(edge, h);
+    const double edge = t.edge, edge_lo = t.edge_lo;
     auto term = [&]<bool Raw>(std::size_t i) {
         return accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, Raw>(
-            k, l, sp, edge, edge_lo, ah, h, inv_h, a.dq2[i], a.r[i], {a.qq.hi[i], a.qq.lo[i]},
-            {a.ee.hi[i], a.ee.lo[i]});
+            k, l, sp, edge, edge_lo, a.dq2[i], {a.qq.hi[i], a.qq.lo[i]}, {a.ee.hi[i], a.ee.lo[i]});
     };
     if (fold == Fold::single) {
         const DoubleDouble scale = single_scale(t, a.scale);
@@ -1051,10 +1037,9 @@ MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock&
 // A whole quantity that is one term at one radius (x: its accurate_radius).
 template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split>
 MOLLIFY_INLINE double accurate_whole_at(const double* k, const double* l, const SplitArgs& sp, double edge, double edge_lo,
-                                        const DoubleDouble& ah, double h, double inv_h, double r, const AccurateRadius& x,
-                                        const DoubleDouble& scale) {
+                                        double h, double r, const AccurateRadius& x, const DoubleDouble& scale) {
     const DoubleDouble y = accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, true>(
-        k, l, sp, edge, edge_lo, ah, h, inv_h, x.dq2, r, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
+        k, l, sp, edge, edge_lo, x.dq2, {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
     return select(r <= h, rounded_product_bounded(y, scale), 0.0);
 }
 
@@ -1067,11 +1052,11 @@ MOLLIFY_FLATTEN bool accurate_whole_fixed(const TermPlan& t, const double* __res
     for (int j = 0; j < N; ++j) k[j] = c[j], l[j] = t.c_lo[static_cast<std::size_t>(j)];
     const SplitArgs sp = split_args(t);
     const double edge = t.edge, edge_lo = t.edge_lo;
-    const DoubleDouble ah = two_product(edge, h), whole = single_scale(t, scale);
+    const DoubleDouble whole = single_scale(t, scale);
     std::uint64_t refused = 0;
     for (std::size_t i = 0; i < n; ++i) {
         refused |= not_a_radius(r[i]);
-        out[i] = accurate_whole_at<N, P, VarR, SupportEdge, Exact, Split>(k, l, sp, edge, edge_lo, ah, h, inv_h, r[i],
+        out[i] = accurate_whole_at<N, P, VarR, SupportEdge, Exact, Split>(k, l, sp, edge, edge_lo, h, r[i],
                                                                           accurate_radius(r[i], h, inv_h), whole);
     }
     return refused != 0;
@@ -1142,7 +1127,6 @@ MOLLIFY_FLATTEN bool whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
     // (single_scale: a split term's content joins the scale)
     const DoubleDouble v_scale_dd = single_scale(v, {v_scale, s.scale_lo(QuantityId::value)}),
                        g_scale_dd = single_scale(g, {g_scale, s.scale_lo(QuantityId::grad_over_r)});
-    const DoubleDouble v_ah = two_product(v_edge, h), g_ah = two_product(g_edge, h);
     return pairs_at_radii<true>(n, x0, x1, x2, w, g0, g1, g2, [&](double r) MOLLIFY_INLINE_LAMBDA {
         if constexpr (Pr == Precision::fast) {
             return std::pair{fast_whole_at<VN, VP, VR, VE>(vk, r, v_edge, h, inv_h, s, v_scale),
@@ -1150,8 +1134,8 @@ MOLLIFY_FLATTEN bool whole_pairs_fixed(const TermPlan& v, const TermPlan& g, con
         } else {
             const AccurateRadius x = accurate_radius(r, h, inv_h);
             return std::pair{
-                accurate_whole_at<VN, VP, VR, VE, VX, VS>(vk, vl, v_sp, v_edge, v.edge_lo, v_ah, h, inv_h, r, x, v_scale_dd),
-                accurate_whole_at<GN, GP, GR, GE, GX, GS>(gk, gl, g_sp, g_edge, g.edge_lo, g_ah, h, inv_h, r, x, g_scale_dd)};
+                accurate_whole_at<VN, VP, VR, VE, VX, VS>(vk, vl, v_sp, v_edge, v.edge_lo, h, r, x, v_scale_dd),
+                accurate_whole_at<GN, GP, GR, GE, GX, GS>(gk, gl, g_sp, g_edge, g.edge_lo, h, r, x, g_scale_dd)};
         }
     });
 }
@@ -1327,23 +1311,21 @@ struct AccurateSharedTerms : SharedTerms<S> {
     using SharedTerms<S>::longest;
     // The low parts besides the fast precision's coefficients, ranges and edges.
     double l[m][longest], edge_lo[m];
-    DoubleDouble ah[m];  // edge times h, a two-product
     double km[m][longest];  // a split term's m (table::Term::split), else its c
     SplitArgs sp[m];
 
-    AccurateSharedTerms(const QuantityPlan& qp, double h) : SharedTerms<S>(qp) {
-        read_low_parts(qp, h, std::make_index_sequence<m>{});
+    explicit AccurateSharedTerms(const QuantityPlan& qp) : SharedTerms<S>(qp) {
+        read_low_parts(qp, std::make_index_sequence<m>{});
     }
 
     template <std::size_t... J>
-    MOLLIFY_INLINE void read_low_parts(const QuantityPlan& qp, double h, std::index_sequence<J...>) {
+    MOLLIFY_INLINE void read_low_parts(const QuantityPlan& qp, std::index_sequence<J...>) {
         auto one = [&]<std::size_t j>(std::integral_constant<std::size_t, j>) {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
             for (int c = 0; c < S.terms[j].n; ++c) l[j][c] = t.c_lo[static_cast<std::size_t>(c)];
             for (int c = 0; c < S.terms[j].n; ++c) km[j][c] = fused_coefficients(t)[c];
             sp[j] = split_args(t);
             edge_lo[j] = t.edge_lo;
-            ah[j] = two_product(t.edge, h);
         };
         (one(std::integral_constant<std::size_t, J>{}), ...);
     }
@@ -1354,15 +1336,14 @@ struct AccurateSharedTerms : SharedTerms<S> {
     // caller's register reaches them); left out, the same bits (from y =
     // (0, 0) their sums were (+0, +0) + (+0, +0)).
     template <std::size_t Skip = 0, std::size_t... J>
-    MOLLIFY_INLINE DoubleDouble sum(const AccurateRadius& x, double r, double h, double inv_h,
-                                    std::index_sequence<J...>) const {
+    MOLLIFY_INLINE DoubleDouble sum(const AccurateRadius& x, std::index_sequence<J...>) const {
         DoubleDouble y{0.0, 0.0};
         auto add = [&]<std::size_t I>(std::integral_constant<std::size_t, I>) MOLLIFY_INLINE_LAMBDA {
             if constexpr (I >= Skip) {
                 const DoubleDouble t =
                     accurate_term_at<S.terms[I].n, S.terms[I].edge_power, S.terms[I].var_r, S.terms[I].support_edge, false,
-                                     S.terms[I].split>(km[I], l[I], sp[I], this->edge[I], edge_lo[I], ah[I], h, inv_h, x.dq2, r,
-                                                       {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
+                                     S.terms[I].split>(km[I], l[I], sp[I], this->edge[I], edge_lo[I], x.dq2, {x.qq_hi, x.qq_lo},
+                                                       {x.ee_hi, x.ee_lo});
                 const bool in = (x.q >= this->lo[I]) & (x.q < this->hi[I]);
                 const DoubleDouble here{select(in, t.hi, 0.0), select(in, t.lo, 0.0)};
                 if constexpr (I == Skip) y = {here.hi + 0.0, here.lo + 0.0};
@@ -1390,15 +1371,15 @@ template <const SharedShapes& S>
 MOLLIFY_FLATTEN bool accurate_shared_loop(const QuantityPlan& qp, const double* __restrict r, double* __restrict out,
                                           std::size_t n, const Smoothing& smoothing, DoubleDouble scale) {
     const double h = smoothing.h(), inv_h = smoothing.inverse();
-    const AccurateSharedTerms<S> t(qp, h);
+    const AccurateSharedTerms<S> t(qp);
     constexpr int levels = static_cast<int>(S.m);
     std::uint64_t refused = 0;
     for_each_register_at_levels<levels>(
         n, r, shared_level<levels>(qp.shared_terms, qp.shared_terms, h),
         [&]<int L>(std::size_t i, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
             refused |= not_a_radius(r[i]);
-            const DoubleDouble y = t.template sum<static_cast<std::size_t>(L)>(accurate_radius(r[i], h, inv_h), r[i], h,
-                                                                              inv_h, std::make_index_sequence<S.m>{});
+            const DoubleDouble y =
+                t.template sum<static_cast<std::size_t>(L)>(accurate_radius(r[i], h, inv_h), std::make_index_sequence<S.m>{});
             out[i] = select(r[i] <= h, rounded_product_bounded(y, scale), 0.0);
         });
     return refused != 0;
@@ -1430,10 +1411,8 @@ MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const Quantit
     const double h = s.h(), inv_h = s.inverse();
     using Terms = std::conditional_t<Pr == Precision::fast, SharedTerms<SV>, AccurateSharedTerms<SV>>;
     using OverR = std::conditional_t<Pr == Precision::fast, SharedTerms<SG>, AccurateSharedTerms<SG>>;
-    const auto [v, g] = [&] {
-        if constexpr (Pr == Precision::fast) return std::pair<Terms, OverR>{Terms(value), OverR(over_r)};
-        else return std::pair<Terms, OverR>{Terms(value, h), OverR(over_r, h)};
-    }();
+    const Terms v(value);
+    const OverR g(over_r);
     const double v_scale = s.scale(QuantityId::value), g_scale = s.scale(QuantityId::grad_over_r);
     const DoubleDouble v_scale_dd{v_scale, s.scale_lo(QuantityId::value)},
         g_scale_dd{g_scale, s.scale_lo(QuantityId::grad_over_r)};
@@ -1450,8 +1429,8 @@ MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const Quantit
             } else {
                 constexpr std::size_t skip = static_cast<std::size_t>(L);
                 const AccurateRadius x = accurate_radius(r, h, inv_h);
-                wi = rounded_product_bounded(v.template sum<skip>(x, r, h, inv_h, std::make_index_sequence<SV.m>{}), v_scale_dd);
-                gi = rounded_product_bounded(g.template sum<skip>(x, r, h, inv_h, std::make_index_sequence<SG.m>{}), g_scale_dd);
+                wi = rounded_product_bounded(v.template sum<skip>(x, std::make_index_sequence<SV.m>{}), v_scale_dd);
+                gi = rounded_product_bounded(g.template sum<skip>(x, std::make_index_sequence<SG.m>{}), g_scale_dd);
             }
             const bool inside = r <= h;
             return std::pair{select(inside, wi, 0.0), select(inside, gi, 0.0)};
