@@ -13,7 +13,7 @@ bool fusable(const RoundedTerm& t) {
 
 TermShape shape_of(const RoundedTerm& t) {
     const bool exact = std::all_of(t.c_lo.begin(), t.c_lo.end(), [](double lo) { return lo == 0; });
-    return {t.var == table::Var::r, t.edge == 1.0, exact, static_cast<int>(t.c.size()), t.edge_power, t.split > 0};
+    return {t.var == table::Var::r, t.edge == 1.0, exact, static_cast<int>(t.c.size()), t.edge_power, t.split > 0 ? 1 : 0};
 }
 
 // A combination's pieces (QuantityPlan::shared_terms): 0 outside, piece p
@@ -30,6 +30,7 @@ std::optional<std::vector<TermShape>> add_shared(const std::vector<RoundedPiece>
         if (!fusable(t)) return std::nullopt;
         TermShape s = shape_of(t);
         s.exact = false;
+        s.split = t.split;
         shapes.push_back(s);
     }
     for (std::size_t p = 1; p < inner; ++p) {
@@ -71,7 +72,7 @@ OnePass add_quantity(const std::vector<RoundedPiece>& pieces, TermShapes& out) {
 std::string shape_arguments(const TermShape& s) {
     auto b = [](bool x) { return x ? std::string("true") : std::string("false"); };
     return b(s.var_r) + ", " + b(s.support_edge) + ", " + b(s.exact) + ", " + std::to_string(s.n) + ", " +
-           std::to_string(s.edge_power) + ", " + b(s.split);
+           std::to_string(s.edge_power) + ", " + std::to_string(s.split);
 }
 
 std::string line(const char* macro, const TermShape& s) { return std::string(macro) + "(" + shape_arguments(s) + ")\n"; }
@@ -94,10 +95,12 @@ void add_term_shapes(const Tables& tables, int dim, TermShapes& out) {
 std::string term_shapes_source(const std::string& command, const TermShapes& shapes) {
     std::string out = banner(command, "//") +
                       "// The shapes of the catalogue's fusable terms of W and W'/r (generator/term_shapes.hpp):\n"
-                      "// MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power, split) for every such term,\n"
+                      "// MOLLIFY_TERM_SHAPE(var_r, support_edge, exact, n, edge_power, split) for every such term\n"
+                      "// (split: 1 where there is one, 0 where not),\n"
                       "// MOLLIFY_WHOLE_SHAPE(...) for those that are a whole quantity (one piece, one term),\n"
                       "// MOLLIFY_WHOLE_PAIR(W's shape..., W'/r's shape...) for the kernels (D >= 2) whose W and W'/r both are.\n"
-                      "// MOLLIFY_SHARED_TERMS(m, {shape}...) for a combination's m distinct terms (fast: exact false).\n"
+                      "// MOLLIFY_SHARED_TERMS(m, {shape}...) for a combination's m distinct terms (fast: exact false;\n"
+                      "// split: the term's grid, table::Term::split).\n"
                       "// MOLLIFY_SHARED_PAIR(i, j) for the combinations (D >= 2) whose W and W'/r are the i-th and j-th of those.\n"
                       "// The includer defines the five macros.\n\n";
     for (const TermShape& s : shapes.terms) out += line("MOLLIFY_TERM_SHAPE", s);

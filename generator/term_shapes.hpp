@@ -23,7 +23,11 @@ struct TermShape {
     bool exact;         // every low part c_lo is 0
     int n;              // Horner length
     int edge_power;
-    bool split;         // table::Term::split > 0 (Precision::accurate's exact Horner at the split)
+    // table::Term::split (Precision::accurate's exact Horner at the split):
+    // a combination's shared terms keep its grid (so that the run-time form's
+    // loop knows which terms share one, as StaticKernel's does), the other
+    // shapes only whether there is one (1 or 0).
+    int split;
     auto operator<=>(const TermShape&) const = default;
 };
 

@@ -1075,10 +1075,10 @@ using FastWhole = bool (*)(const TermPlan&, const double*, double*, std::size_t,
 
 template <const TermShape& S>
 constexpr AccurateTerm accurate_term_loop =
-    &accurate_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, S.split>;
+    &accurate_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, (S.split > 0)>;
 template <const TermShape& S>
 constexpr AccurateWhole accurate_whole_loop =
-    &accurate_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, S.split>;
+    &accurate_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, (S.split > 0)>;
 template <const TermShape& S>
 constexpr FastWhole fast_whole_loop = &fast_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge>;
 
@@ -1147,8 +1147,8 @@ template <Precision Pr, const WholePair& S>
 constexpr WholePairs whole_pairs_loop() {
     constexpr bool fast = Pr == Precision::fast;
     constexpr TermShape V = S.value, G = S.over_r;
-    return &whole_pairs_fixed<Pr, V.n, V.edge_power, V.var_r, V.support_edge, V.exact && !fast, V.split && !fast, G.n,
-                              G.edge_power, G.var_r, G.support_edge, G.exact && !fast, G.split && !fast>;
+    return &whole_pairs_fixed<Pr, V.n, V.edge_power, V.var_r, V.support_edge, V.exact && !fast, (V.split > 0) && !fast, G.n,
+                              G.edge_power, G.var_r, G.support_edge, G.exact && !fast, (G.split > 0) && !fast>;
 }
 template <Precision Pr, std::size_t... I>
 constexpr std::array<WholePairs, sizeof...(I)> whole_pairs_loops(std::index_sequence<I...>) {
@@ -1235,7 +1235,7 @@ void fill(AccurateBlock& a, const double* r) {
 
 // Precision::fast, a combination's distinct terms (QuantityPlan::
 // shared_terms) of the listed shapes (shared_shapes), their coefficients,
-// ranges and edges read once into registers.
+// radii and edges read once into registers.
 template <const SharedShapes& S>
 struct SharedTerms {
     static constexpr std::size_t m = S.m;
@@ -1244,7 +1244,7 @@ struct SharedTerms {
         for (std::size_t j = 0; j < S.m; ++j) n = std::max(n, S.terms[j].n);
         return n;
     }();
-    double k[m][longest], lo[m], hi[m], edge[m];
+    double k[m][longest], hi[m], edge[m];
 
     explicit SharedTerms(const QuantityPlan& qp) { read(qp, std::make_index_sequence<m>{}); }
 
@@ -1253,9 +1253,19 @@ struct SharedTerms {
         auto one = [&]<std::size_t j>(std::integral_constant<std::size_t, j>) {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
             for (int c = 0; c < S.terms[j].n; ++c) k[j][c] = t.c[c];
-            lo[j] = qp.shared_terms[j].lo, hi[j] = qp.shared_terms[j].hi, edge[j] = t.edge;
+            hi[j] = qp.shared_terms[j].hi, edge[j] = t.edge;
         };
         (one(std::integral_constant<std::size_t, J>{}), ...);
+    }
+
+    // Does term J reach q? The terms are radii in order (these loops take
+    // only such: shared_shapes_index), each from q = 0 up to its radius, the
+    // last to the support: one comparison, none for the last (as StaticKernel's
+    // detail::reaches; where q is no number the caller discards the sum).
+    template <std::size_t J>
+    MOLLIFY_INLINE bool reaches(double q) const {
+        if constexpr (J + 1 == S.m) return true;
+        else return q < hi[J];
     }
 
     // The sum at one point: shared_terms_block's operations in its order (0
@@ -1263,7 +1273,7 @@ struct SharedTerms {
     template <std::size_t... J>
     MOLLIFY_INLINE double sum(double q, double e, double r, double h, double inv_h, std::index_sequence<J...>) const {
         double x = 0.0;
-        ((x = x + select((q >= lo[J]) & (q < hi[J]),
+        ((x = x + select(reaches<J>(q),
                          fast_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge>(
                              k[J], q, e, r, edge[J], h, inv_h),
                          0.0)),
@@ -1340,11 +1350,15 @@ struct AccurateSharedTerms : SharedTerms<S> {
         DoubleDouble y{0.0, 0.0};
         auto add = [&]<std::size_t I>(std::integral_constant<std::size_t, I>) MOLLIFY_INLINE_LAMBDA {
             if constexpr (I >= Skip) {
+                // the grid from the shape (S.terms[I].split: table::Term::split),
+                // a constant: terms of one grid share it, as in StaticKernel's sum
+                constexpr int grid = S.terms[I].split;
+                const SplitArgs split{grid > 0 ? split_constant(grid) : 0.0, sp[I].content, sp[I].content_lo};
                 const DoubleDouble t =
                     accurate_term_at<S.terms[I].n, S.terms[I].edge_power, S.terms[I].var_r, S.terms[I].support_edge, false,
-                                     S.terms[I].split>(km[I], l[I], sp[I], this->edge[I], edge_lo[I], x.dq2, {x.qq_hi, x.qq_lo},
-                                                       {x.ee_hi, x.ee_lo});
-                const bool in = (x.q >= this->lo[I]) & (x.q < this->hi[I]);
+                                     (grid > 0)>(km[I], l[I], split, this->edge[I], edge_lo[I], x.dq2, {x.qq_hi, x.qq_lo},
+                                                 {x.ee_hi, x.ee_lo});
+                const bool in = this->template reaches<I>(x.q);
                 const DoubleDouble here{select(in, t.hi, 0.0), select(in, t.lo, 0.0)};
                 if constexpr (I == Skip) y = {here.hi + 0.0, here.lo + 0.0};
                 else y = y + here;

@@ -44,7 +44,7 @@ bool has_shape(const TermPlan& t, const TermShape& s) {
 int shape_index(const TermPlan& t, std::span<const TermShape> shapes) {
     if (!fusable(t) || t.continues) return -1;
     for (std::size_t i = 0; i < shapes.size(); ++i)
-        if (has_shape(t, shapes[i]) && shapes[i].exact == t.exact && shapes[i].split == (t.split > 0))
+        if (has_shape(t, shapes[i]) && shapes[i].exact == t.exact && (shapes[i].split > 0) == (t.split > 0))
             return static_cast<int>(i);
     return -1;
 }
@@ -156,16 +156,19 @@ std::vector<QuantityPlan::SharedTerm> shared_terms_of(const std::vector<PiecePla
 }
 
 // The index in shared_shapes of the quantity's shared terms' shapes (the
-// fast precision's: low parts not read), or -1.
+// fast precision's: low parts not read; the grids, table::Term::split, as
+// they are), or -1; -1 also where the terms are not a combination's radii in
+// order (detail::radii_in_order), which the fused loops assume.
 int shared_shapes_index(const QuantityPlan& qp) {
     const std::size_t m = qp.shared_terms.size();
-    if (m == 0 || m > max_shared_terms) return -1;
+    // the fused loops compare q with each radius only (SharedTerms::reaches)
+    if (m == 0 || m > max_shared_terms || !radii_in_order(qp.shared_terms, qp.shared_terms, m)) return -1;
     for (std::size_t i = 0; i < shared_shapes_count; ++i) {
         const SharedShapes& s = shared_shapes[i];
         bool same = s.m == m;
         for (std::size_t j = 0; same && j < m; ++j) {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
-            same = fusable(t) && has_shape(t, s.terms[j]) && s.terms[j].split == (t.split > 0);
+            same = fusable(t) && has_shape(t, s.terms[j]) && s.terms[j].split == t.split;
         }
         if (same) return static_cast<int>(i);
     }

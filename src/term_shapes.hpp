@@ -16,7 +16,10 @@ namespace mollify::detail {
 struct TermShape {
     bool var_r, support_edge, exact;
     int n, edge_power;
-    bool split;  // table::Term::split > 0
+    // table::Term::split in a combination's shared terms (shared_shapes:
+    // the run-time form's loop then computes each grid once, as StaticKernel's
+    // does), elsewhere 1 where there is one, 0 where not.
+    int split;
     friend constexpr bool operator==(const TermShape&, const TermShape&) = default;
 };
 

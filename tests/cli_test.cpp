@@ -213,8 +213,14 @@ TEST(Cli, EmitWritesOneHeaderPerKernelAndDimension) {
     // quantity; the combination's W has terms at the interior edges a_j.
     // Both split (table::Term::split: integer coefficients, exact Horner).
     const std::string shapes = slurp(out / "src/term_shapes.def");
-    EXPECT_NE(shapes.find("MOLLIFY_WHOLE_SHAPE(true, true, false, 3, 6, true)\n"), std::string::npos) << shapes;
-    EXPECT_NE(shapes.find("MOLLIFY_TERM_SHAPE(true, false, false, 3, 6, true)\n"), std::string::npos) << shapes;
+    EXPECT_NE(shapes.find("MOLLIFY_WHOLE_SHAPE(true, true, false, 3, 6, 1)\n"), std::string::npos) << shapes;
+    EXPECT_NE(shapes.find("MOLLIFY_TERM_SHAPE(true, false, false, 3, 6, 1)\n"), std::string::npos) << shapes;
+    // Its distinct terms keep their grids (the table's split: 24, 23, 23
+    // bits), so that the run-time form's loop computes the grid of 2^-23 once.
+    EXPECT_NE(shapes.find("MOLLIFY_SHARED_TERMS(3, {true, false, false, 3, 6, 24}, {true, false, false, 3, 6, 23}, "
+                          "{true, true, false, 3, 6, 23})\n"),
+              std::string::npos)
+        << shapes;
     const std::string h = slurp(out / "mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp");
     EXPECT_NE(h.find("inline constexpr table::Kernel combo_m_3_base_wendland_k_2_D3 = {"), std::string::npos);
     EXPECT_EQ(lines_matching(h, std::regex("^#include .*")), std::vector<std::string>{"#include <mollify/table.hpp>"});

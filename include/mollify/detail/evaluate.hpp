@@ -45,7 +45,7 @@ inline double ipow(double x) {
 struct Scaled {
     double q;
     double e;
-    double r, h, inv_h;  // for the distance to an interior edge a: (a h - r)/h
+    double r, h, inv_h;  // Precision::fast: the distance (a h - r)/h to an interior edge a; Taylor pieces: (r - c h)/h
     DoubleDouble qq{}, ee{};
     DoubleDouble scale{1.0, 0.0};  // Precision::accurate: h^p, multiplied into a piece before its rounding
     // Precision::accurate: q^2 - rounded(qq.hi^2), for the first-order
