@@ -1271,11 +1271,19 @@ struct SharedTerms {
     // The sum at one point: shared_terms_block's operations in its order (0
     // + the first, +0 where a term's pieces end), so its bits, in registers.
     template <std::size_t... J>
-    MOLLIFY_INLINE double sum(double q, double e, double r, double h, double inv_h, std::index_sequence<J...>) const {
+    MOLLIFY_INLINE double sum(double q, double e, double r, double h, double inv_h, std::index_sequence<J...> terms) const {
+        return sum(q, e, r, h, inv_h, *this, terms);
+    }
+
+    // The same with the radii read from `at` (the pair loop's W'/r from W's,
+    // AccurateSharedTerms::sum): one distance per radius for both.
+    template <class Radii, std::size_t... J>
+    MOLLIFY_INLINE double sum(double q, double e, double r, double h, double inv_h, const Radii& at,
+                              std::index_sequence<J...>) const {
         double x = 0.0;
         ((x = x + select(reaches<J>(q),
                          fast_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge>(
-                             k[J], q, e, r, edge[J], h, inv_h),
+                             k[J], q, e, r, at.edge[J], h, inv_h),
                          0.0)),
          ...);
         return x;
@@ -1346,7 +1354,16 @@ struct AccurateSharedTerms : SharedTerms<S> {
     // caller's register reaches them); left out, the same bits (from y =
     // (0, 0) their sums were (+0, +0) + (+0, +0)).
     template <std::size_t Skip = 0, std::size_t... J>
-    MOLLIFY_INLINE DoubleDouble sum(const AccurateRadius& x, std::index_sequence<J...>) const {
+    MOLLIFY_INLINE DoubleDouble sum(const AccurateRadius& x, std::index_sequence<J...> terms) const {
+        return sum<Skip>(x, *this, terms);
+    }
+
+    // The same with the radii (edge, edge_lo) read from `at`, another
+    // quantity's terms at the same radii (the pair loop's W'/r from W's:
+    // Plan::shared_pair requires them equal): one distance per radius for
+    // both, and their powers' common squares, as in StaticKernel's loop.
+    template <std::size_t Skip, class Radii, std::size_t... J>
+    MOLLIFY_INLINE DoubleDouble sum(const AccurateRadius& x, const Radii& at, std::index_sequence<J...>) const {
         DoubleDouble y{0.0, 0.0};
         auto add = [&]<std::size_t I>(std::integral_constant<std::size_t, I>) MOLLIFY_INLINE_LAMBDA {
             if constexpr (I >= Skip) {
@@ -1356,7 +1373,7 @@ struct AccurateSharedTerms : SharedTerms<S> {
                 const SplitArgs split{grid > 0 ? split_constant(grid) : 0.0, sp[I].content, sp[I].content_lo};
                 const DoubleDouble t =
                     accurate_term_at<S.terms[I].n, S.terms[I].edge_power, S.terms[I].var_r, S.terms[I].support_edge, false,
-                                     (grid > 0)>(km[I], l[I], split, this->edge[I], edge_lo[I], x.dq2, {x.qq_hi, x.qq_lo},
+                                     (grid > 0)>(km[I], l[I], split, at.edge[I], at.edge_lo[I], x.dq2, {x.qq_hi, x.qq_lo},
                                                  {x.ee_hi, x.ee_lo});
                 const bool in = this->template reaches<I>(x.q);
                 const DoubleDouble here{select(in, t.hi, 0.0), select(in, t.lo, 0.0)};
@@ -1439,12 +1456,12 @@ MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const Quantit
             if constexpr (Pr == Precision::fast) {
                 const double q = r * inv_h, e = edge_distance(h - r, s);
                 wi = v.sum(q, e, r, h, inv_h, std::make_index_sequence<SV.m>{}) * v_scale;
-                gi = g.sum(q, e, r, h, inv_h, std::make_index_sequence<SG.m>{}) * g_scale;
+                gi = g.sum(q, e, r, h, inv_h, v, std::make_index_sequence<SG.m>{}) * g_scale;
             } else {
                 constexpr std::size_t skip = static_cast<std::size_t>(L);
                 const AccurateRadius x = accurate_radius(r, h, inv_h);
                 wi = rounded_product_bounded(v.template sum<skip>(x, std::make_index_sequence<SV.m>{}), v_scale_dd);
-                gi = rounded_product_bounded(g.template sum<skip>(x, std::make_index_sequence<SG.m>{}), g_scale_dd);
+                gi = rounded_product_bounded(g.template sum<skip>(x, v, std::make_index_sequence<SG.m>{}), g_scale_dd);
             }
             const bool inside = r <= h;
             return std::pair{select(inside, wi, 0.0), select(inside, gi, 0.0)};

@@ -217,13 +217,27 @@ int whole_pair_index(int dim, int value, int over_r) {
     return -1;
 }
 
+// Are W's and W'/r's shared terms at the same radii, term for term (edge
+// and its low part)? The pair loop then takes each distance once for both
+// (AccurateSharedTerms::sum from W's radii).
+bool same_radii(const QuantityPlan& value, const QuantityPlan& over_r) {
+    if (value.shared_terms.size() != over_r.shared_terms.size()) return false;
+    for (std::size_t j = 0; j < value.shared_terms.size(); ++j) {
+        const TermPlan& v = value.inner[value.shared_terms[j].piece].terms[value.shared_terms[j].term];
+        const TermPlan& g = over_r.inner[over_r.shared_terms[j].piece].terms[over_r.shared_terms[j].term];
+        if (v.edge != g.edge || v.edge_lo != g.edge_lo) return false;
+    }
+    return true;
+}
+
 // The index in shared_pairs of a combination in D dimensions with W's and
-// W'/r's shared terms (indices in shared_shapes, each listed once), or -1.
-int shared_pair_index(int dim, int value, int over_r) {
-    if (dim < 2 || value < 0 || over_r < 0) return -1;
+// W'/r's shared terms (indices in shared_shapes, each listed once) at the
+// same radii, or -1.
+int shared_pair_index(int dim, const QuantityPlan& value, const QuantityPlan& over_r) {
+    if (dim < 2 || value.shared_fused < 0 || over_r.shared_fused < 0 || !same_radii(value, over_r)) return -1;
     for (std::size_t i = 0; i < shared_pair_count; ++i)
-        if (shared_pairs[i].value == static_cast<std::size_t>(value) &&
-            shared_pairs[i].over_r == static_cast<std::size_t>(over_r))
+        if (shared_pairs[i].value == static_cast<std::size_t>(value.shared_fused) &&
+            shared_pairs[i].over_r == static_cast<std::size_t>(over_r.shared_fused))
             return static_cast<int>(i);
     return -1;
 }
@@ -241,7 +255,7 @@ std::shared_ptr<const Plan> make_plan(const table::Kernel& k, std::shared_ptr<co
     const QuantityPlan& value = plan->quantities[static_cast<std::size_t>(table::QuantityId::value)];
     const QuantityPlan& over_r = plan->quantities[static_cast<std::size_t>(table::QuantityId::grad_over_r)];
     plan->whole_pair = whole_pair_index(k.dim, value.whole, over_r.whole);
-    plan->shared_pair = shared_pair_index(k.dim, value.shared_fused, over_r.shared_fused);
+    plan->shared_pair = shared_pair_index(k.dim, value, over_r);
     return plan;
 }
 

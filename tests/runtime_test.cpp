@@ -867,6 +867,48 @@ TEST(Runtime, UnboundedTermsKeepTheOverflowGuard) {
     EXPECT_GT(overflowed, 100);
 }
 
+// A combination whose W'/r has its first radius moved (a table made at run
+// time; not a kernel's derivative, only a plumbing check): the pair loop
+// takes each radius's distance once for W and W'/r where their radii are
+// the same (Plan::shared_pair), so here it must not: its grad W is then
+// (W'/r)(|x|) x with W'/r's own radius, as the one-quantity evaluation
+// gives it (with the plan's same_radii check dropped, the pair loop took
+// W's radius 1/3 for W'/r's term too, and this failed at the first q > 0).
+TEST(Runtime, PairsOfACombinationTakeEachQuantitysOwnRadii) {
+    using mollify::table::Term;
+    const mollify::table::Kernel& base = tables::combo_m_3_base_wendland_k_2_D3;
+    mollify::table::Kernel moved = base;
+    const mollify::table::Quantity& over_r = base.quantities[static_cast<int>(QuantityId::grad_over_r)];
+    std::vector<mollify::table::Piece> pieces(over_r.pieces, over_r.pieces + over_r.npieces);
+    std::vector<Term> first(pieces[0].terms, pieces[0].terms + pieces[0].nterms);
+    ASSERT_GT(first.size(), 1u);
+    ASSERT_NE(first[0].edge, 1.0);
+    first[0].edge = 0.3, first[0].edge_lo = 0;
+    pieces[0].terms = first.data();
+    moved.quantities[static_cast<int>(QuantityId::grad_over_r)] = {pieces.data(), over_r.npieces};
+    for (const mollify::Precision p : {mollify::Precision::accurate, mollify::Precision::fast}) {
+        const mollify::Kernel kernel(moved, p);
+        const std::size_t n = 1000;
+        const double h = 0.9;
+        std::vector<double> x(n), y(n), z(n), w(n), gx(n), gy(n), gz(n), r(n), g(n);
+        for (std::size_t i = 0; i < n; ++i) {  // |x| from 0 to 0.4 h, across both radii
+            r[i] = 0.4 * h * static_cast<double>(i) / n;
+            x[i] = r[i], y[i] = 0, z[i] = 0;
+        }
+        const std::span<const double> in[] = {x, y, z};
+        const std::span<double> out[] = {gx, gy, gz};
+        kernel.pairs(in, kernel.smoothing(h), w, out);
+        kernel.evaluate(QuantityId::grad_over_r, r, h, g);
+        // The two paths round differently (the fast precision's sum cancels:
+        // ~10^3 ulp); the wrong radius changes the value by ~1 of its size.
+        double size = 0;
+        for (std::size_t i = 0; i < n; ++i) size = std::max(size, std::abs(g[i] * x[i]));
+        for (std::size_t i = 0; i < n; ++i)
+            ASSERT_NEAR(gx[i], g[i] * x[i], 1e-9 * size)
+                << "q = " << r[i] / h << (p == mollify::Precision::accurate ? ", accurate" : ", fast");
+    }
+}
+
 // At h = 2^k, f_h(q h) = 2^(k p) f_1(q) exactly: q = r/h is the same double
 // and h^p a power of two, so the value differs from h = 1's only in its
 // last product, exact wherever the result is a normal double. Every
