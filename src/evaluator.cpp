@@ -1330,7 +1330,7 @@ struct AccurateSharedTerms : SharedTerms<S> {
     // The low parts besides the fast precision's coefficients, ranges and edges.
     double l[m][longest], edge_lo[m];
     double km[m][longest];  // a split term's m (table::Term::split), else its c
-    SplitArgs sp[m];
+    double content[m], content_lo[m];  // a split term's (table::Term::split), else 0
 
     explicit AccurateSharedTerms(const QuantityPlan& qp) : SharedTerms<S>(qp) {
         read_low_parts(qp, std::make_index_sequence<m>{});
@@ -1342,7 +1342,7 @@ struct AccurateSharedTerms : SharedTerms<S> {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
             for (int c = 0; c < S.terms[j].n; ++c) l[j][c] = t.c_lo[static_cast<std::size_t>(c)];
             for (int c = 0; c < S.terms[j].n; ++c) km[j][c] = fused_coefficients(t)[c];
-            sp[j] = split_args(t);
+            content[j] = t.content, content_lo[j] = t.content_lo;
             edge_lo[j] = t.edge_lo;
         };
         (one(std::integral_constant<std::size_t, J>{}), ...);
@@ -1370,7 +1370,7 @@ struct AccurateSharedTerms : SharedTerms<S> {
                 // the grid from the shape (S.terms[I].split: table::Term::split),
                 // a constant: terms of one grid share it, as in StaticKernel's sum
                 constexpr int grid = S.terms[I].split;
-                const SplitArgs split{grid > 0 ? split_constant(grid) : 0.0, sp[I].content, sp[I].content_lo};
+                const SplitArgs split{grid > 0 ? split_constant(grid) : 0.0, content[I], content_lo[I]};
                 const DoubleDouble t =
                     accurate_term_at<S.terms[I].n, S.terms[I].edge_power, S.terms[I].var_r, S.terms[I].support_edge, false,
                                      (grid > 0)>(km[I], l[I], split, at.edge[I], at.edge_lo[I], x.dq2, {x.qq_hi, x.qq_lo},
@@ -1386,14 +1386,13 @@ struct AccurateSharedTerms : SharedTerms<S> {
     }
 };
 
-// The levels of a register of points (detail::radii_in_order: at level L
-// the first L terms of v and of g are 0), from the plan's terms, as
-// StaticKernel's; one level where they are not radii in order.
+// The levels of a register of points (at level L the first L terms are 0),
+// from the plan's terms, as StaticKernel's: the fused loops take only radii
+// in order (shared_shapes_index), and a pair's W'/r only at W's radii
+// (same_radii), so the l-th radius is v's.
 template <int Levels>
-RadiusLevel<Levels> shared_level(const std::vector<QuantityPlan::SharedTerm>& v,
-                                 const std::vector<QuantityPlan::SharedTerm>& g, double h) {
-    const bool radii = v.size() == static_cast<std::size_t>(Levels) && g.size() == v.size() && radii_in_order(v, g, v.size());
-    return {[&](int l) { return radii ? v[static_cast<std::size_t>(l)].hi : table::infinity; }, h};
+RadiusLevel<Levels> shared_level(const std::vector<QuantityPlan::SharedTerm>& v, double h) {
+    return {[&](int l) { return v[static_cast<std::size_t>(l)].hi; }, h};
 }
 
 // One quantity's shared terms at n radii, by levels (StaticKernel's
@@ -1406,7 +1405,7 @@ MOLLIFY_FLATTEN bool accurate_shared_loop(const QuantityPlan& qp, const double* 
     constexpr int levels = static_cast<int>(S.m);
     std::uint64_t refused = 0;
     for_each_register_at_levels<levels>(
-        n, r, shared_level<levels>(qp.shared_terms, qp.shared_terms, h),
+        n, r, shared_level<levels>(qp.shared_terms, h),
         [&]<int L>(std::size_t i, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
             refused |= not_a_radius(r[i]);
             const DoubleDouble y =
@@ -1448,7 +1447,7 @@ MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const Quantit
     const DoubleDouble v_scale_dd{v_scale, s.scale_lo(QuantityId::value)},
         g_scale_dd{g_scale, s.scale_lo(QuantityId::grad_over_r)};
     constexpr int levels = Pr == Precision::accurate && SV.m == SG.m ? static_cast<int>(SV.m) : 1;
-    const RadiusLevel<levels> level = shared_level<levels>(value.shared_terms, over_r.shared_terms, h);
+    const RadiusLevel<levels> level = shared_level<levels>(value.shared_terms, h);
     return pairs_at_radii_at_levels<true, levels>(
         n, x0, x1, x2, w, g0, g1, g2,
         [&]<int L>(double r, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {

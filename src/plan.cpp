@@ -217,15 +217,17 @@ int whole_pair_index(int dim, int value, int over_r) {
     return -1;
 }
 
-// Are W's and W'/r's shared terms at the same radii, term for term (edge
-// and its low part)? The pair loop then takes each distance once for both
-// (AccurateSharedTerms::sum from W's radii).
+// Are W's and W'/r's shared terms at the same radii, term for term (edge,
+// its low part, and the range's end)? The pair loop then takes each
+// distance once for both (AccurateSharedTerms::sum from W's radii), and
+// one level per register for both (shared_level from W's).
 bool same_radii(const QuantityPlan& value, const QuantityPlan& over_r) {
     if (value.shared_terms.size() != over_r.shared_terms.size()) return false;
     for (std::size_t j = 0; j < value.shared_terms.size(); ++j) {
         const TermPlan& v = value.inner[value.shared_terms[j].piece].terms[value.shared_terms[j].term];
         const TermPlan& g = over_r.inner[over_r.shared_terms[j].piece].terms[over_r.shared_terms[j].term];
-        if (v.edge != g.edge || v.edge_lo != g.edge_lo) return false;
+        if (v.edge != g.edge || v.edge_lo != g.edge_lo || value.shared_terms[j].hi != over_r.shared_terms[j].hi)
+            return false;
     }
     return true;
 }
