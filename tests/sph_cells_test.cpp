@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <random>
 #include <string>
@@ -157,6 +158,44 @@ Field<D> dyadic_random(std::size_t n, double lo, double hi, unsigned seed) {
         x[c].push_back(x[c][3]);
     }
     return x;
+}
+
+// Where a pair batch's buffers lie within a 4 KiB page (pair_batch.hpp,
+// detail::ColouredAllocator): each at its colour's offset, however it grew
+// or was copied, all of them apart; close 1-3 colours below each y, so
+// that append_near's loads of y never wait on its stores to close.
+std::size_t page_offset(const void* p) { return reinterpret_cast<std::uintptr_t>(p) % mollify::detail::page_bytes; }
+
+TEST(PairBatchBuffers, EachAtItsColourApartFromTheOthers) {
+    using B = PairBatch<3>;
+    B b;
+    b.reserve(3000);  // past capacity: the buffers grew
+    for (auto& c : b.y) c.resize(700);
+    b.slot.resize(700);
+    b.close.resize(716);
+    const B copy = b;
+    for (const B* batch : std::array<const B*, 2>{&b, &copy}) {
+        std::map<std::size_t, std::string> at;
+        auto expect_colour = [&](const void* p, std::size_t colour, const std::string& name) {
+            const std::size_t offset = 64 + mollify::detail::colour_bytes * colour;
+            EXPECT_EQ(page_offset(p), offset) << name;
+            EXPECT_TRUE(at.emplace(page_offset(p), name).second) << name << " shares its offset with " << at[page_offset(p)];
+        };
+        for (int c = 0; c < 3; ++c) {
+            expect_colour(batch->d[c].data(), B::d_colour + c, "d" + std::to_string(c));
+            expect_colour(batch->y[c].data(), B::y_colour + c, "y" + std::to_string(c));
+            // close below y by 1-3 colours: y's loads run ahead of close's stores
+            const std::size_t below = page_offset(batch->y[c].data()) - page_offset(batch->close.data());
+            EXPECT_GE(below, mollify::detail::colour_bytes);
+            EXPECT_LE(below, 3 * mollify::detail::colour_bytes);
+        }
+        expect_colour(batch->a.data(), B::a_colour, "a");
+        expect_colour(batch->b.data(), B::b_colour, "b");
+        expect_colour(batch->ends.data(), B::ends_colour, "ends");
+        expect_colour(batch->slot.data(), B::slot_colour, "slot");
+        expect_colour(batch->close.data(), B::close_colour, "close");
+        EXPECT_LE(B::next_colour + 3, mollify::detail::colours - 1) << "the sweep's outputs have colours of their own";
+    }
 }
 
 TEST(Neighbours, CellPairsEqualAllPairs) {

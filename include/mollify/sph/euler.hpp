@@ -143,8 +143,11 @@ public:
 
 private:
     struct Scratch {
-        Field<D> dx, grad;
-        std::vector<double> w, m;
+        Field<D> dx;
+        // The kernel's outputs, coloured apart from the batch it reads.
+        std::array<typename PairBatch<D>::template Buffer<double>, D> grad = PairBatch<D>::template buffers<double>(PairBatch<D>::next_colour + 1);
+        typename PairBatch<D>::template Buffer<double> w = PairBatch<D>::template buffer<double>(PairBatch<D>::next_colour);
+        std::vector<double> m;
         PairBatch<D> batch;
         double* sums = nullptr;  // the sums of the range of cells this thread sweeps (sweep_cells)
 
@@ -557,7 +560,8 @@ private:
         for (int c = 0; c < D; ++c) p[c] = std::span<const double>(f[c].data(), k);
         return p;
     }
-    static std::array<std::span<double>, D> outputs(Field<D>& f, std::size_t k) {
+    template <class Components>
+    static std::array<std::span<double>, D> outputs(Components& f, std::size_t k) {
         std::array<std::span<double>, D> p;
         for (int c = 0; c < D; ++c) p[c] = std::span<double>(f[c].data(), k);
         return p;

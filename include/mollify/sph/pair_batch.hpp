@@ -10,6 +10,7 @@
 // elsewhere: no branch per candidate.
 #pragma once
 
+#include <mollify/detail/coloured_allocator.hpp>
 #include <mollify/detail/isa.hpp>
 #include <mollify/detail/parallel.hpp>  // MOLLIFY_SIMD
 #include <mollify/sph/domain.hpp>
@@ -37,16 +38,41 @@ struct PairBatch {
     // stay in L1 with the kernel's outputs; and squared distances per block
     // of home particles.
     static constexpr std::size_t capacity = 1024, block = 1024;
-    std::array<std::vector<double>, D> d;
-    std::vector<std::size_t> a, b;
+    // Each buffer of the hot loops its own colour (detail::ColouredAllocator):
+    // append_near reads y and writes close, store_pairs writes d, a and b,
+    // the kernel reads d and writes its outputs (BarotropicEuler's scratch,
+    // colours from next_colour on). close lies 1-3 colours below y (mod
+    // 4 KiB): the loads of y run ahead of the stores to close, at 8 bytes a
+    // candidate against 4 a candidate within eps, so they reach a recent
+    // store's offset only past ~450 candidates; 2-4 colours above y they met
+    // within every home particle's ~250, and the 3D sweep at N ~ 10^4 took
+    // 20-30 % longer in some processes (stop 68).
+    enum : std::size_t { close_colour = 0, y_colour = 1, slot_colour = 4, d_colour = 5, a_colour = 8, b_colour = 9,
+                         ends_colour = 10, next_colour = 11 };
+    template <class T>
+    using Buffer = mollify::detail::ColouredVector<T>;
+    template <class T>
+    static Buffer<T> buffer(std::size_t colour) {
+        return Buffer<T>(mollify::detail::ColouredAllocator<T>(colour));
+    }
+    template <class T>
+    static std::array<Buffer<T>, D> buffers(std::size_t first_colour) {
+        std::array<Buffer<T>, D> v;
+        for (int c = 0; c < D; ++c) v[static_cast<std::size_t>(c)] = buffer<T>(first_colour + static_cast<std::size_t>(c));
+        return v;
+    }
+
+    std::array<Buffer<double>, D> d = buffers<double>(d_colour);
+    Buffer<std::size_t> a = buffer<std::size_t>(a_colour), b = buffer<std::size_t>(b_colour);
     std::size_t size = 0;
     // The pairs come grouped by a (one home particle after another): group
     // g is [ends[g - 1], ends[g]), with ends[-1] = 0.
-    std::vector<std::size_t> ends;
+    Buffer<std::size_t> ends = buffer<std::size_t>(ends_colour);
     std::size_t groups = 0;
-    std::array<std::vector<double>, D> y;  // a home cell's candidates: positions (images), slots
-    std::vector<std::size_t> slot;
-    std::vector<std::uint32_t> close;  // the candidates within eps of one home particle
+    // a home cell's candidates: positions (images), slots
+    std::array<Buffer<double>, D> y = buffers<double>(y_colour);
+    Buffer<std::size_t> slot = buffer<std::size_t>(slot_colour);
+    Buffer<std::uint32_t> close = buffer<std::uint32_t>(close_colour);  // the candidates within eps of one home particle
     // The aliased case (fewer than 3 cells on a periodic side, near_pairs):
     // squared distances per home particle of a block and candidate.
     std::size_t candidates = 0;
