@@ -118,6 +118,7 @@ MOLLIFY_INLINE bool pairs_at_radii_at_levels(std::size_t n, const double* __rest
         n, [x0, x1, x2](std::size_t i) MOLLIFY_INLINE_LAMBDA { return radius(x0[i], x1[i], x2[i]); }, level,
         [x0, x1, x2, w, g0, g1, g2, &wg, &flagged](std::size_t i, double r, auto at) MOLLIFY_INLINE_LAMBDA {
             if constexpr (Checked) flagged |= not_finite(r);
+            else (void)flagged;  // named, so that clang's -Wunused-lambda-capture holds in the unchecked loop
             const auto [wi, gi] = wg(r, at);
             w[i] = wi;
             g0[i] = gi * x0[i];
@@ -468,6 +469,7 @@ private:
             detail::for_each_register_at_levels<detail::quantity_levels<K, q>>(
                 n, in, level, [in, out, &s, &flagged]<int L>(std::size_t i, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
                     if constexpr (Checked) flagged |= detail::not_a_radius(in[i]);
+                    else (void)flagged;  // clang's -Wunused-lambda-capture
                     out[i] = emitted<Q, L>(in[i], s);
                 });
         } else {
@@ -529,6 +531,7 @@ private:
             [x0, x1, w, g0, g1, &s, &flagged]<int L>(std::size_t i, double r, std::integral_constant<int, L>)
                 MOLLIFY_INLINE_LAMBDA {
                     if constexpr (Checked) flagged |= detail::not_finite(r);
+                    else (void)flagged;  // clang's -Wunused-lambda-capture
                     w[i] = emitted<QuantityId::value, L>(r, s);
                     const double g = emitted<QuantityId::grad_over_r, L>(r, s);
                     g0[i] = g * x0[i];

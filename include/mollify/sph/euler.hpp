@@ -257,7 +257,7 @@ private:
     // cache from sweep to sweep: taken as threads came free, two threads lost
     // ~10 % at N ~ 10^4 and ~6 % at 10^5). The waits between the steps spin,
     // each for one thread's short serial step or the others' equal parts.
-    std::size_t threaded_cells(const Field<D>& x, Field<D>* a, std::vector<double>* rho, int threads) {
+    std::size_t threaded_cells(const Field<D>& x, Field<D>* a, std::vector<double>* rho, [[maybe_unused]] int threads) {
         const Positions<D> xv = view<D>(x);
         const std::size_t n = size();
         std::atomic<int> stage{0};  // 1: update begun, 2: ranges prepared, -1: failed
