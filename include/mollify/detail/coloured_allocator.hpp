@@ -13,7 +13,7 @@
 // placement two systems built alike differed by 5-8 % on two threads (in
 // append_near, whose loads of y waited on its stores to close); page-aligned
 // buffers (one colour) were 15-30 % slower; colours with close above y
-// left some processes 20-30 % slower; pair_batch.hpp's colours: two threads
+// left some processes ~30 % slower; pair_batch.hpp's colours: two threads
 // 570-595 -> 525-538 us, one 1020-1054 -> 992-1005 us, alike in every process.
 #pragma once
 

@@ -46,7 +46,7 @@ struct PairBatch {
     // candidate against 4 a candidate within eps, so they reach a recent
     // store's offset only past ~450 candidates; 2-4 colours above y they met
     // within every home particle's ~250, and the 3D sweep at N ~ 10^4 took
-    // 20-30 % longer in some processes (stop 68).
+    // ~30 % longer in some processes (stop 68).
     enum : std::size_t { close_colour = 0, y_colour = 1, slot_colour = 4, d_colour = 5, a_colour = 8, b_colour = 9,
                          ends_colour = 10, next_colour = 11 };
     template <class T>
