@@ -421,14 +421,15 @@ void horner_q_fixed(const double* c, const double* q, double* out) {
     }
 }
 
-// fast_term for Basis::one, low = 0 at one point: Horner's rule in v = q
-// or q^2, times ipow<P>(distance to the edge).
-template <int N, int P, bool VarR, bool SupportEdge>
+// fast_term for Basis::one at one point: Horner's rule in v = q or q^2,
+// times ipow<Low>(q), times ipow<P>(distance to the edge).
+template <int N, int P, bool VarR, bool SupportEdge, int Low = 0>
 MOLLIFY_INLINE double fast_term_at(const double* k, double q, double e, double r, double edge, double h, double inv_h) {
     const double v = VarR ? q : q * q;
     double x = k[N - 1];
     MOLLIFY_UNROLLED
     for (int j = N - 2; j >= 0; --j) x = mul_add(x, v, k[j]);
+    if constexpr (Low != 0) x *= ipow<Low>(q);
     if constexpr (P != 0) {
         const double to_edge = SupportEdge ? e : mul_add(edge, h, -r) * inv_h;
         const double d = VarR ? to_edge : to_edge * (edge + q);
@@ -438,23 +439,24 @@ MOLLIFY_INLINE double fast_term_at(const double* k, double q, double e, double r
 }
 
 // One whole polynomial term added to a block's sum in one pass (fast_term
-// for Basis::one, low = 0), the sum in registers: sum = from + term, from
+// for Basis::one), the sum in registers: sum = from + term, from
 // the sum so far or zeros for the first term (fast_piece's fold 0 + term).
 // The same operations in the same order as the scalar path, so the same
 // bits. A term shared by several pieces (QuantityPlan::shared_terms) is
 // added only where lo <= q < hi, +0 elsewhere, which changes no sum (a sum
 // from +0 is never -0 in round-to-nearest).
-template <int N, int P, bool VarR, bool SupportEdge>
+template <int N, int P, bool VarR, bool SupportEdge, int Low>
 void add_term_fixed(const double* c, const double* q, const double* e, const double* r, double edge, double h,
                     double inv_h, double lo, double hi, const double* from, double* sum) {
     double k[N];
     for (int j = 0; j < N; ++j) k[j] = c[j];
     if (lo == -infinity && hi == infinity)
-        for (std::size_t i = 0; i < B; ++i) sum[i] = from[i] + fast_term_at<N, P, VarR, SupportEdge>(k, q[i], e[i], r[i], edge, h, inv_h);
+        for (std::size_t i = 0; i < B; ++i)
+            sum[i] = from[i] + fast_term_at<N, P, VarR, SupportEdge, Low>(k, q[i], e[i], r[i], edge, h, inv_h);
     else
         for (std::size_t i = 0; i < B; ++i)
             sum[i] = from[i] + select((q[i] >= lo) & (q[i] < hi),
-                                      fast_term_at<N, P, VarR, SupportEdge>(k, q[i], e[i], r[i], edge, h, inv_h), 0.0);
+                                      fast_term_at<N, P, VarR, SupportEdge, Low>(k, q[i], e[i], r[i], edge, h, inv_h), 0.0);
 }
 
 // A whole quantity that is one term (one piece, 0 outside: Wendland's W
@@ -497,7 +499,7 @@ using AddTerm = void (*)(const double*, const double*, const double*, const doub
 template <const TermShape& S>
 constexpr AddTerm add_term_loop() {
     if constexpr (S.n <= fused_length && S.edge_power <= fused_power)
-        return &add_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge>;
+        return &add_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.low>;
     else
         return nullptr;
 }
@@ -966,14 +968,14 @@ DoubleDouble single_scale(const TermPlan& t, const DoubleDouble& scale) {
     return content_in_scale(t) ? content_times(t, scale) : scale;
 }
 
-// One term of accurate_piece_block at one point (Basis::one, low = 0, not
-// continuing a series, Horner length N, edge power P): the distance to the
-// edge and its power in double-double, compensated Horner (split_sum for a
-// split term), the product;
+// One term of accurate_piece_block at one point (Basis::one, not
+// continuing a series, Horner length N, edge power P, power of q Low): the
+// distance to the edge and its power in double-double, times q^Low (factor_dd's
+// order), compensated Horner (split_sum for a split term), the product;
 // the same operations in the same order as the generic loops, so the same
 // bits. (ah: edge times h as a two-product, the same for every point.)
 // (Raw: a split term's factor times p_m, its content left to the scale.)
-template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split, bool Raw = false>
+template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split, bool Raw = false, int Low = 0>
 MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, const SplitArgs& sp, double edge, double edge_lo,
                                              double dq2, const DoubleDouble& qq, const DoubleDouble& ee) {
     DoubleDouble factor{1.0, 0.0};
@@ -986,6 +988,7 @@ MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, c
         }
         factor = ipow<P>(d);
     }
+    if constexpr (Low != 0) factor = P != 0 ? factor * ipow<Low>(qq) : ipow<Low>(qq);
     DoubleDouble x{k[0], l[0]};
     if constexpr (Split) {
         static_assert(VarR && N > 1);
@@ -1011,7 +1014,7 @@ MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, c
 // The same term on a block in one pass, folded into its piece: one pass
 // instead of five (the double-double block arrays between the passes cost
 // more than the arithmetic: kernel_bench, README).
-template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split>
+template <int N, int P, bool VarR, bool SupportEdge, bool Exact, bool Split, int Low>
 MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock& a, Fold fold, const DDs& from, DDs& sum,
                                          double* out) {
     double k[N], l[N];
@@ -1020,7 +1023,7 @@ MOLLIFY_FLATTEN void accurate_term_fixed(const TermPlan& t, const AccurateBlock&
     const SplitArgs sp = split_args(t);
     const double edge = t.edge, edge_lo = t.edge_lo;
     auto term = [&]<bool Raw>(std::size_t i) {
-        return accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, Raw>(
+        return accurate_term_at<N, P, VarR, SupportEdge, Exact, Split, Raw, Low>(
             k, l, sp, edge, edge_lo, a.dq2[i], {a.qq.hi[i], a.qq.lo[i]}, {a.ee.hi[i], a.ee.lo[i]});
     };
     if (fold == Fold::single) {
@@ -1075,12 +1078,19 @@ using FastWhole = bool (*)(const TermPlan&, const double*, double*, std::size_t,
 
 template <const TermShape& S>
 constexpr AccurateTerm accurate_term_loop =
-    &accurate_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, (S.split > 0)>;
+    &accurate_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, (S.split > 0), S.low>;
+// (A whole quantity's piece starts at 0: no negative power of q, the
+// generator's and the plan's fusable rule.)
 template <const TermShape& S>
-constexpr AccurateWhole accurate_whole_loop =
-    &accurate_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, (S.split > 0)>;
+constexpr AccurateWhole accurate_whole_loop = [] {
+    static_assert(S.low == 0, "a whole quantity's term has no power of q");
+    return &accurate_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, (S.split > 0)>;
+}();
 template <const TermShape& S>
-constexpr FastWhole fast_whole_loop = &fast_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge>;
+constexpr FastWhole fast_whole_loop = [] {
+    static_assert(S.low == 0, "a whole quantity's term has no power of q");
+    return &fast_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge>;
+}();
 
 template <std::size_t... I>
 constexpr std::array<AccurateTerm, sizeof...(I)> accurate_term_loops(std::index_sequence<I...>) {
@@ -1147,6 +1157,7 @@ template <Precision Pr, const WholePair& S>
 constexpr WholePairs whole_pairs_loop() {
     constexpr bool fast = Pr == Precision::fast;
     constexpr TermShape V = S.value, G = S.over_r;
+    static_assert(V.low == 0 && G.low == 0, "a whole quantity's term has no power of q");
     return &whole_pairs_fixed<Pr, V.n, V.edge_power, V.var_r, V.support_edge, V.exact && !fast, (V.split > 0) && !fast, G.n,
                               G.edge_power, G.var_r, G.support_edge, G.exact && !fast, (G.split > 0) && !fast>;
 }
@@ -1158,6 +1169,148 @@ constexpr std::array<WholePairs, sizeof...(I)> whole_pairs_loops(std::index_sequ
 // [Plan::whole_pair]
 template <Precision Pr>
 constexpr auto whole_pairs_of = whole_pairs_loops<Pr>(std::make_index_sequence<whole_pair_count>{});
+
+// ---- a quantity of pieces of one fused term each (QuantityPlan::pieces_fused) ----
+
+// Such a quantity's pieces (the cubic spline's W and W'/r) read once: each
+// piece's coefficients (m for a split term), low parts, edge, split and
+// scale (single_scale: a split term's content joins it), its lower end.
+template <const PieceShapes& S, Precision Pr>
+struct Pieces {
+    static constexpr std::size_t m = S.m;
+    static constexpr int longest = [] {
+        int n = 1;
+        for (std::size_t p = 0; p < S.m; ++p) n = std::max(n, S.pieces[p].n);
+        return n;
+    }();
+    double k[m][longest], l[m][longest], lo[m], edge[m], edge_lo[m], fast_scale;
+    SplitArgs split[m];
+    DoubleDouble scale[m];
+
+    Pieces(const QuantityPlan& qp, double quantity_scale, double quantity_scale_lo) : fast_scale(quantity_scale) {
+        for (std::size_t p = 0; p < m; ++p) {
+            const TermPlan& t = qp.inner[p].terms.front();
+            const double* c = Pr == Precision::accurate ? fused_coefficients(t) : t.c;
+            for (int j = 0; j < S.pieces[p].n; ++j) k[p][j] = c[j], l[p][j] = t.c_lo[static_cast<std::size_t>(j)];
+            lo[p] = qp.inner[p].lo, edge[p] = t.edge, edge_lo[p] = t.edge_lo;
+            split[p] = split_args(t);
+            scale[p] = single_scale(t, {quantity_scale, quantity_scale_lo});
+        }
+    }
+
+    // Precision::accurate at r (x: its accurate_radius): radial_block's
+    // operations, so its bits (and StaticKernel's): each piece alone
+    // (accurate_piece_block's Fold::single), the piece of q (a.q < lo: the
+    // one below), 0 beyond h.
+    MOLLIFY_INLINE double accurate(double r, double h, const AccurateRadius& x) const {
+        double in = 0;
+        [&]<std::size_t... P>(std::index_sequence<P...>) MOLLIFY_INLINE_LAMBDA {
+            auto piece = [&]<std::size_t Q>(std::integral_constant<std::size_t, Q>) MOLLIFY_INLINE_LAMBDA {
+                constexpr TermShape T = S.pieces[Q];
+                constexpr bool split_term = T.split > 0;
+                const DoubleDouble y = accurate_term_at<T.n, T.edge_power, T.var_r, T.support_edge, T.exact, split_term,
+                                                        split_term, T.low>(k[Q], l[Q], split[Q], edge[Q], edge_lo[Q], x.dq2,
+                                                                           {x.qq_hi, x.qq_lo}, {x.ee_hi, x.ee_lo});
+                const double v = rounded_product_bounded(y, scale[Q]);
+                in = Q == 0 ? v : select(x.q < lo[Q], in, v);
+            };
+            (piece(std::integral_constant<std::size_t, P>{}), ...);
+        }(std::make_index_sequence<m>{});
+        return select(r <= h, in, 0.0);
+    }
+
+    // Precision::fast at r: fast_zero_outside_block's operations (each
+    // piece 0 + its term, the selection, the scale, 0 beyond h).
+    MOLLIFY_INLINE double fast(double r, double q, double e, double h, double inv_h) const {
+        double in = 0;
+        [&]<std::size_t... P>(std::index_sequence<P...>) MOLLIFY_INLINE_LAMBDA {
+            auto piece = [&]<std::size_t Q>(std::integral_constant<std::size_t, Q>) MOLLIFY_INLINE_LAMBDA {
+                constexpr TermShape T = S.pieces[Q];
+                const double v =
+                    0.0 + fast_term_at<T.n, T.edge_power, T.var_r, T.support_edge, T.low>(k[Q], q, e, r, edge[Q], h, inv_h);
+                in = Q == 0 ? v : select(q < lo[Q], in, v);
+            };
+            (piece(std::integral_constant<std::size_t, P>{}), ...);
+        }(std::make_index_sequence<m>{});
+        return select(r <= h, in * fast_scale, 0.0);
+    }
+};
+
+// W and grad W at displacements for a kernel whose W and W'/r are such
+// pieces at the same breakpoints (Plan::pieces_pair), in one pass as
+// StaticKernel::pairs_3d (every piece at every point, the piece of q
+// selected; the roots a block ahead): each quantity radial_block's
+// operations, so the same bits. Before it (the quantities in blocks of
+// their own, the cubic spline's W'/r outer term q^-1 (1 - q)^2 through the
+// general loops) the cubic spline's W + grad W took 3x StaticKernel's time
+// accurate, 1.8x fast; in one pass 0.91-1.05x (kernel_bench, the Intel
+// host, stop 69). 2D takes it with x2 = 0 (in_3d).
+template <Precision Pr, const PieceShapes& V, const PieceShapes& G>
+MOLLIFY_FLATTEN bool pieces_pairs_fixed(const QuantityPlan& value, const QuantityPlan& over_r, const double* __restrict x0,
+                                        const double* __restrict x1, const double* __restrict x2, double* __restrict w,
+                                        double* __restrict g0, double* __restrict g1, double* __restrict g2, std::size_t n,
+                                        const Smoothing& smoothing) {
+    const Smoothing s = smoothing;
+    const double h = s.h(), inv_h = s.inverse();
+    const Pieces<V, Pr> v(value, s.scale(QuantityId::value), s.scale_lo(QuantityId::value));
+    const Pieces<G, Pr> g(over_r, s.scale(QuantityId::grad_over_r), s.scale_lo(QuantityId::grad_over_r));
+    return pairs_at_radii<true>(n, x0, x1, x2, w, g0, g1, g2, [&](double r) MOLLIFY_INLINE_LAMBDA {
+        if constexpr (Pr == Precision::fast) {
+            const double q = r * inv_h, e = edge_distance(h - r, s);
+            return std::pair{v.fast(r, q, e, h, inv_h), g.fast(r, q, e, h, inv_h)};
+        } else {
+            const AccurateRadius x = accurate_radius(r, h, inv_h);
+            return std::pair{v.accurate(r, h, x), g.accurate(r, h, x)};
+        }
+    });
+}
+
+// Such a quantity alone at n radii in one pass from r (the batch
+// evaluation, and the pair loop's chunks in 1D), radial_block's operations:
+// the cubic spline's W per 4096 radii took 1.2x StaticKernel's time
+// accurate, 2.0x fast in blocks of 64, 1.0-1.1x in one pass (kernel_bench,
+// the Intel host, stop 69).
+template <Precision Pr, const PieceShapes& S>
+MOLLIFY_FLATTEN bool pieces_fixed(const QuantityPlan& qp, const double* __restrict r, double* __restrict out, std::size_t n,
+                                  const Smoothing& smoothing, double scale, double scale_lo) {
+    const Smoothing s = smoothing;
+    const double h = s.h(), inv_h = s.inverse();
+    const Pieces<S, Pr> pieces(qp, scale, scale_lo);
+    std::uint64_t refused = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        refused |= not_a_radius(r[i]);
+        if constexpr (Pr == Precision::fast)
+            out[i] = pieces.fast(r[i], r[i] * inv_h, edge_distance(h - r[i], s), h, inv_h);
+        else
+            out[i] = pieces.accurate(r[i], h, accurate_radius(r[i], h, inv_h));
+    }
+    return refused != 0;
+}
+
+using PiecesLoop = bool (*)(const QuantityPlan&, const double*, double*, std::size_t, const Smoothing&, double, double);
+
+template <Precision Pr, std::size_t... I>
+constexpr std::array<PiecesLoop, sizeof...(I)> pieces_loops(std::index_sequence<I...>) {
+    if constexpr (fused_loops) return {&pieces_fixed<Pr, piece_shapes[I]>...};
+    else return {};
+}
+// [QuantityPlan::pieces_fused]
+template <Precision Pr>
+constexpr auto pieces_of = pieces_loops<Pr>(std::make_index_sequence<piece_shapes_count>{});
+
+using PiecesPairs = bool (*)(const QuantityPlan&, const QuantityPlan&, const double*, const double*, const double*, double*,
+                             double*, double*, double*, std::size_t, const Smoothing&);
+
+template <Precision Pr, std::size_t... I>
+constexpr std::array<PiecesPairs, sizeof...(I)> pieces_pairs_loops(std::index_sequence<I...>) {
+    if constexpr (fused_loops)
+        return {&pieces_pairs_fixed<Pr, piece_shapes[pieces_pairs[I].value], piece_shapes[pieces_pairs[I].over_r]>...};
+    else
+        return {};
+}
+// [Plan::pieces_pair]
+template <Precision Pr>
+constexpr auto pieces_pairs_of = pieces_pairs_loops<Pr>(std::make_index_sequence<pieces_pair_count>{});
 
 bool fused_accurate(const TermPlan& t) { return fused_loops && t.shape >= 0; }
 
@@ -1238,6 +1391,11 @@ void fill(AccurateBlock& a, const double* r) {
 // radii and edges read once into registers.
 template <const SharedShapes& S>
 struct SharedTerms {
+    static_assert([] {
+        for (std::size_t j = 0; j < S.m; ++j)
+            if (S.terms[j].low != 0) return false;
+        return true;
+    }(), "a combination's shared terms have no power of q (their first piece starts at 0)");
     static constexpr std::size_t m = S.m;
     static constexpr int longest = [] {
         int n = 1;
@@ -1489,6 +1647,10 @@ bool shared_one_pass(const QuantityPlan& qp, QuantityId q, int dim, Precision pr
     return pr == Precision::fast || (fused_loops && qp.shared_accurate);
 }
 
+// Is the quantity pieces of one fused term each (QuantityPlan::pieces_fused,
+// 0 outside), evaluated in one pass from r (pieces_fixed)?
+bool pieces_one_pass(const QuantityPlan& qp) { return fused_loops && qp.pieces_fused >= 0; }
+
 // Precision::fast, the inner pieces of a quantity whose pieces share terms
 // (QuantityPlan::shared_terms: a combination of m radii), at the B points
 // of a: each distinct term once, added where its pieces reach and +0
@@ -1720,7 +1882,8 @@ bool whole(const QuantityPlan& qp, QuantityId q, int dim) {
 // sorting costs less than a piece's double-double terms.
 bool sorted_by_piece(const QuantityPlan& qp, QuantityId q, int dim, Precision pr) {
     if (pr == Precision::fast) return !qp.polynomial_inside;
-    return qp.polynomial_inside && !whole(qp, q, dim) && !shared_one_pass(qp, q, dim, pr) && by_piece(qp);
+    return qp.polynomial_inside && !whole(qp, q, dim) && !shared_one_pass(qp, q, dim, pr) && !pieces_one_pass(qp) &&
+           by_piece(qp);
 }
 
 // Up to this many points (a batch, or a batch's last partial block) go
@@ -1743,6 +1906,8 @@ bool radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
         else
             return !fast_whole_of[shape](t, r, out, n, s, s.scale(q));
     }
+    if (pieces_one_pass(qp))
+        return !pieces_of<Pr>[static_cast<std::size_t>(qp.pieces_fused)](qp, r, out, n, s, s.scale(q), s.scale_lo(q));
     if (qp.polynomial_inside && shared_one_pass(qp, q, dim, Pr)) {
         const auto shapes = static_cast<std::size_t>(qp.shared_fused);
         if constexpr (Pr == Precision::accurate)
@@ -1962,6 +2127,14 @@ bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         return !in_3d(x, dim, w, grad, n, [&](const double* x0, const double* x1, const double* x2, double* wc, double* g0,
                                               double* g1, double* g2, std::size_t m) {
             return loop(v, g, x0, x1, x2, wc, g0, g1, g2, m, s);
+        });
+    }
+    if (plain && fused_loops && plan.pieces_pair >= 0) {
+        // W and W'/r of pieces in one pass (pieces_pairs_fixed), as the static form.
+        const PiecesPairs loop = pieces_pairs_of<Pr>[static_cast<std::size_t>(plan.pieces_pair)];
+        return !in_3d(x, dim, w, grad, n, [&](const double* x0, const double* x1, const double* x2, double* wc, double* g0,
+                                              double* g1, double* g2, std::size_t m) {
+            return loop(value, over_r, x0, x1, x2, wc, g0, g1, g2, m, s);
         });
     }
     if (plain && plan.shared_pair >= 0 && shared_one_pass(value, QuantityId::value, dim, Pr) &&

@@ -11,6 +11,7 @@
 #include <mollify/smoothing.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <limits>
 #include <span>
@@ -24,19 +25,31 @@ namespace {
          std::to_string(p) + ", term " + std::to_string(t) + ": " + why);
 }
 
-// A term the fused loops can take: Basis::one, no power of q, no Taylor
-// variable, a non-negative edge power, every Horner step compensated.
-// (bounded: the accurate fused loops' last product has no overflow guard,
-// detail::rounded_product_bounded)
+// A term the fused loops can take: Basis::one, no Taylor variable, a
+// non-negative edge power, every Horner step compensated, a power of q
+// only where bounded on its piece. (bounded: the accurate fused loops'
+// last product has no overflow guard, detail::rounded_product_bounded)
 bool fusable(const TermPlan& t) {
-    return t.basis == table::Basis::one && t.low == 0 && t.var != table::Var::shifted && t.edge_power >= 0 &&
-           t.plain == 0 && t.bounded;
+    return t.basis == table::Basis::one && t.var != table::Var::shifted && t.edge_power >= 0 && t.plain == 0 && t.bounded;
 }
 
-// Its shape is s's, low parts aside (variable, edge, length, edge power).
+// table::bounded_term, or for a negative power of q in a piece [lo, ...)
+// with lo > 0 the same bound times lo^low, q^low's largest there (the cubic
+// spline's W'/r, (1 - q)^2 q^-1 on [1/2, 1)): the fused loops' unguarded
+// last product holds wherever the piece is selected; elsewhere (q below lo,
+// q^low up to inf) its value is discarded.
+bool bounded_on_piece(const table::Term& t, double lo) {
+    if (table::bounded_term(t)) return true;
+    if (t.low >= 0 || !(lo > 0)) return false;
+    table::Term without = t;
+    without.low = 0;
+    return table::term_bound(without) * std::pow(lo, t.low) < 0x1p100;
+}
+
+// Its shape is s's, low parts aside (variable, edge, length, edge power, power of q).
 bool has_shape(const TermPlan& t, const TermShape& s) {
     return s.var_r == (t.var == table::Var::r) && s.support_edge == (t.edge == 1.0) && s.n == t.n &&
-           s.edge_power == t.edge_power;
+           s.edge_power == t.edge_power && s.low == t.low;
 }
 
 // A fusable term not continuing a series, with or without low parts as
@@ -60,7 +73,7 @@ int fast_shape_index(const TermPlan& t) {
     return -1;
 }
 
-TermPlan term_plan(const table::Term& t, const table::Term* previous) {
+TermPlan term_plan(const table::Term& t, const table::Term* previous, double piece_lo) {
     TermPlan p{t.basis, t.s_power, t.var, t.edge, t.edge_lo, t.edge_power, t.low, t.c, {}, t.n, t.centre,
                t.centre_lo, true, false, false, 0};
     p.c_lo.assign(static_cast<std::size_t>(t.n), 0.0);
@@ -76,7 +89,7 @@ TermPlan term_plan(const table::Term& t, const table::Term* previous) {
         p.content_lo = t.content_lo;
         p.split_c = split_constant(t.split);
     }
-    p.bounded = table::bounded_term(t);
+    p.bounded = bounded_on_piece(t, piece_lo);
     p.has_factor = t.edge_power != 0 || t.low != 0 || t.basis == table::Basis::sqrt_power;
     p.continues = previous && continues(*previous, t);
     p.step = p.continues ? t.edge_power - previous->edge_power : 0;
@@ -109,7 +122,7 @@ PiecePlan piece_plan(const table::Kernel& k, int q, int p, bool exterior) {
         if (exterior && (term.edge_power != 0 || term.var == table::Var::shifted ||
                          (term.basis != table::Basis::one && term.basis != table::Basis::log)))
             bad_table(k, q, p, t, "the exterior is not a Green's function in r");
-        out.terms.push_back(term_plan(term, t > 0 ? &piece.terms[t - 1] : nullptr));
+        out.terms.push_back(term_plan(term, t > 0 ? &piece.terms[t - 1] : nullptr, piece.lo));
     }
     out.edge_series = !exterior && is_edge_series(piece);
     if (out.edge_series)
@@ -175,6 +188,27 @@ int shared_shapes_index(const QuantityPlan& qp) {
     return -1;
 }
 
+// The index in piece_shapes of a quantity of several inner pieces, each
+// one fusable term of a listed shape (with or without low parts, split or
+// not, as the accurate loops read them), 0 outside; or -1.
+int piece_shapes_index(const QuantityPlan& qp) {
+    const std::size_t m = qp.inner.size();
+    if (m < 2 || m > max_pieces || !qp.polynomial_inside || !qp.zero_outside || qp.singular_at_origin) return -1;
+    for (const PiecePlan& piece : qp.inner)
+        if (piece.terms.size() != 1 || piece.edge_series) return -1;
+    for (std::size_t i = 0; i < piece_shapes_count; ++i) {
+        const PieceShapes& s = piece_shapes[i];
+        bool same = s.m == m;
+        for (std::size_t p = 0; same && p < m; ++p) {
+            const TermPlan& t = qp.inner[p].terms.front();
+            same = fusable(t) && !t.continues && has_shape(t, s.pieces[p]) && s.pieces[p].exact == t.exact &&
+                   (s.pieces[p].split > 0) == (t.split > 0);
+        }
+        if (same) return static_cast<int>(i);
+    }
+    return -1;
+}
+
 QuantityPlan quantity_plan(const table::Kernel& k, int q) {
     QuantityPlan out;
     const table::Quantity& quantity = k.quantities[q];
@@ -192,6 +226,7 @@ QuantityPlan quantity_plan(const table::Kernel& k, int q) {
         out.whole = shape_index(out.inner.front().terms.front(), {whole_shapes, whole_shape_count});
     if (out.polynomial_inside && out.zero_outside) out.shared_terms = shared_terms_of(out.inner);
     out.shared_fused = shared_shapes_index(out);
+    out.pieces_fused = piece_shapes_index(out);
     out.shared_accurate = out.shared_fused >= 0;
     for (const QuantityPlan::SharedTerm& m : out.shared_terms) {
         const TermPlan& t = out.inner[m.piece].terms[m.term];
@@ -244,6 +279,21 @@ int shared_pair_index(int dim, const QuantityPlan& value, const QuantityPlan& ov
     return -1;
 }
 
+// The index in pieces_pairs of a kernel in D dimensions whose W and W'/r
+// are pieces of fused terms at the same breakpoints, or -1 (always in 1D,
+// whose pair loop takes the sign of x).
+int pieces_pair_index(int dim, const QuantityPlan& value, const QuantityPlan& over_r) {
+    if (dim < 2 || value.pieces_fused < 0 || over_r.pieces_fused < 0 || value.inner.size() != over_r.inner.size())
+        return -1;
+    for (std::size_t p = 0; p < value.inner.size(); ++p)
+        if (value.inner[p].lo != over_r.inner[p].lo) return -1;
+    for (std::size_t i = 0; i < pieces_pair_count; ++i)
+        if (pieces_pairs[i].value == static_cast<std::size_t>(value.pieces_fused) &&
+            pieces_pairs[i].over_r == static_cast<std::size_t>(over_r.pieces_fused))
+            return static_cast<int>(i);
+    return -1;
+}
+
 }  // namespace
 
 std::shared_ptr<const Plan> make_plan(const table::Kernel& k, std::shared_ptr<const table::Kernel> owner) {
@@ -258,6 +308,7 @@ std::shared_ptr<const Plan> make_plan(const table::Kernel& k, std::shared_ptr<co
     const QuantityPlan& over_r = plan->quantities[static_cast<std::size_t>(table::QuantityId::grad_over_r)];
     plan->whole_pair = whole_pair_index(k.dim, value.whole, over_r.whole);
     plan->shared_pair = shared_pair_index(k.dim, value, over_r);
+    plan->pieces_pair = pieces_pair_index(k.dim, value, over_r);
     return plan;
 }
 

@@ -77,6 +77,9 @@ struct QuantityPlan {
     // ... and Precision::accurate may take them too: no term reads low parts
     // the fast precision's shapes (exact false) would not (n == 1 or inexact).
     bool shared_accurate = false;
+    // Several inner pieces of one fused term each, 0 outside (the cubic
+    // spline's W and W'/r): their shapes' index in piece_shapes, or -1.
+    int pieces_fused = -1;
 };
 
 struct Plan {
@@ -86,6 +89,7 @@ struct Plan {
     bool odd;
     int whole_pair = -1;  // W and W'/r both whole: their index in whole_pairs, or -1
     int shared_pair = -1;  // W and W'/r both a combination's shared terms: their index in shared_pairs, or -1
+    int pieces_pair = -1;  // W and W'/r both pieces_fused at the same breakpoints: their index in pieces_pairs, or -1
 };
 
 // The plan of a table (checked: a term shape the evaluator cannot evaluate

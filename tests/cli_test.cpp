@@ -213,14 +213,16 @@ TEST(Cli, EmitWritesOneHeaderPerKernelAndDimension) {
     // quantity; the combination's W has terms at the interior edges a_j.
     // Both split (table::Term::split: integer coefficients, exact Horner).
     const std::string shapes = slurp(out / "src/term_shapes.def");
-    EXPECT_NE(shapes.find("MOLLIFY_WHOLE_SHAPE(true, true, false, 3, 6, 1)\n"), std::string::npos) << shapes;
-    EXPECT_NE(shapes.find("MOLLIFY_TERM_SHAPE(true, false, false, 3, 6, 1)\n"), std::string::npos) << shapes;
+    EXPECT_NE(shapes.find("MOLLIFY_WHOLE_SHAPE(true, true, false, 3, 6, 1, 0)\n"), std::string::npos) << shapes;
+    EXPECT_NE(shapes.find("MOLLIFY_TERM_SHAPE(true, false, false, 3, 6, 1, 0)\n"), std::string::npos) << shapes;
     // Its distinct terms keep their grids (the table's split: 24, 23, 23
     // bits), so that the run-time form's loop computes the grid of 2^-23 once.
-    EXPECT_NE(shapes.find("MOLLIFY_SHARED_TERMS(3, {true, false, false, 3, 6, 24}, {true, false, false, 3, 6, 23}, "
-                          "{true, true, false, 3, 6, 23})\n"),
+    EXPECT_NE(shapes.find("MOLLIFY_SHARED_TERMS(3, {true, false, false, 3, 6, 24, 0}, {true, false, false, 3, 6, 23, 0}, "
+                          "{true, true, false, 3, 6, 23, 0})\n"),
               std::string::npos)
         << shapes;
+    // No kernel here has pieces of one term each (the cubic spline's: below).
+    EXPECT_TRUE(lines_matching(shapes, std::regex("^MOLLIFY_PIECES.*")).empty()) << shapes;
     const std::string h = slurp(out / "mollify/tables/combo/m_3_base_wendland_k_2_D3.hpp");
     EXPECT_NE(h.find("inline constexpr table::Kernel combo_m_3_base_wendland_k_2_D3 = {"), std::string::npos);
     EXPECT_EQ(lines_matching(h, std::regex("^#include .*")), std::vector<std::string>{"#include <mollify/table.hpp>"});
@@ -242,6 +244,27 @@ TEST(Cli, EmitWritesOneHeaderPerKernelAndDimension) {
 // Regenerating leaves unchanged files alone (their timestamps too, so that
 // a build after `mollify-gen emit` rebuilds nothing) and rewrites a changed
 // or missing one.
+// The cubic spline's W and W'/r are two pieces of one term each, at the
+// same breakpoint 1/2: listed as pieces (the run-time form's one-pass pair
+// loop), W'/r's outer term (1 - q)^2 q^-1 with its power of q (low -1,
+// fusable since its piece starts at 1/2); in 1D no pair of them (the 1D
+// pair loop takes the sign of x).
+TEST(Cli, EmitListsTheCubicSplinesPieces) {
+    const fs::path out = scratch("pieces");
+    const Outcome r = run("emit --out " + out.string() + " --only cubic-spline");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string shapes = slurp(out / "src/term_shapes.def");
+    EXPECT_NE(shapes.find("MOLLIFY_TERM_SHAPE(true, true, false, 1, 2, 0, -1)\n"), std::string::npos) << shapes;
+    EXPECT_NE(shapes.find("MOLLIFY_PIECES(2, {true, false, false, 4, 0, 0, 0}, {true, true, false, 1, 3, 0, 0})\n"),
+              std::string::npos)
+        << shapes;
+    EXPECT_NE(shapes.find("MOLLIFY_PIECES(2, {true, false, false, 2, 0, 0, 0}, {true, true, false, 1, 2, 0, -1})\n"),
+              std::string::npos)
+        << shapes;
+    EXPECT_EQ(lines_matching(shapes, std::regex("^MOLLIFY_PIECES_PAIR.*")).size(), 1u) << shapes;
+    fs::remove_all(out);
+}
+
 TEST(Cli, EmitRewritesOnlyChangedFiles) {
     const fs::path out = scratch("unchanged");
     const std::string emit = "emit --out " + out.string() + " --only wendland:k=1";

@@ -31,12 +31,31 @@ inline std::string term_feature(const table::Term& t, const table::Term* previou
     return f;
 }
 
+// Several inner pieces of one polynomial term each, 0 outside (the cubic
+// spline's W and W'/r): the run-time form's fused pieces (src/plan.cpp:
+// piece_shapes_index).
+inline bool pieces_of_one_term(const table::Quantity& quantity) {
+    if (quantity.npieces < 3 || quantity.pieces[quantity.npieces - 1].nterms != 0) return false;
+    for (int p = 0; p + 1 < quantity.npieces; ++p)
+        if (quantity.pieces[p].nterms != 1 || quantity.pieces[p].terms[0].basis != table::Basis::one) return false;
+    return true;
+}
+
 inline std::set<std::string> features(const table::Kernel& k) {
     std::set<std::string> out;
     out.insert("dim=" + std::to_string(k.dim) + (k.parity < 0 ? " odd" : ""));
+    // W and W'/r such pieces at the same breakpoints, D >= 2: the run-time
+    // form's one-pass pair loop of pieces (Plan::pieces_pair).
+    const table::Quantity &w = k.quantities[0], &over_r = k.quantities[4];
+    if (k.dim >= 2 && pieces_of_one_term(w) && pieces_of_one_term(over_r) && w.npieces == over_r.npieces) {
+        bool same = true;
+        for (int p = 0; p < w.npieces; ++p) same = same && w.pieces[p].lo == over_r.pieces[p].lo;
+        if (same) out.insert("pair of pieces dim>=2");
+    }
     for (int q = 0; q < table::quantity_count; ++q) {
         const table::Quantity& quantity = k.quantities[q];
         if (quantity.npieces == 0) continue;
+        if (pieces_of_one_term(quantity)) out.insert("quantity pieces of one term");
         bool polynomial_inside = true;
         for (int p = 0; p < quantity.npieces; ++p) {
             const table::Piece& piece = quantity.pieces[p];
@@ -46,6 +65,9 @@ inline std::set<std::string> features(const table::Kernel& k) {
                 const table::Term& term = piece.terms[t];
                 const table::Term* previous = t > 0 ? &piece.terms[t - 1] : nullptr;
                 out.insert(term_feature(term, previous, exterior));
+                // a negative power of q where its piece starts above 0: fusable (src/plan.cpp: bounded_on_piece)
+                if (!exterior && term.low < 0 && piece.lo > 0 && term.basis == table::Basis::one)
+                    out.insert("term low=- in a piece above 0");
                 if (!exterior && term.basis != table::Basis::one) polynomial_inside = false;
                 series = series && term.n == 1 &&
                          (!previous || (continues(*previous, term) && term.edge_power == previous->edge_power + 1));
