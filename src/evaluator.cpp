@@ -432,7 +432,9 @@ MOLLIFY_INLINE double fast_term_at(const double* k, double q, double e, double r
     if constexpr (Low != 0) x *= ipow<Low>(q);
     if constexpr (P != 0) {
         const double to_edge = SupportEdge ? e : mul_add(edge, h, -r) * inv_h;
-        const double d = VarR ? to_edge : to_edge * (edge + q);
+        // (the support edge is 1 as a constant: then W's and W'/r's distances
+        // in a pair loop are one common subexpression, as StaticKernel's)
+        const double d = VarR ? to_edge : to_edge * ((SupportEdge ? 1.0 : edge) + q);
         x *= ipow<P>(d);
     }
     return x;
@@ -983,8 +985,12 @@ MOLLIFY_INLINE DoubleDouble accurate_term_at(const double* k, const double* l, c
         DoubleDouble d = ee;
         if constexpr (!SupportEdge) d = interior_distance(edge, edge_lo, qq);
         if constexpr (!VarR) {
-            const DoubleDouble edge_plus_q = plus(edge, qq);
-            d = d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + edge_lo};
+            // The support edge 1 (edge_lo 0: has_shape) as a constant, so that
+            // W's and W'/r's (1 - q^2) and its powers are one common
+            // subexpression in a pair loop, as in StaticKernel's; the same
+            // operations, + 0.0 included (it makes a -0 low part +0).
+            const DoubleDouble edge_plus_q = plus(SupportEdge ? 1.0 : edge, qq);
+            d = d * DoubleDouble{edge_plus_q.hi, edge_plus_q.lo + (SupportEdge ? 0.0 : edge_lo)};
         }
         factor = ipow<P>(d);
     }

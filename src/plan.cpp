@@ -47,9 +47,11 @@ bool bounded_on_piece(const table::Term& t, double lo) {
 }
 
 // Its shape is s's, low parts aside (variable, edge, length, edge power, power of q).
+// A support edge is exactly 1 (edge_lo 0): the fused loops take it as the constant.
 bool has_shape(const TermPlan& t, const TermShape& s) {
-    return s.var_r == (t.var == table::Var::r) && s.support_edge == (t.edge == 1.0) && s.n == t.n &&
-           s.edge_power == t.edge_power && s.low == t.low;
+    const bool support_edge = t.edge == 1.0 && t.edge_lo == 0;
+    return s.var_r == (t.var == table::Var::r) && s.support_edge == support_edge && (support_edge || t.edge != 1.0) &&
+           s.n == t.n && s.edge_power == t.edge_power && s.low == t.low;
 }
 
 // A fusable term not continuing a series, with or without low parts as
