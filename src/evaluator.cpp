@@ -1181,12 +1181,12 @@ constexpr auto whole_pairs_of = whole_pairs_loops<Pr>(std::make_index_sequence<w
 // Such a quantity's pieces (the cubic spline's W and W'/r) read once: each
 // piece's coefficients (m for a split term), low parts, edge, split and
 // scale (single_scale: a split term's content joins it), its lower end.
-template <const PieceShapes& S, Precision Pr>
+template <const ShapeList& S, Precision Pr>
 struct Pieces {
     static constexpr std::size_t m = S.m;
     static constexpr int longest = [] {
         int n = 1;
-        for (std::size_t p = 0; p < S.m; ++p) n = std::max(n, S.pieces[p].n);
+        for (std::size_t p = 0; p < S.m; ++p) n = std::max(n, S.shapes[p].n);
         return n;
     }();
     double k[m][longest], l[m][longest], lo[m], edge[m], edge_lo[m], fast_scale;
@@ -1197,7 +1197,7 @@ struct Pieces {
         for (std::size_t p = 0; p < m; ++p) {
             const TermPlan& t = qp.inner[p].terms.front();
             const double* c = Pr == Precision::accurate ? fused_coefficients(t) : t.c;
-            for (int j = 0; j < S.pieces[p].n; ++j) k[p][j] = c[j], l[p][j] = t.c_lo[static_cast<std::size_t>(j)];
+            for (int j = 0; j < S.shapes[p].n; ++j) k[p][j] = c[j], l[p][j] = t.c_lo[static_cast<std::size_t>(j)];
             lo[p] = qp.inner[p].lo, edge[p] = t.edge, edge_lo[p] = t.edge_lo;
             split[p] = split_args(t);
             scale[p] = single_scale(t, {quantity_scale, quantity_scale_lo});
@@ -1212,7 +1212,7 @@ struct Pieces {
         double in = 0;
         [&]<std::size_t... P>(std::index_sequence<P...>) MOLLIFY_INLINE_LAMBDA {
             auto piece = [&]<std::size_t Q>(std::integral_constant<std::size_t, Q>) MOLLIFY_INLINE_LAMBDA {
-                constexpr TermShape T = S.pieces[Q];
+                constexpr TermShape T = S.shapes[Q];
                 constexpr bool split_term = T.split > 0;
                 const DoubleDouble y = accurate_term_at<T.n, T.edge_power, T.var_r, T.support_edge, T.exact, split_term,
                                                         split_term, T.low>(k[Q], l[Q], split[Q], edge[Q], edge_lo[Q], x.dq2,
@@ -1231,7 +1231,7 @@ struct Pieces {
         double in = 0;
         [&]<std::size_t... P>(std::index_sequence<P...>) MOLLIFY_INLINE_LAMBDA {
             auto piece = [&]<std::size_t Q>(std::integral_constant<std::size_t, Q>) MOLLIFY_INLINE_LAMBDA {
-                constexpr TermShape T = S.pieces[Q];
+                constexpr TermShape T = S.shapes[Q];
                 const double v =
                     0.0 + fast_term_at<T.n, T.edge_power, T.var_r, T.support_edge, T.low>(k[Q], q, e, r, edge[Q], h, inv_h);
                 in = Q == 0 ? v : select(q < lo[Q], in, v);
@@ -1251,7 +1251,7 @@ struct Pieces {
 // general loops) the cubic spline's W + grad W took 3x StaticKernel's time
 // accurate, 1.8x fast; in one pass 0.91-1.05x (kernel_bench, the Intel
 // host, stop 69). 2D takes it with x2 = 0 (in_3d).
-template <Precision Pr, const PieceShapes& V, const PieceShapes& G>
+template <Precision Pr, const ShapeList& V, const ShapeList& G>
 MOLLIFY_FLATTEN bool pieces_pairs_fixed(const QuantityPlan& value, const QuantityPlan& over_r, const double* __restrict x0,
                                         const double* __restrict x1, const double* __restrict x2, double* __restrict w,
                                         double* __restrict g0, double* __restrict g1, double* __restrict g2, std::size_t n,
@@ -1276,7 +1276,7 @@ MOLLIFY_FLATTEN bool pieces_pairs_fixed(const QuantityPlan& value, const Quantit
 // the cubic spline's W per 4096 radii took 1.2x StaticKernel's time
 // accurate, 2.0x fast in blocks of 64, 1.0-1.1x in one pass (kernel_bench,
 // the Intel host, stop 69).
-template <Precision Pr, const PieceShapes& S>
+template <Precision Pr, const ShapeList& S>
 MOLLIFY_FLATTEN bool pieces_fixed(const QuantityPlan& qp, const double* __restrict r, double* __restrict out, std::size_t n,
                                   const Smoothing& smoothing, double scale, double scale_lo) {
     const Smoothing s = smoothing;
@@ -1395,17 +1395,17 @@ void fill(AccurateBlock& a, const double* r) {
 // Precision::fast, a combination's distinct terms (QuantityPlan::
 // shared_terms) of the listed shapes (shared_shapes), their coefficients,
 // radii and edges read once into registers.
-template <const SharedShapes& S>
+template <const ShapeList& S>
 struct SharedTerms {
     static_assert([] {
         for (std::size_t j = 0; j < S.m; ++j)
-            if (S.terms[j].low != 0) return false;
+            if (S.shapes[j].low != 0) return false;
         return true;
     }(), "a combination's shared terms have no power of q (their first piece starts at 0)");
     static constexpr std::size_t m = S.m;
     static constexpr int longest = [] {
         int n = 1;
-        for (std::size_t j = 0; j < S.m; ++j) n = std::max(n, S.terms[j].n);
+        for (std::size_t j = 0; j < S.m; ++j) n = std::max(n, S.shapes[j].n);
         return n;
     }();
     double k[m][longest], hi[m], edge[m];
@@ -1416,7 +1416,7 @@ struct SharedTerms {
     MOLLIFY_INLINE void read(const QuantityPlan& qp, std::index_sequence<J...>) {
         auto one = [&]<std::size_t j>(std::integral_constant<std::size_t, j>) {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
-            for (int c = 0; c < S.terms[j].n; ++c) k[j][c] = t.c[c];
+            for (int c = 0; c < S.shapes[j].n; ++c) k[j][c] = t.c[c];
             hi[j] = qp.shared_terms[j].hi, edge[j] = t.edge;
         };
         (one(std::integral_constant<std::size_t, J>{}), ...);
@@ -1446,7 +1446,7 @@ struct SharedTerms {
                               std::index_sequence<J...>) const {
         double x = 0.0;
         ((x = x + select(reaches<J>(q),
-                         fast_term_at<S.terms[J].n, S.terms[J].edge_power, S.terms[J].var_r, S.terms[J].support_edge>(
+                         fast_term_at<S.shapes[J].n, S.shapes[J].edge_power, S.shapes[J].var_r, S.shapes[J].support_edge>(
                              k[J], q, e, r, at.edge[J], h, inv_h),
                          0.0)),
          ...);
@@ -1456,7 +1456,7 @@ struct SharedTerms {
 
 // A quantity of shared terms, 0 outside, at n radii in one pass from r:
 // radial_block's q, e, sum, scale and 0 beyond h for each point.
-template <const SharedShapes& S>
+template <const ShapeList& S>
 MOLLIFY_FLATTEN bool shared_whole_loop(const QuantityPlan& qp, const double* __restrict r, double* __restrict out,
                                        std::size_t n, const Smoothing& smoothing, double scale) {
     const Smoothing s = smoothing;
@@ -1487,7 +1487,7 @@ constexpr auto shared_whole_of = shared_whole_loops(std::make_index_sequence<sha
 // double-double sum's value at most in the sign of a zero low part (two_sum
 // is exact), so the result is the pieces' evaluated and selected, but for
 // the sign of a zero W (+0 where a one-term piece gives -0 at its edge).
-template <const SharedShapes& S>
+template <const ShapeList& S>
 struct AccurateSharedTerms : SharedTerms<S> {
     using SharedTerms<S>::m;
     using SharedTerms<S>::longest;
@@ -1504,8 +1504,8 @@ struct AccurateSharedTerms : SharedTerms<S> {
     MOLLIFY_INLINE void read_low_parts(const QuantityPlan& qp, std::index_sequence<J...>) {
         auto one = [&]<std::size_t j>(std::integral_constant<std::size_t, j>) {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
-            for (int c = 0; c < S.terms[j].n; ++c) l[j][c] = t.c_lo[static_cast<std::size_t>(c)];
-            for (int c = 0; c < S.terms[j].n; ++c) km[j][c] = fused_coefficients(t)[c];
+            for (int c = 0; c < S.shapes[j].n; ++c) l[j][c] = t.c_lo[static_cast<std::size_t>(c)];
+            for (int c = 0; c < S.shapes[j].n; ++c) km[j][c] = fused_coefficients(t)[c];
             content[j] = t.content, content_lo[j] = t.content_lo;
             edge_lo[j] = t.edge_lo;
         };
@@ -1531,12 +1531,12 @@ struct AccurateSharedTerms : SharedTerms<S> {
         DoubleDouble y{0.0, 0.0};
         auto add = [&]<std::size_t I>(std::integral_constant<std::size_t, I>) MOLLIFY_INLINE_LAMBDA {
             if constexpr (I >= Skip) {
-                // the grid from the shape (S.terms[I].split: table::Term::split),
+                // the grid from the shape (S.shapes[I].split: table::Term::split),
                 // a constant: terms of one grid share it, as in StaticKernel's sum
-                constexpr int grid = S.terms[I].split;
+                constexpr int grid = S.shapes[I].split;
                 const SplitArgs split{grid > 0 ? split_constant(grid) : 0.0, content[I], content_lo[I]};
                 const DoubleDouble t =
-                    accurate_term_at<S.terms[I].n, S.terms[I].edge_power, S.terms[I].var_r, S.terms[I].support_edge, false,
+                    accurate_term_at<S.shapes[I].n, S.shapes[I].edge_power, S.shapes[I].var_r, S.shapes[I].support_edge, false,
                                      (grid > 0)>(km[I], l[I], split, at.edge[I], at.edge_lo[I], x.dq2, {x.qq_hi, x.qq_lo},
                                                  {x.ee_hi, x.ee_lo});
                 const bool in = this->template reaches<I>(x.q);
@@ -1561,7 +1561,7 @@ RadiusLevel<Levels> shared_level(const std::vector<QuantityPlan::SharedTerm>& v,
 
 // One quantity's shared terms at n radii, by levels (StaticKernel's
 // evaluate: for_each_register_at_levels).
-template <const SharedShapes& S>
+template <const ShapeList& S>
 MOLLIFY_FLATTEN bool accurate_shared_loop(const QuantityPlan& qp, const double* __restrict r, double* __restrict out,
                                           std::size_t n, const Smoothing& smoothing, DoubleDouble scale) {
     const double h = smoothing.h(), inv_h = smoothing.inverse();
@@ -1596,7 +1596,7 @@ constexpr auto accurate_shared_of = accurate_shared_loops(std::make_index_sequen
 // fast precision in every instruction set (the generic copy is compared
 // with StaticKernel's pair loop bit for bit); 2D takes it with x2 = 0.
 // The loop is detail::pairs_at_radii, as there.
-template <Precision Pr, const SharedShapes& SV, const SharedShapes& SG>
+template <Precision Pr, const ShapeList& SV, const ShapeList& SG>
 MOLLIFY_FLATTEN bool shared_pairs_fixed(const QuantityPlan& value, const QuantityPlan& over_r, const double* __restrict x0,
                                         const double* __restrict x1, const double* __restrict x2, double* __restrict w,
                                         double* __restrict g0, double* __restrict g1, double* __restrict g2,

@@ -177,13 +177,13 @@ std::vector<QuantityPlan::SharedTerm> shared_terms_of(const std::vector<PiecePla
 int shared_shapes_index(const QuantityPlan& qp) {
     const std::size_t m = qp.shared_terms.size();
     // the fused loops compare q with each radius only (SharedTerms::reaches)
-    if (m == 0 || m > max_shared_terms || !radii_in_order(qp.shared_terms, qp.shared_terms, m)) return -1;
+    if (m == 0 || m > max_list_length || !radii_in_order(qp.shared_terms, qp.shared_terms, m)) return -1;
     for (std::size_t i = 0; i < shared_shapes_count; ++i) {
-        const SharedShapes& s = shared_shapes[i];
+        const ShapeList& s = shared_shapes[i];
         bool same = s.m == m;
         for (std::size_t j = 0; same && j < m; ++j) {
             const TermPlan& t = qp.inner[qp.shared_terms[j].piece].terms[qp.shared_terms[j].term];
-            same = fusable(t) && has_shape(t, s.terms[j]) && s.terms[j].split == t.split;
+            same = fusable(t) && has_shape(t, s.shapes[j]) && s.shapes[j].split == t.split;
         }
         if (same) return static_cast<int>(i);
     }
@@ -195,16 +195,16 @@ int shared_shapes_index(const QuantityPlan& qp) {
 // not, as the accurate loops read them), 0 outside; or -1.
 int piece_shapes_index(const QuantityPlan& qp) {
     const std::size_t m = qp.inner.size();
-    if (m < 2 || m > max_pieces || !qp.polynomial_inside || !qp.zero_outside || qp.singular_at_origin) return -1;
+    if (m < 2 || m > max_list_length || !qp.polynomial_inside || !qp.zero_outside || qp.singular_at_origin) return -1;
     for (const PiecePlan& piece : qp.inner)
         if (piece.terms.size() != 1 || piece.edge_series) return -1;
     for (std::size_t i = 0; i < piece_shapes_count; ++i) {
-        const PieceShapes& s = piece_shapes[i];
+        const ShapeList& s = piece_shapes[i];
         bool same = s.m == m;
         for (std::size_t p = 0; same && p < m; ++p) {
             const TermPlan& t = qp.inner[p].terms.front();
-            same = fusable(t) && !t.continues && has_shape(t, s.pieces[p]) && s.pieces[p].exact == t.exact &&
-                   (s.pieces[p].split > 0) == (t.split > 0);
+            same = fusable(t) && !t.continues && has_shape(t, s.shapes[p]) && s.shapes[p].exact == t.exact &&
+                   (s.shapes[p].split > 0) == (t.split > 0);
         }
         if (same) return static_cast<int>(i);
     }

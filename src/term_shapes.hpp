@@ -64,61 +64,34 @@ inline constexpr WholePair whole_pairs[] = {
     {},  // an end that matches no kernel
 };
 
-// The most terms of a listed combination (the generator's limit is
-// generator/term_shapes.hpp's max_shared_terms; read here from its list).
-inline constexpr std::size_t max_shared_terms = std::max({
+// The longest list of a listed combination's shared terms or of a
+// quantity's pieces (the generator's limits are generator/term_shapes.hpp's
+// max_shared_terms and max_pieces; read here from its lists).
+inline constexpr std::size_t max_list_length = std::max({
     std::size_t{1},
 #define MOLLIFY_SHARED_TERMS(m, ...) std::size_t{m},
-#include "term_shapes_rest.inc"
-#include <src/term_shapes.def>
-#include "term_shapes_end.inc"
-});
-
-// A combination's m distinct terms (QuantityPlan::shared_terms) in order,
-// for the fast precision (exact false): all m in one pass.
-struct SharedShapes {
-    std::size_t m;
-    TermShape terms[max_shared_terms];
-};
-inline constexpr SharedShapes shared_shapes[] = {
-#define MOLLIFY_SHARED_TERMS(m, ...) {m, {__VA_ARGS__}},
-#include "term_shapes_rest.inc"
-#include <src/term_shapes.def>
-#include "term_shapes_end.inc"
-    {},  // an end that matches no quantity (m = 0)
-};
-
-// The combinations' (W, W'/r) shared terms (D = 2, 3), indices in
-// shared_shapes: the pair loop in one pass.
-struct SharedPair {
-    std::size_t value, over_r;
-};
-inline constexpr SharedPair shared_pairs[] = {
-#define MOLLIFY_SHARED_PAIR(value, over_r) {value, over_r},
-#include "term_shapes_rest.inc"
-#include <src/term_shapes.def>
-#include "term_shapes_end.inc"
-    {},  // an end that matches no kernel
-};
-
-// The most pieces of a listed quantity of pieces (generator/term_shapes.hpp's
-// max_pieces; read here from its list).
-inline constexpr std::size_t max_pieces = std::max({
-    std::size_t{1},
 #define MOLLIFY_PIECES(m, ...) std::size_t{m},
 #include "term_shapes_rest.inc"
 #include <src/term_shapes.def>
 #include "term_shapes_end.inc"
 });
 
-// A quantity of m inner pieces of one fused term each, 0 outside
-// (QuantityPlan::pieces_fused: the cubic spline's W and W'/r), the
-// pieces' shapes in order.
-struct PieceShapes {
+// A list of m shapes in order: a combination's distinct terms
+// (QuantityPlan::shared_terms; for the fast precision, exact false), or a
+// quantity's pieces of one fused term each, 0 outside
+// (QuantityPlan::pieces_fused: the cubic spline's W and W'/r).
+struct ShapeList {
     std::size_t m;
-    TermShape pieces[max_pieces];
+    TermShape shapes[max_list_length];
 };
-inline constexpr PieceShapes piece_shapes[] = {
+inline constexpr ShapeList shared_shapes[] = {
+#define MOLLIFY_SHARED_TERMS(m, ...) {m, {__VA_ARGS__}},
+#include "term_shapes_rest.inc"
+#include <src/term_shapes.def>
+#include "term_shapes_end.inc"
+    {},  // an end that matches no quantity (m = 0)
+};
+inline constexpr ShapeList piece_shapes[] = {
 #define MOLLIFY_PIECES(m, ...) {m, {__VA_ARGS__}},
 #include "term_shapes_rest.inc"
 #include <src/term_shapes.def>
@@ -126,12 +99,20 @@ inline constexpr PieceShapes piece_shapes[] = {
     {},  // an end that matches no quantity (m = 0)
 };
 
-// The kernels' (W, W'/r) of such pieces at the same breakpoints (D = 2, 3),
-// indices in piece_shapes: the pair loop in one pass.
-struct PiecesPair {
+// A kernel's (W, W'/r) lists (D = 2, 3), indices in one of those: the
+// pair loop in one pass. The combinations' shared terms (in shared_shapes)
+// and the kernels of pieces at the same breakpoints (in piece_shapes).
+struct ListPair {
     std::size_t value, over_r;
 };
-inline constexpr PiecesPair pieces_pairs[] = {
+inline constexpr ListPair shared_pairs[] = {
+#define MOLLIFY_SHARED_PAIR(value, over_r) {value, over_r},
+#include "term_shapes_rest.inc"
+#include <src/term_shapes.def>
+#include "term_shapes_end.inc"
+    {},  // an end that matches no kernel
+};
+inline constexpr ListPair pieces_pairs[] = {
 #define MOLLIFY_PIECES_PAIR(value, over_r) {value, over_r},
 #include "term_shapes_rest.inc"
 #include <src/term_shapes.def>
