@@ -122,15 +122,20 @@ constexpr double lanes_per_cycle = 8;  // AVX2: 4 doubles x 2 FMA pipes
 // ---- data ----
 
 // Displacements uniform in [-h, h]^3 (about half inside the support, as in
-// a neighbour loop with a cell list) and their lengths.
+// a neighbour loop with a cell list) and their lengths; or, `inside`,
+// uniform in the support's ball (a neighbour list already filtered to
+// r < h, as the SPH sweeps' pair loops get it: a combination's inner terms
+// then reach more registers of points, goal 3's harder case).
 struct Data {
     std::vector<double> x[3], r, w, g[3];
-    explicit Data(std::size_t n) {
+    explicit Data(std::size_t n, bool inside = false) {
         std::mt19937_64 rng(42);
         std::uniform_real_distribution<double> u(-h, h);
         for (auto& c : x) c.resize(n);
-        for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t i = 0; i < n;) {
             for (auto& c : x) c[i] = u(rng);
+            if (!inside || x[0][i] * x[0][i] + x[1][i] * x[1][i] + x[2][i] * x[2][i] < h * h) ++i;
+        }
         r.resize(n);
         for (std::size_t i = 0; i < n; ++i) r[i] = std::sqrt(x[0][i] * x[0][i] + x[1][i] * x[1][i] + x[2][i] * x[2][i]);
         w.resize(n);
@@ -140,9 +145,9 @@ struct Data {
     mollify::PointsOut<3> grad() { return {g[0], g[1], g[2]}; }
 };
 
-Data& data(std::size_t n) {
-    static std::map<std::size_t, Data> cache;
-    return cache.try_emplace(n, n).first->second;
+Data& data(std::size_t n, bool inside = false) {
+    static std::map<std::pair<std::size_t, bool>, Data> cache;
+    return cache.try_emplace({n, inside}, n, inside).first->second;
 }
 
 // ---- errors, measured once per (kernel, form) ----
@@ -224,8 +229,10 @@ Naive tight(const std::string& spec, QuantityId q) {
 // trips GCC 12's -Wrestrict).
 std::string batch_suffix(std::size_t n) { return std::string("/").append(std::to_string(n)); }
 
+// inside: also W + grad W at points inside the support only
+// (W+gradW-inside/...: both precisions, both forms; goal 3's kernels).
 template <const Kernel& K>
-void register_kernel(const char* label) {
+void register_kernel(const char* label, bool inside = false) {
     using W = mollify::StaticKernel<K>;  // Precision::accurate, the default
     using F = mollify::StaticKernel<K, mollify::Precision::fast>;
     static_assert(W::dimension == 3);
@@ -325,6 +332,29 @@ void register_kernel(const char* label) {
             const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
             timed(st, n, pb, e_fast, [&] { fast.pairs(x, s, d.w, g); });
         });
+        if (inside) {
+            reg("W+gradW-inside/" + base + "static" + suffix, [n, pb, e_static](benchmark::State& st) {
+                Data& d = data(n, true);
+                const Smoothing s = W::smoothing(h);
+                timed(st, n, pb, e_static, [&] { W::pairs(d.points(), s, d.w, d.grad()); });
+            });
+            reg("W+gradW-inside/" + base + "static-fast" + suffix, [n, pb, e_fast](benchmark::State& st) {
+                Data& d = data(n, true);
+                const Smoothing s = F::smoothing(h);
+                timed(st, n, pb, e_fast, [&] { F::pairs(d.points(), s, d.w, d.grad()); });
+            });
+            for (const mollify::Precision pr : {mollify::Precision::accurate, mollify::Precision::fast}) {
+                const bool is_fast = pr == mollify::Precision::fast;
+                reg("W+gradW-inside/" + base + (is_fast ? "runtime-fast" : "runtime") + suffix,
+                    [n, pb, k = runtime.with(pr), e = is_fast ? e_fast : e_runtime](benchmark::State& st) {
+                        Data& d = data(n, true);
+                        const Smoothing s = k.smoothing(h);
+                        const std::span<const double> x[3] = {d.x[0], d.x[1], d.x[2]};
+                        const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
+                        timed(st, n, pb, e, [&] { k.pairs(x, s, d.w, g); });
+                    });
+            }
+        }
         reg("W+gradW/" + base + "expanded" + suffix, [n, pb, nw, ng, e_expanded](benchmark::State& st) {
             Data& d = data(n);
             timed(st, n, pb, e_expanded, [&] {
@@ -577,6 +607,15 @@ std::string load() {
 }
 std::string load_before;
 
+// A repetitions' spread (Google Benchmark's _stddev and _cv rows) is not a
+// time to divide.
+bool spread(const std::string& name) {
+    auto ends = [&](const std::string& tail) {
+        return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+    };
+    return ends("_stddev") || ends("_cv");
+}
+
 // The run-time form's CPU time over StaticKernel's in this run (issue 18's
 // goal: <= 1.25): accurate against the checked static form (both API calls
 // check their inputs), fast against static-fast, and for the pairs also
@@ -587,6 +626,7 @@ void write_form_ratios(std::ofstream& out, const std::vector<benchmark::Benchmar
     std::vector<std::string> sizes;
     for (const auto& r : runs) {
         const std::string name = r.benchmark_name();
+        if (spread(name)) continue;
         cpu[name] = r.GetAdjustedCPUTime();
         const auto a = name.find('/'), b = name.find('/', a + 1), c = name.rfind('/');
         const std::string key = name.substr(0, b), size = name.substr(c + 1);
@@ -612,6 +652,35 @@ void write_form_ratios(std::ofstream& out, const std::vector<benchmark::Benchmar
         }
 }
 
+// Precision::accurate's CPU time over Precision::fast's in this run, each
+// form against itself, the same batch (issue 21's goal 3: <= 1.5 for
+// W + grad W of Wendland C4 and combo:m=3,base=wendland:k=2).
+void write_precision_ratios(std::ofstream& out, const std::vector<benchmark::BenchmarkReporter::Run>& runs) {
+    std::map<std::string, double> cpu;
+    std::vector<std::pair<std::string, std::string>> rows;  // (quantity/kernel, batch), in run order
+    for (const auto& r : runs) {
+        const std::string name = r.benchmark_name();
+        if (spread(name)) continue;
+        cpu[name] = r.GetAdjustedCPUTime();
+        const auto b = name.find('/', name.find('/') + 1), c = name.rfind('/');
+        const std::pair<std::string, std::string> row{name.substr(0, b), name.substr(c + 1)};
+        if (std::find(rows.begin(), rows.end(), row) == rows.end()) rows.push_back(row);
+    }
+    auto ratio = [&](const std::string& key, const std::string& form, const std::string& size) {
+        const auto x = cpu.find(key + "/" + form + "/" + size), y = cpu.find(key + "/" + form + "-fast/" + size);
+        return x == cpu.end() || y == cpu.end() ? std::string("–") : number("%.2f", x->second / y->second);
+    };
+    out << "\n## Precision::accurate against Precision::fast\n\n"
+        << "CPU time of the accurate precision (<= 0.51 ulp) over the fast one, the same form and batch, this run "
+           "(issue 21's goal 3: <= 1.5 for W+gradW of wendland:k=2 and combo:m=3,base=wendland:k=2; the -inside "
+           "rows: every point inside the support).\n\n"
+        << "| quantity/kernel | batch | StaticKernel | run-time form |\n|---|--:|--:|--:|\n";
+    for (const auto& [key, size] : rows)
+        if (cpu.count(key + "/static-fast/" + size))
+            out << "| " << key << " | " << size << " | " << ratio(key, "static", size) << " | "
+                << ratio(key, "runtime", size) << " |\n";
+}
+
 void write_markdown(const std::string& path, const std::vector<benchmark::BenchmarkReporter::Run>& runs) {
     std::ofstream out(path + ".tmp");
     out << "# kernel_bench results\n\nGenerated by `cmake --build build --target bench-kernels` (bench/kernel_bench.cpp), "
@@ -628,6 +697,7 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
             << counter(r, "ulp_W", "%.3g") << " | " << counter(r, "ulp_G", "%.3g") << " |\n";
     }
     write_form_ratios(out, runs);
+    write_precision_ratios(out, runs);
     out << "\nLoad average (1, 5, 15 min) before: " << load_before << "; after: " << load() << ".\n";
     out.close();
     std::rename((path + ".tmp").c_str(), path.c_str());
@@ -638,11 +708,11 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
 int main(int argc, char** argv) {
     const std::string md = mollify::bench::initialize(argc, argv);
     load_before = load();
-    register_kernel<tables::wendland_k_2_D3>("wendland:k=2");
+    register_kernel<tables::wendland_k_2_D3>("wendland:k=2", true);
     register_kernel<tables::wendland_k_4_l_4_D3>("wendland:k=4,l=4");
     register_kernel<tables::mollifier_M_4_D3>("mollifier:M=4");
     register_kernel<tables::mollifier_M_9_order_6_D3>("mollifier:M=9,order=6");
-    register_kernel<tables::combo_m_3_base_wendland_k_2_D3>("combo:m=3,base=wendland:k=2");
+    register_kernel<tables::combo_m_3_base_wendland_k_2_D3>("combo:m=3,base=wendland:k=2", true);
     register_kernel<tables::cubic_spline_D3>("cubic-spline");
     register_kernel<tables::poly6_D3>("poly6");
     register_forms<tables::wendland_missing_k_1_D3>("wendland-missing:k=1");
