@@ -616,69 +616,66 @@ bool spread(const std::string& name) {
     return ends("_stddev") || ends("_cv");
 }
 
+// The runs' CPU times per iteration by name, and the names' quantity/kernel
+// keys and batch sizes in run order (name: quantity/kernel/form/batch).
+struct Timings {
+    std::map<std::string, double> cpu;
+    std::vector<std::string> keys, sizes;
+    explicit Timings(const std::vector<benchmark::BenchmarkReporter::Run>& runs) {
+        for (const auto& r : runs) {
+            const std::string name = r.benchmark_name();
+            if (spread(name)) continue;
+            cpu[name] = r.GetAdjustedCPUTime();
+            const auto a = name.find('/'), b = name.find('/', a + 1), c = name.rfind('/');
+            const std::string key = name.substr(0, b), size = name.substr(c + 1);
+            if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+            if (std::find(sizes.begin(), sizes.end(), size) == sizes.end()) sizes.push_back(size);
+        }
+    }
+    bool has(const std::string& key, const std::string& form, const std::string& size) const {
+        return cpu.count(key + "/" + form + "/" + size) != 0;
+    }
+    // form's time over base's, "–" where either did not run
+    std::string ratio(const std::string& key, const std::string& form, const std::string& base, const std::string& size) const {
+        const auto x = cpu.find(key + "/" + form + "/" + size), y = cpu.find(key + "/" + base + "/" + size);
+        return x == cpu.end() || y == cpu.end() ? std::string("–") : number("%.2f", x->second / y->second);
+    }
+};
+
 // The run-time form's CPU time over StaticKernel's in this run (issue 18's
 // goal: <= 1.25): accurate against the checked static form (both API calls
 // check their inputs), fast against static-fast, and for the pairs also
 // against the unchecked static pair loop.
-void write_form_ratios(std::ofstream& out, const std::vector<benchmark::BenchmarkReporter::Run>& runs) {
-    std::map<std::string, double> cpu;  // name -> CPU time per iteration
-    std::vector<std::string> keys;      // quantity/kernel, in run order
-    std::vector<std::string> sizes;
-    for (const auto& r : runs) {
-        const std::string name = r.benchmark_name();
-        if (spread(name)) continue;
-        cpu[name] = r.GetAdjustedCPUTime();
-        const auto a = name.find('/'), b = name.find('/', a + 1), c = name.rfind('/');
-        const std::string key = name.substr(0, b), size = name.substr(c + 1);
-        if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
-        if (std::find(sizes.begin(), sizes.end(), size) == sizes.end()) sizes.push_back(size);
-    }
-    auto ratio = [&](const std::string& key, const char* form, const char* base, const std::string& size) {
-        const auto x = cpu.find(key + "/" + form + "/" + size), y = cpu.find(key + "/" + base + "/" + size);
-        return x == cpu.end() || y == cpu.end() ? std::string("–") : number("%.2f", x->second / y->second);
-    };
+void write_form_ratios(std::ofstream& out, const Timings& t) {
     out << "\n## The run-time form against StaticKernel\n\n"
         << "CPU time of `mollify::Kernel` (libmollify's data-driven loops) over `StaticKernel`'s, the same batch, "
            "this run (the goal of issue 18: <= 1.25).\n\n"
         << "| quantity/kernel | batch | accurate | fast | fast, against the unchecked static pair loop |\n"
            "|---|--:|--:|--:|--:|\n";
-    for (const std::string& key : keys)
-        for (const std::string& size : sizes) {
-            if (!cpu.count(key + "/runtime/" + size)) continue;
+    for (const std::string& key : t.keys)
+        for (const std::string& size : t.sizes) {
+            if (!t.has(key, "runtime", size)) continue;
             const bool pairs = key.rfind("W+gradW", 0) == 0;
-            out << "| " << key << " | " << size << " | " << ratio(key, "runtime", "static", size) << " | "
-                << ratio(key, "runtime-fast", "static-fast", size) << " | "
-                << (pairs ? ratio(key, "runtime-fast", "static-fast-unchecked", size) : std::string("–")) << " |\n";
+            out << "| " << key << " | " << size << " | " << t.ratio(key, "runtime", "static", size) << " | "
+                << t.ratio(key, "runtime-fast", "static-fast", size) << " | "
+                << (pairs ? t.ratio(key, "runtime-fast", "static-fast-unchecked", size) : std::string("–")) << " |\n";
         }
 }
 
 // Precision::accurate's CPU time over Precision::fast's in this run, each
 // form against itself, the same batch (issue 21's goal 3: <= 1.5 for
 // W + grad W of Wendland C4 and combo:m=3,base=wendland:k=2).
-void write_precision_ratios(std::ofstream& out, const std::vector<benchmark::BenchmarkReporter::Run>& runs) {
-    std::map<std::string, double> cpu;
-    std::vector<std::pair<std::string, std::string>> rows;  // (quantity/kernel, batch), in run order
-    for (const auto& r : runs) {
-        const std::string name = r.benchmark_name();
-        if (spread(name)) continue;
-        cpu[name] = r.GetAdjustedCPUTime();
-        const auto b = name.find('/', name.find('/') + 1), c = name.rfind('/');
-        const std::pair<std::string, std::string> row{name.substr(0, b), name.substr(c + 1)};
-        if (std::find(rows.begin(), rows.end(), row) == rows.end()) rows.push_back(row);
-    }
-    auto ratio = [&](const std::string& key, const std::string& form, const std::string& size) {
-        const auto x = cpu.find(key + "/" + form + "/" + size), y = cpu.find(key + "/" + form + "-fast/" + size);
-        return x == cpu.end() || y == cpu.end() ? std::string("–") : number("%.2f", x->second / y->second);
-    };
+void write_precision_ratios(std::ofstream& out, const Timings& t) {
     out << "\n## Precision::accurate against Precision::fast\n\n"
         << "CPU time of the accurate precision (<= 0.51 ulp) over the fast one, the same form and batch, this run "
            "(issue 21's goal 3: <= 1.5 for W+gradW of wendland:k=2 and combo:m=3,base=wendland:k=2; the -inside "
            "rows: every point inside the support).\n\n"
         << "| quantity/kernel | batch | StaticKernel | run-time form |\n|---|--:|--:|--:|\n";
-    for (const auto& [key, size] : rows)
-        if (cpu.count(key + "/static-fast/" + size))
-            out << "| " << key << " | " << size << " | " << ratio(key, "static", size) << " | "
-                << ratio(key, "runtime", size) << " |\n";
+    for (const std::string& key : t.keys)
+        for (const std::string& size : t.sizes)
+            if (t.has(key, "static-fast", size))
+                out << "| " << key << " | " << size << " | " << t.ratio(key, "static", "static-fast", size) << " | "
+                    << t.ratio(key, "runtime", "runtime-fast", size) << " |\n";
 }
 
 void write_markdown(const std::string& path, const std::vector<benchmark::BenchmarkReporter::Run>& runs) {
@@ -696,8 +693,9 @@ void write_markdown(const std::string& path, const std::vector<benchmark::Benchm
             << " | " << counter(r, "tsc_cyc", "%.2f") << " | " << counter(r, "bound", "%.2f") << " | "
             << counter(r, "ulp_W", "%.3g") << " | " << counter(r, "ulp_G", "%.3g") << " |\n";
     }
-    write_form_ratios(out, runs);
-    write_precision_ratios(out, runs);
+    const Timings timings(runs);
+    write_form_ratios(out, timings);
+    write_precision_ratios(out, timings);
     out << "\nLoad average (1, 5, 15 min) before: " << load_before << "; after: " << load() << ".\n";
     out.close();
     std::rename((path + ".tmp").c_str(), path.c_str());
