@@ -7,6 +7,8 @@
 // nothing with the code under test but the coefficients' order.
 #include <mollify/poisson/multipole.hpp>
 
+#include "sanitized.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -194,7 +196,11 @@ void check(int p, int degree, double scale, const char* what) {
     const Cell target{{0, 0, 0.3 * scale}, 0.25 * scale};  // on the z axis: R_x, R_y as given
     auto dirs = hard_directions;
     std::normal_distribution<double> N;
-    for (int i = 0; i < 8; ++i) dirs.push_back({N(g), N(g), N(g)});
+    // Under -O0 + ASan (CI's second build: the same code paths, not all the
+    // workload) the hard directions alone: the long-double reference's sums
+    // are the cost there (p = 20 and 17 took 28 s).
+    if (!mollify::testing::sanitized_build)
+        for (int i = 0; i < 8; ++i) dirs.push_back({N(g), N(g), N(g)});
     const auto src = around(target, dirs, scale, 0.3 * scale);
     std::vector<std::vector<double>> m;
     for (std::size_t i = 0; i < src.size(); ++i) m.push_back(moments(p, g, 5));
@@ -207,7 +213,7 @@ TEST(M2L, MatchesTheDefinitionAtEveryOrder) {
 
 TEST(M2L, MatchesTheDefinitionAtHighOrder) {
     check(20, 20, 1, "p = 20");
-    check(17, 17, 1, "p = 17");
+    if (!mollify::testing::sanitized_build) check(17, 17, 1, "p = 17");  // the same paths as p = 20
 }
 
 // A batch below the expansion's order (pair_degree): the coefficients
