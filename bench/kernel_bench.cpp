@@ -297,64 +297,43 @@ void register_kernel(const char* label, bool inside = false) {
             Data& d = data(n);
             timed(st, n, vb, e, [&] { naive_values<acc::Form::pow>(nw, d.r.data(), d.w.data(), n); });
         });
-        reg("W+gradW/" + base + "static" + suffix, [n, pb, e_static](benchmark::State& st) {
-            Data& d = data(n);
-            const Smoothing s = W::smoothing(h);
-            timed(st, n, pb, e_static, [&] { W::pairs(d.points(), s, d.w, d.grad()); });
-        });
-        reg("W+gradW/" + base + "static-unchecked" + suffix, [n, pb, e_static](benchmark::State& st) {
-            Data& d = data(n);
-            const Smoothing s = W::smoothing(h);
-            timed(st, n, pb, e_static, [&] { W::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
-        });
-        reg("W+gradW/" + base + "static-fast" + suffix, [n, pb, e_fast](benchmark::State& st) {
-            Data& d = data(n);
-            const Smoothing s = F::smoothing(h);
-            timed(st, n, pb, e_fast, [&] { F::pairs(d.points(), s, d.w, d.grad()); });
-        });
-        reg("W+gradW/" + base + "static-fast-unchecked" + suffix, [n, pb, e_fast](benchmark::State& st) {
-            Data& d = data(n);
-            const Smoothing s = F::smoothing(h);
-            timed(st, n, pb, e_fast, [&] { F::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
-        });
-        reg("W+gradW/" + base + "runtime" + suffix, [n, pb, runtime, e_runtime](benchmark::State& st) {
-            Data& d = data(n);
-            const Smoothing s = runtime.smoothing(h);
-            const std::span<const double> x[3] = {d.x[0], d.x[1], d.x[2]};
-            const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
-            timed(st, n, pb, e_runtime, [&] { runtime.pairs(x, s, d.w, g); });
-        });
-        reg("W+gradW/" + base + "runtime-fast" + suffix, [n, pb, fast = runtime.with(mollify::Precision::fast),
-                                                       e_fast](benchmark::State& st) {
-            Data& d = data(n);
-            const Smoothing s = fast.smoothing(h);
-            const std::span<const double> x[3] = {d.x[0], d.x[1], d.x[2]};
-            const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
-            timed(st, n, pb, e_fast, [&] { fast.pairs(x, s, d.w, g); });
-        });
-        if (inside) {
-            reg("W+gradW-inside/" + base + "static" + suffix, [n, pb, e_static](benchmark::State& st) {
-                Data& d = data(n, true);
+        // W + grad W through the checked API, both forms and precisions, at
+        // the displacements of data(n, in_ball)
+        auto checked_pairs = [&](const std::string& quantity, bool in_ball) {
+            reg(quantity + base + "static" + suffix, [n, pb, e_static, in_ball](benchmark::State& st) {
+                Data& d = data(n, in_ball);
                 const Smoothing s = W::smoothing(h);
                 timed(st, n, pb, e_static, [&] { W::pairs(d.points(), s, d.w, d.grad()); });
             });
-            reg("W+gradW-inside/" + base + "static-fast" + suffix, [n, pb, e_fast](benchmark::State& st) {
-                Data& d = data(n, true);
+            reg(quantity + base + "static-fast" + suffix, [n, pb, e_fast, in_ball](benchmark::State& st) {
+                Data& d = data(n, in_ball);
                 const Smoothing s = F::smoothing(h);
                 timed(st, n, pb, e_fast, [&] { F::pairs(d.points(), s, d.w, d.grad()); });
             });
             for (const mollify::Precision pr : {mollify::Precision::accurate, mollify::Precision::fast}) {
                 const bool is_fast = pr == mollify::Precision::fast;
-                reg("W+gradW-inside/" + base + (is_fast ? "runtime-fast" : "runtime") + suffix,
-                    [n, pb, k = runtime.with(pr), e = is_fast ? e_fast : e_runtime](benchmark::State& st) {
-                        Data& d = data(n, true);
+                reg(quantity + base + (is_fast ? "runtime-fast" : "runtime") + suffix,
+                    [n, pb, in_ball, k = runtime.with(pr), e = is_fast ? e_fast : e_runtime](benchmark::State& st) {
+                        Data& d = data(n, in_ball);
                         const Smoothing s = k.smoothing(h);
                         const std::span<const double> x[3] = {d.x[0], d.x[1], d.x[2]};
                         const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
                         timed(st, n, pb, e, [&] { k.pairs(x, s, d.w, g); });
                     });
             }
-        }
+        };
+        checked_pairs("W+gradW/", false);
+        reg("W+gradW/" + base + "static-unchecked" + suffix, [n, pb, e_static](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = W::smoothing(h);
+            timed(st, n, pb, e_static, [&] { W::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
+        });
+        reg("W+gradW/" + base + "static-fast-unchecked" + suffix, [n, pb, e_fast](benchmark::State& st) {
+            Data& d = data(n);
+            const Smoothing s = F::smoothing(h);
+            timed(st, n, pb, e_fast, [&] { F::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
+        });
+        if (inside) checked_pairs("W+gradW-inside/", true);
         reg("W+gradW/" + base + "expanded" + suffix, [n, pb, nw, ng, e_expanded](benchmark::State& st) {
             Data& d = data(n);
             timed(st, n, pb, e_expanded, [&] {
