@@ -45,4 +45,13 @@ TEST(BatchLoops, EveryValueOfABatchIsThePointsValueAloneAndNearTheRunTimeForm) {
     for (const std::string& m : c.mismatches) ADD_FAILURE() << m;
 }
 
+TEST(BatchLoops, PairLoopsNameEveryNonFiniteCoordinate) {
+    if (!cpu_runs_unit()) GTEST_SKIP() << "this CPU cannot run the " << unit_isa << " unit";
+    const std::string before(mollify::isa());
+    mollify::use_isa(unit_isa);
+    const std::vector<std::string> missed = batch_loops::unflagged_bad_inputs();
+    mollify::use_isa(before);
+    for (const std::string& m : missed) ADD_FAILURE() << m;
+}
+
 }  // namespace

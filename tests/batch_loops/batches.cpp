@@ -34,9 +34,12 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
+#include <random>
 #include <span>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace batch_loops {
 
@@ -293,7 +296,87 @@ void both(Comparison& out) {
     compare<K, Precision::fast>(out);
 }
 
+// pairs(x, n) for x with a NaN, +inf or -inf in each coordinate at points
+// where blocks of roots begin, lie and end, in batches of 4500 (281 blocks
+// of 16 and a last one overlapping the one before) and 7 (no whole block);
+// `missed` gets the cases that gave no Error naming the coordinate.
+template <int D, class Pairs>
+void expect_flagged(const std::string& who, Pairs pairs, std::vector<std::string>& missed) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-0.25, 0.25);  // inside h = 0.5, every level of a combination
+    for (const std::size_t n : {std::size_t{4500}, std::size_t{7}}) {
+        std::array<std::vector<double>, D> x;
+        for (auto& c : x) {
+            c.resize(n);
+            for (double& v : c) v = u(rng);
+        }
+        const std::vector<std::size_t> places = n > 16 ? std::vector<std::size_t>{0, 17, 4200, n - 1} : std::vector<std::size_t>{3};
+        for (const std::size_t i : places)
+            for (int c = 0; c < D; ++c)
+                for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                                         -std::numeric_limits<double>::infinity()}) {
+                    double& v = x[static_cast<std::size_t>(c)][i];
+                    const double kept = v;
+                    v = bad;
+                    const std::string needle = "coordinate x[" + std::to_string(c) + "]";
+                    bool named = false;
+                    try {
+                        pairs(x, n);
+                    } catch (const mollify::Error& e) {
+                        named = std::string(e.what()).find(needle) != std::string::npos;
+                    }
+                    if (!named)
+                        missed.push_back(who + ": " + std::to_string(bad) + " in " + needle + " of point " + std::to_string(i) +
+                                         " of " + std::to_string(n) + " not named");
+                    v = kept;
+                }
+    }
+}
+
+// StaticKernel's pairs and the run-time form's for table K, precision Pr.
+template <const table::Kernel& K, Precision Pr>
+void expect_pairs_flagged(std::vector<std::string>& missed) {
+    using W = mollify::StaticKernel<K, Pr>;
+    constexpr int D = W::dimension;
+    const std::string who = std::string(K.spec) + " D" + std::to_string(D) + (Pr == Precision::fast ? " fast" : " accurate");
+    expect_flagged<D>(who + " StaticKernel", [](std::array<std::vector<double>, D>& x, std::size_t n) {
+        std::vector<double> w(n);
+        std::array<std::vector<double>, D> g;
+        mollify::Points<D> in;
+        mollify::PointsOut<D> out;
+        for (std::size_t c = 0; c < D; ++c) {
+            g[c].resize(n);
+            in[c] = x[c];
+            out[c] = g[c];
+        }
+        W::pairs(in, W::smoothing(0.5), w, out);
+    }, missed);
+    const mollify::Kernel k = mollify::kernel(K, Pr);
+    expect_flagged<D>(who + " run-time form", [&k](std::array<std::vector<double>, D>& x, std::size_t n) {
+        std::vector<double> w(n);
+        std::array<std::vector<double>, D> g;
+        std::vector<std::span<const double>> in;
+        std::vector<std::span<double>> out;
+        for (std::size_t c = 0; c < D; ++c) {
+            g[c].resize(n);
+            in.emplace_back(x[c]);
+            out.emplace_back(g[c]);
+        }
+        k.pairs(in, k.smoothing(0.5), w, out);
+    }, missed);
+}
+
 }  // namespace
+
+std::vector<std::string> unflagged_bad_inputs() {
+    namespace tables = mollify::tables;
+    std::vector<std::string> missed;
+    expect_pairs_flagged<tables::wendland_k_2_D3, Precision::accurate>(missed);
+    expect_pairs_flagged<tables::wendland_k_2_D3, Precision::fast>(missed);
+    expect_pairs_flagged<tables::combo_m_3_base_wendland_k_2_D3, Precision::accurate>(missed);
+    expect_pairs_flagged<tables::combo_m_2_base_wendland_k_1_D2, Precision::accurate>(missed);
+    return missed;
+}
 
 // The vectorised paths of the batch loops: one whole term (Wendland C4,
 // pairs_3d), pieces of several terms (the combinations, in 3D and in 2D:

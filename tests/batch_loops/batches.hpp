@@ -18,4 +18,12 @@ struct Comparison {
 // against the run-time form (the caller chooses its x86-64-v3 copy).
 Comparison batches_against_points();
 
+// The pair loops' input check (NonFiniteRoots, on each block of roots as it
+// is taken): a NaN or infinite coordinate in the first block of roots, a
+// middle one, the last (which overlaps the one before) and a batch shorter
+// than a block, in StaticKernel's 3D and 2D pair loops of the unit's
+// instruction set and in the run-time form's (the caller chooses its copy),
+// each must be an Error naming that coordinate. The cases that were not.
+std::vector<std::string> unflagged_bad_inputs();
+
 }  // namespace batch_loops
