@@ -110,9 +110,9 @@ inline void check_coordinates(std::span<const double> x, int component) {
 // lane-wise maximum (VPMAXSQ with AVX-512; the fields are below 2^63, so
 // signed), reduced once after the loop: checked in the body, as the roots
 // were before, the flag was reduced across the register after every
-// register of a combination's levels, 10 instructions of ~105 of its
-// outermost term (stop 71: combo:m=3,base=wendland:k=2's accurate W + grad
-// W per 4096 points 15.8 -> 15.3 us, its fast 7.3 -> 7.0). Integer
+// register of a combination's levels, 13 of the 106 instructions of its
+// outermost term's body (stop 71: combo:m=3,base=wendland:k=2's accurate
+// W + grad W per 4096 points 15.8 -> 15.3 us, its fast 7.3 -> 7.0). Integer
 // operations: -ffast-math does not fold them. Fewer than a block of roots,
 // and without lanes of four or more, a scalar test per root.
 class NonFiniteRoots {
