@@ -1567,16 +1567,16 @@ MOLLIFY_FLATTEN bool accurate_shared_loop(const QuantityPlan& qp, const double* 
     const double h = smoothing.h(), inv_h = smoothing.inverse();
     const AccurateSharedTerms<S> t(qp);
     constexpr int levels = static_cast<int>(S.m);
-    std::uint64_t refused = 0;
+    NotRadii refused;
     for_each_register_at_levels<levels>(
         n, r, shared_level<levels>(qp.shared_terms, h),
         [&]<int L>(std::size_t i, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
-            refused |= not_a_radius(r[i]);
             const DoubleDouble y =
                 t.template sum<static_cast<std::size_t>(L)>(accurate_radius(r[i], h, inv_h), std::make_index_sequence<S.m>{});
             out[i] = select(r[i] <= h, rounded_product_bounded(y, scale), 0.0);
-        });
-    return refused != 0;
+        },
+        [&refused](const double* __restrict x, auto count) MOLLIFY_INLINE_LAMBDA { refused(x, count); });
+    return refused.any();
 }
 
 using AccurateShared = bool (*)(const QuantityPlan&, const double*, double*, std::size_t, const Smoothing&, DoubleDouble);

@@ -54,4 +54,13 @@ TEST(BatchLoops, PairLoopsNameEveryNonFiniteCoordinate) {
     for (const std::string& m : missed) ADD_FAILURE() << m;
 }
 
+TEST(BatchLoops, BatchEvaluationNamesEveryBadRadius) {
+    if (!cpu_runs_unit()) GTEST_SKIP() << "this CPU cannot run the " << unit_isa << " unit";
+    const std::string before(mollify::isa());
+    mollify::use_isa(unit_isa);
+    const std::vector<std::string> missed = batch_loops::unflagged_bad_radii();
+    mollify::use_isa(before);
+    for (const std::string& m : missed) ADD_FAILURE() << m;
+}
+
 }  // namespace

@@ -24,6 +24,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string_view>
 #include <type_traits>
@@ -146,6 +147,49 @@ private:
 #if defined(MOLLIFY_LANES)
     typedef std::int64_t Fields __attribute__((vector_size(register_doubles * sizeof(double))));
     Fields largest_{};
+#endif
+    std::uint64_t flagged_ = 0;
+};
+
+// The same for radii as given (the batch evaluation by levels,
+// for_each_register_at_levels): is some r not a radius (not_a_radius: NaN,
+// infinite, or negative but -0)? Per lane the largest exponent field and the
+// least of the bits less 1 (wrapping: a negative r but -0 gives at most -2,
+// -0 the largest number), reduced once after the loop.
+class NotRadii {
+public:
+    MOLLIFY_INLINE void operator()(const double* __restrict r, std::size_t count) {
+        for (std::size_t j = 0; j < count; ++j) flagged_ |= not_a_radius(r[j]);
+    }
+    template <std::size_t B>
+    MOLLIFY_INLINE void operator()(const double* __restrict r, std::integral_constant<std::size_t, B> count) {
+#if defined(MOLLIFY_LANES)
+        if constexpr (register_doubles >= 4 && B % register_doubles == 0) {
+            for (std::size_t k = 0; k < B; k += register_doubles) {
+                const Bits b = std::bit_cast<Bits>(load_lanes(r + k));
+                const Fields f = std::bit_cast<Fields>(b & exponent_bits), less = std::bit_cast<Fields>(b - 1);
+                largest_ = largest_ > f ? largest_ : f;
+                least_ = least_ < less ? least_ : less;
+            }
+            return;
+        }
+#endif
+        (*this)(r, std::size_t{count});
+    }
+    bool any() const {
+        std::uint64_t flagged = flagged_;
+#if defined(MOLLIFY_LANES)
+        for (int l = 0; l < register_doubles; ++l)
+            flagged |= static_cast<std::uint64_t>((largest_[l] == static_cast<std::int64_t>(exponent_bits)) | (least_[l] < -1));
+#endif
+        return flagged != 0;
+    }
+
+private:
+#if defined(MOLLIFY_LANES)
+    typedef std::uint64_t Bits __attribute__((vector_size(register_doubles * sizeof(double))));
+    typedef std::int64_t Fields __attribute__((vector_size(register_doubles * sizeof(double))));
+    Fields largest_{}, least_ = Fields{} + std::numeric_limits<std::int64_t>::max();
 #endif
     std::uint64_t flagged_ = 0;
 };
@@ -500,8 +544,8 @@ public:
 private:
     // The batch loops: restrict pointers and a local copy of the smoothing,
     // so the compiler knows the output aliases nothing it reads (else no
-    // SIMD). Checked: is some input flagged (detail::not_a_radius, or
-    // not_finite of r), tested as it is read.
+    // SIMD). Checked: is some input flagged (detail::not_a_radius), tested
+    // as it is read, or by levels each register before its body (NotRadii).
     template <QuantityId Q, bool Checked>
     MOLLIFY_BATCH_LOOP static bool evaluate_loop(const double* __restrict in, double* __restrict out, std::size_t n,
                                                  const Smoothing& smoothing) {
@@ -513,12 +557,14 @@ private:
             // from the radii as given.
             const detail::RadiusLevel<detail::quantity_levels<K, q>> level(
                 [](int l) { return detail::level_bound<K, q>(l); }, s.h());
+            std::conditional_t<Checked, detail::NotRadii, detail::NoRootCheck> check;
             detail::for_each_register_at_levels<detail::quantity_levels<K, q>>(
-                n, in, level, [in, out, &s, &flagged]<int L>(std::size_t i, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
-                    if constexpr (Checked) flagged |= detail::not_a_radius(in[i]);
-                    else (void)flagged;  // clang's -Wunused-lambda-capture
+                n, in, level,
+                [in, out, &s]<int L>(std::size_t i, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
                     out[i] = emitted<Q, L>(in[i], s);
-                });
+                },
+                [&check](const double* __restrict r, auto count) MOLLIFY_INLINE_LAMBDA { check(r, count); });
+            if constexpr (Checked) flagged = check.any();
         } else {
             for (std::size_t i = 0; i < n; ++i) {
                 if constexpr (Checked) flagged |= detail::not_a_radius(in[i]);

@@ -26,4 +26,9 @@ Comparison batches_against_points();
 // each must be an Error naming that coordinate. The cases that were not.
 std::vector<std::string> unflagged_bad_inputs();
 
+// The same for the batch evaluation of W and W'/r by levels (NotRadii, on
+// each register of radii): a NaN, infinite or negative radius (-0 is a
+// radius) anywhere in a batch must be an Error naming it.
+std::vector<std::string> unflagged_bad_radii();
+
 }  // namespace batch_loops

@@ -156,17 +156,24 @@ struct RadiusLevel {
 // the radii are given and no root is taken. The body is compiled once per
 // level and once more for the last n mod register_doubles points, which
 // take level 0.
-template <int Levels, class Level, class Body>
-MOLLIFY_INLINE void for_each_register_at_levels(std::size_t n, const double* __restrict r, Level level, Body body) {
+// check(r + i, count) sees each register's radii (count a std::
+// integral_constant) and the last ones (a std::size_t) before the body
+// reads them: the input check (NotRadii), kept out of the body, where its
+// flag was reduced across the register after every register.
+template <int Levels, class Level, class Body, class Check>
+MOLLIFY_INLINE void for_each_register_at_levels(std::size_t n, const double* __restrict r, Level level, Body body,
+                                                Check check) {
     constexpr std::size_t S = register_doubles;
     std::size_t i = 0;
     for (; i + S <= n; i += S) {
+        check(r + i, std::integral_constant<std::size_t, S>{});
         auto run = [&](auto at) MOLLIFY_INLINE_LAMBDA {
             for (std::size_t j = 0; j < S; ++j) body(i + j, at);
         };
         at_level<Levels>(level(r + i, S), run, std::make_integer_sequence<int, Levels>{});
     }
     // the last, shorter register at level 0 (every term): one more body, not Levels
+    check(r + i, n - i);
     for (; i < n; ++i) body(i, std::integral_constant<int, 0>{});
 }
 
