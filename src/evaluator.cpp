@@ -1575,7 +1575,7 @@ MOLLIFY_FLATTEN bool accurate_shared_loop(const QuantityPlan& qp, const double* 
                 t.template sum<static_cast<std::size_t>(L)>(accurate_radius(r[i], h, inv_h), std::make_index_sequence<S.m>{});
             out[i] = select(r[i] <= h, rounded_product_bounded(y, scale), 0.0);
         },
-        [&refused](const double* __restrict x, auto count) MOLLIFY_INLINE_LAMBDA { refused(x, count); });
+        refused);
     return refused.any();
 }
 

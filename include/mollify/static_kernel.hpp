@@ -105,61 +105,26 @@ inline void check_coordinates(std::span<const double> x, int component) {
         for (const double v : x) check_coordinate(v, component);
 }
 
-// The pair loops' input check, on each block of roots as it is taken
-// (for_each_block_of_roots): is some r not finite (an input inf or NaN, or
-// its square overflowed)? Per lane the largest exponent field seen, a
-// lane-wise maximum (VPMAXSQ with AVX-512; the fields are below 2^63, so
-// signed), reduced once after the loop: checked in the body, as the roots
-// were before, the flag was reduced across the register after every
-// register of a combination's levels, 13 of the 106 instructions of its
-// outermost term's body (stop 71: combo:m=3,base=wendland:k=2's accurate
-// W + grad W per 4096 points 15.8 -> 15.3 us, its fast 7.3 -> 7.0). Integer
-// operations: -ffast-math does not fold them. Fewer than a block of roots,
-// and without lanes of four or more, a scalar test per root.
-class NonFiniteRoots {
+// The batch loops' input check, kept out of their bodies: each block of
+// roots as it is taken (for_each_block_of_roots, the pair loops) or each
+// register of radii before its body (for_each_register_at_levels, the batch
+// evaluation by levels). Tested in the body, the flag was reduced across the
+// register after every register of a combination's levels, 13 of the 106
+// instructions of its outermost term's body (stop 71: combo:m=3,base=
+// wendland:k=2's accurate W + grad W per 4096 points 15.8 -> 15.3 us, its
+// fast 7.3 -> 7.0; its W by levels 9.9-10.0 -> 9.0 us). Per lane the
+// largest exponent field seen (VPMAXSQ with AVX-512; the fields are below
+// 2^63, so signed): an r not finite (an input inf or NaN, or its square
+// overflowed); for Radii also the least of the bits less 1, wrapping (a
+// negative r but -0 gives at most -2, -0 the largest number): not_a_radius.
+// Reduced once, by any(). Integer operations: -ffast-math does not fold
+// them. Fewer than a whole count, and without lanes of four or more, the
+// scalar tests.
+template <bool Radii>
+class BadInputLanes {
 public:
     MOLLIFY_INLINE void operator()(const double* __restrict r, std::size_t count) {
-        for (std::size_t j = 0; j < count; ++j) flagged_ |= not_finite(r[j]);
-    }
-    template <std::size_t B>
-    MOLLIFY_INLINE void operator()(const double* __restrict r, std::integral_constant<std::size_t, B> count) {
-#if defined(MOLLIFY_LANES)
-        if constexpr (register_doubles >= 4 && B % register_doubles == 0) {
-            for (std::size_t k = 0; k < B; k += register_doubles) {
-                const Fields f = std::bit_cast<Fields>(load_lanes(r + k)) & static_cast<std::int64_t>(exponent_bits);
-                largest_ = largest_ > f ? largest_ : f;
-            }
-            return;
-        }
-#endif
-        (*this)(r, std::size_t{count});
-    }
-    bool any() const {
-        std::uint64_t flagged = flagged_;
-#if defined(MOLLIFY_LANES)
-        for (int l = 0; l < register_doubles; ++l)
-            flagged |= static_cast<std::uint64_t>(largest_[l] == static_cast<std::int64_t>(exponent_bits));
-#endif
-        return flagged != 0;
-    }
-
-private:
-#if defined(MOLLIFY_LANES)
-    typedef std::int64_t Fields __attribute__((vector_size(register_doubles * sizeof(double))));
-    Fields largest_{};
-#endif
-    std::uint64_t flagged_ = 0;
-};
-
-// The same for radii as given (the batch evaluation by levels,
-// for_each_register_at_levels): is some r not a radius (not_a_radius: NaN,
-// infinite, or negative but -0)? Per lane the largest exponent field and the
-// least of the bits less 1 (wrapping: a negative r but -0 gives at most -2,
-// -0 the largest number), reduced once after the loop.
-class NotRadii {
-public:
-    MOLLIFY_INLINE void operator()(const double* __restrict r, std::size_t count) {
-        for (std::size_t j = 0; j < count; ++j) flagged_ |= not_a_radius(r[j]);
+        for (std::size_t j = 0; j < count; ++j) flagged_ |= Radii ? not_a_radius(r[j]) : not_finite(r[j]);
     }
     template <std::size_t B>
     MOLLIFY_INLINE void operator()(const double* __restrict r, std::integral_constant<std::size_t, B> count) {
@@ -167,9 +132,12 @@ public:
         if constexpr (register_doubles >= 4 && B % register_doubles == 0) {
             for (std::size_t k = 0; k < B; k += register_doubles) {
                 const Bits b = std::bit_cast<Bits>(load_lanes(r + k));
-                const Fields f = std::bit_cast<Fields>(b & exponent_bits), less = std::bit_cast<Fields>(b - 1);
+                const Fields f = std::bit_cast<Fields>(b & exponent_bits);
                 largest_ = largest_ > f ? largest_ : f;
-                least_ = least_ < less ? least_ : less;
+                if constexpr (Radii) {
+                    const Fields less = std::bit_cast<Fields>(b - 1);
+                    least_ = least_ < less ? least_ : less;
+                }
             }
             return;
         }
@@ -180,7 +148,8 @@ public:
         std::uint64_t flagged = flagged_;
 #if defined(MOLLIFY_LANES)
         for (int l = 0; l < register_doubles; ++l)
-            flagged |= static_cast<std::uint64_t>((largest_[l] == static_cast<std::int64_t>(exponent_bits)) | (least_[l] < -1));
+            flagged |= static_cast<std::uint64_t>((largest_[l] == static_cast<std::int64_t>(exponent_bits)) |
+                                                  (Radii && least_[l] < -1));
 #endif
         return flagged != 0;
     }
@@ -193,6 +162,8 @@ private:
 #endif
     std::uint64_t flagged_ = 0;
 };
+using NonFiniteRoots = BadInputLanes<false>;
+using NotRadii = BadInputLanes<true>;
 
 // W and grad W = (W'/r) x at n displacements x in 3D, from wg(r, level) =
 // {W, W'/r} (inlined: MOLLIFY_INLINE_LAMBDA), the level (a std::
@@ -215,7 +186,7 @@ MOLLIFY_INLINE bool pairs_at_radii_at_levels(std::size_t n, const double* __rest
             g1[i] = gi * x1[i];
             g2[i] = gi * x2[i];
         },
-        [&check](const double* __restrict r, auto count) MOLLIFY_INLINE_LAMBDA { check(r, count); }, w, g0, g1, g2);
+        check, w, g0, g1, g2);
     if constexpr (Checked) return check.any();
     else return false;
 }
@@ -563,7 +534,7 @@ private:
                 [in, out, &s]<int L>(std::size_t i, std::integral_constant<int, L>) MOLLIFY_INLINE_LAMBDA {
                     out[i] = emitted<Q, L>(in[i], s);
                 },
-                [&check](const double* __restrict r, auto count) MOLLIFY_INLINE_LAMBDA { check(r, count); });
+                check);
             if constexpr (Checked) flagged = check.any();
         } else {
             for (std::size_t i = 0; i < n; ++i) {
@@ -627,7 +598,7 @@ private:
                 g0[i] = g * x0[i];
                 g1[i] = g * x1[i];
             },
-            [&check](const double* __restrict r, auto count) MOLLIFY_INLINE_LAMBDA { check(r, count); }, w, g0, g1);
+            check, w, g0, g1);
         if constexpr (Checked) return check.any();
         else return false;
     }

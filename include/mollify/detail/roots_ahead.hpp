@@ -63,7 +63,7 @@ inline constexpr std::size_t outputs_ahead = 128;
 // caller): a call left in the loop stops its vectorisation, and flattening
 // did not reach them. A user's unit compiles the block twice (B and n < B).
 template <class Root, class Block, class Check, class... Out>
-MOLLIFY_INLINE void for_each_block_of_roots(std::size_t n, Root root, Block block, Check check, Out*... out) {
+MOLLIFY_INLINE void for_each_block_of_roots(std::size_t n, Root root, Block block, Check&& check, Out*... out) {
     constexpr std::size_t B = roots_ahead_block, line = 64 / sizeof(double);
     constexpr std::integral_constant<std::size_t, B> whole{};
     if (n < B) {
@@ -158,11 +158,10 @@ struct RadiusLevel {
 // take level 0.
 // check(r + i, count) sees each register's radii (count a std::
 // integral_constant) and the last ones (a std::size_t) before the body
-// reads them: the input check (NotRadii), kept out of the body, where its
-// flag was reduced across the register after every register.
+// reads them (the input check, NotRadii).
 template <int Levels, class Level, class Body, class Check>
 MOLLIFY_INLINE void for_each_register_at_levels(std::size_t n, const double* __restrict r, Level level, Body body,
-                                                Check check) {
+                                                Check&& check) {
     constexpr std::size_t S = register_doubles;
     std::size_t i = 0;
     for (; i + S <= n; i += S) {
@@ -188,7 +187,7 @@ MOLLIFY_INLINE void for_each_register_at_levels(std::size_t n, const double* __r
 // compiled once per level (Levels = 1: each block's points in one loop);
 // body must be idempotent (for_each_block_of_roots).
 template <int Levels, class Root, class Level, class Body, class Check, class... Out>
-MOLLIFY_INLINE void for_each_root_ahead_at_levels(std::size_t n, Root root, Level level, Body body, Check check,
+MOLLIFY_INLINE void for_each_root_ahead_at_levels(std::size_t n, Root root, Level level, Body body, Check&& check,
                                                   Out*... out) {
     for_each_block_of_roots(
         n, root,
