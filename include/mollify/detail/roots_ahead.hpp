@@ -126,7 +126,7 @@ MOLLIFY_INLINE void at_level(int level, F& f, std::integer_sequence<int, L...>) 
 // that each register is at its points' own level, 10.6 -> 10.3 us; stop 71).
 template <int Levels>
 struct RadiusLevel {
-    double at_least[Levels];
+    double at_least[Levels]{};  // zeroed: with one level none is set, and the copy reads it (-Wuninitialized at -O1)
     // bound(l): the l-th radius a_l in units of h, l < Levels - 1.
     template <class Bound>
     RadiusLevel(Bound bound, double h) {
