@@ -296,6 +296,17 @@ void both(Comparison& out) {
     compare<K, Precision::fast>(out);
 }
 
+// Does run() raise an Error whose message names `needle`?
+template <class Run>
+bool error_names(Run run, const std::string& needle) {
+    try {
+        run();
+    } catch (const mollify::Error& e) {
+        return std::string(e.what()).find(needle) != std::string::npos;
+    }
+    return false;
+}
+
 // pairs(x, n) for x with a NaN, +inf or -inf in each coordinate at points
 // where blocks of roots begin, lie and end, in batches of 4500 (281 blocks
 // of 16 and a last one overlapping the one before) and 7 (no whole block);
@@ -319,13 +330,7 @@ void expect_flagged(const std::string& who, Pairs pairs, std::vector<std::string
                     const double kept = v;
                     v = bad;
                     const std::string needle = "coordinate x[" + std::to_string(c) + "]";
-                    bool named = false;
-                    try {
-                        pairs(x, n);
-                    } catch (const mollify::Error& e) {
-                        named = std::string(e.what()).find(needle) != std::string::npos;
-                    }
-                    if (!named)
+                    if (!error_names([&] { pairs(x, n); }, needle))
                         missed.push_back(who + ": " + std::to_string(bad) + " in " + needle + " of point " + std::to_string(i) +
                                          " of " + std::to_string(n) + " not named");
                     v = kept;
@@ -395,13 +400,7 @@ void expect_radii_flagged(std::vector<std::string>& missed) {
                                              -std::numeric_limits<double>::infinity(), -0.25, -0x1p-1074}) {
                         const double kept = r[i];
                         r[i] = bad;
-                        bool named = false;
-                        try {
-                            run();
-                        } catch (const mollify::Error& e) {
-                            named = std::string(e.what()).find("radius r = ") != std::string::npos;
-                        }
-                        if (!named)
+                        if (!error_names(run, "radius r = "))
                             missed.push_back(form + ": radius " + std::to_string(bad) + " at " + std::to_string(i) + " of " +
                                              std::to_string(n) + " not named");
                         r[i] = kept;
