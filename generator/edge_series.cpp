@@ -243,8 +243,9 @@ std::optional<EdgeSeries> edge_series_of(const ClosedForm& f, const Q& r0) {
 std::optional<EdgeSeries> edge_series(const ClosedForm& f, const Q& r0) {
     if (f.is_zero()) return edge_series_of(f, r0);
     const auto [c, g] = normalised(f);
+    // (g captured by an init-capture: clang 14 captures no structured binding)
     std::optional<EdgeSeries> e = once_per_run<std::optional<EdgeSeries>>(
-        search_key("edge", g, {r0}), [&] { return edge_series_of(g, r0); });
+        search_key("edge", g, {r0}), [&g = g, &r0] { return edge_series_of(g, r0); });
     if (e)
         for (EdgeTerm& t : e->terms) t.c = t.c * c;
     return e;

@@ -321,8 +321,9 @@ std::optional<ZeroSeries> zero_series_of(const ClosedForm& f) {
 std::optional<ZeroSeries> zero_series(const ClosedForm& f) {
     if (f.is_zero()) return zero_series_of(f);
     const auto [c, g] = normalised(f);
+    // (g captured by an init-capture: clang 14 captures no structured binding)
     std::optional<ZeroSeries> z =
-        once_per_run<std::optional<ZeroSeries>>(search_key("zero", g, {}), [&] { return zero_series_of(g); });
+        once_per_run<std::optional<ZeroSeries>>(search_key("zero", g, {}), [&g = g] { return zero_series_of(g); });
     if (z) z->series = z->series * c;
     return z;
 }

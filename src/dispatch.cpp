@@ -20,6 +20,13 @@ namespace detail {
 
 // The copies of src/evaluator.cpp (CMake compiles it once per instruction set).
 #if MOLLIFY_DISPATCH_X86
+// One of these is this unit's own MOLLIFY_ISA, an inline namespace in the
+// headers, reopened here without `inline` (valid C++, [namespace.def]; clang
+// warns).
+#if defined(__clang__)
+#pragma clang diagnostic push
+#pragma clang diagnostic ignored "-Winline-namespace-reopened-noninline"
+#endif
 namespace isa_generic {
 extern const Evaluator isa_evaluator;
 }
@@ -30,6 +37,9 @@ extern const Evaluator isa_evaluator;
 namespace isa_avx512 {
 extern const Evaluator isa_evaluator;
 }
+#endif
+#if defined(__clang__)
+#pragma clang diagnostic pop
 #endif
 #else
 inline namespace MOLLIFY_ISA {

@@ -507,7 +507,7 @@ constexpr AddTerm add_term_loop() {
 }
 template <std::size_t... I>
 constexpr std::array<AddTerm, sizeof...(I)> add_term_loops(std::index_sequence<I...>) {
-    return {add_term_loop<term_shapes[I]>()...};
+    return {add_term_loop<term_shape<I>>()...};
 }
 // [TermPlan::fast_shape]
 constexpr auto add_term_of = add_term_loops(std::make_index_sequence<term_shape_count>{});
@@ -959,10 +959,10 @@ struct SplitArgs {
     double c = 0, content = 0, content_lo = 0;
 };
 
-SplitArgs split_args(const TermPlan& t) { return {t.split_c, t.content, t.content_lo}; }
+[[maybe_unused]] SplitArgs split_args(const TermPlan& t) { return {t.split_c, t.content, t.content_lo}; }
 
 // A fused loop's coefficients: m for a split term, else c.
-const double* fused_coefficients(const TermPlan& t) { return t.split > 0 ? t.m.data() : t.c; }
+[[maybe_unused]] const double* fused_coefficients(const TermPlan& t) { return t.split > 0 ? t.m.data() : t.c; }
 
 // The scale of a piece of one term (detail::content_in_scale: times the
 // content of a split term).
@@ -1083,34 +1083,34 @@ using AccurateWhole = bool (*)(const TermPlan&, const double*, double*, std::siz
 using FastWhole = bool (*)(const TermPlan&, const double*, double*, std::size_t, const Smoothing&, double);
 
 template <const TermShape& S>
-constexpr AccurateTerm accurate_term_loop =
+[[maybe_unused]] constexpr AccurateTerm accurate_term_loop =
     &accurate_term_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, (S.split > 0), S.low>;
 // (A whole quantity's piece starts at 0: no negative power of q, the
 // generator's and the plan's fusable rule.)
 template <const TermShape& S>
-constexpr AccurateWhole accurate_whole_loop = [] {
+[[maybe_unused]] constexpr AccurateWhole accurate_whole_loop = [] {
     static_assert(S.low == 0, "a whole quantity's term has no power of q");
     return &accurate_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge, S.exact, (S.split > 0)>;
 }();
 template <const TermShape& S>
-constexpr FastWhole fast_whole_loop = [] {
+[[maybe_unused]] constexpr FastWhole fast_whole_loop = [] {
     static_assert(S.low == 0, "a whole quantity's term has no power of q");
     return &fast_whole_fixed<S.n, S.edge_power, S.var_r, S.support_edge>;
 }();
 
 template <std::size_t... I>
 constexpr std::array<AccurateTerm, sizeof...(I)> accurate_term_loops(std::index_sequence<I...>) {
-    if constexpr (fused_loops) return {accurate_term_loop<term_shapes[I]>...};
+    if constexpr (fused_loops) return {accurate_term_loop<term_shape<I>>...};
     else return {};
 }
 template <std::size_t... I>
 constexpr std::array<AccurateWhole, sizeof...(I)> accurate_whole_loops(std::index_sequence<I...>) {
-    if constexpr (fused_loops) return {accurate_whole_loop<whole_shapes[I]>...};
+    if constexpr (fused_loops) return {accurate_whole_loop<whole_shape<I>>...};
     else return {};
 }
 template <std::size_t... I>
 constexpr std::array<FastWhole, sizeof...(I)> fast_whole_loops(std::index_sequence<I...>) {
-    if constexpr (fused_loops) return {fast_whole_loop<whole_shapes[I]>...};
+    if constexpr (fused_loops) return {fast_whole_loop<whole_shape<I>>...};
     else return {};
 }
 constexpr auto accurate_term_of = accurate_term_loops(std::make_index_sequence<term_shape_count>{});
@@ -1169,7 +1169,7 @@ constexpr WholePairs whole_pairs_loop() {
 }
 template <Precision Pr, std::size_t... I>
 constexpr std::array<WholePairs, sizeof...(I)> whole_pairs_loops(std::index_sequence<I...>) {
-    if constexpr (fused_loops) return {whole_pairs_loop<Pr, whole_pairs[I]>()...};
+    if constexpr (fused_loops) return {whole_pairs_loop<Pr, whole_pair<I>>()...};
     else return {};
 }
 // [Plan::whole_pair]
@@ -1297,7 +1297,7 @@ using PiecesLoop = bool (*)(const QuantityPlan&, const double*, double*, std::si
 
 template <Precision Pr, std::size_t... I>
 constexpr std::array<PiecesLoop, sizeof...(I)> pieces_loops(std::index_sequence<I...>) {
-    if constexpr (fused_loops) return {&pieces_fixed<Pr, piece_shapes[I]>...};
+    if constexpr (fused_loops) return {&pieces_fixed<Pr, piece_list<I>>...};
     else return {};
 }
 // [QuantityPlan::pieces_fused]
@@ -1310,7 +1310,7 @@ using PiecesPairs = bool (*)(const QuantityPlan&, const QuantityPlan&, const dou
 template <Precision Pr, std::size_t... I>
 constexpr std::array<PiecesPairs, sizeof...(I)> pieces_pairs_loops(std::index_sequence<I...>) {
     if constexpr (fused_loops)
-        return {&pieces_pairs_fixed<Pr, piece_shapes[pieces_pairs[I].value], piece_shapes[pieces_pairs[I].over_r]>...};
+        return {&pieces_pairs_fixed<Pr, piece_list<pieces_pairs[I].value>, piece_list<pieces_pairs[I].over_r>>...};
     else
         return {};
 }
@@ -1475,7 +1475,7 @@ using SharedWhole = bool (*)(const QuantityPlan&, const double*, double*, std::s
 
 template <std::size_t... I>
 constexpr std::array<SharedWhole, sizeof...(I)> shared_whole_loops(std::index_sequence<I...>) {
-    return {&shared_whole_loop<shared_shapes[I]>...};
+    return {&shared_whole_loop<shared_list<I>>...};
 }
 // [QuantityPlan::shared_fused], in both instruction sets (few, short loops)
 constexpr auto shared_whole_of = shared_whole_loops(std::make_index_sequence<shared_shapes_count>{});
@@ -1583,7 +1583,7 @@ using AccurateShared = bool (*)(const QuantityPlan&, const double*, double*, std
 
 template <std::size_t... I>
 constexpr std::array<AccurateShared, sizeof...(I)> accurate_shared_loops(std::index_sequence<I...>) {
-    if constexpr (fused_loops) return {&accurate_shared_loop<shared_shapes[I]>...};
+    if constexpr (fused_loops) return {&accurate_shared_loop<shared_list<I>>...};
     else return {};
 }
 // [QuantityPlan::shared_fused], where the target fuses multiply-add (fused_loops)
@@ -1638,7 +1638,7 @@ using SharedPairs = bool (*)(const QuantityPlan&, const QuantityPlan&, const dou
 template <Precision Pr, std::size_t... I>
 constexpr std::array<SharedPairs, sizeof...(I)> shared_pairs_loops(std::index_sequence<I...>) {
     if constexpr (Pr == Precision::fast || fused_loops)
-        return {&shared_pairs_fixed<Pr, shared_shapes[shared_pairs[I].value], shared_shapes[shared_pairs[I].over_r]>...};
+        return {&shared_pairs_fixed<Pr, shared_list<shared_pairs[I].value>, shared_list<shared_pairs[I].over_r>>...};
     else
         return {};
 }

@@ -128,4 +128,19 @@ inline constexpr std::size_t shared_pair_count = std::size(shared_pairs) - 1;
 inline constexpr std::size_t piece_shapes_count = std::size(piece_shapes) - 1;
 inline constexpr std::size_t pieces_pair_count = std::size(pieces_pairs) - 1;
 
+// Each entry as an object of its own, for the evaluator's loops that take
+// a shape by reference as a template argument: C++20 allows a reference to
+// an array's element there (a subobject), and GCC takes it, but clang 14
+// does not.
+template <std::size_t I>
+inline constexpr TermShape term_shape = term_shapes[I];
+template <std::size_t I>
+inline constexpr TermShape whole_shape = whole_shapes[I];
+template <std::size_t I>
+inline constexpr WholePair whole_pair = whole_pairs[I];
+template <std::size_t I>
+inline constexpr ShapeList shared_list = shared_shapes[I];
+template <std::size_t I>
+inline constexpr ShapeList piece_list = piece_shapes[I];
+
 }  // namespace mollify::detail
