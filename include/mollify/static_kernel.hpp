@@ -559,6 +559,7 @@ private:
         if constexpr (dimension == 1 || odd || cusp) {
             const Smoothing s = smoothing;
             std::uint64_t flagged = 0;
+            MOLLIFY_VECTOR_LOOP
             for (std::size_t i = 0; i < n; ++i) {
                 Vector<dimension> xi;
                 for (int c = 0; c < dimension; ++c) xi[c] = x[c][i];
