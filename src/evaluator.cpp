@@ -959,6 +959,8 @@ struct SplitArgs {
     double c = 0, content = 0, content_lo = 0;
 };
 
+// ([[maybe_unused]] here and on the loops below: only the fused loops use
+// them, which the copy without FMA leaves out; clang warns there.)
 [[maybe_unused]] SplitArgs split_args(const TermPlan& t) { return {t.split_c, t.content, t.content_lo}; }
 
 // A fused loop's coefficients: m for a split term, else c.
