@@ -204,12 +204,7 @@ MOLLIFY_INLINE bool pairs_at_radii(std::size_t n, const double* __restrict x0, c
 }  // namespace MOLLIFY_ISA
 }  // namespace detail
 
-// (as roots_ahead.hpp: MOLLIFY_VECTOR_LOOP's request, where clang does not
-// meet it, is no error in a user's unit built -Werror)
-#if defined(__clang__)
-#pragma clang diagnostic push
-#pragma clang diagnostic ignored "-Wpass-failed"
-#endif
+MOLLIFY_VECTOR_MISSES_ALLOWED_BEGIN
 inline namespace MOLLIFY_ISA {
 
 template <const table::Kernel& K, Precision Pr = Precision::accurate>
@@ -627,7 +622,5 @@ private:
 };
 
 }  // namespace MOLLIFY_ISA
-#if defined(__clang__)
-#pragma clang diagnostic pop
-#endif
+MOLLIFY_VECTOR_MISSES_ALLOWED_END
 }  // namespace mollify

@@ -28,13 +28,7 @@
 #include <type_traits>
 #include <utility>
 
-// (A loop clang does not vectorise as MOLLIFY_VECTOR_LOOP asks is a
-// -Wpass-failed warning, an error in a user's unit built -Werror: a missed
-// optimisation, not a defect; kernel_bench measures it.)
-#if defined(__clang__)
-#pragma clang diagnostic push
-#pragma clang diagnostic ignored "-Wpass-failed"
-#endif
+MOLLIFY_VECTOR_MISSES_ALLOWED_BEGIN
 
 namespace mollify::detail {
 inline namespace MOLLIFY_ISA {
@@ -231,6 +225,4 @@ MOLLIFY_INLINE void for_each_root_ahead_at_levels(std::size_t n, Root root, Leve
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::detail
 
-#if defined(__clang__)
-#pragma clang diagnostic pop
-#endif
+MOLLIFY_VECTOR_MISSES_ALLOWED_END

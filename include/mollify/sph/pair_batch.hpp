@@ -277,14 +277,9 @@ template <int D>
 // the indices of those within eps compacted branch-free (rows apart, so the
 // loads do not wait on the wide stores just made), and the displacements
 // of those (~1 in 7 candidates in 3D) stored.
-// (clang reports an `omp simd` loop it does not vectorise as a warning,
-// -Wpass-failed, an error in a user's unit built -Werror: the minimum
-// image's nearbyint on a target without SSE4.1's rounding. A missed
-// optimisation, not a defect.)
-#if defined(__clang__)
-#pragma clang diagnostic push
-#pragma clang diagnostic ignored "-Wpass-failed"
-#endif
+// (clang cannot vectorise the minimum image's nearbyint on a target
+// without SSE4.1's rounding.)
+MOLLIFY_VECTOR_MISSES_ALLOWED_BEGIN
 template <int D, bool minimum_image>
 std::size_t near_pairs(PairBatch<D>& b, std::size_t a0, std::size_t a1, std::size_t nc, double eps,
                        const Domain<D>& domain) {
@@ -337,9 +332,7 @@ std::size_t near_pairs(PairBatch<D>& b, std::size_t a0, std::size_t a1, std::siz
     }
     return k;
 }
-#if defined(__clang__)
-#pragma clang diagnostic pop
-#endif
+MOLLIFY_VECTOR_MISSES_ALLOWED_END
 
 }  // namespace detail
 
