@@ -932,14 +932,24 @@ public:
         for (int c = 0; c < D; ++c) x_[c].assign(x[c].begin(), x[c].end());
     }
 
+    // The coordinates' arrays and particle i's position taken once: the
+    // baseline every test of a search compares with, run unoptimised there
+    // under the sanitizers (CI), where each subscript is a call.
     template <class F>
     void visit(std::size_t i, F&& f) const {
         const double eps2 = reach_.eps * reach_.eps;
-        for (std::size_t j = 0; j < x_[0].size(); ++j) {
+        const std::size_t n = x_[0].size();
+        std::array<const double*, D> x;
+        Vector<D> xi;
+        for (int c = 0; c < D; ++c) {
+            x[c] = x_[c].data();
+            xi[c] = x_[c][i];
+        }
+        for (std::size_t j = 0; j < n; ++j) {
             Vector<D> d;
             double r2 = 0;
             for (int c = 0; c < D; ++c) {
-                d[c] = reach_.domain.displacement(x_[c][i], x_[c][j]);
+                d[c] = reach_.domain.displacement(xi[c], x[c][j]);
                 r2 += d[c] * d[c];
             }
             if (r2 <= eps2) f(j, d);
