@@ -49,6 +49,8 @@
 #include <string>
 #include <vector>
 
+MOLLIFY_VECTOR_MISSES_ALLOWED_BEGIN  // its MOLLIFY_SIMD loops (detail/isa.hpp)
+
 namespace mollify::poisson {
 inline namespace MOLLIFY_ISA {
 
@@ -1080,3 +1082,5 @@ private:
 
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson
+
+MOLLIFY_VECTOR_MISSES_ALLOWED_END

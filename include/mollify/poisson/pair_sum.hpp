@@ -42,6 +42,8 @@
 #define MOLLIFY_SIMD_REDUCTION(...)
 #endif
 
+MOLLIFY_VECTOR_MISSES_ALLOWED_BEGIN  // its MOLLIFY_SIMD loops (detail/isa.hpp)
+
 namespace mollify::poisson {
 inline namespace MOLLIFY_ISA {
 namespace detail {
@@ -498,3 +500,5 @@ void within_kernel(const K& kernel, const SourceArrays<D>& s, const double* r2, 
 }  // namespace detail
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::poisson
+
+MOLLIFY_VECTOR_MISSES_ALLOWED_END

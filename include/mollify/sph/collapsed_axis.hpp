@@ -32,6 +32,8 @@
 #include <utility>
 #include <vector>
 
+MOLLIFY_VECTOR_MISSES_ALLOWED_BEGIN  // its MOLLIFY_SIMD loops (detail/isa.hpp)
+
 namespace mollify::sph {
 inline namespace MOLLIFY_ISA {
 namespace detail {
@@ -208,3 +210,5 @@ private:
 }  // namespace detail
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::sph
+
+MOLLIFY_VECTOR_MISSES_ALLOWED_END

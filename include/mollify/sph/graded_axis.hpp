@@ -38,6 +38,8 @@
 #include <span>
 #include <vector>
 
+MOLLIFY_VECTOR_MISSES_ALLOWED_BEGIN  // its MOLLIFY_SIMD loops (detail/isa.hpp)
+
 namespace mollify::sph {
 inline namespace MOLLIFY_ISA {
 namespace detail {
@@ -158,3 +160,5 @@ private:
 }  // namespace detail
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::sph
+
+MOLLIFY_VECTOR_MISSES_ALLOWED_END

@@ -36,6 +36,8 @@
 #include <utility>
 #include <vector>
 
+MOLLIFY_VECTOR_MISSES_ALLOWED_BEGIN  // its MOLLIFY_SIMD loops (detail/isa.hpp)
+
 namespace mollify::sph {
 inline namespace MOLLIFY_ISA {
 
@@ -971,3 +973,5 @@ using Search = typename DefaultSearch<D>::type;
 
 }  // namespace MOLLIFY_ISA
 }  // namespace mollify::sph
+
+MOLLIFY_VECTOR_MISSES_ALLOWED_END
