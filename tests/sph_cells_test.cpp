@@ -28,6 +28,9 @@
 #if defined(_OPENMP)
 #include <omp.h>
 #endif
+#if defined(_OPENMP) && defined(__clang__) && defined(MOLLIFY_SANITIZED_BUILD)
+#include <sanitizer/lsan_interface.h>
+#endif
 
 namespace {
 
@@ -700,12 +703,22 @@ void expect_sweep_as_all_pairs(const Domain<D>& dom, double eps, const Field<D>&
     // The cell sweep on each thread count given (a system takes the count at construction).
 #if defined(_OPENMP)
     const int threads_before = omp_get_max_threads();
+#if defined(__clang__) && defined(MOLLIFY_SANITIZED_BUILD)
+    // LLVM's libomp (14) never frees the team it grows to 3, 5 and 8
+    // threads (__kmp_fork_call's allocations, here on this thread): not
+    // mollify's memory, so not LeakSanitizer's report. Out-of-bounds and
+    // use-after-free are checked as everywhere.
+    __lsan_disable();
+#endif
     for (const int threads : thread_counts) {
         SCOPED_TRACE("threads " + std::to_string(threads));
         omp_set_num_threads(threads);
         expect_cells();
     }
     omp_set_num_threads(threads_before);
+#if defined(__clang__) && defined(MOLLIFY_SANITIZED_BUILD)
+    __lsan_enable();
+#endif
     if (thread_counts.size() == 0) expect_cells();
 #else
     expect_cells();
