@@ -11,7 +11,7 @@
 // the nominal clock; a core boosting above it does more work per tick),
 // bound = the FMA-pipe lower bound of mollify's factored form (multiplies and
 // FMAs / (vector lanes x 2 FMA pipes); the lanes are the build's: 8 doubles
-// with AVX-512, 4 with AVX2, 2 otherwise), ulp_W and ulp_G = max ulp
+// with AVX-512, 4 with AVX, 2 otherwise), ulp_W and ulp_G = max ulp
 // error of W and W'/r over the sample (hard points + uniform).
 //
 //   kernel_bench [benchmark flags] [--md=FILE]   (cmake --build build --target bench-kernels)
@@ -118,17 +118,11 @@ constexpr int pair_products(const Kernel& k) {
 constexpr int value_products(const Kernel& k) {
     return 1 + 3 + (uses_square(k, QuantityId::value) ? 1 : 0) + quantity_products(k, QuantityId::value);
 }
-// The build's doubles per vector: MOLLIFY_BATCH_LOOP asks for 512-bit vectors
-// where AVX-512 is enabled (include/mollify/detail/isa.hpp). Two FMA pipes of
-// that width: the Intel server cores and Zen 5; Zen 4 splits a 512-bit FMA
-// into two 256-bit halves, so its bound is twice the printed one.
-#if defined(__AVX512F__)
-constexpr int vector_lanes = 8;
-#elif defined(__AVX2__)
-constexpr int vector_lanes = 4;
-#else
-constexpr int vector_lanes = 2;
-#endif
+// The build's doubles per vector (detail::register_doubles: MOLLIFY_BATCH_LOOP
+// asks for 512-bit vectors where AVX-512 is enabled), two FMA pipes of that
+// width: the Intel server cores and Zen 5; Zen 4 splits a 512-bit FMA into
+// two 256-bit halves, so its bound is twice the printed one.
+constexpr int vector_lanes = mollify::detail::register_doubles;
 constexpr double lanes_per_cycle = 2.0 * vector_lanes;
 
 // ---- data ----
