@@ -127,20 +127,44 @@ constexpr double lanes_per_cycle = 2.0 * vector_lanes;
 
 // ---- data ----
 
-// Displacements uniform in [-h, h]^3 (about half inside the support, as in
-// a neighbour loop with a cell list) and their lengths; or, `inside`,
-// uniform in the support's ball (a neighbour list already filtered to
-// r < h, as the SPH sweeps' pair loops get it: a combination's inner terms
-// then reach more registers of points, goal 3's harder case).
+// Where the displacements lie: uniform in [-h, h]^3 (about half inside the
+// support, as in a neighbour loop with a cell list); `ball`, uniform in the
+// support's ball (a neighbour list already filtered to r < h, as the SPH
+// sweeps' pair loops get it: a combination's inner terms then reach more
+// registers of points, goal 3's harder case); or a shell lo <= r/h < hi,
+// uniform in its volume (a combination's band between two of its radii:
+// every register of points at one level).
+struct Region {
+    double lo = 0, hi = 0;  // a shell where hi > 0
+    bool ball = false;
+    auto operator<=>(const Region&) const = default;
+};
+constexpr Region cube{}, ball{0, 0, true};
+
 struct Data {
     std::vector<double> x[3], r, w, g[3];
-    explicit Data(std::size_t n, bool inside = false) {
+    Data(std::size_t n, Region where) {
         std::mt19937_64 rng(42);
         std::uniform_real_distribution<double> u(-h, h);
         for (auto& c : x) c.resize(n);
-        for (std::size_t i = 0; i < n;) {
-            for (auto& c : x) c[i] = u(rng);
-            if (!inside || x[0][i] * x[0][i] + x[1][i] * x[1][i] + x[2][i] * x[2][i] < h * h) ++i;
+        if (where.hi > 0) {
+            // a direction uniform on the sphere, r^3 uniform in [lo^3, hi^3)
+            std::normal_distribution<double> normal;
+            std::uniform_real_distribution<double> cube_of_r(std::pow(where.lo, 3), std::pow(where.hi, 3));
+            for (std::size_t i = 0; i < n; ++i) {
+                double v[3], norm = 0;
+                for (double& c : v) {
+                    c = normal(rng);
+                    norm += c * c;
+                }
+                const double radius = h * std::cbrt(cube_of_r(rng)) / std::sqrt(norm);
+                for (int c = 0; c < 3; ++c) x[c][i] = v[c] * radius;
+            }
+        } else {
+            for (std::size_t i = 0; i < n;) {
+                for (auto& c : x) c[i] = u(rng);
+                if (!where.ball || x[0][i] * x[0][i] + x[1][i] * x[1][i] + x[2][i] * x[2][i] < h * h) ++i;
+            }
         }
         r.resize(n);
         for (std::size_t i = 0; i < n; ++i) r[i] = std::sqrt(x[0][i] * x[0][i] + x[1][i] * x[1][i] + x[2][i] * x[2][i]);
@@ -151,9 +175,9 @@ struct Data {
     mollify::PointsOut<3> grad() { return {g[0], g[1], g[2]}; }
 };
 
-Data& data(std::size_t n, bool inside = false) {
-    static std::map<std::pair<std::size_t, bool>, Data> cache;
-    return cache.try_emplace({n, inside}, n, inside).first->second;
+Data& data(std::size_t n, Region where = cube) {
+    static std::map<std::pair<std::size_t, Region>, Data> cache;
+    return cache.try_emplace({n, where}, n, where).first->second;
 }
 
 // ---- errors, measured once per (kernel, form) ----
@@ -304,23 +328,23 @@ void register_kernel(const char* label, bool inside = false) {
             timed(st, n, vb, e, [&] { naive_values<acc::Form::pow>(nw, d.r.data(), d.w.data(), n); });
         });
         // W + grad W through the checked API, both forms and precisions, at
-        // the displacements of data(n, in_ball)
-        auto checked_pairs = [&](const std::string& quantity, bool in_ball) {
-            reg(quantity + base + "static" + suffix, [n, pb, e_static, in_ball](benchmark::State& st) {
-                Data& d = data(n, in_ball);
+        // the displacements of data(n, where)
+        auto checked_pairs = [&](const std::string& quantity, Region where) {
+            reg(quantity + base + "static" + suffix, [n, pb, e_static, where](benchmark::State& st) {
+                Data& d = data(n, where);
                 const Smoothing s = W::smoothing(h);
                 timed(st, n, pb, e_static, [&] { W::pairs(d.points(), s, d.w, d.grad()); });
             });
-            reg(quantity + base + "static-fast" + suffix, [n, pb, e_fast, in_ball](benchmark::State& st) {
-                Data& d = data(n, in_ball);
+            reg(quantity + base + "static-fast" + suffix, [n, pb, e_fast, where](benchmark::State& st) {
+                Data& d = data(n, where);
                 const Smoothing s = F::smoothing(h);
                 timed(st, n, pb, e_fast, [&] { F::pairs(d.points(), s, d.w, d.grad()); });
             });
             for (const mollify::Precision pr : {mollify::Precision::accurate, mollify::Precision::fast}) {
                 const bool is_fast = pr == mollify::Precision::fast;
                 reg(quantity + base + (is_fast ? "runtime-fast" : "runtime") + suffix,
-                    [n, pb, in_ball, k = runtime.with(pr), e = is_fast ? e_fast : e_runtime](benchmark::State& st) {
-                        Data& d = data(n, in_ball);
+                    [n, pb, where, k = runtime.with(pr), e = is_fast ? e_fast : e_runtime](benchmark::State& st) {
+                        Data& d = data(n, where);
                         const Smoothing s = k.smoothing(h);
                         const std::span<const double> x[3] = {d.x[0], d.x[1], d.x[2]};
                         const std::span<double> g[3] = {d.g[0], d.g[1], d.g[2]};
@@ -328,7 +352,7 @@ void register_kernel(const char* label, bool inside = false) {
                     });
             }
         };
-        checked_pairs("W+gradW/", false);
+        checked_pairs("W+gradW/", cube);
         reg("W+gradW/" + base + "static-unchecked" + suffix, [n, pb, e_static](benchmark::State& st) {
             Data& d = data(n);
             const Smoothing s = W::smoothing(h);
@@ -339,7 +363,20 @@ void register_kernel(const char* label, bool inside = false) {
             const Smoothing s = F::smoothing(h);
             timed(st, n, pb, e_fast, [&] { F::pairs_unchecked(d.points(), s, d.w.data(), d.grad(), n); });
         });
-        if (inside) checked_pairs("W+gradW-inside/", true);
+        if (inside) checked_pairs("W+gradW-inside/", ball);
+        // A combination's levels one at a time, in cache: every point's r/h
+        // in [a_L, a_L+1) (its radii, a_0 = 0, the last 1), so that every
+        // register of points sums the terms of the radii from a_L on
+        // (StaticKernel's pair_levels): what each level costs, the outermost
+        // (its term alone) the least.
+        constexpr int levels = mollify::detail::levels<K>;
+        if (levels > 1 && n <= 4096)
+            for (int l = 0; l < levels; ++l) {
+                // (1 + 2^-40: clear of the 2^-48 a level leaves for the rounding of q)
+                const double lo = l == 0 ? 0 : mollify::detail::level_bound<K>(l - 1) * (1 + 0x1p-40);
+                const double hi = l + 1 == levels ? 1 : mollify::detail::level_bound<K>(l);
+                checked_pairs("W+gradW-level" + std::to_string(l) + "/", Region{lo, hi});
+            }
         reg("W+gradW/" + base + "expanded" + suffix, [n, pb, nw, ng, e_expanded](benchmark::State& st) {
             Data& d = data(n);
             timed(st, n, pb, e_expanded, [&] {
@@ -663,7 +700,8 @@ void write_precision_ratios(std::ofstream& out, const Timings& t) {
     out << "\n## Precision::accurate against Precision::fast\n\n"
         << "CPU time of the accurate precision (<= 0.51 ulp) over the fast one, the same form and batch, this run "
            "(issue 21's goal 3: <= 1.5 for W+gradW of wendland:k=2 and combo:m=3,base=wendland:k=2; the -inside "
-           "rows: every point inside the support).\n\n"
+           "rows: every point inside the support; the -levelL rows: every point's r/h between a combination's "
+           "L-th radius and the next, so every register sums the terms from the L-th radius on).\n\n"
         << "| quantity/kernel | batch | StaticKernel | run-time form |\n|---|--:|--:|--:|\n";
     for (const std::string& key : t.keys)
         for (const std::string& size : t.sizes)
