@@ -5,11 +5,11 @@
 // near 0, so the far field cancels and relative errors are large) or in
 // [0, 1] ("positive": every far cell adds, relative errors look 5-7x
 // smaller). Plain std::mt19937_64, seeded by N, so that any driver built
-// with any standard library draws the same points.
+// with any standard library draws the same points. Errors: the relative L2
+// of mollify/poisson/field_errors.hpp, for both.
 #pragma once
 
 #include <array>
-#include <cmath>
 #include <cstddef>
 #include <random>
 #include <stdexcept>
@@ -46,17 +46,6 @@ inline ChargeSet charge_set(std::size_t n, Charges c) {
         s.q.push_back(c == Charges::neutral ? u() - 0.5 : u());
     }
     return s;
-}
-
-// Relative L2 error of a 3-vector field f against ref over the first
-// ref.size()/3 points (both as x0 y0 z0 x1 ...): sqrt(sum |f - ref|^2 / sum |ref|^2).
-inline double relative_l2(const std::vector<double>& f, const std::vector<double>& ref) {
-    double d = 0, n = 0;
-    for (std::size_t i = 0; i < ref.size(); ++i) {
-        d += (f[i] - ref[i]) * (f[i] - ref[i]);
-        n += ref[i] * ref[i];
-    }
-    return std::sqrt(d / n);
 }
 
 }  // namespace mollify::bench

@@ -104,7 +104,7 @@ void treecode(benchmark::State& state, std::size_t n, bench::Charges c, double t
         benchmark::DoNotOptimize(f.potential.data());
         cpu = bench::cpu_seconds() - t0;
     }
-    const double e = bench::relative_l2(interleaved(f, sample), pr.reference);
+    const double e = poisson::relative_l2(interleaved(f, sample), pr.reference);
     state.counters["E_l2"] = e;
     char params[64];
     std::snprintf(params, sizeof params, "θ = %.2f, p = %d", theta, p);

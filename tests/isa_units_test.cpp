@@ -6,6 +6,8 @@
 // without AVX2 the generic unit would run AVX2 instructions.
 #include "isa_units/unit.hpp"
 
+#include <mollify/poisson/field_errors.hpp>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -42,15 +44,6 @@ void expect_close(const std::vector<double>& a, const std::vector<double>& b, co
     for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-13 * scale) << what << " at " << i;
 }
 
-double relative_l2(const std::vector<double>& a, const std::vector<double>& reference) {
-    double err = 0, norm = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        err += (a[i] - reference[i]) * (a[i] - reference[i]);
-        norm += reference[i] * reference[i];
-    }
-    return std::sqrt(err / norm);
-}
-
 TEST(IsaUnits, BothCopiesComputeTheSameValues) {
     if (!runs_x86_64_v3()) GTEST_SKIP() << "this CPU has no AVX2 + FMA: the x86-64-v3 unit cannot run here";
     const isa_units::UnitValues generic = isa_units::generic_values(), v3 = isa_units::v3_values();
@@ -67,9 +60,9 @@ TEST(IsaUnits, BothCopiesComputeTheSameValues) {
     // loops would show near the truncation error's size. (Until stop 51 the units'
     // sources differed by an ulp, 7.0e-11 between them, and the bound was
     // 1e-9.)
-    const double g_err = relative_l2(generic.tree_field, generic.direct_field),
-                 v_err = relative_l2(v3.tree_field, v3.direct_field),
-                 between = relative_l2(v3.tree_field, generic.tree_field);
+    const double g_err = mollify::poisson::relative_l2(generic.tree_field, generic.direct_field),
+                 v_err = mollify::poisson::relative_l2(v3.tree_field, v3.direct_field),
+                 between = mollify::poisson::relative_l2(v3.tree_field, generic.tree_field);
     std::printf("[isa] treecode E against direct: generic unit %.3g, v3 unit %.3g; between the units %.3g\n", g_err, v_err,
                 between);
     EXPECT_LE(g_err, 1e-6);

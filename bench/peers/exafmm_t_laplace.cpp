@@ -15,6 +15,8 @@
 // (plain double sums of q/(4 pi r), at most 1e6 terms: ~1e-13 relative).
 // (the standard headers first: exafmm-t's headers include the intrinsics
 // inside their namespace)
+#include <mollify/poisson/field_errors.hpp>
+
 #include "../charge_sets.hpp"
 #include "../cpu_time.hpp"
 
@@ -122,7 +124,7 @@ int main(int argc, char** argv) {
                 for (std::size_t k = 0; k < 3; ++k) grad[3 * i + k] = leaf->trg_value[4 * j + 1 + k];
             }
         std::printf("exafmm-t,%s,%zu,%d,%d,%.4f,%.4f,%.3e,%.3e\n", mollify::bench::name(charges), n, p, ncrit, s.total,
-                    s.evaluation, mollify::bench::relative_l2(grad, grad_ref), mollify::bench::relative_l2(phi, phi_ref));
+                    s.evaluation, mollify::poisson::relative_l2(grad, grad_ref), mollify::poisson::relative_l2(phi, phi_ref));
         std::fflush(stdout);
     }
     return 0;

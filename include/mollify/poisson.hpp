@@ -14,6 +14,7 @@
 #include <mollify/poisson/direct.hpp>
 #include <mollify/poisson/multipole.hpp>
 #include <mollify/poisson/charge_assignment.hpp>
+#include <mollify/poisson/field_errors.hpp>
 #include <mollify/poisson/periodic.hpp>
 #include <mollify/poisson/periodic_bvp.hpp>
 #include <mollify/poisson/periodic_grid.hpp>

@@ -50,29 +50,6 @@ Cloud<D> uniform(long n, double delta, unsigned long seed) {
     return c;
 }
 
-struct Errors {
-    double phi_l2, e_l2, e_max;
-};
-
-template <int D>
-Errors compare(const poisson::Field<D>& a, const poisson::Field<D>& b) {
-    double dp = 0, np = 0, de = 0, ne = 0, me = 0, men = 0;
-    for (std::size_t i = 0; i < b.size(); ++i) {
-        dp += (a.potential[i] - b.potential[i]) * (a.potential[i] - b.potential[i]);
-        np += b.potential[i] * b.potential[i];
-        double d2 = 0, n2 = 0;
-        for (int c = 0; c < D; ++c) {
-            d2 += (a.field[c][i] - b.field[c][i]) * (a.field[c][i] - b.field[c][i]);
-            n2 += b.field[c][i] * b.field[c][i];
-        }
-        de += d2;
-        ne += n2;
-        me = std::max(me, std::sqrt(d2));
-        men = std::max(men, std::sqrt(n2));
-    }
-    return {std::sqrt(dp / np), std::sqrt(de / ne), me / men};
-}
-
 template <class F>
 double seconds(F&& f) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -127,7 +104,7 @@ void run(const Scene& scene, Output& out) {
         auto measure = [&](const poisson::TreeOptions& o, const std::string& method) {
             poisson::Field<D> f;
             const double t = seconds([&] { f = poisson::Treecode<D, Kernel>(k, sources, o).evaluate(); });
-            const Errors e = compare<D>(f, exact);
+            const poisson::FieldErrors e = poisson::field_errors(f, exact);
             all.add({specs[ki], method, format(o.theta, 2), std::to_string(o.order), format(t, 4), format(e.phi_l2, 3),
                      format(e.e_l2, 3), format(e.e_max, 3), format(t_direct / t, 3)});
             return std::pair{t, e};

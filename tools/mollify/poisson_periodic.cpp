@@ -136,7 +136,7 @@ void pic(const Scene& scene, Output& out, std::string& md) {
     const Density<D> density = Density<D>::standard();
     std::array<std::vector<double>, D> x;
     std::vector<double> q;
-    std::vector<std::array<double, D>> exact;
+    std::array<std::vector<double>, D> exact;  // the exact field, by component
     const auto count = static_cast<std::size_t>(total);
     for (std::size_t p = 0; p < count; ++p) {
         std::array<double, D> xp;
@@ -147,7 +147,8 @@ void pic(const Scene& scene, Output& out, std::string& md) {
             x[c].push_back(xp[c]);
         }
         q.push_back(density.rho(xp) / total);
-        exact.push_back(density.field(xp));
+        const std::array<double, D> e = density.field(xp);
+        for (int c = 0; c < D; ++c) exact[c].push_back(e[c]);
     }
     Points<D> pts;
     for (int c = 0; c < D; ++c) pts[c] = x[c];
@@ -178,13 +179,9 @@ void pic(const Scene& scene, Output& out, std::string& md) {
             o.neutralising_background = true;
             const auto e = poisson::particle_field<D>(grid, charges, s.scheme, o);
             const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            double num = 0, den = 0;
-            for (std::size_t p = 0; p < count; ++p)
-                for (int c = 0; c < D; ++c) {
-                    num += (e[c][p] - exact[p][c]) * (e[c][p] - exact[p][c]);
-                    den += exact[p][c] * exact[p][c];
-                }
-            row.push_back(format(std::sqrt(num / den), 3));
+            poisson::RelativeL2 error;
+            for (int c = 0; c < D; ++c) error.add(e[c], exact[c]);
+            row.push_back(format(error.value(), 3));
             timing.add({std::to_string(n), s.name, format(secs, 3)});
             progress("poisson-periodic", ++done, total_runs, s.name + ", n = " + std::to_string(n));
         }
