@@ -59,7 +59,7 @@ namespace {
 
 struct Point {
     std::string set;
-    bool one_signed;  // every charge of one sign (the one-signed envelope), else both signs (the neutral one)
+    bool one_signed;  // every charge of one sign (such sets are also fitted alone)
     double theta;
     int p;
     double cpu_s, e_l2, phi_l2;
