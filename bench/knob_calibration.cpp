@@ -1,6 +1,6 @@
 // knob_calibration: the measurements behind the 3D accuracy knob's constants
 // (include/mollify/poisson/tolerance.hpp, detail::calibration,
-// detail::lowest_order and detail::cost_model): the treecode's relative L2
+// detail::lowest_order(3) and detail::cost_model): the treecode's relative L2
 // field error and one-thread CPU time over a grid of (theta, p), four sets:
 //   - treecode_bench's neutral set, N = 10^5 uniform in [0, 1)^3
 //     (bench/charge_sets.hpp), mollifier:M=4 with delta = 2 N^(-1/3),
@@ -154,7 +154,7 @@ int main(int argc, char** argv) {
     // set or of the one-signed ones alone.
     const auto ratio = [](double theta) { return theta / (2 - theta); };
     const auto counted = [](const Point& pt, bool one_signed_only) {
-        return pt.e_l2 > 1e-11 && pt.p >= poisson::detail::lowest_order && (pt.one_signed || !one_signed_only);
+        return pt.e_l2 > 1e-11 && pt.p >= poisson::detail::lowest_order(3) && (pt.one_signed || !one_signed_only);
     };
     const auto excess = [&](const Point& pt, double alpha) {
         return std::max(pt.e_l2, pt.phi_l2) / std::pow(alpha * ratio(pt.theta), pt.p + 1);
@@ -187,7 +187,7 @@ int main(int argc, char** argv) {
     double below = 0;
     std::string below_at;
     for (const Point& pt : points)
-        if (pt.e_l2 > 1e-11 && pt.p < poisson::detail::lowest_order) {
+        if (pt.e_l2 > 1e-11 && pt.p < poisson::detail::lowest_order(3)) {
             const double x = excess(pt, in_use.alpha) / in_use.c;
             if (x > below) {
                 below = x;
@@ -197,7 +197,7 @@ int main(int argc, char** argv) {
             }
         }
     std::printf("one-signed sets alone: alpha %.3f, C %.3g; below p = %d the largest measured/model %.3g (%s)\n",
-                alpha_one, c_one, poisson::detail::lowest_order, below, below_at.c_str());
+                alpha_one, c_one, poisson::detail::lowest_order(3), below, below_at.c_str());
     // Cost fit (uniform set): t = n(theta) + b (p + 1)^k theta^-j, least
     // squares of (model - t)/t (rows divided by t), for each (k, j); the one
     // with the smallest largest deviation.
@@ -248,10 +248,10 @@ int main(int argc, char** argv) {
         << "L2 errors against direct summation (uniform sets: at the first 1000 points; blob: at all 5000; Plummer: "
         << "at the first 2000). Load (/proc/loadavg): before `" << before << "`, after `" << after << "`.\n\n"
         << "Envelope of max(E, phi) by C (alpha theta/(2 - theta))^(p+1) over the errors above 1e-11 at p >= "
-        << poisson::detail::lowest_order << " (the knob's lowest order), every set: **alpha = " << alpha << ", C = " << c
+        << poisson::detail::lowest_order(3) << " (the knob's lowest order), every set: **alpha = " << alpha << ", C = " << c
         << "** (C the largest measured ratio at that alpha; alpha the one with the smallest summed "
         << "log(model/measured)); the one-signed sets alone: alpha = " << alpha_one << ", C = " << c_one
-        << ". Below p = " << poisson::detail::lowest_order << " the largest measured error over tolerance.hpp's model: **"
+        << ". Below p = " << poisson::detail::lowest_order(3) << " the largest measured error over tolerance.hpp's model: **"
         << below << "** (" << below_at << "). Times of the uniform set fitted to n(theta) + b (p + 1)^k "
         << "theta^-j (least squares of the relative deviation; (k, j) in {3..6} x {1..4} with the smallest largest "
         << "deviation): **k = " << cost.k << ", j = " << cost.j << ", n = {" << near << "}, b = " << cost.x(nt)

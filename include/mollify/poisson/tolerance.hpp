@@ -13,7 +13,7 @@
 // alpha and C calibrated by measurement (calibration below), and picks,
 // among theta in {0.3, 0.4, ..., 0.8}, the cheapest (theta, p) meeting the
 // target by a cost model fitted to measured times (cost below), from the
-// order lowest_order up. tests/poisson_free_test.cpp (AccuracyKnob) checks
+// order lowest_order(dim) up. tests/poisson_free_test.cpp (AccuracyKnob) checks
 // the achieved error on positive, neutral and centrally concentrated
 // one-signed charges (masses).
 #pragma once
@@ -90,15 +90,20 @@ struct Calibration {
 };
 inline constexpr Calibration calibration[2] = {{0.91, 0.2}, {0.892, 0.32}};  // D = 2, D = 3
 
-// The lowest order the knob chooses, in 2D and 3D: the envelope holds from
-// there. Below it the truncation error no longer falls as the model's power
-// of p on centrally concentrated one-signed sets (masses): at theta 0.8,
-// Plummer and Hernquist spheres of 2*10^4 equal masses measured 1.03-1.52x
-// the model at p = 2 (3D), and a cusped disc 1.04x at p = 1 (2D); at p = 3
-// at most 0.71x (3D) and 0.69x (2D) (stop 77, knob_calibration's Plummer
-// sphere and a throwaway driver). The cost: targets above 0.040 (3D) and
-// 0.056 (2D) get theta 0.8, p = 3 where p = 0-2 met the model.
-inline constexpr int lowest_order = 3;
+// The lowest order the knob chooses: the lowest its calibration measured,
+// p = 2 in 2D and p = 4 in 3D (treecode_bench's uniform set from 4). Below
+// it the truncation error no longer falls as the model's power of p on
+// equal masses concentrated towards a centre (stop 77, knob_calibration's
+// Plummer sphere and a throwaway driver, theta 0.8): in 3D Plummer and
+// Hernquist spheres measured 1.03-1.62x the model at p = 2 (N = 2*10^4 and
+// 2*10^5), and at p = 3 a Plummer sphere's ratio grew with N, 0.37, 0.71,
+// 0.95 and 0.98x at N = 5000, 2*10^4, 2*10^5 and 10^6, while at p = 4 it
+// stays below 0.86x (the uniform neutral set's 0.91-0.97x there is the
+// envelope itself); in 2D a cusped disc measured 1.04x at p = 1 and at most
+// 0.86x at p = 2, at every N from 5000 to 10^6. The cost: 3D targets above
+// 0.024 get theta 0.8, p = 4, 2D ones above 0.077 theta 0.8, p = 2, where
+// lower orders met the model.
+constexpr int lowest_order(int dim) { return dim == 3 ? 4 : 2; }
 
 inline double error_model(int dim, double theta, int p) {
     const Calibration k = calibration[dim - 2];
@@ -137,7 +142,7 @@ inline TreeOptions for_relative_error(double relative_error, int dim) {
     double best_cost = std::numeric_limits<double>::infinity();
     for (std::size_t t = 0; t < std::size(detail::thetas); ++t) {
         const double theta = detail::thetas[t];
-        for (int p = detail::lowest_order; p <= max_order; ++p) {
+        for (int p = detail::lowest_order(dim); p <= max_order; ++p) {
             if (detail::error_model(dim, theta, p) > relative_error) continue;
             const double cost = detail::cost_model(dim, t, p);
             if (cost < best_cost) {
