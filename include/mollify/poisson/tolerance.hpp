@@ -90,8 +90,9 @@ struct Calibration {
 };
 inline constexpr Calibration calibration[2] = {{0.91, 0.2}, {0.892, 0.32}};  // D = 2, D = 3
 
-// The lowest order the knob chooses: the lowest its calibration measured,
-// p = 2 in 2D and p = 4 in 3D (treecode_bench's uniform set from 4). Below
+// The lowest order the knob chooses: the lowest at which every set of its
+// calibration was measured, p = 2 in 2D and p = 4 in 3D (treecode_bench's
+// uniform set from 4). Below
 // it the truncation error no longer falls as the model's power of p on
 // equal masses concentrated towards a centre (stop 77, knob_calibration's
 // Plummer sphere and a throwaway driver, theta 0.8): in 3D Plummer and
