@@ -22,7 +22,7 @@ std::vector<Spec> default_specs() {
                                 ",l=" + std::to_string(l));
         for (int M : {4, 9}) texts.push_back("combo:m=" + std::to_string(m) + ",base=mollifier:M=" + std::to_string(M));
     }
-    for (const char* c : {"poly6", "spiky", "viscosity", "cubic-spline", "box", "box-d1", "box-d2"}) texts.push_back(c);
+    for (const char* c : {"poly6", "spiky", "viscosity", "cubic-spline", "quartic-spline", "quintic-spline", "box", "box-d1", "box-d2"}) texts.push_back(c);
     std::vector<Spec> specs;
     for (const auto& t : texts) specs.push_back(parse_spec(t));
     return specs;

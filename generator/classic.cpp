@@ -2,6 +2,7 @@
 
 #include "anderson.hpp"
 #include "error.hpp"
+#include "schoenberg.hpp"
 
 namespace mollify::gen {
 
@@ -31,6 +32,8 @@ Radial classic_shape(Family f) {
             return Radial::single(poly({{3, Q(-1, 2)}, {2, Q(1)}, {-1, Q(1, 2)}, {0, Q(-1)}}));
         case Family::cubic_spline:  // 1 - 6q^2 + 6q^3 on [0,1/2), 2(1-q)^3 on [1/2,1]
             return two_pieces(poly({{0, Q(1)}, {2, Q(-6)}, {3, Q(6)}}), Laurent::binomial_power(Q(1), Q(-1), 3) * Q(2));
+        case Family::quartic_spline: return schoenberg_shape(5);  // M5: knots 1/5, 3/5, 1
+        case Family::quintic_spline: return schoenberg_shape(6);  // M6: knots 1/3, 2/3, 1
         case Family::box: return Radial::single(Laurent(Q(1)));
         case Family::box_d1: {  // -sign(x): odd
             Radial r = Radial::single(Laurent(Q(-1)));

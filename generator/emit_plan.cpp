@@ -304,18 +304,22 @@ std::vector<EmittedPiece> combination_pieces(const Radial& f, const std::vector<
     return out;
 }
 
-// A polynomial closed form (basis 1) as one Taylor polynomial about c:
-// sum_k a_k (r - c)^k, exact (a polynomial's Taylor series ends).
+// A closed form r^low P(r) (basis 1, P a polynomial; low < 0 for a Laurent
+// polynomial such as a multipole factor's) as r^low times one Taylor
+// polynomial about c: r^low sum_k a_k (r - c)^k, exact (a polynomial's
+// Taylor series ends).
 std::vector<EmittedTerm> centred_terms(const ClosedForm& form, const Q& c) {
+    int low = 0;
+    for (const auto& [key, p] : form.terms()) low = std::min(low, p.low());
     std::vector<Exact> a;
     for (const auto& [key, p] : form.terms()) {
-        const std::vector<Q> t = p.taylor_at(c);  // in c - r
+        const std::vector<Q> t = p.shifted(-low).taylor_at(c);  // in c - r
         if (a.size() < t.size()) a.resize(t.size());
         for (std::size_t j = 0; j < t.size(); ++j) a[j] += Exact::of(key.factor) * (j % 2 ? -t[j] : t[j]);
     }
     while (!a.empty() && a.back().is_zero()) a.pop_back();
     if (a.empty()) return {};
-    return {EmittedTerm{Basis::one, 0, false, 0, 0, std::move(a), std::nullopt, c}};
+    return {EmittedTerm{Basis::one, 0, false, 0, low, std::move(a), std::nullopt, c}};
 }
 
 bool is_polynomial_form(const ClosedForm& form) {
@@ -323,6 +327,15 @@ bool is_polynomial_form(const ClosedForm& form) {
     for (const auto& [key, p] : form.terms())
         if (!p.is_polynomial()) return false;
     return true;
+}
+
+// Does the form vanish at an inner breakpoint lo > 0 (a Laurent polynomial,
+// basis 1)? Then its Taylor polynomials near lo are centred at lo
+// (taylor_centre): the quartic spline's multipole factor E_4 is 0 on
+// [0, 1/5) and grows like r - 1/5 beyond, and its own form there, and one
+// about a midpoint, cancelled near 1/5 (4e5 float ulps in SWIFT's D_soft_5).
+bool vanishes_at(const ClosedForm& form, const Q& lo) {
+    return lo > 0 && form.has_only_basis_one() && value_at(form, lo).is_zero();
 }
 
 // The sum of |terms| of emitted terms at r, each polynomial's |c_k v^k|
@@ -402,9 +415,14 @@ SubPiece own_sub_piece(const EmittedPiece& piece, const Q& lo, const Q& hi) {
     return {{lo, hi, piece.terms, piece.note}, true};
 }
 
-// The Taylor polynomial about the midpoint of [lo, hi) (centred_terms).
-SubPiece taylor_sub_piece(const Q& lo, const Q& hi, std::vector<EmittedTerm> taylor) {
-    return {{lo, hi, std::move(taylor), "Taylor polynomial about " + short_string((lo + hi) / 2)}, false};
+// The centre of a sub-piece's Taylor polynomial: its lower end where the form
+// vanishes there (vanishes_at), else its midpoint.
+Q taylor_centre(const ClosedForm& form, const Q& lo, const Q& hi) { return vanishes_at(form, lo) ? lo : (lo + hi) / 2; }
+
+// The Taylor polynomial about taylor_centre (centred_terms).
+SubPiece taylor_sub_piece(const ClosedForm& form, const Q& lo, const Q& hi) {
+    const Q c = taylor_centre(form, lo, hi);
+    return {{lo, hi, centred_terms(form, c), "Taylor polynomial about " + short_string(c)}, false};
 }
 
 void recentre(const EmittedPiece& piece, const Magnitude& own, const ClosedForm& form, const ClosedForm& derivative,
@@ -414,13 +432,13 @@ void recentre(const EmittedPiece& piece, const Magnitude& own, const ClosedForm&
         out.push_back(own_sub_piece(piece, lo, hi));
         return;
     }
-    const Q c = (lo + hi) / 2;
-    std::vector<EmittedTerm> taylor = centred_terms(form, c);
-    const double centred = worst_condition(Magnitude(taylor), form, derivative, lo, hi, scales);
+    SubPiece taylor = taylor_sub_piece(form, lo, hi);
+    const double centred = worst_condition(Magnitude(taylor.piece.terms), form, derivative, lo, hi, scales);
     if (centred <= recentre_condition || depth == 6) {
-        out.push_back(centred < plain ? taylor_sub_piece(lo, hi, std::move(taylor)) : own_sub_piece(piece, lo, hi));
+        out.push_back(centred < plain ? std::move(taylor) : own_sub_piece(piece, lo, hi));
         return;
     }
+    const Q c = (lo + hi) / 2;
     recentre(piece, own, form, derivative, lo, c, depth + 1, out, scales);
     recentre(piece, own, form, derivative, c, hi, depth + 1, out, scales);
 }
@@ -434,7 +452,7 @@ std::optional<std::vector<SubPiece>> chosen_sub_pieces(const EmittedPiece& piece
     Q lo = piece.lo;
     for (const RecentreChoice& c : choices) {
         if (c.hi <= lo || c.hi > *piece.hi) return std::nullopt;
-        out.push_back(c.own ? own_sub_piece(piece, lo, c.hi) : taylor_sub_piece(lo, c.hi, centred_terms(form, (lo + c.hi) / 2)));
+        out.push_back(c.own ? own_sub_piece(piece, lo, c.hi) : taylor_sub_piece(form, lo, c.hi));
         lo = c.hi;
     }
     if (lo != *piece.hi) return std::nullopt;
@@ -471,11 +489,24 @@ std::vector<SubPiece> sub_pieces(const EmittedPiece& piece, const ClosedForm& fo
     return sub;
 }
 
-std::vector<EmittedPiece> recentred(const Radial& f, std::vector<EmittedPiece> pieces) {
+// Which pieces recentre may split: every piece of a potential; of a kernel's
+// quantity only the interior pieces, between two inner breakpoints (the
+// quartic and quintic splines' middle pieces, whose expanded polynomials
+// cancel: M6's W on [1/3, 2/3) reached 87 ulps in the fast form). A first
+// piece keeps its polynomial about 0 (even there: W'(0) = 0 exactly), a last
+// one its edge factor.
+enum class Recentre { every_piece, interior_pieces };
+
+bool may_recentre(const EmittedPiece& p, const Radial& f, Recentre which) {
+    return which == Recentre::every_piece || (p.lo > 0 && p.hi && *p.hi < f.support());
+}
+
+std::vector<EmittedPiece> recentred(const Radial& f, std::vector<EmittedPiece> pieces, Recentre which) {
     std::vector<EmittedPiece> out;
     for (EmittedPiece& p : pieces) {
-        const ClosedForm* form = p.hi && !p.series && !p.centred ? &f.form_at((p.lo + *p.hi) / 2) : nullptr;
-        if (!form || form->is_zero() || !is_polynomial_form(*form)) {
+        const ClosedForm* form =
+            p.hi && !p.series && !p.centred && may_recentre(p, f, which) ? &f.form_at((p.lo + *p.hi) / 2) : nullptr;
+        if (!form || form->is_zero() || !(is_polynomial_form(*form) || vanishes_at(*form, p.lo))) {
             out.push_back(std::move(p));
             continue;
         }
@@ -496,7 +527,8 @@ std::vector<EmittedPiece> recentred(const Radial& f, std::vector<EmittedPiece> p
 std::vector<EmittedPiece> plan_quantity(const Radial& f, bool potential_like, const std::vector<Radial>& parts) {
     std::vector<EmittedPiece> emitted =
         parts.empty() ? emitted_pieces(f, potential_like) : combination_pieces(f, parts, potential_like);
-    if (potential_like) return recentred(f, std::move(emitted));
+    if (potential_like) return recentred(f, std::move(emitted), Recentre::every_piece);
+    if (parts.empty()) return recentred(f, std::move(emitted), Recentre::interior_pieces);
     return emitted;  // moved (a conditional expression would copy every piece, its Taylor coefficients too)
 }
 

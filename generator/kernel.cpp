@@ -63,6 +63,14 @@ ExactKernel classic(const Spec& s, int dim) {
             k.source = "Mueller et al. 2003 (seed 002 ch. 1)";
             break;
         case Family::cubic_spline: k.claims.smoothness = 2; k.source = "Monaghan & Lattanzio 1985 (M4), support radius 1"; break;
+        case Family::quartic_spline:  // M_n is C^(n-2) (Schoenberg 1946)
+            k.claims.smoothness = 3;
+            k.source = "Schoenberg 1946, Monaghan 2005 sec. 4 (M5), support radius 1";
+            break;
+        case Family::quintic_spline:
+            k.claims.smoothness = 4;
+            k.source = "Schoenberg 1946, Monaghan 2005 sec. 4 (M6), support radius 1";
+            break;
         case Family::box:
             k.claims.smoothness = -1;
             k.source = "Belley 2007, eq. (12)";

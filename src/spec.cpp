@@ -29,6 +29,7 @@ constexpr FamilyName family_names[] = {
     {"wendland-missing", Family::wendland_missing}, {"combo", Family::combo},
     {"poly6", Family::poly6},             {"spiky", Family::spiky},
     {"viscosity", Family::viscosity},     {"cubic-spline", Family::cubic_spline},
+    {"quartic-spline", Family::quartic_spline}, {"quintic-spline", Family::quintic_spline},
     {"box", Family::box},                 {"box-d1", Family::box_d1},
     {"box-d2", Family::box_d2},
 };

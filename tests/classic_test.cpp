@@ -45,6 +45,37 @@ Q integrate(const std::vector<Piece>& shape, int w) {
     return s;
 }
 
+// Schoenberg's M_n on support 1 from its definition as truncated powers
+// (Schoenberg 1946; Monaghan 2005 §4): with x = (n/2) r,
+//   M_n = 1/(n-1)! sum_{j < n/2} (-1)^j binom(n, j) (n/2 - j - x)_+^(n-1)
+//       = (n/2)^(n-1)/(n-1)! sum_j (-1)^j binom(n, j) (k_j - r)_+^(n-1),  k_j = 1 - 2j/n,
+// each power expanded here by the binomial theorem on the pieces between knots.
+std::vector<Piece> schoenberg_pieces(int n) {
+    const int d = n - 1;
+    auto binom = [](int a, int b) {
+        Q c = 1;
+        for (int i = 1; i <= b; ++i) c = c * Q(a - b + i) / Q(i);
+        return c;
+    };
+    Q scale = 1;
+    for (int i = 1; i <= d; ++i) scale = scale * Q(n, 2) / Q(i);
+    std::vector<Q> knots;  // ascending: 1 - 2j/n for the largest j first
+    for (int j = (n - 1) / 2; j >= 0; --j) knots.push_back(Q(1) - Q(2 * j, n));
+    std::vector<Piece> pieces;
+    Q a = 0;
+    for (const Q& b : knots) {
+        Piece p{a, b, {}};
+        for (int j = 0; Q(1) - Q(2 * j, n) >= b; ++j) {
+            const Q k = Q(1) - Q(2 * j, n), sign = j % 2 == 0 ? Q(1) : Q(-1);
+            for (int i = 0; i <= d; ++i)  // (k - r)^d = sum_i binom(d, i) k^(d-i) (-r)^i
+                p.c[i] += scale * sign * binom(n, j) * binom(d, i) * power_of(k, d - i) * (i % 2 == 0 ? Q(1) : Q(-1));
+        }
+        pieces.push_back(p);
+        a = b;
+    }
+    return pieces;
+}
+
 // Shapes, written from their definitions:
 //   poly6  (1 - r^2)^3 = 1 - 3r^2 + 3r^4 - r^6              (Mueller et al. 2003)
 //   spiky  (1 - r)^3   = 1 - 3r + 3r^2 - r^3                 (Desbrun & Cani 1996)
@@ -58,6 +89,8 @@ const std::map<std::string, std::vector<Piece>> shapes = {
     {"cubic-spline",
      {{Q(0), Q(1, 2), {{0, Q(1)}, {2, Q(-6)}, {3, Q(6)}}},
       {Q(1, 2), Q(1), {{0, Q(2)}, {1, Q(-6)}, {2, Q(6)}, {3, Q(-2)}}}}},
+    {"quartic-spline", schoenberg_pieces(5)},
+    {"quintic-spline", schoenberg_pieces(6)},
     {"box", {{Q(0), Q(1), {{0, Q(1)}}}}},
 };
 
@@ -75,6 +108,11 @@ const std::map<std::string, std::vector<Piece>> shapes = {
 //                    7/80 x 2 pi = 7 pi/40                                -> 40/(7 pi) (Monaghan)
 //                 3D 19/960 + 11/960 = 1/32, x 4 pi = pi/8                -> 8/pi      (Monaghan)
 //   box:    1D 1 x 2 -> 1/2; 2D 1/2 x 2 pi -> 1/pi; 3D 1/3 x 4 pi         -> 3/(4 pi)
+//   quartic, quintic spline (M5, M6): Monaghan 2005 §4 prints W = sigma w(q)/h^D on support R h
+//   (R = 5/2, 3) with w = (n-1)! M_n, sigma = 1/24, 96/(1199 pi), 1/(20 pi) (M5) and 1/120,
+//   7/(478 pi), 1/(120 pi) (M6) in D = 1, 2, 3; on support 1 the shape is M_n(R r), so
+//   N = sigma R^D (n-1)!:                                               M5 -> 5/2, 14400/(1199 pi), 75/(4 pi)
+//                                                                       M6 -> 3, 3780/(239 pi), 27/pi
 struct Expected {
     const char* spec;
     int D;
@@ -88,6 +126,9 @@ const std::vector<Expected> expected = {
     {"cubic-spline", 1, pi_power(4, 3, 0)},    {"cubic-spline", 2, pi_power(40, 7, -1)},
     {"cubic-spline", 3, pi_power(8, 1, -1)},   {"box", 1, pi_power(1, 2, 0)},
     {"box", 2, pi_power(1, 1, -1)},            {"box", 3, pi_power(3, 4, -1)},
+    {"quartic-spline", 1, pi_power(5, 2, 0)},  {"quartic-spline", 2, pi_power(14400, 1199, -1)},
+    {"quartic-spline", 3, pi_power(75, 4, -1)}, {"quintic-spline", 1, pi_power(3, 1, 0)},
+    {"quintic-spline", 2, pi_power(3780, 239, -1)}, {"quintic-spline", 3, pi_power(27, 1, -1)},
 };
 
 Q omega_rational(int D) { return D == 3 ? Q(4) : Q(2); }
@@ -122,6 +163,9 @@ TEST(Classic, MistypedConstantsAreRejected) {
     EXPECT_NE(kernel("cubic-spline", 2).normalisation, pi_power(10, 7, -1));  // 3D-style "10/(7 pi)"
     EXPECT_NE(kernel("viscosity", 2).normalisation, pi_power(15, 2, -1));  // the 3D value in 2D
     EXPECT_NE(kernel("spiky", 1).normalisation, Exact(Q(2) + pow(Q(10), -30)));
+    // PySPH's 3D quintic 3/(359 pi) (pypr/pysph, fixed in 4f733660) for 1/(120 pi), scaled alike
+    EXPECT_NE(kernel("quintic-spline", 3).normalisation, pi_power(3 * 27 * 120, 359, -1));
+    EXPECT_NE(kernel("quartic-spline", 2).normalisation, pi_power(14400, 1119, -1));
 }
 
 // The shapes, piece by piece, against the definitions above.
@@ -152,6 +196,8 @@ TEST(Classic, Shapes) {
 
 TEST(Classic, Claims) {
     for (const char* c : {"poly6", "spiky", "viscosity", "cubic-spline"}) EXPECT_EQ(kernel(c, 3).claims.smoothness, 2) << c;
+    EXPECT_EQ(kernel("quartic-spline", 3).claims.smoothness, 3);  // M_n is C^(n-2)
+    EXPECT_EQ(kernel("quintic-spline", 3).claims.smoothness, 4);
     EXPECT_EQ(kernel("box", 2).claims.smoothness, -1);
     EXPECT_EQ(kernel("box-d1", 1).claims.smoothness, -1);
     EXPECT_EQ(kernel("box-d2", 1).claims.smoothness, -1);

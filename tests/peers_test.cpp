@@ -44,10 +44,11 @@ namespace gen = mollify::gen;
 using mollify::testing::run_command;
 using mollify::testing::slurp;
 
-// Wendland C2, C4, C6, the cubic spline (an inner breakpoint), a kernel
-// Phantom does not have, and a missing Wendland function (sqrt, arcsech
-// and Taylor pieces in its potential).
-const char* const specs[] = {"wendland:k=1", "wendland:k=2", "wendland:k=3", "cubic-spline", "wendland:k=2,l=1",
+// Wendland C2, C4, C6, the cubic and quintic splines (inner breakpoints), a
+// kernel Phantom does not have, and a missing Wendland function (sqrt,
+// arcsech and Taylor pieces in its potential).
+const char* const specs[] = {"wendland:k=1",     "wendland:k=2",         "wendland:k=3",
+                             "cubic-spline",     "quintic-spline",       "wendland:k=2,l=1",
                              "wendland-missing:k=1"};
 
 // The procedures' error bound, in ulps of max(|exact|, |q f'(q)|) (the error
@@ -278,7 +279,7 @@ TEST(Gadget4, KernelMainAndGfactorsMatchTheExactValues) {
     fs::create_directories(dir);
     // Under the sanitizers without the missing Wendland function (sanitized.hpp):
     // the Phantom test above takes it through the same shared C/Fortran pieces.
-    std::vector<const char*> g4specs = {"cubic-spline", "wendland:k=1", "combo:m=2,base=wendland:k=1"};
+    std::vector<const char*> g4specs = {"cubic-spline", "quartic-spline", "wendland:k=1", "combo:m=2,base=wendland:k=1"};
     if (!mollify::testing::sanitized_build) g4specs.push_back("wendland-missing:k=1");
     std::string only;
     for (const char* sp : g4specs) only += std::string(" --only '") + sp + "'";
@@ -286,7 +287,7 @@ TEST(Gadget4, KernelMainAndGfactorsMatchTheExactValues) {
                                dir / "capture");
     ASSERT_EQ(r.status, 0) << r.err;
     std::vector<double> u = {0.0, 1e-300, 1e-12, 1e-6, 1e-3, 0.1, 0.25, 0.5, 0.75, 0.9, 0.999, 1.0, 1.5, 10.0};
-    for (double b : {0.5, 1.0}) {
+    for (double b : {0.2, 0.5, 0.6, 1.0}) {  // the breakpoints (the quartic spline's at 1/5 and 3/5), three ulps either side
         double lo = b, hi = b;
         for (int i = 0; i < 3; ++i) u.push_back(lo = std::nextafter(lo, 0.0)), u.push_back(hi = std::nextafter(hi, 4.0));
     }

@@ -38,7 +38,8 @@ TEST(Spec, CanonicalSpellings) {
     EXPECT_EQ(canonical("combo:radii=1/3;2/3;1,base=mollifier:M=4"), "combo:m=3,base=mollifier:M=4");
     EXPECT_EQ(canonical("combo:radii=1;0.5,base=poly6"), "combo:m=2,base=poly6");
     EXPECT_EQ(canonical("combo:radii=1/7;3/10;1,base=poly6"), "combo:radii=1/7;3/10;1,base=poly6");
-    for (const char* c : {"poly6", "spiky", "viscosity", "cubic-spline", "box", "box-d1", "box-d2"})
+    for (const char* c :
+         {"poly6", "spiky", "viscosity", "cubic-spline", "quartic-spline", "quintic-spline", "box", "box-d1", "box-d2"})
         EXPECT_EQ(canonical(c), c);
 }
 

@@ -54,7 +54,8 @@ using gen::Real;
 using mollify::testing::run_command;
 using mollify::testing::slurp;
 
-const char* const clamped_specs[] = {"wendland:k=1", "wendland:k=2", "wendland:k=3", "cubic-spline", "wendland:k=2,l=1"};
+const char* const clamped_specs[] = {"wendland:k=1",   "wendland:k=2",   "wendland:k=3",    "cubic-spline",
+                                     "quartic-spline", "quintic-spline", "wendland:k=2,l=1"};
 const char* const lobed_spec = "combo:m=2,base=wendland:k=1";
 // Franz's missing Wendland functions (closed forms in S, arcsech r): W >= 0
 // and W' <= 0 proved by kernel_sign's interval proof, no flag needed.

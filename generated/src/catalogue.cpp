@@ -253,6 +253,12 @@
 #include <mollify/tables/classic/cubic_spline_D1.hpp>
 #include <mollify/tables/classic/cubic_spline_D2.hpp>
 #include <mollify/tables/classic/cubic_spline_D3.hpp>
+#include <mollify/tables/classic/quartic_spline_D1.hpp>
+#include <mollify/tables/classic/quartic_spline_D2.hpp>
+#include <mollify/tables/classic/quartic_spline_D3.hpp>
+#include <mollify/tables/classic/quintic_spline_D1.hpp>
+#include <mollify/tables/classic/quintic_spline_D2.hpp>
+#include <mollify/tables/classic/quintic_spline_D3.hpp>
 #include <mollify/tables/classic/box_D1.hpp>
 #include <mollify/tables/classic/box_D2.hpp>
 #include <mollify/tables/classic/box_D3.hpp>
@@ -515,6 +521,12 @@ constexpr const table::Kernel* kernels[] = {
     &cubic_spline_D1,
     &cubic_spline_D2,
     &cubic_spline_D3,
+    &quartic_spline_D1,
+    &quartic_spline_D2,
+    &quartic_spline_D3,
+    &quintic_spline_D1,
+    &quintic_spline_D2,
+    &quintic_spline_D3,
     &box_D1,
     &box_D2,
     &box_D3,

@@ -30,6 +30,8 @@ enum class Family {
     spiky,
     viscosity,
     cubic_spline,
+    quartic_spline,
+    quintic_spline,
     box,
     box_d1,
     box_d2,
