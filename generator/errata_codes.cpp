@@ -12,7 +12,6 @@
 #include "errata_checker.hpp"
 #include "error.hpp"
 #include "kernel.hpp"
-#include "schoenberg.hpp"
 
 #include <gmp.h>
 #include <mpfr.h>
@@ -210,8 +209,8 @@ std::optional<Monomial> monomial_ratio(const Radial& p, const Radial& x) {
 // Kernels a code's published shape or gradient may turn out to be.
 const std::vector<std::string>& candidate_specs() {
     static const std::vector<std::string> specs = {
-        "poly6",         "spiky",         "viscosity",     "cubic-spline",  "spline:n=5",    "spline:n=6",
-        "wendland:k=0",  "wendland:k=1",  "wendland:k=2",  "wendland:k=3",  "mollifier:M=1", "mollifier:M=2",
+        "poly6",        "spiky",        "viscosity",    "cubic-spline", "quartic-spline", "quintic-spline",
+        "wendland:k=0", "wendland:k=1", "wendland:k=2", "wendland:k=3", "mollifier:M=1",  "mollifier:M=2",
         "mollifier:M=3", "mollifier:M=4",
     };
     return specs;
@@ -245,15 +244,7 @@ private:
         const auto key = std::make_pair(spec, dim);
         auto it = kernels_.find(key);
         if (it != kernels_.end()) return it->second;
-        Radial k;
-        if (spec.rfind("spline:n=", 0) == 0) {
-            const Q n = parse_rational(spec.substr(9), "spline order in '" + spec + "'");
-            if (!is_integer(n)) fail("spline order in '" + spec + "' is not an integer");
-            const Radial shape = schoenberg_shape(static_cast<int>(numerator(n)));
-            k = shape * (sphere_measure(dim) * radial_integral(shape, dim - 1)).inverse();
-        } else {
-            k = make_kernel(parse_spec(spec), dim).W;
-        }
+        const Radial k = make_kernel(parse_spec(spec), dim).W;
         return kernels_.emplace(key, k).first->second;
     }
 

@@ -7,7 +7,7 @@
 // a constant factor, another dimension's constant, a support convention,
 // a gradient off by a power of q, a wrong sign, or another kernel's
 // gradient (a mismatched pair). Every exact value comes from the generator
-// (make_kernel, schoenberg_shape), never from a table.
+// (make_kernel), never from a table.
 #pragma once
 
 #include <filesystem>

@@ -247,7 +247,7 @@ protected:
                                const std::string& extra = "") {
         return R"({"entry": ")" + label + R"(", "quantity": "code.normalisation", "file": "k.c", "commit": "c0ffee",
             "seen": true, "expression": "e", "says": "s",
-            "params": {"spec": "spline:n=6", "dim": )" + std::to_string(dim) + R"(, "support": "3"},
+            "params": {"spec": "quintic-spline", "dim": )" + std::to_string(dim) + R"(, "support": "3"},
             "printed": {"constant": ")" + constant + R"(", "pi_power": )" + std::to_string(pi) + R"(, "shape": [
               {"coeff": "1", "factors": [["3", "-1", 5]], "to": "3"},
               {"coeff": "-6", "factors": [["2", "-1", 5]], "to": "2"},
@@ -318,7 +318,7 @@ TEST_F(ScratchCodes, FoldedDecimalsDecidedAgainstPi) {
 TEST_F(ScratchCodes, GammaDecidedExactly) {
     auto gamma = [](const std::string& label, const std::string& g) {
         return R"({"entry": ")" + label + R"(", "quantity": "code.gamma", "file": "k.h", "seen": true,
-            "expression": "e", "says": "s", "params": {"spec": "spline:n=5", "dim": 3}, "printed": {"gamma": ")" + g + R"("}})";
+            "expression": "e", "says": "s", "params": {"spec": "quartic-spline", "dim": 3}, "printed": {"gamma": ")" + g + R"("}})";
     };
     write(gamma("a", "2.018932") + "," + gamma("b", "2.018933") + "," + gamma("c", "2.01893") + "," + gamma("d", "1.825742"));
     const CodeErrataReport r = check_code_errata(dir_);
@@ -368,7 +368,7 @@ TEST_F(ScratchCodes, ShapeSupportMustAgreeAndSpecMustExist) {
     e.replace(e.find(R"("support": "3")"), 14, R"("support": "2")");
     EXPECT_TRUE(contains(error_of(e), "field 'printed.shape': support 3 disagrees with params.support 2")) << error_of(e);
     std::string f = quintic("t", "1/120", -1, 3);
-    f.replace(f.find("spline:n=6"), 10, "splime:n=6");
+    f.replace(f.find("quintic-spline"), 14, "quintic-splime");
     EXPECT_TRUE(contains(error_of(f), "entry 't'") && contains(error_of(f), "field 'params.spec'")) << error_of(f);
     std::string g = quintic("u", "1/120", -1, 3);
     g.replace(g.find(R"(["3", "-1", 5])"), 14, R"(["3", "-1"])");
