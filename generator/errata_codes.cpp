@@ -12,6 +12,7 @@
 #include "errata_checker.hpp"
 #include "error.hpp"
 #include "kernel.hpp"
+#include "rounding.hpp"
 
 #include <gmp.h>
 #include <mpfr.h>
@@ -234,7 +235,9 @@ public:
         else if (e.quantity == "code.gradient") gradient(e, v);
         else if (e.quantity == "code.h_power") h_power(e, v);
         else if (e.quantity == "code.gamma") gamma(e, v);
-        else e.bad("unknown quantity '" + e.quantity + "' (code.normalisation, code.gradient, code.h_power, code.gamma)");
+        else if (e.quantity == "code.coefficients") coefficients(e, v);
+        else e.bad("unknown quantity '" + e.quantity +
+                   "' (code.normalisation, code.gradient, code.h_power, code.gamma, code.coefficients)");
         report_.verdicts.push_back(v);
     }
 
@@ -495,6 +498,84 @@ private:
                           " unit" + (units == 1 ? "" : "s") + " of its last digit off";
         else
             v.diagnosis = "support convention: gamma = H/h is not this kernel's (published/exact = " + std::string(shown) + ")";
+    }
+
+    // A code's table of monomial coefficients as it prints them (SWIFT's
+    // kernel_coeffs: float literals of repeating fractions): W_1(x) = C pi^p w(x)
+    // on support 1 (x = r/H), w = sum_k c_k x^k on each piece, highest power
+    // first. A literal is right when it rounds to the same float (double) as
+    // the exact coefficient of mollify's W_1 / (C pi^p); a wrong one is named
+    // with the exact value and how many units in the last place its float is off.
+    void coefficients(const Entry& e, CodeVerdict& v) {
+        const std::string spec = e.param_text("spec");
+        const int dim = e.param("dim");
+        if (dim < 1 || dim > 3) e.bad("field 'params.dim' must be 1, 2 or 3, got " + std::to_string(dim));
+        const json& printed = e.printed();
+        const PiQ c{e.rational(printed, "constant", "printed"), e.integer(printed, "pi_power", "printed")};
+        if (c.q == 0) e.bad("field 'printed.constant' is 0");
+        const std::string precision = e.text(printed, "precision", "printed");
+        if (precision != "float" && precision != "double")
+            e.bad("field 'printed.precision' must be float or double, got '" + precision + "'");
+        const bool single_precision = precision == "float";
+        const Radial* K = nullptr;
+        try {
+            K = &unit_kernel(spec, dim);
+        } catch (const Error& ex) {
+            e.bad(std::string("field 'params.spec': ") + ex.what());
+        }
+        const json& pieces = e.need(printed, "pieces", "printed");
+        if (!pieces.is_array() || pieces.empty()) e.bad("field 'printed.pieces' must be a non-empty array");
+        int literals = 0;
+        std::vector<std::string> wrong;
+        for (std::size_t i = 0; i < pieces.size(); ++i) {
+            const std::string path = "printed.pieces[" + std::to_string(i) + "]";
+            const Q from = e.rational(pieces[i], "from", path), to = e.rational(pieces[i], "to", path);
+            if (from < 0 || to <= from || to > K->support())
+                e.bad("field '" + path + "': need 0 <= from < to <= 1 (x = r/H), got [" + short_string(from) + ", " +
+                      short_string(to) + ")");
+            for (const Q& b : K->breaks)
+                if (from < b && b < to)
+                    e.bad("field '" + path + "': [" + short_string(from) + ", " + short_string(to) + ") spans " + spec +
+                          "'s breakpoint " + short_string(b) + " (one polynomial each side)");
+            const json& cs = e.need(pieces[i], "coefficients", path);
+            if (!cs.is_array() || cs.empty()) e.bad("field '" + path + ".coefficients' must be a non-empty array");
+            Laurent p;
+            Atom atom;
+            if (!K->form_at((from + to) / 2).single_polynomial(&p, &atom) || !p.is_polynomial() || atom.log_of != 1 ||
+                (!p.is_zero() && atom.pi_power != c.pi))
+                e.bad("field '" + path + "': " + spec + " on [" + short_string(from) + ", " + short_string(to) +
+                      ") is not a polynomial times pi^" + std::to_string(c.pi));
+            const int degree = static_cast<int>(cs.size()) - 1;
+            if (!p.is_zero() && p.high() > degree)
+                e.bad("field '" + path + ".coefficients': " + std::to_string(cs.size()) + " literals, the exact w has degree " +
+                      std::to_string(p.high()));
+            for (int k = degree; k >= 0; --k) {
+                const std::string lp = path + ".coefficients[" + std::to_string(degree - k) + "]";
+                const json& lit = cs[static_cast<std::size_t>(degree - k)];
+                if (!lit.is_string()) e.bad("field '" + lp + "' must be a string (the literal as printed, without its f)");
+                const std::string text = lit.get<std::string>();
+                const Q literal = e.rational(lit, lp);
+                const Q exact = p.is_zero() ? Q(0) : p.coefficient(k) / c.q;
+                ++literals;
+                const double got = single_precision ? round_to_float(literal) : round_to_double(Exact(literal));
+                const double want = single_precision ? round_to_float(exact) : round_to_double(Exact(exact));
+                if (got == want) continue;
+                const double unit = std::ldexp(1.0, std::max(std::ilogb(std::fabs(want)), single_precision ? -126 : -1022) -
+                                                         (single_precision ? 23 : 52));
+                char b[256];
+                std::snprintf(b, sizeof b, "x^%d on [%s, %s): %s, exact %s = %.12g, %.3g %s ulps off (relative %.2g)", k,
+                              short_string(from).c_str(), short_string(to).c_str(), text.c_str(), short_string(exact).c_str(),
+                              static_cast<double>(exact), std::fabs(got - want) / unit, precision.c_str(),
+                              exact == 0 ? 0.0 : static_cast<double>((literal - exact) / exact));
+                wrong.push_back(b);
+            }
+        }
+        v.published = std::to_string(literals) + " " + precision + " literals, C = " + exact_of(c).to_string();
+        v.exact = "the monomial coefficients of W_1 / C (" + spec + ", D = " + std::to_string(dim) + ")";
+        v.right = wrong.empty();
+        v.ratio = v.right ? "1" : std::to_string(wrong.size()) + " of " + std::to_string(literals) + " off";
+        v.diagnosis = v.right ? "right (every literal rounds to the exact coefficient's " + precision + ")" : "coefficients: ";
+        for (std::size_t j = 0; j < wrong.size(); ++j) v.diagnosis += (j ? "; " : "") + wrong[j];
     }
 
     CodeErrataReport& report_;

@@ -193,6 +193,21 @@ TEST(CodeErrata, SwiftConstantsAndGammas) {
     EXPECT_TRUE(verdict("MARTINI", "gamma = H/h quoted").right);
 }
 
+// SWIFT's kernel_coeffs, float literals of repeating fractions: each is
+// decided by its float. The quintic's x coefficient on [1/3, 2/3) is 25/27
+// truncated to six decimals (15 float ulps, 1e-6 relative: ~1.5e-5 of W at
+// x = 1/2, where the piece's monomials cancel); two more literals have too few
+// digits to name the float (1 ulp). Wendland C4's nine are right.
+TEST(CodeErrata, SwiftCoefficientTables) {
+    for (int d = 1; d <= 3; ++d) {
+        const std::string e = "Quintic spline (M6), D = " + std::to_string(d) + ", kernel_coeffs";
+        expect_wrong("SWIFT", e, "3 of 18 off", "x^1 on [1/3, 2/3): 0.925925, exact 25/27 = 0.925925925926, 15 float ulps off");
+        EXPECT_TRUE(contains(verdict("SWIFT", e).diagnosis, "x^2 on [0, 1/3): -2.2222222, exact -20/9")) << verdict("SWIFT", e).diagnosis;
+        EXPECT_TRUE(contains(verdict("SWIFT", e).diagnosis, "x^3 on [1/3, 2/3): 16.666667, exact 50/3")) << verdict("SWIFT", e).diagnosis;
+    }
+    for (const char* e : {"Wendland C4, D = 3, kernel_coeffs", "Wendland C4, D = 2, kernel_coeffs"}) expect_right("SWIFT", e);
+}
+
 TEST(CodeErrata, DualSPHysicsDecimalsWithPiFoldedIn) {
     for (const char* e : {"Wendland, D = 2, W", "Wendland, D = 3, W", "Wendland, D = 2, grad W", "Wendland, D = 3, grad W"}) {
         const CodeVerdict& v = verdict("DualSPHysics", e);
@@ -221,8 +236,8 @@ TEST(CodeErrata, Gadget4AllRight) {
 }
 
 TEST(CodeErrata, TotalsArePinned) {
-    EXPECT_EQ(report().verdicts.size(), 129u);
-    EXPECT_EQ(report().wrong(), 19);
+    EXPECT_EQ(report().verdicts.size(), 134u);
+    EXPECT_EQ(report().wrong(), 22);
 }
 
 // --- deliberately wrong entries in a scratch folder
@@ -331,6 +346,32 @@ TEST_F(ScratchCodes, GammaDecidedExactly) {
     EXPECT_TRUE(contains(r.verdicts[3].diagnosis, "support convention")) << r.verdicts[3].diagnosis;
 }
 
+// A coefficient table (code.coefficients): M6's three pieces, w = W_1/C with
+// C = 2187/(40 pi) in 3D (w(0) = 22/81), each literal decided by its float or
+// its double.
+TEST_F(ScratchCodes, CoefficientsDecidedByTheirFloatOrDouble) {
+    auto table = [](const std::string& label, const std::string& precision, const std::string& x1) {
+        return R"({"entry": ")" + label + R"(", "quantity": "code.coefficients", "file": "k.h", "seen": true,
+            "expression": "e", "says": "s", "params": {"spec": "quintic-spline", "dim": 3},
+            "printed": {"constant": "2187/40", "pi_power": -1, "precision": ")" + precision + R"(", "pieces": [
+              {"from": "0", "to": "1/3", "coefficients": ["-10", "10", "0", "-2.22222222", "0", "0.271604938"]},
+              {"from": "1/3", "to": "2/3", "coefficients": ["5", "-15", "16.6666667", "-7.77777778", ")" + x1 + R"(", "0.209876543"]},
+              {"from": "2/3", "to": "1", "coefficients": ["-1", "5", "-10", "10", "-5", "1"]}]}})";
+    };
+    write(table("a", "float", "0.925925926") + "," + table("b", "float", "0.925925") + "," + table("c", "double", "0.925925926") +
+          "," + table("d", "float", "0.952925926"));
+    const CodeErrataReport r = check_code_errata(dir_);
+    ASSERT_EQ(r.verdicts.size(), 4u);
+    EXPECT_TRUE(r.verdicts[0].right) << r.verdicts[0].diagnosis;  // nine significant digits name every float
+    EXPECT_FALSE(r.verdicts[1].right);
+    EXPECT_EQ(r.verdicts[1].ratio, "1 of 18 off");
+    EXPECT_TRUE(contains(r.verdicts[1].diagnosis, "x^1 on [1/3, 2/3): 0.925925, exact 25/27")) << r.verdicts[1].diagnosis;
+    EXPECT_FALSE(r.verdicts[2].right);  // as doubles, nine digits are not enough (nor 0.271604938 for 22/81)
+    EXPECT_TRUE(contains(r.verdicts[2].diagnosis, "double ulps off")) << r.verdicts[2].diagnosis;
+    EXPECT_FALSE(r.verdicts[3].right);  // two digits transposed
+    EXPECT_TRUE(contains(r.verdicts[3].diagnosis, "0.952925926, exact 25/27")) << r.verdicts[3].diagnosis;
+}
+
 TEST_F(ScratchCodes, UnseenSourceIsListedNotChecked) {
     write(R"({"entry": "u", "quantity": "code.normalisation", "issue": 1, "seen": false, "expression": "?", "says": "s"})");
     const CodeErrataReport r = check_code_errata(dir_);
@@ -361,6 +402,20 @@ TEST_F(ScratchCodes, MalformedEntriesNameFileEntryAndField) {
     EXPECT_TRUE(contains(error_of(cases[4].entries), "needs a source")) << error_of(cases[4].entries);
     // The bad rational is named with its field.
     EXPECT_TRUE(contains(error_of(cases[1].entries), "printed.constant")) << error_of(cases[1].entries);
+    // A coefficient table: its precision, its literals (strings as printed), its pieces inside the support.
+    auto table = [](const std::string& precision, const std::string& literal, const std::string& to) {
+        return R"({"entry": "t", "quantity": "code.coefficients", "file": "k.h", "seen": true, "expression": "e",
+            "says": "s", "params": {"spec": "cubic-spline", "dim": 3}, "printed": {"constant": "16", "pi_power": -1,
+            "precision": ")" + precision + R"(", "pieces": [{"from": "0", "to": ")" + to + R"(", "coefficients": ["3", "-3", "0", )" +
+               literal + R"(]}]}})";
+    };
+    EXPECT_TRUE(contains(error_of(table("float", "\"0.5\"", "1/2")), "(no error)")) << error_of(table("float", "\"0.5\"", "1/2"));
+    EXPECT_TRUE(contains(error_of(table("half", "\"0.5\"", "1/2")), "field 'printed.precision' must be float or double, got 'half'"));
+    EXPECT_TRUE(contains(error_of(table("float", "0.5", "1/2")), "printed.pieces[0].coefficients[3]' must be a string"));
+    EXPECT_TRUE(contains(error_of(table("float", "\"0.5\"", "3/2")), "need 0 <= from < to <= 1"));
+    EXPECT_TRUE(contains(error_of(table("float", "\"0.5\"", "3/4")), "spans cubic-spline's breakpoint 1/2"));
+    const std::string no_pi = table("float", "\"0.5\"", "1/2");
+    EXPECT_TRUE(contains(error_of(std::string(no_pi).replace(no_pi.find("-1,"), 2, "0")), "is not a polynomial times pi^0"));
 }
 
 TEST_F(ScratchCodes, ShapeSupportMustAgreeAndSpecMustExist) {
