@@ -59,7 +59,7 @@ std::vector<Convention> make_conventions() {
                    {3},
                    FloatFormat::binary64,
                    SupportRule::fixed_multiple,
-                   Q(2),  // radkern: 2 for Phantom's cubic and Wendland kernels; every kernel here
+                   Q(2),  // radkern: 2 for Phantom's cubic and Wendland kernels and every other kernel here (support_multiple)
                    NormalisationRule::separate_constant,
                    {QuantityId::value, QuantityId::dr, QuantityId::potential, QuantityId::dpotential},
                    {true, Exact(Q(-1)), "potensoft = phi(q), -1/q for q >= radkern; dphidh = -phi - q dphi/dq"},
@@ -165,8 +165,8 @@ DerivedConstant phantom_hfact(const ExactKernel& k) {
     const Q reference_hfact = Q(6) / Q(5), reference_radkern = Q(2);
     const ExactKernel cubic = make_kernel(parse_spec("cubic-spline"), k.dim);
     const Q s = variance(k), sc = variance(cubic);
-    const Q h2 = reference_hfact * reference_hfact * reference_radkern * reference_radkern * sc /
-                 (p.support_in_h * p.support_in_h * s);
+    const Q radkern = support_multiple(p, k);
+    const Q h2 = reference_hfact * reference_hfact * reference_radkern * reference_radkern * sc / (radkern * radkern * s);
     return {"hfact_default", h2, sqrt_to_double(h2), sqrt_to_float(h2),
             "hfact = 1.2 (2 sigma_cubic) / (radkern sigma), sigma^2 = (1/D) int |x|^2 W on support 1: " +
                 short_string(s) + " (cubic " + short_string(sc) + ")"};
@@ -184,7 +184,14 @@ Exact separate_normalisation(const Convention& c, const ExactKernel& k) {
     if (w0.is_zero())
         fail("--target " + c.target + ": W(0) = 0 for " + spec_string(k.spec) + ", no constant in front of w/w(0)");
     if (c.support == SupportRule::twice_sigma) return w0;
-    return w0 * pow(c.support_in_h, -k.dim);
+    return w0 * pow(support_multiple(c, k), -k.dim);
+}
+
+Q support_multiple(const Convention& c, const ExactKernel& k) {
+    if (c.support == SupportRule::twice_sigma) fail("internal: support_multiple of --target " + c.target + " (gamma per kernel)");
+    if (c.target == "phantom" && k.spec.family == Family::quartic_spline) return Q(5, 2);
+    if (c.target == "phantom" && k.spec.family == Family::quintic_spline) return Q(3);
+    return c.support_in_h;
 }
 
 Exact potential_scale(const Convention& c) {

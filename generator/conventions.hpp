@@ -51,7 +51,7 @@ struct Convention {
     std::vector<int> dims;           // the dimensions the target takes
     FloatFormat precision;
     SupportRule support;
-    Q support_in_h;  // SupportRule::support: 1; fixed_multiple: the multiple; twice_sigma: unused (gamma per kernel)
+    Q support_in_h;  // SupportRule::support: 1; fixed_multiple: the multiple (support_multiple: per kernel); twice_sigma: unused (gamma per kernel)
     NormalisationRule normalisation;
     std::vector<table::QuantityId> quantities;  // what the target's functions give
     PotentialRule potential;
@@ -94,11 +94,18 @@ DerivedConstant swift_gamma(const ExactKernel& k);
 // the stock C2 1.27, C4 1.45, C6 1.61 against Phantom's rounded 1.3, 1.5,
 // 1.6): hfact = 1.2 (radkern_cubic sigma_cubic) / (radkern sigma).
 DerivedConstant phantom_hfact(const ExactKernel& k);
+// H/h of SupportRule::support and fixed_multiple for kernel k: the
+// convention's support_in_h, but Phantom's own radkern where Phantom ships
+// the kernel with another (../shared/peers.md, "Phantom": the quartic spline
+// 2.5, the quintic 3), so that its stock kernel_quartic.f90 and
+// kernel_quintic.f90 are the phantom convention and mollify's files replace
+// them with the same h.
+Q support_multiple(const Convention& c, const ExactKernel& k);
 // NormalisationRule::separate_constant: the constant C of W = C w(x) h^-D
 // with w the kernel scaled to w(0) = 1 (the stock forms of Phantom and
 // GADGET-4: (1 - q/2)^4 (2q + 1), 1 + 6 (u - 1) u^2, ...), exactly:
-// fixed_multiple and support, x = r/H, H = support_in_h h, so C = W(0) /
-// support_in_h^D with W mollify's kernel on support 1 (Phantom's cnormk:
+// fixed_multiple and support, x = r/H, H = support_multiple h, so C = W(0) /
+// support_multiple^D with W mollify's kernel on support 1 (Phantom's cnormk:
 // 1/pi for the cubic, 21/(16 pi) for Wendland C2; GADGET-4's NORM 8/pi);
 // twice_sigma, W(u) = C gamma^-D w(u/gamma) (SWIFT): C = W(0). Error for a
 // kernel with W(0) = 0 or singular there.

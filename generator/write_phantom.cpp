@@ -9,17 +9,19 @@
 // unnormalised shape, N its normalisation): w(q) = s(q/radkern)/s(0) and
 // cnormk = N s(0) / radkern^3 (w(0) = 1; s as it is where s(0) is not a nonzero rational), which is Phantom's own split (the cubic spline
 // gives its w and cnormk = 1/pi; Wendland C2 its (1 - q/2)^4 (2q + 1) and
-// 21/(16 pi)). radkern = 2 for every kernel (the convention's support_in_h,
-// Phantom's choice for the cubic and Wendland kernels): a power of two, so
-// x = q/radkern is exact and every function is one of mollify's factored
-// tables in x on [0, 1] (Precision::fast), a Radial derived here exactly:
-//   w = s(x), dw/dq = s'(x)/2, q^2 w = 4 x^2 s(x),
-//   phi(q) = G(x)/2 with G = 4 pi phi_1 (-1/x outside; Delta phi_1 = W_1),
-//   dphi/dq = G'(x)/4, dphidh = -phi - q dphi/dq = -(G + x G')/2,
-//   gsoft = q d/dq(fsoft/q) = q phi'' - phi' = (x G'' - G')/4 (Phantom's
+// 21/(16 pi)). radkern R = 2 for every kernel (the convention's support_in_h,
+// Phantom's choice for the cubic and Wendland kernels; a power of two, so
+// x = q/radkern is exact) but those Phantom ships with another (its quartic
+// 5/2, quintic 3: conventions.hpp, support_multiple; x is then rounded
+// once). Every function is one of mollify's factored tables in x on [0, 1]
+// (Precision::fast), a Radial derived here exactly:
+//   w = s(x), dw/dq = s'(x)/R, q^2 w = R^2 x^2 s(x),
+//   phi(q) = G(x)/R with G = 4 pi phi_1 (-1/x outside; Delta phi_1 = W_1),
+//   dphi/dq = G'(x)/R^2, dphidh = -phi - q dphi/dq = -(G + x G')/R,
+//   gsoft = q d/dq(fsoft/q) = q phi'' - phi' = (x G'' - G')/R^2 (Phantom's
 //     kernel_grad_soft: -3/q^2 outside).
-// Constants, exact then correctly rounded: cnormk = 1/(4 pi int_0^2 w q^2 dq),
-// cnormk_drag = 1/(4 pi int_0^2 q^4 w dq), wab0 = w(0), gradh0 = -3 w(0),
+// Constants, exact then correctly rounded: cnormk = 1/(4 pi int_0^R w q^2 dq),
+// cnormk_drag = 1/(4 pi int_0^R q^4 w dq), wab0 = w(0), gradh0 = -3 w(0),
 // dphidh0 = dphidh(0), av_factor = int q^4 w' / int q^3 w' (Meru & Bate
 // 2012, eq. B21, as Phantom's scripts/kernels.py get_avdiss), hfact_default
 // = phantom_hfact (conventions.hpp: equal standard deviation in units of the
@@ -67,21 +69,24 @@ Q shape_scale(const ExactKernel& k) {
 }
 Radial phantom_shape(const ExactKernel& k) { return k.shape * Exact(shape_scale(k)); }
 
-std::vector<UnitFunction> unit_functions(const KernelFacts& facts) {
+// The functions of x = q/R on [0, 1], R = radkern: q = R x, d/dq = (1/R) d/dx.
+std::vector<UnitFunction> unit_functions(const KernelFacts& facts, const Q& R) {
     const ExactKernel& k = facts.kernel;
     const Radial* phi1 = quantity_of(facts, static_cast<int>(table::QuantityId::potential));
     if (!phi1) fail("--target phantom: " + facts.spec + " has no Poisson potential (Phantom's kernel_softening needs one)");
     const Radial s = phantom_shape(k);
     const Radial G = *phi1 * sphere_measure(3);
     const Radial dG = G.derivative();
+    const std::string r = short_string(R), r2 = short_string(R * R);
     return {
         {"w", "w(q) = s(x)", s, false},
-        {"grkern", "dw/dq = s'(x)/2", s.derivative() * Exact(Q(1, 2)), false},
-        {"drag", "q^2 w(q) = 4 x^2 s(x)", x_times(s, Q(4), 2), false},
-        {"phi", "phi(q) = G(x)/2, G = 4 pi phi_1", G * Exact(Q(1, 2)), true},
-        {"fsoft", "dphi/dq = G'(x)/4", dG * Exact(Q(1, 4)), true},
-        {"dphidh", "-phi - q dphi/dq = -(G + x G')/2", (G + x_times(dG, Q(1), 1)) * Exact(Q(-1, 2)), false},
-        {"gsoft", "q phi'' - phi' = (x G'' - G')/4", (x_times(dG.derivative(), Q(1), 1) - dG) * Exact(Q(1, 4)), true},
+        {"grkern", "dw/dq = s'(x)/" + r, s.derivative() * Exact(Q(1) / R), false},
+        {"drag", "q^2 w(q) = " + r2 + " x^2 s(x)", x_times(s, R * R, 2), false},
+        {"phi", "phi(q) = G(x)/" + r + ", G = 4 pi phi_1", G * Exact(Q(1) / R), true},
+        {"fsoft", "dphi/dq = G'(x)/" + r2, dG * Exact(Q(1) / (R * R)), true},
+        {"dphidh", "-phi - q dphi/dq = -(G + x G')/" + r, (G + x_times(dG, Q(1), 1)) * Exact(Q(-1) / R), false},
+        {"gsoft", "q phi'' - phi' = (x G'' - G')/" + r2, (x_times(dG.derivative(), Q(1), 1) - dG) * Exact(Q(1) / (R * R)),
+         true},
     };
 }
 
@@ -191,10 +196,10 @@ TargetFiles write_phantom(const TargetKernel& tk, const std::string& command) {
     if (k.dim != 3)
         fail("--target phantom: Phantom is 3D only; " + facts.spec + " was asked in D = " + std::to_string(k.dim) +
              " (use --dim 3)");
-    const Q radkern = tk.convention.support_in_h;
-    if (radkern != Q(2)) fail("internal: write_phantom's exact x = q/radkern needs radkern = 2");
+    const Q radkern = support_multiple(tk.convention, k);
+    const bool exact_x = radkern == Q(2);  // a power of two: q/radkern exact
 
-    const std::vector<UnitFunction> functions = unit_functions(facts);
+    const std::vector<UnitFunction> functions = unit_functions(facts, radkern);
     std::vector<std::vector<RoundedPiece>> rounded;
     for (const UnitFunction& u : functions) {
         auto r = rounded_quantity(&u.f, u.potential_like, {});
@@ -212,7 +217,7 @@ TargetFiles write_phantom(const TargetKernel& tk, const std::string& command) {
     const Radial w = phantom_shape(k);
     const Exact four_pi = sphere_measure(3);
     const Exact r5 = Exact(radkern * radkern * radkern * radkern * radkern);
-    // = 1/(4 pi int_0^2 w q^2 dq); with w(0) = 1 the convention's separate_normalisation (conventions.hpp)
+    // = 1/(4 pi int_0^radkern w q^2 dq); with w(0) = 1 the convention's separate_normalisation (conventions.hpp)
     const bool unit = rational_at_zero(k).has_value();
     const Exact cnormk = unit ? separate_normalisation(tk.convention, k)
                              : k.normalisation * (Q(1) / (radkern * radkern * radkern));
@@ -234,8 +239,12 @@ TargetFiles write_phantom(const TargetKernel& tk, const std::string& command) {
            k.source + "\n";
     out += "! q = r/h, support radkern h, W = cnormk w(q)/h^3, |grad W| = cnormk grkern/h^4 (3D only).\n"
            "! w(q) = s(q/radkern)/s(0), s the kernel's shape on support 1; cnormk = N s(0)/radkern^3 (N: s's\n"
-           "! unit-mass normalisation). radkern = 2 for every kernel (Phantom's choice for the cubic and Wendland kernels):\n"
-           "! a power of two, so q/radkern is exact. phi is the kernel's exact Poisson potential (mollify's, times\n"
+           "! unit-mass normalisation). " +
+           std::string(exact_x ? "radkern = 2 for every kernel (Phantom's choice for the cubic and Wendland kernels):\n"
+                                 "! a power of two, so q/radkern is exact."
+                               : "radkern = " + short_string(radkern) + ", Phantom's own for this kernel (its stock " +
+                                     "kernel file), so h means\n! what it means there; q/radkern is rounded once.") +
+           " phi is the kernel's exact Poisson potential (mollify's, times\n"
            "! 4 pi, scaled to support radkern): phi = -1/q outside, dphidh = -phi - q dphi/dq.\n"
            "! hfact_default: " + hfact.rule + ";\n!   hfact_default^2 = " + short_string(hfact.square) + " exactly.\n"
            "! av_factor = int q^4 w' dq / int q^3 w' dq (Meru & Bate 2012, eq. B21).\n"

@@ -72,14 +72,20 @@ std::vector<double> read_doubles(const fs::path& file) {
     return out;
 }
 
-// The q at which the driver evaluates (Phantom's scaling: support 2).
-std::vector<double> points() {
-    std::vector<double> q = {0.0, 1e-300, 1e-12, 1e-6, 1e-3, 0.1, 0.5, 1.0, 1.5, 1.9, 1.999, 2.0, 2.5, 10.0, 1e6};
-    for (double b : {1.0, 2.0}) {  // the cubic's breakpoint, radkern
-        double lo = b, hi = b;
+// The q at which the driver evaluates (Phantom's scaling: support radkern,
+// 2 but for the quartic 2.5 and the quintic 3): near 0, fractions of
+// radkern, every breakpoint and radkern with three neighbours each side, a
+// grid, outside.
+std::vector<double> points(double radkern, const std::vector<gen::Q>& unit_breaks) {
+    std::vector<double> q = {0.0, 1e-300, 1e-12, 1e-6, 1e-3, 10.0, 1e6};
+    for (double f : {0.05, 0.25, 0.5, 0.75, 0.95, 0.9995, 1.0, 1.25}) q.push_back(f * radkern);
+    for (const gen::Q& b : unit_breaks) {
+        if (b == 0) continue;
+        double lo = static_cast<double>(b) * radkern, hi = lo;
+        q.push_back(lo);
         for (int i = 0; i < 3; ++i) q.push_back(lo = std::nextafter(lo, 0.0)), q.push_back(hi = std::nextafter(hi, 4.0));
     }
-    for (int i = 1; i < 64; ++i) q.push_back(2.0 * i / 64 + 1e-3);
+    for (int i = 1; i < 64; ++i) q.push_back(radkern * i / 64 + 1e-3);
     return q;
 }
 
@@ -106,13 +112,15 @@ std::string driver(std::size_t n) {
 // The exact value of a unit-support quantity at x, times c: MPFR at 2048 (8192 below 1e-3)
 // bits (the pieces are evaluated expanded, and W's root of order up to 9 at
 // the edge cancels ~9 x 53 bits at x = 1 - 2^-53).
-double exact_at(const gen::Radial& f, double x, const gen::Exact& c) {
-    const unsigned bits = x < 1e-3 ? 8192 : 2048;  // tiny x: E_n's r^-n terms cancel (2^-600: ~3000 bits)
-    // x = 0: the limit (S, arcsech, log are 0 * inf there), from 2^-600 (x^2 log x far below a double's ulp)
-    const bool limit = x == 0 && !f.form_at(gen::Q(0)).is_elementary();
-    const gen::Real xr(limit ? std::ldexp(1.0, -600) : x, bits);
+// f(q/radkern) c, q/radkern in MPFR (not rounded to a double).
+double exact_at(const gen::Radial& f, double q, double radkern, const gen::Exact& c) {
+    const unsigned bits = q < 1e-3 ? 8192 : 2048;  // tiny q: E_n's r^-n terms cancel (2^-600: ~3000 bits)
+    // q = 0: the limit (S, arcsech, log are 0 * inf there), from 2^-600 (x^2 log x far below a double's ulp)
+    const bool limit = q == 0 && !f.form_at(gen::Q(0)).is_elementary();
+    const gen::Real xr = gen::Real(limit ? std::ldexp(1.0, -600) : q, bits) / gen::Real(limit ? 1.0 : radkern, bits);
     return static_cast<double>(f.evaluate(xr, bits).first * c.evaluate(bits).first);
 }
+double exact_at(const gen::Radial& f, double x, const gen::Exact& c) { return exact_at(f, x, 1.0, c); }
 
 std::string hex_literal_for_test(double x) {
     char buf[40];
@@ -152,10 +160,16 @@ void compile_and_run(const fs::path& dir, const fs::path& module, std::size_t n)
 
 TEST(Phantom, EveryProcedureMatchesTheExactKernelAndPhantomsRules) {
     ASSERT_NO_FATAL_FAILURE(emit_phantom_modules());
-    const std::vector<double> q = points();
     for (const char* spec : specs) {
         SCOPED_TRACE(spec);
         const gen::KernelFacts facts = gen::kernel_facts({mollify::parse_spec(spec), 3});
+        // Phantom's radkern: 2, but its stock quartic 2.5 and quintic 3 (peers.md; conventions' support_multiple)
+        const gen::Q R = gen::support_multiple(gen::convention("phantom"), facts.kernel);
+        const double Rd = static_cast<double>(R);
+        if (std::string(spec) == "quintic-spline") {
+            EXPECT_EQ(R, gen::Q(3));
+        }
+        const std::vector<double> q = points(Rd, facts.quantities.value.breaks);
         const fs::path dir = work_dir() / facts.id;
         fs::create_directories(dir);
         {
@@ -172,17 +186,17 @@ TEST(Phantom, EveryProcedureMatchesTheExactKernelAndPhantomsRules) {
         const gen::ExactKernel& k = facts.kernel;
         const gen::Radial& W1 = facts.quantities.value;
         const double radkern = d[0], cnormk = d[2], wab0 = d[3], gradh0 = d[4], dphidh0 = d[5];
-        EXPECT_EQ(radkern, 2.0);
-        EXPECT_EQ(d[1], 4.0);
-        // cnormk w(q) = W_1(q/2)/8; Phantom's split w(0) = 1 where W_1(0) = N s(0) is a rational multiple of N:
-        // cnormk = W_1(0)/8 then, w = W_1/W_1(0); else cnormk = N/8, w = s. And 4 pi cnormk int_0^2 w q^2 dq = 1.
+        EXPECT_EQ(radkern, Rd);
+        EXPECT_EQ(d[1], Rd * Rd);
+        // cnormk w(q) = W_1(q/R)/R^3; Phantom's split w(0) = 1 where W_1(0) = N s(0) is a rational multiple of N:
+        // cnormk = W_1(0)/R^3 then, w = W_1/W_1(0); else cnormk = N/R^3, w = s. And 4 pi cnormk int_0^R w q^2 dq = 1.
         const bool unit_w0 = k.shape.form_at(gen::Q(0)).is_elementary() && k.shape.at(gen::Q(0)).is_rational() &&
                              k.shape.at(gen::Q(0)).rational() != 0;
         const gen::Exact s0 = unit_w0 ? k.shape.at(gen::Q(0)) : gen::Exact(gen::Q(1));
-        const gen::Exact cnormk_exact = k.normalisation * s0 * gen::Q(1, 8);
+        const gen::Exact cnormk_exact = k.normalisation * s0 * (gen::Q(1) / (R * R * R));
         EXPECT_EQ(cnormk, gen::round_to_double(cnormk_exact));
-        // int_0^2 w q^2 dq = 8 int_0^1 (s/s(0)) x^2 dx
-        const gen::Exact mass = gen::sphere_measure(3) * cnormk_exact * gen::Exact(gen::Q(8)) *
+        // int_0^R w q^2 dq = R^3 int_0^1 (s/s(0)) x^2 dx
+        const gen::Exact mass = gen::sphere_measure(3) * cnormk_exact * gen::Exact(R * R * R) *
                                 gen::radial_integral(k.shape, 2) * s0.inverse();
         EXPECT_TRUE(mass == gen::Exact(gen::Q(1))) << mass.to_string();
         if (unit_w0) {
@@ -203,25 +217,35 @@ TEST(Phantom, EveryProcedureMatchesTheExactKernelAndPhantomsRules) {
             EXPECT_EQ(d[8], 10.0 / 9.0);
             EXPECT_EQ(dphidh0, 1.5);
         }
+        if (std::string(spec) == "quintic-spline") {  // Phantom's stock kernel_quintic.f90 (f68ddd74), w(0) = 66 there
+            EXPECT_LE(ulps_off(cnormk, 66.0 / (120.0 * M_PI), 0), 1);
+            EXPECT_LE(ulps_off(d[6], 66.0 / (168.0 * M_PI), 0), 1);  // cnormk_drag
+            EXPECT_EQ(dphidh0, 239.0 / 210.0);
+            EXPECT_EQ(d[8], 2771.0 / 1890.0);  // av_factor
+        }
 
-        // Exact references (unit support, x = q/2).
+        // Exact references (unit support, x = q/R).
         const gen::Radial& phi1 = *facts.quantities.potential;
-        const gen::Radial dphi1 = phi1.derivative(), d2phi1 = dphi1.derivative(), dW1 = W1.derivative();
+        const gen::Radial dphi1 = phi1.derivative(), d2phi1 = dphi1.derivative(), d3phi1 = d2phi1.derivative();
+        const gen::Radial dW1 = W1.derivative();
         const gen::Exact invN = (k.normalisation * s0).inverse(), pi4 = gen::sphere_measure(3);
         double worst = 0;
         std::string worst_at;
         for (std::size_t i = 0; i < q.size(); ++i) {
-            const double x = q[i] / 2;
             const double* y = &d[9 + i * ncol];
-            const double w = exact_at(W1, x, invN), dw = exact_at(dW1, x, invN * gen::Q(1, 2));
-            const double phi = exact_at(phi1, x, pi4 * gen::Q(1, 2)), f = exact_at(dphi1, x, pi4 * gen::Q(1, 4));
-            const double f2 = exact_at(d2phi1, x, pi4 * gen::Q(1, 8));
+            const gen::Q r1 = gen::Q(1) / R, r2 = r1 * r1;
+            const double w = exact_at(W1, q[i], Rd, invN), dw = exact_at(dW1, q[i], Rd, invN * r1);
+            const double phi = exact_at(phi1, q[i], Rd, pi4 * r1), f = exact_at(dphi1, q[i], Rd, pi4 * r2);
+            const double f2 = exact_at(d2phi1, q[i], Rd, pi4 * r2 * r1);
+            // gsoft' = q phi''': the scale of the rounding of x = q/R where R is not a power of two
+            const double f3 = Rd == 2 ? 0.0 : exact_at(d3phi1, q[i], Rd, pi4 * r2 * r2);
             double exact[ncol] = {w, dw, phi, f, -phi - q[i] * f, q[i] * f2 - f, q[i] * q[i] * w};
             if (q[i] == 0)  // the limits seen from 2^-600 (exact_at): below 1e-150 they are the odd functions' 0
                 for (double& e : exact) e = std::fabs(e) < 1e-150 ? 0.0 : e;
             const double scale[ncol] = {std::fabs(q[i] * dw), std::fabs(q[i] * f2 * q[i]) + std::fabs(dw), std::fabs(q[i] * f),
                                         std::fabs(q[i] * f2), std::fabs(phi) + std::fabs(q[i] * f),
-                                        std::fabs(f) + std::fabs(q[i] * f2), std::fabs(q[i] * q[i] * dw) + std::fabs(q[i] * w)};
+                                        std::fabs(f) + std::fabs(q[i] * f2) + std::fabs(q[i] * q[i] * f3),
+                                        std::fabs(q[i] * q[i] * dw) + std::fabs(q[i] * w)};
             for (int c = 0; c < ncol; ++c) {
                 if (q[i] == 0 && (c == 5)) continue;  // gsoft's reference q phi'' - phi' is exact at 0 below
                 const double u = ulps_off(y[c], exact[c], scale[c]);
@@ -229,7 +253,7 @@ TEST(Phantom, EveryProcedureMatchesTheExactKernelAndPhantomsRules) {
                 EXPECT_LE(u, bound_ulps) << columns[c] << " at q = " << q[i] << ": " << y[c] << " vs " << exact[c];
             }
             // Outside the support: W = 0 and Phantom's exterior forms.
-            if (q[i] > 2) {
+            if (q[i] > Rd) {
                 EXPECT_EQ(y[0], 0.0);
                 EXPECT_EQ(y[1], 0.0);
                 EXPECT_LE(ulps_off(y[2], -1 / q[i], 0), 2);
@@ -245,7 +269,7 @@ TEST(Phantom, EveryProcedureMatchesTheExactKernelAndPhantomsRules) {
         const gen::Exact w0 = gen::value_at(W1.form_at(gen::Q(0)), gen::Q(0)) * invN;
         EXPECT_EQ(wab0, gen::round_to_double(w0)) << w0.to_string();
         EXPECT_EQ(gradh0, gen::round_to_double(w0 * gen::Q(-3)));
-        EXPECT_EQ(dphidh0, gen::round_to_double(gen::value_at(phi1.form_at(gen::Q(0)), gen::Q(0)) * pi4 * gen::Q(-1, 2)));
+        EXPECT_EQ(dphidh0, gen::round_to_double(gen::value_at(phi1.form_at(gen::Q(0)), gen::Q(0)) * pi4 * (gen::Q(-1) / R)));
         // wab0 = w(0) exactly (the function at 0 is the constant term), dphidh0 = dphidh(0).
         EXPECT_EQ(d[9 + 0], wab0);
         EXPECT_EQ(d[9 + 4], dphidh0);

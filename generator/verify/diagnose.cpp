@@ -107,7 +107,7 @@ std::string normalisation_text(const Setup& s, const std::optional<gen::Exact>& 
     try {
         const gen::ExactKernel& k = s.reference->kernel();
         const gen::Exact w0 = gen::value_at(k.W.pieces.front(), gen::Q(0)) *
-                              gen::pow(s.convention->support_in_h, -s.dim);
+                              gen::pow(gen::support_multiple(*s.convention, k), -s.dim);
         if (w0.is_zero()) return "";
         const std::string h = " h^-" + std::to_string(s.dim);
         return ": W_h(0) = " + pretty(w0 * *factor) + h + ", exact " + pretty(w0) + h;
@@ -145,7 +145,9 @@ struct Scaling {
 };
 
 std::vector<Scaling> scalings(const Setup& s) {
-    std::vector<Scaling> out{{2, "2"}, {0.5, "1/2"}, {3, "3"}, {1.0 / 3, "1/3"}};
+    // 2/3, 3/2, 4/5, 5/4: radkern 2 against Phantom's stock 3 and 2.5 (its quintic and quartic splines)
+    std::vector<Scaling> out{{2, "2"},         {0.5, "1/2"},       {3, "3"},     {1.0 / 3, "1/3"},
+                             {2.0 / 3, "2/3"}, {1.5, "3/2"},       {0.8, "4/5"}, {1.25, "5/4"}};
     try {
         const gen::DerivedConstant g = gen::swift_gamma(s.reference->kernel());
         const std::string gn = number(g.value, 7);
@@ -162,6 +164,9 @@ std::string support_text(const Setup& s, const Scaling& sc, double c, const std:
                     s.convention->target + " at your h)";
     if (sc.a == 2) t += ": your h is half the support (q = r/h in [0, 2), Phantom's radkern 2; --convention phantom)";
     if (sc.a == 0.5) t += ": your support is h/2 (or your h is twice the convention's)";
+    if (sc.a == 2.0 / 3 || sc.a == 0.8 || sc.a == 1.5 || sc.a == 1.25)
+        t += ": a radkern of 2 against 3 or 2.5, or the reverse (Phantom's stock quintic and quartic splines have 3 and 2.5, "
+             "its other kernels 2; --convention phantom takes Phantom's own for each kernel)";
     if (sc.name.rfind("gamma =", 0) == 0) t += ": your h is SWIFT's h = 2 sigma (--convention swift)";
     if (std::abs(c - 1) > 1e-9) t += ", times " + factor + " (its normalisation not rescaled)";
     return t;

@@ -48,7 +48,10 @@ Real to_real(const gen::Q& q) {
 gen::Q support_square(const gen::Convention& c, const gen::ExactKernel& k) {
     switch (c.support) {
         case gen::SupportRule::support:
-        case gen::SupportRule::fixed_multiple: return c.support_in_h * c.support_in_h;
+        case gen::SupportRule::fixed_multiple: {
+            const gen::Q m = gen::support_multiple(c, k);
+            return m * m;
+        }
         case gen::SupportRule::twice_sigma: return gen::swift_gamma(k).square;
     }
     fail("convention " + c.target + ": unknown support rule");
