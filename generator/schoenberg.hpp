@@ -4,8 +4,8 @@
 // printed table:
 //   M_n(x) = 1/(n-1)! sum_{j >= 0, n/2 - j > 0} (-1)^j binom(n, j) (n/2 - j - |x|)_+^(n-1),
 // rescaled to support radius 1 (s = |x| / (n/2)) and left unnormalised, like
-// the classic shapes (classic.hpp). Used by `mollify-gen errata --codes` for
-// the splines mollify's grammar does not name (M_5, M_6).
+// the classic shapes (classic.hpp): the shapes of the quartic-spline (M_5)
+// and quintic-spline (M_6) kernels.
 #pragma once
 
 #include "radial.hpp"
