@@ -39,7 +39,8 @@ Convention generic(const std::string& target, const std::string& code, const std
              "1D r/2); 2D inside: phi(r/h) + log(h)/(2 pi)"},
             "grad W = (W'/r) x; every quantity f_h(r) = h^p f(r/h) (p: W -D, each r-derivative -1, phi 2 - D)",
             false,
-            ""};
+            "",
+            {}};
 }
 
 
@@ -59,13 +60,15 @@ std::vector<Convention> make_conventions() {
                    {3},
                    FloatFormat::binary64,
                    SupportRule::fixed_multiple,
-                   Q(2),  // radkern: 2 for Phantom's cubic and Wendland kernels and every other kernel here (support_multiple)
+                   Q(2),  // radkern: 2 for Phantom's cubic and Wendland kernels and every other kernel here
                    NormalisationRule::separate_constant,
                    {QuantityId::value, QuantityId::dr, QuantityId::potential, QuantityId::dpotential},
                    {true, Exact(Q(-1)), "potensoft = phi(q), -1/q for q >= radkern; dphidh = -phi - q dphi/dq"},
                    "grkern = dw/dq; |grad W| = cnormk grkern / h^4; fsoft = dphi/dq (1/q^2 outside)",
                    false,
-                   "hfact_default: phantom_hfact (conventions.hpp)"});
+                   "hfact_default: phantom_hfact (conventions.hpp)",
+                   // its stock kernel_quartic.f90 and kernel_quintic.f90 (peers.md, "Phantom")
+                   {{Family::quartic_spline, Q(5, 2)}, {Family::quintic_spline, Q(3)}}});
     // ../shared/peers.md, "SWIFT": u = r/h, H = gamma h, x = u/gamma,
     // W(u) = C gamma^-d w(x), float; gravity: Wendland C2 with H = 3 epsilon.
     out.push_back({"swift",
@@ -82,7 +85,8 @@ std::vector<Convention> make_conventions() {
                     "D_soft_n / u"},
                    "dW/du = C gamma^-(d+1) dw/dx; kernel_grav_force_eval: f = m W_f / H^3 times the separation",
                    true,
-                   "kernel_gamma: swift_gamma (conventions.hpp)"});
+                   "kernel_gamma: swift_gamma (conventions.hpp)",
+                   {}});
     // ../shared/peers.md, "GADGET-4": Hsml = H, u = r/H, wk = NORM hinv3 w(u),
     // dwk = NORM hinv4 w'(u); g-factors: g = 1/r outside.
     out.push_back({"gadget4",
@@ -97,7 +101,8 @@ std::vector<Convention> make_conventions() {
                    {true, Exact(Q(1)), "g(r) = -phi: 1/r outside the support, derivatives g', g'' - g'/r, ... up to fac5"},
                    "dwk = NORM hinv4 w'(u) (dW/dr, negative for a decreasing kernel)",
                    false,
-                   ""});
+                   "",
+                   {}});
     return out;
 }
 
@@ -189,8 +194,8 @@ Exact separate_normalisation(const Convention& c, const ExactKernel& k) {
 
 Q support_multiple(const Convention& c, const ExactKernel& k) {
     if (c.support == SupportRule::twice_sigma) fail("internal: support_multiple of --target " + c.target + " (gamma per kernel)");
-    if (c.target == "phantom" && k.spec.family == Family::quartic_spline) return Q(5, 2);
-    if (c.target == "phantom" && k.spec.family == Family::quintic_spline) return Q(3);
+    for (const auto& [family, multiple] : c.own_multiples)
+        if (k.spec.family == family) return multiple;
     return c.support_in_h;
 }
 

@@ -14,6 +14,7 @@
 #include <mollify/table.hpp>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mollify::gen {
@@ -51,13 +52,16 @@ struct Convention {
     std::vector<int> dims;           // the dimensions the target takes
     FloatFormat precision;
     SupportRule support;
-    Q support_in_h;  // SupportRule::support: 1; fixed_multiple: the multiple (support_multiple: per kernel); twice_sigma: unused (gamma per kernel)
+    Q support_in_h;  // SupportRule::support: 1; fixed_multiple: the multiple; twice_sigma: unused (gamma per kernel)
     NormalisationRule normalisation;
     std::vector<table::QuantityId> quantities;  // what the target's functions give
     PotentialRule potential;
     std::string force;   // sign and scaling of the force / gradient
     bool clamps_sign;    // the target clamps W >= 0 and dW <= 0 (SWIFT): no negative lobes
     std::string notes;
+    // fixed_multiple: the kernels the code ships with another H/h than
+    // support_in_h (support_multiple)
+    std::vector<std::pair<Family, Q>> own_multiples;
 };
 
 // Every target's convention, the generic ones (cpp, c, fortran, python)
@@ -95,11 +99,9 @@ DerivedConstant swift_gamma(const ExactKernel& k);
 // 1.6): hfact = 1.2 (radkern_cubic sigma_cubic) / (radkern sigma).
 DerivedConstant phantom_hfact(const ExactKernel& k);
 // H/h of SupportRule::support and fixed_multiple for kernel k: the
-// convention's support_in_h, but Phantom's own radkern where Phantom ships
-// the kernel with another (../shared/peers.md, "Phantom": the quartic spline
-// 2.5, the quintic 3), so that its stock kernel_quartic.f90 and
-// kernel_quintic.f90 are the phantom convention and mollify's files replace
-// them with the same h.
+// convention's support_in_h, or its own_multiples entry for k's family
+// (Phantom's radkern of its stock quartic and quintic splines, so that their
+// files are the phantom convention and mollify's replace them with the same h).
 Q support_multiple(const Convention& c, const ExactKernel& k);
 // NormalisationRule::separate_constant: the constant C of W = C w(x) h^-D
 // with w the kernel scaled to w(0) = 1 (the stock forms of Phantom and

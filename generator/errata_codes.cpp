@@ -275,7 +275,7 @@ private:
         Setting s;
         s.spec = e.param_text("spec");
         s.dim = e.param("dim");
-        if (s.dim < 1 || s.dim > 3) e.bad("field 'params.dim' must be 1, 2 or 3, got " + std::to_string(s.dim));
+        (void)entry_kernel(e);  // dim and spec checked
         s.support = e.rational(e.params(), "support", "params");
         const json& printed = e.printed();
         s.shape = read_shape(e, printed);
@@ -289,11 +289,6 @@ private:
         if (s.folded && !decimal_unit(s.constant_text))
             e.bad("field 'printed.constant': pi_folded needs a decimal, got '" + s.constant_text + "'");
         s.reading = s.folded ? std::nullopt : decimal_reading(s.constant_text, s.constant.q);
-        try {
-            (void)unit_kernel(s.spec, s.dim);
-        } catch (const Error& ex) {
-            e.bad(std::string("field 'params.spec': ") + ex.what());
-        }
         return s;
     }
 
@@ -458,16 +453,22 @@ private:
     // SWIFT's kernel_gamma = H/h with h = 2 sigma (Dehnen & Aly 2012): gamma^2 =
     // D / (4 int |x|^2 K d^D x), a rational; a printed decimal is right when
     // gamma rounds to it: (x - u/2)^2 <= gamma^2 <= (x + u/2)^2, decided exactly.
-    void gamma(const Entry& e, CodeVerdict& v) {
+    // The entry's kernel (params.spec in params.dim), support 1, unit mass; Error naming the field.
+    const Radial& entry_kernel(const Entry& e) {
         const std::string spec = e.param_text("spec");
         const int dim = e.param("dim");
         if (dim < 1 || dim > 3) e.bad("field 'params.dim' must be 1, 2 or 3, got " + std::to_string(dim));
-        const Radial* K = nullptr;
         try {
-            K = &unit_kernel(spec, dim);
+            return unit_kernel(spec, dim);
         } catch (const Error& ex) {
             e.bad(std::string("field 'params.spec': ") + ex.what());
         }
+    }
+
+    void gamma(const Entry& e, CodeVerdict& v) {
+        const std::string spec = e.param_text("spec");
+        const int dim = e.param("dim");
+        const Radial* K = &entry_kernel(e);
         const auto m2 = single(sphere_measure(dim) * radial_integral(*K, dim + 1));
         if (!m2 || m2->pi != 0 || m2->q <= 0) fail("internal: the second moment of " + spec + " is not a positive rational");
         const Q g2 = Q(dim) / (Q(4) * m2->q);
@@ -507,22 +508,13 @@ private:
     // the exact coefficient of mollify's W_1 / (C pi^p); a wrong one is named
     // with the exact value and how many units in the last place its float is off.
     void coefficients(const Entry& e, CodeVerdict& v) {
-        const std::string spec = e.param_text("spec");
-        const int dim = e.param("dim");
-        if (dim < 1 || dim > 3) e.bad("field 'params.dim' must be 1, 2 or 3, got " + std::to_string(dim));
+        const Radial& K = entry_kernel(e);
         const json& printed = e.printed();
         const PiQ c{e.rational(printed, "constant", "printed"), e.integer(printed, "pi_power", "printed")};
         if (c.q == 0) e.bad("field 'printed.constant' is 0");
         const std::string precision = e.text(printed, "precision", "printed");
         if (precision != "float" && precision != "double")
             e.bad("field 'printed.precision' must be float or double, got '" + precision + "'");
-        const bool single_precision = precision == "float";
-        const Radial* K = nullptr;
-        try {
-            K = &unit_kernel(spec, dim);
-        } catch (const Error& ex) {
-            e.bad(std::string("field 'params.spec': ") + ex.what());
-        }
         const json& pieces = e.need(printed, "pieces", "printed");
         if (!pieces.is_array() || pieces.empty()) e.bad("field 'printed.pieces' must be a non-empty array");
         int literals = 0;
@@ -530,52 +522,64 @@ private:
         for (std::size_t i = 0; i < pieces.size(); ++i) {
             const std::string path = "printed.pieces[" + std::to_string(i) + "]";
             const Q from = e.rational(pieces[i], "from", path), to = e.rational(pieces[i], "to", path);
-            if (from < 0 || to <= from || to > K->support())
-                e.bad("field '" + path + "': need 0 <= from < to <= 1 (x = r/H), got [" + short_string(from) + ", " +
-                      short_string(to) + ")");
-            for (const Q& b : K->breaks)
-                if (from < b && b < to)
-                    e.bad("field '" + path + "': [" + short_string(from) + ", " + short_string(to) + ") spans " + spec +
-                          "'s breakpoint " + short_string(b) + " (one polynomial each side)");
             const json& cs = e.need(pieces[i], "coefficients", path);
             if (!cs.is_array() || cs.empty()) e.bad("field '" + path + ".coefficients' must be a non-empty array");
-            Laurent p;
-            Atom atom;
-            if (!K->form_at((from + to) / 2).single_polynomial(&p, &atom) || !p.is_polynomial() || atom.log_of != 1 ||
-                (!p.is_zero() && atom.pi_power != c.pi))
-                e.bad("field '" + path + "': " + spec + " on [" + short_string(from) + ", " + short_string(to) +
-                      ") is not a polynomial times pi^" + std::to_string(c.pi));
             const int degree = static_cast<int>(cs.size()) - 1;
-            if (!p.is_zero() && p.high() > degree)
-                e.bad("field '" + path + ".coefficients': " + std::to_string(cs.size()) + " literals, the exact w has degree " +
-                      std::to_string(p.high()));
+            const Laurent p = exact_piece(e, path, K, from, to, c, degree);
             for (int k = degree; k >= 0; --k) {
                 const std::string lp = path + ".coefficients[" + std::to_string(degree - k) + "]";
                 const json& lit = cs[static_cast<std::size_t>(degree - k)];
                 if (!lit.is_string()) e.bad("field '" + lp + "' must be a string (the literal as printed, without its f)");
-                const std::string text = lit.get<std::string>();
-                const Q literal = e.rational(lit, lp);
-                const Q exact = p.is_zero() ? Q(0) : p.coefficient(k) / c.q;
                 ++literals;
-                const double got = single_precision ? round_to_float(literal) : round_to_double(Exact(literal));
-                const double want = single_precision ? round_to_float(exact) : round_to_double(Exact(exact));
-                if (got == want) continue;
-                const double unit = std::ldexp(1.0, std::max(std::ilogb(std::fabs(want)), single_precision ? -126 : -1022) -
-                                                         (single_precision ? 23 : 52));
-                char b[256];
-                std::snprintf(b, sizeof b, "x^%d on [%s, %s): %s, exact %s = %.12g, %.3g %s ulps off (relative %.2g)", k,
-                              short_string(from).c_str(), short_string(to).c_str(), text.c_str(), short_string(exact).c_str(),
-                              static_cast<double>(exact), std::fabs(got - want) / unit, precision.c_str(),
-                              exact == 0 ? 0.0 : static_cast<double>((literal - exact) / exact));
-                wrong.push_back(b);
+                const Q exact = p.is_zero() ? Q(0) : p.coefficient(k) / c.q;
+                if (auto off = literal_off(lit.get<std::string>(), e.rational(lit, lp), exact, precision))
+                    wrong.push_back("x^" + std::to_string(k) + " on [" + short_string(from) + ", " + short_string(to) + "): " + *off);
             }
         }
         v.published = std::to_string(literals) + " " + precision + " literals, C = " + exact_of(c).to_string();
-        v.exact = "the monomial coefficients of W_1 / C (" + spec + ", D = " + std::to_string(dim) + ")";
+        v.exact = "the monomial coefficients of W_1 / C (" + e.param_text("spec") + ", D = " + std::to_string(e.param("dim")) + ")";
         v.right = wrong.empty();
         v.ratio = v.right ? "1" : std::to_string(wrong.size()) + " of " + std::to_string(literals) + " off";
         v.diagnosis = v.right ? "right (every literal rounds to the exact coefficient's " + precision + ")" : "coefficients: ";
         for (std::size_t j = 0; j < wrong.size(); ++j) v.diagnosis += (j ? "; " : "") + wrong[j];
+    }
+
+    // W_1 on [from, to) as a polynomial times pi^(c.pi), at most of the printed degree; Error naming
+    // the piece where it is not one (outside the support, across a breakpoint, another power of pi).
+    static Laurent exact_piece(const Entry& e, const std::string& path, const Radial& K, const Q& from, const Q& to,
+                               const PiQ& c, int degree) {
+        const std::string range = "[" + short_string(from) + ", " + short_string(to) + ")";
+        if (from < 0 || to <= from || to > K.support())
+            e.bad("field '" + path + "': need 0 <= from < to <= 1 (x = r/H), got " + range);
+        for (const Q& b : K.breaks)
+            if (from < b && b < to)
+                e.bad("field '" + path + "': " + range + " spans " + e.param_text("spec") + "'s breakpoint " +
+                      short_string(b) + " (one polynomial each side)");
+        Laurent p;
+        Atom atom;
+        if (!K.form_at((from + to) / 2).single_polynomial(&p, &atom) || !p.is_polynomial() || atom.log_of != 1 ||
+            (!p.is_zero() && atom.pi_power != c.pi))
+            e.bad("field '" + path + "': " + e.param_text("spec") + " on " + range + " is not a polynomial times pi^" +
+                  std::to_string(c.pi));
+        if (!p.is_zero() && p.high() > degree)
+            e.bad("field '" + path + ".coefficients': " + std::to_string(degree + 1) + " literals, the exact w has degree " +
+                  std::to_string(p.high()));
+        return p;
+    }
+
+    // Why a printed literal (exact value `literal`) is not the exact coefficient in `precision`, or nothing.
+    static std::optional<std::string> literal_off(const std::string& text, const Q& literal, const Q& exact,
+                                                  const std::string& precision) {
+        const bool single_precision = precision == "float";
+        const double got = single_precision ? round_to_float(literal) : round_to_double(Exact(literal));
+        const double want = single_precision ? round_to_float(exact) : round_to_double(Exact(exact));
+        if (got == want) return std::nullopt;
+        const double unit = single_precision ? ulp_of_float(want) : ulp_of_double(want);
+        char b[224];
+        std::snprintf(b, sizeof b, "%s, exact %s = %.12g, %.3g %s ulps off (relative %.2g)", text.c_str(),
+                      short_string(exact).c_str(), static_cast<double>(exact), std::fabs(got - want) / unit,
+                      precision.c_str(), exact == 0 ? 0.0 : static_cast<double>((literal - exact) / exact));
+        return std::string(b);
     }
 
     CodeErrataReport& report_;

@@ -3,6 +3,7 @@
 #include "error.hpp"
 
 #include <charconv>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -179,6 +180,9 @@ double ziv_round_to_double(const Evaluator& f, unsigned first_bits) {
 }  // namespace
 
 double round_to_double(const Evaluator& f) { return ziv_round_to_double(f, start_bits); }
+
+double ulp_of_double(double x) { return std::ldexp(1.0, std::max(std::ilogb(std::fabs(x)), -1022) - 52); }
+double ulp_of_float(double x) { return std::ldexp(1.0, std::max(std::ilogb(std::fabs(x)), -126) - 23); }
 
 float round_to_float(const Q& q) {
     mpfr_t x;

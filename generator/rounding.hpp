@@ -21,6 +21,10 @@ double round_to_double(const Evaluator& f);
 // The same to float (SWIFT's single-precision constants).
 float round_to_float(const Q& q);
 float round_to_float(const Evaluator& f);
+// The unit in the last place of a double (float) of magnitude |x| (the
+// subnormals' below the smallest normal).
+double ulp_of_double(double x);
+double ulp_of_float(double x);
 // a/b for exact constants (pi and logarithms: Phantom's cnormk_drag and
 // av_factor of missing Wendland functions): Ziv's loop on the quotient of
 // a's and b's rigorous enclosures, the precision raised until both ends

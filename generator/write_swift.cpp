@@ -141,7 +141,7 @@ std::string expanded_layout_loss(const ExactKernel& k) {
         for (std::size_t j = 1; j < coeffs.size(); ++j) y = f_add(f_mul(y, x), coeffs[j]);
         const Q exact = p(Q(x)) / c0;
         const double ex = static_cast<double>(exact);
-        const double ulp = std::ldexp(1.0, std::max(std::ilogb(std::fabs(ex)), -126) - 23);
+        const double ulp = ulp_of_float(ex);
         const double abs_err = std::fabs(static_cast<double>(Q(y) - exact));
         const double err = abs_err / ulp;
         worst = std::max(worst, err);
