@@ -133,6 +133,7 @@ EmitResult render_catalogue(const std::vector<CatalogueEntry>& entries, const st
     result.files["src/catalogue.cpp"] = catalogue_source(command, headers, ids);
     result.files["src/term_shapes.def"] = term_shapes_source(command, shapes);
     result.files["mollify/constants/cot_series.hpp"] = cot_series_header(command);
+    result.files["mollify/constants/log_two.hpp"] = log_two_header(command);
     result.files["catalogue.json"] = catalogue_json(command, kernels);
     return result;
 }

@@ -31,4 +31,19 @@ std::string cot_series_header(const std::string& command) {
     return out;
 }
 
+std::string log_two_header(const std::string& command) {
+    const Exact log_two = Exact::of(Atom{0, 2});
+    const double hi = round_to_double(log_two);
+    const double lo = low_part(log_two, hi);
+    std::string out = banner(command, "//");
+    out += "// log 2 as a double-double, hi + lo: log q = log m + E log 2 for q = m 2^E\n"
+           "// below the doubles' range (detail/near_origin.hpp).\n"
+           "#pragma once\n\n"
+           "namespace mollify::constants {\n\n"
+           "inline constexpr double log_two_hi = " +
+           hex_literal(hi) + ";  // log(2) correctly rounded\n" + "inline constexpr double log_two_lo = " + hex_literal(lo) +
+           ";  // log(2) - log_two_hi correctly rounded\n\n}  // namespace mollify::constants\n";
+    return out;
+}
+
 }  // namespace mollify::gen

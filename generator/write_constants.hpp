@@ -12,4 +12,9 @@ namespace mollify::gen {
 // (vortex/periodic_point_vortex.hpp).
 std::string cot_series_header(const std::string& command);
 
+// mollify/constants/log_two.hpp: log 2 as a double-double (hi correctly
+// rounded, lo the remainder correctly rounded): log q = log m + E log 2 for
+// q = m 2^E far below the doubles' range (detail/near_origin.hpp).
+std::string log_two_header(const std::string& command);
+
 }  // namespace mollify::gen

@@ -1948,6 +1948,20 @@ bool radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
     return false;
 }
 
+// A quantity singular at 0 below r/h = 2^-150: its leading order there
+// (detail/near_origin.hpp), as StaticKernel's mend_near_origin, at the
+// radii a branch-free pass over the batch flagged (its callers fold the
+// flag into a pass they make anyway where they can).
+void mend_near_origin(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n,
+                      const Smoothing& s, int dim) {
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!near_origin(r[i], s.h())) continue;
+        const double in = near_origin_value(*qp.first, r[i], s.h(), s.scale(q), s.scale_lo(q), qp.spec,
+                                            quantity_names[static_cast<int>(q)]);
+        out[i] = q == QuantityId::potential && dim == 2 ? mul_add(qp.log_coefficient, s.log_h(), in) : in;
+    }
+}
+
 // Returns whether the radii were all tested as they were read and found
 // valid (radial_batch's one-pass loops); else the caller checks them.
 template <Precision Pr>
@@ -1957,8 +1971,15 @@ bool evaluate_batch(const Plan& plan, QuantityId q, const double* __restrict r, 
     const QuantityPlan& qp = plan.quantities[static_cast<std::size_t>(q)];
     const int dim = plan.table->dim;
     const bool tested = radial_batch<Pr>(qp, q, r, out, n, s, dim);
-    if (qp.singular_at_origin)
-        for (std::size_t i = 0; i < n; ++i) out[i] = limit_where_nan(qp, out[i]);
+    if (qp.singular_at_origin) {
+        const double h = s.h();
+        std::uint64_t near = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            out[i] = limit_where_nan(qp, out[i]);
+            near |= near_origin(r[i], h);
+        }
+        if (near) mend_near_origin(qp, q, r, out, n, s, dim);
+    }
     return tested;
 }
 
@@ -2003,6 +2024,7 @@ double at_radius(const Plan& plan, Precision pr, QuantityId q, double r, const S
         radial_batch<Precision::accurate>(qp, q, &r, &out, 1, s, dim);
     else
         radial_batch<Precision::fast>(qp, q, &r, &out, 1, s, dim);
+    if (qp.singular_at_origin) mend_near_origin(qp, q, &r, &out, 1, s, dim);
     return limit_where_nan(qp, out);
 }
 
@@ -2023,6 +2045,24 @@ void radii(const std::span<const double>* x, int dim, std::size_t start, std::si
         for (std::size_t i = 0; i < m; ++i) r[i] = radius(x0[i], x1[i], x2[i]);
     } else {
         for (std::size_t i = 0; i < m; ++i) r[i] = radius(x0[i], x1[i]);
+    }
+}
+
+// A cusp's radii where their squares underflowed, again without
+// (unscaled_radius), as StaticKernel's norm: its W'(r) x/r and a W singular
+// at 0 need r itself there. A branch-free scan first. Not inlined: inlined
+// after radii (restrict r) into pairs_batch, GCC 12 at -O3 with AVX2 kept
+// radii's 0 in r (spiky's grad W 0 at |x| = 1e-170; right in the generic
+// build and with this out of line).
+[[gnu::noinline]] void mend_tiny_radii(const std::span<const double>* x, int dim, std::size_t start, std::size_t m, double* r) {
+    if (dim == 1) return;
+    std::uint64_t tiny = 0;
+    for (std::size_t i = 0; i < m; ++i) tiny |= r[i] < radius_underflow;
+    if (!tiny) return;
+    for (std::size_t i = 0; i < m; ++i) {
+        if (!(r[i] < radius_underflow)) continue;
+        const std::size_t j = start + i;
+        r[i] = dim == 2 ? unscaled_radius(x[0][j], x[1][j]) : unscaled_radius(x[0][j], x[1][j], x[2][j]);
     }
 }
 
@@ -2226,6 +2266,7 @@ bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
     for (std::size_t start = 0; start < n; start += chunk) {
         const std::size_t m = std::min(chunk, n - start);
         radii(x, dim, start, m, r);
+        if (cusp) mend_tiny_radii(x, dim, start, m, r);
         if (one_sort) {
             accurate_pairs_block_by_piece(value, over_r, x, dim, start, m, r, s, w, grad);
             continue;
@@ -2234,6 +2275,15 @@ bool pairs_batch(const Plan& plan, const std::span<const double>* x, const Smoot
         const bool value_tested = radial_batch<Pr>(value, QuantityId::value, r, wc, m, s, dim);
         const bool slope_tested = radial_batch<Pr>(slope, slope_id, r, g, m, s, dim);
         tested = tested && (value_tested || slope_tested);
+        if (cusp) {  // (a W singular at 0 has a cusp: plain kernels have neither)
+            const double h = s.h();
+            std::uint64_t near = 0;
+            for (std::size_t i = 0; i < m; ++i) near |= near_origin(r[i], h);
+            if (near) {
+                if (value.singular_at_origin) mend_near_origin(value, QuantityId::value, r, wc, m, s, dim);
+                if (slope.singular_at_origin) mend_near_origin(slope, slope_id, r, g, m, s, dim);
+            }
+        }
         if (plain) {
             for (int c = 0; c < dim; ++c) times(g, x[c].data() + start, grad[c].data() + start, m);
             continue;

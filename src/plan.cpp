@@ -136,14 +136,6 @@ PiecePlan piece_plan(const table::Kernel& k, int q, int p, bool exterior) {
     return out;
 }
 
-bool singular_at_origin(const PiecePlan& first) {
-    for (const TermPlan& t : first.terms) {
-        if (t.low < 0) return true;
-        if ((t.basis == table::Basis::log || t.basis == table::Basis::arcsech) && t.low <= 0) return true;
-    }
-    return false;
-}
-
 // The plan's inner pieces as shared_terms_rule (detail/evaluate.hpp) reads
 // them, the rule StaticKernel applies to the table.
 struct PlanTerms {
@@ -222,8 +214,12 @@ QuantityPlan quantity_plan(const table::Kernel& k, int q) {
     for (const PiecePlan& piece : out.inner)
         for (const TermPlan& t : piece.terms) out.polynomial_inside = out.polynomial_inside && t.basis == table::Basis::one;
     out.zero_outside = out.exterior.terms.empty();
-    out.singular_at_origin = singular_at_origin(out.inner.front());
-    if (out.singular_at_origin) out.at_origin = limit_at_origin(quantity.pieces[0]);
+    out.singular_at_origin = singular_piece(quantity.pieces[0]);
+    if (out.singular_at_origin) {
+        out.at_origin = limit_at_origin(quantity.pieces[0]);
+        out.first = &quantity.pieces[0];
+        out.spec = k.spec;
+    }
     if (out.inner.size() == 1 && out.inner.front().terms.size() == 1 && !out.inner.front().edge_series && out.zero_outside)
         out.whole = shape_index(out.inner.front().terms.front(), {whole_shapes, whole_shape_count});
     if (out.polynomial_inside && out.zero_outside) out.shared_terms = shared_terms_of(out.inner);

@@ -60,6 +60,10 @@ struct QuantityPlan {
     bool zero_outside = true;
     bool singular_at_origin = false;
     double at_origin = 0;  // where singular: its limit at q = 0 (detail::limit_at_origin), taken where the terms give NaN
+    // Where singular: the table's first piece and the kernel's spec, for its
+    // leading order below r/h = 2^-150 (detail::near_origin_value).
+    const table::Piece* first = nullptr;
+    const char* spec = nullptr;
     double log_coefficient = 0;  // 2D potentials: c of c log r outside
     int whole = -1;  // one fused term, 0 outside: its index in whole_shapes, or -1
     // Pieces that share terms (a combination of m radii: piece p holds the

@@ -20,15 +20,21 @@
 
 #include <mollify/kernel.hpp>
 #include <mollify/tables/catalogue.hpp>
+#include <mollify/tables/classic/spiky_D3.hpp>
+#include <mollify/tables/classic/viscosity_D3.hpp>
+#include <mollify/tables/combo/m_3_base_wendland_k_1_D2.hpp>
 #include <mollify/tables/mollifier/M_4_D2.hpp>
 #include <mollify/tables/mollifier/M_9_D3.hpp>
 #include <mollify/tables/wendland/k_2_D3.hpp>
 #include <mollify/tables/wendland/k_4_l_4_D2.hpp>
+#include <mollify/tables/wendland_missing/k_1_D3.hpp>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -181,7 +187,7 @@ struct Measured {
     double max_intrinsic = 0;  // error in ulps of max(|f_h|, |r f_h'|) (+ |c log h|)
     acc::Point worst_intrinsic{0, 0, ""};
     std::string intrinsic_kernel;
-    long overflow = 0;
+    long overflow = 0, overflow_wrong = 0;  // points beyond the doubles; those not +-inf of the exact sign
     std::string kernel;  // of the worst point, for family summaries
     std::string worst_scaled_at;
 };
@@ -216,6 +222,7 @@ void add(Measured& m, double y, const Real& exact, double scale, double u, doubl
 
 void merge(Measured& into, const Measured& m) {
     into.overflow += m.overflow;
+    into.overflow_wrong += m.overflow_wrong;
     if (!(m.max_intrinsic <= into.max_intrinsic)) {
         into.max_intrinsic = m.max_intrinsic;
         into.worst_intrinsic = m.worst_intrinsic;
@@ -240,10 +247,10 @@ std::string describe(const Measured& m) {
     const double rms = m.s.points ? std::sqrt(m.s.rms_ulp / static_cast<double>(m.s.points)) : 0;
     std::snprintf(buf, sizeof buf,
                   "max %9.3g ulp (rms %.2g) at %s r=%.17g h=%.17g (%s) | intrinsic: max %.3g ulp at %s r=%.17g h=%.17g (%s)"
-                  " | tiny: max %.3g ulp of max (%ld pts) %s | %ld overflow pts",
+                  " | tiny: max %.3g ulp of max (%ld pts) %s | %ld pts beyond the doubles (%ld not +-inf)",
                   m.s.max_ulp, rms, m.kernel.c_str(), m.s.worst.r, m.s.worst.h, m.s.worst.why, m.max_intrinsic,
                   m.intrinsic_kernel.c_str(), m.worst_intrinsic.r, m.worst_intrinsic.h, m.worst_intrinsic.why, m.s.max_scaled,
-                  m.s.tiny_points, m.worst_scaled_at.c_str(), m.overflow);
+                  m.s.tiny_points, m.worst_scaled_at.c_str(), m.overflow, m.overflow_wrong);
     return buf;
 }
 
@@ -293,21 +300,12 @@ std::vector<double> runtime_values(const mollify::Kernel& k, QuantityId q, const
     return y;
 }
 
-// The runtime evaluates f(r/h) in double, then scales by h^p: where f(r/h)
-// itself is beyond DBL_MAX (kernels singular at 0 -- viscosity, spiky's
-// W'/r -- at r/h < 1e-100) it returns inf even if f_h is finite. Such points
-// are counted, not measured (a documented limit of the runtime).
-bool unscaled_overflows(const Real& exact, QuantityId q, int dim, const acc::Point& p) {
-    if (p.r > p.h) return false;
-    // |exact| < 2^e and h^-p <= 2^(-p log2 h + 1): far from DBL_MAX ~ 2^1024
-    // the exact comparison below cannot hold (most points; it costs a division).
-    const int power = mollify::detail::scale_power(q, dim);
-    if (mpfr_zero_p(exact.backend().data()) ||
-        (mpfr_number_p(exact.backend().data()) &&
-         static_cast<double>(mpfr_get_exp(exact.backend().data())) - power * std::log2(p.h) < 1000))
-        return false;
-    const Real scale = boost::multiprecision::pow(Real(p.h, 40), power);
-    return boost::multiprecision::abs(exact / scale) > Real(std::numeric_limits<double>::max());
+// Where |f_h| itself is beyond the doubles (a quantity singular at 0, h
+// small), the right double is +-inf with the exact sign: such points are
+// counted and their sign checked, not measured in ulps (ulp_error calls an
+// inf result infinitely wrong).
+bool beyond_doubles(const Real& exact) {
+    return mpfr_number_p(exact.backend().data()) && boost::multiprecision::abs(exact) > Real(std::numeric_limits<double>::max());
 }
 
 using PerQuantity = std::array<Measured, table::quantity_count>;
@@ -335,8 +333,9 @@ PerQuantity measure_kernel(const table::Kernel& t, const acc::Reference& ref) {
             const double yi = y[static_cast<std::size_t>(q)][i];
             Measured& m = out[static_cast<std::size_t>(q)];
             const Real exact = ref.value(q, pts[i].r, pts[i].h);
-            if (unscaled_overflows(exact, q, t.dim, pts[i])) {
+            if (beyond_doubles(exact)) {
                 ++m.overflow;
+                if (!(std::isinf(yi) && (yi > 0) == (exact > 0))) ++m.overflow_wrong;
                 continue;
             }
             const double u = acc::ulp_error(yi, exact);
@@ -365,6 +364,8 @@ void check_family(Family family, int dim) {
                                            << describe(m);
             EXPECT_LE(m.s.max_scaled, b.scaled) << t->spec << " D" << dim << " " << mollify::quantity_names[qi]
                                                 << ": " << describe(m) << " tiny worst " << m.worst_scaled_at;
+            EXPECT_EQ(m.overflow_wrong, 0) << t->spec << " D" << dim << " " << mollify::quantity_names[qi] << ": "
+                                           << describe(m);
             merge(summary[qi], m);
         }
     }
@@ -695,8 +696,7 @@ TEST(VectorForms, FastPrecisionWithinItsBound) {
     }
 }
 
-// At r = 0, where r/h underflows to 0 and where q^low overflows (the
-// smallest subnormal r), a quantity singular there is its limit, +-inf with
+// At r = 0 a quantity singular there is its limit, +-inf with
 // the exact sign, never NaN: evaluated term by term, a
 // combination's per-radius r^-1 terms gave inf - inf (hess_radial of
 // combo:m=2,base=wendland:k=1 in 2D) and the missing Wendland functions'
@@ -713,8 +713,8 @@ TEST(HardCases, SingularQuantitiesAtZeroAreTheirLimit) {
             for (int qi = 0; qi < table::quantity_count; ++qi) {
                 if (t->quantities[qi].npieces == 0) continue;
                 const auto q = static_cast<QuantityId>(qi);
-                const std::vector<double> r = {0.0, 0.0, 0.0, 1e-300, 0x1p-1074};
-                const std::vector<double> h = {1.0, 1e-30, 1e30, 1e30, 1.0};  // r/h underflows to 0; 1/q overflows
+                const std::vector<double> r = {0.0, 0.0, 0.0};
+                const std::vector<double> h = {1.0, 1e-30, 1e30};
                 for (std::size_t i = 0; i < r.size(); ++i) {
                     std::vector<double> y(1);
                     k.evaluate(q, std::vector<double>{r[i]}, h[i], y);
@@ -734,4 +734,153 @@ TEST(HardCases, SingularQuantitiesAtZeroAreTheirLimit) {
         }
     }
     EXPECT_GT(infinite, 0);  // the catalogue has singular quantities (cusps' W'/r, W'' above)
+}
+
+// Below r/h = 2^-150 a quantity singular at 0 is its leading order there,
+// h^p q^L (A + B log q), with h^p q^L taken apart into a power of two and a
+// double-double (detail/near_origin.hpp). The emitted form, f(q) first and
+// h^p after, returned +-inf where f_h is finite (viscosity's W'/r at r/h =
+// 1e-106, h = 1e8: q^-3 beyond DBL_MAX, f_h ~ -1e299) and lost q where r/h
+// is subnormal (spiky's W'/r ~ 1/q). Every singular quantity of the
+// catalogue, both precisions, through the batch (the near radii among
+// ordinary ones: the loop flags them, then mends) and the scalar call, at
+// r/h from just below the bound down to r/h underflowing to 0 (r = 2^-1074,
+// h = 1e30), h from 1e-30 to 1e30. Below the bound: within 0.51 ulp (one
+// rounding; the double-double products and log m add ~2^-60 relative, the
+// terms of higher order are below 2^-150 of it), or +-inf of the exact sign
+// where f_h is beyond the doubles. Just above it, where the emitted form
+// still runs: Precision::accurate within its family bound (the suite's
+// `bound`), Precision::fast within 8 ulp (measured <= 1.5: near 0 the
+// singular term is the value, one power and one product).
+TEST(HardCases, SingularQuantitiesNearZeroAreTheirLeadingOrder) {
+    const std::vector<double> qs = {0x1p-150 * (1 + 0x1p-30), 0x1p-150 * (1 - 0x1p-30), 1e-46, 1e-106, 1e-200, 1e-300,
+                                    1e-310, 1e-320};
+    const std::vector<double> hs = {1e-30, 1e-3, 1.0, 1e8, 1e30};
+    int below = 0, beyond = 0, above = 0, lost_before = 0;
+    for (const table::Kernel* t : mollify::tables::all_kernels) {
+        std::unique_ptr<acc::Reference> ref;
+        for (int qi = 0; qi < table::quantity_count; ++qi) {
+            const table::Quantity& quantity = t->quantities[qi];
+            if (quantity.npieces == 0 || !mollify::detail::singular_piece(quantity.pieces[0])) continue;
+            if (!ref) ref = std::make_unique<acc::Reference>(t->spec, t->dim);
+            const auto q = static_cast<QuantityId>(qi);
+            for (const double h : hs) {
+                const mollify::Smoothing s(h, t->dim);
+                std::vector<double> r = {0.25 * h, 0x1p-1074};  // an ordinary radius in the batch, the least one
+                for (const double x : qs)
+                    if (x * h > 0) r.push_back(x * h);
+                r.push_back(0.5 * h);
+                for (const mollify::Precision pr : {mollify::Precision::accurate, mollify::Precision::fast}) {
+                    const mollify::Kernel k = mollify::kernel(*t, pr);
+                    std::vector<double> y(r.size());
+                    k.evaluate(q, r, s, y);
+                    for (std::size_t i = 1; i + 1 < r.size(); ++i) {
+                        char at[160];
+                        std::snprintf(at, sizeof at, " D%d %s r = %.17g h = %g (%s)", t->dim, mollify::quantity_names[qi], r[i],
+                                      h, pr == mollify::Precision::accurate ? "accurate" : "fast");
+                        const std::string where = t->spec + std::string(at);
+                        EXPECT_EQ(std::bit_cast<std::uint64_t>(k(q, r[i], h)), std::bit_cast<std::uint64_t>(y[i]))
+                            << where << ": the scalar call against the batch";
+                        const Real exact = ref->value(q, r[i], h);
+                        const bool near = mollify::detail::near_origin(r[i], s.h());
+                        if (beyond_doubles(exact)) {
+                            ++beyond;
+                            EXPECT_TRUE(std::isinf(y[i]) && (y[i] > 0) == (exact > 0)) << where << ": " << y[i];
+                            continue;
+                        }
+                        const double u = acc::ulp_error(y[i], exact);
+                        if (near) {
+                            ++below;
+                            const Real f = exact / boost::multiprecision::pow(Real(h), mollify::detail::scale_power(q, t->dim));
+                            lost_before += boost::multiprecision::abs(f) > Real(std::numeric_limits<double>::max()) ||
+                                           r[i] / h < std::numeric_limits<double>::min();
+                            EXPECT_LE(u, 0.51) << where << ": " << y[i] << ", exact " << exact;
+                        } else {
+                            ++above;
+                            const double b = pr == mollify::Precision::fast ? 8.0 : bound(family_of(t->spec), q, t->dim).ulp;
+                            EXPECT_LE(u, b) << where << ": " << y[i] << ", exact " << exact;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    std::printf("[near zero] %d points below 2^-150 (%d where f(q) overflowed or q was subnormal), %d beyond the "
+                "doubles, %d just above\n",
+                below, lost_before, beyond, above);
+    EXPECT_GT(below, 1000);
+    EXPECT_GT(lost_before, 100);  // the cases the emitted form got wrong
+    EXPECT_GT(beyond, 0);
+    EXPECT_GT(above, 100);
+}
+
+// The compile-time form takes the same path: StaticKernel's scalar radial,
+// its batch (flagged, then mended) and the pair loop of a cusp (viscosity:
+// W and W' both singular) give the run-time form's bits below the bound.
+template <const table::Kernel& K, QuantityId Q>
+void static_form_near_zero() {
+    const mollify::Kernel k = mollify::kernel(K);
+    using S = mollify::StaticKernel<K>;
+    for (const double h : {1e-30, 1.0, 1e30}) {
+        const mollify::Smoothing s(h, K.dim);
+        const std::vector<double> r = {0.5 * h, 1e-106 * h, 1e-300 * h, 0x1p-1074, 0.75 * h};
+        std::vector<double> batch(r.size()), runtime(r.size());
+        S::template evaluate<Q>(r, s, batch);
+        k.evaluate(Q, r, s, runtime);
+        for (std::size_t i = 0; i < r.size(); ++i) {
+            char at[192];
+            std::snprintf(at, sizeof at, "%s %s r = %g h = %g", K.spec, mollify::quantity_names[static_cast<int>(Q)], r[i], h);
+            const std::string where = at;
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(batch[i]), std::bit_cast<std::uint64_t>(runtime[i])) << where;
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(S::template radial<Q>(r[i], s)), std::bit_cast<std::uint64_t>(runtime[i]))
+                << where;
+        }
+    }
+}
+
+// The pair loops of a cusp at x = (r, 0, 0), so that W' x/r is W' itself:
+// both forms give the scalar calls' W and W' bits, also where |x|^2
+// underflows (r = 1e-170: the radius is taken again unscaled,
+// detail::unscaled_radius; the squares gave r = 0, W its limit +inf and
+// grad W 0).
+template <const table::Kernel& K>
+void cusp_pairs_near_zero() {
+    using S = mollify::StaticKernel<K>;
+    const mollify::Kernel k = mollify::kernel(K);
+    for (const double h : {1e-30, 1.0, 1e8}) {
+        const mollify::Smoothing s(h, 3);
+        const std::vector<double> x0 = {0.5 * h, 1e-106 * h, 1e-140 * h, 1e-170, 0x1p-1074}, zero(x0.size(), 0.0);
+        std::vector<double> w(x0.size()), g0(x0.size()), g1(x0.size()), g2(x0.size());
+        std::vector<double> rw(x0.size()), rg0(x0.size()), rg1(x0.size()), rg2(x0.size());
+        S::pairs(mollify::Points<3>{x0, zero, zero}, s, w, mollify::PointsOut<3>{g0, g1, g2});
+        const std::span<const double> xs[3] = {x0, zero, zero};
+        const std::span<double> gs[3] = {rg0, rg1, rg2};
+        k.pairs(xs, s, rw, gs);
+        for (std::size_t i = 0; i < x0.size(); ++i) {
+            char at[160];
+            std::snprintf(at, sizeof at, "%s x = %g h = %g", K.spec, x0[i], h);
+            const std::string where = at;
+            const double value = k.value(x0[i], h), slope = k(QuantityId::dr, x0[i], h);
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(w[i]), std::bit_cast<std::uint64_t>(value)) << where;
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(g0[i]), std::bit_cast<std::uint64_t>(slope)) << where;
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(rw[i]), std::bit_cast<std::uint64_t>(value)) << where << " (run-time form)";
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(rg0[i]), std::bit_cast<std::uint64_t>(slope)) << where << " (run-time form)";
+            if (std::isfinite(slope)) {
+                EXPECT_EQ(g1[i], 0.0) << where;  // W' 0/r (inf 0 is NaN where W' is beyond the doubles)
+            }
+            if (!mollify::detail::singular_piece(K.quantities[static_cast<int>(QuantityId::dr)].pieces[0])) {
+                EXPECT_TRUE(std::isfinite(slope) && slope != 0) << where << ": " << slope;  // W'(0+), spiky's
+            }
+        }
+    }
+}
+
+TEST(HardCases, StaticKernelNearZeroIsTheRuntimeForm) {
+    static_form_near_zero<mollify::tables::viscosity_D3, QuantityId::value>();
+    static_form_near_zero<mollify::tables::viscosity_D3, QuantityId::grad_over_r>();
+    static_form_near_zero<mollify::tables::spiky_D3, QuantityId::grad_over_r>();
+    static_form_near_zero<mollify::tables::wendland_missing_k_1_D3, QuantityId::hess_radial>();
+    static_form_near_zero<mollify::tables::combo_m_3_base_wendland_k_1_D2, QuantityId::hess_radial>();
+    cusp_pairs_near_zero<mollify::tables::viscosity_D3>();
+    cusp_pairs_near_zero<mollify::tables::spiky_D3>();
 }

@@ -16,6 +16,7 @@
 
 #include <mollify/detail/evaluate.hpp>
 #include <mollify/detail/lanes.hpp>
+#include <mollify/detail/near_origin.hpp>
 #include <mollify/detail/roots_ahead.hpp>
 #include <mollify/precision.hpp>
 #include <mollify/smoothing.hpp>
@@ -234,17 +235,54 @@ public:
     static Smoothing smoothing(double h) { return Smoothing(h, dimension); }
 
     // f_h(r) for a radius r >= 0, unchecked (the hot path): r finite >= 0 and s made for this dimension.
+    // A quantity singular at 0 takes its leading order there below r/h = 2^-150
+    // (detail/near_origin.hpp): one branch, in its loops only.
     template <QuantityId Q>
     MOLLIFY_INLINE static double radial(double r, const Smoothing& s) {
         constexpr int q = static_cast<int>(Q);
         if constexpr (K.quantities[q].npieces == 0) {
             detail::fail_missing_quantity(K.spec, q, dimension);
         } else {
+            if constexpr (detail::singular_at_origin<K, q>)
+                if (detail::near_origin(r, s.h())) [[unlikely]]
+                    return at_origin<Q>(r, s);
             return emitted<Q>(r, s);
         }
     }
 
 private:
+    // radial without the branch: the batch loops flag the radii near the
+    // origin as they go (branch-free, so they vectorise) and mend those
+    // after (mend_near_origin).
+    template <QuantityId Q>
+    MOLLIFY_INLINE static double radial_unmended(double r, const Smoothing& s) {
+        constexpr int q = static_cast<int>(Q);
+        if constexpr (K.quantities[q].npieces == 0) detail::fail_missing_quantity(K.spec, q, dimension);
+        else return emitted<Q>(r, s);
+    }
+
+    template <QuantityId Q>
+    static constexpr bool mends = [] {
+        if constexpr (K.quantities[static_cast<int>(Q)].npieces == 0) return false;
+        else return detail::singular_at_origin<K, static_cast<int>(Q)>;
+    }();
+
+    template <QuantityId Q>
+    static double at_origin(double r, const Smoothing& s) {
+        constexpr int q = static_cast<int>(Q);
+        const double in = detail::near_origin_value(detail::piece_table<K, q, 0>, r, s.h(), s.scale(Q), s.scale_lo(Q), K.spec,
+                                                    quantity_names[q]);
+        if constexpr (Q == QuantityId::potential && dimension == 2) return detail::mul_add(detail::log_coefficient<K, q>, s.log_h(), in);
+        else return in;
+    }
+
+    // The radii of a batch near the origin, after its loop flagged some.
+    template <QuantityId Q>
+    static void mend_near_origin(const double* in, double* out, std::size_t n, const Smoothing& s) {
+        for (std::size_t i = 0; i < n; ++i)
+            if (detail::near_origin(in[i], s.h())) out[i] = at_origin<Q>(in[i], s);
+    }
+
     // Level: the pair loop's level of r's register (detail::levels; W and
     // W'/r only): the first Level terms of a combination, which no point of
     // the register reaches, are left out.
@@ -452,7 +490,13 @@ private:
         } else {
             double s = x[0] * x[0];
             for (int c = 1; c < dimension; ++c) s = detail::mul_add(x[c], x[c], s);
-            return std::sqrt(s);
+            const double r = std::sqrt(s);
+            if constexpr (mends<QuantityId::grad_over_r>)  // a cusp: r itself near 0 (detail::unscaled_radius)
+                if (r < detail::radius_underflow) [[unlikely]] {
+                    if constexpr (dimension == 2) return detail::unscaled_radius(x[0], x[1]);
+                    else return detail::unscaled_radius(x[0], x[1], x[2]);
+                }
+            return r;
         }
     }
 
@@ -537,12 +581,21 @@ private:
                 },
                 check);
             if constexpr (Checked) flagged = check.any();
+            if constexpr (mends<Q>) {
+                std::uint64_t near = 0;
+                for (std::size_t i = 0; i < n; ++i) near |= detail::near_origin(in[i], s.h());
+                if (near) mend_near_origin<Q>(in, out, n, s);
+            }
         } else {
+            std::uint64_t near = 0;
             MOLLIFY_VECTOR_LOOP
             for (std::size_t i = 0; i < n; ++i) {
                 if constexpr (Checked) flagged |= detail::not_a_radius(in[i]);
-                out[i] = radial<Q>(in[i], s);
+                if constexpr (mends<Q>) near |= detail::near_origin(in[i], s.h());
+                out[i] = radial_unmended<Q>(in[i], s);
             }
+            if constexpr (mends<Q>)
+                if (near) mend_near_origin<Q>(in, out, n, s);
         }
         return flagged != 0;
     }
@@ -551,6 +604,7 @@ private:
     MOLLIFY_BATCH_LOOP static bool pair_loop(const Points<dimension>& x, const Smoothing& smoothing, double* __restrict w,
                                              const PointsOut<dimension>& grad, std::size_t n) {
         constexpr bool cusp = detail::singular_at_origin<K, static_cast<int>(QuantityId::grad_over_r)>;
+        static_assert(cusp || !mends<QuantityId::value>, "a W singular at 0 has a singular W'/r: the cusp's loop, through radial");
         if constexpr (dimension == 1 || odd || cusp) {
             const Smoothing s = smoothing;
             std::uint64_t flagged = 0;

@@ -93,10 +93,10 @@ void report_accuracy(const ReportContext& ctx, Output& out, SectionResult& r) {
                   "Kernels that change sign inside the support (high-order mollifiers and combinations, d²W) have "
                   "roots where any evaluation's relative error is unbounded; the tests (`accuracy_test`) assert those "
                   "against a stated scale instead, with the reason beside each bound. Kernels singular at r = 0 "
-                  "(viscosity; W′/r of spiky, W″-parts of Wendland k = 0) overflow in f(r/h) before the h-scaling "
-                  "for r/h < 1e-100: at the hard point r/h = 1e-106, h = 1e8 every form returns ±inf where f_h is "
-                  "finite, the ~1e46 ulp rows (a known limit of the runtime, README Status). Per kernel, with the worst "
-                  "argument: [accuracy/stability.md](accuracy/stability.md).\n\n";
+                  "(viscosity; W′/r of spiky, W″-parts of Wendland k = 0): below r/h = 2⁻¹⁵⁰ mollify takes their "
+                  "leading order at 0 with h^p q^L kept apart (`detail/near_origin.hpp`, within 0.51 ulp); the naive "
+                  "forms overflow in f(r/h) before the h-scaling, the ~1e46 ulp entries at r/h = 1e-106, h = 1e8. Per "
+                  "kernel, with the worst argument: [accuracy/stability.md](accuracy/stability.md).\n\n";
     const EdgeData edge = edge_data(out.staging() / "edge.csv");
     if (edge.kernels.empty()) fail("mollify-stability wrote no edge data");
     out.write("edge.dat", edge.blocks);

@@ -596,16 +596,18 @@ inline constexpr bool polynomial_inside = [] {
 // Does the quantity blow up at r = 0 (a negative power of r or a
 // logarithm without a vanishing factor in its first piece)? Then it is a cusp
 // of W (spiky, viscosity, Wendland k = 0: W'(0) != 0), and W'/r ~ W'(0)/r.
-template <const table::Kernel& K, int Q>
-inline constexpr bool singular_at_origin = [] {
-    const table::Piece& first = piece_table<K, Q, 0>;
+// From its first piece; both forms (the run-time plan: src/plan.cpp).
+constexpr bool singular_piece(const table::Piece& first) {
     for (int t = 0; t < first.nterms; ++t) {
         const table::Term& term = first.terms[t];
         if (term.low < 0) return true;
         if ((term.basis == table::Basis::log || term.basis == table::Basis::arcsech) && term.low <= 0) return true;
     }
     return false;
-}();
+}
+
+template <const table::Kernel& K, int Q>
+inline constexpr bool singular_at_origin = singular_piece(piece_table<K, Q, 0>);
 
 // The limit at q = 0 of a quantity singular there: the most singular terms
 // dominate, those of the lowest power q^low and, at the same power, those

@@ -41,6 +41,17 @@ inline constexpr std::size_t roots_ahead_block = 16;
 inline double radius(double a, double b) { return std::sqrt(mul_add(b, b, a * a)); }
 inline double radius(double a, double b, double c) { return std::sqrt(mul_add(c, c, mul_add(b, b, a * a))); }
 
+// Below 2^-484 the squares' sum loses bits (subnormal below 2^-968, 0 below
+// ~2^-538): there the same sum of the coordinates scaled by 2^600 (exact),
+// the root scaled back: the bits radius would give without underflow. For
+// kernels with a cusp (W'(r) x/r, a W singular at 0), which need r itself
+// near 0; the others' values there are their values at 0.
+inline constexpr double radius_underflow = 0x1p-484;
+inline double unscaled_radius(double a, double b) { return radius(a * 0x1p600, b * 0x1p600) * 0x1p-600; }
+inline double unscaled_radius(double a, double b, double c) {
+    return radius(a * 0x1p600, b * 0x1p600, c * 0x1p600) * 0x1p-600;
+}
+
 // How far ahead the outputs are fetched for writing, in points: where a
 // batch comes from memory (10^6 points), the loop above without it ran
 // slower than the plain one (Wendland C4 accurate 2.3 -> 3.0 ms), with it
