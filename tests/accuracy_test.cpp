@@ -25,6 +25,7 @@
 #include <mollify/tables/combo/m_3_base_wendland_k_1_D2.hpp>
 #include <mollify/tables/mollifier/M_4_D2.hpp>
 #include <mollify/tables/mollifier/M_9_D3.hpp>
+#include <mollify/tables/wendland/k_1_D3.hpp>
 #include <mollify/tables/wendland/k_2_D3.hpp>
 #include <mollify/tables/wendland/k_4_l_4_D2.hpp>
 #include <mollify/tables/wendland_missing/k_1_D3.hpp>
@@ -883,4 +884,66 @@ TEST(HardCases, StaticKernelNearZeroIsTheRuntimeForm) {
     static_form_near_zero<mollify::tables::combo_m_3_base_wendland_k_1_D2, QuantityId::hess_radial>();
     cusp_pairs_near_zero<mollify::tables::viscosity_D3>();
     cusp_pairs_near_zero<mollify::tables::spiky_D3>();
+}
+
+// The Hessian (f'/r) I + rad x x^T near x = 0, where rad = (f'' - f'/r)/r^2
+// is singular (Wendland C2 ~1/r, spiky ~1/r^3): it was NaN at x = 0 (inf 0)
+// and below r/h ~ 1e-100 (inf, and inf 0 off the axis); a cusp's diagonal
+// f'/r + R u_i^2 cancelled to f'' (spiky's H_00 at r/h = 1e-3 ~500 ulp off).
+// Along an axis, x = (r, 0, 0): H_00 = f''(r), H_11 = f'/r, H_01 = 0; on a
+// diagonal, x = (a, a, 0): H_01 = rad a^2, exact from MPFR. Bounds: f'' and
+// f'/r of a cusp straight from their tables (0.51 ulp); a smooth kernel's
+// H_00 = rad r^2 + f'/r, rad's 0.51 ulp and two products (~1.5 ulp of
+// R = rad r^2) and f'/r's 0.51, times the sum's condition (|R| + |f'/r|)/|f''|
+// (1.29 at r/h = 0.6 for Wendland C2, 1 near 0), and the sum: 3 ulp; H_01
+// 4 ulp: |x| rounded once (its 0.5 ulp times rad's order, 3 for spiky),
+// rad's 0.51, two products. At x = 0: (f'/r)(0) I, +-inf on a cusp's
+// diagonal.
+template <const table::Kernel& K>
+void hessian_near_zero() {
+    using S = mollify::StaticKernel<K>;
+    const acc::Reference ref(K.spec, K.dim);
+    constexpr bool cusp = mollify::detail::singular_at_origin<K, static_cast<int>(QuantityId::grad_over_r)>;
+    auto within = [](double y, const Real& exact, double ulps, const std::string& where) {
+        if (beyond_doubles(exact)) {
+            EXPECT_TRUE(std::isinf(y) && (y > 0) == (exact > 0)) << where << ": " << y;
+        } else {
+            EXPECT_LE(acc::ulp_error(y, exact), ulps) << where << ": " << y << ", exact " << exact;
+        }
+    };
+    for (const double h : {1e-3, 1.0, 1e8}) {
+        const mollify::Smoothing s(h, 3);
+        const auto at_zero = S::hessian(mollify::Vector<3>{0.0, 0.0, 0.0}, s);
+        const double over_r_at_zero = S::template radial<QuantityId::grad_over_r>(0.0, s);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                EXPECT_EQ(std::bit_cast<std::uint64_t>(at_zero[i][j]),
+                          std::bit_cast<std::uint64_t>(i == j ? over_r_at_zero : 0.0))
+                    << K.spec << " x = 0, h = " << h << " H_" << i << j;
+        EXPECT_EQ(std::isinf(over_r_at_zero), cusp) << K.spec;
+        for (const double q : {0.6, 1e-3, 1e-50, 1e-110, 1e-160, 1e-200, 1e-300}) {
+            const double r = q * h;
+            char at[128];
+            std::snprintf(at, sizeof at, "%s r = %g h = %g", K.spec, r, h);
+            const std::string where = at;
+            const auto m = S::hessian(mollify::Vector<3>{r, 0.0, 0.0}, s);
+            within(m[0][0], ref.value(QuantityId::d2r, r, h), cusp ? 0.51 : 3.0, where + " H_00 = f''");
+            within(m[1][1], ref.value(QuantityId::grad_over_r, r, h), 0.51, where + " H_11 = f'/r");
+            EXPECT_EQ(m[0][1], 0.0) << where;
+            const auto d = S::hessian(mollify::Vector<3>{r, r, 0.0}, s);  // |x| = sqrt 2 r
+            const Real exact_r = boost::multiprecision::sqrt(Real(2)) * Real(r);
+            const Real rad = ref.value(QuantityId::hess_radial, exact_r, Real(h));
+            // (near 0 only: at |x|/h = 0.85 |x|'s rounding is amplified by
+            // rad's log-derivative, ~14 for Wendland C2, as in every form)
+            if (q < 0.5) within(d[0][1], rad * Real(r) * Real(r), 4.0, where + " diagonal H_01 = rad r^2");
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) EXPECT_FALSE(std::isnan(d[i][j]) || std::isnan(m[i][j])) << where;
+        }
+    }
+}
+
+TEST(HardCases, HessianNearZero) {
+    hessian_near_zero<mollify::tables::wendland_k_1_D3>();
+    hessian_near_zero<mollify::tables::spiky_D3>();
+    hessian_near_zero<mollify::tables::viscosity_D3>();
 }

@@ -21,6 +21,7 @@
 #include <mollify/precision.hpp>
 #include <mollify/smoothing.hpp>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstddef>
@@ -528,6 +529,15 @@ private:
         return y;
     }
 
+    // Hessian = (f'/r) I + rad x x^T, rad = (f'' - f'/r)/r^2 emitted exactly
+    // (no cancellation where f'' ~ f'/r near 0). Where rad is singular at 0
+    // (~1/r for Wendland C2, 1/r^3 for spiky) its product with x x^T is not:
+    // below r/h = 2^-150 R u u^T, u = x/r, R = r^2 rad from its leading
+    // order (detail::near_origin_value with r^2), at x = 0 (f'/r)(0) I (rad
+    // x x^T was inf 0 = NaN there, inf below r/h ~ 1e-100). A cusp (f'/r
+    // ~ f'(0)/r) takes f'' u u^T + (f'/r)(I - u u^T) on the diagonal, f''
+    // from its own table: f'/r + R cancelled there to f'' (spiky's H_00 at
+    // r/h = 1e-3 lost 9 bits, and everything below).
     template <QuantityId OverR, QuantityId Radial, QuantityId Second>
     static Matrix<dimension> hessian_of(const Vector<dimension>& x, const Smoothing& s) {
         Matrix<dimension> m{};
@@ -536,11 +546,72 @@ private:
             m[0][0] = odd && x[0] < 0 ? -d2 : d2;
             return m;
         }
-        const double r = norm(x);
-        const double over_r = radial<OverR>(r, s), rad = radial<Radial>(r, s);
+        constexpr bool cusp = Second != Radial && mends<OverR>;
+        double r = norm(x);
+        if constexpr (mends<Radial> || cusp) {
+            if (r < detail::radius_underflow) {  // (norm keeps such r only for a cusp)
+                if constexpr (dimension == 2) r = detail::unscaled_radius(x[0], x[1]);
+                else r = detail::unscaled_radius(x[0], x[1], x[2]);
+            }
+            if (!(r > 0)) {  // x = 0
+                const double over_r = radial<OverR>(0.0, s);
+                for (int i = 0; i < dimension; ++i) m[i][i] = over_r;
+                return m;
+            }
+        }
+        const double over_r = radial<OverR>(r, s);
+        // rad x_i x_j, or R u_i u_j near 0
+        bool near = false;
+        double big_r = 0;
+        if constexpr (mends<Radial>) {
+            if (r < detail::near_origin_bound * s.h()) {
+                constexpr int q = static_cast<int>(Radial);
+                near = true;
+                big_r = detail::near_origin_value(detail::piece_table<K, q, 0>, r, s.h(), s.scale(Radial), s.scale_lo(Radial),
+                                                  K.spec, quantity_names[q], 2);
+            }
+        }
+        const double rad = near ? 0.0 : radial<Radial>(r, s);
+        // (a component 0 makes its terms 0, also where the factor beside it
+        // is beyond the doubles: never inf 0)
+        auto outer = [&](int i, int j) {
+            if (x[i] == 0 || x[j] == 0) return 0.0;
+            return near ? big_r * (x[i] / r) * (x[j] / r) : rad * x[i] * x[j];
+        };
         for (int i = 0; i < dimension; ++i)
-            for (int j = 0; j < dimension; ++j) m[i][j] = rad * x[i] * x[j] + (i == j ? over_r : 0.0);
+            for (int j = 0; j < dimension; ++j) m[i][j] = outer(i, j) + (i == j ? over_r : 0.0);
+        if constexpr (cusp) {
+            const double second = radial<Second>(r, s);
+            for (int i = 0; i < dimension; ++i) {
+                double across = 0;  // 1 - u_i^2 without the cancellation
+                for (int j = 0; j < dimension; ++j)
+                    if (j != i) across = detail::mul_add(x[j] / r, x[j] / r, across);
+                const double along = (x[i] / r) * (x[i] / r);
+                m[i][i] = (along == 0 ? 0.0 : second * along) + (across == 0 ? 0.0 : over_r * across);
+                if (std::isnan(m[i][i])) [[unlikely]]  // +-inf of both signs: f''(r) and f'/r beyond the doubles
+                    m[i][i] = cusp_diagonal_beyond<OverR, Second>(r, along, across, s);
+            }
+        }
         return m;
+    }
+
+    // A cusp's f'' u_i^2 + (f'/r)(1 - u_i^2) where both terms are beyond
+    // the doubles (viscosity near 0): each times r^k from its leading order
+    // (k the larger of their singular orders), summed, then r^-k, so the
+    // sum's sign and size come out, +-inf where it is beyond the doubles too.
+    template <QuantityId OverR, QuantityId Second>
+    static double cusp_diagonal_beyond(double r, double along, double across, const Smoothing& s) {
+        constexpr int second = static_cast<int>(Second), over_r = static_cast<int>(OverR);
+        const table::Piece &f2 = detail::piece_table<K, second, 0>, &f1 = detail::piece_table<K, over_r, 0>;
+        const int k = -std::min(detail::origin::leading(f2).low, detail::origin::leading(f1).low);
+        const double a = detail::near_origin_value(f2, r, s.h(), s.scale(Second), s.scale_lo(Second), K.spec,
+                                                   quantity_names[second], k);
+        const double b = detail::near_origin_value(f1, r, s.h(), s.scale(OverR), s.scale_lo(OverR), K.spec,
+                                                   quantity_names[over_r], k);
+        const double t = (along == 0 ? 0.0 : a * along) + (across == 0 ? 0.0 : b * across);
+        int e = 0;
+        const double mr = std::frexp(r, &e);
+        return std::ldexp(t * std::pow(mr, -k), -k * e);
     }
 
     static const Vector<dimension>& checked(const Vector<dimension>& x) {

@@ -136,11 +136,13 @@ inline Leading leading(const table::Piece& first) {
 
 }  // namespace origin
 
-// h^p f(r/h) for 0 < r/h < near_origin_bound, from the quantity's first
-// piece and h^p = scale + scale_lo (Smoothing). spec and quantity name it
-// where its lowest terms cancel (then its order at 0 is not in the table).
+// h^p f(r/h) r^k for 0 < r/h < near_origin_bound, from the quantity's
+// first piece and h^p = scale + scale_lo (Smoothing); k > 0 for a product
+// that is finite where the quantity alone is not (the Hessian's
+// (f'' - f'/r)/r^2 times r^2). spec and quantity name it where its lowest
+// terms cancel (then its order at 0 is not in the table).
 MOLLIFY_NOINLINE double near_origin_value(const table::Piece& first, double r, double h, double scale, double scale_lo,
-                                          const char* spec, const char* quantity) {
+                                          const char* spec, const char* quantity, int times_r_power = 0) {
     const origin::Leading f = origin::leading(first);
     int er = 0, eh = 0;
     const double mr = std::frexp(r, &er), mh = std::frexp(h, &eh);  // in [1/2, 1)
@@ -161,8 +163,11 @@ MOLLIFY_NOINLINE double near_origin_value(const table::Piece& first, double r, d
     }
     if (!f.found || !(std::abs(a.hi) > 0x1p-40 * f.size))
         fail("kernel " + std::string(spec) + ": " + quantity + " at r/h below 2^-150 (r = " + show(r) + ", h = " + show(h) + "): its lowest-order terms at 0 cancel, so its value there is not in the table");
-    const origin::Dd v = origin::times(origin::times({scale, scale_lo}, a), origin::power(m, f.low));
-    return std::ldexp(v.hi + v.lo, e * f.low);
+    // r^k = (q h)^k: q^(L + k) and the mantissa of h^k here, their powers of two below.
+    const int k = times_r_power;
+    const origin::Dd v = origin::times(origin::times(origin::times({scale, scale_lo}, a), origin::power(m, f.low + k)),
+                                       origin::power({mh, 0.0}, k));
+    return std::ldexp(v.hi + v.lo, e * (f.low + k) + eh * k);
 }
 
 }  // namespace MOLLIFY_ISA
