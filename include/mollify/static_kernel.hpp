@@ -240,15 +240,10 @@ public:
     // (detail/near_origin.hpp): one branch, in its loops only.
     template <QuantityId Q>
     MOLLIFY_INLINE static double radial(double r, const Smoothing& s) {
-        constexpr int q = static_cast<int>(Q);
-        if constexpr (K.quantities[q].npieces == 0) {
-            detail::fail_missing_quantity(K.spec, q, dimension);
-        } else {
-            if constexpr (detail::singular_at_origin<K, q>)
-                if (detail::near_origin(r, s.h())) [[unlikely]]
-                    return at_origin<Q>(r, s);
-            return emitted<Q>(r, s);
-        }
+        if constexpr (mends<Q>)
+            if (detail::near_origin(r, s.h())) [[unlikely]]
+                return at_origin<Q>(r, s);
+        return radial_unmended<Q>(r, s);
     }
 
 private:
@@ -492,13 +487,17 @@ private:
             double s = x[0] * x[0];
             for (int c = 1; c < dimension; ++c) s = detail::mul_add(x[c], x[c], s);
             const double r = std::sqrt(s);
-            if constexpr (mends<QuantityId::grad_over_r>)  // a cusp: r itself near 0 (detail::unscaled_radius)
-                if (r < detail::radius_underflow) [[unlikely]] {
-                    if constexpr (dimension == 2) return detail::unscaled_radius(x[0], x[1]);
-                    else return detail::unscaled_radius(x[0], x[1], x[2]);
-                }
+            if constexpr (mends<QuantityId::grad_over_r>)  // a cusp: r itself near 0
+                if (r < detail::radius_underflow) [[unlikely]]
+                    return unscaled_norm(x);
             return r;
         }
+    }
+
+    // |x| where its square underflows (detail::unscaled_radius; D >= 2).
+    static double unscaled_norm(const Vector<dimension>& x) {
+        if constexpr (dimension == 2) return detail::unscaled_radius(x[0], x[1]);
+        else return detail::unscaled_radius(x[0], x[1], x[2]);
     }
 
     // The 1D odd kernel W(x) = sign(x) f(|x|) has W'(x) = f'(|x|): its
@@ -549,10 +548,7 @@ private:
         constexpr bool cusp = Second != Radial && mends<OverR>;
         double r = norm(x);
         if constexpr (mends<Radial> || cusp) {
-            if (r < detail::radius_underflow) {  // (norm keeps such r only for a cusp)
-                if constexpr (dimension == 2) r = detail::unscaled_radius(x[0], x[1]);
-                else r = detail::unscaled_radius(x[0], x[1], x[2]);
-            }
+            if (r < detail::radius_underflow) r = unscaled_norm(x);  // (norm does so only for a cusp)
             if (!(r > 0)) {  // x = 0
                 const double over_r = radial<OverR>(0.0, s);
                 for (int i = 0; i < dimension; ++i) m[i][i] = over_r;

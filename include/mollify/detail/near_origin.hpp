@@ -17,6 +17,7 @@
 #pragma once
 
 #include <mollify/constants/log_two.hpp>
+#include <mollify/detail/double_double.hpp>
 #include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
@@ -39,39 +40,29 @@ MOLLIFY_INLINE bool near_origin(double r, double h) { return (r > 0) & (r < near
 
 namespace origin {
 
-struct Dd {
-    double hi, lo;
-};
+// Double-doubles (detail/double_double.hpp), their products by explicit
+// fmas here (DoubleDouble's use mul_add, unfused without FMA) and every
+// result normalised.
+using Dd = DoubleDouble;
 
-inline Dd two_sum(double a, double b) {
-    const double s = a + b, bb = s - a;
-    return {s, (a - (s - bb)) + (b - bb)};
-}
-
-inline Dd normalised(double hi, double lo) {
-    const double s = hi + lo;
-    return {s, lo - (s - hi)};
-}
+inline Dd normalised(const Dd& x) { return fast_two_sum(x.hi, x.lo); }
 
 inline Dd times(const Dd& a, const Dd& b) {
     const double p = a.hi * b.hi;
-    return normalised(p, std::fma(a.hi, b.lo, std::fma(a.lo, b.hi, std::fma(a.hi, b.hi, -p))));
+    return normalised({p, std::fma(a.hi, b.lo, std::fma(a.lo, b.hi, std::fma(a.hi, b.hi, -p)))});
 }
 
-inline Dd plus(const Dd& a, const Dd& b) {
-    const Dd s = two_sum(a.hi, b.hi);
-    return normalised(s.hi, s.lo + (a.lo + b.lo));
-}
+inline Dd sum(const Dd& a, const Dd& b) { return normalised(a + b); }
 
-inline Dd reciprocal(const Dd& x) {
+inline Dd inverse(const Dd& x) {
     const double y = 1 / x.hi;
     const double residual = std::fma(-y, x.hi, 1.0);  // exact
-    return normalised(y, std::fma(-y, x.lo, residual) / x.hi);
+    return normalised({y, std::fma(-y, x.lo, residual) / x.hi});
 }
 
-// x^n for any integer n (n < 0 through the reciprocal).
+// x^n for any integer n (n < 0 through the inverse).
 inline Dd power(Dd x, int n) {
-    if (n < 0) x = reciprocal(x), n = -n;
+    if (n < 0) x = inverse(x), n = -n;
     Dd y{1.0, 0.0};
     for (; n > 0; n >>= 1, x = times(x, x))
         if (n & 1) y = times(y, x);
@@ -102,7 +93,7 @@ inline TermOrder term_order(const table::Term& t) {
     TermOrder o{t.low, {0.0, 0.0}};
     if (t.var == table::Var::shifted) {
         const Dd v{-t.centre, -t.centre_lo};
-        for (int k = t.n; k-- > 0;) o.c = plus(times(o.c, v), coefficient(k));
+        for (int k = t.n; k-- > 0;) o.c = sum(times(o.c, v), coefficient(k));
     } else {
         int k = 0;
         while (k + 1 < t.n && t.c[k] == 0 && (t.c_lo == nullptr || t.c_lo[k] == 0)) ++k;
@@ -123,12 +114,12 @@ inline Leading leading(const table::Piece& first) {
         if (o.order > out.low) continue;
         out.size += std::abs(o.c.hi);
         switch (first.terms[t].basis) {
-            case table::Basis::log: out.logarithm = plus(out.logarithm, o.c); break;
+            case table::Basis::log: out.logarithm = sum(out.logarithm, o.c); break;
             case table::Basis::arcsech:  // log((1 + S)/q) = log 2 - log q + O(q^2)
-                out.logarithm = plus(out.logarithm, {-o.c.hi, -o.c.lo});
-                out.plain = plus(out.plain, times(o.c, {constants::log_two_hi, constants::log_two_lo}));
+                out.logarithm = sum(out.logarithm, {-o.c.hi, -o.c.lo});
+                out.plain = sum(out.plain, times(o.c, {constants::log_two_hi, constants::log_two_lo}));
                 break;
-            default: out.plain = plus(out.plain, o.c); break;
+            default: out.plain = sum(out.plain, o.c); break;
         }
     }
     return out;
@@ -155,11 +146,11 @@ MOLLIFY_NOINLINE double near_origin_value(const table::Piece& first, double r, d
     if (f.logarithm.hi != 0) {
         // log q = log m + e log 2; log m within an ulp of 0.41 is 2^-62 of
         // |log q| >= 103 here.
-        const origin::Dd log_m = origin::two_sum(std::log(m.hi), m.lo / m.hi);
+        const origin::Dd log_m = two_sum(std::log(m.hi), m.lo / m.hi);
         const double de = e;
         const double p = de * constants::log_two_hi;
-        const origin::Dd log_q = origin::plus({p, std::fma(de, constants::log_two_lo, std::fma(de, constants::log_two_hi, -p))}, log_m);
-        a = origin::plus(a, origin::times(f.logarithm, log_q));
+        const origin::Dd log_q = origin::sum({p, std::fma(de, constants::log_two_lo, std::fma(de, constants::log_two_hi, -p))}, log_m);
+        a = origin::sum(a, origin::times(f.logarithm, log_q));
     }
     if (!f.found || !(std::abs(a.hi) > 0x1p-40 * f.size))
         fail("kernel " + std::string(spec) + ": " + quantity + " at r/h below 2^-150 (r = " + show(r) + ", h = " + show(h) + "): its lowest-order terms at 0 cancel, so its value there is not in the table");
