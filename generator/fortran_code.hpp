@@ -19,7 +19,7 @@ std::string boz(double x);
 struct Helper {
     const char* name;
     std::vector<std::string> uses;  // helpers it calls (c_log1p: the interface to C's log1p)
-    const char* code;
+    std::string code;
 };
 const std::vector<Helper>& fortran_helpers();
 

@@ -8,6 +8,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <map>
 
 namespace mollify::gen {
 
@@ -35,17 +36,66 @@ std::string times(const std::string& a, const std::string& b) { return a + " * "
 // The limit at q = 0 of a quantity singular there, by the runtime's rule
 // (detail::limit_at_origin) on the same rounded terms: +-inf, or nullopt
 // where it is not singular or the rule cannot tell (NaN).
-std::optional<double> at_origin(const RoundedPiece& first) {
+// The rounded terms as the runtime's tables hold them (what its tests read).
+std::vector<table::Term> table_terms(const RoundedPiece& p) {
     std::vector<table::Term> terms;
-    for (const RoundedTerm& t : first.terms)
+    for (const RoundedTerm& t : p.terms)
         terms.push_back({.basis = t.basis, .s_power = t.s_power, .var = t.var, .edge = t.edge,
                          .edge_power = t.edge_power, .low = t.low, .c = t.c.data(), .n = static_cast<int>(t.c.size())});
+    return terms;
+}
+
+std::optional<double> at_origin(const RoundedPiece& first) {
+    const std::vector<table::Term> terms = table_terms(first);
     const double limit = detail::limit_at_origin({first.lo, first.hi, terms.data(), static_cast<int>(terms.size())});
     if (std::isnan(limit)) return std::nullopt;
     return limit;
 }
 
+// The runtime's test (detail::singular_piece) on the same rounded terms.
+bool singular(const RoundedPiece& first) {
+    const std::vector<table::Term> terms = table_terms(first);
+    return detail::singular_piece({first.lo, first.hi, terms.data(), static_cast<int>(terms.size())});
+}
+
+CodeConstant code_constant(const Exact& x) { return {round_to_double(x), x.to_string(), x}; }
+
 }  // namespace
+
+CodeQuantity::NearOrigin leading_order(const ClosedForm& first, const std::string& what) {
+    // order -> (plain, logarithm) of the terms of that order
+    std::map<int, std::pair<Exact, Exact>> orders;
+    const Exact log_two = Exact::log_of(Q(2));
+    for (const auto& [key, p] : first.terms()) {
+        if (p.is_zero()) continue;
+        const Exact c = Exact(p.coefficient(p.low())) * Exact::of(key.factor);
+        auto& [plain, logarithm] = orders[key.basis == table::Basis::arcsin ? p.low() + 1 : p.low()];
+        switch (key.basis) {
+            case table::Basis::one:
+            case table::Basis::sqrt_power: plain += c; break;
+            case table::Basis::log: logarithm += c; break;
+            case table::Basis::arcsech: plain += c * log_two, logarithm -= c; break;
+            case table::Basis::arcsin: plain += c; break;
+        }
+    }
+    if (orders.empty()) fail("internal: " + what + " has no terms at 0");
+    const auto& [low, parts] = *orders.begin();
+    if (parts.first.is_zero() && parts.second.is_zero())
+        fail("internal: " + what + ": its lowest-order terms at 0 cancel; its leading order is not found here");
+    // f(q0) against q0^low (plain + logarithm log q0) at q0 = 2^-150: the terms
+    // beyond are O(q0) of it; 800 bits, since the closed forms' own singular
+    // terms may cancel (S/q - 1/q) by up to q0^-3 there.
+    constexpr unsigned bits = 800;
+    const unsigned digits = bits * 30103 / 100000 + 2;
+    const Real q0 = boost::multiprecision::ldexp(Real(1, digits), -150);
+    const Real f = first.evaluate(q0, bits).first;
+    Real lead = parts.first.evaluate(bits).first;
+    if (!parts.second.is_zero()) lead += parts.second.evaluate(bits).first * boost::multiprecision::log(q0);
+    lead *= boost::multiprecision::pow(q0, low);
+    if (!(boost::multiprecision::abs(f - lead) <= boost::multiprecision::ldexp(boost::multiprecision::abs(lead), -90)))
+        fail("internal: " + what + ": the leading order at 0 is not the closed form's value at r/h = 2^-150");
+    return {low, code_constant(parts.first), code_constant(parts.second)};
+}
 
 CodeKernel code_kernel(const TargetKernel& k) {
     const ExactKernel& kernel = k.facts.kernel;
@@ -60,6 +110,13 @@ CodeKernel code_kernel(const TargetKernel& k) {
         for (std::size_t p = 0; p + 1 < rounded->size(); ++p) q.inside.push_back(code_piece((*rounded)[p], out.constants));
         q.exterior = code_piece(rounded->back(), out.constants);
         q.at_origin = at_origin(rounded->front());
+        if (singular(rounded->front())) {
+            const Radial* exact = quantity_of(k.facts, i);
+            if (!exact) fail("internal: quantity " + q.name + " without its closed form");
+            if (q.log_h_coefficient || (id == table::QuantityId::potential && kernel.dim == 2))
+                fail("internal: a 2D potential singular at 0 (" + k.facts.spec + ")");
+            q.near_origin = leading_order(exact->pieces.front(), k.facts.spec + " D" + std::to_string(kernel.dim) + " " + q.name);
+        }
         if (id == table::QuantityId::potential && kernel.dim == 2) {
             q.log_h_coefficient = log_coefficient(q.exterior);
             if (!q.log_h_coefficient) fail("internal: a 2D potential without log r outside (" + k.facts.spec + ")");

@@ -70,6 +70,34 @@ static inline double mollify_c_at_origin(double x, double limit) { return isnan(
 #endif
 )";
 
+namespace {
+
+// The same, for quantities singular at 0 below r/h = 2^-150 (target_code.hpp,
+// CodeQuantity::near_origin); @LOG2@ is log 2, correctly rounded.
+const char* const c_near_origin_helper = R"(#ifndef MOLLIFY_C_NEAR_ORIGIN
+#define MOLLIFY_C_NEAR_ORIGIN
+/* f_h(r) = h^p f(r/h) of a quantity singular at r = 0, where r/h < 2^-150: its leading order
+   h^p q^low (a + b log q) (the terms beyond it are below 2^-150 of it), with q = m 2^e and
+   h = mh 2^eh taken apart so that neither q^low nor h^p overflows alone (f(r/h) first overflows
+   below r/h ~ 1e-100 where f_h is finite for a large h) */
+static inline double mollify_c_near_origin(double r, double h, int p, int low, double a, double b) {
+    int er, eh;
+    const double mr = frexp(r, &er), mh = frexp(h, &eh), m = mr / mh;
+    const int e = er - eh;
+    const double f = b == 0 ? a : a + b * (log(m) + e * @LOG2@); /* log(2) */
+    return ldexp(f * mollify_c_ipow(m, low) * mollify_c_ipow(mh, p), e * low + eh * p);
+}
+#endif
+)";
+
+std::string c_near_origin_helper_text() {
+    std::string s = c_near_origin_helper;
+    s.replace(s.find("@LOG2@"), 6, hex_literal(round_to_double(Exact::log_of(Q(2)))));
+    return s;
+}
+
+}  // namespace
+
 Syntax c_syntax(const std::string& prefix) {
     Syntax s;
     s.constant = [prefix](std::size_t i) { return prefix + "_c[" + std::to_string(i) + "]"; };
@@ -137,6 +165,14 @@ std::string c_function(const CodeKernel& k, const CodeQuantity& q, const Syntax&
                       ") f(r/h)" + (q.log_h_coefficient ? " + log(h)/(2 pi)" : "") + " */\n";
     out += "static inline double " + name + "_h(double r, double h) {\n";
     out += "    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */\n";
+    if (q.near_origin) {
+        const CodeQuantity::NearOrigin& o = *q.near_origin;
+        out += "    if (r > 0 && r < " + std::string(near_origin_bound_literal) + " * h) /* below r/h = 2^-150: h^p q^" +
+               std::to_string(o.low) + " (a + b log q) */\n";
+        out += "        return mollify_c_near_origin(r, h, " + std::to_string(q.scale_power) + ", " + std::to_string(o.low) +
+               ", " + hex_literal(o.plain.value) + " /* " + comment_text(o.plain.exact) + " */, " +
+               hex_literal(o.logarithm.value) + " /* " + comment_text(o.logarithm.exact) + " */);\n";
+    }
     out += "    if (r > h) return " + piece_sum(s, q.exterior, true) + ";\n";
     const std::string body = c_piece_chain(q, s, "        ", "x");
     out += "    {\n";
@@ -164,7 +200,11 @@ TargetFiles write_c(const TargetKernel& tk, const std::string& command) {
            " * <prefix>_<quantity>(r) is h = 1, <prefix>_<quantity>_h(r, h) any h; r >= 0, h > 0 finite (else NaN).\n"
            " * Evaluated as mollify's Precision::fast (factored at the support edge; README, \"Kernel files for\n"
            " * other languages\"). Each constant is correctly rounded, its exact value beside it.\n */\n";
-    out += "#ifndef " + guard + "\n#define " + guard + "\n\n#include <math.h>\n\n" + c_helpers + c_at_origin_helper + "\n";
+    out += "#ifndef " + guard + "\n#define " + guard + "\n\n#include <math.h>\n\n" + c_helpers + c_at_origin_helper;
+    bool near_origin = false;
+    for (const CodeQuantity& q : k.quantities) near_origin = near_origin || q.near_origin.has_value();
+    if (near_origin) out += c_near_origin_helper_text();
+    out += "\n";
     out += "enum { " + k.prefix + "_dim = " + std::to_string(k.dim) + " };\n";
     out += "static const double " + k.prefix + "_normalisation = " + hex_literal(k.normalisation.value) + "; /* " +
            comment_text(k.normalisation.exact) + " */\n";

@@ -12,6 +12,7 @@
 #include "target_code.hpp"
 
 #include "error.hpp"
+#include "rounding.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -120,6 +121,26 @@ const std::vector<Helper>& fortran_helpers() {
     y = x
     if (ieee_is_nan(x)) y = limit
   end function at_origin
+)"},
+        {"near_origin", {}, std::string(R"(
+  ! f_h(r) = h^p f(r/h) of a quantity singular at r = 0, where r/h < 2^-150: its leading order
+  ! h^p q^low (plain + logarithm log q) (the terms beyond it are below 2^-150 of it), with q = m 2^e
+  ! and h = mh 2^eh taken apart so that neither q^low nor h^p overflows alone (f(r/h) first
+  ! overflows below r/h ~ 1e-100 where f_h is finite for a large h)
+  pure function near_origin(r, h, p, low, plain, logarithm) result(y)
+    real(c_double), intent(in) :: r, h, plain, logarithm
+    integer, intent(in) :: p, low
+    real(c_double) :: y, m, mh, f
+    integer :: ex, eh
+    mh = fraction(h)
+    eh = exponent(h)
+    m = fraction(r) / mh
+    ex = exponent(r) - eh
+    f = plain
+    if (logarithm /= 0.0_c_double) f = plain + logarithm * (log(m) + real(ex, c_double) * &
+      )") + boz(round_to_double(Exact::log_of(Q(2)))) + R"()  ! log(2)
+    y = scale(f * m**low * mh**p, ex * low + eh * p)
+  end function near_origin
 )"},
         {"arcsin", {"sqrt_s"}, R"(
   ! arcsin q as atan2(q, S): asin would magnify the rounding of q by 1/S near q = 1
@@ -236,6 +257,13 @@ std::string fortran_function(const CodeKernel& k, const CodeQuantity& q, const S
     out += "    real(c_double), value, intent(in) :: r, h\n    real(c_double) :: y@E@\n";
     out += "    if (.not. (r >= 0.0_c_double) .or. .not. (h > 0.0_c_double) .or. .not. ieee_is_finite(h)) then\n";
     out += "      y = ieee_value(y, ieee_quiet_nan)  ! r >= 0 and a finite h > 0\n      return\n    end if\n";
+    if (q.near_origin) {
+        const CodeQuantity::NearOrigin& o = *q.near_origin;
+        out += "    if (r > 0.0_c_double .and. r < " + s.literal(near_origin_bound) + " * h) then  ! below r/h = 2^-150: h^p q^" +
+               std::to_string(o.low) + " (a + b log q),\n      ! a = " + o.plain.exact + ", b = " + o.logarithm.exact + "\n";
+        out += "      y = near_origin(r, h, " + std::to_string(q.scale_power) + ", " + std::to_string(o.low) + ", " +
+               s.literal(o.plain.value) + ", " + s.literal(o.logarithm.value) + ")\n      return\n    end if\n";
+    }
     out += "    if (r > h) then\n      y = " + continued(piece_sum(s, q.exterior, true)) + "\n      return\n    end if\n";
     const std::string body = fortran_piece_chain(q, s, "    ", "  ");
     const bool q_used = uses(body, "q"), e_used = uses(body, "e");
@@ -294,7 +322,8 @@ TargetFiles write_fortran(const TargetKernel& tk, const std::string& command) {
     out += "  real(c_double), parameter :: c(0:" + std::to_string(k.constants.size() - 1) + ") = [ &\n";
     for (std::size_t j = 0; j < parts; ++j) out += "    c_part_" + std::to_string(j) + (j + 1 < parts ? ", &\n" : " ]\n");
     // b: the piece bounds, edges and centres the functions use (collected while writing them).
-    out += "  ! Piece bounds, edges and centres (doubles; their exact values in the pieces' comments).\n";
+    out += "  ! Piece bounds, edges and centres, leading orders at 0 (doubles; their exact values in the pieces'\n"
+           "  ! and functions' comments).\n";
     out += "  real(c_double), parameter :: b(0:" + std::to_string(static_cast<long>(literals.values.size()) - 1) + ") = [ &\n";
     out += "    real(c_double) ::";
     for (std::size_t i = 0; i < literals.values.size(); ++i) out += (i ? ", &\n    " : " &\n    ") + boz(literals.values[i]);

@@ -72,6 +72,18 @@ def _arcsin(q, e):
     return np.arctan2(q, _sqrt_s(q, e))
 
 
+def _near_origin(r, h, p, low, a, b):
+    # f_h(r) = h^p f(r/h) of a quantity singular at r = 0, where r/h < 2^-150: its leading order
+    # h^p q^low (a + b log q) (the terms beyond it are below 2^-150 of it), with q = m 2^e and
+    # h = mh 2^eh taken apart so that neither q^low nor h^p overflows alone (f(r/h) first
+    # overflows below r/h ~ 1e-100 where f_h is finite for a large h)
+    mr, er = np.frexp(r)
+    mh, eh = np.frexp(h)
+    m, e = mr / mh, er - eh
+    f = a + b * (np.log(m) + e * _LOG_2) if b != 0 else np.full(np.shape(m), a)
+    return np.ldexp(f * m ** float(low) * mh ** float(p), e * low + eh * p)
+
+
 def _arguments(r, h):
     r = np.asarray(r, dtype=np.float64)
     h = np.asarray(h, dtype=np.float64)
@@ -85,7 +97,7 @@ def _arguments(r, h):
 
 
 def _evaluate(r, h, quantity):
-    lows, pieces, exterior, scale_power, log_h_index = quantity
+    lows, pieces, exterior, scale_power, log_h_index, near_origin = quantity
     r, h = _arguments(r, h)
     out = np.empty(r.shape)
     with np.errstate(all="ignore"):  # np.where evaluates both sides; the chosen one is finite
@@ -105,6 +117,10 @@ def _evaluate(r, h, quantity):
         if log_h_index is not None:
             x = x + C[log_h_index] * np.log(hi)
         out[inside] = x
+        if near_origin is not None:  # singular at 0: its leading order below r/h = 2^-150
+            near = (r > 0) & (r < NEAR_ORIGIN_BOUND * h)
+            if np.any(near):
+                out[near] = _near_origin(r[near], h[near], scale_power, *near_origin)
     return out[()] if out.ndim == 0 else out
 )py";
 
@@ -160,8 +176,15 @@ std::string quantity_code(const CodeQuantity& q, const Syntax& s) {
     std::string lows;
     for (std::size_t p = 1; p < q.inside.size(); ++p) lows += s.literal(q.inside[p].lo) + ", ";
     const std::string table = "_" + q.name;
+    std::string near_origin = "None";
+    if (q.near_origin) {
+        const CodeQuantity::NearOrigin& o = *q.near_origin;
+        out += "\n\n# Below r/h = 2^-150: h^p q^" + std::to_string(o.low) + " (a + b log q), a = " + o.plain.exact + ", b = " +
+               o.logarithm.exact + "\n";
+        near_origin = "(" + std::to_string(o.low) + ", " + s.literal(o.plain.value) + ", " + s.literal(o.logarithm.value) + ")";
+    }
     out += "\n\n" + table + " = (np.array([" + lows + "]), (" + pieces + "), _" + q.name + "_exterior, " +
-           std::to_string(q.scale_power) + ", " + (q.log_h_coefficient ? std::to_string(*q.log_h_coefficient) : "None") + ")\n";
+           std::to_string(q.scale_power) + ", " + (q.log_h_coefficient ? std::to_string(*q.log_h_coefficient) : "None") + ", " + near_origin + ")\n";
     out += "\n\ndef " + q.name + "_h(r, h):\n    \"\"\"" + quantity_description(q.id) + ": f_h(r) = h^(" +
            std::to_string(q.scale_power) + ") f(r/h)" + (q.log_h_coefficient ? " + log(h)/(2 pi)" : "") +
            "; ValueError for r < 0 or h not finite > 0.\"\"\"\n";
@@ -193,7 +216,11 @@ TargetFiles write_python(const TargetKernel& tk, const std::string& command) {
                k.constants[i].exact + "\n";
     out += "])\n# Their exact values (see above).\nC_EXACT = (\n";
     for (std::size_t i = 0; i < k.constants.size(); ++i) out += "    " + exact_attribute(k.constants[i]) + ",\n";
-    out += ")\n" + std::string(python_helpers);
+    out += ")\n";
+    out += "# Below this r/h a quantity singular at 0 is its leading order (_near_origin); log(2).\n";
+    out += "NEAR_ORIGIN_BOUND = float.fromhex(\"" + std::string(near_origin_bound_literal) + "\")\n";
+    out += "_LOG_2 = float.fromhex(\"" + hex_literal(round_to_double(Exact::log_of(Q(2)))) + "\")  # log(2)\n";
+    out += std::string(python_helpers);
     std::string names;
     for (const CodeQuantity& q : k.quantities) {
         out += quantity_code(q, s);

@@ -59,6 +59,7 @@ constexpr Case cases[] = {
     {"wendland:k=2", 3},         {"wendland:k=4,l=4", 2},           {"wendland-missing:k=1", 3},
     {"mollifier:M=4", 2},        {"combo:m=3,base=wendland:k=2", 3}, {"cubic-spline", 1},
     {"cubic-spline", 2},         {"combo:m=2,base=wendland:k=1", 2},  // its hess_radial: +inf at r = 0, not inf - inf
+    {"viscosity", 3},  // every quantity singular at 0 (q^-1 .. q^-5): the leading order below r/h = 2^-150
 };
 constexpr int uniform_points = 200;
 #else  // -O0 + ASan (CI time): the polynomial shapes, the hard points only.
@@ -126,6 +127,16 @@ std::vector<acc::Point> points(const std::vector<Emitted>& kernels) {
     for (double b : bounds)
         for (double r : {std::nextafter(b, 0.0), b, std::nextafter(b, 2.0)})
             for (double h : {1.0, 3.0}) out.push_back({r * h, h, "piece bound"});
+    // Just above and below r/h = 2^-150, where the files take a singular
+    // quantity's leading order (target_code.hpp, CodeQuantity::near_origin),
+    // down to r's least subnormal, h from 1e-30 to 1e30: evaluated f(r/h)
+    // first, viscosity's W'/r overflowed below r/h ~ 1e-100 and its W at a
+    // subnormal r/h, where h^p f(r/h) is finite for a large h.
+    for (double h : {1e-30, 1e-8, 1.0, 3.0, 1e8, 1e30}) {
+        for (double q : {0x1p-149, 0x1p-150, 0x1p-151, 1e-50, 1e-100, 1e-150, 1e-200, 1e-250, 1e-300, 1e-310})
+            if (q * h > 0) out.push_back({q * h, h, "near origin"});
+        out.push_back({0x1p-1074, h, "near origin"});
+    }
     return out;
 }
 

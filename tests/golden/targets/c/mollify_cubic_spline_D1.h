@@ -62,6 +62,20 @@ static inline double mollify_c_arcsin(double q, double e) { return atan2(q, moll
 /* A quantity singular at r = 0: its limit (+-inf) where its terms give inf - inf or 0 * inf */
 static inline double mollify_c_at_origin(double x, double limit) { return isnan(x) ? limit : x; }
 #endif
+#ifndef MOLLIFY_C_NEAR_ORIGIN
+#define MOLLIFY_C_NEAR_ORIGIN
+/* f_h(r) = h^p f(r/h) of a quantity singular at r = 0, where r/h < 2^-150: its leading order
+   h^p q^low (a + b log q) (the terms beyond it are below 2^-150 of it), with q = m 2^e and
+   h = mh 2^eh taken apart so that neither q^low nor h^p overflows alone (f(r/h) first overflows
+   below r/h ~ 1e-100 where f_h is finite for a large h) */
+static inline double mollify_c_near_origin(double r, double h, int p, int low, double a, double b) {
+    int er, eh;
+    const double mr = frexp(r, &er), mh = frexp(h, &eh), m = mr / mh;
+    const int e = er - eh;
+    const double f = b == 0 ? a : a + b * (log(m) + e * 0x1.62e42fefa39efp-1); /* log(2) */
+    return ldexp(f * mollify_c_ipow(m, low) * mollify_c_ipow(mh, p), e * low + eh * p);
+}
+#endif
 
 enum { mollify_cubic_spline_D1_dim = 1 };
 static const double mollify_cubic_spline_D1_normalisation = 0x1.5555555555555p+0; /* 4/3 */
@@ -225,6 +239,8 @@ static inline double mollify_cubic_spline_D1_grad_over_r(double r) { return moll
 /* (W'' - W'/r)/r^2 (Hessian = this x x^T + (W'/r) I): f_h(r) = h^(-5) f(r/h) */
 static inline double mollify_cubic_spline_D1_hess_radial_h(double r, double h) {
     if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */
+    if (r > 0 && r < 0x1p-150 * h) /* below r/h = 2^-150: h^p q^-1 (a + b log q) */
+        return mollify_c_near_origin(r, h, -5, -1, 0x1.8p+4 /* 24 */, 0x0p+0 /* 0 */);
     if (r > h) return 0x0p+0;
     {
         const double q = r / h;

@@ -187,10 +187,13 @@ module mollify_combo_m_2_base_wendland_k_1_d2
     real(z'BFD45F306DC9C883', c_double) ]  ! [148] -1 * pi^-1
   real(c_double), parameter :: c(0:148) = [ &
     c_part_0 ]
-  ! Piece bounds, edges and centres (doubles; their exact values in the pieces' comments).
-  real(c_double), parameter :: b(0:5) = [ &
+  ! Piece bounds, edges and centres, leading orders at 0 (doubles; their exact values in the pieces'
+  ! and functions' comments).
+  real(c_double), parameter :: b(0:7) = [ &
     real(c_double) :: &
     real(z'3FE0000000000000', c_double), &
+    real(z'3690000000000000', c_double), &
+    real(z'40B61B8CBE2489E8', c_double), &
     real(z'3FC0000000000000', c_double), &
     real(z'3FD8000000000000', c_double), &
     real(z'3FD0000000000000', c_double), &
@@ -243,6 +246,25 @@ contains
     y = x
     if (ieee_is_nan(x)) y = limit
   end function at_origin
+
+  ! f_h(r) = h^p f(r/h) of a quantity singular at r = 0, where r/h < 2^-150: its leading order
+  ! h^p q^low (plain + logarithm log q) (the terms beyond it are below 2^-150 of it), with q = m 2^e
+  ! and h = mh 2^eh taken apart so that neither q^low nor h^p overflows alone (f(r/h) first
+  ! overflows below r/h ~ 1e-100 where f_h is finite for a large h)
+  pure function near_origin(r, h, p, low, plain, logarithm) result(y)
+    real(c_double), intent(in) :: r, h, plain, logarithm
+    integer, intent(in) :: p, low
+    real(c_double) :: y, m, mh, f
+    integer :: ex, eh
+    mh = fraction(h)
+    eh = exponent(h)
+    m = fraction(r) / mh
+    ex = exponent(r) - eh
+    f = plain
+    if (logarithm /= 0.0_c_double) f = plain + logarithm * (log(m) + real(ex, c_double) * &
+      real(z'3FE62E42FEFA39EF', c_double))  ! log(2)
+    y = scale(f * m**low * mh**p, ex * low + eh * p)
+  end function near_origin
 
   ! W: f_h(r) = h^(-2) f(r/h)
   pure function kernel_value_h(r, h) &
@@ -418,6 +440,11 @@ contains
       y = ieee_value(y, ieee_quiet_nan)  ! r >= 0 and a finite h > 0
       return
     end if
+    if (r > 0.0_c_double .and. r < b(1) * h) then  ! below r/h = 2^-150: h^p q^-1 (a + b log q),
+      ! a = 17780 * pi^-1, b = 0
+      y = near_origin(r, h, -6, -1, b(2), 0.0_c_double)
+      return
+    end if
     if (r > h) then
       y = 0.0_c_double
       return
@@ -458,10 +485,10 @@ contains
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
-    if (q < b(1)) then
+    if (q < b(3)) then
       y = horner(c(27:34), q)
     ! [1/8, 3/8), per radius a_j, factored at a_j (Franz (4.17))
-    else if (q < b(2)) then
+    else if (q < b(4)) then
       y = horner(c(35:42), q) &
         + horner(c(43:43), q) * to_edge(r, h, b(0)) &
         + horner(c(44:44), q) * to_edge(r, h, b(0))**2 &
@@ -525,14 +552,14 @@ contains
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
-    if (q < b(1)) then
+    if (q < b(3)) then
       y = horner(c(74:79), q) * q
     ! [1/8, 1/4), Taylor polynomial about 3/16
-    else if (q < b(3)) then
-      y = horner(c(80:86), shifted(r, h, b(4), 0.0_c_double))
+    else if (q < b(5)) then
+      y = horner(c(80:86), shifted(r, h, b(6), 0.0_c_double))
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(87:93), shifted(r, h, b(2), 0.0_c_double))
+      y = horner(c(87:93), shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1), per radius a_j, factored at a_j (Franz (4.17))
     else
       y = horner(c(94:94), q * q) * q**(-1) &
@@ -564,11 +591,11 @@ contains
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), per radius a_j, factored at a_j (Franz (4.17))
-    if (q < b(1)) then
+    if (q < b(3)) then
       y = horner(c(99:104), q)
     ! [1/8, 1/4), Taylor polynomial about 3/16
-    else if (q < b(3)) then
-      y = horner(c(105:110), shifted(r, h, b(4), 0.0_c_double))
+    else if (q < b(5)) then
+      y = horner(c(105:110), shifted(r, h, b(6), 0.0_c_double))
     ! [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     else if (q < b(0)) then
       y = horner(c(111:111), q * q) * q**(-2) &
@@ -605,11 +632,11 @@ contains
     q = r / h
     e = (h - r) / h
     ! [0, 1/8), Taylor polynomial about 1/16
-    if (q < b(1)) then
-      y = horner(c(126:129), shifted(r, h, b(5), 0.0_c_double))
+    if (q < b(3)) then
+      y = horner(c(126:129), shifted(r, h, b(7), 0.0_c_double))
     ! [1/8, 1/4), Taylor polynomial about 3/16
-    else if (q < b(3)) then
-      y = horner(c(130:133), shifted(r, h, b(4), 0.0_c_double))
+    else if (q < b(5)) then
+      y = horner(c(130:133), shifted(r, h, b(6), 0.0_c_double))
     ! [1/4, 1/2), per radius a_j, factored at a_j (Franz (4.17))
     else if (q < b(0)) then
       y = horner(c(134:134), q * q) * q**(-4) &

@@ -103,10 +103,13 @@ module mollify_cubic_spline_d2
     real(z'BFD45F306DC9C883', c_double) ]  ! [64] -1 * pi^-1
   real(c_double), parameter :: c(0:64) = [ &
     c_part_0 ]
-  ! Piece bounds, edges and centres (doubles; their exact values in the pieces' comments).
-  real(c_double), parameter :: b(0:3) = [ &
+  ! Piece bounds, edges and centres, leading orders at 0 (doubles; their exact values in the pieces'
+  ! and functions' comments).
+  real(c_double), parameter :: b(0:5) = [ &
     real(c_double) :: &
     real(z'3FE0000000000000', c_double), &
+    real(z'3690000000000000', c_double), &
+    real(z'40405EC6EA8225B2', c_double), &
     real(z'3FF0000000000000', c_double), &
     real(z'3FD0000000000000', c_double), &
     real(z'3FD8000000000000', c_double) ]
@@ -150,6 +153,25 @@ contains
     y = x
     if (ieee_is_nan(x)) y = limit
   end function at_origin
+
+  ! f_h(r) = h^p f(r/h) of a quantity singular at r = 0, where r/h < 2^-150: its leading order
+  ! h^p q^low (plain + logarithm log q) (the terms beyond it are below 2^-150 of it), with q = m 2^e
+  ! and h = mh 2^eh taken apart so that neither q^low nor h^p overflows alone (f(r/h) first
+  ! overflows below r/h ~ 1e-100 where f_h is finite for a large h)
+  pure function near_origin(r, h, p, low, plain, logarithm) result(y)
+    real(c_double), intent(in) :: r, h, plain, logarithm
+    integer, intent(in) :: p, low
+    real(c_double) :: y, m, mh, f
+    integer :: ex, eh
+    mh = fraction(h)
+    eh = exponent(h)
+    m = fraction(r) / mh
+    ex = exponent(r) - eh
+    f = plain
+    if (logarithm /= 0.0_c_double) f = plain + logarithm * (log(m) + real(ex, c_double) * &
+      real(z'3FE62E42FEFA39EF', c_double))  ! log(2)
+    y = scale(f * m**low * mh**p, ex * low + eh * p)
+  end function near_origin
 
   ! W: f_h(r) = h^(-2) f(r/h)
   pure function kernel_value_h(r, h) &
@@ -320,6 +342,11 @@ contains
       y = ieee_value(y, ieee_quiet_nan)  ! r >= 0 and a finite h > 0
       return
     end if
+    if (r > 0.0_c_double .and. r < b(1) * h) then  ! below r/h = 2^-150: h^p q^-1 (a + b log q),
+      ! a = 720/7 * pi^-1, b = 0
+      y = near_origin(r, h, -6, -1, b(2), 0.0_c_double)
+      return
+    end if
     if (r > h) then
       y = 0.0_c_double
       return
@@ -331,7 +358,7 @@ contains
       y = at_origin(horner(c(18:18), q * q) * q**(-1), ieee_value(1.0_c_double, ieee_positive_inf))
     ! [1/2, 1)
     else
-      y = horner(c(19:19), q * q) * q**(-3) * (e * (b(1) + q))
+      y = horner(c(19:19), q * q) * q**(-3) * (e * (b(3) + q))
     end if
     y = y * h**real(-6, c_double)
   end function kernel_hess_radial_h
@@ -360,7 +387,7 @@ contains
     e = (h - r) / h
     ! [0, 1/2), Taylor polynomial about 1/4
     if (q < b(0)) then
-      y = horner(c(20:25), shifted(r, h, b(2), 0.0_c_double))
+      y = horner(c(20:25), shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1), Taylor polynomial at the edge
     else
       y = horner(c(26:26), q * q) * log_q(q, e) &
@@ -397,11 +424,11 @@ contains
     q = r / h
     e = (h - r) / h
     ! [0, 1/4)
-    if (q < b(2)) then
+    if (q < b(4)) then
       y = horner(c(33:36), q) * q
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(37:41), shifted(r, h, b(3), 0.0_c_double))
+      y = horner(c(37:41), shifted(r, h, b(5), 0.0_c_double))
     ! [1/2, 1)
     else
       y = horner(c(42:42), q * q) * q**(-1) &
@@ -433,11 +460,11 @@ contains
     q = r / h
     e = (h - r) / h
     ! [0, 1/4)
-    if (q < b(2)) then
+    if (q < b(4)) then
       y = horner(c(46:49), q)
     ! [1/4, 1/2), Taylor polynomial about 3/8
     else if (q < b(0)) then
-      y = horner(c(50:53), shifted(r, h, b(3), 0.0_c_double))
+      y = horner(c(50:53), shifted(r, h, b(5), 0.0_c_double))
     ! [1/2, 1)
     else
       y = horner(c(54:54), q * q) * q**(-2) &
@@ -470,7 +497,7 @@ contains
     e = (h - r) / h
     ! [0, 1/2), Taylor polynomial about 1/4
     if (q < b(0)) then
-      y = horner(c(58:59), shifted(r, h, b(2), 0.0_c_double))
+      y = horner(c(58:59), shifted(r, h, b(4), 0.0_c_double))
     ! [1/2, 1)
     else
       y = horner(c(60:60), q * q) * q**(-4) &

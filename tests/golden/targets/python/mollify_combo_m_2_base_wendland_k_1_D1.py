@@ -224,6 +224,9 @@ C_EXACT = (
     Fraction(-1, 1),
     Fraction(-1, 2),
 )
+# Below this r/h a quantity singular at 0 is its leading order (_near_origin); log(2).
+NEAR_ORIGIN_BOUND = float.fromhex("0x1p-150")
+_LOG_2 = float.fromhex("0x1.62e42fefa39efp-1")  # log(2)
 
 
 # The evaluation helpers of mollify's Precision::fast form
@@ -279,6 +282,18 @@ def _arcsin(q, e):
     return np.arctan2(q, _sqrt_s(q, e))
 
 
+def _near_origin(r, h, p, low, a, b):
+    # f_h(r) = h^p f(r/h) of a quantity singular at r = 0, where r/h < 2^-150: its leading order
+    # h^p q^low (a + b log q) (the terms beyond it are below 2^-150 of it), with q = m 2^e and
+    # h = mh 2^eh taken apart so that neither q^low nor h^p overflows alone (f(r/h) first
+    # overflows below r/h ~ 1e-100 where f_h is finite for a large h)
+    mr, er = np.frexp(r)
+    mh, eh = np.frexp(h)
+    m, e = mr / mh, er - eh
+    f = a + b * (np.log(m) + e * _LOG_2) if b != 0 else np.full(np.shape(m), a)
+    return np.ldexp(f * m ** float(low) * mh ** float(p), e * low + eh * p)
+
+
 def _arguments(r, h):
     r = np.asarray(r, dtype=np.float64)
     h = np.asarray(h, dtype=np.float64)
@@ -292,7 +307,7 @@ def _arguments(r, h):
 
 
 def _evaluate(r, h, quantity):
-    lows, pieces, exterior, scale_power, log_h_index = quantity
+    lows, pieces, exterior, scale_power, log_h_index, near_origin = quantity
     r, h = _arguments(r, h)
     out = np.empty(r.shape)
     with np.errstate(all="ignore"):  # np.where evaluates both sides; the chosen one is finite
@@ -312,6 +327,10 @@ def _evaluate(r, h, quantity):
         if log_h_index is not None:
             x = x + C[log_h_index] * np.log(hi)
         out[inside] = x
+        if near_origin is not None:  # singular at 0: its leading order below r/h = 2^-150
+            near = (r > 0) & (r < NEAR_ORIGIN_BOUND * h)
+            if np.any(near):
+                out[near] = _near_origin(r[near], h[near], scale_power, *near_origin)
     return out[()] if out.ndim == 0 else out
 
 
@@ -330,7 +349,7 @@ def _value_exterior(r):
     return np.zeros_like(r)
 
 
-_value = (np.array([float.fromhex("0x1p-1"), ]), (_value_0, _value_1, ), _value_exterior, -1, None)
+_value = (np.array([float.fromhex("0x1p-1"), ]), (_value_0, _value_1, ), _value_exterior, -1, None, None)
 
 
 def value_h(r, h):
@@ -358,7 +377,7 @@ def _dr_exterior(r):
     return np.zeros_like(r)
 
 
-_dr = (np.array([float.fromhex("0x1p-1"), ]), (_dr_0, _dr_1, ), _dr_exterior, -2, None)
+_dr = (np.array([float.fromhex("0x1p-1"), ]), (_dr_0, _dr_1, ), _dr_exterior, -2, None, None)
 
 
 def dr_h(r, h):
@@ -386,7 +405,7 @@ def _d2r_exterior(r):
     return np.zeros_like(r)
 
 
-_d2r = (np.array([float.fromhex("0x1p-1"), ]), (_d2r_0, _d2r_1, ), _d2r_exterior, -3, None)
+_d2r = (np.array([float.fromhex("0x1p-1"), ]), (_d2r_0, _d2r_1, ), _d2r_exterior, -3, None, None)
 
 
 def d2r_h(r, h):
@@ -414,7 +433,7 @@ def _laplacian_exterior(r):
     return np.zeros_like(r)
 
 
-_laplacian = (np.array([float.fromhex("0x1p-1"), ]), (_laplacian_0, _laplacian_1, ), _laplacian_exterior, -3, None)
+_laplacian = (np.array([float.fromhex("0x1p-1"), ]), (_laplacian_0, _laplacian_1, ), _laplacian_exterior, -3, None, None)
 
 
 def laplacian_h(r, h):
@@ -442,7 +461,7 @@ def _grad_over_r_exterior(r):
     return np.zeros_like(r)
 
 
-_grad_over_r = (np.array([float.fromhex("0x1p-1"), ]), (_grad_over_r_0, _grad_over_r_1, ), _grad_over_r_exterior, -3, None)
+_grad_over_r = (np.array([float.fromhex("0x1p-1"), ]), (_grad_over_r_0, _grad_over_r_1, ), _grad_over_r_exterior, -3, None, None)
 
 
 def grad_over_r_h(r, h):
@@ -470,7 +489,10 @@ def _hess_radial_exterior(r):
     return np.zeros_like(r)
 
 
-_hess_radial = (np.array([float.fromhex("0x1p-1"), ]), (_hess_radial_0, _hess_radial_1, ), _hess_radial_exterior, -5, None)
+# Below r/h = 2^-150: h^p q^-1 (a + b log q), a = 630, b = 0
+
+
+_hess_radial = (np.array([float.fromhex("0x1p-1"), ]), (_hess_radial_0, _hess_radial_1, ), _hess_radial_exterior, -5, None, (-1, float.fromhex("0x1.3bp+9"), 0.0))
 
 
 def hess_radial_h(r, h):
@@ -505,7 +527,7 @@ def _potential_exterior(r):
     return (_horner(47, 1, r * r) * r)
 
 
-_potential = (np.array([float.fromhex("0x1p-2"), float.fromhex("0x1p-1"), ]), (_potential_0, _potential_1, _potential_2, ), _potential_exterior, 1, None)
+_potential = (np.array([float.fromhex("0x1p-2"), float.fromhex("0x1p-1"), ]), (_potential_0, _potential_1, _potential_2, ), _potential_exterior, 1, None, None)
 
 
 def potential_h(r, h):
@@ -543,7 +565,7 @@ def _dpotential_exterior(r):
     return (_horner(68, 1, r * r))
 
 
-_dpotential = (np.array([float.fromhex("0x1p-3"), float.fromhex("0x1p-2"), float.fromhex("0x1p-1"), ]), (_dpotential_0, _dpotential_1, _dpotential_2, _dpotential_3, ), _dpotential_exterior, 0, None)
+_dpotential = (np.array([float.fromhex("0x1p-3"), float.fromhex("0x1p-2"), float.fromhex("0x1p-1"), ]), (_dpotential_0, _dpotential_1, _dpotential_2, _dpotential_3, ), _dpotential_exterior, 0, None, None)
 
 
 def dpotential_h(r, h):
@@ -578,7 +600,7 @@ def _dpotential_over_r_exterior(r):
     return (_horner(85, 1, r * r) * r ** (-1))
 
 
-_dpotential_over_r = (np.array([float.fromhex("0x1p-2"), float.fromhex("0x1p-1"), ]), (_dpotential_over_r_0, _dpotential_over_r_1, _dpotential_over_r_2, ), _dpotential_over_r_exterior, -1, None)
+_dpotential_over_r = (np.array([float.fromhex("0x1p-2"), float.fromhex("0x1p-1"), ]), (_dpotential_over_r_0, _dpotential_over_r_1, _dpotential_over_r_2, ), _dpotential_over_r_exterior, -1, None, None)
 
 
 def dpotential_over_r_h(r, h):
@@ -616,7 +638,7 @@ def _potential_hess_radial_exterior(r):
     return (_horner(99, 1, r * r) * r ** (-3))
 
 
-_potential_hess_radial = (np.array([float.fromhex("0x1p-3"), float.fromhex("0x1p-2"), float.fromhex("0x1p-1"), ]), (_potential_hess_radial_0, _potential_hess_radial_1, _potential_hess_radial_2, _potential_hess_radial_3, ), _potential_hess_radial_exterior, -3, None)
+_potential_hess_radial = (np.array([float.fromhex("0x1p-3"), float.fromhex("0x1p-2"), float.fromhex("0x1p-1"), ]), (_potential_hess_radial_0, _potential_hess_radial_1, _potential_hess_radial_2, _potential_hess_radial_3, ), _potential_hess_radial_exterior, -3, None, None)
 
 
 def potential_hess_radial_h(r, h):
