@@ -567,12 +567,29 @@ private:
                                                   K.spec, quantity_names[q], 2);
             }
         }
-        const double rad = near ? 0.0 : radial<Radial>(r, s);
+        double rad = near ? 0.0 : radial<Radial>(r, s);
+        // rad beyond the doubles where rad x_i x_j is not (h below ~1e-30, r/h
+        // above the bound: spiky's rad at h = 1e-38, r/h = 1e-20 is 1e325,
+        // rad x_0 x_1 1e210): the same products of x and h scaled by 2^-e
+        // (h = m 2^e: exact), rad' = 2^-ep rad finite there, the power of two
+        // 2^e(p+2) put back after them.
+        Vector<dimension> xs = x;
+        int rad_exponent = 0;
+        if constexpr (mends<Radial>) {
+            if (!near && !std::isfinite(rad)) [[unlikely]] {
+                int e = 0;
+                const double m = std::frexp(s.h(), &e);
+                for (int c = 0; c < dimension; ++c) xs[c] = std::ldexp(x[c], -e);
+                rad = radial<Radial>(std::ldexp(r, -e), Smoothing(m, dimension));
+                rad_exponent = e * (detail::scale_power(Radial, dimension) + 2);
+            }
+        }
         // (a component 0 makes its terms 0, also where the factor beside it
         // is beyond the doubles: never inf 0)
         auto outer = [&](int i, int j) {
             if (x[i] == 0 || x[j] == 0) return 0.0;
-            return near ? big_r * (x[i] / r) * (x[j] / r) : rad * x[i] * x[j];
+            if (near) return big_r * (x[i] / r) * (x[j] / r);
+            return rad_exponent == 0 ? rad * x[i] * x[j] : std::ldexp(rad * xs[i] * xs[j], rad_exponent);
         };
         for (int i = 0; i < dimension; ++i)
             for (int j = 0; j < dimension; ++j) m[i][j] = outer(i, j) + (i == j ? over_r : 0.0);
