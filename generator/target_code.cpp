@@ -33,9 +33,6 @@ std::optional<std::size_t> log_coefficient(const CodePiece& exterior) {
 
 std::string times(const std::string& a, const std::string& b) { return a + " * " + b; }
 
-// The limit at q = 0 of a quantity singular there, by the runtime's rule
-// (detail::limit_at_origin) on the same rounded terms: +-inf, or nullopt
-// where it is not singular or the rule cannot tell (NaN).
 // The rounded terms as the runtime's tables hold them (what its tests read).
 std::vector<table::Term> table_terms(const RoundedPiece& p) {
     std::vector<table::Term> terms;
@@ -45,6 +42,9 @@ std::vector<table::Term> table_terms(const RoundedPiece& p) {
     return terms;
 }
 
+// The limit at q = 0 of a quantity singular there, by the runtime's rule
+// (detail::limit_at_origin) on the same rounded terms: +-inf, or nullopt
+// where it is not singular or the rule cannot tell (NaN).
 std::optional<double> at_origin(const RoundedPiece& first) {
     const std::vector<table::Term> terms = table_terms(first);
     const double limit = detail::limit_at_origin({first.lo, first.hi, terms.data(), static_cast<int>(terms.size())});
@@ -82,12 +82,12 @@ CodeQuantity::NearOrigin leading_order(const ClosedForm& first, const std::strin
     const auto& [low, parts] = *orders.begin();
     if (parts.first.is_zero() && parts.second.is_zero())
         fail("internal: " + what + ": its lowest-order terms at 0 cancel; its leading order is not found here");
-    // f(q0) against q0^low (plain + logarithm log q0) at q0 = 2^-150: the terms
-    // beyond are O(q0) of it; 800 bits, since the closed forms' own singular
-    // terms may cancel (S/q - 1/q) by up to q0^-3 there.
+    // f(q0) against q0^low (plain + logarithm log q0) at the bound q0 = 2^-150:
+    // the terms beyond are O(q0) of it; 800 bits, since the closed forms' own
+    // singular terms may cancel (S/q - 1/q) by up to q0^-3 there.
     constexpr unsigned bits = 800;
     const unsigned digits = bits * 30103 / 100000 + 2;
-    const Real q0 = boost::multiprecision::ldexp(Real(1, digits), -150);
+    const Real q0(detail::near_origin_bound, digits);
     const Real f = first.evaluate(q0, bits).first;
     Real lead = parts.first.evaluate(bits).first;
     if (!parts.second.is_zero()) lead += parts.second.evaluate(bits).first * boost::multiprecision::log(q0);
@@ -113,7 +113,7 @@ CodeKernel code_kernel(const TargetKernel& k) {
         if (singular(rounded->front())) {
             const Radial* exact = quantity_of(k.facts, i);
             if (!exact) fail("internal: quantity " + q.name + " without its closed form");
-            if (q.log_h_coefficient || (id == table::QuantityId::potential && kernel.dim == 2))
+            if (id == table::QuantityId::potential && kernel.dim == 2)  // (its + c log h is not in the leading order)
                 fail("internal: a 2D potential singular at 0 (" + k.facts.spec + ")");
             q.near_origin = leading_order(exact->pieces.front(), k.facts.spec + " D" + std::to_string(kernel.dim) + " " + q.name);
         }

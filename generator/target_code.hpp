@@ -15,6 +15,8 @@
 #include "closed_form.hpp"
 #include "target.hpp"
 
+#include <mollify/detail/evaluate.hpp>
+
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -53,7 +55,7 @@ struct CodeQuantity {
     // or 0 * inf: at q = 0, and where q^low overflows).
     std::optional<double> at_origin{};
     // Singular at q = 0 (detail::singular_piece, as the runtime): below
-    // r/h = near_origin_bound the leading order h^p q^low (plain + logarithm
+    // r/h = detail::near_origin_bound the leading order h^p q^low (plain + logarithm
     // log q) (the runtime's detail::near_origin_value), so that neither q^low
     // nor h^p overflows alone; plain and logarithm exact from the first
     // piece's closed form (leading_order), then correctly rounded.
@@ -64,16 +66,11 @@ struct CodeQuantity {
     std::optional<NearOrigin> near_origin{};
 };
 
-// The bound below which the files take the leading order (the runtime's
-// detail::near_origin_bound): 2^-150, as a hex literal.
-inline constexpr double near_origin_bound = 0x1p-150;
-inline constexpr const char* near_origin_bound_literal = "0x1p-150";
-
 // The leading order at 0 of a closed form singular there, f(q) = q^low
 // (plain + logarithm log q) (1 + O(q)), exactly: the lowest power's
 // coefficients of basis 1 and S^j (S(0) = 1), of log q, of arcsech q =
 // log 2 - log q + O(q^2), and arcsin q = q + O(q^3) one power up; checked
-// against f at q = near_origin_bound at 200 bits. Error where the lowest
+// against f at q = detail::near_origin_bound at 800 bits. Error where the lowest
 // order cancels (its order is then not found here; none in the catalogue)
 // or the check fails; `what` names the quantity.
 CodeQuantity::NearOrigin leading_order(const ClosedForm& first, const std::string& what);

@@ -167,7 +167,7 @@ std::string c_function(const CodeKernel& k, const CodeQuantity& q, const Syntax&
     out += "    if (!(r >= 0) || !(h > 0) || isinf(h)) return NAN; /* r >= 0 and a finite h > 0 */\n";
     if (q.near_origin) {
         const CodeQuantity::NearOrigin& o = *q.near_origin;
-        out += "    if (r > 0 && r < " + std::string(near_origin_bound_literal) + " * h) /* below r/h = 2^-150: h^p q^" +
+        out += "    if (r > 0 && r < " + hex_literal(detail::near_origin_bound) + " * h) /* below r/h = 2^-150: h^p q^" +
                std::to_string(o.low) + " (a + b log q) */\n";
         out += "        return mollify_c_near_origin(r, h, " + std::to_string(q.scale_power) + ", " + std::to_string(o.low) +
                ", " + hex_literal(o.plain.value) + " /* " + comment_text(o.plain.exact) + " */, " +

@@ -259,7 +259,7 @@ std::string fortran_function(const CodeKernel& k, const CodeQuantity& q, const S
     out += "      y = ieee_value(y, ieee_quiet_nan)  ! r >= 0 and a finite h > 0\n      return\n    end if\n";
     if (q.near_origin) {
         const CodeQuantity::NearOrigin& o = *q.near_origin;
-        out += "    if (r > 0.0_c_double .and. r < " + s.literal(near_origin_bound) + " * h) then  ! below r/h = 2^-150: h^p q^" +
+        out += "    if (r > 0.0_c_double .and. r < " + s.literal(detail::near_origin_bound) + " * h) then  ! below r/h = 2^-150: h^p q^" +
                std::to_string(o.low) + " (a + b log q),\n      ! a = " + o.plain.exact + ", b = " + o.logarithm.exact + "\n";
         out += "      y = near_origin(r, h, " + std::to_string(q.scale_power) + ", " + std::to_string(o.low) + ", " +
                s.literal(o.plain.value) + ", " + s.literal(o.logarithm.value) + ")\n      return\n    end if\n";

@@ -218,7 +218,7 @@ TargetFiles write_python(const TargetKernel& tk, const std::string& command) {
     for (std::size_t i = 0; i < k.constants.size(); ++i) out += "    " + exact_attribute(k.constants[i]) + ",\n";
     out += ")\n";
     out += "# Below this r/h a quantity singular at 0 is its leading order (_near_origin); log(2).\n";
-    out += "NEAR_ORIGIN_BOUND = float.fromhex(\"" + std::string(near_origin_bound_literal) + "\")\n";
+    out += "NEAR_ORIGIN_BOUND = float.fromhex(\"" + hex_literal(detail::near_origin_bound) + "\")\n";
     out += "_LOG_2 = float.fromhex(\"" + hex_literal(round_to_double(Exact::log_of(Q(2)))) + "\")  # log(2)\n";
     out += std::string(python_helpers);
     std::string names;

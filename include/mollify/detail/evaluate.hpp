@@ -609,6 +609,11 @@ constexpr bool singular_piece(const table::Piece& first) {
 template <const table::Kernel& K, int Q>
 inline constexpr bool singular_at_origin = singular_piece(piece_table<K, Q, 0>);
 
+// Below this r/h a singular quantity is its leading order (near_origin.hpp;
+// the files of mollify-gen emit --target c|fortran|python too); above it the
+// emitted form neither overflows (q^-5 < 2^750) nor meets a subnormal q.
+inline constexpr double near_origin_bound = 0x1p-150;
+
 // The limit at q = 0 of a quantity singular there: the most singular terms
 // dominate, those of the lowest power q^low and, at the same power, those
 // with a logarithm (log q -> -inf, arcsech q ~ -log q -> +inf); each is then

@@ -18,6 +18,7 @@
 
 #include <mollify/constants/log_two.hpp>
 #include <mollify/detail/double_double.hpp>
+#include <mollify/detail/evaluate.hpp>
 #include <mollify/detail/isa.hpp>
 #include <mollify/detail/show.hpp>
 #include <mollify/error.hpp>
@@ -28,10 +29,6 @@
 
 namespace mollify::detail {
 inline namespace MOLLIFY_ISA {
-
-// Below this r/h the forms take the leading order; above it the emitted
-// form neither overflows (q^-5 < 2^750) nor meets a subnormal q.
-inline constexpr double near_origin_bound = 0x1p-150;
 
 // r > 0 with r/h below the bound (r = 0 is the quantity's limit there):
 // r < 2^-150 h, without q's rounding (exact where 2^-150 h is normal), one
