@@ -3,9 +3,11 @@
 // -std=f2008, /usr/bin/python3 with NumPy), and a driver per language,
 // written here, evaluates every emitted function at the hard points (near 0,
 // near the support edge on both sides, the kernel's own breakpoints and their
-// neighbouring doubles, h from 1e-8 to 1e8, r/h up to 1e6) and dumps the
-// results and the constants as raw doubles; this test compares them with
-// the exact values (tools/accuracy's MPFR reference, >= 200 bits).
+// neighbouring doubles, h from 1e-8 to 1e8, r/h up to 1e6; around r/h =
+// 2^-150 with h from 1e-30 to 1e30, where a quantity singular at 0 takes its
+// leading order) and dumps the results and the constants as raw doubles;
+// this test compares them with the exact values (tools/accuracy's MPFR
+// reference, >= 200 bits).
 // A missing tool fails the test (never a skip). Also: conventions as data
 // (SWIFT's gamma, Phantom's hfact), bad --target arguments, and the golden
 // files of tests/golden/targets (a writer change that alters output is seen).
