@@ -24,6 +24,7 @@
 #include <tuple>
 
 #include <filesystem>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -182,6 +183,40 @@ TEST_F(VerifyCli, OwnKernelThroughCsvPassesWithinOneUlp) {
     r = run(kernel + " --dim 3 --samples samples.csv --ulps 1");
     EXPECT_EQ(r.status, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("verdict: samples.csv PASSES"), std::string::npos) << r.out;
+    // every hard point among the rows: said so, and the verdict unqualified
+    const auto at = r.out.find("  hard points: ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    std::size_t found = 0, all = 0;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + at, "  hard points: %zu of %zu among the rows", &found, &all), 2) << r.out;
+    EXPECT_EQ(found, all);
+    EXPECT_GT(all, 100u);
+    EXPECT_EQ(r.out.find("the given rows only"), std::string::npos) << r.out;
+
+    // Rows of the same right kernel at radii of one's own (h = 1, r/h =
+    // 0.005 .. 0.985): it passes, but only on those rows, and the output says
+    // how few of the hard points (r = 0, the edge, tiny and huge h) were
+    // among them.
+    std::ostringstream own;
+    own.precision(17);
+    own << "r,h,value\n";
+    for (int i = 0; i < 99; ++i) own << (i + 0.5) / 100 << ",1," << w((i + 0.5) / 100, 1.0) << "\n";
+    std::ofstream(work / "own_rows.csv") << own.str();
+    r = run(kernel + " --dim 3 --samples own_rows.csv --ulps 1");
+    EXPECT_EQ(r.status, 0) << r.out << r.err;
+    const auto own_at = r.out.find("  hard points: ");
+    ASSERT_NE(own_at, std::string::npos) << r.out;
+    std::size_t own_found = 0, own_all = 0;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + own_at, "  hard points: %zu of %zu among the rows", &own_found, &own_all), 2) << r.out;
+    EXPECT_EQ(own_all, all);
+    EXPECT_LT(own_found, all / 10) << r.out;
+    EXPECT_NE(r.out.find("among the rows (mollify verify --write-arguments writes them all; the others were not checked)"),
+              std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("verdict: own_rows.csv PASSES: max"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("over 99 points, the given rows only (" + std::to_string(own_found) + " of " + std::to_string(all) +
+                         " hard points)"),
+              std::string::npos)
+        << r.out;
 }
 
 // The README's Python example: Debian's python3 evaluates the arguments with
