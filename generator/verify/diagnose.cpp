@@ -234,6 +234,15 @@ std::optional<Diagnosis> transformations(const Setup& s, const std::vector<Compa
         };
         for (const auto& [what, f] : g) candidates.push_back({DiagnosisKind::gradient_factor, what, values(f), {}});
     }
+    if (s.quantity == Quantity::grad_over_r) {
+        const std::pair<const char*, std::function<double(const Compared&)>> g[] = {
+            {"times r (dW/dr, not W'/r: the division by r missing)", [](const Compared& p) { return p.exact_d * p.r; }},
+            {"divided by r (W'/r^2: divided by r twice)", [](const Compared& p) { return p.exact_d / p.r; }},
+            {"times h (dW/dq / r, not dW/dr / r: the factor 1/h missing)", [](const Compared& p) { return p.exact_d * p.h; }},
+            {"divided by h (a factor 1/h too many)", [](const Compared& p) { return p.exact_d / p.h; }},
+        };
+        for (const auto& [what, f] : g) candidates.push_back({DiagnosisKind::gradient_factor, what, values(f), {}});
+    }
     const Candidate* best = nullptr;
     for (Candidate& c : candidates) {
         c.fit = fit(got, c.y, m);

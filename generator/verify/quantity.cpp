@@ -13,10 +13,11 @@ struct Named {
     Quantity quantity;
 };
 // "dpotential" is mollify's name of dphi/dr (table.hpp), "force" the issue's.
-constexpr std::array<Named, 5> names{{{"value", Quantity::value},
+constexpr std::array<Named, 6> names{{{"value", Quantity::value},
                                       {"dr", Quantity::dr},
                                       {"potential", Quantity::potential},
                                       {"force", Quantity::force},
+                                      {"grad_over_r", Quantity::grad_over_r},
                                       {"dpotential", Quantity::force}}};
 
 }  // namespace

@@ -34,6 +34,7 @@ table::QuantityId quantity_id(Quantity q) {
         case Quantity::dr: return table::QuantityId::dr;
         case Quantity::potential: return table::QuantityId::potential;
         case Quantity::force: return table::QuantityId::dpotential;
+        case Quantity::grad_over_r: return table::QuantityId::grad_over_r;
     }
     fail("unknown verify::Quantity " + std::to_string(static_cast<int>(q)));
 }

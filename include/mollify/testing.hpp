@@ -38,7 +38,7 @@ public:
         m.quantity_ = q;
         return m;
     }
-    // "value", "dr", "potential", "force" (mollify::Error for another name).
+    // "value", "dr", "potential", "force", "grad_over_r" (mollify::Error for another name).
     KernelMatcher Quantity(std::string_view name) const { return Quantity(verify::parse_quantity(name)); }
     // "cpp" (default), "phantom", "swift", "gadget4", ... (verify.hpp, Options).
     KernelMatcher Convention(std::string name) const {

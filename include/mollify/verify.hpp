@@ -29,11 +29,13 @@
 namespace mollify::verify {
 
 // What the callable returns, in the convention's units of (r, h): W_h(r),
-// dW_h/dr, the potential phi_h(r) and its derivative dphi_h/dr (mollify's
-// quantities value, dr, potential, dpotential).
-enum class Quantity { value, dr, potential, force };
+// dW_h/dr, the potential phi_h(r) and its derivative dphi_h/dr, and
+// (dW_h/dr)/r, the factor of grad W = (W'/r) x that pair loops use, with its
+// finite limit at r = 0 (mollify's quantities value, dr, potential,
+// dpotential, grad_over_r).
+enum class Quantity { value, dr, potential, force, grad_over_r };
 
-// "value", "dr", "potential", "force".
+// "value", "dr", "potential", "force", "grad_over_r".
 std::string_view name(Quantity q);
 // The quantity of a name above (also "dpotential" for force); mollify::Error
 // naming the bad name and the known ones.

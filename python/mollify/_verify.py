@@ -6,7 +6,7 @@ from . import _core
 
 __all__ = ["verify", "samples", "compare"]
 
-QUANTITIES = ("value", "dr", "potential", "force")
+QUANTITIES = ("value", "dr", "potential", "force", "grad_over_r")
 
 
 def samples(spec, dim, quantity="value", convention="cpp", ulps=4, seed=1, uniform=10000):
@@ -45,8 +45,9 @@ def _evaluate(f, r, h):
 def verify(f, spec, dim, quantity="value", convention="cpp", ulps=4, seed=1, uniform=10000):
     """Checks f(r, h) against the exact kernel `spec` in `dim` dimensions.
 
-    quantity: "value" (W_h(r)), "dr" (dW_h/dr), "potential" (phi_h(r)) or
-    "force" (dphi_h/dr), in the convention's units: "cpp" (mollify: h is the
+    quantity: "value" (W_h(r)), "dr" (dW_h/dr), "potential" (phi_h(r)),
+    "force" (dphi_h/dr) or "grad_over_r" ((dW_h/dr)/r, its limit at r = 0),
+    in the convention's units: "cpp" (mollify: h is the
     support radius), "phantom", "swift", "gadget4" (their h and normalisation,
     generator/conventions.*). f is called once on NumPy arrays of all the
     sample points when it takes arrays, else once per point.

@@ -19,7 +19,7 @@ FEW = 500
 @pytest.mark.parametrize("spec,dim,quantity", [
     ("wendland:k=2", 3, "value"), ("wendland:k=2", 3, "dr"), ("wendland:k=2", 3, "potential"),
     ("wendland:k=2", 3, "force"), ("cubic-spline", 2, "value"), ("cubic-spline", 1, "dr"),
-    ("combo:m=3,base=wendland:k=2", 3, "value"),
+    ("combo:m=3,base=wendland:k=2", 3, "value"), ("wendland:k=2", 3, "grad_over_r"),
 ])
 def test_mollifys_own_kernels_pass_within_one_ulp(spec, dim, quantity):
     k = mollify.kernel(spec, dim)

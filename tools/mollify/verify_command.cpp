@@ -156,7 +156,7 @@ CLI::App* add_verify_command(CLI::App& app, VerifyOptions& o) {
     v->add_option("--samples", o.samples, "CSV file with a header naming the columns r, h, value");
     v->add_option("--write-arguments", o.arguments,
                   "write the verification arguments (r,h) as CSV, for a code that evaluates them itself");
-    v->add_option("--quantity", o.quantity, "value, dr, potential or force")->capture_default_str();
+    v->add_option("--quantity", o.quantity, "value, dr, potential, force or grad_over_r")->capture_default_str();
     v->add_option("--convention", o.convention, "cpp, phantom, swift, gadget4, c, fortran, python")
         ->capture_default_str();
     v->add_option("--ulps", o.ulps, "the bound: largest error allowed in ulps")->capture_default_str();
