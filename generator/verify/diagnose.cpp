@@ -24,6 +24,8 @@
 #include <cstdlib>
 #include <functional>
 #include <limits>
+#include <utility>
+#include <vector>
 
 namespace mollify::verify::detail {
 
@@ -223,26 +225,22 @@ std::optional<Diagnosis> transformations(const Setup& s, const std::vector<Compa
                               }),
                               {}});
     }
-    if (s.quantity == Quantity::dr) {
-        const std::pair<const char*, std::function<double(const Compared&)>> g[] = {
-            {"times q = r/H (a factor q too many)", [](const Compared& p) { return p.exact_d * p.q; }},
-            {"divided by q = r/H (a factor q missing)", [](const Compared& p) { return p.exact_d / p.q; }},
-            {"times r (a factor r too many)", [](const Compared& p) { return p.exact_d * p.r; }},
-            {"divided by r (a factor r missing: W'/r instead of W')", [](const Compared& p) { return p.exact_d / p.r; }},
-            {"times h (dW/dq, not dW/dr: the factor 1/h missing)", [](const Compared& p) { return p.exact_d * p.h; }},
-            {"divided by h (a factor 1/h too many)", [](const Compared& p) { return p.exact_d / p.h; }},
-        };
-        for (const auto& [what, f] : g) candidates.push_back({DiagnosisKind::gradient_factor, what, values(f), {}});
-    }
-    if (s.quantity == Quantity::grad_over_r) {
-        const std::pair<const char*, std::function<double(const Compared&)>> g[] = {
-            {"times r (dW/dr, not W'/r: the division by r missing)", [](const Compared& p) { return p.exact_d * p.r; }},
-            {"divided by r (W'/r^2: divided by r twice)", [](const Compared& p) { return p.exact_d / p.r; }},
-            {"times h (dW/dq / r, not dW/dr / r: the factor 1/h missing)", [](const Compared& p) { return p.exact_d * p.h; }},
-            {"divided by h (a factor 1/h too many)", [](const Compared& p) { return p.exact_d / p.h; }},
-        };
-        for (const auto& [what, f] : g) candidates.push_back({DiagnosisKind::gradient_factor, what, values(f), {}});
-    }
+    // A derivative off by a factor of q, r or h (dW/dq for dW/dr, W' for W'/r, ...).
+    using Factor = std::pair<const char*, double (*)(const Compared&)>;
+    std::vector<Factor> factors;
+    if (s.quantity == Quantity::dr)
+        factors = {{"times q = r/H (a factor q too many)", [](const Compared& p) { return p.exact_d * p.q; }},
+                   {"divided by q = r/H (a factor q missing)", [](const Compared& p) { return p.exact_d / p.q; }},
+                   {"times r (a factor r too many)", [](const Compared& p) { return p.exact_d * p.r; }},
+                   {"divided by r (a factor r missing: W'/r instead of W')", [](const Compared& p) { return p.exact_d / p.r; }},
+                   {"times h (dW/dq, not dW/dr: the factor 1/h missing)", [](const Compared& p) { return p.exact_d * p.h; }},
+                   {"divided by h (a factor 1/h too many)", [](const Compared& p) { return p.exact_d / p.h; }}};
+    if (s.quantity == Quantity::grad_over_r)
+        factors = {{"times r (dW/dr, not W'/r: the division by r missing)", [](const Compared& p) { return p.exact_d * p.r; }},
+                   {"divided by r (W'/r^2: divided by r twice)", [](const Compared& p) { return p.exact_d / p.r; }},
+                   {"times h (dW/dq / r, not dW/dr / r: the factor 1/h missing)", [](const Compared& p) { return p.exact_d * p.h; }},
+                   {"divided by h (a factor 1/h too many)", [](const Compared& p) { return p.exact_d / p.h; }}};
+    for (const auto& [what, f] : factors) candidates.push_back({DiagnosisKind::gradient_factor, what, values(f), {}});
     const Candidate* best = nullptr;
     for (Candidate& c : candidates) {
         c.fit = fit(got, c.y, m);
