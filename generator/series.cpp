@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace mollify::gen {
@@ -196,6 +197,19 @@ ClosedForm series_at_zero(const ClosedForm& f, int order) {
         if (!l.is_zero()) s += ClosedForm(l, key);
     }
     return s;
+}
+
+LeadingOrder leading_order_at_zero(const ClosedForm& f, int beyond) {
+    if (f.is_zero()) fail("the leading order at 0 of a closed form that is 0");
+    int lowest = std::numeric_limits<int>::max();
+    for (const auto& [k, p] : f.terms()) lowest = std::min(lowest, p.low());
+    Split s = split(series_at_zero(f, lowest + beyond));
+    int low = std::numeric_limits<int>::max();
+    for (auto* m : {&s.plain, &s.logs})
+        if (!m->empty()) low = std::min(low, m->begin()->first);
+    if (low == std::numeric_limits<int>::max())
+        fail("a closed form whose series at 0 vanishes up to r^" + std::to_string(lowest + beyond));
+    return {low, s.plain[low], s.logs[low]};
 }
 
 Exact limit_at_zero(const ClosedForm& f) {

@@ -29,6 +29,16 @@ std::vector<SeriesTerm> basis_series(const TermKey& k, int order);
 // cancel exactly where f is finite at 0.
 ClosedForm series_at_zero(const ClosedForm& f, int order);
 
+// The leading order of f at r = 0, f(r) = r^low (plain + logarithm log r)
+// (1 + o(1)): the lowest power of its series there (singular terms that
+// cancel exactly are gone), looked for up to `beyond` powers above the
+// lowest power of f's Laurent parts; Error where none is found.
+struct LeadingOrder {
+    int low = 0;
+    Exact plain, logarithm;
+};
+LeadingOrder leading_order_at_zero(const ClosedForm& f, int beyond = 8);
+
 // A rigorous B with |f(r) - series_at_zero(f, order)(r)| <= B (r/r0)^(order+1)
 // for 0 < r <= r0; nullopt when the tail bound does not converge at r0.
 // Requires order >= the highest power of r in f.

@@ -2,13 +2,13 @@
 
 #include "error.hpp"
 #include "rounding.hpp"
+#include "series.hpp"
 
 #include <mollify/detail/evaluate.hpp>
 #include <mollify/smoothing.hpp>
 
 #include <cctype>
 #include <cmath>
-#include <map>
 
 namespace mollify::gen {
 
@@ -63,25 +63,7 @@ CodeConstant code_constant(const Exact& x) { return {round_to_double(x), x.to_st
 }  // namespace
 
 CodeQuantity::NearOrigin leading_order(const ClosedForm& first, const std::string& what) {
-    // order -> (plain, logarithm) of the terms of that order
-    std::map<int, std::pair<Exact, Exact>> orders;
-    const Exact log_two = Exact::log_of(Q(2));
-    for (const auto& [key, p] : first.terms()) {
-        if (p.is_zero()) continue;
-        const Exact c = Exact(p.coefficient(p.low())) * Exact::of(key.factor);
-        auto& [plain, logarithm] = orders[key.basis == table::Basis::arcsin ? p.low() + 1 : p.low()];
-        switch (key.basis) {
-            case table::Basis::one:
-            case table::Basis::sqrt_power: plain += c; break;
-            case table::Basis::log: logarithm += c; break;
-            case table::Basis::arcsech: plain += c * log_two, logarithm -= c; break;
-            case table::Basis::arcsin: plain += c; break;
-        }
-    }
-    if (orders.empty()) fail("internal: " + what + " has no terms at 0");
-    const auto& [low, parts] = *orders.begin();
-    if (parts.first.is_zero() && parts.second.is_zero())
-        fail("internal: " + what + ": its lowest-order terms at 0 cancel; its leading order is not found here");
+    const LeadingOrder o = leading_order_at_zero(first);
     // f(q0) against q0^low (plain + logarithm log q0) at the bound q0 = 2^-150:
     // the terms beyond are O(q0) of it; 800 bits, since the closed forms' own
     // singular terms may cancel (S/q - 1/q) by up to q0^-3 there.
@@ -89,12 +71,12 @@ CodeQuantity::NearOrigin leading_order(const ClosedForm& first, const std::strin
     const unsigned digits = bits * 30103 / 100000 + 2;
     const Real q0(detail::near_origin_bound, digits);
     const Real f = first.evaluate(q0, bits).first;
-    Real lead = parts.first.evaluate(bits).first;
-    if (!parts.second.is_zero()) lead += parts.second.evaluate(bits).first * boost::multiprecision::log(q0);
-    lead *= boost::multiprecision::pow(q0, low);
+    Real lead = o.plain.evaluate(bits).first;
+    if (!o.logarithm.is_zero()) lead += o.logarithm.evaluate(bits).first * boost::multiprecision::log(q0);
+    lead *= boost::multiprecision::pow(q0, o.low);
     if (!(boost::multiprecision::abs(f - lead) <= boost::multiprecision::ldexp(boost::multiprecision::abs(lead), -90)))
         fail("internal: " + what + ": the leading order at 0 is not the closed form's value at r/h = 2^-150");
-    return {low, code_constant(parts.first), code_constant(parts.second)};
+    return {o.low, code_constant(o.plain), code_constant(o.logarithm)};
 }
 
 CodeKernel code_kernel(const TargetKernel& k) {

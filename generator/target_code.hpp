@@ -67,12 +67,9 @@ struct CodeQuantity {
 };
 
 // The leading order at 0 of a closed form singular there, f(q) = q^low
-// (plain + logarithm log q) (1 + O(q)), exactly: the lowest power's
-// coefficients of basis 1 and S^j (S(0) = 1), of log q, of arcsech q =
-// log 2 - log q + O(q^2), and arcsin q = q + O(q^3) one power up; checked
-// against f at q = detail::near_origin_bound at 800 bits. Error where the lowest
-// order cancels (its order is then not found here; none in the catalogue)
-// or the check fails; `what` names the quantity.
+// (plain + logarithm log q) (1 + O(q)), exactly (series.hpp,
+// leading_order_at_zero), checked against f at q = detail::near_origin_bound
+// at 800 bits; Error where they differ (`what` names the quantity).
 CodeQuantity::NearOrigin leading_order(const ClosedForm& first, const std::string& what);
 
 struct CodeKernel {

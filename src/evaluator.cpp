@@ -18,6 +18,7 @@
 #include <bit>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 // A loop over a template's N coefficients (Horner's rule) unrolled
@@ -1951,12 +1952,16 @@ bool radial_batch(const QuantityPlan& qp, QuantityId q, const double* r, double*
 // A quantity singular at 0 below r/h = 2^-150: its leading order there
 // (detail/near_origin.hpp), as StaticKernel's mend_near_origin, at the
 // radii a branch-free pass over the batch flagged (its callers fold the
-// flag into a pass they make anyway where they can).
+// flag into a pass they make anyway where they can). The leading order once,
+// at the first such radius (the plan is shared by every instruction set's
+// copy of this file, so it holds the table's piece, not this copy's type).
 void mend_near_origin(const QuantityPlan& qp, QuantityId q, const double* r, double* out, std::size_t n,
                       const Smoothing& s, int dim) {
+    std::optional<origin::Leading> f;
     for (std::size_t i = 0; i < n; ++i) {
         if (!near_origin(r[i], s.h())) continue;
-        const double in = near_origin_value(*qp.first, r[i], s.h(), s.scale(q), s.scale_lo(q), qp.spec,
+        if (!f) f = origin::leading(*qp.first);
+        const double in = near_origin_value(*f, r[i], s.h(), s.scale(q), s.scale_lo(q), qp.spec,
                                             quantity_names[static_cast<int>(q)]);
         out[i] = q == QuantityId::potential && dim == 2 ? mul_add(qp.log_coefficient, s.log_h(), in) : in;
     }

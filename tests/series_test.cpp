@@ -65,6 +65,26 @@ TEST(Series, NegativePowersCancelInFiniteQuantities) {
     EXPECT_EQ(limit_at_zero(f), Exact(Q(-1, 2)));
 }
 
+// The leading order at 0 (the emitted C, Fortran and Python files' value
+// below r/h = 2^-150): arcsech r / r^3 is r^-3 (log 2 - log r); the
+// cancelling r^-2 of (S - 1)/r^3 leaves -1/(2 r); arcsin r / r^2 is 1/r; 0
+// to the order looked at is an error.
+TEST(Series, LeadingOrderAtZero) {
+    const LeadingOrder l = leading_order_at_zero(ClosedForm(Laurent::monomial(Q(1), -3), L));
+    EXPECT_EQ(l.low, -3);
+    EXPECT_EQ(l.plain, Exact::log_of(Q(2)));
+    EXPECT_EQ(l.logarithm, Exact(Q(-1)));
+    const LeadingOrder c = leading_order_at_zero(ClosedForm(Laurent::monomial(Q(1), -3), S) - ClosedForm(Laurent::monomial(Q(1), -3)));
+    EXPECT_EQ(c.low, -1);
+    EXPECT_EQ(c.plain, Exact(Q(-1, 2)));
+    EXPECT_TRUE(c.logarithm.is_zero());
+    const LeadingOrder a = leading_order_at_zero(ClosedForm(Laurent::monomial(Q(1), -2), A));
+    EXPECT_EQ(a.low, -1);
+    EXPECT_EQ(a.plain, Exact(Q(1)));
+    const ClosedForm f = ClosedForm(Laurent::monomial(Q(1), -2), S);
+    EXPECT_THROW(leading_order_at_zero(f - f), mollify::Error);
+}
+
 // Calls fn(first piece of the quantity, entry, quantity name) for every
 // quantity of every missing Wendland kernel of the catalogue, every D.
 template <class F>

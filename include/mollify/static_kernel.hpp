@@ -264,10 +264,14 @@ private:
     }();
 
     template <QuantityId Q>
-    static double at_origin(double r, const Smoothing& s) {
+    static detail::origin::Leading leading() {
+        return detail::origin::leading(detail::piece_table<K, static_cast<int>(Q), 0>);
+    }
+
+    template <QuantityId Q>
+    static double at_origin(double r, const Smoothing& s, const detail::origin::Leading& f = leading<Q>()) {
         constexpr int q = static_cast<int>(Q);
-        const double in = detail::near_origin_value(detail::piece_table<K, q, 0>, r, s.h(), s.scale(Q), s.scale_lo(Q), K.spec,
-                                                    quantity_names[q]);
+        const double in = detail::near_origin_value(f, r, s.h(), s.scale(Q), s.scale_lo(Q), K.spec, quantity_names[q]);
         if constexpr (Q == QuantityId::potential && dimension == 2) return detail::mul_add(detail::log_coefficient<K, q>, s.log_h(), in);
         else return in;
     }
@@ -275,8 +279,9 @@ private:
     // The radii of a batch near the origin, after its loop flagged some.
     template <QuantityId Q>
     static void mend_near_origin(const double* in, double* out, std::size_t n, const Smoothing& s) {
+        const detail::origin::Leading f = leading<Q>();
         for (std::size_t i = 0; i < n; ++i)
-            if (detail::near_origin(in[i], s.h())) out[i] = at_origin<Q>(in[i], s);
+            if (detail::near_origin(in[i], s.h())) out[i] = at_origin<Q>(in[i], s, f);
     }
 
     // Level: the pair loop's level of r's register (detail::levels; W and
@@ -563,8 +568,8 @@ private:
             if (r < detail::near_origin_bound * s.h()) {
                 constexpr int q = static_cast<int>(Radial);
                 near = true;
-                big_r = detail::near_origin_value(detail::piece_table<K, q, 0>, r, s.h(), s.scale(Radial), s.scale_lo(Radial),
-                                                  K.spec, quantity_names[q], 2);
+                big_r = detail::near_origin_value(leading<Radial>(), r, s.h(), s.scale(Radial), s.scale_lo(Radial), K.spec,
+                                                  quantity_names[q], 2);
             }
         }
         double rad = near ? 0.0 : radial<Radial>(r, s);
@@ -573,15 +578,11 @@ private:
         // rad x_0 x_1 1e210): the same products of x and h scaled by 2^-e
         // (h = m 2^e: exact), rad' = 2^-ep rad finite there, the power of two
         // 2^e(p+2) put back after them.
-        Vector<dimension> xs = x;
-        int rad_exponent = 0;
+        int e = 0;  // h's exponent where rad is taken at h 2^-e
         if constexpr (mends<Radial>) {
             if (!near && !std::isfinite(rad)) [[unlikely]] {
-                int e = 0;
                 const double m = std::frexp(s.h(), &e);
-                for (int c = 0; c < dimension; ++c) xs[c] = std::ldexp(x[c], -e);
                 rad = radial<Radial>(std::ldexp(r, -e), Smoothing(m, dimension));
-                rad_exponent = e * (detail::scale_power(Radial, dimension) + 2);
             }
         }
         // (a component 0 makes its terms 0, also where the factor beside it
@@ -589,7 +590,8 @@ private:
         auto outer = [&](int i, int j) {
             if (x[i] == 0 || x[j] == 0) return 0.0;
             if (near) return big_r * (x[i] / r) * (x[j] / r);
-            return rad_exponent == 0 ? rad * x[i] * x[j] : std::ldexp(rad * xs[i] * xs[j], rad_exponent);
+            if (e == 0) return rad * x[i] * x[j];
+            return std::ldexp(rad * std::ldexp(x[i], -e) * std::ldexp(x[j], -e), e * (detail::scale_power(Radial, dimension) + 2));
         };
         for (int i = 0; i < dimension; ++i)
             for (int j = 0; j < dimension; ++j) m[i][j] = outer(i, j) + (i == j ? over_r : 0.0);
@@ -615,8 +617,8 @@ private:
     template <QuantityId OverR, QuantityId Second>
     static double cusp_diagonal_beyond(double r, double along, double across, const Smoothing& s) {
         constexpr int second = static_cast<int>(Second), over_r = static_cast<int>(OverR);
-        const table::Piece &f2 = detail::piece_table<K, second, 0>, &f1 = detail::piece_table<K, over_r, 0>;
-        const int k = -std::min(detail::origin::leading(f2).low, detail::origin::leading(f1).low);
+        const detail::origin::Leading f2 = leading<Second>(), f1 = leading<OverR>();
+        const int k = -std::min(f2.low, f1.low);
         const double a = detail::near_origin_value(f2, r, s.h(), s.scale(Second), s.scale_lo(Second), K.spec,
                                                    quantity_names[second], k);
         const double b = detail::near_origin_value(f1, r, s.h(), s.scale(OverR), s.scale_lo(OverR), K.spec,

@@ -124,14 +124,14 @@ inline Leading leading(const table::Piece& first) {
 
 }  // namespace origin
 
-// h^p f(r/h) r^k for 0 < r/h < near_origin_bound, from the quantity's
-// first piece and h^p = scale + scale_lo (Smoothing); k > 0 for a product
-// that is finite where the quantity alone is not (the Hessian's
-// (f'' - f'/r)/r^2 times r^2). spec and quantity name it where its lowest
-// terms cancel (then its order at 0 is not in the table).
-MOLLIFY_NOINLINE double near_origin_value(const table::Piece& first, double r, double h, double scale, double scale_lo,
+// h^p f(r/h) r^k for 0 < r/h < near_origin_bound, from the leading order
+// f of the quantity's first piece (origin::leading: once per batch, or per
+// plan) and h^p = scale + scale_lo (Smoothing); k > 0 for a product that is
+// finite where the quantity alone is not (the Hessian's (f'' - f'/r)/r^2
+// times r^2). spec and quantity name it where its lowest terms cancel
+// (then its order at 0 is not in the table).
+MOLLIFY_NOINLINE double near_origin_value(const origin::Leading& f, double r, double h, double scale, double scale_lo,
                                           const char* spec, const char* quantity, int times_r_power = 0) {
-    const origin::Leading f = origin::leading(first);
     int er = 0, eh = 0;
     const double mr = std::frexp(r, &er), mh = std::frexp(h, &eh);  // in [1/2, 1)
     const double y = mr / mh;
