@@ -184,10 +184,11 @@ TEST_F(VerifyCli, OwnKernelThroughCsvPassesWithinOneUlp) {
     EXPECT_EQ(r.status, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("verdict: samples.csv PASSES"), std::string::npos) << r.out;
     // every hard point among the rows: said so, and the verdict unqualified
+    EXPECT_EQ(r.out.find("--write-arguments writes every hard point"), std::string::npos) << r.out;
     const auto at = r.out.find("  hard points: ");
     ASSERT_NE(at, std::string::npos) << r.out;
     std::size_t found = 0, all = 0;
-    ASSERT_EQ(std::sscanf(r.out.c_str() + at, "  hard points: %zu of %zu among the rows", &found, &all), 2) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + at, "  hard points: %zu of %zu among the samples", &found, &all), 2) << r.out;
     EXPECT_EQ(found, all);
     EXPECT_GT(all, 100u);
     EXPECT_EQ(r.out.find("the given rows only"), std::string::npos) << r.out;
@@ -206,12 +207,13 @@ TEST_F(VerifyCli, OwnKernelThroughCsvPassesWithinOneUlp) {
     const auto own_at = r.out.find("  hard points: ");
     ASSERT_NE(own_at, std::string::npos) << r.out;
     std::size_t own_found = 0, own_all = 0;
-    ASSERT_EQ(std::sscanf(r.out.c_str() + own_at, "  hard points: %zu of %zu among the rows", &own_found, &own_all), 2) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + own_at, "  hard points: %zu of %zu among the samples", &own_found, &own_all), 2) << r.out;
     EXPECT_EQ(own_all, all);
     EXPECT_LT(own_found, all / 10) << r.out;
-    EXPECT_NE(r.out.find("among the rows (mollify verify --write-arguments writes them all; the others were not checked)"),
+    EXPECT_NE(r.out.find("among the samples (the verification's samples hold them all; the others were not checked)"),
               std::string::npos)
         << r.out;
+    EXPECT_NE(r.out.find("\n  (mollify verify --write-arguments writes every hard point)\n"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("verdict: own_rows.csv PASSES: max"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("over 99 points, the given rows only (" + std::to_string(own_found) + " of " + std::to_string(all) +
                          " hard points)"),

@@ -315,6 +315,54 @@ TEST(Verify, SamplesCoverTheHardPoints) {
     EXPECT_EQ(s.back().r, v::samples("cubic-spline", 3, Quantity::value).back().r);  // seeded: reproducible
 }
 
+// compare() counts the hard points among any samples it is given, so a
+// verdict on samples of one's own says it holds for those only: a kernel
+// right at its own radii may be wrong at r = 0 or next to the edge.
+TEST(Verify, ReportCountsTheHardPointsAmongTheSamples) {
+    const mollify::Kernel k = runtime("wendland:k=2", 3);
+    v::Options o;
+    o.uniform = 200;
+    const std::vector<v::Sample> all = v::samples("wendland:k=2", 3, Quantity::value, o);
+    auto values_at = [&](const std::vector<v::Sample>& at) {
+        std::vector<double> w;
+        for (const v::Sample& a : at) w.push_back(k.value(a.r, a.h));
+        return w;
+    };
+    const v::Report whole = v::compare("wendland:k=2", 3, Quantity::value, all, values_at(all), o);
+    EXPECT_TRUE(whole.passed() && whole.complete()) << whole.to_string();
+    EXPECT_GT(whole.hard_points, 100u);
+    EXPECT_LT(whole.hard_points, all.size());  // the uniform ones are not hard points
+    EXPECT_EQ(whole.hard_points_compared, whole.hard_points);
+    EXPECT_EQ(whole.to_string().find("given samples only"), std::string::npos) << whole.to_string();
+
+    // The uniform points alone (the last 200), twice over: none of the hard points.
+    std::vector<v::Sample> own(all.end() - 200, all.end());
+    own.insert(own.end(), all.end() - 200, all.end());
+    const v::Report mine = v::compare("wendland:k=2", 3, Quantity::value, own, values_at(own), o);
+    EXPECT_TRUE(mine.passed()) << mine.to_string();
+    EXPECT_FALSE(mine.complete());
+    EXPECT_EQ(mine.hard_points, whole.hard_points);
+    EXPECT_EQ(mine.hard_points_compared, 0u);
+    EXPECT_NE(mine.to_string().find("PASSED on the given samples only (0 of " + std::to_string(whole.hard_points) +
+                                    " hard points)"),
+              std::string::npos)
+        << mine.to_string();
+
+    // r = 0 and the first hard points, each twice: counted once each.
+    std::vector<v::Sample> some(all.begin(), all.begin() + 10);
+    some.insert(some.end(), all.begin(), all.begin() + 10);
+    const v::Report few = v::compare("wendland:k=2", 3, Quantity::value, some, values_at(some), o);
+    EXPECT_EQ(few.hard_points_compared, 10u) << few.to_string();
+    EXPECT_NE(few.to_string().find("hard points: 10 of "), std::string::npos) << few.to_string();
+
+    // a failing verdict is not qualified: it fails on the samples it has
+    std::vector<double> off = values_at(own);
+    for (double& w : off) w *= 1 + 1e-9;
+    const v::Report wrong = v::compare("wendland:k=2", 3, Quantity::value, own, off, o);
+    EXPECT_FALSE(wrong.passed());
+    EXPECT_EQ(wrong.to_string().find("given samples only"), std::string::npos) << wrong.to_string();
+}
+
 TEST(Verify, BadInputNamesTheValue) {
     auto message = [](auto&& f) {
         try {

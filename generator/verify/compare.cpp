@@ -4,9 +4,14 @@
 #include "error.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <limits>
+#include <set>
+#include <tuple>
+#include <utility>
 
 namespace mollify::verify {
 
@@ -37,6 +42,18 @@ Compared judge(const detail::Setup& s, std::size_t i, Sample a, double got) {
                                              static_cast<double>(s.value_scale_real)));
     c.ulps = detail::ulps(got, c.exact, c.floor, s.single);
     return c;
+}
+
+// How many of the hard points are among the samples, bit for bit (each
+// distinct hard point once).
+std::pair<std::size_t, std::size_t> hard_points_among(std::span<const Sample> samples, const std::vector<Sample>& hard) {
+    auto bits = [](const Sample& a) { return std::pair{std::bit_cast<std::uint64_t>(a.r), std::bit_cast<std::uint64_t>(a.h)}; };
+    std::set<std::pair<std::uint64_t, std::uint64_t>> given, distinct;
+    for (const Sample& a : samples) given.insert(bits(a));
+    std::size_t found = 0;
+    for (const Sample& a : hard)
+        if (distinct.insert(bits(a)).second) found += given.count(bits(a));
+    return {distinct.size(), found};
 }
 
 }  // namespace
@@ -75,6 +92,7 @@ Report compare(std::string_view spec, int dim, Quantity quantity, std::span<cons
         r.worst.push_back({p.r, p.h, p.got, p.exact_d, p.ulps});
     }
     r.diagnosis = detail::diagnose(s, points, options.ulps);
+    std::tie(r.hard_points, r.hard_points_compared) = hard_points_among(samples, detail::hard_samples(s));
     return r;
 }
 

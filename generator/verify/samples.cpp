@@ -101,14 +101,19 @@ void uniform_points(std::vector<Sample>& out, const Setup& s, std::size_t count,
 
 }  // namespace
 
-std::vector<Sample> samples(std::string_view spec, int dim, Quantity quantity, const Options& options) {
-    const Setup s = detail::setup(spec, dim, quantity, options);
+std::vector<Sample> detail::hard_samples(const Setup& s) {
     std::vector<Sample> out;
     origin_points(out, s);
     edge_points(out, s);
     breakpoint_points(out, s);
     sweep_points(out, s);
     far_points(out, s);
+    return out;
+}
+
+std::vector<Sample> samples(std::string_view spec, int dim, Quantity quantity, const Options& options) {
+    const Setup s = detail::setup(spec, dim, quantity, options);
+    std::vector<Sample> out = detail::hard_samples(s);
     uniform_points(out, s, options.uniform, options.seed);
     return out;
 }

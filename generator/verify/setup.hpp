@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace mollify::verify::detail {
 
@@ -47,5 +48,9 @@ Real exact(const Setup& s, double r, double h);
 Real exact_with(const Setup& s, const accuracy::Reference& ref, double r, const Real& H);
 // max |value| over the support at this h (the scale of tiny values).
 double magnitude(const Setup& s, double h);
+
+// The hard points of samples() (generator/verify/samples.cpp), without
+// the uniform ones: what compare() counts among the samples it is given.
+std::vector<Sample> hard_samples(const Setup& s);
 
 }  // namespace mollify::verify::detail

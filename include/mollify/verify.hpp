@@ -100,10 +100,18 @@ struct Report {
     double rms_ulps = 0;     // over the points with a finite error
     std::vector<Point> worst;  // the largest errors, largest first (at most 5)
     std::optional<Diagnosis> diagnosis;  // when the error is systematic
+    // The hard points of samples() (r = 0, the breakpoints, both sides of the
+    // support edge, the h sweep: where kernels are most often wrong), and how
+    // many of them are among the samples compared, bit for bit. Fewer than
+    // all: the verdict holds for the given samples only.
+    std::size_t hard_points = 0, hard_points_compared = 0;
 
     bool passed() const;
-    // A table: kernel, quantity, points, max and RMS ulps, the worst
-    // arguments, the verdict and the diagnosis.
+    // Every hard point among the samples compared.
+    bool complete() const;
+    // A table: kernel, quantity, points, max and RMS ulps, the verdict (on
+    // the given samples only, where hard points are missing), the hard
+    // points compared, the worst arguments and the diagnosis.
     std::string to_string() const;
 };
 
@@ -116,7 +124,8 @@ struct Report {
 std::vector<Sample> samples(std::string_view spec, int dim, Quantity quantity, const Options& options = {});
 
 // The values someone computed at the samples, judged. values[i] belongs to
-// samples[i]; the two spans must have the same size (Error otherwise).
+// samples[i]; the two spans must have the same size (Error otherwise). Any
+// samples may be given; the report counts the hard points among them.
 Report compare(std::string_view spec, int dim, Quantity quantity, std::span<const Sample> samples,
                std::span<const double> values, const Options& options = {});
 

@@ -18,7 +18,10 @@ def samples(spec, dim, quantity="value", convention="cpp", ulps=4, seed=1, unifo
 
 
 def compare(spec, dim, r, h, values, quantity="value", convention="cpp", ulps=4, seed=1, uniform=10000):
-    """Values someone computed at (r, h), judged against the exact kernel: a Report."""
+    """Values someone computed at (r, h), judged against the exact kernel: a
+    Report. Any points may be given; the report counts the hard points among
+    them (.hard_points_compared of .hard_points; .complete when all are), and
+    a verdict on fewer than all holds for the given points only."""
     return _core.verify_compare(spec, dim, quantity, r, h, values, convention, ulps, seed, uniform)
 
 

@@ -87,13 +87,19 @@ void bind_verify(py::module_& m) {
         .def_readonly("rms_ulps", &v::Report::rms_ulps)
         .def_readonly("worst", &v::Report::worst, "the largest errors, largest first")
         .def_readonly("diagnosis", &v::Report::diagnosis, "a Diagnosis when the error is systematic, else None")
+        .def_readonly("hard_points", &v::Report::hard_points,
+                      "the verification's hard points (r = 0, the breakpoints, the support edge, the h sweep)")
+        .def_readonly("hard_points_compared", &v::Report::hard_points_compared,
+                      "how many of them are among the samples compared, bit for bit")
+        .def_property_readonly("complete", &v::Report::complete, "every hard point among the samples compared")
         .def_property_readonly("passed", &v::Report::passed)
         .def("to_string", &v::Report::to_string)
         .def("__str__", &v::Report::to_string)
         .def("__repr__", [](const v::Report& r) {
             return "<mollify.verify report " + r.spec + " D" + std::to_string(r.dim) + " " + std::string(v::name(r.quantity)) +
                    ": " + (r.passed() ? "passed" : "FAILED") + ", max " + py::repr(py::float_(r.max_ulps)).cast<std::string>() +
-                   " ulp>";
+                   " ulp" + (r.complete() ? "" : ", " + std::to_string(r.hard_points_compared) + " of " +
+                                                     std::to_string(r.hard_points) + " hard points") + ">";
         });
     m.def("verify_samples", &samples, py::arg("spec"), py::arg("dim"), py::arg("quantity"), py::arg("convention"),
           py::arg("ulps"), py::arg("seed"), py::arg("uniform"));

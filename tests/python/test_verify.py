@@ -97,6 +97,12 @@ def test_samples_and_compare_are_the_two_halves():
     assert r.dtype == np.float64 and r.shape == h.shape and len(r) > FEW
     report = mollify.compare("wendland:k=2", 3, r, h, k.value(r, h))
     assert report.passed and report.points == len(r)
+    assert report.complete and report.hard_points_compared == report.hard_points > 100
+    # the uniform points alone: passed, on those points only
+    mine = mollify.compare("wendland:k=2", 3, r[-FEW:], h[-FEW:], k.value(r[-FEW:], h[-FEW:]))
+    assert mine.passed and not mine.complete and mine.hard_points_compared == 0
+    assert mine.hard_points == report.hard_points
+    assert "on the given samples only (0 of" in str(mine) and "hard points" in repr(mine)
     with pytest.raises(mollify.Error, match="values"):
         mollify.compare("wendland:k=2", 3, r, h, k.value(r, h)[:-1])
 
