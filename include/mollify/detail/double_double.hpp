@@ -22,10 +22,14 @@ struct DoubleDouble {
     double hi, lo;
 };
 
-// a + b = s + t exactly, for |a| >= |b| (Dekker's fast two-sum).
+// a + b = s + t exactly, for |a| >= |b| (Dekker's fast two-sum). The
+// error as (a - s) + b, not b - (s - a): the same exact operands, one
+// rounding, the same bits, but where b is a negation (h - r, a_j - q) the
+// compiler folds it into the subtraction instead of flipping b's sign first
+// (one operation fewer a point in the accurate pair loops).
 inline DoubleDouble fast_two_sum(double a, double b) {
     const double s = a + b;
-    return {s, b - (s - a)};
+    return {s, (a - s) + b};
 }
 
 // a + b = s + t exactly, for any a, b (Knuth's two-sum).
