@@ -24,7 +24,8 @@ struct DoubleDouble {
 
 // a + b = s + t exactly, for |a| >= |b| (Dekker's fast two-sum). The
 // error as (a - s) + b, not b - (s - a): the same exact operands, one
-// rounding, the same bits, but where b is a negation (h - r, a_j - q) the
+// rounding, the same value (an error of 0 is +0 where b is -0, which no
+// sum of it can tell), but where b is a negation (h - r, a_j - q) the
 // compiler folds it into the subtraction instead of flipping b's sign first
 // (one operation fewer a point in the accurate pair loops).
 inline DoubleDouble fast_two_sum(double a, double b) {
