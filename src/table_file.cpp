@@ -73,6 +73,7 @@ public:
         const double v = std::strtod(s.c_str(), &end);
         if (s.empty() || *end != '\0' || s.find_first_of("xXi") == std::string::npos)
             bad(std::string(what) + " '" + s + "' is not a hex-float double");
+        if (std::isnan(v)) bad(std::string(what) + " '" + s + "' is NaN (no number of a table is)");
         return v;
     }
     // The next field without taking it ("" at the end of the line).
@@ -198,6 +199,15 @@ table::Quantity quantity(Reader& r, TableFile::Storage& s, int index) {
             s.terms.push_back(std::move(terms));
             piece.terms = s.terms.back().data();
         }
+        // The pieces tile [0, inf) in order (the evaluators select a piece
+        // by the next one's lo: a gap or an overlap would be a silently
+        // wrong value).
+        const double from = p == 0 ? 0.0 : pieces.back().hi;
+        if (piece.lo != from || !(piece.hi > piece.lo))
+            r.bad("piece [" + detail::show(piece.lo) + ", " + detail::show(piece.hi) + ") does not follow " +
+                  (p == 0 ? std::string("0") : "the piece before it, which ends at " + detail::show(from)));
+        if (p + 1 == npieces && piece.hi != table::infinity)
+            r.bad("the last piece ends at " + detail::show(piece.hi) + ", not inf");
         pieces.push_back(piece);
     }
     s.pieces.push_back(std::move(pieces));

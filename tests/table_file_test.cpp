@@ -212,6 +212,14 @@ TEST(TableFile, BadFilesFailNamingFileLineAndValue) {
         {replaced(good, "quantity dr", "quantity d2r"), "quantity 'd2r' where 'dr' was expected"},
         {replaced(good, "term one", "term cosh"), "basis 'cosh'"},
         {replaced(good, "piece 0x0p+0", "piece 0.5"), "'0.5' is not a hex-float"},
+        // strtod reads "nan(0x1)" (it has an x): a NaN field is refused, not evaluated.
+        {replaced(c4, "\nnormalisation 0x", "\nnormalisation nan(0x1) 0x"), "normalisation 'nan(0x1)' is NaN"},
+        {replaced(c4, " split 23 0x1.a42b46d861c78p+0", " split 23 nan(0x1)"), "content 'nan(0x1)' is NaN"},
+        // pieces that do not tile [0, inf): a gap, an overlap, an empty piece, an open end
+        {replaced(c4, "piece 0x0p+0 0x1p+0 1", "piece 0x1p-1 0x1p+0 1"), "piece [0.5, 1) does not follow 0"},
+        {replaced(c4, "piece 0x1p+0 inf 0", "piece 0x1.1p+0 inf 0"), "which ends at 1"},
+        {replaced(c4, "piece 0x0p+0 0x1p+0 1", "piece 0x0p+0 0x0p+0 1"), "piece [0, 0) does not follow 0"},
+        {replaced(c4, "piece 0x1p+0 inf 0", "piece 0x1p+0 0x1p+1 0"), "the last piece ends at 2, not inf"},
         {replaced(good, "has_potential 0", "has_potential 2"), "has_potential 2"},
         {good.substr(0, good.rfind('\n', good.size() / 2) + 1), "the file ends"},  // after a whole line
         {good + "junk\n", "text after 'end'"},
